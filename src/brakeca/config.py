@@ -1,0 +1,440 @@
+"""Validated, frozen parameter objects for one simulation, with TOML load and dump.
+
+Every field carries its unit (SI unless the name says otherwise, e.g. ``angular_step_deg``)
+and its source: "Table N" refers to Wahlström (2016), "decision" to ``docs/model.md``.
+
+References
+----------
+J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad Properties on
+Friction and Wear Emissions", Advances in Tribology, 2016, Article ID 8181260.
+doi:10.1155/2016/8181260
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any, Literal
+
+import tomli_w
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+__all__ = [
+    "FACTOR_ALIASES",
+    "AutomatonConfig",
+    "BrakeBlock",
+    "BrakeConfig",
+    "ConfigError",
+    "ContactConfig",
+    "CycleConfig",
+    "FrictionConfig",
+    "MeshConfig",
+    "OutputConfig",
+    "PadConfig",
+    "SimulationConfig",
+    "VehicleConfig",
+    "WearConfig",
+    "apply_overrides",
+    "load_config",
+    "parse_override",
+]
+
+
+class ConfigError(ValueError):
+    """A configuration value is missing, unknown or outside its allowed range."""
+
+
+class _Frozen(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
+
+
+class VehicleConfig(_Frozen):
+    """The vehicle as seen by one front brake (Table 4 of the paper)."""
+
+    wheel_load_mass: float = Field(
+        690.0, gt=0, description="[kg] front wheel load, read as the mass this brake decelerates"
+    )
+    wheel_radius: float = Field(0.314, gt=0, description="[m] rolling radius of the wheel")
+    gravity: float = Field(9.81, gt=0, description="[m/s^2] standard gravity, converts g to m/s^2")
+
+
+class BrakeConfig(_Frozen):
+    """Disc, pad and calliper geometry (Table 4 of the paper)."""
+
+    disc_outer_radius: float = Field(0.139, gt=0, description="[m] disc outer radius")
+    disc_inner_radius: float = Field(0.080, gt=0, description="[m] disc inner radius")
+    effective_radius: float = Field(0.113, gt=0, description="[m] disc effective radius")
+    pad_area: float = Field(5.080e-3, gt=0, description="[m^2] pad area")
+    piston_diameter: float = Field(0.057, gt=0, description="[m] calliper cylinder diameter")
+    pads_per_brake: int = Field(
+        2, ge=1, le=8, description="[-] sliding interfaces sharing the torque (decision: 2)"
+    )
+
+    @model_validator(mode="after")
+    def _radii(self) -> BrakeConfig:
+        if not self.disc_inner_radius < self.effective_radius < self.disc_outer_radius:
+            raise ValueError(
+                "need disc_inner_radius < effective_radius < disc_outer_radius, got "
+                f"{self.disc_inner_radius} / {self.effective_radius} / {self.disc_outer_radius} m"
+            )
+        return self
+
+
+class MeshConfig(_Frozen):
+    """Polar pad mesh and subdomains (Table 5 of the paper)."""
+
+    angular_step_deg: float = Field(0.044, gt=0, le=1.0, description="[deg] angular step")
+    radial_step: float = Field(100e-6, gt=0, le=1e-2, description="[m] radial step")
+    n_angular: int = Field(1000, ge=2, le=100_000, description="[-] angular points")
+    n_radial: int = Field(201, ge=1, le=100_000, description="[-] radial points")
+    n_subdomains: int = Field(10, ge=1, description="[-] subdomains along the sliding direction")
+    inner_radius: float | None = Field(
+        None,
+        gt=0,
+        description="[m] radius of row 0; None centres the band on the effective radius (decision)",
+    )
+
+    @model_validator(mode="after")
+    def _divisible(self) -> MeshConfig:
+        if self.n_subdomains > self.n_angular or self.n_angular % self.n_subdomains:
+            raise ValueError(
+                f"n_angular ({self.n_angular}) must be a multiple of n_subdomains "
+                f"({self.n_subdomains}): each subdomain holds n_angular / n_subdomains columns"
+            )
+        return self
+
+    @property
+    def angular_step(self) -> float:
+        """Angular step [rad]."""
+        return math.radians(self.angular_step_deg)
+
+    @property
+    def columns_per_subdomain(self) -> int:
+        """Columns per subdomain N_m [-]."""
+        return self.n_angular // self.n_subdomains
+
+    @property
+    def band_width(self) -> float:
+        """Radial width of the simulated band [m]."""
+        return (self.n_radial - 1) * self.radial_step
+
+
+class PadConfig(_Frozen):
+    """Pad surface: metal fibres in a resin matrix (Section 2.3 and Figure 5 of the paper)."""
+
+    fibre_area_fraction: float = Field(
+        0.20, ge=0.0, le=1.0, description="[-] area fraction covered by metal fibres (factor A)"
+    )
+    fibre_length_min: float = Field(1e-3, gt=0, description="[m] shortest fibre")
+    fibre_length_max: float = Field(10e-3, gt=0, description="[m] longest fibre")
+    fibre_diameter_min: float = Field(200e-6, gt=0, description="[m] thinnest fibre")
+    fibre_diameter_max: float = Field(700e-6, gt=0, description="[m] thickest fibre")
+    resin_roughness: float = Field(
+        100e-6, ge=0, description="[m] resin heights are uniform in [0, resin_roughness]"
+    )
+    fibre_model: Literal["columns", "layer"] = Field(
+        "columns",
+        description=(
+            "'columns': fibres run through the pad, the fibre map persists (rule 7 never fires; "
+            "decision). 'layer': a fibre is the lying cylinder only; worn below its underside "
+            "it becomes resin (rule 7 fires)."
+        ),
+    )
+
+    @model_validator(mode="after")
+    def _ranges(self) -> PadConfig:
+        if self.fibre_length_min > self.fibre_length_max:
+            raise ValueError("fibre_length_min must not exceed fibre_length_max")
+        if self.fibre_diameter_min > self.fibre_diameter_max:
+            raise ValueError("fibre_diameter_min must not exceed fibre_diameter_max")
+        return self
+
+
+class ContactConfig(_Frozen):
+    """Elastic (Winkler) foundation: each cell is a bar of stiffness K = E / L."""
+
+    elastic_modulus: float = Field(1e9, gt=0, description="[Pa] foundation modulus E (decision)")
+    bar_length: float = Field(10e-3, gt=0, description="[m] foundation bar length L (decision)")
+
+    @property
+    def stiffness(self) -> float:
+        """Foundation stiffness K = E / L [Pa/m]."""
+        return self.elastic_modulus / self.bar_length
+
+
+class FrictionConfig(_Frozen):
+    """Pressure-dependent local COF on plateaus, mu(p) = max(mu_min, mu_0 - c p) (Figure 4)."""
+
+    mu_0: float = Field(0.6, gt=0, le=2.0, description="[-] COF at zero pressure (decision)")
+    slope: float = Field(
+        3e-8, ge=0, description="[1/Pa] decrease of COF per pascal, c (0.03 per MPa; decision)"
+    )
+    mu_min: float = Field(0.15, ge=0, description="[-] COF floor (Figure 4 of the paper)")
+
+    @model_validator(mode="after")
+    def _floor(self) -> FrictionConfig:
+        if self.mu_min > self.mu_0:
+            raise ValueError(f"mu_min ({self.mu_min}) must not exceed mu_0 ({self.mu_0})")
+        return self
+
+
+class WearConfig(_Frozen):
+    """Archard wear of plateaus and the fixed-depth resin wear."""
+
+    specific_wear_rate: float = Field(
+        1e-14, gt=0, le=1e-9, description="[m^3/(N m)] Archard specific wear rate WP (factor WP)"
+    )
+    resin_wear_depth: float = Field(
+        1e-7, gt=0, le=1e-3, description="[m] depth WR resin is worn to below the disc (factor WR)"
+    )
+
+
+class AutomatonConfig(_Frozen):
+    """Plateau rules and the between-stop rule."""
+
+    secondary_removal_fraction: float = Field(
+        0.0, ge=0.0, le=1.0, description="[-] fraction S of secondary plateaus removed between stops"
+    )
+    rule6_max_gap: float | None = Field(
+        None,
+        gt=0,
+        description=(
+            "[m] rule 6: a primary plateau whose gap to the disc exceeds this is destroyed; "
+            "None switches rule 6 off (decision)"
+        ),
+    )
+    creation_order: Literal["west_to_east", "east_to_west"] = Field(
+        "west_to_east",
+        description="order in which candidates of a row draw on the inflow (decision: west_to_east)",
+    )
+
+
+class BrakeBlock(_Frozen):
+    """One block of stops of a block drive cycle (one row of Table 3)."""
+
+    name: str = Field(min_length=1, description="block name")
+    initial_speed_kmh: float = Field(gt=0, le=500, description="[km/h] speed at brake-on")
+    final_speed_kmh: float = Field(ge=0, le=500, description="[km/h] speed at brake-off")
+    deceleration_g: float = Field(gt=0, le=2.0, description="[g] constant deceleration")
+    stops: int = Field(ge=1, le=100_000, description="[-] number of stops in the block")
+
+    @model_validator(mode="after")
+    def _speeds(self) -> BrakeBlock:
+        if self.final_speed_kmh >= self.initial_speed_kmh:
+            raise ValueError(
+                f"block {self.name!r}: final_speed_kmh ({self.final_speed_kmh}) must be lower "
+                f"than initial_speed_kmh ({self.initial_speed_kmh})"
+            )
+        return self
+
+
+class CycleConfig(_Frozen):
+    """A block drive cycle: stops at constant deceleration (Table 3 of the paper)."""
+
+    name: str = Field("custom", description="cycle name")
+    blocks: tuple[BrakeBlock, ...] = Field(min_length=1, description="blocks in driving order")
+    max_stops: int | None = Field(
+        None, ge=1, description="[-] run only the first N stops (None: the whole cycle)"
+    )
+
+    @property
+    def n_stops(self) -> int:
+        """Number of stops that will be simulated [-]."""
+        total = sum(b.stops for b in self.blocks)
+        return total if self.max_stops is None else min(total, self.max_stops)
+
+
+class OutputConfig(_Frozen):
+    """What a run keeps besides the per-stop responses."""
+
+    series_every: int = Field(
+        50, ge=1, description="[-] keep every Nth step in the thinned per-step series"
+    )
+    ledger_tolerance: float = Field(
+        1e-9, gt=0, le=1e-2, description="[-] relative volume-ledger residual that stops a run"
+    )
+
+
+class SimulationConfig(_Frozen):
+    """Everything that defines one simulated run, except the seed."""
+
+    vehicle: VehicleConfig = VehicleConfig()
+    brake: BrakeConfig = BrakeConfig()
+    mesh: MeshConfig = MeshConfig()
+    pad: PadConfig = PadConfig()
+    contact: ContactConfig = ContactConfig()
+    friction: FrictionConfig = FrictionConfig()
+    wear: WearConfig = WearConfig()
+    automaton: AutomatonConfig = AutomatonConfig()
+    cycle: CycleConfig
+    output: OutputConfig = OutputConfig()
+    quick: bool = Field(False, description="the band was narrowed by --quick")
+
+    @model_validator(mode="after")
+    def _band_on_disc(self) -> SimulationConfig:
+        r0 = self.inner_radius
+        r1 = r0 + self.mesh.band_width
+        if r0 < self.brake.disc_inner_radius or r1 > self.brake.disc_outer_radius:
+            raise ValueError(
+                f"the simulated band [{r0 * 1e3:.3f}, {r1 * 1e3:.3f}] mm must lie on the disc "
+                f"[{self.brake.disc_inner_radius * 1e3:.3f}, "
+                f"{self.brake.disc_outer_radius * 1e3:.3f}] mm (mesh.inner_radius, mesh.n_radial, "
+                "mesh.radial_step)"
+            )
+        return self
+
+    @property
+    def inner_radius(self) -> float:
+        """Radius of row 0 [m]; centred on the effective radius unless the mesh sets it."""
+        if self.mesh.inner_radius is not None:
+            return self.mesh.inner_radius
+        return self.brake.effective_radius - self.mesh.band_width / 2.0
+
+    # --- serialisation -------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        """Plain nested dict (None fields dropped, TOML has no null)."""
+        return _drop_none(self.model_dump(mode="python"))
+
+    def to_toml(self) -> str:
+        """The resolved configuration as TOML text."""
+        return tomli_w.dumps(self.to_dict())
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], *, source: str = "config") -> SimulationConfig:
+        """Validate a nested mapping; errors name the field and the allowed values."""
+        try:
+            return cls.model_validate(dict(data))
+        except ValidationError as exc:
+            raise ConfigError(format_validation_error(exc, source)) from None
+
+    @classmethod
+    def from_toml(cls, text: str, *, source: str = "config") -> SimulationConfig:
+        """Parse and validate TOML text."""
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise ConfigError(f"{source}: not valid TOML: {exc}") from None
+        return cls.from_dict(data, source=source)
+
+    def with_updates(self, updates: Mapping[str, Any]) -> SimulationConfig:
+        """A copy with dotted-key updates (``{"wear.specific_wear_rate": 1e-13}``) validated."""
+        return apply_overrides(self, updates)
+
+
+def _drop_none(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {k: _drop_none(v) for k, v in value.items() if v is not None}
+    if isinstance(value, list | tuple):
+        return [_drop_none(v) for v in value]
+    return value
+
+
+def format_validation_error(exc: ValidationError, source: str) -> str:
+    """Turn a pydantic error into lines ``source: field.path: problem (got value)``."""
+    lines = []
+    for err in exc.errors():
+        loc = ".".join(str(p) for p in err["loc"]) or "(top level)"
+        msg = err["msg"]
+        if err["type"] == "extra_forbidden":
+            msg = "unknown key"
+        elif err["type"] == "missing":
+            msg = "required field is missing"
+        got = err.get("input")
+        got_text = "" if err["type"] in ("missing",) or isinstance(got, dict) else f" (got {got!r})"
+        lines.append(f"{source}: {loc}: {msg}{got_text}")
+    return "\n".join(lines)
+
+
+# --- overrides and the paper's factor names ------------------------------------------------
+
+#: The paper's factor names, mapped to (config field, multiplier from the user's unit to SI).
+FACTOR_ALIASES: dict[str, tuple[str, float, str]] = {
+    "S": ("automaton.secondary_removal_fraction", 1.0, "-"),
+    "WP": ("wear.specific_wear_rate", 1.0, "m^3/(N m)"),
+    "WR": ("wear.resin_wear_depth", 1.0, "m"),
+    "A": ("pad.fibre_area_fraction", 0.01, "%"),
+}
+_ALIAS_RANGES = {"A": (0.0, 100.0)}
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """Split ``KEY=VALUE`` and parse the value as a TOML value (bare words become strings)."""
+    if "=" not in text:
+        raise ConfigError(f"--set {text!r}: expected KEY=VALUE, e.g. --set WP=1e-13")
+    key, raw = text.split("=", 1)
+    key = key.strip()
+    raw = raw.strip()
+    if not key:
+        raise ConfigError(f"--set {text!r}: empty key")
+    try:
+        value = tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw
+    return key, value
+
+
+def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
+    if key not in FACTOR_ALIASES:
+        return key, value
+    field, scale, unit = FACTOR_ALIASES[key]
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ConfigError(f"{key} (= {field}): expected a number in {unit}, got {value!r}")
+    lo_hi = _ALIAS_RANGES.get(key)
+    if lo_hi is not None and not lo_hi[0] <= value <= lo_hi[1]:
+        raise ConfigError(
+            f"{key} (= {field}): must be between {lo_hi[0]:g} and {lo_hi[1]:g} {unit}, got {value}"
+        )
+    return field, value * scale
+
+
+def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> SimulationConfig:
+    """Return a validated copy of ``config`` with dotted-key (or factor-name) updates applied.
+
+    Parameters
+    ----------
+    config
+        The base configuration.
+    updates
+        Mapping of dotted keys (``"wear.specific_wear_rate"``) or factor names (``S``, ``WP``,
+        ``WR``, ``A`` in the paper's units, A in percent) to values.
+
+    Raises
+    ------
+    ConfigError
+        Unknown key, or a value outside its allowed range; the message names the field.
+    """
+    data = config.to_dict()
+    for key, value in updates.items():
+        path, value = _resolve_alias(key, value)
+        parts = path.split(".")
+        node = data
+        known = SimulationConfig.model_fields
+        for depth, part in enumerate(parts):
+            last = depth == len(parts) - 1
+            if known is not None and part not in known:
+                allowed = ", ".join(sorted(known)) if known else "(none)"
+                raise ConfigError(
+                    f"--set {key}: unknown field {'.'.join(parts[: depth + 1])!r}; "
+                    f"allowed here: {allowed} (or a factor name: {', '.join(FACTOR_ALIASES)})"
+                )
+            if last:
+                node[part] = value
+            else:
+                node = node.setdefault(part, {})
+                if not isinstance(node, dict):
+                    raise ConfigError(f"--set {key}: {part!r} is not a section")
+                ann = known[part].annotation if known is not None else None
+                known = getattr(ann, "model_fields", None)
+    return SimulationConfig.from_dict(data, source="override")
+
+
+def load_config(path: str | Path) -> SimulationConfig:
+    """Load and validate a configuration TOML file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+    return SimulationConfig.from_toml(text, source=str(path))

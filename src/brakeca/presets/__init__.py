@@ -1,0 +1,94 @@
+"""Shipped data: the paper's parameter set, its drive cycle and its factorial design.
+
+Nothing here is a constant buried in code: every number lives in a TOML or CSV file beside this
+module, read by the functions below.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import tomllib
+from importlib import resources
+from pathlib import Path
+
+from brakeca.config import BrakeBlock, ConfigError, CycleConfig, SimulationConfig
+
+__all__ = ["available_designs", "available_presets", "load_cycle", "load_preset", "preset_text"]
+
+_ROOT = resources.files(__name__)
+
+
+def available_presets() -> list[str]:
+    """Names of the shipped parameter presets."""
+    return sorted(p.name[:-5] for p in _ROOT.iterdir() if p.name.endswith(".toml"))
+
+
+def available_designs() -> list[str]:
+    """Names of the shipped designs."""
+    return sorted(p.name[:-5] for p in _ROOT.joinpath("designs").iterdir() if p.name.endswith(".toml"))
+
+
+def preset_text(name: str) -> str:
+    """The TOML text of a shipped parameter preset."""
+    if name not in available_presets():
+        raise ConfigError(f"unknown preset {name!r}; available: {', '.join(available_presets())}")
+    return _ROOT.joinpath(f"{name}.toml").read_text(encoding="utf-8")
+
+
+def design_path(name: str) -> Path:
+    """Path of a shipped design file."""
+    if name not in available_designs():
+        raise ConfigError(f"unknown design {name!r}; available: {', '.join(available_designs())}")
+    return Path(str(_ROOT.joinpath("designs", f"{name}.toml")))
+
+
+def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if not lines:
+        raise ConfigError(f"{source}: empty cycle file")
+    reader = csv.DictReader(io.StringIO("\n".join(lines)))
+    expected = {"name", "initial_speed_kmh", "final_speed_kmh", "deceleration_g", "stops"}
+    missing = expected - set(reader.fieldnames or ())
+    if missing:
+        raise ConfigError(f"{source}: missing column(s) {', '.join(sorted(missing))}")
+    blocks = []
+    for lineno, row in enumerate(reader, start=2):
+        try:
+            blocks.append(BrakeBlock.model_validate({k: row[k] for k in expected}))
+        except Exception as exc:  # pydantic ValidationError
+            from pydantic import ValidationError
+
+            from brakeca.config import format_validation_error
+
+            if isinstance(exc, ValidationError):
+                raise ConfigError(format_validation_error(exc, f"{source} row {lineno}")) from None
+            raise
+    return tuple(blocks)
+
+
+def load_cycle(name_or_path: str | Path) -> CycleConfig:
+    """Load a block cycle: a shipped name (``"paper"``) or a CSV file.
+
+    The CSV has columns ``name, initial_speed_kmh, final_speed_kmh, deceleration_g, stops``;
+    lines starting with ``#`` are comments.
+    """
+    text: str
+    p = Path(name_or_path)
+    shipped = _ROOT.joinpath("cycles", f"{name_or_path}.csv")
+    if p.suffix.lower() == ".csv" and p.exists():
+        text, name, source = p.read_text(encoding="utf-8"), p.stem, str(p)
+    elif shipped.is_file():
+        text, name, source = shipped.read_text(encoding="utf-8"), str(name_or_path), f"cycle {name_or_path}"
+    else:
+        raise ConfigError(f"unknown cycle {str(name_or_path)!r}: not a CSV file nor a shipped cycle (paper)")
+    return CycleConfig(name=name, blocks=_read_cycle_csv(text, source))
+
+
+def load_preset(name: str = "paper") -> SimulationConfig:
+    """The shipped parameter preset ``name`` with its drive cycle, validated."""
+    data = tomllib.loads(preset_text(name))
+    cycle = data.pop("cycle", {"file": name})
+    cyc = load_cycle(cycle.get("file", name)) if "blocks" not in cycle else CycleConfig(**cycle)
+    data["cycle"] = cyc.model_dump()
+    return SimulationConfig.from_dict(data, source=f"preset {name}")
