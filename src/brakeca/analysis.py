@@ -1,0 +1,773 @@
+"""Statistical analysis of a factorial campaign: main effects, interactions, ANOVA.
+
+Pure pandas / statsmodels; no plotting here (see :mod:`brakeca.plotting`).
+
+The input is the campaign ``summary`` table, one row per run, with one column per factor
+holding the level value in the design's user unit, a ``seed`` column (replicates share the
+factor levels and differ in seed) and the responses, by default ``MU`` (mean coefficient of
+friction [-]) and ``V`` (mean emitted wear volume per stop [m^3]). When a ``status`` column is
+present only rows with ``status == "ok"`` are analysed. Rows whose response is missing or not
+finite are left out of the analysis of that response.
+
+Factors are treated as categorical throughout, as in the paper's full factorial design
+(Tables 1 and 2): ``S`` (2 levels), ``WP`` (3 levels), ``WR`` (2 levels), ``A`` (2 levels).
+
+References
+----------
+J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad Properties on
+Friction and Wear Emissions", Advances in Tribology, 2016, Article ID 8181260.
+doi:10.1155/2016/8181260 (main effects: Figures 6 and 8; interactions: Figures 7 and 9).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import warnings
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "ANOVA_COLUMNS",
+    "Factor",
+    "analyze",
+    "anova",
+    "as_factor",
+    "interaction_table",
+    "interaction_tables",
+    "interactions_long",
+    "main_effects",
+    "ok_runs",
+    "ranked_effects",
+    "save_tables",
+]
+
+#: Columns of the table returned by :func:`anova`, in order.
+ANOVA_COLUMNS: tuple[str, ...] = (
+    "term",
+    "df",
+    "sum_sq",
+    "mean_sq",
+    "F",
+    "p_value",
+    "percent_contribution",
+    "note",
+)
+
+#: Relative tolerance used to match a value in the summary to one of a factor's levels.
+_LEVEL_RTOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Factor:
+    """One factor of a factorial design, with its levels in the design's user unit.
+
+    Parameters
+    ----------
+    name
+        Short name, also the column name in the campaign summary (e.g. ``"WP"``).
+    levels
+        Level values [user unit], in design order (low first for two-level factors).
+    unit
+        Unit of the level values, e.g. ``"m^3/(N m)"``, ``"%"`` or ``"-"``.
+    label
+        Long, human-readable description, e.g. ``"Specific wear rate of plateaus"``.
+    labels
+        Optional level labels, one per level, e.g. ``("-", "0", "+")``.
+
+    References
+    ----------
+    Wahlström (2016), Tables 1 and 2, doi:10.1155/2016/8181260.
+    """
+
+    name: str
+    levels: tuple[float, ...]
+    unit: str = ""
+    label: str = ""
+    labels: tuple[str, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"factor name must be a non-empty string, got {self.name!r}")
+        levels = tuple(float(v) for v in self.levels)
+        if not levels:
+            raise ValueError(f"factor {self.name!r}: needs at least one level")
+        if not all(math.isfinite(v) for v in levels):
+            raise ValueError(f"factor {self.name!r}: levels must be finite, got {levels}")
+        for i, j in itertools.combinations(range(len(levels)), 2):
+            if math.isclose(levels[i], levels[j], rel_tol=_LEVEL_RTOL, abs_tol=0.0):
+                raise ValueError(f"factor {self.name!r}: duplicate levels {levels}")
+        object.__setattr__(self, "levels", levels)
+        if self.labels is not None:
+            labels = tuple(str(s) for s in self.labels)
+            if len(labels) != len(levels):
+                raise ValueError(
+                    f"factor {self.name!r}: {len(labels)} labels for {len(levels)} levels"
+                )
+            object.__setattr__(self, "labels", labels)
+
+    def level_index(self, value: Any) -> int | None:
+        """Return the index of the level matching ``value``, or None when none matches.
+
+        Parameters
+        ----------
+        value
+            A level value [user unit]; matched with a relative tolerance of 1e-6.
+
+        Returns
+        -------
+        int or None
+            Position in :attr:`levels`.
+        """
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            return None
+        for i, level in enumerate(self.levels):
+            if math.isclose(x, level, rel_tol=_LEVEL_RTOL, abs_tol=0.0):
+                return i
+        return None
+
+    def level_label(self, value: Any) -> str:
+        """Return the label of the level ``value`` (e.g. ``"+"``), or the value formatted.
+
+        Parameters
+        ----------
+        value
+            A level value [user unit].
+
+        Returns
+        -------
+        str
+            The level's label when :attr:`labels` is set and ``value`` matches a level,
+            otherwise ``value`` in ``%g`` format.
+        """
+        i = self.level_index(value)
+        if i is not None and self.labels is not None:
+            return self.labels[i]
+        try:
+            return f"{float(value):g}"
+        except (TypeError, ValueError):
+            return str(value)
+
+    @property
+    def axis_label(self) -> str:
+        """Name with unit for plot axes, e.g. ``"WP [m^3/(N m)]"``."""
+        return f"{self.name} [{self.unit}]" if self.unit else self.name
+
+
+def as_factor(obj: Any) -> Factor:
+    """Convert a factor-like object or mapping to a :class:`Factor`.
+
+    Parameters
+    ----------
+    obj
+        A :class:`Factor`, a mapping or any object with ``name`` and ``levels`` (and optionally
+        ``unit``, ``label``, ``labels``), e.g. a design entry loaded from TOML.
+
+    Returns
+    -------
+    Factor
+    """
+    if isinstance(obj, Factor):
+        return obj
+    if isinstance(obj, Mapping):
+        get = obj.get
+    else:
+
+        def get(key: str, default: Any = None) -> Any:
+            return getattr(obj, key, default)
+
+    name = get("name")
+    levels = get("levels")
+    if name is None or levels is None:
+        raise TypeError(f"not a factor (needs 'name' and 'levels'): {obj!r}")
+    labels = get("labels")
+    return Factor(
+        name=str(name),
+        levels=tuple(levels),
+        unit=str(get("unit", "") or ""),
+        label=str(get("label", "") or ""),
+        labels=None if labels is None else tuple(labels),
+    )
+
+
+# --- helpers ---------------------------------------------------------------------------------
+
+
+def ok_runs(summary: pd.DataFrame) -> pd.DataFrame:
+    """Return the rows of ``summary`` that finished, i.e. ``status == "ok"``.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy holding the rows with status ``"ok"``, or all rows when there is no
+        ``status`` column.
+    """
+    if "status" in summary.columns:
+        mask = summary["status"].astype(str).str.strip().str.lower() == "ok"
+        return summary.loc[mask].copy()
+    return summary.copy()
+
+
+def _factors(factors: Iterable[Any]) -> list[Factor]:
+    out = [as_factor(f) for f in factors]
+    names = [f.name for f in out]
+    if len(set(names)) != len(names):
+        raise ValueError(f"duplicate factor names: {names}")
+    return out
+
+
+def _clean(summary: pd.DataFrame, factors: Sequence[Factor], response: str) -> pd.DataFrame:
+    """Rows usable for ``response``: status ok, response finite, factor columns present."""
+    if response not in summary.columns:
+        raise KeyError(f"response {response!r} is not a column of the summary")
+    missing = [f.name for f in factors if f.name not in summary.columns]
+    if missing:
+        raise KeyError(f"factor column(s) {missing} not in the summary")
+    data = ok_runs(summary)
+    y = pd.to_numeric(data[response], errors="coerce").astype(float)
+    data = data.loc[np.isfinite(y.to_numpy())].copy()
+    data[response] = y.loc[data.index]
+    return data
+
+
+def _codes(data: pd.DataFrame, factor: Factor) -> np.ndarray:
+    """Level index of every row for ``factor``; raises on values that match no level."""
+    values = data[factor.name].to_list()
+    codes = np.array([factor.level_index(v) for v in values], dtype=object)
+    bad = [v for v, c in zip(values, codes, strict=True) if c is None]
+    if bad:
+        raise ValueError(
+            f"factor {factor.name!r}: value(s) {sorted(set(map(str, bad)))} match none of the "
+            f"levels {factor.levels}"
+        )
+    return codes.astype(int)
+
+
+def _factor_from_data(summary: pd.DataFrame, name: str) -> Factor:
+    values = pd.to_numeric(ok_runs(summary)[name], errors="coerce").dropna().unique()
+    return Factor(name=name, levels=tuple(sorted(float(v) for v in values)))
+
+
+def _resolve(summary: pd.DataFrame, factor: Factor | str | Any) -> Factor:
+    if isinstance(factor, str):
+        return _factor_from_data(summary, factor)
+    return as_factor(factor)
+
+
+# --- level means -----------------------------------------------------------------------------
+
+
+def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -> pd.DataFrame:
+    """Level means of a response for every factor (main-effects table).
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+    factors
+        The design's factors (:class:`Factor` or factor-like objects).
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``factor``, ``level`` [user unit], ``label``, ``mean`` [response unit] and
+        ``n`` (number of runs averaged); one row per factor level in design order. A level
+        without any usable run has ``n = 0`` and ``mean = NaN``.
+
+    References
+    ----------
+    Wahlström (2016), Figures 6 (MU) and 8 (V), doi:10.1155/2016/8181260.
+    """
+    factors = _factors(factors)
+    data = _clean(summary, factors, response)
+    y = data[response].to_numpy(dtype=float)
+    rows = []
+    for f in factors:
+        codes = _codes(data, f)
+        for i, level in enumerate(f.levels):
+            sel = y[codes == i]
+            rows.append(
+                {
+                    "factor": f.name,
+                    "level": level,
+                    "label": f.level_label(level),
+                    "mean": float(sel.mean()) if sel.size else math.nan,
+                    "n": int(sel.size),
+                }
+            )
+    out = pd.DataFrame(rows, columns=["factor", "level", "label", "mean", "n"])
+    return out.astype({"level": float, "mean": float, "n": int})
+
+
+def _cell_stats(
+    data: pd.DataFrame, a: Factor, b: Factor, response: str
+) -> tuple[np.ndarray, np.ndarray]:
+    ca = _codes(data, a)
+    cb = _codes(data, b)
+    y = data[response].to_numpy(dtype=float)
+    sums = np.zeros((len(a.levels), len(b.levels)))
+    counts = np.zeros((len(a.levels), len(b.levels)), dtype=int)
+    np.add.at(sums, (ca, cb), y)
+    np.add.at(counts, (ca, cb), 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        means = np.where(counts > 0, sums / np.maximum(counts, 1), np.nan)
+    return means, counts
+
+
+def interaction_table(
+    summary: pd.DataFrame, factor_a: Factor | str, factor_b: Factor | str, response: str
+) -> pd.DataFrame:
+    """Cell means of a response for a pair of factors (two-way interaction table).
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+    factor_a, factor_b
+        The two factors (:class:`Factor`, factor-like object, or a column name, in which case
+        the levels are the sorted distinct values found in the summary).
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+
+    Returns
+    -------
+    pandas.DataFrame
+        Means [response unit]; index = levels of ``factor_a`` (named after it), columns =
+        levels of ``factor_b`` (named after it). Empty cells are NaN.
+
+    References
+    ----------
+    Wahlström (2016), Figures 7 (MU) and 9 (V), doi:10.1155/2016/8181260.
+    """
+    a = _resolve(summary, factor_a)
+    b = _resolve(summary, factor_b)
+    if a.name == b.name:
+        raise ValueError(f"interaction of {a.name!r} with itself")
+    data = _clean(summary, [a, b], response)
+    means, _ = _cell_stats(data, a, b, response)
+    return pd.DataFrame(
+        means,
+        index=pd.Index(a.levels, name=a.name),
+        columns=pd.Index(b.levels, name=b.name),
+    )
+
+
+def interaction_tables(
+    summary: pd.DataFrame, factors: Iterable[Any], response: str
+) -> dict[tuple[str, str], pd.DataFrame]:
+    """Interaction tables (see :func:`interaction_table`) for every pair of factors.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors; pairs are taken in design order.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+
+    Returns
+    -------
+    dict
+        ``{(name_a, name_b): table}`` for every pair ``a`` before ``b`` in ``factors``.
+    """
+    factors = _factors(factors)
+    return {
+        (a.name, b.name): interaction_table(summary, a, b, response)
+        for a, b in itertools.combinations(factors, 2)
+    }
+
+
+def interactions_long(summary: pd.DataFrame, factors: Iterable[Any], response: str) -> pd.DataFrame:
+    """All two-way cell means in long form (one row per cell of every factor pair).
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``factor_a``, ``level_a``, ``label_a``, ``factor_b``, ``level_b``,
+        ``label_b``, ``mean`` [response unit], ``n``.
+    """
+    factors = _factors(factors)
+    data = _clean(summary, factors, response)
+    rows = []
+    for a, b in itertools.combinations(factors, 2):
+        means, counts = _cell_stats(data, a, b, response)
+        for i, la in enumerate(a.levels):
+            for j, lb in enumerate(b.levels):
+                rows.append(
+                    {
+                        "factor_a": a.name,
+                        "level_a": la,
+                        "label_a": a.level_label(la),
+                        "factor_b": b.name,
+                        "level_b": lb,
+                        "label_b": b.level_label(lb),
+                        "mean": float(means[i, j]),
+                        "n": int(counts[i, j]),
+                    }
+                )
+    columns = ["factor_a", "level_a", "label_a", "factor_b", "level_b", "label_b", "mean", "n"]
+    return pd.DataFrame(rows, columns=columns)
+
+
+# --- ANOVA -----------------------------------------------------------------------------------
+
+
+def _empty_anova(note: str) -> pd.DataFrame:
+    out = pd.DataFrame({c: pd.Series(dtype=float) for c in ANOVA_COLUMNS})
+    out = out.astype({"term": object, "note": object})
+    out.attrs["note"] = note
+    return out
+
+
+def _fit_anova(frame: pd.DataFrame, terms: Sequence[str]) -> tuple[Any, pd.DataFrame, str]:
+    """Fit OLS on ``frame`` (column ``y``) and return (fit, anova_lm table, type used)."""
+    from statsmodels.formula.api import ols
+    from statsmodels.stats.anova import anova_lm
+
+    formula = "y ~ " + " + ".join(terms)
+    with warnings.catch_warnings(), np.errstate(divide="ignore", invalid="ignore"):
+        # A perfect fit (zero residual) or a saturated model divides by zero in F; those
+        # cases are reported as NaN/inf by the caller, not as warnings.
+        warnings.simplefilter("ignore", RuntimeWarning)
+        fit = ols(formula, data=frame).fit()
+        try:
+            table = anova_lm(fit, typ=2)
+            kind = "Type II"
+        except (ValueError, np.linalg.LinAlgError):  # rank-deficient (empty cells)
+            table = anova_lm(fit, typ=1)
+            kind = "Type I (sequential; Type II failed on a rank-deficient design)"
+    return fit, table, kind
+
+
+def anova(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: bool = True,
+) -> pd.DataFrame:
+    """Analysis of variance of a response over categorical factors.
+
+    Fits ``y ~ C(f1) + C(f2) + ... + C(f1):C(f2) + ...`` (main effects and, when
+    ``interactions`` is true, all two-factor interactions) by ordinary least squares with
+    :func:`statsmodels.formula.api.ols` and tabulates it with
+    :func:`statsmodels.stats.anova.anova_lm` using **Type II** sums of squares. For a balanced
+    (orthogonal) design such as the paper's full factorial, Type I, II and the classical
+    hand-computed sums of squares coincide, and the sums of squares of all terms plus the
+    residual add up to the total sum of squares about the mean.
+
+    The residual is what the model does not explain: with replicates (several seeds per
+    factor-level combination) it contains the pure error (run-to-run scatter from the random
+    fibre layout and automaton), plus the higher-order interactions that are not in the model;
+    when the model holds every cell (e.g. two factors with their interaction) it is pure error
+    only. Without replicates the residual is the higher-order interactions alone.
+
+    If the requested model leaves zero residual degrees of freedom (saturated, unreplicated),
+    the two-factor interactions are pooled into the residual and a main-effects model is
+    fitted instead; if that is still saturated, F and p are reported as NaN. Either case is
+    explained in the ``note`` column (and ``attrs["note"]``); the function never raises for
+    lack of degrees of freedom.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
+        are used).
+    factors
+        The design's factors (:class:`Factor` or factor-like objects); their columns hold the
+        level values and are treated as categorical.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions
+        Include all two-factor interactions (default) or main effects only.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``term`` (``"S"``, ``"WP"``, ``"S:WP"``, ..., ``"Residual"``), ``df``,
+        ``sum_sq`` [response unit^2], ``mean_sq`` [response unit^2], ``F``, ``p_value``,
+        ``percent_contribution`` (``sum_sq`` / total sum of squares about the mean * 100 [%])
+        and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
+        ``formula``, ``note``, ``n`` and ``total_sum_sq``.
+
+    References
+    ----------
+    Wahlström (2016), Section 4 (factorial design) and Figures 6 to 9,
+    doi:10.1155/2016/8181260.
+    """
+    factors = _factors(factors)
+    data = _clean(summary, factors, response)
+    n = len(data)
+    y = data[response].to_numpy(dtype=float)
+    if n < 2:
+        return _empty_anova(f"only {n} usable run(s) for {response}; no ANOVA possible")
+    total_ss = float(np.sum((y - y.mean()) ** 2))
+
+    notes: list[str] = []
+    frame = pd.DataFrame({"y": y})
+    names: dict[str, str] = {}  # safe column -> factor name
+    for i, f in enumerate(factors):
+        codes = _codes(data, f)
+        if np.unique(codes).size < 2:
+            notes.append(f"factor {f.name} has a single level in the data and is left out")
+            continue
+        safe = f"f{i}"
+        frame[safe] = [f"L{c:02d}" for c in codes]
+        names[safe] = f.name
+    if not names:
+        out = pd.DataFrame(
+            [["Residual", n - 1.0, total_ss, total_ss / (n - 1), np.nan, np.nan, 100.0, ""]],
+            columns=list(ANOVA_COLUMNS),
+        )
+        notes.append("no factor varies in the data; nothing to test")
+        out["note"] = "; ".join(notes)
+        out.attrs.update(note="; ".join(notes), typ=None, formula="", n=n, total_sum_sq=total_ss)
+        return out
+
+    mains = [f"C({s})" for s in names]
+    pairs = [f"C({a}):C({b})" for a, b in itertools.combinations(names, 2)]
+    term_names = {f"C({s})": names[s] for s in names}
+    term_names.update(
+        {f"C({a}):C({b})": f"{names[a]}:{names[b]}" for a, b in itertools.combinations(names, 2)}
+    )
+    terms = mains + (pairs if interactions else [])
+    fit, table, kind = _fit_anova(frame, terms)
+    if fit.df_resid < 0.5 and interactions and pairs:
+        notes.append(
+            "model with two-factor interactions is saturated (0 residual df): interactions "
+            "pooled into the residual, main effects only"
+        )
+        terms = mains
+        fit, table, kind = _fit_anova(frame, terms)
+    saturated = fit.df_resid < 0.5
+    if saturated:
+        notes.append("saturated model (0 residual df): F and p cannot be computed")
+
+    out = pd.DataFrame(
+        {
+            "term": [term_names.get(str(t), str(t)) for t in table.index],
+            "df": table["df"].to_numpy(dtype=float),
+            "sum_sq": table["sum_sq"].to_numpy(dtype=float),
+        }
+    )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out["mean_sq"] = np.where(
+            out["df"] > 0, out["sum_sq"] / out["df"].where(out["df"] > 0), np.nan
+        )
+        out["F"] = table["F"].to_numpy(dtype=float)
+        out["p_value"] = table["PR(>F)"].to_numpy(dtype=float)
+        out["percent_contribution"] = out["sum_sq"] / total_ss * 100.0 if total_ss > 0 else np.nan
+    resid = out["term"] == "Residual"
+    out.loc[resid, ["F", "p_value"]] = np.nan
+    if saturated:
+        out[["F", "p_value"]] = np.nan
+        out.loc[resid, ["sum_sq", "mean_sq", "percent_contribution"]] = [0.0, np.nan, 0.0]
+    if total_ss == 0:
+        notes.append("response is constant; F, p and contributions are undefined")
+        out[["F", "p_value"]] = np.nan
+    note = "; ".join(notes)
+    out["note"] = note
+    out = out[list(ANOVA_COLUMNS)].reset_index(drop=True)
+    out.attrs.update(
+        typ=kind,
+        formula="y ~ " + " + ".join(term_names[t] for t in terms),
+        note=note,
+        n=n,
+        total_sum_sq=total_ss,
+    )
+    return out
+
+
+def ranked_effects(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: bool = True,
+) -> pd.DataFrame:
+    """Model terms ranked by sum of squares, for a Pareto chart.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions
+        Include two-factor interactions (as in :func:`anova`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``rank`` (1 = largest), ``term``, ``kind`` (``"main"`` or ``"interaction"``),
+        ``df``, ``sum_sq``, ``percent_contribution`` [%], ``cumulative_percent`` [%], ``F``,
+        ``p_value`` and ``effect`` [response unit]. ``effect`` is the classical effect for
+        two-level factors, mean at ``levels[1]`` minus mean at ``levels[0]``, and for the
+        interaction of two two-level factors ``(m11 - m10 - m01 + m00) / 2`` from the cell
+        means; NaN otherwise. The residual is not ranked.
+
+    References
+    ----------
+    Wahlström (2016), Section 4, doi:10.1155/2016/8181260.
+    """
+    factors = _factors(factors)
+    table = anova(summary, factors, response, interactions=interactions)
+    columns = [
+        "rank",
+        "term",
+        "kind",
+        "df",
+        "sum_sq",
+        "percent_contribution",
+        "cumulative_percent",
+        "F",
+        "p_value",
+        "effect",
+    ]
+    terms = table.loc[table["term"] != "Residual"].copy()
+    if terms.empty:
+        return pd.DataFrame({c: pd.Series(dtype=float) for c in columns})
+    data = _clean(summary, factors, response)
+    by_name = {f.name: f for f in factors}
+    y = data[response].to_numpy(dtype=float)
+
+    def effect(term: str) -> float:
+        parts = term.split(":")
+        if any(p not in by_name or len(by_name[p].levels) != 2 for p in parts):
+            return math.nan
+        if len(parts) == 1:
+            codes = _codes(data, by_name[parts[0]])
+            if not (np.any(codes == 0) and np.any(codes == 1)):
+                return math.nan
+            return float(y[codes == 1].mean() - y[codes == 0].mean())
+        means, _ = _cell_stats(data, by_name[parts[0]], by_name[parts[1]], response)
+        return float((means[1, 1] - means[1, 0] - means[0, 1] + means[0, 0]) / 2.0)
+
+    terms["kind"] = ["interaction" if ":" in t else "main" for t in terms["term"]]
+    terms["effect"] = [effect(t) for t in terms["term"]]
+    terms = terms.sort_values("sum_sq", ascending=False, kind="stable").reset_index(drop=True)
+    terms["rank"] = np.arange(1, len(terms) + 1)
+    terms["cumulative_percent"] = terms["percent_contribution"].cumsum()
+    out = terms[columns].copy()
+    out.attrs.update(table.attrs)
+    return out
+
+
+# --- bundle and export -----------------------------------------------------------------------
+
+
+def analyze(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    responses: Sequence[str] = ("MU", "V"),
+) -> dict[str, dict[str, Any]]:
+    """Run the whole analysis for several responses.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors.
+    responses
+        Response columns, by default ``("MU", "V")`` (mean COF [-], emitted volume per stop
+        [m^3]).
+
+    Returns
+    -------
+    dict
+        ``{response: {"main_effects": DataFrame, "interactions": {(a, b): DataFrame},
+        "interactions_long": DataFrame, "anova": DataFrame, "ranked_effects": DataFrame}}``.
+
+    References
+    ----------
+    Wahlström (2016), Figures 6 to 9, doi:10.1155/2016/8181260.
+    """
+    factors = _factors(factors)
+    if isinstance(responses, str):
+        responses = (responses,)
+    result: dict[str, dict[str, Any]] = {}
+    for response in responses:
+        result[response] = {
+            "main_effects": main_effects(summary, factors, response),
+            "interactions": interaction_tables(summary, factors, response),
+            "interactions_long": interactions_long(summary, factors, response),
+            "anova": anova(summary, factors, response),
+            "ranked_effects": ranked_effects(summary, factors, response),
+        }
+    return result
+
+
+def _long_from_tables(tables: Mapping[tuple[str, str], pd.DataFrame]) -> pd.DataFrame:
+    frames = []
+    for (a, b), table in tables.items():
+        long = table.stack(future_stack=True).rename("mean").reset_index()
+        long.columns = ["level_a", "level_b", "mean"]
+        long.insert(0, "factor_a", a)
+        long.insert(2, "factor_b", b)
+        frames.append(long[["factor_a", "level_a", "factor_b", "level_b", "mean"]])
+    if not frames:
+        return pd.DataFrame(columns=["factor_a", "level_a", "factor_b", "level_b", "mean"])
+    return pd.concat(frames, ignore_index=True)
+
+
+def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) -> list[Path]:
+    """Write the tables of :func:`analyze` as CSV files.
+
+    Parameters
+    ----------
+    result
+        Output of :func:`analyze`.
+    directory
+        Target directory; created if missing.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written: ``main_effects_<R>.csv``, ``interactions_<R>.csv`` (long form),
+        ``anova_<R>.csv`` and ``ranked_effects_<R>.csv`` for every response ``R``.
+    """
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    written: list[Path] = []
+    for response, bundle in result.items():
+        long = bundle.get("interactions_long")
+        if long is None:
+            long = _long_from_tables(bundle.get("interactions", {}))
+        tables = {
+            "main_effects": bundle["main_effects"],
+            "interactions": long,
+            "anova": bundle["anova"],
+            "ranked_effects": bundle["ranked_effects"],
+        }
+        for stem, table in tables.items():
+            path = directory / f"{stem}_{response}.csv"
+            table.to_csv(path, index=False)
+            written.append(path)
+    return written

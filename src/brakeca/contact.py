@@ -1,0 +1,178 @@
+"""Elastic-foundation contact under torque control (Section 2.2 of the paper; decisions in
+docs/model.md).
+
+Each cell is an independent elastic bar (Winkler foundation): a plateau cell whose undeformed
+height ``h`` stands above the rigid, flat disc surface at ``z`` carries ``p = K (h - z)`` with
+``K = E / L``. Resin carries no load. Under torque control the disc position ``z`` is the one at
+which the friction force ``F(z) = sum mu(p_i) p_i A_i`` equals the demanded friction force.
+``mu(p) p`` is not monotone, so several ``z`` can do it: the solver returns the first one met as
+the approach grows from zero (the smallest normal load), which depends on the surface alone.
+
+Algorithm
+---------
+Sort the plateau heights (descending). Between consecutive breakpoints (a cell entering contact
+at ``z = h_k``, a cell reaching the COF floor at ``z = h_k - u_f`` with ``u_f = (mu_0 - mu_min)/(c K)``)
+``F`` is a quadratic in the approach ``w``: ``F = F_0 + D w - Q w^2``. Walk the breakpoints from
+the top, updating ``F``, ``D`` and ``Q``, and solve the quadratic in each interval; the first root is
+exact to round-off. Cost: O(number of cells in contact) once the heights are sorted.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "ContactError",
+    "contact_pressure",
+    "first_root",
+    "friction_force",
+    "solve_disc_position",
+]
+
+SOLVE_OK = 0
+SOLVE_NO_PLATEAU = 1
+SOLVE_NO_ROOT = 2
+
+
+class ContactError(RuntimeError):
+    """The demanded torque cannot be reached (no plateau can touch the disc, or the foundation
+    would have to be compressed beyond its length)."""
+
+
+@njit(cache=True)
+def first_root(order, n_plateau, height, cell_area_row, n_angular, stiffness, mu_0, slope,
+               mu_min, target):
+    """First disc position z at which the friction force reaches ``target``.
+
+    Parameters
+    ----------
+    order : int64 array
+        Flat indices of the plateau cells sorted by height, highest first.
+    n_plateau : int
+        Number of valid entries of ``order``.
+    height : float64 array
+        Flat cell heights [m].
+    cell_area_row : float64 array
+        Cell area of each row [m^2]; the row of flat index idx is ``idx // n_angular``.
+    n_angular : int
+        Cells per row.
+    stiffness : float
+        Foundation stiffness K [Pa/m].
+    mu_0, slope, mu_min : float
+        Friction law: mu_0 [-], c [1/Pa], mu_min [-].
+    target : float
+        Demanded friction force [N], > 0.
+
+    Returns
+    -------
+    z : float
+        Disc surface position [m].
+    n_in : int
+        Number of leading entries of ``order`` with ``h > z`` (the cells in contact).
+    code : int
+        0 ok, 1 no plateau cell.
+    """
+    if n_plateau == 0:
+        return 0.0, 0, SOLVE_NO_PLATEAU
+    k2 = slope * stiffness * stiffness
+    if slope > 0.0:
+        u_floor = (mu_0 - mu_min) / (slope * stiffness)
+    else:
+        u_floor = math.inf
+    z_hi = height[order[0]]
+    f = 0.0  # friction force at z_hi [N]
+    d = 0.0  # dF/dw at z_hi [N/m]
+    q = 0.0  # -0.5 d2F/dw2 [N/m^2]
+    a = 0  # cells entered (in contact)
+    b = 0  # cells entered on the floor branch
+    while True:
+        # apply every event at z_hi
+        while a < n_plateau and height[order[a]] >= z_hi:
+            area = cell_area_row[order[a] // n_angular]
+            d += area * mu_0 * stiffness
+            q += area * k2
+            a += 1
+        while b < a and height[order[b]] - u_floor >= z_hi:
+            area = cell_area_row[order[b] // n_angular]
+            d += area * stiffness * (mu_0 - mu_min)  # slope jumps from A K (2 mu_min - mu_0) to A K mu_min
+            q -= area * k2
+            b += 1
+        if q < 0.0:
+            q = 0.0
+        z_next = -math.inf
+        if a < n_plateau:
+            z_next = height[order[a]]
+        if b < a:
+            zf = height[order[b]] - u_floor
+            if zf > z_next:
+                z_next = zf
+        w_max = z_hi - z_next
+        rest = target - f
+        w = math.inf
+        if d > 0.0:
+            if q > 0.0:
+                disc = d * d - 4.0 * q * rest
+                if disc >= 0.0:
+                    w = 2.0 * rest / (d + math.sqrt(disc))
+            else:
+                w = rest / d
+        if w <= w_max:
+            return z_hi - w, a, SOLVE_OK
+        if not (w_max < math.inf):
+            return z_hi, a, SOLVE_NO_ROOT  # unreachable for a non-empty set; kept for safety
+        f += d * w_max - q * w_max * w_max
+        d -= 2.0 * q * w_max
+        z_hi = z_next
+
+
+def contact_pressure(height, disc_position: float, stiffness: float):
+    """Winkler contact pressure ``p = K max(h - z, 0)`` [Pa] of heights [m] at disc position [m]."""
+    return stiffness * np.maximum(np.asarray(height, dtype=float) - disc_position, 0.0)
+
+
+def friction_force(height, area, disc_position, stiffness, mu_0, slope, mu_min) -> float:
+    """Friction force ``sum mu(p) p A`` [N] of plateau cells (heights [m], areas [m^2])."""
+    p = contact_pressure(height, disc_position, stiffness)
+    mu = np.maximum(mu_min, mu_0 - slope * p)
+    return float(np.sum(mu * p * np.asarray(area, dtype=float)))
+
+
+def solve_disc_position(height, area, *, stiffness: float, mu_0: float, slope: float,
+                        mu_min: float, target: float) -> float:
+    """Torque-controlled contact of a set of plateau cells: the first z with F(z) = target.
+
+    Parameters
+    ----------
+    height : array_like
+        Plateau cell heights [m].
+    area : array_like
+        Their areas [m^2] (same shape).
+    stiffness : float
+        K [Pa/m].
+    mu_0, slope, mu_min : float
+        Friction law [-], [1/Pa], [-].
+    target : float
+        Demanded friction force [N].
+
+    Returns
+    -------
+    float
+        Disc position z [m].
+
+    Raises
+    ------
+    ContactError
+        If there is no plateau cell or the target is not positive.
+    """
+    h = np.ascontiguousarray(np.ravel(height), dtype=np.float64)
+    ar = np.ascontiguousarray(np.broadcast_to(area, np.shape(height)).ravel(), dtype=np.float64)
+    if target <= 0.0:
+        raise ContactError(f"demanded friction force must be positive, got {target} N")
+    order = np.argsort(-h, kind="stable").astype(np.int64)
+    z, _, code = first_root(order, h.size, h, ar, 1, stiffness, mu_0, slope, mu_min, target)
+    if code != SOLVE_OK:
+        raise ContactError("no plateau cell can reach the disc")
+    return z

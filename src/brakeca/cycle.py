@@ -1,0 +1,136 @@
+"""Drive cycles: blocks of stops at constant deceleration, and the exact stop kinematics.
+
+The time step is the time a point of the disc takes to pass one subdomain; in each step the
+disc turns by ``N_m * dtheta`` and the vehicle travels ``s = R_wheel * N_m * dtheta``. At
+constant deceleration ``a`` the speeds obey ``v_{n+1}^2 = v_n^2 - 2 a s`` exactly, and the last
+step of a stop is a partial one (decision, docs/model.md).
+
+References
+----------
+J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Section 2.4, Table 3.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from brakeca.config import SimulationConfig
+
+__all__ = ["BrakeDemand", "Stop", "brake_demand", "expand_stops", "step_distance", "stop_steps"]
+
+KMH = 1.0 / 3.6  #: one km/h in m/s
+
+
+@dataclass(frozen=True)
+class Stop:
+    """One braking event of a block cycle (SI units).
+
+    Attributes
+    ----------
+    index : int
+        1-based stop number in the cycle [-].
+    block : str
+        Name of the block the stop belongs to.
+    initial_speed, final_speed : float
+        Vehicle speed at brake-on and brake-off [m/s].
+    deceleration : float
+        Constant deceleration [m/s^2].
+    """
+
+    index: int
+    block: str
+    initial_speed: float
+    final_speed: float
+    deceleration: float
+
+
+def expand_stops(config: SimulationConfig) -> list[Stop]:
+    """The stops of the configured cycle in driving order, cut to ``cycle.max_stops``."""
+    stops: list[Stop] = []
+    g = config.vehicle.gravity
+    for block in config.cycle.blocks:
+        for _ in range(block.stops):
+            stops.append(
+                Stop(
+                    index=len(stops) + 1,
+                    block=block.name,
+                    initial_speed=block.initial_speed_kmh * KMH,
+                    final_speed=block.final_speed_kmh * KMH,
+                    deceleration=block.deceleration_g * g,
+                )
+            )
+    return stops[: config.cycle.n_stops]
+
+
+def step_distance(config: SimulationConfig) -> float:
+    """Vehicle travel per full time step, s = R_wheel N_m dtheta [m]."""
+    return config.vehicle.wheel_radius * config.mesh.columns_per_subdomain * config.mesh.angular_step
+
+
+def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
+    """Durations and sliding fractions of the time steps of one stop.
+
+    Parameters
+    ----------
+    stop
+        The stop.
+    distance
+        Vehicle travel of one full step, s [m].
+
+    Returns
+    -------
+    dt : ndarray
+        Duration of each step, (v_n - v_{n+1}) / a [s].
+    fraction : ndarray
+        Fraction of a full step travelled (1 except for the last, partial step) [-].
+
+    Notes
+    -----
+    ``v_{n+1}^2 = v_n^2 - 2 a s``; the stop ends when the speed reaches its final speed.
+    """
+    a = stop.deceleration
+    v0, v1 = stop.initial_speed, stop.final_speed
+    total = (v0 * v0 - v1 * v1) / (2.0 * a * distance)  # full steps, fractional
+    n_full = math.floor(total)
+    rest = total - n_full
+    if rest < 1e-9:  # the stop ends on a full step (to round-off)
+        rest = 0.0
+    n = n_full + (1 if rest > 0.0 else 0)
+    k = np.arange(n + 1, dtype=np.float64)
+    travelled = np.minimum(k, total) * distance
+    v = np.sqrt(np.maximum(v0 * v0 - 2.0 * a * travelled, v1 * v1))
+    v[-1] = v1
+    dt = (v[:-1] - v[1:]) / a
+    fraction = np.ones(n)
+    if rest > 0.0:
+        fraction[-1] = rest
+    return dt, fraction
+
+
+@dataclass(frozen=True)
+class BrakeDemand:
+    """What one stop asks of the simulated band (decisions in docs/model.md).
+
+    Attributes
+    ----------
+    brake_torque : float
+        Torque of this wheel's brake, T = m_w a R_wheel [N m].
+    pad_friction_force : float
+        Friction force of one pad at the effective radius, T / (n_pads r_eff) [N].
+    band_friction_force : float
+        Share of the simulated band, F_f,pad A_sim / A_pad [N].
+    """
+
+    brake_torque: float
+    pad_friction_force: float
+    band_friction_force: float
+
+
+def brake_demand(config: SimulationConfig, deceleration: float, band_area: float) -> BrakeDemand:
+    """Demanded friction for a deceleration [m/s^2] on a simulated band of area [m^2]."""
+    torque = config.vehicle.wheel_load_mass * deceleration * config.vehicle.wheel_radius
+    pad = torque / (config.brake.pads_per_brake * config.brake.effective_radius)
+    return BrakeDemand(torque, pad, pad * band_area / config.brake.pad_area)

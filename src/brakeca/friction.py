@@ -1,0 +1,70 @@
+"""Local coefficient of friction on plateaus (Figure 4 of the paper).
+
+``mu(p) = max(mu_min, mu_0 - c p)``: the COF falls linearly with the local contact pressure and
+never drops below the floor ``mu_min`` (0.15 in the paper). Primary and secondary plateaus share
+the law; resin carries no load and no friction.
+
+References
+----------
+J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Figure 4.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["coefficient_of_friction", "friction_stress_peak", "local_cof"]
+
+
+@njit(cache=True)
+def local_cof(pressure: float, mu_0: float, slope: float, mu_min: float) -> float:
+    """Local COF at one contact pressure.
+
+    Parameters
+    ----------
+    pressure : float
+        Local contact pressure p [Pa].
+    mu_0 : float
+        COF at zero pressure [-].
+    slope : float
+        Decrease of the COF per pascal, c [1/Pa].
+    mu_min : float
+        COF floor [-].
+
+    Returns
+    -------
+    float
+        mu(p) = max(mu_min, mu_0 - c p) [-].
+    """
+    mu = mu_0 - slope * pressure
+    return mu if mu > mu_min else mu_min
+
+
+def coefficient_of_friction(pressure, mu_0: float = 0.6, slope: float = 3e-8, mu_min: float = 0.15):
+    """Vectorised ``mu(p) = max(mu_min, mu_0 - c p)`` for an array of pressures [Pa] -> [-].
+
+    Examples
+    --------
+    >>> float(coefficient_of_friction(5e6))
+    0.45
+    >>> float(coefficient_of_friction(20e6))
+    0.15
+    """
+    return np.maximum(mu_min, mu_0 - slope * np.asarray(pressure, dtype=float))
+
+
+def friction_stress_peak(mu_0: float, slope: float, mu_min: float) -> tuple[float, float]:
+    """Pressure [Pa] and friction stress [Pa] where ``mu(p) p`` peaks on the linear branch.
+
+    Notes
+    -----
+    ``d(mu p)/dp = mu_0 - 2 c p = 0`` gives ``p* = mu_0 / (2c)`` and ``mu(p*) p* = mu_0^2/(4c)``,
+    valid when ``mu(p*) >= mu_min``; otherwise ``mu p`` is monotone and there is no peak (inf).
+    """
+    if slope <= 0.0:
+        return float("inf"), float("inf")
+    p_star = mu_0 / (2.0 * slope)
+    if mu_0 - slope * p_star < mu_min:
+        return float("inf"), float("inf")
+    return p_star, mu_0 * mu_0 / (4.0 * slope)

@@ -1,0 +1,86 @@
+"""Polar pad mesh: cell positions, areas, sliding distances and subdomains (Section 2.2, Table 5).
+
+Rows ``j`` run outwards in radius (north), columns ``i`` run along the sliding direction (east):
+a point of the disc enters the pad at column 0 (leading edge) and leaves after column
+``n_angular - 1`` (trailing edge). Arrays are indexed ``[j, i]``.
+
+References
+----------
+J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Section 2.2.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from brakeca.config import SimulationConfig
+
+__all__ = ["Grid", "make_grid"]
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The polar grid of the simulated band.
+
+    Attributes
+    ----------
+    radius : ndarray, shape (n_radial,)
+        Row radii r_j [m].
+    angle : ndarray, shape (n_angular,)
+        Column angles theta_i [rad], 0 at the leading edge.
+    cell_area : ndarray, shape (n_radial,)
+        Cell area of each row, A_j = r_j * dtheta * dr [m^2].
+    step_sliding_distance : ndarray, shape (n_radial,)
+        Sliding distance of row j in one full time step, r_j * N_m * dtheta [m].
+    columns_per_subdomain : int
+        N_m [-].
+    n_subdomains : int
+        N [-].
+    """
+
+    radius: np.ndarray
+    angle: np.ndarray
+    cell_area: np.ndarray
+    step_sliding_distance: np.ndarray
+    columns_per_subdomain: int
+    n_subdomains: int
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(n_radial, n_angular) [-]."""
+        return (self.radius.size, self.angle.size)
+
+    @property
+    def area(self) -> float:
+        """Simulated area A_sim = sum of all cell areas [m^2]."""
+        return float(self.cell_area.sum() * self.angle.size)
+
+    def cell_area_map(self) -> np.ndarray:
+        """Cell areas broadcast to the grid shape [m^2]."""
+        return np.broadcast_to(self.cell_area[:, None], self.shape)
+
+    def subdomain_of_column(self) -> np.ndarray:
+        """Subdomain index k (0-based) of every column [-]."""
+        return np.arange(self.angle.size) // self.columns_per_subdomain
+
+
+def make_grid(config: SimulationConfig) -> Grid:
+    """Build the grid of ``config``: radii ``r_i + j dr``, angles ``i dtheta`` (Table 5)."""
+    mesh = config.mesh
+    dtheta = mesh.angular_step
+    radius = config.inner_radius + mesh.radial_step * np.arange(mesh.n_radial)
+    angle = dtheta * np.arange(mesh.n_angular)
+    cell_area = radius * dtheta * mesh.radial_step
+    step_sliding_distance = radius * mesh.columns_per_subdomain * dtheta
+    for arr in (radius, angle, cell_area, step_sliding_distance):
+        arr.setflags(write=False)
+    return Grid(
+        radius=radius,
+        angle=angle,
+        cell_area=cell_area,
+        step_sliding_distance=step_sliding_distance,
+        columns_per_subdomain=mesh.columns_per_subdomain,
+        n_subdomains=mesh.n_subdomains,
+    )

@@ -1,0 +1,732 @@
+"""Figures of a factorial campaign: main effects, interactions, per-stop COF, wear, maps.
+
+Every function builds its own :class:`matplotlib.figure.Figure` on an Agg canvas (no pyplot,
+no global backend switch, no figure registry to leak), returns it and, when ``path`` is
+given, saves it as PNG at 150 dpi. matplotlib is imported only inside the functions, so
+importing :mod:`brakeca.plotting` is cheap and works without a display.
+
+References
+----------
+J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad Properties on
+Friction and Wear Emissions", Advances in Tribology, 2016, Article ID 8181260.
+doi:10.1155/2016/8181260 (Figures 5 to 11).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import pandas as pd
+
+from brakeca.analysis import Factor, as_factor, interaction_table, main_effects, ok_runs
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "DPI",
+    "STATUS_COLOURS",
+    "STATUS_NAMES",
+    "plot_cof_series",
+    "plot_fibre_maps",
+    "plot_interactions",
+    "plot_main_effects",
+    "plot_mu_per_stop",
+    "plot_pareto",
+    "plot_surface_map",
+    "plot_v_per_run",
+    "save_figure",
+]
+
+#: Resolution of saved PNG files [dots per inch].
+DPI = 150
+
+#: Colours of the surface status codes 0 (resin), 1 (primary plateau), 2 (secondary plateau).
+STATUS_COLOURS: tuple[str, str, str] = ("#d9d9d9", "#27496d", "#f28e2b")
+
+#: Legend names of the surface status codes.
+STATUS_NAMES: tuple[str, str, str] = (
+    "resin (no plateau)",
+    "primary plateau (metal fibre)",
+    "secondary plateau",
+)
+
+#: Axis label and factor from data unit to plotted unit, per known response.
+_RESPONSES: dict[str, tuple[str, float]] = {
+    "MU": ("Mean coefficient of friction μ [-]", 1.0),
+    "V": ("Emitted wear volume per stop V [mm³]", 1e9),
+    "V_mm3": ("Emitted wear volume per stop V [mm³]", 1.0),
+}
+
+
+def _response_axis(response: str) -> tuple[str, float]:
+    return _RESPONSES.get(response, (response, 1.0))
+
+
+def _figure(figsize: tuple[float, float]) -> Figure:
+    """A new figure on an Agg canvas, with constrained (tight) layout."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def save_figure(fig: Figure, path: str | Path | None) -> Figure:
+    """Save ``fig`` as PNG at :data:`DPI` when ``path`` is given (parents are created).
+
+    Parameters
+    ----------
+    fig
+        The figure.
+    path
+        Target file, or None to skip saving.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig``, for chaining.
+    """
+    if path is not None:
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=DPI, format="png")
+    return fig
+
+
+def _tick_label(factor: Factor, level: float) -> str:
+    if factor.labels is not None:
+        return f"{factor.level_label(level)}\n{level:g}"
+    return f"{level:g}"
+
+
+def _legend_label(factor: Factor, level: float) -> str:
+    if factor.labels is not None:
+        return f"{factor.name}{factor.level_label(level)} ({level:g})"
+    return f"{factor.name} = {level:g}"
+
+
+def _finite_response(summary: pd.DataFrame, response: str) -> np.ndarray:
+    if response not in summary.columns:
+        raise KeyError(f"response {response!r} is not a column of the summary")
+    y = pd.to_numeric(ok_runs(summary)[response], errors="coerce").to_numpy(dtype=float)
+    return y[np.isfinite(y)]
+
+
+# --- main effects and interactions (Figures 6 to 9) ------------------------------------------
+
+
+def plot_main_effects(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    path: str | Path | None = None,
+) -> Figure:
+    """Main-effects plot: level means of a response, one panel per factor.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+    factors
+        The design's factors (:class:`brakeca.analysis.Factor` or factor-like).
+    response
+        Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per factor, sharing the y axis; the grand mean is a dashed line.
+
+    References
+    ----------
+    Wahlström (2016), Figures 6 (MU) and 8 (V), doi:10.1155/2016/8181260.
+    """
+    factors = [as_factor(f) for f in factors]
+    if not factors:
+        raise ValueError("no factors to plot")
+    table = main_effects(summary, factors, response)
+    ylabel, scale = _response_axis(response)
+    y = _finite_response(summary, response)
+    grand = float(y.mean()) * scale if y.size else math.nan
+
+    fig = _figure((2.6 * len(factors) + 1.0, 3.6))
+    axes = fig.subplots(1, len(factors), sharey=True, squeeze=False)[0]
+    for ax, factor in zip(axes, factors, strict=True):
+        rows = table.loc[table["factor"] == factor.name]
+        x = np.arange(len(rows))
+        ax.plot(x, rows["mean"].to_numpy() * scale, "o-", color="#27496d", lw=1.8, ms=6)
+        if math.isfinite(grand):
+            ax.axhline(grand, ls="--", lw=1.0, color="0.45", label="grand mean")
+        ax.set_xticks(x, [_tick_label(factor, lv) for lv in rows["level"]])
+        ax.set_xlim(-0.4, len(rows) - 0.6)
+        ax.set_xlabel(factor.axis_label)
+        ax.set_title(factor.label or factor.name, fontsize=9)
+        ax.grid(True, axis="y", alpha=0.3)
+    axes[0].set_ylabel(ylabel)
+    axes[0].legend(loc="best", fontsize=8)
+    fig.suptitle(f"Main effects plot for {response}")
+    return save_figure(fig, path)
+
+
+def plot_interactions(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    path: str | Path | None = None,
+) -> Figure:
+    """Interaction-plot matrix: cell means of a response for every pair of factors.
+
+    The panel in row ``i`` and column ``j`` (``i < j``) shows the mean response against the
+    levels of factor ``j``, one line per level of factor ``i``; panels below the diagonal are
+    not drawn, so the figure has one axes per pair.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+    factors
+        The design's factors, at least two.
+    response
+        Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    References
+    ----------
+    Wahlström (2016), Figures 7 (MU) and 9 (V), doi:10.1155/2016/8181260.
+    """
+    factors = [as_factor(f) for f in factors]
+    nf = len(factors)
+    if nf < 2:
+        raise ValueError("an interaction plot needs at least two factors")
+    ylabel, scale = _response_axis(response)
+    size = nf - 1
+    fig = _figure((3.0 * size + 1.2, 2.6 * size + 0.6))
+    grid = fig.subplots(size, size, sharey=True, squeeze=False)
+    markers = ("o", "s", "^", "D", "v", "P")
+    colours = ("#27496d", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#b07aa1")
+    for i, j in itertools.product(range(size), range(1, nf)):
+        ax = grid[i, j - 1]
+        if j <= i:
+            fig.delaxes(ax)
+            continue
+        a, b = factors[i], factors[j]
+        table = interaction_table(summary, a, b, response)
+        x = np.arange(len(b.levels))
+        for k, level in enumerate(a.levels):
+            ax.plot(
+                x,
+                table.loc[level].to_numpy(dtype=float) * scale,
+                marker=markers[k % len(markers)],
+                color=colours[k % len(colours)],
+                lw=1.5,
+                ms=5,
+                label=_legend_label(a, level),
+            )
+        ax.set_xticks(x, [_tick_label(b, lv) for lv in b.levels], fontsize=8)
+        ax.set_xlim(-0.3, len(b.levels) - 0.7)
+        ax.set_xlabel(b.axis_label, fontsize=8)
+        ax.grid(True, axis="y", alpha=0.3)
+        ax.tick_params(axis="y", labelleft=True, labelsize=8)
+        if j == i + 1:
+            ax.set_ylabel(f"{response} (mean)", fontsize=8)
+            ax.legend(title=a.name, fontsize=7, title_fontsize=8, loc="best")
+    fig.suptitle(f"Interaction plot for {response}: {ylabel}")
+    return save_figure(fig, path)
+
+
+# --- per-stop and per-run responses (Figures 10 and 11) --------------------------------------
+
+
+def _block_spans(blocks: Sequence[Any], stops: np.ndarray) -> list[tuple[str, float, float]]:
+    """Contiguous (name, first stop - 0.5, last stop + 0.5) stretches of equal block names."""
+    spans: list[tuple[str, float, float]] = []
+    start = 0
+    for k in range(1, len(blocks) + 1):
+        if k == len(blocks) or blocks[k] != blocks[start]:
+            spans.append((str(blocks[start]), stops[start] - 0.5, stops[k - 1] + 0.5))
+            start = k
+    return spans
+
+
+def _run_label(run: Any, levels: Mapping[str, Any], factors: Mapping[str, Factor]) -> str:
+    parts = []
+    for name, value in levels.items():
+        factor = factors.get(name)
+        if factor is not None and factor.labels is not None:
+            parts.append(f"{name}{factor.level_label(value)}")
+        else:
+            try:
+                parts.append(f"{name}={float(value):g}")
+            except (TypeError, ValueError):
+                parts.append(f"{name}={value}")
+    head = f"T{int(run)}" if isinstance(run, int | np.integer) else f"{run}"
+    return f"{head}: {', '.join(parts)}" if parts else head
+
+
+def plot_mu_per_stop(
+    campaign: Any,
+    path: str | Path | None = None,
+    *,
+    factors: Iterable[Any] | None = None,
+    variable: str = "mean_cof",
+) -> Figure:
+    """Mean coefficient of friction per stop over the whole cycle, one line per run.
+
+    Parameters
+    ----------
+    campaign
+        xarray Dataset with dims ``run`` and ``stop``, the variable ``variable`` [-], the
+        factor coordinates along ``run`` and optionally ``block(stop)`` (block names), which
+        are shaded and labelled.
+    path
+        Optional PNG file to write (150 dpi).
+    factors
+        Optional factors; their level labels (``"-"``, ``"0"``, ``"+"``) name the runs.
+    variable
+        Data variable to plot, ``"mean_cof"`` by default.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes.
+
+    References
+    ----------
+    Wahlström (2016), Figure 10, doi:10.1155/2016/8181260.
+    """
+    import matplotlib as mpl
+    from matplotlib.transforms import blended_transform_factory
+
+    if variable not in campaign.data_vars:
+        raise KeyError(f"campaign has no variable {variable!r}")
+    by_name = {f.name: f for f in (as_factor(f) for f in (factors or ()))}
+    data = campaign[variable].transpose("run", "stop")
+    runs = campaign["run"].to_numpy()
+    stops = campaign["stop"].to_numpy()
+    factor_coords = [
+        name
+        for name, coord in campaign.coords.items()
+        if name != "run" and tuple(coord.dims) == ("run",)
+    ]
+    n = len(runs)
+    fig = _figure((13.0, 6.0))
+    ax = fig.subplots()
+
+    if "block" in campaign.coords:
+        blocks = [str(b) for b in campaign["block"].to_numpy()]
+        trans = blended_transform_factory(ax.transData, ax.transAxes)
+        for k, (name, lo, hi) in enumerate(_block_spans(blocks, stops)):
+            if k % 2:
+                ax.axvspan(lo, hi, color="0.93", lw=0, zorder=0)
+            if k:
+                ax.axvline(lo, color="0.6", lw=0.6, zorder=1)
+            ax.text(
+                0.5 * (lo + hi),
+                0.98,
+                name,
+                transform=trans,
+                rotation=90,
+                ha="center",
+                va="top",
+                fontsize=7,
+                color="0.25",
+                zorder=5,
+                bbox={"facecolor": "white", "alpha": 0.75, "lw": 0, "pad": 1.0},
+            )
+
+    cmap = mpl.colormaps["turbo"]
+    styles = ("-", "--", ":", "-.")
+    values = data.to_numpy()
+    for k, run in enumerate(runs):
+        levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
+        ax.plot(
+            stops,
+            values[k],
+            lw=1.0,
+            ls=styles[(k // 12) % len(styles)] if n > 12 else "-",
+            color=cmap(0.05 + 0.9 * k / max(n - 1, 1)),
+            label=_run_label(run.item() if hasattr(run, "item") else run, levels, by_name),
+        )
+    ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
+    ax.set_xlabel("Stop number [-]")
+    ax.set_ylabel("Mean coefficient of friction μ per stop [-]")
+    ax.set_title("Mean coefficient of friction per stop over the cycle, all runs")
+    ax.grid(True, alpha=0.3)
+    fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n <= 30 else 2)
+    return save_figure(fig, path)
+
+
+def plot_v_per_run(
+    summary: pd.DataFrame,
+    path: str | Path | None = None,
+) -> Figure:
+    """Mean emitted wear volume per stop for every run (test), as bars in mm^3.
+
+    Replicates (rows sharing a test number) are averaged and drawn with a one-standard-
+    deviation error bar; tests without any successful run are marked "failed".
+
+    Parameters
+    ----------
+    summary
+        Campaign summary with ``test`` and ``V`` [m^3] (or ``V_mm3`` [mm^3]).
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes.
+
+    References
+    ----------
+    Wahlström (2016), Figure 11, doi:10.1155/2016/8181260.
+    """
+    if "V" in summary.columns:
+        column, scale = "V", 1e9
+    elif "V_mm3" in summary.columns:
+        column, scale = "V_mm3", 1.0
+    else:
+        raise KeyError("summary has neither 'V' [m^3] nor 'V_mm3' [mm^3]")
+    if "test" not in summary.columns:
+        raise KeyError("summary has no 'test' column")
+    tests = sorted(pd.unique(summary["test"]))
+    data = ok_runs(summary)
+    values = pd.to_numeric(data[column], errors="coerce") * scale
+    grouped = values.groupby(data["test"]).agg(["mean", "std", "count"]).reindex(tests)
+
+    fig = _figure((max(6.0, 0.38 * len(tests) + 2.0), 4.0))
+    ax = fig.subplots()
+    x = np.asarray(tests, dtype=float)
+    heights = grouped["mean"].to_numpy(dtype=float)
+    err = grouped["std"].where(grouped["count"] > 1).to_numpy(dtype=float)
+    ax.bar(x, np.nan_to_num(heights), width=0.75, color="#27496d", zorder=2)
+    if np.isfinite(err).any():
+        ax.errorbar(x, heights, yerr=err, fmt="none", ecolor="0.2", capsize=2, lw=0.8, zorder=3)
+    for xi, h in zip(x, heights, strict=True):
+        if not np.isfinite(h):
+            ax.text(xi, 0, "failed", rotation=90, ha="center", va="bottom", fontsize=7, color="r")
+    ax.set_xticks(x, [str(t) for t in tests], fontsize=8)
+    ax.set_xlabel("Test number [-]")
+    ax.set_ylabel("Emitted wear volume per stop V [mm³]")
+    ax.set_title("Mean emitted wear volume per stop, per test")
+    ax.grid(True, axis="y", alpha=0.3, zorder=0)
+    return save_figure(fig, path)
+
+
+def plot_pareto(
+    ranked: pd.DataFrame,
+    response: str,
+    path: str | Path | None = None,
+) -> Figure:
+    """Pareto chart of the percent contribution of every model term.
+
+    Parameters
+    ----------
+    ranked
+        Output of :func:`brakeca.analysis.ranked_effects` (``term``,
+        ``percent_contribution`` [%], optionally ``p_value``), largest first.
+    response
+        Response name, for the title.
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes: the bars and the twin axis of the cumulative percentage.
+
+    References
+    ----------
+    Wahlström (2016), Section 4, doi:10.1155/2016/8181260.
+    """
+    table = ranked.sort_values("percent_contribution", ascending=False, kind="stable")
+    terms = [str(t) for t in table["term"]]
+    pct = table["percent_contribution"].to_numpy(dtype=float)
+    if "p_value" in table.columns:
+        p = table["p_value"].to_numpy(dtype=float)
+    else:
+        p = np.full(len(table), np.nan)
+    significant = np.isfinite(p) & (p < 0.05)
+
+    fig = _figure((max(6.0, 0.55 * len(terms) + 2.5), 4.2))
+    ax = fig.subplots()
+    x = np.arange(len(terms))
+    colours = np.where(significant, "#27496d", "#9fb3c8")
+    ax.bar(x, pct, color=colours, zorder=2)
+    ax.set_xticks(x, terms, rotation=45, ha="right")
+    ax.set_xlabel("Model term")
+    ax.set_ylabel("Contribution to total sum of squares [%]")
+    ax.set_title(f"Pareto chart of effects on {response} (dark: p < 0.05)")
+    ax.grid(True, axis="y", alpha=0.3, zorder=0)
+    twin = ax.twinx()
+    twin.plot(x, np.nancumsum(pct), "o-", color="#f28e2b", ms=4, lw=1.2)
+    twin.set_ylim(0, 105)
+    twin.set_ylabel("Cumulative contribution [%]")
+    if not terms:
+        ax.text(0.5, 0.5, "no model terms", transform=ax.transAxes, ha="center")
+    return save_figure(fig, path)
+
+
+# --- surface maps (Figure 5 and final plateau maps) ------------------------------------------
+
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    """Cell edges from cell centres (midpoints, extrapolated half a step at the ends)."""
+    c = np.asarray(centres, dtype=float)
+    if c.size == 1:
+        return np.array([c[0] - 0.5, c[0] + 0.5])
+    mid = 0.5 * (c[1:] + c[:-1])
+    return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
+
+
+def _check_map(status: Any, radius: Any, angle: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    s = np.asarray(status)
+    r = np.asarray(radius, dtype=float)
+    a = np.asarray(angle, dtype=float)
+    if s.ndim != 2 or s.shape != (r.size, a.size):
+        raise ValueError(
+            f"status shape {s.shape} does not match (n_radial, n_angular) = ({r.size}, {a.size})"
+        )
+    if s.size and (s.min() < 0 or s.max() > 2):
+        raise ValueError("status codes must be 0 (resin), 1 (primary) or 2 (secondary)")
+    if r.size > 1 and r[0] > r[-1]:
+        r, s = r[::-1], s[::-1, :]
+    if a.size > 1 and a[0] > a[-1]:
+        a, s = a[::-1], s[:, ::-1]
+    return s.astype(np.int8), r, a
+
+
+def _area_fractions(status: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    """Area fraction of each status code; a cell's area is proportional to its radius."""
+    weights = np.broadcast_to(radius[:, None], status.shape)
+    total = weights.sum()
+    if total <= 0:
+        return np.zeros(3)
+    return np.array([weights[status == k].sum() / total for k in range(3)])
+
+
+def _draw_map(
+    ax: Axes, status: Any, radius: Any, angle: Any, title: str
+) -> tuple[list[Any], np.ndarray]:
+    """Draw one status map on ``ax``; return legend handles and area fractions."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+    from matplotlib.patches import Patch
+
+    s, r, a = _check_map(status, radius, angle)
+    cmap = ListedColormap(list(STATUS_COLOURS))
+    norm = BoundaryNorm([-0.5, 0.5, 1.5, 2.5], cmap.N)
+    x_edges = np.degrees(_edges(a))
+    y_edges = _edges(r) * 1e3
+    uniform = all(
+        v.size < 3 or np.allclose(np.diff(v), np.diff(v)[0], rtol=1e-6, atol=0) for v in (r, a)
+    )
+    if uniform:
+        ax.imshow(
+            s,
+            cmap=cmap,
+            norm=norm,
+            origin="lower",
+            extent=(x_edges[0], x_edges[-1], y_edges[0], y_edges[-1]),
+            aspect="auto",
+            interpolation="nearest",
+        )
+    else:
+        ax.pcolormesh(x_edges, y_edges, s, cmap=cmap, norm=norm, rasterized=True)
+    ax.set_xlabel("Angle [°] (sliding direction →)")
+    ax.set_ylabel("Radius [mm]")
+    if title:
+        ax.set_title(title, fontsize=10)
+    handles = [
+        Patch(facecolor=STATUS_COLOURS[k], edgecolor="0.4", label=STATUS_NAMES[k]) for k in range(3)
+    ]
+    return handles, _area_fractions(s, r)
+
+
+def plot_surface_map(
+    status: Any,
+    radius: Any,
+    angle: Any,
+    title: str = "",
+    path: str | Path | None = None,
+) -> Figure:
+    """Map of the pad surface status on the polar band (angle on x, radius on y).
+
+    Parameters
+    ----------
+    status
+        Integer array of shape (n_radial, n_angular): 0 = resin (no plateau), 1 = primary
+        plateau (metal fibre), 2 = secondary plateau.
+    radius
+        Cell-centre radii [m], length n_radial.
+    angle
+        Cell-centre angles [rad], length n_angular (plotted in degrees; sliding direction is
+        increasing angle).
+    title
+        Figure title.
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes; the legend gives the area fraction of each status.
+
+    References
+    ----------
+    Wahlström (2016), Figure 5 (fibre maps) and Section 2 (plateau model),
+    doi:10.1155/2016/8181260.
+    """
+    fig = _figure((10.0, 3.6))
+    ax = fig.subplots()
+    handles, fractions = _draw_map(ax, status, radius, angle, "")
+    for h, f in zip(handles, fractions, strict=True):
+        h.set_label(f"{h.get_label()}: {100 * f:.1f} %")
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return save_figure(fig, path)
+
+
+def plot_fibre_maps(
+    maps: Mapping[str, tuple[Any, Any, Any]],
+    path: str | Path | None = None,
+    *,
+    ncols: int | None = None,
+) -> Figure:
+    """Several surface maps side by side, e.g. the fibre layouts of the A levels.
+
+    Parameters
+    ----------
+    maps
+        ``{panel title: (status, radius [m], angle [rad])}``, see :func:`plot_surface_map`.
+    path
+        Optional PNG file to write (150 dpi).
+    ncols
+        Panels per row; all in one row by default.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per map, with a shared legend.
+
+    References
+    ----------
+    Wahlström (2016), Figure 5, doi:10.1155/2016/8181260.
+    """
+    if not maps:
+        raise ValueError("no maps to plot")
+    n = len(maps)
+    ncols = n if ncols is None else max(1, min(int(ncols), n))
+    nrows = math.ceil(n / ncols)
+    fig = _figure((5.6 * ncols, 3.0 * nrows + 0.8))
+    grid = fig.subplots(nrows, ncols, squeeze=False)
+    handles: list[Any] = []
+    for k, (ax, (name, (status, radius, angle))) in enumerate(
+        zip(grid.ravel(), maps.items(), strict=False)
+    ):
+        handles, fractions = _draw_map(ax, status, radius, angle, str(name))
+        ax.text(
+            0.99,
+            0.02,
+            f"primary {100 * fractions[1]:.1f} %, secondary {100 * fractions[2]:.1f} %",
+            transform=ax.transAxes,
+            ha="right",
+            va="bottom",
+            fontsize=7,
+            bbox={"facecolor": "white", "alpha": 0.8, "lw": 0},
+        )
+        if k // ncols != nrows - 1 and k + ncols < n:
+            ax.set_xlabel("")
+    for ax in grid.ravel()[n:]:
+        fig.delaxes(ax)
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
+    fig.suptitle("Pad surface maps")
+    return save_figure(fig, path)
+
+
+# --- per-step series -------------------------------------------------------------------------
+
+_COF_NAMES = ("cof", "mu", "mean_cof", "friction_coefficient", "COF", "MU")
+_FORCE_NAMES = ("normal_force", "force", "FN", "F_N")
+_TIME_NAMES = ("time", "t")
+
+
+def _column(source: Any, names: Sequence[str]) -> tuple[str, np.ndarray] | None:
+    keys = list(source.keys()) if hasattr(source, "keys") else []
+    if hasattr(source, "coords"):
+        keys += list(source.coords)
+    for name in names:
+        if name in keys:
+            return name, np.asarray(source[name]).ravel()
+    return None
+
+
+def plot_cof_series(
+    steps_ds: Any,
+    path: str | Path | None = None,
+    *,
+    max_points: int = 20000,
+) -> Figure:
+    """Per-step series of the coefficient of friction and normal force, thinned for plotting.
+
+    Parameters
+    ----------
+    steps_ds
+        xarray Dataset, pandas DataFrame or mapping with a COF series (``cof``, ``mu`` or
+        ``mean_cof``) [-], optionally ``normal_force`` [N] and ``time`` [s] (else the step
+        index is used on x).
+    path
+        Optional PNG file to write (150 dpi).
+    max_points
+        At most this many points per series are drawn (regular stride).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes (COF, normal force) sharing x, or one when there is no normal force.
+
+    References
+    ----------
+    Wahlström (2016), Section 3 (brake cycle), doi:10.1155/2016/8181260.
+    """
+    cof = _column(steps_ds, _COF_NAMES)
+    if cof is None:
+        raise KeyError(f"no COF series found (looked for {', '.join(_COF_NAMES)})")
+    force = _column(steps_ds, _FORCE_NAMES)
+    time = _column(steps_ds, _TIME_NAMES)
+    n = cof[1].size
+    stride = max(1, math.ceil(n / max(int(max_points), 1)))
+    if time is not None and time[1].size == n:
+        x, xlabel = time[1].astype(float), "Time [s]"
+    else:
+        x, xlabel = np.arange(n, dtype=float), "Step index [-]"
+
+    fig = _figure((10.0, 5.5 if force is not None else 3.4))
+    axes = fig.subplots(2 if force is not None else 1, 1, sharex=True, squeeze=False)[:, 0]
+    axes[0].plot(x[::stride], cof[1][::stride], lw=0.7, color="#27496d")
+    axes[0].set_ylabel("Coefficient of friction μ [-]")
+    axes[0].set_title(
+        "Per-step series" + (f" (every {stride}th step of {n})" if stride > 1 else f" ({n} steps)")
+    )
+    axes[0].grid(True, alpha=0.3)
+    if force is not None:
+        axes[1].plot(x[::stride], force[1][::stride], lw=0.7, color="#f28e2b")
+        axes[1].set_ylabel("Normal force [N]")
+        axes[1].grid(True, alpha=0.3)
+    axes[-1].set_xlabel(xlabel)
+    return save_figure(fig, path)

@@ -1,0 +1,262 @@
+"""Run results: an xarray Dataset with provenance, saved to and loaded from netCDF.
+
+Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emitted_volume``
+[m^3], ``generated_volume`` [m^3], ``primary_area_fraction`` and ``secondary_area_fraction``
+(time-weighted) [-], ``contact_area_fraction`` [-], ``normal_force`` (pad) [N],
+``band_normal_force`` [N], ``line_pressure`` [Pa], ``duration`` [s], ``n_steps``,
+``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``rule_firings(stop, rule)``.
+Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
+A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
+``final_status``, ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package
+version, wall time.
+
+References
+----------
+J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Section 3.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from brakeca import __version__
+from brakeca import _kernels as K
+from brakeca.config import SimulationConfig
+
+__all__ = ["FORMAT", "RunResult", "build_dataset"]
+
+FORMAT = "brakeca-run/1"  #: format marker written to and checked in every run file
+M3_TO_MM3 = 1e9
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """The result of one simulated run.
+
+    Attributes
+    ----------
+    config : SimulationConfig
+        The resolved configuration.
+    seed : int
+        Seed of the run's generator (-1 if a generator was passed in).
+    dataset : xarray.Dataset
+        Everything the run produced (see the module docstring).
+    """
+
+    config: SimulationConfig
+    seed: int
+    dataset: xr.Dataset
+
+    @property
+    def MU(self) -> float:  # noqa: N802 - the paper's name
+        """Mean over the stops of the per-stop mean COF [-]."""
+        return float(self.dataset["MU"])
+
+    @property
+    def V(self) -> float:  # noqa: N802 - the paper's name
+        """Mean wear volume leaving the contact of the band, per stop [m^3]."""
+        return float(self.dataset["V"])
+
+    def scalars(self) -> dict[str, float]:
+        """Per-run scalars for a summary table (MU, V, V_mm3, residuals, steps, wall time)."""
+        ds = self.dataset
+        return {
+            "MU": self.MU,
+            "V": self.V,
+            "V_mm3": self.V * M3_TO_MM3,
+            "total_emitted_mm3": float(ds["emitted_volume"].sum()) * M3_TO_MM3,
+            "total_generated_mm3": float(ds["generated_volume"].sum()) * M3_TO_MM3,
+            "final_primary_area_fraction": float(ds["primary_area_fraction"][-1]),
+            "final_secondary_area_fraction": float(ds["secondary_area_fraction"][-1]),
+            "max_ledger_residual": float(ds["max_ledger_residual"]),
+            "max_friction_residual": float(ds["max_friction_residual"]),
+            "n_steps": int(ds["n_steps"].sum()),
+            "wall_time": float(ds.attrs["wall_time"]),
+        }
+
+    def to_netcdf(self, path: str | Path) -> Path:
+        """Write the result to ``path`` atomically (temporary file, then rename)."""
+        return write_atomic(self.dataset, path)
+
+    @classmethod
+    def from_netcdf(cls, path: str | Path) -> RunResult:
+        """Load a run file; raises ``ValueError`` for a file that is not a brakeca run."""
+        path = Path(path)
+        try:
+            with xr.open_dataset(path, engine="h5netcdf") as ds:
+                ds = ds.load()
+        except Exception as exc:
+            raise ValueError(f"{path}: not a readable netCDF file ({exc})") from None
+        if ds.attrs.get("format") != FORMAT:
+            raise ValueError(f"{path}: not a brakeca run file (format {ds.attrs.get('format')!r})")
+        try:
+            config = SimulationConfig.from_toml(ds.attrs["config"], source=f"{path} [config]")
+            seed = int(ds.attrs["seed"])
+        except Exception as exc:
+            raise ValueError(f"{path}: run file with a broken config attribute ({exc})") from None
+        for name in ("MU", "V", "mean_cof", "emitted_volume"):
+            if name not in ds:
+                raise ValueError(f"{path}: run file lacks {name!r}")
+        return cls(config=config, seed=seed, dataset=ds)
+
+
+def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
+    """Write a Dataset to netCDF atomically: a temporary file in the same folder, then rename."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    os.close(fd)
+    try:
+        dataset.to_netcdf(tmp, engine="h5netcdf")
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def build_dataset(
+    *,
+    config: SimulationConfig,
+    seed: int,
+    grid,
+    stops,
+    records: list[np.ndarray],
+    dts: list[np.ndarray],
+    flush: list[float],
+    s_removed: list[int],
+    rule_counts: list[np.ndarray],
+    initial_status: np.ndarray,
+    final_status: np.ndarray,
+    final_height: np.ndarray,
+    final_ledger: float,
+    wall_time: float,
+) -> xr.Dataset:
+    """Assemble the run Dataset from the kernel's per-step records (see module docstring)."""
+    area = grid.area
+    pad_scale = config.brake.pad_area / area
+    piston = np.pi * config.brake.piston_diameter**2 / 4.0
+    n = len(stops)
+
+    def tw(rec, dt, col):  # time-weighted mean of a record column over a stop
+        return float(np.sum(rec[:, col] * dt) / np.sum(dt))
+
+    per_stop: dict[str, Any] = {
+        "mean_cof": [tw(r, d, K.R_COF) for r, d in zip(records, dts, strict=True)],
+        "emitted_volume": [
+            float(r[:, K.R_EMITTED].sum()) + f for r, f in zip(records, flush, strict=True)
+        ],
+        "generated_volume": [float(r[:, K.R_GENERATED].sum()) for r in records],
+        "primary_area_fraction": [tw(r, d, K.R_PRIMARY_AREA) / area for r, d in zip(records, dts, strict=True)],
+        "secondary_area_fraction": [tw(r, d, K.R_SECONDARY_AREA) / area for r, d in zip(records, dts, strict=True)],
+        "contact_area_fraction": [tw(r, d, K.R_CONTACT_AREA) / area for r, d in zip(records, dts, strict=True)],
+        "band_normal_force": [tw(r, d, K.R_NORMAL) for r, d in zip(records, dts, strict=True)],
+        "duration": [float(d.sum()) for d in dts],
+        "n_steps": [d.size for d in dts],
+        "max_ledger_residual": [float(r[:, K.R_LEDGER].max()) for r in records],
+        "secondary_removed_between_stops": s_removed,
+        "end_of_stop_emitted_volume": flush,
+        "min_disc_position": [float(r[:, K.R_DISC].min()) for r in records],
+    }
+    per_stop["normal_force"] = [f * pad_scale for f in per_stop["band_normal_force"]]
+    per_stop["line_pressure"] = [f / piston for f in per_stop["normal_force"]]
+    units = {
+        "mean_cof": ("1", "time-weighted mean global COF of the stop"),
+        "emitted_volume": ("m3", "wear volume that left the band during the stop and after it"),
+        "generated_volume": ("m3", "pad material removed (primary plateau + resin wear)"),
+        "primary_area_fraction": ("1", "time-weighted primary plateau area / band area"),
+        "secondary_area_fraction": ("1", "time-weighted secondary plateau area / band area"),
+        "contact_area_fraction": ("1", "time-weighted area in contact / band area"),
+        "band_normal_force": ("N", "time-weighted normal force on the simulated band"),
+        "normal_force": ("N", "time-weighted pad normal force, band force * A_pad / A_sim"),
+        "line_pressure": ("Pa", "hydraulic pressure, pad normal force / piston area"),
+        "duration": ("s", "duration of the stop"),
+        "n_steps": ("1", "time steps in the stop"),
+        "max_friction_residual": ("1", "max |F_friction / F_demanded - 1| over the steps"),
+        "max_ledger_residual": ("1", "max relative volume-ledger residual over the steps"),
+        "secondary_removed_between_stops": ("1", "secondary plateaus removed by rule S"),
+        "end_of_stop_emitted_volume": ("m3", "particles flushed and deposits removed by S"),
+        "min_disc_position": ("m", "lowest disc surface position z in the stop"),
+    }
+    stop_idx = np.arange(1, n + 1)
+    # friction residual against the demanded force of each stop (constant within a stop)
+    from brakeca.cycle import brake_demand
+
+    fr_res = []
+    for st, r in zip(stops, records, strict=True):
+        target = brake_demand(config, st.deceleration, area).band_friction_force
+        fr_res.append(float(np.max(np.abs(r[:, K.R_FRICTION] / target - 1.0))))
+    per_stop["max_friction_residual"] = fr_res
+
+    data_vars: dict[str, Any] = {}
+    for name, values in per_stop.items():
+        unit, desc = units[name]
+        data_vars[name] = ("stop", np.asarray(values), {"units": unit, "long_name": desc})
+    counts = np.stack(rule_counts)[:, 1:8]
+    data_vars["rule_firings"] = (
+        ("stop", "rule"),
+        counts,
+        {"units": "1", "long_name": "cell firings of each plateau rule during the stop"},
+    )
+    # thinned per-step series
+    every = config.output.series_every
+    all_rec = np.concatenate(records)
+    all_dt = np.concatenate(dts)
+    time_end = np.cumsum(all_dt)
+    stop_of_step = np.concatenate([np.full(d.size, s.index) for s, d in zip(stops, dts, strict=True)])
+    keep = np.arange(0, all_rec.shape[0], every)
+    series = {
+        "step_time": (time_end[keep], "s", "braking time at the end of the step"),
+        "step_stop": (stop_of_step[keep], "1", "stop of the step"),
+        "step_cof": (all_rec[keep, K.R_COF], "1", "global COF of the step"),
+        "step_normal_force": (all_rec[keep, K.R_NORMAL] * pad_scale, "N", "pad normal force"),
+        "step_contact_area_fraction": (all_rec[keep, K.R_CONTACT_AREA] / area, "1", "contact area"),
+        "step_primary_area_fraction": (all_rec[keep, K.R_PRIMARY_AREA] / area, "1", "primary area"),
+        "step_secondary_area_fraction": (all_rec[keep, K.R_SECONDARY_AREA] / area, "1", "secondary area"),
+        "step_disc_position": (all_rec[keep, K.R_DISC], "m", "disc surface position z"),
+    }
+    for name, (values, unit, desc) in series.items():
+        data_vars[name] = ("step", values, {"units": unit, "long_name": desc})
+    data_vars["initial_status"] = (("radius", "angle"), initial_status.astype(np.int8),
+                                   {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"})
+    data_vars["final_status"] = (("radius", "angle"), final_status.astype(np.int8),
+                                 {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"})
+    data_vars["final_height"] = (("radius", "angle"), final_height.astype(np.float32),
+                                 {"units": "m", "long_name": "cell height after the cycle"})
+    mu = float(np.mean(per_stop["mean_cof"]))
+    v = float(np.mean(per_stop["emitted_volume"]))
+    data_vars["MU"] = ((), mu, {"units": "1", "long_name": "mean over the stops of the per-stop mean COF"})
+    data_vars["V"] = ((), v, {"units": "m3", "long_name": "mean emitted wear volume per stop"})
+    data_vars["max_ledger_residual"] = (
+        (), max(float(np.max(per_stop["max_ledger_residual"])), final_ledger),
+        {"units": "1", "long_name": "max relative volume-ledger residual of the run"},
+    )
+    data_vars["max_friction_residual"] = ((), float(np.max(fr_res)), {"units": "1"})
+    coords = {
+        "stop": ("stop", stop_idx),
+        "block": ("stop", np.array([s.block for s in stops], dtype=object)),
+        "rule": ("rule", np.arange(1, 8)),
+        "step": ("step", keep + 1),
+        "radius": ("radius", np.asarray(grid.radius), {"units": "m"}),
+        "angle": ("angle", np.asarray(grid.angle), {"units": "rad"}),
+    }
+    attrs = {
+        "format": FORMAT,
+        "title": "brakeca run",
+        "references": "J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260",
+        "brakeca_version": __version__,
+        "seed": int(seed),
+        "config": config.to_toml(),
+        "quick": int(config.quick),
+        "max_stops": -1 if config.cycle.max_stops is None else int(config.cycle.max_stops),
+        "n_steps_total": int(all_rec.shape[0]),
+        "wall_time": float(wall_time),
+    }
+    return xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
