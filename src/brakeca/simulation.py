@@ -24,7 +24,7 @@ from brakeca.geometry import Grid, make_grid
 from brakeca.results import RunResult, build_dataset
 from brakeca.surface import NONE, SECONDARY, Surface, generate_surface
 
-__all__ = ["LedgerError", "SimulationState", "simulate"]
+__all__ = ["LedgerError", "SimulationState", "advance_stop", "end_of_stop", "simulate"]
 
 Progress = Callable[[int, int], None]
 
@@ -202,31 +202,12 @@ def simulate(
     surface = generate_surface(config.pad, grid, rng)
     state = SimulationState.from_surface(surface, grid.n_subdomains)
     stops = expand_stops(config)
-    distance = step_distance(config)
     n_r, n_t = grid.shape
     created = np.zeros(n_r * n_t, dtype=np.int64)
     destroyed = np.zeros(n_r * n_t, dtype=np.int64)
     log = _StopLog([], [], [], [], [])
-    rule6 = config.automaton.rule6_max_gap
-    fr = config.friction
     for stop in stops:
-        dt, fraction = stop_steps(stop, distance)
-        demand = brake_demand(config, stop.deceleration, grid.area)
-        rec = K.empty_record(dt.size)
-        counts = np.zeros(8, dtype=np.int64)
-        code, done = K.run_stop(
-            state.height, state.base, state.status, state.fibre_floor, state.inflow,
-            state.outflow, state.order, state.n_plateau, state.acc,
-            grid.cell_area, grid.step_sliding_distance, n_r, n_t, grid.n_subdomains,
-            config.contact.stiffness, fr.mu_0, fr.slope, fr.mu_min,
-            config.wear.specific_wear_rate, config.wear.resin_wear_depth,
-            math.inf if rule6 is None else rule6, config.contact.bar_length,
-            config.automaton.creation_order == "east_to_west",
-            demand.band_friction_force, fraction, config.output.ledger_tolerance,
-            rec, counts, created, destroyed,
-        )
-        if code != K.OK:
-            _raise_kernel_error(code, done, stop, demand.band_friction_force, rec, config)
+        dt, rec, counts = advance_stop(state, grid, config, stop, created, destroyed)
         flush, n_removed = end_of_stop(state, grid, config.automaton.secondary_removal_fraction, rng)
         log.records.append(rec)
         log.dts.append(dt)
@@ -253,6 +234,56 @@ def simulate(
         wall_time=time.perf_counter() - t0,
     )
     return RunResult(config=config, seed=seed, dataset=dataset)
+
+
+def advance_stop(
+    state: SimulationState,
+    grid: Grid,
+    config: SimulationConfig,
+    stop: Stop,
+    created: np.ndarray | None = None,
+    destroyed: np.ndarray | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Run every time step of one stop on ``state`` (in place) with the compiled kernel.
+
+    Returns
+    -------
+    dt : ndarray
+        Step durations [s].
+    rec : ndarray (n_steps, N_REC)
+        Per-step record (see :mod:`brakeca._kernels`).
+    counts : ndarray of int64, length 8
+        Firings of rules 1..7 (index = rule number).
+
+    Raises
+    ------
+    ContactError, LedgerError
+        As :func:`simulate`.
+    """
+    n_r, n_t = grid.shape
+    if created is None or destroyed is None:
+        created = np.zeros(n_r * n_t, dtype=np.int64)
+        destroyed = np.zeros(n_r * n_t, dtype=np.int64)
+    dt, fraction = stop_steps(stop, step_distance(config))
+    demand = brake_demand(config, stop.deceleration, grid.area)
+    rec = K.empty_record(dt.size)
+    counts = np.zeros(8, dtype=np.int64)
+    rule6 = config.automaton.rule6_max_gap
+    fr = config.friction
+    code, done = K.run_stop(
+        state.height, state.base, state.status, state.fibre_floor, state.inflow,
+        state.outflow, state.order, state.n_plateau, state.acc,
+        grid.cell_area, grid.step_sliding_distance, n_r, n_t, grid.n_subdomains,
+        config.contact.stiffness, fr.mu_0, fr.slope, fr.mu_min,
+        config.wear.specific_wear_rate, config.wear.resin_wear_depth,
+        math.inf if rule6 is None else rule6, config.contact.bar_length,
+        config.automaton.creation_order == "east_to_west",
+        demand.band_friction_force, fraction, config.output.ledger_tolerance,
+        rec, counts, created, destroyed,
+    )
+    if code != K.OK:
+        _raise_kernel_error(code, done, stop, demand.band_friction_force, rec, config)
+    return dt, rec, counts
 
 
 def _final_ledger(state: SimulationState, grid: Grid) -> float:

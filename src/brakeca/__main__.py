@@ -1,0 +1,3 @@
+from brakeca.cli import main
+
+main()

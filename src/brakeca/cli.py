@@ -1,0 +1,202 @@
+"""The command line: parsing and printing, nothing else.
+
+``brakeca simulate`` runs one pad over the drive cycle; ``brakeca surface`` draws the fibre
+maps; ``brakeca run`` / ``analyze`` / ``paper`` run and read factorial campaigns; ``brakeca bench``
+measures speed.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+from rich.console import Console
+
+from brakeca import __version__
+from brakeca.config import ConfigError, SimulationConfig, load_config, parse_override
+
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help=(
+        "Cellular-automaton simulation of brake pad friction, wear and wear emissions "
+        "(Wahlström 2016, doi:10.1155/2016/8181260) and factorial studies over pad properties."
+    ),
+)
+console = Console(stderr=True)
+out = Console()
+
+
+def _fail(message: str, code: int = 2) -> None:
+    console.print(f"[bold red]error:[/] {message}", highlight=False)
+    raise typer.Exit(code)
+
+
+def resolve_config(
+    preset: str,
+    config_file: Path | None,
+    overrides: list[str] | None,
+    stops: int | None,
+    quick: bool,
+) -> SimulationConfig:
+    """Build the run configuration from a preset or file, ``--set`` overrides, --stops, --quick."""
+    from brakeca.design import quick_config
+    from brakeca.presets import load_preset
+
+    config = load_config(config_file) if config_file is not None else load_preset(preset)
+    updates = dict(parse_override(o) for o in overrides or [])
+    if stops is not None:
+        updates["cycle.max_stops"] = stops
+    if updates:
+        config = config.with_updates(updates)
+    if quick:
+        config = quick_config(config)
+    return config
+
+
+PresetOpt = Annotated[str, typer.Option("--preset", help="shipped parameter set")]
+ConfigOpt = Annotated[
+    Path | None, typer.Option("--config", "-c", help="a config TOML file instead of a preset")
+]
+SetOpt = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--set",
+        help="KEY=VALUE override of any config field (dotted), or a factor: S, WP, WR, A (in %)",
+    ),
+]
+SeedOpt = Annotated[int, typer.Option("--seed", help="seed of the run's random generator")]
+StopsOpt = Annotated[
+    int | None, typer.Option("--stops", min=1, help="run only the first N stops of the cycle")
+]
+QuickOpt = Annotated[
+    bool,
+    typer.Option("--quick", help="narrow the band to 2 mm (21 rows); same cells and cycle"),
+]
+
+
+@app.command()
+def simulate(
+    output: Annotated[Path, typer.Option("-o", "--output", help="run file to write (.nc)")],
+    preset: PresetOpt = "paper",
+    config_file: ConfigOpt = None,
+    overrides: SetOpt = None,
+    seed: SeedOpt = 0,
+    stops: StopsOpt = None,
+    quick: QuickOpt = False,
+) -> None:
+    """Simulate one pad over the drive cycle and write a netCDF run file."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+
+    from brakeca.contact import ContactError
+    from brakeca.simulation import LedgerError
+    from brakeca.simulation import simulate as run_simulation
+
+    try:
+        config = resolve_config(preset, config_file, overrides, stops, quick)
+    except ConfigError as exc:
+        _fail(str(exc))
+    n_r, n_t = config.mesh.n_radial, config.mesh.n_angular
+    console.print(
+        f"brakeca {__version__}: {n_r} x {n_t} cells, {config.cycle.n_stops} stops, seed {seed}"
+        + (" (quick)" if config.quick else "")
+    )
+    columns = (
+        TextColumn("stops"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}"),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+    )
+    with Progress(*columns, console=console, transient=False) as bar:
+        task = bar.add_task("simulate", total=config.cycle.n_stops)
+        try:
+            result = run_simulation(
+                config, seed=seed, progress=lambda done, total: bar.update(task, completed=done)
+            )
+        except (ContactError, LedgerError) as exc:
+            _fail(str(exc), code=1)
+    result.to_netcdf(output)
+    out.print(f"MU = {result.MU:.4f}")
+    out.print(f"V  = {result.V * 1e9:.6g} mm^3 per stop")
+    ds = result.dataset
+    out.print(
+        f"ledger residual (max, relative) = {float(ds['max_ledger_residual']):.2e}; "
+        f"friction residual (max) = {float(ds['max_friction_residual']):.2e}"
+    )
+    out.print(f"wrote {output}")
+
+
+@app.command()
+def surface(
+    output: Annotated[Path, typer.Option("-o", "--output", help="PNG to write")],
+    preset: PresetOpt = "paper",
+    config_file: ConfigOpt = None,
+    overrides: SetOpt = None,
+    seed: SeedOpt = 0,
+    levels: Annotated[
+        str, typer.Option("--levels", help="fibre area fractions to draw, in %, comma separated")
+    ] = "10,20",
+    quick: QuickOpt = False,
+) -> None:
+    """Draw the initial fibre maps of the A levels (the paper's Figure 5) to PNG."""
+    import numpy as np
+
+    from brakeca.geometry import make_grid
+    from brakeca.plotting import plot_fibre_maps
+    from brakeca.surface import generate_surface
+
+    try:
+        config = resolve_config(preset, config_file, overrides, None, quick)
+        values = [float(v) for v in levels.split(",") if v.strip()]
+        configs = {f"A = {v:g} %": config.with_updates({"A": v}) for v in values}
+    except (ConfigError, ValueError) as exc:
+        _fail(str(exc))
+    maps = {}
+    for label, cfg in configs.items():
+        grid = make_grid(cfg)
+        surf = generate_surface(cfg.pad, grid, np.random.default_rng(seed))
+        maps[label] = (surf.status, np.asarray(grid.radius), np.asarray(grid.angle))
+    plot_fibre_maps(maps, path=output)
+    out.print(f"wrote {output}")
+
+
+@app.command("config")
+def show_config(
+    preset: PresetOpt = "paper",
+    config_file: ConfigOpt = None,
+    overrides: SetOpt = None,
+    stops: StopsOpt = None,
+    quick: QuickOpt = False,
+) -> None:
+    """Print the resolved configuration as TOML (validate a config without running it)."""
+    try:
+        config = resolve_config(preset, config_file, overrides, stops, quick)
+    except ConfigError as exc:
+        _fail(str(exc))
+    out.print(config.to_toml(), highlight=False, markup=False)
+
+
+@app.callback(invoke_without_command=True)
+def _root(
+    version: Annotated[bool, typer.Option("--version", help="print the version")] = False,
+) -> None:
+    if version:
+        out.print(__version__)
+        raise typer.Exit(0)
+
+
+def main() -> None:
+    """Entry point of the ``brakeca`` command."""
+    try:
+        app()
+    except KeyboardInterrupt:  # pragma: no cover - interactive
+        console.print("interrupted")
+        sys.exit(130)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

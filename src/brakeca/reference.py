@@ -1,0 +1,56 @@
+"""Closed-form solutions used to verify the solver (shipped, so users can check too).
+
+References
+----------
+J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260.
+"""
+
+from __future__ import annotations
+
+import math
+
+__all__ = ["archard_wear_depth_constant_pressure", "flat_punch_pressure"]
+
+
+def flat_punch_pressure(
+    friction_force: float, area: float, mu_0: float, slope: float, mu_min: float
+) -> float:
+    """Uniform pressure under a flat, uniform plateau surface on the Winkler foundation.
+
+    Parameters
+    ----------
+    friction_force : float
+        Demanded friction force F [N].
+    area : float
+        Total plateau area A [m^2] (all cells at the same height).
+    mu_0, slope, mu_min : float
+        Friction law mu(p) = max(mu_min, mu_0 - c p): [-], [1/Pa], [-].
+
+    Returns
+    -------
+    float
+        The smallest pressure p [Pa] with ``mu(p) p A = F`` (first root as the load grows).
+
+    Notes
+    -----
+    On the linear branch ``mu_0 p - c p^2 = F/A`` gives ``p = (mu_0 - sqrt(mu_0^2 - 4 c F/A))/(2c)``
+    when the discriminant is non-negative and the root lies above the floor; otherwise the root
+    is on the floor branch, ``p = F / (mu_min A)``.
+    """
+    tau = friction_force / area
+    if slope == 0.0:
+        return tau / mu_0
+    p_floor = (mu_0 - mu_min) / slope
+    disc = mu_0 * mu_0 - 4.0 * slope * tau
+    if disc >= 0.0:
+        p = 2.0 * tau / (mu_0 + math.sqrt(disc))
+        if p <= p_floor:
+            return p
+    return tau / mu_min
+
+
+def archard_wear_depth_constant_pressure(
+    specific_wear_rate: float, pressure: float, sliding_distance: float
+) -> float:
+    """Archard wear depth ``h = k p s`` [m] at constant pressure [Pa] over a distance [m]."""
+    return specific_wear_rate * pressure * sliding_distance

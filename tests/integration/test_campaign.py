@@ -1,0 +1,362 @@
+"""End-to-end tests of brakeca.campaign with the real simulator on tiny grids.
+
+A 2 x 2 design (S x A) over a 5 x 100 cell band and 3 stops: each run takes well under a
+second once numba's cache is warm.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+from rich.console import Console
+
+from brakeca.campaign import (
+    CampaignResult,
+    SerialExecutor,
+    finish_campaign,
+    load_campaign,
+    make_executor,
+    run_campaign,
+)
+from brakeca.design import load_design
+from brakeca.presets import load_preset
+from brakeca.results import RunResult
+from brakeca.simulation import simulate
+
+TINY = {
+    "mesh.n_radial": 5,
+    "mesh.n_angular": 100,
+    "mesh.n_subdomains": 10,
+    "cycle.max_stops": 3,
+}
+
+DESIGN = """\
+name = "tiny"
+description = "2 x 2 on a tiny band"
+base_config = "tiny_base.toml"
+root_seed = 11
+
+[[factors]]
+name = "S"
+field = "automaton.secondary_removal_fraction"
+levels = [0.0, 1.0]
+labels = ["-", "+"]
+
+[[factors]]
+name = "A"
+field = "pad.fibre_area_fraction"
+levels = [10.0, 20.0]
+scale = 0.01
+labels = ["-", "+"]
+unit = "%"
+"""
+
+#: Summary columns that depend on the machine's speed, not on the run.
+TIMING = ["wall_time"]
+
+
+def _quiet() -> Console:
+    return Console(file=io.StringIO(), width=200)
+
+
+def _text(console: Console) -> str:
+    return console.file.getvalue()  # type: ignore[attr-defined]
+
+
+def _deterministic(summary: pd.DataFrame) -> pd.DataFrame:
+    return summary.drop(columns=[c for c in TIMING if c in summary.columns])
+
+
+def _mtimes(folder: Path) -> dict[str, int]:
+    return {p.name: p.stat().st_mtime_ns for p in sorted(folder.glob("*.nc"))}
+
+
+# top-level (picklable) simulate functions -----------------------------------------------------
+
+
+def must_not_run(config, *, seed, progress=None):
+    """A simulate that fails the test if a reused run is computed again."""
+    raise AssertionError("simulate was called for a run that should have been reused")
+
+
+def fails_on_test_3(config, *, seed, progress=None):
+    """The real simulate, except that the run with S = 0 and A = 20 % raises."""
+    if config.automaton.secondary_removal_fraction == 0.0 and config.pad.fibre_area_fraction > 0.15:
+        raise RuntimeError("boom: injected failure")
+    return simulate(config, seed=seed, progress=progress)
+
+
+# fixtures ----------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def design_file(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("design")
+    base = load_preset("paper").with_updates(TINY)
+    (folder / "tiny_base.toml").write_text(base.to_toml(), encoding="utf-8")
+    path = folder / "tiny.toml"
+    path.write_text(DESIGN, encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def serial(design_file, tmp_path_factory) -> CampaignResult:
+    out = tmp_path_factory.mktemp("serial") / "campaign"
+    return run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+
+
+# tests -------------------------------------------------------------------------------------
+
+
+def test_serial_campaign_runs_end_to_end(serial):
+    assert serial.ok
+    assert len(serial.computed) == 4 and not serial.reused and not serial.failed
+    out = serial.out_dir
+    for name in ("design.toml", "base_config.toml", "summary.csv", "campaign.nc"):
+        assert (out / name).is_file()
+    assert sorted(p.stem for p in (out / "runs").glob("*.nc")) == sorted(serial.computed)
+    assert not list(out.rglob("*.tmp"))
+    summary = serial.summary
+    assert list(summary["test"]) == [1, 2, 3, 4]
+    assert list(summary["S"]) == [0.0, 1.0, 0.0, 1.0]
+    assert list(summary["A"]) == [10.0, 10.0, 20.0, 20.0]
+    assert list(summary.columns[:9]) == [
+        "test",
+        "replicate",
+        "order",
+        "run_id",
+        "S",
+        "A",
+        "seed",
+        "status",
+        "error",
+    ]
+    assert {"MU", "V", "V_mm3", "max_ledger_residual", "n_steps"} <= set(summary.columns)
+    assert (summary["status"] == "ok").all()
+    assert np.isfinite(summary["MU"]).all() and (summary["V"] > 0).all()
+    assert summary["seed"].nunique() == 4
+
+
+def test_summary_and_campaign_nc_match_the_run_files(serial):
+    out = serial.out_dir
+    loaded = load_campaign(out)
+    summary, ds = loaded.summary, loaded.dataset
+    pd.testing.assert_frame_equal(summary, serial.summary, check_dtype=False)
+    assert ds.sizes == {"run": 4, "stop": 3, "rule": 7}
+    assert list(ds["run"].values) == [1, 2, 3, 4]  # one replicate: run == test
+    assert list(ds["test"].values) == [1, 2, 3, 4]
+    assert list(ds["S"].values) == [0.0, 1.0, 0.0, 1.0]
+    assert ds["A"].attrs["units"] == "%"
+    assert list(ds["block"].values) == ["Burnish"] * 3
+    for i, row in summary.iterrows():
+        run = RunResult.from_netcdf(out / "runs" / f"{row['run_id']}.nc")
+        assert run.seed == row["seed"] == int(ds["seed"][i])
+        scalars = run.scalars()
+        assert row["MU"] == scalars["MU"] == float(ds["MU"][i])
+        assert row["V"] == scalars["V"] == float(ds["V"][i])
+        assert row["V_mm3"] == scalars["V_mm3"]
+        for name in ("mean_cof", "emitted_volume", "normal_force", "line_pressure"):
+            np.testing.assert_array_equal(ds[name][i].values, run.dataset[name].values)
+    # the campaign's design.toml reproduces the same runs without the original files
+    again = load_design(out / "design.toml").points()
+    assert [p.run_id for p in again] == list(summary["run_id"])
+    assert loaded.design.factor_names == ("S", "A")
+
+
+def test_local_executor_gives_identical_values(serial, design_file, tmp_path):
+    local = run_campaign(
+        design_file,
+        tmp_path / "local",
+        executor="local",
+        workers=2,
+        progress=False,
+        console=_quiet(),
+    )
+    assert local.ok and len(local.computed) == 4
+    pd.testing.assert_frame_equal(_deterministic(local.summary), _deterministic(serial.summary))
+    assert list(local.summary["MU"]) == list(serial.summary["MU"])  # bit-identical
+    assert list(local.summary["V"]) == list(serial.summary["V"])
+    xr.testing.assert_identical(
+        local.dataset.drop_vars(TIMING),
+        serial.dataset.drop_vars(TIMING).assign_attrs(local.dataset.attrs),
+    )
+
+
+def test_rerun_skips_every_run(serial, tmp_path):
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    before = _mtimes(out / "runs")
+    console = _quiet()
+    again = run_campaign(
+        load_design(out / "design.toml"),
+        out,
+        executor="serial",
+        simulate_fn=must_not_run,
+        progress=True,
+        console=console,
+    )
+    assert sorted(again.reused) == sorted(serial.computed)
+    assert not again.computed and not again.failed
+    assert _mtimes(out / "runs") == before
+    assert "nothing to compute" in _text(console)
+    pd.testing.assert_frame_equal(again.summary, serial.summary)
+
+
+def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    ids = list(serial.summary["run_id"])
+    runs = out / "runs"
+    truncated, garbage, foreign = (runs / f"{i}.nc" for i in ids[:3])
+    data = truncated.read_bytes()
+    truncated.write_bytes(data[: len(data) // 2])
+    garbage.write_bytes(b"this is not a netCDF file\n" * 10)
+    shutil.copyfile(runs / f"{ids[3]}.nc", foreign)  # a valid run file under the wrong name
+    untouched = (runs / f"{ids[3]}.nc").stat().st_mtime_ns
+    console = _quiet()
+    result = run_campaign(
+        load_design(out / "design.toml"), out, executor="serial", progress=False, console=console
+    )
+    text = _text(console)
+    for rid in ids[:3]:
+        assert rid in text
+    assert text.count("recomputing") == 3
+    assert "cannot be read" in text and "belongs to another run" in text
+    assert sorted(result.recomputed) == sorted(ids[:3])
+    assert sorted(result.computed) == sorted(ids[:3])
+    assert result.reused == (ids[3],)
+    assert (runs / f"{ids[3]}.nc").stat().st_mtime_ns == untouched
+    pd.testing.assert_frame_equal(_deterministic(result.summary), _deterministic(serial.summary))
+    for rid in ids[:3]:
+        assert RunResult.from_netcdf(runs / f"{rid}.nc").seed in set(serial.summary["seed"])
+
+
+def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_path):
+    out = tmp_path / "campaign"
+    console = _quiet()
+    result = run_campaign(
+        design_file,
+        out,
+        executor="serial",
+        simulate_fn=fails_on_test_3,
+        progress=False,
+        console=console,
+    )
+    summary = result.summary
+    assert list(summary["status"]) == ["ok", "ok", "failed", "ok"]
+    assert "RuntimeError: boom: injected failure" in summary.loc[2, "error"]
+    assert np.isnan(summary.loc[2, "MU"])
+    assert not result.ok and len(result.failed) == 1 and len(result.computed) == 3
+    assert "run failed" in _text(console) and "1 of 4 run(s) failed" in _text(console)
+    assert not (out / "runs" / f"{summary.loc[2, 'run_id']}.nc").exists()
+    assert np.isnan(result.dataset["mean_cof"][2]).all()
+    assert str(result.dataset["status"][2].values) == "failed"
+    loaded = load_campaign(out)
+    assert list(loaded.summary["status"]) == ["ok", "ok", "failed", "ok"]
+    assert loaded.summary.loc[2, "error"] == summary.loc[2, "error"]
+    # a second pass computes only the failed run
+    healed = run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+    assert healed.ok and healed.computed == (summary.loc[2, "run_id"],) and len(healed.reused) == 3
+    pd.testing.assert_frame_equal(_deterministic(healed.summary), _deterministic(serial.summary))
+
+
+def test_sigkill_halfway_then_resume(serial, design_file, tmp_path):
+    out = tmp_path / "campaign"
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    cmd = [
+        sys.executable,
+        "-m",
+        "brakeca.campaign",
+        str(design_file),
+        str(out),
+        "--executor",
+        "serial",
+        "--no-progress",
+    ]
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 60
+    try:
+        while not list((out / "runs").glob("*.nc")):
+            assert proc.poll() is None, proc.stderr.read().decode() if proc.stderr else ""
+            assert time.monotonic() < deadline, "no run file appeared within 60 s"
+            time.sleep(0.01)
+        proc.send_signal(signal.SIGKILL)
+    finally:
+        proc.wait(timeout=30)
+        if proc.stderr:
+            proc.stderr.close()
+    assert proc.returncode == -signal.SIGKILL
+    assert not (out / "summary.csv").exists()
+    finished = _mtimes(out / "runs")
+    assert 1 <= len(finished) < 4
+    for name in finished:
+        RunResult.from_netcdf(out / "runs" / name)  # complete files only, never a partial one
+
+    resumed = run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+    assert resumed.ok
+    assert sorted(f"{r}.nc" for r in resumed.reused) == sorted(finished)
+    assert len(resumed.computed) == 4 - len(finished)
+    after = _mtimes(out / "runs")
+    assert {k: after[k] for k in finished} == finished
+    assert not list(out.rglob("*.tmp"))
+    pd.testing.assert_frame_equal(_deterministic(resumed.summary), _deterministic(serial.summary))
+
+
+def test_replicates_layout_and_randomized_order(design_file, tmp_path):
+    design = load_design(design_file).model_copy(update={"replicates": 2, "randomize_order": True})
+    result = run_campaign(
+        design,
+        tmp_path / "campaign",
+        executor="serial",
+        max_stops=2,
+        progress=False,
+        console=_quiet(),
+    )
+    assert result.ok
+    summary, ds = result.summary, result.dataset
+    assert list(summary["test"]) == [1, 1, 2, 2, 3, 3, 4, 4]
+    assert list(summary["replicate"]) == [0, 1] * 4
+    assert sorted(summary["order"]) == list(range(1, 9))
+    assert ds.sizes["run"] == 8 and ds.sizes["stop"] == 2
+    assert list(ds["run"].values) == list(range(1, 9))
+    assert list(ds["test"].values) == [1, 1, 2, 2, 3, 3, 4, 4]
+    assert list(ds["replicate"].values) == [0, 1] * 4
+    assert summary["seed"].nunique() == 8
+    # replicates of a test share factor levels, not results
+    assert summary.loc[0, "MU"] != summary.loc[1, "MU"]
+
+
+def test_finish_campaign_calls_each_step(serial):
+    seen: list[CampaignResult] = []
+    result = finish_campaign(serial.out_dir, steps=[seen.append, seen.append])
+    assert len(seen) == 2 and seen[0] is result
+    assert list(result.summary["run_id"]) == list(serial.summary["run_id"])
+
+
+def test_load_campaign_of_an_unfinished_directory(tmp_path):
+    with pytest.raises(FileNotFoundError, match="finished campaign"):
+        load_campaign(tmp_path)
+
+
+def test_make_executor():
+    with make_executor("serial") as ex:
+        assert isinstance(ex, SerialExecutor)
+        assert ex.submit(pow, 2, 10).result() == 1024
+        assert isinstance(ex.submit(int, "x").exception(), ValueError)
+    with pytest.raises(ValueError, match="unknown executor"):
+        make_executor("cluster")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="at least 1"):
+        make_executor("local", 0)
+    with make_executor("local", 1) as ex:
+        assert ex.submit(os.getenv, "NUMBA_NUM_THREADS").result() == "1"

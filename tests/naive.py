@@ -1,0 +1,138 @@
+"""Slow, obvious NumPy twins of the compiled kernels. The fast kernels must match them.
+
+Written independently of brakeca._kernels: 2-D arrays, direct evaluation of the friction force,
+plain Python loops for the rules. Only the between-stop rule S is shared (it is NumPy already).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def friction_force(h, area, z, K, mu0, c, mumin):
+    p = K * np.maximum(h - z, 0.0)
+    return float(np.sum(np.maximum(mumin, mu0 - c * p) * p * area))
+
+
+def first_root(h, area, K, mu0, c, mumin, target):
+    """First z (from the top down) where the friction force reaches target: scan the
+    breakpoints, fit the exact quadratic on each interval through three direct evaluations."""
+    uf = (mu0 - mumin) / (c * K) if c > 0 else np.inf
+    bps = np.concatenate([h, h - uf])
+    bps = np.unique(bps[np.isfinite(bps)])[::-1]
+    total_area = float(np.sum(area))
+    for n, hi in enumerate(bps):
+        if n + 1 < len(bps):
+            lo = bps[n + 1]
+        else:  # below every breakpoint F grows linearly (every cell on the floor branch)
+            lo = hi - 2.0 * target / (K * min(mumin, mu0) * total_area) - 1e-6
+        f0 = friction_force(h, area, hi, K, mu0, c, mumin)
+        fm = friction_force(h, area, 0.5 * (hi + lo), K, mu0, c, mumin)
+        f1 = friction_force(h, area, lo, K, mu0, c, mumin)
+        # F(t) = f0 + b t + a t^2 on t in [0, 1], z = hi + t (lo - hi)
+        b = -3 * f0 + 4 * fm - f1
+        a = 2 * f0 - 4 * fm + 2 * f1
+        if abs(a) > 1e-300:
+            roots = np.roots([a, b, f0 - target])
+        elif b != 0.0:
+            roots = np.array([(target - f0) / b])
+        else:  # F constant on a round-off-sized interval: no crossing inside it
+            continue
+        ts = sorted(
+            float(r.real)
+            for r in np.atleast_1d(roots)
+            if abs(r.imag) < 1e-12 and -1e-12 <= r.real <= 1 + 1e-12
+        )
+        if ts:
+            return hi + max(ts[0], 0.0) * (lo - hi)
+    raise RuntimeError("no root")
+
+
+def step(state, params, target, frac):
+    """One time step on 2-D arrays; returns a dict of per-step figures. Mutates state."""
+    H, B, S, FF, inflow = state["H"], state["B"], state["S"], state["FF"], state["inflow"]
+    A, slide = params["area_row"], params["slide_row"]
+    K, mu0, c, mumin = params["K"], params["mu0"], params["c"], params["mumin"]
+    nr, nt = H.shape
+    nsub = params["nsub"]
+    nm = nt // nsub
+    Acell = np.broadcast_to(A[:, None], H.shape)
+    S0 = S.copy()  # statuses at the start of the step
+    plate = S0 != 0
+    z = first_root(H[plate], Acell[plate], K, mu0, c, mumin, target)
+    u = H - z
+    contact = plate & (u > 0)
+    P = np.where(contact, K * u, 0.0)
+    MU = np.maximum(mumin, mu0 - c * P)
+    fric = float(np.sum(MU * P * Acell))
+    norm = float(np.sum(P * Acell))
+    out = np.zeros((nr, nsub))
+    removed = 0.0
+    for j in range(nr):
+        for i in range(nt):
+            if not contact[j, i]:
+                continue
+            dh = min(params["WP"] * P[j, i] * slide[j] * frac, u[j, i])
+            if S0[j, i] == 2:
+                dh = min(dh, H[j, i] - B[j, i])
+            H[j, i] -= dh
+            out[j, i // nm] += dh * A[j]
+            if S0[j, i] == 1:
+                removed += dh * A[j]
+    for j in range(nr):  # resin cut
+        for i in range(nt):
+            if S0[j, i] == 0 and H[j, i] > z:
+                vol = (H[j, i] - (z - params["WR"])) * A[j]
+                H[j, i] = z - params["WR"]
+                out[j, i // nm] += vol
+                removed += vol
+    destroyed = []
+    for j in range(nr):
+        for i in range(nt):
+            if S0[j, i] == 2:
+                east = S0[j, i + 1] if i + 1 < nt else 0
+                if H[j, i] <= B[j, i] or east == 0:  # rules 5 and 4
+                    destroyed.append((j, i))
+            elif S0[j, i] == 1:
+                if H[j, i] <= FF[j, i] or z - H[j, i] > params["rule6_gap"]:  # rules 7 and 6
+                    destroyed.append((j, i))
+    created = []
+    for j in range(nr):
+        for k in range(1, nsub):
+            rest = inflow[j, k]
+            if rest > 0:
+                cols = range(k * nm, (k + 1) * nm)
+                if params["east_to_west"]:
+                    cols = reversed(cols)
+                for i in cols:
+                    if S0[j, i] == 0 and i + 1 < nt and S0[j, i + 1] != 0:
+                        cost = (z - H[j, i]) * A[j]
+                        if cost <= rest:
+                            rest -= cost
+                            created.append((j, i))
+            out[j, k] += rest
+    for j, i in destroyed:
+        if S0[j, i] == 2:
+            out[j, i // nm] += (H[j, i] - B[j, i]) * A[j]
+            H[j, i] = B[j, i]
+        S[j, i] = 0
+    for j, i in created:
+        B[j, i] = H[j, i]
+        H[j, i] = z
+        S[j, i] = 2
+    emitted = float(out[:, -1].sum())
+    inflow[:, 1:] = out[:, :-1]
+    inflow[:, 0] = 0.0
+    state["removed"] += removed
+    state["emitted"] += emitted
+    held = float(np.sum(np.where(S == 2, (H - B) * Acell, 0.0)))
+    ledger = state["removed"] - held - inflow.sum() - state["emitted"]
+    return {
+        "z": z,
+        "friction": fric,
+        "normal": norm,
+        "emitted": emitted,
+        "ledger": ledger,
+        "created": len(created),
+        "destroyed": len(destroyed),
+    }

@@ -1,0 +1,409 @@
+"""Tests of brakeca.analysis against hand computation on synthetic factorial tables.
+
+References
+----------
+Wahlström (2016), doi:10.1155/2016/8181260, Tables 1-2 (the 2 x 3 x 2 x 2 design).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from brakeca.analysis import (
+    ANOVA_COLUMNS,
+    Factor,
+    analyze,
+    anova,
+    as_factor,
+    interaction_table,
+    interaction_tables,
+    interactions_long,
+    main_effects,
+    ok_runs,
+    ranked_effects,
+    save_tables,
+)
+
+S = Factor("S", (0.0, 1.0), "-", "Secondary plateaus removed", ("-", "+"))
+WP = Factor("WP", (1e-15, 1e-14, 1e-13), "m^3/(N m)", "Specific wear rate", ("-", "0", "+"))
+WR = Factor("WR", (1e-7, 1e-6), "m", "Resin wear depth", ("-", "+"))
+A = Factor("A", (10.0, 20.0), "%", "Metal fibre area fraction", ("-", "+"))
+FACTORS = (S, WP, WR, A)
+
+# Known additive effects per level index and a known S x WP interaction.
+EFFECT = {"S": (0.0, 0.02), "WP": (-0.01, 0.0, 0.015), "WR": (0.0, 0.003), "A": (0.0, 0.03)}
+S_WP = ((0.0, 0.0, 0.0), (0.0, 0.004, 0.012))
+
+
+def _design(replicates: int = 1, noise: float = 1e-3, seed: int = 7) -> pd.DataFrame:
+    """The paper's 24-run design (S fastest, then WP, WR, A) with a synthetic MU and V."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    test = 0
+    for a, wr, wp, s in itertools.product(range(2), range(2), range(3), range(2)):
+        test += 1
+        for r in range(replicates):
+            mu = 0.40 + EFFECT["S"][s] + EFFECT["WP"][wp] + EFFECT["WR"][wr] + EFFECT["A"][a]
+            mu += S_WP[s][wp] + noise * rng.standard_normal()
+            v = 1e-10 * (1.0 + 2.0 * wp + 0.5 * a) * (1.0 + 0.05 * rng.standard_normal())
+            rows.append(
+                {
+                    "test": test,
+                    "run_id": f"t{test:02d}-r{r}",
+                    "S": S.levels[s],
+                    "WP": WP.levels[wp],
+                    "WR": WR.levels[wr],
+                    "A": A.levels[a],
+                    "seed": 1000 * r + test,
+                    "MU": mu,
+                    "V": v,
+                    "V_mm3": v * 1e9,
+                    "wall_time": 1.0,
+                    "status": "ok",
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def _hand_level_means(rows: pd.DataFrame, name: str, response: str) -> dict[float, float]:
+    sums: dict[float, float] = {}
+    counts: dict[float, int] = {}
+    for _, row in rows.iterrows():
+        key = float(row[name])
+        sums[key] = sums.get(key, 0.0) + float(row[response])
+        counts[key] = counts.get(key, 0) + 1
+    return {k: sums[k] / counts[k] for k in sums}
+
+
+def _hand_cell_means(rows: pd.DataFrame, a: str, b: str, response: str) -> dict:
+    sums: dict[tuple[float, float], float] = {}
+    counts: dict[tuple[float, float], int] = {}
+    for _, row in rows.iterrows():
+        key = (float(row[a]), float(row[b]))
+        sums[key] = sums.get(key, 0.0) + float(row[response])
+        counts[key] = counts.get(key, 0) + 1
+    return {k: sums[k] / counts[k] for k in sums}
+
+
+def _hand_ss_main(rows: pd.DataFrame, name: str, response: str) -> float:
+    grand = sum(rows[response]) / len(rows)
+    means = _hand_level_means(rows, name, response)
+    total = 0.0
+    for level, mean in means.items():
+        n = sum(1 for v in rows[name] if float(v) == level)
+        total += n * (mean - grand) ** 2
+    return total
+
+
+def _hand_ss_interaction(rows: pd.DataFrame, a: str, b: str, response: str) -> float:
+    grand = sum(rows[response]) / len(rows)
+    ma = _hand_level_means(rows, a, response)
+    mb = _hand_level_means(rows, b, response)
+    cells = _hand_cell_means(rows, a, b, response)
+    total = 0.0
+    for (la, lb), m in cells.items():
+        n = sum(
+            1
+            for va, vb in zip(rows[a], rows[b], strict=True)
+            if float(va) == la and float(vb) == lb
+        )
+        total += n * (m - ma[la] - mb[lb] + grand) ** 2
+    return total
+
+
+def _total_ss(rows: pd.DataFrame, response: str) -> float:
+    y = [float(v) for v in rows[response]]
+    grand = sum(y) / len(y)
+    return sum((v - grand) ** 2 for v in y)
+
+
+# --- Factor ----------------------------------------------------------------------------------
+
+
+def test_factor_level_label_and_validation() -> None:
+    assert WP.level_label(1e-14) == "0"
+    assert WP.level_label(1.0000000001e-13) == "+"
+    assert S.level_label(0.0) == "-"
+    assert Factor("X", (1.0, 2.5)).level_label(2.5) == "2.5"
+    assert WP.level_label(3e-14) == "3e-14"  # no matching level: the value itself
+    assert WP.level_index(5.0) is None
+    assert WP.axis_label == "WP [m^3/(N m)]"
+    assert isinstance(Factor("X", [1, 2]).levels, tuple)
+    with pytest.raises(ValueError, match="labels"):
+        Factor("X", (1.0, 2.0), labels=("-",))
+    with pytest.raises(ValueError, match="duplicate"):
+        Factor("X", (1.0, 1.0))
+    with pytest.raises(ValueError):
+        Factor("", (1.0,))
+    mapped = as_factor({"name": "A", "levels": [10, 20], "unit": "%", "labels": ["-", "+"]})
+    assert mapped == Factor("A", (10.0, 20.0), "%", "", ("-", "+"))
+
+
+# --- main effects and interactions -----------------------------------------------------------
+
+
+def test_main_effects_match_hand_computation() -> None:
+    rows = _design()
+    table = main_effects(rows, FACTORS, "MU")
+    assert list(table.columns) == ["factor", "level", "label", "mean", "n"]
+    assert len(table) == 2 + 3 + 2 + 2
+    for factor in FACTORS:
+        hand = _hand_level_means(rows, factor.name, "MU")
+        sub = table.loc[table["factor"] == factor.name]
+        assert list(sub["level"]) == list(factor.levels)
+        assert list(sub["label"]) == list(factor.labels)
+        assert list(sub["n"]) == [24 // len(factor.levels)] * len(factor.levels)
+        for level, mean in zip(sub["level"], sub["mean"], strict=True):
+            assert mean == pytest.approx(hand[level], rel=1e-12)
+    # Balanced design without noise: a level mean minus the grand mean is the level's effect.
+    exact = main_effects(_design(noise=0.0), FACTORS, "MU")
+    a = exact.loc[exact["factor"] == "A", "mean"].to_numpy()
+    assert a[1] - a[0] == pytest.approx(0.03, rel=1e-9)
+
+
+def test_interaction_table_matches_hand_computation() -> None:
+    rows = _design()
+    table = interaction_table(rows, S, WP, "MU")
+    assert table.shape == (2, 3)
+    assert table.index.name == "S" and table.columns.name == "WP"
+    hand = _hand_cell_means(rows, "S", "WP", "MU")
+    for la, lb in itertools.product(S.levels, WP.levels):
+        assert table.loc[la, lb] == pytest.approx(hand[(la, lb)], rel=1e-12)
+    # Known interaction: without noise the S:WP contrast recovers S_WP exactly.
+    exact = interaction_table(_design(noise=0.0), S, WP, "MU").to_numpy()
+    contrast = exact[1] - exact[0] - (exact[1, 0] - exact[0, 0])
+    assert contrast == pytest.approx(np.array(S_WP[1]) - S_WP[1][0], abs=1e-12)
+
+    tables = interaction_tables(rows, FACTORS, "MU")
+    assert list(tables) == [
+        ("S", "WP"),
+        ("S", "WR"),
+        ("S", "A"),
+        ("WP", "WR"),
+        ("WP", "A"),
+        ("WR", "A"),
+    ]
+    by_name = interaction_table(rows, "WR", "A", "MU")
+    assert np.allclose(by_name.to_numpy(), tables[("WR", "A")].to_numpy(), rtol=1e-12)
+
+    long = interactions_long(rows, FACTORS, "MU")
+    assert len(long) == sum(len(a.levels) * len(b.levels) for a, b in tables_pairs())
+    assert set(long["n"]) == {4, 6}  # 24 runs / 6 or 4 cells per pair
+    one = long[(long["factor_a"] == "S") & (long["factor_b"] == "WP")]
+    assert np.allclose(one["mean"].to_numpy(), table.to_numpy().ravel(), rtol=1e-12)
+
+
+def tables_pairs() -> list[tuple[Factor, Factor]]:
+    return list(itertools.combinations(FACTORS, 2))
+
+
+# --- ANOVA -----------------------------------------------------------------------------------
+
+
+def test_anova_unreplicated_matches_hand_sums_of_squares() -> None:
+    rows = _design(noise=1e-3)
+    table = anova(rows, FACTORS, "MU")
+    assert list(table.columns) == list(ANOVA_COLUMNS)
+    expected_terms = ["S", "WP", "WR", "A", "S:WP", "S:WR", "S:A", "WP:WR", "WP:A", "WR:A"]
+    assert list(table["term"]) == [*expected_terms, "Residual"]
+    df = dict(zip(table["term"], table["df"], strict=True))
+    assert df["WP"] == 2 and df["S:WP"] == 2 and df["WP:A"] == 2 and df["S"] == 1
+    assert df["Residual"] == 23 - 14
+    total = _total_ss(rows, "MU")
+    assert table["sum_sq"].sum() == pytest.approx(total, rel=1e-10)
+    assert table["percent_contribution"].sum() == pytest.approx(100.0, rel=1e-10)
+    ss = dict(zip(table["term"], table["sum_sq"], strict=True))
+    for factor in FACTORS:
+        assert ss[factor.name] == pytest.approx(_hand_ss_main(rows, factor.name, "MU"), rel=1e-9)
+    for a, b in itertools.combinations(FACTORS, 2):
+        hand = _hand_ss_interaction(rows, a.name, b.name, "MU")
+        assert ss[f"{a.name}:{b.name}"] == pytest.approx(hand, rel=1e-8, abs=1e-15)
+    assert (table["note"] == "").all()
+    assert table.attrs["typ"] == "Type II"
+    p = dict(zip(table["term"], table["p_value"], strict=True))
+    assert p["S:WP"] < 1e-3 and p["A"] < 1e-6  # the known effects are found
+    assert math.isnan(p["Residual"])
+    ms = table["sum_sq"] / table["df"]
+    assert np.allclose(table["mean_sq"], ms, rtol=1e-12)
+
+
+def test_anova_replicated_residual_is_pure_error() -> None:
+    # Two factors with their interaction: the model holds every cell, the residual is the
+    # within-cell (seed-to-seed) scatter only.
+    rows = _design(replicates=2, noise=2e-3)
+    rows = rows[(rows["WR"] == WR.levels[0]) & (rows["A"] == A.levels[0])]
+    assert len(rows) == 12
+    table = anova(rows, [S, WP], "MU")
+    resid = table.loc[table["term"] == "Residual"].iloc[0]
+    assert resid["df"] == 12 - 6
+    cells = _hand_cell_means(rows, "S", "WP", "MU")
+    pure = sum(
+        (float(r["MU"]) - cells[(float(r["S"]), float(r["WP"]))]) ** 2 for _, r in rows.iterrows()
+    )
+    assert resid["sum_sq"] == pytest.approx(pure, rel=1e-9)
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(rows, "MU"), rel=1e-10)
+    assert table.loc[table["term"] != "Residual", "F"].notna().all()
+
+    full = _design(replicates=2, noise=2e-3)
+    table = anova(full, FACTORS, "MU")
+    assert table.loc[table["term"] == "Residual", "df"].item() == 48 - 1 - 14
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(full, "MU"), rel=1e-10)
+
+
+def test_anova_saturated_falls_back_without_crashing() -> None:
+    rows = _design()
+    rows = rows[(rows["WR"] == WR.levels[0]) & (rows["A"] == A.levels[0])]  # 2 x 3, n = 6
+    table = anova(rows, [S, WP], "MU")
+    assert list(table["term"]) == ["S", "WP", "Residual"]
+    assert "saturated" in table["note"].iloc[0]
+    assert "saturated" in table.attrs["note"]
+    resid = table.loc[table["term"] == "Residual"].iloc[0]
+    assert resid["df"] == 2
+    # The pooled residual is the S:WP interaction sum of squares.
+    hand = _hand_ss_interaction(rows, "S", "WP", "MU")
+    assert resid["sum_sq"] == pytest.approx(hand, rel=1e-9)
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(rows, "MU"), rel=1e-10)
+
+    # Even the main-effects model is saturated: F and p are NaN, with a note.
+    two = rows[rows["WP"] == WP.levels[0]]
+    table = anova(two, [S], "MU")
+    assert list(table["term"]) == ["S", "Residual"]
+    assert table["F"].isna().all() and table["p_value"].isna().all()
+    assert "F and p cannot be computed" in table["note"].iloc[0]
+
+    # A factor that does not vary, and a single run: still no exception.
+    table = anova(two, [S, WP], "MU")
+    assert "single level" in table["note"].iloc[0]
+    assert anova(two.iloc[:1], [S], "MU").empty
+
+    # Main effects only on a saturated-with-interactions design works as usual.
+    table = anova(rows, [S, WP], "MU", interactions=False)
+    assert table["note"].iloc[0] == ""
+    assert table.loc[table["term"] == "Residual", "df"].item() == 2
+
+
+def test_perfect_fit_and_constant_response_do_not_warn() -> None:
+    rows = _design(noise=0.0)
+    table = anova(rows, FACTORS, "MU")
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(rows, "MU"), rel=1e-9)
+    rows = rows.assign(MU=0.4)
+    table = anova(rows, FACTORS, "MU")
+    assert table["F"].isna().all()
+    assert "constant" in table["note"].iloc[0]
+
+
+def test_status_and_missing_values_are_excluded() -> None:
+    rows = _design()
+    rows.loc[3, "status"] = "failed"
+    rows.loc[3, "MU"] = 99.0
+    rows.loc[5, "V"] = np.nan
+    assert len(ok_runs(rows)) == 23
+    assert len(ok_runs(rows.drop(columns="status"))) == 24
+    table = main_effects(rows, FACTORS, "MU")
+    assert table.groupby("factor")["n"].sum().eq(23).all()
+    assert table["mean"].max() < 1.0
+    assert main_effects(rows, FACTORS, "V").groupby("factor")["n"].sum().eq(22).all()
+    unbalanced = anova(rows, FACTORS, "MU")
+    assert unbalanced.loc[unbalanced["term"] == "Residual", "df"].item() == 8
+    assert "unbalanced" in unbalanced["note"].iloc[0]
+    with pytest.raises(KeyError, match="nope"):
+        main_effects(rows, FACTORS, "nope")
+    bad = rows.copy()
+    bad.loc[0, "WP"] = 5e-14
+    with pytest.raises(ValueError, match="match none"):
+        main_effects(bad, FACTORS, "MU")
+
+
+def test_ranked_effects_order_and_classical_effects() -> None:
+    rows = _design(noise=1e-3)
+    ranked = ranked_effects(rows, FACTORS, "MU")
+    assert len(ranked) == 10
+    assert "Residual" not in set(ranked["term"])
+    assert (np.diff(ranked["sum_sq"].to_numpy()) <= 0).all()
+    assert list(ranked["rank"]) == list(range(1, 11))
+    assert ranked["cumulative_percent"].iloc[-1] == pytest.approx(
+        ranked["percent_contribution"].sum()
+    )
+    effect = dict(zip(ranked["term"], ranked["effect"], strict=True))
+    means = _hand_level_means(rows, "S", "MU")
+    assert effect["S"] == pytest.approx(means[1.0] - means[0.0], rel=1e-12)
+    cells = _hand_cell_means(rows, "WR", "A", "MU")
+    lo, hi = WR.levels
+    a0, a1 = A.levels
+    hand = (cells[(hi, a1)] - cells[(hi, a0)] - cells[(lo, a1)] + cells[(lo, a0)]) / 2
+    assert effect["WR:A"] == pytest.approx(hand, rel=1e-9)
+    assert math.isnan(effect["WP"]) and math.isnan(effect["S:WP"])
+    kinds = dict(zip(ranked["term"], ranked["kind"], strict=True))
+    assert kinds["S"] == "main" and kinds["S:WP"] == "interaction"
+    assert ranked["term"].iloc[0] == "A"  # the largest known effect (0.03 on half the runs)
+
+
+def test_analyze_and_save_tables(tmp_path) -> None:
+    rows = _design(replicates=2)
+    result = analyze(rows, FACTORS)
+    assert set(result) == {"MU", "V"}
+    for bundle in result.values():
+        assert set(bundle) == {
+            "main_effects",
+            "interactions",
+            "interactions_long",
+            "anova",
+            "ranked_effects",
+        }
+    written = save_tables(result, tmp_path / "tables")
+    names = sorted(p.name for p in written)
+    assert names == sorted(
+        f"{stem}_{r}.csv"
+        for stem in ("main_effects", "interactions", "anova", "ranked_effects")
+        for r in ("MU", "V")
+    )
+    for path in written:
+        assert path.stat().st_size > 0
+    anova_v = pd.read_csv(tmp_path / "tables" / "anova_V.csv", keep_default_na=False)
+    assert list(anova_v.columns) == list(ANOVA_COLUMNS)
+    inter = pd.read_csv(tmp_path / "tables" / "interactions_MU.csv")
+    assert len(inter) == sum(len(a.levels) * len(b.levels) for a, b in tables_pairs())
+    # A hand-built result with only the wide interaction tables is accepted too.
+    slim = {"MU": {k: v for k, v in result["MU"].items() if k != "interactions_long"}}
+    save_tables(slim, tmp_path / "slim")
+    assert len(pd.read_csv(tmp_path / "slim" / "interactions_MU.csv")) == len(inter)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    replicates=st.integers(1, 3),
+    values=st.lists(
+        st.floats(-10.0, 10.0, allow_nan=False, allow_infinity=False), min_size=18, max_size=18
+    ),
+)
+def test_anova_sum_of_squares_adds_up(replicates: int, values: list[float]) -> None:
+    f1 = Factor("P", (1.0, 2.0))
+    f2 = Factor("Q", (1.0, 2.0, 3.0))
+    rows = [
+        {"P": p, "Q": q, "y": values[k]}
+        for k, (r, p, q) in enumerate(itertools.product(range(replicates), f1.levels, f2.levels))
+    ]
+    frame = pd.DataFrame(rows)
+    table = anova(frame, [f1, f2], "y")
+    total = _total_ss(frame, "y")
+    assert table["sum_sq"].sum() == pytest.approx(total, rel=1e-9, abs=1e-9)
+
+
+def test_anova_with_an_empty_cell_uses_sequential_sums_of_squares() -> None:
+    rows = _design(noise=1e-3)
+    rows = rows[~((rows["S"] == 1.0) & (rows["WP"] == 1e-13))]  # the S+ WP+ cell failed
+    table = anova(rows, FACTORS, "MU")
+    assert table.attrs["typ"].startswith("Type I ")
+    assert "sequential" in table["note"].iloc[0]
+    df = dict(zip(table["term"], table["df"], strict=True))
+    assert df["S:WP"] == 1  # one of the two interaction contrasts is not estimable
+    assert df["Residual"] == len(rows) - 1 - sum(v for k, v in df.items() if k != "Residual")
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(rows, "MU"), rel=1e-10)
+    assert table.loc[table["term"] != "Residual", "p_value"].notna().all()

@@ -1,0 +1,220 @@
+"""Smoke tests of brakeca.plotting: every figure renders to a non-empty PNG.
+
+References
+----------
+Wahlström (2016), doi:10.1155/2016/8181260, Figures 5 to 11.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+from brakeca.analysis import Factor, ranked_effects
+from brakeca.plotting import (
+    plot_cof_series,
+    plot_fibre_maps,
+    plot_interactions,
+    plot_main_effects,
+    plot_mu_per_stop,
+    plot_pareto,
+    plot_surface_map,
+    plot_v_per_run,
+)
+
+PNG = b"\x89PNG\r\n\x1a\n"
+
+FACTORS = (
+    Factor("S", (0.0, 1.0), "-", "Secondary plateaus removed", ("-", "+")),
+    Factor("WP", (1e-15, 1e-14, 1e-13), "m^3/(N m)", "Specific wear rate", ("-", "0", "+")),
+    Factor("WR", (1e-7, 1e-6), "m", "Resin wear depth", ("-", "+")),
+    Factor("A", (10.0, 20.0), "%", "Metal fibre area fraction", ("-", "+")),
+)
+BLOCKS = (("Burnish", 6), ("Town #1", 4), ("Highway #1", 3), ("Hill descent", 2))
+
+
+@pytest.fixture(scope="module")
+def summary() -> pd.DataFrame:
+    rng = np.random.default_rng(3)
+    rows = []
+    levels = [f.levels for f in FACTORS]
+    for test, (a, wr, wp, s) in enumerate(
+        itertools.product(levels[3], levels[2], levels[1], levels[0]), start=1
+    ):
+        v = 1e-10 * (1 + np.log10(wp / 1e-15)) * (1 + 0.1 * rng.random())
+        rows.append(
+            {
+                "test": test,
+                "run_id": f"t{test:02d}",
+                "S": s,
+                "WP": wp,
+                "WR": wr,
+                "A": a,
+                "seed": test,
+                "MU": 0.4 + 0.02 * s + 0.001 * a + 0.005 * rng.standard_normal(),
+                "V": v,
+                "V_mm3": v * 1e9,
+                "status": "ok",
+            }
+        )
+    frame = pd.DataFrame(rows)
+    frame.loc[5, "status"] = "failed"
+    return frame
+
+
+@pytest.fixture(scope="module")
+def campaign(summary: pd.DataFrame) -> xr.Dataset:
+    names = [name for name, n in BLOCKS for _ in range(n)]
+    n_run, n_stop = len(summary), len(names)
+    rng = np.random.default_rng(4)
+    cof = 0.4 + 0.01 * np.cumsum(rng.standard_normal((n_run, n_stop)), axis=1) / n_stop
+    coords = {
+        "run": summary["test"].to_numpy(),
+        "stop": np.arange(1, n_stop + 1),
+        "block": ("stop", names),
+    }
+    coords.update({f.name: ("run", summary[f.name].to_numpy()) for f in FACTORS})
+    return xr.Dataset(
+        {
+            "mean_cof": (("run", "stop"), cof),
+            "emitted_volume": (("run", "stop"), np.full((n_run, n_stop), 1e-10)),
+        },
+        coords=coords,
+    )
+
+
+def _status_map(n_r: int = 201, n_a: int = 1000, fraction: float = 0.1, seed: int = 0):
+    rng = np.random.default_rng(seed)
+    status = (rng.random((n_r, n_a)) < fraction).astype(np.int8)
+    status[rng.random((n_r, n_a)) < 0.05] = 2
+    radius = np.linspace(0.103, 0.123, n_r)
+    angle = np.radians(np.linspace(-22.0, 22.0, n_a))
+    return status, radius, angle
+
+
+def _check_png(path, fig, n_axes: int) -> None:
+    data = path.read_bytes()
+    assert data.startswith(PNG) and len(data) > 1000
+    assert len(fig.axes) == n_axes
+    for ax in fig.axes:
+        assert ax.get_xlabel() or ax.get_ylabel() or ax.get_title()
+
+
+def test_main_effects_and_interactions(tmp_path, summary) -> None:
+    for response in ("MU", "V"):
+        path = tmp_path / f"main_{response}.png"
+        fig = plot_main_effects(summary, FACTORS, response, path=path)
+        _check_png(path, fig, n_axes=4)
+        # The V panel shows mm^3: the plotted means are the m^3 means times 1e9.
+        if response == "V":
+            assert "mm³" in fig.axes[0].get_ylabel()
+            ok = summary[summary["status"] == "ok"]
+            y = fig.axes[0].lines[0].get_ydata()
+            expected = ok.groupby("S")["V"].mean().to_numpy() * 1e9
+            assert np.allclose(y, expected, rtol=1e-12)
+            grand = fig.axes[0].lines[1].get_ydata()[0]
+            assert grand == pytest.approx(ok["V"].mean() * 1e9)
+    path = tmp_path / "interactions.png"
+    fig = plot_interactions(summary, FACTORS, "MU", path=path)
+    _check_png(path, fig, n_axes=6)  # one panel per pair of 4 factors
+    fig = plot_interactions(summary, FACTORS[:2], "V")
+    assert len(fig.axes) == 1
+    with pytest.raises(ValueError):
+        plot_interactions(summary, FACTORS[:1], "MU")
+
+
+def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
+    path = tmp_path / "mu_per_stop.png"
+    fig = plot_mu_per_stop(campaign, path=path, factors=FACTORS)
+    _check_png(path, fig, n_axes=1)
+    ax = fig.axes[0]
+    assert len(ax.lines) == len(summary) + len(BLOCKS) - 1  # runs + block boundaries
+    texts = {t.get_text() for t in ax.texts}
+    assert {name for name, _ in BLOCKS} <= texts
+    labels = [line.get_label() for line in ax.lines if not line.get_label().startswith("_")]
+    assert labels[0] == "T1: S-, WP-, WR-, A-"
+    assert labels[-1] == "T24: S+, WP+, WR+, A+"
+    # Without factors the runs are named by value, and no block coordinate is fine.
+    fig = plot_mu_per_stop(campaign.drop_vars("block"))
+    assert fig.axes[0].lines[0].get_label().startswith("T1: S=0, WP=1e-15")
+
+    path = tmp_path / "v_per_run.png"
+    fig = plot_v_per_run(summary, path=path)
+    _check_png(path, fig, n_axes=1)
+    heights = [p.get_height() for p in fig.axes[0].patches]
+    assert len(heights) == 24
+    assert heights[0] == pytest.approx(summary["V"].iloc[0] * 1e9)
+    assert heights[5] == 0.0  # failed run
+    assert any(t.get_text() == "failed" for t in fig.axes[0].texts)
+    replicated = pd.concat([summary, summary.assign(seed=summary["seed"] + 100)])
+    fig = plot_v_per_run(replicated)
+    assert len(fig.axes[0].patches) == 24
+
+    path = tmp_path / "pareto.png"
+    ranked = ranked_effects(summary, FACTORS, "MU")
+    fig = plot_pareto(ranked, "MU", path=path)
+    _check_png(path, fig, n_axes=2)  # bars + cumulative twin axis
+    assert len(fig.axes[0].patches) == len(ranked)
+
+
+def test_surface_maps(tmp_path) -> None:
+    status, radius, angle = _status_map()
+    path = tmp_path / "map.png"
+    fig = plot_surface_map(status, radius, angle, title="Final plateau map, test 1", path=path)
+    _check_png(path, fig, n_axes=1)
+    ax = fig.axes[0]
+    assert len(ax.images) == 1
+    assert ax.images[0].get_extent()[0] == pytest.approx(-22.0, abs=0.1)
+    assert "Radius [mm]" in ax.get_ylabel() and "sliding direction" in ax.get_xlabel()
+    legend_text = " ".join(t.get_text() for t in fig.legends[0].get_texts())
+    assert "primary plateau" in legend_text and "secondary plateau" in legend_text
+
+    # Non-uniform, descending coordinates take the pcolormesh path.
+    r = np.geomspace(0.123, 0.103, 20)
+    a = np.radians(np.linspace(44.0, 0.0, 50))
+    fig = plot_surface_map(np.zeros((20, 50), dtype=int), r, a)
+    assert len(fig.axes[0].collections) == 1
+    with pytest.raises(ValueError, match="shape"):
+        plot_surface_map(status, radius[:-1], angle)
+    with pytest.raises(ValueError, match="status codes"):
+        plot_surface_map(np.full((2, 3), 3), radius[:2], angle[:3])
+
+    path = tmp_path / "fibre_maps.png"
+    maps = {
+        "A- (10 %)": _status_map(fraction=0.1, seed=1),
+        "A+ (20 %)": _status_map(fraction=0.2, seed=2),
+    }
+    fig = plot_fibre_maps(maps, path=path)
+    _check_png(path, fig, n_axes=2)
+    fig = plot_fibre_maps({**maps, "third": _status_map(40, 80)}, ncols=2)
+    assert len(fig.axes) == 3
+
+
+def test_cof_series(tmp_path) -> None:
+    n = 50_000
+    t = np.linspace(0.0, 120.0, n)
+    steps = xr.Dataset(
+        {"cof": ("step", 0.4 + 0.01 * np.sin(t)), "normal_force": ("step", 3000 + 10 * t)},
+        coords={"time": ("step", t)},
+    )
+    path = tmp_path / "series.png"
+    fig = plot_cof_series(steps, path=path, max_points=5000)
+    _check_png(path, fig, n_axes=2)
+    assert len(fig.axes[0].lines[0].get_xdata()) <= 5000
+    assert fig.axes[1].get_xlabel() == "Time [s]"
+    fig = plot_cof_series(pd.DataFrame({"mu": [0.4, 0.41, 0.42]}))
+    assert len(fig.axes) == 1 and fig.axes[0].get_xlabel() == "Step index [-]"
+    with pytest.raises(KeyError):
+        plot_cof_series({"x": [1, 2]})
+
+
+def test_no_pyplot_state_is_left_behind(summary) -> None:
+    import matplotlib.pyplot as plt
+
+    before = plt.get_fignums()
+    plot_main_effects(summary, FACTORS, "MU")
+    assert plt.get_fignums() == before

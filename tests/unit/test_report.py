@@ -1,0 +1,171 @@
+"""Tests of brakeca.report: a single self-contained, escaped, atomically written HTML file.
+
+References
+----------
+Wahlström (2016), doi:10.1155/2016/8181260.
+"""
+
+from __future__ import annotations
+
+import re
+import struct
+import zlib
+from datetime import UTC, datetime
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from brakeca.analysis import Factor, anova
+from brakeca.report import format_p_value, render_report, write_report
+
+FACTORS = (
+    Factor("S", (0.0, 1.0), "-", labels=("-", "+")),
+    Factor("WP", (1e-15, 1e-14, 1e-13), "m^3/(N m)", labels=("-", "0", "+")),
+)
+
+
+def tiny_png(path: Path, width: int = 4, height: int = 3, shade: int = 128) -> Path:
+    """Write a minimal valid greyscale PNG (no matplotlib needed)."""
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    raw = b"".join(b"\x00" + bytes([shade]) * width for _ in range(height))
+    png = (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0))
+        + chunk(b"IDAT", zlib.compress(raw))
+        + chunk(b"IEND", b"")
+    )
+    path.write_bytes(png)
+    return path
+
+
+def make_inputs(tmp_path: Path, n_figures: int = 3) -> dict:
+    rng = np.random.default_rng(1)
+    rows = []
+    for seed in (1, 2):
+        for test, (wp, s) in enumerate(
+            [(wp, s) for wp in FACTORS[1].levels for s in FACTORS[0].levels], start=1
+        ):
+            v = 1.234e-10 * (1 + test)
+            rows.append(
+                {
+                    "test": test,
+                    "run_id": f"t{test:02d}-s{seed}",
+                    "S": s,
+                    "WP": wp,
+                    "seed": seed,
+                    "MU": 0.41234 + 0.01 * test + 0.001 * rng.standard_normal(),
+                    "V": v,
+                    "V_mm3": v * 1e9,
+                    "status": "ok",
+                }
+            )
+    summary = pd.DataFrame(rows)
+    summary.loc[3, "status"] = "failed"
+    design = summary.loc[summary["seed"] == 1, ["test", "S", "WP"]].reset_index(drop=True)
+    anova_tables = {r: anova(summary, FACTORS, r) for r in ("MU", "V")}
+    figures = [
+        (
+            "Main effects" if k < 2 else "Maps",
+            f"Caption {k} <b>&</b>",
+            tiny_png(tmp_path / f"f{k}.png", shade=40 * k),
+        )
+        for k in range(n_figures)
+    ]
+    return {
+        "title": "Campaign <paper> & co",
+        "design_table": design,
+        "summary": summary,
+        "anova_tables": anova_tables,
+        "figures": figures,
+        "config_text": 'name = "paper"\nnote = "<script>alert(1)</script>"',
+        "version": "0.1.0",
+        "notes": "First paragraph with <tags> & ampersands.\n\nSecond paragraph.",
+    }
+
+
+def test_report_is_complete_and_self_contained(tmp_path) -> None:
+    inputs = make_inputs(tmp_path)
+    out = write_report(tmp_path / "out" / "report.html", **inputs)
+    assert out == tmp_path / "out" / "report.html"
+    html = out.read_text(encoding="utf-8")
+    assert html.startswith("<!DOCTYPE html>")
+
+    # Every figure embedded as a base64 PNG with its caption (escaped).
+    assert html.count('src="data:image/png;base64,') == 3
+    assert html.count("<img ") == 3
+    assert "Caption 0 &lt;b&gt;&amp;&lt;/b&gt;" in html
+    assert 'width="4" height="3"' in html
+    assert "<h2>Main effects</h2>" in html and "<h2>Maps</h2>" in html
+
+    # Provenance, design and per-run tables.
+    assert "Campaign &lt;paper&gt; &amp; co" in html
+    assert "0.1.0" in html and "doi:10.1155/2016/8181260" in html
+    assert "&lt;script&gt;alert(1)&lt;/script&gt;" in html
+    assert "<script>alert(1)" not in html
+    assert "MU [-]" in html and "V [mm³]" in html
+    mu = inputs["summary"]["MU"].iloc[0]
+    assert f">{mu:.3f}<" in html  # MU to 3 decimals
+    assert f">{1.234e-10 * 2 * 1e9:.4g}<" in html  # V of test 1 in mm^3
+    assert 'class="failed"' in html
+
+    # ANOVA tables with formatted p-values.
+    assert 'id="anova-mu"' in html and 'id="anova-v"' in html
+    assert "Type II ANOVA of MU" in html
+    for term in ("S", "WP", "S:WP", "Residual"):
+        assert f"<td>{term}</td>" in html
+    p_cells = re.findall(r'<td class="num">(&lt; 0\.001|\d\.\d{3}|–)</td>', html)
+    assert p_cells
+    assert "First paragraph with &lt;tags&gt; &amp; ampersands." in html
+    assert "<p>Second paragraph.</p>" in html
+
+    # Nothing external: no remote src/href, stylesheet links, imports or fonts.
+    lowered = html.lower()
+    for needle in ('src="http', "src='http", 'href="http', "href='http", "<link", "@import"):
+        assert needle not in lowered
+    assert "url(" not in lowered
+    assert "document.body.dataset.imagesLoaded" in html
+
+    # Atomic write leaves no temporary file; writing again replaces the file.
+    assert [p.name for p in out.parent.iterdir()] == ["report.html"]
+    write_report(out, **{**inputs, "title": "Second"})
+    assert "<h1>Second</h1>" in out.read_text(encoding="utf-8")
+    assert [p.name for p in out.parent.iterdir()] == ["report.html"]
+
+
+def test_figures_as_mapping_and_saturated_note(tmp_path) -> None:
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"]
+    single = summary[summary["seed"] == 1]
+    inputs["anova_tables"] = {"MU": anova(single, FACTORS, "MU")}
+    inputs["figures"] = {"only figure": tiny_png(tmp_path / "x.png")}
+    when = datetime(2024, 1, 2, 3, 4, 5, tzinfo=UTC)
+    html = render_report(**inputs, generated=when)
+    assert html.count("data:image/png;base64,") == 1
+    assert "<h2>Figures</h2>" in html
+    assert "2024-01-02T03:04:05+00:00" in html
+    assert "saturated" in html  # the ANOVA fallback note is shown
+
+
+def test_bad_figures_raise_and_leave_nothing(tmp_path) -> None:
+    inputs = make_inputs(tmp_path)
+    target = tmp_path / "rep" / "report.html"
+    with pytest.raises(FileNotFoundError, match="missing"):
+        write_report(target, **{**inputs, "figures": {"missing": tmp_path / "nope.png"}})
+    (tmp_path / "fake.png").write_text("not a png")
+    with pytest.raises(ValueError, match="not a PNG"):
+        write_report(target, **{**inputs, "figures": {"fake": tmp_path / "fake.png"}})
+    assert not target.exists()
+
+
+def test_format_p_value() -> None:
+    assert format_p_value(1e-9) == "< 0.001"
+    assert format_p_value(0.0123) == "0.012"
+    assert format_p_value(0.5) == "0.500"
+    assert format_p_value(float("nan")) == "–"
+    assert format_p_value(None) == "–"

@@ -1,0 +1,128 @@
+"""The compiled stop kernel matches its slow NumPy twin (tests/naive.py) on small grids.
+
+Tolerance: statuses must be identical; heights, disc positions and forces agree to 1e-10
+relative. The two compute the contact root by different arithmetic (incremental quadratic
+scan vs direct evaluation and a quadratic fit), so they agree to round-off, not bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import naive
+from brakeca import _kernels as K
+from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps
+from brakeca.geometry import make_grid
+from brakeca.simulation import SimulationState, advance_stop
+from brakeca.surface import Surface
+
+
+def hand_surface(grid, rng, fibre_model="columns", top=60e-6):
+    """Primary plateaus 10-60 um high on 30 % of cells, resin 0-10 um: the disc reaches the
+    resin at once, so resin wear, secondary plateaus and every rule come into play. In the
+    layer model fibres are 0.01-1 um thick, so some wear through within the test."""
+    shape = grid.shape
+    prim = rng.random(shape) < 0.3
+    height = np.where(prim, rng.uniform(10e-6, top, shape), rng.uniform(0.0, 10e-6, shape))
+    thickness = rng.uniform(0.01e-6, 1e-6, shape)
+    floor = np.where(prim & (fibre_model == "layer"), height - thickness, -np.inf)
+    return Surface(height=height, status=prim.astype(np.int8), fibre_floor=floor, n_fibres=0)
+
+
+def naive_state(surface, nsub):
+    return {
+        "H": surface.height.copy(),
+        "B": surface.height.copy(),
+        "S": surface.status.copy(),
+        "FF": surface.fibre_floor.copy(),
+        "inflow": np.zeros((surface.height.shape[0], nsub)),
+        "removed": 0.0,
+        "emitted": 0.0,
+    }
+
+
+CASES = {
+    "default": {},
+    "high-wear-S": {
+        "wear.specific_wear_rate": 1e-12,
+        "automaton.secondary_removal_fraction": 0.5,
+        "wear.resin_wear_depth": 1e-6,
+    },
+    "east-to-west": {"automaton.creation_order": "east_to_west", "wear.specific_wear_rate": 1e-12},
+    "rule6": {"automaton.rule6_max_gap": 20e-6, "wear.specific_wear_rate": 1e-13},
+    "layer-rule7": {"pad.fibre_model": "layer", "wear.specific_wear_rate": 1e-13},
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_kernel_matches_naive(tiny_config, case):
+    config = tiny_config.with_updates(CASES[case])
+    grid = make_grid(config)
+    rng = np.random.default_rng(7)
+    # rule 6 needs primaries far below the disc: spread the plateau heights further
+    top = 300e-6 if case == "rule6" else 60e-6
+    surface = hand_surface(grid, rng, config.pad.fibre_model, top)
+    state = SimulationState.from_surface(surface, grid.n_subdomains)
+    ref = naive_state(surface, grid.n_subdomains)
+    params = {
+        "area_row": np.asarray(grid.cell_area),
+        "slide_row": np.asarray(grid.step_sliding_distance),
+        "K": config.contact.stiffness,
+        "mu0": config.friction.mu_0,
+        "c": config.friction.slope,
+        "mumin": config.friction.mu_min,
+        "WP": config.wear.specific_wear_rate,
+        "WR": config.wear.resin_wear_depth,
+        "nsub": grid.n_subdomains,
+        "rule6_gap": config.automaton.rule6_max_gap or np.inf,
+        "east_to_west": config.automaton.creation_order == "east_to_west",
+    }
+    S = config.automaton.secondary_removal_fraction
+    rng_fast, rng_ref = np.random.default_rng(3), np.random.default_rng(3)
+    totals = {"created": 0, "destroyed": 0}
+    for stop in expand_stops(config):
+        created_before, destroyed_before = totals["created"], totals["destroyed"]
+        _, rec, counts = advance_stop(state, grid, config, stop)
+        _, fraction = stop_steps(stop, step_distance(config))
+        target = brake_demand(config, stop.deceleration, grid.area).band_friction_force
+        for n, frac in enumerate(fraction):
+            out = naive.step(ref, params, target, frac)
+            np.testing.assert_allclose(rec[n, K.R_DISC], out["z"], rtol=1e-10, atol=1e-20)
+            np.testing.assert_allclose(rec[n, K.R_FRICTION], out["friction"], rtol=1e-10)
+            np.testing.assert_allclose(rec[n, K.R_NORMAL], out["normal"], rtol=1e-10)
+            np.testing.assert_allclose(rec[n, K.R_EMITTED], out["emitted"], rtol=1e-9, atol=1e-30)
+            assert abs(out["ledger"]) <= 1e-12 * max(ref["removed"], 1e-300)
+            totals["created"] += out["created"]
+            totals["destroyed"] += out["destroyed"]
+        assert counts[1:4].sum() == totals["created"] - created_before
+        assert counts[4:8].sum() == totals["destroyed"] - destroyed_before
+        np.testing.assert_array_equal(state.status.reshape(grid.shape), ref["S"])
+        np.testing.assert_allclose(
+            state.height.reshape(grid.shape), ref["H"], rtol=1e-10, atol=1e-18
+        )
+        # between stops: flush and rule S, applied to both sides
+        from brakeca.simulation import end_of_stop
+
+        end_of_stop(state, grid, S, rng_fast)
+        sec = np.flatnonzero(ref["S"].ravel() == 2)
+        if S >= 1:
+            chosen = sec
+        elif S <= 0 or sec.size == 0:
+            chosen = sec[:0]
+        else:
+            chosen = np.sort(rng_ref.choice(sec, size=int(round(S * sec.size)), replace=False))
+        H, B, St = ref["H"].ravel(), ref["B"].ravel(), ref["S"].ravel()
+        area = np.broadcast_to(params["area_row"][:, None], grid.shape).ravel()
+        ref["emitted"] += ref["inflow"].sum() + float(
+            np.sum((H[chosen] - B[chosen]) * area[chosen])
+        )
+        ref["inflow"][:] = 0.0
+        H[chosen] = B[chosen]
+        St[chosen] = 0
+        np.testing.assert_array_equal(state.status.reshape(grid.shape), ref["S"])
+    # the case must actually exercise the automaton
+    if case != "rule6":  # there the disc stays far above the resin
+        assert totals["created"] > 0
+    if case != "default":
+        assert totals["destroyed"] > 0
