@@ -1,0 +1,102 @@
+"""Whole runs: determinism, netCDF round trip, responses, clear failures, the CLI."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from brakeca.cli import app
+from brakeca.contact import ContactError
+from brakeca.presets import load_preset
+from brakeca.results import RunResult
+from brakeca.simulation import simulate
+
+
+@pytest.fixture(scope="module")
+def small():
+    """3 rows x 1000 columns, high wear so that secondary plateaus form, 3 short stops."""
+    from conftest import short_cycle
+
+    return load_preset().with_updates(
+        {"mesh.n_radial": 5, "WP": 1e-13, "pad.resin_roughness": 100e-6,
+         "cycle": short_cycle(stops=3, v0=30, v1=4, g=0.25)}
+    )
+
+
+@pytest.fixture(scope="module")
+def run(small):
+    return simulate(small, seed=11)
+
+
+def _without_wall_time(ds):
+    ds = ds.copy()
+    ds.attrs.pop("wall_time")
+    return ds
+
+
+def test_same_seed_bit_identical(small, run):
+    again = simulate(small, seed=11)
+    xr.testing.assert_identical(_without_wall_time(run.dataset), _without_wall_time(again.dataset))
+
+
+def test_different_seed_different_surface(small, run):
+    other = simulate(small, seed=12)
+    assert not np.array_equal(run.dataset.initial_status, other.dataset.initial_status)
+
+
+def test_netcdf_round_trip(tmp_path, run):
+    path = run.to_netcdf(tmp_path / "run.nc")
+    back = RunResult.from_netcdf(path)
+    assert back.config == run.config and back.seed == 11
+    xr.testing.assert_identical(back.dataset, run.dataset)
+    assert not list(tmp_path.glob(".*tmp"))  # no temporary left behind
+
+
+def test_foreign_file_rejected(tmp_path):
+    p = tmp_path / "x.nc"
+    xr.Dataset({"a": ("x", [1, 2])}).to_netcdf(p, engine="h5netcdf")
+    with pytest.raises(ValueError, match="not a brakeca run"):
+        RunResult.from_netcdf(p)
+    p.write_bytes(b"garbage")
+    with pytest.raises(ValueError, match="not a readable"):
+        RunResult.from_netcdf(p)
+
+
+def test_responses_are_plausible(run):
+    ds = run.dataset
+    assert set(ds.sizes) >= {"stop", "step", "radius", "angle"}
+    assert np.all((ds.mean_cof >= 0.15 - 1e-12) & (ds.mean_cof <= 0.6))
+    assert float(ds.max_ledger_residual) < 1e-11
+    assert float(ds.max_friction_residual) < 1e-10
+    assert np.all(ds.emitted_volume > 0) and np.all(ds.generated_volume > 0)
+    assert run.MU == pytest.approx(float(ds.mean_cof.mean()))
+    assert run.V == pytest.approx(float(ds.emitted_volume.mean()))
+    assert np.all(ds.line_pressure > 0)
+    # everything generated left or is still held: emitted <= generated over the run
+    assert float(ds.emitted_volume.sum()) <= float(ds.generated_volume.sum()) * (1 + 1e-12)
+    for name in ("mean_cof", "emitted_volume", "normal_force", "step_cof"):
+        assert np.all(np.isfinite(ds[name]))
+
+
+def test_unreachable_torque_is_a_clear_error(small):
+    with pytest.raises(ContactError, match="no plateau cell can reach"):
+        simulate(small.with_updates({"A": 0}), seed=1)
+    with pytest.raises(ContactError, match="bar_length"):
+        simulate(small.with_updates({"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4}),
+                 seed=1)
+
+
+def test_cli_simulate(tmp_path):
+    runner = CliRunner()
+    out = tmp_path / "r.nc"
+    res = runner.invoke(app, ["simulate", "--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100",
+                              "--stops", "1", "--seed", "4", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "MU =" in res.stdout and "mm^3 per stop" in res.stdout
+    r = RunResult.from_netcdf(out)
+    assert r.seed == 4 and r.config.cycle.max_stops == 1 and r.dataset.sizes["stop"] == 1
+    res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
+    assert res.exit_code == 2 and "between 0 and 100" in res.output
+    assert not (tmp_path / "bad.nc").exists()

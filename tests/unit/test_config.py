@@ -1,0 +1,97 @@
+"""Configuration: presets as data, overrides, and clear errors naming the field."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from brakeca.config import ConfigError, SimulationConfig, parse_override
+from brakeca.presets import load_cycle, load_preset
+
+
+def test_paper_preset_matches_the_paper():
+    c = load_preset("paper")
+    assert (c.mesh.n_angular, c.mesh.n_radial, c.mesh.n_subdomains) == (1000, 201, 10)
+    assert c.mesh.angular_step_deg == 0.044 and c.mesh.radial_step == 100e-6
+    assert c.inner_radius == pytest.approx(0.103)
+    assert c.vehicle.wheel_load_mass == 690 and c.brake.pad_area == pytest.approx(5.08e-3)
+    assert c.cycle.n_stops == 170
+    assert [b.stops for b in c.cycle.blocks] == [50, 20, 10, 20, 20, 5, 20, 20, 5]
+    assert c.cycle.blocks[5].initial_speed_kmh == 180 and c.cycle.blocks[5].deceleration_g == 0.5
+
+
+def test_toml_round_trip():
+    c = load_preset("paper").with_updates({"WP": 1e-13, "A": 10, "cycle.max_stops": 3})
+    assert SimulationConfig.from_toml(c.to_toml()) == c
+
+
+def test_factor_aliases():
+    c = load_preset().with_updates({"S": 1, "WP": 1e-13, "WR": 1e-6, "A": 10})
+    assert c.automaton.secondary_removal_fraction == 1
+    assert c.wear.specific_wear_rate == 1e-13
+    assert c.wear.resin_wear_depth == 1e-6
+    assert c.pad.fibre_area_fraction == pytest.approx(0.10)
+
+
+@pytest.mark.parametrize(
+    ("updates", "needle"),
+    [
+        ({"bogus": 1}, "unknown field 'bogus'"),
+        ({"wear.bogus": 1}, "unknown field 'wear.bogus'"),
+        ({"wear.specific_wear_rate": -1e-14}, "wear.specific_wear_rate"),
+        ({"WP": -1e-14}, "wear.specific_wear_rate"),
+        ({"A": 150}, "between 0 and 100 %"),
+        ({"A": -5}, "between 0 and 100 %"),
+        ({"pad.fibre_area_fraction": 1.5}, "pad.fibre_area_fraction"),
+        ({"mesh.n_angular": 999}, "multiple of n_subdomains"),
+        ({"S": 2}, "automaton.secondary_removal_fraction"),
+        ({"friction.mu_min": 0.9}, "must not exceed mu_0"),
+        ({"mesh.n_radial": 5000}, "must lie on the disc"),
+        ({"pad.fibre_model": "spaghetti"}, "pad.fibre_model"),
+    ],
+)
+def test_bad_values_name_the_field(updates, needle):
+    with pytest.raises(ConfigError, match=needle):
+        load_preset().with_updates(updates)
+
+
+def test_cycle_final_speed_above_initial(tmp_path):
+    p = tmp_path / "c.csv"
+    p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,50,60,0.3,2\n")
+    with pytest.raises(ConfigError, match=r"row 2.*final_speed_kmh \(60.0\) must be lower"):
+        load_cycle(p)
+
+
+def test_unknown_key_in_file(tmp_path):
+    text = load_preset().to_toml().replace("[wear]", "[wear]\nfoo = 3")
+    with pytest.raises(ConfigError, match="wear.foo: unknown key"):
+        SimulationConfig.from_toml(text, source="x.toml")
+
+
+@pytest.mark.parametrize("text", ["WP", "=3", "WP=1e-13"])
+def test_parse_override(text):
+    if text == "WP=1e-13":
+        assert parse_override(text) == ("WP", 1e-13)
+    else:
+        with pytest.raises(ConfigError):
+            parse_override(text)
+
+
+_KEYS = st.sampled_from(
+    ["S", "WP", "WR", "A", "mesh.n_angular", "mesh.n_radial", "wear.specific_wear_rate",
+     "friction.mu_0", "pad.fibre_model", "cycle.max_stops", "nope", "wear.nope", "mesh"]
+)
+_VALUES = st.one_of(st.integers(-10**6, 10**6), st.floats(allow_nan=True), st.text(max_size=5),
+                    st.booleans(), st.none(), st.lists(st.integers(), max_size=2))
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.dictionaries(_KEYS, _VALUES, max_size=3))
+def test_any_override_is_valid_or_a_config_error(updates):
+    try:
+        c = load_preset().with_updates(updates)
+    except ConfigError as exc:
+        assert str(exc)
+    else:
+        assert isinstance(c, SimulationConfig)
