@@ -9,8 +9,8 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))  # for tests/naive.py
 
-from brakeca.config import BrakeBlock, CycleConfig  # noqa: E402
-from brakeca.presets import load_preset  # noqa: E402
+from brakeca.config import BrakeBlock, CycleConfig
+from brakeca.presets import load_preset
 
 
 def short_cycle(stops: int = 3, v0: float = 11.0, v1: float = 10.0, g: float = 0.3) -> dict:

@@ -1,19 +1,31 @@
 """Compiled step kernels (numba) and nothing else.
 
-One call runs every time step of one stop, so Python overhead is paid per stop, not per step.
-The physics lives in named functions of :mod:`brakeca.contact`, :mod:`brakeca.friction`,
-:mod:`brakeca.wear` and :mod:`brakeca.automaton`; this module wires them in the order of a step
-(decision, docs/model.md):
+One call of :func:`run_stop` runs every time step of one stop, so Python overhead is paid per
+stop, not per step. The physics lives in named functions of :mod:`brakeca.contact`,
+:mod:`brakeca.friction`, :mod:`brakeca.wear` and :mod:`brakeca.automaton`; this module wires
+them in the order of a step (decision, docs/model.md), one compiled function per phase:
 
-1. contact solve on the current heights (first root of the torque balance) -> z, p;
-2. friction;
-3. wear: Archard on plateau cells in contact, then the resin cut;
-4. rules, reading the statuses at the start of the step: destruction (4-7), then creation
-   (1-3) drawing on the inflow, gaps measured to this step's z;
-5. the particle streams advance one subdomain; what leaves the last subdomain is emitted.
+1. :func:`phase_contact` -- contact solve on the current heights (first root of the torque
+   balance) -> z;
+2. + 3a. :func:`phase_friction_wear` -- friction and Archard wear of the plateaus in contact;
+3b. :func:`phase_resin` -- the resin cut;
+4a. :func:`phase_destruction` -- rules 4-7, statuses as at the start of the step;
+4b. :func:`phase_creation` -- rules 1-3 drawing on the inflow, gaps measured to this z;
+    :func:`phase_apply` -- the status changes take effect;
+5. :func:`phase_advance` -- the particle streams advance one subdomain; the last emits.
 
-State arrays are flat (index ``j * n_angular + i``). ``fastmath`` stays off: results are
-bit-reproducible.
+State arrays are flat (index ``j * n_angular + i``); per-cell constants (area, sliding distance,
+stream bin ``j * n_sub + k``) are precomputed so hot loops do no integer division. Work per step
+is proportional to the cells in contact plus the cells whose status changes, not to the grid:
+
+* plateau cells are kept sorted by height (``order``), repaired by insertion sort each step;
+* resin (status none) cells are kept in a max-heap by height, so the resin cut visits only the
+  cells above the disc (stale heap entries are skipped: key != height or status != none);
+* creation candidates (a none cell with a plateau directly east) are flagged and counted per
+  stream bin, updated where statuses change;
+* rule 4 is checked only on cells whose eastern neighbour lost its plateau status.
+
+``fastmath`` stays off: results are bit-reproducible.
 """
 
 from __future__ import annotations
@@ -42,8 +54,16 @@ SECONDARY = 2
 # indices into the float accumulator array `acc`
 ACC_REMOVED = 0  # pad material removed since the start of the run [m^3]
 ACC_EMITTED = 1  # volume emitted since the start of the run [m^3]
-ACC_NONE_MAX = 2  # an upper bound of the heights of status-none cells [m]
-N_ACC = 3
+ACC_HELD = 2  # volume held in secondary plateaus, tracked incrementally [m^3]
+ACC_PRIMARY_AREA = 3  # area of primary plateaus [m^2]
+ACC_SECONDARY_AREA = 4  # area of secondary plateaus [m^2]
+N_ACC = 5
+
+# indices into the int counter array `cnt`
+CNT_PLATEAU = 0  # valid entries of `order`
+CNT_HEAP = 1  # entries of the resin heap
+CNT_RULE4 = 2  # entries of the rule-4 check list
+N_CNT = 3
 
 # indices into the per-step record array `rec[step, :]`
 R_COF = 0
@@ -60,6 +80,13 @@ R_HELD = 10
 R_STREAM = 11
 N_REC = 12
 
+# per-step scratch sums `sums`
+S_FRICTION = 0
+S_NORMAL = 1
+S_CONTACT = 2
+S_REMOVED = 3
+N_SUMS = 4
+
 # error codes
 OK = 0
 ERR_NO_PLATEAU = 1
@@ -67,6 +94,7 @@ ERR_BAR = 2
 ERR_LEDGER = 3
 
 
+# --- small data structures -------------------------------------------------------------------
 @njit(cache=True)
 def sort_order(order, n, height):
     """Insertion sort of ``order[:n]`` by height, highest first (stable).
@@ -84,11 +112,433 @@ def sort_order(order, n, height):
 
 
 @njit(cache=True)
+def heap_push(keys, vals, cnt, key, val):
+    """Push (key, val) on the max-heap held in ``keys[:cnt[CNT_HEAP]]``."""
+    n = cnt[CNT_HEAP]
+    keys[n] = key
+    vals[n] = val
+    cnt[CNT_HEAP] = n + 1
+    while n > 0:
+        parent = (n - 1) >> 1
+        if keys[parent] >= keys[n]:
+            break
+        keys[parent], keys[n] = keys[n], keys[parent]
+        vals[parent], vals[n] = vals[n], vals[parent]
+        n = parent
+
+
+@njit(cache=True)
+def heap_pop(keys, vals, cnt):
+    """Remove the top of the max-heap; returns (key, val)."""
+    key = keys[0]
+    val = vals[0]
+    n = cnt[CNT_HEAP] - 1
+    cnt[CNT_HEAP] = n
+    keys[0] = keys[n]
+    vals[0] = vals[n]
+    i = 0
+    while True:
+        left = 2 * i + 1
+        if left >= n:
+            break
+        big = left
+        if left + 1 < n and keys[left + 1] > keys[left]:
+            big = left + 1
+        if keys[i] >= keys[big]:
+            break
+        keys[i], keys[big] = keys[big], keys[i]
+        vals[i], vals[big] = vals[big], vals[i]
+        i = big
+    return key, val
+
+
+@njit(cache=True)
+def heap_rebuild(keys, vals, cnt, status, height):
+    """Rebuild the resin heap from every status-none cell (drops stale entries)."""
+    cnt[CNT_HEAP] = 0
+    for idx in range(status.size):
+        if status[idx] == NONE:
+            heap_push(keys, vals, cnt, height[idx], idx)
+
+
+@njit(cache=True)
+def refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular):
+    """Recompute the creation-candidate flag of cell idx (none, with a plateau directly east)."""
+    i = idx % n_angular
+    new = status[idx] == NONE and i + 1 < n_angular and status[idx + 1] != NONE
+    if new != (cand[idx] != 0):
+        cand[idx] = 1 if new else 0
+        ncand[cell_bin[idx]] += 1 if new else -1
+
+
+@njit(cache=True)
+def rebuild_candidates(status, cand, ncand, cell_bin, n_angular):
+    """Flag every creation candidate from scratch."""
+    ncand[:] = 0
+    for idx in range(status.size):
+        cand[idx] = 0
+        refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
+
+
+# --- the phases of a step --------------------------------------------------------------------
+@njit(cache=True)
+def phase_contact(
+    order, cnt, height, cell_area, stiffness, mu_0, slope, mu_min, target, bar_length
+):
+    """Step phase 1: sort the plateaus and solve the torque balance for z.
+
+    Returns (z [m], n_in: plateaus in contact = leading entries of ``order``, error code)."""
+    n_plat = cnt[CNT_PLATEAU]
+    sort_order(order, n_plat, height)
+    z, n_in, code = first_root(
+        order, n_plat, height, cell_area, stiffness, mu_0, slope, mu_min, target
+    )
+    if code != SOLVE_OK:
+        return z, n_in, ERR_NO_PLATEAU
+    if height[order[0]] - z > bar_length:
+        return z, n_in, ERR_BAR
+    return z, n_in, OK
+
+
+@njit(cache=True)
+def phase_friction_wear(
+    order,
+    n_in,
+    height,
+    base,
+    status,
+    cell_area,
+    cell_slide,
+    cell_bin,
+    outflow,
+    acc,
+    z,
+    stiffness,
+    mu_0,
+    slope,
+    mu_min,
+    wear_rate,
+    frac,
+    sums,
+):
+    """Step phases 2 and 3a: friction of the plateaus in contact and their Archard wear.
+
+    Primary wear is new pad material (removed); wear of a secondary plateau moves volume from
+    its deposit to the stream and is clipped at the deposit (rule 5 then fires)."""
+    f_fric = 0.0
+    f_norm = 0.0
+    a_contact = 0.0
+    removed = 0.0
+    held_out = 0.0
+    for q in range(n_in):
+        idx = order[q]
+        u = height[idx] - z
+        if u <= 0.0:
+            continue
+        area = cell_area[idx]
+        p = stiffness * u
+        mu = local_cof(p, mu_0, slope, mu_min)
+        f_fric += mu * p * area
+        f_norm += p * area
+        a_contact += area
+        dh = archard_wear_depth(wear_rate, p, cell_slide[idx] * frac, u)
+        if status[idx] == SECONDARY:
+            dep = height[idx] - base[idx]
+            if dh >= dep:
+                dh = dep
+                height[idx] = base[idx]  # deposit used up: rule 5 fires in phase_destruction
+            else:
+                height[idx] -= dh
+            vol = dh * area
+            outflow[cell_bin[idx]] += vol
+            held_out += vol
+        else:
+            height[idx] -= dh
+            vol = dh * area
+            outflow[cell_bin[idx]] += vol
+            removed += vol
+    acc[ACC_HELD] -= held_out
+    sums[S_FRICTION] = f_fric
+    sums[S_NORMAL] = f_norm
+    sums[S_CONTACT] = a_contact
+    sums[S_REMOVED] = removed
+
+
+@njit(cache=True)
+def phase_resin(
+    height, status, cell_area, cell_bin, outflow, heap_keys, heap_vals, cnt, z, resin_depth, sums
+):
+    """Step phase 3b: every status-none cell above the disc drops to ``z - WR``; the removed
+    volume joins the stream of its row and subdomain."""
+    removed = 0.0
+    while cnt[CNT_HEAP] > 0 and heap_keys[0] > z:
+        key, idx = heap_pop(heap_keys, heap_vals, cnt)
+        if status[idx] != NONE or height[idx] != key:
+            continue  # stale entry
+        cut = resin_cut_depth(height[idx], z, resin_depth)
+        vol = cut * cell_area[idx]
+        height[idx] -= cut
+        outflow[cell_bin[idx]] += vol
+        removed += vol
+        heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
+    sums[S_REMOVED] += removed
+
+
+@njit(cache=True)
+def phase_destruction(
+    order,
+    n_in,
+    cnt,
+    height,
+    base,
+    status,
+    fibre_floor,
+    rule4_list,
+    z,
+    rule6_gap,
+    n_angular,
+    destroyed,
+    rule_counts,
+):
+    """Step phase 4a: rules 4-7 on the statuses at the start of the step. Returns the number
+    of cells listed in ``destroyed``.
+
+    Rules 5 and 7 can only fire on cells that wore this step (in contact); rule 4 only on cells
+    whose eastern neighbour lost its plateau status (``rule4_list``); rule 6, when switched on,
+    on every primary plateau."""
+    n_dest = 0
+    for q in range(n_in):
+        idx = order[q]
+        s = status[idx]
+        if rule5_deposit_worn(s, height[idx], base[idx]):
+            fire = 5
+        elif rule7_fibre_worn(s, height[idx], fibre_floor[idx]):
+            fire = 7
+        else:
+            continue
+        destroyed[n_dest] = idx
+        n_dest += 1
+        rule_counts[fire] += 1
+    for q in range(cnt[CNT_RULE4]):
+        idx = rule4_list[q]
+        if status[idx] != SECONDARY or not rule4_lost_support(status, idx, n_angular):
+            continue
+        if height[idx] <= base[idx]:
+            continue  # already destroyed by rule 5 above
+        dup = False
+        for r in range(n_dest):  # the list may name a cell twice
+            if destroyed[r] == idx:
+                dup = True
+                break
+        if dup:
+            continue
+        destroyed[n_dest] = idx
+        n_dest += 1
+        rule_counts[4] += 1
+    cnt[CNT_RULE4] = 0
+    if rule6_gap < math.inf:
+        for q in range(n_in, cnt[CNT_PLATEAU]):
+            idx = order[q]
+            if rule6_primary_out_of_reach(status[idx], height[idx], z, rule6_gap):
+                destroyed[n_dest] = idx
+                n_dest += 1
+                rule_counts[6] += 1
+    return n_dest
+
+
+@njit(cache=True)
+def phase_creation(
+    height,
+    status,
+    cand,
+    ncand,
+    cell_area,
+    inflow,
+    outflow,
+    z,
+    n_radial,
+    n_angular,
+    n_sub,
+    east_to_west,
+    created,
+    rule_counts,
+):
+    """Step phase 4b: rules 1-3. Candidates of each row draw on the inflow of their row and
+    subdomain in the order the particles meet them; what is not used passes on east.
+    Returns the number of cells listed in ``created``."""
+    n_m = n_angular // n_sub
+    n_new = 0
+    for j in range(n_radial):
+        for k in range(1, n_sub):
+            b = j * n_sub + k
+            rest = inflow[b]
+            if rest > 0.0 and ncand[b] > 0:
+                i0 = j * n_angular + k * n_m
+                for c in range(n_m):
+                    idx = i0 + (n_m - 1 - c if east_to_west else c)
+                    if cand[idx] == 0:
+                        continue
+                    cost = gap_fill_cost(z, height[idx], cell_area[idx])
+                    if cost <= rest:
+                        rest -= cost
+                        created[n_new] = idx
+                        n_new += 1
+                        rule_counts[creation_rule(status, idx, n_radial, n_angular)] += 1
+            outflow[b] += rest
+    return n_new
+
+
+@njit(cache=True)
+def phase_apply(
+    order,
+    n_in,
+    cnt,
+    height,
+    base,
+    status,
+    cand,
+    ncand,
+    cell_area,
+    cell_bin,
+    outflow,
+    acc,
+    heap_keys,
+    heap_vals,
+    rule4_list,
+    z,
+    n_angular,
+    destroyed,
+    n_dest,
+    created,
+    n_new,
+    scratch,
+):
+    """Apply the status changes of the step: destroyed cells become none (a secondary returns
+    its deposit to the stream), created cells are filled to z; keep the order, the resin heap,
+    the candidate flags and the rule-4 list up to date."""
+    for q in range(n_dest):
+        idx = destroyed[q]
+        area = cell_area[idx]
+        if status[idx] == SECONDARY:
+            dep = (height[idx] - base[idx]) * area
+            outflow[cell_bin[idx]] += dep
+            acc[ACC_HELD] -= dep
+            height[idx] = base[idx]
+            acc[ACC_SECONDARY_AREA] -= area
+        else:
+            acc[ACC_PRIMARY_AREA] -= area
+        status[idx] = NONE
+        heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
+    for q in range(n_new):
+        idx = created[q]
+        area = cell_area[idx]
+        acc[ACC_HELD] += (z - height[idx]) * area
+        acc[ACC_SECONDARY_AREA] += area
+        base[idx] = height[idx]
+        height[idx] = z
+        status[idx] = SECONDARY
+    for q in range(n_dest):
+        idx = destroyed[q]
+        refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
+        if idx % n_angular > 0:
+            refresh_candidate(status, cand, ncand, cell_bin, idx - 1, n_angular)
+            rule4_list[cnt[CNT_RULE4]] = idx - 1
+            cnt[CNT_RULE4] += 1
+    for q in range(n_new):
+        idx = created[q]
+        refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
+        if idx % n_angular > 0:
+            refresh_candidate(status, cand, ncand, cell_bin, idx - 1, n_angular)
+    if n_dest or n_new:
+        # compact the order, inserting the new cells (h = z) after the cells in contact
+        n_plat = cnt[CNT_PLATEAU]
+        w = 0
+        for q in range(n_plat):
+            if q == n_in:
+                for c in range(n_new):
+                    scratch[w] = created[c]
+                    w += 1
+            idx = order[q]
+            if status[idx] != NONE:
+                scratch[w] = idx
+                w += 1
+        if n_in >= n_plat:
+            for c in range(n_new):
+                scratch[w] = created[c]
+                w += 1
+        order[:w] = scratch[:w]
+        cnt[CNT_PLATEAU] = w
+
+
+@njit(cache=True)
+def phase_advance(inflow, outflow, n_radial, n_sub):
+    """Step phase 5: streams advance one subdomain; returns (emitted, volume in the streams)."""
+    emitted = 0.0
+    stream = 0.0
+    for j in range(n_radial):
+        b0 = j * n_sub
+        emitted += outflow[b0 + n_sub - 1]
+        for k in range(n_sub - 1, 0, -1):
+            inflow[b0 + k] = outflow[b0 + k - 1]
+            stream += inflow[b0 + k]
+        inflow[b0] = 0.0
+        for k in range(n_sub):
+            outflow[b0 + k] = 0.0
+    return emitted, stream
+
+
+@njit(cache=True)
+def held_volume(order, cnt, height, base, status, cell_area):
+    """Volume held in secondary plateaus, summed from the state [m^3]."""
+    held = 0.0
+    for q in range(cnt[CNT_PLATEAU]):
+        idx = order[q]
+        if status[idx] == SECONDARY:
+            held += (height[idx] - base[idx]) * cell_area[idx]
+    return held
+
+
+# --- one stop --------------------------------------------------------------------------------
+@njit(cache=True)
 def run_stop(
-    height, base, status, fibre_floor, inflow, outflow, order, n_plat_arr, acc,
-    cell_area_row, slide_row, n_radial, n_angular, n_sub,
-    stiffness, mu_0, slope, mu_min, wear_rate, resin_depth, rule6_gap, bar_length,
-    east_to_west, target, fraction, ledger_tol, rec, rule_counts, created, destroyed,
+    height,
+    base,
+    status,
+    fibre_floor,
+    cand,
+    ncand,
+    inflow,
+    outflow,
+    order,
+    heap_keys,
+    heap_vals,
+    rule4_list,
+    cnt,
+    acc,
+    cell_area,
+    cell_slide,
+    cell_bin,
+    n_radial,
+    n_angular,
+    n_sub,
+    stiffness,
+    mu_0,
+    slope,
+    mu_min,
+    wear_rate,
+    resin_depth,
+    rule6_gap,
+    bar_length,
+    east_to_west,
+    target,
+    fraction,
+    ledger_tol,
+    ledger_every,
+    rec,
+    rule_counts,
+    created,
+    destroyed,
+    scratch,
 ):
     """Run every step of one stop in place.
 
@@ -96,18 +546,26 @@ def run_stop(
     ----------
     height, base, fibre_floor : float64[n_cells]
         Cell height [m]; height under the deposit of secondary cells [m]; fibre underside [m].
-    status : int8[n_cells]
-        NONE / PRIMARY / SECONDARY.
-    inflow, outflow : float64[n_radial, n_sub]
-        Particle volume that entered subdomain k this step, and the volume leaving it [m^3].
+    status, cand : int8[n_cells]
+        NONE / PRIMARY / SECONDARY; creation-candidate flag.
+    ncand : int64[n_radial * n_sub]
+        Creation candidates per stream bin.
+    inflow, outflow : float64[n_radial * n_sub]
+        Particle volume that entered bin (j, k) this step, and the volume leaving it [m^3].
     order : int64[n_cells]
-        Plateau cells sorted by height (highest first) in ``order[:n_plat_arr[0]]``.
-    n_plat_arr : int64[1]
-        Number of plateau cells.
+        Plateau cells sorted by height (highest first) in ``order[:cnt[CNT_PLATEAU]]``.
+    heap_keys, heap_vals : float64[cap], int64[cap]
+        Max-heap of (height, cell) of the status-none cells (stale entries allowed).
+    rule4_list : int64[n_cells]
+        Cells to check for rule 4 in the next step.
+    cnt : int64[N_CNT]
+        Counters (plateaus, heap entries, rule-4 entries).
     acc : float64[N_ACC]
-        Run accumulators (removed, emitted, bound on resin heights).
-    cell_area_row, slide_row : float64[n_radial]
-        Cell area [m^2] and full-step sliding distance [m] of each row.
+        Run accumulators (removed, emitted, held, primary and secondary area).
+    cell_area, cell_slide : float64[n_cells]
+        Cell area [m^2] and full-step sliding distance [m].
+    cell_bin : int64[n_cells]
+        Stream bin ``j * n_sub + k`` of the cell.
     n_radial, n_angular, n_sub : int
         Grid shape and number of subdomains.
     stiffness, mu_0, slope, mu_min, wear_rate, resin_depth, rule6_gap, bar_length : float
@@ -121,204 +579,147 @@ def run_stop(
         Fraction of a full step slid in each step [-].
     ledger_tol : float
         Relative ledger residual that stops the run [-].
+    ledger_every : int
+        Sum the held volume from the state every this many steps (and on the last step); in
+        between the incrementally tracked held volume is used.
     rec : float64[n_steps, N_REC]
         Per-step record (output).
     rule_counts : int64[8]
         Firings of rules 1..7 (index = rule number), accumulated.
-    created, destroyed : int64[n_cells]
+    created, destroyed, scratch : int64[n_cells]
         Scratch lists.
 
     Returns
     -------
     code : int
-        OK, or an error code; on error ``rec[step]`` of the failing step is not written.
+        OK, or an error code.
     step : int
         Number of steps completed.
     """
-    n_cells = n_radial * n_angular
-    n_m = n_angular // n_sub
-    for step in range(fraction.size):
+    sums = np.zeros(N_SUMS)
+    n_steps = fraction.size
+    for step in range(n_steps):
         frac = fraction[step]
-        n_plat = n_plat_arr[0]
-        # ---- 1. contact solve ----------------------------------------------------------
-        sort_order(order, n_plat, height)
-        z, n_in, code = first_root(order, n_plat, height, cell_area_row, n_angular, stiffness,
-                                   mu_0, slope, mu_min, target)
-        if code != SOLVE_OK:
-            return ERR_NO_PLATEAU, step
-        if height[order[0]] - z > bar_length:
-            return ERR_BAR, step
-        # ---- 2. friction and 3a. Archard wear of plateaus in contact --------------------
-        f_fric = 0.0
-        f_norm = 0.0
-        a_contact = 0.0
-        generated = 0.0
-        removed = 0.0
-        for q in range(n_in):
-            idx = order[q]
-            u = height[idx] - z
-            if u <= 0.0:
-                continue
-            j = idx // n_angular
-            k = (idx - j * n_angular) // n_m
-            area = cell_area_row[j]
-            p = stiffness * u
-            mu = local_cof(p, mu_0, slope, mu_min)
-            f_fric += mu * p * area
-            f_norm += p * area
-            a_contact += area
-            dh = archard_wear_depth(wear_rate, p, slide_row[j] * frac, u)
-            if status[idx] == SECONDARY:
-                dep = height[idx] - base[idx]
-                if dh >= dep:
-                    dh = dep
-                    height[idx] = base[idx]  # deposit used up (rule 5 fires below)
-                else:
-                    height[idx] -= dh
-                outflow[j, k] += dh * area  # held -> stream: not new wear
-            else:
-                height[idx] -= dh
-                vol = dh * area
-                outflow[j, k] += vol
-                removed += vol
-                generated += vol
-        # ---- 3b. resin cut: status-none cells above the disc drop to z - WR --------------
-        if acc[ACC_NONE_MAX] > z:
-            new_max = -math.inf
-            for idx in range(n_cells):
-                if status[idx] != NONE:
-                    continue
-                cut = resin_cut_depth(height[idx], z, resin_depth)
-                if cut > 0.0:
-                    j = idx // n_angular
-                    k = (idx - j * n_angular) // n_m
-                    vol = cut * cell_area_row[j]
-                    height[idx] -= cut
-                    outflow[j, k] += vol
-                    removed += vol
-                    generated += vol
-                if height[idx] > new_max:
-                    new_max = height[idx]
-            acc[ACC_NONE_MAX] = new_max
-        acc[ACC_REMOVED] += removed
-        # ---- 4a. destruction (rules 4-7), statuses as at the start of the step -----------
-        n_dest = 0
-        for q in range(n_plat):
-            idx = order[q]
-            s = status[idx]
-            fire = 0
-            if s == SECONDARY:
-                if rule5_deposit_worn(s, height[idx], base[idx]):
-                    fire = 5
-                elif rule4_lost_support(status, idx, n_angular):
-                    fire = 4
-            else:
-                if rule7_fibre_worn(s, height[idx], fibre_floor[idx]):
-                    fire = 7
-                elif rule6_primary_out_of_reach(s, height[idx], z, rule6_gap):
-                    fire = 6
-            if fire:
-                destroyed[n_dest] = idx
-                n_dest += 1
-                rule_counts[fire] += 1
-        # ---- 4b. creation (rules 1-3) drawing on this step's inflow, row by row ----------
-        n_new = 0
-        for j in range(n_radial):
-            area = cell_area_row[j]
-            for k in range(1, n_sub):
-                rest = inflow[j, k]
-                if rest > 0.0:
-                    i0 = j * n_angular + k * n_m
-                    for c in range(n_m):
-                        idx = i0 + (n_m - 1 - c if east_to_west else c)
-                        rule = creation_rule(status, idx, n_radial, n_angular)
-                        if rule == 0:
-                            continue
-                        cost = gap_fill_cost(z, height[idx], area)
-                        if cost <= rest:
-                            rest -= cost
-                            created[n_new] = idx
-                            n_new += 1
-                            rule_counts[rule] += 1
-                outflow[j, k] += rest
-        # ---- apply the status changes --------------------------------------------------
-        for q in range(n_dest):
-            idx = destroyed[q]
-            if status[idx] == SECONDARY:
-                j = idx // n_angular
-                k = (idx - j * n_angular) // n_m
-                outflow[j, k] += (height[idx] - base[idx]) * cell_area_row[j]
-                height[idx] = base[idx]
-            status[idx] = NONE
-            if height[idx] > acc[ACC_NONE_MAX]:
-                acc[ACC_NONE_MAX] = height[idx]
-        for q in range(n_new):
-            idx = created[q]
-            base[idx] = height[idx]
-            height[idx] = z
-            status[idx] = SECONDARY
-        if n_dest or n_new:
-            # compact the order, inserting the new cells (h = z) after the cells in contact
-            w = 0
-            for q in range(n_plat):
-                if q == n_in:
-                    for c in range(n_new):
-                        destroyed[w] = created[c]  # reuse as scratch
-                        w += 1
-                idx = order[q]
-                if status[idx] != NONE:
-                    destroyed[w] = idx
-                    w += 1
-            if n_in >= n_plat:
-                for c in range(n_new):
-                    destroyed[w] = created[c]
-                    w += 1
-            for q in range(w):
-                order[q] = destroyed[q]
-            n_plat_arr[0] = w
-            n_plat = w
-        # ---- 5. streams advance; ledger ------------------------------------------------
-        emitted = 0.0
-        stream = 0.0
-        for j in range(n_radial):
-            emitted += outflow[j, n_sub - 1]
-            for k in range(n_sub - 1, 0, -1):
-                inflow[j, k] = outflow[j, k - 1]
-                stream += inflow[j, k]
-            inflow[j, 0] = 0.0
-            for k in range(n_sub):
-                outflow[j, k] = 0.0
+        z, n_in, code = phase_contact(
+            order, cnt, height, cell_area, stiffness, mu_0, slope, mu_min, target, bar_length
+        )
+        if code != OK:
+            return code, step
+        phase_friction_wear(
+            order,
+            n_in,
+            height,
+            base,
+            status,
+            cell_area,
+            cell_slide,
+            cell_bin,
+            outflow,
+            acc,
+            z,
+            stiffness,
+            mu_0,
+            slope,
+            mu_min,
+            wear_rate,
+            frac,
+            sums,
+        )
+        phase_resin(
+            height,
+            status,
+            cell_area,
+            cell_bin,
+            outflow,
+            heap_keys,
+            heap_vals,
+            cnt,
+            z,
+            resin_depth,
+            sums,
+        )
+        acc[ACC_REMOVED] += sums[S_REMOVED]
+        n_dest = phase_destruction(
+            order,
+            n_in,
+            cnt,
+            height,
+            base,
+            status,
+            fibre_floor,
+            rule4_list,
+            z,
+            rule6_gap,
+            n_angular,
+            destroyed,
+            rule_counts,
+        )
+        n_new = phase_creation(
+            height,
+            status,
+            cand,
+            ncand,
+            cell_area,
+            inflow,
+            outflow,
+            z,
+            n_radial,
+            n_angular,
+            n_sub,
+            east_to_west,
+            created,
+            rule_counts,
+        )
+        phase_apply(
+            order,
+            n_in,
+            cnt,
+            height,
+            base,
+            status,
+            cand,
+            ncand,
+            cell_area,
+            cell_bin,
+            outflow,
+            acc,
+            heap_keys,
+            heap_vals,
+            rule4_list,
+            z,
+            n_angular,
+            destroyed,
+            n_dest,
+            created,
+            n_new,
+            scratch,
+        )
+        if cnt[CNT_HEAP] > heap_keys.size - 2 * destroyed.size:
+            heap_rebuild(heap_keys, heap_vals, cnt, status, height)
+        emitted, stream = phase_advance(inflow, outflow, n_radial, n_sub)
         acc[ACC_EMITTED] += emitted
-        held = 0.0
-        a_prim = 0.0
-        a_sec = 0.0
-        for q in range(n_plat):
-            idx = order[q]
-            area = cell_area_row[idx // n_angular]
-            if status[idx] == SECONDARY:
-                held += (height[idx] - base[idx]) * area
-                a_sec += area
-            else:
-                a_prim += area
+        if step % ledger_every == 0 or step == n_steps - 1:
+            held = held_volume(order, cnt, height, base, status, cell_area)
+        else:
+            held = acc[ACC_HELD]
         total = acc[ACC_REMOVED]
         resid = total - (held + stream + acc[ACC_EMITTED])
-        scale = total if total > 0.0 else 1.0
-        rel = abs(resid) / scale if total > 0.0 else abs(resid)
-        rec[step, R_COF] = f_fric / f_norm if f_norm > 0.0 else 0.0
-        rec[step, R_NORMAL] = f_norm
-        rec[step, R_FRICTION] = f_fric
-        rec[step, R_CONTACT_AREA] = a_contact
-        rec[step, R_PRIMARY_AREA] = a_prim
-        rec[step, R_SECONDARY_AREA] = a_sec
+        rel = abs(resid) / total if total > 0.0 else abs(resid)
+        rec[step, R_COF] = sums[S_FRICTION] / sums[S_NORMAL] if sums[S_NORMAL] > 0.0 else 0.0
+        rec[step, R_NORMAL] = sums[S_NORMAL]
+        rec[step, R_FRICTION] = sums[S_FRICTION]
+        rec[step, R_CONTACT_AREA] = sums[S_CONTACT]
+        rec[step, R_PRIMARY_AREA] = acc[ACC_PRIMARY_AREA]
+        rec[step, R_SECONDARY_AREA] = acc[ACC_SECONDARY_AREA]
         rec[step, R_EMITTED] = emitted
-        rec[step, R_GENERATED] = generated
+        rec[step, R_GENERATED] = sums[S_REMOVED]
         rec[step, R_LEDGER] = rel
         rec[step, R_DISC] = z
         rec[step, R_HELD] = held
         rec[step, R_STREAM] = stream
         if rel > ledger_tol:
             return ERR_LEDGER, step + 1
-    return OK, fraction.size
+    return OK, n_steps
 
 
 def empty_record(n_steps: int) -> np.ndarray:

@@ -443,24 +443,82 @@ def _empty_anova(note: str) -> pd.DataFrame:
     return out
 
 
-def _fit_anova(frame: pd.DataFrame, terms: Sequence[str]) -> tuple[Any, pd.DataFrame, str]:
-    """Fit OLS on ``frame`` (column ``y``) and return (fit, anova_lm table, type used)."""
+def _ols(frame: pd.DataFrame, terms: Sequence[str]) -> Any:
+    """Ordinary least squares of ``y`` on ``terms`` (intercept only when empty)."""
     from statsmodels.formula.api import ols
+
+    return ols("y ~ " + (" + ".join(terms) if terms else "1"), data=frame).fit()
+
+
+def _sequential_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any) -> pd.DataFrame:
+    """Type I (sequential) ANOVA from nested fits; df from rank differences, so it also
+    holds for rank-deficient designs (empty cells), where ``anova_lm`` can fail."""
+    from scipy import stats
+
+    rows = []
+    previous = _ols(frame, [])
+    for k, term in enumerate(terms):
+        current = _ols(frame, terms[: k + 1])
+        rows.append(
+            (
+                term,
+                float(round(previous.df_resid - current.df_resid)),
+                max(float(previous.ssr - current.ssr), 0.0),
+            )
+        )
+        previous = current
+    df_resid, ssr = float(fit.df_resid), float(fit.ssr)
+    table = pd.DataFrame(rows, columns=["term", "df", "sum_sq"]).set_index("term")
+    mean_resid = ssr / df_resid if df_resid > 0 else np.nan
+    table["F"] = (table["sum_sq"] / table["df"].where(table["df"] > 0)) / mean_resid
+    table["PR(>F)"] = stats.f.sf(table["F"], table["df"], df_resid)
+    table.loc["Residual"] = [df_resid, ssr, np.nan, np.nan]
+    return table
+
+
+def _fit_anova(
+    frame: pd.DataFrame, terms: Sequence[str], *, check_only: bool = False
+) -> tuple[Any, pd.DataFrame | None, str, list[str]]:
+    """Fit OLS on ``frame`` (column ``y``); return (fit, ANOVA table, type, messages).
+
+    Type II sums of squares from :func:`statsmodels.stats.anova.anova_lm` for a full-rank
+    design; sequential (Type I) sums of squares from nested fits when the design matrix is
+    rank-deficient (empty cells) or ``anova_lm`` fails. With ``check_only`` only the fit is
+    made (table None).
+    """
     from statsmodels.stats.anova import anova_lm
 
-    formula = "y ~ " + " + ".join(terms)
-    with warnings.catch_warnings(), np.errstate(divide="ignore", invalid="ignore"):
-        # A perfect fit (zero residual) or a saturated model divides by zero in F; those
-        # cases are reported as NaN/inf by the caller, not as warnings.
-        warnings.simplefilter("ignore", RuntimeWarning)
-        fit = ols(formula, data=frame).fit()
-        try:
-            table = anova_lm(fit, typ=2)
-            kind = "Type II"
-        except (ValueError, np.linalg.LinAlgError):  # rank-deficient (empty cells)
-            table = anova_lm(fit, typ=1)
-            kind = "Type I (sequential; Type II failed on a rank-deficient design)"
-    return fit, table, kind
+    with warnings.catch_warnings(record=True) as caught, np.errstate(all="ignore"):
+        # A perfect fit (zero residual) or a saturated model divides by zero in F, and a
+        # constant response makes the constraint covariance singular; those cases are
+        # reported in the table and its note, not as warnings.
+        warnings.simplefilter("always")
+        fit = _ols(frame, terms)
+        table = None
+        kind = "Type II"
+        if not check_only:
+            exog = fit.model.exog
+            full_rank = np.linalg.matrix_rank(exog) == exog.shape[1]
+            if full_rank:
+                try:
+                    table = anova_lm(fit, typ=2)
+                except (ValueError, np.linalg.LinAlgError):
+                    table = None
+            if table is None:
+                table = _sequential_table(frame, terms, fit)
+                kind = "Type I (sequential; the design is rank-deficient, e.g. empty cells)"
+    messages = sorted(
+        {
+            f"statsmodels: {w.message}"
+            for w in caught
+            if not issubclass(w.category, RuntimeWarning) and "rank-deficient" not in str(w.message)
+        }
+    )
+    if kind.startswith("Type I "):
+        messages.append(
+            "sums of squares are sequential (Type I): they depend on the order of the terms"
+        )
+    return fit, table, kind, messages
 
 
 def anova(
@@ -485,6 +543,13 @@ def anova(
     fibre layout and automaton), plus the higher-order interactions that are not in the model;
     when the model holds every cell (e.g. two factors with their interaction) it is pure error
     only. Without replicates the residual is the higher-order interactions alone.
+
+    If the design matrix is rank-deficient (a factor-level combination without a usable run,
+    e.g. a failed run in an unreplicated design), Type II is not defined by ``anova_lm``;
+    sequential (Type I) sums of squares from nested fits are reported instead, with the
+    degrees of freedom of each term reduced to what is estimable, and a note says so. For
+    an unbalanced but full-rank design the Type II sums of squares need not add up to the
+    total; a note says so.
 
     If the requested model leaves zero residual degrees of freedom (saturated, unreplicated),
     the two-factor interactions are pooled into the residual and a main-effects model is
@@ -525,7 +590,9 @@ def anova(
     y = data[response].to_numpy(dtype=float)
     if n < 2:
         return _empty_anova(f"only {n} usable run(s) for {response}; no ANOVA possible")
-    total_ss = float(np.sum((y - y.mean()) ** 2))
+    scale = float(np.max(np.abs(y)))
+    constant = float(np.ptp(y)) <= 1e-13 * scale
+    total_ss = 0.0 if constant else float(np.sum((y - y.mean()) ** 2))
 
     notes: list[str] = []
     frame = pd.DataFrame({"y": y})
@@ -540,7 +607,18 @@ def anova(
         names[safe] = f.name
     if not names:
         out = pd.DataFrame(
-            [["Residual", n - 1.0, total_ss, total_ss / (n - 1), np.nan, np.nan, 100.0, ""]],
+            [
+                [
+                    "Residual",
+                    n - 1.0,
+                    total_ss,
+                    total_ss / (n - 1),
+                    np.nan,
+                    np.nan,
+                    100.0 if total_ss > 0 else np.nan,
+                    "",
+                ]
+            ],
             columns=list(ANOVA_COLUMNS),
         )
         notes.append("no factor varies in the data; nothing to test")
@@ -555,14 +633,14 @@ def anova(
         {f"C({a}):C({b})": f"{names[a]}:{names[b]}" for a, b in itertools.combinations(names, 2)}
     )
     terms = mains + (pairs if interactions else [])
-    fit, table, kind = _fit_anova(frame, terms)
+    fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
     if fit.df_resid < 0.5 and interactions and pairs:
         notes.append(
             "model with two-factor interactions is saturated (0 residual df): interactions "
             "pooled into the residual, main effects only"
         )
         terms = mains
-        fit, table, kind = _fit_anova(frame, terms)
+    fit, table, kind, messages = _fit_anova(frame, terms)
     saturated = fit.df_resid < 0.5
     if saturated:
         notes.append("saturated model (0 residual df): F and p cannot be computed")
@@ -586,9 +664,18 @@ def anova(
     if saturated:
         out[["F", "p_value"]] = np.nan
         out.loc[resid, ["sum_sq", "mean_sq", "percent_contribution"]] = [0.0, np.nan, 0.0]
-    if total_ss == 0:
+    if constant:
         notes.append("response is constant; F, p and contributions are undefined")
-        out[["F", "p_value"]] = np.nan
+        out[["F", "p_value", "percent_contribution"]] = np.nan
+        out["sum_sq"] = 0.0
+        out["mean_sq"] = np.where(out["df"] > 0, 0.0, np.nan)
+    else:
+        if messages and not saturated:
+            notes.extend(messages)
+        if not math.isclose(float(out["sum_sq"].sum()), total_ss, rel_tol=1e-8, abs_tol=0.0):
+            notes.append(
+                "unbalanced design: the Type II sums of squares do not add up to the total"
+            )
     note = "; ".join(notes)
     out["note"] = note
     out = out[list(ANOVA_COLUMNS)].reset_index(drop=True)

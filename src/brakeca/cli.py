@@ -88,7 +88,13 @@ def simulate(
     quick: QuickOpt = False,
 ) -> None:
     """Simulate one pad over the drive cycle and write a netCDF run file."""
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+    from rich.progress import (
+        BarColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     from brakeca.contact import ContactError
     from brakeca.simulation import LedgerError

@@ -195,7 +195,10 @@ class AutomatonConfig(_Frozen):
     """Plateau rules and the between-stop rule."""
 
     secondary_removal_fraction: float = Field(
-        0.0, ge=0.0, le=1.0, description="[-] fraction S of secondary plateaus removed between stops"
+        0.0,
+        ge=0.0,
+        le=1.0,
+        description="[-] fraction S of secondary plateaus removed between stops",
     )
     rule6_max_gap: float | None = Field(
         None,
@@ -207,7 +210,7 @@ class AutomatonConfig(_Frozen):
     )
     creation_order: Literal["west_to_east", "east_to_west"] = Field(
         "west_to_east",
-        description="order in which candidates of a row draw on the inflow (decision: west_to_east)",
+        description="order in which a row's candidates draw on the inflow (decision: west_to_east)",
     )
 
 
@@ -254,6 +257,14 @@ class OutputConfig(_Frozen):
     )
     ledger_tolerance: float = Field(
         1e-9, gt=0, le=1e-2, description="[-] relative volume-ledger residual that stops a run"
+    )
+    ledger_every: int = Field(
+        1,
+        ge=1,
+        description=(
+            "[-] sum the held volume from the state every N steps for the ledger (1: every step; "
+            "in between the incrementally tracked value is used)"
+        ),
     )
 
 

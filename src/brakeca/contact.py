@@ -10,11 +10,12 @@ the approach grows from zero (the smallest normal load), which depends on the su
 
 Algorithm
 ---------
-Sort the plateau heights (descending). Between consecutive breakpoints (a cell entering contact
-at ``z = h_k``, a cell reaching the COF floor at ``z = h_k - u_f`` with ``u_f = (mu_0 - mu_min)/(c K)``)
-``F`` is a quadratic in the approach ``w``: ``F = F_0 + D w - Q w^2``. Walk the breakpoints from
-the top, updating ``F``, ``D`` and ``Q``, and solve the quadratic in each interval; the first root is
-exact to round-off. Cost: O(number of cells in contact) once the heights are sorted.
+Sort the plateau heights (descending). Between consecutive breakpoints (a cell entering
+contact at ``z = h_k``, a cell reaching the COF floor at ``z = h_k - u_f``, with
+``u_f = (mu_0 - mu_min) / (c K)``)
+``F`` is a quadratic in the approach ``w``: ``F = F_0 + D w - Q w^2``. Walk the breakpoints
+from the top, updating ``F``, ``D`` and ``Q``, and solve the quadratic in each interval; the
+first root is exact to round-off. Cost: O(number of cells in contact) once heights are sorted.
 """
 
 from __future__ import annotations
@@ -43,8 +44,7 @@ class ContactError(RuntimeError):
 
 
 @njit(cache=True)
-def first_root(order, n_plateau, height, cell_area_row, n_angular, stiffness, mu_0, slope,
-               mu_min, target):
+def first_root(order, n_plateau, height, cell_area, stiffness, mu_0, slope, mu_min, target):
     """First disc position z at which the friction force reaches ``target``.
 
     Parameters
@@ -55,10 +55,8 @@ def first_root(order, n_plateau, height, cell_area_row, n_angular, stiffness, mu
         Number of valid entries of ``order``.
     height : float64 array
         Flat cell heights [m].
-    cell_area_row : float64 array
-        Cell area of each row [m^2]; the row of flat index idx is ``idx // n_angular``.
-    n_angular : int
-        Cells per row.
+    cell_area : float64 array
+        Flat cell areas [m^2].
     stiffness : float
         Foundation stiffness K [Pa/m].
     mu_0, slope, mu_min : float
@@ -91,13 +89,15 @@ def first_root(order, n_plateau, height, cell_area_row, n_angular, stiffness, mu
     while True:
         # apply every event at z_hi
         while a < n_plateau and height[order[a]] >= z_hi:
-            area = cell_area_row[order[a] // n_angular]
+            area = cell_area[order[a]]
             d += area * mu_0 * stiffness
             q += area * k2
             a += 1
         while b < a and height[order[b]] - u_floor >= z_hi:
-            area = cell_area_row[order[b] // n_angular]
-            d += area * stiffness * (mu_0 - mu_min)  # slope jumps from A K (2 mu_min - mu_0) to A K mu_min
+            area = cell_area[order[b]]
+            d += (
+                area * stiffness * (mu_0 - mu_min)
+            )  # slope jumps from A K (2 mu_min - mu_0) to A K mu_min
             q -= area * k2
             b += 1
         if q < 0.0:
@@ -140,8 +140,9 @@ def friction_force(height, area, disc_position, stiffness, mu_0, slope, mu_min) 
     return float(np.sum(mu * p * np.asarray(area, dtype=float)))
 
 
-def solve_disc_position(height, area, *, stiffness: float, mu_0: float, slope: float,
-                        mu_min: float, target: float) -> float:
+def solve_disc_position(
+    height, area, *, stiffness: float, mu_0: float, slope: float, mu_min: float, target: float
+) -> float:
     """Torque-controlled contact of a set of plateau cells: the first z with F(z) = target.
 
     Parameters
@@ -172,7 +173,7 @@ def solve_disc_position(height, area, *, stiffness: float, mu_0: float, slope: f
     if target <= 0.0:
         raise ContactError(f"demanded friction force must be positive, got {target} N")
     order = np.argsort(-h, kind="stable").astype(np.int64)
-    z, _, code = first_root(order, h.size, h, ar, 1, stiffness, mu_0, slope, mu_min, target)
+    z, _, code = first_root(order, h.size, h, ar, stiffness, mu_0, slope, mu_min, target)
     if code != SOLVE_OK:
         raise ContactError("no plateau cell can reach the disc")
     return z

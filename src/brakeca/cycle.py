@@ -67,7 +67,9 @@ def expand_stops(config: SimulationConfig) -> list[Stop]:
 
 def step_distance(config: SimulationConfig) -> float:
     """Vehicle travel per full time step, s = R_wheel N_m dtheta [m]."""
-    return config.vehicle.wheel_radius * config.mesh.columns_per_subdomain * config.mesh.angular_step
+    return (
+        config.vehicle.wheel_radius * config.mesh.columns_per_subdomain * config.mesh.angular_step
+    )
 
 
 def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:

@@ -55,12 +55,12 @@ class RunResult:
     dataset: xr.Dataset
 
     @property
-    def MU(self) -> float:  # noqa: N802 - the paper's name
+    def MU(self) -> float:
         """Mean over the stops of the per-stop mean COF [-]."""
         return float(self.dataset["MU"])
 
     @property
-    def V(self) -> float:  # noqa: N802 - the paper's name
+    def V(self) -> float:
         """Mean wear volume leaving the contact of the band, per stop [m^3]."""
         return float(self.dataset["V"])
 
@@ -113,6 +113,9 @@ def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file the usual mode
     try:
         dataset.to_netcdf(tmp, engine="h5netcdf")
         os.replace(tmp, path)
@@ -154,9 +157,15 @@ def build_dataset(
             float(r[:, K.R_EMITTED].sum()) + f for r, f in zip(records, flush, strict=True)
         ],
         "generated_volume": [float(r[:, K.R_GENERATED].sum()) for r in records],
-        "primary_area_fraction": [tw(r, d, K.R_PRIMARY_AREA) / area for r, d in zip(records, dts, strict=True)],
-        "secondary_area_fraction": [tw(r, d, K.R_SECONDARY_AREA) / area for r, d in zip(records, dts, strict=True)],
-        "contact_area_fraction": [tw(r, d, K.R_CONTACT_AREA) / area for r, d in zip(records, dts, strict=True)],
+        "primary_area_fraction": [
+            tw(r, d, K.R_PRIMARY_AREA) / area for r, d in zip(records, dts, strict=True)
+        ],
+        "secondary_area_fraction": [
+            tw(r, d, K.R_SECONDARY_AREA) / area for r, d in zip(records, dts, strict=True)
+        ],
+        "contact_area_fraction": [
+            tw(r, d, K.R_CONTACT_AREA) / area for r, d in zip(records, dts, strict=True)
+        ],
         "band_normal_force": [tw(r, d, K.R_NORMAL) for r, d in zip(records, dts, strict=True)],
         "duration": [float(d.sum()) for d in dts],
         "n_steps": [d.size for d in dts],
@@ -210,7 +219,9 @@ def build_dataset(
     all_rec = np.concatenate(records)
     all_dt = np.concatenate(dts)
     time_end = np.cumsum(all_dt)
-    stop_of_step = np.concatenate([np.full(d.size, s.index) for s, d in zip(stops, dts, strict=True)])
+    stop_of_step = np.concatenate(
+        [np.full(d.size, s.index) for s, d in zip(stops, dts, strict=True)]
+    )
     keep = np.arange(0, all_rec.shape[0], every)
     series = {
         "step_time": (time_end[keep], "s", "braking time at the end of the step"),
@@ -219,23 +230,41 @@ def build_dataset(
         "step_normal_force": (all_rec[keep, K.R_NORMAL] * pad_scale, "N", "pad normal force"),
         "step_contact_area_fraction": (all_rec[keep, K.R_CONTACT_AREA] / area, "1", "contact area"),
         "step_primary_area_fraction": (all_rec[keep, K.R_PRIMARY_AREA] / area, "1", "primary area"),
-        "step_secondary_area_fraction": (all_rec[keep, K.R_SECONDARY_AREA] / area, "1", "secondary area"),
+        "step_secondary_area_fraction": (
+            all_rec[keep, K.R_SECONDARY_AREA] / area,
+            "1",
+            "secondary area",
+        ),
         "step_disc_position": (all_rec[keep, K.R_DISC], "m", "disc surface position z"),
     }
     for name, (values, unit, desc) in series.items():
         data_vars[name] = ("step", values, {"units": unit, "long_name": desc})
-    data_vars["initial_status"] = (("radius", "angle"), initial_status.astype(np.int8),
-                                   {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"})
-    data_vars["final_status"] = (("radius", "angle"), final_status.astype(np.int8),
-                                 {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"})
-    data_vars["final_height"] = (("radius", "angle"), final_height.astype(np.float32),
-                                 {"units": "m", "long_name": "cell height after the cycle"})
+    data_vars["initial_status"] = (
+        ("radius", "angle"),
+        initial_status.astype(np.int8),
+        {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"},
+    )
+    data_vars["final_status"] = (
+        ("radius", "angle"),
+        final_status.astype(np.int8),
+        {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"},
+    )
+    data_vars["final_height"] = (
+        ("radius", "angle"),
+        final_height.astype(np.float32),
+        {"units": "m", "long_name": "cell height after the cycle"},
+    )
     mu = float(np.mean(per_stop["mean_cof"]))
     v = float(np.mean(per_stop["emitted_volume"]))
-    data_vars["MU"] = ((), mu, {"units": "1", "long_name": "mean over the stops of the per-stop mean COF"})
+    data_vars["MU"] = (
+        (),
+        mu,
+        {"units": "1", "long_name": "mean over the stops of the per-stop mean COF"},
+    )
     data_vars["V"] = ((), v, {"units": "m3", "long_name": "mean emitted wear volume per stop"})
     data_vars["max_ledger_residual"] = (
-        (), max(float(np.max(per_stop["max_ledger_residual"])), final_ledger),
+        (),
+        max(float(np.max(per_stop["max_ledger_residual"])), final_ledger),
         {"units": "1", "long_name": "max relative volume-ledger residual of the run"},
     )
     data_vars["max_friction_residual"] = ((), float(np.max(fr_res)), {"units": "1"})

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -47,13 +47,13 @@ class SimulationState:
         NONE / PRIMARY / SECONDARY.
     fibre_floor : float64 array
         Fibre underside [m] (-inf for columns).
-    inflow, outflow : float64 arrays (n_radial, n_subdomains)
-        Particle streams [m^3].
-    order : int64 array
-        Plateau cells by height, highest first, in ``order[:n_plateau[0]]``.
-    n_plateau : int64 array of length 1
+    inflow, outflow : float64 arrays (n_radial * n_subdomains)
+        Particle streams per bin ``j * n_sub + k`` [m^3].
     acc : float64 array
-        Accumulators: removed [m^3], emitted [m^3], bound on resin heights [m].
+        Accumulators: removed, emitted, held [m^3]; primary and secondary area [m^2].
+
+    The other arrays are derived bookkeeping of the kernel (sorted plateaus, resin heap,
+    creation candidates, rule-4 list), rebuilt by :meth:`resync`.
     """
 
     height: np.ndarray
@@ -62,49 +62,81 @@ class SimulationState:
     fibre_floor: np.ndarray
     inflow: np.ndarray
     outflow: np.ndarray
-    order: np.ndarray
-    n_plateau: np.ndarray
     acc: np.ndarray
+    cell_area: np.ndarray
+    cell_slide: np.ndarray
+    cell_bin: np.ndarray
+    n_radial: int
+    n_angular: int
+    n_subdomains: int
+    order: np.ndarray = field(init=False)
+    heap_keys: np.ndarray = field(init=False)
+    heap_vals: np.ndarray = field(init=False)
+    cand: np.ndarray = field(init=False)
+    ncand: np.ndarray = field(init=False)
+    rule4_list: np.ndarray = field(init=False)
+    cnt: np.ndarray = field(init=False)
+
+    def __post_init__(self) -> None:
+        n = self.height.size
+        self.order = np.zeros(n, dtype=np.int64)
+        self.heap_keys = np.zeros(4 * n + 8)
+        self.heap_vals = np.zeros(4 * n + 8, dtype=np.int64)
+        self.cand = np.zeros(n, dtype=np.int8)
+        self.ncand = np.zeros(self.n_radial * self.n_subdomains, dtype=np.int64)
+        self.rule4_list = np.zeros(n, dtype=np.int64)
+        self.cnt = np.zeros(K.N_CNT, dtype=np.int64)
+        self.resync()
 
     @classmethod
-    def from_surface(cls, surface: Surface, n_subdomains: int) -> SimulationState:
-        """Initial state of a fresh pad surface."""
+    def from_surface(cls, surface: Surface, grid: Grid) -> SimulationState:
+        """Initial state of a fresh pad surface on ``grid``."""
         n_r, n_t = surface.height.shape
+        n_sub = grid.n_subdomains
+        rows = np.repeat(np.arange(n_r), n_t)
+        cols = np.tile(np.arange(n_t), n_r)
         height = np.ascontiguousarray(surface.height, dtype=np.float64).ravel().copy()
-        status = np.ascontiguousarray(surface.status, dtype=np.int8).ravel().copy()
-        none = status == NONE
-        acc = np.zeros(K.N_ACC)
-        acc[K.ACC_NONE_MAX] = height[none].max() if none.any() else -math.inf
-        state = cls(
+        return cls(
             height=height,
             base=height.copy(),
-            status=status,
+            status=np.ascontiguousarray(surface.status, dtype=np.int8).ravel().copy(),
             fibre_floor=np.ascontiguousarray(surface.fibre_floor, dtype=np.float64).ravel().copy(),
-            inflow=np.zeros((n_r, n_subdomains)),
-            outflow=np.zeros((n_r, n_subdomains)),
-            order=np.zeros(height.size, dtype=np.int64),
-            n_plateau=np.zeros(1, dtype=np.int64),
-            acc=acc,
+            inflow=np.zeros(n_r * n_sub),
+            outflow=np.zeros(n_r * n_sub),
+            acc=np.zeros(K.N_ACC),
+            cell_area=np.asarray(grid.cell_area, dtype=np.float64)[rows],
+            cell_slide=np.asarray(grid.step_sliding_distance, dtype=np.float64)[rows],
+            cell_bin=(rows * n_sub + cols // grid.columns_per_subdomain).astype(np.int64),
+            n_radial=n_r,
+            n_angular=n_t,
+            n_subdomains=n_sub,
         )
-        state.rebuild_order()
-        return state
 
-    def rebuild_order(self) -> None:
-        """Sort the plateau cells by height from scratch (stable, highest first)."""
+    def resync(self) -> None:
+        """Rebuild every derived structure from heights and statuses: the plateau order
+        (stable sort, highest first), the resin heap, the creation candidates, the areas and
+        held volume, and a rule-4 check of every secondary plateau at the next step."""
         plateau = np.flatnonzero(self.status != NONE)
         ranked = plateau[np.argsort(-self.height[plateau], kind="stable")]
         self.order[: ranked.size] = ranked
-        self.n_plateau[0] = ranked.size
+        self.cnt[K.CNT_PLATEAU] = ranked.size
+        K.heap_rebuild(self.heap_keys, self.heap_vals, self.cnt, self.status, self.height)
+        K.rebuild_candidates(self.status, self.cand, self.ncand, self.cell_bin, self.n_angular)
+        secondary = np.flatnonzero(self.status == SECONDARY)
+        self.rule4_list[: secondary.size] = secondary
+        self.cnt[K.CNT_RULE4] = secondary.size
+        self.acc[K.ACC_HELD] = self.held_volume()
+        self.acc[K.ACC_PRIMARY_AREA] = float(self.cell_area[self.status == 1].sum())
+        self.acc[K.ACC_SECONDARY_AREA] = float(self.cell_area[secondary].sum())
 
-    def held_volume(self, cell_area_row: np.ndarray, n_angular: int) -> float:
-        """Volume held in secondary plateaus [m^3]."""
-        sec = np.flatnonzero(self.status == SECONDARY)
-        return float(np.sum((self.height[sec] - self.base[sec]) * cell_area_row[sec // n_angular]))
+    def held_volume(self) -> float:
+        """Volume held in secondary plateaus, summed from the state [m^3]."""
+        sec = self.status == SECONDARY
+        return float(np.sum((self.height[sec] - self.base[sec]) * self.cell_area[sec]))
 
 
 def end_of_stop(
     state: SimulationState,
-    grid: Grid,
     removal_fraction: float,
     rng: np.random.Generator,
 ) -> tuple[float, int]:
@@ -114,8 +146,6 @@ def end_of_stop(
     ----------
     state
         Run state, changed in place.
-    grid
-        The grid.
     removal_fraction
         S [-]: 0 keeps every secondary plateau, 1 removes all; in between a random fraction
         S of them (``round(S n)`` cells drawn without replacement from ``rng``).
@@ -129,7 +159,6 @@ def end_of_stop(
     removed : int
         Number of secondary plateaus removed [-].
     """
-    n_t = grid.angle.size
     emitted = float(state.inflow.sum())
     state.inflow[:] = 0.0
     secondary = np.flatnonzero(state.status == SECONDARY)
@@ -138,15 +167,14 @@ def end_of_stop(
     elif removal_fraction <= 0.0 or secondary.size == 0:
         chosen = secondary[:0]
     else:
-        n_remove = int(round(removal_fraction * secondary.size))
+        n_remove = round(removal_fraction * secondary.size)
         chosen = np.sort(rng.choice(secondary, size=n_remove, replace=False))
     if chosen.size:
-        deposit = (state.height[chosen] - state.base[chosen]) * grid.cell_area[chosen // n_t]
+        deposit = (state.height[chosen] - state.base[chosen]) * state.cell_area[chosen]
         emitted += float(deposit.sum())
         state.height[chosen] = state.base[chosen]
         state.status[chosen] = NONE
-        state.acc[K.ACC_NONE_MAX] = max(state.acc[K.ACC_NONE_MAX], float(state.height[chosen].max()))
-        state.rebuild_order()
+        state.resync()
     state.acc[K.ACC_EMITTED] += emitted
     return emitted, int(chosen.size)
 
@@ -200,15 +228,14 @@ def simulate(
         seed = -1
     grid = make_grid(config)
     surface = generate_surface(config.pad, grid, rng)
-    state = SimulationState.from_surface(surface, grid.n_subdomains)
+    state = SimulationState.from_surface(surface, grid)
     stops = expand_stops(config)
     n_r, n_t = grid.shape
-    created = np.zeros(n_r * n_t, dtype=np.int64)
-    destroyed = np.zeros(n_r * n_t, dtype=np.int64)
+    lists = scratch_lists(n_r * n_t)
     log = _StopLog([], [], [], [], [])
     for stop in stops:
-        dt, rec, counts = advance_stop(state, grid, config, stop, created, destroyed)
-        flush, n_removed = end_of_stop(state, grid, config.automaton.secondary_removal_fraction, rng)
+        dt, rec, counts = advance_stop(state, grid, config, stop, lists)
+        flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         log.records.append(rec)
         log.dts.append(dt)
         log.flush.append(flush)
@@ -216,7 +243,7 @@ def simulate(
         log.rule_counts.append(counts)
         if progress is not None:
             progress(stop.index, len(stops))
-    final_ledger = _final_ledger(state, grid)
+    final_ledger = _final_ledger(state)
     dataset = build_dataset(
         config=config,
         seed=seed,
@@ -236,13 +263,17 @@ def simulate(
     return RunResult(config=config, seed=seed, dataset=dataset)
 
 
+def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Three int64 scratch lists of ``n_cells`` entries for the kernel."""
+    return tuple(np.zeros(n_cells, dtype=np.int64) for _ in range(3))  # type: ignore[return-value]
+
+
 def advance_stop(
     state: SimulationState,
     grid: Grid,
     config: SimulationConfig,
     stop: Stop,
-    created: np.ndarray | None = None,
-    destroyed: np.ndarray | None = None,
+    scratch: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Run every time step of one stop on ``state`` (in place) with the compiled kernel.
 
@@ -261,9 +292,7 @@ def advance_stop(
         As :func:`simulate`.
     """
     n_r, n_t = grid.shape
-    if created is None or destroyed is None:
-        created = np.zeros(n_r * n_t, dtype=np.int64)
-        destroyed = np.zeros(n_r * n_t, dtype=np.int64)
+    created, destroyed, scratch = scratch or scratch_lists(n_r * n_t)
     dt, fraction = stop_steps(stop, step_distance(config))
     demand = brake_demand(config, stop.deceleration, grid.area)
     rec = K.empty_record(dt.size)
@@ -271,26 +300,54 @@ def advance_stop(
     rule6 = config.automaton.rule6_max_gap
     fr = config.friction
     code, done = K.run_stop(
-        state.height, state.base, state.status, state.fibre_floor, state.inflow,
-        state.outflow, state.order, state.n_plateau, state.acc,
-        grid.cell_area, grid.step_sliding_distance, n_r, n_t, grid.n_subdomains,
-        config.contact.stiffness, fr.mu_0, fr.slope, fr.mu_min,
-        config.wear.specific_wear_rate, config.wear.resin_wear_depth,
-        math.inf if rule6 is None else rule6, config.contact.bar_length,
+        state.height,
+        state.base,
+        state.status,
+        state.fibre_floor,
+        state.cand,
+        state.ncand,
+        state.inflow,
+        state.outflow,
+        state.order,
+        state.heap_keys,
+        state.heap_vals,
+        state.rule4_list,
+        state.cnt,
+        state.acc,
+        state.cell_area,
+        state.cell_slide,
+        state.cell_bin,
+        n_r,
+        n_t,
+        grid.n_subdomains,
+        config.contact.stiffness,
+        fr.mu_0,
+        fr.slope,
+        fr.mu_min,
+        config.wear.specific_wear_rate,
+        config.wear.resin_wear_depth,
+        math.inf if rule6 is None else rule6,
+        config.contact.bar_length,
         config.automaton.creation_order == "east_to_west",
-        demand.band_friction_force, fraction, config.output.ledger_tolerance,
-        rec, counts, created, destroyed,
+        demand.band_friction_force,
+        fraction,
+        config.output.ledger_tolerance,
+        config.output.ledger_every,
+        rec,
+        counts,
+        created,
+        destroyed,
+        scratch,
     )
     if code != K.OK:
         _raise_kernel_error(code, done, stop, demand.band_friction_force, rec, config)
     return dt, rec, counts
 
 
-def _final_ledger(state: SimulationState, grid: Grid) -> float:
+def _final_ledger(state: SimulationState) -> float:
     """Relative ledger residual after the last stop (streams flushed) [-]."""
     removed = state.acc[K.ACC_REMOVED]
-    held = state.held_volume(grid.cell_area, grid.angle.size)
-    resid = removed - held - state.inflow.sum() - state.acc[K.ACC_EMITTED]
+    resid = removed - state.held_volume() - state.inflow.sum() - state.acc[K.ACC_EMITTED]
     return abs(resid) / removed if removed > 0 else abs(resid)
 
 
@@ -314,4 +371,3 @@ def _raise_kernel_error(code, done, stop: Stop, target, rec, config) -> None:
             f"output.ledger_tolerance = {config.output.ledger_tolerance}"
         )
     raise RuntimeError(f"{where}: kernel error code {code}")
-

@@ -123,10 +123,12 @@ def generate_surface(pad: PadConfig, grid: Grid, rng: np.random.Generator) -> Su
         sub_new = inside & ~is_fibre[j0:j1, i0:i1]
         covered += float((sub_new * area_row[j0:j1, None]).sum())
         is_fibre[j0:j1, i0:i1] |= inside
-        top[j0:j1, i0:i1] = np.where(inside, np.maximum(top[j0:j1, i0:i1], axis_level + chord),
-                                     top[j0:j1, i0:i1])
-        floor[j0:j1, i0:i1] = np.where(inside, np.minimum(floor[j0:j1, i0:i1], axis_level - chord),
-                                       floor[j0:j1, i0:i1])
+        top[j0:j1, i0:i1] = np.where(
+            inside, np.maximum(top[j0:j1, i0:i1], axis_level + chord), top[j0:j1, i0:i1]
+        )
+        floor[j0:j1, i0:i1] = np.where(
+            inside, np.minimum(floor[j0:j1, i0:i1], axis_level - chord), floor[j0:j1, i0:i1]
+        )
     height = np.where(is_fibre, top, resin)
     status = np.where(is_fibre, PRIMARY, NONE).astype(np.int8)
     if pad.fibre_model == "columns":

@@ -29,6 +29,7 @@ from brakeca.campaign import (
     make_executor,
     run_campaign,
 )
+from brakeca.config import ConfigError
 from brakeca.design import load_design
 from brakeca.presets import load_preset
 from brakeca.results import RunResult
@@ -360,3 +361,37 @@ def test_make_executor():
         make_executor("local", 0)
     with make_executor("local", 1) as ex:
         assert ex.submit(os.getenv, "NUMBA_NUM_THREADS").result() == "1"
+
+
+def test_a_dask_client_executor_plugs_in(serial, design_file, tmp_path):
+    """The executor seam: any concurrent.futures executor, e.g. dask's, runs a campaign."""
+    distributed = pytest.importorskip("distributed")
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        result = run_campaign(
+            design_file,
+            tmp_path / "dask",
+            executor=client.get_executor(),
+            workers=2,
+            progress=False,
+            console=_quiet(),
+        )
+    assert result.ok and len(result.computed) == 4
+    pd.testing.assert_frame_equal(_deterministic(result.summary), _deterministic(serial.summary))
+
+
+def test_bad_arguments_fail_before_anything_is_written(design_file, tmp_path):
+    out = tmp_path / "never"
+    with pytest.raises(ValueError, match="unknown executor"):
+        run_campaign(design_file, out, executor="cluster", progress=False)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="at least 1"):
+        run_campaign(design_file, out, workers=0, progress=False)
+    with pytest.raises(ConfigError, match=r"mesh\.n_radial"):
+        run_campaign(design_file, out, overrides={"mesh.n_radial": 0}, progress=False)
+    with pytest.raises(ConfigError, match="max_stops"):
+        run_campaign(design_file, out, max_stops=0, progress=False)
+    assert not out.exists()

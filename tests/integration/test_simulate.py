@@ -20,8 +20,12 @@ def small():
     from conftest import short_cycle
 
     return load_preset().with_updates(
-        {"mesh.n_radial": 5, "WP": 1e-13, "pad.resin_roughness": 100e-6,
-         "cycle": short_cycle(stops=3, v0=30, v1=4, g=0.25)}
+        {
+            "mesh.n_radial": 5,
+            "WP": 1e-13,
+            "pad.resin_roughness": 100e-6,
+            "cycle": short_cycle(stops=3, v0=30, v1=4, g=0.25),
+        }
     )
 
 
@@ -84,15 +88,30 @@ def test_unreachable_torque_is_a_clear_error(small):
     with pytest.raises(ContactError, match="no plateau cell can reach"):
         simulate(small.with_updates({"A": 0}), seed=1)
     with pytest.raises(ContactError, match="bar_length"):
-        simulate(small.with_updates({"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4}),
-                 seed=1)
+        simulate(
+            small.with_updates({"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4}), seed=1
+        )
 
 
 def test_cli_simulate(tmp_path):
     runner = CliRunner()
     out = tmp_path / "r.nc"
-    res = runner.invoke(app, ["simulate", "--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100",
-                              "--stops", "1", "--seed", "4", "-o", str(out)])
+    res = runner.invoke(
+        app,
+        [
+            "simulate",
+            "--set",
+            "mesh.n_radial=3",
+            "--set",
+            "mesh.n_angular=100",
+            "--stops",
+            "1",
+            "--seed",
+            "4",
+            "-o",
+            str(out),
+        ],
+    )
     assert res.exit_code == 0, res.output
     assert "MU =" in res.stdout and "mm^3 per stop" in res.stdout
     r = RunResult.from_netcdf(out)

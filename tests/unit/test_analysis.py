@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -144,6 +145,10 @@ def test_factor_level_label_and_validation() -> None:
         Factor("", (1.0,))
     mapped = as_factor({"name": "A", "levels": [10, 20], "unit": "%", "labels": ["-", "+"]})
     assert mapped == Factor("A", (10.0, 20.0), "%", "", ("-", "+"))
+    duck = SimpleNamespace(name="S", levels=(0, 1), unit="-", label="Secondary", labels=None)
+    assert as_factor(duck) == Factor("S", (0.0, 1.0), "-", "Secondary")
+    with pytest.raises(TypeError):
+        as_factor(SimpleNamespace(name="X"))
 
 
 # --- main effects and interactions -----------------------------------------------------------

@@ -20,9 +20,13 @@ LAW = {"mu_0": 0.6, "slope": 3e-8, "mu_min": 0.15}
 def flat_plateau_state(grid, h0=50e-6):
     """Every cell a primary plateau at the same height: a flat punch."""
     shape = grid.shape
-    surface = Surface(height=np.full(shape, h0), status=np.ones(shape, dtype=np.int8),
-                      fibre_floor=np.full(shape, -np.inf), n_fibres=0)
-    return SimulationState.from_surface(surface, grid.n_subdomains)
+    surface = Surface(
+        height=np.full(shape, h0),
+        status=np.ones(shape, dtype=np.int8),
+        fibre_floor=np.full(shape, -np.inf),
+        n_fibres=0,
+    )
+    return SimulationState.from_surface(surface, grid)
 
 
 @pytest.mark.parametrize("tau", [0.5e6, 2.9e6, 3.2e6, 10e6])  # linear branch, near peak, floor
@@ -45,8 +49,12 @@ def test_first_root_is_the_smallest_load():
     h = np.concatenate([rng.uniform(2.0e-4, 2.1e-4, 40), rng.uniform(0.5e-4, 0.6e-4, 400)])
     area = np.full(h.size, 1e-8)
     zs = np.linspace(h.max(), h.min() - 3e-4, 40001)
-    F = np.array([friction_force(h, area, z, 1e11, **{"mu_0": 0.6, "slope": 3e-8, "mu_min": 0.15})
-                  for z in zs])
+    F = np.array(
+        [
+            friction_force(h, area, z, 1e11, **{"mu_0": 0.6, "slope": 3e-8, "mu_min": 0.15})
+            for z in zs
+        ]
+    )
     for target in [0.5 * F.max(), 0.9 * F[zs > 1.0e-4].max(), 1.2 * F[zs > 1.0e-4].max()]:
         z = solve_disc_position(h, area, stiffness=1e11, target=target, **LAW)
         first = zs[np.argmax(F >= target)]

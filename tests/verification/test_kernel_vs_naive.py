@@ -7,10 +7,10 @@ scan vs direct evaluation and a quadratic fit), so they agree to round-off, not 
 
 from __future__ import annotations
 
+import naive
 import numpy as np
 import pytest
 
-import naive
 from brakeca import _kernels as K
 from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps
 from brakeca.geometry import make_grid
@@ -63,7 +63,7 @@ def test_kernel_matches_naive(tiny_config, case):
     # rule 6 needs primaries far below the disc: spread the plateau heights further
     top = 300e-6 if case == "rule6" else 60e-6
     surface = hand_surface(grid, rng, config.pad.fibre_model, top)
-    state = SimulationState.from_surface(surface, grid.n_subdomains)
+    state = SimulationState.from_surface(surface, grid)
     ref = naive_state(surface, grid.n_subdomains)
     params = {
         "area_row": np.asarray(grid.cell_area),
@@ -104,14 +104,14 @@ def test_kernel_matches_naive(tiny_config, case):
         # between stops: flush and rule S, applied to both sides
         from brakeca.simulation import end_of_stop
 
-        end_of_stop(state, grid, S, rng_fast)
+        end_of_stop(state, S, rng_fast)
         sec = np.flatnonzero(ref["S"].ravel() == 2)
         if S >= 1:
             chosen = sec
         elif S <= 0 or sec.size == 0:
             chosen = sec[:0]
         else:
-            chosen = np.sort(rng_ref.choice(sec, size=int(round(S * sec.size)), replace=False))
+            chosen = np.sort(rng_ref.choice(sec, size=round(S * sec.size), replace=False))
         H, B, St = ref["H"].ravel(), ref["B"].ravel(), ref["S"].ravel()
         area = np.broadcast_to(params["area_row"][:, None], grid.shape).ravel()
         ref["emitted"] += ref["inflow"].sum() + float(

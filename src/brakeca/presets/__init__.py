@@ -26,7 +26,9 @@ def available_presets() -> list[str]:
 
 def available_designs() -> list[str]:
     """Names of the shipped designs."""
-    return sorted(p.name[:-5] for p in _ROOT.joinpath("designs").iterdir() if p.name.endswith(".toml"))
+    return sorted(
+        p.name[:-5] for p in _ROOT.joinpath("designs").iterdir() if p.name.endswith(".toml")
+    )
 
 
 def preset_text(name: str) -> str:
@@ -79,9 +81,15 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
     if p.suffix.lower() == ".csv" and p.exists():
         text, name, source = p.read_text(encoding="utf-8"), p.stem, str(p)
     elif shipped.is_file():
-        text, name, source = shipped.read_text(encoding="utf-8"), str(name_or_path), f"cycle {name_or_path}"
+        text, name, source = (
+            shipped.read_text(encoding="utf-8"),
+            str(name_or_path),
+            f"cycle {name_or_path}",
+        )
     else:
-        raise ConfigError(f"unknown cycle {str(name_or_path)!r}: not a CSV file nor a shipped cycle (paper)")
+        raise ConfigError(
+            f"unknown cycle {str(name_or_path)!r}: not a CSV file nor a shipped cycle (paper)"
+        )
     return CycleConfig(name=name, blocks=_read_cycle_csv(text, source))
 
 

@@ -1,0 +1,553 @@
+"""Single-file, offline HTML report of a factorial campaign.
+
+The report holds the provenance (package version, date, configuration), the design table,
+the per-run results (MU, V), the ANOVA table of every response and every figure, embedded as
+a base64 PNG ``data:`` URI. It loads no external resource (no CSS, JavaScript, fonts or
+images from the network) and can be opened offline or mailed as one file. Everything that
+comes from data is HTML-escaped (Jinja2 autoescaping). A tiny inline script sets
+``document.body.dataset.imagesLoaded`` to the number of images that decoded
+(``naturalWidth > 0``) once all have settled, which the browser test checks.
+
+References
+----------
+J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad Properties on
+Friction and Wear Emissions", Advances in Tribology, 2016, Article ID 8181260.
+doi:10.1155/2016/8181260
+"""
+
+from __future__ import annotations
+
+import base64
+import contextlib
+import math
+import os
+import platform
+import re
+import struct
+import tempfile
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["REPORT_TEMPLATE", "format_p_value", "render_report", "write_report"]
+
+PAPER_REFERENCE = (
+    'J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad '
+    'Properties on Friction and Wear Emissions", Advances in Tribology, 2016, '
+    "Article ID 8181260, doi:10.1155/2016/8181260"
+)
+
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+#: Jinja2 template of the report (autoescaped; no external resources).
+REPORT_TEMPLATE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<meta name="viewport" content="width=device-width, initial-scale=1">
+<meta name="generator" content="brakeca {{ version }}">
+<title>{{ title }}</title>
+<style>
+:root { --fg: #1d2733; --muted: #5b6673; --line: #d5dbe1; --head: #eef2f6; --accent: #27496d; }
+* { box-sizing: border-box; }
+body { margin: 0 auto; max-width: 1200px; padding: 1.5rem 2rem 4rem; color: var(--fg);
+  font: 15px/1.5 system-ui, -apple-system, "Segoe UI", Roboto, "Helvetica Neue", Arial,
+  sans-serif; background: #fff; }
+h1 { font-size: 1.7rem; margin: 0 0 .3rem; color: var(--accent); }
+h2 { font-size: 1.3rem; margin: 2.2rem 0 .6rem; padding-bottom: .2rem;
+  border-bottom: 2px solid var(--line); }
+h3 { font-size: 1.05rem; margin: 1.4rem 0 .4rem; }
+.meta, .note, figcaption, .caption { color: var(--muted); font-size: .9rem; }
+nav ul { display: flex; flex-wrap: wrap; gap: .3rem 1.2rem; padding: 0; list-style: none; }
+nav a, a { color: var(--accent); }
+.table-wrap { overflow-x: auto; margin: .4rem 0 1rem; }
+table { border-collapse: collapse; font-size: .85rem; }
+th, td { border: 1px solid var(--line); padding: .25rem .55rem; text-align: left;
+  white-space: nowrap; }
+th { background: var(--head); font-weight: 600; }
+table.kv td { white-space: normal; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+tr.sig td { font-weight: 600; }
+tr.failed td { color: #a61b1b; }
+tr:nth-child(even) td { background: #fafbfc; }
+pre { background: #f6f8fa; border: 1px solid var(--line); padding: .8rem; overflow-x: auto;
+  font: 12px/1.4 ui-monospace, SFMono-Regular, Menlo, Consolas, monospace; }
+figure { margin: 1.2rem 0 2rem; }
+figure img { display: block; max-width: 100%; height: auto; border: 1px solid var(--line); }
+@media print { nav { display: none; } figure, table { page-break-inside: avoid; } }
+</style>
+</head>
+<body>
+<header>
+<h1>{{ title }}</h1>
+<p class="meta">brakeca {{ version }} &middot; generated {{ generated }}</p>
+</header>
+<nav aria-label="Contents"><ul>
+<li><a href="#provenance">Provenance</a></li>
+<li><a href="#design">Design</a></li>
+<li><a href="#runs">Per-run results</a></li>
+<li><a href="#anova">ANOVA</a></li>
+{%- for section in figure_sections %}
+<li><a href="#{{ section.anchor }}">{{ section.name }}</a></li>
+{%- endfor %}
+{%- if notes %}
+<li><a href="#notes">Notes</a></li>
+{%- endif %}
+</ul></nav>
+
+<section id="provenance">
+<h2>Provenance</h2>
+<div class="table-wrap"><table class="kv">
+<tr><th>brakeca version</th><td>{{ version }}</td></tr>
+<tr><th>Generated</th><td>{{ generated }}</td></tr>
+<tr><th>Python</th><td>{{ python }}</td></tr>
+<tr><th>Model reference</th><td>{{ reference }}</td></tr>
+</table></div>
+<h3>Configuration</h3>
+<pre>{{ config_text }}</pre>
+</section>
+
+{% macro render_table(table, caption_text="") -%}
+<div class="table-wrap"><table>
+{%- if caption_text %}<caption class="caption">{{ caption_text }}</caption>{% endif %}
+<thead><tr>{% for col in table.columns %}<th>{{ col }}</th>{% endfor %}</tr></thead>
+<tbody>
+{%- for row in table.rows %}
+<tr{% if row.cls %} class="{{ row.cls }}"{% endif %}>
+{%- for cell in row.cells %}<td{% if table.numeric[loop.index0] %} class="num"{% endif %}>
+{{- cell }}</td>{% endfor %}</tr>
+{%- endfor %}
+</tbody></table></div>
+{%- endmacro %}
+
+<section id="design">
+<h2>Design</h2>
+{{ render_table(design) }}
+</section>
+
+<section id="runs">
+<h2>Per-run results</h2>
+<p class="note">MU: mean coefficient of friction over the cycle [-], 3 decimals;
+V: mean emitted wear volume per stop [mm&sup3;].</p>
+{{ render_table(runs) }}
+</section>
+
+<section id="anova">
+<h2>ANOVA</h2>
+{%- for item in anova %}
+<h3 id="anova-{{ item.anchor }}">Response {{ item.response }}</h3>
+{%- if item.info %}<p class="note">{{ item.info }}</p>{% endif %}
+{{ render_table(item.table) }}
+{%- if item.note %}<p class="note">Note: {{ item.note }}</p>{% endif %}
+{%- else %}
+<p class="note">No ANOVA tables.</p>
+{%- endfor %}
+<p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
+of squares about the mean.</p>
+</section>
+
+{% for section in figure_sections %}
+<section id="{{ section.anchor }}">
+<h2>{{ section.name }}</h2>
+{%- for fig in section.figures %}
+<figure id="figure-{{ fig.number }}">
+<img src="data:image/png;base64,{{ fig.data }}" alt="{{ fig.caption }}"
+{%- if fig.width %} width="{{ fig.width }}" height="{{ fig.height }}"{% endif %}>
+<figcaption>Figure {{ fig.number }}. {{ fig.caption }}</figcaption>
+</figure>
+{%- endfor %}
+</section>
+{% endfor %}
+
+{%- if notes %}
+<section id="notes">
+<h2>Notes</h2>
+{%- for para in notes %}
+<p>{{ para }}</p>
+{%- endfor %}
+</section>
+{%- endif %}
+
+<script>
+(function () {
+  var images = Array.prototype.slice.call(document.images);
+  var pending = images.length;
+  function finish() {
+    var loaded = images.filter(function (im) { return im.complete && im.naturalWidth > 0; });
+    document.body.dataset.imagesTotal = String(images.length);
+    document.body.dataset.imagesLoaded = String(loaded.length);
+  }
+  function settle() { pending -= 1; if (pending === 0) { finish(); } }
+  if (pending === 0) { finish(); return; }
+  images.forEach(function (im) {
+    if (im.complete) { settle(); return; }
+    im.addEventListener("load", settle, { once: true });
+    im.addEventListener("error", settle, { once: true });
+  });
+})();
+</script>
+</body>
+</html>
+"""
+
+
+# --- formatting ------------------------------------------------------------------------------
+
+
+def _is_missing(value: Any) -> bool:
+    if value is None:
+        return True
+    try:
+        return bool(pd.isna(value))
+    except (TypeError, ValueError):
+        return False
+
+
+def _fmt(value: Any, spec: str = ".6g") -> str:
+    """Format a table cell: floats with ``spec``, integers plainly, missing as a dash."""
+    if _is_missing(value):
+        return "–"
+    if isinstance(value, bool | np.bool_):
+        return str(bool(value))
+    if isinstance(value, int | np.integer):
+        return str(int(value))
+    if isinstance(value, float | np.floating):
+        v = float(value)
+        if math.isinf(v):
+            return "∞" if v > 0 else "−∞"
+        return format(v, spec)
+    return str(value)
+
+
+def format_p_value(p: Any) -> str:
+    """Format a p-value for a table.
+
+    Parameters
+    ----------
+    p
+        The p-value [-] or NaN.
+
+    Returns
+    -------
+    str
+        ``"< 0.001"`` below 0.001, three decimals otherwise, a dash when missing.
+    """
+    if _is_missing(p):
+        return "–"
+    p = float(p)
+    if p < 1e-3:
+        return "< 0.001"
+    return f"{p:.3f}"
+
+
+@dataclass(frozen=True)
+class _Table:
+    columns: list[str]
+    numeric: list[bool]
+    rows: list[dict[str, Any]]
+
+
+def _generic_table(frame: pd.DataFrame) -> _Table:
+    columns = [str(c) for c in frame.columns]
+    numeric = [pd.api.types.is_numeric_dtype(frame[c]) for c in frame.columns]
+    rows = [
+        {"cells": [_fmt(v) for v in record], "cls": ""}
+        for record in frame.itertuples(index=False, name=None)
+    ]
+    return _Table(columns, numeric, rows)
+
+
+def _runs_table(summary: pd.DataFrame) -> _Table:
+    """Per-run table: MU to 3 decimals, V in mm^3 (V_mm3 dropped when V is present)."""
+    frame = summary.copy()
+    headers: dict[str, str] = {}
+    formats: dict[str, str] = {}
+    if "V" in frame.columns:
+        frame["V"] = pd.to_numeric(frame["V"], errors="coerce") * 1e9
+        frame = frame.drop(columns=["V_mm3"], errors="ignore")
+        headers["V"] = "V [mm³]"
+        formats["V"] = ".4g"
+    elif "V_mm3" in frame.columns:
+        headers["V_mm3"] = "V [mm³]"
+        formats["V_mm3"] = ".4g"
+    if "MU" in frame.columns:
+        headers["MU"] = "MU [-]"
+        formats["MU"] = ".3f"
+    columns = [headers.get(str(c), str(c)) for c in frame.columns]
+    numeric = [pd.api.types.is_numeric_dtype(frame[c]) for c in frame.columns]
+    specs = [formats.get(str(c), ".6g") for c in frame.columns]
+    status = list(frame["status"]) if "status" in frame.columns else [None] * len(frame)
+    rows = []
+    for record, st in zip(frame.itertuples(index=False, name=None), status, strict=True):
+        cells = [_fmt(v, spec) for v, spec in zip(record, specs, strict=True)]
+        failed = st is not None and str(st).strip().lower() not in ("ok", "")
+        rows.append({"cells": cells, "cls": "failed" if failed else ""})
+    return _Table(columns, numeric, rows)
+
+
+_ANOVA_HEADERS = {
+    "term": "Term",
+    "df": "df",
+    "sum_sq": "Sum of squares",
+    "mean_sq": "Mean square",
+    "F": "F",
+    "p_value": "p",
+    "percent_contribution": "Contribution [%]",
+}
+
+
+def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
+    cols = [c for c in _ANOVA_HEADERS if c in frame.columns]
+    extra = [c for c in frame.columns if c not in _ANOVA_HEADERS and c != "note"]
+    rows = []
+    for _, rec in frame.iterrows():
+        cells = []
+        for c in cols + extra:
+            v = rec[c]
+            if c == "p_value":
+                cells.append(format_p_value(v))
+            elif c == "df":
+                cells.append(_fmt(v, ".0f"))
+            elif c == "percent_contribution":
+                cells.append(_fmt(v, ".2f"))
+            elif c == "term":
+                cells.append(_fmt(v))
+            else:
+                cells.append(_fmt(v, ".4g"))
+        p = rec["p_value"] if "p_value" in frame.columns else math.nan
+        sig = not _is_missing(p) and float(p) < 0.05
+        rows.append({"cells": cells, "cls": "sig" if sig else ""})
+    columns = [_ANOVA_HEADERS[c] for c in cols] + [str(c) for c in extra]
+    numeric = [c != "term" for c in cols] + [pd.api.types.is_numeric_dtype(frame[c]) for c in extra]
+    notes: list[str] = []
+    if "note" in frame.columns:
+        for n in frame["note"]:
+            if not _is_missing(n) and str(n) and str(n) not in notes:
+                notes.append(str(n))
+    if not notes and frame.attrs.get("note"):
+        notes.append(str(frame.attrs["note"]))
+    return _Table(columns, numeric, rows), "; ".join(notes)
+
+
+def _anchor(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_-]+", "-", str(text)).strip("-").lower() or "x"
+
+
+# --- figures ---------------------------------------------------------------------------------
+
+
+def _png_size(data: bytes) -> tuple[int, int] | None:
+    if len(data) >= 24 and data[12:16] == b"IHDR":
+        width, height = struct.unpack(">II", data[16:24])
+        return int(width), int(height)
+    return None
+
+
+def _figure_entries(
+    figures: Mapping[str, str | Path] | Iterable[tuple[Any, ...]],
+) -> list[tuple[str, str, Path]]:
+    entries: list[tuple[str, str, Path]] = []
+    if isinstance(figures, Mapping):
+        return [("Figures", str(caption), Path(p)) for caption, p in figures.items()]
+    for item in figures:
+        item = tuple(item)
+        if len(item) == 3:
+            entries.append((str(item[0]), str(item[1]), Path(item[2])))
+        elif len(item) == 2:
+            entries.append(("Figures", str(item[0]), Path(item[1])))
+        else:
+            raise ValueError(f"figure entry must be (section, caption, png_path), got {item!r}")
+    return entries
+
+
+def _figure_sections(
+    figures: Mapping[str, str | Path] | Iterable[tuple[Any, ...]] | None,
+) -> list[dict[str, Any]]:
+    sections: dict[str, dict[str, Any]] = {}
+    number = 0
+    for section, caption, png in _figure_entries(figures or {}):
+        try:
+            data = png.read_bytes()
+        except OSError as exc:
+            raise FileNotFoundError(f"figure {caption!r}: cannot read {png}: {exc}") from None
+        if not data.startswith(_PNG_SIGNATURE):
+            raise ValueError(f"figure {caption!r}: {png} is not a PNG file")
+        size = _png_size(data)
+        number += 1
+        entry = sections.setdefault(
+            section, {"name": section, "anchor": f"fig-{_anchor(section)}", "figures": []}
+        )
+        entry["figures"].append(
+            {
+                "number": number,
+                "caption": caption,
+                "data": base64.b64encode(data).decode("ascii"),
+                "width": size[0] if size else None,
+                "height": size[1] if size else None,
+            }
+        )
+    return list(sections.values())
+
+
+# --- rendering -------------------------------------------------------------------------------
+
+
+def render_report(
+    *,
+    title: str,
+    design_table: pd.DataFrame,
+    summary: pd.DataFrame,
+    anova_tables: Mapping[str, pd.DataFrame],
+    figures: Mapping[str, str | Path] | Iterable[tuple[Any, ...]],
+    config_text: str,
+    version: str,
+    notes: str = "",
+    generated: datetime | None = None,
+) -> str:
+    """Render the report to an HTML string (see :func:`write_report` for the parameters).
+
+    Returns
+    -------
+    str
+        The complete, self-contained HTML document.
+    """
+    import jinja2
+
+    env = jinja2.Environment(
+        autoescape=True,
+        undefined=jinja2.StrictUndefined,
+        trim_blocks=False,
+        lstrip_blocks=False,
+        keep_trailing_newline=True,
+    )
+    template = env.from_string(REPORT_TEMPLATE)
+    when = generated or datetime.now(UTC)
+    anova_items = []
+    units = {"V": "m³", "V_mm3": "mm³"}
+    for response, frame in anova_tables.items():
+        table, note = _anova_table(frame)
+        typ = frame.attrs.get("typ")
+        info = f"{typ} ANOVA of {response}" if typ else f"ANOVA of {response}"
+        unit = units.get(str(response))
+        if unit:
+            info += f"; sums of squares and mean squares in ({unit})²"
+        info += "."
+        anova_items.append(
+            {
+                "response": str(response),
+                "anchor": _anchor(response),
+                "table": table,
+                "note": note,
+                "info": info,
+            }
+        )
+    paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
+    return template.render(
+        title=title,
+        version=version,
+        generated=when.isoformat(timespec="seconds"),
+        python=f"{platform.python_implementation()} {platform.python_version()}",
+        reference=PAPER_REFERENCE,
+        config_text=config_text,
+        design=_generic_table(design_table),
+        runs=_runs_table(summary),
+        anova=anova_items,
+        figure_sections=_figure_sections(figures),
+        notes=paragraphs,
+    )
+
+
+def _write_atomic(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` via a temporary file in the same directory + os.replace."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+        raise
+
+
+def write_report(
+    path: str | Path,
+    *,
+    title: str,
+    design_table: pd.DataFrame,
+    summary: pd.DataFrame,
+    anova_tables: Mapping[str, pd.DataFrame],
+    figures: Mapping[str, str | Path] | Iterable[tuple[Any, ...]],
+    config_text: str,
+    version: str,
+    notes: str = "",
+    generated: datetime | None = None,
+) -> Path:
+    """Write the campaign report as one self-contained HTML file.
+
+    Parameters
+    ----------
+    path
+        Target ``.html`` file; written atomically (temporary file in the same directory,
+        then :func:`os.replace`), parent directories are created.
+    title
+        Report title.
+    design_table
+        The design (one row per test, factor levels), shown as is.
+    summary
+        Campaign summary, one row per run; ``MU`` [-] is shown with 3 decimals and ``V``
+        [m^3] converted to mm^3 (``V_mm3`` is then omitted as a duplicate).
+    anova_tables
+        ``{response: table}`` from :func:`brakeca.analysis.anova`; p-values are formatted,
+        rows with p < 0.05 are bold and any ``note`` is printed below the table.
+    figures
+        Either ``{caption: png_path}`` (one section "Figures") or an iterable of
+        ``(section, caption, png_path)``; every PNG is embedded as a base64 ``data:`` URI.
+    config_text
+        The configuration (e.g. TOML) shown verbatim in a ``<pre>`` block.
+    version
+        Package version for the provenance.
+    notes
+        Free text shown at the end; blank lines separate paragraphs.
+    generated
+        Timestamp for the provenance; now (UTC) by default.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    FileNotFoundError
+        A figure file cannot be read.
+    ValueError
+        A figure file is not a PNG.
+
+    References
+    ----------
+    Wahlström (2016), doi:10.1155/2016/8181260.
+    """
+    html = render_report(
+        title=title,
+        design_table=design_table,
+        summary=summary,
+        anova_tables=anova_tables,
+        figures=figures,
+        config_text=config_text,
+        version=version,
+        notes=notes,
+        generated=generated,
+    )
+    path = Path(path)
+    _write_atomic(path, html)
+    return path
