@@ -170,6 +170,147 @@ def surface(
     out.print(f"wrote {output}")
 
 
+ExecutorOpt = Annotated[
+    str, typer.Option("--executor", help="serial (debugging) or local (worker processes)")
+]
+WorkersOpt = Annotated[
+    int | None, typer.Option("--workers", min=1, help="worker processes (default: one per core)")
+]
+
+
+def _run_and_report(
+    design: str,
+    output: Path,
+    *,
+    workers: int | None,
+    executor: str,
+    quick: bool,
+    stops: int | None,
+    overrides: list[str] | None,
+    report: bool,
+) -> None:
+    import time
+
+    from brakeca.campaign import finish_campaign, run_campaign
+    from brakeca.study import write_study
+
+    try:
+        updates = dict(parse_override(o) for o in overrides or [])
+        t0 = time.perf_counter()
+        result = run_campaign(
+            design,
+            output,
+            workers=workers,
+            executor=executor,  # type: ignore[arg-type]
+            quick=quick,
+            max_stops=stops,
+            overrides=updates or None,
+            console=console,
+        )
+    except ConfigError as exc:
+        _fail(str(exc))
+    elapsed = time.perf_counter() - t0
+    console.print(
+        f"{len(result.computed)} run(s) computed, {len(result.reused)} reused, "
+        f"{len(result.failed)} failed in {elapsed:.0f} s"
+    )
+    _print_summary(result.summary)
+    if report:
+        path = write_study(finish_campaign(output))
+        out.print(f"report: {path}")
+    out.print(f"summary: {Path(output) / 'summary.csv'}")
+    if result.failed:
+        raise typer.Exit(1)
+
+
+def _print_summary(summary) -> None:
+    from rich.table import Table
+
+    table = Table(title="runs", show_lines=False)
+    factor_cols = [
+        c
+        for c in summary.columns
+        if c not in {"test", "replicate", "order", "run_id", "seed", "status", "error"}
+        and summary.columns.get_loc(c) < summary.columns.get_loc("seed")
+    ]
+    for col in ["test", *factor_cols, "status", "MU", "V [mm^3/stop]"]:
+        table.add_column(col, justify="right")
+    for _, row in summary.iterrows():
+        table.add_row(
+            str(int(row["test"])),
+            *(f"{row[c]:g}" for c in factor_cols),
+            str(row.get("status", "ok")),
+            f"{row['MU']:.4f}" if row.get("status", "ok") == "ok" else "-",
+            f"{row['V_mm3']:.5g}" if row.get("status", "ok") == "ok" else "-",
+        )
+    out.print(table)
+
+
+@app.command()
+def run(
+    design: Annotated[str, typer.Argument(help="a design file (TOML) or a shipped design: paper")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="campaign folder")],
+    workers: WorkersOpt = None,
+    executor: ExecutorOpt = "local",
+    quick: QuickOpt = False,
+    stops: StopsOpt = None,
+    overrides: SetOpt = None,
+    report: Annotated[bool, typer.Option(help="analyse and write the report at the end")] = True,
+) -> None:
+    """Run every point of a design into a campaign folder (resumes finished runs)."""
+    _run_and_report(
+        design,
+        output,
+        workers=workers,
+        executor=executor,
+        quick=quick,
+        stops=stops,
+        overrides=overrides,
+        report=report,
+    )
+
+
+@app.command()
+def analyze(
+    folder: Annotated[Path, typer.Argument(help="campaign folder written by brakeca run")],
+    run_maps: Annotated[bool, typer.Option(help="draw the final plateau map of every run")] = True,
+) -> None:
+    """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
+    from brakeca.campaign import finish_campaign
+    from brakeca.study import write_study
+
+    try:
+        result = finish_campaign(folder)
+    except (ConfigError, FileNotFoundError, ValueError) as exc:
+        _fail(str(exc))
+    _print_summary(result.summary)
+    path = write_study(result, run_maps=run_maps)
+    out.print(f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}")
+
+
+@app.command()
+def paper(
+    output: Annotated[Path, typer.Option("-o", "--output", help="campaign folder")] = Path(
+        "results/paper"
+    ),
+    workers: WorkersOpt = None,
+    executor: ExecutorOpt = "local",
+    quick: QuickOpt = False,
+    stops: StopsOpt = None,
+) -> None:
+    """The paper's whole study: the 24-run factorial design, then the analysis and report."""
+    _run_and_report(
+        "paper",
+        output,
+        workers=workers,
+        executor=executor,
+        quick=quick,
+        stops=stops,
+        overrides=None,
+        report=True,
+    )
+
+
 @app.command("config")
 def show_config(
     preset: PresetOpt = "paper",

@@ -1,0 +1,187 @@
+"""Read a finished campaign the way the paper does: tables, figures and the HTML report.
+
+Wiring only: the numbers come from :mod:`brakeca.analysis`, the figures from
+:mod:`brakeca.plotting`, the page from :mod:`brakeca.report`. Outputs, in the campaign folder::
+
+    tables/      main effects, interactions (long form), ANOVA and ranked effects, per response
+    figures/     PNG figures (paper Figures 5-11, Pareto charts, final plateau map of each run)
+    report.html  everything above in one self-contained page
+
+References
+----------
+J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad Properties on
+Friction and Wear Emissions", Advances in Tribology, 2016, Article ID 8181260.
+doi:10.1155/2016/8181260
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from brakeca import __version__
+from brakeca.campaign import CampaignResult
+from brakeca.results import RunResult
+
+__all__ = ["RESPONSES", "write_study"]
+
+RESPONSES = ("MU", "V")
+_LABELS = {"MU": "mean COF MU", "V": "mean emitted wear volume per stop V"}
+
+
+def _design_table(result: CampaignResult) -> pd.DataFrame:
+    rows = []
+    for f in result.design.factors:
+        rows.append(
+            {
+                "factor": f.name,
+                "meaning": f.label,
+                "field": f.field,
+                "unit": f.unit,
+                "levels": ", ".join(
+                    f"{lab} = {lev:g}"
+                    for lab, lev in zip(f.labels or [""] * len(f.levels), f.levels, strict=True)
+                ),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    ds = RunResult.from_netcdf(path).dataset
+    return ds[variable].values, ds["radius"].values, ds["angle"].values
+
+
+def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
+    """Write tables, figures and ``report.html`` for a loaded campaign.
+
+    Parameters
+    ----------
+    result
+        A campaign loaded by :func:`brakeca.campaign.load_campaign`.
+    run_maps
+        Also draw the final plateau map of every run (one PNG per run).
+
+    Returns
+    -------
+    Path
+        The report file.
+    """
+    from brakeca import analysis, plotting, report
+
+    out = Path(result.out_dir)
+    tables_dir = out / "tables"
+    fig_dir = out / "figures"
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    summary = result.summary
+    factors = list(result.design.factors)
+    ok = analysis.ok_runs(summary)
+    tables = analysis.analyze(summary, factors, RESPONSES)
+    analysis.save_tables(tables, tables_dir)
+
+    figures: list[tuple[str, str, Path]] = []
+
+    def add(section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> None:
+        path = fig_dir / name
+        fig_fn(*args, path=path, **kwargs)
+        figures.append((section, caption, path))
+
+    for resp in RESPONSES:
+        label = _LABELS[resp]
+        add(
+            "Main effects",
+            f"Main effects on {label} (paper Figures 6 and 8)",
+            f"main_effects_{resp}.png",
+            plotting.plot_main_effects,
+            summary,
+            factors,
+            resp,
+        )
+        add(
+            "Interactions",
+            f"Two-factor interactions on {label} (paper Figures 7 and 9)",
+            f"interactions_{resp}.png",
+            plotting.plot_interactions,
+            summary,
+            factors,
+            resp,
+        )
+        add(
+            "Ranked effects",
+            f"Pareto of the ANOVA terms of {label}",
+            f"pareto_{resp}.png",
+            plotting.plot_pareto,
+            tables[resp]["ranked_effects"],
+            resp,
+        )
+    add(
+        "Runs",
+        "MU per stop over the whole cycle for every run (paper Figure 10)",
+        "mu_per_stop.png",
+        plotting.plot_mu_per_stop,
+        result.dataset,
+        factors=factors,
+    )
+    add(
+        "Runs",
+        "V for every run (paper Figure 11)",
+        "v_per_run.png",
+        plotting.plot_v_per_run,
+        summary,
+    )
+
+    runs_dir = out / "runs"
+    names = {f.name for f in factors}
+    if "A" in names and len(ok):
+        maps = {}
+        for level in sorted(ok["A"].unique()):
+            first = ok[ok["A"] == level].iloc[0]
+            maps[f"A = {level:g} %"] = _map_of(runs_dir / f"{first['run_id']}.nc", "initial_status")
+        add(
+            "Surfaces",
+            "Initial fibre maps of the A levels (paper Figure 5)",
+            "fibre_maps.png",
+            plotting.plot_fibre_maps,
+            maps,
+        )
+    if run_maps:
+        for _, row in ok.iterrows():
+            levels = ", ".join(f"{f.name} = {row[f.name]:g}" for f in factors)
+            add(
+                "Final plateau maps",
+                f"Test {int(row['test'])} ({levels}): plateaus after the cycle",
+                f"final_map_test{int(row['test']):02d}_r{int(row.get('replicate', 0))}.png",
+                plotting.plot_surface_map,
+                *_map_of(runs_dir / f"{row['run_id']}.nc", "final_status"),
+                title=f"Test {int(row['test'])}: {levels}",
+            )
+
+    config_text = (
+        (out / "base_config.toml").read_text(encoding="utf-8")
+        if (out / "base_config.toml").exists()
+        else ""
+    )
+    design_text = (
+        (out / "design.toml").read_text(encoding="utf-8") if (out / "design.toml").exists() else ""
+    )
+    n_failed = int((summary.get("status", pd.Series(dtype=str)) != "ok").sum())
+    notes = (
+        f"{len(ok)} of {len(summary)} runs finished"
+        + (f"; {n_failed} failed (see the per-run table)" if n_failed else "")
+        + ". MU is the mean over the stops of the time-weighted mean COF of each stop; V is the "
+        "mean wear volume per stop that leaves the simulated band (not scaled to the pad). "
+        "Modelling decisions: docs/model.md."
+    )
+    return report.write_report(
+        out / "report.html",
+        title=f"brakeca study: {result.design.name}",
+        design_table=_design_table(result),
+        summary=summary,
+        anova_tables={resp: tables[resp]["anova"] for resp in RESPONSES},
+        figures=figures,
+        config_text=design_text + "\n# --- base configuration ---\n" + config_text,
+        version=__version__,
+        notes=notes,
+    )

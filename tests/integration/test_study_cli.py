@@ -1,0 +1,123 @@
+"""`brakeca run` and `brakeca analyze` end to end on a 2x2 design over tiny grids."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+from brakeca.cli import app
+from brakeca.results import RunResult
+
+DESIGN = """
+name = "tiny"
+base = "paper"
+root_seed = 5
+[[factors]]
+name = "S"
+field = "S"
+levels = [0.0, 1.0]
+labels = ["-", "+"]
+[[factors]]
+name = "A"
+field = "A"
+levels = [10.0, 20.0]
+labels = ["-", "+"]
+unit = "%"
+"""
+
+TINY = [
+    "--set",
+    "mesh.n_radial=5",
+    "--set",
+    "mesh.n_angular=100",
+    "--set",
+    "WP=1e-13",
+    "--stops",
+    "2",
+    "--executor",
+    "serial",
+]
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("study")
+    design = folder / "design_in.toml"
+    design.write_text(DESIGN)
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(folder / "c"), *TINY])
+    assert res.exit_code == 0, res.output
+    return folder / "c", res
+
+
+def test_outputs_present_and_consistent(campaign):
+    out, res = campaign
+    summary = pd.read_csv(out / "summary.csv")
+    assert list(summary["test"]) == [1, 2, 3, 4]
+    assert list(summary["S"]) == [0, 1, 0, 1] and list(summary["A"]) == [10, 10, 20, 20]
+    ds = xr.open_dataset(out / "campaign.nc", engine="h5netcdf")
+    for _, row in summary.iterrows():
+        run = RunResult.from_netcdf(out / "runs" / f"{row['run_id']}.nc")
+        assert run.MU == pytest.approx(row["MU"], rel=1e-15)
+        assert run.V == pytest.approx(row["V"], rel=1e-15)
+        np.testing.assert_array_equal(
+            ds["mean_cof"].sel(run=int(row["test"])).values, run.dataset["mean_cof"].values
+        )
+    ds.close()
+    for name in (
+        "main_effects_MU",
+        "main_effects_V",
+        "interactions_MU",
+        "interactions_V",
+        "mu_per_stop",
+        "v_per_run",
+        "fibre_maps",
+        "pareto_MU",
+        "pareto_V",
+    ):
+        assert (out / "figures" / f"{name}.png").stat().st_size > 1000
+    assert len(list((out / "figures").glob("final_map_test*.png"))) == 4
+    for resp in ("MU", "V"):
+        for table in ("main_effects", "anova", "interactions", "ranked_effects"):
+            assert (out / "tables" / f"{table}_{resp}.csv").exists()
+    html = (out / "report.html").read_text()
+    n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
+    assert n_img == 9 + 4
+    assert "report:" in res.stdout and "summary:" in res.stdout
+
+
+def test_main_effects_table_matches_summary(campaign):
+    out, _ = campaign
+    summary = pd.read_csv(out / "summary.csv")
+    me = pd.read_csv(out / "tables" / "main_effects_MU.csv")
+    for factor in ("S", "A"):
+        for level, group in summary.groupby(factor):
+            row = me[(me["factor"] == factor) & np.isclose(me["level"], level)]
+            assert float(row["mean"].iloc[0]) == pytest.approx(group["MU"].mean(), rel=1e-12)
+
+
+def test_rerun_reuses_and_analyze_rewrites(campaign):
+    out, _ = campaign
+    mtimes = {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.nc")}
+    design = out.parent / "design_in.toml"
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *TINY, "--no-report"])
+    assert res.exit_code == 0, res.output
+    assert "0 run(s) computed, 4 reused" in res.output
+    assert mtimes == {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.nc")}
+    (out / "report.html").unlink()
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
+    assert res.exit_code == 0, res.output
+    assert (out / "report.html").exists()
+
+
+def test_bad_design_is_reported_before_any_run(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(DESIGN.replace("levels = [10.0, 20.0]", "levels = [10.0, 150.0]"))
+    res = CliRunner().invoke(app, ["run", str(bad), "-o", str(tmp_path / "c"), *TINY])
+    assert res.exit_code == 2
+    assert "bad.toml" in res.output and "150" in res.output
+    assert not (tmp_path / "c" / "runs").exists() or not list((tmp_path / "c" / "runs").iterdir())
