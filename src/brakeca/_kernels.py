@@ -78,7 +78,8 @@ R_LEDGER = 8
 R_DISC = 9
 R_HELD = 10
 R_STREAM = 11
-N_REC = 12
+R_TARGET = 12
+N_REC = 13
 
 # per-step scratch sums `sums`
 S_FRICTION = 0
@@ -530,7 +531,7 @@ def run_stop(
     rule6_gap,
     bar_length,
     east_to_west,
-    target,
+    targets,
     fraction,
     ledger_tol,
     ledger_every,
@@ -573,8 +574,8 @@ def run_stop(
         foundation bar length [m].
     east_to_west : bool
         Candidates draw on the inflow east to west instead of west to east.
-    target : float
-        Demanded friction force of the band [N].
+    targets : float64[n_steps]
+        Demanded friction force of the band in each step [N].
     fraction : float64[n_steps]
         Fraction of a full step slid in each step [-].
     ledger_tol : float
@@ -601,7 +602,7 @@ def run_stop(
     for step in range(n_steps):
         frac = fraction[step]
         z, n_in, code = phase_contact(
-            order, cnt, height, cell_area, stiffness, mu_0, slope, mu_min, target, bar_length
+            order, cnt, height, cell_area, stiffness, mu_0, slope, mu_min, targets[step], bar_length
         )
         if code != OK:
             return code, step
@@ -717,6 +718,7 @@ def run_stop(
         rec[step, R_DISC] = z
         rec[step, R_HELD] = held
         rec[step, R_STREAM] = stream
+        rec[step, R_TARGET] = targets[step]
         if rel > ledger_tol:
             return ERR_LEDGER, step + 1
     return OK, n_steps

@@ -19,7 +19,15 @@ import numpy as np
 
 from brakeca.config import SimulationConfig
 
-__all__ = ["BrakeDemand", "Stop", "brake_demand", "expand_stops", "step_distance", "stop_steps"]
+__all__ = [
+    "BrakeDemand",
+    "Stop",
+    "StopProfile",
+    "brake_demand",
+    "expand_stops",
+    "step_distance",
+    "stop_steps",
+]
 
 KMH = 1.0 / 3.6  #: one km/h in m/s
 
@@ -45,6 +53,30 @@ class Stop:
     initial_speed: float
     final_speed: float
     deceleration: float
+
+    def profile(self, distance: float) -> StopProfile:
+        """The time steps of this stop for a full-step travel ``distance`` [m]."""
+        dt, fraction = stop_steps(self, distance)
+        return StopProfile(dt, fraction, np.full(dt.size, self.deceleration))
+
+
+@dataclass(frozen=True)
+class StopProfile:
+    """The time steps of one braking event.
+
+    Attributes
+    ----------
+    dt : ndarray
+        Duration of each step [s].
+    fraction : ndarray
+        Fraction of a full step travelled in each step [-].
+    deceleration : ndarray
+        Vehicle deceleration the brake must deliver in each step [m/s^2].
+    """
+
+    dt: np.ndarray
+    fraction: np.ndarray
+    deceleration: np.ndarray
 
 
 def expand_stops(config: SimulationConfig) -> list[Stop]:

@@ -195,13 +195,8 @@ def build_dataset(
         "min_disc_position": ("m", "lowest disc surface position z in the stop"),
     }
     stop_idx = np.arange(1, n + 1)
-    # friction residual against the demanded force of each stop (constant within a stop)
-    from brakeca.cycle import brake_demand
-
-    fr_res = []
-    for st, r in zip(stops, records, strict=True):
-        target = brake_demand(config, st.deceleration, area).band_friction_force
-        fr_res.append(float(np.max(np.abs(r[:, K.R_FRICTION] / target - 1.0))))
+    # friction residual against the demanded force of each step
+    fr_res = [float(np.max(np.abs(r[:, K.R_FRICTION] / r[:, K.R_TARGET] - 1.0))) for r in records]
     per_stop["max_friction_residual"] = fr_res
 
     data_vars: dict[str, Any] = {}

@@ -19,7 +19,7 @@ import numpy as np
 from brakeca import _kernels as K
 from brakeca.config import SimulationConfig
 from brakeca.contact import ContactError
-from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance, stop_steps
+from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
 from brakeca.geometry import Grid, make_grid
 from brakeca.results import RunResult, build_dataset
 from brakeca.surface import NONE, SECONDARY, Surface, generate_surface
@@ -293,8 +293,11 @@ def advance_stop(
     """
     n_r, n_t = grid.shape
     created, destroyed, scratch = scratch or scratch_lists(n_r * n_t)
-    dt, fraction = stop_steps(stop, step_distance(config))
-    demand = brake_demand(config, stop.deceleration, grid.area)
+    profile = stop.profile(step_distance(config))
+    dt, fraction = profile.dt, profile.fraction
+    # the demanded band friction force is proportional to the deceleration
+    per_unit = brake_demand(config, 1.0, grid.area).band_friction_force
+    targets = per_unit * np.asarray(profile.deceleration, dtype=np.float64)
     rec = K.empty_record(dt.size)
     counts = np.zeros(8, dtype=np.int64)
     rule6 = config.automaton.rule6_max_gap
@@ -329,7 +332,7 @@ def advance_stop(
         math.inf if rule6 is None else rule6,
         config.contact.bar_length,
         config.automaton.creation_order == "east_to_west",
-        demand.band_friction_force,
+        targets,
         fraction,
         config.output.ledger_tolerance,
         config.output.ledger_every,
@@ -340,7 +343,7 @@ def advance_stop(
         scratch,
     )
     if code != K.OK:
-        _raise_kernel_error(code, done, stop, demand.band_friction_force, rec, config)
+        _raise_kernel_error(code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config)
     return dt, rec, counts
 
 
