@@ -86,6 +86,14 @@ def simulate(
     seed: SeedOpt = 0,
     stops: StopsOpt = None,
     quick: QuickOpt = False,
+    checkpoint: Annotated[
+        Path | None,
+        typer.Option(
+            "--checkpoint",
+            help="save the run's state here every --checkpoint-every stops; rerun to resume",
+        ),
+    ] = None,
+    checkpoint_every: Annotated[int, typer.Option("--checkpoint-every", min=1)] = 10,
 ) -> None:
     """Simulate one pad over the drive cycle and write a netCDF run file."""
     from rich.progress import (
@@ -121,10 +129,16 @@ def simulate(
         task = bar.add_task("simulate", total=config.cycle.n_stops)
         try:
             result = run_simulation(
-                config, seed=seed, progress=lambda done, total: bar.update(task, completed=done)
+                config,
+                seed=seed,
+                progress=lambda done, total: bar.update(task, completed=done),
+                checkpoint=checkpoint,
+                checkpoint_every=checkpoint_every,
             )
         except (ContactError, LedgerError) as exc:
             _fail(str(exc), code=1)
+        except ValueError as exc:  # a checkpoint of another run
+            _fail(str(exc))
     result.to_netcdf(output)
     out.print(f"MU = {result.MU:.4f}")
     out.print(f"V  = {result.V * 1e9:.6g} mm^3 per stop")

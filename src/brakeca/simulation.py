@@ -9,10 +9,15 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from itertools import pairwise
+from pathlib import Path
 
 import numpy as np
 
@@ -24,7 +29,15 @@ from brakeca.geometry import Grid, make_grid
 from brakeca.results import RunResult, build_dataset
 from brakeca.surface import NONE, SECONDARY, Surface, generate_surface
 
-__all__ = ["LedgerError", "SimulationState", "advance_stop", "end_of_stop", "simulate"]
+__all__ = [
+    "LedgerError",
+    "SimulationState",
+    "advance_stop",
+    "end_of_stop",
+    "load_checkpoint",
+    "save_checkpoint",
+    "simulate",
+]
 
 Progress = Callable[[int, int], None]
 
@@ -194,6 +207,8 @@ def simulate(
     seed: int | None = None,
     rng: np.random.Generator | None = None,
     progress: Progress | None = None,
+    checkpoint: str | Path | None = None,
+    checkpoint_every: int = 10,
 ) -> RunResult:
     """Simulate one pad over the configured drive cycle.
 
@@ -207,6 +222,12 @@ def simulate(
         A generator to use instead of ``seed`` (its seed is then recorded as -1).
     progress
         Called as ``progress(stops_done, stops_total)`` after every stop.
+    checkpoint
+        A file to save the run's state to every ``checkpoint_every`` stops (atomically). If it
+        exists and belongs to this config and seed, the run resumes from it; the result is
+        bit-identical to an uninterrupted run. Removed when the run completes.
+    checkpoint_every
+        Stops between checkpoints [-].
 
     Returns
     -------
@@ -226,14 +247,23 @@ def simulate(
         rng = np.random.default_rng(seed)
     elif seed is None:
         seed = -1
+    if checkpoint_every < 1:
+        raise ValueError(f"checkpoint_every must be >= 1, got {checkpoint_every}")
     grid = make_grid(config)
-    surface = generate_surface(config.pad, grid, rng)
-    state = SimulationState.from_surface(surface, grid)
     stops = expand_stops(config)
     n_r, n_t = grid.shape
     lists = scratch_lists(n_r * n_t)
-    log = _StopLog([], [], [], [], [])
-    for stop in stops:
+    resumed = load_checkpoint(checkpoint, config, seed, grid) if checkpoint else None
+    if resumed is None:
+        surface = generate_surface(config.pad, grid, rng)
+        state = SimulationState.from_surface(surface, grid)
+        initial_status = surface.status
+        log = _StopLog([], [], [], [], [])
+        elapsed_before = 0.0
+    else:
+        state, initial_status, log, rng_state, elapsed_before = resumed
+        rng.bit_generator.state = rng_state
+    for stop in stops[len(log.records) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         log.records.append(rec)
@@ -241,6 +271,17 @@ def simulate(
         log.flush.append(flush)
         log.s_removed.append(n_removed)
         log.rule_counts.append(counts)
+        if checkpoint and stop.index % checkpoint_every == 0 and stop.index < len(stops):
+            save_checkpoint(
+                checkpoint,
+                config,
+                seed,
+                state,
+                initial_status,
+                log,
+                rng,
+                elapsed_before + time.perf_counter() - t0,
+            )
         if progress is not None:
             progress(stop.index, len(stops))
     final_ledger = _final_ledger(state)
@@ -254,13 +295,118 @@ def simulate(
         flush=log.flush,
         s_removed=log.s_removed,
         rule_counts=log.rule_counts,
-        initial_status=surface.status,
+        initial_status=initial_status,
         final_status=state.status.reshape(n_r, n_t),
         final_height=state.height.reshape(n_r, n_t),
         final_ledger=final_ledger,
-        wall_time=time.perf_counter() - t0,
+        wall_time=elapsed_before + time.perf_counter() - t0,
     )
+    if checkpoint:
+        Path(checkpoint).unlink(missing_ok=True)
     return RunResult(config=config, seed=seed, dataset=dataset)
+
+
+# --- checkpoints -------------------------------------------------------------------------
+_STATE_ARRAYS = (
+    "height",
+    "base",
+    "status",
+    "fibre_floor",
+    "inflow",
+    "outflow",
+    "acc",
+    "order",
+    "heap_keys",
+    "heap_vals",
+    "cand",
+    "ncand",
+    "rule4_list",
+    "cnt",
+)
+CHECKPOINT_FORMAT = "brakeca-checkpoint/1"
+
+
+def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
+    """Write the complete state of a run between stops to ``path`` atomically (.npz).
+
+    Everything the next stop reads is saved, the kernel's bookkeeping included (plateau order
+    with its tie order, the resin heap), so a resumed run is bit-identical.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lengths = np.array([r.shape[0] for r in log.records], dtype=np.int64)
+    arrays = {f"state_{name}": getattr(state, name) for name in _STATE_ARRAYS}
+    arrays.update(
+        initial_status=initial_status,
+        log_records=np.concatenate(log.records),
+        log_dts=np.concatenate(log.dts),
+        log_lengths=lengths,
+        log_flush=np.asarray(log.flush, dtype=np.float64),
+        log_s_removed=np.asarray(log.s_removed, dtype=np.int64),
+        log_rule_counts=np.stack(log.rule_counts),
+    )
+    meta = {
+        "format": CHECKPOINT_FORMAT,
+        "config": config.to_toml(),
+        "seed": int(seed),
+        "rng": rng.bit_generator.state,
+        "elapsed": float(elapsed),
+    }
+    arrays["meta"] = np.array(json.dumps(meta))
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+def load_checkpoint(path, config, seed, grid):
+    """Read a checkpoint written by :func:`save_checkpoint` for this config and seed.
+
+    Returns None when there is no file; raises ``ValueError`` for a checkpoint of another
+    run or an unreadable file (it is never silently trusted or ignored).
+    """
+    path = Path(path)
+    if not path.exists():
+        return None
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+            arrays = {k: data[k].copy() for k in data.files if k != "meta"}
+    except Exception as exc:
+        raise ValueError(
+            f"{path}: unreadable checkpoint ({exc}); delete it to start over"
+        ) from None
+    if (
+        meta.get("format") != CHECKPOINT_FORMAT
+        or meta.get("config") != config.to_toml()
+        or (meta.get("seed") != seed)
+    ):
+        raise ValueError(f"{path}: checkpoint of another run (config or seed differ)")
+    state = SimulationState.from_surface(
+        Surface(
+            height=arrays["state_height"].reshape(grid.shape),
+            status=arrays["state_status"].reshape(grid.shape),
+            fibre_floor=arrays["state_fibre_floor"].reshape(grid.shape),
+            n_fibres=0,
+        ),
+        grid,
+    )
+    for name in _STATE_ARRAYS:
+        getattr(state, name)[...] = arrays[f"state_{name}"]
+    bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])
+    log = _StopLog(
+        records=[arrays["log_records"][a:b] for a, b in pairwise(bounds)],
+        dts=[arrays["log_dts"][a:b] for a, b in pairwise(bounds)],
+        flush=[float(v) for v in arrays["log_flush"]],
+        s_removed=[int(v) for v in arrays["log_s_removed"]],
+        rule_counts=list(arrays["log_rule_counts"]),
+    )
+    return state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"])
 
 
 def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -1,0 +1,65 @@
+"""A long single run checkpoints its state and resumes with an identical result."""
+
+from __future__ import annotations
+
+import pytest
+import xarray as xr
+
+from brakeca.presets import load_preset
+from brakeca.simulation import simulate
+
+
+class Killed(Exception):
+    pass
+
+
+def _no_wall(ds):
+    ds = ds.copy()
+    ds.attrs.pop("wall_time")
+    return ds
+
+
+@pytest.mark.parametrize("removal", [0.0, 0.5])
+def test_resume_from_checkpoint_is_identical(tmp_path, removal):
+    from conftest import short_cycle
+
+    config = load_preset().with_updates(
+        {
+            "mesh.n_radial": 4,
+            "mesh.n_angular": 200,
+            "WP": 1e-13,
+            "S": removal,
+            "cycle": short_cycle(stops=5, v0=30, v1=4, g=0.3),
+        }
+    )
+    whole = simulate(config, seed=3)
+    ckpt = tmp_path / "run.ckpt.npz"
+
+    def die_after_three(done, total):
+        if done == 3:
+            raise Killed
+
+    with pytest.raises(Killed):
+        simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, progress=die_after_three)
+    assert ckpt.exists()
+    resumed = simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1)
+    xr.testing.assert_identical(_no_wall(resumed.dataset), _no_wall(whole.dataset))
+    assert not ckpt.exists()  # removed once the run completes
+
+
+def test_foreign_checkpoint_is_refused(tmp_path):
+    config = load_preset().with_updates(
+        {"mesh.n_radial": 3, "mesh.n_angular": 100, "cycle.max_stops": 3}
+    )
+    ckpt = tmp_path / "c.npz"
+
+    def die(done, total):
+        raise Killed
+
+    with pytest.raises(Killed):
+        simulate(config, seed=1, checkpoint=ckpt, checkpoint_every=1, progress=die)
+    with pytest.raises(ValueError, match="checkpoint of another run"):
+        simulate(config, seed=2, checkpoint=ckpt)
+    ckpt.write_bytes(b"not a checkpoint")
+    with pytest.raises(ValueError, match="unreadable checkpoint"):
+        simulate(config, seed=1, checkpoint=ckpt)
