@@ -30,12 +30,12 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from brakeca import __version__  # noqa: E402
-from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps  # noqa: E402
-from brakeca.geometry import make_grid  # noqa: E402
-from brakeca.presets import load_preset  # noqa: E402
-from brakeca.simulation import SimulationState, advance_stop, simulate  # noqa: E402
-from brakeca.surface import generate_surface  # noqa: E402
+from brakeca import __version__
+from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps
+from brakeca.geometry import make_grid
+from brakeca.presets import load_preset
+from brakeca.simulation import SimulationState, advance_stop, simulate
+from brakeca.surface import generate_surface
 
 CYCLE_STEPS = 491_160
 
@@ -83,13 +83,25 @@ def speedup_vs_numpy(rows: int, n_steps: int, seed: int) -> dict:
     params = {
         "area_row": np.asarray(grid.cell_area),
         "slide_row": np.asarray(grid.step_sliding_distance),
-        "K": config.contact.stiffness, "mu0": fr.mu_0, "c": fr.slope, "mumin": fr.mu_min,
-        "WP": config.wear.specific_wear_rate, "WR": config.wear.resin_wear_depth,
-        "nsub": grid.n_subdomains, "rule6_gap": np.inf, "east_to_west": False,
+        "K": config.contact.stiffness,
+        "mu0": fr.mu_0,
+        "c": fr.slope,
+        "mumin": fr.mu_min,
+        "WP": config.wear.specific_wear_rate,
+        "WR": config.wear.resin_wear_depth,
+        "nsub": grid.n_subdomains,
+        "rule6_gap": np.inf,
+        "east_to_west": False,
     }
-    ref = {"H": surface.height.copy(), "B": surface.height.copy(), "S": surface.status.copy(),
-           "FF": surface.fibre_floor.copy(), "inflow": np.zeros((rows, grid.n_subdomains)),
-           "removed": 0.0, "emitted": 0.0}
+    ref = {
+        "H": surface.height.copy(),
+        "B": surface.height.copy(),
+        "S": surface.status.copy(),
+        "FF": surface.fibre_floor.copy(),
+        "inflow": np.zeros((rows, grid.n_subdomains)),
+        "removed": 0.0,
+        "emitted": 0.0,
+    }
     t = time.perf_counter()
     for n in range(n_steps):
         naive.step(ref, params, target, fraction[n])
@@ -118,8 +130,9 @@ def _stop_with_steps(config, n_steps):
     stop = expand_stops(config)[0]
     s = step_distance(config)
     v1_sq = stop.initial_speed**2 - 2 * stop.deceleration * s * n_steps
-    return Stop(stop.index, stop.block, stop.initial_speed, float(np.sqrt(v1_sq)),
-                stop.deceleration)
+    return Stop(
+        stop.index, stop.block, stop.initial_speed, float(np.sqrt(v1_sq)), stop.deceleration
+    )
 
 
 def main() -> None:

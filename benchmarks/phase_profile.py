@@ -45,63 +45,52 @@ def profile_phases(state, grid, config, stop, n_steps=400):
     import math
 
     from brakeca import _kernels as K
-    from brakeca.cycle import brake_demand, step_distance, stop_steps
+    from brakeca.cycle import brake_demand, step_distance
 
-    _, fraction = stop_steps(stop, step_distance(config))
+    profile = stop.profile(step_distance(config))
+    fraction = profile.fraction
     target = brake_demand(config, stop.deceleration, grid.area).band_friction_force
     fr = config.friction
     n = state.height.size
-    created, destroyed, scratch = (np.zeros(n, dtype=np.int64) for _ in range(3))
+    created, destroyed = (np.zeros(n, dtype=np.int64) for _ in range(2))
     counts = np.zeros(8, dtype=np.int64)
     sums = np.zeros(K.N_SUMS)
-    t = dict.fromkeys(
-        [
-            "contact",
-            "friction+wear",
-            "resin",
-            "destruction",
-            "creation",
-            "apply",
-            "advance",
-            "held (ledger)",
-        ],
-        0.0,
-    )
+    names = [
+        "contact",
+        "friction+wear+rules 5,7",
+        "resin",
+        "rules 4,6",
+        "creation",
+        "apply",
+        "advance",
+        "held (ledger)",
+    ]
+    t = dict.fromkeys(names, 0.0)
     pc = time.perf_counter
-    for step in range(min(n_steps, fraction.size)):
+    k_ = config.contact.stiffness
+    steps = min(n_steps, fraction.size)
+    for step in range(steps):
         t0 = pc()
         z, n_in, _ = K.phase_contact(
-            state.order,
-            state.cnt,
-            state.height,
-            state.cell_area,
-            config.contact.stiffness,
-            fr.mu_0,
-            fr.slope,
-            fr.mu_min,
-            target,
-            config.contact.bar_length,
+            state.pk, state.cnt, k_, fr.mu_0, fr.slope, fr.mu_min, target, config.contact.bar_length
         )
         t1 = pc()
-        K.phase_friction_wear(
-            state.order,
+        n_dest = K.phase_friction_wear(
+            state.pk,
             n_in,
-            state.height,
-            state.base,
-            state.status,
-            state.cell_area,
-            state.cell_slide,
-            state.cell_bin,
             state.outflow,
             state.acc,
+            state.mark,
             z,
-            config.contact.stiffness,
+            k_,
             fr.mu_0,
             fr.slope,
             fr.mu_min,
             config.wear.specific_wear_rate,
             fraction[step],
             sums,
+            destroyed,
+            counts,
         )
         t2 = pc()
         K.phase_resin(
@@ -120,18 +109,17 @@ def profile_phases(state, grid, config, stop, n_steps=400):
         t3 = pc()
         state.acc[K.ACC_REMOVED] += sums[K.S_REMOVED]
         n_dest = K.phase_destruction(
-            state.order,
+            state.pk,
             n_in,
             state.cnt,
-            state.height,
-            state.base,
             state.status,
-            state.fibre_floor,
+            state.mark,
             state.rule4_list,
             z,
             math.inf,
             state.n_angular,
             destroyed,
+            n_dest,
             counts,
         )
         t4 = pc()
@@ -153,18 +141,22 @@ def profile_phases(state, grid, config, stop, n_steps=400):
         )
         t5 = pc()
         K.phase_apply(
-            state.order,
+            state.pk,
+            state.tail,
             n_in,
             state.cnt,
             state.height,
             state.base,
             state.status,
+            state.fibre_floor,
             state.cand,
             state.ncand,
             state.cell_area,
+            state.cell_slide,
             state.cell_bin,
             state.outflow,
             state.acc,
+            state.mark,
             state.heap_keys,
             state.heap_vals,
             state.rule4_list,
@@ -174,7 +166,6 @@ def profile_phases(state, grid, config, stop, n_steps=400):
             n_dest,
             created,
             n_new,
-            scratch,
         )
         t6 = pc()
         emitted, _ = K.phase_advance(
@@ -182,22 +173,21 @@ def profile_phases(state, grid, config, stop, n_steps=400):
         )
         state.acc[K.ACC_EMITTED] += emitted
         t7 = pc()
-        K.held_volume(
-            state.order, state.cnt, state.height, state.base, state.status, state.cell_area
-        )
+        K.held_volume(state.pk, state.cnt)
         t8 = pc()
         for key, dt in zip(
-            t, (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4, t6 - t5, t7 - t6, t8 - t7), strict=True
+            names,
+            (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4, t6 - t5, t7 - t6, t8 - t7),
+            strict=True,
         ):
             t[key] += dt
-    steps = min(n_steps, fraction.size)
     total = sum(t.values())
     print(
-        f"per-phase time, {steps} steps of stop {stop.index} (Python-driven; each call adds "
-        "~0.3 us of dispatch):"
+        f"per-phase time, {steps} steps of stop {stop.index}, {state.cnt[0]} plateau cells "
+        "(Python-driven; each call adds ~0.3 us of dispatch):"
     )
     for key, v in t.items():
-        print(f"  {key:15s} {v / steps * 1e6:9.1f} us/step  {100 * v / total:5.1f} %")
+        print(f"  {key:24s} {v / steps * 1e6:9.1f} us/step  {100 * v / total:5.1f} %")
 
 
 if args.stops:

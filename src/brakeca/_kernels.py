@@ -97,19 +97,36 @@ ERR_LEDGER = 3
 
 # --- small data structures -------------------------------------------------------------------
 @njit(cache=True)
-def sort_order(order, n, height):
-    """Insertion sort of ``order[:n]`` by height, highest first (stable).
+def sort_packed(n, pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st):
+    """Insertion sort of the packed plateau records by height, highest first (stable).
 
     Linear in n plus the number of inversions: the order is nearly sorted from the last step.
     """
     for a in range(1, n):
-        key = order[a]
-        hk = height[key]
+        hk = pk_h[a]
+        if pk_h[a - 1] >= hk:
+            continue
+        rb, ra, rs, rf = pk_base[a], pk_area[a], pk_slide[a], pk_floor[a]
+        ri, rn, rt = pk_idx[a], pk_bin[a], pk_st[a]
         b = a - 1
-        while b >= 0 and height[order[b]] < hk:
-            order[b + 1] = order[b]
+        while b >= 0 and pk_h[b] < hk:
+            pk_h[b + 1] = pk_h[b]
+            pk_base[b + 1] = pk_base[b]
+            pk_area[b + 1] = pk_area[b]
+            pk_slide[b + 1] = pk_slide[b]
+            pk_floor[b + 1] = pk_floor[b]
+            pk_idx[b + 1] = pk_idx[b]
+            pk_bin[b + 1] = pk_bin[b]
+            pk_st[b + 1] = pk_st[b]
             b -= 1
-        order[b + 1] = key
+        pk_h[b + 1] = hk
+        pk_base[b + 1] = rb
+        pk_area[b + 1] = ra
+        pk_slide[b + 1] = rs
+        pk_floor[b + 1] = rf
+        pk_idx[b + 1] = ri
+        pk_bin[b + 1] = rn
+        pk_st[b + 1] = rt
 
 
 @njit(cache=True)
@@ -182,37 +199,34 @@ def rebuild_candidates(status, cand, ncand, cell_bin, n_angular):
 
 
 # --- the phases of a step --------------------------------------------------------------------
+# `pk` is the tuple of packed plateau records, sorted by height (highest first), valid for the
+# first cnt[CNT_PLATEAU] entries: (height [m], deposit base [m], area [m^2], full-step sliding
+# distance [m], fibre floor [m], cell index, stream bin, status). During a stop the packed
+# height and base of a plateau cell are authoritative; the grid arrays are written back by
+# `sync_grid` at the end of every stop.
 @njit(cache=True)
-def phase_contact(
-    order, cnt, height, cell_area, stiffness, mu_0, slope, mu_min, target, bar_length
-):
+def phase_contact(pk, cnt, stiffness, mu_0, slope, mu_min, target, bar_length):
     """Step phase 1: sort the plateaus and solve the torque balance for z.
 
-    Returns (z [m], n_in: plateaus in contact = leading entries of ``order``, error code)."""
+    Returns (z [m], n_in: plateaus in contact = leading packed records, error code)."""
+    pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st = pk
     n_plat = cnt[CNT_PLATEAU]
-    sort_order(order, n_plat, height)
-    z, n_in, code = first_root(
-        order, n_plat, height, cell_area, stiffness, mu_0, slope, mu_min, target
-    )
+    sort_packed(n_plat, pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st)
+    z, n_in, code = first_root(pk_h, pk_area, n_plat, stiffness, mu_0, slope, mu_min, target)
     if code != SOLVE_OK:
         return z, n_in, ERR_NO_PLATEAU
-    if height[order[0]] - z > bar_length:
+    if pk_h[0] - z > bar_length:
         return z, n_in, ERR_BAR
     return z, n_in, OK
 
 
 @njit(cache=True)
 def phase_friction_wear(
-    order,
+    pk,
     n_in,
-    height,
-    base,
-    status,
-    cell_area,
-    cell_slide,
-    cell_bin,
     outflow,
     acc,
+    mark,
     z,
     stiffness,
     mu_0,
@@ -221,48 +235,63 @@ def phase_friction_wear(
     wear_rate,
     frac,
     sums,
+    destroyed,
+    rule_counts,
 ):
-    """Step phases 2 and 3a: friction of the plateaus in contact and their Archard wear.
+    """Step phases 2, 3a and rules 5 and 7: friction of the plateaus in contact, their Archard
+    wear, and the destruction of those worn down (marked in ``mark``, listed in ``destroyed``).
 
     Primary wear is new pad material (removed); wear of a secondary plateau moves volume from
-    its deposit to the stream and is clipped at the deposit (rule 5 then fires)."""
+    its deposit to the stream and is clipped at the deposit (rule 5 then fires).
+    Returns the number of cells listed in ``destroyed``."""
+    pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st = pk
     f_fric = 0.0
     f_norm = 0.0
     a_contact = 0.0
     removed = 0.0
     held_out = 0.0
+    n_dest = 0
     for q in range(n_in):
-        idx = order[q]
-        u = height[idx] - z
+        u = pk_h[q] - z
         if u <= 0.0:
             continue
-        area = cell_area[idx]
+        area = pk_area[q]
         p = stiffness * u
         mu = local_cof(p, mu_0, slope, mu_min)
         f_fric += mu * p * area
         f_norm += p * area
         a_contact += area
-        dh = archard_wear_depth(wear_rate, p, cell_slide[idx] * frac, u)
-        if status[idx] == SECONDARY:
-            dep = height[idx] - base[idx]
+        dh = archard_wear_depth(wear_rate, p, pk_slide[q] * frac, u)
+        s = pk_st[q]
+        if s == SECONDARY:
+            dep = pk_h[q] - pk_base[q]
             if dh >= dep:
                 dh = dep
-                height[idx] = base[idx]  # deposit used up: rule 5 fires in phase_destruction
+                pk_h[q] = pk_base[q]  # deposit used up
             else:
-                height[idx] -= dh
+                pk_h[q] -= dh
             vol = dh * area
-            outflow[cell_bin[idx]] += vol
+            outflow[pk_bin[q]] += vol
             held_out += vol
+            fire = 5 if rule5_deposit_worn(s, pk_h[q], pk_base[q]) else 0
         else:
-            height[idx] -= dh
+            pk_h[q] -= dh
             vol = dh * area
-            outflow[cell_bin[idx]] += vol
+            outflow[pk_bin[q]] += vol
             removed += vol
+            fire = 7 if rule7_fibre_worn(s, pk_h[q], pk_floor[q]) else 0
+        if fire:
+            idx = pk_idx[q]
+            mark[idx] = fire
+            destroyed[n_dest] = idx
+            n_dest += 1
+            rule_counts[fire] += 1
     acc[ACC_HELD] -= held_out
     sums[S_FRICTION] = f_fric
     sums[S_NORMAL] = f_norm
     sums[S_CONTACT] = a_contact
     sums[S_REMOVED] = removed
+    return n_dest
 
 
 @njit(cache=True)
@@ -287,60 +316,39 @@ def phase_resin(
 
 @njit(cache=True)
 def phase_destruction(
-    order,
+    pk,
     n_in,
     cnt,
-    height,
-    base,
     status,
-    fibre_floor,
+    mark,
     rule4_list,
     z,
     rule6_gap,
     n_angular,
     destroyed,
+    n_dest,
     rule_counts,
 ):
-    """Step phase 4a: rules 4-7 on the statuses at the start of the step. Returns the number
-    of cells listed in ``destroyed``.
+    """Step phase 4a: rules 4 and 6 on the statuses at the start of the step (rules 5 and 7
+    fired in :func:`phase_friction_wear`). Returns the number of cells now in ``destroyed``.
 
-    Rules 5 and 7 can only fire on cells that wore this step (in contact); rule 4 only on cells
-    whose eastern neighbour lost its plateau status (``rule4_list``); rule 6, when switched on,
-    on every primary plateau."""
-    n_dest = 0
-    for q in range(n_in):
-        idx = order[q]
-        s = status[idx]
-        if rule5_deposit_worn(s, height[idx], base[idx]):
-            fire = 5
-        elif rule7_fibre_worn(s, height[idx], fibre_floor[idx]):
-            fire = 7
-        else:
-            continue
-        destroyed[n_dest] = idx
-        n_dest += 1
-        rule_counts[fire] += 1
+    Rule 4 is checked only on cells whose eastern neighbour lost its plateau status
+    (``rule4_list``); rule 6, when switched on, on the primary plateaus out of contact."""
     for q in range(cnt[CNT_RULE4]):
         idx = rule4_list[q]
-        if status[idx] != SECONDARY or not rule4_lost_support(status, idx, n_angular):
+        if mark[idx] or not rule4_lost_support(status, idx, n_angular):
             continue
-        if height[idx] <= base[idx]:
-            continue  # already destroyed by rule 5 above
-        dup = False
-        for r in range(n_dest):  # the list may name a cell twice
-            if destroyed[r] == idx:
-                dup = True
-                break
-        if dup:
-            continue
+        mark[idx] = 4
         destroyed[n_dest] = idx
         n_dest += 1
         rule_counts[4] += 1
     cnt[CNT_RULE4] = 0
     if rule6_gap < math.inf:
+        pk_h, pk_st, pk_idx = pk[0], pk[7], pk[5]
         for q in range(n_in, cnt[CNT_PLATEAU]):
-            idx = order[q]
-            if rule6_primary_out_of_reach(status[idx], height[idx], z, rule6_gap):
+            if rule6_primary_out_of_reach(pk_st[q], pk_h[q], z, rule6_gap):
+                idx = pk_idx[q]
+                mark[idx] = 6
                 destroyed[n_dest] = idx
                 n_dest += 1
                 rule_counts[6] += 1
@@ -390,19 +398,35 @@ def phase_creation(
 
 
 @njit(cache=True)
+def _copy_record(src, a, dst, b):
+    dst[0][b] = src[0][a]
+    dst[1][b] = src[1][a]
+    dst[2][b] = src[2][a]
+    dst[3][b] = src[3][a]
+    dst[4][b] = src[4][a]
+    dst[5][b] = src[5][a]
+    dst[6][b] = src[6][a]
+    dst[7][b] = src[7][a]
+
+
+@njit(cache=True)
 def phase_apply(
-    order,
+    pk,
+    tail,
     n_in,
     cnt,
     height,
     base,
     status,
+    fibre_floor,
     cand,
     ncand,
     cell_area,
+    cell_slide,
     cell_bin,
     outflow,
     acc,
+    mark,
     heap_keys,
     heap_vals,
     rule4_list,
@@ -412,34 +436,54 @@ def phase_apply(
     n_dest,
     created,
     n_new,
-    scratch,
 ):
     """Apply the status changes of the step: destroyed cells become none (a secondary returns
-    its deposit to the stream), created cells are filled to z; keep the order, the resin heap,
-    the candidate flags and the rule-4 list up to date."""
-    for q in range(n_dest):
-        idx = destroyed[q]
-        area = cell_area[idx]
-        if status[idx] == SECONDARY:
-            dep = (height[idx] - base[idx]) * area
-            outflow[cell_bin[idx]] += dep
-            acc[ACC_HELD] -= dep
-            height[idx] = base[idx]
-            acc[ACC_SECONDARY_AREA] -= area
+    its deposit to the stream), created cells are filled to z and inserted in the packed
+    records after the cells in contact; keep the resin heap, the candidate flags and the
+    rule-4 list up to date. ``tail`` is scratch of the packed layout."""
+    if n_dest == 0 and n_new == 0:
+        return
+    n_plat = cnt[CNT_PLATEAU]
+    # move the records out of contact aside, compact the ones in contact in place
+    n_tail = 0
+    for q in range(n_in, n_plat):
+        _copy_record(pk, q, tail, n_tail)
+        n_tail += 1
+    w = 0
+    for q in range(n_in):
+        if mark[pk[5][q]]:
+            _destroy(pk, q, height, base, status, outflow, acc, heap_keys, heap_vals, cnt)
         else:
-            acc[ACC_PRIMARY_AREA] -= area
-        status[idx] = NONE
-        heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
-    for q in range(n_new):
-        idx = created[q]
+            if w != q:
+                _copy_record(pk, q, pk, w)
+            w += 1
+    for c in range(n_new):
+        idx = created[c]
         area = cell_area[idx]
         acc[ACC_HELD] += (z - height[idx]) * area
         acc[ACC_SECONDARY_AREA] += area
         base[idx] = height[idx]
         height[idx] = z
         status[idx] = SECONDARY
+        pk[0][w] = z
+        pk[1][w] = base[idx]
+        pk[2][w] = area
+        pk[3][w] = cell_slide[idx]
+        pk[4][w] = fibre_floor[idx]
+        pk[5][w] = idx
+        pk[6][w] = cell_bin[idx]
+        pk[7][w] = SECONDARY
+        w += 1
+    for q in range(n_tail):
+        if mark[tail[5][q]]:
+            _destroy(tail, q, height, base, status, outflow, acc, heap_keys, heap_vals, cnt)
+        else:
+            _copy_record(tail, q, pk, w)
+            w += 1
+    cnt[CNT_PLATEAU] = w
     for q in range(n_dest):
         idx = destroyed[q]
+        mark[idx] = 0
         refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
         if idx % n_angular > 0:
             refresh_candidate(status, cand, ncand, cell_bin, idx - 1, n_angular)
@@ -450,25 +494,25 @@ def phase_apply(
         refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
         if idx % n_angular > 0:
             refresh_candidate(status, cand, ncand, cell_bin, idx - 1, n_angular)
-    if n_dest or n_new:
-        # compact the order, inserting the new cells (h = z) after the cells in contact
-        n_plat = cnt[CNT_PLATEAU]
-        w = 0
-        for q in range(n_plat):
-            if q == n_in:
-                for c in range(n_new):
-                    scratch[w] = created[c]
-                    w += 1
-            idx = order[q]
-            if status[idx] != NONE:
-                scratch[w] = idx
-                w += 1
-        if n_in >= n_plat:
-            for c in range(n_new):
-                scratch[w] = created[c]
-                w += 1
-        order[:w] = scratch[:w]
-        cnt[CNT_PLATEAU] = w
+
+
+@njit(cache=True)
+def _destroy(rec, q, height, base, status, outflow, acc, heap_keys, heap_vals, cnt):
+    """Destroy the plateau of packed record q: it becomes resin at its current height (a
+    secondary returns its remaining deposit to the stream of its row and subdomain)."""
+    idx = rec[5][q]
+    area = rec[2][q]
+    if rec[7][q] == SECONDARY:
+        dep = (rec[0][q] - rec[1][q]) * area
+        outflow[rec[6][q]] += dep
+        acc[ACC_HELD] -= dep
+        height[idx] = rec[1][q]
+        acc[ACC_SECONDARY_AREA] -= area
+    else:
+        height[idx] = rec[0][q]
+        acc[ACC_PRIMARY_AREA] -= area
+    status[idx] = NONE
+    heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
 
 
 @njit(cache=True)
@@ -489,28 +533,57 @@ def phase_advance(inflow, outflow, n_radial, n_sub):
 
 
 @njit(cache=True)
-def held_volume(order, cnt, height, base, status, cell_area):
-    """Volume held in secondary plateaus, summed from the state [m^3]."""
+def held_volume(pk, cnt):
+    """Volume held in secondary plateaus, summed from the packed records [m^3]."""
+    pk_h, pk_base, pk_area, pk_st = pk[0], pk[1], pk[2], pk[7]
     held = 0.0
     for q in range(cnt[CNT_PLATEAU]):
-        idx = order[q]
-        if status[idx] == SECONDARY:
-            held += (height[idx] - base[idx]) * cell_area[idx]
+        if pk_st[q] == SECONDARY:
+            held += (pk_h[q] - pk_base[q]) * pk_area[q]
     return held
+
+
+@njit(cache=True)
+def sync_grid(pk, cnt, height, base):
+    """Write the packed heights and deposit bases back to the grid arrays."""
+    for q in range(cnt[CNT_PLATEAU]):
+        idx = pk[5][q]
+        height[idx] = pk[0][q]
+        base[idx] = pk[1][q]
+
+
+@njit(cache=True)
+def pack_plateaus(
+    order, n, pk, height, base, cell_area, cell_slide, fibre_floor, cell_bin, status, cnt
+):
+    """Fill the packed records from the grid for the plateau cells listed in ``order[:n]``."""
+    for q in range(n):
+        idx = order[q]
+        pk[0][q] = height[idx]
+        pk[1][q] = base[idx]
+        pk[2][q] = cell_area[idx]
+        pk[3][q] = cell_slide[idx]
+        pk[4][q] = fibre_floor[idx]
+        pk[5][q] = idx
+        pk[6][q] = cell_bin[idx]
+        pk[7][q] = status[idx]
+    cnt[CNT_PLATEAU] = n
 
 
 # --- one stop --------------------------------------------------------------------------------
 @njit(cache=True)
 def run_stop(
+    pk,
+    tail,
     height,
     base,
     status,
     fibre_floor,
     cand,
     ncand,
+    mark,
     inflow,
     outflow,
-    order,
     heap_keys,
     heap_vals,
     rule4_list,
@@ -539,22 +612,24 @@ def run_stop(
     rule_counts,
     created,
     destroyed,
-    scratch,
 ):
     """Run every step of one stop in place.
 
     Parameters
     ----------
+    pk, tail : tuple of 8 arrays of n_cells
+        Packed plateau records (height [m], deposit base [m], area [m^2], full-step sliding
+        distance [m], fibre floor [m], cell index, stream bin, status), sorted by height in the
+        first ``cnt[CNT_PLATEAU]`` entries; ``tail`` is scratch of the same layout.
     height, base, fibre_floor : float64[n_cells]
-        Cell height [m]; height under the deposit of secondary cells [m]; fibre underside [m].
-    status, cand : int8[n_cells]
-        NONE / PRIMARY / SECONDARY; creation-candidate flag.
+        Grid heights [m] (authoritative for status-none cells during the stop; plateau cells
+        are written back at the end), deposit bases [m], fibre undersides [m].
+    status, cand, mark : int8[n_cells]
+        NONE / PRIMARY / SECONDARY; creation-candidate flag; destruction marks (scratch, 0).
     ncand : int64[n_radial * n_sub]
         Creation candidates per stream bin.
     inflow, outflow : float64[n_radial * n_sub]
         Particle volume that entered bin (j, k) this step, and the volume leaving it [m^3].
-    order : int64[n_cells]
-        Plateau cells sorted by height (highest first) in ``order[:cnt[CNT_PLATEAU]]``.
     heap_keys, heap_vals : float64[cap], int64[cap]
         Max-heap of (height, cell) of the status-none cells (stale entries allowed).
     rule4_list : int64[n_cells]
@@ -587,7 +662,7 @@ def run_stop(
         Per-step record (output).
     rule_counts : int64[8]
         Firings of rules 1..7 (index = rule number), accumulated.
-    created, destroyed, scratch : int64[n_cells]
+    created, destroyed : int64[n_cells]
         Scratch lists.
 
     Returns
@@ -599,24 +674,22 @@ def run_stop(
     """
     sums = np.zeros(N_SUMS)
     n_steps = fraction.size
+    code = OK
+    done = n_steps
     for step in range(n_steps):
         frac = fraction[step]
         z, n_in, code = phase_contact(
-            order, cnt, height, cell_area, stiffness, mu_0, slope, mu_min, targets[step], bar_length
+            pk, cnt, stiffness, mu_0, slope, mu_min, targets[step], bar_length
         )
         if code != OK:
-            return code, step
-        phase_friction_wear(
-            order,
+            done = step
+            break
+        n_dest = phase_friction_wear(
+            pk,
             n_in,
-            height,
-            base,
-            status,
-            cell_area,
-            cell_slide,
-            cell_bin,
             outflow,
             acc,
+            mark,
             z,
             stiffness,
             mu_0,
@@ -625,6 +698,8 @@ def run_stop(
             wear_rate,
             frac,
             sums,
+            destroyed,
+            rule_counts,
         )
         phase_resin(
             height,
@@ -641,18 +716,17 @@ def run_stop(
         )
         acc[ACC_REMOVED] += sums[S_REMOVED]
         n_dest = phase_destruction(
-            order,
+            pk,
             n_in,
             cnt,
-            height,
-            base,
             status,
-            fibre_floor,
+            mark,
             rule4_list,
             z,
             rule6_gap,
             n_angular,
             destroyed,
+            n_dest,
             rule_counts,
         )
         n_new = phase_creation(
@@ -672,18 +746,22 @@ def run_stop(
             rule_counts,
         )
         phase_apply(
-            order,
+            pk,
+            tail,
             n_in,
             cnt,
             height,
             base,
             status,
+            fibre_floor,
             cand,
             ncand,
             cell_area,
+            cell_slide,
             cell_bin,
             outflow,
             acc,
+            mark,
             heap_keys,
             heap_vals,
             rule4_list,
@@ -693,14 +771,13 @@ def run_stop(
             n_dest,
             created,
             n_new,
-            scratch,
         )
         if cnt[CNT_HEAP] > heap_keys.size - 2 * destroyed.size:
             heap_rebuild(heap_keys, heap_vals, cnt, status, height)
         emitted, stream = phase_advance(inflow, outflow, n_radial, n_sub)
         acc[ACC_EMITTED] += emitted
         if step % ledger_every == 0 or step == n_steps - 1:
-            held = held_volume(order, cnt, height, base, status, cell_area)
+            held = held_volume(pk, cnt)
         else:
             held = acc[ACC_HELD]
         total = acc[ACC_REMOVED]
@@ -720,8 +797,11 @@ def run_stop(
         rec[step, R_STREAM] = stream
         rec[step, R_TARGET] = targets[step]
         if rel > ledger_tol:
-            return ERR_LEDGER, step + 1
-    return OK, n_steps
+            code = ERR_LEDGER
+            done = step + 1
+            break
+    sync_grid(pk, cnt, height, base)
+    return code, done
 
 
 def empty_record(n_steps: int) -> np.ndarray:

@@ -44,19 +44,17 @@ class ContactError(RuntimeError):
 
 
 @njit(cache=True)
-def first_root(order, n_plateau, height, cell_area, stiffness, mu_0, slope, mu_min, target):
+def first_root(height, area, n_plateau, stiffness, mu_0, slope, mu_min, target):
     """First disc position z at which the friction force reaches ``target``.
 
     Parameters
     ----------
-    order : int64 array
-        Flat indices of the plateau cells sorted by height, highest first.
-    n_plateau : int
-        Number of valid entries of ``order``.
     height : float64 array
-        Flat cell heights [m].
-    cell_area : float64 array
-        Flat cell areas [m^2].
+        Plateau cell heights sorted highest first [m] (the first ``n_plateau`` are used).
+    area : float64 array
+        Their areas, in the same order [m^2].
+    n_plateau : int
+        Number of plateau cells.
     stiffness : float
         Foundation stiffness K [Pa/m].
     mu_0, slope, mu_min : float
@@ -69,7 +67,7 @@ def first_root(order, n_plateau, height, cell_area, stiffness, mu_0, slope, mu_m
     z : float
         Disc surface position [m].
     n_in : int
-        Number of leading entries of ``order`` with ``h > z`` (the cells in contact).
+        Number of leading cells with ``h > z`` (the cells in contact).
     code : int
         0 ok, 1 no plateau cell.
     """
@@ -80,7 +78,7 @@ def first_root(order, n_plateau, height, cell_area, stiffness, mu_0, slope, mu_m
         u_floor = (mu_0 - mu_min) / (slope * stiffness)
     else:
         u_floor = math.inf
-    z_hi = height[order[0]]
+    z_hi = height[0]
     f = 0.0  # friction force at z_hi [N]
     d = 0.0  # dF/dw at z_hi [N/m]
     q = 0.0  # -0.5 d2F/dw2 [N/m^2]
@@ -88,25 +86,24 @@ def first_root(order, n_plateau, height, cell_area, stiffness, mu_0, slope, mu_m
     b = 0  # cells entered on the floor branch
     while True:
         # apply every event at z_hi
-        while a < n_plateau and height[order[a]] >= z_hi:
-            area = cell_area[order[a]]
-            d += area * mu_0 * stiffness
-            q += area * k2
+        while a < n_plateau and height[a] >= z_hi:
+            cell = area[a]
+            d += cell * mu_0 * stiffness
+            q += cell * k2
             a += 1
-        while b < a and height[order[b]] - u_floor >= z_hi:
-            area = cell_area[order[b]]
-            d += (
-                area * stiffness * (mu_0 - mu_min)
-            )  # slope jumps from A K (2 mu_min - mu_0) to A K mu_min
-            q -= area * k2
+        while b < a and height[b] - u_floor >= z_hi:
+            cell = area[b]
+            # the slope jumps from A K (2 mu_min - mu_0) to A K mu_min
+            d += cell * stiffness * (mu_0 - mu_min)
+            q -= cell * k2
             b += 1
         if q < 0.0:
             q = 0.0
         z_next = -math.inf
         if a < n_plateau:
-            z_next = height[order[a]]
+            z_next = height[a]
         if b < a:
-            zf = height[order[b]] - u_floor
+            zf = height[b] - u_floor
             if zf > z_next:
                 z_next = zf
         w_max = z_hi - z_next
@@ -172,8 +169,17 @@ def solve_disc_position(
     ar = np.ascontiguousarray(np.broadcast_to(area, np.shape(height)).ravel(), dtype=np.float64)
     if target <= 0.0:
         raise ContactError(f"demanded friction force must be positive, got {target} N")
-    order = np.argsort(-h, kind="stable").astype(np.int64)
-    z, _, code = first_root(order, h.size, h, ar, stiffness, mu_0, slope, mu_min, target)
+    order = np.argsort(-h, kind="stable")
+    z, _, code = first_root(
+        np.ascontiguousarray(h[order]),
+        np.ascontiguousarray(ar[order]),
+        h.size,
+        stiffness,
+        mu_0,
+        slope,
+        mu_min,
+        target,
+    )
     if code != SOLVE_OK:
         raise ContactError("no plateau cell can reach the disc")
     return z

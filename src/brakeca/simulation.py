@@ -82,17 +82,32 @@ class SimulationState:
     n_radial: int
     n_angular: int
     n_subdomains: int
-    order: np.ndarray = field(init=False)
+    pk_h: np.ndarray = field(init=False)
+    pk_base: np.ndarray = field(init=False)
+    pk_area: np.ndarray = field(init=False)
+    pk_slide: np.ndarray = field(init=False)
+    pk_floor: np.ndarray = field(init=False)
+    pk_idx: np.ndarray = field(init=False)
+    pk_bin: np.ndarray = field(init=False)
+    pk_st: np.ndarray = field(init=False)
     heap_keys: np.ndarray = field(init=False)
     heap_vals: np.ndarray = field(init=False)
     cand: np.ndarray = field(init=False)
     ncand: np.ndarray = field(init=False)
     rule4_list: np.ndarray = field(init=False)
     cnt: np.ndarray = field(init=False)
+    mark: np.ndarray = field(init=False)
+    tail: tuple = field(init=False)
 
     def __post_init__(self) -> None:
         n = self.height.size
-        self.order = np.zeros(n, dtype=np.int64)
+        for name in ("pk_h", "pk_base", "pk_area", "pk_slide", "pk_floor"):
+            setattr(self, name, np.zeros(n))
+        self.pk_idx = np.zeros(n, dtype=np.int64)
+        self.pk_bin = np.zeros(n, dtype=np.int64)
+        self.pk_st = np.zeros(n, dtype=np.int8)
+        self.tail = tuple(np.zeros_like(a) for a in self.pk)
+        self.mark = np.zeros(n, dtype=np.int8)
         self.heap_keys = np.zeros(4 * n + 8)
         self.heap_vals = np.zeros(4 * n + 8, dtype=np.int64)
         self.cand = np.zeros(n, dtype=np.int8)
@@ -100,6 +115,25 @@ class SimulationState:
         self.rule4_list = np.zeros(n, dtype=np.int64)
         self.cnt = np.zeros(K.N_CNT, dtype=np.int64)
         self.resync()
+
+    @property
+    def pk(self) -> tuple:
+        """The packed plateau records, in the kernel's layout."""
+        return (
+            self.pk_h,
+            self.pk_base,
+            self.pk_area,
+            self.pk_slide,
+            self.pk_floor,
+            self.pk_idx,
+            self.pk_bin,
+            self.pk_st,
+        )
+
+    @property
+    def order(self) -> np.ndarray:
+        """Plateau cells by height, highest first."""
+        return self.pk_idx[: self.cnt[K.CNT_PLATEAU]]
 
     @classmethod
     def from_surface(cls, surface: Surface, grid: Grid) -> SimulationState:
@@ -131,8 +165,19 @@ class SimulationState:
         held volume, and a rule-4 check of every secondary plateau at the next step."""
         plateau = np.flatnonzero(self.status != NONE)
         ranked = plateau[np.argsort(-self.height[plateau], kind="stable")]
-        self.order[: ranked.size] = ranked
-        self.cnt[K.CNT_PLATEAU] = ranked.size
+        K.pack_plateaus(
+            ranked,
+            ranked.size,
+            self.pk,
+            self.height,
+            self.base,
+            self.cell_area,
+            self.cell_slide,
+            self.fibre_floor,
+            self.cell_bin,
+            self.status,
+            self.cnt,
+        )
         K.heap_rebuild(self.heap_keys, self.heap_vals, self.cnt, self.status, self.height)
         K.rebuild_candidates(self.status, self.cand, self.ncand, self.cell_bin, self.n_angular)
         secondary = np.flatnonzero(self.status == SECONDARY)
@@ -315,7 +360,14 @@ _STATE_ARRAYS = (
     "inflow",
     "outflow",
     "acc",
-    "order",
+    "pk_h",
+    "pk_base",
+    "pk_area",
+    "pk_slide",
+    "pk_floor",
+    "pk_idx",
+    "pk_bin",
+    "pk_st",
     "heap_keys",
     "heap_vals",
     "cand",
@@ -438,7 +490,7 @@ def advance_stop(
         As :func:`simulate`.
     """
     n_r, n_t = grid.shape
-    created, destroyed, scratch = scratch or scratch_lists(n_r * n_t)
+    created, destroyed, _ = scratch or scratch_lists(n_r * n_t)
     profile = stop.profile(step_distance(config))
     dt, fraction = profile.dt, profile.fraction
     # the demanded band friction force is proportional to the deceleration
@@ -449,15 +501,17 @@ def advance_stop(
     rule6 = config.automaton.rule6_max_gap
     fr = config.friction
     code, done = K.run_stop(
+        state.pk,
+        state.tail,
         state.height,
         state.base,
         state.status,
         state.fibre_floor,
         state.cand,
         state.ncand,
+        state.mark,
         state.inflow,
         state.outflow,
-        state.order,
         state.heap_keys,
         state.heap_vals,
         state.rule4_list,
@@ -486,7 +540,6 @@ def advance_stop(
         counts,
         created,
         destroyed,
-        scratch,
     )
     if code != K.OK:
         _raise_kernel_error(code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config)
