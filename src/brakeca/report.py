@@ -88,7 +88,6 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 <p class="meta">brakeca {{ version }} &middot; generated {{ generated }}</p>
 </header>
 <nav aria-label="Contents"><ul>
-<li><a href="#provenance">Provenance</a></li>
 <li><a href="#design">Design</a></li>
 <li><a href="#runs">Per-run results</a></li>
 <li><a href="#anova">ANOVA</a></li>
@@ -98,19 +97,9 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 {%- if notes %}
 <li><a href="#notes">Notes</a></li>
 {%- endif %}
+<li><a href="#provenance">Provenance</a></li>
 </ul></nav>
 
-<section id="provenance">
-<h2>Provenance</h2>
-<div class="table-wrap"><table class="kv">
-<tr><th>brakeca version</th><td>{{ version }}</td></tr>
-<tr><th>Generated</th><td>{{ generated }}</td></tr>
-<tr><th>Python</th><td>{{ python }}</td></tr>
-<tr><th>Model reference</th><td>{{ reference }}</td></tr>
-</table></div>
-<h3>Configuration</h3>
-<pre>{{ config_text }}</pre>
-</section>
 
 {% macro render_table(table, caption_text="") -%}
 <div class="table-wrap"><table>
@@ -172,6 +161,21 @@ of squares about the mean.</p>
 {%- endfor %}
 </section>
 {%- endif %}
+
+<section id="provenance">
+<h2>Provenance</h2>
+<div class="table-wrap"><table class="kv">
+<tr><th>brakeca version</th><td>{{ version }}</td></tr>
+<tr><th>Generated</th><td>{{ generated }}</td></tr>
+<tr><th>Python</th><td>{{ python }}</td></tr>
+<tr><th>Model reference</th><td>{{ reference }}</td></tr>
+</table></div>
+<details>
+<summary>Configuration (design and resolved base configuration)</summary>
+<pre>{{ config_text }}</pre>
+</details>
+</section>
+
 
 <script>
 (function () {
