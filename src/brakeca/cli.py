@@ -94,6 +94,17 @@ def simulate(
         ),
     ] = None,
     checkpoint_every: Annotated[int, typer.Option("--checkpoint-every", min=1)] = 10,
+    cycle: Annotated[
+        str | None,
+        typer.Option(
+            "--cycle",
+            help="drive cycle: a block-cycle CSV, a speed-trace CSV or a shipped name "
+            "(paper, example_trace); see docs/cycles.md",
+        ),
+    ] = None,
+    speed_unit: Annotated[
+        str | None, typer.Option("--speed-unit", help="speed unit of a trace with none stated")
+    ] = None,
 ) -> None:
     """Simulate one pad over the drive cycle and write a netCDF run file."""
     from rich.progress import (
@@ -107,15 +118,20 @@ def simulate(
     from brakeca.contact import ContactError
     from brakeca.simulation import LedgerError
     from brakeca.simulation import simulate as run_simulation
+    from brakeca.traces import configured_cycle, with_cycle
 
     try:
         config = resolve_config(preset, config_file, overrides, stops, quick)
+        if cycle is not None:
+            config = with_cycle(config, cycle, speed_unit=speed_unit)
+        source = configured_cycle(config)
     except ConfigError as exc:
         _fail(str(exc))
     n_r, n_t = config.mesh.n_radial, config.mesh.n_angular
+    n_stops = len(source.events)
     console.print(
-        f"brakeca {__version__}: {n_r} x {n_t} cells, {config.cycle.n_stops} stops, seed {seed}"
-        + (" (quick)" if config.quick else "")
+        f"brakeca {__version__}: {n_r} x {n_t} cells, cycle {source.name} ({source.kind}), "
+        f"{n_stops} stops, seed {seed}" + (" (quick)" if config.quick else "")
     )
     columns = (
         TextColumn("stops"),
@@ -126,7 +142,7 @@ def simulate(
         TimeRemainingColumn(),
     )
     with Progress(*columns, console=console, transient=False) as bar:
-        task = bar.add_task("simulate", total=config.cycle.n_stops)
+        task = bar.add_task("simulate", total=n_stops)
         try:
             result = run_simulation(
                 config,
@@ -147,6 +163,11 @@ def simulate(
         f"ledger residual (max, relative) = {float(ds['max_ledger_residual']):.2e}; "
         f"friction residual (max) = {float(ds['max_friction_residual']):.2e}"
     )
+    if source.kind == "trace":
+        from brakeca.emissions import pm10_from_run
+
+        for line in pm10_from_run(result, source.distance).describe():
+            out.print(line, highlight=False)
     out.print(f"wrote {output}")
 
 
@@ -185,10 +206,46 @@ def surface(
 
 
 ExecutorOpt = Annotated[
-    str, typer.Option("--executor", help="serial (debugging) or local (worker processes)")
+    str,
+    typer.Option(
+        "--executor",
+        help="serial (debugging), local (worker processes) or dask (a Dask cluster; without "
+        "--scheduler or --scheduler-file, a local one on 127.0.0.1)",
+    ),
 ]
 WorkersOpt = Annotated[
-    int | None, typer.Option("--workers", min=1, help="worker processes (default: one per core)")
+    int | None,
+    typer.Option(
+        "--workers",
+        min=1,
+        help="worker processes of local, or of the cluster --executor dask starts "
+        "(default: one per core)",
+    ),
+]
+SchedulerOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="address of a running Dask scheduler, tcp://HOST:PORT (with --executor dask)",
+    ),
+]
+SchedulerFileOpt = Annotated[
+    Path | None,
+    typer.Option(
+        "--scheduler-file",
+        metavar="PATH",
+        help="scheduler file written by 'dask scheduler --scheduler-file' (with --executor dask)",
+    ),
+]
+MaxRetriesOpt = Annotated[
+    int,
+    typer.Option(
+        "--max-retries",
+        min=0,
+        help="times a run whose worker process died (killed, out of memory) is tried again "
+        "before it is recorded as failed; a run that raises is not retried",
+    ),
 ]
 
 
@@ -202,12 +259,42 @@ def _run_and_report(
     stops: int | None,
     overrides: list[str] | None,
     report: bool,
+    scheduler: str | None = None,
+    scheduler_file: Path | None = None,
+    max_retries: int | None = None,
 ) -> None:
     import time
 
-    from brakeca.campaign import finish_campaign, run_campaign
+    from brakeca.campaign import (
+        DEFAULT_MAX_RETRIES,
+        EXECUTOR_KINDS,
+        ExecutorError,
+        finish_campaign,
+        run_campaign,
+    )
     from brakeca.study import write_study
 
+    # option combinations that do not go together: refused before anything runs (exit 2)
+    if executor not in EXECUTOR_KINDS:
+        _fail(f"--executor {executor!r}: choose one of {', '.join(EXECUTOR_KINDS)}")
+    if executor != "dask":
+        for name, value in (("--scheduler", scheduler), ("--scheduler-file", scheduler_file)):
+            if value is not None:
+                _fail(f"{name} needs --executor dask (got --executor {executor})")
+    if scheduler is not None and scheduler_file is not None:
+        _fail("give --scheduler or --scheduler-file, not both")
+    if scheduler is not None and not scheduler.strip():
+        _fail("--scheduler: empty address; give tcp://HOST:PORT")
+    if scheduler_file is not None and not scheduler_file.is_file():
+        _fail(
+            f"--scheduler-file {scheduler_file}: no such file; start the scheduler with "
+            "'dask scheduler --scheduler-file FILE' first"
+        )
+    if workers is not None and (scheduler is not None or scheduler_file is not None):
+        _fail(
+            "--workers does not apply to an existing Dask cluster (--scheduler, "
+            "--scheduler-file): its workers are started with it"
+        )
     try:
         updates = dict(parse_override(o) for o in overrides or [])
         t0 = time.perf_counter()
@@ -216,12 +303,15 @@ def _run_and_report(
             output,
             workers=workers,
             executor=executor,  # type: ignore[arg-type]
+            scheduler=scheduler,
+            scheduler_file=scheduler_file,
+            max_retries=DEFAULT_MAX_RETRIES if max_retries is None else max_retries,
             quick=quick,
             max_stops=stops,
             overrides=updates or None,
             console=console,
         )
-    except ConfigError as exc:
+    except (ConfigError, ExecutorError) as exc:
         _fail(str(exc))
     elapsed = time.perf_counter() - t0
     console.print(
@@ -266,6 +356,9 @@ def run(
     output: Annotated[Path, typer.Option("-o", "--output", help="campaign folder")],
     workers: WorkersOpt = None,
     executor: ExecutorOpt = "local",
+    scheduler: SchedulerOpt = None,
+    scheduler_file: SchedulerFileOpt = None,
+    max_retries: MaxRetriesOpt = 2,
     quick: QuickOpt = False,
     stops: StopsOpt = None,
     overrides: SetOpt = None,
@@ -277,6 +370,9 @@ def run(
         output,
         workers=workers,
         executor=executor,
+        scheduler=scheduler,
+        scheduler_file=scheduler_file,
+        max_retries=max_retries,
         quick=quick,
         stops=stops,
         overrides=overrides,
@@ -309,6 +405,9 @@ def paper(
     ),
     workers: WorkersOpt = None,
     executor: ExecutorOpt = "local",
+    scheduler: SchedulerOpt = None,
+    scheduler_file: SchedulerFileOpt = None,
+    max_retries: MaxRetriesOpt = 2,
     quick: QuickOpt = False,
     stops: StopsOpt = None,
 ) -> None:
@@ -318,6 +417,9 @@ def paper(
         output,
         workers=workers,
         executor=executor,
+        scheduler=scheduler,
+        scheduler_file=scheduler_file,
+        max_retries=max_retries,
         quick=quick,
         stops=stops,
         overrides=None,
@@ -348,6 +450,15 @@ def _root(
     if version:
         out.print(__version__)
         raise typer.Exit(0)
+
+
+def _register_subcommands() -> None:
+    from brakeca.cli_cycle import cycle_app
+
+    app.add_typer(cycle_app, name="cycle", help="inspect drive cycles (block cycles and traces)")
+
+
+_register_subcommands()
 
 
 def main() -> None:

@@ -18,6 +18,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, Literal
 
+import numpy as np
 import tomli_w
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
@@ -34,6 +35,7 @@ __all__ = [
     "OutputConfig",
     "PadConfig",
     "SimulationConfig",
+    "TraceCycleConfig",
     "VehicleConfig",
     "WearConfig",
     "apply_overrides",
@@ -233,18 +235,201 @@ class BrakeBlock(_Frozen):
         return self
 
 
+class TraceCycleConfig(BaseModel):
+    """How braking events are found in a trace and what the modelled brake must deliver.
+
+    Defaults, literature ranges and sources are in the field descriptions and in
+    ``docs/cycles.md``. :meth:`no_corrections` gives the settings under which a trace built
+    from block stops reproduces the block cycle (brake share 1, no road load).
+
+    The modelled brake is one front brake that decelerates its wheel-load mass ``m_w``
+    (``vehicle.wheel_load_mass``) at ``a_brake`` (docs/model.md, section 1). From the vehicle's
+    deceleration ``a`` of a step, its mean speed ``v``::
+
+        a_road(v) = g C_rr + rho C_dA v^2 / (2 m)            road load per unit vehicle mass
+        a_brake   = c phi_f / psi_f * (a - a_road(v))        floored at min_brake_deceleration
+
+    ``c`` is the friction share of braking (regeneration removed), ``phi_f`` the front axle's
+    share of the friction braking force and ``psi_f`` the front axle's share of the static
+    vehicle weight (so that ``m_w = psi_f m / 2`` and the front brake's force is
+    ``c phi_f m (a - a_road) / 2``). With ``phi_f = psi_f`` and ``c = 1`` the brake takes its
+    static load share, the reading of the paper's block cycle.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
+
+    # detection
+    threshold: float = Field(
+        0.3,
+        gt=0,
+        le=20.0,
+        description=(
+            "[m/s^2] a sample interval is braking when the vehicle decelerates faster than "
+            "this; above coasting (road load alone gives ~0.1-0.3 m/s^2), range 0.1-0.5"
+        ),
+    )
+    min_duration: float = Field(
+        2.0, ge=0, description="[s] shortest braking event kept (shorter ones are dropped)"
+    )
+    smoothing: float = Field(
+        0.0,
+        ge=0,
+        description=(
+            "[s] width of a centred moving average applied to the speed before detection and "
+            "for the event profiles; 0 = off (clean, prescribed traces); ~1 s for measured ones"
+        ),
+    )
+    merge_gap: float = Field(
+        1.0,
+        ge=0,
+        description="[s] braking stretches separated by at most this are one event",
+    )
+    # road load
+    vehicle_mass: float = Field(
+        2300.0,
+        gt=0,
+        description=(
+            "[kg] vehicle test mass m: aerodynamic term and vehicle-level energies; default "
+            "2 x 690 kg / 0.6, the paper's wheel load at psi_f = 0.6"
+        ),
+    )
+    rolling_resistance: float = Field(
+        0.010,
+        ge=0,
+        le=0.05,
+        description="[-] rolling resistance coefficient C_rr, range 0.006-0.015 (Wong 2008)",
+    )
+    drag_area: float = Field(
+        0.7,
+        ge=0,
+        le=10.0,
+        description="[m^2] drag coefficient times frontal area C_d A, range 0.5-1.0 for cars",
+    )
+    air_density: float = Field(
+        1.2, gt=0, le=2.0, description="[kg/m^3] air density rho, 1.225 at 15 C sea level (ISA)"
+    )
+    gravity: float = Field(9.81, gt=0, description="[m/s^2] gravity in the rolling resistance")
+    # brake share
+    friction_share: float = Field(
+        1.0,
+        gt=0,
+        le=1.0,
+        description=(
+            "[-] share c of the braking done by the friction brakes; 1 without regenerative "
+            "braking, lower for hybrids and electric vehicles (GTR No. 24 gives values)"
+        ),
+    )
+    front_brake_share: float = Field(
+        0.7,
+        gt=0,
+        le=1.0,
+        description="[-] front axle's share phi_f of the friction braking force, range 0.6-0.8",
+    )
+    front_load_share: float = Field(
+        0.6,
+        gt=0,
+        le=1.0,
+        description="[-] front axle's share psi_f of the static vehicle weight, range 0.5-0.65",
+    )
+    min_brake_deceleration: float = Field(
+        0.01,
+        gt=0,
+        description=(
+            "[m/s^2] floor of a_brake: the simulation solves a torque balance and needs a "
+            "positive demand (a step where road load alone decelerates the car drags the pads)"
+        ),
+    )
+
+    @classmethod
+    def no_corrections(cls, **updates: Any) -> TraceCycleConfig:
+        """Brake share 1, no road load: a trace of block stops reproduces the block cycle."""
+        base = {
+            "rolling_resistance": 0.0,
+            "drag_area": 0.0,
+            "friction_share": 1.0,
+            "front_brake_share": 0.6,
+            "front_load_share": 0.6,
+        }
+        return cls.from_dict({**base, **updates})
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], *, source: str = "trace cycle") -> TraceCycleConfig:
+        """Validate a mapping; errors name the field (``ConfigError``)."""
+        try:
+            return cls.model_validate(dict(data))
+        except ValidationError as exc:
+            raise ConfigError(format_validation_error(exc, source)) from None
+
+    @property
+    def brake_share(self) -> float:
+        """Multiplier c phi_f / psi_f from friction-brake deceleration to a_brake [-]."""
+        return self.friction_share * self.front_brake_share / self.front_load_share
+
+    def road_load_deceleration(self, speed: np.ndarray | float) -> np.ndarray:
+        """Deceleration road load alone gives the vehicle at ``speed`` [m/s] [m/s^2]."""
+        v = np.asarray(speed, dtype=np.float64)
+        return self.gravity * self.rolling_resistance + (
+            self.air_density * self.drag_area * v * v / (2.0 * self.vehicle_mass)
+        )
+
+    def brake_deceleration(self, deceleration: np.ndarray, mean_speed: np.ndarray) -> np.ndarray:
+        """Deceleration the modelled brake delivers for its wheel-load mass [m/s^2].
+
+        Parameters
+        ----------
+        deceleration
+            Vehicle deceleration of each step [m/s^2].
+        mean_speed
+            Mean speed of each step [m/s] (road load is evaluated there).
+        """
+        a = np.asarray(deceleration, dtype=np.float64)
+        if self.rolling_resistance or self.drag_area:
+            a = a - self.road_load_deceleration(mean_speed)
+        share = self.brake_share
+        if share != 1.0:
+            a = share * a
+        return np.maximum(a, self.min_brake_deceleration)
+
+
+# --- the trace ------------------------------------------------------------------------------
+
+
 class CycleConfig(_Frozen):
-    """A block drive cycle: stops at constant deceleration (Table 3 of the paper)."""
+    """The drive cycle: a block cycle (Table 3 of the paper: stops at constant deceleration),
+    or a speed trace whose braking events are detected (docs/cycles.md)."""
 
     name: str = Field("custom", description="cycle name")
-    blocks: tuple[BrakeBlock, ...] = Field(min_length=1, description="blocks in driving order")
+    blocks: tuple[BrakeBlock, ...] = Field((), description="blocks in driving order")
+    trace_file: str | None = Field(
+        None, description="a speed-trace CSV (time, speed) or a shipped trace name"
+    )
+    trace_sha256: str | None = Field(
+        None, description="SHA-256 of the trace file's content, checked before a run"
+    )
+    trace_speed_unit: str | None = Field(
+        None, description="speed unit of a trace whose header states none (km/h, m/s, mph)"
+    )
+    trace: TraceCycleConfig = Field(
+        TraceCycleConfig(), description="event detection, road load and brake share of a trace"
+    )
     max_stops: int | None = Field(
         None, ge=1, description="[-] run only the first N stops (None: the whole cycle)"
     )
 
+    @model_validator(mode="after")
+    def _one_source(self) -> CycleConfig:
+        if bool(self.blocks) == bool(self.trace_file):
+            raise ValueError(
+                "give either blocks (a block cycle) or trace_file (a speed trace), not both "
+                "and not neither"
+            )
+        return self
+
     @property
-    def n_stops(self) -> int:
-        """Number of stops that will be simulated [-]."""
+    def n_stops(self) -> int | None:
+        """Number of stops that will be simulated [-] (None for a trace before detection)."""
+        if self.trace_file:
+            return self.max_stops
         total = sum(b.stops for b in self.blocks)
         return total if self.max_stops is None else min(total, self.max_stops)
 

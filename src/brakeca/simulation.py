@@ -295,7 +295,7 @@ def simulate(
     if checkpoint_every < 1:
         raise ValueError(f"checkpoint_every must be >= 1, got {checkpoint_every}")
     grid = make_grid(config)
-    stops = expand_stops(config)
+    stops = list(cycle_events(config))
     n_r, n_t = grid.shape
     lists = scratch_lists(n_r * n_t)
     resumed = load_checkpoint(checkpoint, config, seed, grid) if checkpoint else None
@@ -459,6 +459,15 @@ def load_checkpoint(path, config, seed, grid):
         rule_counts=list(arrays["log_rule_counts"]),
     )
     return state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"])
+
+
+def cycle_events(config: SimulationConfig) -> list:
+    """The stops of a block cycle, or the braking events of a trace cycle, to simulate."""
+    if not config.cycle.trace_file:
+        return expand_stops(config)
+    from brakeca.traces import configured_cycle
+
+    return list(configured_cycle(config).events)
 
 
 def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -119,3 +119,37 @@ def test_cli_simulate(tmp_path):
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
     assert res.exit_code == 2 and "between 0 and 100" in res.output
     assert not (tmp_path / "bad.nc").exists()
+
+
+def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
+    from brakeca.config import ConfigError
+    from brakeca.traces import configured_cycle, with_cycle
+
+    runner = CliRunner()
+    out = tmp_path / "t.nc"
+    res = runner.invoke(
+        app,
+        [
+            "simulate",
+            "--set",
+            "mesh.n_radial=3",
+            "--set",
+            "mesh.n_angular=100",
+            "--cycle",
+            "example_trace",
+            "-o",
+            str(out),
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    assert "mg/km" in res.stdout and "Euro 7" in res.stdout and "pass" not in res.stdout.lower()
+    run = RunResult.from_netcdf(out)
+    assert run.config.cycle.trace_file == "example_trace" and run.dataset.sizes["stop"] == 5
+    # a trace file that changes after the configuration was made is refused
+    trace = tmp_path / "trace.csv"
+    trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n27,0\n30,0\n")
+    config = with_cycle(load_preset(), trace)
+    assert len(configured_cycle(config).events) == 1
+    trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n25,0\n30,0\n")
+    with pytest.raises(ConfigError, match="content changed"):
+        configured_cycle(config)

@@ -1,0 +1,308 @@
+"""``brakeca cycle``: look at a drive cycle before simulating it.
+
+``brakeca cycle inspect FILE`` reads a speed trace (or a block cycle), prints the braking events
+found, the distance and the braking energy, and draws the trace with the events shaded. Cycle
+formats and the detection parameters are described in ``docs/cycles.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated
+
+import typer
+from rich.console import Console
+
+from brakeca.config import ConfigError
+from brakeca.cycle import KMH, Stop
+from brakeca.traces import (
+    BrakingEvent,
+    SpeedTrace,
+    TraceCycleConfig,
+    block_trace,
+    brake_work,
+    braking_energy,
+    detect_events,
+    event_distance,
+    load_cycle_events,
+    load_cycle_source,
+)
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.figure import Figure
+
+__all__ = ["cycle_app", "inspect_cycle", "load_cycle_events", "plot_trace"]
+
+cycle_app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    help="Drive cycles: block cycles (Table 3 form) and speed traces (time, speed).",
+)
+console = Console(stderr=True)
+out = Console()
+
+
+@cycle_app.callback()
+def _cycle() -> None:
+    """Drive cycles: block cycles (Table 3 form) and speed traces (time, speed)."""
+
+
+def _fail(message: str, code: int = 2) -> None:
+    from rich.markup import escape
+
+    console.print(f"[bold red]error:[/] {escape(message)}", highlight=False)
+    raise typer.Exit(code)
+
+
+def _energy(joules: float) -> str:
+    return f"{joules / 1e6:.4g} MJ" if abs(joules) >= 1e6 else f"{joules / 1e3:.4g} kJ"
+
+
+def plot_trace(
+    trace: SpeedTrace,
+    events: Sequence[BrakingEvent],
+    *,
+    path: str | Path | None = None,
+    title: str | None = None,
+) -> Figure:
+    """Speed over time with the braking events shaded and numbered; PNG at 150 dpi if ``path``.
+
+    Parameters
+    ----------
+    trace
+        The speed trace.
+    events
+        Its braking events (:func:`brakeca.traces.detect_events`).
+    path
+        PNG file to write, or None.
+    title
+        Figure title (default: the trace name and the number of events).
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    minutes = trace.duration > 3600.0
+    scale = 60.0 if minutes else 1.0
+    fig = Figure(figsize=(10.0, 3.8), layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    ax.plot(trace.time / scale, trace.speed / KMH, color="#27496d", lw=1.0, label="speed")
+    top = float(trace.speed.max() / KMH) if trace.speed.size else 0.0
+    for k, e in enumerate(events):
+        ax.axvspan(
+            e.start_time / scale,
+            e.end_time / scale,
+            color="#f28e2b",
+            alpha=0.35,
+            lw=0,
+            label="braking event" if k == 0 else None,
+        )
+        if len(events) <= 40:
+            ax.annotate(
+                str(e.index),
+                ((e.start_time + e.end_time) / 2.0 / scale, e.initial_speed / KMH),
+                xytext=(0, 4),
+                textcoords="offset points",
+                ha="center",
+                fontsize=7,
+            )
+    ax.set_xlabel("time [min]" if minutes else "time [s]")
+    ax.set_ylabel("speed [km/h]")
+    ax.set_ylim(0.0, max(top * 1.12, 1.0))
+    ax.set_xlim(trace.time[0] / scale, trace.time[-1] / scale)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title(title or f"{trace.name}: {len(events)} braking events", fontsize=10)
+    if path is not None:
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=150, format="png")
+    return fig
+
+
+def inspect_cycle(
+    file: str,
+    trace_config: TraceCycleConfig,
+    *,
+    speed_unit: str | None = None,
+    plot: Path | None = None,
+    preset: str = "paper",
+) -> None:
+    """Print the events, distance and braking energy of a cycle; optionally plot it."""
+    from rich.markup import escape
+    from rich.table import Table
+
+    from brakeca.presets import load_preset
+
+    config = load_preset(preset)
+    m_w = config.vehicle.wheel_load_mass
+    source = load_cycle_source(file, config, trace_config, speed_unit=speed_unit)
+    events = list(source.events)
+    if source.kind == "trace":
+        trace = source.trace
+        assert trace is not None
+        out.print(
+            f"{source.name}: speed trace, {trace.time.size} samples over {trace.duration:g} s "
+            f"({trace.source})",
+            highlight=False,
+        )
+        table = Table(title="braking events (a: mean deceleration, s: distance)", show_lines=False)
+        for col in (
+            "#",
+            "trip",
+            "t_on [s]",
+            "dur [s]",
+            "v_on [km/h]",
+            "v_off [km/h]",
+            "a [m/s²]",
+            "s [m]",
+            "lines",
+        ):
+            table.add_column(escape(col), justify="left" if col == "trip" else "right")
+        for e in events:
+            assert isinstance(e, BrakingEvent)
+            table.add_row(
+                str(e.index),
+                e.block,
+                f"{e.start_time:g}",
+                f"{e.duration:.3g}",
+                f"{e.initial_speed / KMH:.1f}",
+                f"{e.final_speed / KMH:.1f}",
+                f"{e.deceleration:.2f}",
+                f"{e.distance:.1f}",
+                f"{e.first_line}-{e.last_line}" if e.first_line is not None else "-",
+            )
+        out.print(table)
+        tc = trace_config
+        braking = sum(event_distance(e) for e in events)
+        out.print(
+            f"events found: {len(events)} (deceleration above {tc.threshold:g} m/s² for at "
+            f"least {tc.min_duration:g} s; smoothing {tc.smoothing:g} s, merge gap "
+            f"{tc.merge_gap:g} s)",
+            highlight=False,
+        )
+        out.print(
+            f"distance: {source.distance / 1000.0:.3f} km, of which braking "
+            f"{braking / 1000.0:.3f} km",
+            highlight=False,
+        )
+        out.print(
+            f"kinetic energy removed in the events (vehicle {tc.vehicle_mass:g} kg): "
+            f"{_energy(braking_energy(events, tc.vehicle_mass))}",
+            highlight=False,
+        )
+        out.print(
+            f"work of the modelled front brake (wheel load {m_w:g} kg, brake share "
+            f"{tc.brake_share:.3g}, road load C_rr {tc.rolling_resistance:g}, C_dA "
+            f"{tc.drag_area:g} m²): {_energy(brake_work(events, m_w))}",
+            highlight=False,
+        )
+        if plot is not None:
+            plot_trace(trace, events, path=plot)  # type: ignore[arg-type]
+            out.print(f"wrote {plot}")
+        return
+    out.print(f"{source.name}: block cycle, {source.n_total} stops", highlight=False)
+    table = Table(title="blocks", show_lines=False)
+    for col in ("block", "stops", "v_on [km/h]", "v_off [km/h]", "a [m/s²]", "s per stop [m]"):
+        table.add_column(escape(col), justify="left" if col == "block" else "right")
+    seen: dict[str, list[Stop]] = {}
+    for s in events:
+        assert isinstance(s, Stop)
+        seen.setdefault(s.block, []).append(s)
+    for block, stops in seen.items():
+        s = stops[0]
+        table.add_row(
+            block,
+            str(len(stops)),
+            f"{s.initial_speed / KMH:.0f}",
+            f"{s.final_speed / KMH:.0f}",
+            f"{s.deceleration:.2f}",
+            f"{event_distance(s):.1f}",
+        )
+    out.print(table)
+    out.print(
+        f"braking distance: {source.distance / 1000.0:.3f} km (a block cycle has no distance "
+        "between stops)",
+        highlight=False,
+    )
+    out.print(
+        f"work of the modelled brake (wheel load {m_w:g} kg): {_energy(brake_work(events, m_w))}",
+        highlight=False,
+    )
+    if plot is not None:
+        stops = [s for s in events if isinstance(s, Stop)]
+        slowest = min(s.deceleration for s in stops)
+        trace = block_trace(stops, coast=min(0.1, 0.25 * slowest), name=source.name)
+        shown = detect_events(
+            trace,
+            config=TraceCycleConfig.no_corrections(
+                threshold=0.5 * slowest, min_duration=0.0, merge_gap=0.0
+            ),
+        )
+        plot_trace(
+            trace,
+            shown,
+            path=plot,
+            title=f"{source.name}: {len(shown)} stops, drawn with invented drives between them",
+        )
+        out.print(f"wrote {plot}")
+
+
+@cycle_app.command("inspect")
+def inspect(
+    file: Annotated[
+        str,
+        typer.Argument(
+            help="a speed trace or block cycle CSV, or a shipped cycle: paper, example_trace"
+        ),
+    ],
+    threshold: Annotated[
+        float | None,
+        typer.Option(
+            "--threshold", help="[m/s²] braking: decelerating faster than this (default 0.3)"
+        ),
+    ] = None,
+    min_duration: Annotated[
+        float | None,
+        typer.Option("--min-duration", help="[s] shortest braking event kept (default 2)"),
+    ] = None,
+    smoothing: Annotated[
+        float | None,
+        typer.Option("--smoothing", help="[s] moving-average window on the speed (default 0)"),
+    ] = None,
+    merge_gap: Annotated[
+        float | None,
+        typer.Option("--merge-gap", help="[s] join braking stretches this close (default 1)"),
+    ] = None,
+    speed_unit: Annotated[
+        str | None,
+        typer.Option("--speed-unit", help="km/h, m/s or mph, if the header states no unit"),
+    ] = None,
+    no_corrections: Annotated[
+        bool,
+        typer.Option("--no-corrections", help="brake share 1 and no road load (as a block cycle)"),
+    ] = False,
+    output: Annotated[
+        Path | None, typer.Option("-o", "--output", help="PNG of the trace, events shaded")
+    ] = None,
+) -> None:
+    """Events found, distance, braking energy, and a plot of a drive cycle."""
+    updates = {
+        k: v
+        for k, v in {
+            "threshold": threshold,
+            "min_duration": min_duration,
+            "smoothing": smoothing,
+            "merge_gap": merge_gap,
+        }.items()
+        if v is not None
+    }
+    try:
+        if no_corrections:
+            tc = TraceCycleConfig.no_corrections(**updates)
+        else:
+            tc = TraceCycleConfig.from_dict(updates, source="options")
+        inspect_cycle(file, tc, speed_unit=speed_unit, plot=output)
+    except ConfigError as exc:
+        _fail(str(exc))

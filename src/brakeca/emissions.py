@@ -1,0 +1,309 @@
+"""Brake PM10 in mg/km from a run's emitted wear volume, with the Euro 7 limits beside it.
+
+The simulation gives the wear volume that left the simulated band of one pad over the cycle.
+The chain to a vehicle's airborne PM10 per kilometre, every factor a parameter of
+:class:`EmissionParameters` with its default, literature range and source::
+
+    V_pad     = V_band A_pad / A_band                 the band is a sample of the pad
+    V_front   = V_pad n_pads n_brakes                 both pads of both front brakes
+    V_vehicle = V_front / f_front                     f_front: front axle's share of emissions
+    m         = V_vehicle rho (1 + r_disc)            rho: debris density, r_disc: disc/pad mass
+    m_PM10    = m f_air f_PM10                        airborne share, PM10 share of airborne
+    E         = m_PM10 / distance                     [mg/km]
+
+The low/high band takes every factor at the end of its range that lowers/raises E at once: an
+envelope of what the parameter ranges allow, not a statistical interval. These factors are
+approximate and material dependent; the band is the honest way to show a result against the
+limits, never as a bare pass or fail.
+
+References
+----------
+Regulation (EU) 2024/1257 (Euro 7), Annex I: brake PM10 limits. UN GTR No. 24: the
+WLTP-Brake cycle and the measurement. T. Grigoratos and G. Martini, "Brake wear particle
+emissions: a review", Environ. Sci. Pollut. Res. 22 (2015) 2491-2504. A. Garg et al., "Brake
+wear particulate matter emissions", Environ. Sci. Technol. 34 (2000) 4463-4469. P. G. Sanders
+et al., "Airborne brake wear debris: size distributions, composition, and a comparison of
+dynamometer and vehicle tests", Environ. Sci. Technol. 37 (2003) 4060-4069.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from brakeca.config import ConfigError, format_validation_error
+
+if TYPE_CHECKING:  # pragma: no cover
+    from brakeca.results import RunResult
+
+__all__ = [
+    "EURO7_LIMITS",
+    "EURO7_PM10_LIMIT",
+    "EURO7_PM10_LIMIT_PEV",
+    "EURO7_REFERENCE",
+    "EmissionParameters",
+    "PM10Estimate",
+    "pm10_band",
+    "pm10_from_run",
+    "pm10_mg_per_km",
+]
+
+#: Where the limits come from.
+EURO7_REFERENCE = (
+    "Regulation (EU) 2024/1257 (Euro 7), Annex I; measured on the WLTP-Brake cycle of UN GTR No. 24"
+)
+#: Euro 7 brake PM10 limit for M1 cars in general [mg/km per vehicle].
+EURO7_PM10_LIMIT = 7.0
+#: Euro 7 brake PM10 limit for pure battery-electric M1 cars [mg/km per vehicle].
+EURO7_PM10_LIMIT_PEV = 3.0
+#: The limits by vehicle, [mg/km].
+EURO7_LIMITS: dict[str, float] = {
+    "M1 car": EURO7_PM10_LIMIT,
+    "M1 car, pure battery-electric": EURO7_PM10_LIMIT_PEV,
+}
+
+#: Whether E rises (+1) or falls (-1) with each ranged factor.
+_DIRECTION: dict[str, int] = {
+    "debris_density": 1,
+    "airborne_fraction": 1,
+    "pm10_share": 1,
+    "disc_to_pad_mass_ratio": 1,
+    "front_emission_share": -1,
+}
+
+
+class EmissionParameters(BaseModel):
+    """The factors from emitted band volume to vehicle PM10, each with a (low, high) range.
+
+    Ranges are approximate literature spans, not confidence intervals; see ``docs/cycles.md``.
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
+
+    debris_density: float = Field(
+        2600.0,
+        gt=0,
+        description=(
+            "[kg/m^3] density of the worn pad material rho (bulk density of the friction "
+            "material: roughly 2000 kg/m^3 for organic to 4000 kg/m^3 for semi-metallic pads; "
+            "approximate, from data-sheet values)"
+        ),
+    )
+    debris_density_range: tuple[float, float] = (2000.0, 4000.0)
+    airborne_fraction: float = Field(
+        0.5,
+        gt=0,
+        le=1,
+        description=(
+            "[-] share f_air of the wear mass that becomes airborne (the rest stays on the "
+            "brake, wheel or road); reported ~0.3-0.6 (Garg et al. 2000; Sanders et al. 2003; "
+            "Grigoratos & Martini 2015)"
+        ),
+    )
+    airborne_fraction_range: tuple[float, float] = (0.3, 0.6)
+    pm10_share: float = Field(
+        0.8,
+        gt=0,
+        le=1,
+        description=(
+            "[-] share f_PM10 of the airborne mass in particles below 10 um; reported ~0.6-0.9 "
+            "(same sources)"
+        ),
+    )
+    pm10_share_range: tuple[float, float] = (0.6, 0.9)
+    disc_to_pad_mass_ratio: float = Field(
+        0.0,
+        ge=0,
+        description=(
+            "[-] disc wear mass per pad wear mass r_disc. The model tracks pad wear only, so "
+            "the default 0 counts pad material only; cast-iron discs often lose a comparable "
+            "mass (rough, pairing dependent), hence the range"
+        ),
+    )
+    disc_to_pad_mass_ratio_range: tuple[float, float] = (0.0, 2.0)
+    front_emission_share: float = Field(
+        0.7,
+        gt=0,
+        le=1,
+        description=(
+            "[-] front axle's share f_front of the vehicle's brake emissions; if emissions "
+            "follow friction work, the front brake force share (0.6-0.8 for cars, Limpert 2011)"
+        ),
+    )
+    front_emission_share_range: tuple[float, float] = (0.6, 0.8)
+    pads_per_brake: int = Field(
+        2, ge=1, le=8, description="[-] pads of one brake; like brake.pads_per_brake"
+    )
+    brakes_per_axle: int = Field(2, ge=1, le=4, description="[-] brakes on the front axle")
+
+    @model_validator(mode="after")
+    def _in_ranges(self) -> EmissionParameters:
+        for name in _DIRECTION:
+            value = getattr(self, name)
+            lo, hi = getattr(self, f"{name}_range")
+            if not lo <= hi:
+                raise ValueError(f"{name}_range: low {lo} must not exceed high {hi}")
+            if not lo <= value <= hi:
+                raise ValueError(f"{name} = {value} lies outside its range [{lo}, {hi}]")
+        if not 0 < self.front_emission_share_range[0]:
+            raise ValueError("front_emission_share_range must be above 0")
+        return self
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], *, source: str = "emissions") -> EmissionParameters:
+        """Validate a mapping; errors name the field (``ConfigError``)."""
+        try:
+            return cls.model_validate(dict(data))
+        except ValidationError as exc:
+            raise ConfigError(format_validation_error(exc, source)) from None
+
+    @property
+    def pm10_fraction(self) -> float:
+        """Share of the wear mass emitted as airborne PM10, f_air f_PM10 [-]."""
+        return self.airborne_fraction * self.pm10_share
+
+    def at(self, end: Literal["low", "high"]) -> EmissionParameters:
+        """These parameters with every ranged factor at the end that gives the low/high E."""
+        updates: dict[str, float] = {}
+        for name, sign in _DIRECTION.items():
+            lo, hi = getattr(self, f"{name}_range")
+            rising = (end == "high") == (sign > 0)
+            updates[name] = hi if rising else lo
+        return self.model_copy(update=updates)
+
+
+def pm10_mg_per_km(
+    emitted_volume_band: float,
+    band_area: float,
+    pad_area: float,
+    distance: float,
+    params: EmissionParameters | None = None,
+) -> float:
+    """Vehicle brake PM10 per distance [mg/km] from the volume a simulated band emitted.
+
+    Parameters
+    ----------
+    emitted_volume_band
+        Wear volume that left the simulated band over the cycle [m^3].
+    band_area
+        Area of the simulated band A_band [m^2].
+    pad_area
+        Area of the whole pad A_pad [m^2].
+    distance
+        Distance of the cycle the volume belongs to [m].
+    params
+        The factors of the chain (default :class:`EmissionParameters`).
+
+    Returns
+    -------
+    float
+        Airborne PM10 of the vehicle's brakes [mg/km].
+    """
+    p = params or EmissionParameters()
+    if not (band_area > 0 and pad_area > 0 and distance > 0):
+        raise ValueError(
+            f"band_area, pad_area and distance must be positive, got {band_area}, {pad_area}, "
+            f"{distance}"
+        )
+    if emitted_volume_band < 0:
+        raise ValueError(f"emitted volume must not be negative, got {emitted_volume_band}")
+    pad_volume = emitted_volume_band * pad_area / band_area
+    vehicle_volume = pad_volume * p.pads_per_brake * p.brakes_per_axle / p.front_emission_share
+    mass = vehicle_volume * p.debris_density * (1.0 + p.disc_to_pad_mass_ratio)  # [kg]
+    pm10 = mass * p.pm10_fraction
+    return pm10 * 1e6 / (distance / 1000.0)  # kg -> mg, m -> km
+
+
+@dataclass(frozen=True)
+class PM10Estimate:
+    """Vehicle brake PM10 with the band the parameter ranges allow.
+
+    Attributes
+    ----------
+    low, central, high : float
+        PM10 with every factor at the lowering end, at its default, at the raising end
+        [mg/km].
+    distance : float
+        Distance the emission is spread over [m].
+    params : EmissionParameters
+        The parameters used.
+    """
+
+    low: float
+    central: float
+    high: float
+    distance: float
+    params: EmissionParameters
+
+    def position(self, limit: float) -> Literal["below", "straddles", "above"]:
+        """Where the band lies against a limit [mg/km]: wholly below, across it, wholly above."""
+        if self.high < limit:
+            return "below"
+        if self.low > limit:
+            return "above"
+        return "straddles"
+
+    def describe(self) -> list[str]:
+        """Lines for a report: the estimate, its band, and where the band lies against each
+        Euro 7 limit (no bare pass/fail)."""
+        lines = [
+            f"brake PM10 ~ {self.central:.3g} mg/km (band {self.low:.3g} to {self.high:.3g} mg/km "
+            f"from the parameter ranges) over {self.distance / 1000.0:.4g} km",
+        ]
+        words = {
+            "below": "the whole band lies below",
+            "straddles": "the band straddles",
+            "above": "the whole band lies above",
+        }
+        for who, limit in EURO7_LIMITS.items():
+            lines.append(f"Euro 7 limit {limit:g} mg/km ({who}): {words[self.position(limit)]} it")
+        lines.append(f"limits: {EURO7_REFERENCE}")
+        return lines
+
+
+def pm10_band(
+    emitted_volume_band: float,
+    band_area: float,
+    pad_area: float,
+    distance: float,
+    params: EmissionParameters | None = None,
+) -> PM10Estimate:
+    """(low, central, high) brake PM10 [mg/km]; arguments as :func:`pm10_mg_per_km`."""
+    p = params or EmissionParameters()
+    args = (emitted_volume_band, band_area, pad_area, distance)
+    return PM10Estimate(
+        low=pm10_mg_per_km(*args, p.at("low")),
+        central=pm10_mg_per_km(*args, p),
+        high=pm10_mg_per_km(*args, p.at("high")),
+        distance=float(distance),
+        params=p,
+    )
+
+
+def pm10_from_run(
+    result: RunResult,
+    distance: float,
+    params: EmissionParameters | None = None,
+) -> PM10Estimate:
+    """PM10 band of a run: its total emitted band volume over ``distance`` [m].
+
+    Parameters
+    ----------
+    result
+        A run (``emitted_volume`` per stop, summed over the stops it simulated).
+    distance
+        Distance the simulated stops belong to [m], e.g.
+        :attr:`brakeca.traces.CycleSource.distance`.
+    params
+        Emission factors; by default :class:`EmissionParameters` with ``pads_per_brake``
+        taken from the run's ``brake.pads_per_brake``.
+    """
+    from brakeca.geometry import make_grid
+
+    config = result.config
+    if params is None:
+        params = EmissionParameters(pads_per_brake=config.brake.pads_per_brake)
+    volume = float(result.dataset["emitted_volume"].sum())
+    return pm10_band(volume, make_grid(config).area, config.brake.pad_area, distance, params)

@@ -1,0 +1,115 @@
+"""Emission chain: band volume -> pad -> vehicle -> mass -> airborne PM10 -> mg/km."""
+
+from __future__ import annotations
+
+import pytest
+
+from brakeca.config import ConfigError
+from brakeca.emissions import (
+    EURO7_LIMITS,
+    EURO7_PM10_LIMIT,
+    EURO7_PM10_LIMIT_PEV,
+    EmissionParameters,
+    PM10Estimate,
+    pm10_band,
+    pm10_from_run,
+    pm10_mg_per_km,
+)
+from brakeca.geometry import make_grid
+from brakeca.presets import load_preset
+from brakeca.simulation import simulate
+
+#: The hand case: 1 mm^3 from a 1000 mm^2 band of a 5000 mm^2 pad over 10 km.
+HAND = {"emitted_volume_band": 1e-9, "band_area": 1e-3, "pad_area": 5e-3, "distance": 10e3}
+HAND_PARAMS = EmissionParameters(
+    debris_density=3000.0,
+    airborne_fraction=0.5,
+    pm10_share=0.8,
+    front_emission_share=0.5,
+    front_emission_share_range=(0.5, 0.8),
+)
+
+
+def test_hand_computed_case():
+    # pad: 1e-9 * 5 = 5e-9 m^3; two pads, two front brakes: 2e-8; front half of the
+    # vehicle: 4e-8 m^3; * 3000 kg/m^3 = 1.2e-4 kg; * 0.5 * 0.8 = 4.8e-5 kg = 48 mg; / 10 km
+    assert pm10_mg_per_km(**HAND, params=HAND_PARAMS) == pytest.approx(4.8, rel=1e-12)
+
+
+def test_hand_computed_band():
+    band = pm10_band(**HAND, params=HAND_PARAMS)
+    # low: 2000 kg/m^3, 0.3 * 0.6 airborne PM10, front share 0.8, no disc wear
+    assert band.low == pytest.approx(5e-9 * 4 / 0.8 * 2000 * 0.3 * 0.6 * 1e6 / 10, rel=1e-12)
+    assert band.central == pytest.approx(4.8, rel=1e-12)
+    # high: 4000 kg/m^3, 0.6 * 0.9, front share 0.5, disc wear twice the pad's
+    assert band.high == pytest.approx(5e-9 * 4 / 0.5 * 4000 * 3 * 0.6 * 0.9 * 1e6 / 10, rel=1e-12)
+    assert (band.low, band.high) == pytest.approx((0.9, 25.92), rel=1e-12)
+    assert band.distance == 10e3
+
+
+def test_defaults_order_and_scaling():
+    band = pm10_band(**HAND)
+    assert band.low < band.central < band.high
+    p = EmissionParameters()
+    assert p.pm10_fraction == pytest.approx(0.4)
+    assert p.at("low").debris_density == 2000 and p.at("high").front_emission_share == 0.6
+    # linear in volume, inverse in distance
+    twice = pm10_mg_per_km(**{**HAND, "emitted_volume_band": 2e-9})
+    assert twice == pytest.approx(2 * pm10_mg_per_km(**HAND))
+    far = pm10_mg_per_km(**{**HAND, "distance": 20e3})
+    assert far == pytest.approx(pm10_mg_per_km(**HAND) / 2)
+
+
+def test_euro7_limits():
+    assert EURO7_PM10_LIMIT == 7.0 and EURO7_PM10_LIMIT_PEV == 3.0
+    assert sorted(EURO7_LIMITS.values()) == [3.0, 7.0]
+
+
+@pytest.mark.parametrize(
+    ("low", "high", "where"),
+    [(1.0, 2.0, "below"), (5.0, 9.0, "straddles"), (7.5, 9.0, "above")],
+)
+def test_position_against_a_limit(low, high, where):
+    est = PM10Estimate(low, (low + high) / 2, high, 1e3, EmissionParameters())
+    assert est.position(7.0) == where
+
+
+def test_describe_shows_band_and_limits_not_pass_fail():
+    text = "\n".join(pm10_band(**HAND, params=HAND_PARAMS).describe())
+    assert "4.8 mg/km" in text and "0.9 to 25.9 mg/km" in text
+    assert "7 mg/km" in text and "3 mg/km" in text and "2024/1257" in text
+    assert "pass" not in text.lower() and "fail" not in text.lower()
+
+
+@pytest.mark.parametrize(
+    ("data", "needle"),
+    [
+        ({"debris_density": 9000}, "outside its range"),
+        ({"airborne_fraction": 1.5}, "airborne_fraction"),
+        ({"pm10_share_range": (0.9, 0.6)}, "must not exceed"),
+        ({"bogus": 1}, "unknown key"),
+    ],
+)
+def test_bad_parameters_name_the_field(data, needle):
+    with pytest.raises(ConfigError, match=needle):
+        EmissionParameters.from_dict(data)
+
+
+def test_bad_inputs():
+    with pytest.raises(ValueError, match="positive"):
+        pm10_mg_per_km(1e-9, 1e-3, 5e-3, 0.0)
+    with pytest.raises(ValueError, match="negative"):
+        pm10_mg_per_km(-1e-9, 1e-3, 5e-3, 1e3)
+
+
+def test_from_a_run():
+    config = load_preset("paper").with_updates(
+        {"mesh.n_radial": 3, "mesh.n_angular": 100, "cycle.max_stops": 1}
+    )
+    run = simulate(config, seed=1)
+    volume = float(run.dataset["emitted_volume"].sum())
+    assert volume > 0
+    est = pm10_from_run(run, 5e3)
+    expected = pm10_mg_per_km(volume, make_grid(config).area, config.brake.pad_area, 5e3)
+    assert est.central == pytest.approx(expected, rel=1e-12)
+    assert est.params.pads_per_brake == config.brake.pads_per_brake
