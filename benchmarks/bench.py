@@ -12,7 +12,9 @@ Measures, in one process on one core:
 * ``speedup_vs_numpy``: the compiled kernel against the slow NumPy reference of the tests
   (``tests/naive.py``), side by side on the same grid (``--ref-rows`` x 1000) and the same
   ``--ref-steps`` steps from the same state;
-* ``peak_rss_mb``: peak resident memory of the process.
+* ``scaling`` (with ``--scaling 21,61,201``): the same stops on several band widths, to show the
+  cost grows linearly with cells x steps (constant ns per cell-step);
+* ``peak_rss_mb``: peak resident memory of the process (the full-resolution run dominates).
 """
 
 from __future__ import annotations
@@ -142,6 +144,11 @@ def main() -> None:
     ap.add_argument("--ref-rows", type=int, default=21, help="rows of the NumPy comparison")
     ap.add_argument("--ref-steps", type=int, default=30, help="steps of the NumPy comparison")
     ap.add_argument("--seed", type=int, default=2016)
+    ap.add_argument(
+        "--scaling",
+        default="",
+        help="comma-separated radial row counts: time --stops stops on each (linearity check)",
+    )
     args = ap.parse_args()
     out = {
         "brakeca": __version__,
@@ -150,6 +157,10 @@ def main() -> None:
         "compile_s": round(time_compile(), 3),
     }
     out["run"] = time_run(args.rows, args.stops, args.seed)
+    if args.scaling:
+        out["scaling"] = [
+            time_run(int(r), args.stops, args.seed) for r in args.scaling.split(",") if r.strip()
+        ]
     out["reference"] = speedup_vs_numpy(args.ref_rows, args.ref_steps, args.seed)
     out["speedup_vs_numpy"] = out["reference"]["speedup"]
     out["peak_rss_mb"] = round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)

@@ -13,10 +13,17 @@ A campaign directory holds::
         campaign.nc        every per-stop variable along (run, stop), scalars along run
 
 Runs whose file already exists and loads back with the same seed and configuration are reused,
-so an interrupted campaign is resumed by running it again. Workers only compute and return
-:class:`~brakeca.results.RunResult` objects; this process writes every file, each one
-atomically (a temporary file in the same folder, then :func:`os.replace`), so a killed
-campaign never leaves a half-written run file under its final name.
+so an interrupted campaign is resumed by running it again; a corrupt or foreign run file is
+reported and recomputed. Workers only compute and return :class:`~brakeca.results.RunResult`
+objects; this process writes every file, each one atomically (a temporary file in the same
+folder, then :func:`os.replace`), so a killed campaign never leaves a half-written run file
+under its final name.
+
+Executors (:func:`make_executor`): ``serial`` (inline, for debugging), ``local`` (worker
+processes on this machine, the default) and ``dask`` (a Dask cluster: an existing scheduler or
+a LocalCluster on loopback). Results do not depend on the executor. A run whose worker process
+dies is tried again, a bounded number of times, then recorded as failed with its error; a run
+that raises is recorded as failed at once. The other runs finish either way.
 
 References
 ----------
@@ -27,6 +34,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
+import collections
 import concurrent.futures as cf
 import math
 import multiprocessing
@@ -53,7 +61,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CAMPAIGN_FORMAT",
+    "DEFAULT_MAX_RETRIES",
+    "EXECUTOR_KINDS",
+    "WORKER_ENV",
     "CampaignResult",
+    "DaskExecutor",
+    "ExecutorError",
     "SerialExecutor",
     "finish_campaign",
     "load_campaign",
@@ -65,10 +78,16 @@ __all__ = [
 
 CAMPAIGN_FORMAT = "brakeca-campaign/1"  #: format marker of campaign.nc
 
-ExecutorKind = Literal["serial", "local"]
+ExecutorKind = Literal["serial", "local", "dask"]
 SimulateFn = Callable[..., "RunResult"]
 
-#: Environment set in every local worker: one thread each, the pool gives the parallelism.
+#: The executor kinds of :func:`make_executor` and :func:`run_campaign`.
+EXECUTOR_KINDS: tuple[str, ...] = ("serial", "local", "dask")
+
+#: Default number of times a run whose worker process died is tried again [-].
+DEFAULT_MAX_RETRIES = 2
+
+#: Environment set in every worker: one thread each, the pool or cluster gives the parallelism.
 WORKER_ENV: Mapping[str, str] = {
     "NUMBA_NUM_THREADS": "1",
     "OMP_NUM_THREADS": "1",
@@ -81,6 +100,10 @@ _NON_STOP_DIMS = frozenset({"step", "radius", "angle"})
 
 
 # --- executors -----------------------------------------------------------------------------
+
+
+class ExecutorError(RuntimeError):
+    """An executor cannot be started: dask is missing, or its scheduler cannot be reached."""
 
 
 class SerialExecutor(cf.Executor):
@@ -111,6 +134,55 @@ class SerialExecutor(cf.Executor):
         self._shutdown = True
 
 
+class DaskExecutor(cf.Executor):
+    """A :class:`concurrent.futures.Executor` that sends each call to a Dask cluster.
+
+    Calls are submitted with ``pure=False`` (every submission runs); their results come back
+    to this process, which is the only one that writes files. :meth:`shutdown` closes the
+    client and, when this executor started it, the :class:`distributed.LocalCluster`.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        A connected client.
+    cluster : distributed.LocalCluster, optional
+        A cluster started for this executor, closed with it.
+    own_client
+        Close ``client`` on shutdown (True for a client made by :func:`make_executor`).
+    """
+
+    def __init__(self, client: Any, cluster: Any = None, *, own_client: bool = True) -> None:
+        self.client = client
+        self.cluster = cluster
+        self._own_client = own_client
+        self._executor = client.get_executor(pure=False)
+        self._closed = False
+
+    @property
+    def address(self) -> str:
+        """The scheduler's address."""
+        return str(self.client.scheduler.address)
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> cf.Future:
+        """Send ``fn(*args, **kwargs)`` to the cluster; return a concurrent.futures future."""
+        return self._executor.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """Wait for (or cancel) the submitted calls, then close the client and own cluster."""
+        if self._closed:
+            return
+        self._closed = True
+        try:
+            self._executor.shutdown(wait=wait and not cancel_futures)
+        finally:
+            try:
+                if self._own_client:
+                    self.client.close()
+            finally:
+                if self.cluster is not None:
+                    self.cluster.close()
+
+
 def _init_worker() -> None:
     """Process-pool initializer: one numba / OpenMP / BLAS thread per worker."""
     os.environ.update(WORKER_ENV)
@@ -122,7 +194,78 @@ def _init_worker() -> None:
             pass
 
 
-def make_executor(kind: ExecutorKind = "local", workers: int | None = None) -> cf.Executor:
+def _local_pool(workers: int) -> cf.ProcessPoolExecutor:
+    """A process pool on the ``"spawn"`` start method, one numba/OpenMP thread per worker."""
+    return cf.ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_init_worker,
+    )
+
+
+def _dask_executor(
+    workers: int | None,
+    scheduler: str | None,
+    scheduler_file: str | Path | None,
+    max_retries: int | None,
+) -> DaskExecutor:
+    """Connect to a Dask scheduler, or start a LocalCluster on loopback (see make_executor)."""
+    try:
+        import dask
+        import distributed
+    except ImportError as exc:
+        raise ExecutorError(
+            "the dask executor needs dask.distributed: pip install 'brakeca[cluster]' "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
+    if scheduler is not None or scheduler_file is not None:
+        where = scheduler if scheduler is not None else f"scheduler file {scheduler_file}"
+        try:
+            if scheduler is not None:
+                client = distributed.Client(scheduler, set_as_default=False)
+            else:
+                client = distributed.Client(
+                    scheduler_file=str(scheduler_file), set_as_default=False
+                )
+        except Exception as exc:
+            raise ExecutorError(
+                f"cannot connect to the Dask scheduler at {where}: {_error_text(exc)}"
+            ) from None
+        return DaskExecutor(client)
+    n = (os.cpu_count() or 1) if workers is None else int(workers)
+    # the scheduler's HTTP server (health, metrics; no dashboard) on any free loopback port,
+    # not on dask's default 8787, which another cluster may hold
+    scheduler_kwargs: dict[str, Any] = {"dashboard_address": "127.0.0.1:0"}
+    if max_retries is not None:
+        scheduler_kwargs["allowed_failures"] = int(max_retries)
+    # a one-thread worker holds only the run it executes, so a dying worker takes no queued
+    # run down with it (dask counts every run on a dead worker as suspicious)
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+        cluster = distributed.LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            scheduler_kwargs=scheduler_kwargs,
+            env=dict(WORKER_ENV),
+        )
+        try:
+            client = distributed.Client(cluster, set_as_default=False)
+        except BaseException:
+            cluster.close()
+            raise
+    return DaskExecutor(client, cluster)
+
+
+def make_executor(
+    kind: ExecutorKind = "local",
+    workers: int | None = None,
+    *,
+    scheduler: str | None = None,
+    scheduler_file: str | Path | None = None,
+    max_retries: int | None = None,
+) -> cf.Executor:
     """Create an executor for :func:`run_campaign`.
 
     Parameters
@@ -131,33 +274,66 @@ def make_executor(kind: ExecutorKind = "local", workers: int | None = None) -> c
         ``"serial"``: every run inline in this process (:class:`SerialExecutor`).
         ``"local"``: a :class:`~concurrent.futures.ProcessPoolExecutor` on the ``"spawn"``
         start method, each worker limited to one numba/OpenMP thread.
-        (A dask cluster can be used by passing ``distributed.Client(...).get_executor()``
-        directly to :func:`run_campaign`.)
+        ``"dask"``: a :class:`DaskExecutor`: a client of the scheduler at ``scheduler`` (or
+        named in ``scheduler_file``), or, with neither, of a new
+        :class:`distributed.LocalCluster` of ``workers`` one-thread worker processes bound to
+        127.0.0.1, without dashboard, whose workers get :data:`WORKER_ENV`.
     workers
-        Worker processes for ``"local"`` [-]; None: ``os.cpu_count()``.
+        Worker processes for ``"local"`` and a new LocalCluster [-]; None: ``os.cpu_count()``.
+    scheduler
+        Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"`` (``"dask"`` only).
+    scheduler_file
+        JSON file written by ``dask scheduler --scheduler-file`` (``"dask"`` only).
+    max_retries
+        For a new LocalCluster: how many times the scheduler re-runs a task whose worker died
+        (``distributed.scheduler.allowed-failures``) [-]; None: dask's setting. An existing
+        cluster keeps its scheduler's setting.
 
     Returns
     -------
     concurrent.futures.Executor
-        The caller shuts it down.
+        The caller shuts it down (use it as a context manager); a :class:`DaskExecutor`
+        then closes its client and the cluster it started.
 
     Raises
     ------
     ValueError
-        Unknown kind or a worker count below 1.
+        Unknown kind, a worker count below 1, or a scheduler given to another kind.
+    ExecutorError
+        ``"dask"``: dask.distributed is not installed, or the scheduler cannot be reached.
     """
+    if kind not in EXECUTOR_KINDS:
+        raise ValueError(f"unknown executor {kind!r}; choose 'serial', 'local' or 'dask'")
+    _check_scheduler(kind, scheduler, scheduler_file)
+    if workers is not None and int(workers) < 1:
+        raise ValueError(f"workers must be at least 1, got {workers}")
+    if max_retries is not None and int(max_retries) < 0:
+        raise ValueError(f"max_retries must be at least 0, got {max_retries}")
     if kind == "serial":
         return SerialExecutor()
     if kind == "local":
-        n = (os.cpu_count() or 1) if workers is None else int(workers)
-        if n < 1:
-            raise ValueError(f"workers must be at least 1, got {workers}")
-        return cf.ProcessPoolExecutor(
-            max_workers=n,
-            mp_context=multiprocessing.get_context("spawn"),
-            initializer=_init_worker,
+        return _local_pool((os.cpu_count() or 1) if workers is None else int(workers))
+    return _dask_executor(workers, scheduler, scheduler_file, max_retries)
+
+
+def _check_scheduler(
+    kind: ExecutorKind | cf.Executor, scheduler: str | None, scheduler_file: str | Path | None
+) -> None:
+    """Raise ValueError unless a scheduler (address or file) goes with the dask kind."""
+    if scheduler is None and scheduler_file is None:
+        return
+    if kind != "dask":
+        name = "scheduler" if scheduler is not None else "scheduler_file"
+        raise ValueError(f"{name} needs executor='dask', not {kind!r}")
+    if scheduler is not None and scheduler_file is not None:
+        raise ValueError("give scheduler or scheduler_file, not both")
+    if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
+        raise ValueError(f"scheduler must be an address such as tcp://HOST:PORT, got {scheduler!r}")
+    if scheduler_file is not None and not Path(scheduler_file).is_file():
+        raise ValueError(
+            f"scheduler_file {str(scheduler_file)!r} does not exist; start the scheduler with "
+            "'dask scheduler --scheduler-file FILE' first"
         )
-    raise ValueError(f"unknown executor {kind!r}; choose 'serial' or 'local'")
 
 
 def _execute(simulate_fn: SimulateFn | None, config: SimulationConfig, seed: int) -> RunResult:
@@ -311,6 +487,9 @@ def run_campaign(
     *,
     workers: int | None = None,
     executor: ExecutorKind | cf.Executor = "local",
+    scheduler: str | None = None,
+    scheduler_file: str | Path | None = None,
+    max_retries: int = DEFAULT_MAX_RETRIES,
     quick: bool = False,
     max_stops: int | None = None,
     overrides: Mapping[str, Any] | None = None,
@@ -327,12 +506,22 @@ def run_campaign(
     out_dir
         Campaign directory (created); see the module docstring for its layout.
     workers
-        Worker processes for the ``"local"`` executor [-]; None: ``os.cpu_count()``
-        (never more than the runs left to do).
+        Worker processes of the ``"local"`` executor and of a LocalCluster started by
+        ``"dask"`` [-]; None: ``os.cpu_count()`` (never more than the runs left to do).
     executor
-        ``"serial"``, ``"local"`` (see :func:`make_executor`), or any
-        :class:`concurrent.futures.Executor` (e.g. ``distributed.Client.get_executor()``),
-        which the caller keeps and shuts down.
+        ``"serial"``, ``"local"``, ``"dask"`` (see :func:`make_executor`; the campaign closes
+        what it starts, also on error), or any :class:`concurrent.futures.Executor` (e.g.
+        ``distributed.Client.get_executor()``), which the caller keeps and shuts down.
+    scheduler
+        ``"dask"``: address of a running scheduler (``tcp://HOST:PORT``); None: a
+        LocalCluster on 127.0.0.1 for this campaign (unless ``scheduler_file`` is given).
+    scheduler_file
+        ``"dask"``: the scheduler's JSON file (``dask scheduler --scheduler-file FILE``).
+    max_retries
+        How many times a run whose worker process died (killed, out of memory) is tried
+        again before it is recorded as failed [-]. ``"local"``: each run is counted on its
+        own; ``"dask"``: the LocalCluster's ``allowed-failures`` (an existing cluster keeps
+        its scheduler's). A run that raises is never retried.
     quick
         Narrow every run's band with :func:`brakeca.design.quick_config`.
     max_stops
@@ -359,14 +548,23 @@ def run_campaign(
     ------
     ConfigError
         The design, an override or a level does not validate (before anything is written).
+    ValueError
+        An unknown executor, ``workers`` below 1, ``max_retries`` below 0, or a scheduler
+        that does not go with the executor (before anything is written).
+    ExecutorError
+        ``"dask"``: dask.distributed is missing or the scheduler cannot be reached (after the
+        design files are written, before any run starts).
     """
     from rich.console import Console
     from rich.markup import escape
 
-    if isinstance(executor, str) and executor not in ("serial", "local"):
-        raise ValueError(f"unknown executor {executor!r}; choose 'serial' or 'local'")
+    if isinstance(executor, str) and executor not in EXECUTOR_KINDS:
+        raise ValueError(f"unknown executor {executor!r}; choose 'serial', 'local' or 'dask'")
+    _check_scheduler(executor, scheduler, scheduler_file)
     if workers is not None and workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
+    if isinstance(max_retries, bool) or int(max_retries) != max_retries or max_retries < 0:
+        raise ValueError(f"max_retries must be a whole number at least 0, got {max_retries!r}")
     console = console if console is not None else Console(stderr=True)
     if not isinstance(design, Design):
         design = load_design(design)
@@ -414,6 +612,9 @@ def run_campaign(
             failed,
             executor=executor,
             workers=workers,
+            scheduler=scheduler,
+            scheduler_file=scheduler_file,
+            max_retries=int(max_retries),
             simulate_fn=simulate_fn,
             progress=progress,
             n_total=len(points),
@@ -473,6 +674,143 @@ def _write_design(
     )
 
 
+class _Backend:
+    """Where the runs go: submissions, capacity, and what a finished future means.
+
+    The base class wraps any :class:`concurrent.futures.Executor` with a fixed number of
+    calls in flight; it cannot replace a broken executor, so a run whose worker died is
+    recorded as failed (dask retries such runs itself and then reports ``KilledWorker``).
+    """
+
+    #: Longest wait for a finished run before :meth:`free` is asked again [s]; None: no limit.
+    poll: float | None = None
+
+    def __init__(self, executor: cf.Executor, window: int, *, own: bool) -> None:
+        self.executor = executor
+        self.window = max(1, window)
+        self.own = own
+        self.in_flight = 0
+
+    def free(self) -> int:
+        """How many more runs may be submitted now."""
+        return self.window - self.in_flight
+
+    def submit(self, simulate_fn: SimulateFn | None, point: RunPoint) -> cf.Future:
+        """Submit one run; a refused submission comes back as a failed future."""
+        self.in_flight += 1
+        try:
+            return self.executor.submit(_execute, simulate_fn, point.config, point.seed)
+        except Exception as exc:  # e.g. a broken executor owned by the caller
+            future: cf.Future = cf.Future()
+            future.set_exception(exc)
+            return future
+
+    def release(self, future: cf.Future) -> str | None:
+        """Account for a finished future: the error text when its worker process died (the
+        run may be tried again), None when the future holds the run's outcome."""
+        self.in_flight -= 1
+        return None
+
+    def close(self, *, cancel: bool) -> None:
+        """Shut the executor down when this campaign made it."""
+        if self.own:
+            self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
+
+
+class _DaskBackend(_Backend):
+    """A :class:`DaskExecutor` with as many runs in flight as its workers have threads.
+
+    Dask charges a worker's death to every task the worker holds, executing or waiting. With
+    no more runs submitted than there are worker threads, a worker normally holds only the run
+    it executes. The thread count is asked again every :attr:`poll` seconds, so workers that
+    join late (a batch queue) get runs; with no worker yet, one run waits in the scheduler.
+    """
+
+    poll = 1.0
+
+    def __init__(self, executor: DaskExecutor) -> None:
+        super().__init__(executor, 1, own=True)
+        self.client = executor.client
+
+    def free(self) -> int:
+        try:
+            threads = sum(self.client.nthreads().values())
+        except Exception:  # the scheduler is busy or gone: the runs in flight will tell
+            threads = 0
+        return max(threads, 1) - self.in_flight
+
+
+class _LocalSlots(_Backend):
+    """``workers`` one-process pools, each with at most one run in flight.
+
+    A worker process that dies (killed, out of memory) breaks only its own pool, so the lost
+    run is known exactly: the pool is replaced and the run may be tried again, while the
+    runs of the other slots go on undisturbed.
+    """
+
+    def __init__(self, workers: int) -> None:
+        self.pools: list[cf.ProcessPoolExecutor | None] = [None] * max(1, workers)
+        self.busy: dict[cf.Future, int] = {}
+
+    def free(self) -> int:
+        return len(self.pools) - len(self.busy)
+
+    def submit(self, simulate_fn: SimulateFn | None, point: RunPoint) -> cf.Future:
+        taken = set(self.busy.values())
+        slot = next(i for i in range(len(self.pools)) if i not in taken)
+        pool = self.pools[slot]
+        if pool is None:
+            pool = self.pools[slot] = _local_pool(1)
+        future = pool.submit(_execute, simulate_fn, point.config, point.seed)
+        self.busy[future] = slot
+        return future
+
+    def release(self, future: cf.Future) -> str | None:
+        slot = self.busy.pop(future)
+        exc = None if future.cancelled() else future.exception()
+        if not isinstance(exc, cf.BrokenExecutor):
+            return None
+        pool = self.pools[slot]
+        self.pools[slot] = None  # a fresh process for the next run of this slot
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+        return _error_text(exc)
+
+    def close(self, *, cancel: bool) -> None:
+        pools = [p for p in self.pools if p is not None]
+        self.pools = [None] * len(self.pools)
+        for pool in pools:
+            pool.shutdown(wait=not cancel, cancel_futures=cancel)
+
+
+def _backend(
+    executor: ExecutorKind | cf.Executor,
+    workers: int | None,
+    n_todo: int,
+    *,
+    scheduler: str | None,
+    scheduler_file: str | Path | None,
+    max_retries: int,
+) -> _Backend:
+    """The backend that runs ``n_todo`` runs on ``executor`` (see run_campaign)."""
+    n_workers = (os.cpu_count() or 1) if workers is None else workers
+    if isinstance(executor, cf.Executor):
+        window = 1 if isinstance(executor, SerialExecutor) else 2 * max(1, n_workers)
+        return _Backend(executor, window, own=False)
+    if executor == "serial":
+        return _Backend(SerialExecutor(), 1, own=True)
+    if executor == "local":
+        return _LocalSlots(max(1, min(n_workers, n_todo)))
+    dask_executor = make_executor(
+        "dask",
+        max(1, min(n_workers, n_todo)),
+        scheduler=scheduler,
+        scheduler_file=scheduler_file,
+        max_retries=max_retries,
+    )
+    return _DaskBackend(dask_executor)  # type: ignore[arg-type]
+
+
 def _execute_points(
     todo: Sequence[RunPoint],
     runs: Path,
@@ -482,12 +820,20 @@ def _execute_points(
     *,
     executor: ExecutorKind | cf.Executor,
     workers: int | None,
+    scheduler: str | None,
+    scheduler_file: str | Path | None,
+    max_retries: int,
     simulate_fn: SimulateFn | None,
     progress: bool,
     n_total: int,
     console: Console,
 ) -> None:
-    """Submit ``todo`` (a bounded number in flight), write each result as it comes back."""
+    """Submit ``todo`` (a bounded number in flight), write each result as it comes back.
+
+    A run whose worker process died goes back to the front of the queue until it has died
+    ``max_retries + 1`` times, then it is recorded as failed; a run that raised is recorded
+    as failed at once (the model is deterministic: it would raise again).
+    """
     from rich.markup import escape
     from rich.progress import (
         BarColumn,
@@ -498,15 +844,14 @@ def _execute_points(
         TimeRemainingColumn,
     )
 
-    own = not isinstance(executor, cf.Executor)
-    if own:
-        n_workers = (os.cpu_count() or 1) if workers is None else workers
-        pool = make_executor(executor, max(1, min(n_workers, len(todo))))  # type: ignore[arg-type]
-    else:
-        pool = executor  # type: ignore[assignment]
-        n_workers = workers or os.cpu_count() or 1
-    window = 1 if isinstance(pool, SerialExecutor) else 2 * max(1, n_workers)
-
+    backend = _backend(
+        executor,
+        workers,
+        len(todo),
+        scheduler=scheduler,
+        scheduler_file=scheduler_file,
+        max_retries=max_retries,
+    )
     bar = Progress(
         TextColumn("[bold]{task.description}"),
         BarColumn(),
@@ -518,40 +863,63 @@ def _execute_points(
         disable=not progress,
         transient=False,
     )
-    queue = list(todo)
+    queue = collections.deque(todo)
     pending: dict[cf.Future, RunPoint] = {}
+    deaths: dict[str, int] = {}
+    finished = False
     try:
         with bar:
             task = bar.add_task("runs", total=n_total, completed=n_total - len(todo))
             while queue or pending:
-                while queue and len(pending) < window:
-                    point = queue.pop(0)
-                    pending[pool.submit(_execute, simulate_fn, point.config, point.seed)] = point
-                done, _ = cf.wait(list(pending), return_when=cf.FIRST_COMPLETED)
-                for future in done:
+                while queue and backend.free() > 0:
+                    point = queue.popleft()
+                    pending[backend.submit(simulate_fn, point)] = point
+                done, _ = cf.wait(
+                    list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
+                )
+                for future in sorted(done, key=lambda f: pending[f].order):
                     point = pending.pop(future)
-                    record = _finish(future, point, runs)
-                    records[record.run_id] = record
-                    (computed if record.status == "ok" else failed).append(record.run_id)
+                    rid = run_id(point)
+                    death = backend.release(future)
+                    if death is not None:
+                        deaths[rid] = deaths.get(rid, 0) + 1
+                        if deaths[rid] <= max_retries:
+                            console.print(
+                                f"[yellow]worker died:[/] test {point.test}, replicate "
+                                f"{point.replicate} ({rid}): {escape(death)}; trying again "
+                                f"({deaths[rid]} of {max_retries})"
+                            )
+                            queue.appendleft(point)
+                            continue
+                        times = "once" if deaths[rid] == 1 else f"{deaths[rid]} times"
+                        error = (
+                            f"the worker process died {times} while running it, not retried "
+                            f"again (max_retries {max_retries}; last: {death})"
+                        )
+                        record = _Record(point, rid, "failed", error)
+                    else:
+                        record = _finish(future, point, runs)
+                    records[rid] = record
+                    (computed if record.status == "ok" else failed).append(rid)
                     if record.status != "ok":
                         console.print(
                             f"[red]run failed:[/] test {point.test}, replicate {point.replicate} "
-                            f"({record.run_id}): {escape(record.error)}"
+                            f"({rid}): {escape(record.error)}"
                         )
                     bar.advance(task)
-    except BaseException:
-        for future in pending:
-            future.cancel()
-        if own:
-            pool.shutdown(wait=False, cancel_futures=True)
-        raise
-    if own:
-        pool.shutdown(wait=True)
+        finished = True
+    finally:
+        if not finished:
+            for future in pending:
+                future.cancel()
+        backend.close(cancel=not finished)
 
 
 def _finish(future: cf.Future, point: RunPoint, runs: Path) -> _Record:
     """Turn a finished future into a record, writing the run file when it succeeded."""
     rid = run_id(point)
+    if future.cancelled():
+        return _Record(point, rid, "failed", "the run was cancelled")
     try:
         result = future.result()
     except Exception as exc:
@@ -567,7 +935,17 @@ def _finish(future: cf.Future, point: RunPoint, runs: Path) -> _Record:
 
 
 def _error_text(exc: BaseException) -> str:
-    text = f"{type(exc).__name__}: {exc}".strip()
+    """One line (for the CSV) naming the exception; a dask KilledWorker said plainly."""
+    if type(exc).__name__ == "KilledWorker":
+        tries = getattr(exc, "allowed_failures", None)
+        worker = getattr(getattr(exc, "last_worker", None), "address", "?")
+        times = "repeatedly" if tries is None else f"{int(tries) + 1} times"
+        text = (
+            f"KilledWorker: the worker process died {times} while running it (dask retried "
+            f"it on other workers; last worker {worker}); not retried again"
+        )
+    else:
+        text = f"{type(exc).__name__}: {exc}".strip()
     return " ".join(text.split())  # one line, for the CSV
 
 
@@ -791,7 +1169,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Minimal command line: ``python -m brakeca.campaign DESIGN OUT_DIR [options]``.
 
     Returns the exit status: 0 when every run finished, 1 when some failed, 2 on a
-    configuration error.
+    configuration or executor error.
     """
     import argparse
 
@@ -800,8 +1178,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m brakeca.campaign", description=main.__doc__)
     parser.add_argument("design", help="shipped design name or design TOML file")
     parser.add_argument("out_dir", help="campaign directory")
-    parser.add_argument("--executor", choices=["serial", "local"], default="local")
+    parser.add_argument("--executor", choices=list(EXECUTOR_KINDS), default="local")
     parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument("--scheduler", default=None, metavar="ADDRESS")
+    parser.add_argument("--scheduler-file", default=None, metavar="PATH")
+    parser.add_argument("--max-retries", type=int, default=DEFAULT_MAX_RETRIES)
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--max-stops", type=int, default=None)
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
@@ -814,12 +1195,15 @@ def main(argv: Sequence[str] | None = None) -> int:
             args.out_dir,
             workers=args.workers,
             executor=args.executor,
+            scheduler=args.scheduler,
+            scheduler_file=args.scheduler_file,
+            max_retries=args.max_retries,
             quick=args.quick,
             max_stops=args.max_stops,
             overrides=overrides,
             progress=not args.no_progress,
         )
-    except ConfigError as exc:
+    except (ConfigError, ExecutorError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     return 0 if result.ok else 1

@@ -1,0 +1,509 @@
+"""Campaigns on a real Dask cluster (scheduler and worker processes on loopback), worker deaths
+and retries, for the dask and the local executor; the dask options of ``brakeca run``.
+
+A 2 x 2 design (S x A) over a 5 x 100 cell band and 2 stops, as in test_campaign.py. Workers
+are killed by a ``simulate_fn`` that SIGKILLs its own process; marker files in ``tmp_path``
+count the attempts of each run across processes.
+"""
+
+from __future__ import annotations
+
+import functools
+import io
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+from rich.console import Console
+from typer.testing import CliRunner
+
+from brakeca.campaign import (
+    CampaignResult,
+    DaskExecutor,
+    ExecutorError,
+    load_campaign,
+    make_executor,
+    run_campaign,
+)
+from brakeca.cli import app
+from brakeca.contact import ContactError
+from brakeca.presets import load_preset
+from brakeca.results import RunResult
+from brakeca.simulation import simulate
+
+distributed = pytest.importorskip("distributed")
+dask = pytest.importorskip("dask")
+psutil = pytest.importorskip("psutil")
+
+TINY = {
+    "mesh.n_radial": 5,
+    "mesh.n_angular": 100,
+    "mesh.n_subdomains": 10,
+    "cycle.max_stops": 2,
+}
+
+DESIGN = """\
+name = "tiny"
+description = "2 x 2 on a tiny band"
+base_config = "tiny_base.toml"
+root_seed = 23
+
+[[factors]]
+name = "S"
+field = "automaton.secondary_removal_fraction"
+levels = [0.0, 1.0]
+labels = ["-", "+"]
+
+[[factors]]
+name = "A"
+field = "pad.fibre_area_fraction"
+levels = [10.0, 20.0]
+scale = 0.01
+labels = ["-", "+"]
+unit = "%"
+"""
+
+#: Summary columns and dataset variables / attributes that depend on the machine's speed.
+TIMING = ["wall_time"]
+
+
+def _quiet() -> Console:
+    return Console(file=io.StringIO(), width=200)
+
+
+def _text(console: Console) -> str:
+    return console.file.getvalue()  # type: ignore[attr-defined]
+
+
+def _deterministic(summary: pd.DataFrame) -> pd.DataFrame:
+    return summary.drop(columns=[c for c in TIMING if c in summary.columns])
+
+
+def _run_dataset(out: Path, rid: str) -> xr.Dataset:
+    """A run file's dataset without its timing variables and attributes."""
+    ds = RunResult.from_netcdf(out / "runs" / f"{rid}.nc").dataset
+    ds = ds.drop_vars([v for v in TIMING if v in ds.variables])
+    ds.attrs = {k: v for k, v in ds.attrs.items() if k not in TIMING}
+    return ds
+
+
+def _assert_same_runs(result: CampaignResult, reference: CampaignResult) -> None:
+    """Bit-identical summaries, campaign datasets and run files (timing aside)."""
+    pd.testing.assert_frame_equal(
+        _deterministic(result.summary),
+        _deterministic(reference.summary),
+        check_exact=True,
+        check_dtype=False,
+    )
+    xr.testing.assert_identical(
+        result.dataset.drop_vars(TIMING),
+        reference.dataset.drop_vars(TIMING).assign_attrs(result.dataset.attrs),
+    )
+    for rid in reference.summary["run_id"]:
+        xr.testing.assert_identical(
+            _run_dataset(result.out_dir, rid), _run_dataset(reference.out_dir, rid)
+        )
+
+
+def _children() -> set[int]:
+    """Process ids of this process's descendants (multiprocessing's tracker aside)."""
+    pids = set()
+    for proc in psutil.Process().children(recursive=True):
+        try:
+            if not any("resource_tracker" in part for part in proc.cmdline()):
+                pids.add(proc.pid)
+        except psutil.NoSuchProcess:
+            pass
+    return pids
+
+
+def _assert_no_new_children(before: set[int]) -> None:
+    """Wait up to 20 s for the processes started since ``before`` to end; fail if any lives."""
+    new = []
+    for pid in _children() - before:
+        try:
+            new.append(psutil.Process(pid))
+        except psutil.NoSuchProcess:
+            pass
+    _, alive = psutil.wait_procs(new, timeout=20)
+    assert not alive, [p.cmdline() for p in alive]
+
+
+# top-level (picklable) simulate functions; bind marker_dir with functools.partial -------------
+
+
+def _is_test(config, test: int) -> bool:
+    """Whether ``config`` is test 1 (S -, A -), 2 (S +, A -), 3 (S -, A +) or 4 (S +, A +)."""
+    s_high = config.automaton.secondary_removal_fraction == 1.0
+    a_high = config.pad.fibre_area_fraction > 0.15
+    return (int(s_high) + 2 * int(a_high) + 1) == test
+
+
+def _count_attempt(marker_dir: Path, seed: int) -> int:
+    """Append one line to the run's attempt file; return the attempts so far."""
+    path = Path(marker_dir) / f"{seed}.attempts"
+    with path.open("a", encoding="utf-8") as f:
+        f.write(f"{os.getpid()}\n")
+    return len(path.read_text(encoding="utf-8").splitlines())
+
+
+def _attempts(marker_dir: Path, seed: int) -> int:
+    path = Path(marker_dir) / f"{seed}.attempts"
+    return len(path.read_text(encoding="utf-8").splitlines()) if path.exists() else 0
+
+
+def chaos(config, *, seed, marker_dir, progress=None):
+    """The real simulate, except that test 2 SIGKILLs its worker process the first time it
+    runs, test 3 raises a model error every time, and test 4 SIGKILLs its worker every time."""
+    if _is_test(config, 2) or _is_test(config, 3) or _is_test(config, 4):
+        attempt = _count_attempt(marker_dir, seed)
+        if _is_test(config, 3):
+            raise ContactError("injected: no plateau can touch the disc")
+        if _is_test(config, 4) or attempt == 1:
+            os.kill(os.getpid(), signal.SIGKILL)
+    return simulate(config, seed=seed, progress=progress)
+
+
+def raises_on_test_3(config, *, seed, progress=None):
+    """The real simulate, except that test 3 raises a model error."""
+    if _is_test(config, 3):
+        raise ContactError("injected: no plateau can touch the disc")
+    return simulate(config, seed=seed, progress=progress)
+
+
+# fixtures ----------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def design_file(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("design")
+    base = load_preset("paper").with_updates(TINY)
+    (folder / "tiny_base.toml").write_text(base.to_toml(), encoding="utf-8")
+    path = folder / "tiny.toml"
+    path.write_text(DESIGN, encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def local(design_file, tmp_path_factory) -> CampaignResult:
+    """The reference: the default local executor, two worker processes."""
+    out = tmp_path_factory.mktemp("local") / "campaign"
+    result = run_campaign(
+        design_file, out, executor="local", workers=2, progress=False, console=_quiet()
+    )
+    assert result.ok and len(result.computed) == 4
+    return result
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """An existing cluster: scheduler and two one-thread worker processes on 127.0.0.1;
+    the scheduler gives a task whose worker died one more try."""
+    settings = {
+        "distributed.scheduler.allowed-failures": 1,
+        "distributed.scheduler.worker-saturation": 1.0,
+    }
+    with (
+        dask.config.set(settings),
+        distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+        ) as cluster,
+    ):
+        yield cluster
+
+
+# dask --------------------------------------------------------------------------------------
+
+
+def test_dask_local_cluster_is_bit_identical_to_local_and_closed(local, design_file, tmp_path):
+    before = _children()
+    result = run_campaign(
+        design_file,
+        tmp_path / "dask",
+        executor="dask",
+        workers=2,
+        progress=False,
+        console=_quiet(),
+    )
+    assert result.ok and len(result.computed) == 4 and not result.failed
+    _assert_same_runs(result, local)
+    assert list(result.summary["MU"]) == list(local.summary["MU"])  # bit for bit
+    assert list(result.summary["V"]) == list(local.summary["V"])
+    loaded = load_campaign(tmp_path / "dask")
+    pd.testing.assert_frame_equal(_deterministic(loaded.summary), _deterministic(result.summary))
+    _assert_no_new_children(before)  # the cluster the campaign started is gone
+
+
+def _check_chaos(result: CampaignResult, local: CampaignResult, markers: Path, text: str) -> None:
+    """After a campaign with :func:`chaos` and ``max_retries=1``: tests 1 and 2 ok and equal
+    to the reference, test 3 failed at once, test 4 failed after two deaths."""
+    summary = result.summary
+    seeds = [int(seed) for seed in summary["seed"]]
+    assert list(summary["status"]) == ["ok", "ok", "failed", "failed"], text
+    assert _attempts(markers, seeds[1]) >= 2  # killed once, then finished on a new worker
+    assert summary.loc[2, "error"] == "ContactError: injected: no plateau can touch the disc"
+    assert _attempts(markers, seeds[2]) == 1  # raised: never retried
+    assert "worker process died 2 times" in summary.loc[3, "error"]
+    assert _attempts(markers, seeds[3]) == 2  # 1 + max_retries
+    assert np.isnan(summary.loc[2, "MU"]) and np.isnan(summary.loc[3, "MU"])
+    ok = summary["status"] == "ok"
+    pd.testing.assert_frame_equal(  # NaN rows make the integer columns float
+        _deterministic(summary[ok]),
+        _deterministic(local.summary[ok]),
+        check_exact=True,
+        check_dtype=False,
+    )
+    for rid in summary.loc[ok, "run_id"]:
+        xr.testing.assert_identical(
+            _run_dataset(result.out_dir, rid), _run_dataset(local.out_dir, rid)
+        )
+    for rid in summary.loc[~ok, "run_id"]:
+        assert not (result.out_dir / "runs" / f"{rid}.nc").exists()
+    assert sorted(result.failed) == sorted(summary.loc[~ok, "run_id"])
+    assert not list(result.out_dir.rglob("*.tmp"))
+    loaded = load_campaign(result.out_dir)
+    assert list(loaded.summary["status"]) == ["ok", "ok", "failed", "failed"]
+    assert list(loaded.summary["error"]) == list(summary["error"])
+
+
+def test_dask_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
+    """A LocalCluster started by the campaign, workers SIGKILLed mid-campaign: max_retries is
+    the scheduler's allowed-failures; a run that raises is failed at once; the rest finish."""
+    markers = tmp_path / "markers"
+    markers.mkdir()
+    console = _quiet()
+    result = run_campaign(
+        design_file,
+        tmp_path / "campaign",
+        executor="dask",
+        workers=2,
+        max_retries=1,
+        simulate_fn=functools.partial(chaos, marker_dir=markers),
+        progress=False,
+        console=console,
+    )
+    _check_chaos(result, local, markers, _text(console))
+    assert "KilledWorker" in result.summary.loc[3, "error"]
+
+
+class _Boom(io.StringIO):
+    """A console file that breaks on the first message: an error inside the campaign loop."""
+
+    def write(self, text: str) -> int:
+        raise RuntimeError("console broke")
+
+
+def test_dask_cluster_is_closed_when_the_campaign_fails(design_file, tmp_path):
+    before = _children()
+    with pytest.raises(RuntimeError, match="console broke"):
+        run_campaign(
+            design_file,
+            tmp_path / "campaign",
+            executor="dask",
+            workers=1,
+            simulate_fn=raises_on_test_3,
+            progress=False,
+            console=Console(file=_Boom(), width=200),
+        )
+    _assert_no_new_children(before)
+    assert not list((tmp_path / "campaign").rglob("*.tmp"))
+
+
+def test_unreachable_scheduler_is_reported(design_file, tmp_path):
+    with (
+        dask.config.set({"distributed.comm.timeouts.connect": "1s"}),
+        pytest.raises(ExecutorError, match=r"cannot connect to the Dask scheduler at tcp://127"),
+    ):
+        run_campaign(
+            design_file,
+            tmp_path / "campaign",
+            executor="dask",
+            scheduler="tcp://127.0.0.1:9",
+            progress=False,
+            console=_quiet(),
+        )
+
+
+def test_make_executor_dask_and_scheduler_arguments(tmp_path):
+    with pytest.raises(ValueError, match="scheduler needs executor='dask'"):
+        make_executor("local", scheduler="tcp://127.0.0.1:8786")
+    with pytest.raises(ValueError, match="scheduler_file needs executor='dask'"):
+        make_executor("serial", scheduler_file=tmp_path / "s.json")
+    with pytest.raises(ValueError, match="not both"):
+        make_executor("dask", scheduler="tcp://h:1", scheduler_file=tmp_path / "s.json")
+    with pytest.raises(ValueError, match="does not exist"):
+        make_executor("dask", scheduler_file=tmp_path / "missing.json")
+    with pytest.raises(ValueError, match="max_retries"):
+        make_executor("dask", max_retries=-1)
+    with pytest.raises(ValueError, match="max_retries"):
+        run_campaign("paper", tmp_path / "never", max_retries=-1, progress=False)
+    with pytest.raises(ValueError, match="scheduler needs"):
+        run_campaign("paper", tmp_path / "never", scheduler="tcp://h:1", progress=False)
+    assert not (tmp_path / "never").exists()
+
+
+def test_make_executor_dask_by_scheduler_file(cluster, tmp_path):
+    path = tmp_path / "scheduler.json"
+    with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
+        client.write_scheduler_file(str(path))
+    with make_executor("dask", scheduler_file=path) as ex:
+        assert isinstance(ex, DaskExecutor) and ex.cluster is None
+        assert ex.address == cluster.scheduler_address
+        assert ex.submit(os.getenv, "OMP_NUM_THREADS").result() == "1"
+    assert ex.client.status == "closed"
+
+
+def test_make_executor_dask_starts_and_closes_a_loopback_cluster():
+    before = _children()
+    with make_executor("dask", 1, max_retries=0) as ex:
+        assert isinstance(ex, DaskExecutor) and ex.cluster is not None
+        assert ex.address.startswith("tcp://127.0.0.1:")
+        assert ex.submit(os.getenv, "NUMBA_NUM_THREADS").result() == "1"
+        assert ex.submit(os.getenv, "OMP_NUM_THREADS").result() == "1"
+        assert ex.submit(pow, 3, 2).result() == 9
+        info = ex.client.scheduler_info()
+        assert [w["nthreads"] for w in info["workers"].values()] == [1]
+        assert ex.client.run_on_scheduler(_allowed_failures) == 0
+    assert ex.client.status == "closed" and ex.cluster.status.name == "closed"
+    _assert_no_new_children(before)
+
+
+def _allowed_failures(dask_scheduler) -> int:
+    return dask_scheduler.allowed_failures
+
+
+@pytest.mark.slow
+def test_client_killed_on_dask_resumes_and_leaves_no_process(local, design_file, tmp_path):
+    """SIGKILL a ``python -m brakeca.campaign --executor dask`` halfway: its cluster's
+    processes go with it, the finished run files are complete, and a resume reuses them."""
+    out = tmp_path / "campaign"
+    cmd = [sys.executable, "-m", "brakeca.campaign", str(design_file), str(out)]
+    cmd += ["--executor", "dask", "--workers", "2", "--no-progress"]
+    env = dict(os.environ, PYTHONUNBUFFERED="1")
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    try:
+        while not list((out / "runs").glob("*.nc")):
+            assert proc.poll() is None, "the campaign ended before writing a run file"
+            assert time.monotonic() < deadline, "no run file appeared within 120 s"
+            time.sleep(0.01)
+        orphans = psutil.Process(proc.pid).children(recursive=True)
+        proc.send_signal(signal.SIGKILL)
+    finally:
+        proc.wait(timeout=30)
+    assert proc.returncode == -signal.SIGKILL
+    _, alive = psutil.wait_procs(orphans, timeout=30)
+    assert not alive, [p.cmdline() for p in alive]
+    assert not (out / "summary.csv").exists()
+    finished = sorted(p.stem for p in (out / "runs").glob("*.nc"))
+    for rid in finished:
+        RunResult.from_netcdf(out / "runs" / f"{rid}.nc")  # complete files only
+    resumed = run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+    assert resumed.ok and sorted(resumed.reused) == finished
+    assert len(resumed.computed) == 4 - len(finished)
+    assert not list(out.rglob("*.tmp"))
+    _assert_same_runs(resumed, local)
+
+
+# local executor ----------------------------------------------------------------------------
+
+
+def test_local_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
+    """Worker processes SIGKILLed mid-campaign: the lost run is tried again (once here), a
+    run that raises is failed at once; the next pass computes only the failed runs."""
+    markers = tmp_path / "markers"
+    markers.mkdir()
+    console = _quiet()
+    result = run_campaign(
+        design_file,
+        tmp_path / "campaign",
+        executor="local",
+        workers=2,
+        max_retries=1,
+        simulate_fn=functools.partial(chaos, marker_dir=markers),
+        progress=False,
+        console=console,
+    )
+    text = _text(console)
+    _check_chaos(result, local, markers, text)
+    assert _attempts(markers, int(result.summary.loc[1, "seed"])) == 2  # exactly
+    assert "BrokenProcessPool" in result.summary.loc[3, "error"]
+    assert text.count("worker died") == 2 and "trying again (1 of 1)" in text
+    healed = run_campaign(  # with the real simulate, inline
+        design_file, result.out_dir, executor="serial", progress=False, console=_quiet()
+    )
+    assert healed.ok and sorted(healed.computed) == sorted(result.failed)
+    assert len(healed.reused) == 2
+    _assert_same_runs(healed, local)
+
+
+# command line ------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--scheduler", "tcp://127.0.0.1:8786"], "--scheduler needs --executor dask"),
+        (["--executor", "local", "--scheduler-file", "{file}"], "--scheduler-file needs"),
+        (
+            ["--executor", "dask", "--scheduler", "tcp://h:1", "--scheduler-file", "{file}"],
+            "not both",
+        ),
+        (["--executor", "dask", "--scheduler", "tcp://h:1", "--workers", "2"], "--workers"),
+        (["--executor", "cluster"], "--executor"),
+    ],
+)
+def test_cli_rejects_bad_executor_options(design_file, tmp_path, args, message):
+    scheduler_file = tmp_path / "scheduler.json"
+    scheduler_file.write_text("{}", encoding="utf-8")
+    args = [a.replace("{file}", str(scheduler_file)) for a in args]
+    out = tmp_path / "never"
+    res = CliRunner().invoke(app, ["run", str(design_file), "-o", str(out), *args])
+    assert res.exit_code == 2, res.output
+    assert message in " ".join(res.output.split())
+    assert not out.exists()
+
+
+def test_cli_max_retries_must_not_be_negative(design_file, tmp_path):
+    res = CliRunner().invoke(
+        app, ["run", str(design_file), "-o", str(tmp_path / "c"), "--max-retries", "-1"]
+    )
+    assert res.exit_code == 2 and "--max-retries" in res.output
+
+
+def test_cli_runs_on_an_existing_cluster(cluster, local, design_file, tmp_path):
+    out = tmp_path / "campaign"
+    res = CliRunner().invoke(
+        app,
+        [
+            "run",
+            str(design_file),
+            "-o",
+            str(out),
+            "--executor",
+            "dask",
+            "--scheduler",
+            cluster.scheduler_address,
+            "--max-retries",
+            "1",
+            "--no-report",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    assert "4 run(s) computed" in res.output
+    _assert_same_runs(load_campaign(out), local)
+    # the campaign did not close a cluster it did not start
+    with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
+        assert client.submit(pow, 2, 5).result() == 32
