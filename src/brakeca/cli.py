@@ -262,6 +262,7 @@ def _run_and_report(
     scheduler: str | None = None,
     scheduler_file: Path | None = None,
     max_retries: int | None = None,
+    cycle: str | None = None,
 ) -> None:
     import time
 
@@ -297,6 +298,11 @@ def _run_and_report(
         )
     try:
         updates = dict(parse_override(o) for o in overrides or [])
+        if cycle is not None:
+            from brakeca.presets import load_preset
+            from brakeca.traces import with_cycle
+
+            updates["cycle"] = with_cycle(load_preset(), cycle).cycle.model_dump(mode="json")
         t0 = time.perf_counter()
         result = run_campaign(
             design,
@@ -363,6 +369,14 @@ def run(
     stops: StopsOpt = None,
     overrides: SetOpt = None,
     report: Annotated[bool, typer.Option(help="analyse and write the report at the end")] = True,
+    cycle: Annotated[
+        str | None,
+        typer.Option(
+            "--cycle",
+            help="drive cycle of every run: a block-cycle or speed-trace CSV or a shipped name; "
+            "with a trace the report gives PM10 in mg/km next to the Euro 7 limits",
+        ),
+    ] = None,
 ) -> None:
     """Run every point of a design into a campaign folder (resumes finished runs)."""
     _run_and_report(
@@ -377,6 +391,7 @@ def run(
         stops=stops,
         overrides=overrides,
         report=report,
+        cycle=cycle,
     )
 
 

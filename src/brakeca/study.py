@@ -54,6 +54,42 @@ def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return ds[variable].values, ds["radius"].values, ds["angle"].values
 
 
+def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.DataFrame, str]:
+    """PM10 [mg/km] low/central/high per run when the campaign's cycle is a speed trace."""
+    from brakeca.config import load_config
+    from brakeca.emissions import (
+        EURO7_PM10_LIMIT,
+        EURO7_PM10_LIMIT_PEV,
+        EURO7_REFERENCE,
+        pm10_from_run,
+    )
+    from brakeca.traces import configured_cycle
+
+    base = Path(result.out_dir) / "base_config.toml"
+    if not base.exists() or not load_config(base).cycle.trace_file:
+        return summary, ""
+    rows = {"PM10_low_mg_km": [], "PM10_mg_km": [], "PM10_high_mg_km": []}
+    for _, row in summary.iterrows():
+        if row.get("status", "ok") != "ok":
+            for key in rows:
+                rows[key].append(float("nan"))
+            continue
+        run = RunResult.from_netcdf(Path(result.out_dir) / "runs" / f"{row['run_id']}.nc")
+        est = pm10_from_run(run, configured_cycle(run.config).distance)
+        rows["PM10_low_mg_km"].append(est.low)
+        rows["PM10_mg_km"].append(est.central)
+        rows["PM10_high_mg_km"].append(est.high)
+    summary = summary.assign(**rows)
+    note = (
+        "PM10 [mg/km]: emitted volume -> mass (debris density) -> airborne PM10, scaled from the "
+        "band to the pad, wheel and vehicle over the trace's distance; low/high use the ends of "
+        "every parameter's literature range (docs/cycles.md). Compare with the Euro 7 limits of "
+        f"{EURO7_PM10_LIMIT:g} mg/km (most cars) and {EURO7_PM10_LIMIT_PEV:g} mg/km (pure "
+        f"battery-electric), {EURO7_REFERENCE}; a band across a limit is not a pass or a fail."
+    )
+    return summary, note
+
+
 def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -99,15 +135,16 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             factors,
             resp,
         )
-        add(
-            "Interactions",
-            f"Two-factor interactions on {label} (paper Figures 7 and 9)",
-            f"interactions_{resp}.png",
-            plotting.plot_interactions,
-            summary,
-            factors,
-            resp,
-        )
+        if len(factors) >= 2:  # interactions need two factors
+            add(
+                "Interactions",
+                f"Two-factor interactions on {label} (paper Figures 7 and 9)",
+                f"interactions_{resp}.png",
+                plotting.plot_interactions,
+                summary,
+                factors,
+                resp,
+            )
         add(
             "Ranked effects",
             f"Pareto of the ANOVA terms of {label}",
@@ -174,6 +211,10 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         "mean wear volume per stop that leaves the simulated band (not scaled to the pad). "
         "Modelling decisions: docs/model.md."
     )
+    summary, pm10_note = _pm10_columns(result, summary)
+    if pm10_note:
+        notes = notes + "\n\n" + pm10_note
+        summary.to_csv(out / "tables" / "pm10.csv", index=False)
     return report.write_report(
         out / "report.html",
         title=f"brakeca study: {result.design.name}",

@@ -121,3 +121,35 @@ def test_bad_design_is_reported_before_any_run(tmp_path):
     assert res.exit_code == 2
     assert "bad.toml" in res.output and "150" in res.output
     assert not (tmp_path / "c" / "runs").exists() or not list((tmp_path / "c" / "runs").iterdir())
+
+
+def test_one_factor_trace_campaign_reports_pm10(tmp_path):
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "one"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "A"\nfield = "A"\n'
+        'levels = [10.0, 20.0]\nunit = "%"\n'
+    )
+    out = tmp_path / "c"
+    res = CliRunner().invoke(
+        app,
+        [
+            "run",
+            str(design),
+            "-o",
+            str(out),
+            "--cycle",
+            "example_trace",
+            "--set",
+            "mesh.n_radial=3",
+            "--set",
+            "mesh.n_angular=100",
+            "--executor",
+            "serial",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    pm10 = pd.read_csv(out / "tables" / "pm10.csv")
+    assert np.all(pm10["PM10_low_mg_km"] < pm10["PM10_mg_km"])
+    assert np.all(pm10["PM10_mg_km"] < pm10["PM10_high_mg_km"])
+    html = (out / "report.html").read_text()
+    assert "7 mg/km" in html and "3 mg/km" in html and "PM10_mg_km" in html
