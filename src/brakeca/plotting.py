@@ -318,11 +318,14 @@ def plot_mu_per_stop(
     data = campaign[variable].transpose("run", "stop")
     runs = campaign["run"].to_numpy()
     stops = campaign["stop"].to_numpy()
-    factor_coords = [
-        name
-        for name, coord in campaign.coords.items()
-        if name != "run" and tuple(coord.dims) == ("run",)
-    ]
+    if by_name:  # the factors name the runs; the other run coordinates are bookkeeping
+        factor_coords = [name for name in by_name if name in campaign.coords]
+    else:
+        factor_coords = [
+            name
+            for name, coord in campaign.coords.items()
+            if name != "run" and tuple(coord.dims) == ("run",)
+        ]
     n = len(runs)
     fig = _figure((13.0, 6.0))
     ax = fig.subplots()
