@@ -6,7 +6,6 @@ second once numba's cache is warm.
 
 from __future__ import annotations
 
-import io
 import os
 import shutil
 import signal
@@ -19,7 +18,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
-from rich.console import Console
+from campaign_helpers import DESIGN_TEMPLATE, TIMING, console_text, deterministic, quiet, tiny
 
 from brakeca.campaign import (
     CampaignResult,
@@ -35,48 +34,8 @@ from brakeca.presets import load_preset
 from brakeca.results import RunResult
 from brakeca.simulation import simulate
 
-TINY = {
-    "mesh.n_radial": 5,
-    "mesh.n_angular": 100,
-    "mesh.n_subdomains": 10,
-    "cycle.max_stops": 3,
-}
-
-DESIGN = """\
-name = "tiny"
-description = "2 x 2 on a tiny band"
-base_config = "tiny_base.toml"
-root_seed = 11
-
-[[factors]]
-name = "S"
-field = "automaton.secondary_removal_fraction"
-levels = [0.0, 1.0]
-labels = ["-", "+"]
-
-[[factors]]
-name = "A"
-field = "pad.fibre_area_fraction"
-levels = [10.0, 20.0]
-scale = 0.01
-labels = ["-", "+"]
-unit = "%"
-"""
-
-#: Summary columns that depend on the machine's speed, not on the run.
-TIMING = ["wall_time"]
-
-
-def _quiet() -> Console:
-    return Console(file=io.StringIO(), width=200)
-
-
-def _text(console: Console) -> str:
-    return console.file.getvalue()  # type: ignore[attr-defined]
-
-
-def _deterministic(summary: pd.DataFrame) -> pd.DataFrame:
-    return summary.drop(columns=[c for c in TIMING if c in summary.columns])
+TINY = tiny(3)
+DESIGN = DESIGN_TEMPLATE.format(root_seed=11)
 
 
 def _mtimes(folder: Path) -> dict[str, int]:
@@ -114,7 +73,7 @@ def design_file(tmp_path_factory) -> Path:
 @pytest.fixture(scope="module")
 def serial(design_file, tmp_path_factory) -> CampaignResult:
     out = tmp_path_factory.mktemp("serial") / "campaign"
-    return run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+    return run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
 
 
 # tests -------------------------------------------------------------------------------------
@@ -182,10 +141,10 @@ def test_local_executor_gives_identical_values(serial, design_file, tmp_path):
         executor="local",
         workers=2,
         progress=False,
-        console=_quiet(),
+        console=quiet(),
     )
     assert local.ok and len(local.computed) == 4
-    pd.testing.assert_frame_equal(_deterministic(local.summary), _deterministic(serial.summary))
+    pd.testing.assert_frame_equal(deterministic(local.summary), deterministic(serial.summary))
     assert list(local.summary["MU"]) == list(serial.summary["MU"])  # bit-identical
     assert list(local.summary["V"]) == list(serial.summary["V"])
     xr.testing.assert_identical(
@@ -198,7 +157,7 @@ def test_rerun_skips_every_run(serial, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(serial.out_dir, out)
     before = _mtimes(out / "runs")
-    console = _quiet()
+    console = quiet()
     again = run_campaign(
         load_design(out / "design.toml"),
         out,
@@ -210,7 +169,7 @@ def test_rerun_skips_every_run(serial, tmp_path):
     assert sorted(again.reused) == sorted(serial.computed)
     assert not again.computed and not again.failed
     assert _mtimes(out / "runs") == before
-    assert "nothing to compute" in _text(console)
+    assert "nothing to compute" in console_text(console)
     pd.testing.assert_frame_equal(again.summary, serial.summary)
 
 
@@ -225,11 +184,11 @@ def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
     garbage.write_bytes(b"this is not a netCDF file\n" * 10)
     shutil.copyfile(runs / f"{ids[3]}.nc", foreign)  # a valid run file under the wrong name
     untouched = (runs / f"{ids[3]}.nc").stat().st_mtime_ns
-    console = _quiet()
+    console = quiet()
     result = run_campaign(
         load_design(out / "design.toml"), out, executor="serial", progress=False, console=console
     )
-    text = _text(console)
+    text = console_text(console)
     for rid in ids[:3]:
         assert rid in text
     assert text.count("recomputing") == 3
@@ -238,14 +197,14 @@ def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
     assert sorted(result.computed) == sorted(ids[:3])
     assert result.reused == (ids[3],)
     assert (runs / f"{ids[3]}.nc").stat().st_mtime_ns == untouched
-    pd.testing.assert_frame_equal(_deterministic(result.summary), _deterministic(serial.summary))
+    pd.testing.assert_frame_equal(deterministic(result.summary), deterministic(serial.summary))
     for rid in ids[:3]:
         assert RunResult.from_netcdf(runs / f"{rid}.nc").seed in set(serial.summary["seed"])
 
 
 def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_path):
     out = tmp_path / "campaign"
-    console = _quiet()
+    console = quiet()
     result = run_campaign(
         design_file,
         out,
@@ -259,7 +218,7 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
     assert "RuntimeError: boom: injected failure" in summary.loc[2, "error"]
     assert np.isnan(summary.loc[2, "MU"])
     assert not result.ok and len(result.failed) == 1 and len(result.computed) == 3
-    assert "run failed" in _text(console) and "1 of 4 run(s) failed" in _text(console)
+    assert "run failed" in console_text(console) and "1 of 4 run(s) failed" in console_text(console)
     assert not (out / "runs" / f"{summary.loc[2, 'run_id']}.nc").exists()
     assert np.isnan(result.dataset["mean_cof"][2]).all()
     assert str(result.dataset["status"][2].values) == "failed"
@@ -267,9 +226,9 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
     assert list(loaded.summary["status"]) == ["ok", "ok", "failed", "ok"]
     assert loaded.summary.loc[2, "error"] == summary.loc[2, "error"]
     # a second pass computes only the failed run
-    healed = run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+    healed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
     assert healed.ok and healed.computed == (summary.loc[2, "run_id"],) and len(healed.reused) == 3
-    pd.testing.assert_frame_equal(_deterministic(healed.summary), _deterministic(serial.summary))
+    pd.testing.assert_frame_equal(deterministic(healed.summary), deterministic(serial.summary))
 
 
 def test_sigkill_halfway_then_resume(serial, design_file, tmp_path):
@@ -304,14 +263,14 @@ def test_sigkill_halfway_then_resume(serial, design_file, tmp_path):
     for name in finished:
         RunResult.from_netcdf(out / "runs" / name)  # complete files only, never a partial one
 
-    resumed = run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+    resumed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
     assert resumed.ok
     assert sorted(f"{r}.nc" for r in resumed.reused) == sorted(finished)
     assert len(resumed.computed) == 4 - len(finished)
     after = _mtimes(out / "runs")
     assert {k: after[k] for k in finished} == finished
     assert not list(out.rglob("*.tmp"))
-    pd.testing.assert_frame_equal(_deterministic(resumed.summary), _deterministic(serial.summary))
+    pd.testing.assert_frame_equal(deterministic(resumed.summary), deterministic(serial.summary))
 
 
 def test_replicates_layout_and_randomized_order(design_file, tmp_path):
@@ -322,7 +281,7 @@ def test_replicates_layout_and_randomized_order(design_file, tmp_path):
         executor="serial",
         max_stops=2,
         progress=False,
-        console=_quiet(),
+        console=quiet(),
     )
     assert result.ok
     summary, ds = result.summary, result.dataset
@@ -378,10 +337,10 @@ def test_a_dask_client_executor_plugs_in(serial, design_file, tmp_path):
             executor=client.get_executor(),
             workers=2,
             progress=False,
-            console=_quiet(),
+            console=quiet(),
         )
     assert result.ok and len(result.computed) == 4
-    pd.testing.assert_frame_equal(_deterministic(result.summary), _deterministic(serial.summary))
+    pd.testing.assert_frame_equal(deterministic(result.summary), deterministic(serial.summary))
 
 
 def test_bad_arguments_fail_before_anything_is_written(design_file, tmp_path):

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
+from campaign_helpers import DESIGN_TEMPLATE, TIMING, console_text, deterministic, quiet, tiny
 from rich.console import Console
 from typer.testing import CliRunner
 
@@ -42,48 +43,8 @@ distributed = pytest.importorskip("distributed")
 dask = pytest.importorskip("dask")
 psutil = pytest.importorskip("psutil")
 
-TINY = {
-    "mesh.n_radial": 5,
-    "mesh.n_angular": 100,
-    "mesh.n_subdomains": 10,
-    "cycle.max_stops": 2,
-}
-
-DESIGN = """\
-name = "tiny"
-description = "2 x 2 on a tiny band"
-base_config = "tiny_base.toml"
-root_seed = 23
-
-[[factors]]
-name = "S"
-field = "automaton.secondary_removal_fraction"
-levels = [0.0, 1.0]
-labels = ["-", "+"]
-
-[[factors]]
-name = "A"
-field = "pad.fibre_area_fraction"
-levels = [10.0, 20.0]
-scale = 0.01
-labels = ["-", "+"]
-unit = "%"
-"""
-
-#: Summary columns and dataset variables / attributes that depend on the machine's speed.
-TIMING = ["wall_time"]
-
-
-def _quiet() -> Console:
-    return Console(file=io.StringIO(), width=200)
-
-
-def _text(console: Console) -> str:
-    return console.file.getvalue()  # type: ignore[attr-defined]
-
-
-def _deterministic(summary: pd.DataFrame) -> pd.DataFrame:
-    return summary.drop(columns=[c for c in TIMING if c in summary.columns])
+TINY = tiny(2)
+DESIGN = DESIGN_TEMPLATE.format(root_seed=23)
 
 
 def _run_dataset(out: Path, rid: str) -> xr.Dataset:
@@ -97,8 +58,8 @@ def _run_dataset(out: Path, rid: str) -> xr.Dataset:
 def _assert_same_runs(result: CampaignResult, reference: CampaignResult) -> None:
     """Bit-identical summaries, campaign datasets and run files (timing aside)."""
     pd.testing.assert_frame_equal(
-        _deterministic(result.summary),
-        _deterministic(reference.summary),
+        deterministic(result.summary),
+        deterministic(reference.summary),
         check_exact=True,
         check_dtype=False,
     )
@@ -196,7 +157,7 @@ def local(design_file, tmp_path_factory) -> CampaignResult:
     """The reference: the default local executor, two worker processes."""
     out = tmp_path_factory.mktemp("local") / "campaign"
     result = run_campaign(
-        design_file, out, executor="local", workers=2, progress=False, console=_quiet()
+        design_file, out, executor="local", workers=2, progress=False, console=quiet()
     )
     assert result.ok and len(result.computed) == 4
     return result
@@ -235,14 +196,14 @@ def test_dask_local_cluster_is_bit_identical_to_local_and_closed(local, design_f
         executor="dask",
         workers=2,
         progress=False,
-        console=_quiet(),
+        console=quiet(),
     )
     assert result.ok and len(result.computed) == 4 and not result.failed
     _assert_same_runs(result, local)
     assert list(result.summary["MU"]) == list(local.summary["MU"])  # bit for bit
     assert list(result.summary["V"]) == list(local.summary["V"])
     loaded = load_campaign(tmp_path / "dask")
-    pd.testing.assert_frame_equal(_deterministic(loaded.summary), _deterministic(result.summary))
+    pd.testing.assert_frame_equal(deterministic(loaded.summary), deterministic(result.summary))
     _assert_no_new_children(before)  # the cluster the campaign started is gone
 
 
@@ -260,8 +221,8 @@ def _check_chaos(result: CampaignResult, local: CampaignResult, markers: Path, t
     assert np.isnan(summary.loc[2, "MU"]) and np.isnan(summary.loc[3, "MU"])
     ok = summary["status"] == "ok"
     pd.testing.assert_frame_equal(  # NaN rows make the integer columns float
-        _deterministic(summary[ok]),
-        _deterministic(local.summary[ok]),
+        deterministic(summary[ok]),
+        deterministic(local.summary[ok]),
         check_exact=True,
         check_dtype=False,
     )
@@ -283,7 +244,7 @@ def test_dask_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
     the scheduler's allowed-failures; a run that raises is failed at once; the rest finish."""
     markers = tmp_path / "markers"
     markers.mkdir()
-    console = _quiet()
+    console = quiet()
     result = run_campaign(
         design_file,
         tmp_path / "campaign",
@@ -294,7 +255,7 @@ def test_dask_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
         progress=False,
         console=console,
     )
-    _check_chaos(result, local, markers, _text(console))
+    _check_chaos(result, local, markers, console_text(console))
     assert "KilledWorker" in result.summary.loc[3, "error"]
 
 
@@ -332,7 +293,7 @@ def test_unreachable_scheduler_is_reported(design_file, tmp_path):
             executor="dask",
             scheduler="tcp://127.0.0.1:9",
             progress=False,
-            console=_quiet(),
+            console=quiet(),
         )
 
 
@@ -410,7 +371,7 @@ def test_client_killed_on_dask_resumes_and_leaves_no_process(local, design_file,
     finished = sorted(p.stem for p in (out / "runs").glob("*.nc"))
     for rid in finished:
         RunResult.from_netcdf(out / "runs" / f"{rid}.nc")  # complete files only
-    resumed = run_campaign(design_file, out, executor="serial", progress=False, console=_quiet())
+    resumed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
     assert resumed.ok and sorted(resumed.reused) == finished
     assert len(resumed.computed) == 4 - len(finished)
     assert not list(out.rglob("*.tmp"))
@@ -425,7 +386,7 @@ def test_local_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
     run that raises is failed at once; the next pass computes only the failed runs."""
     markers = tmp_path / "markers"
     markers.mkdir()
-    console = _quiet()
+    console = quiet()
     result = run_campaign(
         design_file,
         tmp_path / "campaign",
@@ -436,13 +397,13 @@ def test_local_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
         progress=False,
         console=console,
     )
-    text = _text(console)
+    text = console_text(console)
     _check_chaos(result, local, markers, text)
     assert _attempts(markers, int(result.summary.loc[1, "seed"])) == 2  # exactly
     assert "BrokenProcessPool" in result.summary.loc[3, "error"]
     assert text.count("worker died") == 2 and "trying again (1 of 1)" in text
     healed = run_campaign(  # with the real simulate, inline
-        design_file, result.out_dir, executor="serial", progress=False, console=_quiet()
+        design_file, result.out_dir, executor="serial", progress=False, console=quiet()
     )
     assert healed.ok and sorted(healed.computed) == sorted(result.failed)
     assert len(healed.reused) == 2

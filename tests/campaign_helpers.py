@@ -1,0 +1,57 @@
+"""Shared pieces of the campaign tests: a 2 x 2 design (S x A) on a tiny band, quiet consoles."""
+
+from __future__ import annotations
+
+import io
+
+import pandas as pd
+from rich.console import Console
+
+DESIGN_TEMPLATE = """\
+name = "tiny"
+description = "2 x 2 on a tiny band"
+base_config = "tiny_base.toml"
+root_seed = {root_seed}
+
+[[factors]]
+name = "S"
+field = "automaton.secondary_removal_fraction"
+levels = [0.0, 1.0]
+labels = ["-", "+"]
+
+[[factors]]
+name = "A"
+field = "pad.fibre_area_fraction"
+levels = [10.0, 20.0]
+scale = 0.01
+labels = ["-", "+"]
+unit = "%"
+"""
+
+#: Summary columns that depend on the machine's speed, not on the run.
+TIMING = ["wall_time"]
+
+
+def tiny(max_stops: int) -> dict:
+    """Overrides for a 5 x 100 cell band and the first ``max_stops`` stops."""
+    return {
+        "mesh.n_radial": 5,
+        "mesh.n_angular": 100,
+        "mesh.n_subdomains": 10,
+        "cycle.max_stops": max_stops,
+    }
+
+
+def quiet() -> Console:
+    """A console that writes to memory."""
+    return Console(file=io.StringIO(), width=200)
+
+
+def console_text(console: Console) -> str:
+    """What a :func:`quiet` console received."""
+    return console.file.getvalue()  # type: ignore[attr-defined]
+
+
+def deterministic(summary: pd.DataFrame) -> pd.DataFrame:
+    """The summary without its timing columns."""
+    return summary.drop(columns=[c for c in TIMING if c in summary.columns])
