@@ -152,6 +152,13 @@ class Factor(_Frozen):
     levels: tuple[int | float, ...] = Field(min_length=2)
     scale: float = Field(1.0, gt=0, allow_inf_nan=False)
     labels: tuple[str, ...] | None = None
+    choices: tuple[str, ...] | None = Field(
+        None,
+        description=(
+            "for field 'cycle': the drive cycle of each level, a cycle file (block cycle or "
+            "speed trace; relative to the design file) or a shipped name"
+        ),
+    )
     unit: str = "-"
     label: str = ""
 
@@ -172,6 +179,8 @@ class Factor(_Frozen):
     @field_validator("field")
     @classmethod
     def _known_field(cls, value: str) -> str:
+        if value == "cycle":  # a categorical factor: its levels pick one of `choices`
+            return value
         problem = _leaf_field_problem(value)
         if problem is not None:
             raise ValueError(problem)
@@ -207,7 +216,27 @@ class Factor(_Frozen):
                 f"labels: factor {self.name!r} has {len(self.levels)} levels but "
                 f"{len(self.labels)} labels"
             )
+        if (self.field == "cycle") != (self.choices is not None):
+            raise ValueError(
+                f"choices: factor {self.name!r}: a factor on field 'cycle' needs choices (one "
+                "cycle file or shipped name per level), and only such a factor takes choices"
+            )
+        if self.choices is not None and len(self.choices) != len(self.levels):
+            raise ValueError(
+                f"choices: factor {self.name!r} has {len(self.levels)} levels but "
+                f"{len(self.choices)} choices"
+            )
         return self
+
+    def apply(self, config: SimulationConfig, value: int | float) -> SimulationConfig:
+        """``config`` with this factor set to level ``value`` [unit]."""
+        if self.choices is not None:
+            from brakeca.traces import with_cycle
+
+            if value not in self.levels:
+                raise ConfigError(f"level {value!r} is not one of {list(self.levels)}")
+            return with_cycle(config, self.choices[self.levels.index(value)])
+        return config.with_updates(dict([self.override(value)]))
 
     def override(self, value: int | float) -> tuple[str, Any]:
         """The ``(key, value)`` update that sets this factor to ``value`` [unit].
@@ -472,7 +501,7 @@ class Design(_Frozen):
         for factor in self.factors:
             value = levels[factor.name]
             try:
-                config = config.with_updates(dict([factor.override(value)]))
+                config = factor.apply(config, value)
             except ConfigError as exc:
                 raise self._level_error(factor, value, exc, source) from None
         return config
@@ -492,7 +521,7 @@ class Design(_Frozen):
         for factor in self.factors:
             for value in factor.levels:
                 try:
-                    base.with_updates(dict([factor.override(value)]))
+                    factor.apply(base, value)
                 except ConfigError as exc:
                     raise self._level_error(factor, value, exc, source) from None
 
@@ -623,6 +652,20 @@ def design_from_dict(
         design = Design.model_validate(data)
     except ValidationError as exc:
         raise ConfigError(_format_design_error(exc, source)) from None
+    base_dir = Path(root) if root is not None else Path.cwd()
+    factors = []
+    for f in design.factors:  # cycle files relative to the design file
+        if f.choices is not None:
+            f = f.model_copy(
+                update={
+                    "choices": tuple(
+                        str((base_dir / c).resolve()) if (base_dir / c).is_file() else c
+                        for c in f.choices
+                    )
+                }
+            )
+        factors.append(f)
+    design = design.model_copy(update={"factors": tuple(factors)})
     try:
         if design.base_config is not None and not design.base_config.is_absolute():
             base_dir = Path(root) if root is not None else Path.cwd()

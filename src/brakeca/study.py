@@ -55,8 +55,8 @@ def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarr
 
 
 def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.DataFrame, str]:
-    """PM10 [mg/km] low/central/high per run when the campaign's cycle is a speed trace."""
-    from brakeca.config import load_config
+    """PM10 [mg/km] low/central/high of every run on a speed-trace cycle (NaN for runs on a
+    block cycle, whose distance between stops is unknown, and for failed runs)."""
     from brakeca.emissions import (
         EURO7_PM10_LIMIT,
         EURO7_PM10_LIMIT_PEV,
@@ -65,29 +65,29 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
     )
     from brakeca.traces import configured_cycle
 
-    base = Path(result.out_dir) / "base_config.toml"
-    if not base.exists() or not load_config(base).cycle.trace_file:
-        return summary, ""
-    rows = {"PM10_low_mg_km": [], "PM10_mg_km": [], "PM10_high_mg_km": []}
+    rows: dict[str, list[float]] = {"PM10_low_mg_km": [], "PM10_mg_km": [], "PM10_high_mg_km": []}
+    any_trace = False
     for _, row in summary.iterrows():
-        if row.get("status", "ok") != "ok":
-            for key in rows:
-                rows[key].append(float("nan"))
-            continue
-        run = RunResult.from_netcdf(Path(result.out_dir) / "runs" / f"{row['run_id']}.nc")
-        est = pm10_from_run(run, configured_cycle(run.config).distance)
-        rows["PM10_low_mg_km"].append(est.low)
-        rows["PM10_mg_km"].append(est.central)
-        rows["PM10_high_mg_km"].append(est.high)
-    summary = summary.assign(**rows)
+        values = [float("nan")] * 3
+        if row.get("status", "ok") == "ok":
+            run = RunResult.from_netcdf(Path(result.out_dir) / "runs" / f"{row['run_id']}.nc")
+            if run.config.cycle.trace_file:
+                any_trace = True
+                est = pm10_from_run(run, configured_cycle(run.config).distance)
+                values = [est.low, est.central, est.high]
+        for key, value in zip(rows, values, strict=True):
+            rows[key].append(value)
+    if not any_trace:
+        return summary, ""
     note = (
-        "PM10 [mg/km]: emitted volume -> mass (debris density) -> airborne PM10, scaled from the "
-        "band to the pad, wheel and vehicle over the trace's distance; low/high use the ends of "
-        "every parameter's literature range (docs/cycles.md). Compare with the Euro 7 limits of "
+        "PM10 [mg/km] (runs on a speed trace): emitted volume -> mass (debris density) -> "
+        "airborne PM10, scaled from the band to the pad, wheel and vehicle over the trace's "
+        "distance; low/high use the ends of every parameter's literature range "
+        "(docs/cycles.md). Compare with the Euro 7 limits of "
         f"{EURO7_PM10_LIMIT:g} mg/km (most cars) and {EURO7_PM10_LIMIT_PEV:g} mg/km (pure "
         f"battery-electric), {EURO7_REFERENCE}; a band across a limit is not a pass or a fail."
     )
-    return summary, note
+    return summary.assign(**rows), note
 
 
 def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:

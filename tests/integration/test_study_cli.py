@@ -153,3 +153,74 @@ def test_one_factor_trace_campaign_reports_pm10(tmp_path):
     assert np.all(pm10["PM10_mg_km"] < pm10["PM10_high_mg_km"])
     html = (out / "report.html").read_text()
     assert "7 mg/km" in html and "3 mg/km" in html and "PM10_mg_km" in html
+
+
+CYCLE_DESIGN = """
+name = "cycles"
+base = "paper"
+root_seed = 3
+[[factors]]
+name = "C"
+field = "cycle"
+levels = [1, 2]
+choices = ["paper", "example_trace"]
+labels = ["paper", "trace"]
+[[factors]]
+name = "A"
+field = "A"
+levels = [10.0, 20.0]
+unit = "%"
+"""
+
+
+def test_design_factor_selects_the_cycle(tmp_path):
+    design = tmp_path / "d.toml"
+    design.write_text(CYCLE_DESIGN)
+    out = tmp_path / "c"
+    res = CliRunner().invoke(
+        app,
+        [
+            "run",
+            str(design),
+            "-o",
+            str(out),
+            "--stops",
+            "2",
+            "--set",
+            "mesh.n_radial=3",
+            "--set",
+            "mesh.n_angular=100",
+            "--executor",
+            "serial",
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    summary = pd.read_csv(out / "summary.csv")
+    for _, row in summary.iterrows():
+        run = RunResult.from_netcdf(out / "runs" / f"{row['run_id']}.nc")
+        is_trace = row["C"] == 2
+        assert bool(run.config.cycle.trace_file) == is_trace
+        assert run.dataset.block.values[0] == ("urban" if is_trace else "Burnish")
+    pm10 = pd.read_csv(out / "tables" / "pm10.csv")
+    assert pm10.loc[pm10["C"] == 1, "PM10_mg_km"].isna().all()
+    assert (pm10.loc[pm10["C"] == 2, "PM10_mg_km"] > 0).all()
+
+
+@pytest.mark.parametrize(
+    ("edit", "needle"),
+    [
+        (lambda t: t.replace('choices = ["paper", "example_trace"]\n', ""), "needs choices"),
+        (lambda t: t.replace('["paper", "example_trace"]', '["paper"]'), "2 levels but 1 choices"),
+        (lambda t: t.replace('"example_trace"]', '"no_such_cycle"]'), "no_such_cycle"),
+        (lambda t: t.replace('unit = "%"', 'unit = "%"\nchoices = ["a", "b"]'), "only such"),
+    ],
+)
+def test_bad_cycle_factor_names_the_problem(tmp_path, edit, needle):
+    from brakeca.config import ConfigError
+    from brakeca.design import load_design
+
+    design = tmp_path / "bad.toml"
+    design.write_text(edit(CYCLE_DESIGN))
+    with pytest.raises(ConfigError, match=needle) as info:
+        load_design(design)
+    assert "bad.toml" in str(info.value)
