@@ -148,25 +148,19 @@ def build_dataset(
     piston = np.pi * config.brake.piston_diameter**2 / 4.0
     n = len(stops)
 
-    def tw(rec, dt, col):  # time-weighted mean of a record column over a stop
-        return float(np.sum(rec[:, col] * dt) / np.sum(dt))
+    def tw(col):  # time-weighted mean of a record column over each stop
+        return [float(np.sum(r[:, col] * d) / np.sum(d)) for r, d in zip(records, dts, strict=True)]
 
     per_stop: dict[str, Any] = {
-        "mean_cof": [tw(r, d, K.R_COF) for r, d in zip(records, dts, strict=True)],
+        "mean_cof": tw(K.R_COF),
         "emitted_volume": [
             float(r[:, K.R_EMITTED].sum()) + f for r, f in zip(records, flush, strict=True)
         ],
         "generated_volume": [float(r[:, K.R_GENERATED].sum()) for r in records],
-        "primary_area_fraction": [
-            tw(r, d, K.R_PRIMARY_AREA) / area for r, d in zip(records, dts, strict=True)
-        ],
-        "secondary_area_fraction": [
-            tw(r, d, K.R_SECONDARY_AREA) / area for r, d in zip(records, dts, strict=True)
-        ],
-        "contact_area_fraction": [
-            tw(r, d, K.R_CONTACT_AREA) / area for r, d in zip(records, dts, strict=True)
-        ],
-        "band_normal_force": [tw(r, d, K.R_NORMAL) for r, d in zip(records, dts, strict=True)],
+        "primary_area_fraction": [v / area for v in tw(K.R_PRIMARY_AREA)],
+        "secondary_area_fraction": [v / area for v in tw(K.R_SECONDARY_AREA)],
+        "contact_area_fraction": [v / area for v in tw(K.R_CONTACT_AREA)],
+        "band_normal_force": tw(K.R_NORMAL),
         "duration": [float(d.sum()) for d in dts],
         "n_steps": [d.size for d in dts],
         "max_ledger_residual": [float(r[:, K.R_LEDGER].max()) for r in records],
