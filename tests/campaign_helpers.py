@@ -55,3 +55,15 @@ def console_text(console: Console) -> str:
 def deterministic(summary: pd.DataFrame) -> pd.DataFrame:
     """The summary without its timing columns."""
     return summary.drop(columns=[c for c in TIMING if c in summary.columns])
+
+
+def write_design(folder, overrides: dict, design_text: str):
+    """Write ``tiny_base.toml`` (the paper preset with ``overrides``) and the design file
+    ``tiny.toml`` into ``folder``; returns the design file's path."""
+    from brakeca.presets import load_preset
+
+    base = load_preset("paper").with_updates(overrides)
+    (folder / "tiny_base.toml").write_text(base.to_toml(), encoding="utf-8")
+    path = folder / "tiny.toml"
+    path.write_text(design_text, encoding="utf-8")
+    return path

@@ -18,7 +18,15 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
-from campaign_helpers import DESIGN_TEMPLATE, TIMING, console_text, deterministic, quiet, tiny
+from campaign_helpers import (
+    DESIGN_TEMPLATE,
+    TIMING,
+    console_text,
+    deterministic,
+    quiet,
+    tiny,
+    write_design,
+)
 
 from brakeca.campaign import (
     CampaignResult,
@@ -30,7 +38,6 @@ from brakeca.campaign import (
 )
 from brakeca.config import ConfigError
 from brakeca.design import load_design
-from brakeca.presets import load_preset
 from brakeca.results import RunResult
 from brakeca.simulation import simulate
 
@@ -62,12 +69,7 @@ def fails_on_test_3(config, *, seed, progress=None):
 
 @pytest.fixture(scope="module")
 def design_file(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("design")
-    base = load_preset("paper").with_updates(TINY)
-    (folder / "tiny_base.toml").write_text(base.to_toml(), encoding="utf-8")
-    path = folder / "tiny.toml"
-    path.write_text(DESIGN, encoding="utf-8")
-    return path
+    return write_design(tmp_path_factory.mktemp("design"), TINY, DESIGN)
 
 
 @pytest.fixture(scope="module")

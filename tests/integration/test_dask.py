@@ -21,7 +21,15 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
-from campaign_helpers import DESIGN_TEMPLATE, TIMING, console_text, deterministic, quiet, tiny
+from campaign_helpers import (
+    DESIGN_TEMPLATE,
+    TIMING,
+    console_text,
+    deterministic,
+    quiet,
+    tiny,
+    write_design,
+)
 from rich.console import Console
 from typer.testing import CliRunner
 
@@ -35,7 +43,6 @@ from brakeca.campaign import (
 )
 from brakeca.cli import app
 from brakeca.contact import ContactError
-from brakeca.presets import load_preset
 from brakeca.results import RunResult
 from brakeca.simulation import simulate
 
@@ -144,12 +151,7 @@ def raises_on_test_3(config, *, seed, progress=None):
 
 @pytest.fixture(scope="module")
 def design_file(tmp_path_factory) -> Path:
-    folder = tmp_path_factory.mktemp("design")
-    base = load_preset("paper").with_updates(TINY)
-    (folder / "tiny_base.toml").write_text(base.to_toml(), encoding="utf-8")
-    path = folder / "tiny.toml"
-    path.write_text(DESIGN, encoding="utf-8")
-    return path
+    return write_design(tmp_path_factory.mktemp("design"), TINY, DESIGN)
 
 
 @pytest.fixture(scope="module")
