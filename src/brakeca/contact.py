@@ -109,7 +109,10 @@ def first_root(height, area, n_plateau, stiffness, mu_0, slope, mu_min, target):
         w_max = z_hi - z_next
         rest = target - f
         w = math.inf
-        if d > 0.0:
+        # F(w) = f + d w - q w^2 <= f + d w_max on the interval: when that bound stays below the
+        # target (the usual case: intervals are short) no root lies here and the quadratic is
+        # not solved. The root found is the same, bit for bit.
+        if d > 0.0 and d * w_max >= rest:
             if q > 0.0:
                 disc = d * d - 4.0 * q * rest
                 if disc >= 0.0:
