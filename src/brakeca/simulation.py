@@ -130,11 +130,6 @@ class SimulationState:
             self.pk_st,
         )
 
-    @property
-    def order(self) -> np.ndarray:
-        """Plateau cells by height, highest first."""
-        return self.pk_idx[: self.cnt[K.CNT_PLATEAU]]
-
     @classmethod
     def from_surface(cls, surface: Surface, grid: Grid) -> SimulationState:
         """Initial state of a fresh pad surface on ``grid``."""
@@ -470,9 +465,9 @@ def cycle_events(config: SimulationConfig) -> list:
     return list(configured_cycle(config).events)
 
 
-def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Three int64 scratch lists of ``n_cells`` entries for the kernel."""
-    return tuple(np.zeros(n_cells, dtype=np.int64) for _ in range(3))  # type: ignore[return-value]
+def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray]:
+    """The kernel's two int64 scratch lists (created, destroyed cells) of ``n_cells`` entries."""
+    return np.zeros(n_cells, dtype=np.int64), np.zeros(n_cells, dtype=np.int64)
 
 
 def advance_stop(
@@ -480,7 +475,7 @@ def advance_stop(
     grid: Grid,
     config: SimulationConfig,
     stop: Stop,
-    scratch: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    scratch: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Run every time step of one stop on ``state`` (in place) with the compiled kernel.
 
@@ -499,7 +494,7 @@ def advance_stop(
         As :func:`simulate`.
     """
     n_r, n_t = grid.shape
-    created, destroyed, _ = scratch or scratch_lists(n_r * n_t)
+    created, destroyed = scratch or scratch_lists(n_r * n_t)
     profile = stop.profile(step_distance(config))
     dt, fraction = profile.dt, profile.fraction
     # the demanded band friction force is proportional to the deceleration
