@@ -39,7 +39,6 @@ import concurrent.futures as cf
 import math
 import multiprocessing
 import os
-import secrets
 import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -51,6 +50,7 @@ import pandas as pd
 import xarray as xr
 
 from brakeca import __version__
+from brakeca._io import atomic_write
 from brakeca.config import ConfigError, SimulationConfig
 from brakeca.design import Design, RunPoint, execution_order, load_design, run_id
 
@@ -396,25 +396,8 @@ class CampaignResult:
 # --- file helpers --------------------------------------------------------------------------
 
 
-def _atomic(path: Path, write: Callable[[Path], Any]) -> Path:
-    """Call ``write(tmp)`` on a temporary name beside ``path``, then rename it to ``path``.
-
-    The temporary name is ``.<name>.<pid>.<random>.tmp`` (created by ``write``, so it gets the
-    usual permissions); :func:`os.replace` makes the final name appear complete or not at all.
-    """
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
-    try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
-
-
 def _write_text(path: Path, text: str) -> Path:
-    return _atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def _remove_stale_temporaries(folder: Path) -> list[Path]:
@@ -628,8 +611,8 @@ def run_campaign(
     ordered = [records[run_id(p)] for p in points]
     summary = _summary_frame(design, ordered)
     dataset = _campaign_dataset(campaign_design, ordered, summary, base)
-    _atomic(out / "summary.csv", lambda tmp: summary.to_csv(tmp, index=False))
-    _atomic(out / "campaign.nc", lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
+    atomic_write(out / "summary.csv", lambda tmp: summary.to_csv(tmp, index=False))
+    atomic_write(out / "campaign.nc", lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
     if failed:
         console.print(
             f"[red]{len(failed)} of {len(points)} run(s) failed[/]; "
@@ -928,7 +911,7 @@ def _finish(future: cf.Future, point: RunPoint, runs: Path) -> _Record:
     if problem is not None:
         return _Record(point, rid, "failed", problem)
     try:
-        _atomic(runs / f"{rid}.nc", result.to_netcdf)
+        result.to_netcdf(runs / f"{rid}.nc")  # atomic
     except Exception as exc:
         return _Record(point, rid, "failed", f"cannot write the run file: {_error_text(exc)}")
     return _record_from_result(point, rid, result)

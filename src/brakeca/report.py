@@ -18,13 +18,10 @@ doi:10.1155/2016/8181260
 from __future__ import annotations
 
 import base64
-import contextlib
 import math
-import os
 import platform
 import re
 import struct
-import tempfile
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from datetime import UTC, datetime
@@ -33,6 +30,8 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+
+from brakeca._io import atomic_write
 
 __all__ = ["REPORT_TEMPLATE", "format_p_value", "render_report", "write_report"]
 
@@ -466,23 +465,6 @@ def render_report(
     )
 
 
-def _write_atomic(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` via a temporary file in the same directory + os.replace."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        raise
-
-
 def write_report(
     path: str | Path,
     *,
@@ -553,5 +535,5 @@ def write_report(
         generated=generated,
     )
     path = Path(path)
-    _write_atomic(path, html)
+    atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))
     return path

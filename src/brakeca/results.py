@@ -17,8 +17,6 @@ J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Se
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -28,6 +26,7 @@ import xarray as xr
 
 from brakeca import __version__
 from brakeca import _kernels as K
+from brakeca._io import atomic_write
 from brakeca.config import SimulationConfig
 
 __all__ = ["FORMAT", "RunResult", "build_dataset"]
@@ -109,20 +108,7 @@ class RunResult:
 
 def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
     """Write a Dataset to netCDF atomically: a temporary file in the same folder, then rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp creates 0600; give the file the usual mode
-    try:
-        dataset.to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+    return atomic_write(path, lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
 
 
 def build_dataset(

@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -22,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from brakeca import _kernels as K
+from brakeca._io import atomic_write
 from brakeca.config import SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
@@ -379,8 +378,6 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
     Everything the next stop reads is saved, the kernel's bookkeeping included (plateau order
     with its tie order, the resin heap), so a resumed run is bit-identical.
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     lengths = np.array([r.shape[0] for r in log.records], dtype=np.int64)
     arrays = {f"state_{name}": getattr(state, name) for name in _STATE_ARRAYS}
     arrays.update(
@@ -400,15 +397,12 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         "elapsed": float(elapsed),
     }
     arrays["meta"] = np.array(json.dumps(meta))
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "wb") as fh:  # a handle: np.savez would append ".npz" to a name
             np.savez(fh, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
+
+    return atomic_write(path, write)
 
 
 def load_checkpoint(path, config, seed, grid):
