@@ -1,0 +1,249 @@
+"""Consolidation of a campaign: ``summary.csv``, ``campaign.nc`` and reading them back.
+
+This module holds :data:`CAMPAIGN_FORMAT`, :class:`CampaignResult`, the builders of the
+summary table and the consolidated dataset from the run records, and :func:`read_summary`
+and :func:`load_campaign`. Its public names are re-exported by :mod:`brakeca.campaign`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from brakeca import __version__
+from brakeca._runstore import _Record
+from brakeca.config import SimulationConfig
+from brakeca.design import Design, load_design
+
+CAMPAIGN_FORMAT = "brakeca-campaign/1"  #: format marker of campaign.nc
+
+
+# --- results -------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CampaignResult:
+    """A finished (or loaded) campaign.
+
+    Attributes
+    ----------
+    out_dir : Path
+        The campaign directory.
+    design : Design
+        The design as written to ``design.toml`` (its base is ``base_config.toml``).
+    summary : pandas.DataFrame
+        ``summary.csv``: one row per run in test order.
+    dataset : xarray.Dataset
+        ``campaign.nc``: per-stop variables on (run, stop), scalars on run.
+    computed, reused, failed, recomputed : tuple of str
+        Run ids computed now, reused from existing files, failed, and recomputed because
+        their file was corrupt or foreign (also in ``computed`` or ``failed``). Empty for a
+        campaign read by :func:`load_campaign`.
+    """
+
+    out_dir: Path
+    design: Design
+    summary: pd.DataFrame
+    dataset: xr.Dataset
+    computed: tuple[str, ...] = ()
+    reused: tuple[str, ...] = ()
+    failed: tuple[str, ...] = ()
+    recomputed: tuple[str, ...] = ()
+
+    @property
+    def ok(self) -> bool:
+        """True when every run finished."""
+        return bool((self.summary["status"] == "ok").all())
+
+
+# --- consolidation -------------------------------------------------------------------------
+
+_FIRST_SCALARS = ("MU", "V", "V_mm3")
+
+
+def _scalar_names(records: Iterable[_Record]) -> list[str]:
+    names: list[str] = list(_FIRST_SCALARS)
+    for record in records:
+        for name in record.scalars:
+            if name not in names:
+                names.append(name)
+    return names
+
+
+def _summary_frame(design: Design, records: Sequence[_Record]) -> pd.DataFrame:
+    """One row per record (test order): ids, factor levels, seed, status, error, scalars."""
+    scalar_names = _scalar_names(records)
+    rows = []
+    for rec in records:
+        row: dict[str, Any] = {
+            "test": rec.point.test,
+            "replicate": rec.point.replicate,
+            "order": rec.point.order,
+            "run_id": rec.run_id,
+        }
+        for name in design.factor_names:
+            row[name] = rec.point.levels[name]
+        row.update(seed=rec.point.seed, status=rec.status, error=rec.error)
+        for name in scalar_names:
+            row[name] = rec.scalars.get(name, math.nan)
+        rows.append(row)
+    frame = pd.DataFrame(rows)
+    for name in ("run_id", "status", "error"):
+        frame[name] = frame[name].astype(object)
+    return frame
+
+
+def _campaign_dataset(
+    design: Design, records: Sequence[_Record], summary: pd.DataFrame, base: SimulationConfig
+) -> xr.Dataset:
+    """Consolidated dataset: per-stop variables on (run, stop), scalars and ids on run."""
+    n_run = len(records)
+    ok = [r.per_stop for r in records if r.per_stop is not None]
+    longest = max(ok, key=lambda ds: ds.sizes["stop"]) if ok else None
+    n_stop = longest.sizes["stop"] if longest is not None else 0
+    run = np.arange(1, n_run + 1)
+    coords: dict[str, Any] = {
+        "run": ("run", run, {"long_name": "run index in test order (the test when 1 replicate)"}),
+        "test": ("run", summary["test"].to_numpy(np.int64), {"long_name": "test number"}),
+        "replicate": ("run", summary["replicate"].to_numpy(np.int64)),
+        "order": ("run", summary["order"].to_numpy(np.int64), {"long_name": "execution order"}),
+        "seed": ("run", summary["seed"].to_numpy(np.int64)),
+        "run_id": ("run", np.array([r.run_id for r in records], dtype=object)),
+        "status": ("run", np.array([r.status for r in records], dtype=object)),
+        "error": ("run", np.array([r.error for r in records], dtype=object)),
+        "stop": ("stop", np.arange(1, n_stop + 1)),
+    }
+    if longest is not None:
+        if "block" in longest.coords:
+            coords["block"] = ("stop", np.asarray(longest["block"].values, dtype=object))
+        for name, coord in longest.coords.items():
+            if name not in coords and "stop" not in coord.dims:
+                coords[name] = coord.variable
+    for factor in design.factors:
+        values = np.asarray([r.point.levels[factor.name] for r in records])
+        attrs = {
+            "units": factor.unit,
+            "long_name": factor.label or factor.name,
+            "field": factor.field,
+            "scale": factor.scale,
+            "levels": np.asarray(factor.levels, dtype=float),
+        }
+        if factor.labels is not None:
+            attrs["labels"] = list(factor.labels)
+        coords[factor.name] = ("run", values, attrs)
+
+    data_vars: dict[str, Any] = {}
+    if longest is not None:
+        for name in longest.data_vars:
+            var = longest[name]
+            extra_dims = tuple(d for d in var.dims if d != "stop")
+            extra_shape = tuple(var.sizes[d] for d in extra_dims)
+            full = all(
+                ds is not None and name in ds and ds.sizes["stop"] == n_stop
+                for ds in (r.per_stop for r in records)
+            )
+            dtype = var.dtype if full else np.result_type(var.dtype, np.float64)
+            fill = 0 if full else np.nan
+            array = np.full((n_run, n_stop, *extra_shape), fill, dtype=dtype)
+            for i, rec in enumerate(records):
+                ds = rec.per_stop
+                if ds is not None and name in ds:
+                    values = ds[name].transpose("stop", *extra_dims).values
+                    array[i, : values.shape[0]] = values
+            data_vars[name] = (("run", "stop", *extra_dims), array, dict(var.attrs))
+    for name in _scalar_names(records):
+        if name in data_vars or name in coords:
+            continue
+        data_vars[name] = ("run", pd.to_numeric(summary[name], errors="coerce").to_numpy())
+    attrs = {
+        "format": CAMPAIGN_FORMAT,
+        "title": f"brakeca campaign {design.name}",
+        "design_name": design.name,
+        "description": design.description,
+        "factors": list(design.factor_names),
+        "root_seed": str(design.root_seed),
+        "replicates": design.replicates,
+        "randomize_order": int(design.randomize_order),
+        "design": design.to_toml(base_config="base_config.toml"),
+        "base_config": base.to_toml(),
+        "quick": int(base.quick),
+        "brakeca_version": __version__,
+        "references": "J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260",
+    }
+    return xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)
+
+
+# --- reading back --------------------------------------------------------------------------
+
+
+_TEXT_COLUMNS = ("run_id", "status", "error")
+
+
+def _parse_column(values: pd.Series) -> pd.Series:
+    """Exact numbers from CSV text: int64 when every value is an integer, else float64."""
+    texts = [v.strip() for v in values]
+    try:
+        return pd.Series([int(t) for t in texts], index=values.index, dtype=np.int64)
+    except ValueError:
+        pass
+    try:
+        floats = [math.nan if t == "" else float(t) for t in texts]
+    except ValueError:
+        return values.astype(object)
+    return pd.Series(floats, index=values.index, dtype=np.float64)
+
+
+def read_summary(path: str | Path) -> pd.DataFrame:
+    """Read a ``summary.csv``, numbers bit-exact (Python's float parser, whatever pandas).
+
+    Text columns (``run_id``, ``status``, ``error``) stay text, empty errors are ``""``.
+    """
+    frame = pd.read_csv(path, dtype=str, keep_default_na=False)
+    for name in frame.columns:
+        if name in _TEXT_COLUMNS:
+            frame[name] = frame[name].astype(object)
+        else:
+            frame[name] = _parse_column(frame[name])
+    return frame
+
+
+def load_campaign(out_dir: str | Path) -> CampaignResult:
+    """Read a finished campaign directory.
+
+    Returns
+    -------
+    CampaignResult
+        Design (from ``design.toml``), summary (``summary.csv``) and dataset
+        (``campaign.nc``, loaded into memory); the run-id tuples are empty.
+
+    Raises
+    ------
+    FileNotFoundError
+        A file is missing (the campaign has not finished).
+    ConfigError
+        ``design.toml`` is invalid.
+    ValueError
+        ``campaign.nc`` is not a brakeca campaign file.
+    """
+    out = Path(out_dir)
+    for name in ("design.toml", "summary.csv", "campaign.nc"):
+        if not (out / name).is_file():
+            raise FileNotFoundError(
+                f"{out / name}: missing; is {out} a finished campaign? (run it again to finish it)"
+            )
+    design = load_design(out / "design.toml")
+    summary = read_summary(out / "summary.csv")
+    try:
+        dataset = xr.load_dataset(out / "campaign.nc", engine="h5netcdf")
+    except Exception as exc:
+        raise ValueError(f"{out / 'campaign.nc'}: not a readable netCDF file ({exc})") from None
+    if dataset.attrs.get("format") != CAMPAIGN_FORMAT:
+        raise ValueError(f"{out / 'campaign.nc'}: not a brakeca campaign file")
+    return CampaignResult(out_dir=out, design=design, summary=summary, dataset=dataset)

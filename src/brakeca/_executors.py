@@ -1,0 +1,426 @@
+"""Executors and backends of a campaign: where and how the runs are computed.
+
+This module holds the executors of :func:`brakeca.campaign.make_executor` (``serial``,
+``local``, ``dask``), the worker task and its process initializer, and the backends that
+keep a bounded number of runs in flight and replace a worker process that died. Workers only
+compute and return :class:`~brakeca.results.RunResult` objects; no file is written here.
+Its public names are re-exported by :mod:`brakeca.campaign`.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+import sys
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+from brakeca._runstore import _error_text
+from brakeca.config import SimulationConfig
+from brakeca.design import RunPoint
+
+if TYPE_CHECKING:
+    from brakeca.results import RunResult
+
+ExecutorKind = Literal["serial", "local", "dask"]
+SimulateFn = Callable[..., "RunResult"]
+
+#: The executor kinds of :func:`make_executor` and :func:`run_campaign`.
+EXECUTOR_KINDS: tuple[str, ...] = ("serial", "local", "dask")
+
+#: Default number of times a run whose worker process died is tried again [-].
+DEFAULT_MAX_RETRIES = 2
+
+#: Environment set in every worker: one thread each, the pool or cluster gives the parallelism.
+WORKER_ENV: Mapping[str, str] = {
+    "NUMBA_NUM_THREADS": "1",
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+}
+
+
+# --- executors -----------------------------------------------------------------------------
+
+
+class ExecutorError(RuntimeError):
+    """An executor cannot be started: dask is missing, or its scheduler cannot be reached."""
+
+
+class SerialExecutor(cf.Executor):
+    """A :class:`concurrent.futures.Executor` that runs each call inline, in ``submit``.
+
+    Exceptions of the call are stored in the returned future; ``KeyboardInterrupt`` and
+    other ``BaseException`` subclasses propagate.
+    """
+
+    def __init__(self) -> None:
+        self._shutdown = False
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> cf.Future:
+        """Run ``fn(*args, **kwargs)`` now; return a finished future."""
+        if self._shutdown:
+            raise RuntimeError("cannot submit after shutdown")
+        future: cf.Future = cf.Future()
+        try:
+            result = fn(*args, **kwargs)
+        except Exception as exc:
+            future.set_exception(exc)
+        else:
+            future.set_result(result)
+        return future
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """Refuse further submissions (nothing runs in the background)."""
+        self._shutdown = True
+
+
+class DaskExecutor(cf.Executor):
+    """A :class:`concurrent.futures.Executor` that sends each call to a Dask cluster.
+
+    Calls are submitted with ``pure=False`` (every submission runs); their results come back
+    to this process, which is the only one that writes files. :meth:`shutdown` closes the
+    client and, when this executor started it, the :class:`distributed.LocalCluster`.
+
+    Parameters
+    ----------
+    client : distributed.Client
+        A connected client.
+    cluster : distributed.LocalCluster, optional
+        A cluster started for this executor, closed with it.
+    own_client
+        Close ``client`` on shutdown (True for a client made by :func:`make_executor`).
+    """
+
+    def __init__(self, client: Any, cluster: Any = None, *, own_client: bool = True) -> None:
+        self.client = client
+        self.cluster = cluster
+        self._own_client = own_client
+        self._executor = client.get_executor(pure=False)
+        self._closed = False
+
+    @property
+    def address(self) -> str:
+        """The scheduler's address."""
+        return str(self.client.scheduler.address)
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> cf.Future:
+        """Send ``fn(*args, **kwargs)`` to the cluster; return a concurrent.futures future."""
+        return self._executor.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """Wait for (or cancel) the submitted calls, then close the client and own cluster."""
+        if self._closed:
+            return
+        self._closed = True
+        try:
+            self._executor.shutdown(wait=wait and not cancel_futures)
+        finally:
+            try:
+                if self._own_client:
+                    self.client.close()
+            finally:
+                if self.cluster is not None:
+                    self.cluster.close()
+
+
+def _init_worker() -> None:
+    """Process-pool initializer: one numba / OpenMP / BLAS thread per worker."""
+    os.environ.update(WORKER_ENV)
+    numba = sys.modules.get("numba")
+    if numba is not None:  # imported before the initializer ran (e.g. by the main module)
+        try:
+            numba.set_num_threads(1)
+        except Exception:  # a numba without a threading layer: nothing to limit
+            pass
+
+
+def _local_pool(workers: int) -> cf.ProcessPoolExecutor:
+    """A process pool on the ``"spawn"`` start method, one numba/OpenMP thread per worker."""
+    return cf.ProcessPoolExecutor(
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_init_worker,
+    )
+
+
+def _dask_executor(
+    workers: int | None,
+    scheduler: str | None,
+    scheduler_file: str | Path | None,
+    max_retries: int | None,
+) -> DaskExecutor:
+    """Connect to a Dask scheduler, or start a LocalCluster on loopback (see make_executor)."""
+    try:
+        import dask
+        import distributed
+    except ImportError as exc:
+        raise ExecutorError(
+            "the dask executor needs dask.distributed: pip install 'brakeca[cluster]' "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
+    if scheduler is not None or scheduler_file is not None:
+        where = scheduler if scheduler is not None else f"scheduler file {scheduler_file}"
+        try:
+            if scheduler is not None:
+                client = distributed.Client(scheduler, set_as_default=False)
+            else:
+                client = distributed.Client(
+                    scheduler_file=str(scheduler_file), set_as_default=False
+                )
+        except Exception as exc:
+            raise ExecutorError(
+                f"cannot connect to the Dask scheduler at {where}: {_error_text(exc)}"
+            ) from None
+        return DaskExecutor(client)
+    n = (os.cpu_count() or 1) if workers is None else int(workers)
+    # the scheduler's HTTP server (health, metrics; no dashboard) on any free loopback port,
+    # not on dask's default 8787, which another cluster may hold
+    scheduler_kwargs: dict[str, Any] = {"dashboard_address": "127.0.0.1:0"}
+    if max_retries is not None:
+        scheduler_kwargs["allowed_failures"] = int(max_retries)
+    # a one-thread worker holds only the run it executes, so a dying worker takes no queued
+    # run down with it (dask counts every run on a dead worker as suspicious)
+    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+        cluster = distributed.LocalCluster(
+            n_workers=n,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            scheduler_kwargs=scheduler_kwargs,
+            env=dict(WORKER_ENV),
+        )
+        try:
+            client = distributed.Client(cluster, set_as_default=False)
+        except BaseException:
+            cluster.close()
+            raise
+    return DaskExecutor(client, cluster)
+
+
+def make_executor(
+    kind: ExecutorKind = "local",
+    workers: int | None = None,
+    *,
+    scheduler: str | None = None,
+    scheduler_file: str | Path | None = None,
+    max_retries: int | None = None,
+) -> cf.Executor:
+    """Create an executor for :func:`run_campaign`.
+
+    Parameters
+    ----------
+    kind
+        ``"serial"``: every run inline in this process (:class:`SerialExecutor`).
+        ``"local"``: a :class:`~concurrent.futures.ProcessPoolExecutor` on the ``"spawn"``
+        start method, each worker limited to one numba/OpenMP thread.
+        ``"dask"``: a :class:`DaskExecutor`: a client of the scheduler at ``scheduler`` (or
+        named in ``scheduler_file``), or, with neither, of a new
+        :class:`distributed.LocalCluster` of ``workers`` one-thread worker processes bound to
+        127.0.0.1, without dashboard, whose workers get :data:`WORKER_ENV`.
+    workers
+        Worker processes for ``"local"`` and a new LocalCluster [-]; None: ``os.cpu_count()``.
+    scheduler
+        Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"`` (``"dask"`` only).
+    scheduler_file
+        JSON file written by ``dask scheduler --scheduler-file`` (``"dask"`` only).
+    max_retries
+        For a new LocalCluster: how many times the scheduler re-runs a task whose worker died
+        (``distributed.scheduler.allowed-failures``) [-]; None: dask's setting. An existing
+        cluster keeps its scheduler's setting.
+
+    Returns
+    -------
+    concurrent.futures.Executor
+        The caller shuts it down (use it as a context manager); a :class:`DaskExecutor`
+        then closes its client and the cluster it started.
+
+    Raises
+    ------
+    ValueError
+        Unknown kind, a worker count below 1, or a scheduler given to another kind.
+    ExecutorError
+        ``"dask"``: dask.distributed is not installed, or the scheduler cannot be reached.
+    """
+    if kind not in EXECUTOR_KINDS:
+        raise ValueError(f"unknown executor {kind!r}; choose 'serial', 'local' or 'dask'")
+    _check_scheduler(kind, scheduler, scheduler_file)
+    if workers is not None and int(workers) < 1:
+        raise ValueError(f"workers must be at least 1, got {workers}")
+    if max_retries is not None and int(max_retries) < 0:
+        raise ValueError(f"max_retries must be at least 0, got {max_retries}")
+    if kind == "serial":
+        return SerialExecutor()
+    if kind == "local":
+        return _local_pool((os.cpu_count() or 1) if workers is None else int(workers))
+    return _dask_executor(workers, scheduler, scheduler_file, max_retries)
+
+
+def _check_scheduler(
+    kind: ExecutorKind | cf.Executor, scheduler: str | None, scheduler_file: str | Path | None
+) -> None:
+    """Raise ValueError unless a scheduler (address or file) goes with the dask kind."""
+    if scheduler is None and scheduler_file is None:
+        return
+    if kind != "dask":
+        name = "scheduler" if scheduler is not None else "scheduler_file"
+        raise ValueError(f"{name} needs executor='dask', not {kind!r}")
+    if scheduler is not None and scheduler_file is not None:
+        raise ValueError("give scheduler or scheduler_file, not both")
+    if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
+        raise ValueError(f"scheduler must be an address such as tcp://HOST:PORT, got {scheduler!r}")
+    if scheduler_file is not None and not Path(scheduler_file).is_file():
+        raise ValueError(
+            f"scheduler_file {str(scheduler_file)!r} does not exist; start the scheduler with "
+            "'dask scheduler --scheduler-file FILE' first"
+        )
+
+
+def _execute(simulate_fn: SimulateFn | None, config: SimulationConfig, seed: int) -> RunResult:
+    """Worker task: run one simulation and return its result (no file I/O)."""
+    if simulate_fn is None:
+        from brakeca.simulation import simulate as simulate_fn
+    return simulate_fn(config, seed=seed)
+
+
+# --- backends ------------------------------------------------------------------------------
+
+
+class _Backend:
+    """Where the runs go: submissions, capacity, and what a finished future means.
+
+    The base class wraps any :class:`concurrent.futures.Executor` with a fixed number of
+    calls in flight; it cannot replace a broken executor, so a run whose worker died is
+    recorded as failed (dask retries such runs itself and then reports ``KilledWorker``).
+    """
+
+    #: Longest wait for a finished run before :meth:`free` is asked again [s]; None: no limit.
+    poll: float | None = None
+
+    def __init__(self, executor: cf.Executor, window: int, *, own: bool) -> None:
+        self.executor = executor
+        self.window = max(1, window)
+        self.own = own
+        self.in_flight = 0
+
+    def free(self) -> int:
+        """How many more runs may be submitted now."""
+        return self.window - self.in_flight
+
+    def submit(self, simulate_fn: SimulateFn | None, point: RunPoint) -> cf.Future:
+        """Submit one run; a refused submission comes back as a failed future."""
+        self.in_flight += 1
+        try:
+            return self.executor.submit(_execute, simulate_fn, point.config, point.seed)
+        except Exception as exc:  # e.g. a broken executor owned by the caller
+            future: cf.Future = cf.Future()
+            future.set_exception(exc)
+            return future
+
+    def release(self, future: cf.Future) -> str | None:
+        """Account for a finished future: the error text when its worker process died (the
+        run may be tried again), None when the future holds the run's outcome."""
+        self.in_flight -= 1
+        return None
+
+    def close(self, *, cancel: bool) -> None:
+        """Shut the executor down when this campaign made it."""
+        if self.own:
+            self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
+
+
+class _DaskBackend(_Backend):
+    """A :class:`DaskExecutor` with as many runs in flight as its workers have threads.
+
+    Dask charges a worker's death to every task the worker holds, executing or waiting. With
+    no more runs submitted than there are worker threads, a worker normally holds only the run
+    it executes. The thread count is asked again every :attr:`poll` seconds, so workers that
+    join late (a batch queue) get runs; with no worker yet, one run waits in the scheduler.
+    """
+
+    poll = 1.0
+
+    def __init__(self, executor: DaskExecutor) -> None:
+        super().__init__(executor, 1, own=True)
+        self.client = executor.client
+
+    def free(self) -> int:
+        try:
+            threads = sum(self.client.nthreads().values())
+        except Exception:  # the scheduler is busy or gone: the runs in flight will tell
+            threads = 0
+        return max(threads, 1) - self.in_flight
+
+
+class _LocalSlots(_Backend):
+    """``workers`` one-process pools, each with at most one run in flight.
+
+    A worker process that dies (killed, out of memory) breaks only its own pool, so the lost
+    run is known exactly: the pool is replaced and the run may be tried again, while the
+    runs of the other slots go on undisturbed.
+    """
+
+    def __init__(self, workers: int) -> None:
+        self.pools: list[cf.ProcessPoolExecutor | None] = [None] * max(1, workers)
+        self.busy: dict[cf.Future, int] = {}
+
+    def free(self) -> int:
+        return len(self.pools) - len(self.busy)
+
+    def submit(self, simulate_fn: SimulateFn | None, point: RunPoint) -> cf.Future:
+        taken = set(self.busy.values())
+        slot = next(i for i in range(len(self.pools)) if i not in taken)
+        pool = self.pools[slot]
+        if pool is None:
+            pool = self.pools[slot] = _local_pool(1)
+        future = pool.submit(_execute, simulate_fn, point.config, point.seed)
+        self.busy[future] = slot
+        return future
+
+    def release(self, future: cf.Future) -> str | None:
+        slot = self.busy.pop(future)
+        exc = None if future.cancelled() else future.exception()
+        if not isinstance(exc, cf.BrokenExecutor):
+            return None
+        pool = self.pools[slot]
+        self.pools[slot] = None  # a fresh process for the next run of this slot
+        if pool is not None:
+            pool.shutdown(wait=True, cancel_futures=True)
+        return _error_text(exc)
+
+    def close(self, *, cancel: bool) -> None:
+        pools = [p for p in self.pools if p is not None]
+        self.pools = [None] * len(self.pools)
+        for pool in pools:
+            pool.shutdown(wait=not cancel, cancel_futures=cancel)
+
+
+def _backend(
+    executor: ExecutorKind | cf.Executor,
+    workers: int | None,
+    n_todo: int,
+    *,
+    scheduler: str | None,
+    scheduler_file: str | Path | None,
+    max_retries: int,
+) -> _Backend:
+    """The backend that runs ``n_todo`` runs on ``executor`` (see run_campaign)."""
+    n_workers = (os.cpu_count() or 1) if workers is None else workers
+    if isinstance(executor, cf.Executor):
+        window = 1 if isinstance(executor, SerialExecutor) else 2 * max(1, n_workers)
+        return _Backend(executor, window, own=False)
+    if executor == "serial":
+        return _Backend(SerialExecutor(), 1, own=True)
+    if executor == "local":
+        return _LocalSlots(max(1, min(n_workers, n_todo)))
+    dask_executor = make_executor(
+        "dask",
+        max(1, min(n_workers, n_todo)),
+        scheduler=scheduler,
+        scheduler_file=scheduler_file,
+        max_retries=max_retries,
+    )
+    return _DaskBackend(dask_executor)  # type: ignore[arg-type]

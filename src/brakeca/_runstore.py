@@ -1,0 +1,145 @@
+"""Run files of a campaign: the record kept of each run, and writing and checking run files.
+
+This module holds :class:`_Record`, the atomic file helpers, the checks that decide whether a
+run file (or a worker's result) belongs to its run, and the conversion of a finished future
+into a record (writing its run file). Only the campaign process calls it.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import xarray as xr
+
+from brakeca._io import atomic_write
+from brakeca.design import RunPoint, run_id
+
+if TYPE_CHECKING:
+    from brakeca.results import RunResult
+
+#: Dimensions of a run file that are not per-stop (left out of campaign.nc).
+_NON_STOP_DIMS = frozenset({"step", "radius", "angle"})
+
+
+# --- records and results -------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Record:
+    """What the campaign keeps of one run: status, scalars and the per-stop variables."""
+
+    point: RunPoint
+    run_id: str
+    status: str  # "ok" or "failed"
+    error: str = ""
+    scalars: dict[str, float] = field(default_factory=dict)
+    per_stop: xr.Dataset | None = None
+
+
+# --- file helpers --------------------------------------------------------------------------
+
+
+def _write_text(path: Path, text: str) -> Path:
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+def _remove_stale_temporaries(folder: Path) -> list[Path]:
+    """Delete ``.<name>.<random>.tmp`` files left by a killed campaign in ``folder``."""
+    removed = []
+    for tmp in folder.glob(".*.tmp"):
+        if tmp.is_file():
+            tmp.unlink(missing_ok=True)
+            removed.append(tmp)
+    return removed
+
+
+def _per_stop(dataset: xr.Dataset) -> xr.Dataset:
+    """The variables of a run dataset that are indexed by stop (and no map or step dim)."""
+    names = [
+        name
+        for name, var in dataset.data_vars.items()
+        if "stop" in var.dims and not _NON_STOP_DIMS.intersection(var.dims)
+    ]
+    out = dataset[names]
+    return out.drop_vars([c for c in out.coords if _NON_STOP_DIMS.intersection(out[c].dims)])
+
+
+def _record_from_result(point: RunPoint, rid: str, result: RunResult) -> _Record:
+    scalars = {k: _number(v) for k, v in result.scalars().items()}
+    return _Record(point, rid, "ok", "", scalars, _per_stop(result.dataset).load())
+
+
+def _number(value: Any) -> float | int:
+    if isinstance(value, bool | np.bool_):
+        return int(value)
+    if isinstance(value, int | np.integer):
+        return int(value)
+    return float(value)
+
+
+def _check_result(result: Any, point: RunPoint) -> str | None:
+    """Why ``result`` is not the result of ``point`` (None when it is)."""
+    from brakeca.results import RunResult
+
+    if not isinstance(result, RunResult):
+        return f"the simulation returned {type(result).__name__}, not a RunResult"
+    if int(result.seed) != point.seed:
+        return f"the result has seed {result.seed}, the run {point.seed}"
+    if result.config != point.config:
+        return "the result's configuration differs from the run's"
+    return None
+
+
+def _load_existing(path: Path, point: RunPoint) -> tuple[RunResult | None, str]:
+    """Load a run file for reuse: (result, "") or (None, why it cannot be trusted)."""
+    from brakeca.results import RunResult
+
+    try:
+        result = RunResult.from_netcdf(path)
+    except Exception as exc:
+        return None, f"cannot be read ({type(exc).__name__}: {exc})"
+    problem = _check_result(result, point)
+    if problem is not None:
+        return None, f"belongs to another run ({problem})"
+    return result, ""
+
+
+# --- finished runs -------------------------------------------------------------------------
+
+
+def _finish(future: cf.Future, point: RunPoint, runs: Path) -> _Record:
+    """Turn a finished future into a record, writing the run file when it succeeded."""
+    rid = run_id(point)
+    if future.cancelled():
+        return _Record(point, rid, "failed", "the run was cancelled")
+    try:
+        result = future.result()
+    except Exception as exc:
+        return _Record(point, rid, "failed", _error_text(exc))
+    problem = _check_result(result, point)
+    if problem is not None:
+        return _Record(point, rid, "failed", problem)
+    try:
+        result.to_netcdf(runs / f"{rid}.nc")  # atomic
+    except Exception as exc:
+        return _Record(point, rid, "failed", f"cannot write the run file: {_error_text(exc)}")
+    return _record_from_result(point, rid, result)
+
+
+def _error_text(exc: BaseException) -> str:
+    """One line (for the CSV) naming the exception; a dask KilledWorker said plainly."""
+    if type(exc).__name__ == "KilledWorker":
+        tries = getattr(exc, "allowed_failures", None)
+        worker = getattr(getattr(exc, "last_worker", None), "address", "?")
+        times = "repeatedly" if tries is None else f"{int(tries) + 1} times"
+        text = (
+            f"KilledWorker: the worker process died {times} while running it (dask retried "
+            f"it on other workers; last worker {worker}); not retried again"
+        )
+    else:
+        text = f"{type(exc).__name__}: {exc}".strip()
+    return " ".join(text.split())  # one line, for the CSV
