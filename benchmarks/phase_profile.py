@@ -52,14 +52,16 @@ def profile_phases(state, grid, config, stop, n_steps=400):
     target = brake_demand(config, stop.deceleration, grid.area).band_friction_force
     fr = config.friction
     n = state.height.size
-    created, destroyed = (np.zeros(n, dtype=np.int64) for _ in range(2))
+    created, destroyed, dpos = (np.zeros(n, dtype=np.int64) for _ in range(3))
     counts = np.zeros(8, dtype=np.int64)
     sums = np.zeros(K.N_SUMS)
     names = [
-        "contact",
+        "sort (+ removals, insertions)",
+        "contact (root scan)",
+        "rule 4 marks",
         "friction+wear+rules 5,7",
+        "tail (rules 4, 6)",
         "resin",
-        "rules 4,6",
         "creation",
         "apply",
         "advance",
@@ -69,18 +71,39 @@ def profile_phases(state, grid, config, stop, n_steps=400):
     pc = time.perf_counter
     k_ = config.contact.stiffness
     steps = min(n_steps, fraction.size)
+    cur, oth = state.pk, state.alt
     for step in range(steps):
         t0 = pc()
-        z, n_in, _ = K.phase_contact(
-            state.pk, state.cnt, k_, fr.mu_0, fr.slope, fr.mu_min, target, config.contact.bar_length
-        )
+        if K.phase_sort(cur, oth, state.nb, state.cnt):
+            cur, oth = oth, cur
         t1 = pc()
-        n_dest = K.phase_friction_wear(
-            state.pk,
+        z, n_in, _ = K.phase_contact(
+            cur,
+            state.cnt,
+            state.bin_area,
+            k_,
+            fr.mu_0,
+            fr.slope,
+            fr.mu_min,
+            target,
+            config.contact.bar_length,
+        )
+        t2 = pc()
+        n4 = K.phase_rule4(
+            state.cnt, state.status, state.mark, state.rule4_list, state.n_angular, counts
+        )
+        t3 = pc()
+        n_dest, left4 = K.phase_friction_wear(
+            cur,
             n_in,
+            state.bin_area,
+            state.bin_slide,
+            state.fibre_floor,
+            state.rule7_on,
             state.outflow,
             state.acc,
             state.mark,
+            n4,
             z,
             k_,
             fr.mu_0,
@@ -90,9 +113,24 @@ def profile_phases(state, grid, config, stop, n_steps=400):
             fraction[step],
             sums,
             destroyed,
+            dpos,
             counts,
         )
-        t2 = pc()
+        t4 = pc()
+        n_dest = K.phase_tail(
+            cur,
+            n_in,
+            state.cnt,
+            state.mark,
+            left4,
+            z,
+            math.inf,
+            destroyed,
+            dpos,
+            n_dest,
+            counts,
+        )
+        t5 = pc()
         K.phase_resin(
             state.height,
             state.status,
@@ -106,23 +144,8 @@ def profile_phases(state, grid, config, stop, n_steps=400):
             config.wear.resin_wear_depth,
             sums,
         )
-        t3 = pc()
         state.acc[K.ACC_REMOVED] += sums[K.S_REMOVED]
-        n_dest = K.phase_destruction(
-            state.pk,
-            n_in,
-            state.cnt,
-            state.status,
-            state.mark,
-            state.rule4_list,
-            z,
-            math.inf,
-            state.n_angular,
-            destroyed,
-            n_dest,
-            counts,
-        )
-        t4 = pc()
+        t6 = pc()
         n_new = K.phase_creation(
             state.height,
             state.status,
@@ -139,20 +162,19 @@ def profile_phases(state, grid, config, stop, n_steps=400):
             created,
             counts,
         )
-        t5 = pc()
+        t7 = pc()
         K.phase_apply(
-            state.pk,
-            state.tail,
+            cur,
+            state.nb,
             n_in,
             state.cnt,
+            state.bin_area,
             state.height,
             state.base,
             state.status,
-            state.fibre_floor,
             state.cand,
             state.ncand,
             state.cell_area,
-            state.cell_slide,
             state.cell_bin,
             state.outflow,
             state.acc,
@@ -163,31 +185,29 @@ def profile_phases(state, grid, config, stop, n_steps=400):
             z,
             state.n_angular,
             destroyed,
+            dpos,
             n_dest,
             created,
             n_new,
         )
-        t6 = pc()
+        t8 = pc()
         emitted, _ = K.phase_advance(
             state.inflow, state.outflow, state.n_radial, state.n_subdomains
         )
         state.acc[K.ACC_EMITTED] += emitted
-        t7 = pc()
-        K.held_volume(state.pk, state.cnt)
-        t8 = pc()
-        for key, dt in zip(
-            names,
-            (t1 - t0, t2 - t1, t3 - t2, t4 - t3, t5 - t4, t6 - t5, t7 - t6, t8 - t7),
-            strict=True,
-        ):
-            t[key] += dt
+        t9 = pc()
+        K.held_volume(cur, state.nb, state.cnt, state.bin_area)
+        t10 = pc()
+        marks = (t0, t1, t2, t3, t4, t5, t6, t7, t8, t9, t10)
+        for key, a, b in zip(names, marks[:-1], marks[1:], strict=True):
+            t[key] += b - a
     total = sum(t.values())
     print(
         f"per-phase time, {steps} steps of stop {stop.index}, {state.cnt[0]} plateau cells "
         "(Python-driven; each call adds ~0.3 us of dispatch):"
     )
     for key, v in t.items():
-        print(f"  {key:24s} {v / steps * 1e6:9.1f} us/step  {100 * v / total:5.1f} %")
+        print(f"  {key:30s} {v / steps * 1e6:9.1f} us/step  {100 * v / total:5.1f} %")
 
 
 if args.stops:

@@ -5,27 +5,39 @@ stop, not per step. The physics lives in named functions of :mod:`brakeca.contac
 :mod:`brakeca.friction`, :mod:`brakeca.wear` and :mod:`brakeca.automaton`; this module wires
 them in the order of a step (decision, docs/model.md), one compiled function per phase:
 
-1. :func:`phase_contact` -- contact solve on the current heights (first root of the torque
-   balance) -> z;
-2. + 3a. :func:`phase_friction_wear` -- friction and Archard wear of the plateaus in contact;
+1. :func:`phase_sort` then :func:`brakeca.contact.first_root_binned` -- the plateau records
+   in height order (last step's removals and insertions applied), contact solve (first root
+   of the torque balance) -> z;
+   :func:`phase_rule4` -- rule 4 on the statuses at the start of the step (marks only);
+2. + 3a. :func:`phase_friction_wear` -- friction and Archard wear of the plateaus in contact,
+   rules 5 and 7, and the position of every plateau marked for destruction;
 3b. :func:`phase_resin` -- the resin cut;
-4a. :func:`phase_destruction` -- rules 4-7, statuses as at the start of the step;
 4b. :func:`phase_creation` -- rules 1-3 drawing on the inflow, gaps measured to this z;
     :func:`phase_apply` -- the status changes take effect;
 5. :func:`phase_advance` -- the particle streams advance one subdomain; the last emits.
+
+Rules 4-7 read the statuses as they were at the start of the step whichever phase evaluates
+them, so evaluating rule 4 before the wear pass changes nothing (a cell that both loses its
+support and wears through its deposit counts as rule 5, as before).
 
 State arrays are flat (index ``j * n_angular + i``); per-cell constants (area, sliding distance,
 stream bin ``j * n_sub + k``) are precomputed so hot loops do no integer division. Work per step
 is proportional to the cells in contact plus the cells whose status changes, not to the grid:
 
-* plateau cells are kept sorted by height (``order``), repaired by insertion sort each step;
+* plateau cells are packed records ``pk`` sorted by height (highest first): height, deposit
+  base, cell index, stream bin and status; area and sliding distance are read from per-bin
+  tables (every cell of a row has the same). A destroyed record is marked ``DEAD`` and new
+  records wait in ``nb``; the next step's sort pass removes and inserts them while it sorts
+  (insertion sort, linear in the records plus the inversions), writing into the second buffer;
 * resin (status none) cells are kept in a max-heap by height, so the resin cut visits only the
   cells above the disc (stale heap entries are skipped: key != height or status != none);
 * creation candidates (a none cell with a plateau directly east) are flagged and counted per
   stream bin, updated where statuses change;
 * rule 4 is checked only on cells whose eastern neighbour lost its plateau status.
 
-``fastmath`` stays off: results are bit-reproducible.
+``fastmath`` stays off: results are bit-reproducible, and every floating-point operation is
+done in the same order as in the first kernel, so the results are bit-identical to it
+(``benchmarks/fingerprint.py``).
 """
 
 from __future__ import annotations
@@ -43,13 +55,21 @@ from brakeca.automaton import (
     rule6_primary_out_of_reach,
     rule7_fibre_worn,
 )
-from brakeca.contact import SOLVE_OK, first_root
+from brakeca.contact import SOLVE_OK, first_root_binned
 from brakeca.friction import local_cof
 from brakeca.wear import archard_wear_depth, resin_cut_depth
 
 NONE = 0
 PRIMARY = 1
 SECONDARY = 2
+DEAD = 3  # status of a packed record destroyed this step, removed by the next sort pass
+
+# fields of a packed plateau record (the tuple `pk`)
+P_H = 0  # height [m]
+P_BASE = 1  # deposit base [m]
+P_IDX = 2  # cell index
+P_BIN = 3  # stream bin
+P_ST = 4  # status
 
 # indices into the float accumulator array `acc`
 ACC_REMOVED = 0  # pad material removed since the start of the run [m^3]
@@ -60,10 +80,13 @@ ACC_SECONDARY_AREA = 4  # area of secondary plateaus [m^2]
 N_ACC = 5
 
 # indices into the int counter array `cnt`
-CNT_PLATEAU = 0  # valid entries of `order`
+CNT_PLATEAU = 0  # records in `pk` (dead ones included until the next sort pass)
 CNT_HEAP = 1  # entries of the resin heap
 CNT_RULE4 = 2  # entries of the rule-4 check list
-N_CNT = 3
+CNT_HEAD = 3  # records in contact at the last step: new records go after them
+CNT_NEW = 4  # new records waiting in `nb`
+CNT_DEAD = 5  # dead records in `pk`
+N_CNT = 6
 
 # indices into the per-step record array `rec[step, :]`
 R_COF = 0
@@ -96,37 +119,102 @@ ERR_LEDGER = 3
 
 
 # --- small data structures -------------------------------------------------------------------
+def packed_records(n: int) -> tuple:
+    """Empty packed plateau records for ``n`` cells (height, base, index, bin, status)."""
+    return (
+        np.zeros(n),
+        np.zeros(n),
+        np.zeros(n, dtype=np.int32),
+        np.zeros(n, dtype=np.int32),
+        np.zeros(n, dtype=np.int8),
+    )
+
+
 @njit(cache=True)
-def sort_packed(n, pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st):
+def _put(dst, w, h, base, idx, bn, st):
+    """Insertion-sort step: place a record at the end of ``dst[:w]`` (sorted, highest first)
+    and move it up past every lower record (stable)."""
+    dh, db, di, dn, ds = dst
+    b = w - 1
+    while b >= 0 and dh[b] < h:
+        dh[b + 1] = dh[b]
+        db[b + 1] = db[b]
+        di[b + 1] = di[b]
+        dn[b + 1] = dn[b]
+        ds[b + 1] = ds[b]
+        b -= 1
+    dh[b + 1] = h
+    db[b + 1] = base
+    di[b + 1] = idx
+    dn[b + 1] = bn
+    ds[b + 1] = st
+
+
+@njit(cache=True)
+def sort_packed(n, pk):
     """Insertion sort of the packed plateau records by height, highest first (stable).
 
     Linear in n plus the number of inversions: the order is nearly sorted from the last step.
     """
+    pk_h, pk_base, pk_idx, pk_bin, pk_st = pk
     for a in range(1, n):
-        hk = pk_h[a]
-        if pk_h[a - 1] >= hk:
+        if pk_h[a - 1] >= pk_h[a]:
             continue
-        rb, ra, rs, rf = pk_base[a], pk_area[a], pk_slide[a], pk_floor[a]
-        ri, rn, rt = pk_idx[a], pk_bin[a], pk_st[a]
-        b = a - 1
-        while b >= 0 and pk_h[b] < hk:
-            pk_h[b + 1] = pk_h[b]
-            pk_base[b + 1] = pk_base[b]
-            pk_area[b + 1] = pk_area[b]
-            pk_slide[b + 1] = pk_slide[b]
-            pk_floor[b + 1] = pk_floor[b]
-            pk_idx[b + 1] = pk_idx[b]
-            pk_bin[b + 1] = pk_bin[b]
-            pk_st[b + 1] = pk_st[b]
-            b -= 1
-        pk_h[b + 1] = hk
-        pk_base[b + 1] = rb
-        pk_area[b + 1] = ra
-        pk_slide[b + 1] = rs
-        pk_floor[b + 1] = rf
-        pk_idx[b + 1] = ri
-        pk_bin[b + 1] = rn
-        pk_st[b + 1] = rt
+        _put(pk, a, pk_h[a], pk_base[a], pk_idx[a], pk_bin[a], pk_st[a])
+
+
+@njit(cache=True)
+def _put_at(dst, w, h, base, idx, bn, st):
+    """Write a record at position ``w`` of ``dst``."""
+    dst[P_H][w] = h
+    dst[P_BASE][w] = base
+    dst[P_IDX][w] = idx
+    dst[P_BIN][w] = bn
+    dst[P_ST][w] = st
+
+
+@njit(cache=True)
+def merge_sort_pass(src, dst, nb, cnt, do_sort):
+    """Write the records of ``src`` into ``dst`` in the order [records in contact at the last
+    step][new records of ``nb``][the others], dropping the dead ones; with ``do_sort`` every
+    record is insertion-sorted in as it is written. This is the compaction followed by the
+    insertion sort, in one pass. Returns the number of records written."""
+    sh, sb, si, sn, ss = src
+    nh, nbase, ni, nn, ns = nb
+    w = 0
+    n_head = cnt[CNT_HEAD]
+    for r in range(n_head):
+        if ss[r] != DEAD:
+            if do_sort and w > 0 and dst[P_H][w - 1] < sh[r]:
+                _put(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
+            else:
+                _put_at(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
+            w += 1
+    for r in range(cnt[CNT_NEW]):
+        if do_sort and w > 0 and dst[P_H][w - 1] < nh[r]:
+            _put(dst, w, nh[r], nbase[r], ni[r], nn[r], ns[r])
+        else:
+            _put_at(dst, w, nh[r], nbase[r], ni[r], nn[r], ns[r])
+        w += 1
+    for r in range(n_head, cnt[CNT_PLATEAU]):
+        if ss[r] != DEAD:
+            if do_sort and w > 0 and dst[P_H][w - 1] < sh[r]:
+                _put(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
+            else:
+                _put_at(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
+            w += 1
+    cnt[CNT_PLATEAU] = w
+    cnt[CNT_HEAD] = 0
+    cnt[CNT_NEW] = 0
+    cnt[CNT_DEAD] = 0
+    return w
+
+
+@njit(cache=True)
+def copy_records(src, dst, n):
+    """Copy the first ``n`` packed records of ``src`` to ``dst``."""
+    for f in range(n):
+        _put_at(dst, f, src[P_H][f], src[P_BASE][f], src[P_IDX][f], src[P_BIN][f], src[P_ST][f])
 
 
 @njit(cache=True)
@@ -199,20 +287,32 @@ def rebuild_candidates(status, cand, ncand, cell_bin, n_angular):
 
 
 # --- the phases of a step --------------------------------------------------------------------
-# `pk` is the tuple of packed plateau records, sorted by height (highest first), valid for the
-# first cnt[CNT_PLATEAU] entries: (height [m], deposit base [m], area [m^2], full-step sliding
-# distance [m], fibre floor [m], cell index, stream bin, status). During a stop the packed
-# height and base of a plateau cell are authoritative; the grid arrays are written back by
-# `sync_grid` at the end of every stop.
+# `pk` is the tuple of packed plateau records (height [m], deposit base [m], cell index, stream
+# bin, status), valid for the first cnt[CNT_PLATEAU] entries, sorted by height (highest first)
+# after `phase_sort`. During a stop the packed height of a plateau cell is authoritative; the
+# grid heights are written back by `sync_grid` at the end of every stop. `nb` holds the records
+# created in the last step until the next sort pass.
 @njit(cache=True)
-def phase_contact(pk, cnt, stiffness, mu_0, slope, mu_min, target, bar_length):
-    """Step phase 1: sort the plateaus and solve the torque balance for z.
+def phase_sort(pk, alt, nb, cnt):
+    """Step phase 1a: the records in height order, last step's removals and insertions applied.
+
+    Returns True when the sorted records were written to ``alt`` (the caller swaps buffers)."""
+    if cnt[CNT_NEW] == 0 and cnt[CNT_DEAD] == 0:
+        sort_packed(cnt[CNT_PLATEAU], pk)
+        return False
+    merge_sort_pass(pk, alt, nb, cnt, True)
+    return True
+
+
+@njit(cache=True)
+def phase_contact(pk, cnt, bin_area, stiffness, mu_0, slope, mu_min, target, bar_length):
+    """Step phase 1b: solve the torque balance for z on the sorted records.
 
     Returns (z [m], n_in: plateaus in contact = leading packed records, error code)."""
-    pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st = pk
-    n_plat = cnt[CNT_PLATEAU]
-    sort_packed(n_plat, pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st)
-    z, n_in, code = first_root(pk_h, pk_area, n_plat, stiffness, mu_0, slope, mu_min, target)
+    pk_h = pk[P_H]
+    z, n_in, code = first_root_binned(
+        pk_h, pk[P_BIN], bin_area, cnt[CNT_PLATEAU], stiffness, mu_0, slope, mu_min, target
+    )
     if code != SOLVE_OK:
         return z, n_in, ERR_NO_PLATEAU
     if pk_h[0] - z > bar_length:
@@ -221,12 +321,34 @@ def phase_contact(pk, cnt, stiffness, mu_0, slope, mu_min, target, bar_length):
 
 
 @njit(cache=True)
+def phase_rule4(cnt, status, mark, rule4_list, n_angular, rule_counts):
+    """Rule 4 on the statuses at the start of the step, checked only on cells whose eastern
+    neighbour lost its plateau status (``rule4_list``): marks them (``mark = 4``). Returns the
+    number marked; :func:`phase_friction_wear` and :func:`phase_tail` find their records."""
+    n4 = 0
+    for q in range(cnt[CNT_RULE4]):
+        idx = rule4_list[q]
+        if mark[idx] or not rule4_lost_support(status, idx, n_angular):
+            continue
+        mark[idx] = 4
+        rule_counts[4] += 1
+        n4 += 1
+    cnt[CNT_RULE4] = 0
+    return n4
+
+
+@njit(cache=True)
 def phase_friction_wear(
     pk,
     n_in,
+    bin_area,
+    bin_slide,
+    fibre_floor,
+    rule7_on,
     outflow,
     acc,
     mark,
+    n4,
     z,
     stiffness,
     mu_0,
@@ -236,61 +358,104 @@ def phase_friction_wear(
     frac,
     sums,
     destroyed,
+    dpos,
     rule_counts,
 ):
     """Step phases 2, 3a and rules 5 and 7: friction of the plateaus in contact, their Archard
-    wear, and the destruction of those worn down (marked in ``mark``, listed in ``destroyed``).
+    wear, and the destruction of those worn down; also finds the records in contact that rule
+    4 marked. Every destroyed cell is listed in ``destroyed`` and its record in ``dpos``.
 
     Primary wear is new pad material (removed); wear of a secondary plateau moves volume from
-    its deposit to the stream and is clipped at the deposit (rule 5 then fires).
-    Returns the number of cells listed in ``destroyed``."""
-    pk_h, pk_base, pk_area, pk_slide, pk_floor, pk_idx, pk_bin, pk_st = pk
+    its deposit to the stream and is clipped at the deposit (rule 5 then fires; rule 5 takes
+    precedence over rule 4). Returns (cells listed, rule-4 marks not found among them)."""
+    pk_h, pk_base, pk_idx, pk_bin, pk_st = pk
     f_fric = 0.0
     f_norm = 0.0
     a_contact = 0.0
     removed = 0.0
     held_out = 0.0
     n_dest = 0
+    left4 = n4
     for q in range(n_in):
+        fire = 0
         u = pk_h[q] - z
-        if u <= 0.0:
-            continue
-        area = pk_area[q]
-        p = stiffness * u
-        mu = local_cof(p, mu_0, slope, mu_min)
-        f_fric += mu * p * area
-        f_norm += p * area
-        a_contact += area
-        dh = archard_wear_depth(wear_rate, p, pk_slide[q] * frac, u)
-        s = pk_st[q]
-        if s == SECONDARY:
-            dep = pk_h[q] - pk_base[q]
-            if dh >= dep:
-                dh = dep
-                pk_h[q] = pk_base[q]  # deposit used up
+        if u > 0.0:
+            bn = pk_bin[q]
+            area = bin_area[bn]
+            p = stiffness * u
+            mu = local_cof(p, mu_0, slope, mu_min)
+            f_fric += mu * p * area
+            f_norm += p * area
+            a_contact += area
+            dh = archard_wear_depth(wear_rate, p, bin_slide[bn] * frac, u)
+            s = pk_st[q]
+            if s == SECONDARY:
+                dep = pk_h[q] - pk_base[q]
+                if dh >= dep:
+                    dh = dep
+                    pk_h[q] = pk_base[q]  # deposit used up
+                else:
+                    pk_h[q] -= dh
+                vol = dh * area
+                outflow[bn] += vol
+                held_out += vol
+                if rule5_deposit_worn(s, pk_h[q], pk_base[q]):
+                    fire = 5
             else:
                 pk_h[q] -= dh
-            vol = dh * area
-            outflow[pk_bin[q]] += vol
-            held_out += vol
-            fire = 5 if rule5_deposit_worn(s, pk_h[q], pk_base[q]) else 0
-        else:
-            pk_h[q] -= dh
-            vol = dh * area
-            outflow[pk_bin[q]] += vol
-            removed += vol
-            fire = 7 if rule7_fibre_worn(s, pk_h[q], pk_floor[q]) else 0
-        if fire:
+                vol = dh * area
+                outflow[bn] += vol
+                removed += vol
+                if rule7_on and rule7_fibre_worn(s, pk_h[q], fibre_floor[pk_idx[q]]):
+                    fire = 7
+        if fire or (left4 and pk_st[q] == SECONDARY):
             idx = pk_idx[q]
-            mark[idx] = fire
-            destroyed[n_dest] = idx
-            n_dest += 1
-            rule_counts[fire] += 1
+            m = mark[idx]
+            if m == 4:
+                left4 -= 1
+                if fire:
+                    rule_counts[4] -= 1  # worn through: counted as rule 5
+            if fire:
+                mark[idx] = fire
+                rule_counts[fire] += 1
+            if fire or m == 4:
+                destroyed[n_dest] = idx
+                dpos[n_dest] = q
+                n_dest += 1
     acc[ACC_HELD] -= held_out
     sums[S_FRICTION] = f_fric
     sums[S_NORMAL] = f_norm
     sums[S_CONTACT] = a_contact
     sums[S_REMOVED] = removed
+    return n_dest, left4
+
+
+@njit(cache=True)
+def phase_tail(pk, n_in, cnt, mark, left4, z, rule6_gap, destroyed, dpos, n_dest, rule_counts):
+    """Rules 4 and 6 on the records out of contact: find the records of the rule-4 marks not
+    found in contact, and apply rule 6 (when switched on) to the primary plateaus. Returns the
+    number of cells now listed in ``destroyed``."""
+    if left4 == 0 and not rule6_gap < math.inf:
+        return n_dest
+    pk_h, pk_idx, pk_st = pk[P_H], pk[P_IDX], pk[P_ST]
+    for q in range(n_in, cnt[CNT_PLATEAU]):
+        s = pk_st[q]
+        if s == SECONDARY and left4:
+            idx = pk_idx[q]
+            if mark[idx] == 4:
+                left4 -= 1
+                destroyed[n_dest] = idx
+                dpos[n_dest] = q
+                n_dest += 1
+        elif rule6_primary_out_of_reach(s, pk_h[q], z, rule6_gap):
+            idx = pk_idx[q]
+            mark[idx] = 6
+            destroyed[n_dest] = idx
+            dpos[n_dest] = q
+            n_dest += 1
+            rule_counts[6] += 1
+        if left4 == 0 and not rule6_gap < math.inf:
+            break
     return n_dest
 
 
@@ -312,47 +477,6 @@ def phase_resin(
         removed += vol
         heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
     sums[S_REMOVED] += removed
-
-
-@njit(cache=True)
-def phase_destruction(
-    pk,
-    n_in,
-    cnt,
-    status,
-    mark,
-    rule4_list,
-    z,
-    rule6_gap,
-    n_angular,
-    destroyed,
-    n_dest,
-    rule_counts,
-):
-    """Step phase 4a: rules 4 and 6 on the statuses at the start of the step (rules 5 and 7
-    fired in :func:`phase_friction_wear`). Returns the number of cells now in ``destroyed``.
-
-    Rule 4 is checked only on cells whose eastern neighbour lost its plateau status
-    (``rule4_list``); rule 6, when switched on, on the primary plateaus out of contact."""
-    for q in range(cnt[CNT_RULE4]):
-        idx = rule4_list[q]
-        if mark[idx] or not rule4_lost_support(status, idx, n_angular):
-            continue
-        mark[idx] = 4
-        destroyed[n_dest] = idx
-        n_dest += 1
-        rule_counts[4] += 1
-    cnt[CNT_RULE4] = 0
-    if rule6_gap < math.inf:
-        pk_h, pk_st, pk_idx = pk[0], pk[7], pk[5]
-        for q in range(n_in, cnt[CNT_PLATEAU]):
-            if rule6_primary_out_of_reach(pk_st[q], pk_h[q], z, rule6_gap):
-                idx = pk_idx[q]
-                mark[idx] = 6
-                destroyed[n_dest] = idx
-                n_dest += 1
-                rule_counts[6] += 1
-    return n_dest
 
 
 @njit(cache=True)
@@ -398,31 +522,40 @@ def phase_creation(
 
 
 @njit(cache=True)
-def _copy_record(src, a, dst, b):
-    dst[0][b] = src[0][a]
-    dst[1][b] = src[1][a]
-    dst[2][b] = src[2][a]
-    dst[3][b] = src[3][a]
-    dst[4][b] = src[4][a]
-    dst[5][b] = src[5][a]
-    dst[6][b] = src[6][a]
-    dst[7][b] = src[7][a]
+def _destroy(pk, q, bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt):
+    """Destroy the plateau of packed record q: it becomes resin at its current height (a
+    secondary returns its remaining deposit to the stream of its row and subdomain); the
+    record is marked dead."""
+    idx = pk[P_IDX][q]
+    bn = pk[P_BIN][q]
+    area = bin_area[bn]
+    if pk[P_ST][q] == SECONDARY:
+        dep = (pk[P_H][q] - pk[P_BASE][q]) * area
+        outflow[bn] += dep
+        acc[ACC_HELD] -= dep
+        height[idx] = pk[P_BASE][q]
+        acc[ACC_SECONDARY_AREA] -= area
+    else:
+        height[idx] = pk[P_H][q]
+        acc[ACC_PRIMARY_AREA] -= area
+    status[idx] = NONE
+    pk[P_ST][q] = DEAD
+    heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
 
 
 @njit(cache=True)
 def phase_apply(
     pk,
-    tail,
+    nb,
     n_in,
     cnt,
+    bin_area,
     height,
     base,
     status,
-    fibre_floor,
     cand,
     ncand,
     cell_area,
-    cell_slide,
     cell_bin,
     outflow,
     acc,
@@ -433,30 +566,23 @@ def phase_apply(
     z,
     n_angular,
     destroyed,
+    dpos,
     n_dest,
     created,
     n_new,
 ):
-    """Apply the status changes of the step: destroyed cells become none (a secondary returns
-    its deposit to the stream), created cells are filled to z and inserted in the packed
-    records after the cells in contact; keep the resin heap, the candidate flags and the
-    rule-4 list up to date. ``tail`` is scratch of the packed layout."""
+    """Apply the status changes of the step in record order: destroyed cells become none (a
+    secondary returns its deposit to the stream) and their records are marked dead; created
+    cells are filled to z and wait in ``nb`` to be inserted after the cells in contact by the
+    next sort pass. Keeps the resin heap, the candidate flags and the rule-4 list up to date.
+
+    ``dpos`` lists the destroyed records in increasing position (those in contact first)."""
     if n_dest == 0 and n_new == 0:
         return
-    n_plat = cnt[CNT_PLATEAU]
-    # move the records out of contact aside, compact the ones in contact in place
-    n_tail = 0
-    for q in range(n_in, n_plat):
-        _copy_record(pk, q, tail, n_tail)
-        n_tail += 1
-    w = 0
-    for q in range(n_in):
-        if mark[pk[5][q]]:
-            _destroy(pk, q, height, base, status, outflow, acc, heap_keys, heap_vals, cnt)
-        else:
-            if w != q:
-                _copy_record(pk, q, pk, w)
-            w += 1
+    k = 0
+    while k < n_dest and dpos[k] < n_in:
+        _destroy(pk, dpos[k], bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt)
+        k += 1
     for c in range(n_new):
         idx = created[c]
         area = cell_area[idx]
@@ -465,22 +591,13 @@ def phase_apply(
         base[idx] = height[idx]
         height[idx] = z
         status[idx] = SECONDARY
-        pk[0][w] = z
-        pk[1][w] = base[idx]
-        pk[2][w] = area
-        pk[3][w] = cell_slide[idx]
-        pk[4][w] = fibre_floor[idx]
-        pk[5][w] = idx
-        pk[6][w] = cell_bin[idx]
-        pk[7][w] = SECONDARY
-        w += 1
-    for q in range(n_tail):
-        if mark[tail[5][q]]:
-            _destroy(tail, q, height, base, status, outflow, acc, heap_keys, heap_vals, cnt)
-        else:
-            _copy_record(tail, q, pk, w)
-            w += 1
-    cnt[CNT_PLATEAU] = w
+        _put_at(nb, c, z, base[idx], idx, cell_bin[idx], SECONDARY)
+    while k < n_dest:
+        _destroy(pk, dpos[k], bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt)
+        k += 1
+    cnt[CNT_HEAD] = n_in
+    cnt[CNT_NEW] = n_new
+    cnt[CNT_DEAD] = n_dest
     for q in range(n_dest):
         idx = destroyed[q]
         mark[idx] = 0
@@ -494,25 +611,6 @@ def phase_apply(
         refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
         if idx % n_angular > 0:
             refresh_candidate(status, cand, ncand, cell_bin, idx - 1, n_angular)
-
-
-@njit(cache=True)
-def _destroy(rec, q, height, base, status, outflow, acc, heap_keys, heap_vals, cnt):
-    """Destroy the plateau of packed record q: it becomes resin at its current height (a
-    secondary returns its remaining deposit to the stream of its row and subdomain)."""
-    idx = rec[5][q]
-    area = rec[2][q]
-    if rec[7][q] == SECONDARY:
-        dep = (rec[0][q] - rec[1][q]) * area
-        outflow[rec[6][q]] += dep
-        acc[ACC_HELD] -= dep
-        height[idx] = rec[1][q]
-        acc[ACC_SECONDARY_AREA] -= area
-    else:
-        height[idx] = rec[0][q]
-        acc[ACC_PRIMARY_AREA] -= area
-    status[idx] = NONE
-    heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
 
 
 @njit(cache=True)
@@ -533,13 +631,32 @@ def phase_advance(inflow, outflow, n_radial, n_sub):
 
 
 @njit(cache=True)
-def held_volume(pk, cnt):
-    """Volume held in secondary plateaus, summed from the packed records [m^3]."""
-    pk_h, pk_base, pk_area, pk_st = pk[0], pk[1], pk[2], pk[7]
+def _held_range(pk, bin_area, lo, hi):
+    pk_h, pk_base, pk_bin, pk_st = pk[P_H], pk[P_BASE], pk[P_BIN], pk[P_ST]
     held = 0.0
-    for q in range(cnt[CNT_PLATEAU]):
+    for q in range(lo, hi):
         if pk_st[q] == SECONDARY:
-            held += (pk_h[q] - pk_base[q]) * pk_area[q]
+            held += (pk_h[q] - pk_base[q]) * bin_area[pk_bin[q]]
+    return held
+
+
+@njit(cache=True)
+def held_volume(pk, nb, cnt, bin_area):
+    """Volume held in secondary plateaus, summed from the packed records in their order after
+    the next sort pass's compaction (records in contact, new records, the others) [m^3]."""
+    if cnt[CNT_NEW] == 0 and cnt[CNT_DEAD] == 0:
+        return _held_range(pk, bin_area, 0, cnt[CNT_PLATEAU])
+    n_head = cnt[CNT_HEAD]
+    pk_h, pk_base, pk_bin, pk_st = pk[P_H], pk[P_BASE], pk[P_BIN], pk[P_ST]
+    held = 0.0
+    for q in range(n_head):
+        if pk_st[q] == SECONDARY:
+            held += (pk_h[q] - pk_base[q]) * bin_area[pk_bin[q]]
+    for q in range(cnt[CNT_NEW]):
+        held += (nb[P_H][q] - nb[P_BASE][q]) * bin_area[nb[P_BIN][q]]
+    for q in range(n_head, cnt[CNT_PLATEAU]):
+        if pk_st[q] == SECONDARY:
+            held += (pk_h[q] - pk_base[q]) * bin_area[pk_bin[q]]
     return held
 
 
@@ -547,34 +664,29 @@ def held_volume(pk, cnt):
 def sync_grid(pk, cnt, height, base):
     """Write the packed heights and deposit bases back to the grid arrays."""
     for q in range(cnt[CNT_PLATEAU]):
-        idx = pk[5][q]
-        height[idx] = pk[0][q]
-        base[idx] = pk[1][q]
+        idx = pk[P_IDX][q]
+        height[idx] = pk[P_H][q]
+        base[idx] = pk[P_BASE][q]
 
 
 @njit(cache=True)
-def pack_plateaus(
-    order, n, pk, height, base, cell_area, cell_slide, fibre_floor, cell_bin, status, cnt
-):
+def pack_plateaus(order, n, pk, height, base, cell_bin, status, cnt):
     """Fill the packed records from the grid for the plateau cells listed in ``order[:n]``."""
     for q in range(n):
         idx = order[q]
-        pk[0][q] = height[idx]
-        pk[1][q] = base[idx]
-        pk[2][q] = cell_area[idx]
-        pk[3][q] = cell_slide[idx]
-        pk[4][q] = fibre_floor[idx]
-        pk[5][q] = idx
-        pk[6][q] = cell_bin[idx]
-        pk[7][q] = status[idx]
+        _put_at(pk, q, height[idx], base[idx], idx, cell_bin[idx], status[idx])
     cnt[CNT_PLATEAU] = n
+    cnt[CNT_HEAD] = 0
+    cnt[CNT_NEW] = 0
+    cnt[CNT_DEAD] = 0
 
 
 # --- one stop --------------------------------------------------------------------------------
 @njit(cache=True)
 def run_stop(
     pk,
-    tail,
+    alt,
+    nb,
     height,
     base,
     status,
@@ -590,8 +702,9 @@ def run_stop(
     cnt,
     acc,
     cell_area,
-    cell_slide,
     cell_bin,
+    bin_area,
+    bin_slide,
     n_radial,
     n_angular,
     n_sub,
@@ -602,6 +715,7 @@ def run_stop(
     wear_rate,
     resin_depth,
     rule6_gap,
+    rule7_on,
     bar_length,
     east_to_west,
     targets,
@@ -612,15 +726,17 @@ def run_stop(
     rule_counts,
     created,
     destroyed,
+    dpos,
 ):
     """Run every step of one stop in place.
 
     Parameters
     ----------
-    pk, tail : tuple of 8 arrays of n_cells
-        Packed plateau records (height [m], deposit base [m], area [m^2], full-step sliding
-        distance [m], fibre floor [m], cell index, stream bin, status), sorted by height in the
-        first ``cnt[CNT_PLATEAU]`` entries; ``tail`` is scratch of the same layout.
+    pk, alt, nb : tuple of 5 arrays of n_cells
+        Packed plateau records (height [m], deposit base [m], cell index, stream bin, status),
+        sorted by height in the first ``cnt[CNT_PLATEAU]`` entries of ``pk``; ``alt`` is the
+        second buffer of the sort pass and ``nb`` holds the records created in a step. At
+        return the records are in ``pk``, compacted (no dead or waiting record).
     height, base, fibre_floor : float64[n_cells]
         Grid heights [m] (authoritative for status-none cells during the stop; plateau cells
         are written back at the end), deposit bases [m], fibre undersides [m].
@@ -635,18 +751,22 @@ def run_stop(
     rule4_list : int64[n_cells]
         Cells to check for rule 4 in the next step.
     cnt : int64[N_CNT]
-        Counters (plateaus, heap entries, rule-4 entries).
+        Counters (plateaus, heap entries, rule-4 entries, pending changes of the records).
     acc : float64[N_ACC]
         Run accumulators (removed, emitted, held, primary and secondary area).
-    cell_area, cell_slide : float64[n_cells]
-        Cell area [m^2] and full-step sliding distance [m].
+    cell_area : float64[n_cells]
+        Cell area [m^2].
     cell_bin : int64[n_cells]
         Stream bin ``j * n_sub + k`` of the cell.
+    bin_area, bin_slide : float64[n_radial * n_sub]
+        Cell area [m^2] and full-step sliding distance [m] of the cells of a stream bin.
     n_radial, n_angular, n_sub : int
         Grid shape and number of subdomains.
     stiffness, mu_0, slope, mu_min, wear_rate, resin_depth, rule6_gap, bar_length : float
         K [Pa/m], friction law [-, 1/Pa, -], WP [m^3/(N m)], WR [m], rule-6 gap [m] (inf: off),
         foundation bar length [m].
+    rule7_on : bool
+        Some fibre has a finite underside (the layer fibre model), so rule 7 can fire.
     east_to_west : bool
         Candidates draw on the inflow east to west instead of west to east.
     targets : float64[n_steps]
@@ -662,8 +782,8 @@ def run_stop(
         Per-step record (output).
     rule_counts : int64[8]
         Firings of rules 1..7 (index = rule number), accumulated.
-    created, destroyed : int64[n_cells]
-        Scratch lists.
+    created, destroyed, dpos : int64[n_cells]
+        Scratch lists (created cells, destroyed cells, positions of their records).
 
     Returns
     -------
@@ -676,20 +796,32 @@ def run_stop(
     n_steps = fraction.size
     code = OK
     done = n_steps
+    cur = pk
+    oth = alt
+    swapped = False
     for step in range(n_steps):
         frac = fraction[step]
+        if phase_sort(cur, oth, nb, cnt):
+            cur, oth = oth, cur
+            swapped = not swapped
         z, n_in, code = phase_contact(
-            pk, cnt, stiffness, mu_0, slope, mu_min, targets[step], bar_length
+            cur, cnt, bin_area, stiffness, mu_0, slope, mu_min, targets[step], bar_length
         )
         if code != OK:
             done = step
             break
-        n_dest = phase_friction_wear(
-            pk,
+        n4 = phase_rule4(cnt, status, mark, rule4_list, n_angular, rule_counts)
+        n_dest, left4 = phase_friction_wear(
+            cur,
             n_in,
+            bin_area,
+            bin_slide,
+            fibre_floor,
+            rule7_on,
             outflow,
             acc,
             mark,
+            n4,
             z,
             stiffness,
             mu_0,
@@ -699,7 +831,11 @@ def run_stop(
             frac,
             sums,
             destroyed,
+            dpos,
             rule_counts,
+        )
+        n_dest = phase_tail(
+            cur, n_in, cnt, mark, left4, z, rule6_gap, destroyed, dpos, n_dest, rule_counts
         )
         phase_resin(
             height,
@@ -715,20 +851,6 @@ def run_stop(
             sums,
         )
         acc[ACC_REMOVED] += sums[S_REMOVED]
-        n_dest = phase_destruction(
-            pk,
-            n_in,
-            cnt,
-            status,
-            mark,
-            rule4_list,
-            z,
-            rule6_gap,
-            n_angular,
-            destroyed,
-            n_dest,
-            rule_counts,
-        )
         n_new = phase_creation(
             height,
             status,
@@ -746,18 +868,17 @@ def run_stop(
             rule_counts,
         )
         phase_apply(
-            pk,
-            tail,
+            cur,
+            nb,
             n_in,
             cnt,
+            bin_area,
             height,
             base,
             status,
-            fibre_floor,
             cand,
             ncand,
             cell_area,
-            cell_slide,
             cell_bin,
             outflow,
             acc,
@@ -768,6 +889,7 @@ def run_stop(
             z,
             n_angular,
             destroyed,
+            dpos,
             n_dest,
             created,
             n_new,
@@ -777,7 +899,7 @@ def run_stop(
         emitted, stream = phase_advance(inflow, outflow, n_radial, n_sub)
         acc[ACC_EMITTED] += emitted
         if step % ledger_every == 0 or step == n_steps - 1:
-            held = held_volume(pk, cnt)
+            held = held_volume(cur, nb, cnt, bin_area)
         else:
             held = acc[ACC_HELD]
         total = acc[ACC_REMOVED]
@@ -800,6 +922,13 @@ def run_stop(
             code = ERR_LEDGER
             done = step + 1
             break
+    # leave the records compacted in `pk` (the next stop, a checkpoint or a resync reads them)
+    if cnt[CNT_NEW] > 0 or cnt[CNT_DEAD] > 0:
+        merge_sort_pass(cur, oth, nb, cnt, False)
+        cur, oth = oth, cur
+        swapped = not swapped
+    if swapped:
+        copy_records(cur, oth, cnt[CNT_PLATEAU])
     sync_grid(pk, cnt, height, base)
     return code, done
 

@@ -29,6 +29,7 @@ __all__ = [
     "ContactError",
     "contact_pressure",
     "first_root",
+    "first_root_binned",
     "friction_force",
     "solve_disc_position",
 ]
@@ -71,6 +72,28 @@ def first_root(height, area, n_plateau, stiffness, mu_0, slope, mu_min, target):
     code : int
         0 ok, 1 no plateau cell.
     """
+    return first_root_binned(
+        height,
+        np.arange(n_plateau),
+        area,
+        n_plateau,
+        stiffness,
+        mu_0,
+        slope,
+        mu_min,
+        target,
+    )
+
+
+@njit(cache=True)
+def first_root_binned(
+    height, cell_bin, bin_area, n_plateau, stiffness, mu_0, slope, mu_min, target
+):
+    """:func:`first_root` with the area of cell ``k`` read as ``bin_area[cell_bin[k]]`` [m^2].
+
+    The kernel's packed plateau records carry a stream bin, not an area (every cell of a row
+    has the same area); :func:`first_root` is this function with ``cell_bin = arange(n)``.
+    """
     if n_plateau == 0:
         return 0.0, 0, SOLVE_NO_PLATEAU
     k2 = slope * stiffness * stiffness
@@ -84,43 +107,53 @@ def first_root(height, area, n_plateau, stiffness, mu_0, slope, mu_min, target):
     q = 0.0  # -0.5 d2F/dw2 [N/m^2]
     a = 0  # cells entered (in contact)
     b = 0  # cells entered on the floor branch
+    h_a = height[0]  # height of the next cell to enter (-inf when none is left)
+    zf = -math.inf  # z at which the next cell reaches the floor (-inf when none can)
     while True:
-        # apply every event at z_hi
-        while a < n_plateau and height[a] >= z_hi:
-            cell = area[a]
+        # apply every event at z_hi: cells entering contact, then cells reaching the floor
+        while h_a >= z_hi:
+            cell = bin_area[cell_bin[a]]
             d += cell * mu_0 * stiffness
             q += cell * k2
             a += 1
-        while b < a and height[b] - u_floor >= z_hi:
-            cell = area[b]
-            # the slope jumps from A K (2 mu_min - mu_0) to A K mu_min
-            d += cell * stiffness * (mu_0 - mu_min)
-            q -= cell * k2
-            b += 1
-        if q < 0.0:
-            q = 0.0
-        z_next = -math.inf
-        if a < n_plateau:
-            z_next = height[a]
+            if a < n_plateau:
+                h_a = height[a]
+            else:
+                h_a = -math.inf
+                break
         if b < a:
             zf = height[b] - u_floor
-            if zf > z_next:
-                z_next = zf
+            while zf >= z_hi:
+                cell = bin_area[cell_bin[b]]
+                # the slope jumps from A K (2 mu_min - mu_0) to A K mu_min
+                d += cell * stiffness * (mu_0 - mu_min)
+                q -= cell * k2
+                b += 1
+                if b < a:
+                    zf = height[b] - u_floor
+                else:
+                    zf = -math.inf
+                    break
+        else:
+            zf = -math.inf
+        if q < 0.0:
+            q = 0.0
+        z_next = h_a if h_a > zf else zf
         w_max = z_hi - z_next
         rest = target - f
-        w = math.inf
         # F(w) = f + d w - q w^2 <= f + d w_max on the interval: when that bound stays below the
         # target (the usual case: intervals are short) no root lies here and the quadratic is
         # not solved. The root found is the same, bit for bit.
         if d > 0.0 and d * w_max >= rest:
+            w = math.inf
             if q > 0.0:
                 disc = d * d - 4.0 * q * rest
                 if disc >= 0.0:
                     w = 2.0 * rest / (d + math.sqrt(disc))
             else:
                 w = rest / d
-        if w <= w_max:
-            return z_hi - w, a, SOLVE_OK
+            if w <= w_max:
+                return z_hi - w, a, SOLVE_OK
         if not (w_max < math.inf):
             return z_hi, a, SOLVE_NO_ROOT  # unreachable for a non-empty set; kept for safety
         f += d * w_max - q * w_max * w_max

@@ -81,14 +81,12 @@ class SimulationState:
     n_radial: int
     n_angular: int
     n_subdomains: int
-    pk_h: np.ndarray = field(init=False)
-    pk_base: np.ndarray = field(init=False)
-    pk_area: np.ndarray = field(init=False)
-    pk_slide: np.ndarray = field(init=False)
-    pk_floor: np.ndarray = field(init=False)
-    pk_idx: np.ndarray = field(init=False)
-    pk_bin: np.ndarray = field(init=False)
-    pk_st: np.ndarray = field(init=False)
+    pk: tuple = field(init=False)
+    alt: tuple = field(init=False)
+    nb: tuple = field(init=False)
+    bin_area: np.ndarray = field(init=False)
+    bin_slide: np.ndarray = field(init=False)
+    rule7_on: bool = field(init=False)
     heap_keys: np.ndarray = field(init=False)
     heap_vals: np.ndarray = field(init=False)
     cand: np.ndarray = field(init=False)
@@ -96,16 +94,18 @@ class SimulationState:
     rule4_list: np.ndarray = field(init=False)
     cnt: np.ndarray = field(init=False)
     mark: np.ndarray = field(init=False)
-    tail: tuple = field(init=False)
 
     def __post_init__(self) -> None:
         n = self.height.size
-        for name in ("pk_h", "pk_base", "pk_area", "pk_slide", "pk_floor"):
-            setattr(self, name, np.zeros(n))
-        self.pk_idx = np.zeros(n, dtype=np.int64)
-        self.pk_bin = np.zeros(n, dtype=np.int64)
-        self.pk_st = np.zeros(n, dtype=np.int8)
-        self.tail = tuple(np.zeros_like(a) for a in self.pk)
+        self.pk = K.packed_records(n)
+        self.alt = K.packed_records(n)
+        self.nb = K.packed_records(n)
+        # every cell of a stream bin (one row, one subdomain) has the same area and slide
+        self.bin_area = np.zeros(self.n_radial * self.n_subdomains)
+        self.bin_slide = np.zeros(self.n_radial * self.n_subdomains)
+        self.bin_area[self.cell_bin] = self.cell_area
+        self.bin_slide[self.cell_bin] = self.cell_slide
+        self.rule7_on = bool(np.isfinite(self.fibre_floor).any())
         self.mark = np.zeros(n, dtype=np.int8)
         self.heap_keys = np.zeros(4 * n + 8)
         self.heap_vals = np.zeros(4 * n + 8, dtype=np.int64)
@@ -115,19 +115,12 @@ class SimulationState:
         self.cnt = np.zeros(K.N_CNT, dtype=np.int64)
         self.resync()
 
-    @property
-    def pk(self) -> tuple:
-        """The packed plateau records, in the kernel's layout."""
-        return (
-            self.pk_h,
-            self.pk_base,
-            self.pk_area,
-            self.pk_slide,
-            self.pk_floor,
-            self.pk_idx,
-            self.pk_bin,
-            self.pk_st,
-        )
+    def array(self, name: str) -> np.ndarray:
+        """A state array by name; ``pk_h``, ``pk_base``, ``pk_idx``, ``pk_bin`` and ``pk_st``
+        are the fields of the packed plateau records."""
+        if name in _PACKED_FIELDS:
+            return self.pk[_PACKED_FIELDS[name]]
+        return getattr(self, name)
 
     @classmethod
     def from_surface(cls, surface: Surface, grid: Grid) -> SimulationState:
@@ -165,9 +158,6 @@ class SimulationState:
             self.pk,
             self.height,
             self.base,
-            self.cell_area,
-            self.cell_slide,
-            self.fibre_floor,
             self.cell_bin,
             self.status,
             self.cnt,
@@ -346,6 +336,13 @@ def simulate(
 
 
 # --- checkpoints -------------------------------------------------------------------------
+_PACKED_FIELDS = {
+    "pk_h": K.P_H,
+    "pk_base": K.P_BASE,
+    "pk_idx": K.P_IDX,
+    "pk_bin": K.P_BIN,
+    "pk_st": K.P_ST,
+}
 _STATE_ARRAYS = (
     "height",
     "base",
@@ -356,9 +353,6 @@ _STATE_ARRAYS = (
     "acc",
     "pk_h",
     "pk_base",
-    "pk_area",
-    "pk_slide",
-    "pk_floor",
     "pk_idx",
     "pk_bin",
     "pk_st",
@@ -369,7 +363,7 @@ _STATE_ARRAYS = (
     "rule4_list",
     "cnt",
 )
-CHECKPOINT_FORMAT = "brakeca-checkpoint/1"
+CHECKPOINT_FORMAT = "brakeca-checkpoint/2"
 
 
 def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
@@ -379,7 +373,7 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
     with its tie order, the resin heap), so a resumed run is bit-identical.
     """
     lengths = np.array([r.shape[0] for r in log.records], dtype=np.int64)
-    arrays = {f"state_{name}": getattr(state, name) for name in _STATE_ARRAYS}
+    arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
     arrays.update(
         initial_status=initial_status,
         log_records=np.concatenate(log.records),
@@ -438,7 +432,7 @@ def load_checkpoint(path, config, seed, grid):
         grid,
     )
     for name in _STATE_ARRAYS:
-        getattr(state, name)[...] = arrays[f"state_{name}"]
+        state.array(name)[...] = arrays[f"state_{name}"]
     bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])
     log = _StopLog(
         records=[arrays["log_records"][a:b] for a, b in pairwise(bounds)],
@@ -459,9 +453,10 @@ def cycle_events(config: SimulationConfig) -> list:
     return list(configured_cycle(config).events)
 
 
-def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray]:
-    """The kernel's two int64 scratch lists (created, destroyed cells) of ``n_cells`` entries."""
-    return np.zeros(n_cells, dtype=np.int64), np.zeros(n_cells, dtype=np.int64)
+def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The kernel's three int64 scratch lists of ``n_cells`` entries (created cells, destroyed
+    cells, positions of the destroyed records)."""
+    return tuple(np.zeros(n_cells, dtype=np.int64) for _ in range(3))
 
 
 def advance_stop(
@@ -469,7 +464,7 @@ def advance_stop(
     grid: Grid,
     config: SimulationConfig,
     stop: Stop,
-    scratch: tuple[np.ndarray, np.ndarray] | None = None,
+    scratch: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Run every time step of one stop on ``state`` (in place) with the compiled kernel.
 
@@ -488,7 +483,7 @@ def advance_stop(
         As :func:`simulate`.
     """
     n_r, n_t = grid.shape
-    created, destroyed = scratch or scratch_lists(n_r * n_t)
+    created, destroyed, dpos = scratch or scratch_lists(n_r * n_t)
     profile = stop.profile(step_distance(config))
     dt, fraction = profile.dt, profile.fraction
     # the demanded band friction force is proportional to the deceleration
@@ -500,7 +495,8 @@ def advance_stop(
     fr = config.friction
     code, done = K.run_stop(
         state.pk,
-        state.tail,
+        state.alt,
+        state.nb,
         state.height,
         state.base,
         state.status,
@@ -516,8 +512,9 @@ def advance_stop(
         state.cnt,
         state.acc,
         state.cell_area,
-        state.cell_slide,
         state.cell_bin,
+        state.bin_area,
+        state.bin_slide,
         n_r,
         n_t,
         grid.n_subdomains,
@@ -528,6 +525,7 @@ def advance_stop(
         config.wear.specific_wear_rate,
         config.wear.resin_wear_depth,
         math.inf if rule6 is None else rule6,
+        state.rule7_on,
         config.contact.bar_length,
         config.automaton.creation_order == "east_to_west",
         targets,
@@ -538,6 +536,7 @@ def advance_stop(
         counts,
         created,
         destroyed,
+        dpos,
     )
     if code != K.OK:
         _raise_kernel_error(code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config)
