@@ -45,7 +45,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 from brakeca.automaton import (
     creation_rule,
@@ -62,7 +65,7 @@ from brakeca.wear import archard_wear_depth, resin_cut_depth
 NONE = 0
 PRIMARY = 1
 SECONDARY = 2
-DEAD = 3  # status of a packed record destroyed this step, removed by the next sort pass
+DEAD = 3  # status of a packed record out of contact destroyed in this step (scratch)
 
 # fields of a packed plateau record (the tuple `pk`)
 P_H = 0  # height [m]
@@ -80,13 +83,11 @@ ACC_SECONDARY_AREA = 4  # area of secondary plateaus [m^2]
 N_ACC = 5
 
 # indices into the int counter array `cnt`
-CNT_PLATEAU = 0  # records in `pk` (dead ones included until the next sort pass)
+CNT_PLATEAU = 0  # packed plateau records
 CNT_HEAP = 1  # entries of the resin heap
 CNT_RULE4 = 2  # entries of the rule-4 check list
-CNT_HEAD = 3  # records in contact at the last step: new records go after them
-CNT_NEW = 4  # new records waiting in `nb`
-CNT_DEAD = 5  # dead records in `pk`
-N_CNT = 6
+CNT_SECONDARY = 3  # packed records of secondary plateaus
+N_CNT = 4
 
 # indices into the per-step record array `rec[step, :]`
 R_COF = 0
@@ -111,11 +112,40 @@ S_CONTACT = 2
 S_REMOVED = 3
 N_SUMS = 4
 
+# phases timed by run_stop (`prof[phase]`, in cycles of the CPU's time-stamp counter)
+T_CONTACT = 0  # root scan
+T_WEAR = 1  # rule-4 marks, friction, wear, rules 5 and 7, records in contact re-sorted; tail
+T_RESIN = 2  # resin cut
+T_CREATION = 3  # rules 1-3
+T_APPLY = 4  # status changes, records out of contact, held-volume sum
+T_REST = 5  # streams, ledger, per-step record
+N_TIMED = 6
+TIMED_PHASES = ("contact", "friction+wear", "resin", "creation", "apply", "streams+ledger")
+
 # error codes
 OK = 0
 ERR_NO_PLATEAU = 1
 ERR_BAR = 2
 ERR_LEDGER = 3
+
+
+@intrinsic
+def _clock(typingctx):
+    """The CPU's cycle counter (``llvm.readcyclecounter``): a few ns to read, for profiling."""
+    sig = types.int64()
+
+    def codegen(context, builder, signature, args):
+        fnty = ir.FunctionType(ir.IntType(64), [])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.readcyclecounter")
+        return builder.call(fn, [])
+
+    return sig, codegen
+
+
+@njit
+def cycle_counter():
+    """Read the cycle counter that times the phases of :func:`run_stop`."""
+    return _clock()
 
 
 # --- small data structures -------------------------------------------------------------------
@@ -174,47 +204,12 @@ def _put_at(dst, w, h, base, idx, bn, st):
 
 
 @njit(cache=True)
-def merge_sort_pass(src, dst, nb, cnt, do_sort):
-    """Write the records of ``src`` into ``dst`` in the order [records in contact at the last
-    step][new records of ``nb``][the others], dropping the dead ones; with ``do_sort`` every
-    record is insertion-sorted in as it is written. This is the compaction followed by the
-    insertion sort, in one pass. Returns the number of records written."""
-    sh, sb, si, sn, ss = src
-    nh, nbase, ni, nn, ns = nb
-    w = 0
-    n_head = cnt[CNT_HEAD]
-    for r in range(n_head):
-        if ss[r] != DEAD:
-            if do_sort and w > 0 and dst[P_H][w - 1] < sh[r]:
-                _put(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
-            else:
-                _put_at(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
-            w += 1
-    for r in range(cnt[CNT_NEW]):
-        if do_sort and w > 0 and dst[P_H][w - 1] < nh[r]:
-            _put(dst, w, nh[r], nbase[r], ni[r], nn[r], ns[r])
-        else:
-            _put_at(dst, w, nh[r], nbase[r], ni[r], nn[r], ns[r])
-        w += 1
-    for r in range(n_head, cnt[CNT_PLATEAU]):
-        if ss[r] != DEAD:
-            if do_sort and w > 0 and dst[P_H][w - 1] < sh[r]:
-                _put(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
-            else:
-                _put_at(dst, w, sh[r], sb[r], si[r], sn[r], ss[r])
-            w += 1
-    cnt[CNT_PLATEAU] = w
-    cnt[CNT_HEAD] = 0
-    cnt[CNT_NEW] = 0
-    cnt[CNT_DEAD] = 0
-    return w
-
-
-@njit(cache=True)
-def copy_records(src, dst, n):
-    """Copy the first ``n`` packed records of ``src`` to ``dst``."""
-    for f in range(n):
-        _put_at(dst, f, src[P_H][f], src[P_BASE][f], src[P_IDX][f], src[P_BIN][f], src[P_ST][f])
+def _put_sorted(dst, w, h, base, idx, bn, st):
+    """Append a record at position ``w`` of ``dst`` and insertion-sort it into ``dst[:w]``."""
+    if w > 0 and dst[P_H][w - 1] < h:
+        _put(dst, w, h, base, idx, bn, st)
+    else:
+        _put_at(dst, w, h, base, idx, bn, st)
 
 
 @njit(cache=True)
@@ -268,22 +263,27 @@ def heap_rebuild(keys, vals, cnt, status, height):
 
 
 @njit(cache=True)
-def refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular):
-    """Recompute the creation-candidate flag of cell idx (none, with a plateau directly east)."""
+def refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular):
+    """Recompute the creation-candidate flag of cell idx (none, with a plateau directly east);
+    keep ``cmax`` of its stream bin at or above the height of every candidate of the bin."""
     i = idx % n_angular
     new = status[idx] == NONE and i + 1 < n_angular and status[idx + 1] != NONE
+    b = cell_bin[idx]
     if new != (cand[idx] != 0):
         cand[idx] = 1 if new else 0
-        ncand[cell_bin[idx]] += 1 if new else -1
+        ncand[b] += 1 if new else -1
+    if new and height[idx] > cmax[b]:
+        cmax[b] = height[idx]
 
 
 @njit(cache=True)
-def rebuild_candidates(status, cand, ncand, cell_bin, n_angular):
+def rebuild_candidates(status, height, cand, ncand, cmax, cell_bin, n_angular):
     """Flag every creation candidate from scratch."""
     ncand[:] = 0
+    cmax[:] = -math.inf
     for idx in range(status.size):
         cand[idx] = 0
-        refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
+        refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
 
 
 # --- the phases of a step --------------------------------------------------------------------
@@ -292,18 +292,6 @@ def rebuild_candidates(status, cand, ncand, cell_bin, n_angular):
 # after `phase_sort`. During a stop the packed height of a plateau cell is authoritative; the
 # grid heights are written back by `sync_grid` at the end of every stop. `nb` holds the records
 # created in the last step until the next sort pass.
-@njit(cache=True)
-def phase_sort(pk, alt, nb, cnt):
-    """Step phase 1a: the records in height order, last step's removals and insertions applied.
-
-    Returns True when the sorted records were written to ``alt`` (the caller swaps buffers)."""
-    if cnt[CNT_NEW] == 0 and cnt[CNT_DEAD] == 0:
-        sort_packed(cnt[CNT_PLATEAU], pk)
-        return False
-    merge_sort_pass(pk, alt, nb, cnt, True)
-    return True
-
-
 @njit(cache=True)
 def phase_contact(pk, cnt, bin_area, stiffness, mu_0, slope, mu_min, target, bar_length):
     """Step phase 1b: solve the torque balance for z on the sorted records.
@@ -358,29 +346,55 @@ def phase_friction_wear(
     frac,
     sums,
     destroyed,
-    dpos,
+    gone,
     rule_counts,
 ):
     """Step phases 2, 3a and rules 5 and 7: friction of the plateaus in contact, their Archard
     wear, and the destruction of those worn down; also finds the records in contact that rule
-    4 marked. Every destroyed cell is listed in ``destroyed`` and its record in ``dpos``.
+    4 marked.
+
+    The same pass keeps the packed records of the cells in contact ready for the next step:
+    the survivors are compacted to the front and insertion-sorted by their new heights (the
+    destroyed ones are listed in ``destroyed`` and their records copied to ``gone``), and the
+    volume held by the surviving secondary plateaus is summed in record order.
 
     Primary wear is new pad material (removed); wear of a secondary plateau moves volume from
     its deposit to the stream and is clipped at the deposit (rule 5 then fires; rule 5 takes
-    precedence over rule 4). Returns (cells listed, rule-4 marks not found among them)."""
+    precedence over rule 4).
+
+    Returns
+    -------
+    n_gone : int
+        Records destroyed (listed in ``destroyed`` and ``gone``).
+    w : int
+        Surviving records, now in ``pk[:w]``.
+    held : float
+        Volume held by the surviving secondary plateaus [m^3].
+    n_sec : int
+        Surviving secondary plateaus.
+    left4 : int
+        Rule-4 marks not found among the cells in contact.
+    """
     pk_h, pk_base, pk_idx, pk_bin, pk_st = pk
     f_fric = 0.0
     f_norm = 0.0
     a_contact = 0.0
     removed = 0.0
     held_out = 0.0
-    n_dest = 0
+    held = 0.0
+    n_gone = 0
+    n_sec = 0
+    w = 0
     left4 = n4
     for q in range(n_in):
         fire = 0
-        u = pk_h[q] - z
+        h = pk_h[q]
+        hb = pk_base[q]
+        bn = pk_bin[q]
+        s = pk_st[q]
+        idx = pk_idx[q]
+        u = h - z
         if u > 0.0:
-            bn = pk_bin[q]
             area = bin_area[bn]
             p = stiffness * u
             mu = local_cof(p, mu_0, slope, mu_min)
@@ -388,28 +402,26 @@ def phase_friction_wear(
             f_norm += p * area
             a_contact += area
             dh = archard_wear_depth(wear_rate, p, bin_slide[bn] * frac, u)
-            s = pk_st[q]
             if s == SECONDARY:
-                dep = pk_h[q] - pk_base[q]
+                dep = h - hb
                 if dh >= dep:
                     dh = dep
-                    pk_h[q] = pk_base[q]  # deposit used up
+                    h = hb  # deposit used up
                 else:
-                    pk_h[q] -= dh
+                    h -= dh
                 vol = dh * area
                 outflow[bn] += vol
                 held_out += vol
-                if rule5_deposit_worn(s, pk_h[q], pk_base[q]):
+                if rule5_deposit_worn(s, h, hb):
                     fire = 5
             else:
-                pk_h[q] -= dh
+                h -= dh
                 vol = dh * area
                 outflow[bn] += vol
                 removed += vol
-                if rule7_on and rule7_fibre_worn(s, pk_h[q], fibre_floor[pk_idx[q]]):
+                if rule7_on and rule7_fibre_worn(s, h, fibre_floor[idx]):
                     fire = 7
-        if fire or (left4 and pk_st[q] == SECONDARY):
-            idx = pk_idx[q]
+        if fire or (left4 and s == SECONDARY):
             m = mark[idx]
             if m == 4:
                 left4 -= 1
@@ -419,15 +431,21 @@ def phase_friction_wear(
                 mark[idx] = fire
                 rule_counts[fire] += 1
             if fire or m == 4:
-                destroyed[n_dest] = idx
-                dpos[n_dest] = q
-                n_dest += 1
+                destroyed[n_gone] = idx
+                _put_at(gone, n_gone, h, hb, idx, bn, s)
+                n_gone += 1
+                continue
+        if s == SECONDARY:
+            held += (h - hb) * bin_area[bn]
+            n_sec += 1
+        _put_sorted(pk, w, h, hb, idx, bn, s)
+        w += 1
     acc[ACC_HELD] -= held_out
     sums[S_FRICTION] = f_fric
     sums[S_NORMAL] = f_norm
     sums[S_CONTACT] = a_contact
     sums[S_REMOVED] = removed
-    return n_dest, left4
+    return n_gone, w, held, n_sec, left4
 
 
 @njit(cache=True)
@@ -485,6 +503,7 @@ def phase_creation(
     status,
     cand,
     ncand,
+    cmax,
     cell_area,
     inflow,
     outflow,
@@ -498,6 +517,10 @@ def phase_creation(
 ):
     """Step phase 4b: rules 1-3. Candidates of each row draw on the inflow of their row and
     subdomain in the order the particles meet them; what is not used passes on east.
+
+    A bin is not scanned when even its highest candidate (``cmax``, an upper bound) costs more
+    than the inflow: no candidate could be filled, exactly as if it were scanned. A scan
+    leaves ``cmax`` at the highest candidate that was not filled.
     Returns the number of cells listed in ``created``."""
     n_m = n_angular // n_sub
     n_new = 0
@@ -505,8 +528,9 @@ def phase_creation(
         for k in range(1, n_sub):
             b = j * n_sub + k
             rest = inflow[b]
-            if rest > 0.0 and ncand[b] > 0:
-                i0 = j * n_angular + k * n_m
+            i0 = j * n_angular + k * n_m
+            if rest > 0.0 and ncand[b] > 0 and gap_fill_cost(z, cmax[b], cell_area[i0]) <= rest:
+                top = -math.inf
                 for c in range(n_m):
                     idx = i0 + (n_m - 1 - c if east_to_west else c)
                     if cand[idx] == 0:
@@ -517,36 +541,53 @@ def phase_creation(
                         created[n_new] = idx
                         n_new += 1
                         rule_counts[creation_rule(status, idx, n_radial, n_angular)] += 1
+                    elif height[idx] > top:
+                        top = height[idx]
+                cmax[b] = top
             outflow[b] += rest
     return n_new
 
 
 @njit(cache=True)
-def _destroy(pk, q, bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt):
-    """Destroy the plateau of packed record q: it becomes resin at its current height (a
-    secondary returns its remaining deposit to the stream of its row and subdomain); the
-    record is marked dead."""
-    idx = pk[P_IDX][q]
-    bn = pk[P_BIN][q]
+def _destroy(rec, q, bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt):
+    """Destroy the plateau of packed record q of ``rec``: it becomes resin at its current
+    height (a secondary returns its remaining deposit to the stream of its row and
+    subdomain); the record is marked dead."""
+    idx = rec[P_IDX][q]
+    bn = rec[P_BIN][q]
     area = bin_area[bn]
-    if pk[P_ST][q] == SECONDARY:
-        dep = (pk[P_H][q] - pk[P_BASE][q]) * area
+    if rec[P_ST][q] == SECONDARY:
+        dep = (rec[P_H][q] - rec[P_BASE][q]) * area
         outflow[bn] += dep
         acc[ACC_HELD] -= dep
-        height[idx] = pk[P_BASE][q]
+        height[idx] = rec[P_BASE][q]
         acc[ACC_SECONDARY_AREA] -= area
+        cnt[CNT_SECONDARY] -= 1
     else:
-        height[idx] = pk[P_H][q]
+        height[idx] = rec[P_H][q]
         acc[ACC_PRIMARY_AREA] -= area
     status[idx] = NONE
-    pk[P_ST][q] = DEAD
+    rec[P_ST][q] = DEAD
     heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
+
+
+@njit(cache=True)
+def _tail_in_order(pk, lo, hi):
+    """Insertion steps for the records ``pk[lo:hi]``, which are sorted among themselves: stop
+    at the first that stays where it is (none after it would move)."""
+    pk_h = pk[P_H]
+    for r in range(lo, hi):
+        if r == 0 or pk_h[r - 1] >= pk_h[r]:
+            return
+        _put(pk, r, pk_h[r], pk[P_BASE][r], pk[P_IDX][r], pk[P_BIN][r], pk[P_ST][r])
 
 
 @njit(cache=True)
 def phase_apply(
     pk,
-    nb,
+    gone,
+    n_gone,
+    w,
     n_in,
     cnt,
     bin_area,
@@ -555,6 +596,7 @@ def phase_apply(
     status,
     cand,
     ncand,
+    cmax,
     cell_area,
     cell_bin,
     outflow,
@@ -570,19 +612,23 @@ def phase_apply(
     n_dest,
     created,
     n_new,
+    held,
+    n_sec,
+    need_held,
 ):
-    """Apply the status changes of the step in record order: destroyed cells become none (a
-    secondary returns its deposit to the stream) and their records are marked dead; created
-    cells are filled to z and wait in ``nb`` to be inserted after the cells in contact by the
-    next sort pass. Keeps the resin heap, the candidate flags and the rule-4 list up to date.
+    """Apply the status changes of the step, in record order: destroyed cells become none (a
+    secondary returns its deposit to the stream); created cells are filled to z. Keeps the
+    resin heap, the candidate flags and the rule-4 list up to date.
 
-    ``dpos`` lists the destroyed records in increasing position (those in contact first)."""
-    if n_dest == 0 and n_new == 0:
-        return
-    k = 0
-    while k < n_dest and dpos[k] < n_in:
-        _destroy(pk, dpos[k], bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt)
-        k += 1
+    The packed records end in the order of the next step: the survivors in contact
+    (``pk[:w]``, already sorted by :func:`phase_friction_wear`), the new records, then the
+    surviving records out of contact, each insertion-sorted in. With ``need_held`` the volume
+    held in secondary plateaus is summed on from ``held`` in that order; returns it [m^3].
+
+    ``gone[:n_gone]`` are the destroyed records in contact, ``dpos[n_gone:n_dest]`` the
+    positions of those out of contact (increasing)."""
+    for k in range(n_gone):
+        _destroy(gone, k, bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt)
     for c in range(n_new):
         idx = created[c]
         area = cell_area[idx]
@@ -591,26 +637,64 @@ def phase_apply(
         base[idx] = height[idx]
         height[idx] = z
         status[idx] = SECONDARY
-        _put_at(nb, c, z, base[idx], idx, cell_bin[idx], SECONDARY)
-    while k < n_dest:
+    cnt[CNT_SECONDARY] += n_new
+    for k in range(n_gone, n_dest):
         _destroy(pk, dpos[k], bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt)
-        k += 1
-    cnt[CNT_HEAD] = n_in
-    cnt[CNT_NEW] = n_new
-    cnt[CNT_DEAD] = n_dest
+    # the records out of contact: drop the dead ones, make room for the new ones
+    pk_h, pk_base, pk_idx, pk_bin, pk_st = pk
+    n_plat = cnt[CNT_PLATEAU]
+    t0 = w + n_new  # where the records out of contact start
+    tail_dead = n_dest > n_gone
+    if t0 > n_in:
+        if tail_dead:
+            t = n_in
+            for r in range(n_in, n_plat):
+                if pk_st[r] != DEAD:
+                    _put_at(pk, t, pk_h[r], pk_base[r], pk_idx[r], pk_bin[r], pk_st[r])
+                    t += 1
+            n_plat = t
+        shift = t0 - n_in
+        for r in range(n_plat - 1, n_in - 1, -1):
+            _put_at(pk, r + shift, pk_h[r], pk_base[r], pk_idx[r], pk_bin[r], pk_st[r])
+        n_plat += shift
+        tail_dead = False
+    for c in range(n_new):
+        idx = created[c]
+        _put_sorted(pk, w + c, z, base[idx], idx, cell_bin[idx], SECONDARY)
+        if need_held:
+            held += (z - base[idx]) * cell_area[idx]
+    if t0 < n_in or tail_dead:
+        t = t0
+        for r in range(n_in, n_plat):
+            s = pk_st[r]
+            if s != DEAD:
+                if need_held and s == SECONDARY:
+                    held += (pk_h[r] - pk_base[r]) * bin_area[pk_bin[r]]
+                _put_sorted(pk, t, pk_h[r], pk_base[r], pk_idx[r], pk_bin[r], s)
+                t += 1
+        cnt[CNT_PLATEAU] = t
+    else:
+        # the records out of contact are in place, at [t0, n_plat)
+        if need_held and cnt[CNT_SECONDARY] > n_sec + n_new:
+            for r in range(t0, n_plat):
+                if pk_st[r] == SECONDARY:
+                    held += (pk_h[r] - pk_base[r]) * bin_area[pk_bin[r]]
+        _tail_in_order(pk, t0, n_plat)
+        cnt[CNT_PLATEAU] = n_plat
     for q in range(n_dest):
         idx = destroyed[q]
         mark[idx] = 0
-        refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
+        refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
         if idx % n_angular > 0:
-            refresh_candidate(status, cand, ncand, cell_bin, idx - 1, n_angular)
+            refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx - 1, n_angular)
             rule4_list[cnt[CNT_RULE4]] = idx - 1
             cnt[CNT_RULE4] += 1
     for q in range(n_new):
         idx = created[q]
-        refresh_candidate(status, cand, ncand, cell_bin, idx, n_angular)
+        refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
         if idx % n_angular > 0:
-            refresh_candidate(status, cand, ncand, cell_bin, idx - 1, n_angular)
+            refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx - 1, n_angular)
+    return held
 
 
 @njit(cache=True)
@@ -631,30 +715,11 @@ def phase_advance(inflow, outflow, n_radial, n_sub):
 
 
 @njit(cache=True)
-def _held_range(pk, bin_area, lo, hi):
+def held_volume(pk, cnt, bin_area):
+    """Volume held in secondary plateaus, summed from the packed records in order [m^3]."""
     pk_h, pk_base, pk_bin, pk_st = pk[P_H], pk[P_BASE], pk[P_BIN], pk[P_ST]
     held = 0.0
-    for q in range(lo, hi):
-        if pk_st[q] == SECONDARY:
-            held += (pk_h[q] - pk_base[q]) * bin_area[pk_bin[q]]
-    return held
-
-
-@njit(cache=True)
-def held_volume(pk, nb, cnt, bin_area):
-    """Volume held in secondary plateaus, summed from the packed records in their order after
-    the next sort pass's compaction (records in contact, new records, the others) [m^3]."""
-    if cnt[CNT_NEW] == 0 and cnt[CNT_DEAD] == 0:
-        return _held_range(pk, bin_area, 0, cnt[CNT_PLATEAU])
-    n_head = cnt[CNT_HEAD]
-    pk_h, pk_base, pk_bin, pk_st = pk[P_H], pk[P_BASE], pk[P_BIN], pk[P_ST]
-    held = 0.0
-    for q in range(n_head):
-        if pk_st[q] == SECONDARY:
-            held += (pk_h[q] - pk_base[q]) * bin_area[pk_bin[q]]
-    for q in range(cnt[CNT_NEW]):
-        held += (nb[P_H][q] - nb[P_BASE][q]) * bin_area[nb[P_BIN][q]]
-    for q in range(n_head, cnt[CNT_PLATEAU]):
+    for q in range(cnt[CNT_PLATEAU]):
         if pk_st[q] == SECONDARY:
             held += (pk_h[q] - pk_base[q]) * bin_area[pk_bin[q]]
     return held
@@ -672,27 +737,28 @@ def sync_grid(pk, cnt, height, base):
 @njit(cache=True)
 def pack_plateaus(order, n, pk, height, base, cell_bin, status, cnt):
     """Fill the packed records from the grid for the plateau cells listed in ``order[:n]``."""
+    n_sec = 0
     for q in range(n):
         idx = order[q]
         _put_at(pk, q, height[idx], base[idx], idx, cell_bin[idx], status[idx])
+        if status[idx] == SECONDARY:
+            n_sec += 1
     cnt[CNT_PLATEAU] = n
-    cnt[CNT_HEAD] = 0
-    cnt[CNT_NEW] = 0
-    cnt[CNT_DEAD] = 0
+    cnt[CNT_SECONDARY] = n_sec
 
 
 # --- one stop --------------------------------------------------------------------------------
 @njit(cache=True)
 def run_stop(
     pk,
-    alt,
-    nb,
+    gone,
     height,
     base,
     status,
     fibre_floor,
     cand,
     ncand,
+    cmax,
     mark,
     inflow,
     outflow,
@@ -727,16 +793,16 @@ def run_stop(
     created,
     destroyed,
     dpos,
+    prof,
 ):
     """Run every step of one stop in place.
 
     Parameters
     ----------
-    pk, alt, nb : tuple of 5 arrays of n_cells
+    pk, gone : tuple of 5 arrays of n_cells
         Packed plateau records (height [m], deposit base [m], cell index, stream bin, status),
-        sorted by height in the first ``cnt[CNT_PLATEAU]`` entries of ``pk``; ``alt`` is the
-        second buffer of the sort pass and ``nb`` holds the records created in a step. At
-        return the records are in ``pk``, compacted (no dead or waiting record).
+        sorted by height in the first ``cnt[CNT_PLATEAU]`` entries of ``pk``; ``gone`` is
+        scratch of the same layout (the records destroyed in a step).
     height, base, fibre_floor : float64[n_cells]
         Grid heights [m] (authoritative for status-none cells during the stop; plateau cells
         are written back at the end), deposit bases [m], fibre undersides [m].
@@ -744,6 +810,8 @@ def run_stop(
         NONE / PRIMARY / SECONDARY; creation-candidate flag; destruction marks (scratch, 0).
     ncand : int64[n_radial * n_sub]
         Creation candidates per stream bin.
+    cmax : float64[n_radial * n_sub]
+        Upper bound of the candidates' heights per stream bin [m].
     inflow, outflow : float64[n_radial * n_sub]
         Particle volume that entered bin (j, k) this step, and the volume leaving it [m^3].
     heap_keys, heap_vals : float64[cap], int64[cap]
@@ -751,7 +819,7 @@ def run_stop(
     rule4_list : int64[n_cells]
         Cells to check for rule 4 in the next step.
     cnt : int64[N_CNT]
-        Counters (plateaus, heap entries, rule-4 entries, pending changes of the records).
+        Counters (plateaus, heap entries, rule-4 entries, secondary plateaus).
     acc : float64[N_ACC]
         Run accumulators (removed, emitted, held, primary and secondary area).
     cell_area : float64[n_cells]
@@ -784,6 +852,9 @@ def run_stop(
         Firings of rules 1..7 (index = rule number), accumulated.
     created, destroyed, dpos : int64[n_cells]
         Scratch lists (created cells, destroyed cells, positions of their records).
+    prof : int64[N_TIMED]
+        Cycles spent in each phase (``TIMED_PHASES``), accumulated; reading the counter costs
+        a few ns per phase and step.
 
     Returns
     -------
@@ -796,23 +867,20 @@ def run_stop(
     n_steps = fraction.size
     code = OK
     done = n_steps
-    cur = pk
-    oth = alt
-    swapped = False
     for step in range(n_steps):
         frac = fraction[step]
-        if phase_sort(cur, oth, nb, cnt):
-            cur, oth = oth, cur
-            swapped = not swapped
+        t0 = _clock()
         z, n_in, code = phase_contact(
-            cur, cnt, bin_area, stiffness, mu_0, slope, mu_min, targets[step], bar_length
+            pk, cnt, bin_area, stiffness, mu_0, slope, mu_min, targets[step], bar_length
         )
         if code != OK:
             done = step
             break
+        t1 = _clock()
+        prof[T_CONTACT] += t1 - t0
         n4 = phase_rule4(cnt, status, mark, rule4_list, n_angular, rule_counts)
-        n_dest, left4 = phase_friction_wear(
-            cur,
+        n_gone, w, held, n_sec, left4 = phase_friction_wear(
+            pk,
             n_in,
             bin_area,
             bin_slide,
@@ -831,12 +899,14 @@ def run_stop(
             frac,
             sums,
             destroyed,
-            dpos,
+            gone,
             rule_counts,
         )
         n_dest = phase_tail(
-            cur, n_in, cnt, mark, left4, z, rule6_gap, destroyed, dpos, n_dest, rule_counts
+            pk, n_in, cnt, mark, left4, z, rule6_gap, destroyed, dpos, n_gone, rule_counts
         )
+        t2 = _clock()
+        prof[T_WEAR] += t2 - t1
         phase_resin(
             height,
             status,
@@ -851,11 +921,14 @@ def run_stop(
             sums,
         )
         acc[ACC_REMOVED] += sums[S_REMOVED]
+        t3 = _clock()
+        prof[T_RESIN] += t3 - t2
         n_new = phase_creation(
             height,
             status,
             cand,
             ncand,
+            cmax,
             cell_area,
             inflow,
             outflow,
@@ -867,9 +940,14 @@ def run_stop(
             created,
             rule_counts,
         )
-        phase_apply(
-            cur,
-            nb,
+        t4 = _clock()
+        prof[T_CREATION] += t4 - t3
+        need_held = step % ledger_every == 0 or step == n_steps - 1
+        held = phase_apply(
+            pk,
+            gone,
+            n_gone,
+            w,
             n_in,
             cnt,
             bin_area,
@@ -878,6 +956,7 @@ def run_stop(
             status,
             cand,
             ncand,
+            cmax,
             cell_area,
             cell_bin,
             outflow,
@@ -893,14 +972,17 @@ def run_stop(
             n_dest,
             created,
             n_new,
+            held,
+            n_sec,
+            need_held,
         )
+        t5 = _clock()
+        prof[T_APPLY] += t5 - t4
         if cnt[CNT_HEAP] > heap_keys.size - 2 * destroyed.size:
             heap_rebuild(heap_keys, heap_vals, cnt, status, height)
         emitted, stream = phase_advance(inflow, outflow, n_radial, n_sub)
         acc[ACC_EMITTED] += emitted
-        if step % ledger_every == 0 or step == n_steps - 1:
-            held = held_volume(cur, nb, cnt, bin_area)
-        else:
+        if not need_held:
             held = acc[ACC_HELD]
         total = acc[ACC_REMOVED]
         resid = total - (held + stream + acc[ACC_EMITTED])
@@ -918,17 +1000,11 @@ def run_stop(
         rec[step, R_HELD] = held
         rec[step, R_STREAM] = stream
         rec[step, R_TARGET] = targets[step]
+        prof[T_REST] += _clock() - t5
         if rel > ledger_tol:
             code = ERR_LEDGER
             done = step + 1
             break
-    # leave the records compacted in `pk` (the next stop, a checkpoint or a resync reads them)
-    if cnt[CNT_NEW] > 0 or cnt[CNT_DEAD] > 0:
-        merge_sort_pass(cur, oth, nb, cnt, False)
-        cur, oth = oth, cur
-        swapped = not swapped
-    if swapped:
-        copy_records(cur, oth, cnt[CNT_PLATEAU])
     sync_grid(pk, cnt, height, base)
     return code, done
 

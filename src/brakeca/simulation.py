@@ -82,8 +82,7 @@ class SimulationState:
     n_angular: int
     n_subdomains: int
     pk: tuple = field(init=False)
-    alt: tuple = field(init=False)
-    nb: tuple = field(init=False)
+    gone: tuple = field(init=False)
     bin_area: np.ndarray = field(init=False)
     bin_slide: np.ndarray = field(init=False)
     rule7_on: bool = field(init=False)
@@ -91,15 +90,16 @@ class SimulationState:
     heap_vals: np.ndarray = field(init=False)
     cand: np.ndarray = field(init=False)
     ncand: np.ndarray = field(init=False)
+    cmax: np.ndarray = field(init=False)
     rule4_list: np.ndarray = field(init=False)
     cnt: np.ndarray = field(init=False)
     mark: np.ndarray = field(init=False)
+    prof: np.ndarray = field(init=False)
 
     def __post_init__(self) -> None:
         n = self.height.size
         self.pk = K.packed_records(n)
-        self.alt = K.packed_records(n)
-        self.nb = K.packed_records(n)
+        self.gone = K.packed_records(n)
         # every cell of a stream bin (one row, one subdomain) has the same area and slide
         self.bin_area = np.zeros(self.n_radial * self.n_subdomains)
         self.bin_slide = np.zeros(self.n_radial * self.n_subdomains)
@@ -107,10 +107,12 @@ class SimulationState:
         self.bin_slide[self.cell_bin] = self.cell_slide
         self.rule7_on = bool(np.isfinite(self.fibre_floor).any())
         self.mark = np.zeros(n, dtype=np.int8)
+        self.prof = np.zeros(K.N_TIMED, dtype=np.int64)  # cycles per kernel phase (profiling)
         self.heap_keys = np.zeros(4 * n + 8)
         self.heap_vals = np.zeros(4 * n + 8, dtype=np.int64)
         self.cand = np.zeros(n, dtype=np.int8)
         self.ncand = np.zeros(self.n_radial * self.n_subdomains, dtype=np.int64)
+        self.cmax = np.zeros(self.n_radial * self.n_subdomains)
         self.rule4_list = np.zeros(n, dtype=np.int64)
         self.cnt = np.zeros(K.N_CNT, dtype=np.int64)
         self.resync()
@@ -163,7 +165,15 @@ class SimulationState:
             self.cnt,
         )
         K.heap_rebuild(self.heap_keys, self.heap_vals, self.cnt, self.status, self.height)
-        K.rebuild_candidates(self.status, self.cand, self.ncand, self.cell_bin, self.n_angular)
+        K.rebuild_candidates(
+            self.status,
+            self.height,
+            self.cand,
+            self.ncand,
+            self.cmax,
+            self.cell_bin,
+            self.n_angular,
+        )
         secondary = np.flatnonzero(self.status == SECONDARY)
         self.rule4_list[: secondary.size] = secondary
         self.cnt[K.CNT_RULE4] = secondary.size
@@ -360,6 +370,7 @@ _STATE_ARRAYS = (
     "heap_vals",
     "cand",
     "ncand",
+    "cmax",
     "rule4_list",
     "cnt",
 )
@@ -495,14 +506,14 @@ def advance_stop(
     fr = config.friction
     code, done = K.run_stop(
         state.pk,
-        state.alt,
-        state.nb,
+        state.gone,
         state.height,
         state.base,
         state.status,
         state.fibre_floor,
         state.cand,
         state.ncand,
+        state.cmax,
         state.mark,
         state.inflow,
         state.outflow,
@@ -537,6 +548,7 @@ def advance_stop(
         created,
         destroyed,
         dpos,
+        state.prof,
     )
     if code != K.OK:
         _raise_kernel_error(code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config)
