@@ -438,7 +438,10 @@ def phase_friction_wear(
         if s == SECONDARY:
             held += (h - hb) * bin_area[bn]
             n_sec += 1
-        _put_sorted(pk, w, h, hb, idx, bn, s)
+        if w == q and (w == 0 or pk_h[w - 1] >= h):
+            pk_h[q] = h  # in place and in order: only the height changed
+        else:
+            _put_sorted(pk, w, h, hb, idx, bn, s)
         w += 1
     acc[ACC_HELD] -= held_out
     sums[S_FRICTION] = f_fric
