@@ -8,6 +8,11 @@ into a record (writing its run file). Only the campaign process calls it.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import os
+import socket
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -21,8 +26,63 @@ from brakeca.design import RunPoint, run_id
 if TYPE_CHECKING:
     from brakeca.results import RunResult
 
+try:  # POSIX advisory locks; without them (Windows) campaigns are not locked
+    import fcntl
+except ImportError:  # pragma: no cover - not on the supported platforms
+    fcntl = None  # type: ignore[assignment]
+
+#: Name of the lock file of a campaign directory.
+LOCK_NAME = ".brakeca.lock"
+
 #: Dimensions of a run file that are not per-stop (left out of campaign.nc).
 _NON_STOP_DIMS = frozenset({"step", "radius", "angle"})
+
+
+# --- one campaign at a time in a directory ---------------------------------------------------
+
+
+class CampaignLockedError(RuntimeError):
+    """Another campaign is writing the same campaign directory."""
+
+
+@contextmanager
+def campaign_lock(out: Path) -> Iterator[None]:
+    """Hold an exclusive lock on the campaign directory ``out`` while a campaign writes it.
+
+    The lock is an advisory ``fcntl.flock`` on ``out/.brakeca.lock``, which also names the
+    holder. The operating system releases it when the process ends, however it ends, so a
+    killed campaign never leaves a stale lock; the file itself stays (removing it would race
+    with a campaign starting at that moment).
+
+    Raises
+    ------
+    CampaignLockedError
+        Another process holds the lock (on this machine, or on another machine that shares the
+        folder, where the file system supports ``flock``).
+    """
+    if fcntl is None:  # pragma: no cover
+        yield
+        return
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / LOCK_NAME, "a+", encoding="utf-8") as fh:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            fh.seek(0)
+            holder = fh.read().strip() or "another process"
+            raise CampaignLockedError(
+                f"{out}: another campaign is writing this folder ({holder}); wait for it to "
+                "finish, or write to another output folder"
+            ) from None
+        fh.seek(0)
+        fh.truncate()
+        stamp = time.strftime("%Y-%m-%d %H:%M:%S")
+        fh.write(f"pid {os.getpid()} on {socket.gethostname()}, since {stamp}\n")
+        fh.flush()
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
 
 
 # --- records and results -------------------------------------------------------------------

@@ -11,6 +11,7 @@ A campaign directory holds::
         summary.csv        one row per run in test order: test, replicate, order, run_id,
                            one column per factor [design unit], seed, status, error, scalars
         campaign.nc        every per-stop variable along (run, stop), scalars along run
+        .brakeca.lock      the lock that keeps a second campaign out while one writes here
 
 Runs whose file already exists and loads back with the same seed and configuration are reused,
 so an interrupted campaign is resumed by running it again; a corrupt or foreign run file is
@@ -65,12 +66,14 @@ from brakeca._executors import (
 )
 from brakeca._io import atomic_write
 from brakeca._runstore import (
+    CampaignLockedError,
     _finish,
     _load_existing,
     _Record,
     _record_from_result,
     _remove_stale_temporaries,
     _write_text,
+    campaign_lock,
 )
 from brakeca.config import ConfigError, SimulationConfig
 from brakeca.design import Design, RunPoint, execution_order, load_design, run_id
@@ -84,6 +87,7 @@ __all__ = [
     "DEFAULT_MAX_RETRIES",
     "EXECUTOR_KINDS",
     "WORKER_ENV",
+    "CampaignLockedError",
     "CampaignResult",
     "DaskExecutor",
     "ExecutorError",
@@ -173,9 +177,10 @@ def run_campaign(
     ExecutorError
         ``"dask"``: dask.distributed is missing or the scheduler cannot be reached (after the
         design files are written, before any run starts).
+    CampaignLockedError
+        Another campaign is writing ``out_dir`` (before anything is written).
     """
     from rich.console import Console
-    from rich.markup import escape
 
     if isinstance(executor, str) and executor not in EXECUTOR_KINDS:
         raise ValueError(f"unknown executor {executor!r}; choose 'serial', 'local' or 'dask'")
@@ -191,6 +196,47 @@ def run_campaign(
     base = design.resolved_base(overrides=overrides, quick=quick, max_stops=max_stops)
 
     out = Path(out_dir)
+    with campaign_lock(out):
+        return _run_locked(
+            design,
+            points,
+            base,
+            out,
+            workers=workers,
+            executor=executor,
+            scheduler=scheduler,
+            scheduler_file=scheduler_file,
+            max_retries=int(max_retries),
+            quick=quick,
+            max_stops=max_stops,
+            overrides=overrides,
+            simulate_fn=simulate_fn,
+            progress=progress,
+            console=console,
+        )
+
+
+def _run_locked(
+    design: Design,
+    points: list[RunPoint],
+    base: SimulationConfig,
+    out: Path,
+    *,
+    workers: int | None,
+    executor: ExecutorKind | cf.Executor,
+    scheduler: str | None,
+    scheduler_file: str | Path | None,
+    max_retries: int,
+    quick: bool,
+    max_stops: int | None,
+    overrides: Mapping[str, Any] | None,
+    simulate_fn: SimulateFn | None,
+    progress: bool,
+    console: Console,
+) -> CampaignResult:
+    """The body of :func:`run_campaign`, run while the campaign directory is locked."""
+    from rich.markup import escape
+
     runs = out / "runs"
     runs.mkdir(parents=True, exist_ok=True)
     stale = _remove_stale_temporaries(runs) + _remove_stale_temporaries(out)
@@ -233,7 +279,7 @@ def run_campaign(
             workers=workers,
             scheduler=scheduler,
             scheduler_file=scheduler_file,
-            max_retries=int(max_retries),
+            max_retries=max_retries,
             simulate_fn=simulate_fn,
             progress=progress,
             n_total=len(points),

@@ -269,6 +269,7 @@ def _run_and_report(
     from brakeca.campaign import (
         DEFAULT_MAX_RETRIES,
         EXECUTOR_KINDS,
+        CampaignLockedError,
         ExecutorError,
         finish_campaign,
         run_campaign,
@@ -317,7 +318,7 @@ def _run_and_report(
             overrides=updates or None,
             console=console,
         )
-    except (ConfigError, ExecutorError) as exc:
+    except (ConfigError, ExecutorError, CampaignLockedError) as exc:
         _fail(str(exc))
     elapsed = time.perf_counter() - t0
     console.print(

@@ -1,0 +1,72 @@
+"""One campaign at a time in a campaign directory: a second one is refused, clearly, before it
+writes anything, and a killed campaign does not leave the folder locked."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+from campaign_helpers import DESIGN_TEMPLATE, quiet, tiny, write_design
+from typer.testing import CliRunner
+
+from brakeca.campaign import CampaignLockedError, run_campaign
+from brakeca.cli import app
+
+HOLD = textwrap.dedent(
+    """
+    import sys, time
+    from pathlib import Path
+    from brakeca._runstore import campaign_lock
+    with campaign_lock(Path(sys.argv[1])):
+        print("locked", flush=True)
+        time.sleep(600)
+    """
+)
+
+
+@pytest.fixture
+def holder(tmp_path):
+    """A process that holds the lock of ``tmp_path / "campaign"`` until it is killed."""
+    out = tmp_path / "campaign"
+    proc = subprocess.Popen(
+        [sys.executable, "-c", HOLD, str(out)], stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert proc.stdout.readline().strip() == "locked"
+        yield out, proc
+    finally:
+        proc.kill()
+        proc.wait()
+        proc.stdout.close()
+
+
+def test_a_second_campaign_is_refused_and_writes_nothing(holder, tmp_path):
+    out, proc = holder
+    design = write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=3))
+    with pytest.raises(CampaignLockedError, match=f"pid {proc.pid}") as err:
+        run_campaign(design, out, executor="serial", progress=False, console=quiet())
+    assert str(out) in str(err.value)
+    assert sorted(p.name for p in out.iterdir()) == [".brakeca.lock"]
+
+
+def test_the_command_line_says_why(holder, tmp_path):
+    out, _ = holder
+    design = write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=3))
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), "--executor", "serial"])
+    assert res.exit_code == 2
+    assert "another campaign is writing this folder" in " ".join(res.output.split())
+
+
+def test_a_killed_holder_releases_the_lock(holder, tmp_path):
+    out, proc = holder
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    design = write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=3))
+    result = run_campaign(design, out, executor="serial", progress=False, console=quiet())
+    assert len(result.computed) == 4
+    assert Path(out / ".brakeca.lock").read_text().startswith(f"pid {os.getpid()} ")
