@@ -25,6 +25,7 @@ R. Limpert, Brake Design and Safety, 3rd ed., SAE 2011 (brake force distribution
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 from collections.abc import Sequence
@@ -1040,4 +1041,14 @@ def configured_cycle(config: SimulationConfig) -> CycleSource:
                 f"cycle.trace_file {cyc.trace_file}: its content changed since the "
                 f"configuration was made (sha256 {digest[:12]} != {cyc.trace_sha256[:12]})"
             )
+    stat = Path(cyc.trace_file).stat()
+    return _trace_source(config, (stat.st_mtime_ns, stat.st_size))
+
+
+@functools.lru_cache(maxsize=4)
+def _trace_source(config: SimulationConfig, stamp: tuple[int, int]) -> CycleSource:
+    """:func:`load_cycle_source` for a trace cycle, kept for the same configuration and file
+    (``stamp``: modification time and size), so that the command line's summary and the
+    simulation do not each detect the events of a long trace."""
+    cyc = config.cycle
     return load_cycle_source(cyc.trace_file, config, cyc.trace, speed_unit=cyc.trace_speed_unit)

@@ -150,6 +150,7 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n27,0\n30,0\n")
     config = with_cycle(load_preset(), trace)
     assert len(configured_cycle(config).events) == 1
+    assert configured_cycle(config) is configured_cycle(config)  # detected once, then kept
     trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n25,0\n30,0\n")
     with pytest.raises(ConfigError, match="content changed"):
         configured_cycle(config)
