@@ -1034,21 +1034,19 @@ def configured_cycle(config: SimulationConfig) -> CycleSource:
         return CycleSource(
             cyc.name, "blocks", tuple(stops), full, float(sum(event_distance(s) for s in stops))
         )
-    if cyc.trace_sha256 is not None:
-        digest = _file_digest(cyc.trace_file)
-        if digest != cyc.trace_sha256:
-            raise ConfigError(
-                f"cycle.trace_file {cyc.trace_file}: its content changed since the "
-                f"configuration was made (sha256 {digest[:12]} != {cyc.trace_sha256[:12]})"
-            )
-    stat = Path(cyc.trace_file).stat()
-    return _trace_source(config, (stat.st_mtime_ns, stat.st_size))
+    digest = _file_digest(cyc.trace_file)
+    if cyc.trace_sha256 is not None and digest != cyc.trace_sha256:
+        raise ConfigError(
+            f"cycle.trace_file {cyc.trace_file}: its content changed since the "
+            f"configuration was made (sha256 {digest[:12]} != {cyc.trace_sha256[:12]})"
+        )
+    return _trace_source(config, digest)
 
 
 @functools.lru_cache(maxsize=4)
-def _trace_source(config: SimulationConfig, stamp: tuple[int, int]) -> CycleSource:
+def _trace_source(config: SimulationConfig, digest: str) -> CycleSource:
     """:func:`load_cycle_source` for a trace cycle, kept for the same configuration and file
-    (``stamp``: modification time and size), so that the command line's summary and the
+    content (``digest``: its SHA-256), so that the command line's summary and the
     simulation do not each detect the events of a long trace."""
     cyc = config.cycle
     return load_cycle_source(cyc.trace_file, config, cyc.trace, speed_unit=cyc.trace_speed_unit)
