@@ -124,8 +124,8 @@ def _campaign_dataset(
         if "block" in longest.coords:
             coords["block"] = ("stop", np.asarray(longest["block"].values, dtype=object))
         for name, coord in longest.coords.items():
-            if name not in coords and "stop" not in coord.dims:
-                coords[name] = coord.variable
+            if str(name) not in coords and "stop" not in coord.dims:
+                coords[str(name)] = coord.variable
     for factor in design.factors:
         values = np.asarray([r.point.levels[factor.name] for r in records])
         attrs = {
@@ -157,7 +157,7 @@ def _campaign_dataset(
                 if ds is not None and name in ds:
                     values = ds[name].transpose("stop", *extra_dims).values
                     array[i, : values.shape[0]] = values
-            data_vars[name] = (("run", "stop", *extra_dims), array, dict(var.attrs))
+            data_vars[str(name)] = (("run", "stop", *extra_dims), array, dict(var.attrs))
     for name in _scalar_names(records):
         if name in data_vars or name in coords:
             continue

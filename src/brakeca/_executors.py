@@ -282,7 +282,9 @@ def _check_scheduler(
 def _execute(simulate_fn: SimulateFn | None, config: SimulationConfig, seed: int) -> RunResult:
     """Worker task: run one simulation and return its result (no file I/O)."""
     if simulate_fn is None:
-        from brakeca.simulation import simulate as simulate_fn
+        from brakeca.simulation import simulate
+
+        return simulate(config, seed=seed)
     return simulate_fn(config, seed=seed)
 
 

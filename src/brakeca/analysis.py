@@ -641,6 +641,7 @@ def anova(
         )
         terms = mains
     fit, table, kind, messages = _fit_anova(frame, terms)
+    assert table is not None  # only a check_only call returns no table
     saturated = fit.df_resid < 0.5
     if saturated:
         notes.append("saturated model (0 residual df): F and p cannot be computed")

@@ -606,7 +606,7 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
         path, value = _resolve_alias(key, value)
         parts = path.split(".")
         node = data
-        known = SimulationConfig.model_fields
+        known: dict[str, Any] | None = SimulationConfig.model_fields
         for depth, part in enumerate(parts):
             last = depth == len(parts) - 1
             if known is not None and part not in known:

@@ -467,7 +467,11 @@ def cycle_events(config: SimulationConfig) -> list:
 def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The kernel's three int64 scratch lists of ``n_cells`` entries (created cells, destroyed
     cells, positions of the destroyed records)."""
-    return tuple(np.zeros(n_cells, dtype=np.int64) for _ in range(3))
+    return (
+        np.zeros(n_cells, dtype=np.int64),
+        np.zeros(n_cells, dtype=np.int64),
+        np.zeros(n_cells, dtype=np.int64),
+    )
 
 
 def advance_stop(

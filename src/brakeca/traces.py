@@ -1049,4 +1049,5 @@ def _trace_source(config: SimulationConfig, digest: str) -> CycleSource:
     content (``digest``: its SHA-256), so that the command line's summary and the
     simulation do not each detect the events of a long trace."""
     cyc = config.cycle
+    assert cyc.trace_file is not None
     return load_cycle_source(cyc.trace_file, config, cyc.trace, speed_unit=cyc.trace_speed_unit)
