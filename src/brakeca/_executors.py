@@ -32,6 +32,8 @@ EXECUTOR_KINDS: tuple[str, ...] = ("serial", "local", "dask")
 
 #: Default number of times a run whose worker process died is tried again [-].
 DEFAULT_MAX_RETRIES = 2
+#: Stops between the checkpoints of a campaign's runs in progress.
+DEFAULT_CHECKPOINT_EVERY = 10
 
 #: Environment set in every worker: one thread each, the pool or cluster gives the parallelism.
 WORKER_ENV: Mapping[str, str] = {
@@ -279,12 +281,34 @@ def _check_scheduler(
         )
 
 
-def _execute(simulate_fn: SimulateFn | None, config: SimulationConfig, seed: int) -> RunResult:
-    """Worker task: run one simulation and return its result (no file I/O)."""
-    if simulate_fn is None:
-        from brakeca.simulation import simulate
+def _execute(
+    simulate_fn: SimulateFn | None,
+    config: SimulationConfig,
+    seed: int,
+    checkpoint: Path | None = None,
+    checkpoint_every: int = 10,
+) -> RunResult:
+    """Worker task: run one simulation and return its result.
 
-        return simulate(config, seed=seed)
+    With the default simulate and a ``checkpoint`` path, the run saves its state there every
+    ``checkpoint_every`` stops and resumes from it if it exists (the only file a worker
+    writes; removed when the run completes). A checkpoint that cannot be used (another
+    version's format, unreadable) is deleted and the run starts over. A worker that does not
+    see the campaign folder (a cluster without a shared file system) runs without one."""
+    if simulate_fn is None:
+        from brakeca.simulation import CheckpointError, simulate
+
+        if checkpoint is None or not Path(checkpoint).parent.is_dir():
+            return simulate(config, seed=seed)
+        try:
+            return simulate(
+                config, seed=seed, checkpoint=checkpoint, checkpoint_every=checkpoint_every
+            )
+        except CheckpointError:
+            Path(checkpoint).unlink(missing_ok=True)
+            return simulate(
+                config, seed=seed, checkpoint=checkpoint, checkpoint_every=checkpoint_every
+            )
     return simulate_fn(config, seed=seed)
 
 
@@ -312,11 +336,16 @@ class _Backend:
         """How many more runs may be submitted now."""
         return self.window - self.in_flight
 
-    def submit(self, simulate_fn: SimulateFn | None, point: RunPoint) -> cf.Future:
-        """Submit one run; a refused submission comes back as a failed future."""
+    def submit(
+        self, simulate_fn: SimulateFn | None, point: RunPoint, checkpoint: tuple = ()
+    ) -> cf.Future:
+        """Submit one run; a refused submission comes back as a failed future.
+        ``checkpoint``: (path, every) for :func:`_execute`, or ()."""
         self.in_flight += 1
         try:
-            return self.executor.submit(_execute, simulate_fn, point.config, point.seed)
+            return self.executor.submit(
+                _execute, simulate_fn, point.config, point.seed, *checkpoint
+            )
         except Exception as exc:  # e.g. a broken executor owned by the caller
             future: cf.Future = cf.Future()
             future.set_exception(exc)
@@ -372,13 +401,15 @@ class _LocalSlots(_Backend):
     def free(self) -> int:
         return len(self.pools) - len(self.busy)
 
-    def submit(self, simulate_fn: SimulateFn | None, point: RunPoint) -> cf.Future:
+    def submit(
+        self, simulate_fn: SimulateFn | None, point: RunPoint, checkpoint: tuple = ()
+    ) -> cf.Future:
         taken = set(self.busy.values())
         slot = next(i for i in range(len(self.pools)) if i not in taken)
         pool = self.pools[slot]
         if pool is None:
             pool = self.pools[slot] = _local_pool(1)
-        future = pool.submit(_execute, simulate_fn, point.config, point.seed)
+        future = pool.submit(_execute, simulate_fn, point.config, point.seed, *checkpoint)
         self.busy[future] = slot
         return future
 

@@ -52,6 +52,7 @@ from brakeca._consolidate import (
     read_summary,
 )
 from brakeca._executors import (
+    DEFAULT_CHECKPOINT_EVERY,
     DEFAULT_MAX_RETRIES,
     EXECUTOR_KINDS,
     WORKER_ENV,
@@ -84,6 +85,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CAMPAIGN_FORMAT",
+    "DEFAULT_CHECKPOINT_EVERY",
     "DEFAULT_MAX_RETRIES",
     "EXECUTOR_KINDS",
     "WORKER_ENV",
@@ -113,6 +115,7 @@ def run_campaign(
     scheduler: str | None = None,
     scheduler_file: str | Path | None = None,
     max_retries: int = DEFAULT_MAX_RETRIES,
+    checkpoint_every: int | None = DEFAULT_CHECKPOINT_EVERY,
     quick: bool = False,
     max_stops: int | None = None,
     overrides: Mapping[str, Any] | None = None,
@@ -145,6 +148,13 @@ def run_campaign(
         again before it is recorded as failed [-]. ``"local"``: each run is counted on its
         own; ``"dask"``: the LocalCluster's ``allowed-failures`` (an existing cluster keeps
         its scheduler's). A run that raises is never retried.
+    checkpoint_every
+        Each run in progress saves its state every this many stops to
+        ``runs/.<run_id>.checkpoint.npz``, so a campaign killed in the middle of a long run
+        resumes that run from its last checkpoint, bit-identically; the file goes when the run
+        completes. None: no checkpoints. The worker writes it, so on a cluster the campaign
+        folder must be on a file system the workers share (else the checkpoints are lost, and
+        only the finished runs are reused).
     quick
         Narrow every run's band with :func:`brakeca.design.quick_config`.
     max_stops
@@ -189,6 +199,15 @@ def run_campaign(
         raise ValueError(f"workers must be at least 1, got {workers}")
     if isinstance(max_retries, bool) or int(max_retries) != max_retries or max_retries < 0:
         raise ValueError(f"max_retries must be a whole number at least 0, got {max_retries!r}")
+    if checkpoint_every is not None and (
+        isinstance(checkpoint_every, bool)
+        or int(checkpoint_every) != checkpoint_every
+        or checkpoint_every < 1
+    ):
+        raise ValueError(
+            f"checkpoint_every must be a whole number at least 1 (or None: off), got "
+            f"{checkpoint_every!r}"
+        )
     console = console if console is not None else Console(stderr=True)
     if not isinstance(design, Design):
         design = load_design(design)
@@ -207,6 +226,7 @@ def run_campaign(
             scheduler=scheduler,
             scheduler_file=scheduler_file,
             max_retries=int(max_retries),
+            checkpoint_every=checkpoint_every,
             quick=quick,
             max_stops=max_stops,
             overrides=overrides,
@@ -227,6 +247,7 @@ def _run_locked(
     scheduler: str | None,
     scheduler_file: str | Path | None,
     max_retries: int,
+    checkpoint_every: int | None,
     quick: bool,
     max_stops: int | None,
     overrides: Mapping[str, Any] | None,
@@ -280,6 +301,7 @@ def _run_locked(
             scheduler=scheduler,
             scheduler_file=scheduler_file,
             max_retries=max_retries,
+            checkpoint_every=checkpoint_every,
             simulate_fn=simulate_fn,
             progress=progress,
             n_total=len(points),
@@ -351,6 +373,7 @@ def _execute_points(
     scheduler: str | None,
     scheduler_file: str | Path | None,
     max_retries: int,
+    checkpoint_every: int | None,
     simulate_fn: SimulateFn | None,
     progress: bool,
     n_total: int,
@@ -401,7 +424,11 @@ def _execute_points(
             while queue or pending:
                 while queue and backend.free() > 0:
                     point = queue.popleft()
-                    pending[backend.submit(simulate_fn, point)] = point
+                    ckpt: tuple = ()
+                    if checkpoint_every is not None:
+                        path = runs / f".{run_id(point)}.checkpoint.npz"
+                        ckpt = (path, int(checkpoint_every))
+                    pending[backend.submit(simulate_fn, point, ckpt)] = point
                 done, _ = cf.wait(
                     list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
                 )
@@ -514,7 +541,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             overrides=overrides,
             progress=not args.no_progress,
         )
-    except (ConfigError, ExecutorError, ValueError) as exc:
+    except (ConfigError, ExecutorError, CampaignLockedError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     return 0 if result.ok else 1

@@ -41,6 +41,11 @@ __all__ = [
 Progress = Callable[[int, int], None]
 
 
+class CheckpointError(ValueError):
+    """A checkpoint file that cannot be used: unreadable, of another format, or of another
+    run (configuration or seed)."""
+
+
 class LedgerError(RuntimeError):
     """The volume ledger stopped closing: a bug, never a physical outcome."""
 
@@ -413,8 +418,9 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
 def load_checkpoint(path, config, seed, grid):
     """Read a checkpoint written by :func:`save_checkpoint` for this config and seed.
 
-    Returns None when there is no file; raises ``ValueError`` for a checkpoint of another
-    run or an unreadable file (it is never silently trusted or ignored).
+    Returns None when there is no file; raises :class:`CheckpointError` (a ``ValueError``) for
+    a checkpoint of another run or an unreadable file (it is never silently trusted or
+    ignored).
     """
     path = Path(path)
     if not path.exists():
@@ -424,7 +430,7 @@ def load_checkpoint(path, config, seed, grid):
             meta = json.loads(str(data["meta"]))
             arrays = {k: data[k].copy() for k in data.files if k != "meta"}
     except Exception as exc:
-        raise ValueError(
+        raise CheckpointError(
             f"{path}: unreadable checkpoint ({exc}); delete it to start over"
         ) from None
     if (
@@ -432,7 +438,10 @@ def load_checkpoint(path, config, seed, grid):
         or meta.get("config") != config.to_toml()
         or (meta.get("seed") != seed)
     ):
-        raise ValueError(f"{path}: checkpoint of another run (config or seed differ)")
+        raise CheckpointError(
+            f"{path}: checkpoint of another run, or of another brakeca version (config, seed "
+            "or format differ)"
+        )
     state = SimulationState.from_surface(
         Surface(
             height=arrays["state_height"].reshape(grid.shape),

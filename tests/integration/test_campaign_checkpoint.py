@@ -1,0 +1,93 @@
+"""A campaign killed in the middle of a long run resumes that run from its checkpoint.
+
+Each run in progress saves its state every ``checkpoint_every`` stops to
+``runs/.<run_id>.checkpoint.npz``; the next campaign on the folder resumes from it, with a
+bit-identical result, and removes it when the run completes. A checkpoint that cannot be used
+(another version's format, a damaged file) is discarded, never fatal.
+"""
+
+from __future__ import annotations
+
+import pytest
+from campaign_helpers import DESIGN_TEMPLATE, deterministic, quiet, tiny, write_design
+
+from brakeca import simulation
+from brakeca.campaign import run_campaign
+from brakeca.design import load_design, run_id
+
+
+class Interrupted(Exception):
+    pass
+
+
+def _stop_after(n):
+    def progress(done, total):
+        if done == n:
+            raise Interrupted
+
+    return progress
+
+
+@pytest.fixture(scope="module")
+def design_file(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("design")
+    return write_design(folder, tiny(4), DESIGN_TEMPLATE.format(root_seed=5))
+
+
+@pytest.fixture(scope="module")
+def uninterrupted(design_file, tmp_path_factory):
+    out = tmp_path_factory.mktemp("plain") / "campaign"
+    result = run_campaign(
+        design_file, out, executor="serial", checkpoint_every=1, progress=False, console=quiet()
+    )
+    assert not list((out / "runs").glob(".*"))  # every checkpoint removed with its run
+    return result
+
+
+def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path, monkeypatch):
+    out = tmp_path / "campaign"
+    point = next(p for p in load_design(design_file).points() if p.test == 1)
+    ckpt = out / "runs" / f".{run_id(point)}.checkpoint.npz"
+    ckpt.parent.mkdir(parents=True)
+    # the run of test 1 was killed after its second stop
+    with pytest.raises(Interrupted):
+        simulation.simulate(
+            point.config,
+            seed=point.seed,
+            checkpoint=ckpt,
+            checkpoint_every=1,
+            progress=_stop_after(2),
+        )
+    assert ckpt.exists()
+    resumed = []
+    load = simulation.load_checkpoint
+
+    def spy(*args, **kwargs):
+        found = load(*args, **kwargs)
+        if found is not None:
+            resumed.append(len(found[2].records))  # stops already done
+        return found
+
+    monkeypatch.setattr(simulation, "load_checkpoint", spy)
+    result = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
+    assert resumed == [2]
+    assert not ckpt.exists()
+    assert deterministic(result.summary).equals(deterministic(uninterrupted.summary))
+
+
+def test_an_unusable_checkpoint_is_discarded(design_file, uninterrupted, tmp_path):
+    out = tmp_path / "campaign"
+    point = next(p for p in load_design(design_file).points() if p.test == 2)
+    ckpt = out / "runs" / f".{run_id(point)}.checkpoint.npz"
+    ckpt.parent.mkdir(parents=True)
+    ckpt.write_bytes(b"not a checkpoint")
+    result = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
+    assert result.ok and not ckpt.exists()
+    assert deterministic(result.summary).equals(deterministic(uninterrupted.summary))
+
+
+def test_checkpoint_every_is_validated(design_file, tmp_path):
+    for bad in (0, -1, 1.5, True):
+        with pytest.raises(ValueError, match="checkpoint_every"):
+            run_campaign(design_file, tmp_path / "c", checkpoint_every=bad, console=quiet())
+    assert not (tmp_path / "c").exists()  # refused before anything is written
