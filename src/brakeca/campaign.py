@@ -39,6 +39,7 @@ import collections
 import concurrent.futures as cf
 import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -214,6 +215,16 @@ def run_campaign(
     points = design.points(overrides=overrides, quick=quick, max_stops=max_stops)
     base = design.resolved_base(overrides=overrides, quick=quick, max_stops=max_stops)
 
+    how = _Execution(
+        executor=executor,
+        workers=workers,
+        scheduler=scheduler,
+        scheduler_file=scheduler_file,
+        max_retries=int(max_retries),
+        checkpoint_every=checkpoint_every,
+        simulate_fn=simulate_fn,
+        progress=progress,
+    )
     out = Path(out_dir)
     with campaign_lock(out):
         return _run_locked(
@@ -221,19 +232,26 @@ def run_campaign(
             points,
             base,
             out,
-            workers=workers,
-            executor=executor,
-            scheduler=scheduler,
-            scheduler_file=scheduler_file,
-            max_retries=int(max_retries),
-            checkpoint_every=checkpoint_every,
+            how,
             quick=quick,
             max_stops=max_stops,
             overrides=overrides,
-            simulate_fn=simulate_fn,
-            progress=progress,
             console=console,
         )
+
+
+@dataclass(frozen=True)
+class _Execution:
+    """How a campaign's runs are executed (the options of :func:`run_campaign`)."""
+
+    executor: ExecutorKind | cf.Executor
+    workers: int | None
+    scheduler: str | None
+    scheduler_file: str | Path | None
+    max_retries: int
+    checkpoint_every: int | None
+    simulate_fn: SimulateFn | None
+    progress: bool
 
 
 def _run_locked(
@@ -241,18 +259,11 @@ def _run_locked(
     points: list[RunPoint],
     base: SimulationConfig,
     out: Path,
+    how: _Execution,
     *,
-    workers: int | None,
-    executor: ExecutorKind | cf.Executor,
-    scheduler: str | None,
-    scheduler_file: str | Path | None,
-    max_retries: int,
-    checkpoint_every: int | None,
     quick: bool,
     max_stops: int | None,
     overrides: Mapping[str, Any] | None,
-    simulate_fn: SimulateFn | None,
-    progress: bool,
     console: Console,
 ) -> CampaignResult:
     """The body of :func:`run_campaign`, run while the campaign directory is locked."""
@@ -291,23 +302,9 @@ def _run_locked(
     failed: list[str] = []
     if todo:
         _execute_points(
-            todo,
-            runs,
-            records,
-            computed,
-            failed,
-            executor=executor,
-            workers=workers,
-            scheduler=scheduler,
-            scheduler_file=scheduler_file,
-            max_retries=max_retries,
-            checkpoint_every=checkpoint_every,
-            simulate_fn=simulate_fn,
-            progress=progress,
-            n_total=len(points),
-            console=console,
+            todo, runs, records, computed, failed, how, n_total=len(points), console=console
         )
-    elif progress:
+    elif how.progress:
         console.print(
             f"all {len(points)} runs of {escape(str(out))} already done; nothing to compute"
         )
@@ -367,15 +364,8 @@ def _execute_points(
     records: dict[str, _Record],
     computed: list[str],
     failed: list[str],
+    how: _Execution,
     *,
-    executor: ExecutorKind | cf.Executor,
-    workers: int | None,
-    scheduler: str | None,
-    scheduler_file: str | Path | None,
-    max_retries: int,
-    checkpoint_every: int | None,
-    simulate_fn: SimulateFn | None,
-    progress: bool,
     n_total: int,
     console: Console,
 ) -> None:
@@ -395,12 +385,13 @@ def _execute_points(
         TimeRemainingColumn,
     )
 
+    max_retries = how.max_retries
     backend = _backend(
-        executor,
-        workers,
+        how.executor,
+        how.workers,
         len(todo),
-        scheduler=scheduler,
-        scheduler_file=scheduler_file,
+        scheduler=how.scheduler,
+        scheduler_file=how.scheduler_file,
         max_retries=max_retries,
     )
     bar = Progress(
@@ -411,7 +402,7 @@ def _execute_points(
         TextColumn("ETA"),
         TimeRemainingColumn(),
         console=console,
-        disable=not progress,
+        disable=not how.progress,
         transient=False,
     )
     queue = collections.deque(todo)
@@ -425,10 +416,10 @@ def _execute_points(
                 while queue and backend.free() > 0:
                     point = queue.popleft()
                     ckpt: tuple = ()
-                    if checkpoint_every is not None:
+                    if how.checkpoint_every is not None:
                         path = runs / f".{run_id(point)}.checkpoint.npz"
-                        ckpt = (path, int(checkpoint_every))
-                    pending[backend.submit(simulate_fn, point, ckpt)] = point
+                        ckpt = (path, int(how.checkpoint_every))
+                    pending[backend.submit(how.simulate_fn, point, ckpt)] = point
                 done, _ = cf.wait(
                     list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
                 )
