@@ -14,6 +14,7 @@ import multiprocessing
 import os
 import sys
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -457,3 +458,17 @@ def _backend(
         max_retries=max_retries,
     )
     return _DaskBackend(dask_executor)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True)
+class _Execution:
+    """How a campaign's runs are executed (the options of :func:`run_campaign`)."""
+
+    executor: ExecutorKind | cf.Executor
+    workers: int | None
+    scheduler: str | None
+    scheduler_file: str | Path | None
+    max_retries: int
+    checkpoint_every: int | None
+    simulate_fn: SimulateFn | None
+    progress: bool

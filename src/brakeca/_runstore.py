@@ -11,7 +11,7 @@ import concurrent.futures as cf
 import os
 import socket
 import time
-from collections.abc import Iterator
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,10 +20,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import xarray as xr
 
+from brakeca import __version__
 from brakeca._io import atomic_write
-from brakeca.design import RunPoint, run_id
+from brakeca.design import Design, RunPoint, run_id
 
 if TYPE_CHECKING:
+    from brakeca.config import SimulationConfig
     from brakeca.results import RunResult
 
 try:  # POSIX advisory locks; without them (Windows) campaigns are not locked
@@ -203,3 +205,30 @@ def _error_text(exc: BaseException) -> str:
     else:
         text = f"{type(exc).__name__}: {exc}".strip()
     return " ".join(text.split())  # one line, for the CSV
+
+
+def _write_design(
+    out: Path,
+    design: Design,
+    base: SimulationConfig,
+    *,
+    overrides: Mapping[str, Any] | None,
+    quick: bool,
+    max_stops: int | None,
+) -> Design:
+    """Write base_config.toml and design.toml; return the design they describe."""
+    origin = f"preset {design.base!r}" if design.base is not None else repr(str(design.base_config))
+    header = (
+        f"# Resolved base configuration of campaign {design.name!r}, written by brakeca "
+        f"{__version__}.\n# From {origin}; overrides {dict(overrides or {})!r}, "
+        f"max_stops {max_stops!r}, quick {quick!r}.\n"
+    )
+    _write_text(out / "base_config.toml", header + base.to_toml())
+    _write_text(
+        out / "design.toml",
+        f"# Design of campaign {design.name!r} (base: base_config.toml beside this file).\n"
+        + design.to_toml(base_config="base_config.toml"),
+    )
+    return design.model_copy(
+        update={"base": None, "base_config": (out / "base_config.toml").resolve()}
+    )

@@ -39,11 +39,9 @@ import collections
 import concurrent.futures as cf
 import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from brakeca import __version__
 from brakeca._consolidate import (
     CAMPAIGN_FORMAT,
     CampaignResult,
@@ -64,6 +62,7 @@ from brakeca._executors import (
     SimulateFn,
     _backend,
     _check_scheduler,
+    _Execution,
     make_executor,
 )
 from brakeca._io import atomic_write
@@ -74,7 +73,7 @@ from brakeca._runstore import (
     _Record,
     _record_from_result,
     _remove_stale_temporaries,
-    _write_text,
+    _write_design,
     campaign_lock,
 )
 from brakeca.config import ConfigError, SimulationConfig
@@ -240,20 +239,6 @@ def run_campaign(
         )
 
 
-@dataclass(frozen=True)
-class _Execution:
-    """How a campaign's runs are executed (the options of :func:`run_campaign`)."""
-
-    executor: ExecutorKind | cf.Executor
-    workers: int | None
-    scheduler: str | None
-    scheduler_file: str | Path | None
-    max_retries: int
-    checkpoint_every: int | None
-    simulate_fn: SimulateFn | None
-    progress: bool
-
-
 def _run_locked(
     design: Design,
     points: list[RunPoint],
@@ -328,33 +313,6 @@ def _run_locked(
         reused=tuple(reused),
         failed=tuple(failed),
         recomputed=tuple(recomputed),
-    )
-
-
-def _write_design(
-    out: Path,
-    design: Design,
-    base: SimulationConfig,
-    *,
-    overrides: Mapping[str, Any] | None,
-    quick: bool,
-    max_stops: int | None,
-) -> Design:
-    """Write base_config.toml and design.toml; return the design they describe."""
-    origin = f"preset {design.base!r}" if design.base is not None else repr(str(design.base_config))
-    header = (
-        f"# Resolved base configuration of campaign {design.name!r}, written by brakeca "
-        f"{__version__}.\n# From {origin}; overrides {dict(overrides or {})!r}, "
-        f"max_stops {max_stops!r}, quick {quick!r}.\n"
-    )
-    _write_text(out / "base_config.toml", header + base.to_toml())
-    _write_text(
-        out / "design.toml",
-        f"# Design of campaign {design.name!r} (base: base_config.toml beside this file).\n"
-        + design.to_toml(base_config="base_config.toml"),
-    )
-    return design.model_copy(
-        update={"base": None, "base_config": (out / "base_config.toml").resolve()}
     )
 
 
