@@ -249,6 +249,17 @@ MaxRetriesOpt = Annotated[
 ]
 
 
+CheckpointOpt = Annotated[
+    int,
+    typer.Option(
+        "--checkpoint-every",
+        min=0,
+        help="save each run in progress every N stops, so an interrupted campaign resumes it "
+        "from there (0: no checkpoints)",
+    ),
+]
+
+
 def _run_and_report(
     design: str,
     output: Path,
@@ -262,6 +273,7 @@ def _run_and_report(
     scheduler: str | None = None,
     scheduler_file: Path | None = None,
     max_retries: int | None = None,
+    checkpoint_every: int = 10,
     cycle: str | None = None,
 ) -> None:
     import time
@@ -313,6 +325,7 @@ def _run_and_report(
             scheduler=scheduler,
             scheduler_file=scheduler_file,
             max_retries=DEFAULT_MAX_RETRIES if max_retries is None else max_retries,
+            checkpoint_every=checkpoint_every or None,
             quick=quick,
             max_stops=stops,
             overrides=updates or None,
@@ -366,6 +379,7 @@ def run(
     scheduler: SchedulerOpt = None,
     scheduler_file: SchedulerFileOpt = None,
     max_retries: MaxRetriesOpt = 2,
+    checkpoint_every: CheckpointOpt = 10,
     quick: QuickOpt = False,
     stops: StopsOpt = None,
     overrides: SetOpt = None,
@@ -388,6 +402,7 @@ def run(
         scheduler=scheduler,
         scheduler_file=scheduler_file,
         max_retries=max_retries,
+        checkpoint_every=checkpoint_every,
         quick=quick,
         stops=stops,
         overrides=overrides,
@@ -424,6 +439,7 @@ def paper(
     scheduler: SchedulerOpt = None,
     scheduler_file: SchedulerFileOpt = None,
     max_retries: MaxRetriesOpt = 2,
+    checkpoint_every: CheckpointOpt = 10,
     quick: QuickOpt = False,
     stops: StopsOpt = None,
 ) -> None:
@@ -436,6 +452,7 @@ def paper(
         scheduler=scheduler,
         scheduler_file=scheduler_file,
         max_retries=max_retries,
+        checkpoint_every=checkpoint_every,
         quick=quick,
         stops=stops,
         overrides=None,

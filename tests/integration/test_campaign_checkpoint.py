@@ -91,3 +91,19 @@ def test_checkpoint_every_is_validated(design_file, tmp_path):
         with pytest.raises(ValueError, match="checkpoint_every"):
             run_campaign(design_file, tmp_path / "c", checkpoint_every=bad, console=quiet())
     assert not (tmp_path / "c").exists()  # refused before anything is written
+
+
+def test_command_line_option(design_file, uninterrupted, tmp_path):
+    from typer.testing import CliRunner
+
+    from brakeca.campaign import load_campaign
+    from brakeca.cli import app
+
+    out = tmp_path / "campaign"
+    args = ["run", str(design_file), "-o", str(out), "--executor", "serial", "--no-report"]
+    res = CliRunner().invoke(app, [*args, "--checkpoint-every", "-1"])
+    assert res.exit_code == 2 and not out.exists()
+    res = CliRunner().invoke(app, [*args, "--checkpoint-every", "0"])
+    assert res.exit_code == 0, res.output
+    summary = load_campaign(out).summary
+    assert deterministic(summary).equals(deterministic(uninterrupted.summary))
