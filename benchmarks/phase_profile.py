@@ -64,7 +64,8 @@ for g in range(0, len(stops), args.every):
         steps += dt.size
         contact += rec[:, K.R_CONTACT_AREA].sum() / grid.area
         secondary += rec[:, K.R_SECONDARY_AREA].sum() / grid.area
-    share = state.prof / state.prof.sum()
+    total = state.prof.sum()
+    share = state.prof / total if total > 0 else np.full(state.prof.size, np.nan)  # no counter
     print(
         f"{group[0].index:>3}-{group[-1].index:<3} {elapsed / steps / cells * 1e9:12.2f} "
         f"{contact / steps:7.3f} {secondary / steps:7.3f}  "

@@ -43,6 +43,7 @@ done in the same order as in the first kernel, so the results are bit-identical 
 from __future__ import annotations
 
 import math
+import platform
 
 import numpy as np
 from llvmlite import ir
@@ -129,12 +130,20 @@ ERR_BAR = 2
 ERR_LEDGER = 3
 
 
+#: x86 reads its time-stamp counter from user code; elsewhere (e.g. ARM, where LLVM's cycle
+#: counter is a privileged register) the phase timers read 0.
+_HAS_TSC = platform.machine().lower() in ("x86_64", "amd64", "i386", "i686")
+
+
 @intrinsic
 def _clock(typingctx):
-    """The CPU's cycle counter (``llvm.readcyclecounter``): a few ns to read, for profiling."""
+    """The CPU's cycle counter (``llvm.readcyclecounter``): a few ns to read, for profiling;
+    0 on CPUs without a counter that user code may read."""
     sig = types.int64()
 
     def codegen(context, builder, signature, args):
+        if not _HAS_TSC:
+            return ir.Constant(ir.IntType(64), 0)
         fnty = ir.FunctionType(ir.IntType(64), [])
         fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.readcyclecounter")
         return builder.call(fn, [])
@@ -857,7 +866,7 @@ def run_stop(
         Scratch lists (created cells, destroyed cells, positions of their records).
     prof : int64[N_TIMED]
         Cycles spent in each phase (``TIMED_PHASES``), accumulated; reading the counter costs
-        a few ns per phase and step.
+        a few ns per phase and step. Stays 0 on CPUs without a user-readable cycle counter.
 
     Returns
     -------
