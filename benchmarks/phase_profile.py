@@ -69,5 +69,5 @@ for g in range(0, len(stops), args.every):
     print(
         f"{group[0].index:>3}-{group[-1].index:<3} {elapsed / steps / cells * 1e9:12.2f} "
         f"{contact / steps:7.3f} {secondary / steps:7.3f}  "
-        + " ".join(f"{100 * s:13.1f}%" for s in share)
+        + " ".join(f"{100 * s:13.1f}%" if s == s else f"{'n/a':>14}" for s in share)
     )
