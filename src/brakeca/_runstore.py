@@ -56,6 +56,9 @@ def campaign_lock(out: Path) -> Iterator[None]:
     killed campaign never leaves a stale lock; the file itself stays (removing it would race
     with a campaign starting at that moment).
 
+    On a file system that does not support ``flock`` (some network mounts) the campaign runs
+    unlocked, as it did before locks existed.
+
     Raises
     ------
     CampaignLockedError
@@ -69,6 +72,7 @@ def campaign_lock(out: Path) -> Iterator[None]:
     with open(out / LOCK_NAME, "a+", encoding="utf-8") as fh:
         try:
             fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            locked = True
         except BlockingIOError:
             fh.seek(0)
             holder = fh.read().strip() or "another process"
@@ -76,6 +80,11 @@ def campaign_lock(out: Path) -> Iterator[None]:
                 f"{out}: another campaign is writing this folder ({holder}); wait for it to "
                 "finish, or write to another output folder"
             ) from None
+        except OSError:  # a file system without flock (some network mounts): run unlocked
+            locked = False
+        if not locked:
+            yield
+            return
         fh.seek(0)
         fh.truncate()
         stamp = time.strftime("%Y-%m-%d %H:%M:%S")
