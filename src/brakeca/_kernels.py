@@ -5,12 +5,12 @@ stop, not per step. The physics lives in named functions of :mod:`brakeca.contac
 :mod:`brakeca.friction`, :mod:`brakeca.wear` and :mod:`brakeca.automaton`; this module wires
 them in the order of a step (decision, docs/model.md), one compiled function per phase:
 
-1. :func:`phase_sort` then :func:`brakeca.contact.first_root_binned` -- the plateau records
-   in height order (last step's removals and insertions applied), contact solve (first root
-   of the torque balance) -> z;
+1. :func:`phase_contact` -- contact solve on the sorted plateau records (first root of the
+   torque balance) -> z;
    :func:`phase_rule4` -- rule 4 on the statuses at the start of the step (marks only);
 2. + 3a. :func:`phase_friction_wear` -- friction and Archard wear of the plateaus in contact,
-   rules 5 and 7, and the position of every plateau marked for destruction;
+   rules 5 and 7; the surviving records in contact compacted and re-sorted;
+   :func:`phase_tail` -- rules 4 and 6 on the records out of contact;
 3b. :func:`phase_resin` -- the resin cut;
 4b. :func:`phase_creation` -- rules 1-3 drawing on the inflow, gaps measured to this z;
     :func:`phase_apply` -- the status changes take effect;
@@ -26,9 +26,10 @@ is proportional to the cells in contact plus the cells whose status changes, not
 
 * plateau cells are packed records ``pk`` sorted by height (highest first): height, deposit
   base, cell index, stream bin and status; area and sliding distance are read from per-bin
-  tables (every cell of a row has the same). A destroyed record is marked ``DEAD`` and new
-  records wait in ``nb``; the next step's sort pass removes and inserts them while it sorts
-  (insertion sort, linear in the records plus the inversions), writing into the second buffer;
+  tables (every cell of a row has the same). The wear pass drops the destroyed records in
+  contact and insertion-sorts the survivors as it writes them back; :func:`phase_apply` then
+  places the new records and the records out of contact after them (linear in the records
+  plus the inversions), so the next step starts from sorted records;
 * resin (status none) cells are kept in a max-heap by height, so the resin cut visits only the
   cells above the disc (stale heap entries are skipped: key != height or status != none);
 * creation candidates (a none cell with a plateau directly east) are flagged and counted per
@@ -151,12 +152,6 @@ def _clock(typingctx):
     return sig, codegen
 
 
-@njit
-def cycle_counter():
-    """Read the cycle counter that times the phases of :func:`run_stop`."""
-    return _clock()
-
-
 # --- small data structures -------------------------------------------------------------------
 def packed_records(n: int) -> tuple:
     """Empty packed plateau records for ``n`` cells (height, base, index, bin, status)."""
@@ -187,19 +182,6 @@ def _put(dst, w, h, base, idx, bn, st):
     di[b + 1] = idx
     dn[b + 1] = bn
     ds[b + 1] = st
-
-
-@njit(cache=True)
-def sort_packed(n, pk):
-    """Insertion sort of the packed plateau records by height, highest first (stable).
-
-    Linear in n plus the number of inversions: the order is nearly sorted from the last step.
-    """
-    pk_h, pk_base, pk_idx, pk_bin, pk_st = pk
-    for a in range(1, n):
-        if pk_h[a - 1] >= pk_h[a]:
-            continue
-        _put(pk, a, pk_h[a], pk_base[a], pk_idx[a], pk_bin[a], pk_st[a])
 
 
 @njit(cache=True)
@@ -298,9 +280,8 @@ def rebuild_candidates(status, height, cand, ncand, cmax, cell_bin, n_angular):
 # --- the phases of a step --------------------------------------------------------------------
 # `pk` is the tuple of packed plateau records (height [m], deposit base [m], cell index, stream
 # bin, status), valid for the first cnt[CNT_PLATEAU] entries, sorted by height (highest first)
-# after `phase_sort`. During a stop the packed height of a plateau cell is authoritative; the
-# grid heights are written back by `sync_grid` at the end of every stop. `nb` holds the records
-# created in the last step until the next sort pass.
+# at the start of every step. During a stop the packed height of a plateau cell is
+# authoritative; the grid heights are written back by `sync_grid` at the end of every stop.
 @njit(cache=True)
 def phase_contact(pk, cnt, bin_area, stiffness, mu_0, slope, mu_min, target, bar_length):
     """Step phase 1b: solve the torque balance for z on the sorted records.
@@ -724,17 +705,6 @@ def phase_advance(inflow, outflow, n_radial, n_sub):
         for k in range(n_sub):
             outflow[b0 + k] = 0.0
     return emitted, stream
-
-
-@njit(cache=True)
-def held_volume(pk, cnt, bin_area):
-    """Volume held in secondary plateaus, summed from the packed records in order [m^3]."""
-    pk_h, pk_base, pk_bin, pk_st = pk[P_H], pk[P_BASE], pk[P_BIN], pk[P_ST]
-    held = 0.0
-    for q in range(cnt[CNT_PLATEAU]):
-        if pk_st[q] == SECONDARY:
-            held += (pk_h[q] - pk_base[q]) * bin_area[pk_bin[q]]
-    return held
 
 
 @njit(cache=True)

@@ -30,6 +30,12 @@ HOLD = textwrap.dedent(
 
 
 @pytest.fixture
+def design(tmp_path):
+    """A 2 x 2 design on a tiny band, one stop."""
+    return write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=3))
+
+
+@pytest.fixture
 def holder(tmp_path):
     """A process that holds the lock of ``tmp_path / "campaign"`` until it is killed."""
     out = tmp_path / "campaign"
@@ -45,28 +51,25 @@ def holder(tmp_path):
         proc.stdout.close()
 
 
-def test_a_second_campaign_is_refused_and_writes_nothing(holder, tmp_path):
+def test_a_second_campaign_is_refused_and_writes_nothing(holder, design):
     out, proc = holder
-    design = write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=3))
     with pytest.raises(CampaignLockedError, match=f"pid {proc.pid}") as err:
         run_campaign(design, out, executor="serial", progress=False, console=quiet())
     assert str(out) in str(err.value)
     assert sorted(p.name for p in out.iterdir()) == [".brakeca.lock"]
 
 
-def test_the_command_line_says_why(holder, tmp_path):
+def test_the_command_line_says_why(holder, design):
     out, _ = holder
-    design = write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=3))
     res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), "--executor", "serial"])
     assert res.exit_code == 2
     assert "another campaign is writing this folder" in " ".join(res.output.split())
 
 
-def test_a_killed_holder_releases_the_lock(holder, tmp_path):
+def test_a_killed_holder_releases_the_lock(holder, design):
     out, proc = holder
     os.kill(proc.pid, signal.SIGKILL)
     proc.wait()
-    design = write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=3))
     result = run_campaign(design, out, executor="serial", progress=False, console=quiet())
     assert len(result.computed) == 4
     assert Path(out / ".brakeca.lock").read_text().startswith(f"pid {os.getpid()} ")
