@@ -32,6 +32,7 @@ __all__ = [
     "CycleConfig",
     "FrictionConfig",
     "MeshConfig",
+    "NumericsConfig",
     "OutputConfig",
     "PadConfig",
     "SimulationConfig",
@@ -453,6 +454,20 @@ class OutputConfig(_Frozen):
     )
 
 
+class NumericsConfig(_Frozen):
+    """How the model is computed (not what it is)."""
+
+    kernel: Literal["auto", "lazy", "exact"] = Field(
+        "auto",
+        description=(
+            "step kernel: 'lazy' (per-row affine wear, work per step ~ rows + changes; equal to "
+            "'exact' to round-off per operation, statistically over a run), 'exact' (every "
+            "cell in contact visited, bit-identical to earlier brakeca versions), 'auto' (lazy "
+            "where it supports the configuration, else exact)"
+        ),
+    )
+
+
 class SimulationConfig(_Frozen):
     """Everything that defines one simulated run, except the seed."""
 
@@ -466,6 +481,7 @@ class SimulationConfig(_Frozen):
     automaton: AutomatonConfig = AutomatonConfig()
     cycle: CycleConfig
     output: OutputConfig = OutputConfig()
+    numerics: NumericsConfig = NumericsConfig()
     quick: bool = Field(False, description="the band was narrowed by --quick")
 
     @model_validator(mode="after")

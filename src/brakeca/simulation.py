@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from brakeca import _kernels as K
+from brakeca import _lazy
 from brakeca._io import atomic_write
 from brakeca.config import SimulationConfig
 from brakeca.contact import ContactError
@@ -100,6 +101,9 @@ class SimulationState:
     cnt: np.ndarray = field(init=False)
     mark: np.ndarray = field(init=False)
     prof: np.ndarray = field(init=False)
+    lazy: _lazy.Lazy | None = field(init=False, default=None)
+    lazy_walk: np.ndarray = field(init=False)
+    packed_stale: bool = field(init=False, default=False)
 
     def __post_init__(self) -> None:
         n = self.height.size
@@ -113,6 +117,7 @@ class SimulationState:
         self.rule7_on = bool(np.isfinite(self.fibre_floor).any())
         self.mark = np.zeros(n, dtype=np.int8)
         self.prof = np.zeros(K.N_TIMED, dtype=np.int64)  # cycles per kernel phase (profiling)
+        self.lazy_walk = np.zeros(4)  # lazy kernel: contact solves that walked, walk steps
         self.heap_keys = np.zeros(4 * n + 8)
         self.heap_vals = np.zeros(4 * n + 8, dtype=np.int64)
         self.cand = np.zeros(n, dtype=np.int8)
@@ -169,6 +174,7 @@ class SimulationState:
             self.status,
             self.cnt,
         )
+        self.packed_stale = False
         K.heap_rebuild(self.heap_keys, self.heap_vals, self.cnt, self.status, self.height)
         K.rebuild_candidates(
             self.status,
@@ -517,6 +523,17 @@ def advance_stop(
     counts = np.zeros(8, dtype=np.int64)
     rule6 = config.automaton.rule6_max_gap
     fr = config.friction
+    if kernel_for(config) == "lazy":
+        code, done = _run_lazy(
+            state, grid, config, targets, fraction, rec, counts, scratch=(created, destroyed)
+        )
+        if code != K.OK:
+            _raise_kernel_error(
+                code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config
+            )
+        return dt, rec, counts
+    if state.packed_stale:
+        state.resync()
     code, done = K.run_stop(
         state.pk,
         state.gone,
@@ -566,6 +583,87 @@ def advance_stop(
     if code != K.OK:
         _raise_kernel_error(code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config)
     return dt, rec, counts
+
+
+def kernel_for(config: SimulationConfig) -> str:
+    """The step kernel a run of ``config`` uses: ``numerics.kernel``, with ``auto`` resolved
+    to ``lazy`` where the lazy kernel supports the configuration and ``exact`` elsewhere.
+
+    Raises
+    ------
+    ValueError
+        ``numerics.kernel = "lazy"`` for a configuration the lazy kernel does not support.
+    """
+    choice = config.numerics.kernel
+    if choice == "exact":
+        return "exact"
+    if _lazy.supports(config):
+        return "lazy"
+    if choice == "lazy":
+        raise ValueError(
+            "numerics.kernel = 'lazy' supports fibres as columns with rule 6 off "
+            "(pad.fibre_model = 'columns', automaton.rule6_max_gap unset) and WP K s < 1/2; "
+            "use numerics.kernel = 'exact' or 'auto'"
+        )
+    return "exact"
+
+
+def _run_lazy(state, grid, config, targets, fraction, rec, counts, scratch):
+    """One stop with the lazy kernel (brakeca._lazy)."""
+    n_r, n_t = grid.shape
+    if state.lazy is None:
+        state.lazy = _lazy.Lazy(n_r, n_t, grid.n_subdomains)
+    lz = state.lazy
+    created, destroyed = scratch
+    fr = config.friction
+    tot = np.zeros(_lazy.N_E)
+    code, done = _lazy.run_stop_lazy(
+        _lazy.structures(lz),
+        state.height,
+        state.base,
+        state.status,
+        state.cand,
+        state.ncand,
+        state.cmax,
+        state.mark,
+        state.inflow,
+        state.outflow,
+        state.heap_keys,
+        state.heap_vals,
+        state.rule4_list,
+        state.cnt,
+        state.acc,
+        state.cell_area,
+        state.cell_bin,
+        state.bin_area,
+        state.bin_slide,
+        n_r,
+        n_t,
+        grid.n_subdomains,
+        lz.p2,
+        config.contact.stiffness,
+        fr.mu_0,
+        fr.slope,
+        fr.mu_min,
+        config.wear.specific_wear_rate,
+        config.wear.resin_wear_depth,
+        config.contact.bar_length,
+        config.automaton.creation_order == "east_to_west",
+        targets,
+        fraction,
+        config.output.ledger_tolerance,
+        rec,
+        counts,
+        created,
+        destroyed,
+        lz.dh,
+        lz.marked,
+        tot,
+        state.lazy_walk,
+        state.prof,
+    )
+    state.packed_stale = True
+    return code, done
 
 
 def _final_ledger(state: SimulationState) -> float:

@@ -1,5 +1,6 @@
 """The compiled stop kernel matches its slow NumPy twin (tests/naive.py) on small grids.
 
+Both kernels are checked: the exact one and the lazy one (per-row affine wear, brakeca._lazy).
 Tolerance: statuses must be identical; heights, disc positions and forces agree to 1e-10
 relative. The two compute the contact root by different arithmetic (incremental quadratic
 scan vs direct evaluation and a quadratic fit), so they agree to round-off, not bit for bit.
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 
 from brakeca import _kernels as K
+from brakeca import _lazy
 from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps
 from brakeca.geometry import make_grid
 from brakeca.simulation import SimulationState, advance_stop
@@ -55,9 +57,14 @@ CASES = {
 }
 
 
+@pytest.mark.parametrize("kernel", ["exact", "lazy"])
 @pytest.mark.parametrize("case", sorted(CASES))
-def test_kernel_matches_naive(tiny_config, case):
-    config = tiny_config.with_updates(CASES[case])
+def test_kernel_matches_naive(tiny_config, case, kernel):
+    config = tiny_config.with_updates({**CASES[case], "numerics.kernel": "exact"})
+    if kernel == "lazy":
+        if not _lazy.supports(config):
+            pytest.skip("the lazy kernel does not model rule 6 or layer fibres (exact kernel)")
+        config = config.with_updates({"numerics.kernel": "lazy"})
     grid = make_grid(config)
     rng = np.random.default_rng(7)
     # rule 6 needs primaries far below the disc: spread the plateau heights further

@@ -1,4 +1,4 @@
-"""The kernel's bookkeeping stays consistent with the grid, stop after stop.
+"""The exact kernel's bookkeeping stays consistent with the grid, stop after stop.
 
 The kernel keeps the plateau cells as packed records sorted by height, removes and inserts
 them while it wears and sorts, and keeps an upper bound of the creation candidates' heights
@@ -61,7 +61,7 @@ def check_invariants(state: SimulationState) -> None:
     ids=["S0", "S0.5", "layer-rule6"],
 )
 def test_records_stay_consistent(updates):
-    config = load_preset().with_updates({"mesh.n_radial": 5, **updates})
+    config = load_preset().with_updates({"mesh.n_radial": 5, "numerics.kernel": "exact", **updates})
     grid = make_grid(config)
     rng = np.random.default_rng(11)
     state = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)

@@ -1,0 +1,1403 @@
+"""The lazy compiled stop kernel (numba): the same step as :mod:`brakeca._kernels`, with work
+per step proportional to the rows and to the cells that change, not to the cells in contact.
+
+Why it is fast
+--------------
+Archard wear of a plateau cell in contact is affine in its height, ``h' = z + beta_j (h - z)``
+with ``beta_j = 1 - WP K s_j f`` the same for every cell of row ``j``. So the kernel keeps, per
+row, the cells in contact in *raw* coordinates ``r`` with ``h = a_j r + c_j`` and wears the
+whole row by updating ``(a_j, c_j)`` (two multiplications), never touching the cells. Sums of
+``r`` and ``r^2`` over the cells of a row (split where the contact law changes branch) and over
+the cells of each stream bin give the friction force, its derivatives and the wear volume per
+bin in O(rows) per step. Per row:
+
+* the cells in contact form an array sorted by height (highest first), the cells out of contact
+  a second array sorted the other way; a cell crosses the contact edge by moving from the end
+  of one to the end of the other, so neither array is ever re-sorted (the in-contact cells keep
+  their order under the common affine map, and all of them stay above the disc);
+* four partition indices split the cells in contact where ``u = h - z`` crosses ``u_c``,
+  ``u_f``, ``u*`` (:mod:`brakeca.contact`); segment sums are kept as the indices move;
+* rule 5 (a secondary plateau worn through its deposit: ``a r + c <= b``) is detected with a
+  kinetic tournament tree over the row's secondary plateaus in contact: each is the line
+  ``r a - b`` in the row's decreasing scale ``a``, and the tree keeps the lowest line and the
+  value of ``a`` at which that changes;
+* a destroyed plateau leaves a tombstone in its array (dropped when it reaches the end).
+
+The torque-controlled contact root is the first root of ``F(z) = T`` as the approach grows
+(docs/model.md), found without a global sort: the running-maximum envelope ``F_hat`` of the
+friction law (``mu p`` held at its peak from ``p*`` until the floor branch climbs past it) is
+monotone and ``F <= F_hat``, so its first root ``z_hat`` (a bracketed quadratic iteration on the
+segment sums) has no root of ``F`` before it. Where no cell sits in the window ``(u*, u_c)``,
+``F = F_hat`` at ``z_hat`` and that is the root; otherwise the breakpoints of ``F`` are walked
+from ``z_hat`` until the quadratic between two of them reaches the target. The root is the same
+as the exact scan's, to round-off.
+
+Results therefore equal the exact kernel's to round-off per operation, not bit for bit; the
+rules compare heights and volumes with thresholds, so individual cells diverge over a run, and
+the agreement is statistical (docs/model.md, "The lazy kernel"). Layer fibres (rule 7) and rule
+6 are not supported here: :func:`supports` tells, and the simulation then uses the exact kernel.
+
+State between stops is the grid alone (heights, bases, statuses, streams and the exact kernel's
+grid bookkeeping: resin heap, candidate flags, rule-4 list); the row structures are rebuilt from
+the grid at the start of every stop, so a checkpoint taken between stops resumes bit-identically.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from brakeca._kernels import (
+    ACC_EMITTED,
+    ACC_HELD,
+    ACC_PRIMARY_AREA,
+    ACC_REMOVED,
+    ACC_SECONDARY_AREA,
+    CNT_HEAP,
+    CNT_RULE4,
+    CNT_SECONDARY,
+    ERR_BAR,
+    ERR_LEDGER,
+    ERR_NO_PLATEAU,
+    N_SUMS,
+    NONE,
+    OK,
+    R_COF,
+    R_CONTACT_AREA,
+    R_DISC,
+    R_EMITTED,
+    R_FRICTION,
+    R_GENERATED,
+    R_HELD,
+    R_LEDGER,
+    R_NORMAL,
+    R_PRIMARY_AREA,
+    R_SECONDARY_AREA,
+    R_STREAM,
+    R_TARGET,
+    S_CONTACT,
+    S_FRICTION,
+    S_NORMAL,
+    S_REMOVED,
+    SECONDARY,
+    T_APPLY,
+    T_CONTACT,
+    T_CREATION,
+    T_RESIN,
+    T_REST,
+    T_WEAR,
+    _clock,
+    heap_push,
+    heap_rebuild,
+    phase_advance,
+    phase_creation,
+    phase_resin,
+    refresh_candidate,
+)
+from brakeca.automaton import rule4_lost_support
+
+# where a cell is held during a stop
+W_NONE = 0
+W_IN = 1  # in the row's in-contact array
+W_OUT = 2  # in the row's out-of-contact array
+
+# segments of a row's in-contact array, by u = h - z: [0,kc) u >= u_c; [kc,kf) u_f <= u < u_c;
+# [kf,ks) u* <= u < u_f; [ks,nin) u < u*
+SEG_A = 0
+SEG_B = 1
+SEG_C = 2
+SEG_D = 3
+
+#: renormalise a row's affine map (raw coordinates recomputed, sums rebuilt) every this many
+#: steps or when its scale falls below RENORM_SCALE; bounds round-off drift of the sums
+RENORM_EVERY = 512
+RENORM_SCALE = 0.5
+
+
+def supports(config) -> bool:
+    """Whether the lazy kernel can run ``config``: fibres as columns (no rule 7), rule 6 off,
+    and Archard wear of less than the interference in one step (``WP K s < 1/2``)."""
+    if config.pad.fibre_model != "columns" or config.automaton.rule6_max_gap is not None:
+        return False
+    from brakeca.geometry import make_grid
+
+    grid = make_grid(config)
+    slide = float(np.max(grid.step_sliding_distance))
+    return config.wear.specific_wear_rate * config.contact.stiffness * slide < 0.5
+
+
+class Lazy:
+    """The lazy kernel's scratch arrays for one grid (allocated once per run)."""
+
+    def __init__(self, n_radial: int, n_angular: int, n_sub: int) -> None:
+        n = n_radial * n_angular
+        p2 = 1
+        while p2 < n_angular:
+            p2 *= 2
+        self.in_r = np.zeros(n)
+        self.in_idx = np.zeros(n, dtype=np.int64)
+        self.out_h = np.zeros(n)
+        self.out_idx = np.zeros(n, dtype=np.int64)
+        self.where = np.zeros(n, dtype=np.int8)
+        self.pos = np.zeros(n, dtype=np.int64)
+        self.cell_r = np.zeros(n)
+        self.rows = np.zeros((n_radial, 8), dtype=np.int64)  # nin, nout, kc, kf, ks
+        self.amap = np.ones((n_radial, 4))  # a, c, a before this step's wear, c before
+        self.seg = np.zeros((n_radial, 4, 3))  # per segment: count, sum r, sum r^2
+        self.bins = np.zeros((n_radial * n_sub, 4))  # primary count, sum r; secondary ...
+        self.tree_w = np.full(n_radial * 2 * p2, -1, dtype=np.int64)
+        self.tree_ev = np.full(n_radial * 2 * p2, -np.inf)
+        self.tree_sub = np.full(n_radial * 2 * p2, -np.inf)
+        self.tree_a = np.ones(n_radial)
+        self.stack = np.zeros(2 * p2 + 8, dtype=np.int64)
+        self.dkind = np.zeros(n, dtype=np.int8)
+        self.dh = np.zeros(n)
+        self.marked = np.zeros(n, dtype=np.int64)
+        self.walk = np.zeros(4)
+        self.p2 = p2
+
+
+# rows[j, *]
+RW_NIN = 0
+RW_NOUT = 1
+RW_KC = 2
+RW_KF = 3
+RW_KS = 4
+
+
+# --- kinetic tournament tree (rule 5) -----------------------------------------------------
+@njit(cache=True)
+def _tree_recompute(tw, tev, tsub, off, node, a, cell_r, base, row0):
+    left = tw[off + 2 * node]
+    right = tw[off + 2 * node + 1]
+    ev = -math.inf
+    if left < 0:
+        w = right
+    elif right < 0:
+        w = left
+    else:
+        il = row0 + left
+        ir = row0 + right
+        vl = cell_r[il] * a - base[il]
+        vr = cell_r[ir] * a - base[ir]
+        if vl <= vr:
+            w, _o, iw, io = left, right, il, ir
+        else:
+            w, _o, iw, io = right, left, ir, il
+        if cell_r[iw] < cell_r[io]:
+            ev = (base[iw] - base[io]) / (cell_r[iw] - cell_r[io])
+            if ev > a:
+                ev = a
+    tw[off + node] = w
+    tev[off + node] = ev
+    s = ev
+    if tsub[off + 2 * node] > s:
+        s = tsub[off + 2 * node]
+    if tsub[off + 2 * node + 1] > s:
+        s = tsub[off + 2 * node + 1]
+    tsub[off + node] = s
+
+
+@njit(cache=True)
+def _tree_set(tw, tev, tsub, p2, j, col, active, a, cell_r, base, n_angular):
+    """Insert (``active``) or remove the line of the cell in column ``col`` of row ``j``."""
+    off = j * 2 * p2
+    node = p2 + col
+    tw[off + node] = col if active else -1
+    node >>= 1
+    row0 = j * n_angular
+    while node >= 1:
+        _tree_recompute(tw, tev, tsub, off, node, a, cell_r, base, row0)
+        node >>= 1
+
+
+@njit(cache=True)
+def _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack):
+    """Bring row ``j``'s tree to scale ``a`` (lower than before): recompute every node whose
+    certificate failed, children before parents."""
+    off = j * 2 * p2
+    if tsub[off + 1] < a:
+        return
+    row0 = j * n_angular
+    top = 0
+    n = 0
+    stack[0] = 1
+    top = 1
+    # collect in pre-order at the end of the stack array, then recompute in reverse
+    m = stack.size
+    while top > 0:
+        top -= 1
+        node = stack[top]
+        if node >= p2 or tsub[off + node] < a:
+            continue
+        n += 1
+        stack[m - n] = node
+        stack[top] = 2 * node
+        stack[top + 1] = 2 * node + 1
+        top += 2
+    for q in range(n):
+        _tree_recompute(tw, tev, tsub, off, stack[m - n + q], a, cell_r, base, row0)
+
+
+@njit(cache=True)
+def _tree_build(tw, tev, tsub, p2, j, a, cell_r, base, n_angular):
+    off = j * 2 * p2
+    row0 = j * n_angular
+    for node in range(p2 - 1, 0, -1):
+        _tree_recompute(tw, tev, tsub, off, node, a, cell_r, base, row0)
+
+
+# --- segment bookkeeping ------------------------------------------------------------------
+@njit(cache=True)
+def _seg_of(rows, j, q):
+    if q >= rows[j, RW_KS]:
+        return SEG_D
+    if q >= rows[j, RW_KF]:
+        return SEG_C
+    if q >= rows[j, RW_KC]:
+        return SEG_B
+    return SEG_A
+
+
+@njit(cache=True)
+def _seg_add(seg, j, s, r, sign):
+    seg[j, s, 0] += sign
+    seg[j, s, 1] += sign * r
+    seg[j, s, 2] += sign * r * r
+
+
+@njit(cache=True)
+def _bin_add(bins, b, status, r, sign):
+    if status == SECONDARY:
+        bins[b, 2] += sign
+        bins[b, 3] += sign * r
+    else:
+        bins[b, 0] += sign
+        bins[b, 1] += sign * r
+
+
+@njit(cache=True)
+def _move(seg, in_idx, in_r, j, row0, q, s_from, s_to):
+    idx = in_idx[row0 + q]
+    if idx >= 0:
+        r = in_r[row0 + q]
+        _seg_add(seg, j, s_from, r, -1.0)
+        _seg_add(seg, j, s_to, r, 1.0)
+
+
+@njit(cache=True)
+def _fix_partitions(L, j, row0, z, uc, uf, us):
+    """Move the partition indices of row j to disc position z (segment sums follow)."""
+    rows, seg, in_r, in_idx, amap = L[0], L[1], L[2], L[3], L[4]
+    a = amap[j, 0]
+    c = amap[j, 1]
+    nin = rows[j, RW_NIN]
+    ks = rows[j, RW_KS]
+    kf = rows[j, RW_KF]
+    kc = rows[j, RW_KC]
+    # thresholds in raw coordinates: u >= t  <=>  r >= (z + t - c) / a
+    rs = (z + us - c) / a
+    rf = (z + uf - c) / a
+    rc = (z + uc - c) / a
+    moves = 0
+    while ks < nin and in_r[row0 + ks] >= rs:
+        _move(seg, in_idx, in_r, j, row0, ks, SEG_D, SEG_C)
+        ks += 1
+        moves += 1
+    while kf < ks and in_r[row0 + kf] >= rf:
+        _move(seg, in_idx, in_r, j, row0, kf, SEG_C, SEG_B)
+        kf += 1
+        moves += 1
+    while kc < kf and in_r[row0 + kc] >= rc:
+        _move(seg, in_idx, in_r, j, row0, kc, SEG_B, SEG_A)
+        kc += 1
+        moves += 1
+    while kc > 0 and in_r[row0 + kc - 1] < rc:
+        kc -= 1
+        _move(seg, in_idx, in_r, j, row0, kc, SEG_A, SEG_B)
+        moves += 1
+    while kf > kc and in_r[row0 + kf - 1] < rf:
+        kf -= 1
+        _move(seg, in_idx, in_r, j, row0, kf, SEG_B, SEG_C)
+        moves += 1
+    while ks > kf and in_r[row0 + ks - 1] < rs:
+        ks -= 1
+        _move(seg, in_idx, in_r, j, row0, ks, SEG_C, SEG_D)
+        moves += 1
+    rows[j, RW_KS] = ks
+    rows[j, RW_KF] = kf
+    rows[j, RW_KC] = kc
+    return moves
+
+
+# L = (rows, seg, in_r, in_idx, amap, out_h, out_idx, where, pos, cell_r, bins,
+#      tree_w, tree_ev, tree_sub, tree_a, stack): the lazy structures (see :class:`Lazy`)
+def structures(lz: Lazy) -> tuple:
+    """The tuple of lazy structures passed to the compiled functions."""
+    return (
+        lz.rows,
+        lz.seg,
+        lz.in_r,
+        lz.in_idx,
+        lz.amap,
+        lz.out_h,
+        lz.out_idx,
+        lz.where,
+        lz.pos,
+        lz.cell_r,
+        lz.bins,
+        lz.tree_w,
+        lz.tree_ev,
+        lz.tree_sub,
+        lz.tree_a,
+        lz.stack,
+    )
+
+
+@njit(cache=True)
+def _compact_in(L, j, n_angular):
+    """Drop the tombstones of row j's in-contact array (order kept; partitions follow)."""
+    rows, in_r, in_idx, pos = L[0], L[2], L[3], L[8]
+    row0 = j * n_angular
+    kc = rows[j, RW_KC]
+    kf = rows[j, RW_KF]
+    ks = rows[j, RW_KS]
+    w = 0
+    nkc = nkf = nks = 0
+    for q in range(rows[j, RW_NIN]):
+        if q == kc:
+            nkc = w
+        if q == kf:
+            nkf = w
+        if q == ks:
+            nks = w
+        idx = in_idx[row0 + q]
+        if idx >= 0:
+            in_r[row0 + w] = in_r[row0 + q]
+            in_idx[row0 + w] = idx
+            pos[idx] = w
+            w += 1
+    n = rows[j, RW_NIN]
+    rows[j, RW_KC] = w if kc >= n else nkc
+    rows[j, RW_KF] = w if kf >= n else nkf
+    rows[j, RW_KS] = w if ks >= n else nks
+    rows[j, RW_NIN] = w
+
+
+@njit(cache=True)
+def _compact_out(L, j, n_angular):
+    """Drop the tombstones of row j's out-of-contact array (order kept)."""
+    rows, out_h, out_idx, pos = L[0], L[5], L[6], L[8]
+    row0 = j * n_angular
+    w = 0
+    for q in range(rows[j, RW_NOUT]):
+        idx = out_idx[row0 + q]
+        if idx >= 0:
+            out_h[row0 + w] = out_h[row0 + q]
+            out_idx[row0 + w] = idx
+            pos[idx] = w
+            w += 1
+    rows[j, RW_NOUT] = w
+
+
+@njit(cache=True)
+def _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2):
+    """Move row j's contact edge to z: cells with ``h <= z`` leave (``h < z`` when ``incl``),
+    cells with ``h > z`` (``h >= z``) enter. Returns the number of cells moved."""
+    (
+        rows,
+        seg,
+        in_r,
+        in_idx,
+        amap,
+        out_h,
+        out_idx,
+        where,
+        pos,
+        cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        _stack,
+    ) = L
+    row0 = j * n_angular
+    a = amap[j, 0]
+    c = amap[j, 1]
+    nin = rows[j, RW_NIN]
+    nout = rows[j, RW_NOUT]
+    moves = 0
+    while nin > 0:
+        q = nin - 1
+        idx = in_idx[row0 + q]
+        if idx >= 0:
+            h = a * in_r[row0 + q] + c
+            if h > z or (incl and h == z):
+                break
+            r = in_r[row0 + q]
+            s = _seg_of(rows, j, q)
+            _seg_add(seg, j, s, r, -1.0)
+            _bin_add(bins, cell_bin[idx], status[idx], r, -1.0)
+            if status[idx] == SECONDARY:
+                _tree_set(tw, tev, tsub, p2, j, idx - row0, False, ta[j], cell_r, base, n_angular)
+            # to the top of the out-of-contact array (it is the highest of them)
+            if nout == n_angular:
+                rows[j, RW_NOUT] = nout
+                _compact_out(L, j, n_angular)
+                nout = rows[j, RW_NOUT]
+            w = nout
+            while w > 0 and out_idx[row0 + w - 1] >= 0 and out_h[row0 + w - 1] > h:
+                out_h[row0 + w] = out_h[row0 + w - 1]
+                out_idx[row0 + w] = out_idx[row0 + w - 1]
+                pos[out_idx[row0 + w]] = w
+                w -= 1
+            out_h[row0 + w] = h
+            out_idx[row0 + w] = idx
+            where[idx] = W_OUT
+            pos[idx] = w
+            nout += 1
+            moves += 1
+        nin -= 1
+        if rows[j, RW_KS] > nin:
+            rows[j, RW_KS] = nin
+        if rows[j, RW_KF] > nin:
+            rows[j, RW_KF] = nin
+        if rows[j, RW_KC] > nin:
+            rows[j, RW_KC] = nin
+    while nout > 0:
+        q = nout - 1
+        idx = out_idx[row0 + q]
+        if idx >= 0:
+            h = out_h[row0 + q]
+            if not (h > z or (incl and h == z)):
+                break
+            r = (h - c) / a
+            if nin == n_angular:
+                rows[j, RW_NIN] = nin
+                _compact_in(L, j, n_angular)
+                nin = rows[j, RW_NIN]
+            in_r[row0 + nin] = r
+            in_idx[row0 + nin] = idx
+            cell_r[idx] = r
+            where[idx] = W_IN
+            pos[idx] = nin
+            _seg_add(seg, j, SEG_D, r, 1.0)
+            _bin_add(bins, cell_bin[idx], status[idx], r, 1.0)
+            if status[idx] == SECONDARY:
+                _tree_set(tw, tev, tsub, p2, j, idx - row0, True, ta[j], cell_r, base, n_angular)
+            nin += 1
+            moves += 1
+        nout -= 1
+    rows[j, RW_NIN] = nin
+    rows[j, RW_NOUT] = nout
+    return moves
+
+
+# indices into the evaluation totals `tot`
+E_F = 0  # friction force F [N]
+E_D = 1  # dF/dw [N/m] (w: approach, -z)
+E_Q = 2  # -1/2 d2F/dw2 [N/m^2]
+E_FH = 3  # envelope F_hat [N]
+E_DH = 4
+E_QH = 5
+E_NWIN = 6  # cells with u in [u*, u_c) (where F < F_hat)
+E_AU = 7  # sum of A u over the cells in contact [m^3]
+E_AREA = 8  # contact area [m^2]
+E_MOVES = 9
+N_E = 10
+
+
+@njit(cache=True)
+def _evaluate(
+    L,
+    z,
+    incl,
+    tot,
+    status,
+    cell_bin,
+    base,
+    n_radial,
+    n_angular,
+    n_sub,
+    p2,
+    bin_area,
+    stiffness,
+    mu_0,
+    slope,
+    mu_min,
+    uc,
+    uf,
+    us,
+):
+    """Move every row's contact edge and partitions to z and sum F, F_hat and their
+    derivatives into ``tot``."""
+    _rows, seg, amap = L[0], L[1], L[4]
+    k0 = mu_0 * stiffness
+    k1 = mu_min * stiffness
+    k2 = slope * stiffness * stiffness
+    peak = mu_0 * mu_0 / (4.0 * slope) if slope > 0.0 else 0.0
+    tot[:] = 0.0
+    moves = 0
+    for j in range(n_radial):
+        row0 = j * n_angular
+        moves += _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2)
+        moves += _fix_partitions(L, j, row0, z, uc, uf, us)
+        a = amap[j, 0]
+        d = amap[j, 1] - z
+        area = bin_area[j * n_sub]
+        nA, sA = seg[j, SEG_A, 0], seg[j, SEG_A, 1]
+        nB, sB = seg[j, SEG_B, 0], seg[j, SEG_B, 1]
+        nC, sC, qC = seg[j, SEG_C, 0], seg[j, SEG_C, 1], seg[j, SEG_C, 2]
+        nD, sD, qD = seg[j, SEG_D, 0], seg[j, SEG_D, 1], seg[j, SEG_D, 2]
+        uA = a * sA + d * nA
+        uB = a * sB + d * nB
+        uC = a * sC + d * nC
+        uD = a * sD + d * nD
+        u2C = a * a * qC + 2.0 * a * d * sC + d * d * nC
+        u2D = a * a * qD + 2.0 * a * d * sD + d * d * nD
+        tot[E_F] += area * (k1 * (uA + uB) + k0 * (uC + uD) - k2 * (u2C + u2D))
+        tot[E_D] += area * (k1 * (nA + nB) + k0 * (nC + nD) - 2.0 * k2 * (uC + uD))
+        tot[E_Q] += area * k2 * (nC + nD)
+        tot[E_FH] += area * (k1 * uA + peak * (nB + nC) + k0 * uD - k2 * u2D)
+        tot[E_DH] += area * (k1 * nA + k0 * nD - 2.0 * k2 * uD)
+        tot[E_QH] += area * k2 * nD
+        tot[E_NWIN] += nB + nC
+        tot[E_AU] += area * (uA + uB + uC + uD)
+        tot[E_AREA] += area * (nA + nB + nC + nD)
+    tot[E_MOVES] = moves
+    return moves
+
+
+@njit(cache=True)
+def _local_step(f, dfd, q, target):
+    """Approach change delta with f + dfd delta - q delta^2 = target, nearest zero (nan if the
+    local quadratic has none)."""
+    rest = target - f
+    if q > 0.0:
+        disc = dfd * dfd - 4.0 * q * rest
+        if disc < 0.0:
+            return math.nan
+        den = dfd + math.sqrt(disc)
+        if den <= 0.0:
+            return math.nan
+        return 2.0 * rest / den
+    if dfd > 0.0:
+        return rest / dfd
+    return math.nan
+
+
+@njit(cache=True)
+def _row_terms(seg, amap, j, z, area, k0, k1, k2):
+    """Row j's share of (F, D, Q) at disc position z."""
+    a = amap[j, 0]
+    d = amap[j, 1] - z
+    nF = seg[j, SEG_A, 0] + seg[j, SEG_B, 0]
+    sF = seg[j, SEG_A, 1] + seg[j, SEG_B, 1]
+    nR = seg[j, SEG_C, 0] + seg[j, SEG_D, 0]
+    sR = seg[j, SEG_C, 1] + seg[j, SEG_D, 1]
+    qR = seg[j, SEG_C, 2] + seg[j, SEG_D, 2]
+    uF = a * sF + d * nF
+    uR = a * sR + d * nR
+    u2R = a * a * qR + 2.0 * a * d * sR + d * d * nR
+    f = area * (k1 * uF + k0 * uR - k2 * u2R)
+    df = area * (k1 * nF + k0 * nR - 2.0 * k2 * uR)
+    q = area * k2 * nR
+    return f, df, q
+
+
+@njit(cache=True)
+def _row_event(L, j, z, n_angular, uf):
+    """Row j's highest breakpoint of F strictly below z (-inf if none)."""
+    rows, in_r, amap, out_h, out_idx = L[0], L[2], L[4], L[5], L[6]
+    row0 = j * n_angular
+    nout = rows[j, RW_NOUT]
+    while nout > 0 and out_idx[row0 + nout - 1] < 0:
+        nout -= 1
+    rows[j, RW_NOUT] = nout
+    best = -math.inf
+    if nout > 0:
+        best = out_h[row0 + nout - 1]
+    kf = rows[j, RW_KF]
+    if kf < rows[j, RW_NIN]:
+        a = amap[j, 0]
+        c = amap[j, 1]
+        r = in_r[row0 + kf]
+        zf = a * r + c - uf
+        # the highest z at which _fix_partitions's test (r >= (z + uf - c) / a) puts it on the
+        # floor: the two are computed differently, so step down to where they agree
+        while (zf + uf - c) / a > r:
+            zf = np.nextafter(zf, -math.inf)
+        if zf > best and zf < z:
+            best = zf
+    return best
+
+
+@njit(cache=True)
+def _evt_set(evt, m, j, value):
+    """Max-tree over rows (leaves at m + j): set row j's next event."""
+    node = m + j
+    evt[node] = value
+    node >>= 1
+    while node >= 1:
+        left = evt[2 * node]
+        right = evt[2 * node + 1]
+        evt[node] = left if left >= right else right
+        node >>= 1
+
+
+@njit(cache=True)
+def _walk(
+    L,
+    z,
+    target,
+    tot,
+    evt,
+    status,
+    cell_bin,
+    base,
+    n_radial,
+    n_angular,
+    n_sub,
+    p2,
+    bin_area,
+    stiffness,
+    mu_0,
+    slope,
+    mu_min,
+    uc,
+    uf,
+    us,
+    walk,
+):
+    """Walk F's breakpoints down from z (where F < target) to the first root; returns it with
+    every row's edge and partitions there (or -inf if F never reaches the target)."""
+    _rows, seg, amap = L[0], L[1], L[4]
+    k0 = mu_0 * stiffness
+    k1 = mu_min * stiffness
+    k2 = slope * stiffness * stiffness
+    m = evt.size // 2
+    evt[:] = -math.inf
+    f = 0.0
+    df = 0.0
+    q = 0.0
+    for j in range(n_radial):
+        row0 = j * n_angular
+        _contact_row(L, j, z, True, status, cell_bin, base, n_angular, p2)
+        _fix_partitions(L, j, row0, z, uc, uf, us)
+        fj, dj, qj = _row_terms(seg, amap, j, z, bin_area[j * n_sub], k0, k1, k2)
+        f += fj
+        df += dj
+        q += qj
+        _evt_set(evt, m, j, _row_event(L, j, z, n_angular, uf))
+    zc = z
+    while True:
+        walk[1] += 1.0
+        if f >= target:
+            return zc
+        z_next = evt[1]
+        delta = _local_step(f, df, q, target)
+        if delta == delta and delta >= 0.0 and zc - delta >= z_next:
+            return zc - delta
+        if z_next == -math.inf:
+            return -math.inf
+        # advance to the breakpoint, then let its row change
+        w = zc - z_next
+        f += df * w - q * w * w
+        df -= 2.0 * q * w
+        zc = z_next
+        node = 1
+        while node < m:
+            node = 2 * node if evt[2 * node] >= evt[2 * node + 1] else 2 * node + 1
+        j = node - m
+        row0 = j * n_angular
+        area = bin_area[j * n_sub]
+        f0, d0, q0 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
+        _contact_row(L, j, zc, True, status, cell_bin, base, n_angular, p2)
+        _fix_partitions(L, j, row0, zc, uc, uf, us)
+        f1, d1, q1 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
+        f += f1 - f0
+        df += d1 - d0
+        q += q1 - q0
+        _evt_set(evt, m, j, _row_event(L, j, zc, n_angular, uf))
+
+
+@njit(cache=True)
+def solve_contact(
+    L,
+    z_start,
+    target,
+    tot,
+    evt,
+    status,
+    cell_bin,
+    base,
+    n_radial,
+    n_angular,
+    n_sub,
+    p2,
+    bin_area,
+    stiffness,
+    mu_0,
+    slope,
+    mu_min,
+    uc,
+    uf,
+    us,
+    walk,
+):
+    """The first root of F(z) = target as the approach grows (see the module docstring);
+    leaves every row's edge and partitions at the root. Returns (z, code)."""
+    args = (
+        status,
+        cell_bin,
+        base,
+        n_radial,
+        n_angular,
+        n_sub,
+        p2,
+        bin_area,
+        stiffness,
+        mu_0,
+        slope,
+        mu_min,
+        uc,
+        uf,
+        us,
+    )
+    z = z_start
+    zhi = math.inf  # F_hat < target above here
+    zlo = -math.inf  # F_hat >= target at and below here
+    last = 0.0
+    model = False
+    found = False
+    for _ in range(400):
+        walk[2] += 1.0
+        moves = _evaluate(L, z, False, tot, *args)
+        if tot[E_AREA] == 0.0 and tot[E_FH] == 0.0 and zhi == math.inf and model:
+            pass
+        fh = tot[E_FH]
+        if model and moves == 0:
+            found = True
+            break
+        if fh < target:
+            zhi = z
+        else:
+            zlo = z
+            if zhi - zlo <= 1e-15 * (abs(z) + 1e-6):
+                found = True
+                break
+        delta = _local_step(fh, tot[E_DH], tot[E_QH], target)
+        z_new = z - delta
+        model = True
+        if not (z_new > zlo and z_new < zhi):  # nan or outside the bracket
+            model = False
+            if zlo > -math.inf and zhi < math.inf:
+                z_new = 0.5 * (zlo + zhi)
+            elif fh < target:
+                last = max(2.0 * last, 1e-9)
+                z_new = z - last
+            else:
+                last = max(2.0 * last, 1e-9)
+                z_new = z + last
+        if z_new == z:
+            found = True
+            break
+        z = z_new
+    if not found:
+        if zlo == -math.inf:
+            return z, 2
+        z = zlo
+        _evaluate(L, z, False, tot, *args)
+    if tot[E_NWIN] == 0.0 or tot[E_F] >= target:
+        return z, 0
+    # F < F_hat here: walk F's breakpoints from z until the quadratic between two of them
+    # reaches the target (no root of F lies above z, where F <= F_hat < target). One row
+    # changes at a breakpoint: F, D, Q follow incrementally; a max-tree over the rows finds
+    # the next breakpoint.
+    walk[0] += 1.0
+    z = _walk(L, z, target, tot, evt, *args, walk)
+    if z == -math.inf:
+        return z, 2
+    _evaluate(L, z, False, tot, *args)
+    return z, 0
+
+
+# --- building, renormalising and writing back ----------------------------------------------
+@njit(cache=True)
+def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
+    """Row j from the grid: every plateau cell out of contact (sorted), the map reset to
+    ``h = r + z``; the next evaluation moves the cells in contact in."""
+    (
+        rows,
+        seg,
+        _in_r,
+        _in_idx,
+        amap,
+        out_h,
+        out_idx,
+        where,
+        pos,
+        _cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        _stack,
+    ) = L
+    row0 = j * n_angular
+    n = 0
+    for i in range(n_angular):
+        idx = row0 + i
+        if status[idx] != NONE:
+            out_h[row0 + n] = height[idx]
+            out_idx[row0 + n] = idx
+            n += 1
+        else:
+            where[idx] = W_NONE
+    order = np.argsort(out_h[row0 : row0 + n], kind="mergesort")
+    hs = out_h[row0 : row0 + n].copy()
+    ids = out_idx[row0 : row0 + n].copy()
+    for q in range(n):
+        out_h[row0 + q] = hs[order[q]]
+        idx = ids[order[q]]
+        out_idx[row0 + q] = idx
+        where[idx] = W_OUT
+        pos[idx] = q
+    rows[j, RW_NIN] = 0
+    rows[j, RW_NOUT] = n
+    rows[j, RW_KC] = 0
+    rows[j, RW_KF] = 0
+    rows[j, RW_KS] = 0
+    seg[j, :, :] = 0.0
+    bins[j * n_sub : (j + 1) * n_sub, :] = 0.0
+    amap[j, 0] = 1.0
+    amap[j, 1] = z
+    ta[j] = 1.0
+    off = j * 2 * p2
+    tw[off : off + 2 * p2] = -1
+    tev[off : off + 2 * p2] = -math.inf
+    tsub[off : off + 2 * p2] = -math.inf
+
+
+@njit(cache=True)
+def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
+    """Reset row j's map to ``h = r + z`` (a = 1): raw coordinates of the cells in contact
+    recomputed (tombstones too, so the order stays), segment, bin sums and the rule-5 tree
+    rebuilt from them."""
+    (
+        rows,
+        seg,
+        in_r,
+        in_idx,
+        amap,
+        _out_h,
+        _out_idx,
+        _where,
+        _pos,
+        cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        _stack,
+    ) = L
+    row0 = j * n_angular
+    a = amap[j, 0]
+    c = amap[j, 1]
+    seg[j, :, :] = 0.0
+    bins[j * n_sub : (j + 1) * n_sub, :] = 0.0
+    off = j * 2 * p2
+    tw[off + p2 : off + 2 * p2] = -1
+    for q in range(rows[j, RW_NIN]):
+        r = (a * in_r[row0 + q] + c) - z
+        in_r[row0 + q] = r
+        idx = in_idx[row0 + q]
+        if idx >= 0:
+            cell_r[idx] = r
+            _seg_add(seg, j, _seg_of(rows, j, q), r, 1.0)
+            _bin_add(bins, cell_bin[idx], status[idx], r, 1.0)
+            if status[idx] == SECONDARY:
+                tw[off + p2 + idx - row0] = idx - row0
+    amap[j, 0] = 1.0
+    amap[j, 1] = z
+    ta[j] = 1.0
+    _tree_build(tw, tev, tsub, p2, j, 1.0, cell_r, base, n_angular)
+
+
+@njit(cache=True)
+def _sync_row(L, j, height, n_angular):
+    """Write row j's plateau heights back to the grid."""
+    rows, in_r, in_idx, amap, out_h, out_idx = L[0], L[2], L[3], L[4], L[5], L[6]
+    row0 = j * n_angular
+    a = amap[j, 0]
+    c = amap[j, 1]
+    for q in range(rows[j, RW_NIN]):
+        idx = in_idx[row0 + q]
+        if idx >= 0:
+            height[idx] = a * in_r[row0 + q] + c
+    for q in range(rows[j, RW_NOUT]):
+        idx = out_idx[row0 + q]
+        if idx >= 0:
+            height[idx] = out_h[row0 + q]
+
+
+@njit(cache=True)
+def _current_height(L, idx, n_angular):
+    """Height of plateau cell idx now [m]."""
+    where, pos, amap, in_r, out_h = L[7], L[8], L[4], L[2], L[5]
+    j = idx // n_angular
+    q = j * n_angular + pos[idx]
+    if where[idx] == W_IN:
+        return amap[j, 0] * in_r[q] + amap[j, 1]
+    return out_h[q]
+
+
+@njit(cache=True)
+def _remove(L, idx, status, cell_bin, base, n_angular, p2):
+    """Take plateau cell idx out of the row structures (a tombstone stays in its array)."""
+    (
+        rows,
+        seg,
+        in_r,
+        in_idx,
+        _amap,
+        _out_h,
+        out_idx,
+        where,
+        pos,
+        cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        _stack,
+    ) = L
+    j = idx // n_angular
+    row0 = j * n_angular
+    q = pos[idx]
+    if where[idx] == W_IN:
+        r = in_r[row0 + q]
+        _seg_add(seg, j, _seg_of(rows, j, q), r, -1.0)
+        _bin_add(bins, cell_bin[idx], status[idx], r, -1.0)
+        if status[idx] == SECONDARY:
+            _tree_set(tw, tev, tsub, p2, j, idx - row0, False, ta[j], cell_r, base, n_angular)
+        in_idx[row0 + q] = -1
+    elif where[idx] == W_OUT:
+        out_idx[row0 + q] = -1
+    where[idx] = W_NONE
+
+
+@njit(cache=True)
+def _push_out(L, idx, h, n_angular):
+    """A new plateau cell at height h (not above the disc) joins its row out of contact."""
+    rows, out_h, out_idx, where, pos = L[0], L[5], L[6], L[7], L[8]
+    j = idx // n_angular
+    row0 = j * n_angular
+    if rows[j, RW_NOUT] == n_angular:
+        _compact_out(L, j, n_angular)
+    w = rows[j, RW_NOUT]
+    while w > 0 and out_idx[row0 + w - 1] < 0:
+        w -= 1  # drop tombstones at the top
+    rows[j, RW_NOUT] = w + 1
+    while w > 0 and out_h[row0 + w - 1] > h:
+        out_h[row0 + w] = out_h[row0 + w - 1]
+        out_idx[row0 + w] = out_idx[row0 + w - 1]
+        if out_idx[row0 + w] >= 0:
+            pos[out_idx[row0 + w]] = w
+        w -= 1
+    out_h[row0 + w] = h
+    out_idx[row0 + w] = idx
+    where[idx] = W_OUT
+    pos[idx] = w
+
+
+@njit(cache=True)
+def check_invariants(L, status, height, n_radial, n_angular):
+    """Every entry of the row arrays agrees with ``where``/``pos``, is a plateau cell, and the
+    arrays are sorted (in contact: raw coordinate descending; out of contact: height
+    ascending); every plateau cell is held exactly once. Returns the number of violations
+    (for the tests)."""
+    rows, in_r, in_idx, out_h, out_idx, where, pos = L[0], L[2], L[3], L[5], L[6], L[7], L[8]
+    bad = 0
+    seen = np.zeros(status.size, dtype=np.int64)
+    for j in range(n_radial):
+        row0 = j * n_angular
+        last = math.inf
+        for q in range(rows[j, RW_NIN]):
+            idx = in_idx[row0 + q]
+            if idx >= 0:
+                seen[idx] += 1
+                if where[idx] != W_IN or pos[idx] != q or status[idx] == NONE:
+                    bad += 1
+                if in_r[row0 + q] > last:
+                    bad += 1
+                last = in_r[row0 + q]
+        last = -math.inf
+        for q in range(rows[j, RW_NOUT]):
+            idx = out_idx[row0 + q]
+            if idx >= 0:
+                seen[idx] += 1
+                if where[idx] != W_OUT or pos[idx] != q or status[idx] == NONE:
+                    bad += 1
+                if out_h[row0 + q] < last:
+                    bad += 1
+                last = out_h[row0 + q]
+    for idx in range(status.size):
+        if (status[idx] != NONE) != (seen[idx] == 1):
+            bad += 1
+    return bad
+
+
+@njit(cache=True)
+def _held_from_state(L, status, base, cell_area, n_radial, n_angular):
+    """Volume held in secondary plateaus, summed cell by cell from the structures [m^3]."""
+    rows, in_r, in_idx, amap, out_h, out_idx = L[0], L[2], L[3], L[4], L[5], L[6]
+    held = 0.0
+    for j in range(n_radial):
+        row0 = j * n_angular
+        a = amap[j, 0]
+        c = amap[j, 1]
+        for q in range(rows[j, RW_NIN]):
+            idx = in_idx[row0 + q]
+            if idx >= 0 and status[idx] == SECONDARY:
+                held += (a * in_r[row0 + q] + c - base[idx]) * cell_area[idx]
+        for q in range(rows[j, RW_NOUT]):
+            idx = out_idx[row0 + q]
+            if idx >= 0 and status[idx] == SECONDARY:
+                held += (out_h[row0 + q] - base[idx]) * cell_area[idx]
+    return held
+
+
+@njit(cache=True)
+def _thresholds(stiffness, mu_0, slope, mu_min):
+    """(u_c, u_f, u*) [m]: where mu p climbs back to its peak on the floor branch, where the
+    floor starts, and where mu p peaks (all equal when mu p is monotone)."""
+    if slope <= 0.0:
+        return math.inf, math.inf, math.inf
+    uf = (mu_0 - mu_min) / (slope * stiffness)
+    if 2.0 * mu_min >= mu_0:
+        return uf, uf, uf
+    us = mu_0 / (2.0 * slope * stiffness)
+    uc = mu_0 * mu_0 / (4.0 * slope * mu_min * stiffness) if mu_min > 0.0 else math.inf
+    return uc, uf, us
+
+
+@njit(cache=True)
+def run_stop_lazy(
+    L,
+    height,
+    base,
+    status,
+    cand,
+    ncand,
+    cmax,
+    mark,
+    inflow,
+    outflow,
+    heap_keys,
+    heap_vals,
+    rule4_list,
+    cnt,
+    acc,
+    cell_area,
+    cell_bin,
+    bin_area,
+    bin_slide,
+    n_radial,
+    n_angular,
+    n_sub,
+    p2,
+    stiffness,
+    mu_0,
+    slope,
+    mu_min,
+    wear_rate,
+    resin_depth,
+    bar_length,
+    east_to_west,
+    targets,
+    fraction,
+    ledger_tol,
+    rec,
+    rule_counts,
+    created,
+    destroyed,
+    dheight,
+    marked,
+    tot,
+    walk,
+    prof,
+):
+    """Run every step of one stop in place (the lazy kernel; arguments as
+    :func:`brakeca._kernels.run_stop`, plus the lazy structures ``L`` and scratch). Returns
+    (code, steps done)."""
+    (
+        rows,
+        _seg,
+        in_r,
+        in_idx,
+        amap,
+        _out_h,
+        _out_idx,
+        _where,
+        _pos,
+        cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        stack,
+    ) = L
+    uc, uf, us = _thresholds(stiffness, mu_0, slope, mu_min)
+    ztop = -math.inf
+    for idx in range(status.size):
+        if status[idx] != NONE and height[idx] > ztop:
+            ztop = height[idx]
+    if ztop == -math.inf:
+        return ERR_NO_PLATEAU, 0
+    for j in range(n_radial):
+        _rebuild_row(L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2)
+    sums = np.zeros(N_SUMS)
+    m = 1
+    while m < n_radial:
+        m *= 2
+    evt = np.full(2 * m, -math.inf)
+    n_steps = fraction.size
+    z = ztop
+    for step in range(n_steps):
+        frac = fraction[step]
+        t0 = _clock()
+        for j in range(n_radial):
+            if amap[j, 0] < RENORM_SCALE or (step > 0 and step % RENORM_EVERY == 0):
+                _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2)
+        z, code = solve_contact(
+            L,
+            z,
+            targets[step],
+            tot,
+            evt,
+            status,
+            cell_bin,
+            base,
+            n_radial,
+            n_angular,
+            n_sub,
+            p2,
+            bin_area,
+            stiffness,
+            mu_0,
+            slope,
+            mu_min,
+            uc,
+            uf,
+            us,
+            walk,
+        )
+        if code != 0 or tot[E_AREA] == 0.0:
+            sync(L, height, n_radial, n_angular)
+            return ERR_NO_PLATEAU, step
+        umax = -math.inf
+        for j in range(n_radial):
+            row0 = j * n_angular
+            for q in range(rows[j, RW_NIN]):
+                if in_idx[row0 + q] >= 0:
+                    u = amap[j, 0] * in_r[row0 + q] + amap[j, 1] - z
+                    if u > umax:
+                        umax = u
+                    break
+        if umax > bar_length:
+            sync(L, height, n_radial, n_angular)
+            return ERR_BAR, step
+        sums[S_FRICTION] = tot[E_F]
+        sums[S_NORMAL] = stiffness * tot[E_AU]
+        sums[S_CONTACT] = tot[E_AREA]
+        t1 = _clock()
+        prof[T_CONTACT] += t1 - t0
+        # rule 4 on the start-of-step statuses (marks only)
+        n4 = 0
+        for q in range(cnt[CNT_RULE4]):
+            idx = rule4_list[q]
+            if mark[idx] or not rule4_lost_support(status, idx, n_angular):
+                continue
+            mark[idx] = 4
+            rule_counts[4] += 1
+            marked[n4] = idx
+            n4 += 1
+        cnt[CNT_RULE4] = 0
+        # Archard wear of every cell in contact: volumes per stream bin, then the row maps
+        removed = 0.0
+        held_out = 0.0
+        for j in range(n_radial):
+            b0 = j * n_sub
+            alpha = wear_rate * stiffness * bin_slide[b0] * frac
+            a = amap[j, 0]
+            c = amap[j, 1]
+            d = c - z
+            area = bin_area[b0]
+            for k in range(n_sub):
+                b = b0 + k
+                vp = alpha * area * (a * bins[b, 1] + d * bins[b, 0])
+                vs = alpha * area * (a * bins[b, 3] + d * bins[b, 2])
+                outflow[b] += vp + vs
+                removed += vp
+                held_out += vs
+            beta = 1.0 - alpha
+            amap[j, 0] = beta * a
+            amap[j, 1] = beta * c + alpha * z
+        acc[ACC_HELD] -= held_out
+        # rule 5: secondary plateaus worn through their deposit (wear clipped at it)
+        n_dest = 0
+        for j in range(n_radial):
+            off = j * 2 * p2
+            a = amap[j, 0]
+            c = amap[j, 1]
+            if tw[off + 1] < 0:
+                ta[j] = a
+                continue
+            _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack)
+            ta[j] = a
+            row0 = j * n_angular
+            while tw[off + 1] >= 0:
+                idx = row0 + tw[off + 1]
+                h_new = a * cell_r[idx] + c
+                if h_new > base[idx]:
+                    break
+                corr = (base[idx] - h_new) * cell_area[idx]
+                outflow[cell_bin[idx]] -= corr
+                acc[ACC_HELD] += corr
+                _remove(L, idx, status, cell_bin, base, n_angular, p2)
+                if mark[idx] == 4:
+                    rule_counts[4] -= 1  # worn through: counted as rule 5
+                mark[idx] = 5
+                rule_counts[5] += 1
+                destroyed[n_dest] = idx
+                dheight[n_dest] = base[idx]
+                n_dest += 1
+        # rule 4: destroyed at their height after this step's wear
+        for q in range(n4):
+            idx = marked[q]
+            if mark[idx] != 4:
+                continue
+            dheight[n_dest] = _current_height(L, idx, n_angular)
+            _remove(L, idx, status, cell_bin, base, n_angular, p2)
+            destroyed[n_dest] = idx
+            n_dest += 1
+        t2 = _clock()
+        prof[T_WEAR] += t2 - t1
+        sums[S_REMOVED] = removed
+        phase_resin(
+            height,
+            status,
+            cell_area,
+            cell_bin,
+            outflow,
+            heap_keys,
+            heap_vals,
+            cnt,
+            z,
+            resin_depth,
+            sums,
+        )
+        acc[ACC_REMOVED] += sums[S_REMOVED]
+        t3 = _clock()
+        prof[T_RESIN] += t3 - t2
+        n_new = phase_creation(
+            height,
+            status,
+            cand,
+            ncand,
+            cmax,
+            cell_area,
+            inflow,
+            outflow,
+            z,
+            n_radial,
+            n_angular,
+            n_sub,
+            east_to_west,
+            created,
+            rule_counts,
+        )
+        t4 = _clock()
+        prof[T_CREATION] += t4 - t3
+        # the status changes take effect together
+        for q in range(n_dest):
+            idx = destroyed[q]
+            area = cell_area[idx]
+            dep = (dheight[q] - base[idx]) * area
+            outflow[cell_bin[idx]] += dep
+            acc[ACC_HELD] -= dep
+            height[idx] = base[idx]
+            acc[ACC_SECONDARY_AREA] -= area
+            cnt[CNT_SECONDARY] -= 1
+            status[idx] = NONE
+            heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
+        for q in range(n_new):
+            idx = created[q]
+            area = cell_area[idx]
+            acc[ACC_HELD] += (z - height[idx]) * area
+            acc[ACC_SECONDARY_AREA] += area
+            base[idx] = height[idx]
+            height[idx] = z
+            status[idx] = SECONDARY
+            _push_out(L, idx, z, n_angular)
+        cnt[CNT_SECONDARY] += n_new
+        for q in range(n_dest):
+            idx = destroyed[q]
+            mark[idx] = 0
+            refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
+            if idx % n_angular > 0:
+                refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx - 1, n_angular)
+                rule4_list[cnt[CNT_RULE4]] = idx - 1
+                cnt[CNT_RULE4] += 1
+        for q in range(n_new):
+            idx = created[q]
+            refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
+            if idx % n_angular > 0:
+                refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx - 1, n_angular)
+        t5 = _clock()
+        prof[T_APPLY] += t5 - t4
+        if cnt[CNT_HEAP] > heap_keys.size - 2 * destroyed.size:
+            heap_rebuild(heap_keys, heap_vals, cnt, status, height)
+        emitted, stream = phase_advance(inflow, outflow, n_radial, n_sub)
+        acc[ACC_EMITTED] += emitted
+        if step == n_steps - 1:
+            held = _held_from_state(L, status, base, cell_area, n_radial, n_angular)
+        else:
+            held = acc[ACC_HELD]
+        total = acc[ACC_REMOVED]
+        resid = total - (held + stream + acc[ACC_EMITTED])
+        rel = abs(resid) / total if total > 0.0 else abs(resid)
+        rec[step, R_COF] = sums[S_FRICTION] / sums[S_NORMAL] if sums[S_NORMAL] > 0.0 else 0.0
+        rec[step, R_NORMAL] = sums[S_NORMAL]
+        rec[step, R_FRICTION] = sums[S_FRICTION]
+        rec[step, R_CONTACT_AREA] = sums[S_CONTACT]
+        rec[step, R_PRIMARY_AREA] = acc[ACC_PRIMARY_AREA]
+        rec[step, R_SECONDARY_AREA] = acc[ACC_SECONDARY_AREA]
+        rec[step, R_EMITTED] = emitted
+        rec[step, R_GENERATED] = sums[S_REMOVED]
+        rec[step, R_LEDGER] = rel
+        rec[step, R_DISC] = z
+        rec[step, R_HELD] = held
+        rec[step, R_STREAM] = stream
+        rec[step, R_TARGET] = targets[step]
+        prof[T_REST] += _clock() - t5
+        if rel > ledger_tol:
+            sync(L, height, n_radial, n_angular)
+            return ERR_LEDGER, step + 1
+    sync(L, height, n_radial, n_angular)
+    return OK, n_steps
+
+
+@njit(cache=True)
+def sync(L, height, n_radial, n_angular):
+    """Write every plateau height back to the grid."""
+    for j in range(n_radial):
+        _sync_row(L, j, height, n_angular)
