@@ -36,7 +36,7 @@ from brakeca import __version__
 from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps
 from brakeca.geometry import make_grid
 from brakeca.presets import load_preset
-from brakeca.simulation import SimulationState, advance_stop, simulate
+from brakeca.simulation import SimulationState, advance_stop, kernel_for, simulate
 from brakeca.surface import generate_surface
 
 CYCLE_STEPS = 491_160
@@ -51,8 +51,10 @@ def time_compile() -> float:
     return time.perf_counter() - t
 
 
-def time_run(rows: int, stops: int, seed: int) -> dict:
-    config = load_preset().with_updates({"mesh.n_radial": rows, "cycle.max_stops": stops})
+def time_run(rows: int, stops: int, seed: int, kernel: str = "auto") -> dict:
+    config = load_preset().with_updates(
+        {"mesh.n_radial": rows, "cycle.max_stops": stops, "numerics.kernel": kernel}
+    )
     t = time.perf_counter()
     result = simulate(config, seed=seed)
     elapsed = time.perf_counter() - t
@@ -67,14 +69,17 @@ def time_run(rows: int, stops: int, seed: int) -> dict:
         "ns_per_cell_step": round(elapsed / steps / cells * 1e9, 3),
         "cycle_extrapolated_s": round(elapsed / steps * CYCLE_STEPS, 1),
         "MU": round(result.MU, 5),
+        "kernel": kernel_for(config),
     }
 
 
-def speedup_vs_numpy(rows: int, n_steps: int, seed: int) -> dict:
+def speedup_vs_numpy(rows: int, n_steps: int, seed: int, kernel: str = "auto") -> dict:
     """Kernel vs tests/naive.py on the same grid, same state, same steps."""
     import naive
 
-    config = load_preset().with_updates({"mesh.n_radial": rows, "WP": 1e-13})
+    config = load_preset().with_updates(
+        {"mesh.n_radial": rows, "WP": 1e-13, "numerics.kernel": kernel}
+    )
     grid = make_grid(config)
     rng = np.random.default_rng(seed)
     surface = generate_surface(config.pad, grid, rng)
@@ -122,6 +127,7 @@ def speedup_vs_numpy(rows: int, n_steps: int, seed: int) -> dict:
         "numpy_s": round(t_ref, 3),
         "kernel_s": round(t_fast, 5),
         "speedup": round(t_ref / t_fast, 1),
+        "kernel": kernel_for(config),
     }
 
 
@@ -149,6 +155,14 @@ def main() -> None:
         default="",
         help="comma-separated radial row counts: time --stops stops on each (linearity check)",
     )
+    ap.add_argument(
+        "--kernel", default="auto", choices=["auto", "lazy", "exact"], help="numerics.kernel"
+    )
+    ap.add_argument(
+        "--also-exact",
+        action="store_true",
+        help="time the same run with the exact kernel too, in this process (ratio in one run)",
+    )
     args = ap.parse_args()
     out = {
         "brakeca": __version__,
@@ -156,12 +170,17 @@ def main() -> None:
         "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
         "compile_s": round(time_compile(), 3),
     }
-    out["run"] = time_run(args.rows, args.stops, args.seed)
+    out["run"] = time_run(args.rows, args.stops, args.seed, args.kernel)
+    if args.also_exact:
+        out["exact_run"] = time_run(args.rows, args.stops, args.seed, "exact")
+        out["exact_over_this"] = round(out["exact_run"]["measured_s"] / out["run"]["measured_s"], 2)
     if args.scaling:
         out["scaling"] = [
-            time_run(int(r), args.stops, args.seed) for r in args.scaling.split(",") if r.strip()
+            time_run(int(r), args.stops, args.seed, args.kernel)
+            for r in args.scaling.split(",")
+            if r.strip()
         ]
-    out["reference"] = speedup_vs_numpy(args.ref_rows, args.ref_steps, args.seed)
+    out["reference"] = speedup_vs_numpy(args.ref_rows, args.ref_steps, args.seed, args.kernel)
     out["speedup_vs_numpy"] = out["reference"]["speedup"]
     out["peak_rss_mb"] = round(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1)
     print(json.dumps(out))

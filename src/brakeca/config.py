@@ -462,8 +462,8 @@ class NumericsConfig(_Frozen):
         description=(
             "step kernel: 'lazy' (per-row affine wear, work per step ~ rows + changes; equal to "
             "'exact' to round-off per operation, statistically over a run), 'exact' (every "
-            "cell in contact visited, bit-identical to earlier brakeca versions), 'auto' (lazy "
-            "where it supports the configuration, else exact)"
+            "cell in contact visited, bit-identical to earlier brakeca versions), 'auto' "
+            "(exact for now: docs/model.md section 13)"
         ),
     )
 

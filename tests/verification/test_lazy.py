@@ -166,7 +166,8 @@ def test_kernel_choice():
     from brakeca.simulation import kernel_for
 
     config = load_preset()
-    assert kernel_for(config) == "lazy"
+    assert kernel_for(config) == "exact"  # auto: exact until the walk is bounded
+    assert kernel_for(config.with_updates({"numerics.kernel": "lazy"})) == "lazy"
     assert kernel_for(config.with_updates({"numerics.kernel": "exact"})) == "exact"
     layer = config.with_updates({"pad.fibre_model": "layer"})
     assert kernel_for(layer) == "exact"
