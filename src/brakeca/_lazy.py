@@ -152,7 +152,6 @@ class Lazy:
         self.tree_sub = np.full(n_radial * 2 * p2, -np.inf)
         self.tree_a = np.ones(n_radial)
         self.stack = np.zeros(2 * p2 + 8, dtype=np.int64)
-        self.dkind = np.zeros(n, dtype=np.int8)
         self.dh = np.zeros(n)
         self.marked = np.zeros(n, dtype=np.int64)
         self.walk = np.zeros(4)
@@ -221,7 +220,6 @@ def _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack):
     if tsub[off + 1] < a:
         return
     row0 = j * n_angular
-    top = 0
     n = 0
     stack[0] = 1
     top = 1
@@ -776,8 +774,6 @@ def solve_contact(
     for _ in range(400):
         walk[2] += 1.0
         moves = _evaluate(L, z, False, tot, *args)
-        if tot[E_AREA] == 0.0 and tot[E_FH] == 0.0 and zhi == math.inf and model:
-            pass
         fh = tot[E_FH]
         if model and moves == 0:
             found = True
