@@ -248,7 +248,7 @@ def _tree_build(tw, tev, tsub, p2, j, a, cell_r, base, n_angular):
 
 
 # --- segment bookkeeping ------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _seg_of(rows, j, q):
     if q >= rows[j, RW_KS]:
         return SEG_D
@@ -259,14 +259,14 @@ def _seg_of(rows, j, q):
     return SEG_A
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _seg_add(seg, j, s, r, sign):
     seg[j, s, 0] += sign
     seg[j, s, 1] += sign * r
     seg[j, s, 2] += sign * r * r
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _bin_add(bins, b, status, r, sign):
     if status == SECONDARY:
         bins[b, 2] += sign
@@ -276,13 +276,62 @@ def _bin_add(bins, b, status, r, sign):
         bins[b, 1] += sign * r
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _move(seg, in_idx, in_r, j, row0, q, s_from, s_to):
     idx = in_idx[row0 + q]
     if idx >= 0:
         r = in_r[row0 + q]
         _seg_add(seg, j, s_from, r, -1.0)
         _seg_add(seg, j, s_to, r, 1.0)
+
+
+@njit(cache=True, inline="always")
+def _on(a, c, r, z, t):
+    """Whether a cell of raw coordinate r has interference ``u = a r + c - z >= t`` (the one
+    test every partition and breakpoint of the kernel uses, so they agree to the bit)."""
+    return a * r + c - z >= t
+
+
+@njit(cache=True, inline="always")
+def _partitions_stale(rows, in_r, j, row0, a, c, z, uc, uf, us):
+    """Whether any partition index of row j is not where _fix_partitions would put it."""
+    nin = rows[j, RW_NIN]
+    ks = rows[j, RW_KS]
+    kf = rows[j, RW_KF]
+    kc = rows[j, RW_KC]
+    if ks < nin and _on(a, c, in_r[row0 + ks], z, us):
+        return True
+    if kf < ks and _on(a, c, in_r[row0 + kf], z, uf):
+        return True
+    if kc < kf and _on(a, c, in_r[row0 + kc], z, uc):
+        return True
+    if kc > 0 and not _on(a, c, in_r[row0 + kc - 1], z, uc):
+        return True
+    if kf > kc and not _on(a, c, in_r[row0 + kf - 1], z, uf):
+        return True
+    return ks > kf and not _on(a, c, in_r[row0 + ks - 1], z, us)
+
+
+@njit(cache=True, inline="always")
+def _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, a, c, z, incl):
+    """Whether row j's contact edge must move to reach z."""
+    nin = rows[j, RW_NIN]
+    if nin > 0:
+        q = row0 + nin - 1
+        if in_idx[q] < 0:
+            return True
+        h = a * in_r[q] + c
+        if h < z or (not incl and h == z):
+            return True
+    nout = rows[j, RW_NOUT]
+    if nout > 0:
+        q = row0 + nout - 1
+        if out_idx[q] < 0:
+            return True
+        h = out_h[q]
+        if h > z or (incl and h == z):
+            return True
+    return False
 
 
 @njit(cache=True)
@@ -295,32 +344,28 @@ def _fix_partitions(L, j, row0, z, uc, uf, us):
     ks = rows[j, RW_KS]
     kf = rows[j, RW_KF]
     kc = rows[j, RW_KC]
-    # thresholds in raw coordinates: u >= t  <=>  r >= (z + t - c) / a
-    rs = (z + us - c) / a
-    rf = (z + uf - c) / a
-    rc = (z + uc - c) / a
     moves = 0
-    while ks < nin and in_r[row0 + ks] >= rs:
+    while ks < nin and _on(a, c, in_r[row0 + ks], z, us):
         _move(seg, in_idx, in_r, j, row0, ks, SEG_D, SEG_C)
         ks += 1
         moves += 1
-    while kf < ks and in_r[row0 + kf] >= rf:
+    while kf < ks and _on(a, c, in_r[row0 + kf], z, uf):
         _move(seg, in_idx, in_r, j, row0, kf, SEG_C, SEG_B)
         kf += 1
         moves += 1
-    while kc < kf and in_r[row0 + kc] >= rc:
+    while kc < kf and _on(a, c, in_r[row0 + kc], z, uc):
         _move(seg, in_idx, in_r, j, row0, kc, SEG_B, SEG_A)
         kc += 1
         moves += 1
-    while kc > 0 and in_r[row0 + kc - 1] < rc:
+    while kc > 0 and not _on(a, c, in_r[row0 + kc - 1], z, uc):
         kc -= 1
         _move(seg, in_idx, in_r, j, row0, kc, SEG_A, SEG_B)
         moves += 1
-    while kf > kc and in_r[row0 + kf - 1] < rf:
+    while kf > kc and not _on(a, c, in_r[row0 + kf - 1], z, uf):
         kf -= 1
         _move(seg, in_idx, in_r, j, row0, kf, SEG_B, SEG_C)
         moves += 1
-    while ks > kf and in_r[row0 + ks - 1] < rs:
+    while ks > kf and not _on(a, c, in_r[row0 + ks - 1], z, us):
         ks -= 1
         _move(seg, in_idx, in_r, j, row0, ks, SEG_C, SEG_D)
         moves += 1
@@ -532,17 +577,22 @@ def _evaluate(
 ):
     """Move every row's contact edge and partitions to z and sum F, F_hat and their
     derivatives into ``tot``."""
-    _rows, seg, amap = L[0], L[1], L[4]
+    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
     k2 = slope * stiffness * stiffness
     peak = mu_0 * mu_0 / (4.0 * slope) if slope > 0.0 else 0.0
-    tot[:] = 0.0
+    t_e_f = t_e_d = t_e_q = t_e_fh = t_e_dh = t_e_qh = t_e_nwin = t_e_au = t_e_area = 0.0
     moves = 0
     for j in range(n_radial):
+        j * n_angular
         row0 = j * n_angular
-        moves += _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2)
-        moves += _fix_partitions(L, j, row0, z, uc, uf, us)
+        if _edge_stale(
+            rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, incl
+        ):
+            moves += _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2)
+        if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
+            moves += _fix_partitions(L, j, row0, z, uc, uf, us)
         a = amap[j, 0]
         d = amap[j, 1] - z
         area = bin_area[j * n_sub]
@@ -556,20 +606,29 @@ def _evaluate(
         uD = a * sD + d * nD
         u2C = a * a * qC + 2.0 * a * d * sC + d * d * nC
         u2D = a * a * qD + 2.0 * a * d * sD + d * d * nD
-        tot[E_F] += area * (k1 * (uA + uB) + k0 * (uC + uD) - k2 * (u2C + u2D))
-        tot[E_D] += area * (k1 * (nA + nB) + k0 * (nC + nD) - 2.0 * k2 * (uC + uD))
-        tot[E_Q] += area * k2 * (nC + nD)
-        tot[E_FH] += area * (k1 * uA + peak * (nB + nC) + k0 * uD - k2 * u2D)
-        tot[E_DH] += area * (k1 * nA + k0 * nD - 2.0 * k2 * uD)
-        tot[E_QH] += area * k2 * nD
-        tot[E_NWIN] += nB + nC
-        tot[E_AU] += area * (uA + uB + uC + uD)
-        tot[E_AREA] += area * (nA + nB + nC + nD)
+        t_e_f += area * (k1 * (uA + uB) + k0 * (uC + uD) - k2 * (u2C + u2D))
+        t_e_d += area * (k1 * (nA + nB) + k0 * (nC + nD) - 2.0 * k2 * (uC + uD))
+        t_e_q += area * k2 * (nC + nD)
+        t_e_fh += area * (k1 * uA + peak * (nB + nC) + k0 * uD - k2 * u2D)
+        t_e_dh += area * (k1 * nA + k0 * nD - 2.0 * k2 * uD)
+        t_e_qh += area * k2 * nD
+        t_e_nwin += nB + nC
+        t_e_au += area * (uA + uB + uC + uD)
+        t_e_area += area * (nA + nB + nC + nD)
+    tot[E_F] = t_e_f
+    tot[E_D] = t_e_d
+    tot[E_Q] = t_e_q
+    tot[E_FH] = t_e_fh
+    tot[E_DH] = t_e_dh
+    tot[E_QH] = t_e_qh
+    tot[E_NWIN] = t_e_nwin
+    tot[E_AU] = t_e_au
+    tot[E_AREA] = t_e_area
     tot[E_MOVES] = moves
     return moves
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _local_step(f, dfd, q, target):
     """Approach change delta with f + dfd delta - q delta^2 = target, nearest zero (nan if the
     local quadratic has none)."""
@@ -587,7 +646,7 @@ def _local_step(f, dfd, q, target):
     return math.nan
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _row_terms(seg, amap, j, z, area, k0, k1, k2):
     """Row j's share of (F, D, Q) at disc position z."""
     a = amap[j, 0]
@@ -606,10 +665,9 @@ def _row_terms(seg, amap, j, z, area, k0, k1, k2):
     return f, df, q
 
 
-@njit(cache=True)
-def _row_event(L, j, z, n_angular, uf):
+@njit(cache=True, inline="always")
+def _row_event(rows, in_r, amap, out_h, out_idx, j, z, n_angular, uf):
     """Row j's highest breakpoint of F strictly below z (-inf if none)."""
-    rows, in_r, amap, out_h, out_idx = L[0], L[2], L[4], L[5], L[6]
     row0 = j * n_angular
     nout = rows[j, RW_NOUT]
     while nout > 0 and out_idx[row0 + nout - 1] < 0:
@@ -624,16 +682,16 @@ def _row_event(L, j, z, n_angular, uf):
         c = amap[j, 1]
         r = in_r[row0 + kf]
         zf = a * r + c - uf
-        # the highest z at which _fix_partitions's test (r >= (z + uf - c) / a) puts it on the
-        # floor: the two are computed differently, so step down to where they agree
-        while (zf + uf - c) / a > r:
+        # the highest z at which _on (the partition test) puts it on the floor: the two are
+        # rounded differently, so step down to where they agree
+        while not _on(a, c, r, zf, uf):
             zf = np.nextafter(zf, -math.inf)
         if zf > best and zf < z:
             best = zf
     return best
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _evt_set(evt, m, j, value):
     """Max-tree over rows (leaves at m + j): set row j's next event."""
     node = m + j
@@ -644,6 +702,88 @@ def _evt_set(evt, m, j, value):
         right = evt[2 * node + 1]
         evt[node] = left if left >= right else right
         node >>= 1
+
+
+@njit(cache=True, inline="always")
+def _row_slope(seg, amap, j, z, area, k0, k1, k2):
+    """Row j's (S, QD): the slope of the walk's linear bound (floor and falling cells at
+    mu_min K, rising cells at their tangent) and how fast the tangents fall (S' = -2 QD)."""
+    a = amap[j, 0]
+    d = amap[j, 1] - z
+    n_abc = seg[j, SEG_A, 0] + seg[j, SEG_B, 0] + seg[j, SEG_C, 0]
+    nD = seg[j, SEG_D, 0]
+    uD = a * seg[j, SEG_D, 1] + d * nD
+    return area * (k1 * n_abc + k0 * nD - 2.0 * k2 * uD), area * k2 * nD
+
+
+@njit(cache=True)
+def _entering_weight(L, level, n_radial, n_angular, n_sub, bin_area):
+    """Sum of the areas of the cells out of contact above ``level`` [m^2] (tombstones
+    included: an upper bound)."""
+    rows, out_h = L[0], L[5]
+    we = 0.0
+    for j in range(n_radial):
+        row0 = j * n_angular
+        n = rows[j, RW_NOUT]
+        if n == 0 or out_h[row0 + n - 1] <= level:
+            continue
+        lo = 0
+        hi = n  # first index with out_h > level (ascending array)
+        while lo < hi:
+            mid = (lo + hi) >> 1
+            if out_h[row0 + mid] > level:
+                hi = mid
+            else:
+                lo = mid + 1
+        we += bin_area[j * n_sub] * (n - lo)
+    return we
+
+
+@njit(cache=True)
+def _walk_start(
+    L,
+    z,
+    evt,
+    status,
+    cell_bin,
+    base,
+    n_radial,
+    n_angular,
+    n_sub,
+    p2,
+    bin_area,
+    k0,
+    k1,
+    k2,
+    uc,
+    uf,
+    us,
+    acc5,
+):
+    """Every row's edge and partitions at z (inclusive), the event tree, and the walk's
+    totals ``acc5 = (F, D, Q, S, QD)``."""
+    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
+    m = evt.size // 2
+    evt[:] = -math.inf
+    acc5[:] = 0.0
+    for j in range(n_radial):
+        j * n_angular
+        row0 = j * n_angular
+        if _edge_stale(
+            rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, True
+        ):
+            _contact_row(L, j, z, True, status, cell_bin, base, n_angular, p2)
+        if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
+            _fix_partitions(L, j, row0, z, uc, uf, us)
+        area = bin_area[j * n_sub]
+        fj, dj, qj = _row_terms(seg, amap, j, z, area, k0, k1, k2)
+        sj, qdj = _row_slope(seg, amap, j, z, area, k0, k1, k2)
+        acc5[0] += fj
+        acc5[1] += dj
+        acc5[2] += qj
+        acc5[3] += sj
+        acc5[4] += qdj
+        _evt_set(evt, m, j, _row_event(rows, in_r, amap, out_h, out_idx, j, z, n_angular, uf))
 
 
 @njit(cache=True)
@@ -671,26 +811,44 @@ def _walk(
     walk,
 ):
     """Walk F's breakpoints down from z (where F < target) to the first root; returns it with
-    every row's edge and partitions there (or -inf if F never reaches the target)."""
-    _rows, seg, amap = L[0], L[1], L[4]
+    every row's edge and partitions there (or -inf if F never reaches the target).
+
+    Between breakpoints F is the quadratic of the segment sums. Where many breakpoints lie
+    ahead, the walk jumps: for an advance ``w <= u_c - u*`` from here,
+    ``F <= F_here + S w + mu_0 K A_enter(w) w`` (cells on the floor grow at mu_min K, cells past
+    the peak by at most mu_min K w, rising cells stay below their tangent, cells entering
+    contact below mu_0 K u), so no root lies before the advance at which that bound reaches
+    the target."""
+    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
     k2 = slope * stiffness * stiffness
     m = evt.size // 2
-    evt[:] = -math.inf
-    f = 0.0
-    df = 0.0
-    q = 0.0
-    for j in range(n_radial):
-        row0 = j * n_angular
-        _contact_row(L, j, z, True, status, cell_bin, base, n_angular, p2)
-        _fix_partitions(L, j, row0, z, uc, uf, us)
-        fj, dj, qj = _row_terms(seg, amap, j, z, bin_area[j * n_sub], k0, k1, k2)
-        f += fj
-        df += dj
-        q += qj
-        _evt_set(evt, m, j, _row_event(L, j, z, n_angular, uf))
+    w_cap = uc - us if uc - us < math.inf else 1e-4
+    acc5 = np.zeros(5)
+    _walk_start(
+        L,
+        z,
+        evt,
+        status,
+        cell_bin,
+        base,
+        n_radial,
+        n_angular,
+        n_sub,
+        p2,
+        bin_area,
+        k0,
+        k1,
+        k2,
+        uc,
+        uf,
+        us,
+        acc5,
+    )
+    f, df, q, sl, qd = acc5[0], acc5[1], acc5[2], acc5[3], acc5[4]
     zc = z
+    since = 0
     while True:
         walk[1] += 1.0
         if f >= target:
@@ -701,25 +859,67 @@ def _walk(
             return zc - delta
         if z_next == -math.inf:
             return -math.inf
+        gap = zc - z_next
+        rest = target - f
+        since += 1
+        if since >= 8 and sl > 0.0 and rest > 16.0 * sl * gap:
+            since = 0
+            w0 = min(rest / sl, w_cap)
+            we = _entering_weight(L, zc - w0, n_radial, n_angular, n_sub, bin_area)
+            w1 = min(rest / (sl + k0 * we), w0)
+            if w1 > gap:
+                walk[3] += 1.0
+                zc = zc - w1
+                _walk_start(
+                    L,
+                    zc,
+                    evt,
+                    status,
+                    cell_bin,
+                    base,
+                    n_radial,
+                    n_angular,
+                    n_sub,
+                    p2,
+                    bin_area,
+                    k0,
+                    k1,
+                    k2,
+                    uc,
+                    uf,
+                    us,
+                    acc5,
+                )
+                f, df, q, sl, qd = acc5[0], acc5[1], acc5[2], acc5[3], acc5[4]
+                continue
         # advance to the breakpoint, then let its row change
-        w = zc - z_next
-        f += df * w - q * w * w
-        df -= 2.0 * q * w
+        f += df * gap - q * gap * gap
+        df -= 2.0 * q * gap
+        sl -= 2.0 * qd * gap
         zc = z_next
         node = 1
         while node < m:
             node = 2 * node if evt[2 * node] >= evt[2 * node + 1] else 2 * node + 1
         j = node - m
-        row0 = j * n_angular
+        j * n_angular
         area = bin_area[j * n_sub]
         f0, d0, q0 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
-        _contact_row(L, j, zc, True, status, cell_bin, base, n_angular, p2)
-        _fix_partitions(L, j, row0, zc, uc, uf, us)
+        s0, qd0 = _row_slope(seg, amap, j, zc, area, k0, k1, k2)
+        row0 = j * n_angular
+        if _edge_stale(
+            rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], zc, True
+        ):
+            _contact_row(L, j, zc, True, status, cell_bin, base, n_angular, p2)
+        if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], zc, uc, uf, us):
+            _fix_partitions(L, j, row0, zc, uc, uf, us)
         f1, d1, q1 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
+        s1, qd1 = _row_slope(seg, amap, j, zc, area, k0, k1, k2)
         f += f1 - f0
         df += d1 - d0
         q += q1 - q0
-        _evt_set(evt, m, j, _row_event(L, j, zc, n_angular, uf))
+        sl += s1 - s0
+        qd += qd1 - qd0
+        _evt_set(evt, m, j, _row_event(rows, in_r, amap, out_h, out_idx, j, zc, n_angular, uf))
 
 
 @njit(cache=True)
@@ -942,7 +1142,7 @@ def _sync_row(L, j, height, n_angular):
             height[idx] = out_h[row0 + q]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _current_height(L, idx, n_angular):
     """Height of plateau cell idx now [m]."""
     where, pos, amap, in_r, out_h = L[7], L[8], L[4], L[2], L[5]
