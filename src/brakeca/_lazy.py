@@ -154,7 +154,7 @@ class Lazy:
         self.stack = np.zeros(2 * p2 + 8, dtype=np.int64)
         self.dh = np.zeros(n)
         self.marked = np.zeros(n, dtype=np.int64)
-        self.walk = np.zeros(4)
+        self.walk = np.zeros(8)
         self.p2 = p2
 
 
@@ -335,9 +335,8 @@ def _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, a, c, z, incl):
 
 
 @njit(cache=True)
-def _fix_partitions(L, j, row0, z, uc, uf, us):
+def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
     """Move the partition indices of row j to disc position z (segment sums follow)."""
-    rows, seg, in_r, in_idx, amap = L[0], L[1], L[2], L[3], L[4]
     a = amap[j, 0]
     c = amap[j, 1]
     nin = rows[j, RW_NIN]
@@ -400,9 +399,8 @@ def structures(lz: Lazy) -> tuple:
 
 
 @njit(cache=True)
-def _compact_in(L, j, n_angular):
+def _compact_in(rows, in_r, in_idx, pos, j, n_angular):
     """Drop the tombstones of row j's in-contact array (order kept; partitions follow)."""
-    rows, in_r, in_idx, pos = L[0], L[2], L[3], L[8]
     row0 = j * n_angular
     kc = rows[j, RW_KC]
     kf = rows[j, RW_KF]
@@ -430,9 +428,8 @@ def _compact_in(L, j, n_angular):
 
 
 @njit(cache=True)
-def _compact_out(L, j, n_angular):
+def _compact_out(rows, out_h, out_idx, pos, j, n_angular):
     """Drop the tombstones of row j's out-of-contact array (order kept)."""
-    rows, out_h, out_idx, pos = L[0], L[5], L[6], L[8]
     row0 = j * n_angular
     w = 0
     for q in range(rows[j, RW_NOUT]):
@@ -446,27 +443,33 @@ def _compact_out(L, j, n_angular):
 
 
 @njit(cache=True)
-def _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2):
+def _contact_row(
+    rows,
+    seg,
+    in_r,
+    in_idx,
+    amap,
+    out_h,
+    out_idx,
+    where,
+    pos,
+    cell_r,
+    bins,
+    tw,
+    tev,
+    tsub,
+    ta,
+    j,
+    z,
+    incl,
+    status,
+    cell_bin,
+    base,
+    n_angular,
+    p2,
+):
     """Move row j's contact edge to z: cells with ``h <= z`` leave (``h < z`` when ``incl``),
     cells with ``h > z`` (``h >= z``) enter. Returns the number of cells moved."""
-    (
-        rows,
-        seg,
-        in_r,
-        in_idx,
-        amap,
-        out_h,
-        out_idx,
-        where,
-        pos,
-        cell_r,
-        bins,
-        tw,
-        tev,
-        tsub,
-        ta,
-        _stack,
-    ) = L
     row0 = j * n_angular
     a = amap[j, 0]
     c = amap[j, 1]
@@ -489,7 +492,7 @@ def _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2):
             # to the top of the out-of-contact array (it is the highest of them)
             if nout == n_angular:
                 rows[j, RW_NOUT] = nout
-                _compact_out(L, j, n_angular)
+                _compact_out(rows, out_h, out_idx, pos, j, n_angular)
                 nout = rows[j, RW_NOUT]
             w = nout
             while w > 0 and out_idx[row0 + w - 1] >= 0 and out_h[row0 + w - 1] > h:
@@ -520,7 +523,7 @@ def _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2):
             r = (h - c) / a
             if nin == n_angular:
                 rows[j, RW_NIN] = nin
-                _compact_in(L, j, n_angular)
+                _compact_in(rows, in_r, in_idx, pos, j, n_angular)
                 nin = rows[j, RW_NIN]
             in_r[row0 + nin] = r
             in_idx[row0 + nin] = idx
@@ -577,7 +580,24 @@ def _evaluate(
 ):
     """Move every row's contact edge and partitions to z and sum F, F_hat and their
     derivatives into ``tot``."""
-    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
+    (
+        rows,
+        seg,
+        in_r,
+        in_idx,
+        amap,
+        out_h,
+        out_idx,
+        where,
+        pos,
+        cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        _stack,
+    ) = L
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
     k2 = slope * stiffness * stiffness
@@ -590,9 +610,33 @@ def _evaluate(
         if _edge_stale(
             rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, incl
         ):
-            moves += _contact_row(L, j, z, incl, status, cell_bin, base, n_angular, p2)
+            moves += _contact_row(
+                rows,
+                seg,
+                in_r,
+                in_idx,
+                amap,
+                out_h,
+                out_idx,
+                where,
+                pos,
+                cell_r,
+                bins,
+                tw,
+                tev,
+                tsub,
+                ta,
+                j,
+                z,
+                incl,
+                status,
+                cell_bin,
+                base,
+                n_angular,
+                p2,
+            )
         if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
-            moves += _fix_partitions(L, j, row0, z, uc, uf, us)
+            moves += _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us)
         a = amap[j, 0]
         d = amap[j, 1] - z
         area = bin_area[j * n_sub]
@@ -762,7 +806,24 @@ def _walk_start(
 ):
     """Every row's edge and partitions at z (inclusive), the event tree, and the walk's
     totals ``acc5 = (F, D, Q, S, QD)``."""
-    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
+    (
+        rows,
+        seg,
+        in_r,
+        in_idx,
+        amap,
+        out_h,
+        out_idx,
+        where,
+        pos,
+        cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        _stack,
+    ) = L
     m = evt.size // 2
     evt[:] = -math.inf
     acc5[:] = 0.0
@@ -772,9 +833,33 @@ def _walk_start(
         if _edge_stale(
             rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, True
         ):
-            _contact_row(L, j, z, True, status, cell_bin, base, n_angular, p2)
+            _contact_row(
+                rows,
+                seg,
+                in_r,
+                in_idx,
+                amap,
+                out_h,
+                out_idx,
+                where,
+                pos,
+                cell_r,
+                bins,
+                tw,
+                tev,
+                tsub,
+                ta,
+                j,
+                z,
+                True,
+                status,
+                cell_bin,
+                base,
+                n_angular,
+                p2,
+            )
         if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
-            _fix_partitions(L, j, row0, z, uc, uf, us)
+            _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us)
         area = bin_area[j * n_sub]
         fj, dj, qj = _row_terms(seg, amap, j, z, area, k0, k1, k2)
         sj, qdj = _row_slope(seg, amap, j, z, area, k0, k1, k2)
@@ -819,7 +904,24 @@ def _walk(
     the peak by at most mu_min K w, rising cells stay below their tangent, cells entering
     contact below mu_0 K u), so no root lies before the advance at which that bound reaches
     the target."""
-    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
+    (
+        rows,
+        seg,
+        in_r,
+        in_idx,
+        amap,
+        out_h,
+        out_idx,
+        where,
+        pos,
+        cell_r,
+        bins,
+        tw,
+        tev,
+        tsub,
+        ta,
+        _stack,
+    ) = L
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
     k2 = slope * stiffness * stiffness
@@ -909,9 +1011,33 @@ def _walk(
         if _edge_stale(
             rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], zc, True
         ):
-            _contact_row(L, j, zc, True, status, cell_bin, base, n_angular, p2)
+            _contact_row(
+                rows,
+                seg,
+                in_r,
+                in_idx,
+                amap,
+                out_h,
+                out_idx,
+                where,
+                pos,
+                cell_r,
+                bins,
+                tw,
+                tev,
+                tsub,
+                ta,
+                j,
+                zc,
+                True,
+                status,
+                cell_bin,
+                base,
+                n_angular,
+                p2,
+            )
         if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], zc, uc, uf, us):
-            _fix_partitions(L, j, row0, zc, uc, uf, us)
+            _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, zc, uc, uf, us)
         f1, d1, q1 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
         s1, qd1 = _row_slope(seg, amap, j, zc, area, k0, k1, k2)
         f += f1 - f0
@@ -966,6 +1092,7 @@ def solve_contact(
         us,
     )
     z = z_start
+    t_start = _clock()
     zhi = math.inf  # F_hat < target above here
     zlo = -math.inf  # F_hat >= target at and below here
     last = 0.0
@@ -1007,6 +1134,7 @@ def solve_contact(
             return z, 2
         z = zlo
         _evaluate(L, z, False, tot, *args)
+    walk[4] += _clock() - t_start
     if tot[E_NWIN] == 0.0 or tot[E_F] >= target:
         return z, 0
     # F < F_hat here: walk F's breakpoints from z until the quadratic between two of them
@@ -1014,10 +1142,12 @@ def solve_contact(
     # changes at a breakpoint: F, D, Q follow incrementally; a max-tree over the rows finds
     # the next breakpoint.
     walk[0] += 1.0
+    t0 = _clock()
     z = _walk(L, z, target, tot, evt, *args, walk)
     if z == -math.inf:
         return z, 2
     _evaluate(L, z, False, tot, *args)
+    walk[5] += _clock() - t0
     return z, 0
 
 
@@ -1143,9 +1273,8 @@ def _sync_row(L, j, height, n_angular):
 
 
 @njit(cache=True, inline="always")
-def _current_height(L, idx, n_angular):
+def _current_height(where, pos, amap, in_r, out_h, idx, n_angular):
     """Height of plateau cell idx now [m]."""
-    where, pos, amap, in_r, out_h = L[7], L[8], L[4], L[2], L[5]
     j = idx // n_angular
     q = j * n_angular + pos[idx]
     if where[idx] == W_IN:
@@ -1154,26 +1283,30 @@ def _current_height(L, idx, n_angular):
 
 
 @njit(cache=True)
-def _remove(L, idx, status, cell_bin, base, n_angular, p2):
+def _remove(
+    rows,
+    seg,
+    in_r,
+    in_idx,
+    amap,
+    out_h,
+    out_idx,
+    where,
+    pos,
+    cell_r,
+    bins,
+    tw,
+    tev,
+    tsub,
+    ta,
+    idx,
+    status,
+    cell_bin,
+    base,
+    n_angular,
+    p2,
+):
     """Take plateau cell idx out of the row structures (a tombstone stays in its array)."""
-    (
-        rows,
-        seg,
-        in_r,
-        in_idx,
-        _amap,
-        _out_h,
-        out_idx,
-        where,
-        pos,
-        cell_r,
-        bins,
-        tw,
-        tev,
-        tsub,
-        ta,
-        _stack,
-    ) = L
     j = idx // n_angular
     row0 = j * n_angular
     q = pos[idx]
@@ -1190,13 +1323,12 @@ def _remove(L, idx, status, cell_bin, base, n_angular, p2):
 
 
 @njit(cache=True)
-def _push_out(L, idx, h, n_angular):
+def _push_out(rows, out_h, out_idx, where, pos, idx, h, n_angular):
     """A new plateau cell at height h (not above the disc) joins its row out of contact."""
-    rows, out_h, out_idx, where, pos = L[0], L[5], L[6], L[7], L[8]
     j = idx // n_angular
     row0 = j * n_angular
     if rows[j, RW_NOUT] == n_angular:
-        _compact_out(L, j, n_angular)
+        _compact_out(rows, out_h, out_idx, pos, j, n_angular)
     w = rows[j, RW_NOUT]
     while w > 0 and out_idx[row0 + w - 1] < 0:
         w -= 1  # drop tombstones at the top
@@ -1335,14 +1467,14 @@ def run_stop_lazy(
     (code, steps done)."""
     (
         rows,
-        _seg,
+        seg,
         in_r,
         in_idx,
         amap,
-        _out_h,
-        _out_idx,
-        _where,
-        _pos,
+        out_h,
+        out_idx,
+        where,
+        pos,
         cell_r,
         bins,
         tw,
@@ -1468,7 +1600,29 @@ def run_stop_lazy(
                 corr = (base[idx] - h_new) * cell_area[idx]
                 outflow[cell_bin[idx]] -= corr
                 acc[ACC_HELD] += corr
-                _remove(L, idx, status, cell_bin, base, n_angular, p2)
+                _remove(
+                    rows,
+                    seg,
+                    in_r,
+                    in_idx,
+                    amap,
+                    out_h,
+                    out_idx,
+                    where,
+                    pos,
+                    cell_r,
+                    bins,
+                    tw,
+                    tev,
+                    tsub,
+                    ta,
+                    idx,
+                    status,
+                    cell_bin,
+                    base,
+                    n_angular,
+                    p2,
+                )
                 if mark[idx] == 4:
                     rule_counts[4] -= 1  # worn through: counted as rule 5
                 mark[idx] = 5
@@ -1481,8 +1635,30 @@ def run_stop_lazy(
             idx = marked[q]
             if mark[idx] != 4:
                 continue
-            dheight[n_dest] = _current_height(L, idx, n_angular)
-            _remove(L, idx, status, cell_bin, base, n_angular, p2)
+            dheight[n_dest] = _current_height(where, pos, amap, in_r, out_h, idx, n_angular)
+            _remove(
+                rows,
+                seg,
+                in_r,
+                in_idx,
+                amap,
+                out_h,
+                out_idx,
+                where,
+                pos,
+                cell_r,
+                bins,
+                tw,
+                tev,
+                tsub,
+                ta,
+                idx,
+                status,
+                cell_bin,
+                base,
+                n_angular,
+                p2,
+            )
             destroyed[n_dest] = idx
             n_dest += 1
         t2 = _clock()
@@ -1543,7 +1719,7 @@ def run_stop_lazy(
             base[idx] = height[idx]
             height[idx] = z
             status[idx] = SECONDARY
-            _push_out(L, idx, z, n_angular)
+            _push_out(rows, out_h, out_idx, where, pos, idx, z, n_angular)
         cnt[CNT_SECONDARY] += n_new
         for q in range(n_dest):
             idx = destroyed[q]

@@ -117,7 +117,9 @@ class SimulationState:
         self.rule7_on = bool(np.isfinite(self.fibre_floor).any())
         self.mark = np.zeros(n, dtype=np.int8)
         self.prof = np.zeros(K.N_TIMED, dtype=np.int64)  # cycles per kernel phase (profiling)
-        self.lazy_walk = np.zeros(4)  # lazy kernel: contact solves that walked, walk steps
+        # lazy kernel: solves that walked, walk steps, envelope iterations, jumps, cycles in
+        # the envelope iteration, cycles in the walk
+        self.lazy_walk = np.zeros(8)
         self.heap_keys = np.zeros(4 * n + 8)
         self.heap_vals = np.zeros(4 * n + 8, dtype=np.int64)
         self.cand = np.zeros(n, dtype=np.int8)
