@@ -140,6 +140,8 @@ class Lazy:
         self.in_idx = np.zeros(n, dtype=np.int64)
         self.out_h = np.zeros(n)
         self.out_idx = np.zeros(n, dtype=np.int64)
+        self.in_s = np.zeros(n, dtype=np.int8)  # status of the entries (read in order)
+        self.out_s = np.zeros(n, dtype=np.int8)
         self.where = np.zeros(n, dtype=np.int8)
         self.pos = np.zeros(n, dtype=np.int64)
         self.cell_r = np.zeros(n)
@@ -395,11 +397,13 @@ def structures(lz: Lazy) -> tuple:
         lz.tree_sub,
         lz.tree_a,
         lz.stack,
+        lz.in_s,
+        lz.out_s,
     )
 
 
 @njit(cache=True)
-def _compact_in(rows, in_r, in_idx, pos, j, n_angular):
+def _compact_in(rows, in_r, in_idx, in_s, pos, j, n_angular):
     """Drop the tombstones of row j's in-contact array (order kept; partitions follow)."""
     row0 = j * n_angular
     kc = rows[j, RW_KC]
@@ -418,6 +422,7 @@ def _compact_in(rows, in_r, in_idx, pos, j, n_angular):
         if idx >= 0:
             in_r[row0 + w] = in_r[row0 + q]
             in_idx[row0 + w] = idx
+            in_s[row0 + w] = in_s[row0 + q]
             pos[idx] = w
             w += 1
     n = rows[j, RW_NIN]
@@ -428,7 +433,7 @@ def _compact_in(rows, in_r, in_idx, pos, j, n_angular):
 
 
 @njit(cache=True)
-def _compact_out(rows, out_h, out_idx, pos, j, n_angular):
+def _compact_out(rows, out_h, out_idx, out_s, pos, j, n_angular):
     """Drop the tombstones of row j's out-of-contact array (order kept)."""
     row0 = j * n_angular
     w = 0
@@ -437,6 +442,7 @@ def _compact_out(rows, out_h, out_idx, pos, j, n_angular):
         if idx >= 0:
             out_h[row0 + w] = out_h[row0 + q]
             out_idx[row0 + w] = idx
+            out_s[row0 + w] = out_s[row0 + q]
             pos[idx] = w
             w += 1
     rows[j, RW_NOUT] = w
@@ -459,49 +465,58 @@ def _contact_row(
     tev,
     tsub,
     ta,
+    in_s,
+    out_s,
     j,
     z,
     incl,
-    status,
-    cell_bin,
+    n_sub,
     base,
     n_angular,
     p2,
 ):
     """Move row j's contact edge to z: cells with ``h <= z`` leave (``h < z`` when ``incl``),
-    cells with ``h > z`` (``h >= z``) enter. Returns the number of cells moved."""
+    cells with ``h > z`` (``h >= z``) enter. Returns the number of cells moved.
+
+    The entries carry their status; the stream bin follows from the column; the per-cell
+    arrays written are ``where``/``pos`` (and ``cell_r`` for secondary plateaus, the only
+    lines of the rule-5 tree)."""
     row0 = j * n_angular
+    n_m = n_angular // n_sub
+    b0 = j * n_sub
     a = amap[j, 0]
     c = amap[j, 1]
     nin = rows[j, RW_NIN]
     nout = rows[j, RW_NOUT]
     moves = 0
     while nin > 0:
-        q = nin - 1
-        idx = in_idx[row0 + q]
+        q = row0 + nin - 1
+        idx = in_idx[q]
         if idx >= 0:
-            h = a * in_r[row0 + q] + c
+            r = in_r[q]
+            h = a * r + c
             if h > z or (incl and h == z):
                 break
-            r = in_r[row0 + q]
-            s = _seg_of(rows, j, q)
-            _seg_add(seg, j, s, r, -1.0)
-            _bin_add(bins, cell_bin[idx], status[idx], r, -1.0)
-            if status[idx] == SECONDARY:
+            st = in_s[q]
+            _seg_add(seg, j, _seg_of(rows, j, nin - 1), r, -1.0)
+            _bin_add(bins, b0 + (idx - row0) // n_m, st, r, -1.0)
+            if st == SECONDARY:
                 _tree_set(tw, tev, tsub, p2, j, idx - row0, False, ta[j], cell_r, base, n_angular)
             # to the top of the out-of-contact array (it is the highest of them)
             if nout == n_angular:
                 rows[j, RW_NOUT] = nout
-                _compact_out(rows, out_h, out_idx, pos, j, n_angular)
+                _compact_out(rows, out_h, out_idx, out_s, pos, j, n_angular)
                 nout = rows[j, RW_NOUT]
             w = nout
             while w > 0 and out_idx[row0 + w - 1] >= 0 and out_h[row0 + w - 1] > h:
                 out_h[row0 + w] = out_h[row0 + w - 1]
                 out_idx[row0 + w] = out_idx[row0 + w - 1]
+                out_s[row0 + w] = out_s[row0 + w - 1]
                 pos[out_idx[row0 + w]] = w
                 w -= 1
             out_h[row0 + w] = h
             out_idx[row0 + w] = idx
+            out_s[row0 + w] = st
             where[idx] = W_OUT
             pos[idx] = w
             nout += 1
@@ -514,25 +529,27 @@ def _contact_row(
         if rows[j, RW_KC] > nin:
             rows[j, RW_KC] = nin
     while nout > 0:
-        q = nout - 1
-        idx = out_idx[row0 + q]
+        q = row0 + nout - 1
+        idx = out_idx[q]
         if idx >= 0:
-            h = out_h[row0 + q]
+            h = out_h[q]
             if not (h > z or (incl and h == z)):
                 break
+            st = out_s[q]
             r = (h - c) / a
             if nin == n_angular:
                 rows[j, RW_NIN] = nin
-                _compact_in(rows, in_r, in_idx, pos, j, n_angular)
+                _compact_in(rows, in_r, in_idx, in_s, pos, j, n_angular)
                 nin = rows[j, RW_NIN]
             in_r[row0 + nin] = r
             in_idx[row0 + nin] = idx
-            cell_r[idx] = r
+            in_s[row0 + nin] = st
             where[idx] = W_IN
             pos[idx] = nin
             _seg_add(seg, j, SEG_D, r, 1.0)
-            _bin_add(bins, cell_bin[idx], status[idx], r, 1.0)
-            if status[idx] == SECONDARY:
+            _bin_add(bins, b0 + (idx - row0) // n_m, st, r, 1.0)
+            if st == SECONDARY:
+                cell_r[idx] = r
                 _tree_set(tw, tev, tsub, p2, j, idx - row0, True, ta[j], cell_r, base, n_angular)
             nin += 1
             moves += 1
@@ -597,6 +614,8 @@ def _evaluate(
         tsub,
         ta,
         _stack,
+        in_s,
+        out_s,
     ) = L
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
@@ -626,11 +645,12 @@ def _evaluate(
                 tev,
                 tsub,
                 ta,
+                in_s,
+                out_s,
                 j,
                 z,
                 incl,
-                status,
-                cell_bin,
+                n_sub,
                 base,
                 n_angular,
                 p2,
@@ -823,6 +843,8 @@ def _walk_start(
         tsub,
         ta,
         _stack,
+        in_s,
+        out_s,
     ) = L
     m = evt.size // 2
     evt[:] = -math.inf
@@ -849,11 +871,12 @@ def _walk_start(
                 tev,
                 tsub,
                 ta,
+                in_s,
+                out_s,
                 j,
                 z,
                 True,
-                status,
-                cell_bin,
+                n_sub,
                 base,
                 n_angular,
                 p2,
@@ -921,6 +944,8 @@ def _walk(
         tsub,
         ta,
         _stack,
+        in_s,
+        out_s,
     ) = L
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
@@ -1027,11 +1052,12 @@ def _walk(
                 tev,
                 tsub,
                 ta,
+                in_s,
+                out_s,
                 j,
                 zc,
                 True,
-                status,
-                cell_bin,
+                n_sub,
                 base,
                 n_angular,
                 p2,
@@ -1173,6 +1199,8 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
         tsub,
         ta,
         _stack,
+        _in_s,
+        out_s,
     ) = L
     row0 = j * n_angular
     n = 0
@@ -1191,6 +1219,7 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
         out_h[row0 + q] = hs[order[q]]
         idx = ids[order[q]]
         out_idx[row0 + q] = idx
+        out_s[row0 + q] = status[idx]
         where[idx] = W_OUT
         pos[idx] = q
     rows[j, RW_NIN] = 0
@@ -1231,6 +1260,8 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
         tsub,
         ta,
         _stack,
+        _in_s,
+        _out_s,
     ) = L
     row0 = j * n_angular
     a = amap[j, 0]
@@ -1323,12 +1354,13 @@ def _remove(
 
 
 @njit(cache=True)
-def _push_out(rows, out_h, out_idx, where, pos, idx, h, n_angular):
-    """A new plateau cell at height h (not above the disc) joins its row out of contact."""
+def _push_out(rows, out_h, out_idx, out_s, where, pos, idx, h, n_angular):
+    """A new secondary plateau at height h (not above the disc) joins its row out of
+    contact."""
     j = idx // n_angular
     row0 = j * n_angular
     if rows[j, RW_NOUT] == n_angular:
-        _compact_out(rows, out_h, out_idx, pos, j, n_angular)
+        _compact_out(rows, out_h, out_idx, out_s, pos, j, n_angular)
     w = rows[j, RW_NOUT]
     while w > 0 and out_idx[row0 + w - 1] < 0:
         w -= 1  # drop tombstones at the top
@@ -1336,11 +1368,13 @@ def _push_out(rows, out_h, out_idx, where, pos, idx, h, n_angular):
     while w > 0 and out_h[row0 + w - 1] > h:
         out_h[row0 + w] = out_h[row0 + w - 1]
         out_idx[row0 + w] = out_idx[row0 + w - 1]
+        out_s[row0 + w] = out_s[row0 + w - 1]
         if out_idx[row0 + w] >= 0:
             pos[out_idx[row0 + w]] = w
         w -= 1
     out_h[row0 + w] = h
     out_idx[row0 + w] = idx
+    out_s[row0 + w] = SECONDARY
     where[idx] = W_OUT
     pos[idx] = w
 
@@ -1482,6 +1516,8 @@ def run_stop_lazy(
         tsub,
         ta,
         stack,
+        _in_s,
+        out_s,
     ) = L
     uc, uf, us = _thresholds(stiffness, mu_0, slope, mu_min)
     ztop = -math.inf
@@ -1719,7 +1755,7 @@ def run_stop_lazy(
             base[idx] = height[idx]
             height[idx] = z
             status[idx] = SECONDARY
-            _push_out(rows, out_h, out_idx, where, pos, idx, z, n_angular)
+            _push_out(rows, out_h, out_idx, out_s, where, pos, idx, z, n_angular)
         cnt[CNT_SECONDARY] += n_new
         for q in range(n_dest):
             idx = destroyed[q]
