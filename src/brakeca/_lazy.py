@@ -142,6 +142,10 @@ class Lazy:
         self.out_idx = np.zeros(n, dtype=np.int64)
         self.in_s = np.zeros(n, dtype=np.int8)  # status of the entries (read in order)
         self.out_s = np.zeros(n, dtype=np.int8)
+        # secondary plateaus that crossed the contact edge since the rule-5 trees were last
+        # brought up to date ([0] is the count) and their flags
+        self.tdirty = np.zeros(n + 1, dtype=np.int64)
+        self.tmark = np.zeros(n, dtype=np.int8)
         self.where = np.zeros(n, dtype=np.int8)
         self.pos = np.zeros(n, dtype=np.int64)
         self.cell_r = np.zeros(n)
@@ -239,6 +243,22 @@ def _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack):
         top += 2
     for q in range(n):
         _tree_recompute(tw, tev, tsub, off, stack[m - n + q], a, cell_r, base, row0)
+
+
+@njit(cache=True)
+def _tree_flush(tw, tev, tsub, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
+    """Bring the rule-5 trees up to date with the secondary plateaus that crossed the contact
+    edge (each crossing only listed the cell: during a contact solve cells cross back and
+    forth, and only the net change reaches the tree)."""
+    for k in range(1, tdirty[0] + 1):
+        idx = tdirty[k]
+        tmark[idx] = 0
+        j = idx // n_angular
+        col = idx - j * n_angular
+        want = where[idx] == W_IN
+        if want != (tw[j * 2 * p2 + p2 + col] >= 0):
+            _tree_set(tw, tev, tsub, p2, j, col, want, ta[j], cell_r, base, n_angular)
+    tdirty[0] = 0
 
 
 @njit(cache=True)
@@ -399,6 +419,8 @@ def structures(lz: Lazy) -> tuple:
         lz.stack,
         lz.in_s,
         lz.out_s,
+        lz.tdirty,
+        lz.tmark,
     )
 
 
@@ -467,6 +489,8 @@ def _contact_row(
     ta,
     in_s,
     out_s,
+    tdirty,
+    tmark,
     j,
     z,
     incl,
@@ -500,8 +524,10 @@ def _contact_row(
             st = in_s[q]
             _seg_add(seg, j, _seg_of(rows, j, nin - 1), r, -1.0)
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, -1.0)
-            if st == SECONDARY:
-                _tree_set(tw, tev, tsub, p2, j, idx - row0, False, ta[j], cell_r, base, n_angular)
+            if st == SECONDARY and tmark[idx] == 0:
+                tmark[idx] = 1
+                tdirty[0] += 1
+                tdirty[tdirty[0]] = idx
             # to the top of the out-of-contact array (it is the highest of them)
             if nout == n_angular:
                 rows[j, RW_NOUT] = nout
@@ -550,7 +576,10 @@ def _contact_row(
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, 1.0)
             if st == SECONDARY:
                 cell_r[idx] = r
-                _tree_set(tw, tev, tsub, p2, j, idx - row0, True, ta[j], cell_r, base, n_angular)
+                if tmark[idx] == 0:
+                    tmark[idx] = 1
+                    tdirty[0] += 1
+                    tdirty[tdirty[0]] = idx
             nin += 1
             moves += 1
         nout -= 1
@@ -616,6 +645,8 @@ def _evaluate(
         _stack,
         in_s,
         out_s,
+        tdirty,
+        tmark,
     ) = L
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
@@ -647,6 +678,8 @@ def _evaluate(
                 ta,
                 in_s,
                 out_s,
+                tdirty,
+                tmark,
                 j,
                 z,
                 incl,
@@ -845,6 +878,8 @@ def _walk_start(
         _stack,
         in_s,
         out_s,
+        tdirty,
+        tmark,
     ) = L
     m = evt.size // 2
     evt[:] = -math.inf
@@ -873,6 +908,8 @@ def _walk_start(
                 ta,
                 in_s,
                 out_s,
+                tdirty,
+                tmark,
                 j,
                 z,
                 True,
@@ -946,6 +983,8 @@ def _walk(
         _stack,
         in_s,
         out_s,
+        tdirty,
+        tmark,
     ) = L
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
@@ -1054,6 +1093,8 @@ def _walk(
                 ta,
                 in_s,
                 out_s,
+                tdirty,
+                tmark,
                 j,
                 zc,
                 True,
@@ -1201,6 +1242,8 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
         _stack,
         _in_s,
         out_s,
+        _tdirty,
+        _tmark,
     ) = L
     row0 = j * n_angular
     n = 0
@@ -1262,6 +1305,8 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
         _stack,
         _in_s,
         _out_s,
+        _tdirty,
+        _tmark,
     ) = L
     row0 = j * n_angular
     a = amap[j, 0]
@@ -1518,6 +1563,8 @@ def run_stop_lazy(
         stack,
         _in_s,
         out_s,
+        tdirty,
+        tmark,
     ) = L
     uc, uf, us = _thresholds(stiffness, mu_0, slope, mu_min)
     ztop = -math.inf
@@ -1567,6 +1614,7 @@ def run_stop_lazy(
         if code != 0 or tot[E_AREA] == 0.0:
             sync(L, height, n_radial, n_angular)
             return ERR_NO_PLATEAU, step
+        _tree_flush(tw, tev, tsub, p2, ta, cell_r, base, where, tdirty, tmark, n_angular)
         umax = -math.inf
         for j in range(n_radial):
             row0 = j * n_angular
