@@ -214,7 +214,17 @@ def _tree_set(tw, tev, tsub, p2, j, col, active, a, cell_r, base, n_angular):
     node >>= 1
     row0 = j * n_angular
     while node >= 1:
+        w0 = tw[off + node]
+        e0 = tev[off + node]
+        s0 = tsub[off + node]
         _tree_recompute(tw, tev, tsub, off, node, a, cell_r, base, row0)
+        if (
+            node != (p2 + col) >> 1
+            and tw[off + node] == w0
+            and tev[off + node] == e0
+            and tsub[off + node] == s0
+        ):
+            break  # nothing above can change
         node >>= 1
 
 
@@ -256,6 +266,8 @@ def _tree_flush(tw, tev, tsub, p2, ta, cell_r, base, where, tdirty, tmark, n_ang
         j = idx // n_angular
         col = idx - j * n_angular
         want = where[idx] == W_IN
+        # a leaf in place is this plateau's own (creation drops the stale leaf of a destroyed
+        # one); a cell that left and re-entered keeps its line to an ulp
         if want != (tw[j * 2 * p2 + p2 + col] >= 0):
             _tree_set(tw, tev, tsub, p2, j, col, want, ta[j], cell_r, base, n_angular)
     tdirty[0] = 0
@@ -1390,9 +1402,7 @@ def _remove(
         r = in_r[row0 + q]
         _seg_add(seg, j, _seg_of(rows, j, q), r, -1.0)
         _bin_add(bins, cell_bin[idx], status[idx], r, -1.0)
-        if status[idx] == SECONDARY:
-            _tree_set(tw, tev, tsub, p2, j, idx - row0, False, ta[j], cell_r, base, n_angular)
-        in_idx[row0 + q] = -1
+        in_idx[row0 + q] = -1  # its rule-5 leaf, if any, goes when it surfaces (lazy deletion)
     elif where[idx] == W_OUT:
         out_idx[row0 + q] = -1
     where[idx] = W_NONE
@@ -1677,7 +1687,11 @@ def run_stop_lazy(
             ta[j] = a
             row0 = j * n_angular
             while tw[off + 1] >= 0:
-                idx = row0 + tw[off + 1]
+                col = tw[off + 1]
+                idx = row0 + col
+                if where[idx] != W_IN:  # the leaf of a plateau destroyed since: drop it
+                    _tree_set(tw, tev, tsub, p2, j, col, False, a, cell_r, base, n_angular)
+                    continue
                 h_new = a * cell_r[idx] + c
                 if h_new > base[idx]:
                     break
@@ -1707,6 +1721,7 @@ def run_stop_lazy(
                     n_angular,
                     p2,
                 )
+                _tree_set(tw, tev, tsub, p2, j, col, False, a, cell_r, base, n_angular)
                 if mark[idx] == 4:
                     rule_counts[4] -= 1  # worn through: counted as rule 5
                 mark[idx] = 5
@@ -1800,6 +1815,12 @@ def run_stop_lazy(
             area = cell_area[idx]
             acc[ACC_HELD] += (z - height[idx]) * area
             acc[ACC_SECONDARY_AREA] += area
+            j = idx // n_angular
+            if tw[j * 2 * p2 + p2 + idx - j * n_angular] >= 0:
+                # the stale leaf of a plateau destroyed here before: its line changes now
+                _tree_set(
+                    tw, tev, tsub, p2, j, idx - j * n_angular, False, ta[j], cell_r, base, n_angular
+                )
             base[idx] = height[idx]
             height[idx] = z
             status[idx] = SECONDARY
