@@ -97,6 +97,7 @@ from brakeca._kernels import (
     refresh_candidate,
 )
 from brakeca.automaton import rule4_lost_support
+from brakeca.contact import SOLVE_OK, first_root_binned
 
 # where a cell is held during a stop
 W_NONE = 0
@@ -114,6 +115,14 @@ SEG_D = 3
 #: steps or when its scale falls below RENORM_SCALE; bounds round-off drift of the sums
 RENORM_EVERY = 512
 RENORM_SCALE = 0.5
+
+#: largest step [m] of the contact search while it has no bracket (an approach of 1 mm is
+#: already 100 MPa on the foundation)
+MAX_EXPANSION = 1e-3
+
+#: relative friction residual above which a contact root is recomputed by the exact sorted
+#: scan (:func:`brakeca.contact.first_root_binned`); counted in ``walk[6]``
+ROOT_CHECK = 1e-8
 
 
 def supports(config) -> bool:
@@ -1128,6 +1137,84 @@ def _walk(
 
 
 @njit(cache=True)
+def _exact_root(
+    L,
+    target,
+    tot,
+    walk,
+    status,
+    cell_bin,
+    base,
+    n_radial,
+    n_angular,
+    n_sub,
+    p2,
+    bin_area,
+    stiffness,
+    mu_0,
+    slope,
+    mu_min,
+    uc,
+    uf,
+    us,
+):
+    """The safety net: every plateau height materialised, sorted, and the exact scan of
+    :func:`brakeca.contact.first_root_binned`; rows moved to its root. Returns (z, code)."""
+    rows, in_r, in_idx, amap, out_h, out_idx = L[0], L[2], L[3], L[4], L[5], L[6]
+    walk[6] += 1.0
+    n = 0
+    for j in range(n_radial):
+        n += rows[j, RW_NIN] + rows[j, RW_NOUT]
+    hs = np.empty(n)
+    bs = np.empty(n, dtype=np.int64)
+    m = 0
+    for j in range(n_radial):
+        row0 = j * n_angular
+        a = amap[j, 0]
+        c = amap[j, 1]
+        for q in range(rows[j, RW_NIN]):
+            idx = in_idx[row0 + q]
+            if idx >= 0:
+                hs[m] = a * in_r[row0 + q] + c
+                bs[m] = cell_bin[idx]
+                m += 1
+        for q in range(rows[j, RW_NOUT]):
+            idx = out_idx[row0 + q]
+            if idx >= 0:
+                hs[m] = out_h[row0 + q]
+                bs[m] = cell_bin[idx]
+                m += 1
+    order = np.argsort(-hs[:m], kind="mergesort")
+    z, _, code = first_root_binned(
+        hs[:m][order], bs[:m][order], bin_area, m, stiffness, mu_0, slope, mu_min, target
+    )
+    if code != SOLVE_OK:
+        return z, 2
+    _evaluate(
+        L,
+        z,
+        False,
+        tot,
+        status,
+        cell_bin,
+        base,
+        n_radial,
+        n_angular,
+        n_sub,
+        p2,
+        bin_area,
+        stiffness,
+        mu_0,
+        slope,
+        mu_min,
+        uc,
+        uf,
+        us,
+    )
+    return z, 0
+
+
+@njit(cache=True)
 def solve_contact(
     L,
     z_start,
@@ -1181,7 +1268,9 @@ def solve_contact(
         walk[2] += 1.0
         moves = _evaluate(L, z, False, tot, *args)
         fh = tot[E_FH]
-        if model and moves == 0:
+        if model and moves == 0 and abs(fh - target) <= 1e-10 * target:
+            # the same partition as the model's: the root of its quadratic (the residual test
+            # guards against a model step taken from far away, whose z is inexact)
             found = True
             break
         if fh < target:
@@ -1199,22 +1288,21 @@ def solve_contact(
             if zlo > -math.inf and zhi < math.inf:
                 z_new = 0.5 * (zlo + zhi)
             elif fh < target:
-                last = max(2.0 * last, 1e-9)
+                last = min(max(2.0 * last, 1e-9), MAX_EXPANSION)
                 z_new = z - last
             else:
-                last = max(2.0 * last, 1e-9)
+                last = min(max(2.0 * last, 1e-9), MAX_EXPANSION)
                 z_new = z + last
         if z_new == z:
             found = True
             break
         z = z_new
     if not found:
-        if zlo == -math.inf:
-            return z, 2
-        z = zlo
-        _evaluate(L, z, False, tot, *args)
+        return _exact_root(L, target, tot, walk, *args)
     walk[4] += _clock() - t_start
     if tot[E_NWIN] == 0.0 or tot[E_F] >= target:
+        if abs(tot[E_F] - target) > ROOT_CHECK * target:
+            return _exact_root(L, target, tot, walk, *args)
         return z, 0
     # F < F_hat here: walk F's breakpoints from z until the quadratic between two of them
     # reaches the target (no root of F lies above z, where F <= F_hat < target). One row
@@ -1224,9 +1312,11 @@ def solve_contact(
     t0 = _clock()
     z = _walk(L, z, target, tot, evt, *args, walk)
     if z == -math.inf:
-        return z, 2
+        return _exact_root(L, target, tot, walk, *args)
     _evaluate(L, z, False, tot, *args)
     walk[5] += _clock() - t0
+    if abs(tot[E_F] - target) > ROOT_CHECK * target:
+        return _exact_root(L, target, tot, walk, *args)
     return z, 0
 
 

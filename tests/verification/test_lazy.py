@@ -111,6 +111,37 @@ def test_first_root_matches_the_exact_scan(seed):
     assert walked > 0  # the non-monotone path was exercised
 
 
+@pytest.mark.parametrize("multiple", [0.5, 1.2, 3.0, 40.0])
+def test_first_root_beyond_a_flat_envelope(multiple):
+    """Every plateau at one height (a worn-flat pad): the envelope F_hat is flat at the peak
+    friction stress from u* to u_c, so a target above it is reached only far up the floor
+    branch. The search must cross the flat part and land on the exact root (a search that
+    expanded without bound once returned a disc position 10^12 m away)."""
+    config = load_preset().with_updates(
+        {"mesh.n_radial": 4, "mesh.n_angular": 100, "mesh.n_subdomains": 10}
+    )
+    grid = make_grid(config)
+    height = np.full(grid.shape, 80e-6)
+    status = np.ones(grid.shape, dtype=np.int8)
+    area = np.broadcast_to(np.asarray(grid.cell_area)[:, None], grid.shape)
+    fr = config.friction
+    peak = fr.mu_0**2 / (4 * fr.slope)  # [Pa]
+    target = multiple * peak * float(area.sum())
+    exact = solve_disc_position(
+        height.ravel(),
+        area.ravel(),
+        stiffness=config.contact.stiffness,
+        mu_0=fr.mu_0,
+        slope=fr.slope,
+        mu_min=fr.mu_min,
+        target=target,
+    )
+    z, tot, walk = _solve_lazy(height, status, grid, config, target)
+    assert z == pytest.approx(exact, rel=0, abs=1e-15)
+    assert tot[_lazy.E_F] == pytest.approx(target, rel=1e-12)
+    assert walk[6] == 0  # found without the exact safety net
+
+
 RULES = {
     "high-wear": {"WP": 1e-13, "wear.resin_wear_depth": 1e-6},
     "S-half": {"WP": 1e-13, "S": 0.5},
@@ -173,3 +204,20 @@ def test_kernel_choice():
     assert kernel_for(layer) == "exact"
     with pytest.raises(ValueError, match=r"numerics\.kernel"):
         kernel_for(layer.with_updates({"numerics.kernel": "lazy"}))
+
+
+def test_lazy_tracks_exact_where_a_search_once_ran_away():
+    """The quick band at WP = 1e-13, A = 10 %, seed 3: at stop 20 the contact search once
+    expanded without bound and accepted a root 12 times over the target (V came out 3.5 times
+    the exact kernel's). Every stop's friction now meets its target, and the two kernels
+    agree to round-off over the 21 stops."""
+    base = load_preset().with_updates(
+        {"mesh.n_radial": 21, "cycle.max_stops": 21, "WP": 1e-13, "A": 10}
+    )
+    exact = simulate(base.with_updates({"numerics.kernel": "exact"}), seed=3)
+    lazy = simulate(base.with_updates({"numerics.kernel": "lazy"}), seed=3)
+    assert float(lazy.dataset["max_friction_residual"]) < 1e-9
+    np.testing.assert_allclose(
+        lazy.dataset["emitted_volume"], exact.dataset["emitted_volume"], rtol=1e-6
+    )
+    assert lazy.MU == pytest.approx(exact.MU, rel=1e-9)
