@@ -8,7 +8,8 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
 A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
 ``final_status``, ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package
-version, wall time.
+version, wall time, the step kernel that ran (``exact`` or ``lazy``, docs/model.md section 13)
+and, for the lazy kernel, how many contact solves fell back to the exact scan.
 
 References
 ----------
@@ -127,6 +128,8 @@ def build_dataset(
     final_height: np.ndarray,
     final_ledger: float,
     wall_time: float,
+    kernel: str = "exact",
+    contact_fallbacks: int = 0,
 ) -> xr.Dataset:
     """Assemble the run Dataset from the kernel's per-step records (see module docstring)."""
     area = grid.area
@@ -262,5 +265,7 @@ def build_dataset(
         "max_stops": -1 if config.cycle.max_stops is None else int(config.cycle.max_stops),
         "n_steps_total": int(all_rec.shape[0]),
         "wall_time": float(wall_time),
+        "kernel": kernel,
+        "contact_fallbacks": int(contact_fallbacks),
     }
     return xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)

@@ -353,6 +353,8 @@ def simulate(
         final_height=state.height.reshape(n_r, n_t),
         final_ledger=final_ledger,
         wall_time=elapsed_before + time.perf_counter() - t0,
+        kernel=kernel_for(config),
+        contact_fallbacks=int(state.lazy_walk[6]),
     )
     if checkpoint:
         Path(checkpoint).unlink(missing_ok=True)
@@ -387,8 +389,9 @@ _STATE_ARRAYS = (
     "cmax",
     "rule4_list",
     "cnt",
+    "lazy_walk",
 )
-CHECKPOINT_FORMAT = "brakeca-checkpoint/2"
+CHECKPOINT_FORMAT = "brakeca-checkpoint/3"
 
 
 def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
