@@ -461,7 +461,7 @@ class NumericsConfig(_Frozen):
         "auto",
         description=(
             "step kernel: 'lazy' (per-row affine wear, work per step ~ rows + changes; equal to "
-            "'exact' to round-off per operation, statistically over a run), 'exact' (every "
+            "'exact' to round-off per step, the same study over whole runs), 'exact' (every "
             "cell in contact visited, bit-identical to earlier brakeca versions), 'auto' "
             "(exact for now: docs/model.md section 13)"
         ),

@@ -117,8 +117,8 @@ class SimulationState:
         self.rule7_on = bool(np.isfinite(self.fibre_floor).any())
         self.mark = np.zeros(n, dtype=np.int8)
         self.prof = np.zeros(K.N_TIMED, dtype=np.int64)  # cycles per kernel phase (profiling)
-        # lazy kernel: solves that walked, walk steps, envelope iterations, jumps, cycles in
-        # the envelope iteration, cycles in the walk
+        # lazy kernel counters: solves that walked, walk steps, envelope iterations, jumps,
+        # cycles in the envelope iteration, cycles in the walk, exact-scan fallbacks
         self.lazy_walk = np.zeros(8)
         self.heap_keys = np.zeros(4 * n + 8)
         self.heap_vals = np.zeros(4 * n + 8, dtype=np.int64)
@@ -593,8 +593,8 @@ def advance_stop(
 
 def kernel_for(config: SimulationConfig) -> str:
     """The step kernel a run of ``config`` uses: ``numerics.kernel``, with ``auto`` resolved
-    to ``exact`` (docs/model.md section 13: the lazy kernel's breakpoint walk is not yet bounded
-    in every phase of the cycle, so it is not faster over a whole run).
+    to ``exact`` (docs/model.md section 13: the lazy kernel gives the same results but is not
+    yet faster over a whole run, where the per-event work both kernels share dominates).
 
     Raises
     ------
