@@ -729,6 +729,29 @@ def pack_plateaus(order, n, pk, height, base, cell_bin, status, cnt):
     cnt[CNT_SECONDARY] = n_sec
 
 
+@njit(cache=True)
+def record_step(rec, step, sums, acc, emitted, held, stream, z, target):
+    """Write step ``step`` of the per-step record and return the relative ledger residual
+    ``|removed - (held + streams + emitted)| / removed`` (shared by both step kernels)."""
+    total = acc[ACC_REMOVED]
+    resid = total - (held + stream + acc[ACC_EMITTED])
+    rel = abs(resid) / total if total > 0.0 else abs(resid)
+    rec[step, R_COF] = sums[S_FRICTION] / sums[S_NORMAL] if sums[S_NORMAL] > 0.0 else 0.0
+    rec[step, R_NORMAL] = sums[S_NORMAL]
+    rec[step, R_FRICTION] = sums[S_FRICTION]
+    rec[step, R_CONTACT_AREA] = sums[S_CONTACT]
+    rec[step, R_PRIMARY_AREA] = acc[ACC_PRIMARY_AREA]
+    rec[step, R_SECONDARY_AREA] = acc[ACC_SECONDARY_AREA]
+    rec[step, R_EMITTED] = emitted
+    rec[step, R_GENERATED] = sums[S_REMOVED]
+    rec[step, R_LEDGER] = rel
+    rec[step, R_DISC] = z
+    rec[step, R_HELD] = held
+    rec[step, R_STREAM] = stream
+    rec[step, R_TARGET] = target
+    return rel
+
+
 # --- one stop --------------------------------------------------------------------------------
 @njit(cache=True)
 def run_stop(
@@ -966,22 +989,7 @@ def run_stop(
         acc[ACC_EMITTED] += emitted
         if not need_held:
             held = acc[ACC_HELD]
-        total = acc[ACC_REMOVED]
-        resid = total - (held + stream + acc[ACC_EMITTED])
-        rel = abs(resid) / total if total > 0.0 else abs(resid)
-        rec[step, R_COF] = sums[S_FRICTION] / sums[S_NORMAL] if sums[S_NORMAL] > 0.0 else 0.0
-        rec[step, R_NORMAL] = sums[S_NORMAL]
-        rec[step, R_FRICTION] = sums[S_FRICTION]
-        rec[step, R_CONTACT_AREA] = sums[S_CONTACT]
-        rec[step, R_PRIMARY_AREA] = acc[ACC_PRIMARY_AREA]
-        rec[step, R_SECONDARY_AREA] = acc[ACC_SECONDARY_AREA]
-        rec[step, R_EMITTED] = emitted
-        rec[step, R_GENERATED] = sums[S_REMOVED]
-        rec[step, R_LEDGER] = rel
-        rec[step, R_DISC] = z
-        rec[step, R_HELD] = held
-        rec[step, R_STREAM] = stream
-        rec[step, R_TARGET] = targets[step]
+        rel = record_step(rec, step, sums, acc, emitted, held, stream, z, targets[step])
         prof[T_REST] += _clock() - t5
         if rel > ledger_tol:
             code = ERR_LEDGER

@@ -52,7 +52,6 @@ from numba import njit
 from brakeca._kernels import (
     ACC_EMITTED,
     ACC_HELD,
-    ACC_PRIMARY_AREA,
     ACC_REMOVED,
     ACC_SECONDARY_AREA,
     CNT_HEAP,
@@ -64,19 +63,6 @@ from brakeca._kernels import (
     N_SUMS,
     NONE,
     OK,
-    R_COF,
-    R_CONTACT_AREA,
-    R_DISC,
-    R_EMITTED,
-    R_FRICTION,
-    R_GENERATED,
-    R_HELD,
-    R_LEDGER,
-    R_NORMAL,
-    R_PRIMARY_AREA,
-    R_SECONDARY_AREA,
-    R_STREAM,
-    R_TARGET,
     S_CONTACT,
     S_FRICTION,
     S_NORMAL,
@@ -94,6 +80,7 @@ from brakeca._kernels import (
     phase_advance,
     phase_creation,
     phase_resin,
+    record_step,
     refresh_candidate,
 )
 from brakeca.automaton import rule4_lost_support
@@ -676,7 +663,9 @@ def _evaluate(
     t_e_f = t_e_d = t_e_q = t_e_fh = t_e_dh = t_e_qh = t_e_nwin = t_e_au = t_e_area = 0.0
     moves = 0
     for j in range(n_radial):
-        j * n_angular
+        # this block (edge check, contact move, partition check) is written out here, in
+        # _walk_start and in _walk: one shared function for it made the contact solve ~50 %
+        # slower (measured), as numba reference-counts every array handed to a call
         row0 = j * n_angular
         if _edge_stale(
             rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, incl
@@ -906,7 +895,6 @@ def _walk_start(
     evt[:] = -math.inf
     acc5[:] = 0.0
     for j in range(n_radial):
-        j * n_angular
         row0 = j * n_angular
         if _edge_stale(
             rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, True
@@ -1088,7 +1076,6 @@ def _walk(
         while node < m:
             node = 2 * node if evt[2 * node] >= evt[2 * node + 1] else 2 * node + 1
         j = node - m
-        j * n_angular
         area = bin_area[j * n_sub]
         f0, d0, q0 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
         s0, qd0 = _row_slope(seg, amap, j, zc, area, k0, k1, k2)
@@ -1939,22 +1926,7 @@ def run_stop_lazy(
             held = _held_from_state(L, status, base, cell_area, n_radial, n_angular)
         else:
             held = acc[ACC_HELD]
-        total = acc[ACC_REMOVED]
-        resid = total - (held + stream + acc[ACC_EMITTED])
-        rel = abs(resid) / total if total > 0.0 else abs(resid)
-        rec[step, R_COF] = sums[S_FRICTION] / sums[S_NORMAL] if sums[S_NORMAL] > 0.0 else 0.0
-        rec[step, R_NORMAL] = sums[S_NORMAL]
-        rec[step, R_FRICTION] = sums[S_FRICTION]
-        rec[step, R_CONTACT_AREA] = sums[S_CONTACT]
-        rec[step, R_PRIMARY_AREA] = acc[ACC_PRIMARY_AREA]
-        rec[step, R_SECONDARY_AREA] = acc[ACC_SECONDARY_AREA]
-        rec[step, R_EMITTED] = emitted
-        rec[step, R_GENERATED] = sums[S_REMOVED]
-        rec[step, R_LEDGER] = rel
-        rec[step, R_DISC] = z
-        rec[step, R_HELD] = held
-        rec[step, R_STREAM] = stream
-        rec[step, R_TARGET] = targets[step]
+        rel = record_step(rec, step, sums, acc, emitted, held, stream, z, targets[step])
         prof[T_REST] += _clock() - t5
         if rel > ledger_tol:
             sync(L, height, n_radial, n_angular)
