@@ -74,6 +74,20 @@ def _solve_lazy(height, status, grid, config, target):
     return z, tot, lz.walk
 
 
+def _exact_root(height, area, config, target):
+    """The exact sorted scan's first root (brakeca.contact) for the same cells [m]."""
+    fr = config.friction
+    return solve_disc_position(
+        height,
+        area,
+        stiffness=config.contact.stiffness,
+        mu_0=fr.mu_0,
+        slope=fr.slope,
+        mu_min=fr.mu_min,
+        target=target,
+    )
+
+
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_first_root_matches_the_exact_scan(seed):
     """Tall fibres far up the floor branch, so F(z) rises, falls and rises again: the lazy
@@ -90,20 +104,11 @@ def test_first_root_matches_the_exact_scan(seed):
     status = np.where(fibre | (rng.random(grid.shape) < 0.4), 1, 0).astype(np.int8)
     area = np.broadcast_to(np.asarray(grid.cell_area)[:, None], grid.shape)
     plate = status != 0
-    fr = config.friction
     stress = np.linspace(0.05e6, 4e6, 12)  # demanded friction per plateau area [Pa]
     walked = 0.0
     for tau in stress:
         target = tau * float(area[plate].sum())
-        exact = solve_disc_position(
-            height[plate],
-            area[plate],
-            stiffness=config.contact.stiffness,
-            mu_0=fr.mu_0,
-            slope=fr.slope,
-            mu_min=fr.mu_min,
-            target=target,
-        )
+        exact = _exact_root(height[plate], area[plate], config, target)
         z, tot, walk = _solve_lazy(height, status, grid, config, target)
         assert z == pytest.approx(exact, rel=0, abs=1e-12 * max(abs(exact), 1e-4))
         assert tot[_lazy.E_F] == pytest.approx(target, rel=1e-9)
@@ -127,15 +132,7 @@ def test_first_root_beyond_a_flat_envelope(multiple):
     fr = config.friction
     peak = fr.mu_0**2 / (4 * fr.slope)  # [Pa]
     target = multiple * peak * float(area.sum())
-    exact = solve_disc_position(
-        height.ravel(),
-        area.ravel(),
-        stiffness=config.contact.stiffness,
-        mu_0=fr.mu_0,
-        slope=fr.slope,
-        mu_min=fr.mu_min,
-        target=target,
-    )
+    exact = _exact_root(height.ravel(), area.ravel(), config, target)
     z, tot, walk = _solve_lazy(height, status, grid, config, target)
     assert z == pytest.approx(exact, rel=0, abs=1e-15)
     assert tot[_lazy.E_F] == pytest.approx(target, rel=1e-12)
