@@ -37,9 +37,17 @@ rules compare heights and volumes with thresholds, so individual cells diverge o
 the agreement is statistical (docs/model.md, "The lazy kernel"). Layer fibres (rule 7) and rule
 6 are not supported here: :func:`supports` tells, and the simulation then uses the exact kernel.
 
-State between stops is the grid alone (heights, bases, statuses, streams and the exact kernel's
-grid bookkeeping: resin heap, candidate flags, rule-4 list); the row structures are rebuilt from
-the grid at the start of every stop, so a checkpoint taken between stops resumes bit-identically.
+The resin cut works row by row: each row keeps its resin cells in a heap of its own (a few
+hundred entries, so a cut touches a few cache lines instead of climbing a heap of the whole
+grid). Cells leave a heap highest first, and every cell of a row has the same area, so cells
+of a row at one height cut the same volume and each stream bin's sum is bit-identical to what
+one heap of the whole grid gives; only the step's total generated volume is summed in another
+order (it enters the ledger and the per-step record, not the state).
+
+State between stops is the grid alone (heights, bases, statuses, streams, and the candidate
+flags and rule-4 list the kernels share); the row structures and resin heaps are rebuilt from
+the grid at the start of every stop, so a checkpoint taken between stops resumes
+bit-identically.
 """
 
 from __future__ import annotations
@@ -54,7 +62,6 @@ from brakeca._kernels import (
     ACC_HELD,
     ACC_REMOVED,
     ACC_SECONDARY_AREA,
-    CNT_HEAP,
     CNT_RULE4,
     CNT_SECONDARY,
     ERR_BAR,
@@ -75,16 +82,14 @@ from brakeca._kernels import (
     T_REST,
     T_WEAR,
     _clock,
-    heap_push,
-    heap_rebuild,
     phase_advance,
     phase_creation,
-    phase_resin,
     record_step,
     refresh_candidate,
 )
 from brakeca.automaton import rule4_lost_support
 from brakeca.contact import SOLVE_OK, first_root_binned
+from brakeca.wear import resin_cut_depth
 
 # where a cell is held during a stop
 W_NONE = 0
@@ -158,6 +163,10 @@ class Lazy:
         self.marked = np.zeros(n, dtype=np.int64)
         self.walk = np.zeros(8)
         self.p2 = p2
+        # per-row max-heaps of the resin cells by height (key, column; stale entries allowed)
+        self.resin_key = np.zeros((n_radial, 2 * n_angular + 8))
+        self.resin_col = np.zeros((n_radial, 2 * n_angular + 8), dtype=np.int32)
+        self.resin_n = np.zeros(n_radial, dtype=np.int64)
 
 
 # rows[j, *]
@@ -1307,6 +1316,97 @@ def solve_contact(
     return z, 0
 
 
+# --- the resin cut, row by row ----------------------------------------------------------------
+# Each row keeps its resin (status none) cells in a max-heap by height. The cut of a step pops
+# the cells above the disc row by row; each drops to z - WR and goes back in its place. Every
+# cell of a row has the same area, so two cells of a row at the same height cut the same
+# volume: each stream bin's sum is the same in whatever order equal heights come off the heap,
+# and only the step's total (summed row by row) depends on the heap's layout.
+@njit(cache=True)
+def _resin_sift_down(rk, rc, j, i, n):
+    """Move entry i of row j's heap (of n entries) down to its place."""
+    key = rk[j, i]
+    col = rc[j, i]
+    while True:
+        left = 2 * i + 1
+        if left >= n:
+            break
+        big = left
+        if left + 1 < n and rk[j, left + 1] > rk[j, left]:
+            big = left + 1
+        if key >= rk[j, big]:
+            break
+        rk[j, i] = rk[j, big]
+        rc[j, i] = rc[j, big]
+        i = big
+    rk[j, i] = key
+    rc[j, i] = col
+
+
+@njit(cache=True)
+def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
+    """Row j's resin heap from the grid (its status-none cells)."""
+    row0 = j * n_angular
+    n = 0
+    for i in range(n_angular):
+        if status[row0 + i] == NONE:
+            rk[j, n] = height[row0 + i]
+            rc[j, n] = i
+            n += 1
+    rn[j] = n
+    for i in range(n // 2 - 1, -1, -1):
+        _resin_sift_down(rk, rc, j, i, n)
+
+
+@njit(cache=True)
+def _resin_push(rk, rc, rn, j, col, status, height, n_angular):
+    """Cell ``col`` of row j has become resin at its height: it joins the row's heap (the
+    heap is rebuilt from the row when it is full of stale entries)."""
+    n = rn[j]
+    if n == rk.shape[1]:
+        _resin_build_row(rk, rc, rn, j, status, height, n_angular)
+        return
+    key = height[j * n_angular + col]
+    while n > 0:
+        parent = (n - 1) >> 1
+        if rk[j, parent] >= key:
+            break
+        rk[j, n] = rk[j, parent]
+        rc[j, n] = rc[j, parent]
+        n = parent
+    rk[j, n] = key
+    rc[j, n] = col
+    rn[j] += 1
+
+
+@njit(cache=True)
+def _resin_cut(
+    rk, rc, rn, height, status, cell_area, cell_bin, outflow, n_radial, n_angular, z, wr
+):
+    """Step phase 3b: every status-none cell above the disc drops to ``z - WR``; the removed
+    volume joins the stream of its row and subdomain. Returns the volume removed [m^3]."""
+    removed = 0.0
+    for j in range(n_radial):
+        row0 = j * n_angular
+        n = rn[j]
+        while n > 0 and rk[j, 0] > z:
+            idx = row0 + rc[j, 0]
+            if status[idx] != NONE or height[idx] != rk[j, 0]:
+                n -= 1  # stale entry: drop it
+                rk[j, 0] = rk[j, n]
+                rc[j, 0] = rc[j, n]
+            else:
+                cut = resin_cut_depth(height[idx], z, wr)
+                vol = cut * cell_area[idx]
+                height[idx] -= cut
+                outflow[cell_bin[idx]] += vol
+                removed += vol
+                rk[j, 0] = height[idx]
+            _resin_sift_down(rk, rc, j, 0, n)
+        rn[j] = n
+    return removed
+
+
 # --- building, renormalising and writing back ----------------------------------------------
 @njit(cache=True)
 def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
@@ -1594,8 +1694,9 @@ def run_stop_lazy(
     mark,
     inflow,
     outflow,
-    heap_keys,
-    heap_vals,
+    resin_key,
+    resin_col,
+    resin_n,
     rule4_list,
     cnt,
     acc,
@@ -1629,8 +1730,9 @@ def run_stop_lazy(
     prof,
 ):
     """Run every step of one stop in place (the lazy kernel; arguments as
-    :func:`brakeca._kernels.run_stop`, plus the lazy structures ``L`` and scratch). Returns
-    (code, steps done)."""
+    :func:`brakeca._kernels.run_stop`, plus the lazy structures ``L`` and scratch; the resin
+    cells are in per-row heaps ``resin_key``, ``resin_col``, ``resin_n``, built from the grid
+    here). Returns (code, steps done)."""
     (
         rows,
         seg,
@@ -1662,6 +1764,7 @@ def run_stop_lazy(
         return ERR_NO_PLATEAU, 0
     for j in range(n_radial):
         _rebuild_row(L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2)
+        _resin_build_row(resin_key, resin_col, resin_n, j, status, height, n_angular)
     sums = np.zeros(N_SUMS)
     m = 1
     while m < n_radial:
@@ -1839,19 +1942,19 @@ def run_stop_lazy(
             n_dest += 1
         t2 = _clock()
         prof[T_WEAR] += t2 - t1
-        sums[S_REMOVED] = removed
-        phase_resin(
+        sums[S_REMOVED] = removed + _resin_cut(
+            resin_key,
+            resin_col,
+            resin_n,
             height,
             status,
             cell_area,
             cell_bin,
             outflow,
-            heap_keys,
-            heap_vals,
-            cnt,
+            n_radial,
+            n_angular,
             z,
             resin_depth,
-            sums,
         )
         acc[ACC_REMOVED] += sums[S_REMOVED]
         t3 = _clock()
@@ -1886,7 +1989,10 @@ def run_stop_lazy(
             acc[ACC_SECONDARY_AREA] -= area
             cnt[CNT_SECONDARY] -= 1
             status[idx] = NONE
-            heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
+            j = idx // n_angular
+            _resin_push(
+                resin_key, resin_col, resin_n, j, idx - j * n_angular, status, height, n_angular
+            )
         for q in range(n_new):
             idx = created[q]
             area = cell_area[idx]
@@ -1918,8 +2024,6 @@ def run_stop_lazy(
                 refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx - 1, n_angular)
         t5 = _clock()
         prof[T_APPLY] += t5 - t4
-        if cnt[CNT_HEAP] > heap_keys.size - 2 * destroyed.size:
-            heap_rebuild(heap_keys, heap_vals, cnt, status, height)
         emitted, stream = phase_advance(inflow, outflow, n_radial, n_sub)
         acc[ACC_EMITTED] += emitted
         if step == n_steps - 1:
