@@ -96,9 +96,7 @@ def main() -> None:
         if args.kernel == "lazy" and name in LAZY_UNSUPPORTED:
             continue
         print(
-            json.dumps(
-                {"case": name, **fingerprint(CASES[name], args.stops, kernel=args.kernel)}
-            ),
+            json.dumps({"case": name, **fingerprint(CASES[name], args.stops, kernel=args.kernel)}),
             flush=True,
         )
 
