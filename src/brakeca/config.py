@@ -463,7 +463,9 @@ class NumericsConfig(_Frozen):
             "step kernel: 'lazy' (per-row affine wear, work per step ~ rows + changes; equal to "
             "'exact' to round-off per step, the same study over whole runs), 'exact' (every "
             "cell in contact visited, bit-identical to earlier brakeca versions), 'auto' "
-            "(exact for now: docs/model.md section 13)"
+            "(chosen stop by stop: lazy, except for a few stops after one whose contact "
+            "solves walked many breakpoints; exact where lazy does not apply: docs/model.md "
+            "section 13)"
         ),
     )
 

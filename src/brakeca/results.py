@@ -8,8 +8,9 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
 A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
 ``final_status``, ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package
-version, wall time, the step kernel that ran (``exact`` or ``lazy``, docs/model.md section 13)
-and, for the lazy kernel, how many contact solves fell back to the exact scan.
+version, wall time, the step kernel (``exact``, ``lazy``, or ``auto``: chosen stop by stop,
+docs/model.md section 13), how many stops each kernel ran (``stops_lazy``, ``stops_exact``)
+and how many of the lazy kernel's contact solves fell back to the exact scan.
 
 References
 ----------
@@ -129,6 +130,7 @@ def build_dataset(
     final_ledger: float,
     wall_time: float,
     kernel: str = "exact",
+    kernel_stops: dict[str, int] | None = None,
     contact_fallbacks: int = 0,
 ) -> xr.Dataset:
     """Assemble the run Dataset from the kernel's per-step records (see module docstring)."""
@@ -266,6 +268,8 @@ def build_dataset(
         "n_steps_total": int(all_rec.shape[0]),
         "wall_time": float(wall_time),
         "kernel": kernel,
+        "stops_lazy": int((kernel_stops or {}).get("lazy", 0)),
+        "stops_exact": int((kernel_stops or {}).get("exact", 0)),
         "contact_fallbacks": int(contact_fallbacks),
     }
     return xr.Dataset(data_vars=data_vars, coords=coords, attrs=attrs)

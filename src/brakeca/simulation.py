@@ -104,6 +104,7 @@ class SimulationState:
     lazy: _lazy.Lazy | None = field(init=False, default=None)
     lazy_walk: np.ndarray = field(init=False)
     packed_stale: bool = field(init=False, default=False)
+    auto_exact_left: int = field(init=False, default=0)
 
     def __post_init__(self) -> None:
         n = self.height.size
@@ -251,6 +252,7 @@ class _StopLog:
     flush: list[float]
     s_removed: list[int]
     rule_counts: list[np.ndarray]
+    kernels: list[str]
 
 
 def simulate(
@@ -311,12 +313,13 @@ def simulate(
         surface = generate_surface(config.pad, grid, rng)
         state = SimulationState.from_surface(surface, grid)
         initial_status = surface.status
-        log = _StopLog([], [], [], [], [])
+        log = _StopLog([], [], [], [], [], [])
         elapsed_before = 0.0
     else:
         state, initial_status, log, rng_state, elapsed_before = resumed
         rng.bit_generator.state = rng_state
     for stop in stops[len(log.records) :]:
+        log.kernels.append(stop_kernel(state, config))
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         log.records.append(rec)
@@ -354,6 +357,7 @@ def simulate(
         final_ledger=final_ledger,
         wall_time=elapsed_before + time.perf_counter() - t0,
         kernel=kernel_for(config),
+        kernel_stops={k: log.kernels.count(k) for k in ("lazy", "exact")},
         contact_fallbacks=int(state.lazy_walk[6]),
     )
     if checkpoint:
@@ -391,7 +395,7 @@ _STATE_ARRAYS = (
     "cnt",
     "lazy_walk",
 )
-CHECKPOINT_FORMAT = "brakeca-checkpoint/3"
+CHECKPOINT_FORMAT = "brakeca-checkpoint/4"
 
 
 def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
@@ -417,6 +421,9 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         "seed": int(seed),
         "rng": rng.bit_generator.state,
         "elapsed": float(elapsed),
+        "kernels": log.kernels,
+        "auto_exact_left": int(state.auto_exact_left),
+        "packed_stale": bool(state.packed_stale),
     }
     arrays["meta"] = np.array(json.dumps(meta))
 
@@ -465,6 +472,8 @@ def load_checkpoint(path, config, seed, grid):
     )
     for name in _STATE_ARRAYS:
         state.array(name)[...] = arrays[f"state_{name}"]
+    state.auto_exact_left = int(meta["auto_exact_left"])
+    state.packed_stale = bool(meta["packed_stale"])
     bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])
     log = _StopLog(
         records=[arrays["log_records"][a:b] for a, b in pairwise(bounds)],
@@ -472,6 +481,7 @@ def load_checkpoint(path, config, seed, grid):
         flush=[float(v) for v in arrays["log_flush"]],
         s_removed=[int(v) for v in arrays["log_s_removed"]],
         rule_counts=list(arrays["log_rule_counts"]),
+        kernels=list(meta["kernels"]),
     )
     return state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"])
 
@@ -529,7 +539,9 @@ def advance_stop(
     counts = np.zeros(8, dtype=np.int64)
     rule6 = config.automaton.rule6_max_gap
     fr = config.friction
-    if kernel_for(config) == "lazy":
+    auto = kernel_for(config) == "auto"
+    if stop_kernel(state, config) == "lazy":
+        walked = state.lazy_walk[1]
         code, done = _run_lazy(
             state, grid, config, targets, fraction, rec, counts, scratch=(created, destroyed)
         )
@@ -537,7 +549,11 @@ def advance_stop(
             _raise_kernel_error(
                 code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config
             )
+        if auto and (state.lazy_walk[1] - walked) > AUTO_WALK_PER_ROW * dt.size * n_r:
+            state.auto_exact_left = AUTO_EXACT_STOPS
         return dt, rec, counts
+    if auto:
+        state.auto_exact_left -= 1
     if state.packed_stale:
         state.resync()
     code, done = K.run_stop(
@@ -591,10 +607,17 @@ def advance_stop(
     return dt, rec, counts
 
 
+#: ``numerics.kernel = "auto"``: a stop run by the lazy kernel whose contact solves walked more
+#: than this many breakpoints per step and row hands the next AUTO_EXACT_STOPS stops to the
+#: exact kernel (docs/model.md section 13; the counts are deterministic, so is the choice)
+AUTO_WALK_PER_ROW = 0.5
+AUTO_EXACT_STOPS = 5
+
+
 def kernel_for(config: SimulationConfig) -> str:
-    """The step kernel a run of ``config`` uses: ``numerics.kernel``, with ``auto`` resolved
-    to ``exact`` (docs/model.md section 13: the lazy kernel gives the same results but is not
-    yet faster over a whole run, where the per-event work both kernels share dominates).
+    """The step kernel of a run of ``config``: ``"exact"``, ``"lazy"``, or ``"auto"`` (the
+    kernel is chosen stop by stop, :func:`stop_kernel`). ``numerics.kernel = "auto"`` resolves
+    to ``"exact"`` for a configuration the lazy kernel does not support.
 
     Raises
     ------
@@ -602,15 +625,28 @@ def kernel_for(config: SimulationConfig) -> str:
         ``numerics.kernel = "lazy"`` for a configuration the lazy kernel does not support.
     """
     choice = config.numerics.kernel
-    if choice != "lazy":
+    if choice == "exact":
         return "exact"
-    if not _lazy.supports(config):
-        raise ValueError(
-            "numerics.kernel = 'lazy' supports fibres as columns with rule 6 off "
-            "(pad.fibre_model = 'columns', automaton.rule6_max_gap unset) and WP K s < 1/2; "
-            "use numerics.kernel = 'exact' or 'auto'"
-        )
-    return "lazy"
+    if _lazy.supports(config):
+        return choice
+    if choice == "auto":
+        return "exact"
+    raise ValueError(
+        "numerics.kernel = 'lazy' supports fibres as columns with rule 6 off "
+        "(pad.fibre_model = 'columns', automaton.rule6_max_gap unset) and WP K s < 1/2; "
+        "use numerics.kernel = 'exact' or 'auto'"
+    )
+
+
+def stop_kernel(state: SimulationState, config: SimulationConfig) -> str:
+    """The kernel that runs the next stop of ``state``: as :func:`kernel_for`; under
+    ``"auto"`` the lazy kernel, except for the AUTO_EXACT_STOPS stops that follow a lazy stop
+    whose contact solves walked many breakpoints (many cells past the friction peak, where the
+    lazy kernel is slower than the exact one: docs/performance.md)."""
+    kernel = kernel_for(config)
+    if kernel == "auto":
+        return "exact" if state.auto_exact_left > 0 else "lazy"
+    return kernel
 
 
 def _run_lazy(state, grid, config, targets, fraction, rec, counts, scratch):

@@ -194,11 +194,12 @@ def test_kernel_choice():
     from brakeca.simulation import kernel_for
 
     config = load_preset()
-    assert kernel_for(config) == "exact"  # auto: exact until the walk is bounded
+    assert kernel_for(config) == "auto"  # stop by stop, lazy or exact
     assert kernel_for(config.with_updates({"numerics.kernel": "lazy"})) == "lazy"
     assert kernel_for(config.with_updates({"numerics.kernel": "exact"})) == "exact"
     layer = config.with_updates({"pad.fibre_model": "layer"})
     assert kernel_for(layer) == "exact"
+    assert kernel_for(config.with_updates({"automaton.rule6_max_gap": 80e-6})) == "exact"
     with pytest.raises(ValueError, match=r"numerics\.kernel"):
         kernel_for(layer.with_updates({"numerics.kernel": "lazy"}))
 
@@ -272,3 +273,49 @@ def test_row_resin_heaps_cut_as_one_heap():
                 _lazy._resin_push(rk, rc, rn, j, idx - j * n_t, s_row, h_row, n_t)
                 rebuilt += full
     assert rebuilt > 0  # the rebuild of a full row was exercised
+
+
+class _Killed(Exception):
+    pass
+
+
+def test_auto_hands_stops_to_the_exact_kernel_and_resumes_identically(tmp_path, monkeypatch):
+    """``auto`` runs a stop with the exact kernel for AUTO_EXACT_STOPS stops after a lazy stop
+    that walked many breakpoints. Here every lazy stop counts as one (threshold below zero), so
+    the stops alternate in a fixed pattern; a run killed in the middle and resumed from its
+    checkpoint is identical to one that was not, kernels switching included."""
+    import xarray as xr
+    from conftest import short_cycle
+
+    from brakeca import simulation
+
+    monkeypatch.setattr(simulation, "AUTO_WALK_PER_ROW", -1.0)
+    monkeypatch.setattr(simulation, "AUTO_EXACT_STOPS", 3)
+    config = load_preset().with_updates(
+        {
+            "mesh.n_radial": 4,
+            "mesh.n_angular": 200,
+            "WP": 1e-13,
+            "S": 0.5,
+            "cycle": short_cycle(stops=9, v0=30, v1=4, g=0.3),
+        }
+    )
+    whole = simulate(config, seed=4)
+    assert whole.dataset.attrs["kernel"] == "auto"
+    # lazy at stops 1, 5, 9; exact at 2-4 and 6-8
+    assert whole.dataset.attrs["stops_lazy"] == 3
+    assert whole.dataset.attrs["stops_exact"] == 6
+    assert whole.dataset["max_ledger_residual"].item() < 1e-12
+    ckpt = tmp_path / "run.ckpt.npz"
+
+    def die_after(done, total):
+        if done == 5:  # the next stop is exact, after a lazy one (stale packed records)
+            raise _Killed
+
+    with pytest.raises(_Killed):
+        simulate(config, seed=4, checkpoint=ckpt, checkpoint_every=1, progress=die_after)
+    resumed = simulate(config, seed=4, checkpoint=ckpt, checkpoint_every=1)
+    a, b = resumed.dataset.copy(), whole.dataset.copy()
+    a.attrs.pop("wall_time")
+    b.attrs.pop("wall_time")
+    xr.testing.assert_identical(a, b)
