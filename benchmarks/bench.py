@@ -70,6 +70,8 @@ def time_run(rows: int, stops: int, seed: int, kernel: str = "auto") -> dict:
         "cycle_extrapolated_s": round(elapsed / steps * CYCLE_STEPS, 1),
         "MU": round(result.MU, 5),
         "kernel": kernel_for(config),
+        "stops_lazy": int(result.dataset.attrs["stops_lazy"]),
+        "stops_exact": int(result.dataset.attrs["stops_exact"]),
     }
 
 

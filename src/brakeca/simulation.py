@@ -549,7 +549,7 @@ def advance_stop(
             _raise_kernel_error(
                 code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config
             )
-        if auto and (state.lazy_walk[1] - walked) > AUTO_WALK_PER_ROW * dt.size * n_r:
+        if auto and (state.lazy_walk[1] - walked) > AUTO_WALK_PER_STEP * dt.size:
             state.auto_exact_left = AUTO_EXACT_STOPS
         return dt, rec, counts
     if auto:
@@ -608,9 +608,9 @@ def advance_stop(
 
 
 #: ``numerics.kernel = "auto"``: a stop run by the lazy kernel whose contact solves walked more
-#: than this many breakpoints per step and row hands the next AUTO_EXACT_STOPS stops to the
-#: exact kernel (docs/model.md section 13; the counts are deterministic, so is the choice)
-AUTO_WALK_PER_ROW = 0.5
+#: than this many breakpoints per step hands the next AUTO_EXACT_STOPS stops to the exact
+#: kernel (docs/model.md section 13; the counts are deterministic, so is the choice)
+AUTO_WALK_PER_STEP = 8.0
 AUTO_EXACT_STOPS = 5
 
 

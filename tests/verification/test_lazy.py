@@ -289,7 +289,7 @@ def test_auto_hands_stops_to_the_exact_kernel_and_resumes_identically(tmp_path, 
 
     from brakeca import simulation
 
-    monkeypatch.setattr(simulation, "AUTO_WALK_PER_ROW", -1.0)
+    monkeypatch.setattr(simulation, "AUTO_WALK_PER_STEP", -1.0)
     monkeypatch.setattr(simulation, "AUTO_EXACT_STOPS", 3)
     config = load_preset().with_updates(
         {
