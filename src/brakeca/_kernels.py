@@ -204,19 +204,50 @@ def _put_sorted(dst, w, h, base, idx, bn, st):
 
 
 @njit(cache=True)
+def heap_sift_up(keys, vals, i):
+    """Move entry i of a max-heap (``keys``, ``vals``) up to its place."""
+    key = keys[i]
+    val = vals[i]
+    while i > 0:
+        parent = (i - 1) >> 1
+        if keys[parent] >= key:
+            break
+        keys[i] = keys[parent]
+        vals[i] = vals[parent]
+        i = parent
+    keys[i] = key
+    vals[i] = val
+
+
+@njit(cache=True)
+def heap_sift_down(keys, vals, i, n):
+    """Move entry i of a max-heap of n entries (``keys``, ``vals``) down to its place."""
+    key = keys[i]
+    val = vals[i]
+    while True:
+        left = 2 * i + 1
+        if left >= n:
+            break
+        big = left
+        if left + 1 < n and keys[left + 1] > keys[left]:
+            big = left + 1
+        if key >= keys[big]:
+            break
+        keys[i] = keys[big]
+        vals[i] = vals[big]
+        i = big
+    keys[i] = key
+    vals[i] = val
+
+
+@njit(cache=True)
 def heap_push(keys, vals, cnt, key, val):
     """Push (key, val) on the max-heap held in ``keys[:cnt[CNT_HEAP]]``."""
     n = cnt[CNT_HEAP]
     keys[n] = key
     vals[n] = val
     cnt[CNT_HEAP] = n + 1
-    while n > 0:
-        parent = (n - 1) >> 1
-        if keys[parent] >= keys[n]:
-            break
-        keys[parent], keys[n] = keys[n], keys[parent]
-        vals[parent], vals[n] = vals[n], vals[parent]
-        n = parent
+    heap_sift_up(keys, vals, n)
 
 
 @njit(cache=True)
@@ -228,19 +259,7 @@ def heap_pop(keys, vals, cnt):
     cnt[CNT_HEAP] = n
     keys[0] = keys[n]
     vals[0] = vals[n]
-    i = 0
-    while True:
-        left = 2 * i + 1
-        if left >= n:
-            break
-        big = left
-        if left + 1 < n and keys[left + 1] > keys[left]:
-            big = left + 1
-        if keys[i] >= keys[big]:
-            break
-        keys[i], keys[big] = keys[big], keys[i]
-        vals[i], vals[big] = vals[big], vals[i]
-        i = big
+    heap_sift_down(keys, vals, 0, n)
     return key, val
 
 

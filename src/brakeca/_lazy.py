@@ -82,6 +82,8 @@ from brakeca._kernels import (
     T_REST,
     T_WEAR,
     _clock,
+    heap_sift_down,
+    heap_sift_up,
     phase_advance,
     phase_creation,
     record_step,
@@ -1323,27 +1325,6 @@ def solve_contact(
 # volume: each stream bin's sum is the same in whatever order equal heights come off the heap,
 # and only the step's total (summed row by row) depends on the heap's layout.
 @njit(cache=True)
-def _resin_sift_down(rk, rc, j, i, n):
-    """Move entry i of row j's heap (of n entries) down to its place."""
-    key = rk[j, i]
-    col = rc[j, i]
-    while True:
-        left = 2 * i + 1
-        if left >= n:
-            break
-        big = left
-        if left + 1 < n and rk[j, left + 1] > rk[j, left]:
-            big = left + 1
-        if key >= rk[j, big]:
-            break
-        rk[j, i] = rk[j, big]
-        rc[j, i] = rc[j, big]
-        i = big
-    rk[j, i] = key
-    rc[j, i] = col
-
-
-@njit(cache=True)
 def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
     """Row j's resin heap from the grid (its status-none cells)."""
     row0 = j * n_angular
@@ -1354,8 +1335,9 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
             rc[j, n] = i
             n += 1
     rn[j] = n
+    keys, cols = rk[j], rc[j]
     for i in range(n // 2 - 1, -1, -1):
-        _resin_sift_down(rk, rc, j, i, n)
+        heap_sift_down(keys, cols, i, n)
 
 
 @njit(cache=True)
@@ -1366,17 +1348,10 @@ def _resin_push(rk, rc, rn, j, col, status, height, n_angular):
     if n == rk.shape[1]:
         _resin_build_row(rk, rc, rn, j, status, height, n_angular)
         return
-    key = height[j * n_angular + col]
-    while n > 0:
-        parent = (n - 1) >> 1
-        if rk[j, parent] >= key:
-            break
-        rk[j, n] = rk[j, parent]
-        rc[j, n] = rc[j, parent]
-        n = parent
-    rk[j, n] = key
+    rk[j, n] = height[j * n_angular + col]
     rc[j, n] = col
-    rn[j] += 1
+    rn[j] = n + 1
+    heap_sift_up(rk[j], rc[j], n)
 
 
 @njit(cache=True)
@@ -1389,20 +1364,21 @@ def _resin_cut(
     for j in range(n_radial):
         row0 = j * n_angular
         n = rn[j]
-        while n > 0 and rk[j, 0] > z:
-            idx = row0 + rc[j, 0]
-            if status[idx] != NONE or height[idx] != rk[j, 0]:
+        keys, cols = rk[j], rc[j]
+        while n > 0 and keys[0] > z:
+            idx = row0 + cols[0]
+            if status[idx] != NONE or height[idx] != keys[0]:
                 n -= 1  # stale entry: drop it
-                rk[j, 0] = rk[j, n]
-                rc[j, 0] = rc[j, n]
+                keys[0] = keys[n]
+                cols[0] = cols[n]
             else:
                 cut = resin_cut_depth(height[idx], z, wr)
                 vol = cut * cell_area[idx]
                 height[idx] -= cut
                 outflow[cell_bin[idx]] += vol
                 removed += vol
-                rk[j, 0] = height[idx]
-            _resin_sift_down(rk, rc, j, 0, n)
+                keys[0] = height[idx]
+            heap_sift_down(keys, cols, 0, n)
         rn[j] = n
     return removed
 

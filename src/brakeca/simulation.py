@@ -304,7 +304,7 @@ def simulate(
     if checkpoint_every < 1:
         raise ValueError(f"checkpoint_every must be >= 1, got {checkpoint_every}")
     grid = make_grid(config)
-    kernel_for(config)  # an unsupported numerics.kernel is refused before any work
+    kernel = kernel_for(config)  # an unsupported numerics.kernel is refused before any work
     stops = list(cycle_events(config))
     n_r, n_t = grid.shape
     lists = scratch_lists(n_r * n_t)
@@ -319,7 +319,7 @@ def simulate(
         state, initial_status, log, rng_state, elapsed_before = resumed
         rng.bit_generator.state = rng_state
     for stop in stops[len(log.records) :]:
-        log.kernels.append(stop_kernel(state, config))
+        log.kernels.append(stop_kernel(state, kernel))
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         log.records.append(rec)
@@ -356,7 +356,7 @@ def simulate(
         final_height=state.height.reshape(n_r, n_t),
         final_ledger=final_ledger,
         wall_time=elapsed_before + time.perf_counter() - t0,
-        kernel=kernel_for(config),
+        kernel=kernel,
         kernel_stops={k: log.kernels.count(k) for k in ("lazy", "exact")},
         contact_fallbacks=int(state.lazy_walk[6]),
     )
@@ -539,8 +539,9 @@ def advance_stop(
     counts = np.zeros(8, dtype=np.int64)
     rule6 = config.automaton.rule6_max_gap
     fr = config.friction
-    auto = kernel_for(config) == "auto"
-    if stop_kernel(state, config) == "lazy":
+    kernel = kernel_for(config)
+    auto = kernel == "auto"
+    if stop_kernel(state, kernel) == "lazy":
         walked = state.lazy_walk[1]
         code, done = _run_lazy(
             state, grid, config, targets, fraction, rec, counts, scratch=(created, destroyed)
@@ -638,12 +639,11 @@ def kernel_for(config: SimulationConfig) -> str:
     )
 
 
-def stop_kernel(state: SimulationState, config: SimulationConfig) -> str:
-    """The kernel that runs the next stop of ``state``: as :func:`kernel_for`; under
-    ``"auto"`` the lazy kernel, except for the AUTO_EXACT_STOPS stops that follow a lazy stop
-    whose contact solves walked many breakpoints (many cells past the friction peak, where the
-    lazy kernel is slower than the exact one: docs/performance.md)."""
-    kernel = kernel_for(config)
+def stop_kernel(state: SimulationState, kernel: str) -> str:
+    """The kernel that runs the next stop of ``state`` in a run whose :func:`kernel_for` is
+    ``kernel``: under ``"auto"`` the lazy kernel, except for the AUTO_EXACT_STOPS stops that
+    follow a lazy stop whose contact solves walked many breakpoints (many cells past the
+    friction peak, where the lazy kernel is slower than the exact one: docs/performance.md)."""
     if kernel == "auto":
         return "exact" if state.auto_exact_left > 0 else "lazy"
     return kernel
