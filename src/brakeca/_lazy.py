@@ -235,10 +235,11 @@ def _tree_set(tw, tev, tsub, p2, j, col, active, a, cell_r, base, n_angular):
         if (
             node != (p2 + col) >> 1
             and tw[off + node] == w0
+            and tw[off + node] != col
             and tev[off + node] == e0
             and tsub[off + node] == s0
         ):
-            break  # nothing above can change
+            break  # nothing above can change (nor depends on this cell's line, if it changed)
         node >>= 1
 
 
@@ -276,13 +277,15 @@ def _tree_flush(tw, tev, tsub, p2, ta, cell_r, base, where, tdirty, tmark, n_ang
     forth, and only the net change reaches the tree)."""
     for k in range(1, tdirty[0] + 1):
         idx = tdirty[k]
+        stale = tmark[idx] == 2
         tmark[idx] = 0
         j = idx // n_angular
         col = idx - j * n_angular
         want = where[idx] == W_IN
-        # a leaf in place is this plateau's own (creation drops the stale leaf of a destroyed
-        # one); a cell that left and re-entered keeps its line to an ulp
-        if want != (tw[j * 2 * p2 + p2 + col] >= 0):
+        # a leaf in place is this plateau's own, unless it is marked stale (a plateau created
+        # where a destroyed one left its leaf: the line changed, so its path is recomputed);
+        # a cell that left and re-entered keeps its line to an ulp
+        if want != (tw[j * 2 * p2 + p2 + col] >= 0) or (stale and want):
             _tree_set(tw, tev, tsub, p2, j, col, want, ta[j], cell_r, base, n_angular)
     tdirty[0] = 0
 
@@ -1861,6 +1864,10 @@ def run_stop_lazy(
             ztop = height[idx]
     if ztop == -math.inf:
         return ERR_NO_PLATEAU, 0
+    # rule-5 marks left by the last step of the stop before (the trees are rebuilt here)
+    for k in range(1, tdirty[0] + 1):
+        tmark[tdirty[k]] = 0
+    tdirty[0] = 0
     for j in range(n_radial):
         _rebuild_row(L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2)
         _resin_build_row(resin_key, resin_col, resin_n, j, status, height, n_angular)
@@ -2120,10 +2127,13 @@ def run_stop_lazy(
             acc[ACC_SECONDARY_AREA] += area
             j = idx // n_angular
             if tw[j * 2 * p2 + p2 + idx - j * n_angular] >= 0:
-                # the stale leaf of a plateau destroyed here before: its line changes now
-                _tree_set(
-                    tw, tev, tsub, p2, j, idx - j * n_angular, False, ta[j], cell_r, base, n_angular
-                )
+                # the stale leaf of a plateau destroyed here before: its line changes now, and
+                # the next flush updates its path once (removed, or the new line if the new
+                # plateau is in contact by then); nothing reads the tree until that flush
+                if tmark[idx] == 0:
+                    tdirty[0] += 1
+                    tdirty[tdirty[0]] = idx
+                tmark[idx] = 2
             base[idx] = height[idx]
             height[idx] = z
             status[idx] = SECONDARY
