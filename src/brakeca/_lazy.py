@@ -162,9 +162,11 @@ class Lazy:
         self.amap = np.ones((n_radial, 4))  # a, c, a before this step's wear, c before
         self.seg = np.zeros((n_radial, 4, 3))  # per segment: count, sum r, sum r^2
         self.bins = np.zeros((n_radial * n_sub, 4))  # primary count, sum r; secondary ...
-        self.tree_w = np.full(n_radial * 2 * p2, -1, dtype=np.int64)
-        self.tree_ev = np.full(n_radial * 2 * p2, -np.inf)
-        self.tree_sub = np.full(n_radial * 2 * p2, -np.inf)
+        # rule-5 trees, one per row, node k of row j at record j * 2 * p2 + k: (winner's
+        # column, -1 if none; largest certificate in the subtree; winner's r; winner's base)
+        self.tree = np.zeros((n_radial * 2 * p2, 4))
+        self.tree[:, TR_W] = -1.0
+        self.tree[:, TR_SUB] = -np.inf
         self.tree_a = np.ones(n_radial)
         self.stack = np.zeros(2 * p2 + 8, dtype=np.int64)
         self.dh = np.zeros(n)
@@ -187,70 +189,86 @@ RW_KE = 5  # the contact edge during a solve: cells at [ke, nin) are out of cont
 
 
 # --- kinetic tournament tree (rule 5) -----------------------------------------------------
-@njit(cache=True)
-def _tree_recompute(tw, tev, tsub, off, node, a, cell_r, base, row0):
-    left = tw[off + 2 * node]
-    right = tw[off + 2 * node + 1]
+# the fields of a tree record (a node and its sibling share a cache line)
+TR_W = 0
+TR_SUB = 1
+TR_R = 2
+TR_B = 3
+
+
+@njit(cache=True, inline="always")
+def _tree_recompute(tree, off, node, a):
+    """Node ``node`` of the tree at record ``off`` from its two children: the lower line at
+    scale ``a`` wins; its certificate is the scale at which the other overtakes it."""
+    left = off + 2 * node
+    right = left + 1
+    wl = tree[left, TR_W]
+    wr = tree[right, TR_W]
     ev = -math.inf
-    if left < 0:
-        w = right
-    elif right < 0:
-        w = left
+    if wl < 0.0:
+        w, rw, bw = wr, tree[right, TR_R], tree[right, TR_B]
+    elif wr < 0.0:
+        w, rw, bw = wl, tree[left, TR_R], tree[left, TR_B]
     else:
-        il = row0 + left
-        ir = row0 + right
-        vl = cell_r[il] * a - base[il]
-        vr = cell_r[ir] * a - base[ir]
-        if vl <= vr:
-            w, _o, iw, io = left, right, il, ir
+        rl, bl = tree[left, TR_R], tree[left, TR_B]
+        rr, br = tree[right, TR_R], tree[right, TR_B]
+        if rl * a - bl <= rr * a - br:
+            w, rw, bw, ro, bo = wl, rl, bl, rr, br
         else:
-            w, _o, iw, io = right, left, ir, il
-        if cell_r[iw] < cell_r[io]:
-            ev = (base[iw] - base[io]) / (cell_r[iw] - cell_r[io])
+            w, rw, bw, ro, bo = wr, rr, br, rl, bl
+        if rw < ro:
+            ev = (bw - bo) / (rw - ro)
             if ev > a:
                 ev = a
-    tw[off + node] = w
-    tev[off + node] = ev
     s = ev
-    if tsub[off + 2 * node] > s:
-        s = tsub[off + 2 * node]
-    if tsub[off + 2 * node + 1] > s:
-        s = tsub[off + 2 * node + 1]
-    tsub[off + node] = s
+    if tree[left, TR_SUB] > s:
+        s = tree[left, TR_SUB]
+    if tree[right, TR_SUB] > s:
+        s = tree[right, TR_SUB]
+    k = off + node
+    tree[k, TR_W] = w
+    tree[k, TR_SUB] = s
+    tree[k, TR_R] = rw
+    tree[k, TR_B] = bw
 
 
 @njit(cache=True)
-def _tree_set(tw, tev, tsub, p2, j, col, active, a, cell_r, base, n_angular):
-    """Insert (``active``) or remove the line of the cell in column ``col`` of row ``j``."""
+def _tree_set(tree, p2, j, col, active, a, r, b):
+    """Insert (``active``, the line ``r a - b``) or remove the line of the cell in column
+    ``col`` of row ``j``."""
     off = j * 2 * p2
-    node = p2 + col
-    tw[off + node] = col if active else -1
-    node >>= 1
-    row0 = j * n_angular
+    leaf = off + p2 + col
+    if active:
+        tree[leaf, TR_W] = col
+        tree[leaf, TR_R] = r
+        tree[leaf, TR_B] = b
+    else:
+        tree[leaf, TR_W] = -1.0
+    node = (p2 + col) >> 1
     while node >= 1:
-        w0 = tw[off + node]
-        e0 = tev[off + node]
-        s0 = tsub[off + node]
-        _tree_recompute(tw, tev, tsub, off, node, a, cell_r, base, row0)
+        k = off + node
+        w0 = tree[k, TR_W]
+        s0 = tree[k, TR_SUB]
+        r0 = tree[k, TR_R]
+        b0 = tree[k, TR_B]
+        _tree_recompute(tree, off, node, a)
         if (
-            node != (p2 + col) >> 1
-            and tw[off + node] == w0
-            and tw[off + node] != col
-            and tev[off + node] == e0
-            and tsub[off + node] == s0
+            tree[k, TR_W] == w0
+            and tree[k, TR_SUB] == s0
+            and tree[k, TR_R] == r0
+            and tree[k, TR_B] == b0
         ):
-            break  # nothing above can change (nor depends on this cell's line, if it changed)
+            break  # the parents read nothing else of this node: nothing above can change
         node >>= 1
 
 
 @njit(cache=True)
-def _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack):
+def _tree_advance(tree, p2, j, a, stack):
     """Bring row ``j``'s tree to scale ``a`` (lower than before): recompute every node whose
     certificate failed, children before parents."""
     off = j * 2 * p2
-    if tsub[off + 1] < a:
+    if tree[off + 1, TR_SUB] < a:
         return
-    row0 = j * n_angular
     n = 0
     stack[0] = 1
     top = 1
@@ -259,7 +277,7 @@ def _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack):
     while top > 0:
         top -= 1
         node = stack[top]
-        if node >= p2 or tsub[off + node] < a:
+        if node >= p2 or tree[off + node, TR_SUB] < a:
             continue
         n += 1
         stack[m - n] = node
@@ -267,11 +285,11 @@ def _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack):
         stack[top + 1] = 2 * node + 1
         top += 2
     for q in range(n):
-        _tree_recompute(tw, tev, tsub, off, stack[m - n + q], a, cell_r, base, row0)
+        _tree_recompute(tree, off, stack[m - n + q], a)
 
 
 @njit(cache=True)
-def _tree_flush(tw, tev, tsub, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
+def _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
     """Bring the rule-5 trees up to date with the secondary plateaus that crossed the contact
     edge (each crossing only listed the cell: during a contact solve cells cross back and
     forth, and only the net change reaches the tree)."""
@@ -285,17 +303,16 @@ def _tree_flush(tw, tev, tsub, p2, ta, cell_r, base, where, tdirty, tmark, n_ang
         # a leaf in place is this plateau's own, unless it is marked stale (a plateau created
         # where a destroyed one left its leaf: the line changed, so its path is recomputed);
         # a cell that left and re-entered keeps its line to an ulp
-        if want != (tw[j * 2 * p2 + p2 + col] >= 0) or (stale and want):
-            _tree_set(tw, tev, tsub, p2, j, col, want, ta[j], cell_r, base, n_angular)
+        if want != (tree[j * 2 * p2 + p2 + col, TR_W] >= 0.0) or (stale and want):
+            _tree_set(tree, p2, j, col, want, ta[j], cell_r[idx], base[idx])
     tdirty[0] = 0
 
 
 @njit(cache=True)
-def _tree_build(tw, tev, tsub, p2, j, a, cell_r, base, n_angular):
+def _tree_build(tree, p2, j, a):
     off = j * 2 * p2
-    row0 = j * n_angular
     for node in range(p2 - 1, 0, -1):
-        _tree_recompute(tw, tev, tsub, off, node, a, cell_r, base, row0)
+        _tree_recompute(tree, off, node, a)
 
 
 # --- segment bookkeeping ------------------------------------------------------------------
@@ -433,7 +450,7 @@ def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
 
 
 # L = (rows, seg, in_r, in_idx, amap, out_h, out_idx, where, pos, cell_r, bins,
-#      tree_w, tree_ev, tree_sub, tree_a, stack): the lazy structures (see :class:`Lazy`)
+#      tree, tree_a, stack): the lazy structures (see :class:`Lazy`)
 def structures(lz: Lazy) -> tuple:
     """The tuple of lazy structures passed to the compiled functions."""
     return (
@@ -448,9 +465,7 @@ def structures(lz: Lazy) -> tuple:
         lz.pos,
         lz.cell_r,
         lz.bins,
-        lz.tree_w,
-        lz.tree_ev,
-        lz.tree_sub,
+        lz.tree,
         lz.tree_a,
         lz.stack,
         lz.in_s,
@@ -523,9 +538,7 @@ def _contact_row(
     pos,
     cell_r,
     bins,
-    tw,
-    tev,
-    tsub,
+    tree,
     ta,
     in_s,
     out_s,
@@ -751,9 +764,7 @@ def _evaluate(
         pos,
         cell_r,
         bins,
-        tw,
-        tev,
-        tsub,
+        tree,
         ta,
         _stack,
         in_s,
@@ -787,9 +798,7 @@ def _evaluate(
                 pos,
                 cell_r,
                 bins,
-                tw,
-                tev,
-                tsub,
+                tree,
                 ta,
                 in_s,
                 out_s,
@@ -1011,9 +1020,7 @@ def _walk_start(
         pos,
         cell_r,
         bins,
-        tw,
-        tev,
-        tsub,
+        tree,
         ta,
         _stack,
         in_s,
@@ -1041,9 +1048,7 @@ def _walk_start(
                 pos,
                 cell_r,
                 bins,
-                tw,
-                tev,
-                tsub,
+                tree,
                 ta,
                 in_s,
                 out_s,
@@ -1117,9 +1122,7 @@ def _walk(
         pos,
         cell_r,
         bins,
-        tw,
-        tev,
-        tsub,
+        tree,
         ta,
         _stack,
         in_s,
@@ -1227,9 +1230,7 @@ def _walk(
                 pos,
                 cell_r,
                 bins,
-                tw,
-                tev,
-                tsub,
+                tree,
                 ta,
                 in_s,
                 out_s,
@@ -1523,9 +1524,7 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
         pos,
         _cell_r,
         bins,
-        tw,
-        tev,
-        tsub,
+        tree,
         ta,
         _stack,
         _in_s,
@@ -1565,9 +1564,8 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
     amap[j, 1] = z
     ta[j] = 1.0
     off = j * 2 * p2
-    tw[off : off + 2 * p2] = -1
-    tev[off : off + 2 * p2] = -math.inf
-    tsub[off : off + 2 * p2] = -math.inf
+    tree[off : off + 2 * p2, TR_W] = -1.0
+    tree[off : off + 2 * p2, TR_SUB] = -math.inf
 
 
 @njit(cache=True)
@@ -1587,9 +1585,7 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
         _pos,
         cell_r,
         bins,
-        tw,
-        tev,
-        tsub,
+        tree,
         ta,
         _stack,
         _in_s,
@@ -1603,7 +1599,7 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
     seg[j, :, :] = 0.0
     bins[j * n_sub : (j + 1) * n_sub, :] = 0.0
     off = j * 2 * p2
-    tw[off + p2 : off + 2 * p2] = -1
+    tree[off + p2 : off + 2 * p2, TR_W] = -1.0
     for q in range(rows[j, RW_NIN]):
         r = (a * in_r[row0 + q] + c) - z
         in_r[row0 + q] = r
@@ -1613,11 +1609,14 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
             _seg_add(seg, j, _seg_of(rows, j, q), r, 1.0)
             _bin_add(bins, cell_bin[idx], status[idx], r, 1.0)
             if status[idx] == SECONDARY:
-                tw[off + p2 + idx - row0] = idx - row0
+                leaf = off + p2 + idx - row0
+                tree[leaf, TR_W] = idx - row0
+                tree[leaf, TR_R] = r
+                tree[leaf, TR_B] = base[idx]
     amap[j, 0] = 1.0
     amap[j, 1] = z
     ta[j] = 1.0
-    _tree_build(tw, tev, tsub, p2, j, 1.0, cell_r, base, n_angular)
+    _tree_build(tree, p2, j, 1.0)
 
 
 @njit(cache=True)
@@ -1660,9 +1659,7 @@ def _remove(
     pos,
     cell_r,
     bins,
-    tw,
-    tev,
-    tsub,
+    tree,
     ta,
     idx,
     status,
@@ -1847,9 +1844,7 @@ def run_stop_lazy(
         pos,
         cell_r,
         bins,
-        tw,
-        tev,
-        tsub,
+        tree,
         ta,
         stack,
         in_s,
@@ -1931,7 +1926,7 @@ def run_stop_lazy(
         if code != 0 or tot[E_AREA] == 0.0:
             sync(L, height, n_radial, n_angular)
             return ERR_NO_PLATEAU, step
-        _tree_flush(tw, tev, tsub, p2, ta, cell_r, base, where, tdirty, tmark, n_angular)
+        _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular)
         umax = -math.inf
         for j in range(n_radial):
             row0 = j * n_angular
@@ -1987,17 +1982,17 @@ def run_stop_lazy(
             off = j * 2 * p2
             a = amap[j, 0]
             c = amap[j, 1]
-            if tw[off + 1] < 0:
+            if tree[off + 1, TR_W] < 0.0:
                 ta[j] = a
                 continue
-            _tree_advance(tw, tev, tsub, p2, j, a, cell_r, base, n_angular, stack)
+            _tree_advance(tree, p2, j, a, stack)
             ta[j] = a
             row0 = j * n_angular
-            while tw[off + 1] >= 0:
-                col = tw[off + 1]
+            while tree[off + 1, TR_W] >= 0.0:
+                col = int(tree[off + 1, TR_W])
                 idx = row0 + col
                 if where[idx] != W_IN:  # the leaf of a plateau destroyed since: drop it
-                    _tree_set(tw, tev, tsub, p2, j, col, False, a, cell_r, base, n_angular)
+                    _tree_set(tree, p2, j, col, False, a, 0.0, 0.0)
                     continue
                 h_new = a * cell_r[idx] + c
                 if h_new > base[idx]:
@@ -2017,9 +2012,7 @@ def run_stop_lazy(
                     pos,
                     cell_r,
                     bins,
-                    tw,
-                    tev,
-                    tsub,
+                    tree,
                     ta,
                     idx,
                     status,
@@ -2028,7 +2021,7 @@ def run_stop_lazy(
                     n_angular,
                     p2,
                 )
-                _tree_set(tw, tev, tsub, p2, j, col, False, a, cell_r, base, n_angular)
+                _tree_set(tree, p2, j, col, False, a, 0.0, 0.0)
                 if mark[idx] == 4:
                     rule_counts[4] -= 1  # worn through: counted as rule 5
                 mark[idx] = 5
@@ -2054,9 +2047,7 @@ def run_stop_lazy(
                 pos,
                 cell_r,
                 bins,
-                tw,
-                tev,
-                tsub,
+                tree,
                 ta,
                 idx,
                 status,
@@ -2126,7 +2117,7 @@ def run_stop_lazy(
             acc[ACC_HELD] += (z - height[idx]) * area
             acc[ACC_SECONDARY_AREA] += area
             j = idx // n_angular
-            if tw[j * 2 * p2 + p2 + idx - j * n_angular] >= 0:
+            if tree[j * 2 * p2 + p2 + idx - j * n_angular, TR_W] >= 0.0:
                 # the stale leaf of a plateau destroyed here before: its line changes now, and
                 # the next flush updates its path once (removed, or the new line if the new
                 # plateau is in contact by then); nothing reads the tree until that flush
