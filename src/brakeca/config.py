@@ -463,9 +463,7 @@ class NumericsConfig(_Frozen):
             "step kernel: 'lazy' (per-row affine wear, work per step ~ rows + changes; equal to "
             "'exact' to round-off per step, the same study over whole runs), 'exact' (every "
             "cell in contact visited, bit-identical to earlier brakeca versions), 'auto' "
-            "(chosen stop by stop: lazy, except for a few stops after one whose contact "
-            "solves walked many breakpoints; exact where lazy does not apply: docs/model.md "
-            "section 13)"
+            "(lazy where it applies, exact where it does not: docs/model.md section 13)"
         ),
     )
 

@@ -8,8 +8,9 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
 A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
 ``final_status``, ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package
-version, wall time, the step kernel (``exact``, ``lazy``, or ``auto``: chosen stop by stop,
-docs/model.md section 13), how many stops each kernel ran (``stops_lazy``, ``stops_exact``)
+version, wall time, the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
+applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
+``stops_exact``)
 and how many of the lazy kernel's contact solves fell back to the exact scan.
 
 References

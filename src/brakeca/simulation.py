@@ -104,7 +104,6 @@ class SimulationState:
     lazy: _lazy.Lazy | None = field(init=False, default=None)
     lazy_walk: np.ndarray = field(init=False)
     packed_stale: bool = field(init=False, default=False)
-    auto_exact_left: int = field(init=False, default=0)
 
     def __post_init__(self) -> None:
         n = self.height.size
@@ -319,7 +318,7 @@ def simulate(
         state, initial_status, log, rng_state, elapsed_before = resumed
         rng.bit_generator.state = rng_state
     for stop in stops[len(log.records) :]:
-        log.kernels.append(stop_kernel(state, kernel))
+        log.kernels.append(kernel)
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         log.records.append(rec)
@@ -356,7 +355,7 @@ def simulate(
         final_height=state.height.reshape(n_r, n_t),
         final_ledger=final_ledger,
         wall_time=elapsed_before + time.perf_counter() - t0,
-        kernel=kernel,
+        kernel=config.numerics.kernel,
         kernel_stops={k: log.kernels.count(k) for k in ("lazy", "exact")},
         contact_fallbacks=int(state.lazy_walk[6]),
     )
@@ -395,7 +394,7 @@ _STATE_ARRAYS = (
     "cnt",
     "lazy_walk",
 )
-CHECKPOINT_FORMAT = "brakeca-checkpoint/4"
+CHECKPOINT_FORMAT = "brakeca-checkpoint/5"
 
 
 def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
@@ -422,7 +421,6 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         "rng": rng.bit_generator.state,
         "elapsed": float(elapsed),
         "kernels": log.kernels,
-        "auto_exact_left": int(state.auto_exact_left),
         "packed_stale": bool(state.packed_stale),
     }
     arrays["meta"] = np.array(json.dumps(meta))
@@ -472,7 +470,6 @@ def load_checkpoint(path, config, seed, grid):
     )
     for name in _STATE_ARRAYS:
         state.array(name)[...] = arrays[f"state_{name}"]
-    state.auto_exact_left = int(meta["auto_exact_left"])
     state.packed_stale = bool(meta["packed_stale"])
     bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])
     log = _StopLog(
@@ -539,10 +536,7 @@ def advance_stop(
     counts = np.zeros(8, dtype=np.int64)
     rule6 = config.automaton.rule6_max_gap
     fr = config.friction
-    kernel = kernel_for(config)
-    auto = kernel == "auto"
-    if stop_kernel(state, kernel) == "lazy":
-        walked = state.lazy_walk[1]
+    if kernel_for(config) == "lazy":
         code, done = _run_lazy(
             state, grid, config, targets, fraction, rec, counts, scratch=(created, destroyed)
         )
@@ -550,11 +544,7 @@ def advance_stop(
             _raise_kernel_error(
                 code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config
             )
-        if auto and (state.lazy_walk[1] - walked) > AUTO_WALK_PER_STEP * dt.size:
-            state.auto_exact_left = AUTO_EXACT_STOPS
         return dt, rec, counts
-    if auto:
-        state.auto_exact_left -= 1
     if state.packed_stale:
         state.resync()
     code, done = K.run_stop(
@@ -608,17 +598,10 @@ def advance_stop(
     return dt, rec, counts
 
 
-#: ``numerics.kernel = "auto"``: a stop run by the lazy kernel whose contact solves walked more
-#: than this many breakpoints per step hands the next AUTO_EXACT_STOPS stops to the exact
-#: kernel (docs/model.md section 13; the counts are deterministic, so is the choice)
-AUTO_WALK_PER_STEP = 8.0
-AUTO_EXACT_STOPS = 5
-
-
 def kernel_for(config: SimulationConfig) -> str:
-    """The step kernel of a run of ``config``: ``"exact"``, ``"lazy"``, or ``"auto"`` (the
-    kernel is chosen stop by stop, :func:`stop_kernel`). ``numerics.kernel = "auto"`` resolves
-    to ``"exact"`` for a configuration the lazy kernel does not support.
+    """The step kernel that runs ``config``: ``"exact"`` or ``"lazy"``. ``numerics.kernel =
+    "auto"`` (the default) resolves to the lazy kernel where it supports the configuration
+    and to the exact kernel where it does not (docs/model.md section 13).
 
     Raises
     ------
@@ -629,7 +612,7 @@ def kernel_for(config: SimulationConfig) -> str:
     if choice == "exact":
         return "exact"
     if _lazy.supports(config):
-        return choice
+        return "lazy"
     if choice == "auto":
         return "exact"
     raise ValueError(
@@ -637,16 +620,6 @@ def kernel_for(config: SimulationConfig) -> str:
         "(pad.fibre_model = 'columns', automaton.rule6_max_gap unset) and WP K s < 1/2; "
         "use numerics.kernel = 'exact' or 'auto'"
     )
-
-
-def stop_kernel(state: SimulationState, kernel: str) -> str:
-    """The kernel that runs the next stop of ``state`` in a run whose :func:`kernel_for` is
-    ``kernel``: under ``"auto"`` the lazy kernel, except for the AUTO_EXACT_STOPS stops that
-    follow a lazy stop whose contact solves walked many breakpoints (many cells past the
-    friction peak, where the lazy kernel is slower than the exact one: docs/performance.md)."""
-    if kernel == "auto":
-        return "exact" if state.auto_exact_left > 0 else "lazy"
-    return kernel
 
 
 def _run_lazy(state, grid, config, targets, fraction, rec, counts, scratch):

@@ -194,7 +194,7 @@ def test_kernel_choice():
     from brakeca.simulation import kernel_for
 
     config = load_preset()
-    assert kernel_for(config) == "auto"  # stop by stop, lazy or exact
+    assert kernel_for(config) == "lazy"  # auto: lazy where it applies
     assert kernel_for(config.with_updates({"numerics.kernel": "lazy"})) == "lazy"
     assert kernel_for(config.with_updates({"numerics.kernel": "exact"})) == "exact"
     layer = config.with_updates({"pad.fibre_model": "layer"})
@@ -279,18 +279,13 @@ class _Killed(Exception):
     pass
 
 
-def test_auto_hands_stops_to_the_exact_kernel_and_resumes_identically(tmp_path, monkeypatch):
-    """``auto`` runs a stop with the exact kernel for AUTO_EXACT_STOPS stops after a lazy stop
-    that walked many breakpoints. Here every lazy stop counts as one (threshold below zero), so
-    the stops alternate in a fixed pattern; a run killed in the middle and resumed from its
-    checkpoint is identical to one that was not, kernels switching included."""
+def test_auto_runs_the_lazy_kernel_where_it_applies_and_resumes_identically(tmp_path):
+    """``auto`` runs every stop with the lazy kernel where it supports the configuration, and
+    every stop with the exact kernel where it does not (rule 6 on); a run killed in the middle
+    and resumed from its checkpoint is identical to one that was not."""
     import xarray as xr
     from conftest import short_cycle
 
-    from brakeca import simulation
-
-    monkeypatch.setattr(simulation, "AUTO_WALK_PER_STEP", -1.0)
-    monkeypatch.setattr(simulation, "AUTO_EXACT_STOPS", 3)
     config = load_preset().with_updates(
         {
             "mesh.n_radial": 4,
@@ -302,14 +297,17 @@ def test_auto_hands_stops_to_the_exact_kernel_and_resumes_identically(tmp_path, 
     )
     whole = simulate(config, seed=4)
     assert whole.dataset.attrs["kernel"] == "auto"
-    # lazy at stops 1, 5, 9; exact at 2-4 and 6-8
-    assert whole.dataset.attrs["stops_lazy"] == 3
-    assert whole.dataset.attrs["stops_exact"] == 6
+    assert whole.dataset.attrs["stops_lazy"] == 9
+    assert whole.dataset.attrs["stops_exact"] == 0
     assert whole.dataset["max_ledger_residual"].item() < 1e-12
+    rule6 = simulate(
+        config.with_updates({"cycle.max_stops": 2, "automaton.rule6_max_gap": 1e-6}), seed=4
+    )
+    assert (rule6.dataset.attrs["stops_lazy"], rule6.dataset.attrs["stops_exact"]) == (0, 2)
     ckpt = tmp_path / "run.ckpt.npz"
 
     def die_after(done, total):
-        if done == 5:  # the next stop is exact, after a lazy one (stale packed records)
+        if done == 5:
             raise _Killed
 
     with pytest.raises(_Killed):
