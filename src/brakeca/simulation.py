@@ -251,7 +251,6 @@ class _StopLog:
     flush: list[float]
     s_removed: list[int]
     rule_counts: list[np.ndarray]
-    kernels: list[str]
 
 
 def simulate(
@@ -312,13 +311,12 @@ def simulate(
         surface = generate_surface(config.pad, grid, rng)
         state = SimulationState.from_surface(surface, grid)
         initial_status = surface.status
-        log = _StopLog([], [], [], [], [], [])
+        log = _StopLog([], [], [], [], [])
         elapsed_before = 0.0
     else:
         state, initial_status, log, rng_state, elapsed_before = resumed
         rng.bit_generator.state = rng_state
     for stop in stops[len(log.records) :]:
-        log.kernels.append(kernel)
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         log.records.append(rec)
@@ -356,7 +354,7 @@ def simulate(
         final_ledger=final_ledger,
         wall_time=elapsed_before + time.perf_counter() - t0,
         kernel=config.numerics.kernel,
-        kernel_stops={k: log.kernels.count(k) for k in ("lazy", "exact")},
+        kernel_stops={kernel: len(log.records)},  # one kernel runs every stop
         contact_fallbacks=int(state.lazy_walk[6]),
     )
     if checkpoint:
@@ -420,8 +418,6 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         "seed": int(seed),
         "rng": rng.bit_generator.state,
         "elapsed": float(elapsed),
-        "kernels": log.kernels,
-        "packed_stale": bool(state.packed_stale),
     }
     arrays["meta"] = np.array(json.dumps(meta))
 
@@ -470,7 +466,6 @@ def load_checkpoint(path, config, seed, grid):
     )
     for name in _STATE_ARRAYS:
         state.array(name)[...] = arrays[f"state_{name}"]
-    state.packed_stale = bool(meta["packed_stale"])
     bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])
     log = _StopLog(
         records=[arrays["log_records"][a:b] for a, b in pairwise(bounds)],
@@ -478,7 +473,6 @@ def load_checkpoint(path, config, seed, grid):
         flush=[float(v) for v in arrays["log_flush"]],
         s_removed=[int(v) for v in arrays["log_s_removed"]],
         rule_counts=list(arrays["log_rule_counts"]),
-        kernels=list(meta["kernels"]),
     )
     return state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"])
 
