@@ -197,6 +197,24 @@ TR_B = 3
 
 
 @njit(cache=True, inline="always")
+def _tree_leaf(p2, j, col):
+    """Record of the leaf of column ``col`` in row ``j``'s tree."""
+    return j * 2 * p2 + p2 + col
+
+
+@njit(cache=True, inline="always")
+def _tree_dirty(tdirty, tmark, idx, flag):
+    """List cell idx for the next :func:`_tree_flush` (once), with ``flag`` 1 (it crossed
+    the contact edge) or 2 (its leaf is stale: a plateau re-created where a destroyed one left
+    it); a cell flagged 2 stays 2."""
+    if tmark[idx] == 0:
+        tdirty[0] += 1
+        tdirty[tdirty[0]] = idx
+    if flag > tmark[idx]:
+        tmark[idx] = flag
+
+
+@njit(cache=True, inline="always")
 def _tree_recompute(tree, off, node, a):
     """Node ``node`` of the tree at record ``off`` from its two children: the lower line at
     scale ``a`` wins; its certificate is the scale at which the other overtakes it."""
@@ -237,7 +255,7 @@ def _tree_set(tree, p2, j, col, active, a, r, b):
     """Insert (``active``, the line ``r a - b``) or remove the line of the cell in column
     ``col`` of row ``j``."""
     off = j * 2 * p2
-    leaf = off + p2 + col
+    leaf = _tree_leaf(p2, j, col)
     if active:
         tree[leaf, TR_W] = col
         tree[leaf, TR_R] = r
@@ -303,7 +321,7 @@ def _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
         # a leaf in place is this plateau's own, unless it is marked stale (a plateau created
         # where a destroyed one left its leaf: the line changed, so its path is recomputed);
         # a cell that left and re-entered keeps its line to an ulp
-        if want != (tree[j * 2 * p2 + p2 + col, TR_W] >= 0.0) or (stale and want):
+        if want != (tree[_tree_leaf(p2, j, col), TR_W] >= 0.0) or (stale and want):
             _tree_set(tree, p2, j, col, want, ta[j], cell_r[idx], base[idx])
     tdirty[0] = 0
 
@@ -538,8 +556,6 @@ def _contact_row(
     pos,
     cell_r,
     bins,
-    tree,
-    ta,
     in_s,
     out_s,
     tdirty,
@@ -548,9 +564,7 @@ def _contact_row(
     z,
     incl,
     n_sub,
-    base,
     n_angular,
-    p2,
 ):
     """Move row j's contact edge to z: cells with ``h <= z`` leave (``h < z`` when ``incl``),
     cells with ``h > z`` (``h >= z``) enter. Returns the number of cells that crossed.
@@ -629,10 +643,7 @@ def _contact_row(
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, 1.0)
             if st == SECONDARY:
                 cell_r[idx] = r
-                if tmark[idx] == 0:
-                    tmark[idx] = 1
-                    tdirty[0] += 1
-                    tdirty[tdirty[0]] = idx
+                _tree_dirty(tdirty, tmark, idx, 1)
             nin += 1
             moves += 1
         nout -= 1
@@ -681,10 +692,8 @@ def _commit_row(
             h = a * r + c
             st = in_s[q]
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, -1.0)
-            if st == SECONDARY and tmark[idx] == 0:
-                tmark[idx] = 1
-                tdirty[0] += 1
-                tdirty[tdirty[0]] = idx
+            if st == SECONDARY:
+                _tree_dirty(tdirty, tmark, idx, 1)
             # to the top of the out-of-contact array (it is the highest of them)
             if nout == n_angular:
                 rows[j, RW_NOUT] = nout
@@ -764,8 +773,8 @@ def _evaluate(
         pos,
         cell_r,
         bins,
-        tree,
-        ta,
+        _tree,
+        _ta,
         _stack,
         in_s,
         out_s,
@@ -798,8 +807,6 @@ def _evaluate(
                 pos,
                 cell_r,
                 bins,
-                tree,
-                ta,
                 in_s,
                 out_s,
                 tdirty,
@@ -808,9 +815,7 @@ def _evaluate(
                 z,
                 incl,
                 n_sub,
-                base,
                 n_angular,
-                p2,
             )
         if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
             moves += _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us)
@@ -1020,8 +1025,8 @@ def _walk_start(
         pos,
         cell_r,
         bins,
-        tree,
-        ta,
+        _tree,
+        _ta,
         _stack,
         in_s,
         out_s,
@@ -1048,8 +1053,6 @@ def _walk_start(
                 pos,
                 cell_r,
                 bins,
-                tree,
-                ta,
                 in_s,
                 out_s,
                 tdirty,
@@ -1058,9 +1061,7 @@ def _walk_start(
                 z,
                 True,
                 n_sub,
-                base,
                 n_angular,
-                p2,
             )
         if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
             _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us)
@@ -1122,8 +1123,8 @@ def _walk(
         pos,
         cell_r,
         bins,
-        tree,
-        ta,
+        _tree,
+        _ta,
         _stack,
         in_s,
         out_s,
@@ -1230,8 +1231,6 @@ def _walk(
                 pos,
                 cell_r,
                 bins,
-                tree,
-                ta,
                 in_s,
                 out_s,
                 tdirty,
@@ -1240,9 +1239,7 @@ def _walk(
                 zc,
                 True,
                 n_sub,
-                base,
                 n_angular,
-                p2,
             )
         if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], zc, uc, uf, us):
             _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, zc, uc, uf, us)
@@ -1609,7 +1606,7 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
             _seg_add(seg, j, _seg_of(rows, j, q), r, 1.0)
             _bin_add(bins, cell_bin[idx], status[idx], r, 1.0)
             if status[idx] == SECONDARY:
-                leaf = off + p2 + idx - row0
+                leaf = _tree_leaf(p2, j, idx - row0)
                 tree[leaf, TR_W] = idx - row0
                 tree[leaf, TR_R] = r
                 tree[leaf, TR_B] = base[idx]
@@ -2117,14 +2114,11 @@ def run_stop_lazy(
             acc[ACC_HELD] += (z - height[idx]) * area
             acc[ACC_SECONDARY_AREA] += area
             j = idx // n_angular
-            if tree[j * 2 * p2 + p2 + idx - j * n_angular, TR_W] >= 0.0:
+            if tree[_tree_leaf(p2, j, idx - j * n_angular), TR_W] >= 0.0:
                 # the stale leaf of a plateau destroyed here before: its line changes now, and
                 # the next flush updates its path once (removed, or the new line if the new
                 # plateau is in contact by then); nothing reads the tree until that flush
-                if tmark[idx] == 0:
-                    tdirty[0] += 1
-                    tdirty[tdirty[0]] = idx
-                tmark[idx] = 2
+                _tree_dirty(tdirty, tmark, idx, 2)
             base[idx] = height[idx]
             height[idx] = z
             status[idx] = SECONDARY
