@@ -344,6 +344,17 @@ def _execute_points(
     )
 
     max_retries = how.max_retries
+    on_this_machine = how.executor == "local" or (
+        how.executor == "dask" and how.scheduler is None and how.scheduler_file is None
+    )
+    if on_this_machine and how.simulate_fn is None:
+        # compile the kernels once, in a child process, before the workers start: they load
+        # them from the cache instead of each compiling them (time, and ~180 MB per worker)
+        from brakeca._warmup import warm_up
+
+        warmed = warm_up(p.config for p in todo)
+        if warmed is not None and how.progress:
+            console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
     backend = _backend(
         how.executor,
         how.workers,

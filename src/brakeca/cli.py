@@ -141,6 +141,11 @@ def simulate(
         TextColumn("ETA"),
         TimeRemainingColumn(),
     )
+    from brakeca._warmup import warm_up
+
+    warmed = warm_up([config])
+    if warmed is not None:
+        console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
     with Progress(*columns, console=console, transient=False) as bar:
         task = bar.add_task("simulate", total=n_stops)
         try:

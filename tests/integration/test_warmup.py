@@ -1,0 +1,62 @@
+"""Compiling the kernels ahead in a child process (brakeca._warmup)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from brakeca._warmup import tiny_config, warm_up
+from brakeca.presets import load_preset
+from brakeca.simulation import kernel_for, simulate
+
+
+def test_tiny_config_keeps_the_kernel_and_the_cell_size_on_two_rows():
+    config = load_preset()
+    tiny = tiny_config(config)
+    assert tiny.mesh.n_radial == 2 and tiny.cycle.max_stops == 1
+    assert tiny.mesh.n_angular == config.mesh.n_angular
+    assert tiny.numerics.kernel == kernel_for(config) == "lazy"
+    rule6 = config.with_updates({"automaton.rule6_max_gap": 1e-5})
+    assert tiny_config(rule6).numerics.kernel == "exact"
+
+
+def test_warm_up_is_skipped_for_kernels_this_process_holds():
+    config = load_preset().with_updates({"mesh.n_radial": 3, "cycle.max_stops": 1})
+    simulate(tiny_config(config), seed=0)  # compiled or loaded here
+    assert warm_up([config, load_preset()]) is None
+
+
+_PROBE = """
+import json, sys
+from brakeca import _lazy
+from brakeca._warmup import tiny_config
+from brakeca.presets import load_preset
+from brakeca.simulation import simulate
+simulate(tiny_config(load_preset()), seed=0)
+hits = _lazy.run_stop_lazy.stats.cache_hits
+misses = _lazy.run_stop_lazy.stats.cache_misses
+print(json.dumps({"hits": sum(hits.values()), "misses": sum(misses.values())}))
+"""
+
+
+@pytest.mark.slow
+def test_warm_up_fills_an_empty_cache_for_the_next_process(tmp_path):
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    warm = (
+        "from brakeca._warmup import warm_up; from brakeca.presets import load_preset; "
+        "print(warm_up([load_preset()]))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", warm], env=env, capture_output=True, text=True, check=True
+    )
+    assert float(out.stdout.strip().splitlines()[-1]) > 0.0
+    assert list((tmp_path / "cache").rglob("*.nbi"))
+    probe = subprocess.run(
+        [sys.executable, "-c", _PROBE], env=env, capture_output=True, text=True, check=True
+    )
+    stats = json.loads(probe.stdout.strip().splitlines()[-1])
+    assert stats == {"hits": 1, "misses": 0}
