@@ -125,14 +125,16 @@ MAX_EXPANSION = 1e-3
 ROOT_CHECK = 1e-8
 
 
-def supports(config) -> bool:
+def supports(config, grid=None) -> bool:
     """Whether the lazy kernel can run ``config``: fibres as columns (no rule 7), rule 6 off,
-    and Archard wear of less than the interference in one step (``WP K s < 1/2``)."""
+    and Archard wear of less than the interference in one step (``WP K s < 1/2``). ``grid``:
+    the config's grid, if at hand (else it is built)."""
     if config.pad.fibre_model != "columns" or config.automaton.rule6_max_gap is not None:
         return False
-    from brakeca.geometry import make_grid
+    if grid is None:
+        from brakeca.geometry import make_grid
 
-    grid = make_grid(config)
+        grid = make_grid(config)
     slide = float(np.max(grid.step_sliding_distance))
     return config.wear.specific_wear_rate * config.contact.stiffness * slide < 0.5
 
@@ -1644,27 +1646,7 @@ def _current_height(where, pos, amap, in_r, out_h, idx, n_angular):
 
 
 @njit(cache=True)
-def _remove(
-    rows,
-    seg,
-    in_r,
-    in_idx,
-    amap,
-    out_h,
-    out_idx,
-    where,
-    pos,
-    cell_r,
-    bins,
-    tree,
-    ta,
-    idx,
-    status,
-    cell_bin,
-    base,
-    n_angular,
-    p2,
-):
+def _remove(rows, seg, in_r, in_idx, out_idx, where, pos, bins, idx, status, cell_bin, n_angular):
     """Take plateau cell idx out of the row structures (a tombstone stays in its array)."""
     j = idx // n_angular
     row0 = j * n_angular
@@ -2002,21 +1984,14 @@ def run_stop_lazy(
                     seg,
                     in_r,
                     in_idx,
-                    amap,
-                    out_h,
                     out_idx,
                     where,
                     pos,
-                    cell_r,
                     bins,
-                    tree,
-                    ta,
                     idx,
                     status,
                     cell_bin,
-                    base,
                     n_angular,
-                    p2,
                 )
                 _tree_set(tree, p2, j, col, False, a, 0.0, 0.0)
                 if mark[idx] == 4:
@@ -2033,25 +2008,7 @@ def run_stop_lazy(
                 continue
             dheight[n_dest] = _current_height(where, pos, amap, in_r, out_h, idx, n_angular)
             _remove(
-                rows,
-                seg,
-                in_r,
-                in_idx,
-                amap,
-                out_h,
-                out_idx,
-                where,
-                pos,
-                cell_r,
-                bins,
-                tree,
-                ta,
-                idx,
-                status,
-                cell_bin,
-                base,
-                n_angular,
-                p2,
+                rows, seg, in_r, in_idx, out_idx, where, pos, bins, idx, status, cell_bin, n_angular
             )
             destroyed[n_dest] = idx
             n_dest += 1

@@ -530,7 +530,7 @@ def advance_stop(
     counts = np.zeros(8, dtype=np.int64)
     rule6 = config.automaton.rule6_max_gap
     fr = config.friction
-    if kernel_for(config) == "lazy":
+    if kernel_for(config, grid) == "lazy":
         code, done = _run_lazy(
             state, grid, config, targets, fraction, rec, counts, scratch=(created, destroyed)
         )
@@ -592,10 +592,11 @@ def advance_stop(
     return dt, rec, counts
 
 
-def kernel_for(config: SimulationConfig) -> str:
+def kernel_for(config: SimulationConfig, grid: Grid | None = None) -> str:
     """The step kernel that runs ``config``: ``"exact"`` or ``"lazy"``. ``numerics.kernel =
     "auto"`` (the default) resolves to the lazy kernel where it supports the configuration
-    and to the exact kernel where it does not (docs/model.md section 13).
+    and to the exact kernel where it does not (docs/model.md section 13). ``grid``: the
+    config's grid, if at hand (else it is built).
 
     Raises
     ------
@@ -605,7 +606,7 @@ def kernel_for(config: SimulationConfig) -> str:
     choice = config.numerics.kernel
     if choice == "exact":
         return "exact"
-    if _lazy.supports(config):
+    if _lazy.supports(config, grid):
         return "lazy"
     if choice == "auto":
         return "exact"
