@@ -148,9 +148,9 @@ class Lazy:
         while p2 < n_angular:
             p2 *= 2
         self.in_r = np.zeros(n)
-        self.in_idx = np.zeros(n, dtype=np.int64)
+        self.in_idx = np.zeros(n, dtype=np.int32)
         self.out_h = np.zeros(n)
-        self.out_idx = np.zeros(n, dtype=np.int64)
+        self.out_idx = np.zeros(n, dtype=np.int32)
         self.in_s = np.zeros(n, dtype=np.int8)  # status of the entries (read in order)
         self.out_s = np.zeros(n, dtype=np.int8)
         # secondary plateaus that crossed the contact edge since the rule-5 trees were last
@@ -158,7 +158,7 @@ class Lazy:
         self.tdirty = np.zeros(n + 1, dtype=np.int64)
         self.tmark = np.zeros(n, dtype=np.int8)
         self.where = np.zeros(n, dtype=np.int8)
-        self.pos = np.zeros(n, dtype=np.int64)
+        self.pos = np.zeros(n, dtype=np.int32)
         self.cell_r = np.zeros(n)
         self.rows = np.zeros((n_radial, 8), dtype=np.int64)  # nin, nout, kc, kf, ks, ke
         self.amap = np.ones((n_radial, 4))  # a, c, a before this step's wear, c before
