@@ -344,12 +344,13 @@ def _execute_points(
     )
 
     max_retries = how.max_retries
-    on_this_machine = how.executor == "local" or (
+    on_this_machine = how.executor in ("local", "serial") or (
         how.executor == "dask" and how.scheduler is None and how.scheduler_file is None
     )
     if on_this_machine and how.simulate_fn is None:
-        # compile the kernels once, in a child process, before the workers start: they load
-        # them from the cache instead of each compiling them (time, and ~180 MB per worker)
+        # compile the kernels once, in a child process, before the runs start: the workers
+        # (or this process) load them from the cache instead of each compiling them (time,
+        # and the compiler's ~180 MB per process)
         from brakeca._warmup import warm_up
 
         warmed = warm_up(p.config for p in todo)

@@ -60,3 +60,32 @@ def test_warm_up_fills_an_empty_cache_for_the_next_process(tmp_path):
     )
     stats = json.loads(probe.stdout.strip().splitlines()[-1])
     assert stats == {"hits": 1, "misses": 0}
+
+
+def test_a_campaign_on_this_machine_warms_up_with_the_configs_it_runs(tmp_path, monkeypatch):
+    from campaign_helpers import DESIGN_TEMPLATE, quiet, tiny, write_design
+
+    from brakeca import _warmup
+    from brakeca.campaign import run_campaign
+
+    seen: list[list] = []
+    monkeypatch.setattr(_warmup, "warm_up", lambda configs: seen.append(list(configs)))
+    design = write_design(tmp_path, tiny(1), DESIGN_TEMPLATE.format(root_seed=5))
+    run_campaign(design, tmp_path / "a", executor="serial", progress=False, console=quiet())
+    assert len(seen) == 1 and len(seen[0]) == 4
+    assert {c.pad.fibre_area_fraction for c in seen[0]} == {0.1, 0.2}
+    # a campaign with its own simulate function (nothing of ours to compile) does not
+    seen.clear()
+
+    def fake(config, *, seed, progress=None):
+        return simulate(config, seed=seed, progress=progress)
+
+    run_campaign(
+        design,
+        tmp_path / "b",
+        executor="serial",
+        simulate_fn=fake,
+        progress=False,
+        console=quiet(),
+    )
+    assert seen == []
