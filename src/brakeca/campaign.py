@@ -375,6 +375,11 @@ def _execute_points(
         disable=not how.progress,
         transient=False,
     )
+    if how.progress and not console.is_terminal:
+        console.print(
+            f"{len(todo)} of {n_total} run(s) to compute ({n_total - len(todo)} already done)",
+            highlight=False,
+        )
     queue = collections.deque(todo)
     pending: dict[cf.Future, RunPoint] = {}
     deaths: dict[str, int] = {}
@@ -421,6 +426,16 @@ def _execute_points(
                         console.print(
                             f"[red]run failed:[/] test {point.test}, replicate {point.replicate} "
                             f"({rid}): {escape(record.error)}"
+                        )
+                    elif how.progress and not console.is_terminal:
+                        # no live bar in a log file: one line per run instead
+                        sc = record.scalars
+                        console.print(
+                            f"run {n_total - len(todo) + len(computed) + len(failed)}/{n_total} "
+                            f"done: test {point.test}, replicate "
+                            f"{point.replicate} ({rid}) in {sc['wall_time']:.0f} s: "
+                            f"MU {sc['MU']:.4f}, V {sc['V_mm3']:.4g} mm^3/stop",
+                            highlight=False,
                         )
                     bar.advance(task)
         finished = True

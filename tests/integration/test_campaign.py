@@ -155,6 +155,21 @@ def test_local_executor_gives_identical_values(serial, design_file, tmp_path):
     )
 
 
+def test_progress_in_a_log_file_is_one_line_per_run(serial, design_file, tmp_path):
+    """Without a terminal (a log file) there is no live bar: a line when the campaign starts
+    and one per finished run, with its time and responses."""
+    console = quiet()  # not a terminal
+    out = tmp_path / "logged"
+    shutil.copytree(serial.out_dir, out)
+    (out / "runs" / f"{serial.summary.run_id[0]}.nc").unlink()  # one run left to do
+    run_campaign(design_file, out, executor="serial", progress=True, console=console)
+    lines = console_text(console).splitlines()
+    assert "1 of 4 run(s) to compute (3 already done)" in lines
+    mu = serial.summary.MU[0]
+    done = [line for line in lines if line.startswith("run 4/4 done: test 1, replicate 0")]
+    assert len(done) == 1 and f"MU {mu:.4f}" in done[0]
+
+
 def test_rerun_skips_every_run(serial, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(serial.out_dir, out)
