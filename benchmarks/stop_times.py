@@ -2,6 +2,7 @@
 
 Usage:
     python benchmarks/stop_times.py run -o stops.jsonl [--kernel auto] [--rows 201] [--wp 1e-13]
+        [--set A=10 ...] [--save-at 80 --save-dir states/]
     python benchmarks/stop_times.py table stops.jsonl [other.jsonl ...]
 
 ``run`` drives the paper cycle stop by stop (``advance_stop`` and ``end_of_stop``, as
@@ -11,12 +12,18 @@ envelope iterations, jumps), the share of each kernel phase (the kernel's cycle 
 mean contact area fraction and the rule firings per step. The first stop includes compiling
 or loading the kernels (the line says ``compile_s``, timed separately). ``table`` sums the
 stops of each block of the cycle, for one file or several side by side.
+
+``--set KEY=VALUE`` sets any other configuration field, as ``brakeca simulate --set`` does
+(the study's most expensive run, test 5, is ``--wp 1e-13 --set A=10``). ``--save-at N``
+pickles ``(state, rng)`` after stop N into ``--save-dir``, as ``state_<rows>_<N>.pkl``, to time
+late stops again without running the cycle up to them.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import pickle
 import sys
 import time
 
@@ -31,9 +38,18 @@ def run(args: argparse.Namespace) -> None:
     from brakeca.simulation import SimulationState, advance_stop, end_of_stop, kernel_for
     from brakeca.surface import generate_surface
 
-    config = load_preset().with_updates(
-        {"mesh.n_radial": args.rows, "WP": args.wp, "numerics.kernel": args.kernel}
-    )
+    updates: dict[str, object] = {
+        "mesh.n_radial": args.rows,
+        "WP": args.wp,
+        "numerics.kernel": args.kernel,
+    }
+    for item in args.set:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise SystemExit(f"--set {item!r}: expected KEY=VALUE")
+        updates[key.strip()] = float(value)
+    config = load_preset().with_updates(updates)
+    save_at = set(args.save_at)
     grid = make_grid(config)
     stops = expand_stops(config)
     # compile (or load from the cache) on a throwaway state first
@@ -54,6 +70,7 @@ def run(args: argparse.Namespace) -> None:
                     "grid": f"{grid.shape[0]}x{grid.shape[1]}",
                     "wp": args.wp,
                     "seed": args.seed,
+                    "set": args.set,
                     "compile_and_first_stop_s": round(compile_s, 3),
                 }
             )
@@ -80,6 +97,10 @@ def run(args: argparse.Namespace) -> None:
             }
             out.write(json.dumps(line) + "\n")
             out.flush()
+            if stop.index in save_at:
+                path = f"{args.save_dir}/state_{args.rows}_{stop.index}.pkl"
+                with open(path, "wb") as fh:
+                    pickle.dump((state, rng), fh)
 
 
 def table(paths: list[str]) -> None:
@@ -120,6 +141,9 @@ def main() -> None:
     r.add_argument("--rows", type=int, default=201)
     r.add_argument("--wp", type=float, default=1e-13)
     r.add_argument("--seed", type=int, default=2016)
+    r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    r.add_argument("--save-at", type=int, action="append", default=[], metavar="STOP")
+    r.add_argument("--save-dir", default=".")
     t = sub.add_parser("table")
     t.add_argument("paths", nargs="+")
     args = ap.parse_args()

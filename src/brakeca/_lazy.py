@@ -48,7 +48,9 @@ hundred entries, so a cut touches a few cache lines instead of climbing a heap o
 grid). Cells leave a heap highest first, and every cell of a row has the same area, so cells
 of a row at one height cut the same volume and each stream bin's sum is bit-identical to what
 one heap of the whole grid gives; only the step's total generated volume is summed in another
-order (it enters the ledger and the per-step record, not the state).
+order (it enters the ledger and the per-step record, not the state). A row where most resin
+cells are cut every step scans an unordered list instead, cutting in the same order of
+heights (:func:`_resin_cut`).
 
 State between stops is the grid alone (heights, bases, statuses, streams, and the candidate
 flags and rule-4 list the kernels share); the row structures and resin heaps are rebuilt from
@@ -1442,6 +1444,10 @@ def solve_contact(
 
 
 # --- the resin cut, row by row ----------------------------------------------------------------
+SCAN_FROM = 8  # a heap row that pops more than 1/8 of its entries in a step scans from then on
+SCAN_UNTIL = 16  # a scanning row that cuts or drops under 1/16 of them is a heap again
+
+
 # Each row keeps its resin (status none) cells in a max-heap by height. The cut of a step pops
 # the cells above the disc row by row; each drops to z - WR and goes back in its place. Every
 # cell of a row has the same area, so two cells of a row at the same height cut the same
@@ -1464,9 +1470,10 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
 
 
 @njit(cache=True)
-def _resin_push(rk, rc, rn, j, col, status, height, n_angular):
-    """Cell ``col`` of row j has become resin at its height: it joins the row's heap (the
-    heap is rebuilt from the row when it is full of stale entries)."""
+def _resin_push(rk, rc, rn, j, col, status, height, n_angular, scan):
+    """Cell ``col`` of row j has become resin at its height: it joins the row's entries, in
+    heap order unless the row is in scan mode (``scan[j]``). A row full of stale entries is
+    rebuilt from the grid (a heap again, in either mode)."""
     n = rn[j]
     if n == rk.shape[1]:
         _resin_build_row(rk, rc, rn, j, status, height, n_angular)
@@ -1474,35 +1481,99 @@ def _resin_push(rk, rc, rn, j, col, status, height, n_angular):
     rk[j, n] = height[j * n_angular + col]
     rc[j, n] = col
     rn[j] = n + 1
-    heap_sift_up(rk[j], rc[j], n)
+    if not scan[j]:
+        heap_sift_up(rk[j], rc[j], n)
 
 
 @njit(cache=True)
 def _resin_cut(
-    rk, rc, rn, height, status, cell_area, cell_bin, outflow, n_radial, n_angular, z, wr
+    rk,
+    rc,
+    rn,
+    scan,
+    kbuf,
+    ebuf,
+    height,
+    status,
+    cell_area,
+    cell_bin,
+    outflow,
+    n_radial,
+    n_angular,
+    z,
+    wr,
 ):
     """Step phase 3b: every status-none cell above the disc drops to ``z - WR``; the removed
-    volume joins the stream of its row and subdomain. Returns the volume removed [m^3]."""
+    volume joins the stream of its row and subdomain. Returns the volume removed [m^3].
+
+    A row cuts from its heap, highest first, while few of its entries are cut in a step. Where
+    the disc sinks into the resin, most of a row's resin cells are cut every step and each
+    cut would climb down the heap: the row then switches to scan mode, in which its entries
+    are an unordered list, read in one pass each step (stale entries dropped), the cells above
+    the disc sorted by height and cut highest first: the same order of heights as from the
+    heap (ties cut equal volumes), so the same sums. It switches back, re-heaped, when its
+    cuts become few. ``kbuf``/``ebuf`` are scratch of a row's length."""
     removed = 0.0
     for j in range(n_radial):
         row0 = j * n_angular
         n = rn[j]
         keys, cols = rk[j], rc[j]
-        while n > 0 and keys[0] > z:
-            idx = row0 + cols[0]
-            if status[idx] != NONE or height[idx] != keys[0]:
-                n -= 1  # stale entry: drop it
-                keys[0] = keys[n]
-                cols[0] = cols[n]
-            else:
+        if not scan[j]:
+            pops = 0
+            while n > 0 and keys[0] > z:
+                idx = row0 + cols[0]
+                if status[idx] != NONE or height[idx] != keys[0]:
+                    n -= 1  # stale entry: drop it
+                    keys[0] = keys[n]
+                    cols[0] = cols[n]
+                else:
+                    cut = resin_cut_depth(height[idx], z, wr)
+                    vol = cut * cell_area[idx]
+                    height[idx] -= cut
+                    outflow[cell_bin[idx]] += vol
+                    removed += vol
+                    keys[0] = height[idx]
+                heap_sift_down(keys, cols, 0, n)
+                pops += 1
+            if pops * SCAN_FROM > rn[j]:
+                scan[j] = True
+            rn[j] = n
+            continue
+        # scan mode: compact the live entries, list those above the disc
+        w = 0
+        m = 0
+        for e in range(n):
+            col = cols[e]
+            k = keys[e]
+            idx = row0 + col
+            if status[idx] != NONE or height[idx] != k:
+                continue  # stale entry: dropped
+            keys[w] = k
+            cols[w] = col
+            if k > z:
+                kbuf[m] = -k
+                ebuf[m] = w
+                m += 1
+            w += 1
+        rn[j] = w
+        if m > 0:
+            order = np.argsort(kbuf[:m])
+            for b in range(m):
+                e = ebuf[order[b]]
+                idx = row0 + cols[e]
+                if height[idx] != keys[e]:
+                    keys[e] = -math.inf  # a second entry of a cell cut just now
+                    continue
                 cut = resin_cut_depth(height[idx], z, wr)
                 vol = cut * cell_area[idx]
                 height[idx] -= cut
                 outflow[cell_bin[idx]] += vol
                 removed += vol
-                keys[0] = height[idx]
-            heap_sift_down(keys, cols, 0, n)
-        rn[j] = n
+                keys[e] = height[idx]
+        if (m + n - w) * SCAN_UNTIL < n:
+            scan[j] = False
+            for i in range(w // 2 - 1, -1, -1):
+                heap_sift_down(keys, cols, i, w)
     return removed
 
 
@@ -1845,6 +1916,10 @@ def run_stop_lazy(
     for j in range(n_radial):
         _rebuild_row(L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2)
         _resin_build_row(resin_key, resin_col, resin_n, j, status, height, n_angular)
+    # every row's resin entries start as a heap (rebuilt above); scan mode is per stop
+    resin_scan = np.zeros(n_radial, dtype=np.bool_)
+    kbuf = np.empty(resin_key.shape[1])
+    ebuf = np.empty(resin_key.shape[1], dtype=np.int64)
     sums = np.zeros(N_SUMS)
     m = 1
     while m < n_radial:
@@ -2018,6 +2093,9 @@ def run_stop_lazy(
             resin_key,
             resin_col,
             resin_n,
+            resin_scan,
+            kbuf,
+            ebuf,
             height,
             status,
             cell_area,
@@ -2063,7 +2141,15 @@ def run_stop_lazy(
             status[idx] = NONE
             j = idx // n_angular
             _resin_push(
-                resin_key, resin_col, resin_n, j, idx - j * n_angular, status, height, n_angular
+                resin_key,
+                resin_col,
+                resin_n,
+                j,
+                idx - j * n_angular,
+                status,
+                height,
+                n_angular,
+                resin_scan,
             )
         for q in range(n_new):
             idx = created[q]

@@ -1,8 +1,9 @@
 """The command line: parsing and printing, nothing else.
 
 ``brakeca simulate`` runs one pad over the drive cycle; ``brakeca surface`` draws the fibre
-maps; ``brakeca run`` / ``analyze`` / ``paper`` run and read factorial campaigns; ``brakeca bench``
-measures speed.
+maps; ``brakeca run`` / ``analyze`` / ``paper`` run and read factorial campaigns. Speed is
+measured by the scripts in ``benchmarks/`` (``bench.py`` prints the JSON line of
+``docs/performance.md``), which need the NumPy reference kept with the tests.
 """
 
 from __future__ import annotations

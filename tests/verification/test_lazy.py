@@ -227,36 +227,61 @@ def test_row_resin_heaps_cut_as_one_heap():
     many cells share a height (cells cut in one step all drop to z - WR), and cells of a row
     at one height cut the same volume, so the order ties leave the heap in does not matter.
     Only the step's total is summed in another order (round-off). Cells become resin between
-    steps (destroyed plateaus), and rows fill with stale entries until they are rebuilt."""
+    steps (destroyed plateaus), and rows fill with stale entries until they are rebuilt. Rows
+    where many cells are cut switch to scan mode (an unordered list, sorted cells cut) and
+    back to a heap when few are: both modes, and the switches, give the same volumes."""
     rng = np.random.default_rng(5)
     n_r, n_t, n_sub = 6, 40, 4
     n = n_r * n_t
     cell_bin = np.array([j * n_sub + i // (n_t // n_sub) for j in range(n_r) for i in range(n_t)])
     cell_area = np.repeat(rng.uniform(1e-9, 2e-9, n_r), n_t)  # one area per row
-    height = rng.integers(0, 12, n) * 1e-6  # coarse heights: many ties
+    # coarse heights (many ties) and fine ones (the order of a bin's sum shows in its bits)
+    height = np.where(rng.random(n) < 0.5, rng.integers(0, 12, n) * 1e-6, rng.uniform(0, 12e-6, n))
     status = rng.choice(np.array([0, 1], dtype=np.int8), n, p=[0.7, 0.3])
-    wr = 2e-6
     cnt = np.zeros(K.N_CNT, dtype=np.int64)
     keys, vals = np.zeros(4 * n + 8), np.zeros(4 * n + 8, dtype=np.int64)
     K.heap_rebuild(keys, vals, cnt, status, height)
     # room for a row's cells and two stale entries (the kernel has room for n_t + 8 stale)
     rk, rc = np.zeros((n_r, n_t + 2)), np.zeros((n_r, n_t + 2), dtype=np.int32)
     rn = np.zeros(n_r, dtype=np.int64)
+    scan = np.zeros(n_r, dtype=np.bool_)
+    kbuf, ebuf = np.empty(n_t + 2), np.empty(n_t + 2, dtype=np.int64)
+    modes = set()
     h_row = height.copy()
     s_row = status.copy()
     for j in range(n_r):
         _lazy._resin_build_row(rk, rc, rn, j, s_row, h_row, n_t)
     rebuilt = 0
     z = 11.5e-6
-    for step in range(60):
+    for step in range(90):
         z -= rng.uniform(0.0, 0.4e-6) if step % 7 else -0.3e-6  # mostly down, sometimes up
+        # a deep cut (few cells cut per step: heaps, filling with stale entries), then a
+        # shallow one, below the disc's mean advance per step (the cells cut are cut again
+        # every step: rows scan), then deep again
+        wr = 0.15e-6 if 30 <= step < 60 else 2e-6
         out_one = np.zeros(n_r * n_sub)
         out_row = np.zeros(n_r * n_sub)
         sums = np.zeros(K.N_SUMS)
         K.phase_resin(height, status, cell_area, cell_bin, out_one, keys, vals, cnt, z, wr, sums)
+        before = scan.copy()
         removed = _lazy._resin_cut(
-            rk, rc, rn, h_row, s_row, cell_area, cell_bin, out_row, n_r, n_t, z, wr
+            rk,
+            rc,
+            rn,
+            scan,
+            kbuf,
+            ebuf,
+            h_row,
+            s_row,
+            cell_area,
+            cell_bin,
+            out_row,
+            n_r,
+            n_t,
+            z,
+            wr,
         )
+        modes.update(zip(before.tolist(), scan.tolist(), strict=True))
         np.testing.assert_array_equal(h_row, height)
         np.testing.assert_array_equal(out_row, out_one)
         assert removed == pytest.approx(sums[K.S_REMOVED], rel=1e-13, abs=0.0)
@@ -266,13 +291,16 @@ def test_row_resin_heaps_cut_as_one_heap():
                 status[idx] = s_row[idx] = 2  # its entry goes stale
             else:
                 status[idx] = s_row[idx] = 0
-                height[idx] = h_row[idx] = z - rng.integers(0, 6) * 0.5e-6
+                coarse = z - rng.integers(0, 6) * 0.5e-6
+                height[idx] = h_row[idx] = coarse if rng.random() < 0.5 else z + rng.normal(0, 1e-6)
                 K.heap_push(keys, vals, cnt, height[idx], idx)
                 j = idx // n_t
                 full = rn[j] == rk.shape[1]
-                _lazy._resin_push(rk, rc, rn, j, idx - j * n_t, s_row, h_row, n_t)
+                _lazy._resin_push(rk, rc, rn, j, idx - j * n_t, s_row, h_row, n_t, scan)
                 rebuilt += full
     assert rebuilt > 0  # the rebuild of a full row was exercised
+    # rows stayed heaps, went to scan mode, stayed there and came back
+    assert modes == {(False, False), (False, True), (True, True), (True, False)}
 
 
 class _Killed(Exception):
