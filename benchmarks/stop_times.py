@@ -32,6 +32,7 @@ import numpy as np
 
 def run(args: argparse.Namespace) -> None:
     from brakeca import _kernels as K
+    from brakeca.config import parse_override
     from brakeca.cycle import expand_stops
     from brakeca.geometry import make_grid
     from brakeca.presets import load_preset
@@ -43,11 +44,7 @@ def run(args: argparse.Namespace) -> None:
         "WP": args.wp,
         "numerics.kernel": args.kernel,
     }
-    for item in args.set:
-        key, sep, value = item.partition("=")
-        if not sep:
-            raise SystemExit(f"--set {item!r}: expected KEY=VALUE")
-        updates[key.strip()] = float(value)
+    updates.update(parse_override(item) for item in args.set)
     config = load_preset().with_updates(updates)
     save_at = set(args.save_at)
     grid = make_grid(config)

@@ -1464,9 +1464,25 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
             rc[j, n] = i
             n += 1
     rn[j] = n
-    keys, cols = rk[j], rc[j]
+    _resin_heapify(rk[j], rc[j], n)
+
+
+@njit(cache=True)
+def _resin_heapify(keys, cols, n):
+    """Put the first n entries of a row's resin arrays in max-heap order."""
     for i in range(n // 2 - 1, -1, -1):
         heap_sift_down(keys, cols, i, n)
+
+
+@njit(cache=True, inline="always")
+def _resin_cut_cell(idx, height, cell_area, cell_bin, outflow, z, wr):
+    """Cut resin cell idx (above the disc) to ``z - WR``: its volume joins its stream bin.
+    Returns the volume [m^3]."""
+    cut = resin_cut_depth(height[idx], z, wr)
+    vol = cut * cell_area[idx]
+    height[idx] -= cut
+    outflow[cell_bin[idx]] += vol
+    return vol
 
 
 @njit(cache=True)
@@ -1527,11 +1543,7 @@ def _resin_cut(
                     keys[0] = keys[n]
                     cols[0] = cols[n]
                 else:
-                    cut = resin_cut_depth(height[idx], z, wr)
-                    vol = cut * cell_area[idx]
-                    height[idx] -= cut
-                    outflow[cell_bin[idx]] += vol
-                    removed += vol
+                    removed += _resin_cut_cell(idx, height, cell_area, cell_bin, outflow, z, wr)
                     keys[0] = height[idx]
                 heap_sift_down(keys, cols, 0, n)
                 pops += 1
@@ -1564,16 +1576,11 @@ def _resin_cut(
                 if height[idx] != keys[e]:
                     keys[e] = -math.inf  # a second entry of a cell cut just now
                     continue
-                cut = resin_cut_depth(height[idx], z, wr)
-                vol = cut * cell_area[idx]
-                height[idx] -= cut
-                outflow[cell_bin[idx]] += vol
-                removed += vol
+                removed += _resin_cut_cell(idx, height, cell_area, cell_bin, outflow, z, wr)
                 keys[e] = height[idx]
         if (m + n - w) * SCAN_UNTIL < n:
             scan[j] = False
-            for i in range(w // 2 - 1, -1, -1):
-                heap_sift_down(keys, cols, i, w)
+            _resin_heapify(keys, cols, w)
     return removed
 
 
