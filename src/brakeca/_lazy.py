@@ -43,17 +43,16 @@ rules compare heights and volumes with thresholds, so individual cells diverge o
 the agreement is statistical (docs/model.md, "The lazy kernel"). Layer fibres (rule 7) and rule
 6 are not supported here: :func:`supports` tells, and the simulation then uses the exact kernel.
 
-The resin cut works row by row: each row keeps its resin cells in a heap of its own (a few
-hundred entries, so a cut touches a few cache lines instead of climbing a heap of the whole
-grid). Cells leave a heap highest first, and every cell of a row has the same area, so cells
-of a row at one height cut the same volume and each stream bin's sum is bit-identical to what
-one heap of the whole grid gives; only the step's total generated volume is summed in another
-order (it enters the ledger and the per-step record, not the state). A row where most resin
-cells are cut every step scans an unordered list instead, cutting in the same order of
-heights (:func:`_resin_cut`).
+The resin cut works row by row: each row keeps its resin cells as entries sorted by height (a
+few hundred entries, so a cut touches a few cache lines instead of climbing a heap of the whole
+grid). Cells are cut highest first, and every cell of a row has the same area, so cells of a
+row at one height cut the same volume and each stream bin's sum is bit-identical to what one
+heap of the whole grid gives; only the step's total generated volume is summed in another
+order (it enters the ledger and the per-step record, not the state). The cells cut in a step
+share their new height and go back as one block (:func:`_resin_cut`).
 
 State between stops is the grid alone (heights, bases, statuses, streams, and the candidate
-flags and rule-4 list the kernels share); the row structures and resin heaps are rebuilt from
+flags and rule-4 list the kernels share); the row structures and resin entries are rebuilt from
 the grid at the start of every stop, so a checkpoint taken between stops resumes
 bit-identically.
 """
@@ -90,8 +89,6 @@ from brakeca._kernels import (
     T_REST,
     T_WEAR,
     _clock,
-    heap_sift_down,
-    heap_sift_up,
     phase_advance,
     phase_creation,
     record_step,
@@ -177,7 +174,7 @@ class Lazy:
         self.marked = np.zeros(n, dtype=np.int64)
         self.walk = np.zeros(8)
         self.p2 = p2
-        # per-row max-heaps of the resin cells by height (key, column; stale entries allowed)
+        # per-row resin entries sorted by height (key, column; stale entries allowed)
         self.resin_key = np.zeros((n_radial, 2 * n_angular + 8))
         self.resin_col = np.zeros((n_radial, 2 * n_angular + 8), dtype=np.int32)
         self.resin_n = np.zeros(n_radial, dtype=np.int64)
@@ -1444,18 +1441,22 @@ def solve_contact(
 
 
 # --- the resin cut, row by row ----------------------------------------------------------------
-SCAN_FROM = 8  # a heap row that pops more than 1/8 of its entries in a step scans from then on
-SCAN_UNTIL = 16  # a scanning row that cuts or drops under 1/16 of them is a heap again
+PEND = 32  # room per row for new resin cells not yet merged into the row's sorted entries
 
 
-# Each row keeps its resin (status none) cells in a max-heap by height. The cut of a step pops
-# the cells above the disc row by row; each drops to z - WR and goes back in its place. Every
-# cell of a row has the same area, so two cells of a row at the same height cut the same
-# volume: each stream bin's sum is the same in whatever order equal heights come off the heap,
-# and only the step's total (summed row by row) depends on the heap's layout.
+# Each row keeps its resin (status none) cells as entries (height, column) sorted by height,
+# lowest first, so the cells above the disc are the end of the array. The cut of a step takes
+# them highest first; each drops to z - WR. Every cell of a row has the same area, so two cells
+# of a row at the same height cut the same volume: each stream bin's sum is the same in
+# whatever order equal heights are cut, and only the step's total (summed row by row) depends
+# on the layout. The cells cut in one step all land on one height (z - WR, exactly where
+# z - WR and the heights are within a factor two of each other, as a pad's are), so they go
+# back in as one block, merged from the top: a cut costs the cells it cuts, with no sift.
+# Cells that become resin between cuts wait in a short per-row list (PEND entries) and join
+# the cut from there, or the sorted entries when the list is full.
 @njit(cache=True)
 def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
-    """Row j's resin heap from the grid (its status-none cells)."""
+    """Row j's resin entries from the grid (its status-none cells), sorted lowest first."""
     row0 = j * n_angular
     n = 0
     for i in range(n_angular):
@@ -1464,41 +1465,95 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
             rc[j, n] = i
             n += 1
     rn[j] = n
-    _resin_heapify(rk[j], rc[j], n)
-
-
-@njit(cache=True)
-def _resin_heapify(keys, cols, n):
-    """Put the first n entries of a row's resin arrays in max-heap order."""
-    for i in range(n // 2 - 1, -1, -1):
-        heap_sift_down(keys, cols, i, n)
+    if n > 1:
+        order = np.argsort(rk[j, :n], kind="mergesort")
+        keys = rk[j, :n][order]
+        cols = rc[j, :n][order]
+        rk[j, :n] = keys
+        rc[j, :n] = cols
 
 
 @njit(cache=True, inline="always")
-def _resin_cut_cell(idx, height, cell_area, cell_bin, outflow, z, wr):
-    """Cut resin cell idx (above the disc) to ``z - WR``: its volume joins its stream bin.
-    Returns the volume [m^3]."""
+def _resin_live(status, height, idx, key):
+    """Whether an entry (cell idx at height ``key``) is still a resin cell at that height."""
+    return status[idx] == NONE and height[idx] == key
+
+
+@njit(cache=True)
+def _sort_entries(keys, cols, n):
+    """Sort the first n entries by key, lowest first (insertion sort: n is small)."""
+    for i in range(1, n):
+        k = keys[i]
+        c = cols[i]
+        m = i - 1
+        while m >= 0 and keys[m] > k:
+            keys[m + 1] = keys[m]
+            cols[m + 1] = cols[m]
+            m -= 1
+        keys[m + 1] = k
+        cols[m + 1] = c
+
+
+@njit(cache=True)
+def _merge_entries(keys, cols, n, bk, bc, b):
+    """Merge b sorted entries ``bk``/``bc`` into the sorted first n of ``keys``/``cols`` (room
+    for n + b), from the top down: entries below the block's lowest key do not move."""
+    i = n - 1
+    k = b - 1
+    w = n + b - 1
+    while k >= 0:
+        if i >= 0 and keys[i] > bk[k]:
+            keys[w] = keys[i]
+            cols[w] = cols[i]
+            i -= 1
+        else:
+            keys[w] = bk[k]
+            cols[w] = bc[k]
+            k -= 1
+        w -= 1
+
+
+@njit(cache=True)
+def _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular):
+    """Row j's waiting entries (the live ones) into its sorted entries; a row without room is
+    rebuilt from the grid instead."""
+    row0 = j * n_angular
+    p = 0
+    for e in range(pn[j]):
+        if _resin_live(status, height, row0 + pc[j, e], pk[j, e]):
+            pk[j, p] = pk[j, e]
+            pc[j, p] = pc[j, e]
+            p += 1
+    pn[j] = 0
+    if rn[j] + p > rk.shape[1]:
+        _resin_build_row(rk, rc, rn, j, status, height, n_angular)
+        return
+    _sort_entries(pk[j], pc[j], p)
+    _merge_entries(rk[j], rc[j], rn[j], pk[j], pc[j], p)
+    rn[j] += p
+
+
+@njit(cache=True, inline="always")
+def _resin_cut_cell(idx, height, area, b, outflow, z, wr):
+    """Cut resin cell idx (above the disc, area ``area`` [m^2]) to ``z - WR``: its volume
+    joins stream bin ``b``. Returns the volume [m^3]."""
     cut = resin_cut_depth(height[idx], z, wr)
-    vol = cut * cell_area[idx]
+    vol = cut * area
     height[idx] -= cut
-    outflow[cell_bin[idx]] += vol
+    outflow[b] += vol
     return vol
 
 
 @njit(cache=True)
-def _resin_push(rk, rc, rn, j, col, status, height, n_angular, scan):
-    """Cell ``col`` of row j has become resin at its height: it joins the row's entries, in
-    heap order unless the row is in scan mode (``scan[j]``). A row full of stale entries is
-    rebuilt from the grid (a heap again, in either mode)."""
-    n = rn[j]
-    if n == rk.shape[1]:
-        _resin_build_row(rk, rc, rn, j, status, height, n_angular)
-        return
-    rk[j, n] = height[j * n_angular + col]
-    rc[j, n] = col
-    rn[j] = n + 1
-    if not scan[j]:
-        heap_sift_up(rk[j], rc[j], n)
+def _resin_push(rk, rc, rn, pk, pc, pn, j, col, status, height, n_angular):
+    """Cell ``col`` of row j has become resin at its height: it waits in the row's short list
+    (merged into the sorted entries first if the list is full)."""
+    if pn[j] == pk.shape[1]:
+        _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular)
+    p = pn[j]
+    pk[j, p] = height[j * n_angular + col]
+    pc[j, p] = col
+    pn[j] = p + 1
 
 
 @njit(cache=True)
@@ -1506,9 +1561,11 @@ def _resin_cut(
     rk,
     rc,
     rn,
-    scan,
-    kbuf,
-    ebuf,
+    pk,
+    pc,
+    pn,
+    bk,
+    bc,
     height,
     status,
     cell_area,
@@ -1516,71 +1573,89 @@ def _resin_cut(
     outflow,
     n_radial,
     n_angular,
+    n_sub,
     z,
     wr,
 ):
     """Step phase 3b: every status-none cell above the disc drops to ``z - WR``; the removed
     volume joins the stream of its row and subdomain. Returns the volume removed [m^3].
 
-    A row cuts from its heap, highest first, while few of its entries are cut in a step. Where
-    the disc sinks into the resin, most of a row's resin cells are cut every step and each
-    cut would climb down the heap: the row then switches to scan mode, in which its entries
-    are an unordered list, read in one pass each step (stale entries dropped), the cells above
-    the disc sorted by height and cut highest first: the same order of heights as from the
-    heap (ties cut equal volumes), so the same sums. It switches back, re-heaped, when its
-    cuts become few. ``kbuf``/``ebuf`` are scratch of a row's length."""
+    Per row, the entries above the disc (the end of the sorted entries, and the waiting ones
+    above it, sorted) are cut highest first, stale ones dropped: the order of heights of one
+    heap of the grid, so the same sums. The cut cells go back in as one block at their new
+    height, merged from the top. ``bk``/``bc`` are scratch for ``n_angular + PEND`` entries
+    (the block from the start, a row's waiting entries from the end: a cell is cut once)."""
     removed = 0.0
+    cap = rk.shape[1]
+    top = bk.shape[0]
+    width = n_angular // n_sub  # columns per subdomain
     for j in range(n_radial):
         row0 = j * n_angular
+        area = cell_area[row0]  # one area per row, one bin per row and subdomain
+        b0 = cell_bin[row0]
         n = rn[j]
         keys, cols = rk[j], rc[j]
-        if not scan[j]:
-            pops = 0
-            while n > 0 and keys[0] > z:
-                idx = row0 + cols[0]
-                if status[idx] != NONE or height[idx] != keys[0]:
-                    n -= 1  # stale entry: drop it
-                    keys[0] = keys[n]
-                    cols[0] = cols[n]
-                else:
-                    removed += _resin_cut_cell(idx, height, cell_area, cell_bin, outflow, z, wr)
-                    keys[0] = height[idx]
-                heap_sift_down(keys, cols, 0, n)
-                pops += 1
-            if pops * SCAN_FROM > rn[j]:
-                scan[j] = True
-            rn[j] = n
-            continue
-        # scan mode: compact the live entries, list those above the disc
-        w = 0
-        m = 0
-        for e in range(n):
-            col = cols[e]
-            k = keys[e]
-            idx = row0 + col
-            if status[idx] != NONE or height[idx] != k:
-                continue  # stale entry: dropped
-            keys[w] = k
-            cols[w] = col
+        # the waiting entries: those above the disc are cut now, the others wait on
+        a = 0
+        kept = 0
+        for e in range(pn[j]):
+            k = pk[j, e]
+            col = pc[j, e]
+            if not _resin_live(status, height, row0 + col, k):
+                continue
             if k > z:
-                kbuf[m] = -k
-                ebuf[m] = w
-                m += 1
-            w += 1
-        rn[j] = w
-        if m > 0:
-            order = np.argsort(kbuf[:m])
-            for b in range(m):
-                e = ebuf[order[b]]
-                idx = row0 + cols[e]
-                if height[idx] != keys[e]:
-                    keys[e] = -math.inf  # a second entry of a cell cut just now
-                    continue
-                removed += _resin_cut_cell(idx, height, cell_area, cell_bin, outflow, z, wr)
-                keys[e] = height[idx]
-        if (m + n - w) * SCAN_UNTIL < n:
-            scan[j] = False
-            _resin_heapify(keys, cols, w)
+                bk[top - 1 - a] = k  # from the end of the scratch, clear of the block
+                bc[top - 1 - a] = col
+                a += 1
+            else:
+                pk[j, kept] = k
+                pc[j, kept] = col
+                kept += 1
+        pn[j] = kept
+        lo = n
+        while lo > 0 and keys[lo - 1] > z:
+            lo -= 1
+        if lo == n and a == 0:
+            continue
+        if a > 1:
+            _sort_entries(bk[top - a :], bc[top - a :], a)
+        # cut both runs highest first; the cut cells make the block bk[:b] (cut order)
+        i = n - 1
+        e = top - 1
+        b = 0
+        while i >= lo or e >= top - a:
+            if e < top - a or (i >= lo and keys[i] >= bk[e]):
+                k = keys[i]
+                col = cols[i]
+                i -= 1
+            else:
+                k = bk[e]
+                col = bc[e]
+                e -= 1
+            idx = row0 + col
+            if not _resin_live(status, height, idx, k):
+                continue  # stale, or a second entry of a cell cut just now
+            removed += _resin_cut_cell(idx, height, area, b0 + col // width, outflow, z, wr)
+            bk[b] = height[idx]
+            bc[b] = col
+            b += 1
+        if lo + b > cap:
+            _resin_build_row(rk, rc, rn, j, status, height, n_angular)
+            continue
+        # lowest first: the reverse of the cut order, sorted again if round-off broke a tie
+        for q in range(b // 2):
+            k = bk[q]
+            bk[q] = bk[b - 1 - q]
+            bk[b - 1 - q] = k
+            col = bc[q]
+            bc[q] = bc[b - 1 - q]
+            bc[b - 1 - q] = col
+        for q in range(1, b):
+            if bk[q] < bk[q - 1]:
+                _sort_entries(bk, bc, b)
+                break
+        _merge_entries(keys, cols, lo, bk, bc, b)
+        rn[j] = lo + b
     return removed
 
 
@@ -1887,8 +1962,8 @@ def run_stop_lazy(
 ):
     """Run every step of one stop in place (the lazy kernel; arguments as
     :func:`brakeca._kernels.run_stop`, plus the lazy structures ``L`` and scratch; the resin
-    cells are in per-row heaps ``resin_key``, ``resin_col``, ``resin_n``, built from the grid
-    here). Returns (code, steps done)."""
+    cells are in per-row sorted entries ``resin_key``, ``resin_col``, ``resin_n``, built from
+    the grid here). Returns (code, steps done)."""
     (
         rows,
         seg,
@@ -1923,10 +1998,13 @@ def run_stop_lazy(
     for j in range(n_radial):
         _rebuild_row(L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2)
         _resin_build_row(resin_key, resin_col, resin_n, j, status, height, n_angular)
-    # every row's resin entries start as a heap (rebuilt above); scan mode is per stop
-    resin_scan = np.zeros(n_radial, dtype=np.bool_)
-    kbuf = np.empty(resin_key.shape[1])
-    ebuf = np.empty(resin_key.shape[1], dtype=np.int64)
+    # the rows' waiting resin entries (none at the start: the rows were built above) and the
+    # resin cut's scratch
+    pend_key = np.empty((n_radial, PEND))
+    pend_col = np.empty((n_radial, PEND), dtype=np.int32)
+    pend_n = np.zeros(n_radial, dtype=np.int64)
+    blk_key = np.empty(n_angular + PEND)
+    blk_col = np.empty(n_angular + PEND, dtype=np.int32)
     sums = np.zeros(N_SUMS)
     m = 1
     while m < n_radial:
@@ -2100,9 +2178,11 @@ def run_stop_lazy(
             resin_key,
             resin_col,
             resin_n,
-            resin_scan,
-            kbuf,
-            ebuf,
+            pend_key,
+            pend_col,
+            pend_n,
+            blk_key,
+            blk_col,
             height,
             status,
             cell_area,
@@ -2110,6 +2190,7 @@ def run_stop_lazy(
             outflow,
             n_radial,
             n_angular,
+            n_sub,
             z,
             resin_depth,
         )
@@ -2151,12 +2232,14 @@ def run_stop_lazy(
                 resin_key,
                 resin_col,
                 resin_n,
+                pend_key,
+                pend_col,
+                pend_n,
                 j,
                 idx - j * n_angular,
                 status,
                 height,
                 n_angular,
-                resin_scan,
             )
         for q in range(n_new):
             idx = created[q]

@@ -221,15 +221,16 @@ def test_lazy_tracks_exact_where_a_search_once_ran_away():
     assert lazy.MU == pytest.approx(exact.MU, rel=1e-9)
 
 
-def test_row_resin_heaps_cut_as_one_heap():
-    """The lazy kernel's per-row resin heaps cut the same cells by the same depths as the exact
-    kernel's one heap of the whole grid, and each stream bin gets a bit-identical volume:
-    many cells share a height (cells cut in one step all drop to z - WR), and cells of a row
-    at one height cut the same volume, so the order ties leave the heap in does not matter.
-    Only the step's total is summed in another order (round-off). Cells become resin between
-    steps (destroyed plateaus), and rows fill with stale entries until they are rebuilt. Rows
-    where many cells are cut switch to scan mode (an unordered list, sorted cells cut) and
-    back to a heap when few are: both modes, and the switches, give the same volumes."""
+def test_row_resin_entries_cut_as_one_heap():
+    """The lazy kernel's per-row sorted resin entries cut the same cells by the same depths as
+    the exact kernel's one heap of the whole grid, and each stream bin gets a bit-identical
+    volume: many cells share a height (cells cut in one step all drop to z - WR), and cells of
+    a row at one height cut the same volume, so the order of ties does not matter. Only the
+    step's total is summed in another order (round-off). Cells become resin between steps
+    (destroyed plateaus) and wait in a short list, cut from there or merged into the sorted
+    entries when it fills; rows fill with stale entries until they are rebuilt. Heights near
+    zero make ``h - (h - t)`` differ from ``t`` by round-off, so blocks of cut cells are not
+    always one height."""
     rng = np.random.default_rng(5)
     n_r, n_t, n_sub = 6, 40, 4
     n = n_r * n_t
@@ -244,33 +245,40 @@ def test_row_resin_heaps_cut_as_one_heap():
     # room for a row's cells and two stale entries (the kernel has room for n_t + 8 stale)
     rk, rc = np.zeros((n_r, n_t + 2)), np.zeros((n_r, n_t + 2), dtype=np.int32)
     rn = np.zeros(n_r, dtype=np.int64)
-    scan = np.zeros(n_r, dtype=np.bool_)
-    kbuf, ebuf = np.empty(n_t + 2), np.empty(n_t + 2, dtype=np.int64)
-    modes = set()
+    pend = 3  # a short waiting list, so that it fills
+    pk, pc = np.zeros((n_r, pend)), np.zeros((n_r, pend), dtype=np.int32)
+    pn = np.zeros(n_r, dtype=np.int64)
+    bk, bc = np.empty(n_t + pend), np.empty(n_t + pend, dtype=np.int32)
     h_row = height.copy()
     s_row = status.copy()
+
+    def live(j, e):  # waiting entry e of row j is still its cell's
+        idx = j * n_t + pc[j, e]
+        return s_row[idx] == 0 and h_row[idx] == pk[j, e]
+
     for j in range(n_r):
         _lazy._resin_build_row(rk, rc, rn, j, s_row, h_row, n_t)
-    rebuilt = 0
+    rebuilt = merged = cut_waiting = 0
     z = 11.5e-6
     for step in range(90):
         z -= rng.uniform(0.0, 0.4e-6) if step % 7 else -0.3e-6  # mostly down, sometimes up
-        # a deep cut (few cells cut per step: heaps, filling with stale entries), then a
-        # shallow one, below the disc's mean advance per step (the cells cut are cut again
-        # every step: rows scan), then deep again
+        # a deep cut (few cells cut per step: stale entries pile up), then a shallow one, below
+        # the disc's mean advance per step (the cells cut are cut again every step), then deep
         wr = 0.15e-6 if 30 <= step < 60 else 2e-6
         out_one = np.zeros(n_r * n_sub)
         out_row = np.zeros(n_r * n_sub)
         sums = np.zeros(K.N_SUMS)
         K.phase_resin(height, status, cell_area, cell_bin, out_one, keys, vals, cnt, z, wr, sums)
-        before = scan.copy()
+        waiting = sum(live(j, e) and pk[j, e] > z for j in range(n_r) for e in range(pn[j]))
         removed = _lazy._resin_cut(
             rk,
             rc,
             rn,
-            scan,
-            kbuf,
-            ebuf,
+            pk,
+            pc,
+            pn,
+            bk,
+            bc,
             h_row,
             s_row,
             cell_area,
@@ -278,13 +286,16 @@ def test_row_resin_heaps_cut_as_one_heap():
             out_row,
             n_r,
             n_t,
+            n_sub,
             z,
             wr,
         )
-        modes.update(zip(before.tolist(), scan.tolist(), strict=True))
+        cut_waiting += waiting
         np.testing.assert_array_equal(h_row, height)
         np.testing.assert_array_equal(out_row, out_one)
         assert removed == pytest.approx(sums[K.S_REMOVED], rel=1e-13, abs=0.0)
+        for j in range(n_r):  # the sorted entries stay sorted
+            assert np.all(np.diff(rk[j, : rn[j]]) >= 0.0)
         # some plateaus become resin (at random heights), some resin cells become plateaus
         for idx in rng.choice(n, 8, replace=False):
             if status[idx] == 0:
@@ -295,12 +306,12 @@ def test_row_resin_heaps_cut_as_one_heap():
                 height[idx] = h_row[idx] = coarse if rng.random() < 0.5 else z + rng.normal(0, 1e-6)
                 K.heap_push(keys, vals, cnt, height[idx], idx)
                 j = idx // n_t
-                full = rn[j] == rk.shape[1]
-                _lazy._resin_push(rk, rc, rn, j, idx - j * n_t, s_row, h_row, n_t, scan)
-                rebuilt += full
-    assert rebuilt > 0  # the rebuild of a full row was exercised
-    # rows stayed heaps, went to scan mode, stayed there and came back
-    assert modes == {(False, False), (False, True), (True, True), (True, False)}
+                if pn[j] == pend:
+                    merged += 1
+                    rebuilt += rn[j] + sum(live(j, e) for e in range(pend)) > rk.shape[1]
+                _lazy._resin_push(rk, rc, rn, pk, pc, pn, j, idx - j * n_t, s_row, h_row, n_t)
+    # every path was taken: cells cut from the waiting list, full lists merged, full rows rebuilt
+    assert cut_waiting > 0 and merged > 0 and rebuilt > 0
 
 
 class _Killed(Exception):
