@@ -1639,8 +1639,9 @@ def _resin_cut(
             bk[b] = height[idx]
             bc[b] = col
             b += 1
-        if lo + b > cap:
+        if lo + b > cap:  # no room: the row from the grid, its waiting cells included
             _resin_build_row(rk, rc, rn, j, status, height, n_angular)
+            pn[j] = 0
             continue
         # lowest first: the reverse of the cut order, sorted again if round-off broke a tie
         for q in range(b // 2):
