@@ -1449,9 +1449,11 @@ PEND = 32  # room per row for new resin cells not yet merged into the row's sort
 # them highest first; each drops to z - WR. Every cell of a row has the same area, so two cells
 # of a row at the same height cut the same volume: each stream bin's sum is the same in
 # whatever order equal heights are cut, and only the step's total (summed row by row) depends
-# on the layout. The cells cut in one step all land on one height (z - WR, exactly where
-# z - WR and the heights are within a factor two of each other, as a pad's are), so they go
-# back in as one block, merged from the top: a cut costs the cells it cuts, with no sift.
+# on the layout. The cells cut in one step land on one height (z - WR, exactly wherever
+# z - WR and the heights are within a factor two of each other: most of a run, not where the
+# disc crosses height zero, the pad's heights starting above it and wearing below), so they
+# go back in as one block, merged from the top: a cut costs the cells it cuts, with no sift;
+# a block that round-off left apart is sorted first (nearly sorted: cheap).
 # Cells that become resin between cuts wait in a short per-row list (PEND entries) and join
 # the cut from there, or the sorted entries when the list is full.
 @njit(cache=True)
