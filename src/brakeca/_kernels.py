@@ -52,6 +52,7 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from brakeca._jit import njit_noalloc
 from brakeca.automaton import (
     creation_rule,
     gap_fill_cost,
@@ -164,7 +165,7 @@ def packed_records(n: int) -> tuple:
     )
 
 
-@njit(cache=True)
+@njit_noalloc
 def _put(dst, w, h, base, idx, bn, st):
     """Insertion-sort step: place a record at the end of ``dst[:w]`` (sorted, highest first)
     and move it up past every lower record (stable)."""
@@ -184,7 +185,7 @@ def _put(dst, w, h, base, idx, bn, st):
     ds[b + 1] = st
 
 
-@njit(cache=True)
+@njit_noalloc
 def _put_at(dst, w, h, base, idx, bn, st):
     """Write a record at position ``w`` of ``dst``."""
     dst[P_H][w] = h
@@ -194,7 +195,7 @@ def _put_at(dst, w, h, base, idx, bn, st):
     dst[P_ST][w] = st
 
 
-@njit(cache=True)
+@njit_noalloc
 def _put_sorted(dst, w, h, base, idx, bn, st):
     """Append a record at position ``w`` of ``dst`` and insertion-sort it into ``dst[:w]``."""
     if w > 0 and dst[P_H][w - 1] < h:
@@ -203,7 +204,7 @@ def _put_sorted(dst, w, h, base, idx, bn, st):
         _put_at(dst, w, h, base, idx, bn, st)
 
 
-@njit(cache=True)
+@njit_noalloc
 def heap_sift_up(keys, vals, i):
     """Move entry i of a max-heap (``keys``, ``vals``) up to its place."""
     key = keys[i]
@@ -219,7 +220,7 @@ def heap_sift_up(keys, vals, i):
     vals[i] = val
 
 
-@njit(cache=True)
+@njit_noalloc
 def heap_sift_down(keys, vals, i, n):
     """Move entry i of a max-heap of n entries (``keys``, ``vals``) down to its place."""
     key = keys[i]
@@ -240,7 +241,7 @@ def heap_sift_down(keys, vals, i, n):
     vals[i] = val
 
 
-@njit(cache=True)
+@njit_noalloc
 def heap_push(keys, vals, cnt, key, val):
     """Push (key, val) on the max-heap held in ``keys[:cnt[CNT_HEAP]]``."""
     n = cnt[CNT_HEAP]
@@ -250,7 +251,7 @@ def heap_push(keys, vals, cnt, key, val):
     heap_sift_up(keys, vals, n)
 
 
-@njit(cache=True)
+@njit_noalloc
 def heap_pop(keys, vals, cnt):
     """Remove the top of the max-heap; returns (key, val)."""
     key = keys[0]
@@ -263,7 +264,7 @@ def heap_pop(keys, vals, cnt):
     return key, val
 
 
-@njit(cache=True)
+@njit_noalloc
 def heap_rebuild(keys, vals, cnt, status, height):
     """Rebuild the resin heap from every status-none cell (drops stale entries)."""
     cnt[CNT_HEAP] = 0
@@ -272,7 +273,7 @@ def heap_rebuild(keys, vals, cnt, status, height):
             heap_push(keys, vals, cnt, height[idx], idx)
 
 
-@njit(cache=True)
+@njit_noalloc
 def refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular):
     """Recompute the creation-candidate flag of cell idx (none, with a plateau directly east);
     keep ``cmax`` of its stream bin at or above the height of every candidate of the bin."""
@@ -286,7 +287,7 @@ def refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angula
         cmax[b] = height[idx]
 
 
-@njit(cache=True)
+@njit_noalloc
 def rebuild_candidates(status, height, cand, ncand, cmax, cell_bin, n_angular):
     """Flag every creation candidate from scratch."""
     ncand[:] = 0
@@ -301,7 +302,7 @@ def rebuild_candidates(status, height, cand, ncand, cmax, cell_bin, n_angular):
 # bin, status), valid for the first cnt[CNT_PLATEAU] entries, sorted by height (highest first)
 # at the start of every step. During a stop the packed height of a plateau cell is
 # authoritative; the grid heights are written back by `sync_grid` at the end of every stop.
-@njit(cache=True)
+@njit_noalloc
 def phase_contact(pk, cnt, bin_area, stiffness, mu_0, slope, mu_min, target, bar_length):
     """Step phase 1b: solve the torque balance for z on the sorted records.
 
@@ -317,7 +318,7 @@ def phase_contact(pk, cnt, bin_area, stiffness, mu_0, slope, mu_min, target, bar
     return z, n_in, OK
 
 
-@njit(cache=True)
+@njit_noalloc
 def phase_rule4(cnt, status, mark, rule4_list, n_angular, rule_counts):
     """Rule 4 on the statuses at the start of the step, checked only on cells whose eastern
     neighbour lost its plateau status (``rule4_list``): marks them (``mark = 4``). Returns the
@@ -334,7 +335,7 @@ def phase_rule4(cnt, status, mark, rule4_list, n_angular, rule_counts):
     return n4
 
 
-@njit(cache=True)
+@njit_noalloc
 def phase_friction_wear(
     pk,
     n_in,
@@ -460,7 +461,7 @@ def phase_friction_wear(
     return n_gone, w, held, n_sec, left4
 
 
-@njit(cache=True)
+@njit_noalloc
 def phase_tail(pk, n_in, cnt, mark, left4, z, rule6_gap, destroyed, dpos, n_dest, rule_counts):
     """Rules 4 and 6 on the records out of contact: find the records of the rule-4 marks not
     found in contact, and apply rule 6 (when switched on) to the primary plateaus. Returns the
@@ -489,7 +490,7 @@ def phase_tail(pk, n_in, cnt, mark, left4, z, rule6_gap, destroyed, dpos, n_dest
     return n_dest
 
 
-@njit(cache=True)
+@njit_noalloc
 def phase_resin(
     height, status, cell_area, cell_bin, outflow, heap_keys, heap_vals, cnt, z, resin_depth, sums
 ):
@@ -509,7 +510,7 @@ def phase_resin(
     sums[S_REMOVED] += removed
 
 
-@njit(cache=True)
+@njit_noalloc
 def phase_creation(
     height,
     status,
@@ -560,7 +561,7 @@ def phase_creation(
     return n_new
 
 
-@njit(cache=True)
+@njit_noalloc
 def _destroy(rec, q, bin_area, height, status, outflow, acc, heap_keys, heap_vals, cnt):
     """Destroy the plateau of packed record q of ``rec``: it becomes resin at its current
     height (a secondary returns its remaining deposit to the stream of its row and
@@ -583,7 +584,7 @@ def _destroy(rec, q, bin_area, height, status, outflow, acc, heap_keys, heap_val
     heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
 
 
-@njit(cache=True)
+@njit_noalloc
 def _tail_in_order(pk, lo, hi):
     """Insertion steps for the records ``pk[lo:hi]``, which are sorted among themselves: stop
     at the first that stays where it is (none after it would move)."""
@@ -594,7 +595,7 @@ def _tail_in_order(pk, lo, hi):
         _put(pk, r, pk_h[r], pk[P_BASE][r], pk[P_IDX][r], pk[P_BIN][r], pk[P_ST][r])
 
 
-@njit(cache=True)
+@njit_noalloc
 def phase_apply(
     pk,
     gone,
@@ -709,7 +710,7 @@ def phase_apply(
     return held
 
 
-@njit(cache=True)
+@njit_noalloc
 def phase_advance(inflow, outflow, n_radial, n_sub):
     """Step phase 5: streams advance one subdomain; returns (emitted, volume in the streams)."""
     emitted = 0.0
@@ -726,7 +727,7 @@ def phase_advance(inflow, outflow, n_radial, n_sub):
     return emitted, stream
 
 
-@njit(cache=True)
+@njit_noalloc
 def sync_grid(pk, cnt, height, base):
     """Write the packed heights and deposit bases back to the grid arrays."""
     for q in range(cnt[CNT_PLATEAU]):
@@ -735,7 +736,7 @@ def sync_grid(pk, cnt, height, base):
         base[idx] = pk[P_BASE][q]
 
 
-@njit(cache=True)
+@njit_noalloc
 def pack_plateaus(order, n, pk, height, base, cell_bin, status, cnt):
     """Fill the packed records from the grid for the plateau cells listed in ``order[:n]``."""
     n_sec = 0
@@ -748,7 +749,7 @@ def pack_plateaus(order, n, pk, height, base, cell_bin, status, cnt):
     cnt[CNT_SECONDARY] = n_sec
 
 
-@njit(cache=True)
+@njit_noalloc
 def record_step(rec, step, sums, acc, emitted, held, stream, z, target):
     """Write step ``step`` of the per-step record and return the relative ledger residual
     ``|removed - (held + streams + emitted)| / removed`` (shared by both step kernels)."""

@@ -64,6 +64,7 @@ import math
 import numpy as np
 from numba import njit
 
+from brakeca._jit import njit_noalloc
 from brakeca._kernels import (
     ACC_EMITTED,
     ACC_HELD,
@@ -203,7 +204,7 @@ def _tree_leaf(p2, j, col):
     return j * 2 * p2 + p2 + col
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _tree_dirty(tdirty, tmark, idx, flag):
     """List cell idx for the next :func:`_tree_flush` (once), with ``flag`` 1 (it crossed
     the contact edge) or 2 (its leaf is stale: a plateau re-created where a destroyed one left
@@ -215,7 +216,7 @@ def _tree_dirty(tdirty, tmark, idx, flag):
         tmark[idx] = flag
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _tree_recompute(tree, off, node, a):
     """Node ``node`` of the tree at record ``off`` from its two children: the lower line at
     scale ``a`` wins; its certificate is the scale at which the other overtakes it."""
@@ -251,7 +252,7 @@ def _tree_recompute(tree, off, node, a):
     tree[k, TR_B] = bw
 
 
-@njit(cache=True)
+@njit_noalloc
 def _tree_set(tree, p2, j, col, active, a, r, b):
     """Insert (``active``, the line ``r a - b``) or remove the line of the cell in column
     ``col`` of row ``j``."""
@@ -281,7 +282,7 @@ def _tree_set(tree, p2, j, col, active, a, r, b):
         node >>= 1
 
 
-@njit(cache=True)
+@njit_noalloc
 def _tree_advance(tree, p2, j, a, stack):
     """Bring row ``j``'s tree to scale ``a`` (lower than before): recompute every node whose
     certificate failed, children before parents."""
@@ -307,7 +308,7 @@ def _tree_advance(tree, p2, j, a, stack):
         _tree_recompute(tree, off, stack[m - n + q], a)
 
 
-@njit(cache=True)
+@njit_noalloc
 def _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
     """Bring the rule-5 trees up to date with the secondary plateaus that crossed the contact
     edge (each crossing only listed the cell: during a contact solve cells cross back and
@@ -327,7 +328,7 @@ def _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
     tdirty[0] = 0
 
 
-@njit(cache=True)
+@njit_noalloc
 def _tree_build(tree, p2, j, a):
     off = j * 2 * p2
     for node in range(p2 - 1, 0, -1):
@@ -335,7 +336,7 @@ def _tree_build(tree, p2, j, a):
 
 
 # --- segment bookkeeping ------------------------------------------------------------------
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _seg_of(rows, j, q):
     if q >= rows[j, RW_KS]:
         return SEG_D
@@ -346,14 +347,14 @@ def _seg_of(rows, j, q):
     return SEG_A
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _seg_add(seg, j, s, r, sign):
     seg[j, s, 0] += sign
     seg[j, s, 1] += sign * r
     seg[j, s, 2] += sign * r * r
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _bin_add(bins, b, status, r, sign):
     if status == SECONDARY:
         bins[b, 2] += sign
@@ -363,7 +364,7 @@ def _bin_add(bins, b, status, r, sign):
         bins[b, 1] += sign * r
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _move(seg, in_idx, in_r, j, row0, q, s_from, s_to):
     idx = in_idx[row0 + q]
     if idx >= 0:
@@ -379,7 +380,7 @@ def _on(a, c, r, z, t):
     return a * r + c - z >= t
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _partitions_stale(rows, in_r, j, row0, a, c, z, uc, uf, us):
     """Whether any partition index of row j is not where _fix_partitions would put it."""
     nin = rows[j, RW_KE]
@@ -399,7 +400,7 @@ def _partitions_stale(rows, in_r, j, row0, a, c, z, uc, uf, us):
     return ks > kf and not _on(a, c, in_r[row0 + ks - 1], z, us)
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, a, c, z, incl):
     """Whether row j's contact edge must move to reach z."""
     ke = rows[j, RW_KE]
@@ -428,7 +429,7 @@ def _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, a, c, z, incl):
     return False
 
 
-@njit(cache=True)
+@njit_noalloc
 def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
     """Move the partition indices of row j to disc position z (segment sums follow)."""
     a = amap[j, 0]
@@ -494,7 +495,7 @@ def structures(lz: Lazy) -> tuple:
     )
 
 
-@njit(cache=True)
+@njit_noalloc
 def _compact_in(rows, in_r, in_idx, in_s, pos, j, n_angular):
     """Drop the tombstones of row j's in-contact array (order kept; partitions follow)."""
     row0 = j * n_angular
@@ -528,7 +529,7 @@ def _compact_in(rows, in_r, in_idx, in_s, pos, j, n_angular):
     rows[j, RW_NIN] = w
 
 
-@njit(cache=True)
+@njit_noalloc
 def _compact_out(rows, out_h, out_idx, out_s, pos, j, n_angular):
     """Drop the tombstones of row j's out-of-contact array (order kept)."""
     row0 = j * n_angular
@@ -544,7 +545,7 @@ def _compact_out(rows, out_h, out_idx, out_s, pos, j, n_angular):
     rows[j, RW_NOUT] = w
 
 
-@njit(cache=True)
+@njit_noalloc
 def _contact_row(
     rows,
     seg,
@@ -654,7 +655,7 @@ def _contact_row(
     return moves
 
 
-@njit(cache=True)
+@njit_noalloc
 def _commit_row(
     rows,
     in_r,
@@ -738,7 +739,7 @@ E_MOVES = 9
 N_E = 10
 
 
-@njit(cache=True)
+@njit_noalloc
 def _evaluate(
     L,
     z,
@@ -873,7 +874,7 @@ def _local_step(f, dfd, q, target):
     return math.nan
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _row_terms(seg, amap, j, z, area, k0, k1, k2):
     """Row j's share of (F, D, Q) at disc position z."""
     a = amap[j, 0]
@@ -892,7 +893,7 @@ def _row_terms(seg, amap, j, z, area, k0, k1, k2):
     return f, df, q
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _row_event(rows, in_r, in_idx, amap, out_h, out_idx, j, z, n_angular, uf):
     """Row j's highest breakpoint of F strictly below z (-inf if none)."""
     row0 = j * n_angular
@@ -926,7 +927,7 @@ def _row_event(rows, in_r, in_idx, amap, out_h, out_idx, j, z, n_angular, uf):
     return best
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _evt_set(evt, m, j, value):
     """Max-tree over rows (leaves at m + j): set row j's next event."""
     node = m + j
@@ -939,7 +940,7 @@ def _evt_set(evt, m, j, value):
         node >>= 1
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _row_slope(seg, amap, j, z, area, k0, k1, k2):
     """Row j's (S, QD): the slope of the walk's linear bound (floor and falling cells at
     mu_min K, rising cells at their tangent) and how fast the tangents fall (S' = -2 QD)."""
@@ -951,7 +952,7 @@ def _row_slope(seg, amap, j, z, area, k0, k1, k2):
     return area * (k1 * n_abc + k0 * nD - 2.0 * k2 * uD), area * k2 * nD
 
 
-@njit(cache=True)
+@njit_noalloc
 def _entering_weight(L, level, n_radial, n_angular, n_sub, bin_area):
     """Sum of the areas of the cells out of contact above ``level`` [m^2] (tombstones
     included: an upper bound)."""
@@ -991,7 +992,7 @@ def _entering_weight(L, level, n_radial, n_angular, n_sub, bin_area):
     return we
 
 
-@njit(cache=True)
+@njit_noalloc
 def _walk_start(
     L,
     z,
@@ -1475,13 +1476,13 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
         rc[j, :n] = cols
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _resin_live(status, height, idx, key):
     """Whether an entry (cell idx at height ``key``) is still a resin cell at that height."""
     return status[idx] == NONE and height[idx] == key
 
 
-@njit(cache=True)
+@njit_noalloc
 def _sort_entries(keys, cols, n):
     """Sort the first n entries by key, lowest first (insertion sort: n is small)."""
     for i in range(1, n):
@@ -1496,7 +1497,7 @@ def _sort_entries(keys, cols, n):
         cols[m + 1] = c
 
 
-@njit(cache=True)
+@njit_noalloc
 def _merge_entries(keys, cols, n, bk, bc, b):
     """Merge b sorted entries ``bk``/``bc`` into the sorted first n of ``keys``/``cols`` (room
     for n + b), from the top down: entries below the block's lowest key do not move."""
@@ -1535,7 +1536,7 @@ def _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular):
     rn[j] += p
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _resin_cut_cell(idx, height, area, b, outflow, z, wr):
     """Cut resin cell idx (above the disc, area ``area`` [m^2]) to ``z - WR``: its volume
     joins stream bin ``b``. Returns the volume [m^3]."""
@@ -1546,7 +1547,7 @@ def _resin_cut_cell(idx, height, area, b, outflow, z, wr):
     return vol
 
 
-@njit(cache=True)
+@njit_noalloc
 def _resin_push(rk, rc, rn, pk, pc, pn, j, col, status, height, n_angular):
     """Cell ``col`` of row j has become resin at its height: it waits in the row's short list
     (merged into the sorted entries first if the list is full)."""
@@ -1558,7 +1559,7 @@ def _resin_push(rk, rc, rn, pk, pc, pn, j, col, status, height, n_angular):
     pn[j] = p + 1
 
 
-@njit(cache=True)
+@njit_noalloc
 def _resin_cut(
     rk,
     rc,
@@ -1791,7 +1792,7 @@ def _sync_row(L, j, height, n_angular):
             height[idx] = out_h[row0 + q]
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc
 def _current_height(where, pos, amap, in_r, out_h, idx, n_angular):
     """Height of plateau cell idx now [m]."""
     j = idx // n_angular
@@ -1801,7 +1802,7 @@ def _current_height(where, pos, amap, in_r, out_h, idx, n_angular):
     return out_h[q]
 
 
-@njit(cache=True)
+@njit_noalloc
 def _remove(rows, seg, in_r, in_idx, out_idx, where, pos, bins, idx, status, cell_bin, n_angular):
     """Take plateau cell idx out of the row structures (a tombstone stays in its array)."""
     j = idx // n_angular
@@ -1817,7 +1818,7 @@ def _remove(rows, seg, in_r, in_idx, out_idx, where, pos, bins, idx, status, cel
     where[idx] = W_NONE
 
 
-@njit(cache=True)
+@njit_noalloc
 def _push_out(rows, out_h, out_idx, out_s, where, pos, idx, h, n_angular):
     """A new secondary plateau at height h (not above the disc) joins its row out of
     contact."""

@@ -21,7 +21,7 @@ J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Se
 
 from __future__ import annotations
 
-from numba import njit
+from brakeca._jit import njit_noalloc
 
 __all__ = [
     "creation_rule",
@@ -38,12 +38,12 @@ __all__ = [
 _NONE = 0
 
 
-@njit(cache=True)
+@njit_noalloc
 def _plateau(status, idx: int) -> bool:
     return status[idx] != _NONE
 
 
-@njit(cache=True)
+@njit_noalloc
 def _supports(status, idx: int, n_radial: int, n_angular: int):
     """(east, north-east, south-east) plateau flags of cell idx; off-grid counts as none."""
     j = idx // n_angular
@@ -56,7 +56,7 @@ def _supports(status, idx: int, n_radial: int, n_angular: int):
     return east, ne, se
 
 
-@njit(cache=True)
+@njit_noalloc
 def rule1_east_support(status, idx: int, n_radial: int, n_angular: int) -> bool:
     """Rule 1: a none cell with a plateau east and none north-east or south-east."""
     if status[idx] != _NONE:
@@ -65,7 +65,7 @@ def rule1_east_support(status, idx: int, n_radial: int, n_angular: int) -> bool:
     return e and not ne and not se
 
 
-@njit(cache=True)
+@njit_noalloc
 def rule2_east_and_one_diagonal(status, idx: int, n_radial: int, n_angular: int) -> bool:
     """Rule 2: a none cell with a plateau east and exactly one of north-east / south-east."""
     if status[idx] != _NONE:
@@ -74,7 +74,7 @@ def rule2_east_and_one_diagonal(status, idx: int, n_radial: int, n_angular: int)
     return e and (ne != se)
 
 
-@njit(cache=True)
+@njit_noalloc
 def rule3_east_and_both_diagonals(status, idx: int, n_radial: int, n_angular: int) -> bool:
     """Rule 3: a none cell with plateaus east, north-east and south-east."""
     if status[idx] != _NONE:
@@ -83,7 +83,7 @@ def rule3_east_and_both_diagonals(status, idx: int, n_radial: int, n_angular: in
     return e and ne and se
 
 
-@njit(cache=True)
+@njit_noalloc
 def creation_rule(status, idx: int, n_radial: int, n_angular: int) -> int:
     """Which creation rule (1, 2 or 3) makes cell idx a candidate; 0 if none does."""
     if status[idx] != _NONE:
@@ -94,13 +94,13 @@ def creation_rule(status, idx: int, n_radial: int, n_angular: int) -> int:
     return 1 + int(ne) + int(se)
 
 
-@njit(cache=True)
+@njit_noalloc
 def gap_fill_cost(disc_position: float, height: float, cell_area: float) -> float:
     """Particle volume needed to fill a cell's gap to the disc, ``(z - h) A`` [m^3]."""
     return (disc_position - height) * cell_area
 
 
-@njit(cache=True)
+@njit_noalloc
 def rule4_lost_support(status, idx: int, n_angular: int) -> bool:
     """Rule 4: a secondary plateau with no plateau directly east (fewer than one eastern
     plateau neighbour) loses its support and is destroyed."""
@@ -110,20 +110,20 @@ def rule4_lost_support(status, idx: int, n_angular: int) -> bool:
     return i + 1 >= n_angular or status[idx + 1] == _NONE
 
 
-@njit(cache=True)
+@njit_noalloc
 def rule5_deposit_worn(status, height: float, deposit_base: float) -> bool:
     """Rule 5: a secondary plateau whose deposit has been worn away is destroyed."""
     return status == 2 and height <= deposit_base
 
 
-@njit(cache=True)
+@njit_noalloc
 def rule6_primary_out_of_reach(status, height: float, disc_position: float, max_gap: float) -> bool:
     """Rule 6: a primary plateau whose gap to the disc exceeds ``max_gap`` [m] is destroyed
     (reading of "its height is less than the minimum gap"; ``max_gap = inf`` switches it off)."""
     return status == 1 and disc_position - height > max_gap
 
 
-@njit(cache=True)
+@njit_noalloc
 def rule7_fibre_worn(status, height: float, fibre_floor: float) -> bool:
     """Rule 7: a primary plateau worn down to the underside of its fibre is destroyed
     (never with fibres as columns, whose floor is -inf)."""

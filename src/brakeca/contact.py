@@ -25,6 +25,8 @@ import math
 import numpy as np
 from numba import njit
 
+from brakeca._jit import njit_noalloc
+
 __all__ = [
     "ContactError",
     "contact_pressure",
@@ -85,7 +87,7 @@ def first_root(height, area, n_plateau, stiffness, mu_0, slope, mu_min, target):
     )
 
 
-@njit(cache=True)
+@njit_noalloc
 def first_root_binned(
     height, cell_bin, bin_area, n_plateau, stiffness, mu_0, slope, mu_min, target
 ):

@@ -1,0 +1,92 @@
+"""The kernels' compiled helpers are compiled without reference counting (brakeca._jit)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numba.core.errors import TypingError
+from numba.core.registry import CPUDispatcher
+
+from brakeca import _jit, _kernels, _lazy, automaton, contact
+
+# the compiled functions that allocate arrays, so keep numba's reference counting
+ALLOCATING = {
+    "brakeca._lazy": {
+        "_exact_root",
+        "_rebuild_row",
+        "_resin_build_row",
+        "_walk",
+        "check_invariants",
+        "run_stop_lazy",
+        "solve_contact",
+        "_renormalise_row",
+        "sync",
+        "_sync_row",
+        "_held_from_state",
+        "_thresholds",
+        "_resin_merge_pending",
+    },
+    "brakeca._kernels": {"run_stop"},
+    "brakeca.contact": {"first_root"},
+    "brakeca.automaton": set(),
+}
+# scalar helpers (no array arguments, so nothing to count) that numba inlines
+SCALAR_INLINED = {"_tree_leaf", "_on", "_local_step"}
+
+
+def _compiled(module) -> dict[str, CPUDispatcher]:
+    return {
+        name: obj
+        for name, obj in vars(module).items()
+        if isinstance(obj, CPUDispatcher) and obj.py_func.__module__ == module.__name__
+    }
+
+
+@pytest.mark.parametrize("module", [_lazy, _kernels, contact, automaton], ids=lambda m: m.__name__)
+def test_helpers_that_allocate_nothing_skip_reference_counting(module) -> None:
+    """Every compiled function of the step kernels is either listed as allocating (and keeps
+    reference counting) or compiled by ``njit_noalloc``: a new helper that takes arrays must
+    not bring back the per-call counts (docs/performance.md, ninth session)."""
+    allocating = ALLOCATING[module.__name__]
+    compiled = _compiled(module)
+    assert allocating <= compiled.keys(), allocating - compiled.keys()
+    for name, dispatcher in compiled.items():
+        nrt = dispatcher.targetoptions.get("_nrt", True)
+        if name in allocating:
+            assert nrt, f"{module.__name__}.{name} allocates: it needs reference counting"
+        elif name in SCALAR_INLINED:
+            assert dispatcher.targetoptions.get("inline") == "always", name
+        else:
+            assert nrt is False, f"{module.__name__}.{name}: use brakeca._jit.njit_noalloc"
+
+
+def test_noalloc_helper_refuses_to_allocate() -> None:
+    """A helper compiled without reference counting cannot allocate: it fails to compile
+    instead of leaking or freeing memory it does not own."""
+
+    def bad(n):
+        return np.zeros(n).sum()
+
+    compiled = _jit.njit_noalloc(bad)
+    with pytest.raises(TypingError, match="zeros"):
+        compiled(3)
+
+
+def test_noalloc_helper_writes_through_to_the_callers_array() -> None:
+    """Arrays pass to a helper compiled by ``njit_noalloc`` by reference, from Python and
+    from another compiled function alike."""
+
+    def bump(a, i):
+        a[i] += 1.0
+
+    helper = _jit.njit_noalloc(bump)
+    a = np.zeros(4)
+    helper(a, 2)
+
+    @_jit.njit_noalloc
+    def twice(b):
+        helper(b, 0)
+        helper(b, 0)
+
+    twice(a)
+    assert a.tolist() == [2.0, 0.0, 1.0, 0.0]
