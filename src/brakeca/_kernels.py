@@ -542,13 +542,14 @@ def phase_creation(
             b = j * n_sub + k
             rest = inflow[b]
             i0 = j * n_angular + k * n_m
-            if rest > 0.0 and ncand[b] > 0 and gap_fill_cost(z, cmax[b], cell_area[i0]) <= rest:
+            area = cell_area[i0]  # one area per row (the grid's cell areas are per radius)
+            if rest > 0.0 and ncand[b] > 0 and gap_fill_cost(z, cmax[b], area) <= rest:
                 top = -math.inf
                 for c in range(n_m):
                     idx = i0 + (n_m - 1 - c if east_to_west else c)
                     if cand[idx] == 0:
                         continue
-                    cost = gap_fill_cost(z, height[idx], cell_area[idx])
+                    cost = gap_fill_cost(z, height[idx], area)
                     if cost <= rest:
                         rest -= cost
                         created[n_new] = idx
