@@ -4,7 +4,8 @@
 
 Measures, in one process on one core:
 
-* ``compile_s``: numba compile (or cache load) time, from a one-stop run on a tiny grid;
+* ``compile_s``: numba compile (or cache load) time, from a one-stop run on a tiny grid with
+  each kernel timed below (so no timed run includes compiling);
 * a full-resolution run (Table 5 grid unless ``--rows``) of the first ``--stops`` stops:
   ``measured_s``, ``steps``, ``steps_per_s``, ``ns_per_cell_step``, and ``cycle_extrapolated_s``
   = measured time per step x the 491,160 steps of the whole cycle (the cost per step changes
@@ -42,12 +43,13 @@ from brakeca.surface import generate_surface
 CYCLE_STEPS = 491_160
 
 
-def time_compile() -> float:
+def time_compile(kernels: list[str]) -> float:
     tiny = load_preset().with_updates(
         {"mesh.n_radial": 2, "mesh.n_angular": 20, "mesh.n_subdomains": 2, "cycle.max_stops": 1}
     )
     t = time.perf_counter()
-    simulate(tiny, seed=0)
+    for kernel in kernels:
+        simulate(tiny.with_updates({"numerics.kernel": kernel}), seed=0)
     return time.perf_counter() - t
 
 
@@ -170,7 +172,7 @@ def main() -> None:
         "brakeca": __version__,
         "machine": f"{platform.machine()} {os.cpu_count()} cpu, {platform.python_version()}",
         "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
-        "compile_s": round(time_compile(), 3),
+        "compile_s": round(time_compile([args.kernel] + (["exact"] if args.also_exact else [])), 3),
     }
     out["run"] = time_run(args.rows, args.stops, args.seed, args.kernel)
     if args.also_exact:
