@@ -2,10 +2,11 @@
 
 numba counts references to every array a compiled function holds: a helper that takes arrays
 increments each one's count on entry and decrements it on exit, with an atomic instruction and
-an opaque call each. numba's pruning pass removes most of these pairs, but not in a helper with
-branches or loops, and the step kernels call such helpers for every cell event: in the lazy
-kernel, the counts took a quarter of the run time, and the opaque calls kept LLVM from
-optimising across them (docs/performance.md, ninth session). A helper that allocates no array
+an opaque call each. numba's pruning pass removes such pairs in straight-line code, but not in
+many helpers with branches (``refresh_candidate``'s two ``if`` were enough), and the step
+kernels call such helpers for every cell event: in the lazy kernel the counts took about a
+quarter of the run time, and the opaque calls kept LLVM from optimising across them
+(docs/performance.md, ninth session). A helper that allocates no array
 needs no counts, because its caller holds every array it is given; :func:`njit_noalloc`
 compiles such helpers without them (numba's ``_nrt=False``). Functions that allocate (``np.empty``,
 ``np.argsort``...) keep ``njit(cache=True)``; a helper compiled this way that tried to allocate
