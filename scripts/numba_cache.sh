@@ -4,7 +4,7 @@
 # kernel with an old helper inside. The folder is therefore keyed by the package's sources,
 # and the folders of other versions are removed. A NUMBA_CACHE_DIR already set is kept.
 if [ -z "${NUMBA_CACHE_DIR:-}" ]; then
-  key=$(cat src/brakeca/*.py | sha256sum | cut -c1-16)
+  key=$(find src/brakeca -name "*.py" | sort | xargs cat | sha256sum | cut -c1-16)
   for old in .numba_cache/*/; do
     if [ -d "$old" ] && [ "$old" != ".numba_cache/$key/" ]; then rm -rf "$old"; fi
   done

@@ -9,7 +9,9 @@ from numba.core.registry import CPUDispatcher
 
 from brakeca import _jit, _kernels, _lazy, automaton, contact
 
-# the compiled functions that allocate arrays, so keep numba's reference counting
+# the compiled functions that keep numba's reference counting: those that allocate arrays,
+# or call one that does (solve_contact, _resin_merge_pending), and a few per-stop ones
+# (sync, _sync_row, _held_from_state, _renormalise_row, _thresholds) that could drop it
 ALLOCATING = {
     "brakeca._lazy": {
         "_exact_root",
