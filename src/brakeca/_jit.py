@@ -12,13 +12,10 @@ compiles such helpers without them (numba's ``_nrt=False``). Functions that allo
 ``np.argsort``...) keep ``njit(cache=True)``; a helper compiled this way that tried to allocate
 fails to compile, so the rule cannot be broken silently.
 
-numba compiles a callee with its caller's options, so a helper compiled this way may call a
-function that allocates only if that function has already been compiled elsewhere. Two do:
-``_lazy._resin_cut`` and ``_lazy._resin_push`` (through ``_resin_merge_pending``) rebuild a
-row without room with ``_resin_build_row``, which ``run_stop_lazy`` compiles first, at the
-start of a stop. Called first on their own, they would fail to compile (loudly). Moving the
-rebuild to the callers was tried and measured slower (docs/performance.md, ninth session);
-the lasting fix is a ``_resin_build_row`` that sorts in given scratch instead of allocating.
+numba compiles a callee with its caller's options, so a helper compiled this way may call
+only functions that allocate nothing either (or that happen to be compiled already by another
+caller: a dependence that held for the resin rebuild, which sorted with ``np.argsort``, until
+``_lazy._resin_build_row`` sorted in given scratch; docs/performance.md, tenth session).
 """
 
 from __future__ import annotations

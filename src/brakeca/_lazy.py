@@ -1457,9 +1457,10 @@ PEND = 32  # room per row for new resin cells not yet merged into the row's sort
 # a block that round-off left apart is sorted first (nearly sorted: cheap).
 # Cells that become resin between cuts wait in a short per-row list (PEND entries) and join
 # the cut from there, or the sorted entries when the list is full.
-@njit(cache=True)
-def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
-    """Row j's resin entries from the grid (its status-none cells), sorted lowest first."""
+@njit_noalloc
+def _resin_build_row(rk, rc, rn, j, status, height, n_angular, sk, sc):
+    """Row j's resin entries from the grid (its status-none cells), sorted lowest first, equal
+    heights in column order; ``sk``/``sc``: scratch for ``n_angular`` entries."""
     row0 = j * n_angular
     n = 0
     for i in range(n_angular):
@@ -1468,12 +1469,7 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular):
             rc[j, n] = i
             n += 1
     rn[j] = n
-    if n > 1:
-        order = np.argsort(rk[j, :n], kind="mergesort")
-        keys = rk[j, :n][order]
-        cols = rc[j, :n][order]
-        rk[j, :n] = keys
-        rc[j, :n] = cols
+    _merge_sort_entries(rk[j], rc[j], n, sk, sc)
 
 
 @njit_noalloc
@@ -1497,6 +1493,45 @@ def _sort_entries(keys, cols, n):
         cols[m + 1] = c
 
 
+#: runs a merge sort of a row's resin entries starts from, sorted by insertion
+SORT_RUN = 16
+
+
+@njit_noalloc
+def _merge_sort_entries(keys, cols, n, sk, sc):
+    """Sort the first n entries by key, lowest first, keeping the order of equal keys (a
+    stable merge sort: the order of ``np.argsort(kind="mergesort")``), with ``sk``/``sc``
+    (room for n) as the scratch: nothing is allocated."""
+    for lo in range(0, n, SORT_RUN):
+        m = min(SORT_RUN, n - lo)
+        _sort_entries(keys[lo : lo + m], cols[lo : lo + m], m)
+    src_k, src_c, dst_k, dst_c = keys, cols, sk, sc
+    in_place = True  # the sorted runs are in keys/cols
+    width = SORT_RUN
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid = min(lo + width, n)
+            hi = min(lo + 2 * width, n)
+            i = lo
+            k = mid
+            for w in range(lo, hi):
+                if k >= hi or (i < mid and src_k[i] <= src_k[k]):
+                    dst_k[w] = src_k[i]
+                    dst_c[w] = src_c[i]
+                    i += 1
+                else:
+                    dst_k[w] = src_k[k]
+                    dst_c[w] = src_c[k]
+                    k += 1
+        src_k, src_c, dst_k, dst_c = dst_k, dst_c, src_k, src_c
+        in_place = not in_place
+        width *= 2
+    if not in_place:
+        for w in range(n):
+            keys[w] = sk[w]
+            cols[w] = sc[w]
+
+
 @njit_noalloc
 def _merge_entries(keys, cols, n, bk, bc, b):
     """Merge b sorted entries ``bk``/``bc`` into the sorted first n of ``keys``/``cols`` (room
@@ -1516,10 +1551,10 @@ def _merge_entries(keys, cols, n, bk, bc, b):
         w -= 1
 
 
-@njit(cache=True)
-def _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular):
+@njit_noalloc
+def _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular, sk, sc):
     """Row j's waiting entries (the live ones) into its sorted entries; a row without room is
-    rebuilt from the grid instead."""
+    rebuilt from the grid instead (``sk``/``sc``: scratch for ``n_angular`` entries)."""
     row0 = j * n_angular
     p = 0
     for e in range(pn[j]):
@@ -1529,7 +1564,7 @@ def _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular):
             p += 1
     pn[j] = 0
     if rn[j] + p > rk.shape[1]:
-        _resin_build_row(rk, rc, rn, j, status, height, n_angular)
+        _resin_build_row(rk, rc, rn, j, status, height, n_angular, sk, sc)
         return
     _sort_entries(pk[j], pc[j], p)
     _merge_entries(rk[j], rc[j], rn[j], pk[j], pc[j], p)
@@ -1548,11 +1583,12 @@ def _resin_cut_cell(idx, height, area, b, outflow, z, wr):
 
 
 @njit_noalloc
-def _resin_push(rk, rc, rn, pk, pc, pn, j, col, status, height, n_angular):
+def _resin_push(rk, rc, rn, pk, pc, pn, j, col, status, height, n_angular, sk, sc):
     """Cell ``col`` of row j has become resin at its height: it waits in the row's short list
-    (merged into the sorted entries first if the list is full)."""
+    (merged into the sorted entries first if the list is full; ``sk``/``sc``: scratch for
+    ``n_angular`` entries)."""
     if pn[j] == pk.shape[1]:
-        _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular)
+        _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular, sk, sc)
     p = pn[j]
     pk[j, p] = height[j * n_angular + col]
     pc[j, p] = col
@@ -1643,7 +1679,7 @@ def _resin_cut(
             bc[b] = col
             b += 1
         if lo + b > cap:  # no room: the row from the grid, its waiting cells included
-            _resin_build_row(rk, rc, rn, j, status, height, n_angular)
+            _resin_build_row(rk, rc, rn, j, status, height, n_angular, bk, bc)  # bk: free now
             pn[j] = 0
             continue
         # lowest first: the reverse of the cut order, sorted again if round-off broke a tie
@@ -1999,16 +2035,18 @@ def run_stop_lazy(
     for k in range(1, tdirty[0] + 1):
         tmark[tdirty[k]] = 0
     tdirty[0] = 0
+    # the resin cut's scratch (and the resin entries' sort's)
+    blk_key = np.empty(n_angular + PEND)
+    blk_col = np.empty(n_angular + PEND, dtype=np.int32)
     for j in range(n_radial):
         _rebuild_row(L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2)
-        _resin_build_row(resin_key, resin_col, resin_n, j, status, height, n_angular)
-    # the rows' waiting resin entries (none at the start: the rows were built above) and the
-    # resin cut's scratch
+        _resin_build_row(
+            resin_key, resin_col, resin_n, j, status, height, n_angular, blk_key, blk_col
+        )
+    # the rows' waiting resin entries (none at the start: the rows were built above)
     pend_key = np.empty((n_radial, PEND))
     pend_col = np.empty((n_radial, PEND), dtype=np.int32)
     pend_n = np.zeros(n_radial, dtype=np.int64)
-    blk_key = np.empty(n_angular + PEND)
-    blk_col = np.empty(n_angular + PEND, dtype=np.int32)
     sums = np.zeros(N_SUMS)
     m = 1
     while m < n_radial:
@@ -2244,6 +2282,8 @@ def run_stop_lazy(
                 status,
                 height,
                 n_angular,
+                blk_key,
+                blk_col,
             )
         for q in range(n_new):
             idx = created[q]

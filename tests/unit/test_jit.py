@@ -10,13 +10,12 @@ from numba.core.registry import CPUDispatcher
 from brakeca import _jit, _kernels, _lazy, automaton, contact
 
 # the compiled functions that keep numba's reference counting: those that allocate arrays,
-# or call one that does (solve_contact, _resin_merge_pending), and a few per-stop ones
-# (sync, _sync_row, _held_from_state, _renormalise_row, _thresholds) that could drop it
+# or call one that does (solve_contact), and a few per-stop ones (sync, _sync_row,
+# _held_from_state, _renormalise_row, _thresholds) that could drop it
 ALLOCATING = {
     "brakeca._lazy": {
         "_exact_root",
         "_rebuild_row",
-        "_resin_build_row",
         "_walk",
         "check_invariants",
         "run_stop_lazy",
@@ -26,7 +25,6 @@ ALLOCATING = {
         "_sync_row",
         "_held_from_state",
         "_thresholds",
-        "_resin_merge_pending",
     },
     "brakeca._kernels": {"run_stop"},
     "brakeca.contact": {"first_root"},

@@ -221,6 +221,24 @@ def test_lazy_tracks_exact_where_a_search_once_ran_away():
     assert lazy.MU == pytest.approx(exact.MU, rel=1e-9)
 
 
+@pytest.mark.parametrize("n", [0, 1, 2, 15, 16, 17, 33, 100, 1000])
+def test_resin_entries_sort_like_a_stable_argsort(n):
+    """A row's resin entries are sorted in given scratch (nothing allocated) into the order of
+    ``np.argsort(kind="stable")``: lowest first, equal heights in their first order."""
+    rng = np.random.default_rng(n)
+    keys = rng.integers(0, max(n // 3, 1), n + 5) * 1e-6  # many ties; 5 entries past n
+    keys[: n // 2] += rng.uniform(0.0, 1e-9, n // 2)  # and distinct ones
+    cols = rng.permutation(n + 5).astype(np.int32)
+    want = np.argsort(keys[:n], kind="stable")
+    k, c = keys.copy(), cols.copy()
+    sk, sc = np.full(n, np.nan), np.full(n, -1, dtype=np.int32)
+    _lazy._merge_sort_entries(k, c, n, sk, sc)
+    np.testing.assert_array_equal(k[:n], keys[want])
+    np.testing.assert_array_equal(c[:n], cols[want])
+    np.testing.assert_array_equal(k[n:], keys[n:])  # nothing past the n entries moved
+    np.testing.assert_array_equal(c[n:], cols[n:])
+
+
 def test_row_resin_entries_cut_as_one_heap():
     """The lazy kernel's per-row sorted resin entries cut the same cells by the same depths as
     the exact kernel's one heap of the whole grid, and each stream bin gets a bit-identical
@@ -257,7 +275,7 @@ def test_row_resin_entries_cut_as_one_heap():
         return s_row[idx] == 0 and h_row[idx] == pk[j, e]
 
     for j in range(n_r):
-        _lazy._resin_build_row(rk, rc, rn, j, s_row, h_row, n_t)
+        _lazy._resin_build_row(rk, rc, rn, j, s_row, h_row, n_t, bk, bc)
     rebuilt = merged = cut_waiting = 0
     z = 11.5e-6
     for step in range(90):
@@ -309,7 +327,9 @@ def test_row_resin_entries_cut_as_one_heap():
                 if pn[j] == pend:
                     merged += 1
                     rebuilt += rn[j] + sum(live(j, e) for e in range(pend)) > rk.shape[1]
-                _lazy._resin_push(rk, rc, rn, pk, pc, pn, j, idx - j * n_t, s_row, h_row, n_t)
+                _lazy._resin_push(
+                    rk, rc, rn, pk, pc, pn, j, idx - j * n_t, s_row, h_row, n_t, bk, bc
+                )
     # every path was taken: cells cut from the waiting list, full lists merged, full rows rebuilt
     assert cut_waiting > 0 and merged > 0 and rebuilt > 0
 
