@@ -1760,7 +1760,7 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
     tree[off : off + 2 * p2, TR_SUB] = -math.inf
 
 
-@njit(cache=True)
+@njit_noalloc
 def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
     """Reset row j's map to ``h = r + z`` (a = 1): raw coordinates of the cells in contact
     recomputed (tombstones too, so the order stays), segment, bin sums and the rule-5 tree
@@ -1811,7 +1811,7 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
     _tree_build(tree, p2, j, 1.0)
 
 
-@njit(cache=True)
+@njit_noalloc
 def _sync_row(L, j, height, n_angular):
     """Write row j's plateau heights back to the grid."""
     rows, in_r, in_idx, amap, out_h, out_idx = L[0], L[2], L[3], L[4], L[5], L[6]
@@ -1919,7 +1919,7 @@ def check_invariants(L, status, height, n_radial, n_angular):
     return bad
 
 
-@njit(cache=True)
+@njit_noalloc
 def _held_from_state(L, status, base, cell_area, n_radial, n_angular):
     """Volume held in secondary plateaus, summed cell by cell from the structures [m^3]."""
     rows, in_r, in_idx, amap, out_h, out_idx = L[0], L[2], L[3], L[4], L[5], L[6]
@@ -1939,7 +1939,7 @@ def _held_from_state(L, status, base, cell_area, n_radial, n_angular):
     return held
 
 
-@njit(cache=True)
+@njit_noalloc
 def _thresholds(stiffness, mu_0, slope, mu_min):
     """(u_c, u_f, u*) [m]: where mu p climbs back to its peak on the floor branch, where the
     floor starts, and where mu p peaks (all equal when mu p is monotone)."""
@@ -2331,7 +2331,7 @@ def run_stop_lazy(
     return OK, n_steps
 
 
-@njit(cache=True)
+@njit_noalloc
 def sync(L, height, n_radial, n_angular):
     """Write every plateau height back to the grid."""
     for j in range(n_radial):

@@ -10,8 +10,7 @@ from numba.core.registry import CPUDispatcher
 from brakeca import _jit, _kernels, _lazy, automaton, contact
 
 # the compiled functions that keep numba's reference counting: those that allocate arrays,
-# or call one that does (solve_contact), and a few per-stop ones (sync, _sync_row,
-# _held_from_state, _renormalise_row, _thresholds) that could drop it
+# or call one that does (solve_contact)
 ALLOCATING = {
     "brakeca._lazy": {
         "_exact_root",
@@ -20,11 +19,6 @@ ALLOCATING = {
         "check_invariants",
         "run_stop_lazy",
         "solve_contact",
-        "_renormalise_row",
-        "sync",
-        "_sync_row",
-        "_held_from_state",
-        "_thresholds",
     },
     "brakeca._kernels": {"run_stop"},
     "brakeca.contact": {"first_root"},
