@@ -1493,7 +1493,7 @@ def _sort_entries(keys, cols, n):
         cols[m + 1] = c
 
 
-#: runs a merge sort of a row's resin entries starts from, sorted by insertion
+#: length of the runs, sorted by insertion, that :func:`_merge_sort_entries` then merges
 SORT_RUN = 16
 
 
@@ -1700,10 +1700,11 @@ def _resin_cut(
 
 
 # --- building, renormalising and writing back ----------------------------------------------
-@njit(cache=True)
-def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
-    """Row j from the grid: every plateau cell out of contact (sorted), the map reset to
-    ``h = r + z``; the next evaluation moves the cells in contact in."""
+@njit_noalloc
+def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2, sk, sc):
+    """Row j from the grid: every plateau cell out of contact (sorted by height, equal heights
+    in column order), the map reset to ``h = r + z``; the next evaluation moves the cells in
+    contact in. ``sk``/``sc``: scratch for ``n_angular`` entries."""
     (
         rows,
         seg,
@@ -1734,13 +1735,9 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2):
             n += 1
         else:
             where[idx] = W_NONE
-    order = np.argsort(out_h[row0 : row0 + n], kind="mergesort")
-    hs = out_h[row0 : row0 + n].copy()
-    ids = out_idx[row0 : row0 + n].copy()
+    _merge_sort_entries(out_h[row0 : row0 + n], out_idx[row0 : row0 + n], n, sk, sc)
     for q in range(n):
-        out_h[row0 + q] = hs[order[q]]
-        idx = ids[order[q]]
-        out_idx[row0 + q] = idx
+        idx = out_idx[row0 + q]
         out_s[row0 + q] = status[idx]
         where[idx] = W_OUT
         pos[idx] = q
@@ -2035,11 +2032,13 @@ def run_stop_lazy(
     for k in range(1, tdirty[0] + 1):
         tmark[tdirty[k]] = 0
     tdirty[0] = 0
-    # the resin cut's scratch (and the resin entries' sort's)
+    # the resin cut's scratch (and the sorts' of the rows' entries)
     blk_key = np.empty(n_angular + PEND)
     blk_col = np.empty(n_angular + PEND, dtype=np.int32)
     for j in range(n_radial):
-        _rebuild_row(L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2)
+        _rebuild_row(
+            L, j, ztop, status, height, cell_bin, base, n_angular, n_sub, p2, blk_key, blk_col
+        )
         _resin_build_row(
             resin_key, resin_col, resin_n, j, status, height, n_angular, blk_key, blk_col
         )

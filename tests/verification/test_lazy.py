@@ -43,8 +43,9 @@ def _solve_lazy(height, status, grid, config, target):
     top = float(state.height[state.status != 0].max())
     for j in range(n_r):
         _lazy._rebuild_row(
-            L, j, top, state.status, state.height, state.cell_bin, state.base, n_t, n_sub, lz.p2
-        )
+            L, j, top, state.status, state.height, state.cell_bin, state.base, n_t, n_sub, lz.p2,
+            np.empty(n_t), np.empty(n_t, dtype=np.int32),
+        )  # fmt: skip
     tot = np.zeros(_lazy.N_E)
     evt = np.full(2 * 256, -math.inf)
     z, code = _lazy.solve_contact(
