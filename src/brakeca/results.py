@@ -197,26 +197,34 @@ def build_dataset(
     )
     # thinned per-step series
     every = config.output.series_every
-    all_rec = np.concatenate(records)
     all_dt = np.concatenate(dts)
     time_end = np.cumsum(all_dt)
     stop_of_step = np.concatenate(
         [np.full(d.size, s.index) for s, d in zip(stops, dts, strict=True)]
     )
-    keep = np.arange(0, all_rec.shape[0], every)
+    keep = np.arange(0, all_dt.size, every)
+    # the kept steps' records, stop by stop: the whole run's records concatenated (51 MB at
+    # full resolution) were the largest allocation at the end of a run
+    picked = []
+    start = 0
+    for r in records:
+        first = -(-start // every) * every  # the first kept step at or after this stop's start
+        picked.append(r[np.arange(first - start, r.shape[0], every)])
+        start += r.shape[0]
+    kept = np.concatenate(picked)  # the records of the steps ``keep``
     series = {
         "step_time": (time_end[keep], "s", "braking time at the end of the step"),
         "step_stop": (stop_of_step[keep], "1", "stop of the step"),
-        "step_cof": (all_rec[keep, K.R_COF], "1", "global COF of the step"),
-        "step_normal_force": (all_rec[keep, K.R_NORMAL] * pad_scale, "N", "pad normal force"),
-        "step_contact_area_fraction": (all_rec[keep, K.R_CONTACT_AREA] / area, "1", "contact area"),
-        "step_primary_area_fraction": (all_rec[keep, K.R_PRIMARY_AREA] / area, "1", "primary area"),
+        "step_cof": (kept[:, K.R_COF], "1", "global COF of the step"),
+        "step_normal_force": (kept[:, K.R_NORMAL] * pad_scale, "N", "pad normal force"),
+        "step_contact_area_fraction": (kept[:, K.R_CONTACT_AREA] / area, "1", "contact area"),
+        "step_primary_area_fraction": (kept[:, K.R_PRIMARY_AREA] / area, "1", "primary area"),
         "step_secondary_area_fraction": (
-            all_rec[keep, K.R_SECONDARY_AREA] / area,
+            kept[:, K.R_SECONDARY_AREA] / area,
             "1",
             "secondary area",
         ),
-        "step_disc_position": (all_rec[keep, K.R_DISC], "m", "disc surface position z"),
+        "step_disc_position": (kept[:, K.R_DISC], "m", "disc surface position z"),
     }
     for name, (values, unit, desc) in series.items():
         data_vars[name] = ("step", values, {"units": unit, "long_name": desc})
@@ -266,7 +274,7 @@ def build_dataset(
         "config": config.to_toml(),
         "quick": int(config.quick),
         "max_stops": -1 if config.cycle.max_stops is None else int(config.cycle.max_stops),
-        "n_steps_total": int(all_rec.shape[0]),
+        "n_steps_total": int(all_dt.size),
         "wall_time": float(wall_time),
         "kernel": kernel,
         "stops_lazy": int((kernel_stops or {}).get("lazy", 0)),

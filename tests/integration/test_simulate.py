@@ -84,6 +84,22 @@ def test_responses_are_plausible(run):
         assert np.all(np.isfinite(ds[name]))
 
 
+def test_thinned_series_are_every_nth_step_across_stops(small):
+    """The per-step series kept every ``output.series_every`` steps are the whole run's steps
+    0, n, 2n, ... whatever the stops' lengths (picked stop by stop)."""
+    every = 7
+    full = small.with_updates({"output.series_every": 1})
+    ds1 = simulate(full, seed=11).dataset
+    ds7 = simulate(small.with_updates({"output.series_every": every}), seed=11).dataset
+    assert ds1.sizes["step"] > 3 * every
+    assert ds1.n_steps.values.sum() == ds1.sizes["step"]
+    assert set(np.unique(ds1.n_steps.values % every)) != {0}  # stops not multiples of 7
+    series = [name for name in ds1.data_vars if name.startswith("step_")]
+    assert "step_cof" in series and "step_disc_position" in series
+    for name in series:
+        np.testing.assert_array_equal(ds7[name].values, ds1[name].values[::every], err_msg=name)
+
+
 def test_unreachable_torque_is_a_clear_error(small):
     with pytest.raises(ContactError, match="no plateau cell can reach"):
         simulate(small.with_updates({"A": 0}), seed=1)
