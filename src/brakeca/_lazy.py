@@ -196,6 +196,13 @@ TR_W = 0
 TR_SUB = 1
 TR_R = 2
 TR_B = 3
+# bits of ``tmark``, one byte per cell: flags for the next flush, and whether the cell's leaf
+# in its row's tree holds a line (``tree[leaf, TR_W] >= 0``, kept beside the flags so that the
+# flush and the status changes read one byte instead of the tree's record)
+TM_CROSSED = 1
+TM_STALE = 2
+TM_FLAGS = 3
+TM_LEAF = 4
 
 
 @njit(cache=True, inline="always")
@@ -206,14 +213,15 @@ def _tree_leaf(p2, j, col):
 
 @njit_noalloc
 def _tree_dirty(tdirty, tmark, idx, flag):
-    """List cell idx for the next :func:`_tree_flush` (once), with ``flag`` 1 (it crossed
-    the contact edge) or 2 (its leaf is stale: a plateau re-created where a destroyed one left
-    it); a cell flagged 2 stays 2."""
-    if tmark[idx] == 0:
+    """List cell idx for the next :func:`_tree_flush` (once), with ``flag`` TM_CROSSED (it
+    crossed the contact edge) or TM_STALE (its leaf is stale: a plateau re-created where a
+    destroyed one left it); a cell flagged TM_STALE stays so. The TM_LEAF bit is kept."""
+    m = tmark[idx]
+    if (m & TM_FLAGS) == 0:
         tdirty[0] += 1
         tdirty[tdirty[0]] = idx
-    if flag > tmark[idx]:
-        tmark[idx] = flag
+    if flag > (m & TM_FLAGS):
+        tmark[idx] = (m & TM_LEAF) | flag
 
 
 @njit_noalloc
@@ -315,16 +323,17 @@ def _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
     forth, and only the net change reaches the tree)."""
     for k in range(1, tdirty[0] + 1):
         idx = tdirty[k]
-        stale = tmark[idx] == 2
-        tmark[idx] = 0
-        j = idx // n_angular
-        col = idx - j * n_angular
+        m = tmark[idx]
+        has = (m & TM_LEAF) != 0
         want = where[idx] == W_IN
         # a leaf in place is this plateau's own, unless it is marked stale (a plateau created
         # where a destroyed one left its leaf: the line changed, so its path is recomputed);
         # a cell that left and re-entered keeps its line to an ulp
-        if want != (tree[_tree_leaf(p2, j, col), TR_W] >= 0.0) or (stale and want):
-            _tree_set(tree, p2, j, col, want, ta[j], cell_r[idx], base[idx])
+        if want != has or (want and (m & TM_FLAGS) == TM_STALE):
+            j = idx // n_angular
+            _tree_set(tree, p2, j, idx - j * n_angular, want, ta[j], cell_r[idx], base[idx])
+            has = want
+        tmark[idx] = TM_LEAF if has else 0
     tdirty[0] = 0
 
 
@@ -645,7 +654,7 @@ def _contact_row(
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, 1.0)
             if st == SECONDARY:
                 cell_r[idx] = r
-                _tree_dirty(tdirty, tmark, idx, 1)
+                _tree_dirty(tdirty, tmark, idx, TM_CROSSED)
             nin += 1
             moves += 1
         nout -= 1
@@ -695,7 +704,7 @@ def _commit_row(
             st = in_s[q]
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, -1.0)
             if st == SECONDARY:
-                _tree_dirty(tdirty, tmark, idx, 1)
+                _tree_dirty(tdirty, tmark, idx, TM_CROSSED)
             # to the top of the out-of-contact array (it is the highest of them)
             if nout == n_angular:
                 rows[j, RW_NOUT] = nout
@@ -1723,9 +1732,10 @@ def _rebuild_row(L, j, z, status, height, cell_bin, base, n_angular, n_sub, p2, 
         _in_s,
         out_s,
         _tdirty,
-        _tmark,
+        tmark,
     ) = L
     row0 = j * n_angular
+    tmark[row0 : row0 + n_angular] = 0  # the tree is cleared below; no flags are pending
     n = 0
     for i in range(n_angular):
         idx = row0 + i
@@ -1780,7 +1790,7 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
         _in_s,
         _out_s,
         _tdirty,
-        _tmark,
+        tmark,
     ) = L
     row0 = j * n_angular
     a = amap[j, 0]
@@ -1789,6 +1799,8 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
     bins[j * n_sub : (j + 1) * n_sub, :] = 0.0
     off = j * 2 * p2
     tree[off + p2 : off + 2 * p2, TR_W] = -1.0
+    for i in range(n_angular):
+        tmark[row0 + i] &= TM_FLAGS
     for q in range(rows[j, RW_NIN]):
         r = (a * in_r[row0 + q] + c) - z
         in_r[row0 + q] = r
@@ -1802,6 +1814,7 @@ def _renormalise_row(L, j, z, status, cell_bin, base, n_angular, n_sub, p2):
                 tree[leaf, TR_W] = idx - row0
                 tree[leaf, TR_R] = r
                 tree[leaf, TR_B] = base[idx]
+                tmark[idx] |= TM_LEAF
     amap[j, 0] = 1.0
     amap[j, 1] = z
     ta[j] = 1.0
@@ -1881,10 +1894,19 @@ def _push_out(rows, out_h, out_idx, out_s, where, pos, idx, h, n_angular):
 def check_invariants(L, status, height, n_radial, n_angular):
     """Every entry of the row arrays agrees with ``where``/``pos``, is a plateau cell, and the
     arrays are sorted (in contact: raw coordinate descending; out of contact: height
-    ascending); every plateau cell is held exactly once. Returns the number of violations
-    (for the tests)."""
+    ascending); every plateau cell is held exactly once; each cell's TM_LEAF bit says whether
+    its leaf in its row's rule-5 tree holds a line. Returns the number of violations (for the
+    tests)."""
     rows, in_r, in_idx, out_h, out_idx, where, pos = L[0], L[2], L[3], L[5], L[6], L[7], L[8]
+    tree, tmark = L[11], L[17]
+    p2 = tree.shape[0] // (2 * n_radial)
     bad = 0
+    for idx in range(status.size):
+        j = idx // n_angular
+        if ((tmark[idx] & TM_LEAF) != 0) != (
+            tree[_tree_leaf(p2, j, idx - j * n_angular), TR_W] >= 0.0
+        ):
+            bad += 1
     seen = np.zeros(status.size, dtype=np.int64)
     for j in range(n_radial):
         row0 = j * n_angular
@@ -2173,6 +2195,7 @@ def run_stop_lazy(
                 idx = row0 + col
                 if where[idx] != W_IN:  # the leaf of a plateau destroyed since: drop it
                     _tree_set(tree, p2, j, col, False, a, 0.0, 0.0)
+                    tmark[idx] &= TM_FLAGS
                     continue
                 h_new = a * cell_r[idx] + c
                 if h_new > base[idx]:
@@ -2195,6 +2218,7 @@ def run_stop_lazy(
                     n_angular,
                 )
                 _tree_set(tree, p2, j, col, False, a, 0.0, 0.0)
+                tmark[idx] &= TM_FLAGS
                 if mark[idx] == 4:
                     rule_counts[4] -= 1  # worn through: counted as rule 5
                 mark[idx] = 5
@@ -2290,11 +2314,11 @@ def run_stop_lazy(
             acc[ACC_HELD] += (z - height[idx]) * area
             acc[ACC_SECONDARY_AREA] += area
             j = idx // n_angular
-            if tree[_tree_leaf(p2, j, idx - j * n_angular), TR_W] >= 0.0:
+            if tmark[idx] & TM_LEAF:
                 # the stale leaf of a plateau destroyed here before: its line changes now, and
                 # the next flush updates its path once (removed, or the new line if the new
                 # plateau is in contact by then); nothing reads the tree until that flush
-                _tree_dirty(tdirty, tmark, idx, 2)
+                _tree_dirty(tdirty, tmark, idx, TM_STALE)
             base[idx] = height[idx]
             height[idx] = z
             status[idx] = SECONDARY
