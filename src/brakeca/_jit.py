@@ -23,7 +23,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, TypeVar
 
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic, overload
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -32,3 +35,56 @@ def njit_noalloc(fn: F) -> F:
     """Compile ``fn``, a helper that takes arrays but allocates none, without reference
     counting (cached on disk like every kernel)."""
     return njit(cache=True, _nrt=False)(fn)  # type: ignore[call-overload]
+
+
+def prefetch(arr: Any, i: int) -> None:
+    """``prefetch(arr, i)`` in compiled code: ask the processor to start loading the cache
+    line of ``arr[i]`` (of ``arr[i, 0]`` for a two-dimensional array; LLVM's
+    ``llvm.prefetch``, for reading, to be kept in every cache level). It has no effect on any
+    value, so no result can change; it only lets loads of scattered cells that a loop will
+    need a few iterations later overlap (docs/performance.md, eleventh session). An index
+    outside the array is harmless (a prefetch never faults), so callers need not check it.
+    Called from Python (numba's JIT disabled) it does nothing."""
+
+
+@overload(prefetch, inline="always")
+def _prefetch_overload(arr: Any, i: Any) -> Any:
+    if not isinstance(arr, types.Array) or arr.ndim > 2 or not isinstance(i, types.Integer):
+        return None
+
+    def impl(arr: Any, i: Any) -> None:  # pragma: no cover - compiled
+        _llvm_prefetch(arr, i)  # type: ignore[call-arg]
+
+    return impl
+
+
+@intrinsic
+def _llvm_prefetch(typingctx: Any, arr: Any, idx: Any) -> Any:
+    """``llvm.prefetch`` of the address of ``arr[idx]`` (``arr[idx, 0]``), for reading."""
+    if not isinstance(arr, types.Array) or arr.ndim > 2 or not isinstance(idx, types.Integer):
+        return None
+    sig = types.void(arr, idx)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        aryty, idxty = signature.args
+        ary = context.make_array(aryty)(context, builder, args[0])
+        i = context.cast(builder, args[1], idxty, types.intp)
+        zero = context.get_constant(types.intp, 0)
+        item = cgutils.get_item_pointer2(
+            context,
+            builder,
+            data=ary.data,
+            shape=cgutils.unpack_tuple(builder, ary.shape, aryty.ndim),
+            strides=cgutils.unpack_tuple(builder, ary.strides, aryty.ndim),
+            layout=aryty.layout,
+            inds=[i] + [zero] * (aryty.ndim - 1),
+            wraparound=False,
+        )
+        ptr = builder.bitcast(item, ir.IntType(8).as_pointer())
+        i32 = ir.IntType(32)
+        fnty = ir.FunctionType(ir.VoidType(), [ptr.type, i32, i32, i32])
+        fn = cgutils.get_or_insert_function(builder.module, fnty, "llvm.prefetch.p0")
+        builder.call(fn, [ptr, i32(0), i32(3), i32(1)])
+        return context.get_dummy_value()
+
+    return sig, codegen

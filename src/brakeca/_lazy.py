@@ -64,7 +64,7 @@ import math
 import numpy as np
 from numba import njit
 
-from brakeca._jit import njit_noalloc
+from brakeca._jit import njit_noalloc, prefetch
 from brakeca._kernels import (
     ACC_EMITTED,
     ACC_HELD,
@@ -196,6 +196,11 @@ TR_W = 0
 TR_SUB = 1
 TR_R = 2
 TR_B = 3
+# nodes of a row's tree below this index (the top levels) are not prefetched
+TREE_HOT = 16
+# how many iterations ahead the loops over scattered cells prefetch a cell's data
+AHEAD = 8
+
 # bits of ``tmark``, one byte per cell: flags for the next flush, and whether the cell's leaf
 # in its row's tree holds a line (``tree[leaf, TR_W] >= 0``, kept beside the flags so that the
 # flush and the status changes read one byte instead of the tree's record)
@@ -266,6 +271,12 @@ def _tree_set(tree, p2, j, col, active, a, r, b):
     ``col`` of row ``j``."""
     off = j * 2 * p2
     leaf = _tree_leaf(p2, j, col)
+    # the climb reads each node on the path with its sibling: start loading the lower levels
+    # at once (the upper ones are shared by the row's every climb and stay in cache)
+    node = (p2 + col) >> 1
+    while node >= TREE_HOT:
+        prefetch(tree, off + node)
+        node >>= 1
     if active:
         tree[leaf, TR_W] = col
         tree[leaf, TR_R] = r
@@ -322,6 +333,12 @@ def _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
     edge (each crossing only listed the cell: during a contact solve cells cross back and
     forth, and only the net change reaches the tree)."""
     for k in range(1, tdirty[0] + 1):
+        if k + AHEAD <= tdirty[0]:
+            ahead = tdirty[k + AHEAD]
+            prefetch(tmark, ahead)
+            prefetch(where, ahead)
+            prefetch(cell_r, ahead)
+            prefetch(base, ahead)
         idx = tdirty[k]
         m = tmark[idx]
         has = (m & TM_LEAF) != 0
@@ -1672,6 +1689,9 @@ def _resin_cut(
         e = top - 1
         b = 0
         while i >= lo or e >= top - a:
+            if i - AHEAD >= lo:
+                prefetch(status, row0 + cols[i - AHEAD])
+                prefetch(height, row0 + cols[i - AHEAD])
             if e < top - a or (i >= lo and keys[i] >= bk[e]):
                 k = keys[i]
                 col = cols[i]
@@ -2149,6 +2169,10 @@ def run_stop_lazy(
         # rule 4 on the start-of-step statuses (marks only)
         n4 = 0
         for q in range(cnt[CNT_RULE4]):
+            if q + AHEAD < cnt[CNT_RULE4]:
+                ahead = rule4_list[q + AHEAD]
+                prefetch(mark, ahead)
+                prefetch(status, ahead)
             idx = rule4_list[q]
             if mark[idx] or not rule4_lost_support(status, idx, n_angular):
                 continue
@@ -2228,6 +2252,14 @@ def run_stop_lazy(
                 n_dest += 1
         # rule 4: destroyed at their height after this step's wear
         for q in range(n4):
+            if q + AHEAD < n4:
+                ahead = marked[q + AHEAD]
+                prefetch(mark, ahead)
+                prefetch(where, ahead)
+                prefetch(pos, ahead)
+                # half as far ahead, its position is known by now: its entry
+                ahead = marked[q + AHEAD // 2]
+                prefetch(in_r, ahead - ahead % n_angular + pos[ahead])
             idx = marked[q]
             if mark[idx] != 4:
                 continue
@@ -2283,6 +2315,13 @@ def run_stop_lazy(
         prof[T_CREATION] += t4 - t3
         # the status changes take effect together
         for q in range(n_dest):
+            if q + AHEAD < n_dest:
+                ahead = destroyed[q + AHEAD]
+                prefetch(cell_area, ahead)
+                prefetch(base, ahead)
+                prefetch(height, ahead)
+                prefetch(cell_bin, ahead)
+                prefetch(status, ahead)
             idx = destroyed[q]
             area = cell_area[idx]
             dep = (dheight[q] - base[idx]) * area
@@ -2309,6 +2348,14 @@ def run_stop_lazy(
                 blk_col,
             )
         for q in range(n_new):
+            if q + AHEAD < n_new:
+                ahead = created[q + AHEAD]
+                prefetch(cell_area, ahead)
+                prefetch(height, ahead)
+                prefetch(tmark, ahead)
+                prefetch(base, ahead)
+                prefetch(where, ahead)
+                prefetch(pos, ahead)
             idx = created[q]
             area = cell_area[idx]
             acc[ACC_HELD] += (z - height[idx]) * area
@@ -2325,6 +2372,8 @@ def run_stop_lazy(
             _push_out(rows, out_h, out_idx, out_s, where, pos, idx, z, n_angular)
         cnt[CNT_SECONDARY] += n_new
         for q in range(n_dest):
+            if q + AHEAD < n_dest:
+                prefetch(cand, destroyed[q + AHEAD])
             idx = destroyed[q]
             mark[idx] = 0
             refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
@@ -2333,6 +2382,8 @@ def run_stop_lazy(
                 rule4_list[cnt[CNT_RULE4]] = idx - 1
                 cnt[CNT_RULE4] += 1
         for q in range(n_new):
+            if q + AHEAD < n_new:
+                prefetch(cand, created[q + AHEAD])
             idx = created[q]
             refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
             if idx % n_angular > 0:
