@@ -32,7 +32,7 @@ from brakeca import _kernels as K
 from brakeca._io import atomic_write
 from brakeca.config import SimulationConfig
 
-__all__ = ["FORMAT", "RunResult", "build_dataset"]
+__all__ = ["FORMAT", "RunResult", "build_dataset", "summarise_stop"]
 
 FORMAT = "brakeca-run/1"  #: format marker written to and checked in every run file
 M3_TO_MM3 = 1e9
@@ -114,13 +114,71 @@ def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
     return atomic_write(path, lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
 
 
+# the per-stop reductions of a stop's per-step records that a run file needs (the columns of
+# :func:`summarise_stop`'s first result): time-weighted means, sums, extremes
+SUM_COF = 0  # time-weighted mean COF [-]
+SUM_NORMAL = 1  # time-weighted band normal force [N]
+SUM_PRIMARY_AREA = 2  # time-weighted areas [m^2]
+SUM_SECONDARY_AREA = 3
+SUM_CONTACT_AREA = 4
+SUM_EMITTED = 5  # volume emitted during the stop's steps [m^3]
+SUM_GENERATED = 6  # volume generated [m^3]
+SUM_LEDGER = 7  # largest relative ledger residual [-]
+SUM_DISC = 8  # lowest disc position [m]
+SUM_FRICTION_RESIDUAL = 9  # largest |F / F_demanded - 1| [-]
+N_SUM = 10
+
+
+def summarise_stop(
+    rec: np.ndarray, dt: np.ndarray, start: int, every: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """What a run file keeps of one stop's per-step records ``rec`` (steps x ``K.N_REC``),
+    so that a run need not hold every step's record to its end (51 MB at full resolution).
+
+    Parameters
+    ----------
+    rec, dt
+        The stop's per-step records and step durations [s].
+    start
+        Steps of the run before this stop [-].
+    every
+        ``output.series_every``: the per-step series keeps the run's steps 0, every, 2 every...
+
+    Returns
+    -------
+    summary, kept
+        The reductions (``N_SUM`` values, indexed by the ``SUM_*`` constants) and the records
+        of the stop's kept steps (copies).
+    """
+    total = np.sum(dt)
+
+    def tw(col: int) -> float:  # time-weighted mean of a record column over the stop
+        return float(np.sum(rec[:, col] * dt) / total)
+
+    summary = np.empty(N_SUM)
+    summary[SUM_COF] = tw(K.R_COF)
+    summary[SUM_NORMAL] = tw(K.R_NORMAL)
+    summary[SUM_PRIMARY_AREA] = tw(K.R_PRIMARY_AREA)
+    summary[SUM_SECONDARY_AREA] = tw(K.R_SECONDARY_AREA)
+    summary[SUM_CONTACT_AREA] = tw(K.R_CONTACT_AREA)
+    summary[SUM_EMITTED] = rec[:, K.R_EMITTED].sum()
+    summary[SUM_GENERATED] = rec[:, K.R_GENERATED].sum()
+    summary[SUM_LEDGER] = rec[:, K.R_LEDGER].max()
+    summary[SUM_DISC] = rec[:, K.R_DISC].min()
+    summary[SUM_FRICTION_RESIDUAL] = np.max(np.abs(rec[:, K.R_FRICTION] / rec[:, K.R_TARGET] - 1.0))
+    first = -(-start // every) * every  # the first kept step at or after this stop's start
+    kept = rec[np.arange(first - start, rec.shape[0], every)]
+    return summary, kept
+
+
 def build_dataset(
     *,
     config: SimulationConfig,
     seed: int,
     grid,
     stops,
-    records: list[np.ndarray],
+    summaries: np.ndarray,
+    kept: np.ndarray,
     dts: list[np.ndarray],
     flush: list[float],
     s_removed: list[int],
@@ -134,31 +192,33 @@ def build_dataset(
     kernel_stops: dict[str, int] | None = None,
     contact_fallbacks: int = 0,
 ) -> xr.Dataset:
-    """Assemble the run Dataset from the kernel's per-step records (see module docstring)."""
+    """Assemble the run Dataset (see module docstring) from the per-stop reductions of the
+    kernel's per-step records (``summaries``: stops x ``N_SUM``, rows of
+    :func:`summarise_stop`) and the records of the kept steps (``kept``, the stops' in order)."""
     area = grid.area
     pad_scale = config.brake.pad_area / area
     piston = np.pi * config.brake.piston_diameter**2 / 4.0
     n = len(stops)
+    if summaries.shape != (n, N_SUM) or len(dts) != n:
+        raise ValueError(f"{summaries.shape[0]} stop summaries and {len(dts)} for {n} stops")
 
-    def tw(col):  # time-weighted mean of a record column over each stop
-        return [float(np.sum(r[:, col] * d) / np.sum(d)) for r, d in zip(records, dts, strict=True)]
+    def col(c: int) -> list[float]:
+        return [float(v) for v in summaries[:, c]]
 
     per_stop: dict[str, Any] = {
-        "mean_cof": tw(K.R_COF),
-        "emitted_volume": [
-            float(r[:, K.R_EMITTED].sum()) + f for r, f in zip(records, flush, strict=True)
-        ],
-        "generated_volume": [float(r[:, K.R_GENERATED].sum()) for r in records],
-        "primary_area_fraction": [v / area for v in tw(K.R_PRIMARY_AREA)],
-        "secondary_area_fraction": [v / area for v in tw(K.R_SECONDARY_AREA)],
-        "contact_area_fraction": [v / area for v in tw(K.R_CONTACT_AREA)],
-        "band_normal_force": tw(K.R_NORMAL),
+        "mean_cof": col(SUM_COF),
+        "emitted_volume": [e + f for e, f in zip(col(SUM_EMITTED), flush, strict=True)],
+        "generated_volume": col(SUM_GENERATED),
+        "primary_area_fraction": [v / area for v in col(SUM_PRIMARY_AREA)],
+        "secondary_area_fraction": [v / area for v in col(SUM_SECONDARY_AREA)],
+        "contact_area_fraction": [v / area for v in col(SUM_CONTACT_AREA)],
+        "band_normal_force": col(SUM_NORMAL),
         "duration": [float(d.sum()) for d in dts],
         "n_steps": [d.size for d in dts],
-        "max_ledger_residual": [float(r[:, K.R_LEDGER].max()) for r in records],
+        "max_ledger_residual": col(SUM_LEDGER),
         "secondary_removed_between_stops": s_removed,
         "end_of_stop_emitted_volume": flush,
-        "min_disc_position": [float(r[:, K.R_DISC].min()) for r in records],
+        "min_disc_position": col(SUM_DISC),
     }
     per_stop["normal_force"] = [f * pad_scale for f in per_stop["band_normal_force"]]
     per_stop["line_pressure"] = [f / piston for f in per_stop["normal_force"]]
@@ -182,7 +242,7 @@ def build_dataset(
     }
     stop_idx = np.arange(1, n + 1)
     # friction residual against the demanded force of each step
-    fr_res = [float(np.max(np.abs(r[:, K.R_FRICTION] / r[:, K.R_TARGET] - 1.0))) for r in records]
+    fr_res = col(SUM_FRICTION_RESIDUAL)
     per_stop["max_friction_residual"] = fr_res
 
     data_vars: dict[str, Any] = {}
@@ -203,15 +263,8 @@ def build_dataset(
         [np.full(d.size, s.index) for s, d in zip(stops, dts, strict=True)]
     )
     keep = np.arange(0, all_dt.size, every)
-    # the kept steps' records, stop by stop: the whole run's records concatenated (51 MB at
-    # full resolution) were the largest allocation at the end of a run
-    picked = []
-    start = 0
-    for r in records:
-        first = -(-start // every) * every  # the first kept step at or after this stop's start
-        picked.append(r[np.arange(first - start, r.shape[0], every)])
-        start += r.shape[0]
-    kept = np.concatenate(picked)  # the records of the steps ``keep``
+    if kept.shape != (keep.size, K.N_REC):
+        raise ValueError(f"{kept.shape[0]} kept step records for {keep.size} kept steps")
     series = {
         "step_time": (time_end[keep], "s", "braking time at the end of the step"),
         "step_stop": (stop_of_step[keep], "1", "stop of the step"),

@@ -26,7 +26,7 @@ from brakeca.config import SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
 from brakeca.geometry import Grid, make_grid
-from brakeca.results import RunResult, build_dataset
+from brakeca.results import RunResult, build_dataset, summarise_stop
 from brakeca.surface import NONE, SECONDARY, Surface, generate_surface
 
 __all__ = [
@@ -246,7 +246,13 @@ def end_of_stop(
 
 @dataclass
 class _StopLog:
-    records: list[np.ndarray]
+    """What a run keeps of its finished stops: per stop, the reductions of the per-step
+    records and the records of the steps the per-step series keeps
+    (:func:`brakeca.results.summarise_stop`), the step durations [s], the volume flushed at
+    the end of the stop [m^3], the secondary plateaus rule S removed, the rule counts."""
+
+    summaries: list[np.ndarray]
+    kept: list[np.ndarray]
     dts: list[np.ndarray]
     flush: list[float]
     s_removed: list[int]
@@ -311,15 +317,20 @@ def simulate(
         surface = generate_surface(config.pad, grid, rng)
         state = SimulationState.from_surface(surface, grid)
         initial_status = surface.status
-        log = _StopLog([], [], [], [], [])
+        log = _StopLog([], [], [], [], [], [])
         elapsed_before = 0.0
     else:
         state, initial_status, log, rng_state, elapsed_before = resumed
         rng.bit_generator.state = rng_state
-    for stop in stops[len(log.records) :]:
+    start = sum(d.size for d in log.dts)  # steps done before the first stop to run
+    for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
-        log.records.append(rec)
+        summary, kept = summarise_stop(rec, dt, start, config.output.series_every)
+        del rec  # not kept: the whole run's records would be 51 MB at full resolution
+        start += dt.size
+        log.summaries.append(summary)
+        log.kept.append(kept)
         log.dts.append(dt)
         log.flush.append(flush)
         log.s_removed.append(n_removed)
@@ -343,7 +354,8 @@ def simulate(
         seed=seed,
         grid=grid,
         stops=stops,
-        records=log.records,
+        summaries=np.stack(log.summaries),
+        kept=np.concatenate(log.kept),
         dts=log.dts,
         flush=log.flush,
         s_removed=log.s_removed,
@@ -354,7 +366,7 @@ def simulate(
         final_ledger=final_ledger,
         wall_time=elapsed_before + time.perf_counter() - t0,
         kernel=config.numerics.kernel,
-        kernel_stops={kernel: len(log.records)},  # one kernel runs every stop
+        kernel_stops={kernel: len(log.dts)},  # one kernel runs every stop
         contact_fallbacks=int(state.lazy_walk[6]),
     )
     if checkpoint:
@@ -392,7 +404,7 @@ _STATE_ARRAYS = (
     "cnt",
     "lazy_walk",
 )
-CHECKPOINT_FORMAT = "brakeca-checkpoint/5"
+CHECKPOINT_FORMAT = "brakeca-checkpoint/6"
 
 
 def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
@@ -401,11 +413,13 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
     Everything the next stop reads is saved, the kernel's bookkeeping included (plateau order
     with its tie order, the resin heap), so a resumed run is bit-identical.
     """
-    lengths = np.array([r.shape[0] for r in log.records], dtype=np.int64)
+    lengths = np.array([d.size for d in log.dts], dtype=np.int64)
     arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
     arrays.update(
         initial_status=initial_status,
-        log_records=np.concatenate(log.records),
+        log_summaries=np.stack(log.summaries),
+        log_kept=np.concatenate(log.kept),
+        log_kept_lengths=np.array([k.shape[0] for k in log.kept], dtype=np.int64),
         log_dts=np.concatenate(log.dts),
         log_lengths=lengths,
         log_flush=np.asarray(log.flush, dtype=np.float64),
@@ -467,8 +481,10 @@ def load_checkpoint(path, config, seed, grid):
     for name in _STATE_ARRAYS:
         state.array(name)[...] = arrays[f"state_{name}"]
     bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])
+    kept_bounds = np.concatenate([[0], np.cumsum(arrays["log_kept_lengths"])])
     log = _StopLog(
-        records=[arrays["log_records"][a:b] for a, b in pairwise(bounds)],
+        summaries=list(arrays["log_summaries"]),
+        kept=[arrays["log_kept"][a:b] for a, b in pairwise(kept_bounds)],
         dts=[arrays["log_dts"][a:b] for a, b in pairwise(bounds)],
         flush=[float(v) for v in arrays["log_flush"]],
         s_removed=[int(v) for v in arrays["log_s_removed"]],

@@ -65,7 +65,7 @@ def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path,
     def spy(*args, **kwargs):
         found = load(*args, **kwargs)
         if found is not None:
-            resumed.append(len(found[2].records))  # stops already done
+            resumed.append(len(found[2].dts))  # stops already done
         return found
 
     monkeypatch.setattr(simulation, "load_checkpoint", spy)
