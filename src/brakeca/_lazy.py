@@ -196,8 +196,6 @@ TR_W = 0
 TR_SUB = 1
 TR_R = 2
 TR_B = 3
-# nodes of a row's tree below this index (the top levels) are not prefetched
-TREE_HOT = 16
 # how many iterations ahead the loops over scattered cells prefetch a cell's data
 AHEAD = 8
 
@@ -271,12 +269,6 @@ def _tree_set(tree, p2, j, col, active, a, r, b):
     ``col`` of row ``j``."""
     off = j * 2 * p2
     leaf = _tree_leaf(p2, j, col)
-    # the climb reads each node on the path with its sibling: start loading the lower levels
-    # at once (the upper ones are shared by the row's every climb and stay in cache)
-    node = (p2 + col) >> 1
-    while node >= TREE_HOT:
-        prefetch(tree, off + node)
-        node >>= 1
     if active:
         tree[leaf, TR_W] = col
         tree[leaf, TR_R] = r
