@@ -545,10 +545,12 @@ def phase_creation(
             area = cell_area[i0]  # one area per row (the grid's cell areas are per radius)
             if rest > 0.0 and ncand[b] > 0 and gap_fill_cost(z, cmax[b], area) <= rest:
                 top = -math.inf
+                left = ncand[b]  # the bin's candidates not met yet: none after the last
                 for c in range(n_m):
                     idx = i0 + (n_m - 1 - c if east_to_west else c)
                     if cand[idx] == 0:
                         continue
+                    left -= 1
                     cost = gap_fill_cost(z, height[idx], area)
                     if cost <= rest:
                         rest -= cost
@@ -557,6 +559,8 @@ def phase_creation(
                         rule_counts[creation_rule(status, idx, n_radial, n_angular)] += 1
                     elif height[idx] > top:
                         top = height[idx]
+                    if left == 0:
+                        break
                 cmax[b] = top
             outflow[b] += rest
     return n_new
