@@ -175,9 +175,11 @@ class Lazy:
         self.marked = np.zeros(n, dtype=np.int64)
         self.walk = np.zeros(8)
         self.p2 = p2
-        # per-row resin entries sorted by height (key, column; stale entries allowed)
-        self.resin_key = np.zeros((n_radial, 2 * n_angular + 8))
-        self.resin_col = np.zeros((n_radial, 2 * n_angular + 8), dtype=np.int32)
+        # per-row resin entries sorted by height (key, column; stale entries allowed, until a
+        # row fills its room and is rebuilt from the grid)
+        room = RESIN_ROOM * n_angular + 8
+        self.resin_key = np.zeros((n_radial, room))
+        self.resin_col = np.zeros((n_radial, room), dtype=np.int32)
         self.resin_n = np.zeros(n_radial, dtype=np.int64)
 
 
@@ -1461,6 +1463,11 @@ def solve_contact(
 
 # --- the resin cut, row by row ----------------------------------------------------------------
 PEND = 32  # room per row for new resin cells not yet merged into the row's sorted entries
+# room for a row's resin entries, per cell of the row: the stale entries left below the disc
+# fill it, and a full row is rebuilt from the grid (which entries are there, and the order of
+# equal keys, change no value: every entry of one key cuts the same volume into the same
+# sums, so this only sets how often rows are rebuilt; 4: half as often as with 2)
+RESIN_ROOM = 4
 
 
 # Each row keeps its resin (status none) cells as entries (height, column) sorted by height,
