@@ -53,6 +53,22 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from brakeca._jit import njit_noalloc
+from brakeca._records import (  # the columns of the per-step record array `rec[step, :]`
+    N_REC,
+    R_COF,
+    R_CONTACT_AREA,
+    R_DISC,
+    R_EMITTED,
+    R_FRICTION,
+    R_GENERATED,
+    R_HELD,
+    R_LEDGER,
+    R_NORMAL,
+    R_PRIMARY_AREA,
+    R_SECONDARY_AREA,
+    R_STREAM,
+    R_TARGET,
+)
 from brakeca.automaton import (
     creation_rule,
     gap_fill_cost,
@@ -92,21 +108,6 @@ CNT_RULE4 = 2  # entries of the rule-4 check list
 CNT_SECONDARY = 3  # packed records of secondary plateaus
 N_CNT = 4
 
-# indices into the per-step record array `rec[step, :]`
-R_COF = 0
-R_NORMAL = 1
-R_FRICTION = 2
-R_CONTACT_AREA = 3
-R_PRIMARY_AREA = 4
-R_SECONDARY_AREA = 5
-R_EMITTED = 6
-R_GENERATED = 7
-R_LEDGER = 8
-R_DISC = 9
-R_HELD = 10
-R_STREAM = 11
-R_TARGET = 12
-N_REC = 13
 
 # per-step scratch sums `sums`
 S_FRICTION = 0

@@ -16,6 +16,7 @@ configuration that cannot run on two rows), the runs compile for themselves as b
 from __future__ import annotations
 
 import multiprocessing
+import sys
 import time
 from collections.abc import Iterable
 
@@ -50,20 +51,22 @@ def _key(config: SimulationConfig) -> tuple:
 
 
 def _compiled_here(kernel: str) -> bool:
-    """Whether this process already holds ``kernel``'s machine code (and so the cache has it)."""
-    import importlib
-    import sys
-
+    """Whether this process already holds ``kernel``'s machine code (and so the cache has it);
+    False where the kernel's module is not even imported."""
     module_name, name = _ENTRIES[kernel]
-    module = sys.modules.get(module_name) or importlib.import_module(module_name)
-    return bool(getattr(module, name).signatures)
+    module = sys.modules.get(module_name)
+    return module is not None and bool(getattr(module, name).signatures)
 
 
 def _child(configs: list[SimulationConfig]) -> None:
     from brakeca.simulation import simulate
 
+    seen: set[tuple] = set()
     for config in configs:
-        simulate(config, seed=0)
+        key = _key(config)
+        if key not in seen:
+            seen.add(key)
+            simulate(tiny_config(config), seed=0)
 
 
 def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
@@ -76,16 +79,18 @@ def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
         Wall time of the warm-up [s]; None if nothing needed it (this process has those kernels
         already) or it failed.
     """
-    todo: dict[tuple, SimulationConfig] = {}
-    for config in configs:
-        key = _key(config)
-        if key not in todo and not _compiled_here(key[0]):
-            todo[key] = tiny_config(config)
+    todo = list(configs)
+    if all(name in sys.modules for name, _ in _ENTRIES.values()):
+        # this process holds the kernels' modules (it ran a simulation): skip what it compiled
+        todo = [c for c in todo if not _compiled_here(_key(c)[0])]
+    # else the child sorts the configurations out: which kernel runs a configuration is
+    # decided by brakeca.simulation, and importing it here would load numba and the kernels'
+    # modules into a process that may only coordinate workers and write the report (65 MB)
     if not todo:
         return None
     t0 = time.perf_counter()
     child = multiprocessing.get_context("spawn").Process(
-        target=_child, args=(list(todo.values()),), name="brakeca-warm-up"
+        target=_child, args=(todo,), name="brakeca-warm-up"
     )
     child.start()
     child.join()

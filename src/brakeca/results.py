@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from brakeca import __version__
-from brakeca import _kernels as K
+from brakeca import _records as K  # the record columns, without numba
 from brakeca._io import atomic_write
 from brakeca.config import SimulationConfig
 

@@ -30,6 +30,22 @@ def test_warm_up_is_skipped_for_kernels_this_process_holds():
     assert warm_up([config, load_preset()]) is None
 
 
+def test_the_coordinating_process_does_not_load_numba():
+    """A campaign's main process warms the kernels up in a child and reads run files: it
+    never needs numba or the kernels' modules (65 MB of its memory; the study's largest
+    process is this one, which also writes the report)."""
+    probe = (
+        "import sys; from brakeca._warmup import warm_up; from brakeca.presets import "
+        "load_preset; from brakeca import results, campaign, analysis, report; "
+        "c = load_preset().with_updates({'mesh.n_radial': 3, 'cycle.max_stops': 1}); "
+        "took = warm_up([c, c.with_updates({'automaton.rule6_max_gap': 1e-5})]); "
+        "print(took is not None, sorted(m for m in ('numba', 'brakeca._kernels', "
+        "'brakeca._lazy', 'brakeca.simulation') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert out.stdout.strip().splitlines()[-1] == "True []"
+
+
 _PROBE = """
 import json, sys
 from brakeca import _lazy
