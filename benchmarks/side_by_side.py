@@ -1,0 +1,107 @@
+"""Two versions of brakeca timed side by side, in pairs, on the same stops.
+
+    python benchmarks/side_by_side.py OLD_SRC NEW_SRC [--pairs 4] [--stops 12] [--rows 201]
+        [--wp 1e-13] [--set A=10 ...] [--out DIR]
+
+``OLD_SRC`` and ``NEW_SRC`` are ``src`` folders of two checkouts (``git worktree add`` or
+``git archive REV src | tar -x -C DIR``). Each pair runs ``benchmarks/stop_times.py run`` with
+each version at the same time, one per core (``taskset``), the old one on core 0 in odd pairs
+and on core 1 in even pairs, so that a core slower than the other (this machine is a virtual
+machine on a shared host: docs/performance.md) weighs on both versions alike. Each version
+compiles into its own numba cache folder under ``--out`` (once: the first pair's first stop is
+timed apart by ``stop_times.py`` and not counted). Defaults: test 5's levels (the study's most
+expensive run), the first 12 stops, full resolution.
+
+Prints one JSON line per pair (both versions' summed stop times [s] and new/old) and a last
+line with the mean and standard deviation of the ratios. Needs 2 cores and Linux's
+``taskset``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def _stop_seconds(path: Path) -> float:
+    total = 0.0
+    for line in path.read_text().splitlines():
+        row = json.loads(line)
+        if "stop" in row:
+            total += row["s"]
+    return total
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("old", type=Path, help="src folder of the old version")
+    ap.add_argument("new", type=Path, help="src folder of the new version")
+    ap.add_argument("--pairs", type=int, default=4)
+    ap.add_argument("--stops", type=int, default=12)
+    ap.add_argument("--rows", type=int, default=201)
+    ap.add_argument("--wp", default="1e-13")
+    ap.add_argument("--set", action="append", default=None, metavar="KEY=VALUE")
+    ap.add_argument("--out", type=Path, default=Path("side_by_side"))
+    args = ap.parse_args()
+    sets = args.set if args.set is not None else ["A=10"]
+    for src in (args.old, args.new):
+        if not (src / "brakeca" / "__init__.py").exists():
+            ap.error(f"{src}: not a src folder holding brakeca")
+    if args.pairs < 1 or args.stops < 1 or args.rows < 2:
+        ap.error("--pairs and --stops must be >= 1, --rows >= 2")
+    args.out.mkdir(parents=True, exist_ok=True)
+    ratios = []
+    for k in range(1, args.pairs + 1):
+        cores = {"old": 0 if k % 2 else 1, "new": 1 if k % 2 else 0}
+        procs = {}
+        for name, src in (("old", args.old), ("new", args.new)):
+            env = dict(
+                os.environ,
+                PYTHONPATH=str(src.resolve()),
+                NUMBA_CACHE_DIR=str((args.out / f"numba_{name}").resolve()),
+            )
+            cmd = ["taskset", "-c", str(cores[name]), sys.executable, str(HERE / "stop_times.py")]
+            cmd += ["run", "-o", str(args.out / f"{name}_{k}.jsonl"), "--rows", str(args.rows)]
+            cmd += ["--wp", args.wp, "--set", f"cycle.max_stops={args.stops}"]
+            for item in sets:
+                cmd += ["--set", item]
+            procs[name] = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL)
+        for name, proc in procs.items():
+            if proc.wait() != 0:
+                sys.exit(f"the {name} version failed (exit {proc.returncode})")
+        old = _stop_seconds(args.out / f"old_{k}.jsonl")
+        new = _stop_seconds(args.out / f"new_{k}.jsonl")
+        ratios.append(new / old)
+        print(
+            json.dumps(
+                {
+                    "pair": k,
+                    "old_core": cores["old"],
+                    "old_s": round(old, 3),
+                    "new_s": round(new, 3),
+                    "new_over_old": round(new / old, 3),
+                }
+            ),
+            flush=True,
+        )
+    sd = statistics.stdev(ratios) if len(ratios) > 1 else 0.0
+    print(
+        json.dumps(
+            {
+                "pairs": len(ratios),
+                "mean_new_over_old": round(statistics.mean(ratios), 3),
+                "sd": round(sd, 3),
+            }
+        )
+    )
+
+
+if __name__ == "__main__":
+    main()
