@@ -5,9 +5,10 @@ numba compiles a kernel on its first call and caches the machine code on disk
 the process never gives back, so a full-resolution run that compiles its kernels first peaks
 near 580 MB, against about 410 MB when it loads them from the cache (docs/performance.md).
 :func:`warm_up` therefore compiles (or only loads) the kernels a set of configurations needs in
-a short-lived child process, by running each on a two-row band for one stop: the run that
-follows, or a campaign's worker processes, then load the machine code from the cache. It also
-saves time in a campaign with a cold cache: the kernels are compiled once, not once per worker.
+a short-lived child process (a plain interpreter: ``python -m brakeca._warmup``), by running
+each on a two-row band for one stop: the run that follows, or a campaign's worker processes,
+then load the machine code from the cache. It also saves time in a campaign with a cold cache:
+the kernels are compiled once, not once per worker.
 
 The warm-up is an optimisation only: if it fails (a cache directory that cannot be written, a
 configuration that cannot run on two rows), the runs compile for themselves as before.
@@ -15,10 +16,13 @@ configuration that cannot run on two rows), the runs compile for themselves as b
 
 from __future__ import annotations
 
-import multiprocessing
+import pickle
+import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Iterable
+from pathlib import Path
 
 from brakeca.config import SimulationConfig
 
@@ -89,11 +93,17 @@ def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
     if not todo:
         return None
     t0 = time.perf_counter()
-    child = multiprocessing.get_context("spawn").Process(
-        target=_child, args=(todo,), name="brakeca-warm-up"
-    )
-    child.start()
-    child.join()
-    if child.exitcode != 0:
+    # a plain interpreter running this module, not a multiprocessing child: "spawn" would
+    # import this process's main module there first (the command line's: about 40 MB more
+    # in the process that holds the compiler's memory, the largest of a study)
+    with tempfile.TemporaryDirectory(prefix="brakeca-warm-up-") as tmp:
+        path = Path(tmp) / "configs.pickle"
+        path.write_bytes(pickle.dumps(todo))
+        done = subprocess.run([sys.executable, "-m", "brakeca._warmup", str(path)], check=False)
+    if done.returncode != 0:
         return None
     return time.perf_counter() - t0
+
+
+if __name__ == "__main__":
+    _child(pickle.loads(Path(sys.argv[1]).read_bytes()))
