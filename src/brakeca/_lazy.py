@@ -1958,6 +1958,20 @@ def check_invariants(L, status, height, n_radial, n_angular):
 
 
 @njit_noalloc
+def _prefetch_listed(cells, q, n, a1, a2, a3, a4, a5, a6):
+    """Start loading the entries of six per-cell arrays for the cell listed ``AHEAD`` places
+    after place q of ``cells[:n]`` (a loop over listed cells, at place q)."""
+    if q + AHEAD < n:
+        idx = cells[q + AHEAD]
+        prefetch(a1, idx)
+        prefetch(a2, idx)
+        prefetch(a3, idx)
+        prefetch(a4, idx)
+        prefetch(a5, idx)
+        prefetch(a6, idx)
+
+
+@njit_noalloc
 def _held_from_state(L, status, base, cell_area, n_radial, n_angular):
     """Volume held in secondary plateaus, summed cell by cell from the structures [m^3]."""
     rows, in_r, in_idx, amap, out_h, out_idx = L[0], L[2], L[3], L[4], L[5], L[6]
@@ -2314,13 +2328,7 @@ def run_stop_lazy(
         prof[T_CREATION] += t4 - t3
         # the status changes take effect together
         for q in range(n_dest):
-            if q + AHEAD < n_dest:
-                ahead = destroyed[q + AHEAD]
-                prefetch(cell_area, ahead)
-                prefetch(base, ahead)
-                prefetch(height, ahead)
-                prefetch(cell_bin, ahead)
-                prefetch(status, ahead)
+            _prefetch_listed(destroyed, q, n_dest, cell_area, base, height, cell_bin, status, mark)
             idx = destroyed[q]
             area = cell_area[idx]
             dep = (dheight[q] - base[idx]) * area
@@ -2347,14 +2355,7 @@ def run_stop_lazy(
                 blk_col,
             )
         for q in range(n_new):
-            if q + AHEAD < n_new:
-                ahead = created[q + AHEAD]
-                prefetch(cell_area, ahead)
-                prefetch(height, ahead)
-                prefetch(tmark, ahead)
-                prefetch(base, ahead)
-                prefetch(where, ahead)
-                prefetch(pos, ahead)
+            _prefetch_listed(created, q, n_new, cell_area, height, tmark, base, where, pos)
             idx = created[q]
             area = cell_area[idx]
             acc[ACC_HELD] += (z - height[idx]) * area
