@@ -108,7 +108,6 @@ CNT_RULE4 = 2  # entries of the rule-4 check list
 CNT_SECONDARY = 3  # packed records of secondary plateaus
 N_CNT = 4
 
-
 # per-step scratch sums `sums`
 S_FRICTION = 0
 S_NORMAL = 1

@@ -2083,9 +2083,8 @@ def run_stop_lazy(
             ztop = height[idx]
     if ztop == -math.inf:
         return ERR_NO_PLATEAU, 0
-    # rule-5 marks left by the last step of the stop before (the trees are rebuilt here)
-    for k in range(1, tdirty[0] + 1):
-        tmark[tdirty[k]] = 0
+    # the rule-5 list left by the last step of the stop before: the trees are rebuilt here,
+    # and _rebuild_row clears every cell's marks
     tdirty[0] = 0
     # the resin cut's scratch (and the sorts' of the rows' entries)
     blk_key = np.empty(n_angular + PEND)

@@ -28,7 +28,7 @@ import numpy as np
 import xarray as xr
 
 from brakeca import __version__
-from brakeca import _records as K  # the record columns, without numba
+from brakeca import _records as R  # the record columns (without numba)
 from brakeca._io import atomic_write
 from brakeca.config import SimulationConfig
 
@@ -132,7 +132,7 @@ N_SUM = 10
 def summarise_stop(
     rec: np.ndarray, dt: np.ndarray, start: int, every: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """What a run file keeps of one stop's per-step records ``rec`` (steps x ``K.N_REC``),
+    """What a run file keeps of one stop's per-step records ``rec`` (steps x ``R.N_REC``),
     so that a run need not hold every step's record to its end (51 MB at full resolution).
 
     Parameters
@@ -156,16 +156,16 @@ def summarise_stop(
         return float(np.sum(rec[:, col] * dt) / total)
 
     summary = np.empty(N_SUM)
-    summary[SUM_COF] = tw(K.R_COF)
-    summary[SUM_NORMAL] = tw(K.R_NORMAL)
-    summary[SUM_PRIMARY_AREA] = tw(K.R_PRIMARY_AREA)
-    summary[SUM_SECONDARY_AREA] = tw(K.R_SECONDARY_AREA)
-    summary[SUM_CONTACT_AREA] = tw(K.R_CONTACT_AREA)
-    summary[SUM_EMITTED] = rec[:, K.R_EMITTED].sum()
-    summary[SUM_GENERATED] = rec[:, K.R_GENERATED].sum()
-    summary[SUM_LEDGER] = rec[:, K.R_LEDGER].max()
-    summary[SUM_DISC] = rec[:, K.R_DISC].min()
-    summary[SUM_FRICTION_RESIDUAL] = np.max(np.abs(rec[:, K.R_FRICTION] / rec[:, K.R_TARGET] - 1.0))
+    summary[SUM_COF] = tw(R.R_COF)
+    summary[SUM_NORMAL] = tw(R.R_NORMAL)
+    summary[SUM_PRIMARY_AREA] = tw(R.R_PRIMARY_AREA)
+    summary[SUM_SECONDARY_AREA] = tw(R.R_SECONDARY_AREA)
+    summary[SUM_CONTACT_AREA] = tw(R.R_CONTACT_AREA)
+    summary[SUM_EMITTED] = rec[:, R.R_EMITTED].sum()
+    summary[SUM_GENERATED] = rec[:, R.R_GENERATED].sum()
+    summary[SUM_LEDGER] = rec[:, R.R_LEDGER].max()
+    summary[SUM_DISC] = rec[:, R.R_DISC].min()
+    summary[SUM_FRICTION_RESIDUAL] = np.max(np.abs(rec[:, R.R_FRICTION] / rec[:, R.R_TARGET] - 1.0))
     first = -(-start // every) * every  # the first kept step at or after this stop's start
     kept = rec[np.arange(first - start, rec.shape[0], every)]
     return summary, kept
@@ -263,21 +263,21 @@ def build_dataset(
         [np.full(d.size, s.index) for s, d in zip(stops, dts, strict=True)]
     )
     keep = np.arange(0, all_dt.size, every)
-    if kept.shape != (keep.size, K.N_REC):
+    if kept.shape != (keep.size, R.N_REC):
         raise ValueError(f"{kept.shape[0]} kept step records for {keep.size} kept steps")
     series = {
         "step_time": (time_end[keep], "s", "braking time at the end of the step"),
         "step_stop": (stop_of_step[keep], "1", "stop of the step"),
-        "step_cof": (kept[:, K.R_COF], "1", "global COF of the step"),
-        "step_normal_force": (kept[:, K.R_NORMAL] * pad_scale, "N", "pad normal force"),
-        "step_contact_area_fraction": (kept[:, K.R_CONTACT_AREA] / area, "1", "contact area"),
-        "step_primary_area_fraction": (kept[:, K.R_PRIMARY_AREA] / area, "1", "primary area"),
+        "step_cof": (kept[:, R.R_COF], "1", "global COF of the step"),
+        "step_normal_force": (kept[:, R.R_NORMAL] * pad_scale, "N", "pad normal force"),
+        "step_contact_area_fraction": (kept[:, R.R_CONTACT_AREA] / area, "1", "contact area"),
+        "step_primary_area_fraction": (kept[:, R.R_PRIMARY_AREA] / area, "1", "primary area"),
         "step_secondary_area_fraction": (
-            kept[:, K.R_SECONDARY_AREA] / area,
+            kept[:, R.R_SECONDARY_AREA] / area,
             "1",
             "secondary area",
         ),
-        "step_disc_position": (kept[:, K.R_DISC], "m", "disc surface position z"),
+        "step_disc_position": (kept[:, R.R_DISC], "m", "disc surface position z"),
     }
     for name, (values, unit, desc) in series.items():
         data_vars[name] = ("step", values, {"units": unit, "long_name": desc})
