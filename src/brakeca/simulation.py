@@ -16,6 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -26,8 +27,10 @@ from brakeca.config import SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
 from brakeca.geometry import Grid, make_grid
-from brakeca.results import RunResult, build_dataset, summarise_stop
 from brakeca.surface import NONE, SECONDARY, Surface, generate_surface
+
+if TYPE_CHECKING:
+    from brakeca.results import RunResult
 
 __all__ = [
     "LedgerError",
@@ -299,6 +302,11 @@ def simulate(
     LedgerError
         The volume ledger failed to close (a bug).
     """
+    # imported here, not at the top: the run files' module loads xarray and pandas (about
+    # 50 MB), which the warm-up child, the process that holds the compiler's memory, does not
+    # need (brakeca._warmup)
+    from brakeca.results import RunResult, build_dataset, summarise_stop
+
     t0 = time.perf_counter()
     if rng is None:
         seed = 0 if seed is None else int(seed)
