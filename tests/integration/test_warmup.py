@@ -111,3 +111,13 @@ def test_a_campaign_on_this_machine_warms_up_with_the_configs_it_runs(tmp_path, 
         console=quiet(),
     )
     assert seen == []
+
+
+def test_the_simulation_module_does_not_load_xarray():
+    """The warm-up child imports brakeca.simulation while it holds the compiler's memory; the
+    run-file module (xarray, pandas: about 50 MB) is imported only when simulate builds one."""
+    probe = (
+        "import sys, brakeca.simulation; print('xarray' in sys.modules, 'pandas' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert out.stdout.strip().splitlines()[-1] == "False False"
