@@ -15,6 +15,13 @@ expensive run), the first 12 stops, full resolution.
 Prints one JSON line per pair (both versions' summed stop times [s] and new/old) and a last
 line with the mean and standard deviation of the ratios. Needs 2 cores and Linux's
 ``taskset``.
+
+With ``--alike``, each pair is two rounds instead: the old version on both cores at once,
+then the new one on both cores at once (the new one first in even pairs), as a study's two
+workers run one kernel. A pair's ratio is the new round's mean over the old round's. The two
+processes of a round share the L3 cache and the memory bus, so a change that makes one
+process take more of them can look faster beside a process of the other version than it is
+beside itself; ``--alike`` measures what a study sees.
 """
 
 from __future__ import annotations
@@ -49,6 +56,11 @@ def main() -> None:
     ap.add_argument("--wp", default="1e-13")
     ap.add_argument("--set", action="append", default=None, metavar="KEY=VALUE")
     ap.add_argument("--out", type=Path, default=Path("side_by_side"))
+    ap.add_argument(
+        "--alike",
+        action="store_true",
+        help="each version on both cores at once, in alternate rounds (what a study sees)",
+    )
     args = ap.parse_args()
     sets = args.set if args.set is not None else ["A=10"]
     for src in (args.old, args.new):
@@ -57,40 +69,55 @@ def main() -> None:
     if args.pairs < 1 or args.stops < 1 or args.rows < 2:
         ap.error("--pairs and --stops must be >= 1, --rows >= 2")
     args.out.mkdir(parents=True, exist_ok=True)
-    ratios = []
-    for k in range(1, args.pairs + 1):
-        cores = {"old": 0 if k % 2 else 1, "new": 1 if k % 2 else 0}
-        procs = {}
-        for name, src in (("old", args.old), ("new", args.new)):
-            env = dict(
-                os.environ,
-                PYTHONPATH=str(src.resolve()),
-                NUMBA_CACHE_DIR=str((args.out / f"numba_{name}").resolve()),
-            )
-            cmd = ["taskset", "-c", str(cores[name]), sys.executable, str(HERE / "stop_times.py")]
-            cmd += ["run", "-o", str(args.out / f"{name}_{k}.jsonl"), "--rows", str(args.rows)]
-            cmd += ["--wp", args.wp, "--set", f"cycle.max_stops={args.stops}"]
-            for item in sets:
-                cmd += ["--set", item]
-            procs[name] = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL)
+    srcs = {"old": args.old, "new": args.new}
+
+    def start(name: str, core: int, out: Path) -> subprocess.Popen:
+        env = dict(
+            os.environ,
+            PYTHONPATH=str(srcs[name].resolve()),
+            NUMBA_CACHE_DIR=str((args.out / f"numba_{name}").resolve()),
+        )
+        cmd = ["taskset", "-c", str(core), sys.executable, str(HERE / "stop_times.py")]
+        cmd += ["run", "-o", str(out), "--rows", str(args.rows)]
+        cmd += ["--wp", args.wp, "--set", f"cycle.max_stops={args.stops}"]
+        for item in sets:
+            cmd += ["--set", item]
+        return subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL)
+
+    def wait(procs: dict) -> None:
         for name, proc in procs.items():
             if proc.wait() != 0:
                 sys.exit(f"the {name} version failed (exit {proc.returncode})")
-        old = _stop_seconds(args.out / f"old_{k}.jsonl")
-        new = _stop_seconds(args.out / f"new_{k}.jsonl")
+
+    ratios = []
+    for k in range(1, args.pairs + 1):
+        if args.alike:
+            times = {}
+            for name in ("old", "new") if k % 2 else ("new", "old"):
+                outs = [args.out / f"{name}_{k}_core{core}.jsonl" for core in (0, 1)]
+                procs = {f"{name} (core {core})": start(name, core, outs[core]) for core in (0, 1)}
+                wait(procs)
+                times[name] = [round(_stop_seconds(out), 3) for out in outs]
+            old = statistics.mean(times["old"])
+            new = statistics.mean(times["new"])
+            row = {"pair": k, "old_s": times["old"], "new_s": times["new"]}
+        else:
+            cores = {"old": 0 if k % 2 else 1, "new": 1 if k % 2 else 0}
+            procs = {
+                name: start(name, cores[name], args.out / f"{name}_{k}.jsonl") for name in srcs
+            }
+            wait(procs)
+            old = _stop_seconds(args.out / f"old_{k}.jsonl")
+            new = _stop_seconds(args.out / f"new_{k}.jsonl")
+            row = {
+                "pair": k,
+                "old_core": cores["old"],
+                "old_s": round(old, 3),
+                "new_s": round(new, 3),
+            }
         ratios.append(new / old)
-        print(
-            json.dumps(
-                {
-                    "pair": k,
-                    "old_core": cores["old"],
-                    "old_s": round(old, 3),
-                    "new_s": round(new, 3),
-                    "new_over_old": round(new / old, 3),
-                }
-            ),
-            flush=True,
-        )
+        row["new_over_old"] = round(new / old, 3)
+        print(json.dumps(row), flush=True)
     sd = statistics.stdev(ratios) if len(ratios) > 1 else 0.0
     print(
         json.dumps(
