@@ -87,6 +87,8 @@ def main() -> None:
     def wait(procs: dict) -> None:
         for name, proc in procs.items():
             if proc.wait() != 0:
+                for other in procs.values():
+                    other.kill()  # no run left behind on the other core
                 sys.exit(f"the {name} version failed (exit {proc.returncode})")
 
     ratios = []
