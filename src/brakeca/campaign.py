@@ -408,7 +408,8 @@ def _execute_points(
                             console.print(
                                 f"[yellow]worker died:[/] test {point.test}, replicate "
                                 f"{point.replicate} ({rid}): {escape(death)}; trying again "
-                                f"({deaths[rid]} of {max_retries})"
+                                f"({deaths[rid]} of {max_retries})",
+                                soft_wrap=not console.is_terminal,  # a log: one line each
                             )
                             queue.appendleft(point)
                             continue
@@ -425,7 +426,8 @@ def _execute_points(
                     if record.status != "ok":
                         console.print(
                             f"[red]run failed:[/] test {point.test}, replicate {point.replicate} "
-                            f"({rid}): {escape(record.error)}"
+                            f"({rid}): {escape(record.error)}",
+                            soft_wrap=not console.is_terminal,
                         )
                     elif how.progress and not console.is_terminal:
                         # no live bar in a log file: one line per run instead
@@ -436,6 +438,7 @@ def _execute_points(
                             f"{point.replicate} ({rid}) in {sc['wall_time']:.0f} s: "
                             f"MU {sc['MU']:.4f}, V {sc['V_mm3']:.4g} mm^3/stop",
                             highlight=False,
+                            soft_wrap=True,  # one line each, whatever the width
                         )
                     bar.advance(task)
         finished = True

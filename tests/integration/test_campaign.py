@@ -6,6 +6,7 @@ second once numba's cache is warm.
 
 from __future__ import annotations
 
+import io
 import os
 import shutil
 import signal
@@ -27,6 +28,7 @@ from campaign_helpers import (
     tiny,
     write_design,
 )
+from rich.console import Console
 
 from brakeca.campaign import (
     CampaignResult,
@@ -158,7 +160,8 @@ def test_local_executor_gives_identical_values(serial, design_file, tmp_path):
 def test_progress_in_a_log_file_is_one_line_per_run(serial, design_file, tmp_path):
     """Without a terminal (a log file) there is no live bar: a line when the campaign starts
     and one per finished run, with its time and responses."""
-    console = quiet()  # not a terminal
+    # not a terminal; 80 columns, rich's width for a file, narrower than a run's line
+    console = Console(file=io.StringIO(), width=80)
     out = tmp_path / "logged"
     shutil.copytree(serial.out_dir, out)
     (out / "runs" / f"{serial.summary.run_id[0]}.nc").unlink()  # one run left to do
@@ -167,7 +170,7 @@ def test_progress_in_a_log_file_is_one_line_per_run(serial, design_file, tmp_pat
     assert "1 of 4 run(s) to compute (3 already done)" in lines
     mu = serial.summary.MU[0]
     done = [line for line in lines if line.startswith("run 4/4 done: test 1, replicate 0")]
-    assert len(done) == 1 and f"MU {mu:.4f}" in done[0]
+    assert len(done) == 1 and f"MU {mu:.4f}" in done[0] and done[0].endswith("mm^3/stop")
 
 
 def test_rerun_skips_every_run(serial, tmp_path):
