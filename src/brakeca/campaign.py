@@ -258,7 +258,7 @@ def _run_locked(
     runs.mkdir(parents=True, exist_ok=True)
     stale = _remove_stale_temporaries(runs) + _remove_stale_temporaries(out)
     if stale:
-        console.print(f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
+        _say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     campaign_design = _write_design(
         out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
     )
@@ -276,9 +276,10 @@ def _run_locked(
                 records[rid] = _record_from_result(point, rid, result)
                 reused.append(rid)
                 continue
-            console.print(
+            _say(
+                console,
                 f"[yellow]warning:[/] {escape(str(path))} (test {point.test}, "
-                f"replicate {point.replicate}) {escape(why)}; recomputing it"
+                f"replicate {point.replicate}) {escape(why)}; recomputing it",
             )
             recomputed.append(rid)
         todo.append(point)
@@ -290,8 +291,9 @@ def _run_locked(
             todo, runs, records, computed, failed, how, n_total=len(points), console=console
         )
     elif how.progress:
-        console.print(
-            f"all {len(points)} runs of {escape(str(out))} already done; nothing to compute"
+        _say(
+            console,
+            f"all {len(points)} runs of {escape(str(out))} already done; nothing to compute",
         )
 
     ordered = [records[run_id(p)] for p in points]
@@ -300,9 +302,10 @@ def _run_locked(
     atomic_write(out / "summary.csv", lambda tmp: summary.to_csv(tmp, index=False))
     atomic_write(out / "campaign.nc", lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
     if failed:
-        console.print(
+        _say(
+            console,
             f"[red]{len(failed)} of {len(points)} run(s) failed[/]; "
-            f"see {escape(str(out / 'summary.csv'))}"
+            f"see {escape(str(out / 'summary.csv'))}",
         )
     return CampaignResult(
         out_dir=out,
@@ -314,6 +317,12 @@ def _run_locked(
         failed=tuple(failed),
         recomputed=tuple(recomputed),
     )
+
+
+def _say(console: Console, *objects: Any, **kwargs: Any) -> None:
+    """Print a campaign message: one line each, unwrapped, when the console is not a terminal
+    (a log file, where rich would otherwise wrap at 80 columns)."""
+    console.print(*objects, soft_wrap=not console.is_terminal, **kwargs)
 
 
 def _execute_points(
@@ -355,7 +364,7 @@ def _execute_points(
 
         warmed = warm_up(p.config for p in todo)
         if warmed is not None and how.progress:
-            console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
+            _say(console, f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
     backend = _backend(
         how.executor,
         how.workers,
@@ -376,7 +385,8 @@ def _execute_points(
         transient=False,
     )
     if how.progress and not console.is_terminal:
-        console.print(
+        _say(
+            console,
             f"{len(todo)} of {n_total} run(s) to compute ({n_total - len(todo)} already done)",
             highlight=False,
         )
@@ -405,11 +415,11 @@ def _execute_points(
                     if death is not None:
                         deaths[rid] = deaths.get(rid, 0) + 1
                         if deaths[rid] <= max_retries:
-                            console.print(
+                            _say(
+                                console,
                                 f"[yellow]worker died:[/] test {point.test}, replicate "
                                 f"{point.replicate} ({rid}): {escape(death)}; trying again "
                                 f"({deaths[rid]} of {max_retries})",
-                                soft_wrap=not console.is_terminal,  # a log: one line each
                             )
                             queue.appendleft(point)
                             continue
@@ -424,21 +434,21 @@ def _execute_points(
                     records[rid] = record
                     (computed if record.status == "ok" else failed).append(rid)
                     if record.status != "ok":
-                        console.print(
+                        _say(
+                            console,
                             f"[red]run failed:[/] test {point.test}, replicate {point.replicate} "
                             f"({rid}): {escape(record.error)}",
-                            soft_wrap=not console.is_terminal,
                         )
                     elif how.progress and not console.is_terminal:
                         # no live bar in a log file: one line per run instead
                         sc = record.scalars
-                        console.print(
+                        _say(
+                            console,
                             f"run {n_total - len(todo) + len(computed) + len(failed)}/{n_total} "
                             f"done: test {point.test}, replicate "
                             f"{point.replicate} ({rid}) in {sc['wall_time']:.0f} s: "
                             f"MU {sc['MU']:.4f}, V {sc['V_mm3']:.4g} mm^3/stop",
                             highlight=False,
-                            soft_wrap=True,  # one line each, whatever the width
                         )
                     bar.advance(task)
         finished = True
