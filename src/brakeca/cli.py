@@ -13,9 +13,9 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.console import Console
 
 from brakeca import __version__
+from brakeca._console import LogConsole
 from brakeca.config import ConfigError, SimulationConfig, load_config, parse_override
 
 app = typer.Typer(
@@ -26,8 +26,8 @@ app = typer.Typer(
         "(Wahlström 2016, doi:10.1155/2016/8181260) and factorial studies over pad properties."
     ),
 )
-console = Console(stderr=True)
-out = Console()
+console = LogConsole(stderr=True)
+out = LogConsole()
 
 
 def _fail(message: str, code: int = 2) -> None:

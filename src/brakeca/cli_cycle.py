@@ -12,8 +12,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
-from rich.console import Console
 
+from brakeca._console import LogConsole
 from brakeca.config import ConfigError
 from brakeca.cycle import KMH, Stop
 from brakeca.traces import (
@@ -39,8 +39,8 @@ cycle_app = typer.Typer(
     no_args_is_help=True,
     help="Drive cycles: block cycles (Table 3 form) and speed traces (time, speed).",
 )
-console = Console(stderr=True)
-out = Console()
+console = LogConsole(stderr=True)
+out = LogConsole()
 
 
 @cycle_app.callback()

@@ -1,0 +1,33 @@
+"""The command line's console keeps messages on one line in a log file."""
+
+from __future__ import annotations
+
+import io
+
+from rich.console import Console
+from rich.table import Table
+
+from brakeca._console import LogConsole
+
+LONG = "error: " + "/a/long/path/to/a/design/file/named/in/the/message " * 4
+
+
+def _printed(console_type: type[Console], *objects: object, terminal: bool = False) -> str:
+    buffer = io.StringIO()
+    console = console_type(file=buffer, width=80, force_terminal=terminal)
+    console.print(*objects)
+    return buffer.getvalue()
+
+
+def test_long_message_is_one_line_in_a_log() -> None:
+    assert _printed(Console, LONG).count("\n") > 1  # what rich alone does at 80 columns
+    text = _printed(LogConsole, LONG)
+    assert text.count("\n") == 1
+    assert text == LONG + "\n"
+
+
+def test_terminal_and_tables_are_laid_out_as_by_rich() -> None:
+    assert _printed(LogConsole, LONG, terminal=True) == _printed(Console, LONG, terminal=True)
+    table = Table("test", "MU")
+    table.add_row("1", "0.2718")
+    assert _printed(LogConsole, table) == _printed(Console, table)
