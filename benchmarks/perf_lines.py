@@ -4,7 +4,7 @@
 
 Linux only; needs ``perf`` (the operating system's clock is enough: no hardware counters),
 ``gdb``, ``objdump`` and ``addr2line``, and the right to attach to a child process (root, or
-``perf_event_paranoid`` <= 1 and ptrace allowed). What it does (docs/performance.md, ninth
+``perf_event_paranoid`` <= 1 and ptrace allowed). What it does (docs/performance-history.md, ninth
 session):
 
 1. A child process compiles the kernels with line tables (``NUMBA_DEBUGINFO=1``, in a cache

@@ -6,7 +6,7 @@ an opaque call each. numba's pruning pass removes such pairs in straight-line co
 many helpers with branches (``refresh_candidate``'s two ``if`` were enough), and the step
 kernels call such helpers for every cell event: in the lazy kernel the counts took about a
 quarter of the run time, and the opaque calls kept LLVM from optimising across them
-(docs/performance.md, ninth session). A helper that allocates no array
+(docs/performance-history.md, ninth session). A helper that allocates no array
 needs no counts, because its caller holds every array it is given; :func:`njit_noalloc`
 compiles such helpers without them (numba's ``_nrt=False``). Functions that allocate (``np.empty``,
 ``np.argsort``...) keep ``njit(cache=True)``; a helper compiled this way that tried to allocate
@@ -15,7 +15,7 @@ fails to compile, so the rule cannot be broken silently.
 numba compiles a callee with its caller's options, so a helper compiled this way may call
 only functions that allocate nothing either (or that happen to be compiled already by another
 caller: a dependence that held for the resin rebuild, which sorted with ``np.argsort``, until
-``_lazy._resin_build_row`` sorted in given scratch; docs/performance.md, tenth session).
+``_lazy._resin_build_row`` sorted in given scratch; docs/performance-history.md, tenth session).
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ def prefetch(arr: Any, i: int) -> None:
     line of ``arr[i]`` (of ``arr[i, 0]`` for a two-dimensional array; LLVM's
     ``llvm.prefetch``, for reading, to be kept in every cache level). It has no effect on any
     value, so no result can change; it only lets loads of scattered cells that a loop will
-    need a few iterations later overlap (docs/performance.md, eleventh session). An index
+    need a few iterations later overlap (docs/performance-history.md, eleventh session). An index
     outside the array is harmless (a prefetch never faults), so callers need not check it.
     Called from Python (numba's JIT disabled) it does nothing."""
 

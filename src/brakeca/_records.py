@@ -2,7 +2,7 @@
 
 Kept apart from :mod:`brakeca._kernels` so that the code that reads run files and analyses
 campaigns (:mod:`brakeca.results`) need not import numba and the kernels (about 65 MB of a
-process's memory; docs/performance.md, eleventh session). :mod:`brakeca._kernels` re-exports
+process's memory; docs/performance-history.md, eleventh session). :mod:`brakeca._kernels` re-exports
 them, so ``_kernels.R_COF`` and the rest are unchanged.
 """
 

@@ -3,7 +3,7 @@
 numba compiles a kernel on its first call and caches the machine code on disk
 (``cache=True``; ``NUMBA_CACHE_DIR`` if set). Compiling holds about 180 MB of LLVM memory that
 the process never gives back, so a full-resolution run that compiles its kernels first peaks
-near 580 MB, against about 410 MB when it loads them from the cache (docs/performance.md).
+near 580 MB, against about 410 MB when it loads them from the cache (docs/performance-history.md).
 :func:`warm_up` therefore compiles (or only loads) the kernels a set of configurations needs in
 a short-lived child process (a plain interpreter: ``python -m brakeca._warmup``), by running
 each on a two-row band for one stop: the run that follows, or a campaign's worker processes,

@@ -39,7 +39,7 @@ def _compiled(module) -> dict[str, CPUDispatcher]:
 def test_helpers_that_allocate_nothing_skip_reference_counting(module) -> None:
     """Every compiled function of the step kernels is either listed as allocating (and keeps
     reference counting) or compiled by ``njit_noalloc``: a new helper that takes arrays must
-    not bring back the per-call counts (docs/performance.md, ninth session)."""
+    not bring back the per-call counts (docs/performance-history.md, ninth session)."""
     allocating = ALLOCATING[module.__name__]
     compiled = _compiled(module)
     assert allocating <= compiled.keys(), allocating - compiled.keys()
