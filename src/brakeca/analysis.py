@@ -34,6 +34,7 @@ import pandas as pd
 
 __all__ = [
     "ANOVA_COLUMNS",
+    "MODEL_SUMMARY_COLUMNS",
     "Factor",
     "analyze",
     "anova",
@@ -42,8 +43,10 @@ __all__ = [
     "interaction_tables",
     "interactions_long",
     "main_effects",
+    "model_summary",
     "ok_runs",
     "ranked_effects",
+    "residuals",
     "save_tables",
 ]
 
@@ -577,7 +580,12 @@ def anova(
         ``sum_sq`` [response unit^2], ``mean_sq`` [response unit^2], ``F``, ``p_value``,
         ``percent_contribution`` (``sum_sq`` / total sum of squares about the mean * 100 [%])
         and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
-        ``formula``, ``note``, ``n`` and ``total_sum_sq``.
+        ``formula``, ``note``, ``n`` and ``total_sum_sq``, and the model summary that Minitab
+        and JMP print beside the table: ``s`` (residual standard deviation, sqrt of the
+        residual mean square) [response unit], ``r_squared``, ``r_squared_adj``,
+        ``r_squared_pred`` (predicted R-squared, 1 - PRESS / total sum of squares) [-] and
+        ``df_resid`` [-]; a statistic that is not defined (no residual degrees of freedom, a
+        constant response, a run of leverage 1 for ``r_squared_pred``) is NaN.
 
     References
     ----------
@@ -594,18 +602,8 @@ def anova(
     constant = float(np.ptp(y)) <= 1e-13 * scale
     total_ss = 0.0 if constant else float(np.sum((y - y.mean()) ** 2))
 
-    notes: list[str] = []
-    frame = pd.DataFrame({"y": y})
-    names: dict[str, str] = {}  # safe column -> factor name
-    for i, f in enumerate(factors):
-        codes = _codes(data, f)
-        if np.unique(codes).size < 2:
-            notes.append(f"factor {f.name} has a single level in the data and is left out")
-            continue
-        safe = f"f{i}"
-        frame[safe] = [f"L{c:02d}" for c in codes]
-        names[safe] = f.name
-    if not names:
+    frame, term_names, terms, notes = _model(data, factors, y, interactions)
+    if not term_names:
         out = pd.DataFrame(
             [
                 [
@@ -624,22 +622,9 @@ def anova(
         notes.append("no factor varies in the data; nothing to test")
         out["note"] = "; ".join(notes)
         out.attrs.update(note="; ".join(notes), typ=None, formula="", n=n, total_sum_sq=total_ss)
+        out.attrs.update(_fit_statistics(np.ones((n, 1)), y, total_ss))
         return out
 
-    mains = [f"C({s})" for s in names]
-    pairs = [f"C({a}):C({b})" for a, b in itertools.combinations(names, 2)]
-    term_names = {f"C({s})": names[s] for s in names}
-    term_names.update(
-        {f"C({a}):C({b})": f"{names[a]}:{names[b]}" for a, b in itertools.combinations(names, 2)}
-    )
-    terms = mains + (pairs if interactions else [])
-    fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
-    if fit.df_resid < 0.5 and interactions and pairs:
-        notes.append(
-            "model with two-factor interactions is saturated (0 residual df): interactions "
-            "pooled into the residual, main effects only"
-        )
-        terms = mains
     fit, table, kind, messages = _fit_anova(frame, terms)
     assert table is not None  # only a check_only call returns no table
     saturated = fit.df_resid < 0.5
@@ -686,6 +671,153 @@ def anova(
         note=note,
         n=n,
         total_sum_sq=total_ss,
+    )
+    out.attrs.update(_fit_statistics(fit.model.exog, y, total_ss))
+    return out
+
+
+def _model(
+    data: pd.DataFrame, factors: Sequence[Factor], y: np.ndarray, interactions: bool
+) -> tuple[pd.DataFrame, dict[str, str], list[str], list[str]]:
+    """The model :func:`anova` fits: (frame, term names, terms, notes).
+
+    ``frame`` holds ``y`` and one categorical column per factor that varies in the data;
+    ``terms`` are the formula terms (main effects, and the two-factor interactions unless
+    they would leave no residual degrees of freedom, in which case they are pooled into the
+    residual and a note says so); ``term names`` maps each formula term (and, for the pooled
+    interactions, those too) to its display name, empty when no factor varies.
+    """
+    notes: list[str] = []
+    frame = pd.DataFrame({"y": y})
+    names: dict[str, str] = {}  # safe column -> factor name
+    for i, f in enumerate(factors):
+        codes = _codes(data, f)
+        if np.unique(codes).size < 2:
+            notes.append(f"factor {f.name} has a single level in the data and is left out")
+            continue
+        safe = f"f{i}"
+        frame[safe] = [f"L{c:02d}" for c in codes]
+        names[safe] = f.name
+    if not names:
+        return frame, {}, [], notes
+    mains = [f"C({s})" for s in names]
+    pairs = [f"C({a}):C({b})" for a, b in itertools.combinations(names, 2)]
+    term_names = {f"C({s})": names[s] for s in names}
+    term_names.update(
+        {f"C({a}):C({b})": f"{names[a]}:{names[b]}" for a, b in itertools.combinations(names, 2)}
+    )
+    terms = mains + (pairs if interactions else [])
+    fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
+    if fit.df_resid < 0.5 and interactions and pairs:
+        notes.append(
+            "model with two-factor interactions is saturated (0 residual df): interactions "
+            "pooled into the residual, main effects only"
+        )
+        terms = mains
+    return frame, term_names, terms, notes
+
+
+def _leverages(exog: np.ndarray) -> np.ndarray:
+    """Diagonal of the hat matrix ``X X^+`` [-] (also for a rank-deficient ``X``)."""
+    return np.einsum("ij,ji->i", exog, np.linalg.pinv(exog))
+
+
+def _fit_statistics(exog: np.ndarray, y: np.ndarray, total_ss: float) -> dict[str, float]:
+    """Model summary of the least-squares fit of ``y`` on ``exog``, as Minitab and JMP print
+    it: ``s`` (standard deviation of the residuals, sqrt of the residual mean square)
+    [response unit], ``r_squared``, ``r_squared_adj`` and ``r_squared_pred`` (from the PRESS
+    statistic, sum of (e_i / (1 - h_i))^2) [-], and the model's ``df_resid`` [-].
+
+    A statistic that is not defined is NaN: every one but ``r_squared`` without residual
+    degrees of freedom, the R-squares of a constant response, and ``r_squared_pred`` when a
+    run has leverage 1 (the model fits it exactly whatever its value).
+    """
+    exog = np.asarray(exog, dtype=float)
+    n = y.size
+    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
+    resid = y - exog @ coef
+    ssr = float(resid @ resid)
+    df_resid = float(n - np.linalg.matrix_rank(exog))
+    h = _leverages(exog)
+    out = {"df_resid": df_resid, "s": math.nan, "r_squared": math.nan}
+    out.update(r_squared_adj=math.nan, r_squared_pred=math.nan)
+    if df_resid > 0.5:
+        out["s"] = math.sqrt(ssr / df_resid)
+    if total_ss > 0:
+        out["r_squared"] = 1.0 - ssr / total_ss
+        if df_resid > 0.5:
+            out["r_squared_adj"] = 1.0 - (ssr / df_resid) / (total_ss / (n - 1))
+            if np.all(h < 1.0 - 1e-9):
+                press = float(np.sum((resid / (1.0 - h)) ** 2))
+                out["r_squared_pred"] = 1.0 - press / total_ss
+    return out
+
+
+def residuals(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: bool = True,
+) -> pd.DataFrame:
+    """Fitted values and residuals of the model :func:`anova` fits, one row per usable run.
+
+    These are what a residual plot shows (:func:`brakeca.plotting.plot_residuals`): the
+    ANOVA's F tests assume residuals that are independent, normal and of one variance, which
+    a normal probability plot and plots against the fitted value and the run order check.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions
+        Include two-factor interactions (as in :func:`anova`, with the same pooling when
+        they would saturate the model).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The summary's ``test``, ``replicate`` and ``order`` columns (those present), then
+        ``observed``, ``fitted`` and ``residual`` [response unit], ``leverage`` [-] (diagonal
+        of the hat matrix) and ``std_residual`` [-] (the residual over ``s sqrt(1 -
+        leverage)``, NaN without residual degrees of freedom or at leverage 1). ``attrs``
+        carries ``response``, ``formula``, ``df_resid`` and ``s``.
+    """
+    factors = _factors(factors)
+    data = _clean(summary, factors, response)
+    y = data[response].to_numpy(dtype=float)
+    keep = [c for c in ("test", "replicate", "order") if c in data.columns]
+    out = data[keep].reset_index(drop=True)
+    if y.size == 0:
+        for c in ("observed", "fitted", "residual", "leverage", "std_residual"):
+            out[c] = pd.Series(dtype=float)
+        out.attrs.update(response=response, formula="", df_resid=math.nan, s=math.nan)
+        return out
+    frame, term_names, terms, _ = _model(data, factors, y, interactions)
+    if terms:
+        exog = np.asarray(_fit_anova(frame, terms, check_only=True)[0].model.exog, dtype=float)
+    else:
+        exog = np.ones((y.size, 1))
+    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
+    fitted = exog @ coef
+    leverage = _leverages(exog)
+    stats = _fit_statistics(exog, y, float(np.sum((y - y.mean()) ** 2)))
+    out["observed"] = y
+    out["fitted"] = fitted
+    out["residual"] = y - fitted
+    out["leverage"] = leverage
+    with np.errstate(divide="ignore", invalid="ignore"):
+        std = (y - fitted) / (stats["s"] * np.sqrt(1.0 - leverage))
+    out["std_residual"] = np.where(leverage < 1.0 - 1e-9, std, np.nan)
+    out.attrs.update(
+        response=response,
+        formula="y ~ " + (" + ".join(term_names[t] for t in terms) if terms else "1"),
+        df_resid=stats["df_resid"],
+        s=stats["s"],
     )
     return out
 
@@ -791,7 +923,8 @@ def analyze(
     -------
     dict
         ``{response: {"main_effects": DataFrame, "interactions": {(a, b): DataFrame},
-        "interactions_long": DataFrame, "anova": DataFrame, "ranked_effects": DataFrame}}``.
+        "interactions_long": DataFrame, "anova": DataFrame, "ranked_effects": DataFrame,
+        "residuals": DataFrame}}``.
 
     References
     ----------
@@ -808,8 +941,42 @@ def analyze(
             "interactions_long": interactions_long(summary, factors, response),
             "anova": anova(summary, factors, response),
             "ranked_effects": ranked_effects(summary, factors, response),
+            "residuals": residuals(summary, factors, response),
         }
     return result
+
+
+#: Columns of :func:`model_summary`, in order.
+MODEL_SUMMARY_COLUMNS: tuple[str, ...] = (
+    "n",
+    "df_resid",
+    "s",
+    "r_squared",
+    "r_squared_adj",
+    "r_squared_pred",
+    "formula",
+)
+
+
+def model_summary(table: pd.DataFrame) -> pd.DataFrame:
+    """The model summary of an :func:`anova` table as a one-row table.
+
+    Parameters
+    ----------
+    table
+        A table returned by :func:`anova`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row with :data:`MODEL_SUMMARY_COLUMNS`: ``n`` (runs used) [-], ``df_resid`` [-],
+        ``s`` [response unit], ``r_squared``, ``r_squared_adj``, ``r_squared_pred`` [-] and
+        ``formula``; NaN (or empty) where the table does not carry the statistic.
+    """
+    attrs = table.attrs
+    row = {c: attrs.get(c, math.nan) for c in MODEL_SUMMARY_COLUMNS}
+    row["formula"] = attrs.get("formula", "")
+    return pd.DataFrame([row], columns=list(MODEL_SUMMARY_COLUMNS))
 
 
 def _long_from_tables(tables: Mapping[tuple[str, str], pd.DataFrame]) -> pd.DataFrame:
@@ -839,7 +1006,10 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
     -------
     list of pathlib.Path
         The files written: ``main_effects_<R>.csv``, ``interactions_<R>.csv`` (long form),
-        ``anova_<R>.csv`` and ``ranked_effects_<R>.csv`` for every response ``R``.
+        ``anova_<R>.csv``, ``model_summary_<R>.csv`` (one row: ``n``, ``df_resid``, ``s``,
+        ``r_squared``, ``r_squared_adj``, ``r_squared_pred``, ``formula``; see
+        :func:`anova`) and ``ranked_effects_<R>.csv`` for every response ``R``, and
+        ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`).
     """
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -852,8 +1022,11 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             "main_effects": bundle["main_effects"],
             "interactions": long,
             "anova": bundle["anova"],
+            "model_summary": model_summary(bundle["anova"]),
             "ranked_effects": bundle["ranked_effects"],
         }
+        if bundle.get("residuals") is not None:
+            tables["residuals"] = bundle["residuals"]
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             table.to_csv(path, index=False)

@@ -39,6 +39,7 @@ __all__ = [
     "plot_main_effects",
     "plot_mu_per_stop",
     "plot_pareto",
+    "plot_residuals",
     "plot_surface_map",
     "plot_v_per_run",
     "save_figure",
@@ -62,6 +63,7 @@ _RESPONSES: dict[str, tuple[str, float]] = {
     "MU": ("Mean coefficient of friction μ [-]", 1.0),
     "V": ("Emitted wear volume per stop V [mm³]", 1e9),
     "V_mm3": ("Emitted wear volume per stop V [mm³]", 1.0),
+    "log10_V_mm3": ("log10 of V in mm³ per stop [-]", 1.0),
 }
 
 
@@ -482,6 +484,99 @@ def plot_pareto(
     twin.set_ylabel("Cumulative contribution [%]")
     if not terms:
         ax.text(0.5, 0.5, "no model terms", transform=ax.transAxes, ha="center")
+    return save_figure(fig, path)
+
+
+def plot_residuals(
+    residuals: pd.DataFrame,
+    response: str,
+    path: str | Path | None = None,
+) -> Figure:
+    """Residual plots of the ANOVA model, four in one: normal probability plot, residuals
+    against the fitted values, histogram, residuals against the run order.
+
+    The F tests of the ANOVA assume independent, normally distributed residuals of one
+    variance: the normal plot shows departures from normality (points off the line), the plot
+    against the fitted values a variance that grows with the response (a funnel), and the plot
+    against the order a drift. Standardized residuals are drawn where they are defined (the
+    residual over ``s sqrt(1 - leverage)`` [-], so about 95 % fall within ±2), raw residuals
+    otherwise.
+
+    Parameters
+    ----------
+    residuals
+        Output of :func:`brakeca.analysis.residuals` (``fitted``, ``residual``,
+        ``std_residual``, optionally ``order`` or ``test``).
+    response
+        Response column the residuals are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in
+        the unit of the other figures, mm^3 for ``V``).
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Four axes.
+    """
+    from scipy import stats
+
+    label, scale = _response_axis(response)
+    fitted = residuals["fitted"].to_numpy(dtype=float) * scale
+    std = residuals["std_residual"].to_numpy(dtype=float)
+    standardized = std.size > 0 and bool(np.all(np.isfinite(std)))
+    r = std if standardized else residuals["residual"].to_numpy(dtype=float) * scale
+    r_label = "Standardized residual [-]" if standardized else f"Residual ({label})"
+    if "order" in residuals.columns:
+        order, order_label = residuals["order"].to_numpy(dtype=float), "Run order [-]"
+    elif "test" in residuals.columns:
+        order, order_label = residuals["test"].to_numpy(dtype=float), "Test number [-]"
+    else:
+        order, order_label = np.arange(1.0, r.size + 1.0), "Observation [-]"
+
+    fig = _figure((9.0, 6.5))
+    (ax_norm, ax_fit), (ax_hist, ax_order) = fig.subplots(2, 2)
+    fig.suptitle(f"Residual plots for {response}")
+    if r.size == 0:
+        for ax in (ax_norm, ax_fit, ax_hist, ax_order):
+            ax.text(0.5, 0.5, "no usable runs", transform=ax.transAxes, ha="center")
+        return save_figure(fig, path)
+    n = r.size
+    ranks = np.arange(1, n + 1)
+    quantiles = stats.norm.ppf((ranks - 0.375) / (n + 0.25))  # Blom's plotting positions
+    ordered = np.sort(r)
+    ax_norm.plot(ordered, quantiles, "o", color="#27496d", ms=4)
+    if standardized:
+        ref = np.array([min(ordered[0], quantiles[0]), max(ordered[-1], quantiles[-1])])
+        ax_norm.plot(ref, ref, "-", color="#f28e2b", lw=1)
+    ax_norm.set_xlabel(r_label)
+    ax_norm.set_ylabel("Normal quantile [-]")
+    ax_norm.set_title("Normal probability plot")
+    ax_fit.plot(fitted, r, "o", color="#27496d", ms=4)
+    ax_fit.set_xlabel(f"Fitted value ({label})")
+    ax_fit.set_ylabel(r_label)
+    ax_fit.set_title("Versus fits")
+    ax_hist.hist(r, bins=max(5, int(math.sqrt(n)) + 1), color="#9fb3c8", edgecolor="#27496d")
+    ax_hist.set_xlabel(r_label)
+    ax_hist.set_ylabel("Runs [-]")
+    ax_hist.set_title("Histogram")
+    sort = np.argsort(order, kind="stable")
+    ax_order.plot(order[sort], r[sort], "o-", color="#27496d", ms=4, lw=0.8)
+    ax_order.set_xlabel(order_label)
+    ax_order.set_ylabel(r_label)
+    ax_order.set_title("Versus order")
+    for ax in (ax_norm, ax_fit, ax_hist, ax_order):
+        ax.grid(True, alpha=0.3)
+    for ax in (ax_fit, ax_order):
+        ax.axhline(0.0, color="0.3", lw=0.8)
+    if not standardized:
+        ax_norm.text(
+            0.02,
+            0.98,
+            "standardized residuals undefined\n(no residual df or leverage 1):\nraw residuals",
+            transform=ax_norm.transAxes,
+            va="top",
+            fontsize=8,
+        )
     return save_figure(fig, path)
 
 

@@ -337,6 +337,26 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     return _Table(columns, numeric, rows), "; ".join(notes)
 
 
+def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
+    """ " Model summary: S = ..., R² = ... %, ..." from :func:`brakeca.analysis.anova`'s attrs,
+    or "" when the table carries none."""
+    if "r_squared" not in attrs:
+        return ""
+
+    def pct(key: str) -> str:
+        value = attrs.get(key, math.nan)
+        return "undefined" if _is_missing(value) else f"{100.0 * float(value):.2f} %"
+
+    s = attrs.get("s", math.nan)
+    s_text = "undefined" if _is_missing(s) else f"{float(s):.4g}" + (f" {unit}" if unit else "")
+    return (
+        f" Model summary: S = {s_text}, R² = {pct('r_squared')}, R²(adj) = "
+        f"{pct('r_squared_adj')}, R²(pred) = {pct('r_squared_pred')} (S: residual standard "
+        "deviation; R²(pred) from the PRESS statistic, each run predicted by the model fitted "
+        "without it)."
+    )
+
+
 def _anchor(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_-]+", "-", str(text)).strip("-").lower() or "x"
 
@@ -439,7 +459,7 @@ def render_report(
         unit = units.get(str(response))
         if unit:
             info += f"; sums of squares and mean squares in ({unit})²"
-        info += "."
+        info += "." + _model_summary_text(frame.attrs, unit)
         anova_items.append(
             {
                 "response": str(response),

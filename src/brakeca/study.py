@@ -3,8 +3,10 @@
 Wiring only: the numbers come from :mod:`brakeca.analysis`, the figures from
 :mod:`brakeca.plotting`, the page from :mod:`brakeca.report`. Outputs, in the campaign folder::
 
-    tables/      main effects, interactions (long form), ANOVA and ranked effects, per response
-    figures/     PNG figures (paper Figures 5-11, Pareto charts, final plateau map of each run)
+    tables/      main effects, interactions (long form), ANOVA, model summary (S, R-squared,
+                 adjusted and predicted R-squared), ranked effects and residuals, per response
+    figures/     PNG figures (paper Figures 5-11, Pareto charts, residual plots, final plateau
+                 map of each run)
     report.html  everything above in one self-contained page
 
 References
@@ -25,10 +27,29 @@ from brakeca import __version__
 from brakeca.campaign import CampaignResult
 from brakeca.results import RunResult
 
-__all__ = ["RESPONSES", "write_study"]
+__all__ = ["RESPONSES", "with_log_v", "write_study"]
 
-RESPONSES = ("MU", "V")
-_LABELS = {"MU": "mean COF MU", "V": "mean emitted wear volume per stop V"}
+RESPONSES = ("MU", "V", "log10_V_mm3")
+_LABELS = {
+    "MU": "mean COF MU",
+    "V": "mean emitted wear volume per stop V",
+    "log10_V_mm3": "log10 of V (V in mm³ per stop)",
+}
+_PAPER = {"MU": " (paper Figures {})", "V": " (paper Figures {})", "log10_V_mm3": ""}
+
+
+def with_log_v(summary: pd.DataFrame) -> pd.DataFrame:
+    """The summary with the response ``log10_V_mm3``: log10 of V in mm^3 per stop [-].
+
+    The factors act on V multiplicatively (WP alone spans two decades), so an additive model
+    of V itself fits effects that are products as interactions and can predict negative
+    volumes; on the log scale they add. The study analyses both scales. Runs with V <= 0 (no
+    emission) get NaN and are left out of the log analysis.
+    """
+    v_mm3 = pd.to_numeric(summary["V"], errors="coerce").to_numpy(dtype=float) * 1e9
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_v = np.where(v_mm3 > 0, np.log10(v_mm3), np.nan)
+    return summary.assign(log10_V_mm3=log_v)
 
 
 def _design_table(result: CampaignResult) -> pd.DataFrame:
@@ -114,7 +135,8 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     summary = result.summary
     factors = list(result.design.factors)
     ok = analysis.ok_runs(summary)
-    tables = analysis.analyze(summary, factors, RESPONSES)
+    data = with_log_v(summary)
+    tables = analysis.analyze(data, factors, RESPONSES)
     analysis.save_tables(tables, tables_dir)
 
     figures: list[tuple[str, str, Path]] = []
@@ -128,20 +150,20 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         label = _LABELS[resp]
         add(
             "Main effects",
-            f"Main effects on {label} (paper Figures 6 and 8)",
+            f"Main effects on {label}" + _PAPER[resp].format("6 and 8"),
             f"main_effects_{resp}.png",
             plotting.plot_main_effects,
-            summary,
+            data,
             factors,
             resp,
         )
         if len(factors) >= 2:  # interactions need two factors
             add(
                 "Interactions",
-                f"Two-factor interactions on {label} (paper Figures 7 and 9)",
+                f"Two-factor interactions on {label}" + _PAPER[resp].format("7 and 9"),
                 f"interactions_{resp}.png",
                 plotting.plot_interactions,
-                summary,
+                data,
                 factors,
                 resp,
             )
@@ -151,6 +173,15 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             f"pareto_{resp}.png",
             plotting.plot_pareto,
             tables[resp]["ranked_effects"],
+            resp,
+        )
+        add(
+            "Residuals",
+            f"Residual plots of the ANOVA model of {label} (model: "
+            f"{tables[resp]['anova'].attrs.get('formula', '').replace('y ~', resp + ' ~', 1)})",
+            f"residuals_{resp}.png",
+            plotting.plot_residuals,
+            tables[resp]["residuals"],
             resp,
         )
     add(
@@ -208,7 +239,10 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         f"{len(ok)} of {len(summary)} runs finished"
         + (f"; {n_failed} failed (see the per-run table)" if n_failed else "")
         + ". MU is the mean over the stops of the time-weighted mean COF of each stop; V is the "
-        "mean wear volume per stop that leaves the simulated band (not scaled to the pad). "
+        "mean wear volume per stop that leaves the simulated band (not scaled to the pad); "
+        "log10_V_mm3 is V on a log scale (log10 of V in mm³), where the factors' "
+        "multiplicative effects on V add, so an additive model of it needs fewer interactions "
+        "(compare the residual plots and R²(pred) of V and log10_V_mm3). "
         "Modelling decisions: docs/model.md."
     )
     summary, pm10_note = _pm10_columns(result, summary)

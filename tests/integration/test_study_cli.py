@@ -78,15 +78,27 @@ def test_outputs_present_and_consistent(campaign):
         "fibre_maps",
         "pareto_MU",
         "pareto_V",
+        "residuals_MU",
+        "residuals_V",
+        "main_effects_log10_V_mm3",
+        "residuals_log10_V_mm3",
     ):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
     assert len(list((out / "figures").glob("final_map_test*.png"))) == 4
-    for resp in ("MU", "V"):
-        for table in ("main_effects", "anova", "interactions", "ranked_effects"):
+    for resp in ("MU", "V", "log10_V_mm3"):
+        for table in (
+            "main_effects",
+            "anova",
+            "model_summary",
+            "interactions",
+            "ranked_effects",
+            "residuals",
+        ):
             assert (out / "tables" / f"{table}_{resp}.csv").exists()
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
-    assert n_img == 9 + 4
+    assert n_img == 4 * 3 + 3 + 4  # per response (MU, V, log10 V), per campaign, maps
+    assert "Model summary: S = " in html
     assert "report:" in res.stdout and "summary:" in res.stdout
 
 

@@ -19,6 +19,7 @@ from hypothesis import strategies as st
 
 from brakeca.analysis import (
     ANOVA_COLUMNS,
+    MODEL_SUMMARY_COLUMNS,
     Factor,
     analyze,
     anova,
@@ -27,8 +28,10 @@ from brakeca.analysis import (
     interaction_tables,
     interactions_long,
     main_effects,
+    model_summary,
     ok_runs,
     ranked_effects,
+    residuals,
     save_tables,
 )
 
@@ -361,14 +364,15 @@ def test_analyze_and_save_tables(tmp_path) -> None:
             "interactions_long",
             "anova",
             "ranked_effects",
+            "residuals",
         }
     written = save_tables(result, tmp_path / "tables")
     names = sorted(p.name for p in written)
-    assert names == sorted(
-        f"{stem}_{r}.csv"
-        for stem in ("main_effects", "interactions", "anova", "ranked_effects")
-        for r in ("MU", "V")
-    )
+    stems = ("main_effects", "interactions", "anova", "model_summary", "ranked_effects")
+    assert names == sorted(f"{stem}_{r}.csv" for stem in (*stems, "residuals") for r in ("MU", "V"))
+    summary_mu = pd.read_csv(tmp_path / "tables" / "model_summary_MU.csv")
+    assert list(summary_mu.columns) == list(MODEL_SUMMARY_COLUMNS)
+    assert summary_mu["r_squared"].item() == pytest.approx(result["MU"]["anova"].attrs["r_squared"])
     for path in written:
         assert path.stat().st_size > 0
     anova_v = pd.read_csv(tmp_path / "tables" / "anova_V.csv", keep_default_na=False)
@@ -412,3 +416,78 @@ def test_anova_with_an_empty_cell_uses_sequential_sums_of_squares() -> None:
     assert df["Residual"] == len(rows) - 1 - sum(v for k, v in df.items() if k != "Residual")
     assert table["sum_sq"].sum() == pytest.approx(_total_ss(rows, "MU"), rel=1e-10)
     assert table.loc[table["term"] != "Residual", "p_value"].notna().all()
+
+
+def _loo_press(rows: pd.DataFrame, response: str) -> float:
+    """PRESS the slow, obvious way: refit without each run and predict it."""
+    import statsmodels.formula.api as smf
+
+    formula = "y ~ " + " + ".join(
+        [f"C({f.name})" for f in FACTORS]
+        + [f"C({a.name}):C({b.name})" for a, b in itertools.combinations(FACTORS, 2)]
+    )
+    frame = rows[[f.name for f in FACTORS]].copy()
+    frame["y"] = rows[response].to_numpy(dtype=float)
+    frame = frame.reset_index(drop=True)
+    press = 0.0
+    for i in range(len(frame)):
+        fit = smf.ols(formula, data=frame.drop(index=i)).fit()
+        press += float(frame["y"][i] - fit.predict(frame.iloc[[i]]).item()) ** 2
+    return press
+
+
+@pytest.mark.parametrize("replicates", [1, 2])
+def test_model_summary_and_residuals_match_statsmodels_and_refits(replicates: int) -> None:
+    import statsmodels.formula.api as smf
+
+    rows = _design(replicates=replicates, noise=2e-3)
+    table = anova(rows, FACTORS, "MU")
+    formula = "MU ~ " + " + ".join(
+        [f"C({f.name})" for f in FACTORS]
+        + [f"C({a.name}):C({b.name})" for a, b in itertools.combinations(FACTORS, 2)]
+    )
+    fit = smf.ols(formula, data=rows).fit()
+    attrs = table.attrs
+    assert attrs["df_resid"] == fit.df_resid == table.loc[table["term"] == "Residual", "df"].item()
+    assert attrs["s"] == pytest.approx(math.sqrt(fit.mse_resid), rel=1e-9)
+    assert attrs["r_squared"] == pytest.approx(fit.rsquared, rel=1e-9)
+    assert attrs["r_squared_adj"] == pytest.approx(fit.rsquared_adj, rel=1e-9)
+    press = _loo_press(rows, "MU")
+    assert attrs["r_squared_pred"] == pytest.approx(1.0 - press / _total_ss(rows, "MU"), rel=1e-8)
+    assert attrs["r_squared_pred"] < attrs["r_squared_adj"] < attrs["r_squared"] < 1.0
+
+    res = residuals(rows, FACTORS, "MU")
+    assert len(res) == len(rows)
+    assert list(res["test"]) == list(rows["test"])
+    assert np.allclose(res["observed"], rows["MU"], rtol=0, atol=0)
+    assert np.allclose(res["fitted"], fit.fittedvalues, rtol=0, atol=1e-12)
+    assert np.allclose(res["residual"], fit.resid, rtol=0, atol=1e-12)
+    influence = fit.get_influence()
+    assert np.allclose(res["leverage"], influence.hat_matrix_diag, rtol=1e-9)
+    assert np.allclose(res["std_residual"], influence.resid_studentized_internal, rtol=1e-7)
+    # A balanced full factorial: every run has the same leverage, p / n.
+    assert np.allclose(res["leverage"], (1 + 5 + 9) / len(rows), rtol=1e-9)
+    assert res.attrs["s"] == pytest.approx(attrs["s"], rel=1e-12)
+
+
+def test_model_summary_where_statistics_are_not_defined() -> None:
+    rows = _design()
+    two = rows[(rows["WR"] == WR.levels[0]) & (rows["A"] == A.levels[0])].copy()
+    # 2 x 3 cells, one run each, main effects only (interactions pooled): defined.
+    pooled = anova(two, [S, WP], "MU")
+    assert pooled.attrs["df_resid"] == 2 and math.isfinite(pooled.attrs["r_squared_pred"])
+    # One factor per cell and a single run each: saturated, nothing but R-squared is defined.
+    one = two[two["S"] == S.levels[0]]
+    saturated = anova(one, [WP], "MU")
+    assert saturated.attrs["df_resid"] == 0
+    assert saturated.attrs["r_squared"] == pytest.approx(1.0)
+    for key in ("s", "r_squared_adj", "r_squared_pred"):
+        assert math.isnan(saturated.attrs[key]), key
+    res = residuals(one, [WP], "MU")
+    assert np.allclose(res["leverage"], 1.0) and res["std_residual"].isna().all()
+    # A constant response: no R-squared.
+    flat = rows.assign(MU=0.4)
+    constant = anova(flat, FACTORS, "MU")
+    assert math.isnan(constant.attrs["r_squared"]) and constant.attrs["s"] < 1e-12
+    summary = model_summary(constant)
+    assert list(summary.columns) == list(MODEL_SUMMARY_COLUMNS) and len(summary) == 1

@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from brakeca.analysis import Factor, ranked_effects
+from brakeca.analysis import Factor, ranked_effects, residuals
 from brakeca.plotting import (
     plot_cof_series,
     plot_fibre_maps,
@@ -22,6 +22,7 @@ from brakeca.plotting import (
     plot_main_effects,
     plot_mu_per_stop,
     plot_pareto,
+    plot_residuals,
     plot_surface_map,
     plot_v_per_run,
 )
@@ -159,6 +160,28 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     fig = plot_pareto(ranked, "MU", path=path)
     _check_png(path, fig, n_axes=2)  # bars + cumulative twin axis
     assert len(fig.axes[0].patches) == len(ranked)
+
+
+def test_residual_plots(tmp_path, summary) -> None:
+    res = residuals(summary, FACTORS, "V")
+    path = tmp_path / "residuals_V.png"
+    fig = plot_residuals(res, "V", path=path)
+    _check_png(path, fig, n_axes=4)
+    norm, fits, hist, order = fig.axes
+    points = norm.lines[0]
+    assert np.allclose(np.sort(points.get_xdata()), np.sort(res["std_residual"]))
+    quantiles = np.asarray(points.get_ydata())
+    assert np.all(np.diff(quantiles) > 0) and quantiles[0] == pytest.approx(-quantiles[-1])
+    assert len(norm.lines) == 2  # the points and the reference line
+    assert np.allclose(fits.lines[0].get_xdata(), res["fitted"] * 1e9)  # V in mm^3
+    assert sum(p.get_height() for p in hist.patches) == len(res)
+    assert "order" in order.get_xlabel().lower() or "test" in order.get_xlabel().lower()
+    # A saturated model has no standardized residuals: raw ones, and a note.
+    one = summary[(summary["S"] == 0.0) & (summary["status"] == "ok")].drop_duplicates("WP")
+    saturated = residuals(one, [f for f in FACTORS if f.name == "WP"], "MU")
+    fig = plot_residuals(saturated, "MU")
+    assert "Residual (" in fig.axes[0].get_xlabel()
+    assert any("raw residuals" in t.get_text() for t in fig.axes[0].texts)
 
 
 def test_surface_maps(tmp_path) -> None:

@@ -7,6 +7,7 @@ Wahlström (2016), doi:10.1155/2016/8181260.
 
 from __future__ import annotations
 
+import math
 import re
 import struct
 import zlib
@@ -117,6 +118,14 @@ def test_report_is_complete_and_self_contained(tmp_path) -> None:
     # ANOVA tables with formatted p-values.
     assert 'id="anova-mu"' in html and 'id="anova-v"' in html
     assert "Type II ANOVA of MU" in html
+    attrs = inputs["anova_tables"]["MU"].attrs
+    assert f"R² = {100 * attrs['r_squared']:.2f} %" in html
+    assert f"R²(adj) = {100 * attrs['r_squared_adj']:.2f} %" in html
+    # Test 4 has one run left (the other failed): the model fits it whatever its value
+    # (leverage 1), so no prediction of it without it, and no predicted R-squared.
+    assert math.isnan(attrs["r_squared_pred"]) and "R²(pred) = undefined" in html
+    assert f"S = {attrs['s']:.4g} m³" not in html  # MU has no unit
+    assert f"S = {inputs['anova_tables']['V'].attrs['s']:.4g} m³" in html
     for term in ("S", "WP", "S:WP", "Residual"):
         assert f"<td>{term}</td>" in html
     p_cells = re.findall(r'<td class="num">(&lt; 0\.001|\d\.\d{3}|–)</td>', html)
