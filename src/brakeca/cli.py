@@ -378,7 +378,10 @@ def _print_summary(summary) -> None:
 
 @app.command()
 def run(
-    design: Annotated[str, typer.Argument(help="a design file (TOML) or a shipped design: paper")],
+    design: Annotated[
+        str,
+        typer.Argument(help="a design file (TOML) or a shipped design: paper, paper_replicated"),
+    ],
     output: Annotated[Path, typer.Option("-o", "--output", help="campaign folder")],
     workers: WorkersOpt = None,
     executor: ExecutorOpt = "local",

@@ -138,6 +138,18 @@ def test_replicates(paper):
         assert all(r.levels == reps[0].levels for r in reps)
 
 
+def test_shipped_replicated_paper_design_extends_the_paper_design(paper, paper_points):
+    replicated = load_design("paper_replicated")
+    points = replicated.points()
+    assert replicated.replicates == 3 and len(points) == 72
+    assert replicated.factors == paper.factors and replicated.root_seed == paper.root_seed
+    # Replicate 0 is the unreplicated design's run: same configuration, seed and run id.
+    firsts = {p.test: p for p in points if p.replicate == 0}
+    for p in paper_points:
+        assert firsts[p.test].config == p.config and firsts[p.test].seed == p.seed
+        assert run_id(firsts[p.test]) == run_id(p)
+
+
 def test_randomized_order_keeps_test_numbers(paper, paper_points):
     design = paper.model_copy(update={"randomize_order": True})
     points = design.points()
