@@ -585,7 +585,11 @@ def anova(
         residual mean square) [response unit], ``r_squared``, ``r_squared_adj``,
         ``r_squared_pred`` (predicted R-squared, 1 - PRESS / total sum of squares) [-] and
         ``df_resid`` [-]; a statistic that is not defined (no residual degrees of freedom, a
-        constant response, a run of leverage 1 for ``r_squared_pred``) is NaN.
+        constant response, a run of leverage 1 for ``r_squared_pred``) is NaN. With
+        replicates, also the residual's split into pure error and lack of fit, with the F
+        test of the one against the other: ``pure_error_df``, ``pure_error_ss``,
+        ``lack_of_fit_df``, ``lack_of_fit_ss`` [response unit^2], ``lack_of_fit_F`` and
+        ``lack_of_fit_p`` [-] (NaN where not defined).
 
     References
     ----------
@@ -673,6 +677,46 @@ def anova(
         total_sum_sq=total_ss,
     )
     out.attrs.update(_fit_statistics(fit.model.exog, y, total_ss))
+    out.attrs.update(_lack_of_fit(frame, fit))
+    return out
+
+
+def _lack_of_fit(frame: pd.DataFrame, fit: Any) -> dict[str, float]:
+    """The residual split, as Minitab prints it for a replicated design, into pure error
+    (the scatter of the runs of one factor-level combination about their mean: here the
+    seed-to-seed scatter) and lack of fit (what is left: the terms the model leaves out, such
+    as three-factor interactions), with the F test of lack of fit against pure error.
+
+    Returns ``pure_error_df``, ``pure_error_ss`` [response unit^2], ``lack_of_fit_df``,
+    ``lack_of_fit_ss`` [response unit^2], ``lack_of_fit_F`` and ``lack_of_fit_p`` [-]; the
+    last two are NaN unless both parts have degrees of freedom (replicates, and a model that
+    does not hold every cell), the sums of squares NaN without replicates.
+    """
+    cells = [c for c in frame.columns if c != "y"]
+    y = frame["y"].to_numpy(dtype=float)
+    groups = frame.groupby(cells, sort=False)["y"] if cells else None
+    n_cells = int(groups.ngroups) if groups is not None else 1
+    df_pe = float(len(y) - n_cells)
+    out = {
+        "pure_error_df": df_pe,
+        "pure_error_ss": math.nan,
+        "lack_of_fit_df": math.nan,
+        "lack_of_fit_ss": math.nan,
+        "lack_of_fit_F": math.nan,
+        "lack_of_fit_p": math.nan,
+    }
+    if df_pe < 0.5:
+        return out
+    means = groups.transform("mean").to_numpy(dtype=float) if groups is not None else y.mean()
+    ss_pe = float(np.sum((y - means) ** 2))
+    df_lof = float(fit.df_resid) - df_pe
+    ss_lof = max(float(fit.ssr) - ss_pe, 0.0)
+    out.update(pure_error_ss=ss_pe, lack_of_fit_df=df_lof, lack_of_fit_ss=ss_lof)
+    if df_lof > 0.5 and ss_pe > 0:
+        from scipy import stats
+
+        f_value = (ss_lof / df_lof) / (ss_pe / df_pe)
+        out.update(lack_of_fit_F=f_value, lack_of_fit_p=float(stats.f.sf(f_value, df_lof, df_pe)))
     return out
 
 
@@ -954,6 +998,12 @@ MODEL_SUMMARY_COLUMNS: tuple[str, ...] = (
     "r_squared",
     "r_squared_adj",
     "r_squared_pred",
+    "pure_error_df",
+    "pure_error_ss",
+    "lack_of_fit_df",
+    "lack_of_fit_ss",
+    "lack_of_fit_F",
+    "lack_of_fit_p",
     "formula",
 )
 
@@ -970,7 +1020,8 @@ def model_summary(table: pd.DataFrame) -> pd.DataFrame:
     -------
     pandas.DataFrame
         One row with :data:`MODEL_SUMMARY_COLUMNS`: ``n`` (runs used) [-], ``df_resid`` [-],
-        ``s`` [response unit], ``r_squared``, ``r_squared_adj``, ``r_squared_pred`` [-] and
+        ``s`` [response unit], ``r_squared``, ``r_squared_adj``, ``r_squared_pred`` [-], the
+        pure-error and lack-of-fit split of the residual (see :func:`anova`) and
         ``formula``; NaN (or empty) where the table does not carry the statistic.
     """
     attrs = table.attrs

@@ -349,12 +349,21 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
 
     s = attrs.get("s", math.nan)
     s_text = "undefined" if _is_missing(s) else f"{float(s):.4g}" + (f" {unit}" if unit else "")
-    return (
+    text = (
         f" Model summary: S = {s_text}, R² = {pct('r_squared')}, R²(adj) = "
         f"{pct('r_squared_adj')}, R²(pred) = {pct('r_squared_pred')} (S: residual standard "
         "deviation; R²(pred) from the PRESS statistic, each run predicted by the model fitted "
         "without it)."
     )
+    p_lof = attrs.get("lack_of_fit_p", math.nan)
+    if not _is_missing(p_lof):
+        text += (
+            f" The residual splits into pure error ({float(attrs['pure_error_df']):.0f} df: the "
+            f"scatter between runs of the same levels) and lack of fit "
+            f"({float(attrs['lack_of_fit_df']):.0f} df: the terms left out of the model); lack "
+            f"of fit F = {float(attrs['lack_of_fit_F']):.3g}, p = {format_p_value(p_lof)}."
+        )
+    return text
 
 
 def _anchor(text: str) -> str:

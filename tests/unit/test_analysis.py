@@ -491,3 +491,49 @@ def test_model_summary_where_statistics_are_not_defined() -> None:
     assert math.isnan(constant.attrs["r_squared"]) and constant.attrs["s"] < 1e-12
     summary = model_summary(constant)
     assert list(summary.columns) == list(MODEL_SUMMARY_COLUMNS) and len(summary) == 1
+
+
+def test_lack_of_fit_and_pure_error_match_the_nested_model_test() -> None:
+    import statsmodels.formula.api as smf
+    from statsmodels.stats.anova import anova_lm
+
+    rows = _design(replicates=2, noise=2e-3)
+    # A three-factor interaction the two-factor model cannot hold: lack of fit to find.
+    bump = np.where((rows["S"] == 1.0) & (rows["WR"] == 1e-6) & (rows["A"] == 20.0), 0.03, 0.0)
+    rows = rows.assign(MU=rows["MU"] + bump)
+    attrs = anova(rows, FACTORS, "MU").attrs
+    cells = _hand_cell_means_all(rows, "MU")
+    pure = sum(
+        (float(r["MU"]) - cells[tuple(float(r[f.name]) for f in FACTORS)]) ** 2
+        for _, r in rows.iterrows()
+    )
+    assert attrs["pure_error_df"] == 48 - 24 and attrs["lack_of_fit_df"] == 33 - 24
+    assert attrs["pure_error_ss"] == pytest.approx(pure, rel=1e-9)
+    two = " + ".join(
+        [f"C({f.name})" for f in FACTORS]
+        + [f"C({a.name}):C({b.name})" for a, b in itertools.combinations(FACTORS, 2)]
+    )
+    full = "C(S) * C(WP) * C(WR) * C(A)"
+    nested = anova_lm(smf.ols(f"MU ~ {two}", rows).fit(), smf.ols(f"MU ~ {full}", rows).fit())
+    assert attrs["lack_of_fit_F"] == pytest.approx(nested["F"].iloc[1], rel=1e-8)
+    assert attrs["lack_of_fit_p"] == pytest.approx(nested["Pr(>F)"].iloc[1], rel=1e-6)
+    assert attrs["lack_of_fit_p"] < 1e-3
+    assert model_summary(anova(rows, FACTORS, "MU"))["lack_of_fit_p"].item() == pytest.approx(
+        attrs["lack_of_fit_p"]
+    )
+    # Without replicates there is no pure error; with a model that holds every cell, no
+    # lack of fit.
+    single = anova(_design(), FACTORS, "MU").attrs
+    assert single["pure_error_df"] == 0 and math.isnan(single["lack_of_fit_p"])
+    cellwise = rows[(rows["WR"] == WR.levels[0]) & (rows["A"] == A.levels[0])]
+    held = anova(cellwise, [S, WP], "MU").attrs
+    assert held["lack_of_fit_df"] == 0 and math.isnan(held["lack_of_fit_F"])
+    assert held["pure_error_ss"] == pytest.approx(held["s"] ** 2 * held["df_resid"], rel=1e-9)
+
+
+def _hand_cell_means_all(rows: pd.DataFrame, response: str) -> dict:
+    sums: dict[tuple[float, ...], list[float]] = {}
+    for _, row in rows.iterrows():
+        key = tuple(float(row[f.name]) for f in FACTORS)
+        sums.setdefault(key, []).append(float(row[response]))
+    return {k: sum(v) / len(v) for k, v in sums.items()}
