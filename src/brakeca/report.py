@@ -357,11 +357,13 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     )
     p_lof = attrs.get("lack_of_fit_p", math.nan)
     if not _is_missing(p_lof):
+        p_text = format_p_value(p_lof)
+        p_text = p_text if p_text.startswith("<") else f"= {p_text}"
         text += (
             f" The residual splits into pure error ({float(attrs['pure_error_df']):.0f} df: the "
             f"scatter between runs of the same levels) and lack of fit "
             f"({float(attrs['lack_of_fit_df']):.0f} df: the terms left out of the model); lack "
-            f"of fit F = {float(attrs['lack_of_fit_F']):.3g}, p = {format_p_value(p_lof)}."
+            f"of fit F = {float(attrs['lack_of_fit_F']):.3g}, p {p_text}."
         )
     return text
 

@@ -178,3 +178,17 @@ def test_format_p_value() -> None:
     assert format_p_value(0.5) == "0.500"
     assert format_p_value(float("nan")) == "–"
     assert format_p_value(None) == "–"
+
+
+def test_model_summary_text_with_lack_of_fit() -> None:
+    from brakeca.report import _model_summary_text
+
+    attrs = {"s": 0.5e-9, "r_squared": 0.99, "r_squared_adj": 0.98, "r_squared_pred": math.nan}
+    attrs |= {"pure_error_df": 48.0, "lack_of_fit_df": 9.0, "lack_of_fit_F": 25.06}
+    text = _model_summary_text({**attrs, "lack_of_fit_p": 3e-15}, "m³")
+    assert "S = 5e-10 m³, R² = 99.00 %, R²(adj) = 98.00 %, R²(pred) = undefined" in text
+    assert "pure error (48 df" in text and "lack of fit (9 df" in text
+    assert text.endswith("lack of fit F = 25.1, p < 0.001.")
+    assert _model_summary_text({**attrs, "lack_of_fit_p": 0.011}, None).endswith("p = 0.011.")
+    assert "lack of fit" not in _model_summary_text({**attrs, "lack_of_fit_p": math.nan}, None)
+    assert _model_summary_text({}, None) == ""
