@@ -8,3 +8,7 @@ Implements the simplified cellular-automaton model of
 """
 
 __version__ = "0.1.0"
+
+from brakeca._cachedir import configure as _configure_numba_cache
+
+_configure_numba_cache()
