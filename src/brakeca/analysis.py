@@ -728,8 +728,9 @@ def _model(
     ``frame`` holds ``y`` and one categorical column per factor that varies in the data;
     ``terms`` are the formula terms (main effects, and the two-factor interactions unless
     they would leave no residual degrees of freedom, in which case they are pooled into the
-    residual and a note says so); ``term names`` maps each formula term (and, for the pooled
-    interactions, those too) to its display name, empty when no factor varies.
+    residual and a note says so); ``term names`` maps every main-effect and two-factor term,
+    pooled ones included, to its display name (``"S"``, ``"S:WP"``), and is empty when no
+    factor varies.
     """
     notes: list[str] = []
     frame = pd.DataFrame({"y": y})
@@ -828,7 +829,8 @@ def residuals(
         The summary's ``test``, ``replicate`` and ``order`` columns (those present), then
         ``observed``, ``fitted`` and ``residual`` [response unit], ``leverage`` [-] (diagonal
         of the hat matrix) and ``std_residual`` [-] (the residual over ``s sqrt(1 -
-        leverage)``, NaN without residual degrees of freedom or at leverage 1). ``attrs``
+        leverage)``, NaN without residual degrees of freedom, at leverage 1 or for a
+        constant response, whose residuals are round-off). ``attrs``
         carries ``response``, ``formula``, ``df_resid`` and ``s``.
     """
     factors = _factors(factors)
@@ -856,7 +858,8 @@ def residuals(
     out["leverage"] = leverage
     with np.errstate(divide="ignore", invalid="ignore"):
         std = (y - fitted) / (stats["s"] * np.sqrt(1.0 - leverage))
-    out["std_residual"] = np.where(leverage < 1.0 - 1e-9, std, np.nan)
+    constant = float(np.ptp(y)) <= 1e-13 * float(np.max(np.abs(y)))
+    out["std_residual"] = np.where((leverage < 1.0 - 1e-9) & (not constant), std, np.nan)
     out.attrs.update(
         response=response,
         formula="y ~ " + (" + ".join(term_names[t] for t in terms) if terms else "1"),

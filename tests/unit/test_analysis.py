@@ -489,6 +489,7 @@ def test_model_summary_where_statistics_are_not_defined() -> None:
     flat = rows.assign(MU=0.4)
     constant = anova(flat, FACTORS, "MU")
     assert math.isnan(constant.attrs["r_squared"]) and constant.attrs["s"] < 1e-12
+    assert residuals(flat, FACTORS, "MU")["std_residual"].isna().all()
     summary = model_summary(constant)
     assert list(summary.columns) == list(MODEL_SUMMARY_COLUMNS) and len(summary) == 1
 
