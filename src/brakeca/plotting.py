@@ -293,8 +293,9 @@ def plot_mu_per_stop(
     ----------
     campaign
         xarray Dataset with dims ``run`` and ``stop``, the variable ``variable`` [-], the
-        factor coordinates along ``run`` and optionally ``block(stop)`` (block names), which
-        are shaded and labelled.
+        factor coordinates along ``run``, optionally ``test(run)`` (a campaign's test numbers:
+        the replicates of a test share its colour and legend entry; without it each run is
+        its own test) and ``block(stop)`` (block names), which are shaded and labelled.
     path
         Optional PNG file to write (150 dpi).
     factors
@@ -357,22 +358,34 @@ def plot_mu_per_stop(
     cmap = mpl.colormaps["turbo"]
     styles = ("-", "--", ":", "-.")
     values = data.to_numpy()
-    for k, run in enumerate(runs):
+    # A run is named by its test; the replicates of a test (several seeds) share its colour,
+    # line style and legend entry.
+    tests = campaign["test"].to_numpy() if "test" in campaign.coords else runs
+    keys = [t.item() if hasattr(t, "item") else t for t in tests]
+    distinct = list(dict.fromkeys(keys))
+    position = {key: i for i, key in enumerate(distinct)}
+    n_tests = len(distinct)
+    for k, key in enumerate(keys):
+        i = position[key]
         levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
+        first = keys.index(key) == k
         ax.plot(
             stops,
             values[k],
             lw=1.0,
-            ls=styles[(k // 12) % len(styles)] if n > 12 else "-",
-            color=cmap(0.05 + 0.9 * k / max(n - 1, 1)),
-            label=_run_label(run.item() if hasattr(run, "item") else run, levels, by_name),
+            ls=styles[(i // 12) % len(styles)] if n_tests > 12 else "-",
+            color=cmap(0.05 + 0.9 * i / max(n_tests - 1, 1)),
+            label=_run_label(key, levels, by_name) if first else "_replicate",
         )
     ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
     ax.set_xlabel("Stop number [-]")
     ax.set_ylabel("Mean coefficient of friction μ per stop [-]")
-    ax.set_title("Mean coefficient of friction per stop over the cycle, all runs")
+    title = "Mean coefficient of friction per stop over the cycle, all runs"
+    if n_tests < n:
+        title += " (the replicates of a test share its colour)"
+    ax.set_title(title)
     ax.grid(True, alpha=0.3)
-    fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n <= 30 else 2)
+    fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
     return save_figure(fig, path)
 
 

@@ -139,6 +139,22 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     labels = [line.get_label() for line in ax.lines if not line.get_label().startswith("_")]
     assert labels[0] == "T1: S-, WP-, WR-, A-"
     assert labels[-1] == "T24: S+, WP+, WR+, A+"
+    # A replicated campaign: runs numbered 1..2n, tests from the coordinate; one colour and
+    # one legend entry per test.
+    twice = xr.concat([campaign, campaign], dim="run")
+    twice = twice.assign_coords(
+        run=np.arange(1, 2 * len(summary) + 1), test=("run", np.tile(summary["test"], 2))
+    )
+    fig = plot_mu_per_stop(twice, factors=FACTORS)
+    ax = fig.axes[0]
+    runs = [line for line in ax.lines if np.size(line.get_xdata()) == len(campaign["stop"])]
+    assert len(runs) == 2 * len(summary)
+    labels = [line.get_label() for line in runs if not line.get_label().startswith("_")]
+    assert labels[0] == "T1: S-, WP-, WR-, A-" and labels[-1] == "T24: S+, WP+, WR+, A+"
+    assert len(labels) == len(summary)
+    assert runs[0].get_color() == runs[len(summary)].get_color()
+    assert runs[0].get_color() != runs[1].get_color()
+    assert "replicates" in ax.get_title()
     # Without factors the runs are named by value, and no block coordinate is fine.
     fig = plot_mu_per_stop(campaign.drop_vars("block"))
     assert fig.axes[0].lines[0].get_label().startswith("T1: S=0, WP=1e-15")
