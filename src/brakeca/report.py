@@ -403,7 +403,6 @@ def _figure_sections(
     figures: Mapping[str, str | Path] | Iterable[tuple[Any, ...]] | None,
 ) -> list[dict[str, Any]]:
     sections: dict[str, dict[str, Any]] = {}
-    number = 0
     for section, caption, png in _figure_entries(figures or {}):
         try:
             data = png.read_bytes()
@@ -412,19 +411,23 @@ def _figure_sections(
         if not data.startswith(_PNG_SIGNATURE):
             raise ValueError(f"figure {caption!r}: {png} is not a PNG file")
         size = _png_size(data)
-        number += 1
         entry = sections.setdefault(
             section, {"name": section, "anchor": f"fig-{_anchor(section)}", "figures": []}
         )
         entry["figures"].append(
             {
-                "number": number,
+                "number": 0,  # numbered below, in the order the page shows them
                 "caption": caption,
                 "data": base64.b64encode(data).decode("ascii"),
                 "width": size[0] if size else None,
                 "height": size[1] if size else None,
             }
         )
+    number = 0
+    for entry in sections.values():
+        for fig in entry["figures"]:
+            number += 1
+            fig["number"] = number
     return list(sections.values())
 
 

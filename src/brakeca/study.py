@@ -177,8 +177,8 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         )
         add(
             "Residuals",
-            f"Residual plots of the ANOVA model of {label} (model: "
-            f"{tables[resp]['anova'].attrs.get('formula', '').replace('y ~', resp + ' ~', 1)})",
+            f"Residual plots of the ANOVA model of {label}; model: "
+            f"{tables[resp]['anova'].attrs.get('formula', '').replace('y ~', resp + ' ~', 1)}",
             f"residuals_{resp}.png",
             plotting.plot_residuals,
             tables[resp]["residuals"],
@@ -215,11 +215,17 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             maps,
         )
     if run_maps:
+        replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
         for _, row in ok.iterrows():
             levels = ", ".join(f"{f.name} = {row[f.name]:g}" for f in factors)
+            which = (
+                f", replicate {int(row['replicate'])} (seed {int(row['seed'])})"
+                if replicated
+                else ""
+            )
             add(
                 "Final plateau maps",
-                f"Test {int(row['test'])} ({levels}): plateaus after the cycle",
+                f"Test {int(row['test'])} ({levels}){which}: plateaus after the cycle",
                 f"final_map_test{int(row['test']):02d}_r{int(row.get('replicate', 0))}.png",
                 plotting.plot_surface_map,
                 *_map_of(runs_dir / f"{row['run_id']}.nc", "final_status"),

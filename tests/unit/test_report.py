@@ -192,3 +192,13 @@ def test_model_summary_text_with_lack_of_fit() -> None:
     assert _model_summary_text({**attrs, "lack_of_fit_p": 0.011}, None).endswith("p = 0.011.")
     assert "lack of fit" not in _model_summary_text({**attrs, "lack_of_fit_p": math.nan}, None)
     assert _model_summary_text({}, None) == ""
+
+
+def test_figures_are_numbered_in_the_order_the_page_shows_them(tmp_path) -> None:
+    inputs = make_inputs(tmp_path)
+    png = [tiny_png(tmp_path / f"g{k}.png", shade=10 * k) for k in range(3)]
+    inputs["figures"] = [("First", "a0", png[0]), ("Second", "b1", png[1]), ("First", "a2", png[2])]
+    html = render_report(**inputs)
+    captions = re.findall(r"<figcaption>Figure (\d+)\. (\w+)</figcaption>", html)
+    assert captions == [("1", "a0"), ("2", "a2"), ("3", "b1")]
+    assert html.index('id="figure-2"') < html.index('id="figure-3"')
