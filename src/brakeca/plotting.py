@@ -441,7 +441,10 @@ def plot_v_per_run(
     ax.set_xticks(x, [str(t) for t in tests], fontsize=8)
     ax.set_xlabel("Test number [-]")
     ax.set_ylabel("Emitted wear volume per stop V [mm³]")
-    ax.set_title("Mean emitted wear volume per stop, per test")
+    title = "Mean emitted wear volume per stop, per test"
+    if np.isfinite(err).any():
+        title += " (mean ± 1 standard deviation of its replicates)"
+    ax.set_title(title)
     ax.grid(True, axis="y", alpha=0.3, zorder=0)
     return save_figure(fig, path)
 

@@ -170,6 +170,8 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     replicated = pd.concat([summary, summary.assign(seed=summary["seed"] + 100)])
     fig = plot_v_per_run(replicated)
     assert len(fig.axes[0].patches) == 24
+    assert "replicates" in fig.axes[0].get_title()
+    assert "replicates" not in plot_v_per_run(summary).axes[0].get_title()
 
     path = tmp_path / "pareto.png"
     ranked = ranked_effects(summary, FACTORS, "MU")
