@@ -440,9 +440,14 @@ def analyze(
 
 @app.command()
 def paper(
-    output: Annotated[Path, typer.Option("-o", "--output", help="campaign folder")] = Path(
-        "results/paper"
-    ),
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o",
+            "--output",
+            help="campaign folder (default: results/paper; results/paper_quick with --quick)",
+        ),
+    ] = None,
     workers: WorkersOpt = None,
     executor: ExecutorOpt = "local",
     scheduler: SchedulerOpt = None,
@@ -453,6 +458,8 @@ def paper(
     stops: StopsOpt = None,
 ) -> None:
     """The paper's whole study: the 24-run factorial design, then the analysis and report."""
+    if output is None:  # the quick band's runs are not the full band's: a folder each
+        output = Path("results/paper_quick" if quick else "results/paper")
     _run_and_report(
         "paper",
         output,

@@ -236,3 +236,26 @@ def test_bad_cycle_factor_names_the_problem(tmp_path, edit, needle):
     with pytest.raises(ConfigError, match=needle) as info:
         load_design(design)
     assert "bad.toml" in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("args", "folder"),
+    [
+        ([], "results/paper"),
+        (["--quick"], "results/paper_quick"),
+        (["--quick", "-o", "elsewhere"], "elsewhere"),
+    ],
+)
+def test_paper_default_folder_keeps_quick_and_full_apart(monkeypatch, args, folder) -> None:
+    import brakeca.cli as cli
+
+    seen = {}
+
+    def record(design, output, **kwargs):
+        seen.update(design=design, output=output, quick=kwargs["quick"])
+
+    monkeypatch.setattr(cli, "_run_and_report", record)
+    res = CliRunner().invoke(app, ["paper", *args])
+    assert res.exit_code == 0, res.output
+    assert seen["design"] == "paper" and str(seen["output"]) == folder
+    assert seen["quick"] == ("--quick" in args)
