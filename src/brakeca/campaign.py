@@ -284,6 +284,16 @@ def _run_locked(
             recomputed.append(rid)
         todo.append(point)
 
+    wanted = {run_id(p) for p in points}
+    foreign = sorted(f.name for f in runs.glob("*.nc") if f.stem not in wanted)
+    if foreign:
+        _say(
+            console,
+            f"[dim]{len(foreign)} run file(s) in {escape(str(runs))} belong to no run of this "
+            "design (an earlier design or configuration in the same folder); they are left "
+            "as they are and not analysed[/]",
+        )
+
     computed: list[str] = []
     failed: list[str] = []
     if todo:

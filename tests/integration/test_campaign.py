@@ -190,7 +190,24 @@ def test_rerun_skips_every_run(serial, tmp_path):
     assert not again.computed and not again.failed
     assert _mtimes(out / "runs") == before
     assert "nothing to compute" in console_text(console)
+    assert "belong to no run of this design" not in console_text(console)
     pd.testing.assert_frame_equal(again.summary, serial.summary)
+    # A run file of an earlier design in the folder is left alone, not analysed, and said.
+    old = out / "runs" / "00000000deadbeef.nc"
+    shutil.copyfile(out / "runs" / f"{serial.summary.run_id[0]}.nc", old)
+    console = quiet()
+    third = run_campaign(
+        load_design(out / "design.toml"),
+        out,
+        executor="serial",
+        simulate_fn=must_not_run,
+        progress=True,
+        console=console,
+    )
+    assert "1 run file(s) in" in console_text(console)
+    assert "belong to no run of this design" in console_text(console)
+    assert old.exists()
+    pd.testing.assert_frame_equal(third.summary, serial.summary)
 
 
 def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
