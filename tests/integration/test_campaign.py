@@ -177,35 +177,31 @@ def test_rerun_skips_every_run(serial, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(serial.out_dir, out)
     before = _mtimes(out / "runs")
-    console = quiet()
-    again = run_campaign(
-        load_design(out / "design.toml"),
-        out,
-        executor="serial",
-        simulate_fn=must_not_run,
-        progress=True,
-        console=console,
-    )
+
+    def rerun() -> tuple[CampaignResult, str]:
+        console = quiet()
+        result = run_campaign(
+            load_design(out / "design.toml"),
+            out,
+            executor="serial",
+            simulate_fn=must_not_run,
+            progress=True,
+            console=console,
+        )
+        return result, console_text(console)
+
+    again, text = rerun()
     assert sorted(again.reused) == sorted(serial.computed)
     assert not again.computed and not again.failed
     assert _mtimes(out / "runs") == before
-    assert "nothing to compute" in console_text(console)
-    assert "belong to no run of this design" not in console_text(console)
+    assert "nothing to compute" in text
+    assert "belong to no run of this design" not in text
     pd.testing.assert_frame_equal(again.summary, serial.summary)
     # A run file of an earlier design in the folder is left alone, not analysed, and said.
     old = out / "runs" / "00000000deadbeef.nc"
     shutil.copyfile(out / "runs" / f"{serial.summary.run_id[0]}.nc", old)
-    console = quiet()
-    third = run_campaign(
-        load_design(out / "design.toml"),
-        out,
-        executor="serial",
-        simulate_fn=must_not_run,
-        progress=True,
-        console=console,
-    )
-    assert "1 run file(s) in" in console_text(console)
-    assert "belong to no run of this design" in console_text(console)
+    third, text = rerun()
+    assert "1 run file(s) in" in text and "belong to no run of this design" in text
     assert old.exists()
     pd.testing.assert_frame_equal(third.summary, serial.summary)
 
