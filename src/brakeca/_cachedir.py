@@ -9,7 +9,9 @@ points numba's cache at ``$XDG_CACHE_HOME/brakeca/numba/<key>`` (``~/.cache`` wh
 ``XDG_CACHE_HOME`` is unset), where ``<key>`` is a hash of every ``.py`` file of the package.
 The variable is exported, so worker and warm-up processes use the same folder. If that folder
 cannot be created, numba's default (``__pycache__`` beside the sources) is left in place.
-Folders of other versions are not removed (a few MB each).
+Folders of other versions are not removed (a few MB each). numba has one cache folder per
+process, so other cached numba functions of a process that imports brakeca are cached there
+too; set ``NUMBA_CACHE_DIR`` to choose another.
 """
 
 from __future__ import annotations
