@@ -5,6 +5,8 @@ a width of 80 columns. So ``brakeca study ... > log`` would split a long message
 names a path, a run's line) over two lines of the log, and ``grep`` would miss it.
 :class:`LogConsole` prints plain-text messages unwrapped when its output is not a terminal;
 tables and other renderables are laid out as rich lays them out, and a terminal sees no change.
+:func:`say` applies the same rule on any console (the campaign's messages, whose console a
+library caller may give).
 """
 
 from __future__ import annotations
@@ -14,10 +16,21 @@ from typing import Any
 from rich.console import Console
 
 
+def _unwrapped(console: Console, objects: tuple[Any, ...]) -> bool:
+    """Whether ``objects`` go out unwrapped: text, to a console that is not a terminal."""
+    return not console.is_terminal and all(isinstance(o, str) for o in objects)
+
+
+def say(console: Console, *objects: Any, **kwargs: Any) -> None:
+    """Print a message on ``console``, any rich console (a library caller's too), by the rule
+    of :class:`LogConsole`: text unwrapped when the console is not a terminal."""
+    console.print(*objects, soft_wrap=_unwrapped(console, objects), **kwargs)
+
+
 class LogConsole(Console):
     """A :class:`rich.console.Console` whose text messages are not wrapped outside a terminal."""
 
     def print(self, *objects: Any, soft_wrap: bool | None = None, **kwargs: Any) -> None:
-        if soft_wrap is None and not self.is_terminal and all(isinstance(o, str) for o in objects):
+        if soft_wrap is None and _unwrapped(self, objects):
             soft_wrap = True
         super().print(*objects, soft_wrap=soft_wrap, **kwargs)

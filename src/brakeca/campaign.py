@@ -254,11 +254,13 @@ def _run_locked(
     """The body of :func:`run_campaign`, run while the campaign directory is locked."""
     from rich.markup import escape
 
+    from brakeca._console import say
+
     runs = out / "runs"
     runs.mkdir(parents=True, exist_ok=True)
     stale = _remove_stale_temporaries(runs) + _remove_stale_temporaries(out)
     if stale:
-        _say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
+        say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     campaign_design = _write_design(
         out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
     )
@@ -276,7 +278,7 @@ def _run_locked(
                 records[rid] = _record_from_result(point, rid, result)
                 reused.append(rid)
                 continue
-            _say(
+            say(
                 console,
                 f"[yellow]warning:[/] {escape(str(path))} (test {point.test}, "
                 f"replicate {point.replicate}) {escape(why)}; recomputing it",
@@ -287,7 +289,7 @@ def _run_locked(
     wanted = {run_id(p) for p in points}
     foreign = sorted(f.name for f in runs.glob("*.nc") if f.stem not in wanted)
     if foreign:
-        _say(
+        say(
             console,
             f"[dim]{len(foreign)} run file(s) in {escape(str(runs))} belong to no run of this "
             "design (an earlier design or configuration in the same folder); they are left "
@@ -301,7 +303,7 @@ def _run_locked(
             todo, runs, records, computed, failed, how, n_total=len(points), console=console
         )
     elif how.progress:
-        _say(
+        say(
             console,
             f"all {len(points)} runs of {escape(str(out))} already done; nothing to compute",
         )
@@ -312,7 +314,7 @@ def _run_locked(
     atomic_write(out / "summary.csv", lambda tmp: summary.to_csv(tmp, index=False))
     atomic_write(out / "campaign.nc", lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
     if failed:
-        _say(
+        say(
             console,
             f"[red]{len(failed)} of {len(points)} run(s) failed[/]; "
             f"see {escape(str(out / 'summary.csv'))}",
@@ -327,12 +329,6 @@ def _run_locked(
         failed=tuple(failed),
         recomputed=tuple(recomputed),
     )
-
-
-def _say(console: Console, *objects: Any, **kwargs: Any) -> None:
-    """Print a campaign message: one line each, unwrapped, when the console is not a terminal
-    (a log file, where rich would otherwise wrap at 80 columns)."""
-    console.print(*objects, soft_wrap=not console.is_terminal, **kwargs)
 
 
 def _execute_points(
@@ -362,6 +358,8 @@ def _execute_points(
         TimeRemainingColumn,
     )
 
+    from brakeca._console import say
+
     max_retries = how.max_retries
     on_this_machine = how.executor in ("local", "serial") or (
         how.executor == "dask" and how.scheduler is None and how.scheduler_file is None
@@ -374,7 +372,7 @@ def _execute_points(
 
         warmed = warm_up(p.config for p in todo)
         if warmed is not None and how.progress:
-            _say(console, f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
+            say(console, f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
     backend = _backend(
         how.executor,
         how.workers,
@@ -395,7 +393,7 @@ def _execute_points(
         transient=False,
     )
     if how.progress and not console.is_terminal:
-        _say(
+        say(
             console,
             f"{len(todo)} of {n_total} run(s) to compute ({n_total - len(todo)} already done)",
             highlight=False,
@@ -425,7 +423,7 @@ def _execute_points(
                     if death is not None:
                         deaths[rid] = deaths.get(rid, 0) + 1
                         if deaths[rid] <= max_retries:
-                            _say(
+                            say(
                                 console,
                                 f"[yellow]worker died:[/] test {point.test}, replicate "
                                 f"{point.replicate} ({rid}): {escape(death)}; trying again "
@@ -444,7 +442,7 @@ def _execute_points(
                     records[rid] = record
                     (computed if record.status == "ok" else failed).append(rid)
                     if record.status != "ok":
-                        _say(
+                        say(
                             console,
                             f"[red]run failed:[/] test {point.test}, replicate {point.replicate} "
                             f"({rid}): {escape(record.error)}",
@@ -452,7 +450,7 @@ def _execute_points(
                     elif how.progress and not console.is_terminal:
                         # no live bar in a log file: one line per run instead
                         sc = record.scalars
-                        _say(
+                        say(
                             console,
                             f"run {n_total - len(todo) + len(computed) + len(failed)}/{n_total} "
                             f"done: test {point.test}, replicate "

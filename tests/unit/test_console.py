@@ -7,7 +7,7 @@ import io
 from rich.console import Console
 from rich.table import Table
 
-from brakeca._console import LogConsole
+from brakeca._console import LogConsole, say
 
 LONG = "error: " + "/a/long/path/to/a/design/file/named/in/the/message " * 4
 
@@ -31,3 +31,9 @@ def test_terminal_and_tables_are_laid_out_as_by_rich() -> None:
     table = Table("test", "MU")
     table.add_row("1", "0.2718")
     assert _printed(LogConsole, table) == _printed(Console, table)
+
+
+def test_say_applies_the_rule_on_any_console() -> None:
+    buffer = io.StringIO()
+    say(Console(file=buffer, width=80), LONG)
+    assert buffer.getvalue() == LONG + "\n"
