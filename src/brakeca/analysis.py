@@ -602,8 +602,7 @@ def anova(
     y = data[response].to_numpy(dtype=float)
     if n < 2:
         return _empty_anova(f"only {n} usable run(s) for {response}; no ANOVA possible")
-    scale = float(np.max(np.abs(y)))
-    constant = float(np.ptp(y)) <= 1e-13 * scale
+    constant = _is_constant(y)
     total_ss = 0.0 if constant else float(np.sum((y - y.mean()) ** 2))
 
     frame, term_names, terms, notes = _model(data, factors, y, interactions)
@@ -626,7 +625,7 @@ def anova(
         notes.append("no factor varies in the data; nothing to test")
         out["note"] = "; ".join(notes)
         out.attrs.update(note="; ".join(notes), typ=None, formula="", n=n, total_sum_sq=total_ss)
-        out.attrs.update(_fit_statistics(np.ones((n, 1)), y, total_ss))
+        out.attrs.update(_fit_statistics(y, *_least_squares(np.ones((n, 1)), y), total_ss))
         return out
 
     fit, table, kind, messages = _fit_anova(frame, terms)
@@ -676,7 +675,7 @@ def anova(
         n=n,
         total_sum_sq=total_ss,
     )
-    out.attrs.update(_fit_statistics(fit.model.exog, y, total_ss))
+    out.attrs.update(_fit_statistics(y, *_least_squares(fit.model.exog, y), total_ss))
     out.attrs.update(_lack_of_fit(frame, fit))
     return out
 
@@ -692,11 +691,10 @@ def _lack_of_fit(frame: pd.DataFrame, fit: Any) -> dict[str, float]:
     last two are NaN unless both parts have degrees of freedom (replicates, and a model that
     does not hold every cell), the sums of squares NaN without replicates.
     """
-    cells = [c for c in frame.columns if c != "y"]
+    cells = [c for c in frame.columns if c != "y"]  # the factors that vary: at least one
     y = frame["y"].to_numpy(dtype=float)
-    groups = frame.groupby(cells, sort=False)["y"] if cells else None
-    n_cells = int(groups.ngroups) if groups is not None else 1
-    df_pe = float(len(y) - n_cells)
+    groups = frame.groupby(cells, sort=False)["y"]
+    df_pe = float(len(y) - groups.ngroups)
     out = {
         "pure_error_df": df_pe,
         "pure_error_ss": math.nan,
@@ -707,7 +705,7 @@ def _lack_of_fit(frame: pd.DataFrame, fit: Any) -> dict[str, float]:
     }
     if df_pe < 0.5:
         return out
-    means = groups.transform("mean").to_numpy(dtype=float) if groups is not None else y.mean()
+    means = groups.transform("mean").to_numpy(dtype=float)
     ss_pe = float(np.sum((y - means) ** 2))
     df_lof = float(fit.df_resid) - df_pe
     ss_lof = max(float(fit.ssr) - ss_pe, 0.0)
@@ -762,13 +760,25 @@ def _model(
     return frame, term_names, terms, notes
 
 
-def _leverages(exog: np.ndarray) -> np.ndarray:
-    """Diagonal of the hat matrix ``X X^+`` [-] (also for a rank-deficient ``X``)."""
-    return np.einsum("ij,ji->i", exog, np.linalg.pinv(exog))
+def _is_constant(y: np.ndarray) -> bool:
+    """Whether a response does not vary beyond round-off (its spread within 1e-13 of its size)."""
+    return float(np.ptp(y)) <= 1e-13 * float(np.max(np.abs(y)))
 
 
-def _fit_statistics(exog: np.ndarray, y: np.ndarray, total_ss: float) -> dict[str, float]:
-    """Model summary of the least-squares fit of ``y`` on ``exog``, as Minitab and JMP print
+def _least_squares(exog: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    """The least-squares fit of ``y`` on ``exog``: fitted values [response unit], leverages
+    (the diagonal of the hat matrix ``X X^+``, also for a rank-deficient ``X``) [-] and the
+    residual degrees of freedom [-]."""
+    exog = np.asarray(exog, dtype=float)
+    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
+    leverage = np.einsum("ij,ji->i", exog, np.linalg.pinv(exog))
+    return exog @ coef, leverage, float(y.size - np.linalg.matrix_rank(exog))
+
+
+def _fit_statistics(
+    y: np.ndarray, fitted: np.ndarray, leverage: np.ndarray, df_resid: float, total_ss: float
+) -> dict[str, float]:
+    """Model summary of a least-squares fit (:func:`_least_squares`), as Minitab and JMP print
     it: ``s`` (standard deviation of the residuals, sqrt of the residual mean square)
     [response unit], ``r_squared``, ``r_squared_adj`` and ``r_squared_pred`` (from the PRESS
     statistic, sum of (e_i / (1 - h_i))^2) [-], and the model's ``df_resid`` [-].
@@ -777,13 +787,9 @@ def _fit_statistics(exog: np.ndarray, y: np.ndarray, total_ss: float) -> dict[st
     degrees of freedom, the R-squares of a constant response, and ``r_squared_pred`` when a
     run has leverage 1 (the model fits it exactly whatever its value).
     """
-    exog = np.asarray(exog, dtype=float)
     n = y.size
-    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
-    resid = y - exog @ coef
+    resid = y - fitted
     ssr = float(resid @ resid)
-    df_resid = float(n - np.linalg.matrix_rank(exog))
-    h = _leverages(exog)
     out = {"df_resid": df_resid, "s": math.nan, "r_squared": math.nan}
     out.update(r_squared_adj=math.nan, r_squared_pred=math.nan)
     if df_resid > 0.5:
@@ -792,8 +798,8 @@ def _fit_statistics(exog: np.ndarray, y: np.ndarray, total_ss: float) -> dict[st
         out["r_squared"] = 1.0 - ssr / total_ss
         if df_resid > 0.5:
             out["r_squared_adj"] = 1.0 - (ssr / df_resid) / (total_ss / (n - 1))
-            if np.all(h < 1.0 - 1e-9):
-                press = float(np.sum((resid / (1.0 - h)) ** 2))
+            if np.all(leverage < 1.0 - 1e-9):
+                press = float(np.sum((resid / (1.0 - leverage)) ** 2))
                 out["r_squared_pred"] = 1.0 - press / total_ss
     return out
 
@@ -848,18 +854,15 @@ def residuals(
         exog = np.asarray(_fit_anova(frame, terms, check_only=True)[0].model.exog, dtype=float)
     else:
         exog = np.ones((y.size, 1))
-    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
-    fitted = exog @ coef
-    leverage = _leverages(exog)
-    stats = _fit_statistics(exog, y, float(np.sum((y - y.mean()) ** 2)))
+    fitted, leverage, df_resid = _least_squares(exog, y)
+    stats = _fit_statistics(y, fitted, leverage, df_resid, float(np.sum((y - y.mean()) ** 2)))
     out["observed"] = y
     out["fitted"] = fitted
     out["residual"] = y - fitted
     out["leverage"] = leverage
     with np.errstate(divide="ignore", invalid="ignore"):
         std = (y - fitted) / (stats["s"] * np.sqrt(1.0 - leverage))
-    constant = float(np.ptp(y)) <= 1e-13 * float(np.max(np.abs(y)))
-    out["std_residual"] = np.where((leverage < 1.0 - 1e-9) & (not constant), std, np.nan)
+    out["std_residual"] = np.where((leverage < 1.0 - 1e-9) & (not _is_constant(y)), std, np.nan)
     out.attrs.update(
         response=response,
         formula="y ~ " + (" + ".join(term_names[t] for t in terms) if terms else "1"),
