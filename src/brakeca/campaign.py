@@ -269,8 +269,10 @@ def _run_locked(
     todo: list[RunPoint] = []
     recomputed: list[str] = []
     reused: list[str] = []
+    wanted: set[str] = set()
     for point in execution_order(points):
         rid = run_id(point)
+        wanted.add(rid)
         path = runs / f"{rid}.nc"
         if path.exists():
             result, why = _load_existing(path, point)
@@ -286,7 +288,6 @@ def _run_locked(
             recomputed.append(rid)
         todo.append(point)
 
-    wanted = {run_id(p) for p in points}
     foreign = sorted(f.name for f in runs.glob("*.nc") if f.stem not in wanted)
     if foreign:
         say(

@@ -362,13 +362,14 @@ def plot_mu_per_stop(
     # line style and legend entry.
     tests = campaign["test"].to_numpy() if "test" in campaign.coords else runs
     keys = [t.item() if hasattr(t, "item") else t for t in tests]
-    distinct = list(dict.fromkeys(keys))
-    position = {key: i for i, key in enumerate(distinct)}
-    n_tests = len(distinct)
+    position = {key: i for i, key in enumerate(dict.fromkeys(keys))}
+    n_tests = len(position)
+    labelled: set[Any] = set()
     for k, key in enumerate(keys):
         i = position[key]
         levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
-        first = keys.index(key) == k
+        first = key not in labelled
+        labelled.add(key)
         ax.plot(
             stops,
             values[k],
