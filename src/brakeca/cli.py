@@ -17,6 +17,7 @@ import typer
 from brakeca import __version__
 from brakeca._console import LogConsole
 from brakeca.config import ConfigError, SimulationConfig, load_config, parse_override
+from brakeca.presets import available_designs
 
 app = typer.Typer(
     add_completion=False,
@@ -380,7 +381,9 @@ def _print_summary(summary) -> None:
 def run(
     design: Annotated[
         str,
-        typer.Argument(help="a design file (TOML) or a shipped design: paper, paper_replicated"),
+        typer.Argument(
+            help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}"
+        ),
     ],
     output: Annotated[Path, typer.Option("-o", "--output", help="campaign folder")],
     workers: WorkersOpt = None,
