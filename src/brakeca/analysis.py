@@ -908,6 +908,13 @@ def ranked_effects(
     """
     factors = _factors(factors)
     table = anova(summary, factors, response, interactions=interactions)
+    return _rank_terms(table, summary, factors, response)
+
+
+def _rank_terms(
+    table: pd.DataFrame, summary: pd.DataFrame, factors: list[Factor], response: str
+) -> pd.DataFrame:
+    """:func:`ranked_effects` from the ANOVA table ``table`` of ``response``."""
     columns = [
         "rank",
         "term",
@@ -985,12 +992,13 @@ def analyze(
         responses = (responses,)
     result: dict[str, dict[str, Any]] = {}
     for response in responses:
+        table = anova(summary, factors, response)
         result[response] = {
             "main_effects": main_effects(summary, factors, response),
             "interactions": interaction_tables(summary, factors, response),
             "interactions_long": interactions_long(summary, factors, response),
-            "anova": anova(summary, factors, response),
-            "ranked_effects": ranked_effects(summary, factors, response),
+            "anova": table,
+            "ranked_effects": _rank_terms(table, summary, factors, response),
             "residuals": residuals(summary, factors, response),
         }
     return result
