@@ -1,10 +1,13 @@
 """Where the time goes: the share of each kernel phase, stop by stop.
 
 Usage: python benchmarks/phase_profile.py [--stops 60] [--rows 21] [--wp 1e-13] [--every 10]
+       [--set KEY=VALUE ...]
 
 Runs the first ``--stops`` stops of the paper cycle on a band of ``--rows`` rows (quick band
 by default) and, for every group of ``--every`` stops, prints the ns per cell-step, the cells
-in contact, the secondary area and the share of each phase of the step. The phases are timed
+in contact, the secondary area, the status changes a step (plateaus created by rules 1-3
+and destroyed by rules 4-7) and the share of each phase of the step. ``--set`` takes the
+overrides of ``brakeca simulate`` (``--set S=1 --set A=20``: another test's levels). The phases are timed
 inside the compiled kernel with the CPU's cycle counter (``SimulationState.prof``), so there
 is no Python overhead in the shares.
 """
@@ -17,6 +20,7 @@ import time
 import numpy as np
 
 from brakeca import _kernels as K
+from brakeca.config import parse_override
 from brakeca.cycle import expand_stops
 from brakeca.geometry import make_grid
 from brakeca.presets import load_preset
@@ -29,9 +33,12 @@ ap.add_argument("--rows", type=int, default=21)
 ap.add_argument("--wp", type=float, default=1e-13)
 ap.add_argument("--every", type=int, default=10)
 ap.add_argument("--seed", type=int, default=2016)
+ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
 args = ap.parse_args()
 
-config = load_preset().with_updates({"mesh.n_radial": args.rows, "WP": args.wp})
+updates = {"mesh.n_radial": args.rows, "WP": args.wp}
+updates.update(parse_override(item) for item in args.set)
+config = load_preset().with_updates(updates)
 grid = make_grid(config)
 rng = np.random.default_rng(args.seed)
 state = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)
@@ -47,7 +54,7 @@ advance_stop(
     stops[0],
 )
 print(
-    f"{'stops':>7} {'ns/cell-step':>12} {'contact':>7} {'second.':>7}  "
+    f"{'stops':>7} {'ns/cell-step':>12} {'contact':>7} {'second.':>7} {'made':>6} {'lost':>6}  "
     + " ".join(f"{p:>14}" for p in K.TIMED_PHASES)
 )
 for g in range(0, len(stops), args.every):
@@ -56,9 +63,12 @@ for g in range(0, len(stops), args.every):
     steps = 0
     contact = secondary = 0.0
     elapsed = 0.0
+    made = lost = 0
     for stop in group:
         t = time.perf_counter()
-        dt, rec, _ = advance_stop(state, grid, config, stop)
+        dt, rec, counts = advance_stop(state, grid, config, stop)
+        made += int(counts[1:4].sum())
+        lost += int(counts[4:8].sum())
         elapsed += time.perf_counter() - t
         end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         steps += dt.size
@@ -68,6 +78,6 @@ for g in range(0, len(stops), args.every):
     share = state.prof / total if total > 0 else np.full(state.prof.size, np.nan)  # no counter
     print(
         f"{group[0].index:>3}-{group[-1].index:<3} {elapsed / steps / cells * 1e9:12.2f} "
-        f"{contact / steps:7.3f} {secondary / steps:7.3f}  "
+        f"{contact / steps:7.3f} {secondary / steps:7.3f} {made / steps:6.0f} {lost / steps:6.0f}  "
         + " ".join(f"{100 * s:13.1f}%" if s == s else f"{'n/a':>14}" for s in share)
     )
