@@ -7,9 +7,9 @@ Runs the first ``--stops`` stops of the paper cycle on a band of ``--rows`` rows
 by default) and, for every group of ``--every`` stops, prints the ns per cell-step, the cells
 in contact, the secondary area, the status changes a step (plateaus created by rules 1-3
 and destroyed by rules 4-7) and the share of each phase of the step. ``--set`` takes the
-overrides of ``brakeca simulate`` (``--set S=1 --set A=20``: another test's levels). The phases are timed
-inside the compiled kernel with the CPU's cycle counter (``SimulationState.prof``), so there
-is no Python overhead in the shares.
+overrides of ``brakeca simulate`` (``--set S=1 --set A=20``: another test's levels). The
+phases are timed inside the compiled kernel with the CPU's cycle counter
+(``SimulationState.prof``), so there is no Python overhead in the shares.
 """
 
 from __future__ import annotations

@@ -451,38 +451,93 @@ def _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, a, c, z, incl):
 
 @njit_noalloc
 def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
-    """Move the partition indices of row j to disc position z (segment sums follow)."""
+    """Move the partition indices of row j to disc position z (segment sums follow).
+
+    The sums of the four segments are held in locals while the indices move and stored once
+    at the end: each sum gets the same additions in the same order as with one
+    :func:`_move` per cell (``x + (-1.0) r`` and ``x - r`` are the same operation), without
+    a store and reload per move."""
     a = amap[j, 0]
     c = amap[j, 1]
     nin = rows[j, RW_KE]
     ks = rows[j, RW_KS]
     kf = rows[j, RW_KF]
     kc = rows[j, RW_KC]
+    n_a, s_a, q_a = seg[j, SEG_A, 0], seg[j, SEG_A, 1], seg[j, SEG_A, 2]
+    n_b, s_b, q_b = seg[j, SEG_B, 0], seg[j, SEG_B, 1], seg[j, SEG_B, 2]
+    n_c, s_c, q_c = seg[j, SEG_C, 0], seg[j, SEG_C, 1], seg[j, SEG_C, 2]
+    n_d, s_d, q_d = seg[j, SEG_D, 0], seg[j, SEG_D, 1], seg[j, SEG_D, 2]
     moves = 0
     while ks < nin and _on(a, c, in_r[row0 + ks], z, us):
-        _move(seg, in_idx, in_r, j, row0, ks, SEG_D, SEG_C)
+        if in_idx[row0 + ks] >= 0:  # D -> C
+            r = in_r[row0 + ks]
+            n_d -= 1.0
+            s_d -= r
+            q_d -= r * r
+            n_c += 1.0
+            s_c += r
+            q_c += r * r
         ks += 1
         moves += 1
     while kf < ks and _on(a, c, in_r[row0 + kf], z, uf):
-        _move(seg, in_idx, in_r, j, row0, kf, SEG_C, SEG_B)
+        if in_idx[row0 + kf] >= 0:  # C -> B
+            r = in_r[row0 + kf]
+            n_c -= 1.0
+            s_c -= r
+            q_c -= r * r
+            n_b += 1.0
+            s_b += r
+            q_b += r * r
         kf += 1
         moves += 1
     while kc < kf and _on(a, c, in_r[row0 + kc], z, uc):
-        _move(seg, in_idx, in_r, j, row0, kc, SEG_B, SEG_A)
+        if in_idx[row0 + kc] >= 0:  # B -> A
+            r = in_r[row0 + kc]
+            n_b -= 1.0
+            s_b -= r
+            q_b -= r * r
+            n_a += 1.0
+            s_a += r
+            q_a += r * r
         kc += 1
         moves += 1
     while kc > 0 and not _on(a, c, in_r[row0 + kc - 1], z, uc):
         kc -= 1
-        _move(seg, in_idx, in_r, j, row0, kc, SEG_A, SEG_B)
+        if in_idx[row0 + kc] >= 0:  # A -> B
+            r = in_r[row0 + kc]
+            n_a -= 1.0
+            s_a -= r
+            q_a -= r * r
+            n_b += 1.0
+            s_b += r
+            q_b += r * r
         moves += 1
     while kf > kc and not _on(a, c, in_r[row0 + kf - 1], z, uf):
         kf -= 1
-        _move(seg, in_idx, in_r, j, row0, kf, SEG_B, SEG_C)
+        if in_idx[row0 + kf] >= 0:  # B -> C
+            r = in_r[row0 + kf]
+            n_b -= 1.0
+            s_b -= r
+            q_b -= r * r
+            n_c += 1.0
+            s_c += r
+            q_c += r * r
         moves += 1
     while ks > kf and not _on(a, c, in_r[row0 + ks - 1], z, us):
         ks -= 1
-        _move(seg, in_idx, in_r, j, row0, ks, SEG_C, SEG_D)
+        if in_idx[row0 + ks] >= 0:  # C -> D
+            r = in_r[row0 + ks]
+            n_c -= 1.0
+            s_c -= r
+            q_c -= r * r
+            n_d += 1.0
+            s_d += r
+            q_d += r * r
         moves += 1
+    seg[j, SEG_A, 0], seg[j, SEG_A, 1], seg[j, SEG_A, 2] = n_a, s_a, q_a
+    seg[j, SEG_B, 0], seg[j, SEG_B, 1], seg[j, SEG_B, 2] = n_b, s_b, q_b
+    seg[j, SEG_C, 0], seg[j, SEG_C, 1], seg[j, SEG_C, 2] = n_c, s_c, q_c
+    seg[j, SEG_D, 0], seg[j, SEG_D, 1], seg[j, SEG_D, 2] = n_d, s_d, q_d
     rows[j, RW_KS] = ks
     rows[j, RW_KF] = kf
     rows[j, RW_KC] = kc
@@ -949,15 +1004,29 @@ def _row_event(rows, in_r, in_idx, amap, out_h, out_idx, j, z, n_angular, uf):
 
 @njit_noalloc
 def _evt_set(evt, m, j, value):
-    """Max-tree over rows (leaves at m + j): set row j's next event."""
+    """Max-tree over rows (leaves at m + j): set row j's next event. The climb stops at the
+    first node whose maximum is unchanged: the nodes above it are unchanged too."""
     node = m + j
     evt[node] = value
     node >>= 1
     while node >= 1:
         left = evt[2 * node]
         right = evt[2 * node + 1]
-        evt[node] = left if left >= right else right
+        top = left if left >= right else right
+        if evt[node] == top:
+            break
+        evt[node] = top
         node >>= 1
+
+
+@njit_noalloc
+def _evt_build(evt, m):
+    """Max-tree over rows: every inner node from the leaves, bottom up (the values
+    :func:`_evt_set` would leave, in one pass)."""
+    for node in range(m - 1, 0, -1):
+        left = evt[2 * node]
+        right = evt[2 * node + 1]
+        evt[node] = left if left >= right else right
 
 
 @njit_noalloc
@@ -1095,9 +1164,8 @@ def _walk_start(
         acc5[2] += qj
         acc5[3] += sj
         acc5[4] += qdj
-        _evt_set(
-            evt, m, j, _row_event(rows, in_r, in_idx, amap, out_h, out_idx, j, z, n_angular, uf)
-        )
+        evt[m + j] = _row_event(rows, in_r, in_idx, amap, out_h, out_idx, j, z, n_angular, uf)
+    _evt_build(evt, m)
 
 
 @njit(cache=True)
