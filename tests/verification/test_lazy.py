@@ -240,6 +240,41 @@ def test_resin_entries_sort_like_a_stable_argsort(n):
     np.testing.assert_array_equal(c[n:], cols[n:])
 
 
+def _max_tree_reference(leaves, m):
+    """Every node of a max-tree with leaves at ``m + j``, by NumPy: node k holds the maximum
+    of the leaves below it."""
+    tree = np.full(2 * m, -math.inf)
+    tree[m : m + leaves.size] = leaves
+    level, start = m, m
+    while level > 1:
+        level //= 2
+        start //= 2
+        tree[start : start + level] = tree[2 * start : 2 * start + 2 * level].reshape(-1, 2).max(1)
+    return tree
+
+
+@pytest.mark.parametrize("n_rows", [1, 2, 5, 21, 201])
+def test_event_tree_build_and_updates_match_a_numpy_max_tree(n_rows):
+    """The contact solve's max-tree over the rows' next events: built bottom up in one pass
+    and then updated leaf by leaf (each climb stops at the first unchanged node), it holds at
+    every node the maximum of the leaves below, as a NumPy reference, with ties, -inf leaves
+    and repeated values."""
+    rng = np.random.default_rng(n_rows)
+    m = 1
+    while m < n_rows:
+        m *= 2
+    leaves = rng.choice([-math.inf, 0.0, 1.0, 2.5], n_rows) + rng.integers(0, 2, n_rows)
+    evt = np.full(2 * m, -math.inf)
+    evt[m : m + n_rows] = leaves
+    _lazy._evt_build(evt, m)
+    np.testing.assert_array_equal(evt[1:], _max_tree_reference(leaves, m)[1:])
+    for _ in range(10 * n_rows):
+        j = int(rng.integers(n_rows))
+        leaves[j] = rng.choice([-math.inf, 0.0, 1.0, 2.5, 3.0])
+        _lazy._evt_set(evt, m, j, leaves[j])
+        np.testing.assert_array_equal(evt[1:], _max_tree_reference(leaves, m)[1:])
+
+
 def test_row_resin_entries_cut_as_one_heap():
     """The lazy kernel's per-row sorted resin entries cut the same cells by the same depths as
     the exact kernel's one heap of the whole grid, and each stream bin gets a bit-identical
