@@ -660,6 +660,9 @@ def _contact_row(
     nin = rows[j, RW_NIN]
     ke = rows[j, RW_KE]
     moves = 0
+    # segment D's sums in locals (stored at the end; the same additions in the same order as
+    # with _seg_add, see _fix_partitions): the cells at the edge are nearly always in D
+    n_d, s_d, q_d = seg[j, SEG_D, 0], seg[j, SEG_D, 1], seg[j, SEG_D, 2]
     # leaving: the edge moves up the in-contact array
     while ke > 0:
         q = row0 + ke - 1
@@ -668,7 +671,13 @@ def _contact_row(
             h = a * r + c
             if h > z or (incl and h == z):
                 break
-            _seg_add(seg, j, _seg_of(rows, j, ke - 1), r, -1.0)
+            s_of = _seg_of(rows, j, ke - 1)
+            if s_of == SEG_D:
+                n_d -= 1.0
+                s_d -= r
+                q_d -= r * r
+            else:
+                _seg_add(seg, j, s_of, r, -1.0)
             moves += 1
         ke -= 1
         if rows[j, RW_KS] > ke:
@@ -690,11 +699,14 @@ def _contact_row(
         h = a * r + c
         if not (h > z or (incl and h == z)):
             break
-        _seg_add(seg, j, SEG_D, r, 1.0)
+        n_d += 1.0
+        s_d += r
+        q_d += r * r
         moves += 1
         ke = q + 1
     rows[j, RW_KE] = ke
     if ke < nin:
+        seg[j, SEG_D, 0], seg[j, SEG_D, 1], seg[j, SEG_D, 2] = n_d, s_d, q_d
         return moves
     # then from the out-of-contact array
     nout = rows[j, RW_NOUT]
@@ -716,7 +728,9 @@ def _contact_row(
             in_s[row0 + nin] = st
             where[idx] = W_IN
             pos[idx] = nin
-            _seg_add(seg, j, SEG_D, r, 1.0)
+            n_d += 1.0
+            s_d += r
+            q_d += r * r
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, 1.0)
             if st == SECONDARY:
                 cell_r[idx] = r
@@ -724,6 +738,7 @@ def _contact_row(
             nin += 1
             moves += 1
         nout -= 1
+    seg[j, SEG_D, 0], seg[j, SEG_D, 1], seg[j, SEG_D, 2] = n_d, s_d, q_d
     rows[j, RW_NIN] = nin
     rows[j, RW_KE] = nin
     rows[j, RW_NOUT] = nout
