@@ -1,6 +1,7 @@
 """Where the compiled kernels spend their time, source line by source line, with ``perf``.
 
-    python benchmarks/perf_lines.py [--set A=10 ...] [--wp 1e-13] [--stops 8] [--seconds 10]
+    python benchmarks/perf_lines.py [--set A=10 ...] [--wp 1e-13] [--stops 8] [--skip 0]
+        [--seconds 10]
 
 Linux only; needs ``perf`` (the operating system's clock is enough: no hardware counters),
 ``gdb``, ``objdump`` and ``addr2line``, and the right to attach to a child process (root, or
@@ -47,8 +48,9 @@ from brakeca.presets import load_preset
 from brakeca.simulation import SimulationState, advance_stop, end_of_stop
 from brakeca.surface import generate_surface
 
-work, wp, stops, sets = sys.argv[1], float(sys.argv[2]), int(sys.argv[3]), sys.argv[4:]
-updates = {"WP": wp, "cycle.max_stops": stops + 1}
+work, wp, stops, skip = sys.argv[1], float(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+sets = sys.argv[5:]
+updates = {"WP": wp, "cycle.max_stops": skip + stops + 1}
 updates.update(parse_override(item) for item in sets)
 config = load_preset().with_updates(updates)
 grid = make_grid(config)
@@ -56,10 +58,14 @@ cycle = expand_stops(config)
 rng = np.random.default_rng(2016)
 state = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)
 advance_stop(state, grid, config, cycle[0])  # compiles
+end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
+for stop in cycle[1 : 1 + skip]:  # not sampled
+    advance_stop(state, grid, config, stop)
+    end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
 lib = nrt.rtsys.library
 with open(os.path.join(work, "ready"), "w") as f:
     f.write(f"{lib.get_pointer_to_function('NRT_incref')}")
-for stop in cycle[1:]:
+for stop in cycle[1 + skip :]:
     advance_stop(state, grid, config, stop)
     end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
 while not os.path.exists(os.path.join(work, "done")):  # gdb reads the symbols first
@@ -93,14 +99,22 @@ def main() -> None:
     ap.add_argument("--wp", type=float, default=1e-13)
     ap.add_argument("--set", action="append", default=["A=10"], help="KEY=VALUE override")
     ap.add_argument("--stops", type=int, default=8, help="stops run after the warm-up stop")
+    ap.add_argument(
+        "--skip",
+        type=int,
+        default=0,
+        help="stops run before sampling starts (after the warm-up stop), to profile a later "
+        "block of the cycle: --skip 99 samples from stop 101 on",
+    )
     ap.add_argument("--seconds", type=float, default=10.0, help="how long perf samples")
     ap.add_argument("--top", type=int, default=25, help="source lines listed")
     args = ap.parse_args()
     work = Path(tempfile.mkdtemp(prefix="brakeca-perf-"))
     cache = work / "numba_cache"
     env = dict(os.environ, NUMBA_DEBUGINFO="1", NUMBA_CACHE_DIR=str(cache), NUMBA_NUM_THREADS="1")
+    argv = [str(work), str(args.wp), str(args.stops), str(args.skip), *args.set]
     child = subprocess.Popen(
-        [sys.executable, "-c", CHILD, str(work), str(args.wp), str(args.stops), *args.set],
+        [sys.executable, "-c", CHILD, *argv],
         env=env,
     )
     try:
