@@ -384,15 +384,6 @@ def _bin_add(bins, b, status, r, sign):
         bins[b, 1] += sign * r
 
 
-@njit_noalloc
-def _move(seg, in_idx, in_r, j, row0, q, s_from, s_to):
-    idx = in_idx[row0 + q]
-    if idx >= 0:
-        r = in_r[row0 + q]
-        _seg_add(seg, j, s_from, r, -1.0)
-        _seg_add(seg, j, s_to, r, 1.0)
-
-
 @njit(cache=True, inline="always")
 def _on(a, c, r, z, t):
     """Whether a cell of raw coordinate r has interference ``u = a r + c - z >= t`` (the one
@@ -449,14 +440,22 @@ def _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, a, c, z, incl):
     return False
 
 
+@njit(cache=True, inline="always")
+def _shift(n_from, s_from, q_from, n_to, s_to, q_to, r):
+    """The sums (count, sum r, sum r^2) of two segments after a cell of raw coordinate r moves
+    from the first to the second: the additions of two :func:`_seg_add` calls, on values
+    held in locals."""
+    return n_from - 1.0, s_from - r, q_from - r * r, n_to + 1.0, s_to + r, q_to + r * r
+
+
 @njit_noalloc
 def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
     """Move the partition indices of row j to disc position z (segment sums follow).
 
     The sums of the four segments are held in locals while the indices move and stored once
-    at the end: each sum gets the same additions in the same order as with one
-    :func:`_move` per cell (``x + (-1.0) r`` and ``x - r`` are the same operation), without
-    a store and reload per move."""
+    at the end: each sum gets the same additions in the same order as with two
+    :func:`_seg_add` calls per cell (``x + (-1.0) r`` and ``x - r`` are the same operation),
+    without a store and reload per move."""
     a = amap[j, 0]
     c = amap[j, 1]
     nin = rows[j, RW_KE]
@@ -470,69 +469,33 @@ def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
     moves = 0
     while ks < nin and _on(a, c, in_r[row0 + ks], z, us):
         if in_idx[row0 + ks] >= 0:  # D -> C
-            r = in_r[row0 + ks]
-            n_d -= 1.0
-            s_d -= r
-            q_d -= r * r
-            n_c += 1.0
-            s_c += r
-            q_c += r * r
+            n_d, s_d, q_d, n_c, s_c, q_c = _shift(n_d, s_d, q_d, n_c, s_c, q_c, in_r[row0 + ks])
         ks += 1
         moves += 1
     while kf < ks and _on(a, c, in_r[row0 + kf], z, uf):
         if in_idx[row0 + kf] >= 0:  # C -> B
-            r = in_r[row0 + kf]
-            n_c -= 1.0
-            s_c -= r
-            q_c -= r * r
-            n_b += 1.0
-            s_b += r
-            q_b += r * r
+            n_c, s_c, q_c, n_b, s_b, q_b = _shift(n_c, s_c, q_c, n_b, s_b, q_b, in_r[row0 + kf])
         kf += 1
         moves += 1
     while kc < kf and _on(a, c, in_r[row0 + kc], z, uc):
         if in_idx[row0 + kc] >= 0:  # B -> A
-            r = in_r[row0 + kc]
-            n_b -= 1.0
-            s_b -= r
-            q_b -= r * r
-            n_a += 1.0
-            s_a += r
-            q_a += r * r
+            n_b, s_b, q_b, n_a, s_a, q_a = _shift(n_b, s_b, q_b, n_a, s_a, q_a, in_r[row0 + kc])
         kc += 1
         moves += 1
     while kc > 0 and not _on(a, c, in_r[row0 + kc - 1], z, uc):
         kc -= 1
         if in_idx[row0 + kc] >= 0:  # A -> B
-            r = in_r[row0 + kc]
-            n_a -= 1.0
-            s_a -= r
-            q_a -= r * r
-            n_b += 1.0
-            s_b += r
-            q_b += r * r
+            n_a, s_a, q_a, n_b, s_b, q_b = _shift(n_a, s_a, q_a, n_b, s_b, q_b, in_r[row0 + kc])
         moves += 1
     while kf > kc and not _on(a, c, in_r[row0 + kf - 1], z, uf):
         kf -= 1
         if in_idx[row0 + kf] >= 0:  # B -> C
-            r = in_r[row0 + kf]
-            n_b -= 1.0
-            s_b -= r
-            q_b -= r * r
-            n_c += 1.0
-            s_c += r
-            q_c += r * r
+            n_b, s_b, q_b, n_c, s_c, q_c = _shift(n_b, s_b, q_b, n_c, s_c, q_c, in_r[row0 + kf])
         moves += 1
     while ks > kf and not _on(a, c, in_r[row0 + ks - 1], z, us):
         ks -= 1
         if in_idx[row0 + ks] >= 0:  # C -> D
-            r = in_r[row0 + ks]
-            n_c -= 1.0
-            s_c -= r
-            q_c -= r * r
-            n_d += 1.0
-            s_d += r
-            q_d += r * r
+            n_c, s_c, q_c, n_d, s_d, q_d = _shift(n_c, s_c, q_c, n_d, s_d, q_d, in_r[row0 + ks])
         moves += 1
     seg[j, SEG_A, 0], seg[j, SEG_A, 1], seg[j, SEG_A, 2] = n_a, s_a, q_a
     seg[j, SEG_B, 0], seg[j, SEG_B, 1], seg[j, SEG_B, 2] = n_b, s_b, q_b
