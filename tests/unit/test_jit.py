@@ -24,7 +24,7 @@ ALLOCATING = {
     "brakeca.automaton": set(),
 }
 # scalar helpers (no array arguments, so nothing to count) that numba inlines
-SCALAR_INLINED = {"_tree_leaf", "_on", "_local_step"}
+SCALAR_INLINED = {"_tree_leaf", "_on", "_local_step", "_shift"}
 
 
 def _compiled(module) -> dict[str, CPUDispatcher]:
