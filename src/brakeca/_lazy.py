@@ -441,11 +441,27 @@ def _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, a, c, z, incl):
 
 
 @njit(cache=True, inline="always")
+def _sums_in(n, s, q, r):
+    """A segment's sums (count, sum r, sum r^2), held in locals, after a cell of raw
+    coordinate r joins it: the additions of ``_seg_add(..., r, 1.0)``."""
+    return n + 1.0, s + r, q + r * r
+
+
+@njit(cache=True, inline="always")
+def _sums_out(n, s, q, r):
+    """A segment's sums, held in locals, after a cell of raw coordinate r leaves it: the
+    additions of ``_seg_add(..., r, -1.0)`` (``x + (-1.0) r`` is ``x - r``, and
+    ``((-1.0) r) r`` is ``-(r r)``, exactly)."""
+    return n - 1.0, s - r, q - r * r
+
+
+@njit(cache=True, inline="always")
 def _shift(n_from, s_from, q_from, n_to, s_to, q_to, r):
-    """The sums (count, sum r, sum r^2) of two segments after a cell of raw coordinate r moves
-    from the first to the second: the additions of two :func:`_seg_add` calls, on values
-    held in locals."""
-    return n_from - 1.0, s_from - r, q_from - r * r, n_to + 1.0, s_to + r, q_to + r * r
+    """The sums of two segments after a cell of raw coordinate r moves from the first to the
+    second (:func:`_sums_out`, then :func:`_sums_in`)."""
+    n_from, s_from, q_from = _sums_out(n_from, s_from, q_from, r)
+    n_to, s_to, q_to = _sums_in(n_to, s_to, q_to, r)
+    return n_from, s_from, q_from, n_to, s_to, q_to
 
 
 @njit_noalloc
@@ -454,8 +470,7 @@ def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
 
     The sums of the four segments are held in locals while the indices move and stored once
     at the end: each sum gets the same additions in the same order as with two
-    :func:`_seg_add` calls per cell (``x + (-1.0) r`` and ``x - r`` are the same operation),
-    without a store and reload per move."""
+    :func:`_seg_add` calls per cell (:func:`_shift`), without a store and reload per move."""
     a = amap[j, 0]
     c = amap[j, 1]
     nin = rows[j, RW_KE]
@@ -624,7 +639,7 @@ def _contact_row(
     ke = rows[j, RW_KE]
     moves = 0
     # segment D's sums in locals (stored at the end; the same additions in the same order as
-    # with _seg_add, see _fix_partitions): the cells at the edge are nearly always in D
+    # with _seg_add: _sums_in, _sums_out): the cells at the edge are nearly always in D
     n_d, s_d, q_d = seg[j, SEG_D, 0], seg[j, SEG_D, 1], seg[j, SEG_D, 2]
     # leaving: the edge moves up the in-contact array
     while ke > 0:
@@ -636,9 +651,7 @@ def _contact_row(
                 break
             s_of = _seg_of(rows, j, ke - 1)
             if s_of == SEG_D:
-                n_d -= 1.0
-                s_d -= r
-                q_d -= r * r
+                n_d, s_d, q_d = _sums_out(n_d, s_d, q_d, r)
             else:
                 _seg_add(seg, j, s_of, r, -1.0)
             moves += 1
@@ -662,9 +675,7 @@ def _contact_row(
         h = a * r + c
         if not (h > z or (incl and h == z)):
             break
-        n_d += 1.0
-        s_d += r
-        q_d += r * r
+        n_d, s_d, q_d = _sums_in(n_d, s_d, q_d, r)
         moves += 1
         ke = q + 1
     rows[j, RW_KE] = ke
@@ -691,9 +702,7 @@ def _contact_row(
             in_s[row0 + nin] = st
             where[idx] = W_IN
             pos[idx] = nin
-            n_d += 1.0
-            s_d += r
-            q_d += r * r
+            n_d, s_d, q_d = _sums_in(n_d, s_d, q_d, r)
             _bin_add(bins, b0 + (idx - row0) // n_m, st, r, 1.0)
             if st == SECONDARY:
                 cell_r[idx] = r

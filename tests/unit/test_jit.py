@@ -24,7 +24,7 @@ ALLOCATING = {
     "brakeca.automaton": set(),
 }
 # scalar helpers (no array arguments, so nothing to count) that numba inlines
-SCALAR_INLINED = {"_tree_leaf", "_on", "_local_step", "_shift"}
+SCALAR_INLINED = {"_tree_leaf", "_on", "_local_step", "_shift", "_sums_in", "_sums_out"}
 
 
 def _compiled(module) -> dict[str, CPUDispatcher]:
