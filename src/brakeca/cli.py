@@ -21,6 +21,7 @@ from brakeca.presets import available_designs
 
 app = typer.Typer(
     add_completion=False,
+    rich_markup_mode=None,
     no_args_is_help=True,
     help=(
         "Cellular-automaton simulation of brake pad friction, wear and wear emissions "
@@ -58,20 +59,25 @@ def resolve_config(
     return config
 
 
-PresetOpt = Annotated[str, typer.Option("--preset", help="shipped parameter set")]
+PresetOpt = Annotated[str, typer.Option("--preset", metavar="NAME", help="shipped parameter set")]
 ConfigOpt = Annotated[
-    Path | None, typer.Option("--config", "-c", help="a config TOML file instead of a preset")
+    Path | None,
+    typer.Option("--config", "-c", metavar="PATH", help="a config TOML file instead of a preset"),
 ]
 SetOpt = Annotated[
     list[str] | None,
     typer.Option(
         "--set",
+        metavar="KEY=VALUE",
         help="KEY=VALUE override of any config field (dotted), or a factor: S, WP, WR, A (in %)",
     ),
 ]
-SeedOpt = Annotated[int, typer.Option("--seed", help="seed of the run's random generator")]
+SeedOpt = Annotated[
+    int, typer.Option("--seed", metavar="N", help="seed of the run's random generator")
+]
 StopsOpt = Annotated[
-    int | None, typer.Option("--stops", min=1, help="run only the first N stops of the cycle")
+    int | None,
+    typer.Option("--stops", min=1, metavar="N", help="run only the first N stops of the cycle"),
 ]
 QuickOpt = Annotated[
     bool,
@@ -81,7 +87,9 @@ QuickOpt = Annotated[
 
 @app.command()
 def simulate(
-    output: Annotated[Path, typer.Option("-o", "--output", help="run file to write (.nc)")],
+    output: Annotated[
+        Path, typer.Option("-o", "--output", metavar="PATH", help="run file to write (.nc)")
+    ],
     preset: PresetOpt = "paper",
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
@@ -92,20 +100,26 @@ def simulate(
         Path | None,
         typer.Option(
             "--checkpoint",
+            metavar="PATH",
             help="save the run's state here every --checkpoint-every stops; rerun to resume",
         ),
     ] = None,
-    checkpoint_every: Annotated[int, typer.Option("--checkpoint-every", min=1)] = 10,
+    checkpoint_every: Annotated[
+        int,
+        typer.Option("--checkpoint-every", min=1, metavar="N", help="stops between checkpoints"),
+    ] = 10,
     cycle: Annotated[
         str | None,
         typer.Option(
             "--cycle",
+            metavar="CYCLE",
             help="drive cycle: a block-cycle CSV, a speed-trace CSV or a shipped name "
             "(paper, example_trace); see docs/cycles.md",
         ),
     ] = None,
     speed_unit: Annotated[
-        str | None, typer.Option("--speed-unit", help="speed unit of a trace with none stated")
+        str | None,
+        typer.Option("--speed-unit", metavar="UNIT", help="speed unit of a trace with none stated"),
     ] = None,
 ) -> None:
     """Simulate one pad over the drive cycle and write a netCDF run file."""
@@ -180,13 +194,16 @@ def simulate(
 
 @app.command()
 def surface(
-    output: Annotated[Path, typer.Option("-o", "--output", help="PNG to write")],
+    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="PNG to write")],
     preset: PresetOpt = "paper",
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
     seed: SeedOpt = 0,
     levels: Annotated[
-        str, typer.Option("--levels", help="fibre area fractions to draw, in %, comma separated")
+        str,
+        typer.Option(
+            "--levels", metavar="A,...", help="fibre area fractions to draw, in %, comma separated"
+        ),
     ] = "10,20",
     quick: QuickOpt = False,
 ) -> None:
@@ -216,6 +233,7 @@ ExecutorOpt = Annotated[
     str,
     typer.Option(
         "--executor",
+        metavar="NAME",
         help="serial (debugging), local (worker processes) or dask (a Dask cluster; without "
         "--scheduler or --scheduler-file, a local one on 127.0.0.1)",
     ),
@@ -225,6 +243,7 @@ WorkersOpt = Annotated[
     typer.Option(
         "--workers",
         min=1,
+        metavar="N",
         help="worker processes of local, or of the cluster --executor dask starts "
         "(default: one per core)",
     ),
@@ -250,6 +269,7 @@ MaxRetriesOpt = Annotated[
     typer.Option(
         "--max-retries",
         min=0,
+        metavar="N",
         help="times a run whose worker process died (killed, out of memory) is tried again "
         "before it is recorded as failed; a run that raises is not retried",
     ),
@@ -261,6 +281,7 @@ CheckpointOpt = Annotated[
     typer.Option(
         "--checkpoint-every",
         min=0,
+        metavar="N",
         help="save each run in progress every N stops, so an interrupted campaign resumes it "
         "from there (0: no checkpoints)",
     ),
@@ -382,10 +403,11 @@ def run(
     design: Annotated[
         str,
         typer.Argument(
-            help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}"
+            metavar="DESIGN",
+            help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}",
         ),
     ],
-    output: Annotated[Path, typer.Option("-o", "--output", help="campaign folder")],
+    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="campaign folder")],
     workers: WorkersOpt = None,
     executor: ExecutorOpt = "local",
     scheduler: SchedulerOpt = None,
@@ -400,6 +422,7 @@ def run(
         str | None,
         typer.Option(
             "--cycle",
+            metavar="CYCLE",
             help="drive cycle of every run: a block-cycle or speed-trace CSV or a shipped name; "
             "with a trace the report gives PM10 in mg/km next to the Euro 7 limits",
         ),
@@ -425,7 +448,9 @@ def run(
 
 @app.command()
 def analyze(
-    folder: Annotated[Path, typer.Argument(help="campaign folder written by brakeca run")],
+    folder: Annotated[
+        Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
+    ],
     run_maps: Annotated[bool, typer.Option(help="draw the final plateau map of every run")] = True,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
@@ -448,6 +473,7 @@ def paper(
         typer.Option(
             "-o",
             "--output",
+            metavar="PATH",
             help="campaign folder (default: results/paper; results/paper_quick with --quick)",
         ),
     ] = None,

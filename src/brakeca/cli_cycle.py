@@ -36,6 +36,7 @@ __all__ = ["cycle_app", "inspect_cycle", "load_cycle_events", "plot_trace"]
 
 cycle_app = typer.Typer(
     add_completion=False,
+    rich_markup_mode=None,
     no_args_is_help=True,
     help="Drive cycles: block cycles (Table 3 form) and speed traces (time, speed).",
 )
@@ -254,37 +255,49 @@ def inspect(
     file: Annotated[
         str,
         typer.Argument(
-            help="a speed trace or block cycle CSV, or a shipped cycle: paper, example_trace"
+            metavar="CYCLE",
+            help="a speed trace or block cycle CSV, or a shipped cycle: paper, example_trace",
         ),
     ],
     threshold: Annotated[
         float | None,
         typer.Option(
-            "--threshold", help="[m/s²] braking: decelerating faster than this (default 0.3)"
+            "--threshold",
+            metavar="X",
+            help="[m/s²] braking: decelerating faster than this (default 0.3)",
         ),
     ] = None,
     min_duration: Annotated[
         float | None,
-        typer.Option("--min-duration", help="[s] shortest braking event kept (default 2)"),
+        typer.Option(
+            "--min-duration", metavar="X", help="[s] shortest braking event kept (default 2)"
+        ),
     ] = None,
     smoothing: Annotated[
         float | None,
-        typer.Option("--smoothing", help="[s] moving-average window on the speed (default 0)"),
+        typer.Option(
+            "--smoothing", metavar="X", help="[s] moving-average window on the speed (default 0)"
+        ),
     ] = None,
     merge_gap: Annotated[
         float | None,
-        typer.Option("--merge-gap", help="[s] join braking stretches this close (default 1)"),
+        typer.Option(
+            "--merge-gap", metavar="X", help="[s] join braking stretches this close (default 1)"
+        ),
     ] = None,
     speed_unit: Annotated[
         str | None,
-        typer.Option("--speed-unit", help="km/h, m/s or mph, if the header states no unit"),
+        typer.Option(
+            "--speed-unit", metavar="UNIT", help="km/h, m/s or mph, if the header states no unit"
+        ),
     ] = None,
     no_corrections: Annotated[
         bool,
         typer.Option("--no-corrections", help="brake share 1 and no road load (as a block cycle)"),
     ] = False,
     output: Annotated[
-        Path | None, typer.Option("-o", "--output", help="PNG of the trace, events shaded")
+        Path | None,
+        typer.Option("-o", "--output", metavar="PATH", help="PNG of the trace, events shaded"),
     ] = None,
 ) -> None:
     """Events found, distance, braking energy, and a plot of a drive cycle."""

@@ -1,0 +1,48 @@
+"""The command-line help reads on an 80-column terminal: every option's whole name is shown,
+and the units written in brackets in the help texts are not taken for markup."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+import typer.main
+from typer.testing import CliRunner
+
+from brakeca.cli import app
+
+COMMANDS = [
+    ["simulate"],
+    ["surface"],
+    ["run"],
+    ["analyze"],
+    ["paper"],
+    ["config"],
+    ["cycle", "inspect"],
+]
+
+
+def _help(args: list[str]) -> str:
+    res = CliRunner().invoke(app, [*args, "--help"], env={"COLUMNS": "80"}, terminal_width=80)
+    assert res.exit_code == 0, res.output
+    return res.output
+
+
+@pytest.mark.parametrize("args", COMMANDS, ids=" ".join)
+def test_help_fits_80_columns_with_whole_option_names(args):
+    text = _help(args)
+    click_cmd = typer.main.get_command(app)
+    for name in args:
+        click_cmd = click_cmd.commands[name]
+    for param in click_cmd.params:
+        for opt in param.opts:
+            if opt.startswith("--"):
+                assert re.search(rf"(^|[\s,/]){re.escape(opt)}\b", text, re.M), (opt, text)
+    assert "…" not in text
+    assert max(len(line) for line in text.splitlines()) <= 80
+
+
+def test_units_in_brackets_are_shown():
+    text = _help(["cycle", "inspect"])
+    assert "[s] shortest braking event kept" in text
+    assert "[m/s²] braking" in text
