@@ -9,9 +9,11 @@ points numba's cache at ``$XDG_CACHE_HOME/brakeca/numba/<key>`` (``~/.cache`` wh
 ``XDG_CACHE_HOME`` is unset), where ``<key>`` is a hash of every ``.py`` file of the package.
 The variable is exported, so worker and warm-up processes use the same folder. If that folder
 cannot be created, numba's default (``__pycache__`` beside the sources) is left in place.
-Folders of other versions are not removed (a few MB each). numba has one cache folder per
-process, so other cached numba functions of a process that imports brakeca are cached there
-too; set ``NUMBA_CACHE_DIR`` to choose another.
+Each import touches its version's folder; the folders of other versions are removed once
+unused: an empty one after a day, any other after 30 days (:func:`prune`; a version used
+again later just compiles once more). numba has one cache folder per process, so other cached
+numba functions of a process that imports brakeca are cached there too; set
+``NUMBA_CACHE_DIR`` to choose another.
 """
 
 from __future__ import annotations
@@ -21,9 +23,15 @@ import os
 import sys
 from pathlib import Path
 
-__all__ = ["configure", "source_key"]
+__all__ = ["configure", "prune", "source_key"]
 
 _PACKAGE = Path(__file__).resolve().parent
+
+#: [s] another version's cache folder is removed after this long untouched
+KEEP_UNUSED = 30 * 86400.0
+#: [s] another version's empty cache folder (a version imported, nothing compiled) is removed
+#: after this long: not at once, since a process of that version may be just starting
+KEEP_EMPTY = 86400.0
 
 
 def source_key(package: Path = _PACKAGE) -> str:
@@ -49,10 +57,53 @@ def configure() -> str | None:
         folder.mkdir(parents=True, exist_ok=True)
         if not os.access(folder, os.W_OK):
             return None
+        os.utime(folder)  # in use: loading cached kernels writes nothing numba would date
     except OSError:
         return None
+    prune(folder)
     os.environ["NUMBA_CACHE_DIR"] = str(folder)
     config = sys.modules.get("numba.core.config")
     if config is not None:  # numba read the environment already: tell it too
         config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]
     return str(folder)
+
+
+def _last_used(folder: Path) -> tuple[float, bool]:
+    """Newest modification time [s since the epoch] of the folder and the files in it, and
+    whether it holds any file."""
+    newest = folder.stat().st_mtime
+    empty = True
+    for path in folder.rglob("*"):
+        empty = False
+        newest = max(newest, path.stat().st_mtime)
+    return newest, empty
+
+
+def prune(current: Path, now: float | None = None) -> list[Path]:
+    """Remove the cache folders of other brakeca versions beside ``current``: empty ones
+    untouched for :data:`KEEP_EMPTY`, others untouched for :data:`KEEP_UNUSED` (``now`` [s
+    since the epoch], default the clock). Only folders named like a :func:`source_key` are
+    considered; anything that cannot be read or removed is left. Returns the removed folders."""
+    import shutil
+    import time
+
+    now = time.time() if now is None else now
+    removed: list[Path] = []
+    try:
+        siblings = list(current.parent.iterdir())
+    except OSError:
+        return removed
+    for folder in siblings:
+        name = folder.name
+        if folder == current or len(name) != 16 or any(c not in "0123456789abcdef" for c in name):
+            continue
+        try:
+            if not folder.is_dir() or folder.is_symlink():
+                continue
+            newest, empty = _last_used(folder)
+            if now - newest > (KEEP_EMPTY if empty else KEEP_UNUSED):
+                shutil.rmtree(folder)
+                removed.append(folder)
+        except OSError:
+            continue
+    return removed

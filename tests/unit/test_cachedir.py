@@ -9,7 +9,7 @@ import sys
 from pathlib import Path
 
 import brakeca
-from brakeca._cachedir import source_key
+from brakeca._cachedir import prune, source_key
 
 PACKAGE = Path(brakeca.__file__).resolve().parent
 
@@ -64,3 +64,43 @@ def test_any_change_to_any_module_changes_the_key(tmp_path) -> None:
     assert source_key(copy) != source_key(PACKAGE)
     helper.rename(copy / "_jit2.py")  # names count too
     assert source_key(copy) != source_key(PACKAGE)
+
+
+def _folder(root: Path, name: str, age: float, now: float, files: int = 0) -> Path:
+    folder = root / name
+    folder.mkdir(parents=True)
+    for k in range(files):
+        path = folder / f"kernel{k}.nbi"
+        path.write_text("x")
+        os.utime(path, (now - age, now - age))
+    os.utime(folder, (now - age, now - age))
+    return folder
+
+
+def test_prune_removes_only_other_versions_unused_long_enough(tmp_path) -> None:
+    now = 2.0e9
+    day = 86400.0
+    current = _folder(tmp_path, "0" * 16, 90 * day, now, files=2)  # in use, however old
+    empty_old = _folder(tmp_path, "1" * 16, 2 * day, now)
+    empty_new = _folder(tmp_path, "2" * 16, 3600.0, now)  # a process of it may be starting
+    full_old = _folder(tmp_path, "3" * 16, 31 * day, now, files=3)
+    full_recent = _folder(tmp_path, "4" * 16, 29 * day, now, files=3)
+    touched = _folder(tmp_path, "5" * 16, 31 * day, now, files=1)
+    os.utime(touched / "kernel0.nbi", (now - day, now - day))  # one file used yesterday
+    other = _folder(tmp_path, "not-a-key", 90 * day, now)  # not ours
+    upper = _folder(tmp_path, "A" * 16, 90 * day, now)  # not a source key either
+    removed = prune(current, now=now)
+    assert sorted(removed) == sorted([empty_old, full_old])
+    for kept in (current, empty_new, full_recent, touched, other, upper):
+        assert kept.is_dir()
+    assert not empty_old.exists() and not full_old.exists()
+
+
+def test_import_touches_its_folder_and_prunes_old_ones(tmp_path) -> None:
+    root = tmp_path / "xdg" / "brakeca" / "numba"
+    long_ago = 1.0e9  # [s since the epoch] 2001
+    stale = _folder(root, "f" * 16, 0.0, long_ago, files=1)
+    mine = _folder(root, source_key(), 0.0, long_ago)
+    _cache_dir_of_a_fresh_interpreter(_env(XDG_CACHE_HOME=str(tmp_path / "xdg")))
+    assert not stale.exists()
+    assert mine.is_dir() and mine.stat().st_mtime > long_ago + 86400.0  # touched now
