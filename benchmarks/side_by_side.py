@@ -1,7 +1,7 @@
 """Two versions of brakeca timed side by side, in pairs, on the same stops.
 
     python benchmarks/side_by_side.py OLD_SRC NEW_SRC [--pairs 4] [--stops 12] [--rows 201]
-        [--wp 1e-13] [--set A=10 ...] [--out DIR]
+        [--wp 1e-13] [--set A=10 ...] [--resume STATE.pkl] [--out DIR]
 
 ``OLD_SRC`` and ``NEW_SRC`` are ``src`` folders of two checkouts (``git worktree add`` or
 ``git archive REV src | tar -x -C DIR``). Each pair runs ``benchmarks/stop_times.py run`` with
@@ -11,6 +11,11 @@ machine on a shared host: docs/performance.md) weighs on both versions alike. Ea
 compiles into its own numba cache folder under ``--out`` (once: the first pair's first stop is
 timed apart by ``stop_times.py`` and not counted). Defaults: test 5's levels (the study's most
 expensive run), the first 12 stops, full resolution.
+
+``--resume STATE.pkl`` starts both versions from a state ``stop_times.py run --save-at N``
+saved (with the same ``--rows``, ``--wp`` and ``--set``), so ``--stops`` counts on from stop
+N + 1: the cheap way to compare late stops (the country-road blocks) without running the
+cycle up to them in every pair.
 
 Prints one JSON line per pair (both versions' summed stop times [s] and new/old) and a last
 line with the mean and standard deviation of the ratios. Needs 2 cores and Linux's
@@ -55,6 +60,7 @@ def main() -> None:
     ap.add_argument("--rows", type=int, default=201)
     ap.add_argument("--wp", default="1e-13")
     ap.add_argument("--set", action="append", default=None, metavar="KEY=VALUE")
+    ap.add_argument("--resume", type=Path, default=None, metavar="STATE.pkl")
     ap.add_argument("--out", type=Path, default=Path("side_by_side"))
     ap.add_argument(
         "--alike",
@@ -68,8 +74,16 @@ def main() -> None:
             ap.error(f"{src}: not a src folder holding brakeca")
     if args.pairs < 1 or args.stops < 1 or args.rows < 2:
         ap.error("--pairs and --stops must be >= 1, --rows >= 2")
+    if args.resume is not None and not args.resume.is_file():
+        ap.error(f"--resume {args.resume}: no such file")
     args.out.mkdir(parents=True, exist_ok=True)
     srcs = {"old": args.old, "new": args.new}
+    first = 0
+    if args.resume is not None:
+        import pickle
+
+        with open(args.resume, "rb") as fh:
+            first = int(pickle.load(fh)[2])
 
     def start(name: str, core: int, out: Path) -> subprocess.Popen:
         env = dict(
@@ -79,7 +93,9 @@ def main() -> None:
         )
         cmd = ["taskset", "-c", str(core), sys.executable, str(HERE / "stop_times.py")]
         cmd += ["run", "-o", str(out), "--rows", str(args.rows)]
-        cmd += ["--wp", args.wp, "--set", f"cycle.max_stops={args.stops}"]
+        cmd += ["--wp", args.wp, "--set", f"cycle.max_stops={first + args.stops}"]
+        if args.resume is not None:
+            cmd += ["--resume", str(args.resume.resolve())]
         for item in sets:
             cmd += ["--set", item]
         return subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL)

@@ -2,7 +2,7 @@
 
 Usage:
     python benchmarks/stop_times.py run -o stops.jsonl [--kernel auto] [--rows 201] [--wp 1e-13]
-        [--set A=10 ...] [--save-at 80 --save-dir states/]
+        [--set A=10 ...] [--save-at 80 --save-dir states/] [--resume states/state_201_80.pkl]
     python benchmarks/stop_times.py table stops.jsonl [other.jsonl ...]
 
 ``run`` drives the paper cycle stop by stop (``advance_stop`` and ``end_of_stop``, as
@@ -15,8 +15,11 @@ stops of each block of the cycle, for one file or several side by side.
 
 ``--set KEY=VALUE`` sets any other configuration field, as ``brakeca simulate --set`` does
 (the study's most expensive run, test 5, is ``--wp 1e-13 --set A=10``). ``--save-at N``
-pickles ``(state, rng)`` after stop N into ``--save-dir``, as ``state_<rows>_<N>.pkl``, to time
-late stops again without running the cycle up to them.
+pickles ``(state, rng, N)`` after stop N into ``--save-dir``, as ``state_<rows>_<N>.pkl``;
+``--resume FILE`` starts from such a file at stop N + 1, to time late stops again without
+running the cycle up to them (the same ``--rows``, ``--wp`` and ``--set`` as the run that saved
+it; the state is the grid and the streams, so a version whose kernel differs can resume the
+state another version saved: ``side_by_side.py --resume``).
 """
 
 from __future__ import annotations
@@ -57,8 +60,21 @@ def run(args: argparse.Namespace) -> None:
     advance_stop(scratch, grid, config, stops[0])
     compile_s = time.perf_counter() - t
     del scratch
-    rng = np.random.default_rng(args.seed)
-    state = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)
+    first = 0
+    if args.resume:
+        with open(args.resume, "rb") as fh:
+            saved = pickle.load(fh)
+        if not (isinstance(saved, tuple) and len(saved) == 3):
+            sys.exit(f"{args.resume}: not a state saved by --save-at (state, rng, stop)")
+        state, rng, first = saved
+        if state.height.size != grid.shape[0] * grid.shape[1]:
+            sys.exit(
+                f"{args.resume}: {state.height.size} cells, not this run's {grid.shape} "
+                "(give the --rows of the run that saved it)"
+            )
+    else:
+        rng = np.random.default_rng(args.seed)
+        state = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)
     with open(args.output, "w") as out:
         out.write(
             json.dumps(
@@ -69,11 +85,14 @@ def run(args: argparse.Namespace) -> None:
                     "seed": args.seed,
                     "set": args.set,
                     "compile_and_first_stop_s": round(compile_s, 3),
+                    "resumed_after_stop": first,
                 }
             )
             + "\n"
         )
         for stop in stops:
+            if stop.index <= first:
+                continue
             w0 = state.lazy_walk.copy()
             p0 = state.prof.copy()
             t = time.perf_counter()
@@ -97,7 +116,7 @@ def run(args: argparse.Namespace) -> None:
             if stop.index in save_at:
                 path = f"{args.save_dir}/state_{args.rows}_{stop.index}.pkl"
                 with open(path, "wb") as fh:
-                    pickle.dump((state, rng), fh)
+                    pickle.dump((state, rng, stop.index), fh)
 
 
 def table(paths: list[str]) -> None:
@@ -141,6 +160,7 @@ def main() -> None:
     r.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     r.add_argument("--save-at", type=int, action="append", default=[], metavar="STOP")
     r.add_argument("--save-dir", default=".")
+    r.add_argument("--resume", default=None, metavar="FILE", help="a state saved by --save-at")
     t = sub.add_parser("table")
     t.add_argument("paths", nargs="+")
     args = ap.parse_args()
