@@ -304,6 +304,30 @@ _ANOVA_HEADERS = {
 }
 
 
+#: responses whose ANOVA the report shows in another unit than the analysis's SI one:
+#: response -> (factor from the SI value to the shown one, shown unit); V is shown in mm³ per
+#: stop like the per-run table and the figures (the CSV tables keep m³)
+_REPORT_UNITS = {"V": (1e9, "mm³"), "V_mm3": (1.0, "mm³")}
+
+
+def _anova_in_report_units(response: str, frame: pd.DataFrame) -> tuple[pd.DataFrame, str | None]:
+    """``frame`` with its sums of squares, mean squares and residual standard deviation S
+    converted to the unit the report shows ``response`` in, and that unit (None: unitless)."""
+    if response not in _REPORT_UNITS:
+        return frame, None
+    factor, unit = _REPORT_UNITS[response]
+    if factor == 1.0:
+        return frame, unit
+    shown = frame.copy()
+    for col in ("sum_sq", "mean_sq"):
+        if col in shown.columns:
+            shown[col] = pd.to_numeric(shown[col], errors="coerce") * factor**2
+    shown.attrs = dict(frame.attrs)
+    if "s" in shown.attrs and not _is_missing(shown.attrs["s"]):
+        shown.attrs["s"] = float(shown.attrs["s"]) * factor
+    return shown, unit
+
+
 def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     cols = [c for c in _ANOVA_HEADERS if c in frame.columns]
     extra = [c for c in frame.columns if c not in _ANOVA_HEADERS and c != "note"]
@@ -465,12 +489,11 @@ def render_report(
     template = env.from_string(REPORT_TEMPLATE)
     when = generated or datetime.now(UTC)
     anova_items = []
-    units = {"V": "m³", "V_mm3": "mm³"}
     for response, frame in anova_tables.items():
+        frame, unit = _anova_in_report_units(str(response), frame)
         table, note = _anova_table(frame)
         typ = frame.attrs.get("typ")
         info = f"{typ} ANOVA of {response}" if typ else f"ANOVA of {response}"
-        unit = units.get(str(response))
         if unit:
             info += f"; sums of squares and mean squares in ({unit})²"
         info += "." + _model_summary_text(frame.attrs, unit)

@@ -35,7 +35,9 @@ _LABELS = {
     "V": "mean emitted wear volume per stop V",
     "log10_V_mm3": "log10 of V (V in mm³ per stop)",
 }
-_PAPER = {"MU": " (paper Figures {})", "V": " (paper Figures {})", "log10_V_mm3": ""}
+#: the paper's figure of each response's main effects and interactions (analysis.py)
+_PAPER_MAIN = {"MU": " (paper Figure 6)", "V": " (paper Figure 8)", "log10_V_mm3": ""}
+_PAPER_INTERACTIONS = {"MU": " (paper Figure 7)", "V": " (paper Figure 9)", "log10_V_mm3": ""}
 
 
 def with_log_v(summary: pd.DataFrame) -> pd.DataFrame:
@@ -150,7 +152,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         label = _LABELS[resp]
         add(
             "Main effects",
-            f"Main effects on {label}" + _PAPER[resp].format("6 and 8"),
+            f"Main effects on {label}" + _PAPER_MAIN[resp],
             f"main_effects_{resp}.png",
             plotting.plot_main_effects,
             data,
@@ -160,7 +162,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         if len(factors) >= 2:  # interactions need two factors
             add(
                 "Interactions",
-                f"Two-factor interactions on {label}" + _PAPER[resp].format("7 and 9"),
+                f"Two-factor interactions on {label}" + _PAPER_INTERACTIONS[resp],
                 f"interactions_{resp}.png",
                 plotting.plot_interactions,
                 data,

@@ -125,7 +125,13 @@ def test_report_is_complete_and_self_contained(tmp_path) -> None:
     # (leverage 1), so no prediction of it without it, and no predicted R-squared.
     assert math.isnan(attrs["r_squared_pred"]) and "R²(pred) = undefined" in html
     assert f"S = {attrs['s']:.4g} m³" not in html  # MU has no unit
-    assert f"S = {inputs['anova_tables']['V'].attrs['s']:.4g} m³" in html
+    # V's ANOVA in mm³, like the per-run table and the figures (the CSV tables keep m³)
+    v_anova = inputs["anova_tables"]["V"]
+    assert f"S = {v_anova.attrs['s'] * 1e9:.4g} mm³" in html
+    assert "sums of squares and mean squares in (mm³)²" in html
+    v_ss = v_anova.loc[v_anova["term"] == "Residual", "sum_sq"].iloc[0]
+    assert f">{v_ss * 1e18:.4g}<" in html
+    assert v_anova.attrs["s"] < 1e-6  # the caller's table is left in m³
     for term in ("S", "WP", "S:WP", "Residual"):
         assert f"<td>{term}</td>" in html
     p_cells = re.findall(r'<td class="num">(&lt; 0\.001|\d\.\d{3}|–)</td>', html)
