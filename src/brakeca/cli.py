@@ -85,7 +85,7 @@ QuickOpt = Annotated[
 ]
 
 
-@app.command()
+@app.command(short_help="simulate one pad over the drive cycle (netCDF run file)")
 def simulate(
     output: Annotated[
         Path, typer.Option("-o", "--output", metavar="PATH", help="run file to write (.nc)")
@@ -192,7 +192,7 @@ def simulate(
     out.print(f"wrote {output}")
 
 
-@app.command()
+@app.command(short_help="the initial fibre maps of the A levels (paper Figure 5)")
 def surface(
     output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="PNG to write")],
     preset: PresetOpt = "paper",
@@ -398,7 +398,7 @@ def _print_summary(summary) -> None:
     out.print(table)
 
 
-@app.command()
+@app.command(short_help="run every point of a design (resumes finished runs)")
 def run(
     design: Annotated[
         str,
@@ -446,7 +446,7 @@ def run(
     )
 
 
-@app.command()
+@app.command(short_help="main effects, interactions, ANOVA, figures, report")
 def analyze(
     folder: Annotated[
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
@@ -466,7 +466,7 @@ def analyze(
     out.print(f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}")
 
 
-@app.command()
+@app.command(short_help="the paper's 24-run study, its analysis and report")
 def paper(
     output: Annotated[
         Path | None,
@@ -505,7 +505,7 @@ def paper(
     )
 
 
-@app.command("config")
+@app.command("config", short_help="print the resolved configuration as TOML")
 def show_config(
     preset: PresetOpt = "paper",
     config_file: ConfigOpt = None,

@@ -250,7 +250,7 @@ def inspect_cycle(
         out.print(f"wrote {plot}")
 
 
-@cycle_app.command("inspect")
+@cycle_app.command("inspect", short_help="events, distance, braking energy and a plot of a cycle")
 def inspect(
     file: Annotated[
         str,

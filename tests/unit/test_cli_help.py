@@ -46,3 +46,15 @@ def test_units_in_brackets_are_shown():
     text = _help(["cycle", "inspect"])
     assert "[s] shortest braking event kept" in text
     assert "[m/s²] braking" in text
+
+
+@pytest.mark.parametrize("args", [[], ["cycle"]], ids=["brakeca", "brakeca cycle"])
+def test_command_lists_are_not_cut(args):
+    text = _help(args)
+    commands = text.split("Commands:")[1]
+    assert "..." not in commands and "…" not in commands
+    names = [line.split()[0] for line in commands.strip().splitlines()]
+    group = typer.main.get_command(app)
+    for name in args:
+        group = group.commands[name]
+    assert sorted(names) == sorted(group.commands)
