@@ -275,6 +275,79 @@ def test_event_tree_build_and_updates_match_a_numpy_max_tree(n_rows):
         np.testing.assert_array_equal(evt[1:], _max_tree_reference(leaves, m)[1:])
 
 
+def _check_rule5_tree(tree, p2, j, lines, a):
+    """Every node of row j's rule-5 tree holds the lowest of the lines below it at scale a
+    (the leftmost of equal ones), and a certificate bound at least the largest certificate
+    below it (each node's own: the scale at which the other child's winner overtakes its
+    winner, capped at a); ``lines`` maps a column to its (r, b)."""
+    off = j * 2 * p2
+
+    def best(node):
+        """(column, r, b) of the lowest line below node, by brute force, or None."""
+        lo, hi = node, node + 1
+        while lo < p2:
+            lo, hi = 2 * lo, 2 * hi
+        cols = [c for c in range(lo - p2, hi - p2) if c in lines]
+        if not cols:
+            return None
+        values = [lines[c][0] * a - lines[c][1] for c in cols]
+        k = int(np.argmin(values))  # the first of equal values: the leftmost
+        return cols[k], lines[cols[k]][0], lines[cols[k]][1]
+
+    exact_sub = {}
+    for node in range(p2 - 1, 0, -1):
+        win = best(node)
+        rec = tree[off + node]
+        if win is None:
+            assert rec[_lazy.TR_W] < 0
+        else:
+            assert (int(rec[_lazy.TR_W]), rec[_lazy.TR_R], rec[_lazy.TR_B]) == win
+        left, right = best(2 * node), best(2 * node + 1)
+        ev = -math.inf
+        if left is not None and right is not None:
+            w, o = (left, right) if win == left else (right, left)
+            if w[1] < o[1]:
+                ev = min((w[2] - o[2]) / (w[1] - o[1]), a)
+        sub = ev
+        for child in (2 * node, 2 * node + 1):
+            if child < p2:
+                sub = max(sub, exact_sub[child])
+        exact_sub[node] = sub
+        assert rec[_lazy.TR_SUB] >= sub
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_rule5_tree_against_brute_force(seed):
+    """The kinetic tournament tree of rule 5, driven as the kernel drives it (lines put in and
+    taken out at the scale of the last advance, the scale lowered step by step, with ties
+    and equal lines), holds the right winner at every node, and certificate bounds that
+    the advance can trust, after every change."""
+    rng = np.random.default_rng(seed)
+    n_angular, n_radial = 37, 2
+    lz = _lazy.Lazy(n_radial, n_angular, 1)
+    tree, p2, stack = lz.tree, lz.p2, lz.stack
+    j = 1
+    a = 1.0
+    lines = {}
+    _lazy._tree_build(tree, p2, j, a)
+    for _step in range(60):
+        for _ in range(int(rng.integers(0, 12))):
+            col = int(rng.integers(n_angular))
+            if col in lines and rng.random() < 0.4:
+                del lines[col]
+                _lazy._tree_set(tree, p2, j, col, False, a, 0.0, 0.0)
+            else:
+                # coarse values, so equal lines and crossings at one scale occur
+                r = float(rng.integers(0, 8)) / 4.0
+                b = float(rng.integers(-8, 8)) / 8.0
+                lines[col] = (r, b)
+                _lazy._tree_set(tree, p2, j, col, True, a, r, b)
+            _check_rule5_tree(tree, p2, j, lines, a)
+        a *= float(rng.choice([1.0, 0.97, 0.8, 0.5]))
+        _lazy._tree_advance(tree, p2, j, a, stack)
+        _check_rule5_tree(tree, p2, j, lines, a)
+
+
 def test_row_resin_entries_cut_as_one_heap():
     """The lazy kernel's per-row sorted resin entries cut the same cells by the same depths as
     the exact kernel's one heap of the whole grid, and each stream bin gets a bit-identical
