@@ -165,8 +165,7 @@ class Lazy:
         self.seg = np.zeros((n_radial, 4, 3))  # per segment: count, sum r, sum r^2
         self.bins = np.zeros((n_radial * n_sub, 4))  # primary count, sum r; secondary ...
         # rule-5 trees, one per row, node k of row j at record j * 2 * p2 + k: (winner's
-        # column, -1 if none; a bound on the largest certificate in the subtree, never below
-        # it; winner's r; winner's base)
+        # column, -1 if none; largest certificate in the subtree; winner's r; winner's base)
         self.tree = np.zeros((n_radial * 2 * p2, 4))
         self.tree[:, TR_W] = -1.0
         self.tree[:, TR_SUB] = -np.inf
@@ -269,10 +268,7 @@ def _tree_recompute(tree, off, node, a):
 @njit_noalloc
 def _tree_set(tree, p2, j, col, active, a, r, b):
     """Insert (``active``, the line ``r a - b``) or remove the line of the cell in column
-    ``col`` of row ``j``, at the row's current scale ``a``. The nodes above are recomputed
-    while their winner changes; above the first whose winner stays, only its certificate bound
-    is carried up, if it rose (a bound that fell is left high: the advance recomputes such a
-    node when ``a`` reaches the old bound, one recompute later instead of a climb now)."""
+    ``col`` of row ``j``."""
     off = j * 2 * p2
     leaf = _tree_leaf(p2, j, col)
     if active:
@@ -289,26 +285,20 @@ def _tree_set(tree, p2, j, col, active, a, r, b):
         r0 = tree[k, TR_R]
         b0 = tree[k, TR_B]
         _tree_recompute(tree, off, node, a)
-        if tree[k, TR_W] == w0 and tree[k, TR_R] == r0 and tree[k, TR_B] == b0:
-            # the winner is unchanged, so no winner above changes: only the certificate
-            # bounds can, and they are kept as upper bounds (enough for _tree_advance), so a
-            # higher one is carried up and a lower one is not
-            s = tree[k, TR_SUB]
-            if s > s0:
-                node >>= 1
-                while node >= 1 and tree[off + node, TR_SUB] < s:
-                    tree[off + node, TR_SUB] = s
-                    node >>= 1
-            break
+        if (
+            tree[k, TR_W] == w0
+            and tree[k, TR_SUB] == s0
+            and tree[k, TR_R] == r0
+            and tree[k, TR_B] == b0
+        ):
+            break  # the parents read nothing else of this node: nothing above can change
         node >>= 1
 
 
 @njit_noalloc
 def _tree_advance(tree, p2, j, a, stack):
     """Bring row ``j``'s tree to scale ``a`` (lower than before): recompute every node whose
-    certificate bound has reached ``a`` (every node whose certificate failed, and perhaps a
-    few whose bound was high: recomputing them changes no winner), children before
-    parents."""
+    certificate failed, children before parents."""
     off = j * 2 * p2
     if tree[off + 1, TR_SUB] < a:
         return
