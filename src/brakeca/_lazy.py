@@ -337,10 +337,11 @@ def _tree_flush(tree, p2, ta, cell_r, base, where, tdirty, tmark, n_angular):
             # levels up), which miss the cache: test 5's first 12 stops 0.898 ± 0.033 of the
             # time (sixteenth session); prefetching two levels more gained nothing
             ja = ahead // n_angular
-            node = p2 + ahead - ja * n_angular
-            prefetch(tree, ja * 2 * p2 + node)
-            prefetch(tree, ja * 2 * p2 + (node >> 1))
-            prefetch(tree, ja * 2 * p2 + (node >> 2))
+            leaf = _tree_leaf(p2, ja, ahead - ja * n_angular)
+            off = ja * 2 * p2
+            prefetch(tree, leaf)
+            prefetch(tree, off + ((leaf - off) >> 1))
+            prefetch(tree, off + ((leaf - off) >> 2))
         idx = tdirty[k]
         m = tmark[idx]
         has = (m & TM_LEAF) != 0
