@@ -22,6 +22,14 @@ COMMANDS = [
 ]
 
 
+def _command(args: list[str]):
+    """The click command (or group) that ``brakeca ARGS`` names."""
+    command = typer.main.get_command(app)
+    for name in args:
+        command = command.commands[name]
+    return command
+
+
 def _help(args: list[str]) -> str:
     res = CliRunner().invoke(app, [*args, "--help"], env={"COLUMNS": "80"}, terminal_width=80)
     assert res.exit_code == 0, res.output
@@ -31,10 +39,7 @@ def _help(args: list[str]) -> str:
 @pytest.mark.parametrize("args", COMMANDS, ids=" ".join)
 def test_help_fits_80_columns_with_whole_option_names(args):
     text = _help(args)
-    click_cmd = typer.main.get_command(app)
-    for name in args:
-        click_cmd = click_cmd.commands[name]
-    for param in click_cmd.params:
+    for param in _command(args).params:
         for opt in param.opts:
             if opt.startswith("--"):
                 assert re.search(rf"(^|[\s,/]){re.escape(opt)}\b", text, re.M), (opt, text)
@@ -54,7 +59,4 @@ def test_command_lists_are_not_cut(args):
     commands = text.split("Commands:")[1]
     assert "..." not in commands and "…" not in commands
     names = [line.split()[0] for line in commands.strip().splitlines()]
-    group = typer.main.get_command(app)
-    for name in args:
-        group = group.commands[name]
-    assert sorted(names) == sorted(group.commands)
+    assert sorted(names) == sorted(_command(args).commands)
