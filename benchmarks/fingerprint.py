@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import hashlib
 import json
+from typing import Any
 
 import numpy as np
 
@@ -30,7 +31,7 @@ from brakeca.presets import load_preset
 from brakeca.simulation import SimulationState, advance_stop, cycle_events, end_of_stop
 from brakeca.surface import generate_surface
 
-CASES = {
+CASES: dict[str, dict[str, Any]] = {
     "wp+_s0": {"mesh.n_radial": 21, "WP": 1e-13, "S": 0.0},
     "wp+_s05_wr+": {"mesh.n_radial": 11, "WP": 1e-13, "S": 0.5, "WR": 1e-6},
     "layer_rule6": {  # the layer fibres wear through at about stop 50
