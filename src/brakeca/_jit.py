@@ -37,6 +37,20 @@ def njit_noalloc(fn: F) -> F:
     return njit(cache=True, _nrt=False)(fn)  # type: ignore[call-overload]
 
 
+def njit_noalloc_inline(fn: F) -> F:
+    """:func:`njit_noalloc`, and inlined into its callers by numba (``inline="always"``).
+
+    numba passes every array to a compiled function it calls as its whole structure, seven
+    machine words for a one-dimensional array and two more per further dimension, and LLVM
+    does not inline a helper of more than a few lines. A helper that takes many arrays and is
+    called thousands of times a step pays for the call: inlining ``_lazy._contact_row`` and
+    ``_lazy._fix_partitions`` (15 and 5 arrays, about 1,700 calls a step in the low-wear
+    runs' contact solve) made those runs' first stops take 0.78 of the time
+    (docs/performance-history.md, seventeenth session). Each call site gets its own copy of
+    the code, so this is for hot helpers with few call sites."""
+    return njit(cache=True, _nrt=False, inline="always")(fn)  # type: ignore[call-overload]
+
+
 def prefetch(arr: Any, i: int) -> None:
     """``prefetch(arr, i)`` in compiled code: ask the processor to start loading the cache
     line of ``arr[i]`` (of ``arr[i, 0]`` for a two-dimensional array; LLVM's

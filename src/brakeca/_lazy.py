@@ -64,7 +64,7 @@ import math
 import numpy as np
 from numba import njit
 
-from brakeca._jit import njit_noalloc, prefetch
+from brakeca._jit import njit_noalloc, njit_noalloc_inline, prefetch
 from brakeca._kernels import (
     ACC_EMITTED,
     ACC_HELD,
@@ -473,7 +473,7 @@ def _shift(n_from, s_from, q_from, n_to, s_to, q_to, r):
     return n_from, s_from, q_from, n_to, s_to, q_to
 
 
-@njit_noalloc
+@njit_noalloc_inline
 def _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us):
     """Move the partition indices of row j to disc position z (segment sums follow).
 
@@ -607,7 +607,7 @@ def _compact_out(rows, out_h, out_idx, out_s, pos, j, n_angular):
     rows[j, RW_NOUT] = w
 
 
-@njit_noalloc
+@njit_noalloc_inline
 def _contact_row(
     rows,
     seg,

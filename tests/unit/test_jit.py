@@ -23,6 +23,8 @@ ALLOCATING = {
     "brakeca.contact": {"first_root"},
     "brakeca.automaton": set(),
 }
+# helpers compiled by njit_noalloc_inline (hot, with many array arguments and few call sites)
+INLINED = {"_contact_row", "_fix_partitions"}
 # scalar helpers (no array arguments, so nothing to count) that numba inlines
 SCALAR_INLINED = {"_tree_leaf", "_on", "_local_step", "_shift", "_sums_in", "_sums_out"}
 
@@ -51,6 +53,8 @@ def test_helpers_that_allocate_nothing_skip_reference_counting(module) -> None:
             assert dispatcher.targetoptions.get("inline") == "always", name
         else:
             assert nrt is False, f"{module.__name__}.{name}: use brakeca._jit.njit_noalloc"
+            if dispatcher.targetoptions.get("inline") == "always":
+                assert name in INLINED, f"{module.__name__}.{name} is inlined: list it in INLINED"
 
 
 def test_noalloc_helper_refuses_to_allocate() -> None:
@@ -120,3 +124,24 @@ def test_prefetch_refuses_other_arguments() -> None:
 
     with pytest.raises(TypingError):
         _jit.njit_noalloc(bad)(np.zeros((2, 2, 2)))
+
+
+def test_inlined_helper_writes_through_to_the_callers_array() -> None:
+    """A helper compiled by ``njit_noalloc_inline`` is inlined into a compiled caller and
+    writes to the caller's array as a called helper would."""
+
+    def bump(a, i):
+        a[i] += 1.0
+
+    helper = _jit.njit_noalloc_inline(bump)
+    assert helper.targetoptions.get("inline") == "always"
+
+    @_jit.njit_noalloc
+    def caller(a):
+        for i in range(a.size):
+            helper(a, i)
+            helper(a, i)
+
+    a = np.arange(4.0)
+    caller(a)
+    np.testing.assert_array_equal(a, np.arange(4.0) + 2.0)
