@@ -807,7 +807,8 @@ E_NWIN = 6  # cells with u in [u*, u_c) (where F < F_hat)
 E_AU = 7  # sum of A u over the cells in contact [m^3]
 E_AREA = 8  # contact area [m^2]
 E_MOVES = 9
-N_E = 10
+E_ACC = 10  # tot[E_ACC : E_ACC + 5]: the walk's totals (F, D, Q, S, QD), scratch for _walk
+N_E = 15
 
 
 @njit_noalloc
@@ -1164,7 +1165,7 @@ def _walk_start(
     _evt_build(evt, m)
 
 
-@njit(cache=True)
+@njit_noalloc
 def _walk(
     L,
     z,
@@ -1222,7 +1223,9 @@ def _walk(
     k2 = slope * stiffness * stiffness
     m = evt.size // 2
     w_cap = uc - us if uc - us < math.inf else 1e-4
-    acc5 = np.zeros(5)
+    # in the caller's array: allocating here made this function count references, on every
+    # array it touches, at every breakpoint
+    acc5 = tot[E_ACC : E_ACC + 5]
     _walk_start(
         L,
         z,

@@ -14,7 +14,6 @@ from brakeca import _jit, _kernels, _lazy, automaton, contact
 ALLOCATING = {
     "brakeca._lazy": {
         "_exact_root",
-        "_walk",
         "check_invariants",
         "run_stop_lazy",
         "solve_contact",
