@@ -45,9 +45,10 @@ def njit_noalloc_inline(fn: F) -> F:
     does not inline a helper of more than a few lines. A helper that takes many arrays and is
     called thousands of times a step pays for the call: inlining ``_lazy._contact_row`` and
     ``_lazy._fix_partitions`` (15 and 5 arrays, about 1,700 calls a step in the low-wear
-    runs' contact solve) made those runs' first stops take 0.78 of the time
-    (docs/performance-history.md, seventeenth session). Each call site gets its own copy of
-    the code, so this is for hot helpers with few call sites."""
+    runs' contact solve) made those runs take 0.78 of the time in the burnish stops and
+    0.885-0.907 in later blocks (docs/performance-history.md, seventeenth session). Each call
+    site gets its own copy of the code (compiling the lazy kernel took 6.6 s longer), so this
+    is for hot helpers with few call sites."""
     return njit(cache=True, _nrt=False, inline="always")(fn)  # type: ignore[call-overload]
 
 
