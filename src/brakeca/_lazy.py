@@ -796,6 +796,61 @@ def _commit_row(
     rows[j, RW_NOUT] = nout
 
 
+@njit_noalloc_inline
+def _move_row(L, j, z, incl, uc, uf, us, n_sub, n_angular):
+    """Move row j's contact edge (if it is stale) and partitions (if stale) to z; returns the
+    number of cells moved. Inlined into each pass over the rows (a call would hand over every
+    array of ``L`` word by word: brakeca._jit.njit_noalloc_inline)."""
+    (
+        rows,
+        seg,
+        in_r,
+        in_idx,
+        amap,
+        out_h,
+        out_idx,
+        where,
+        pos,
+        cell_r,
+        bins,
+        _tree,
+        _ta,
+        _stack,
+        in_s,
+        out_s,
+        tdirty,
+        tmark,
+    ) = L
+    moves = 0
+    row0 = j * n_angular
+    if _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, incl):
+        moves += _contact_row(
+            rows,
+            seg,
+            in_r,
+            in_idx,
+            amap,
+            out_h,
+            out_idx,
+            where,
+            pos,
+            cell_r,
+            bins,
+            in_s,
+            out_s,
+            tdirty,
+            tmark,
+            j,
+            z,
+            incl,
+            n_sub,
+            n_angular,
+        )
+    if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
+        moves += _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us)
+    return moves
+
+
 # indices into the evaluation totals `tot`
 E_F = 0  # friction force F [N]
 E_D = 1  # dF/dw [N/m] (w: approach, -z)
@@ -835,26 +890,7 @@ def _evaluate(
 ):
     """Move every row's contact edge and partitions to z and sum F, F_hat and their
     derivatives into ``tot``."""
-    (
-        rows,
-        seg,
-        in_r,
-        in_idx,
-        amap,
-        out_h,
-        out_idx,
-        where,
-        pos,
-        cell_r,
-        bins,
-        _tree,
-        _ta,
-        _stack,
-        in_s,
-        out_s,
-        tdirty,
-        tmark,
-    ) = L
+    seg, amap = L[1], L[4]
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
     k2 = slope * stiffness * stiffness
@@ -862,37 +898,7 @@ def _evaluate(
     t_e_f = t_e_d = t_e_q = t_e_fh = t_e_dh = t_e_qh = t_e_nwin = t_e_au = t_e_area = 0.0
     moves = 0
     for j in range(n_radial):
-        # this block (edge check, contact move, partition check) is written out here, in
-        # _walk_start and in _walk: one shared function for it made the contact solve ~50 %
-        # slower (measured), as numba reference-counts every array handed to a call
-        row0 = j * n_angular
-        if _edge_stale(
-            rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, incl
-        ):
-            moves += _contact_row(
-                rows,
-                seg,
-                in_r,
-                in_idx,
-                amap,
-                out_h,
-                out_idx,
-                where,
-                pos,
-                cell_r,
-                bins,
-                in_s,
-                out_s,
-                tdirty,
-                tmark,
-                j,
-                z,
-                incl,
-                n_sub,
-                n_angular,
-            )
-        if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
-            moves += _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us)
+        moves += _move_row(L, j, z, incl, uc, uf, us, n_sub, n_angular)
         a = amap[j, 0]
         d = amap[j, 1] - z
         area = bin_area[j * n_sub]
@@ -1101,58 +1107,12 @@ def _walk_start(
 ):
     """Every row's edge and partitions at z (inclusive), the event tree, and the walk's
     totals ``acc5 = (F, D, Q, S, QD)``."""
-    (
-        rows,
-        seg,
-        in_r,
-        in_idx,
-        amap,
-        out_h,
-        out_idx,
-        where,
-        pos,
-        cell_r,
-        bins,
-        _tree,
-        _ta,
-        _stack,
-        in_s,
-        out_s,
-        tdirty,
-        tmark,
-    ) = L
+    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
     m = evt.size // 2
     evt[:] = -math.inf
     acc5[:] = 0.0
     for j in range(n_radial):
-        row0 = j * n_angular
-        if _edge_stale(
-            rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, True
-        ):
-            _contact_row(
-                rows,
-                seg,
-                in_r,
-                in_idx,
-                amap,
-                out_h,
-                out_idx,
-                where,
-                pos,
-                cell_r,
-                bins,
-                in_s,
-                out_s,
-                tdirty,
-                tmark,
-                j,
-                z,
-                True,
-                n_sub,
-                n_angular,
-            )
-        if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], z, uc, uf, us):
-            _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, z, uc, uf, us)
+        _move_row(L, j, z, True, uc, uf, us, n_sub, n_angular)
         area = bin_area[j * n_sub]
         fj, dj, qj = _row_terms(seg, amap, j, z, area, k0, k1, k2)
         sj, qdj = _row_slope(seg, amap, j, z, area, k0, k1, k2)
@@ -1198,26 +1158,7 @@ def _walk(
     the peak by at most mu_min K w, rising cells stay below their tangent, cells entering
     contact below mu_0 K u), so no root lies before the advance at which that bound reaches
     the target."""
-    (
-        rows,
-        seg,
-        in_r,
-        in_idx,
-        amap,
-        out_h,
-        out_idx,
-        where,
-        pos,
-        cell_r,
-        bins,
-        _tree,
-        _ta,
-        _stack,
-        in_s,
-        out_s,
-        tdirty,
-        tmark,
-    ) = L
+    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
     k0 = mu_0 * stiffness
     k1 = mu_min * stiffness
     k2 = slope * stiffness * stiffness
@@ -1304,34 +1245,7 @@ def _walk(
         area = bin_area[j * n_sub]
         f0, d0, q0 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
         s0, qd0 = _row_slope(seg, amap, j, zc, area, k0, k1, k2)
-        row0 = j * n_angular
-        if _edge_stale(
-            rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], zc, True
-        ):
-            _contact_row(
-                rows,
-                seg,
-                in_r,
-                in_idx,
-                amap,
-                out_h,
-                out_idx,
-                where,
-                pos,
-                cell_r,
-                bins,
-                in_s,
-                out_s,
-                tdirty,
-                tmark,
-                j,
-                zc,
-                True,
-                n_sub,
-                n_angular,
-            )
-        if _partitions_stale(rows, in_r, j, row0, amap[j, 0], amap[j, 1], zc, uc, uf, us):
-            _fix_partitions(rows, seg, in_r, in_idx, amap, j, row0, zc, uc, uf, us)
+        _move_row(L, j, zc, True, uc, uf, us, n_sub, n_angular)
         f1, d1, q1 = _row_terms(seg, amap, j, zc, area, k0, k1, k2)
         s1, qd1 = _row_slope(seg, amap, j, zc, area, k0, k1, k2)
         f += f1 - f0
