@@ -72,6 +72,10 @@ def run(args: argparse.Namespace) -> None:
                 f"{args.resume}: {state.height.size} cells, not this run's {grid.shape} "
                 "(give the --rows of the run that saved it)"
             )
+        # the lazy kernel's structures are rebuilt from the grid at every stop: drop a saved
+        # copy, whose layout may be another version's (a state saved by one version then
+        # resumes in any, as side_by_side.py --resume needs)
+        state.lazy = None
     else:
         rng = np.random.default_rng(args.seed)
         state = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)
@@ -116,7 +120,9 @@ def run(args: argparse.Namespace) -> None:
             if stop.index in save_at:
                 path = f"{args.save_dir}/state_{args.rows}_{stop.index}.pkl"
                 with open(path, "wb") as fh:
+                    lazy, state.lazy = state.lazy, None  # rebuilt at every stop: not saved
                     pickle.dump((state, rng, stop.index), fh)
+                    state.lazy = lazy
 
 
 def table(paths: list[str]) -> None:

@@ -176,11 +176,12 @@ class Lazy:
         self.walk = np.zeros(8)
         self.p2 = p2
         # per-row resin entries sorted by height (key, column; stale entries allowed, until a
-        # row fills its room and is rebuilt from the grid)
+        # row fills its room and is rebuilt from the grid), row j's at
+        # [resin_n[j, RN_S], resin_n[j, RN_S] + resin_n[j, RN_N])
         room = RESIN_ROOM * n_angular + 8
         self.resin_key = np.zeros((n_radial, room))
         self.resin_col = np.zeros((n_radial, room), dtype=np.int32)
-        self.resin_n = np.zeros(n_radial, dtype=np.int64)
+        self.resin_n = np.zeros((n_radial, 2), dtype=np.int64)  # count, start (RN_N, RN_S)
 
 
 # rows[j, *]
@@ -1461,12 +1462,56 @@ RESIN_ROOM = 4
 # disc crosses height zero, the pad's heights starting above it and wearing below), so they
 # go back in as one block, merged from the top: a cut costs the cells it cuts, with no sift;
 # a block that round-off left apart is sorted first (nearly sorted: cheap).
+# While the disc wears into the pad, the block is the lowest of the row: every entry left is
+# above the new z - WR (test 5: all of a row's ~160 entries, with ~47 of them cut a step), so
+# a row's entries sit at an offset in its room, with the free room mostly below them, and such
+# a block is put below them (no entry moves) instead of merged from the top (every entry
+# moves). The entries move only when the room on one side runs out (:func:`_resin_fit`).
 # Cells that become resin between cuts wait in a short per-row list (PEND entries) and join
 # the cut from there, or the sorted entries when the list is full.
+RN_N = 0  # resin_n[j, RN_N]: how many entries row j has
+RN_S = 1  # resin_n[j, RN_S]: where they start in the row's room
+
+
+@njit_noalloc
+def _resin_place(rk, rc, rn, j, s):
+    """Move row j's entries to start at s (in its room)."""
+    s0 = rn[j, RN_S]
+    n = rn[j, RN_N]
+    if s > s0:  # upwards: from the top down
+        for e in range(n - 1, -1, -1):
+            rk[j, s + e] = rk[j, s0 + e]
+            rc[j, s + e] = rc[j, s0 + e]
+    elif s < s0:
+        for e in range(n):
+            rk[j, s + e] = rk[j, s0 + e]
+            rc[j, s + e] = rc[j, s0 + e]
+    rn[j, RN_S] = s
+
+
+@njit_noalloc
+def _resin_fit(rk, rc, rn, j, below, above):
+    """Make room for ``below`` entries under row j's entries and ``above`` over them, moving
+    them if needed: the free room below, but 2 PEND entries above (at most half of it): the
+    blocks of cut cells go below, the waiting cells merge in near the top. False if the room is
+    too small (the caller rebuilds the row from the grid)."""
+    s = rn[j, RN_S]
+    n = rn[j, RN_N]
+    cap = rk.shape[1]
+    if s >= below and s + n + above <= cap:
+        return True
+    free = cap - n - below - above
+    if free < 0:
+        return False
+    _resin_place(rk, rc, rn, j, below + free - min(free // 2, 2 * PEND))
+    return True
+
+
 @njit_noalloc
 def _resin_build_row(rk, rc, rn, j, status, height, n_angular, sk, sc):
     """Row j's resin entries from the grid (its status-none cells), sorted lowest first, equal
-    heights in column order; ``sk``/``sc``: scratch for ``n_angular`` entries."""
+    heights in column order, placed as :func:`_resin_fit` places them; ``sk``/``sc``: scratch
+    for ``n_angular`` entries."""
     row0 = j * n_angular
     n = 0
     for i in range(n_angular):
@@ -1474,8 +1519,11 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular, sk, sc):
             rk[j, n] = height[row0 + i]
             rc[j, n] = i
             n += 1
-    rn[j] = n
+    rn[j, RN_N] = n
+    rn[j, RN_S] = 0
     _merge_sort_entries(rk[j], rc[j], n, sk, sc)
+    free = rk.shape[1] - n
+    _resin_place(rk, rc, rn, j, free - min(free // 2, 2 * PEND))
 
 
 @njit_noalloc
@@ -1569,12 +1617,13 @@ def _resin_merge_pending(rk, rc, rn, pk, pc, pn, j, status, height, n_angular, s
             pc[j, p] = pc[j, e]
             p += 1
     pn[j] = 0
-    if rn[j] + p > rk.shape[1]:
+    if not _resin_fit(rk, rc, rn, j, 0, p):
         _resin_build_row(rk, rc, rn, j, status, height, n_angular, sk, sc)
         return
     _sort_entries(pk[j], pc[j], p)
-    _merge_entries(rk[j], rc[j], rn[j], pk[j], pc[j], p)
-    rn[j] += p
+    s = rn[j, RN_S]
+    _merge_entries(rk[j, s:], rc[j, s:], rn[j, RN_N], pk[j], pc[j], p)
+    rn[j, RN_N] += p
 
 
 @njit_noalloc
@@ -1628,18 +1677,19 @@ def _resin_cut(
     Per row, the entries above the disc (the end of the sorted entries, and the waiting ones
     above it, sorted) are cut highest first, stale ones dropped: the order of heights of one
     heap of the grid, so the same sums. The cut cells go back in as one block at their new
-    height, merged from the top. ``bk``/``bc`` are scratch for ``n_angular + PEND`` entries
-    (the block from the start, a row's waiting entries from the end: a cell is cut once)."""
+    height, below the entries left if it is the lowest (the usual case), else merged from the
+    top. ``bk``/``bc`` are scratch for ``n_angular + PEND`` entries (the block from the start,
+    a row's waiting entries from the end: a cell is cut once)."""
     removed = 0.0
-    cap = rk.shape[1]
     top = bk.shape[0]
     width = n_angular // n_sub  # columns per subdomain
     for j in range(n_radial):
         row0 = j * n_angular
         area = cell_area[row0]  # one area per row, one bin per row and subdomain
         b0 = cell_bin[row0]
-        n = rn[j]
-        keys, cols = rk[j], rc[j]
+        n = rn[j, RN_N]
+        s = rn[j, RN_S]
+        keys, cols = rk[j, s:], rc[j, s:]
         # the waiting entries: those above the disc are cut now, the others wait on
         a = 0
         kept = 0
@@ -1687,10 +1737,7 @@ def _resin_cut(
             bk[b] = height[idx]
             bc[b] = col
             b += 1
-        if lo + b > cap:  # no room: the row from the grid, its waiting cells included
-            _resin_build_row(rk, rc, rn, j, status, height, n_angular, bk, bc)  # bk: free now
-            pn[j] = 0
-            continue
+        rn[j, RN_N] = lo
         # lowest first: the reverse of the cut order, sorted again if round-off broke a tie
         for q in range(b // 2):
             k = bk[q]
@@ -1703,8 +1750,24 @@ def _resin_cut(
             if bk[q] < bk[q - 1]:
                 _sort_entries(bk, bc, b)
                 break
-        _merge_entries(keys, cols, lo, bk, bc, b)
-        rn[j] = lo + b
+        # the block below the entries left if none is lower (equal keys may go either way:
+        # they cut the same volume), else merged in from the top
+        low = lo == 0 or (b > 0 and bk[b - 1] <= keys[0])
+        if not _resin_fit(rk, rc, rn, j, b if low else 0, 0 if low else b):
+            # no room: the row from the grid, its waiting cells included
+            _resin_build_row(rk, rc, rn, j, status, height, n_angular, bk, bc)  # bk: free now
+            pn[j] = 0
+            continue
+        s = rn[j, RN_S]
+        if low:  # no entry moves
+            s -= b
+            for q in range(b):
+                rk[j, s + q] = bk[q]
+                rc[j, s + q] = bc[q]
+            rn[j, RN_S] = s
+        else:
+            _merge_entries(rk[j, s:], rc[j, s:], lo, bk, bc, b)
+        rn[j, RN_N] = lo + b
     return removed
 
 

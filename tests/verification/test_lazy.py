@@ -355,7 +355,8 @@ def test_row_resin_entries_cut_as_one_heap():
     a row at one height cut the same volume, so the order of ties does not matter. Only the
     step's total is summed in another order (round-off). Cells become resin between steps
     (destroyed plateaus) and wait in a short list, cut from there or merged into the sorted
-    entries when it fills; rows fill with stale entries until they are rebuilt. Heights near
+    entries when it fills; rows fill with stale entries until they are rebuilt. A row's entries
+    sit at an offset in its room, so a block lower than all of them goes below them. Heights near
     zero make ``h - (h - t)`` differ from ``t`` by round-off, so blocks of cut cells are not
     always one height."""
     rng = np.random.default_rng(5)
@@ -371,7 +372,7 @@ def test_row_resin_entries_cut_as_one_heap():
     K.heap_rebuild(keys, vals, cnt, status, height)
     # room for a row's cells and two stale entries (the kernel has room for n_t + 8 stale)
     rk, rc = np.zeros((n_r, n_t + 2)), np.zeros((n_r, n_t + 2), dtype=np.int32)
-    rn = np.zeros(n_r, dtype=np.int64)
+    rn = np.zeros((n_r, 2), dtype=np.int64)  # count, start
     pend = 3  # a short waiting list, so that it fills
     pk, pc = np.zeros((n_r, pend)), np.zeros((n_r, pend), dtype=np.int32)
     pn = np.zeros(n_r, dtype=np.int64)
@@ -385,7 +386,7 @@ def test_row_resin_entries_cut_as_one_heap():
 
     for j in range(n_r):
         _lazy._resin_build_row(rk, rc, rn, j, s_row, h_row, n_t, bk, bc)
-    rebuilt = merged = cut_waiting = 0
+    rebuilt = merged = cut_waiting = put_below = merged_in = 0
     z = 11.5e-6
     for step in range(90):
         z -= rng.uniform(0.0, 0.4e-6) if step % 7 else -0.3e-6  # mostly down, sometimes up
@@ -397,6 +398,7 @@ def test_row_resin_entries_cut_as_one_heap():
         sums = np.zeros(K.N_SUMS)
         K.phase_resin(height, status, cell_area, cell_bin, out_one, keys, vals, cnt, z, wr, sums)
         waiting = sum(live(j, e) and pk[j, e] > z for j in range(n_r) for e in range(pn[j]))
+        start, before = rn[:, 1].copy(), h_row.copy()
         removed = _lazy._resin_cut(
             rk,
             rc,
@@ -422,7 +424,12 @@ def test_row_resin_entries_cut_as_one_heap():
         np.testing.assert_array_equal(out_row, out_one)
         assert removed == pytest.approx(sums[K.S_REMOVED], rel=1e-13, abs=0.0)
         for j in range(n_r):  # the sorted entries stay sorted
-            assert np.all(np.diff(rk[j, : rn[j]]) >= 0.0)
+            entries = rk[j, rn[j, 1] : rn[j, 1] + rn[j, 0]]
+            assert np.all(np.diff(entries) >= 0.0)
+            cut = h_row[j * n_t : (j + 1) * n_t][(h_row != before)[j * n_t : (j + 1) * n_t]]
+            if cut.size:  # the block went below the entries left, or was merged in above some
+                put_below += rn[j, 1] < start[j]
+                merged_in += bool(np.any(entries < cut.min()))
         # some plateaus become resin (at random heights), some resin cells become plateaus
         for idx in rng.choice(n, 8, replace=False):
             if status[idx] == 0:
@@ -435,12 +442,14 @@ def test_row_resin_entries_cut_as_one_heap():
                 j = idx // n_t
                 if pn[j] == pend:
                     merged += 1
-                    rebuilt += rn[j] + sum(live(j, e) for e in range(pend)) > rk.shape[1]
+                    rebuilt += rn[j, 0] + sum(live(j, e) for e in range(pend)) > rk.shape[1]
                 _lazy._resin_push(
                     rk, rc, rn, pk, pc, pn, j, idx - j * n_t, s_row, h_row, n_t, bk, bc
                 )
-    # every path was taken: cells cut from the waiting list, full lists merged, full rows rebuilt
+    # every path was taken: cells cut from the waiting list, full lists merged, full rows
+    # rebuilt, blocks of cut cells put below a row's entries and merged in among them
     assert cut_waiting > 0 and merged > 0 and rebuilt > 0
+    assert put_below > 0 and merged_in > 0
 
 
 class _Killed(Exception):
