@@ -802,26 +802,9 @@ def _move_row(L, j, z, incl, uc, uf, us, n_sub, n_angular):
     """Move row j's contact edge (if it is stale) and partitions (if stale) to z; returns the
     number of cells moved. Inlined into each pass over the rows (a call would hand over every
     array of ``L`` word by word: brakeca._jit.njit_noalloc_inline)."""
-    (
-        rows,
-        seg,
-        in_r,
-        in_idx,
-        amap,
-        out_h,
-        out_idx,
-        where,
-        pos,
-        cell_r,
-        bins,
-        _tree,
-        _ta,
-        _stack,
-        in_s,
-        out_s,
-        tdirty,
-        tmark,
-    ) = L
+    rows, seg, in_r, in_idx, amap, out_h, out_idx = L[0], L[1], L[2], L[3], L[4], L[5], L[6]
+    where, pos, cell_r, bins = L[7], L[8], L[9], L[10]
+    in_s, out_s, tdirty, tmark = L[14], L[15], L[16], L[17]
     moves = 0
     row0 = j * n_angular
     if _edge_stale(rows, in_r, in_idx, out_h, out_idx, j, row0, amap[j, 0], amap[j, 1], z, incl):
@@ -1489,12 +1472,20 @@ def _resin_place(rk, rc, rn, j, s):
     rn[j, RN_S] = s
 
 
+@njit(cache=True, inline="always")
+def _resin_start(below, free):
+    """Where :func:`_resin_fit` and :func:`_resin_build_row` put a row's entries, with
+    ``below`` entries' room needed under them and ``free`` more to spare: the spare room below
+    them, but 2 PEND entries' above (at most half of it)."""
+    return below + free - min(free // 2, 2 * PEND)
+
+
 @njit_noalloc
 def _resin_fit(rk, rc, rn, j, below, above):
     """Make room for ``below`` entries under row j's entries and ``above`` over them, moving
-    them if needed: the free room below, but 2 PEND entries above (at most half of it): the
-    blocks of cut cells go below, the waiting cells merge in near the top. False if the room is
-    too small (the caller rebuilds the row from the grid)."""
+    them if needed (to :func:`_resin_start`): the blocks of cut cells go below, the waiting
+    cells merge in near the top. False if the room is too small (the caller rebuilds the row
+    from the grid)."""
     s = rn[j, RN_S]
     n = rn[j, RN_N]
     cap = rk.shape[1]
@@ -1503,7 +1494,7 @@ def _resin_fit(rk, rc, rn, j, below, above):
     free = cap - n - below - above
     if free < 0:
         return False
-    _resin_place(rk, rc, rn, j, below + free - min(free // 2, 2 * PEND))
+    _resin_place(rk, rc, rn, j, _resin_start(below, free))
     return True
 
 
@@ -1522,8 +1513,7 @@ def _resin_build_row(rk, rc, rn, j, status, height, n_angular, sk, sc):
     rn[j, RN_N] = n
     rn[j, RN_S] = 0
     _merge_sort_entries(rk[j], rc[j], n, sk, sc)
-    free = rk.shape[1] - n
-    _resin_place(rk, rc, rn, j, free - min(free // 2, 2 * PEND))
+    _resin_place(rk, rc, rn, j, _resin_start(0, rk.shape[1] - n))
 
 
 @njit_noalloc

@@ -25,7 +25,15 @@ ALLOCATING = {
 # helpers compiled by njit_noalloc_inline (hot, with many array arguments and few call sites)
 INLINED = {"_contact_row", "_fix_partitions", "_move_row"}
 # scalar helpers (no array arguments, so nothing to count) that numba inlines
-SCALAR_INLINED = {"_tree_leaf", "_on", "_local_step", "_shift", "_sums_in", "_sums_out"}
+SCALAR_INLINED = {
+    "_tree_leaf",
+    "_on",
+    "_local_step",
+    "_shift",
+    "_sums_in",
+    "_sums_out",
+    "_resin_start",
+}
 
 
 def _compiled(module) -> dict[str, CPUDispatcher]:

@@ -428,7 +428,7 @@ def test_row_resin_entries_cut_as_one_heap():
             assert np.all(np.diff(entries) >= 0.0)
             cut = h_row[j * n_t : (j + 1) * n_t][(h_row != before)[j * n_t : (j + 1) * n_t]]
             if cut.size:  # the block went below the entries left, or was merged in above some
-                put_below += rn[j, 1] < start[j]
+                put_below += rn[j, 1] == start[j] - cut.size
                 merged_in += bool(np.any(entries < cut.min()))
         # some plateaus become resin (at random heights), some resin cells become plateaus
         for idx in rng.choice(n, 8, replace=False):
