@@ -6,7 +6,12 @@ Usage: python benchmarks/phase_profile.py [--stops 60] [--rows 21] [--wp 1e-13] 
 Runs the first ``--stops`` stops of the paper cycle on a band of ``--rows`` rows (quick band
 by default) and, for every group of ``--every`` stops, prints the ns per cell-step, the cells
 in contact, the secondary area, the status changes a step (plateaus created by rules 1-3
-and destroyed by rules 4-7) and the share of each phase of the step. ``--set`` takes the
+and destroyed by rules 4-7) and the share of each phase of the step. With the lazy kernel it
+then prints the contact solve's counters a step: the trial positions evaluated (each a pass
+over the rows), the breakpoints walked and the walk's jumps (each a pass as well), and the
+shares of the step spent in the bracketed search and in the walk (both inside "contact",
+which also holds the moves across the contact edge after the root and the rule-5 tree
+flush). ``--set`` takes the
 overrides of ``brakeca simulate`` (``--set S=1 --set A=20``: another test's levels). The
 phases are timed inside the compiled kernel with the CPU's cycle counter
 (``SimulationState.prof``), so there is no Python overhead in the shares.
@@ -60,6 +65,7 @@ print(
 for g in range(0, len(stops), args.every):
     group = stops[g : g + args.every]
     state.prof[:] = 0
+    state.lazy_walk[:] = 0
     steps = 0
     contact = secondary = 0.0
     elapsed = 0.0
@@ -81,3 +87,10 @@ for g in range(0, len(stops), args.every):
         f"{contact / steps:7.3f} {secondary / steps:7.3f} {made / steps:6.0f} {lost / steps:6.0f}  "
         + " ".join(f"{100 * s:13.1f}%" if s == s else f"{'n/a':>14}" for s in share)
     )
+    walk = state.lazy_walk  # see SimulationState.lazy_walk
+    if walk[2] > 0 and total > 0:  # the lazy kernel ran
+        print(
+            f"{'':>7} solve: {walk[2] / steps:.2f} positions, {walk[1] / steps:.1f} walk steps, "
+            f"{walk[3] / steps:.2f} jumps a step; bracket {100 * walk[4] / total:.1f}%, "
+            f"walk {100 * walk[5] / total:.1f}% of the step"
+        )
