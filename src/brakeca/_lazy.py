@@ -989,6 +989,16 @@ def _row_event(rows, in_r, in_idx, amap, out_h, out_idx, j, z, n_angular, uf):
     return best
 
 
+@njit(cache=True, inline="always")
+def _evt_top(evt, node):
+    """The larger of node's two children in the rows' max-tree, ``left if left >= right else
+    right`` (so the left one where they compare equal, as 0.0 and -0.0 do), for both
+    :func:`_evt_set` and :func:`_evt_build`."""
+    left = evt[2 * node]
+    right = evt[2 * node + 1]
+    return left if left >= right else right
+
+
 @njit_noalloc
 def _evt_set(evt, m, j, value):
     """Max-tree over rows (leaves at m + j): set row j's next event. The climb stops at the
@@ -997,9 +1007,7 @@ def _evt_set(evt, m, j, value):
     evt[node] = value
     node >>= 1
     while node >= 1:
-        left = evt[2 * node]
-        right = evt[2 * node + 1]
-        top = left if left >= right else right
+        top = _evt_top(evt, node)
         if evt[node] == top:
             break
         evt[node] = top
@@ -1011,9 +1019,7 @@ def _evt_build(evt, m):
     """Max-tree over rows: every inner node from the leaves, bottom up (the values
     :func:`_evt_set` would leave, in one pass)."""
     for node in range(m - 1, 0, -1):
-        left = evt[2 * node]
-        right = evt[2 * node + 1]
-        evt[node] = left if left >= right else right
+        evt[node] = _evt_top(evt, node)
 
 
 @njit_noalloc
