@@ -989,7 +989,7 @@ def _row_event(rows, in_r, in_idx, amap, out_h, out_idx, j, z, n_angular, uf):
     return best
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc_inline
 def _evt_top(evt, node):
     """The larger of node's two children in the rows' max-tree, ``left if left >= right else
     right`` (so the left one where they compare equal, as 0.0 and -0.0 do), for both

@@ -22,8 +22,9 @@ ALLOCATING = {
     "brakeca.contact": {"first_root"},
     "brakeca.automaton": set(),
 }
-# helpers compiled by njit_noalloc_inline (hot, with many array arguments and few call sites)
-INLINED = {"_contact_row", "_fix_partitions", "_move_row"}
+# helpers compiled by njit_noalloc_inline (hot, with many array arguments and few call sites;
+# _evt_top is a three-line rule shared by two helpers, inlined where they use it)
+INLINED = {"_contact_row", "_fix_partitions", "_move_row", "_evt_top"}
 # scalar helpers (no array arguments, so nothing to count) that numba inlines
 SCALAR_INLINED = {
     "_tree_leaf",
