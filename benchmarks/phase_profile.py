@@ -11,10 +11,9 @@ then prints the contact solve's counters a step: the trial positions evaluated (
 over the rows), the breakpoints walked and the walk's jumps (each a pass as well), and the
 shares of the step spent in the bracketed search and in the walk (both inside "contact",
 which also holds the moves across the contact edge after the root and the rule-5 tree
-flush). ``--set`` takes the
-overrides of ``brakeca simulate`` (``--set S=1 --set A=20``: another test's levels). The
-phases are timed inside the compiled kernel with the CPU's cycle counter
-(``SimulationState.prof``), so there is no Python overhead in the shares.
+flush). ``--set`` takes the overrides of ``brakeca simulate`` (``--set S=1 --set A=20``:
+another test's levels). The phases are timed inside the compiled kernel with the CPU's cycle
+counter (``SimulationState.prof``), so there is no Python overhead in the shares.
 """
 
 from __future__ import annotations

@@ -97,11 +97,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     summary = args.study / "summary.csv" if args.study.is_dir() else args.study
     if not summary.is_file():
         ap.error(f"no summary.csv at {summary}: has the study finished?")
-    if args.action == "save":
-        n = save(summary, args.reference)
-        print(f"wrote {args.reference} ({n} runs)")
-        return 0
-    found = differences(args.reference, summary)
+    try:
+        if args.action == "save":
+            n = save(summary, args.reference)
+            print(f"wrote {args.reference} ({n} runs)")
+            return 0
+        found = differences(args.reference, summary)
+    except ValueError as err:  # not a campaign summary, or a run twice in it
+        ap.error(str(err))
     for line in found:
         print(line)
     print(f"{len(found)} difference(s) between {summary} and {args.reference}")

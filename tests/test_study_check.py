@@ -98,3 +98,14 @@ def test_a_study_without_summary_is_refused(tmp_path: Path) -> None:
     with pytest.raises(SystemExit) as err:
         study_check.main(["check", str(tmp_path)])
     assert err.value.code == 2
+
+
+def test_a_file_that_is_not_a_summary_is_refused(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    other = tmp_path / "other.csv"
+    other.write_text("a,b\n1,2\n")
+    with pytest.raises(SystemExit) as err:
+        study_check.main(["check", str(other)])
+    assert err.value.code == 2
+    assert "not a campaign summary (no test and replicate columns)" in capsys.readouterr().err
