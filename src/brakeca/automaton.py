@@ -14,6 +14,10 @@ Destruction: rule 4, a secondary plateau with no plateau directly east (lost its
 rule 5, a secondary plateau whose deposit is worn away; rule 6, a primary plateau too far below
 the disc (off by default); rule 7, a primary plateau worn below its fibre.
 
+Between stops, with the fibre field (``pad.fibre_model = "field"``): a cell whose pad surface is
+worn down into a buried fibre becomes a primary plateau again (:func:`expose_buried_fibres`;
+NumPy, not compiled: it runs once a stop).
+
 References
 ----------
 J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Section 2.2.
@@ -21,10 +25,16 @@ J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Se
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import numpy as np
+
 from brakeca._jit import njit_noalloc
 
 __all__ = [
+    "Exposure",
     "creation_rule",
+    "expose_buried_fibres",
     "gap_fill_cost",
     "rule1_east_support",
     "rule2_east_and_one_diagonal",
@@ -36,6 +46,8 @@ __all__ = [
 ]
 
 _NONE = 0
+_PRIMARY = 1
+_SECONDARY = 2
 
 
 @njit_noalloc
@@ -128,3 +140,100 @@ def rule7_fibre_worn(status, height: float, fibre_floor: float) -> bool:
     """Rule 7: a primary plateau worn down to the underside of its fibre is destroyed
     (never with fibres as columns, whose floor is -inf)."""
     return status == 1 and height <= fibre_floor
+
+
+class Exposure(NamedTuple):
+    """What :func:`expose_buried_fibres` did."""
+
+    exposed: int
+    """Cells that became primary plateaus [-]."""
+    max_lag: float
+    """Largest depth by which an exposed cell's surface lay below its fibre's top [m]: how far
+    wear went into the fibre before the end of the stop exposed it."""
+    lag_volume: float
+    """The fibre those depths hold, summed over the exposed cells: fibre removed as resin
+    because its exposure waited for the end of the stop [m^3]."""
+    skipped: int
+    """Buried fibre intervals passed wholly within one stop [-]."""
+    released: float
+    """Volume of the deposits of the secondary plateaus exposed [m^3]."""
+
+
+def expose_buried_fibres(
+    status: np.ndarray,
+    height: np.ndarray,
+    base: np.ndarray,
+    fibre_floor: np.ndarray,
+    cell_area: np.ndarray,
+    top: np.ndarray,
+    bottom: np.ndarray,
+    end: np.ndarray,
+    next_interval: np.ndarray,
+) -> Exposure:
+    """Fibre exposure (the fibre field, between stops): a cell whose pad surface has come down
+    to or below the top of the next buried fibre under it becomes a primary plateau.
+
+    The pad surface of a resin cell is its height; of a secondary plateau, the height under its
+    deposit (the resin below a deposit is cut whenever the deposit is lost and the cell is
+    briefly resin, so it goes down with the disc). The cell keeps that height (the fibre is
+    cut flush with the resin around it) and takes the fibre's underside as its floor, below
+    which rule 7 turns it back to resin. A secondary plateau's deposit is released: it leaves
+    the contact with the other particles at the end of the stop. A fibre the surface has
+    passed wholly (its underside above the cell) is skipped. Runs once a stop, on the state
+    the stop left; changes ``status``, ``height``, ``base``, ``fibre_floor`` and
+    ``next_interval`` in place.
+
+    Parameters
+    ----------
+    status : int8 array (n_cells,)
+        Cell statuses; resin and secondary cells can change [-].
+    height, base : float64 arrays (n_cells,)
+        Cell heights, and the heights under the secondary plateaus' deposits [m].
+    fibre_floor : float64 array (n_cells,)
+        Fibre underside of primary cells [m].
+    cell_area : float64 array (n_cells,)
+        Cell areas [m^2].
+    top, bottom : float64 arrays
+        The field's intervals, per cell disjoint and highest first [m]
+        (:class:`brakeca.surface.FibreField`).
+    end : int64 array (n_cells,)
+        One past each cell's last interval [-].
+    next_interval : int64 array (n_cells,)
+        Each cell's next interval below its surface [-].
+
+    Returns
+    -------
+    Exposure
+        Cells exposed, the largest lag [m] and the fibre volume it holds [m^3], intervals
+        skipped, deposit volume released [m^3].
+    """
+    exposed = 0
+    skipped = 0
+    max_lag = 0.0
+    lag_volume = 0.0
+    released = 0.0
+    surface = np.where(status == _SECONDARY, base, height)
+    cells = np.flatnonzero((status != _PRIMARY) & (next_interval < end))
+    while cells.size:
+        k = next_interval[cells]
+        reached = surface[cells] <= top[k]
+        cells, k = cells[reached], k[reached]
+        within = surface[cells] > bottom[k]
+        hit, kh = cells[within], k[within]
+        if hit.size:
+            sec = hit[status[hit] == _SECONDARY]
+            released += float(np.sum((height[sec] - base[sec]) * cell_area[sec]))
+            height[hit] = surface[hit]
+            base[hit] = surface[hit]
+            status[hit] = _PRIMARY
+            fibre_floor[hit] = bottom[kh]
+            next_interval[hit] = kh + 1
+            exposed += int(hit.size)
+            lag = top[kh] - surface[hit]
+            max_lag = max(max_lag, float(np.max(lag)))
+            lag_volume += float(np.sum(lag * cell_area[hit]))
+        passed = cells[~within]
+        next_interval[passed] += 1
+        skipped += int(passed.size)
+        cells = passed[next_interval[passed] < end[passed]]
+    return Exposure(exposed, max_lag, lag_volume, skipped, released)

@@ -137,12 +137,23 @@ class PadConfig(_Frozen):
     resin_roughness: float = Field(
         100e-6, ge=0, description="[m] resin heights are uniform in [0, resin_roughness]"
     )
-    fibre_model: Literal["columns", "layer"] = Field(
+    fibre_model: Literal["columns", "layer", "field"] = Field(
         "columns",
         description=(
             "'columns': fibres run through the pad, the fibre map persists (rule 7 never fires; "
             "decision). 'layer': a fibre is the lying cylinder only; worn below its underside "
-            "it becomes resin (rule 7 fires)."
+            "it becomes resin (rule 7 fires). 'field': fibres also lie at random depths "
+            "through the pad; a fibre worn through becomes resin (rule 7) and wear exposes "
+            "the fibre below (at the end of the stop that reaches it)."
+        ),
+    )
+    fibre_field_depth: float | None = Field(
+        None,
+        gt=0,
+        le=0.1,
+        description=(
+            "[m] thickness of the fibre field below the resin band (fibre_model 'field'); "
+            "unset: the foundation's bar length contact.bar_length"
         ),
     )
 
@@ -152,7 +163,17 @@ class PadConfig(_Frozen):
             raise ValueError("fibre_length_min must not exceed fibre_length_max")
         if self.fibre_diameter_min > self.fibre_diameter_max:
             raise ValueError("fibre_diameter_min must not exceed fibre_diameter_max")
+        if self.fibre_model == "field" and self.fibre_area_fraction >= 1.0:
+            raise ValueError(
+                "fibre_area_fraction must be below 1 with fibre_model = 'field' (a pad that is "
+                f"all fibre has no resin to hold a field; got {self.fibre_area_fraction})"
+            )
         return self
+
+    def field_depth(self, bar_length: float) -> float:
+        """Thickness of the fibre field below the resin band [m]: ``fibre_field_depth``, or
+        the foundation's bar length ``bar_length`` [m] where unset."""
+        return bar_length if self.fibre_field_depth is None else self.fibre_field_depth
 
 
 class ContactConfig(_Frozen):

@@ -4,14 +4,16 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 [m^3], ``generated_volume`` [m^3], ``primary_area_fraction`` and ``secondary_area_fraction``
 (time-weighted) [-], ``contact_area_fraction`` [-], ``normal_force`` (pad) [N],
 ``band_normal_force`` [N], ``line_pressure`` [Pa], ``duration`` [s], ``n_steps``,
-``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``rule_firings(stop, rule)``.
+``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``rule_firings(stop, rule)``; with
+the fibre field (``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-],
+``fibre_exposure_lag`` [m] and ``fibre_volume_cut_as_resin`` [m^3].
+
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
 A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
 ``final_status``, ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package
 version, wall time, the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
 applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
-``stops_exact``)
-and how many of the lazy kernel's contact solves fell back to the exact scan.
+``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan.
 
 References
 ----------
@@ -191,10 +193,13 @@ def build_dataset(
     kernel: str = "exact",
     kernel_stops: dict[str, int] | None = None,
     contact_fallbacks: int = 0,
+    fibre_exposure: list | None = None,
 ) -> xr.Dataset:
     """Assemble the run Dataset (see module docstring) from the per-stop reductions of the
     kernel's per-step records (``summaries``: stops x ``N_SUM``, rows of
-    :func:`summarise_stop`) and the records of the kept steps (``kept``, the stops' in order)."""
+    :func:`summarise_stop`) and the records of the kept steps (``kept``, the stops' in order).
+    ``fibre_exposure``: with the fibre field, per stop what the exposure after it did
+    (:class:`brakeca.automaton.Exposure`)."""
     area = grid.area
     pad_scale = config.brake.pad_area / area
     piston = np.pi * config.brake.piston_diameter**2 / 4.0
@@ -255,6 +260,27 @@ def build_dataset(
         counts,
         {"units": "1", "long_name": "cell firings of each plateau rule during the stop"},
     )
+    if fibre_exposure is not None:
+        fields = {
+            "fibre_cells_exposed": (
+                "exposed",
+                "1",
+                "cells worn into a buried fibre, exposed after the stop",
+            ),
+            "fibre_exposure_lag": (
+                "max_lag",
+                "m",
+                "largest depth an exposed cell was worn below its fibre's top",
+            ),
+            "fibre_volume_cut_as_resin": (
+                "lag_volume",
+                "m3",
+                "fibre removed as resin because its exposure waited for the stop's end",
+            ),
+        }
+        for name, (attr, unit, desc) in fields.items():
+            values = np.asarray([getattr(e, attr) for e in fibre_exposure])
+            data_vars[name] = ("stop", values, {"units": unit, "long_name": desc})
     # thinned per-step series
     every = config.output.series_every
     all_dt = np.concatenate(dts)

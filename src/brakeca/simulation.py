@@ -23,6 +23,7 @@ import numpy as np
 from brakeca import _kernels as K
 from brakeca import _lazy
 from brakeca._io import atomic_write
+from brakeca.automaton import Exposure, expose_buried_fibres
 from brakeca.config import SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
@@ -37,6 +38,7 @@ __all__ = [
     "SimulationState",
     "advance_stop",
     "end_of_stop",
+    "expose_fibres",
     "load_checkpoint",
     "save_checkpoint",
     "simulate",
@@ -72,6 +74,11 @@ class SimulationState:
         Particle streams per bin ``j * n_sub + k`` [m^3].
     acc : float64 array
         Accumulators: removed, emitted, held [m^3]; primary and secondary area [m^2].
+    field_top, field_bottom : float64 arrays
+        The fibre field's intervals [m] (:class:`brakeca.surface.FibreField`); empty unless
+        ``pad.fibre_model = "field"``.
+    field_end, field_next : int64 arrays (n_cells, or empty)
+        One past each cell's last interval, and its next interval below the surface [-].
 
     The other arrays are derived bookkeeping of the kernel (sorted plateaus, resin heap,
     creation candidates, rule-4 list), rebuilt by :meth:`resync`.
@@ -90,6 +97,10 @@ class SimulationState:
     n_radial: int
     n_angular: int
     n_subdomains: int
+    field_top: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    field_bottom: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    field_end: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    field_next: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     pk: tuple = field(init=False)
     gone: tuple = field(init=False)
     bin_area: np.ndarray = field(init=False)
@@ -117,7 +128,8 @@ class SimulationState:
         self.bin_slide = np.zeros(self.n_radial * self.n_subdomains)
         self.bin_area[self.cell_bin] = self.cell_area
         self.bin_slide[self.cell_bin] = self.cell_slide
-        self.rule7_on = bool(np.isfinite(self.fibre_floor).any())
+        # the fibre field exposes fibres later, so rule 7 is checked even with none yet
+        self.rule7_on = bool(np.isfinite(self.fibre_floor).any()) or self.field_top.size > 0
         self.mark = np.zeros(n, dtype=np.int8)
         self.prof = np.zeros(K.N_TIMED, dtype=np.int64)  # cycles per kernel phase (profiling)
         # lazy kernel counters: solves that walked, walk steps, envelope iterations, jumps,
@@ -147,6 +159,15 @@ class SimulationState:
         rows = np.repeat(np.arange(n_r), n_t)
         cols = np.tile(np.arange(n_t), n_r)
         height = np.ascontiguousarray(surface.height, dtype=np.float64).ravel().copy()
+        fibres = surface.field
+        extra = {}
+        if fibres is not None:
+            extra = {
+                "field_top": fibres.top.copy(),
+                "field_bottom": fibres.bottom.copy(),
+                "field_end": fibres.offsets[1:].copy(),
+                "field_next": fibres.next.copy(),
+            }
         return cls(
             height=height,
             base=height.copy(),
@@ -161,6 +182,7 @@ class SimulationState:
             n_radial=n_r,
             n_angular=n_t,
             n_subdomains=n_sub,
+            **extra,
         )
 
     def resync(self) -> None:
@@ -247,12 +269,38 @@ def end_of_stop(
     return emitted, int(chosen.size)
 
 
+def expose_fibres(state: SimulationState) -> Exposure:
+    """Between stops, with the fibre field: cells whose pad surface is worn into a buried fibre
+    become primary plateaus (:func:`brakeca.automaton.expose_buried_fibres`), the deposits of
+    the secondary plateaus among them are emitted (added to the emitted volume in
+    ``state.acc``), and the kernel's structures are rebuilt if any cell changed. Nothing
+    happens without a field."""
+    if state.field_top.size == 0:
+        return Exposure(0, 0.0, 0.0, 0, 0.0)
+    done = expose_buried_fibres(
+        state.status,
+        state.height,
+        state.base,
+        state.fibre_floor,
+        state.cell_area,
+        state.field_top,
+        state.field_bottom,
+        state.field_end,
+        state.field_next,
+    )
+    if done.exposed:
+        state.acc[K.ACC_EMITTED] += done.released
+        state.resync()
+    return done
+
+
 @dataclass
 class _StopLog:
     """What a run keeps of its finished stops: per stop, the reductions of the per-step
     records and the records of the steps the per-step series keeps
     (:func:`brakeca.results.summarise_stop`), the step durations [s], the volume flushed at
-    the end of the stop [m^3], the secondary plateaus rule S removed, the rule counts."""
+    the end of the stop [m^3], the secondary plateaus rule S removed, the rule counts, and
+    with the fibre field what the exposure after the stop did."""
 
     summaries: list[np.ndarray]
     kept: list[np.ndarray]
@@ -260,6 +308,7 @@ class _StopLog:
     flush: list[float]
     s_removed: list[int]
     rule_counts: list[np.ndarray]
+    exposures: list[Exposure] = field(default_factory=list)
 
 
 def simulate(
@@ -322,7 +371,9 @@ def simulate(
     lists = scratch_lists(n_r * n_t)
     resumed = load_checkpoint(checkpoint, config, seed, grid) if checkpoint else None
     if resumed is None:
-        surface = generate_surface(config.pad, grid, rng)
+        surface = generate_surface(
+            config.pad, grid, rng, field_depth=config.pad.field_depth(config.contact.bar_length)
+        )
         state = SimulationState.from_surface(surface, grid)
         initial_status = surface.status
         log = _StopLog([], [], [], [], [], [])
@@ -334,6 +385,8 @@ def simulate(
     for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
+        exposure = expose_fibres(state)
+        flush += exposure.released
         summary, kept = summarise_stop(rec, dt, start, config.output.series_every)
         del rec  # not kept: the whole run's records would be 51 MB at full resolution
         start += dt.size
@@ -343,6 +396,7 @@ def simulate(
         log.flush.append(flush)
         log.s_removed.append(n_removed)
         log.rule_counts.append(counts)
+        log.exposures.append(exposure)
         if checkpoint and stop.index % checkpoint_every == 0 and stop.index < len(stops):
             save_checkpoint(
                 checkpoint,
@@ -376,6 +430,7 @@ def simulate(
         kernel=config.numerics.kernel,
         kernel_stops={kernel: len(log.dts)},  # one kernel runs every stop
         contact_fallbacks=int(state.lazy_walk[6]),
+        fibre_exposure=log.exposures if state.field_top.size else None,
     )
     if checkpoint:
         Path(checkpoint).unlink(missing_ok=True)
@@ -412,7 +467,8 @@ _STATE_ARRAYS = (
     "cnt",
     "lazy_walk",
 )
-CHECKPOINT_FORMAT = "brakeca-checkpoint/6"
+_FIELD_ARRAYS = ("field_top", "field_bottom", "field_end", "field_next")
+CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
 
 
 def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
@@ -422,7 +478,7 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
     with its tie order, the resin heap), so a resumed run is bit-identical.
     """
     lengths = np.array([d.size for d in log.dts], dtype=np.int64)
-    arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
+    arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS + _FIELD_ARRAYS}
     arrays.update(
         initial_status=initial_status,
         log_summaries=np.stack(log.summaries),
@@ -433,6 +489,7 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         log_flush=np.asarray(log.flush, dtype=np.float64),
         log_s_removed=np.asarray(log.s_removed, dtype=np.int64),
         log_rule_counts=np.stack(log.rule_counts),
+        log_exposures=np.array(log.exposures, dtype=np.float64).reshape(-1, len(Exposure._fields)),
     )
     meta = {
         "format": CHECKPOINT_FORMAT,
@@ -486,6 +543,9 @@ def load_checkpoint(path, config, seed, grid):
         ),
         grid,
     )
+    for name in _FIELD_ARRAYS:  # their sizes are the field's, not the grid's
+        setattr(state, name, arrays[f"state_{name}"])
+    state.rule7_on = bool(np.isfinite(state.fibre_floor).any()) or state.field_top.size > 0
     for name in _STATE_ARRAYS:
         state.array(name)[...] = arrays[f"state_{name}"]
     bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])
@@ -497,6 +557,10 @@ def load_checkpoint(path, config, seed, grid):
         flush=[float(v) for v in arrays["log_flush"]],
         s_removed=[int(v) for v in arrays["log_s_removed"]],
         rule_counts=list(arrays["log_rule_counts"]),
+        exposures=[
+            Exposure(int(e[0]), float(e[1]), float(e[2]), int(e[3]), float(e[4]))
+            for e in arrays["log_exposures"]
+        ],
     )
     return state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"])
 

@@ -1,0 +1,179 @@
+"""The fibre field (``pad.fibre_model = "field"``): fibres through the pad, merged per cell into
+the intervals wear meets, and their exposure between stops."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from brakeca.automaton import expose_buried_fibres
+from brakeca.config import ConfigError
+from brakeca.contact import ContactError
+from brakeca.geometry import make_grid
+from brakeca.presets import load_preset
+from brakeca.simulation import simulate
+from brakeca.surface import NONE, PRIMARY, SECONDARY, _merge_intervals, generate_surface
+
+DEPTH = 10e-3  # the preset's bar length, the field's default thickness [m]
+
+
+def _naive_merge(n_cells, cell, top, bottom):
+    """Union of intervals per cell, the obvious way: sort each cell's intervals by top and
+    sweep."""
+    out = []
+    for c in range(n_cells):
+        mine = sorted(
+            ((t, b) for cc, t, b in zip(cell, top, bottom, strict=True) if cc == c), reverse=True
+        )
+        merged: list[list[float]] = []
+        for t, b in mine:
+            if merged and t >= merged[-1][1]:
+                merged[-1][1] = min(merged[-1][1], b)
+            else:
+                merged.append([t, b])
+        out.append(merged)
+    return out
+
+
+def test_merge_matches_the_obvious_sweep():
+    rng = np.random.default_rng(7)
+    n_cells = 13
+    cell = rng.integers(0, n_cells, 400)
+    top = rng.uniform(-1.0, 0.0, 400).round(2)  # rounded: ties and touching ends occur
+    bottom = top - rng.uniform(0.0, 0.2, 400).round(2)
+    offsets, mt, mb = _merge_intervals(n_cells, cell, top, bottom)
+    expected = _naive_merge(n_cells, cell, top, bottom)
+    assert offsets[-1] == sum(len(e) for e in expected)
+    for c in range(n_cells):
+        mine = slice(offsets[c], offsets[c + 1])
+        got = list(zip(mt[mine], mb[mine], strict=True))
+        assert got == [tuple(e) for e in expected[c]], c
+    assert np.all(mb <= mt)
+
+
+def _pad(model, A=20):
+    return load_preset().with_updates({"pad.fibre_model": model, "A": A})
+
+
+@pytest.mark.parametrize("A", [10, 20])
+def test_field_keeps_the_surface_and_fills_the_slab_to_A(A):
+    """Same seed: the field's surface is the other models' to the bit; below the resin band
+    the realised fibre fraction is A (the Boolean model's count; without the -ln(1 - A)
+    correction it would be 0.181 at A = 20 %)."""
+    config = _pad("field", A)
+    grid = make_grid(config)
+    layer = generate_surface(_pad("layer", A).pad, grid, np.random.default_rng(5))
+    field = generate_surface(config.pad, grid, np.random.default_rng(5), field_depth=DEPTH)
+    np.testing.assert_array_equal(field.height, layer.height)
+    np.testing.assert_array_equal(field.status, layer.status)
+    fibre = layer.status == PRIMARY
+    # a surface fibre's floor is its own underside or, where a buried fibre meets it, lower
+    assert np.all(field.fibre_floor[fibre] <= layer.fibre_floor[fibre])
+    assert np.mean(field.fibre_floor[fibre] < layer.fibre_floor[fibre]) < 0.5
+    assert np.all(np.isneginf(field.fibre_floor[~fibre]))
+    f = field.field
+    assert f is not None and f.depth == DEPTH
+    first = f.offsets[:-1]
+    # every interval not holding a surface fibre lies in the slab below the resin band
+    buried = np.ones(f.top.size, dtype=bool)
+    buried[first[fibre.ravel()]] = False
+    assert np.all(f.top[buried] <= 0.0) and np.all(f.bottom[buried] >= -DEPTH)
+    assert np.all(f.bottom < f.top)
+    # intervals disjoint and descending within each cell
+    same_cell = np.repeat(np.arange(first.size), np.diff(f.offsets))
+    follows = same_cell[1:] == same_cell[:-1]
+    assert np.all(f.top[1:][follows] < f.bottom[:-1][follows])
+    # the next interval: the second for a fibre cell, the first for a resin cell
+    np.testing.assert_array_equal(f.next, first + fibre.ravel())
+    area = np.repeat(grid.cell_area, grid.shape[1])
+    assert f.volume_fraction(area) == pytest.approx(A / 100, abs=0.01)
+
+
+def test_field_needs_a_depth_and_some_resin():
+    config = _pad("field")
+    grid = make_grid(config.with_updates({"mesh.n_radial": 3}))
+    with pytest.raises(ValueError, match="field_depth"):
+        generate_surface(config.pad, grid, np.random.default_rng(0))
+    with pytest.raises(ConfigError, match="fibre_area_fraction must be below 1"):
+        config.with_updates({"A": 100})
+    with pytest.raises(ConfigError, match="fibre_field_depth"):
+        config.with_updates({"pad.fibre_field_depth": -1e-3})
+    assert config.pad.field_depth(0.01) == 0.01
+    assert config.with_updates({"pad.fibre_field_depth": 2e-3}).pad.field_depth(0.01) == 2e-3
+
+
+def test_the_new_option_leaves_existing_configs_and_run_ids_alone():
+    """fibre_field_depth is unset by default and unset values are not written, so every
+    existing configuration's TOML, and the run ids hashed from it, are unchanged."""
+    assert "fibre_field_depth" not in load_preset().to_toml()
+    assert "fibre_field_depth = 0.002" in (
+        load_preset().with_updates({"pad.fibre_field_depth": 2e-3}).to_toml()
+    )
+
+
+def _cells():
+    """Six cells with one or two buried intervals each, and their states [m, m^2]."""
+    top = np.array([-1.0, -1.0, -3.0, -1.0, -1.0, -2.0, -1.0]) * 1e-4
+    bottom = np.array([-2.0, -2.0, -4.0, -2.0, -2.0, -3.0, -2.0]) * 1e-4
+    offsets = np.array([0, 1, 3, 4, 5, 6, 7])  # cell 1 has two intervals, the others one
+    end = offsets[1:].copy()
+    nxt = offsets[:-1].copy()
+    status = np.array([NONE, NONE, NONE, SECONDARY, PRIMARY, NONE], dtype=np.int8)
+    height = np.array([-0.5, -3.5, -0.99, -1.2, -2.5, -2.0]) * 1e-4
+    base = height.copy()
+    base[3] = -1.5e-4  # a deposit 0.3e-4 m thick on resin worn into the fibre
+    floor = np.full(6, -np.inf)
+    floor[4] = -3e-4
+    area = np.full(6, 2.0)
+    return status, height, base, floor, area, top, bottom, end, nxt
+
+
+def test_exposure_rule_cell_by_cell():
+    status, height, base, floor, area, top, bottom, end, nxt = _cells()
+    h0 = height.copy()
+    exposed, lag, lag_volume, skipped, released = expose_buried_fibres(
+        status, height, base, floor, area, top, bottom, end, nxt
+    )
+    # cell 0: resin above its fibre's top: unchanged
+    assert status[0] == NONE and nxt[0] == 0 and height[0] == h0[0]
+    # cell 1: resin worn through its first fibre (-1e-4..-2e-4) into its second (-3..-4e-4)
+    assert status[1] == PRIMARY and floor[1] == -4e-4 and nxt[1] == 3 and height[1] == h0[1]
+    # cell 2: resin just above its fibre's top: unchanged
+    assert status[2] == NONE and nxt[2] == 3
+    # cell 3: a secondary plateau whose base is in its fibre: primary at its base, deposit out
+    assert status[3] == PRIMARY and height[3] == -1.5e-4 and floor[3] == -2e-4 and nxt[3] == 5
+    assert released == pytest.approx((-1.2e-4 + 1.5e-4) * 2.0)
+    # cell 4: a primary plateau is not touched
+    assert status[4] == PRIMARY and floor[4] == -3e-4 and nxt[4] == 5
+    # cell 5: resin exactly at its fibre's underside: the fibre is passed, nothing left below
+    assert status[5] == NONE and nxt[5] == end[5]
+    assert exposed == 2 and skipped == 2
+    assert lag == pytest.approx(max(-3e-4 + 3.5e-4, -1e-4 + 1.5e-4))
+    assert lag_volume == pytest.approx((-3e-4 + 3.5e-4) * 2.0 + (-1e-4 + 1.5e-4) * 2.0)
+    # applied again: nothing more to do
+    again = expose_buried_fibres(status, height, base, floor, area, top, bottom, end, nxt)
+    assert again == (0, 0.0, 0.0, 0, 0.0)
+
+
+def test_layer_fibres_run_out_where_the_field_goes_on():
+    """High wear, A = 10 %: the one-layer fibres wear through and the pad runs out of
+    plateaus (a clear ContactError); with the field, wear exposes the fibre below, rule 7
+    fires, and the run completes with its volume ledger closed."""
+    from conftest import short_cycle
+
+    base = load_preset().with_updates(
+        {
+            "mesh.n_radial": 11,
+            "WP": 1e-13,
+            "A": 10,
+            "cycle": short_cycle(stops=30, v0=50, v1=10, g=0.3),
+        }
+    )
+    with pytest.raises(ContactError, match="bar_length"):
+        simulate(base.with_updates({"pad.fibre_model": "layer"}), seed=3)
+    ds = simulate(base.with_updates({"pad.fibre_model": "field"}), seed=3).dataset
+    assert int(ds.rule_firings.sel(rule=7).sum()) > 0
+    assert np.all(ds.fibre_cells_exposed.values[-10:] > 0)
+    assert float(ds.primary_area_fraction[-1]) > 0.05
+    assert float(ds.max_ledger_residual) < 1e-11
+    assert np.all(ds.fibre_exposure_lag >= 0) and np.all(ds.fibre_volume_cut_as_resin >= 0)
