@@ -223,8 +223,7 @@ def surface(
     maps = {}
     for label, cfg in configs.items():
         grid = make_grid(cfg)
-        depth = cfg.pad.field_depth(cfg.contact.bar_length)  # the surface is every model's
-        surf = generate_surface(cfg.pad, grid, np.random.default_rng(seed), field_depth=depth)
+        surf = generate_surface(cfg.pad, grid, np.random.default_rng(seed))
         maps[label] = (surf.status, np.asarray(grid.radius), np.asarray(grid.angle))
     plot_fibre_maps(maps, path=output)
     out.print(f"wrote {output}")

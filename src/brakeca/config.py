@@ -143,17 +143,9 @@ class PadConfig(_Frozen):
             "'columns': fibres run through the pad, the fibre map persists (rule 7 never fires; "
             "decision). 'layer': a fibre is the lying cylinder only; worn below its underside "
             "it becomes resin (rule 7 fires). 'field': fibres also lie at random depths "
-            "through the pad; a fibre worn through becomes resin (rule 7) and wear exposes "
-            "the fibre below (at the end of the stop that reaches it)."
-        ),
-    )
-    fibre_field_depth: float | None = Field(
-        None,
-        gt=0,
-        le=0.1,
-        description=(
-            "[m] thickness of the fibre field below the resin band (fibre_model 'field'); "
-            "unset: the foundation's bar length contact.bar_length"
+            "through the pad, laid ahead of the wear; a fibre worn through becomes resin "
+            "(rule 7) and wear exposes the fibre below (at the end of the stop that reaches "
+            "it)."
         ),
     )
 
@@ -169,11 +161,6 @@ class PadConfig(_Frozen):
                 f"all fibre has no resin to hold a field; got {self.fibre_area_fraction})"
             )
         return self
-
-    def field_depth(self, bar_length: float) -> float:
-        """Thickness of the fibre field below the resin band [m]: ``fibre_field_depth``, or
-        the foundation's bar length ``bar_length`` [m] where unset."""
-        return bar_length if self.fibre_field_depth is None else self.fibre_field_depth
 
 
 class ContactConfig(_Frozen):

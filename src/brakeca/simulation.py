@@ -9,6 +9,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import time
@@ -24,11 +25,18 @@ from brakeca import _kernels as K
 from brakeca import _lazy
 from brakeca._io import atomic_write
 from brakeca.automaton import Exposure, expose_buried_fibres
-from brakeca.config import SimulationConfig
+from brakeca.config import PadConfig, SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
 from brakeca.geometry import Grid, make_grid
-from brakeca.surface import NONE, SECONDARY, Surface, generate_surface
+from brakeca.surface import (
+    NONE,
+    SECONDARY,
+    FibreField,
+    Surface,
+    deepen_fibre_field,
+    generate_surface,
+)
 
 if TYPE_CHECKING:
     from brakeca.results import RunResult
@@ -74,11 +82,9 @@ class SimulationState:
         Particle streams per bin ``j * n_sub + k`` [m^3].
     acc : float64 array
         Accumulators: removed, emitted, held [m^3]; primary and secondary area [m^2].
-    field_top, field_bottom : float64 arrays
-        The fibre field's intervals [m] (:class:`brakeca.surface.FibreField`); empty unless
-        ``pad.fibre_model = "field"``.
-    field_end, field_next : int64 arrays (n_cells, or empty)
-        One past each cell's last interval, and its next interval below the surface [-].
+    fibres : FibreField or None
+        The fibre field (``pad.fibre_model = "field"`` only); its ``next`` changes in place,
+        and it is replaced when it is laid deeper.
 
     The other arrays are derived bookkeeping of the kernel (sorted plateaus, resin heap,
     creation candidates, rule-4 list), rebuilt by :meth:`resync`.
@@ -97,10 +103,7 @@ class SimulationState:
     n_radial: int
     n_angular: int
     n_subdomains: int
-    field_top: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    field_bottom: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    field_end: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    field_next: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    fibres: FibreField | None = None
     pk: tuple = field(init=False)
     gone: tuple = field(init=False)
     bin_area: np.ndarray = field(init=False)
@@ -129,7 +132,7 @@ class SimulationState:
         self.bin_area[self.cell_bin] = self.cell_area
         self.bin_slide[self.cell_bin] = self.cell_slide
         # the fibre field exposes fibres later, so rule 7 is checked even with none yet
-        self.rule7_on = bool(np.isfinite(self.fibre_floor).any()) or self.field_top.size > 0
+        self.rule7_on = bool(np.isfinite(self.fibre_floor).any()) or self.fibres is not None
         self.mark = np.zeros(n, dtype=np.int8)
         self.prof = np.zeros(K.N_TIMED, dtype=np.int64)  # cycles per kernel phase (profiling)
         # lazy kernel counters: solves that walked, walk steps, envelope iterations, jumps,
@@ -160,14 +163,8 @@ class SimulationState:
         cols = np.tile(np.arange(n_t), n_r)
         height = np.ascontiguousarray(surface.height, dtype=np.float64).ravel().copy()
         fibres = surface.field
-        extra = {}
         if fibres is not None:
-            extra = {
-                "field_top": fibres.top.copy(),
-                "field_bottom": fibres.bottom.copy(),
-                "field_end": fibres.offsets[1:].copy(),
-                "field_next": fibres.next.copy(),
-            }
+            fibres = dataclasses.replace(fibres, next=fibres.next.copy())
         return cls(
             height=height,
             base=height.copy(),
@@ -182,7 +179,7 @@ class SimulationState:
             n_radial=n_r,
             n_angular=n_t,
             n_subdomains=n_sub,
-            **extra,
+            fibres=fibres,
         )
 
     def resync(self) -> None:
@@ -269,24 +266,36 @@ def end_of_stop(
     return emitted, int(chosen.size)
 
 
-def expose_fibres(state: SimulationState) -> Exposure:
-    """Between stops, with the fibre field: cells whose pad surface is worn into a buried fibre
-    become primary plateaus (:func:`brakeca.automaton.expose_buried_fibres`), the deposits of
-    the secondary plateaus among them are emitted (added to the emitted volume in
-    ``state.acc``), and the kernel's structures are rebuilt if any cell changed. Nothing
+def expose_fibres(state: SimulationState, pad: PadConfig, grid: Grid) -> Exposure:
+    """Between stops, with the fibre field: lay the field deeper where the wear front needs it
+    (:func:`brakeca.surface.deepen_fibre_field`); then cells whose pad surface is worn into a
+    buried fibre become primary plateaus (:func:`brakeca.automaton.expose_buried_fibres`),
+    the deposits of the secondary plateaus among them are emitted (added to the emitted volume
+    in ``state.acc``), and the kernel's structures are rebuilt if any cell changed. Nothing
     happens without a field."""
-    if state.field_top.size == 0:
+    if state.fibres is None:
         return Exposure(0, 0.0, 0.0, 0, 0.0)
+    surface = np.where(state.status == SECONDARY, state.base, state.height)
+    state.fibres = deepen_fibre_field(
+        state.fibres,
+        pad,
+        grid,
+        float(surface.min()),
+        state.status,
+        state.height,
+        state.fibre_floor,
+    )
+    fibres = state.fibres
     done = expose_buried_fibres(
         state.status,
         state.height,
         state.base,
         state.fibre_floor,
         state.cell_area,
-        state.field_top,
-        state.field_bottom,
-        state.field_end,
-        state.field_next,
+        fibres.top,
+        fibres.bottom,
+        fibres.offsets[1:],
+        fibres.next,
     )
     if done.exposed:
         state.acc[K.ACC_EMITTED] += done.released
@@ -371,9 +380,7 @@ def simulate(
     lists = scratch_lists(n_r * n_t)
     resumed = load_checkpoint(checkpoint, config, seed, grid) if checkpoint else None
     if resumed is None:
-        surface = generate_surface(
-            config.pad, grid, rng, field_depth=config.pad.field_depth(config.contact.bar_length)
-        )
+        surface = generate_surface(config.pad, grid, rng)
         state = SimulationState.from_surface(surface, grid)
         initial_status = surface.status
         log = _StopLog([], [], [], [], [], [])
@@ -385,7 +392,7 @@ def simulate(
     for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
-        exposure = expose_fibres(state)
+        exposure = expose_fibres(state, config.pad, grid)
         flush += exposure.released
         summary, kept = summarise_stop(rec, dt, start, config.output.series_every)
         del rec  # not kept: the whole run's records would be 51 MB at full resolution
@@ -430,7 +437,7 @@ def simulate(
         kernel=config.numerics.kernel,
         kernel_stops={kernel: len(log.dts)},  # one kernel runs every stop
         contact_fallbacks=int(state.lazy_walk[6]),
-        fibre_exposure=log.exposures if state.field_top.size else None,
+        fibre_exposure=log.exposures if state.fibres is not None else None,
     )
     if checkpoint:
         Path(checkpoint).unlink(missing_ok=True)
@@ -467,7 +474,7 @@ _STATE_ARRAYS = (
     "cnt",
     "lazy_walk",
 )
-_FIELD_ARRAYS = ("field_top", "field_bottom", "field_end", "field_next")
+_FIELD_ARRAYS = ("offsets", "top", "bottom", "next")
 CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
 
 
@@ -478,7 +485,11 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
     with its tie order, the resin heap), so a resumed run is bit-identical.
     """
     lengths = np.array([d.size for d in log.dts], dtype=np.int64)
-    arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS + _FIELD_ARRAYS}
+    arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
+    if state.fibres is not None:
+        f = state.fibres
+        arrays.update({f"field_{name}": getattr(f, name) for name in _FIELD_ARRAYS})
+        arrays["field_counts"] = np.array([f.seed, f.slabs, f.n_fibres], dtype=np.int64)
     arrays.update(
         initial_status=initial_status,
         log_summaries=np.stack(log.summaries),
@@ -543,9 +554,11 @@ def load_checkpoint(path, config, seed, grid):
         ),
         grid,
     )
-    for name in _FIELD_ARRAYS:  # their sizes are the field's, not the grid's
-        setattr(state, name, arrays[f"state_{name}"])
-    state.rule7_on = bool(np.isfinite(state.fibre_floor).any()) or state.field_top.size > 0
+    if "field_counts" in arrays:
+        seed, slabs, n_fibres = (int(v) for v in arrays["field_counts"])
+        parts = {name: arrays[f"field_{name}"] for name in _FIELD_ARRAYS}
+        state.fibres = FibreField(**parts, seed=seed, slabs=slabs, n_fibres=n_fibres)
+        state.rule7_on = True
     for name in _STATE_ARRAYS:
         state.array(name)[...] = arrays[f"state_{name}"]
     bounds = np.concatenate([[0], np.cumsum(arrays["log_lengths"])])

@@ -8,8 +8,8 @@ Fibre cells start as primary plateaus; all others are resin (status none) with h
 in ``[0, resin_roughness]``, drawn independently per cell.
 
 With ``pad.fibre_model = "field"`` the pad below the resin band holds more fibres, lying at
-random depths through the friction material (the foundation's bar length L), so that wear
-exposes new fibre where old fibre wears through (:class:`FibreField`, docs/model.md section 7).
+random depths, laid slab by slab ahead of the wear, so that wear exposes new fibre where old
+fibre wears through (:class:`FibreField`, docs/model.md section 7).
 
 References
 ----------
@@ -26,13 +26,15 @@ from brakeca.config import PadConfig
 from brakeca.geometry import Grid
 
 __all__ = [
+    "FIELD_SLAB",
     "NONE",
     "PRIMARY",
     "SECONDARY",
     "FibreField",
     "Surface",
+    "deepen_fibre_field",
     "generate_surface",
-    "lay_fibre_field",
+    "start_fibre_field",
 ]
 
 NONE = 0  #: resin, not a plateau
@@ -40,11 +42,19 @@ PRIMARY = 1  #: primary plateau (metal fibre)
 SECONDARY = 2  #: secondary plateau (compacted wear particles)
 
 
+FIELD_SLAB = 2e-3  #: thickness of the slabs the fibre field is laid in, as wear needs [m]
+
+
 @dataclass(frozen=True)
 class FibreField:
     """The fibre a cell meets as the pad wears down: per cell, the height intervals that are
     fibre, highest first, where the fibres crossing the cell's vertical line overlap merged
     into one interval (``pad.fibre_model = "field"``).
+
+    The field is laid in slabs of :data:`FIELD_SLAB` as the wear front comes down
+    (:func:`deepen_fibre_field`): slab ``k`` holds the fibres whose axes lie between
+    ``-(k + 1) FIELD_SLAB`` and ``-k FIELD_SLAB``, drawn from their own generator seeded with
+    ``(seed, k)``.
 
     Attributes
     ----------
@@ -55,36 +65,39 @@ class FibreField:
         Upper and lower ends of each interval [m], ``bottom < top``; within a cell the
         intervals are disjoint and in descending order.
     next : ndarray of int64, shape (n_cells,)
-        Index of the first interval below the cell's fibre at the surface (of its first
-        interval on a resin cell): the next fibre wear can expose.
-    depth : float
-        Thickness of the fibre field below the resin band [m].
+        Index of the first interval below the cell's pad surface: the next fibre wear can
+        expose.
+    seed : int
+        Seed of the field's slabs, drawn from the run's generator [-].
+    slabs : int
+        Slabs laid so far [-].
     n_fibres : int
-        Number of fibres laid below the resin band [-].
+        Fibres laid in them [-].
     """
 
     offsets: np.ndarray
     top: np.ndarray
     bottom: np.ndarray
     next: np.ndarray
-    depth: float
+    seed: int
+    slabs: int
     n_fibres: int
 
-    def volume_fraction(self, cell_area: np.ndarray) -> float:
-        """Fraction of the field's volume (the band's area times ``depth``, below the resin
-        band) that is fibre, from the merged intervals [-].
+    def volume_fraction(self, cell_area: np.ndarray, upper: float, lower: float) -> float:
+        """Fraction of the volume between the levels ``upper`` and ``lower`` [m] under the band
+        that is fibre, from the merged intervals [-].
 
         Parameters
         ----------
         cell_area : ndarray, shape (n_cells,)
             Area of each cell [m^2], flat index.
+        upper, lower : float
+            The levels [m], ``lower < upper``.
         """
-        top = np.minimum(self.top, 0.0)
-        bottom = np.maximum(self.bottom, -self.depth)
-        length = np.maximum(top - bottom, 0.0)
-        per_cell = np.add.reduceat(np.append(length, 0.0), self.offsets[:-1])
-        per_cell[self.offsets[:-1] == self.offsets[1:]] = 0.0
-        return float(np.sum(per_cell * cell_area) / (np.sum(cell_area) * self.depth))
+        length = np.maximum(np.minimum(self.top, upper) - np.maximum(self.bottom, lower), 0.0)
+        cell = np.repeat(np.arange(cell_area.size), np.diff(self.offsets))
+        volume = float(np.sum(length * cell_area[cell]))
+        return volume / (float(np.sum(cell_area)) * (upper - lower))
 
 
 @dataclass(frozen=True)
@@ -178,9 +191,7 @@ class _Band:
         return slice(j0, j1), slice(i0, i1), inside, chord
 
 
-def generate_surface(
-    pad: PadConfig, grid: Grid, rng: np.random.Generator, *, field_depth: float | None = None
-) -> Surface:
+def generate_surface(pad: PadConfig, grid: Grid, rng: np.random.Generator) -> Surface:
     """Lay fibres on a rough resin band until they cover the fraction ``pad.fibre_area_fraction``.
 
     Parameters
@@ -191,23 +202,19 @@ def generate_surface(
         The polar grid.
     rng
         The run's random generator; every draw of the surface comes from it.
-    field_depth
-        Thickness of the fibre field below the resin band [m] (``pad.fibre_model = "field"``
-        only; default ``pad.fibre_field_depth``; ``PadConfig.field_depth`` resolves a
-        configuration's).
 
     Returns
     -------
     Surface
         Heights [m], statuses and fibre floors [m]; with ``pad.fibre_model = "field"`` also the
-        fibre field below the resin band (:func:`lay_fibre_field`).
+        fibre field's first slab below the resin band (:func:`start_fibre_field`).
 
     Notes
     -----
     Draws, in this order: the resin heights of every cell, then per fibre its length, diameter,
-    orientation in [0, pi), and centre (uniform in area over the band); for the field, then the
-    field's fibres (:func:`lay_fibre_field`). So the surface of the three fibre models is the
-    same for the same generator.
+    orientation in [0, pi), and centre (uniform in area over the band); for the field, then one
+    integer, the seed of the field's slabs (:func:`start_fibre_field`). So the surface of the
+    three fibre models is the same for the same generator.
     """
     n_r, n_t = grid.shape
     resin = rng.uniform(0.0, pad.resin_roughness, size=(n_r, n_t))
@@ -245,13 +252,7 @@ def generate_surface(
     else:
         fibre_floor = np.where(is_fibre, floor, -np.inf)
     if pad.fibre_model == "field":
-        field_depth = pad.fibre_field_depth if field_depth is None else field_depth
-        if field_depth is None:
-            raise ValueError(
-                "generate_surface: fibre_model = 'field' needs field_depth (or "
-                "pad.fibre_field_depth)"
-            )
-        field = lay_fibre_field(pad, grid, rng, field_depth, band, is_fibre, top, floor)
+        field = start_fibre_field(pad, grid, rng, band, is_fibre, top, floor)
         first = field.offsets[:-1]
         has = is_fibre.ravel()
         # a surface fibre's floor is the bottom of the merged interval that holds its top
@@ -263,26 +264,64 @@ def generate_surface(
     )
 
 
-def lay_fibre_field(
+def _lay_slab(
+    pad: PadConfig, grid: Grid, band: _Band, seed: int, k: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """The fibres of slab ``k`` of the field: (cells, interval tops [m], interval bottoms [m],
+    fibres laid).
+
+    A fibre follows the surface fibres' laws (length, diameter, orientation, centre), lies
+    flat, and has its axis at a level uniform between ``-(k + 1) FIELD_SLAB`` and
+    ``-k FIELD_SLAB``; the first slab's fibres are cut at 0, the bottom of the resin band.
+    Fibres are added until their summed volume (as the grid sees them, uncut) reaches
+    ``-ln(1 - A)`` times the slab's volume: for fibres placed independently (a Boolean model)
+    the expected fibre fraction of the field is then ``A``, overlaps counted once. Draws come
+    from a generator seeded with ``(seed, k)``: per fibre length, diameter, orientation,
+    centre, then axis level."""
+    rng = np.random.default_rng([seed, k])
+    n_t = grid.shape[1]
+    upper, lower = -k * FIELD_SLAB, -(k + 1) * FIELD_SLAB
+    target = -np.log1p(-pad.fibre_area_fraction) * grid.area * FIELD_SLAB
+    area_row = grid.cell_area
+    cells, tops, bottoms = [], [], []
+    laid = 0.0
+    n_fibres = 0
+    while laid < target:
+        length, diameter, phi, rc, tc = band.draw(pad, rng)
+        axis = rng.uniform(lower, upper)
+        n_fibres += 1
+        hit = band.footprint(length, diameter, phi, rc, tc)
+        if hit is None:
+            continue
+        rows, cols, inside, chord = hit
+        jj, ii = np.nonzero(inside)
+        half = chord[jj, ii]
+        jj = jj + rows.start
+        ii = ii + cols.start
+        laid += float(np.sum(2.0 * half * area_row[jj]))
+        t, b = axis + half, axis - half
+        if k == 0:
+            t = np.minimum(t, 0.0)
+        keep = t > b
+        cells.append((jj * n_t + ii)[keep])
+        tops.append(t[keep])
+        bottoms.append(b[keep])
+    if not cells:
+        return np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0), n_fibres
+    return np.concatenate(cells), np.concatenate(tops), np.concatenate(bottoms), n_fibres
+
+
+def start_fibre_field(
     pad: PadConfig,
     grid: Grid,
     rng: np.random.Generator,
-    depth: float,
     band: _Band | None = None,
     is_fibre: np.ndarray | None = None,
     top: np.ndarray | None = None,
     floor: np.ndarray | None = None,
 ) -> FibreField:
-    """Lay fibres through the pad below the resin band, and merge them per cell with the
-    surface's fibres into the intervals wear will meet.
-
-    The field is the slab from ``-depth`` to 0 (the resin band's bottom); a
-    fibre lies in it like the surface's fibres (the same laws for length, diameter,
-    orientation and centre) with its axis at a depth uniform over the levels that keep it
-    whole inside the slab. Fibres are added until their summed volume (as the grid sees them)
-    reaches ``-ln(1 - A) V``, ``V`` the slab's volume: for fibres placed independently (a
-    Boolean model) that makes the expected fibre fraction of the slab ``A``, overlaps counted
-    once (:meth:`FibreField.volume_fraction` gives the realised one).
+    """The fibre field's first slab under the resin band, merged per cell with the surface's
+    fibres into the intervals wear will meet.
 
     Parameters
     ----------
@@ -291,59 +330,101 @@ def lay_fibre_field(
     grid
         The polar grid.
     rng
-        The run's generator; draws per fibre its length, diameter, orientation, centre and
-        then its axis depth.
-    depth
-        The field's thickness [m].
+        The run's generator: one integer is drawn from it, the seed of the field's slabs.
     band, is_fibre, top, floor
         The band and the surface's fibres (mask, tops and undersides [m], grid-shaped), as
         :func:`generate_surface` laid them; none for a field without surface fibres.
     """
-    n_r, n_t = grid.shape
-    band = band or _Band.of(grid)
-    fraction = pad.fibre_area_fraction
-    if fraction >= 1.0:
+    if pad.fibre_area_fraction >= 1.0:
         raise ValueError("pad.fibre_area_fraction must be below 1 for fibre_model = 'field'")
-    target = -np.log1p(-fraction) * grid.area * depth
-    cells: list[np.ndarray] = []
-    tops: list[np.ndarray] = []
-    bottoms: list[np.ndarray] = []
-    if is_fibre is not None and top is not None and floor is not None and is_fibre.any():
-        flat = np.flatnonzero(is_fibre.ravel())
-        cells.append(flat)
-        tops.append(top.ravel()[flat])
-        bottoms.append(floor.ravel()[flat])
-    area_row = grid.cell_area
-    laid = 0.0
-    n_fibres = 0
-    while laid < target:
-        length, diameter, phi, rc, tc = band.draw(pad, rng)
-        axis = rng.uniform(-depth + diameter / 2, -diameter / 2)
-        n_fibres += 1
-        hit = band.footprint(length, diameter, phi, rc, tc)
-        if hit is None:
-            continue
-        rows, cols, inside, chord = hit
-        jj, ii = np.nonzero(inside)
-        half = chord[jj, ii]
-        keep = half > 0.0
-        jj, ii, half = jj[keep], ii[keep], half[keep]
-        jj = jj + rows.start
-        ii = ii + cols.start
-        laid += float(np.sum(2.0 * half * area_row[jj]))
-        cells.append(jj * n_t + ii)
-        tops.append(axis + half)
-        bottoms.append(axis - half)
-    offsets, merged_top, merged_bottom = _merge_intervals(
-        n_r * n_t,
-        np.concatenate(cells) if cells else np.zeros(0, dtype=np.int64),
-        np.concatenate(tops) if tops else np.zeros(0),
-        np.concatenate(bottoms) if bottoms else np.zeros(0),
+    band = band or _Band.of(grid)
+    seed = int(rng.integers(0, 2**63 - 1))
+    cells, tops, bottoms, n_fibres = _lay_slab(pad, grid, band, seed, 0)
+    n_cells = grid.shape[0] * grid.shape[1]
+    fibre = np.zeros(n_cells, dtype=bool)
+    if is_fibre is not None and top is not None and floor is not None:
+        fibre = is_fibre.ravel()
+        flat = np.flatnonzero(fibre)
+        cells = np.concatenate([flat, cells])
+        tops = np.concatenate([top.ravel()[flat], tops])
+        bottoms = np.concatenate([floor.ravel()[flat], bottoms])
+    offsets, merged_top, merged_bottom = _merge_intervals(n_cells, cells, tops, bottoms)
+    nxt = offsets[:-1] + fibre  # the surface fibre's interval is the cell's first
+    return FibreField(offsets, merged_top, merged_bottom, nxt, seed, 1, n_fibres)
+
+
+def deepen_fibre_field(
+    field: FibreField,
+    pad: PadConfig,
+    grid: Grid,
+    lowest: float,
+    status: np.ndarray,
+    height: np.ndarray,
+    fibre_floor: np.ndarray,
+) -> FibreField:
+    """Lay the field's next slabs until it reaches a slab below ``lowest``, the lowest pad
+    surface [m], and keep of the old intervals only those still ahead of the wear.
+
+    The field must be laid ahead of the wear: a new slab's fibres reach a fibre radius above
+    its top level, and that must still be below every cell's surface. So slabs are added
+    while ``lowest`` is within one slab of the field's last level, and a surface that has come
+    down further than that since the last call (more than ``FIELD_SLAB`` minus the largest
+    fibre radius in one stop) is an error.
+
+    Parameters
+    ----------
+    field
+        The field so far.
+    pad, grid
+        Pad parameters and the grid the field was laid for.
+    lowest
+        The lowest pad surface of any cell [m].
+    status, height, fibre_floor : arrays (n_cells,)
+        Statuses, heights [m] and fibre floors [m] of the cells; ``fibre_floor`` changes in
+        place where a new fibre touches the fibre a primary plateau stands in.
+
+    Returns
+    -------
+    FibreField
+        The field with its new slabs, the intervals above the wear dropped, and each cell's
+        ``next`` at its first interval below the surface.
+    """
+    if lowest - FIELD_SLAB >= -field.slabs * FIELD_SLAB:
+        return field
+    if lowest < -field.slabs * FIELD_SLAB + pad.fibre_diameter_max / 2:
+        raise RuntimeError(
+            f"the pad surface came down to {lowest * 1e3:.3f} mm, into the fibre field's "
+            f"unlaid slab (below {-field.slabs * FIELD_SLAB * 1e3:.3f} mm): it wore more than "
+            "a slab of the field in one stop"
+        )
+    band = _Band.of(grid)
+    n_cells = status.size
+    # the intervals still ahead of the wear: from each cell's next one on
+    ahead = field.offsets[1:] - field.next
+    cell = np.repeat(np.arange(n_cells), ahead)
+    first = np.cumsum(ahead) - ahead
+    k = field.next[cell] + (np.arange(cell.size) - first[cell])
+    pieces = [(cell, field.top[k], field.bottom[k])]
+    # a primary plateau's fibre, from its surface to its floor, so a new fibre touching it
+    # lowers its floor
+    primary = np.flatnonzero(status == PRIMARY)
+    pieces.append((primary, height[primary], fibre_floor[primary]))
+    slabs, n_fibres = field.slabs, field.n_fibres
+    while lowest - FIELD_SLAB < -slabs * FIELD_SLAB:
+        c, t, b, n = _lay_slab(pad, grid, band, field.seed, slabs)
+        pieces.append((c, t, b))
+        slabs += 1
+        n_fibres += n
+    offsets, top, bottom = _merge_intervals(
+        n_cells,
+        np.concatenate([p[0] for p in pieces]),
+        np.concatenate([p[1] for p in pieces]),
+        np.concatenate([p[2] for p in pieces]),
     )
     nxt = offsets[:-1].copy()
-    if is_fibre is not None:
-        nxt[is_fibre.ravel()] += 1  # the surface fibre's interval is the cell's first
-    return FibreField(offsets, merged_top, merged_bottom, nxt, float(depth), n_fibres)
+    fibre_floor[primary] = bottom[nxt[primary]]
+    nxt[primary] += 1
+    return FibreField(offsets, top, bottom, nxt, field.seed, slabs, n_fibres)
 
 
 def _merge_intervals(

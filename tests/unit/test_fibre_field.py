@@ -3,6 +3,9 @@ the intervals wear meets, and their exposure between stops."""
 
 from __future__ import annotations
 
+import importlib.util
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -12,9 +15,15 @@ from brakeca.contact import ContactError
 from brakeca.geometry import make_grid
 from brakeca.presets import load_preset
 from brakeca.simulation import simulate
-from brakeca.surface import NONE, PRIMARY, SECONDARY, _merge_intervals, generate_surface
-
-DEPTH = 10e-3  # the preset's bar length, the field's default thickness [m]
+from brakeca.surface import (
+    FIELD_SLAB,
+    NONE,
+    PRIMARY,
+    SECONDARY,
+    _merge_intervals,
+    deepen_fibre_field,
+    generate_surface,
+)
 
 
 def _naive_merge(n_cells, cell, top, bottom):
@@ -56,59 +65,87 @@ def _pad(model, A=20):
 
 
 @pytest.mark.parametrize("A", [10, 20])
-def test_field_keeps_the_surface_and_fills_the_slab_to_A(A):
-    """Same seed: the field's surface is the other models' to the bit; below the resin band
-    the realised fibre fraction is A (the Boolean model's count; without the -ln(1 - A)
-    correction it would be 0.181 at A = 20 %)."""
+def test_field_keeps_the_surface_and_fills_the_pad_to_A(A):
+    """Same seed: the field's surface is the other models' to the bit. Laid slab by slab
+    ahead of the wear, the field's fibre fraction is A at every depth, across the slabs'
+    boundaries (the Boolean model's count; without the -ln(1 - A) correction it would be
+    0.181 at A = 20 %)."""
     config = _pad("field", A)
     grid = make_grid(config)
     layer = generate_surface(_pad("layer", A).pad, grid, np.random.default_rng(5))
-    field = generate_surface(config.pad, grid, np.random.default_rng(5), field_depth=DEPTH)
-    np.testing.assert_array_equal(field.height, layer.height)
-    np.testing.assert_array_equal(field.status, layer.status)
+    surface = generate_surface(config.pad, grid, np.random.default_rng(5))
+    np.testing.assert_array_equal(surface.height, layer.height)
+    np.testing.assert_array_equal(surface.status, layer.status)
     fibre = layer.status == PRIMARY
     # a surface fibre's floor is its own underside or, where a buried fibre meets it, lower
-    assert np.all(field.fibre_floor[fibre] <= layer.fibre_floor[fibre])
-    assert np.mean(field.fibre_floor[fibre] < layer.fibre_floor[fibre]) < 0.5
-    assert np.all(np.isneginf(field.fibre_floor[~fibre]))
-    f = field.field
-    assert f is not None and f.depth == DEPTH
+    assert np.all(surface.fibre_floor[fibre] <= layer.fibre_floor[fibre])
+    assert np.mean(surface.fibre_floor[fibre] < layer.fibre_floor[fibre]) < 0.5
+    assert np.all(np.isneginf(surface.fibre_floor[~fibre]))
+    f = surface.field
+    assert f is not None and f.slabs == 1
     first = f.offsets[:-1]
-    # every interval not holding a surface fibre lies in the slab below the resin band
+    # every interval not holding a surface fibre lies in the first slab, cut at 0
     buried = np.ones(f.top.size, dtype=bool)
     buried[first[fibre.ravel()]] = False
-    assert np.all(f.top[buried] <= 0.0) and np.all(f.bottom[buried] >= -DEPTH)
-    assert np.all(f.bottom < f.top)
-    # intervals disjoint and descending within each cell
-    same_cell = np.repeat(np.arange(first.size), np.diff(f.offsets))
-    follows = same_cell[1:] == same_cell[:-1]
-    assert np.all(f.top[1:][follows] < f.bottom[:-1][follows])
+    r_max = config.pad.fibre_diameter_max / 2
+    assert np.all(f.top[buried] <= 0.0) and np.all(f.bottom[buried] >= -FIELD_SLAB - r_max)
+    _check_layout(f)
     # the next interval: the second for a fibre cell, the first for a resin cell
     np.testing.assert_array_equal(f.next, first + fibre.ravel())
+    status = surface.status.ravel().copy()
+    height = surface.height.ravel().copy()
+    floor = surface.fibre_floor.ravel().copy()
+    for lowest in (-0.5, -1.5, -2.5):  # the wear front comes down, a slab at a time
+        f = deepen_fibre_field(f, config.pad, grid, lowest * FIELD_SLAB, status, height, floor)
+    assert f.slabs == 4
+    _check_layout(f)
     area = np.repeat(grid.cell_area, grid.shape[1])
-    assert f.volume_fraction(area) == pytest.approx(A / 100, abs=0.01)
+    for k in range(1, 7):  # 1 mm layers from 1 mm to 7 mm down; slab boundaries at 2, 4, 6
+        assert f.volume_fraction(area, -k * 1e-3, -(k + 1) * 1e-3) == pytest.approx(
+            A / 100, abs=0.01
+        )
+    assert f.volume_fraction(area, -8.5e-3, -9.5e-3) == 0.0  # not laid yet
+    assert np.all(floor[fibre.ravel()] <= surface.fibre_floor.ravel()[fibre.ravel()])
 
 
-def test_field_needs_a_depth_and_some_resin():
-    config = _pad("field")
-    grid = make_grid(config.with_updates({"mesh.n_radial": 3}))
-    with pytest.raises(ValueError, match="field_depth"):
-        generate_surface(config.pad, grid, np.random.default_rng(0))
+def _check_layout(f):
+    """Intervals non-empty, disjoint and descending within each cell; ``next`` within them."""
+    assert np.all(f.bottom < f.top)
+    same_cell = np.repeat(np.arange(f.next.size), np.diff(f.offsets))
+    follows = same_cell[1:] == same_cell[:-1]
+    assert np.all(f.top[1:][follows] < f.bottom[:-1][follows])
+    assert np.all((f.offsets[:-1] <= f.next) & (f.next <= f.offsets[1:]))
+
+
+def test_deepening_drops_worn_intervals_and_extends_floors():
+    """Deepening keeps only the intervals ahead of each cell's surface, lowers a primary's
+    floor where a new fibre touches its fibre, and refuses a surface that came down past the
+    field's laid slabs in one stop."""
+    config = _pad("field", 20).with_updates({"mesh.n_radial": 41})
+    grid = make_grid(config)
+    surface = generate_surface(config.pad, grid, np.random.default_rng(2))
+    f = surface.field
+    status = surface.status.ravel().copy()
+    height = surface.height.ravel().copy()
+    floor = surface.fibre_floor.ravel().copy()
+    f.next[:] = f.offsets[1:]  # every interval worn: only the primaries' own fibres remain
+    before = floor.copy()
+    deeper = deepen_fibre_field(f, config.pad, grid, -0.1e-3, status, height, floor)
+    assert deeper.slabs == 2
+    primary = status == PRIMARY
+    np.testing.assert_array_equal(deeper.next[primary], deeper.offsets[:-1][primary] + 1)
+    assert np.all(deeper.top[deeper.offsets[:-1][primary]] == height[primary])
+    assert np.all(floor[primary] <= before[primary])
+    # the new slab's fibres all lie below the first slab's axes
+    r_max = config.pad.fibre_diameter_max / 2
+    assert np.all(deeper.top[deeper.next[deeper.next < deeper.offsets[1:]]] <= -FIELD_SLAB + r_max)
+    with pytest.raises(RuntimeError, match="wore more than a slab"):
+        deepen_fibre_field(deeper, config.pad, grid, -2.9 * FIELD_SLAB, status, height, floor)
+
+
+def test_field_needs_some_resin():
     with pytest.raises(ConfigError, match="fibre_area_fraction must be below 1"):
-        config.with_updates({"A": 100})
-    with pytest.raises(ConfigError, match="fibre_field_depth"):
-        config.with_updates({"pad.fibre_field_depth": -1e-3})
-    assert config.pad.field_depth(0.01) == 0.01
-    assert config.with_updates({"pad.fibre_field_depth": 2e-3}).pad.field_depth(0.01) == 2e-3
-
-
-def test_the_new_option_leaves_existing_configs_and_run_ids_alone():
-    """fibre_field_depth is unset by default and unset values are not written, so every
-    existing configuration's TOML, and the run ids hashed from it, are unchanged."""
-    assert "fibre_field_depth" not in load_preset().to_toml()
-    assert "fibre_field_depth = 0.002" in (
-        load_preset().with_updates({"pad.fibre_field_depth": 2e-3}).to_toml()
-    )
+        _pad("field").with_updates({"A": 100})
 
 
 def _cells():
@@ -155,7 +192,16 @@ def test_exposure_rule_cell_by_cell():
     assert again == (0, 0.0, 0.0, 0, 0.0)
 
 
-def test_layer_fibres_run_out_where_the_field_goes_on():
+def _script():
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "fibre_field.py"
+    spec = importlib.util.spec_from_file_location("fibre_field", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_layer_fibres_run_out_where_the_field_goes_on(tmp_path, capsys):
     """High wear, A = 10 %: the one-layer fibres wear through and the pad runs out of
     plateaus (a clear ContactError); with the field, wear exposes the fibre below, rule 7
     fires, and the run completes with its volume ledger closed."""
@@ -171,9 +217,20 @@ def test_layer_fibres_run_out_where_the_field_goes_on():
     )
     with pytest.raises(ContactError, match="bar_length"):
         simulate(base.with_updates({"pad.fibre_model": "layer"}), seed=3)
-    ds = simulate(base.with_updates({"pad.fibre_model": "field"}), seed=3).dataset
+    run = simulate(base.with_updates({"pad.fibre_model": "field"}), seed=3)
+    ds = run.dataset
     assert int(ds.rule_firings.sel(rule=7).sum()) > 0
     assert np.all(ds.fibre_cells_exposed.values[-10:] > 0)
     assert float(ds.primary_area_fraction[-1]) > 0.05
     assert float(ds.max_ledger_residual) < 1e-11
     assert np.all(ds.fibre_exposure_lag >= 0) and np.all(ds.fibre_volume_cut_as_resin >= 0)
+    # benchmarks/fibre_field.py summarises the same run from its file
+    script = _script()
+    assert script.main([str(run.to_netcdf(tmp_path / "field.nc")), "--every", "10"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == 5 and lines[1].split()[0] == "1-10"
+    assert f"{int(ds.fibre_cells_exposed.sum())} cells exposed" in lines[-1]
+    columns = simulate(base.with_updates({"cycle.max_stops": 1}), seed=3)
+    with pytest.raises(SystemExit):
+        script.main([str(columns.to_netcdf(tmp_path / "columns.nc"))])
+    assert "not a run of pad.fibre_model = 'field'" in capsys.readouterr().err
