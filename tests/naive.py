@@ -1,7 +1,8 @@
 """Slow, obvious NumPy twins of the compiled kernels. The fast kernels must match them.
 
 Written independently of brakeca._kernels: 2-D arrays, direct evaluation of the friction force,
-plain Python loops for the rules. Only the between-stop rule S is shared (it is NumPy already).
+plain Python loops for the rules. Only the between-stop steps are shared (rule S, and the fibre
+field's exposure after a stop; they are NumPy already).
 """
 
 from __future__ import annotations
@@ -79,11 +80,21 @@ def step(state, params, target, frac):
             out[j, i // nm] += dh * A[j]
             if S0[j, i] == 1:
                 removed += dh * A[j]
+    field = state.get("field")  # the fibre field: flat per-cell interval lists, or None
+    exposed = []
     for j in range(nr):  # resin cut
         for i in range(nt):
             if S0[j, i] == 0 and H[j, i] > z:
-                vol = (H[j, i] - (z - params["WR"])) * A[j]
-                H[j, i] = z - params["WR"]
+                new = z - params["WR"]
+                if field is not None:  # the cut stops at the top of a buried fibre
+                    c = j * nt + i
+                    k = field["next"][c]
+                    reach = k < field["end"][c] and field["top"][k] >= new
+                    if reach and field["bottom"][k] < H[j, i]:
+                        new = min(H[j, i], field["top"][k])
+                        exposed.append((j, i))
+                vol = (H[j, i] - new) * A[j]
+                H[j, i] = new
                 out[j, i // nm] += vol
                 removed += vol
     destroyed = []
@@ -97,6 +108,7 @@ def step(state, params, target, frac):
                 if H[j, i] <= FF[j, i] or z - H[j, i] > params["rule6_gap"]:  # rules 7 and 6
                     destroyed.append((j, i))
     created = []
+    exposed_now = set(exposed)
     for j in range(nr):
         for k in range(1, nsub):
             rest = inflow[j, k]
@@ -105,6 +117,8 @@ def step(state, params, target, frac):
                 if params["east_to_west"]:
                     cols = reversed(cols)
                 for i in cols:
+                    if (j, i) in exposed_now:  # its fibre stands there now
+                        continue
                     if S0[j, i] == 0 and i + 1 < nt and S0[j, i + 1] != 0:
                         cost = (z - H[j, i]) * A[j]
                         if cost <= rest:
@@ -120,6 +134,13 @@ def step(state, params, target, frac):
         B[j, i] = H[j, i]
         H[j, i] = z
         S[j, i] = 2
+    for j, i in exposed:  # a primary plateau at the fibre's top, floored at its underside
+        c = j * nt + i
+        k = field["next"][c]
+        B[j, i] = H[j, i]
+        FF[j, i] = field["bottom"][k]
+        field["next"][c] = k + 1
+        S[j, i] = 1
     emitted = float(out[:, -1].sum())
     inflow[:, 1:] = out[:, :-1]
     inflow[:, 0] = 0.0
@@ -134,5 +155,6 @@ def step(state, params, target, frac):
         "emitted": emitted,
         "ledger": ledger,
         "created": len(created),
+        "exposed": len(exposed),
         "destroyed": len(destroyed),
     }

@@ -492,22 +492,104 @@ def phase_tail(pk, n_in, cnt, mark, left4, z, rule6_gap, destroyed, dpos, n_dest
 
 @njit_noalloc
 def phase_resin(
-    height, status, cell_area, cell_bin, outflow, heap_keys, heap_vals, cnt, z, resin_depth, sums
+    height,
+    status,
+    cell_area,
+    cell_bin,
+    outflow,
+    heap_keys,
+    heap_vals,
+    cnt,
+    z,
+    resin_depth,
+    sums,
+    field_on,
+    field_top,
+    field_bottom,
+    field_end,
+    field_next,
+    cand,
+    ncand,
+    exposed,
 ):
     """Step phase 3b: every status-none cell above the disc drops to ``z - WR``; the removed
-    volume joins the stream of its row and subdomain."""
+    volume joins the stream of its row and subdomain.
+
+    With the fibre field (``field_on``), a cut that would go below the top of the next buried
+    fibre under the cell stops at that top, and the cell is listed in ``exposed`` to become a
+    primary plateau at the end of the step (:func:`phase_expose`); it is no creation
+    candidate in this step. Returns the number of cells listed."""
     removed = 0.0
+    n_exp = 0
     while cnt[CNT_HEAP] > 0 and heap_keys[0] > z:
         key, idx = heap_pop(heap_keys, heap_vals, cnt)
         if status[idx] != NONE or height[idx] != key:
             continue  # stale entry
         cut = resin_cut_depth(height[idx], z, resin_depth)
+        if field_on:
+            k = field_next[idx]
+            h = height[idx]
+            if k < field_end[idx] and field_top[k] >= z - resin_depth and field_bottom[k] < h:
+                top = min(h, field_top[k])
+                vol = (h - top) * cell_area[idx]
+                height[idx] = top
+                outflow[cell_bin[idx]] += vol
+                removed += vol
+                exposed[n_exp] = idx
+                n_exp += 1
+                if cand[idx] != 0:
+                    cand[idx] = 0
+                    ncand[cell_bin[idx]] -= 1
+                continue
         vol = cut * cell_area[idx]
         height[idx] -= cut
         outflow[cell_bin[idx]] += vol
         removed += vol
         heap_push(heap_keys, heap_vals, cnt, height[idx], idx)
     sums[S_REMOVED] += removed
+    return n_exp
+
+
+@njit_noalloc
+def phase_expose(
+    pk,
+    cnt,
+    height,
+    base,
+    status,
+    fibre_floor,
+    cand,
+    ncand,
+    cmax,
+    cell_area,
+    cell_bin,
+    acc,
+    field_bottom,
+    field_next,
+    exposed,
+    n_exp,
+    n_angular,
+    rule_counts,
+):
+    """End of step, with the fibre field: the cells the resin cut exposed (``exposed[:n_exp]``,
+    each at the top of its next buried fibre) become primary plateaus with that fibre's
+    underside as their floor; each record is insertion-sorted into the packed records, and
+    the creation candidates around the cell are refreshed. Counted in ``rule_counts[0]``."""
+    for q in range(n_exp):
+        idx = exposed[q]
+        k = field_next[idx]
+        h = height[idx]
+        status[idx] = PRIMARY
+        base[idx] = h
+        fibre_floor[idx] = field_bottom[k]
+        field_next[idx] = k + 1
+        acc[ACC_PRIMARY_AREA] += cell_area[idx]
+        _put(pk, cnt[CNT_PLATEAU], h, h, idx, cell_bin[idx], PRIMARY)
+        cnt[CNT_PLATEAU] += 1
+        refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx, n_angular)
+        if idx % n_angular > 0:
+            refresh_candidate(status, height, cand, ncand, cmax, cell_bin, idx - 1, n_angular)
+    rule_counts[0] += n_exp
 
 
 @njit_noalloc
@@ -824,6 +906,12 @@ def run_stop(
     destroyed,
     dpos,
     prof,
+    field_on,
+    field_top,
+    field_bottom,
+    field_end,
+    field_next,
+    exposed,
 ):
     """Run every step of one stop in place.
 
@@ -885,6 +973,16 @@ def run_stop(
     prof : int64[N_TIMED]
         Cycles spent in each phase (``TIMED_PHASES``), accumulated; reading the counter costs
         a few ns per phase and step. Stays 0 on CPUs without a user-readable cycle counter.
+    field_on : bool
+        The fibre field is on (``pad.fibre_model = "field"``): the resin cut stops at buried
+        fibres and exposes them (:func:`phase_resin`, :func:`phase_expose`).
+    field_top, field_bottom : float64[n_intervals]
+        The field's intervals [m] (:class:`brakeca.surface.FibreField`; empty without it).
+    field_end, field_next : int64[n_cells]
+        One past each cell's last interval, and its next interval below the surface (the
+        latter advanced in place).
+    exposed : int64[n_cells]
+        Scratch list of the cells exposed in a step.
 
     Returns
     -------
@@ -937,7 +1035,7 @@ def run_stop(
         )
         t2 = _clock()
         prof[T_WEAR] += t2 - t1
-        phase_resin(
+        n_exp = phase_resin(
             height,
             status,
             cell_area,
@@ -949,6 +1047,14 @@ def run_stop(
             z,
             resin_depth,
             sums,
+            field_on,
+            field_top,
+            field_bottom,
+            field_end,
+            field_next,
+            cand,
+            ncand,
+            exposed,
         )
         acc[ACC_REMOVED] += sums[S_REMOVED]
         t3 = _clock()
@@ -1006,6 +1112,27 @@ def run_stop(
             n_sec,
             need_held,
         )
+        if n_exp > 0:
+            phase_expose(
+                pk,
+                cnt,
+                height,
+                base,
+                status,
+                fibre_floor,
+                cand,
+                ncand,
+                cmax,
+                cell_area,
+                cell_bin,
+                acc,
+                field_bottom,
+                field_next,
+                exposed,
+                n_exp,
+                n_angular,
+                rule_counts,
+            )
         t5 = _clock()
         prof[T_APPLY] += t5 - t4
         if cnt[CNT_HEAP] > heap_keys.size - 2 * destroyed.size:

@@ -5,8 +5,9 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 (time-weighted) [-], ``contact_area_fraction`` [-], ``normal_force`` (pad) [N],
 ``band_normal_force`` [N], ``line_pressure`` [Pa], ``duration`` [s], ``n_steps``,
 ``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``rule_firings(stop, rule)``; with
-the fibre field (``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-],
-``fibre_exposure_lag`` [m] and ``fibre_volume_cut_as_resin`` [m^3].
+the fibre field (``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-], of those
+``fibre_cells_exposed_late`` [-] (only after the stop), ``fibre_exposure_lag`` [m] and
+``fibre_volume_cut_as_resin`` [m^3].
 
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
 A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
@@ -261,25 +262,30 @@ def build_dataset(
         {"units": "1", "long_name": "cell firings of each plateau rule during the stop"},
     )
     if fibre_exposure is not None:
+        late = np.asarray([e.exposed for e in fibre_exposure], dtype=np.int64)
         fields = {
             "fibre_cells_exposed": (
-                "exposed",
+                np.stack(rule_counts)[:, 0] + late,
                 "1",
-                "cells worn into a buried fibre, exposed after the stop",
+                "cells whose wear reached a buried fibre, which became primary plateaus",
+            ),
+            "fibre_cells_exposed_late": (
+                late,
+                "1",
+                "of those, the cells exposed only after the stop (inside a fibre at its end)",
             ),
             "fibre_exposure_lag": (
-                "max_lag",
+                np.asarray([e.max_lag for e in fibre_exposure]),
                 "m",
-                "largest depth an exposed cell was worn below its fibre's top",
+                "largest depth a cell exposed after the stop was below its fibre's top",
             ),
             "fibre_volume_cut_as_resin": (
-                "lag_volume",
+                np.asarray([e.lag_volume for e in fibre_exposure]),
                 "m3",
-                "fibre removed as resin because its exposure waited for the stop's end",
+                "fibre above the cells exposed after the stop, worn as resin or by Archard",
             ),
         }
-        for name, (attr, unit, desc) in fields.items():
-            values = np.asarray([getattr(e, attr) for e in fibre_exposure])
+        for name, (values, unit, desc) in fields.items():
             data_vars[name] = ("stop", values, {"units": unit, "long_name": desc})
     # thinned per-step series
     every = config.output.series_every

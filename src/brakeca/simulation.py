@@ -104,6 +104,7 @@ class SimulationState:
     n_angular: int
     n_subdomains: int
     fibres: FibreField | None = None
+    exposed: np.ndarray = field(init=False)
     pk: tuple = field(init=False)
     gone: tuple = field(init=False)
     bin_area: np.ndarray = field(init=False)
@@ -133,6 +134,7 @@ class SimulationState:
         self.bin_slide[self.cell_bin] = self.cell_slide
         # the fibre field exposes fibres later, so rule 7 is checked even with none yet
         self.rule7_on = bool(np.isfinite(self.fibre_floor).any()) or self.fibres is not None
+        self.exposed = np.zeros(0, dtype=np.int64)  # the fibre field's scratch, made on use
         self.mark = np.zeros(n, dtype=np.int8)
         self.prof = np.zeros(K.N_TIMED, dtype=np.int64)  # cycles per kernel phase (profiling)
         # lazy kernel counters: solves that walked, walk steps, envelope iterations, jumps,
@@ -687,10 +689,26 @@ def advance_stop(
         destroyed,
         dpos,
         state.prof,
+        *_field_args(state),
     )
     if code != K.OK:
         _raise_kernel_error(code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config)
     return dt, rec, counts
+
+
+_NO_FIELD = (False, np.zeros(0), np.zeros(0), np.zeros(0, np.int64), np.zeros(0, np.int64))
+
+
+def _field_args(state: SimulationState) -> tuple:
+    """The exact kernel's fibre-field arguments: on/off, the intervals' tops and bottoms [m],
+    each cell's end and next interval, and a scratch list for the cells exposed in a step."""
+    f = state.fibres
+    if f is None:
+        return (*_NO_FIELD, np.zeros(0, np.int64))
+    if state.exposed.size != state.status.size:
+        state.exposed = np.zeros(state.status.size, dtype=np.int64)
+    end = np.ascontiguousarray(f.offsets[1:])
+    return True, f.top, f.bottom, end, f.next, state.exposed
 
 
 def kernel_for(config: SimulationConfig, grid: Grid | None = None) -> str:

@@ -14,10 +14,11 @@ import pytest
 
 from brakeca import _kernels as K
 from brakeca import _lazy
+from brakeca.automaton import expose_buried_fibres
 from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps
 from brakeca.geometry import make_grid
 from brakeca.simulation import SimulationState, advance_stop
-from brakeca.surface import Surface
+from brakeca.surface import PRIMARY, FibreField, Surface
 
 
 def hand_surface(grid, rng, fibre_model="columns", top=60e-6):
@@ -30,6 +31,29 @@ def hand_surface(grid, rng, fibre_model="columns", top=60e-6):
     thickness = rng.uniform(0.01e-6, 1e-6, shape)
     floor = np.where(prim & (fibre_model == "layer"), height - thickness, -np.inf)
     return Surface(height=height, status=prim.astype(np.int8), fibre_floor=floor, n_fibres=0)
+
+
+def hand_field(surface, rng):
+    """A fibre field for ``hand_surface``: three intervals per cell. A primary plateau's first
+    is its own fibre (its floor), a resin cell's first lies 2-20 um under its surface, so the
+    resin cut meets it within the test; each further one lies 0.05-3 um under the one above
+    and is 0.01-1 um thick, so cells wear through fibres and meet the next."""
+    h = surface.height.ravel()
+    prim = surface.status.ravel() == PRIMARY
+    n = h.size
+    top = np.empty((n, 3))
+    bottom = np.empty((n, 3))
+    top[:, 0] = np.where(prim, h, h - rng.uniform(2e-6, 20e-6, n))
+    bottom[:, 0] = np.where(
+        prim, surface.fibre_floor.ravel(), top[:, 0] - rng.uniform(0.01e-6, 1e-6, n)
+    )
+    for k in (1, 2):
+        top[:, k] = bottom[:, k - 1] - rng.uniform(0.05e-6, 3e-6, n)
+        bottom[:, k] = top[:, k] - rng.uniform(0.01e-6, 1e-6, n)
+    offsets = np.arange(0, 3 * n + 1, 3, dtype=np.int64)
+    nxt = offsets[:-1] + prim
+    # slabs far beyond the test's wear: the field is never laid deeper here
+    return FibreField(offsets, top.ravel(), bottom.ravel(), nxt, seed=0, slabs=10**6, n_fibres=0)
 
 
 def naive_state(surface, nsub):
@@ -54,6 +78,7 @@ CASES = {
     "east-to-west": {"automaton.creation_order": "east_to_west", "wear.specific_wear_rate": 1e-12},
     "rule6": {"automaton.rule6_max_gap": 20e-6, "wear.specific_wear_rate": 1e-13},
     "layer-rule7": {"pad.fibre_model": "layer", "wear.specific_wear_rate": 1e-13},
+    "field": {"pad.fibre_model": "field", "wear.specific_wear_rate": 1e-13},
 }
 
 
@@ -63,15 +88,26 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
     config = tiny_config.with_updates({**CASES[case], "numerics.kernel": "exact"})
     if kernel == "lazy":
         if not _lazy.supports(config):
-            pytest.skip("the lazy kernel does not model rule 6 or layer fibres (exact kernel)")
+            pytest.skip("the lazy kernel models no rule 6, layer or field fibres (exact kernel)")
         config = config.with_updates({"numerics.kernel": "lazy"})
     grid = make_grid(config)
     rng = np.random.default_rng(7)
     # rule 6 needs primaries far below the disc: spread the plateau heights further
     top = 300e-6 if case == "rule6" else 60e-6
-    surface = hand_surface(grid, rng, config.pad.fibre_model, top)
+    fibres = config.pad.fibre_model
+    surface = hand_surface(grid, rng, "layer" if fibres == "field" else fibres, top)
+    if fibres == "field":
+        surface = Surface(**{**surface.__dict__, "field": hand_field(surface, rng)})
     state = SimulationState.from_surface(surface, grid)
     ref = naive_state(surface, grid.n_subdomains)
+    if surface.field is not None:
+        f = surface.field
+        ref["field"] = {
+            "top": f.top,
+            "bottom": f.bottom,
+            "end": f.offsets[1:],
+            "next": f.next.copy(),
+        }
     params = {
         "area_row": np.asarray(grid.cell_area),
         "slide_row": np.asarray(grid.step_sliding_distance),
@@ -87,7 +123,7 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
     }
     S = config.automaton.secondary_removal_fraction
     rng_fast, rng_ref = np.random.default_rng(3), np.random.default_rng(3)
-    totals = {"created": 0, "destroyed": 0}
+    totals = {"created": 0, "destroyed": 0, "exposed": 0}
     for stop in expand_stops(config):
         created_before, destroyed_before = totals["created"], totals["destroyed"]
         _, rec, counts = advance_stop(state, grid, config, stop)
@@ -102,6 +138,7 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
             assert abs(out["ledger"]) <= 1e-12 * max(ref["removed"], 1e-300)
             totals["created"] += out["created"]
             totals["destroyed"] += out["destroyed"]
+            totals["exposed"] += out["exposed"]
         assert counts[1:4].sum() == totals["created"] - created_before
         assert counts[4:8].sum() == totals["destroyed"] - destroyed_before
         np.testing.assert_array_equal(state.status.reshape(grid.shape), ref["S"])
@@ -109,7 +146,7 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
             state.height.reshape(grid.shape), ref["H"], rtol=1e-10, atol=1e-18
         )
         # between stops: flush and rule S, applied to both sides
-        from brakeca.simulation import end_of_stop
+        from brakeca.simulation import end_of_stop, expose_fibres
 
         end_of_stop(state, S, rng_fast)
         sec = np.flatnonzero(ref["S"].ravel() == 2)
@@ -127,9 +164,20 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
         ref["inflow"][:] = 0.0
         H[chosen] = B[chosen]
         St[chosen] = 0
+        if "field" in ref:  # the exposure after the stop (shared NumPy), on both sides
+            late = expose_fibres(state, config.pad, grid)
+            fr = ref["field"]
+            ref_late = expose_buried_fibres(
+                St, H, B, ref["FF"].ravel(), area, fr["top"], fr["bottom"], fr["end"], fr["next"]
+            )
+            ref["emitted"] += ref_late.released
+            assert late == ref_late
+            np.testing.assert_array_equal(state.fibres.next, fr["next"])
         np.testing.assert_array_equal(state.status.reshape(grid.shape), ref["S"])
     # the case must actually exercise the automaton
     if case != "rule6":  # there the disc stays far above the resin
         assert totals["created"] > 0
     if case != "default":
         assert totals["destroyed"] > 0
+    if case == "field":  # fibres exposed in the steps, and the kernel counted them
+        assert totals["exposed"] > 0 and state.fibres is not None

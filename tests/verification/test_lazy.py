@@ -387,6 +387,10 @@ def test_row_resin_entries_cut_as_one_heap():
     for j in range(n_r):
         _lazy._resin_build_row(rk, rc, rn, j, s_row, h_row, n_t, bk, bc)
     rebuilt = merged = cut_waiting = put_below = merged_in = 0
+    # the fibre field off: its arrays empty, the candidate flags untouched
+    empty_i = np.zeros(0, dtype=np.int64)
+    no_field = (False, np.zeros(0), np.zeros(0), empty_i, empty_i)
+    no_field += (np.zeros(status.size, np.int8), np.zeros(n_r * n_sub, np.int64), empty_i)
     z = 11.5e-6
     for step in range(90):
         z -= rng.uniform(0.0, 0.4e-6) if step % 7 else -0.3e-6  # mostly down, sometimes up
@@ -396,7 +400,9 @@ def test_row_resin_entries_cut_as_one_heap():
         out_one = np.zeros(n_r * n_sub)
         out_row = np.zeros(n_r * n_sub)
         sums = np.zeros(K.N_SUMS)
-        K.phase_resin(height, status, cell_area, cell_bin, out_one, keys, vals, cnt, z, wr, sums)
+        K.phase_resin(
+            height, status, cell_area, cell_bin, out_one, keys, vals, cnt, z, wr, sums, *no_field
+        )
         waiting = sum(live(j, e) and pk[j, e] > z for j in range(n_r) for e in range(pn[j]))
         start, before = rn[:, 1].copy(), h_row.copy()
         removed = _lazy._resin_cut(

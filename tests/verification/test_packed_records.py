@@ -15,7 +15,13 @@ import pytest
 from brakeca import _kernels as K
 from brakeca.geometry import make_grid
 from brakeca.presets import load_preset
-from brakeca.simulation import SimulationState, advance_stop, cycle_events, end_of_stop
+from brakeca.simulation import (
+    SimulationState,
+    advance_stop,
+    cycle_events,
+    end_of_stop,
+    expose_fibres,
+)
 from brakeca.surface import generate_surface
 
 
@@ -57,8 +63,9 @@ def check_invariants(state: SimulationState) -> None:
             "pad.fibre_model": "layer",
             "automaton.rule6_max_gap": 80e-6,
         },
+        {"WP": 1e-13, "S": 0.5, "A": 10, "pad.fibre_model": "field"},
     ],
-    ids=["S0", "S0.5", "layer-rule6"],
+    ids=["S0", "S0.5", "layer-rule6", "field"],
 )
 def test_records_stay_consistent(updates):
     config = load_preset().with_updates({"mesh.n_radial": 5, "numerics.kernel": "exact", **updates})
@@ -73,5 +80,9 @@ def test_records_stay_consistent(updates):
         check_invariants(state)
         end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
         check_invariants(state)
-    # the run exercised creation and destruction
+        expose_fibres(state, config.pad, grid)
+        check_invariants(state)
+    # the run exercised creation and destruction (and, with the field, exposure in the steps)
     assert fired[1:4].sum() > 0 and fired[4] > 0 and fired[5] > 0
+    if config.pad.fibre_model == "field":
+        assert fired[0] > 0 and fired[7] > 0
