@@ -1,5 +1,6 @@
-"""What the fibre field's exposure did in a run: per group of stops, the cells exposed, the
-largest lag, and the fibre volume cut as resin against the pad volume worn.
+"""What the fibre field's exposure did in a run: per group of stops, the cells exposed (of them,
+those exposed only after their stop), the largest lag of those, and the fibre above them against
+the pad volume worn.
 
 Usage::
 
@@ -34,6 +35,7 @@ def main(argv: list[str] | None = None) -> int:
     if "fibre_cells_exposed" not in ds:
         parser.error(f"{args.run}: not a run of pad.fibre_model = 'field'")
     exposed = ds.fibre_cells_exposed.values
+    late = ds.fibre_cells_exposed_late.values
     lag = ds.fibre_exposure_lag.values
     cut = ds.fibre_volume_cut_as_resin.values
     worn = ds.generated_volume.values
@@ -42,21 +44,22 @@ def main(argv: list[str] | None = None) -> int:
     rule7 = ds.rule_firings.sel(rule=7).values
     n = exposed.size
     print(
-        f"{'stops':>9} {'exposed':>9} {'rule 7':>8} {'max lag um':>10} "
-        f"{'cut as resin / worn':>19} {'primary':>8} {'COF':>6}"
+        f"{'stops':>9} {'exposed':>9} {'late':>6} {'rule 7':>8} {'max lag um':>10} "
+        f"{'late fibre / worn':>17} {'primary':>8} {'COF':>6}"
     )
     for a in range(0, n, args.every):
         b = min(n, a + args.every)
         share = cut[a:b].sum() / worn[a:b].sum() if worn[a:b].sum() > 0 else float("nan")
         print(
-            f"{a + 1:>4}-{b:<4} {int(exposed[a:b].sum()):>9} {int(rule7[a:b].sum()):>8} "
-            f"{1e6 * lag[a:b].max():>10.1f} {share:>19.4f} {primary[b - 1]:>8.4f} "
+            f"{a + 1:>4}-{b:<4} {int(exposed[a:b].sum()):>9} {int(late[a:b].sum()):>6} "
+            f"{int(rule7[a:b].sum()):>8} {1e6 * lag[a:b].max():>10.1f} {share:>17.6f} "
+            f"{primary[b - 1]:>8.4f} "
             f"{np.mean(cof[a:b]):>6.3f}"
         )
     print(
-        f"total: {int(exposed.sum())} cells exposed, max lag {1e6 * lag.max():.1f} um, "
-        f"fibre cut as resin {1e9 * cut.sum():.3f} mm3 of {1e9 * worn.sum():.3f} mm3 worn "
-        f"({cut.sum() / worn.sum():.4f}), MU {float(ds.MU):.4f}"
+        f"total: {int(exposed.sum())} cells exposed ({int(late.sum())} after their stop), "
+        f"max lag {1e6 * lag.max():.1f} um, fibre above those {1e9 * cut.sum():.4f} mm3 of "
+        f"{1e9 * worn.sum():.3f} mm3 worn ({cut.sum() / worn.sum():.2e}), MU {float(ds.MU):.4f}"
     )
     return 0
 

@@ -203,8 +203,8 @@ def _script():
 
 def test_layer_fibres_run_out_where_the_field_goes_on(tmp_path, capsys):
     """High wear, A = 10 %: the one-layer fibres wear through and the pad runs out of
-    plateaus (a clear ContactError); with the field, wear exposes the fibre below, rule 7
-    fires, and the run completes with its volume ledger closed."""
+    plateaus (a clear ContactError); with the field, wear exposes the fibre below in the
+    steps, rule 7 fires, and the run completes with its volume ledger closed."""
     from conftest import short_cycle
 
     base = load_preset().with_updates(
@@ -221,6 +221,8 @@ def test_layer_fibres_run_out_where_the_field_goes_on(tmp_path, capsys):
     ds = run.dataset
     assert int(ds.rule_firings.sel(rule=7).sum()) > 0
     assert np.all(ds.fibre_cells_exposed.values[-10:] > 0)
+    # the resin cut stops at the fibres: none is left to expose after a stop, with a lag
+    assert ds.fibre_cells_exposed_late.sum() == 0 and ds.fibre_exposure_lag.max() == 0
     assert float(ds.primary_area_fraction[-1]) > 0.05
     assert float(ds.max_ledger_residual) < 1e-11
     assert np.all(ds.fibre_exposure_lag >= 0) and np.all(ds.fibre_volume_cut_as_resin >= 0)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 import pytest
 from numba.core.errors import TypingError
@@ -118,7 +119,9 @@ def test_prefetch_compiles_to_llvm_prefetch_and_changes_nothing() -> None:
             s += f8[i] + i1[i] + i4[i] + tree[i, 1]
         return s
 
-    compiled = _jit.njit_noalloc(gather)
+    # njit_noalloc's options but no disk cache: numba cannot show the machine code of a
+    # function loaded from its cache, which a second run of the suite on the same sources does
+    compiled = numba.njit(_nrt=False)(gather)
     rng = np.random.default_rng(3)
     f8 = rng.random(50)
     i1 = rng.integers(-5, 5, 50).astype(np.int8)
