@@ -36,6 +36,7 @@ __all__ = [
     "creation_rule",
     "expose_buried_fibres",
     "gap_fill_cost",
+    "pad_surface",
     "rule1_east_support",
     "rule2_east_and_one_diagonal",
     "rule3_east_and_both_diagonals",
@@ -159,6 +160,12 @@ class Exposure(NamedTuple):
     """Volume of the deposits of the secondary plateaus exposed [m^3]."""
 
 
+def pad_surface(status: np.ndarray, height: np.ndarray, base: np.ndarray) -> np.ndarray:
+    """The pad material's surface of each cell [m]: its height, or for a secondary plateau
+    the height under its deposit."""
+    return np.where(status == _SECONDARY, base, height)
+
+
 def expose_buried_fibres(
     status: np.ndarray,
     height: np.ndarray,
@@ -212,7 +219,7 @@ def expose_buried_fibres(
     max_lag = 0.0
     lag_volume = 0.0
     released = 0.0
-    surface = np.where(status == _SECONDARY, base, height)
+    surface = pad_surface(status, height, base)
     cells = np.flatnonzero((status != _PRIMARY) & (next_interval < end))
     while cells.size:
         k = next_interval[cells]

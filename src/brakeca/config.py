@@ -144,8 +144,8 @@ class PadConfig(_Frozen):
             "decision). 'layer': a fibre is the lying cylinder only; worn below its underside "
             "it becomes resin (rule 7 fires). 'field': fibres also lie at random depths "
             "through the pad, laid ahead of the wear; a fibre worn through becomes resin "
-            "(rule 7) and wear exposes the fibre below (at the end of the stop that reaches "
-            "it)."
+            "(rule 7), and the resin cut stops at the fibre below, which becomes a primary "
+            "plateau."
         ),
     )
 

@@ -255,7 +255,8 @@ def build_dataset(
     for name, values in per_stop.items():
         unit, desc = units[name]
         data_vars[name] = ("stop", np.asarray(values), {"units": unit, "long_name": desc})
-    counts = np.stack(rule_counts)[:, 1:8]
+    all_counts = np.stack(rule_counts)  # index 0: fibres exposed in the steps (the field)
+    counts = all_counts[:, 1:8]
     data_vars["rule_firings"] = (
         ("stop", "rule"),
         counts,
@@ -265,7 +266,7 @@ def build_dataset(
         late = np.asarray([e.exposed for e in fibre_exposure], dtype=np.int64)
         fields = {
             "fibre_cells_exposed": (
-                np.stack(rule_counts)[:, 0] + late,
+                all_counts[:, 0] + late,
                 "1",
                 "cells whose wear reached a buried fibre, which became primary plateaus",
             ),

@@ -24,7 +24,7 @@ import numpy as np
 from brakeca import _kernels as K
 from brakeca import _lazy
 from brakeca._io import atomic_write
-from brakeca.automaton import Exposure, expose_buried_fibres
+from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import PadConfig, SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
@@ -277,12 +277,12 @@ def expose_fibres(state: SimulationState, pad: PadConfig, grid: Grid) -> Exposur
     happens without a field."""
     if state.fibres is None:
         return Exposure(0, 0.0, 0.0, 0, 0.0)
-    surface = np.where(state.status == SECONDARY, state.base, state.height)
+    lowest = float(pad_surface(state.status, state.height, state.base).min())
     state.fibres = deepen_fibre_field(
         state.fibres,
         pad,
         grid,
-        float(surface.min()),
+        lowest,
         state.status,
         state.height,
         state.fibre_floor,
