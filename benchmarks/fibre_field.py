@@ -38,6 +38,8 @@ def main(argv: list[str] | None = None) -> int:
     late = ds.fibre_cells_exposed_late.values
     lag = ds.fibre_exposure_lag.values
     cut = ds.fibre_volume_cut_as_resin.values
+    # absent from run files written before the variable was added
+    skipped = int(ds["fibre_intervals_skipped"].sum()) if "fibre_intervals_skipped" in ds else "?"
     worn = ds.generated_volume.values
     primary = ds.primary_area_fraction.values
     cof = ds.mean_cof.values
@@ -57,7 +59,8 @@ def main(argv: list[str] | None = None) -> int:
             f"{np.mean(cof[a:b]):>6.3f}"
         )
     print(
-        f"total: {int(exposed.sum())} cells exposed ({int(late.sum())} after their stop), "
+        f"total: {int(exposed.sum())} cells exposed ({int(late.sum())} after their stop, "
+        f"{skipped} fibres passed unexposed), "
         f"max lag {1e6 * lag.max():.1f} um, fibre above those {1e9 * cut.sum():.4f} mm3 of "
         f"{1e9 * worn.sum():.3f} mm3 worn ({cut.sum() / worn.sum():.2e}), MU {float(ds.MU):.4f}"
     )

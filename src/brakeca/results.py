@@ -7,7 +7,7 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 ``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``rule_firings(stop, rule)``; with
 the fibre field (``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-], of those
 ``fibre_cells_exposed_late`` [-] (only after the stop), ``fibre_exposure_lag`` [m] and
-``fibre_volume_cut_as_resin`` [m^3].
+``fibre_volume_cut_as_resin`` [m^3], ``fibre_intervals_skipped`` [-].
 
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
 A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
@@ -284,6 +284,11 @@ def build_dataset(
                 np.asarray([e.lag_volume for e in fibre_exposure]),
                 "m3",
                 "fibre above the cells exposed after the stop, worn as resin or by Archard",
+            ),
+            "fibre_intervals_skipped": (
+                np.asarray([e.skipped for e in fibre_exposure], dtype=np.int64),
+                "1",
+                "buried fibres the pad surface passed wholly within the stop, never exposed",
             ),
         }
         for name, (values, unit, desc) in fields.items():

@@ -226,6 +226,7 @@ def test_layer_fibres_run_out_where_the_field_goes_on(tmp_path, capsys):
     assert float(ds.primary_area_fraction[-1]) > 0.05
     assert float(ds.max_ledger_residual) < 1e-11
     assert np.all(ds.fibre_exposure_lag >= 0) and np.all(ds.fibre_volume_cut_as_resin >= 0)
+    assert ds.fibre_intervals_skipped.dtype == np.int64 and ds.fibre_intervals_skipped.min() >= 0
     # benchmarks/fibre_field.py summarises the same run from its file
     script = _script()
     assert script.main([str(run.to_netcdf(tmp_path / "field.nc")), "--every", "10"]) == 0
