@@ -128,7 +128,10 @@ class PadConfig(_Frozen):
     """Pad surface: metal fibres in a resin matrix (Section 2.3 and Figure 5 of the paper)."""
 
     fibre_area_fraction: float = Field(
-        0.20, ge=0.0, le=1.0, description="[-] area fraction covered by metal fibres (factor A)"
+        0.20,
+        ge=0.0,
+        lt=1.0,
+        description="[-] area fraction covered by metal fibres (factor A), below 1",
     )
     fibre_length_min: float = Field(1e-3, gt=0, description="[m] shortest fibre")
     fibre_length_max: float = Field(10e-3, gt=0, description="[m] longest fibre")
@@ -155,11 +158,6 @@ class PadConfig(_Frozen):
             raise ValueError("fibre_length_min must not exceed fibre_length_max")
         if self.fibre_diameter_min > self.fibre_diameter_max:
             raise ValueError("fibre_diameter_min must not exceed fibre_diameter_max")
-        if self.fibre_model == "field" and self.fibre_area_fraction >= 1.0:
-            raise ValueError(
-                "fibre_area_fraction must be below 1 with fibre_model = 'field' (a pad that is "
-                f"all fibre has no resin to hold a field; got {self.fibre_area_fraction})"
-            )
         return self
 
 
@@ -576,6 +574,8 @@ FACTOR_ALIASES: dict[str, tuple[str, float, str]] = {
     "WR": ("wear.resin_wear_depth", 1.0, "m"),
     "A": ("pad.fibre_area_fraction", 0.01, "%"),
 }
+#: Allowed values of a factor name in its unit: [low, high) (A = 100 %: no resin, and the
+#: fibres laid at random would never cover the whole band).
 _ALIAS_RANGES = {"A": (0.0, 100.0)}
 
 
@@ -602,9 +602,10 @@ def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
     if isinstance(value, bool) or not isinstance(value, int | float):
         raise ConfigError(f"{key} (= {field}): expected a number in {unit}, got {value!r}")
     lo_hi = _ALIAS_RANGES.get(key)
-    if lo_hi is not None and not lo_hi[0] <= value <= lo_hi[1]:
+    if lo_hi is not None and not lo_hi[0] <= value < lo_hi[1]:
         raise ConfigError(
-            f"{key} (= {field}): must be between {lo_hi[0]:g} and {lo_hi[1]:g} {unit}, got {value}"
+            f"{key} (= {field}): must be at least {lo_hi[0]:g} and below {lo_hi[1]:g} {unit}, "
+            f"got {value}"
         )
     return field, value * scale
 
