@@ -11,7 +11,9 @@ then load the machine code from the cache. It also saves time in a campaign with
 the kernels are compiled once, not once per worker.
 
 The warm-up is an optimisation only: if it fails (a cache directory that cannot be written, a
-configuration that cannot run on two rows), the runs compile for themselves as before.
+configuration that cannot run on two rows), the runs compile for themselves as before. A
+configuration whose stop raises (a pad no plateau of which reaches the disc, say) is skipped
+without a word: the run that follows meets the same error and reports it, once, as the run's.
 """
 
 from __future__ import annotations
@@ -62,11 +64,17 @@ def _compiled_here(kernel: str) -> bool:
     return module is not None and bool(getattr(module, name).signatures)
 
 
-def _child(configs: list[SimulationConfig]) -> None:
+def _child(configs: list[SimulationConfig]) -> int:
     """Run one stop of each distinct configuration on two rows, the way ``simulate`` runs a
     stop (the same compiled entry points: the state's structures, the stop kernel, the end of
     the stop), without building a run file: ``simulate``'s run file would import xarray and
-    pandas into the process that holds the compiler's memory (about 50 MB more)."""
+    pandas into the process that holds the compiler's memory (about 50 MB more).
+
+    Returns
+    -------
+    int
+        How many distinct configurations raised (and were skipped) [-].
+    """
     import numpy as np
 
     from brakeca.geometry import make_grid
@@ -80,6 +88,7 @@ def _child(configs: list[SimulationConfig]) -> None:
     from brakeca.surface import generate_surface
 
     seen: set[tuple] = set()
+    failed = 0
     for config in configs:
         key = _key(config)
         if key not in seen:
@@ -87,10 +96,14 @@ def _child(configs: list[SimulationConfig]) -> None:
             tiny = tiny_config(config)
             grid = make_grid(tiny)
             rng = np.random.default_rng(0)
-            state = SimulationState.from_surface(generate_surface(tiny.pad, grid, rng), grid)
-            lists = scratch_lists(grid.shape[0] * grid.shape[1])
-            advance_stop(state, grid, tiny, cycle_events(tiny)[0], lists)
-            end_of_stop(state, tiny.automaton.secondary_removal_fraction, rng)
+            try:
+                state = SimulationState.from_surface(generate_surface(tiny.pad, grid, rng), grid)
+                lists = scratch_lists(grid.shape[0] * grid.shape[1])
+                advance_stop(state, grid, tiny, cycle_events(tiny)[0], lists)
+                end_of_stop(state, tiny.automaton.secondary_removal_fraction, rng)
+            except Exception:  # the run reports it (module docstring); the next config goes on
+                failed += 1
+    return failed
 
 
 def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
@@ -126,4 +139,4 @@ def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
 
 
 if __name__ == "__main__":
-    _child(pickle.loads(Path(sys.argv[1]).read_bytes()))
+    sys.exit(1 if _child(pickle.loads(Path(sys.argv[1]).read_bytes())) else 0)

@@ -162,6 +162,7 @@ def simulate(
     warmed = warm_up([config])
     if warmed is not None:
         console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
+    failure: tuple[str, int] | None = None
     with Progress(*columns, console=console, transient=False) as bar:
         task = bar.add_task("simulate", total=n_stops)
         try:
@@ -173,9 +174,11 @@ def simulate(
                 checkpoint_every=checkpoint_every,
             )
         except (ContactError, LedgerError) as exc:
-            _fail(str(exc), code=1)
+            failure = (str(exc), 1)
         except ValueError as exc:  # a checkpoint of another run
-            _fail(str(exc))
+            failure = (str(exc), 2)
+    if failure is not None:  # after the bar's last line, so that the error is the last word
+        _fail(*failure)
     result.to_netcdf(output)
     out.print(f"MU = {result.MU:.4f}")
     out.print(f"V  = {result.V * 1e9:.6g} mm^3 per stop")

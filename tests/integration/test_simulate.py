@@ -133,8 +133,14 @@ def test_cli_simulate(tmp_path):
     r = RunResult.from_netcdf(out)
     assert r.seed == 4 and r.config.cycle.max_stops == 1 and r.dataset.sizes["stop"] == 1
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
-    assert res.exit_code == 2 and "between 0 and 100" in res.output
+    assert res.exit_code == 2 and "at least 0 and below 100 %" in res.output
     assert not (tmp_path / "bad.nc").exists()
+    # a model error (no fibre to carry the torque): exit 1, the error the last line, no file
+    small = ["--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100", "--stops", "1"]
+    res = runner.invoke(app, ["simulate", *small, "--set", "A=0", "-o", str(tmp_path / "b.nc")])
+    assert res.exit_code == 1, res.output
+    assert res.output.strip().splitlines()[-1].startswith("error: stop 1 (Burnish), step 1: no")
+    assert not (tmp_path / "b.nc").exists()
 
 
 def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):

@@ -9,7 +9,8 @@ import sys
 
 import pytest
 
-from brakeca._warmup import tiny_config, warm_up
+from brakeca._warmup import _child, tiny_config, warm_up
+from brakeca.contact import ContactError
 from brakeca.presets import load_preset
 from brakeca.simulation import kernel_for, simulate
 
@@ -28,6 +29,25 @@ def test_warm_up_is_skipped_for_kernels_this_process_holds():
     config = load_preset().with_updates({"mesh.n_radial": 3, "cycle.max_stops": 1})
     simulate(tiny_config(config), seed=0)  # compiled or loaded here
     assert warm_up([config, load_preset()]) is None
+
+
+def test_a_config_that_cannot_run_is_skipped_without_a_traceback():
+    """A pad without fibres raises ContactError at its first step: the warm-up child skips it
+    silently (the run reports the error itself) and still warms the configurations after it."""
+    good = load_preset().with_updates({"mesh.n_radial": 3, "cycle.max_stops": 1})
+    bad = good.with_updates({"A": 0})
+    assert _child([bad, good]) == 1
+    assert _child([good]) == 0
+    with pytest.raises(ContactError, match="no plateau cell can reach the disc"):
+        simulate(bad, seed=0)
+    # the child process: no traceback on the terminal, and the warm-up reports a failure
+    probe = (
+        "from brakeca._warmup import warm_up; from brakeca.presets import load_preset; "
+        "print(warm_up([load_preset().with_updates({'A': 0, 'cycle.max_stops': 1})]))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "None"
+    assert "Traceback" not in out.stderr and "ContactError" not in out.stderr
 
 
 def test_the_coordinating_process_does_not_load_numba():
