@@ -142,7 +142,8 @@ class Factor(_Frozen):
     labels
         Optional level labels (``"-"``, ``"0"``, ``"+"``), one per level.
     unit
-        Unit of the levels as the design gives them.
+        Unit of the levels as the design gives them; by default an alias's unit (``%`` for
+        ``A``), else ``-``.
     label
         Human-readable description.
     """
@@ -161,6 +162,16 @@ class Factor(_Frozen):
     )
     unit: str = "-"
     label: str = ""
+
+    @model_validator(mode="before")
+    @classmethod
+    def _alias_unit(cls, data: Any) -> Any:
+        """A factor set through an alias and given no unit takes the alias's unit."""
+        if isinstance(data, Mapping) and "unit" not in data:
+            alias = FACTOR_ALIASES.get(str(data.get("field")))
+            if alias is not None:
+                return {**data, "unit": alias[2]}
+        return data
 
     @field_validator("name")
     @classmethod

@@ -64,8 +64,8 @@ def _design_table(result: CampaignResult) -> pd.DataFrame:
                 "field": f.field,
                 "unit": f.unit,
                 "levels": ", ".join(
-                    f"{lab} = {lev:g}"
-                    for lab, lev in zip(f.labels or [""] * len(f.levels), f.levels, strict=True)
+                    f"{lev:g}" if f.labels is None else f"{lab} = {lev:g}"
+                    for lab, lev in zip(f.labels or f.levels, f.levels, strict=True)
                 ),
             }
         )

@@ -191,6 +191,20 @@ def test_mixed_levels_3x2_first_factor_fastest():
     )
 
 
+def test_an_alias_factor_takes_the_alias_unit_unless_given():
+    def factor(**extra: Any) -> Any:
+        levels = [1e-14, 1e-13] if extra["field"] == "WP" else [0.4, 0.5]
+        spec = {"name": "F", "levels": levels, **extra}
+        return design_from_dict(
+            {"name": "u", "base": "paper", "root_seed": 1, "factors": [spec]}
+        ).factors[0]
+
+    assert factor(field="A").unit == "%"
+    assert factor(field="WP").unit == "m^3/(N m)"
+    assert factor(field="A", unit="percent").unit == "percent"
+    assert factor(field="friction.mu_0").unit == "-"
+
+
 def test_many_factors_full_factorial_is_complete():
     factors = [
         {"name": "f1", "field": "friction.mu_0", "levels": [0.5, 0.6]},

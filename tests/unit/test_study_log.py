@@ -44,3 +44,25 @@ def test_multiplicative_effects_are_an_interaction_on_v_and_add_on_log_v() -> No
     assert raw.loc["WP:A", "percent_contribution"] > 5.0 and raw.loc["WP:A", "p_value"] < 1e-3
     assert log.loc["WP:A", "percent_contribution"] < 0.1
     assert log.attrs["r_squared_pred"] > raw.attrs["r_squared_pred"]
+
+
+def test_design_table_lists_levels_with_their_labels_or_alone() -> None:
+    from types import SimpleNamespace
+
+    from brakeca.design import design_from_dict
+    from brakeca.study import _design_table
+
+    design = design_from_dict(
+        {
+            "name": "t",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "A", "field": "A", "levels": [0.0, 10.0]},
+                {"name": "WP", "field": "WP", "levels": [1e-14, 1e-13], "labels": ["-", "+"]},
+            ],
+        }
+    )
+    table = _design_table(SimpleNamespace(design=design))  # type: ignore[arg-type]
+    assert list(table["levels"]) == ["0, 10", "- = 1e-14, + = 1e-13"]
+    assert list(table["unit"]) == ["%", "m^3/(N m)"]
