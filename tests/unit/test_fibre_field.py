@@ -237,3 +237,27 @@ def test_layer_fibres_run_out_where_the_field_goes_on(tmp_path, capsys):
     with pytest.raises(SystemExit):
         script.main([str(columns.to_netcdf(tmp_path / "columns.nc"))])
     assert "not a run of pad.fibre_model = 'field'" in capsys.readouterr().err
+
+
+def test_rule6_with_the_field_over_a_whole_run():
+    """Rule 6 and the field together over 30 stops (the kernel-against-twin case covers a
+    hand-made grid only): rule 6 fires, fibres are still exposed, and the ledger closes."""
+    from conftest import short_cycle
+
+    config = load_preset().with_updates(
+        {
+            "mesh.n_radial": 11,
+            "WP": 1e-13,
+            "A": 10,
+            "cycle": short_cycle(stops=30, v0=50, v1=10, g=0.3),
+            "pad.fibre_model": "field",
+            "automaton.rule6_max_gap": 20e-6,
+        }
+    )
+    ds = simulate(config, seed=3).dataset
+    assert int(ds.rule_firings.sel(rule=6).sum()) > 0
+    assert int(ds.rule_firings.sel(rule=7).sum()) > 0
+    assert np.all(ds.fibre_cells_exposed.values[-10:] > 0)
+    assert int(ds.fibre_cells_exposed_late.sum()) == 0
+    assert float(ds.max_ledger_residual) < 1e-11
+    assert float(ds.max_friction_residual) < 1e-8
