@@ -219,7 +219,10 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     if run_maps:
         replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
         for _, row in ok.iterrows():
-            levels = ", ".join(f"{f.name} = {row[f.name]:g}" for f in factors)
+            levels = ", ".join(
+                f"{f.name} = {row[f.name]:g}" + ("" if f.unit in ("", "-") else f" {f.unit}")
+                for f in factors
+            )
             which = (
                 f", replicate {int(row['replicate'])} (seed {int(row['seed'])})"
                 if replicated

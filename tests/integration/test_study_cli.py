@@ -98,6 +98,8 @@ def test_outputs_present_and_consistent(campaign):
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
     assert n_img == 4 * 3 + 3 + 4  # per response (MU, V, log10 V), per campaign, maps
+    # the maps' captions give each level with its unit (S has none)
+    assert "Test 3 (S = 0, A = 20 %): plateaus after the cycle" in html
     assert "Model summary: S = " in html
     assert "report:" in res.stdout and "summary:" in res.stdout
 
