@@ -474,6 +474,12 @@ class NumericsConfig(_Frozen):
     )
 
 
+#: The most fibres the surface, or one slab of the fibre field, may need to reach the fibre
+#: fraction A: laying a million takes 20 to 80 s. Fibres far smaller than a cell would need
+#: billions, and the surface generation would never end.
+MAX_FIBRES = 1_000_000
+
+
 class SimulationConfig(_Frozen):
     """Everything that defines one simulated run, except the seed."""
 
@@ -502,6 +508,44 @@ class SimulationConfig(_Frozen):
                 "mesh.radial_step)"
             )
         return self
+
+    @model_validator(mode="after")
+    def _fibres_cover_in_reason(self) -> SimulationConfig:
+        counts = self.expected_fibres()
+        for what, n in counts.items():
+            if n > MAX_FIBRES:
+                pad = self.pad
+                raise ValueError(
+                    f"pad.fibre_length_min/max = {pad.fibre_length_min:g}/"
+                    f"{pad.fibre_length_max:g} m and pad.fibre_diameter_min/max = "
+                    f"{pad.fibre_diameter_min:g}/{pad.fibre_diameter_max:g} m: fibres this small "
+                    f"would need about {n:.2g} of them to make the fibre fraction "
+                    f"A = {pad.fibre_area_fraction:g} of {what}, more than {MAX_FIBRES:,} "
+                    "(the paper's fibres are 1-10 mm long and 200-700 um thick)"
+                )
+        return self
+
+    def expected_fibres(self) -> dict[str, float]:
+        """About how many fibres the surface (and, with the fibre field, each slab of it)
+        takes to reach the fibre fraction A [-]: ``-ln(1 - A)`` times the band's area (or a
+        slab's volume) over a fibre's mean projected area (or volume), overlaps counted."""
+        pad = self.pad
+        if pad.fibre_area_fraction <= 0.0:
+            return {}
+        r0 = self.inner_radius
+        r1 = r0 + self.mesh.band_width
+        angle = math.radians(self.mesh.n_angular * self.mesh.angular_step_deg)
+        area = angle * (r1 * r1 - r0 * r0) / 2.0
+        cover = -math.log1p(-pad.fibre_area_fraction) * area
+        length = (pad.fibre_length_min + pad.fibre_length_max) / 2.0
+        d0, d1 = pad.fibre_diameter_min, pad.fibre_diameter_max
+        counts = {"the surface": cover / (length * (d0 + d1) / 2.0)}
+        if pad.fibre_model == "field":
+            from brakeca.surface import FIELD_SLAB
+
+            volume = length * math.pi / 4.0 * (d0 * d0 + d0 * d1 + d1 * d1) / 3.0
+            counts["each slab of the fibre field"] = cover * FIELD_SLAB / volume
+        return counts
 
     @property
     def inner_radius(self) -> float:
@@ -553,15 +597,18 @@ def format_validation_error(exc: ValidationError, source: str) -> str:
     """Turn a pydantic error into lines ``source: field.path: problem (got value)``."""
     lines = []
     for err in exc.errors():
-        loc = ".".join(str(p) for p in err["loc"]) or "(top level)"
+        path = ".".join(str(p) for p in err["loc"])
+        loc = f"{path}: " if path else ""  # a model's validator: its message names the fields
         msg = err["msg"]
         if err["type"] == "extra_forbidden":
             msg = "unknown key"
         elif err["type"] == "missing":
             msg = "required field is missing"
+        elif err["type"] == "value_error":
+            msg = msg.removeprefix("Value error, ")
         got = err.get("input")
         got_text = "" if err["type"] in ("missing",) or isinstance(got, dict) else f" (got {got!r})"
-        lines.append(f"{source}: {loc}: {msg}{got_text}")
+        lines.append(f"{source}: {loc}{msg}{got_text}")
     return "\n".join(lines)
 
 

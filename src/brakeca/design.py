@@ -622,16 +622,6 @@ class Design(_Frozen):
         return tomli_w.dumps(self.to_dict(base_config=base_config))
 
 
-def _format_design_error(exc: ValidationError, source: str) -> str:
-    lines = []
-    for line in format_validation_error(exc, source).splitlines():
-        # model-level messages already start with the field they concern
-        lines.append(
-            line.replace(": (top level): Value error, ", ": ").replace("Value error, ", "")
-        )
-    return "\n".join(lines)
-
-
 def design_from_dict(
     data: Mapping[str, Any], *, source: str = "design", root: str | Path | None = None
 ) -> Design:
@@ -662,7 +652,7 @@ def design_from_dict(
     try:
         design = Design.model_validate(data)
     except ValidationError as exc:
-        raise ConfigError(_format_design_error(exc, source)) from None
+        raise ConfigError(format_validation_error(exc, source)) from None
     base_dir = Path(root) if root is not None else Path.cwd()
     factors = []
     for f in design.factors:  # cycle files relative to the design file

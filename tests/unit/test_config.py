@@ -51,6 +51,19 @@ def test_factor_aliases():
         ({"friction.mu_min": 0.9}, r"must not exceed mu_0"),
         ({"mesh.n_radial": 5000}, "must lie on the disc"),
         ({"pad.fibre_model": "spaghetti"}, "pad.fibre_model"),
+        (
+            {"pad.fibre_diameter_min": 1e-8, "pad.fibre_diameter_max": 1e-8},
+            r"pad.fibre_diameter_min/max = 1e-08/1e-08 m: fibres this small would need about "
+            r"7e\+06 of them to make the fibre fraction A = 0.2 of the surface",
+        ),
+        (
+            {
+                "pad.fibre_model": "field",
+                "pad.fibre_diameter_min": 1e-6,
+                "pad.fibre_diameter_max": 1e-6,
+            },
+            "A = 0.2 of each slab of the fibre field",
+        ),
     ],
 )
 def test_bad_values_name_the_field(updates, needle):

@@ -261,3 +261,18 @@ def test_rule6_with_the_field_over_a_whole_run():
     assert int(ds.fibre_cells_exposed_late.sum()) == 0
     assert float(ds.max_ledger_residual) < 1e-11
     assert float(ds.max_friction_residual) < 1e-8
+
+
+def test_expected_fibre_counts_match_what_is_laid():
+    """The estimate behind the configuration's check against endless fibre laying
+    (``SimulationConfig.expected_fibres``) is close to the counts the generator lays."""
+    from brakeca.surface import _Band, _lay_slab
+
+    for A in (10, 20):
+        config = _pad("field").with_updates({"A": A})
+        grid = make_grid(config)
+        expected = config.expected_fibres()
+        laid = generate_surface(config.pad, grid, np.random.default_rng(4)).n_fibres
+        slab = _lay_slab(config.pad, grid, _Band.of(grid), 4, 3)[3]
+        assert laid == pytest.approx(expected["the surface"], rel=0.25)
+        assert slab == pytest.approx(expected["each slab of the fibre field"], rel=0.25)
