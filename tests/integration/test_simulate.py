@@ -132,6 +132,8 @@ def test_cli_simulate(tmp_path):
     assert "MU =" in res.stdout and "mm^3 per stop" in res.stdout
     r = RunResult.from_netcdf(out)
     assert r.seed == 4 and r.config.cycle.max_stops == 1 and r.dataset.sizes["stop"] == 1
+    # the header announces the run's time steps before any work
+    assert f"1 stop ({int(r.dataset.n_steps.sum()):,} time steps), seed 4" in res.output
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
     assert res.exit_code == 2 and "at least 0 and below 100 %" in res.output
     assert not (tmp_path / "bad.nc").exists()
@@ -167,6 +169,7 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     assert "mg/km" in res.stdout and "Euro 7" in res.stdout and "pass" not in res.stdout.lower()
     run = RunResult.from_netcdf(out)
     assert run.config.cycle.trace_file == "example_trace" and run.dataset.sizes["stop"] == 5
+    assert f"5 stops ({int(run.dataset.n_steps.sum()):,} time steps)" in res.output
     # a trace file that changes after the configuration was made is refused
     trace = tmp_path / "trace.csv"
     trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n27,0\n30,0\n")
