@@ -127,16 +127,10 @@ ROOT_CHECK = 1e-8
 
 def supports(config, grid=None) -> bool:
     """Whether the lazy kernel can run ``config``: fibres as columns (no rule 7), rule 6 off,
-    and Archard wear of less than the interference in one step (``WP K s < 1/2``). ``grid``:
-    the config's grid, if at hand (else it is built)."""
-    if config.pad.fibre_model != "columns" or config.automaton.rule6_max_gap is not None:
-        return False
-    if grid is None:
-        from brakeca.geometry import make_grid
-
-        grid = make_grid(config)
-    slide = float(np.max(grid.step_sliding_distance))
-    return config.wear.specific_wear_rate * config.contact.stiffness * slide < 0.5
+    and Archard wear of less than the interference in one step (``WP K s < 1/2``); the
+    reasons are :meth:`brakeca.config.SimulationConfig.lazy_kernel_problem`'s. ``grid`` is
+    not needed (kept for callers that pass it)."""
+    return config.lazy_kernel_problem() is None
 
 
 class Lazy:

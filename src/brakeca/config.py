@@ -510,6 +510,37 @@ class SimulationConfig(_Frozen):
         return self
 
     @model_validator(mode="after")
+    def _lazy_kernel_applies(self) -> SimulationConfig:
+        problem = self.lazy_kernel_problem()
+        if self.numerics.kernel == "lazy" and problem is not None:
+            raise ValueError(
+                f"numerics.kernel = 'lazy' cannot run this configuration: {problem}; use "
+                "numerics.kernel = 'exact' or 'auto' (docs/model.md section 13)"
+            )
+        return self
+
+    def lazy_kernel_problem(self) -> str | None:
+        """Why the lazy kernel cannot run this configuration, naming the fields; None where it
+        can: fibres as columns (no rule 7), rule 6 off, and Archard wear of less than the
+        interference in one step, ``WP K s < 1/2`` with ``s`` the outer row's sliding distance
+        in a step (docs/model.md section 13)."""
+        if self.pad.fibre_model != "columns":
+            return f"pad.fibre_model = {self.pad.fibre_model!r} (rule 7; only 'columns')"
+        if self.automaton.rule6_max_gap is not None:
+            return "automaton.rule6_max_gap is set (rule 6; only unset)"
+        mesh = self.mesh
+        # the grid's largest step_sliding_distance, the same operations as geometry.make_grid
+        outer = self.inner_radius + mesh.radial_step * (mesh.n_radial - 1)
+        slide = outer * mesh.columns_per_subdomain * mesh.angular_step
+        wear = self.wear.specific_wear_rate * self.contact.stiffness * slide
+        if not wear < 0.5:
+            return (
+                f"wear.specific_wear_rate x contact stiffness x step sliding distance = "
+                f"{wear:.3g}, not below 1/2"
+            )
+        return None
+
+    @model_validator(mode="after")
     def _fibres_cover_in_reason(self) -> SimulationConfig:
         counts = self.expected_fibres()
         for what, n in counts.items():

@@ -720,7 +720,8 @@ def kernel_for(config: SimulationConfig, grid: Grid | None = None) -> str:
     Raises
     ------
     ValueError
-        ``numerics.kernel = "lazy"`` for a configuration the lazy kernel does not support.
+        ``numerics.kernel = "lazy"`` for a configuration the lazy kernel does not support
+        (a validated configuration never has it: the configuration refuses it).
     """
     choice = config.numerics.kernel
     if choice == "exact":

@@ -148,59 +148,60 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         fig_fn(*args, path=path, **kwargs)
         figures.append((section, caption, path))
 
-    for resp in RESPONSES:
-        label = _LABELS[resp]
-        add(
-            "Main effects",
-            f"Main effects on {label}" + _PAPER_MAIN[resp],
-            f"main_effects_{resp}.png",
-            plotting.plot_main_effects,
-            data,
-            factors,
-            resp,
-        )
-        if len(factors) >= 2:  # interactions need two factors
+    if len(ok):  # with no finished run there is nothing to plot; the report says why
+        for resp in RESPONSES:
+            label = _LABELS[resp]
             add(
-                "Interactions",
-                f"Two-factor interactions on {label}" + _PAPER_INTERACTIONS[resp],
-                f"interactions_{resp}.png",
-                plotting.plot_interactions,
+                "Main effects",
+                f"Main effects on {label}" + _PAPER_MAIN[resp],
+                f"main_effects_{resp}.png",
+                plotting.plot_main_effects,
                 data,
                 factors,
                 resp,
             )
+            if len(factors) >= 2:  # interactions need two factors
+                add(
+                    "Interactions",
+                    f"Two-factor interactions on {label}" + _PAPER_INTERACTIONS[resp],
+                    f"interactions_{resp}.png",
+                    plotting.plot_interactions,
+                    data,
+                    factors,
+                    resp,
+                )
+            add(
+                "Ranked effects",
+                f"Pareto of the ANOVA terms of {label}",
+                f"pareto_{resp}.png",
+                plotting.plot_pareto,
+                tables[resp]["ranked_effects"],
+                resp,
+            )
+            add(
+                "Residuals",
+                f"Residual plots of the ANOVA model of {label}; model: "
+                f"{tables[resp]['anova'].attrs.get('formula', '').replace('y ~', resp + ' ~', 1)}",
+                f"residuals_{resp}.png",
+                plotting.plot_residuals,
+                tables[resp]["residuals"],
+                resp,
+            )
         add(
-            "Ranked effects",
-            f"Pareto of the ANOVA terms of {label}",
-            f"pareto_{resp}.png",
-            plotting.plot_pareto,
-            tables[resp]["ranked_effects"],
-            resp,
+            "Runs",
+            "MU per stop over the whole cycle for every run (paper Figure 10)",
+            "mu_per_stop.png",
+            plotting.plot_mu_per_stop,
+            result.dataset,
+            factors=factors,
         )
         add(
-            "Residuals",
-            f"Residual plots of the ANOVA model of {label}; model: "
-            f"{tables[resp]['anova'].attrs.get('formula', '').replace('y ~', resp + ' ~', 1)}",
-            f"residuals_{resp}.png",
-            plotting.plot_residuals,
-            tables[resp]["residuals"],
-            resp,
+            "Runs",
+            "V for every run (paper Figure 11)",
+            "v_per_run.png",
+            plotting.plot_v_per_run,
+            summary,
         )
-    add(
-        "Runs",
-        "MU per stop over the whole cycle for every run (paper Figure 10)",
-        "mu_per_stop.png",
-        plotting.plot_mu_per_stop,
-        result.dataset,
-        factors=factors,
-    )
-    add(
-        "Runs",
-        "V for every run (paper Figure 11)",
-        "v_per_run.png",
-        plotting.plot_v_per_run,
-        summary,
-    )
 
     runs_dir = out / "runs"
     names = {f.name for f in factors}

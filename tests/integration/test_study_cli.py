@@ -261,3 +261,19 @@ def test_paper_default_folder_keeps_quick_and_full_apart(monkeypatch, args, fold
     assert res.exit_code == 0, res.output
     assert seen["design"] == "paper" and str(seen["output"]) == folder
     assert seen["quick"] == ("--quick" in args)
+
+
+def test_a_campaign_whose_runs_all_fail_still_gets_its_report(tmp_path):
+    """Every run fails (a foundation too soft to carry the torque): the command exits 1 and
+    writes the report, with each run's error and no figures, instead of a traceback."""
+    design = tmp_path / "design_in.toml"
+    design.write_text(DESIGN)
+    out = tmp_path / "c"
+    soft = [*TINY, "--set", "contact.elastic_modulus=1"]
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *soft])
+    assert res.exit_code == 1, res.output
+    assert res.exception is None or isinstance(res.exception, SystemExit), res.exception
+    html = (out / "report.html").read_text()
+    assert "0 of 4 runs finished; 4 failed" in html
+    assert html.count("would compress the foundation beyond its length") == 4
+    assert not list((out / "figures").glob("*.png"))

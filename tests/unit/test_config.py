@@ -52,6 +52,12 @@ def test_factor_aliases():
         ({"mesh.n_radial": 5000}, "must lie on the disc"),
         ({"pad.fibre_model": "spaghetti"}, "pad.fibre_model"),
         (
+            {"numerics.kernel": "lazy", "pad.fibre_model": "field"},
+            "numerics.kernel = 'lazy' cannot run this configuration: pad.fibre_model = 'field'",
+        ),
+        ({"numerics.kernel": "lazy", "automaton.rule6_max_gap": 1e-5}, "rule6_max_gap is set"),
+        ({"numerics.kernel": "lazy", "WP": 1e-9}, "sliding distance = 0.945, not below 1/2"),
+        (
             {"pad.fibre_diameter_min": 1e-8, "pad.fibre_diameter_max": 1e-8},
             r"pad.fibre_diameter_min/max = 1e-08/1e-08 m: fibres this small would need about "
             r"7e\+06 of them to make the fibre fraction A = 0.2 of the surface",
