@@ -183,7 +183,8 @@ def run_campaign(
         The design, an override or a level does not validate (before anything is written).
     ValueError
         An unknown executor, ``workers`` below 1, ``max_retries`` below 0, or a scheduler
-        that does not go with the executor (before anything is written).
+        that does not go with the executor (before anything is written); a
+        :class:`~brakeca.config.ConfigError` (a ValueError) if ``out_dir`` is a file.
     ExecutorError
         ``"dask"``: dask.distributed is missing or the scheduler cannot be reached (after the
         design files are written, before any run starts).
@@ -225,6 +226,8 @@ def run_campaign(
         progress=progress,
     )
     out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise ConfigError(f"{out}: exists and is not a folder; name a campaign folder")
     with campaign_lock(out):
         return _run_locked(
             design,

@@ -352,9 +352,11 @@ def _run_and_report(
         updates = dict(parse_override(o) for o in overrides or [])
         if cycle is not None:
             from brakeca.presets import load_preset
-            from brakeca.traces import with_cycle
+            from brakeca.traces import configured_cycle, with_cycle
 
-            updates["cycle"] = with_cycle(load_preset(), cycle).cycle.model_dump(mode="json")
+            with_trace = with_cycle(load_preset(), cycle)
+            configured_cycle(with_trace)  # refuses a trace without braking events, up front
+            updates["cycle"] = with_trace.cycle.model_dump(mode="json")
         t0 = time.perf_counter()
         result = run_campaign(
             design,

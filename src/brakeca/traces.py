@@ -1025,7 +1025,8 @@ def configured_cycle(config: SimulationConfig) -> CycleSource:
     Raises
     ------
     ConfigError
-        The trace file is missing or its content changed since the configuration was made.
+        The trace file is missing, its content changed since the configuration was made, or
+        it holds no braking event to simulate.
     """
     cyc = config.cycle
     if not cyc.trace_file:
@@ -1040,7 +1041,15 @@ def configured_cycle(config: SimulationConfig) -> CycleSource:
             f"cycle.trace_file {cyc.trace_file}: its content changed since the "
             f"configuration was made (sha256 {digest[:12]} != {cyc.trace_sha256[:12]})"
         )
-    return _trace_source(config, digest)
+    source = _trace_source(config, digest)
+    if not source.events:
+        tc = cyc.trace
+        raise ConfigError(
+            f"cycle.trace_file {cyc.trace_file}: no braking event to simulate (none decelerates "
+            f"above cycle.trace.threshold = {tc.threshold:g} m/s² for cycle.trace.min_duration "
+            f"= {tc.min_duration:g} s or longer); see brakeca cycle inspect"
+        )
+    return source
 
 
 @functools.lru_cache(maxsize=4)

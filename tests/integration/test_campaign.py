@@ -387,3 +387,8 @@ def test_bad_arguments_fail_before_anything_is_written(design_file, tmp_path):
     with pytest.raises(ConfigError, match="max_stops"):
         run_campaign(design_file, out, max_stops=0, progress=False)
     assert not out.exists()
+    a_file = tmp_path / "a_file"
+    a_file.write_text("keep me")
+    with pytest.raises(ConfigError, match="exists and is not a folder"):
+        run_campaign(design_file, a_file, progress=False)
+    assert a_file.read_text() == "keep me"

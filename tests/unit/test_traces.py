@@ -240,6 +240,24 @@ def test_a_trace_that_never_brakes_has_no_events():
     assert trace_distance(trace) > 0
 
 
+def test_a_trace_without_events_is_refused_for_a_simulation(tmp_path):
+    from brakeca.cli import app
+    from brakeca.traces import configured_cycle, with_cycle
+
+    path = tmp_path / "cruise.csv"
+    path.write_text("time_s,speed_kmh\n0,50\n10,50\n20,50\n")
+    config = with_cycle(load_preset(), path)  # a cycle to inspect: allowed
+    with pytest.raises(ConfigError, match="no braking event to simulate"):
+        configured_cycle(config)
+    for command in (
+        ["simulate", "-o", str(tmp_path / "r.nc")],
+        ["run", "paper", "-o", str(tmp_path / "c")],
+    ):
+        res = CliRunner().invoke(app, [*command, "--quick", "--cycle", str(path)])
+        assert res.exit_code == 2 and "no braking event to simulate" in res.output, res.output
+    assert not (tmp_path / "r.nc").exists() and not (tmp_path / "c").exists()
+
+
 def test_threshold_min_duration_and_merge_gap():
     trace = load_trace("example_trace")
     events = detect_events(trace)
