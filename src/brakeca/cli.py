@@ -73,7 +73,8 @@ SetOpt = Annotated[
     ),
 ]
 SeedOpt = Annotated[
-    int, typer.Option("--seed", metavar="N", help="seed of the run's random generator")
+    int,
+    typer.Option("--seed", min=0, metavar="N", help="seed of the run's random generator"),
 ]
 StopsOpt = Annotated[
     int | None,
@@ -88,7 +89,10 @@ QuickOpt = Annotated[
 @app.command(short_help="simulate one pad over the drive cycle (netCDF run file)")
 def simulate(
     output: Annotated[
-        Path, typer.Option("-o", "--output", metavar="PATH", help="run file to write (.nc)")
+        Path,
+        typer.Option(
+            "-o", "--output", metavar="PATH", dir_okay=False, help="run file to write (.nc)"
+        ),
     ],
     preset: PresetOpt = "paper",
     config_file: ConfigOpt = None,
@@ -101,6 +105,7 @@ def simulate(
         typer.Option(
             "--checkpoint",
             metavar="PATH",
+            dir_okay=False,
             help="save the run's state here every --checkpoint-every stops; rerun to resume",
         ),
     ] = None,
@@ -205,7 +210,9 @@ def simulate(
 
 @app.command(short_help="the initial fibre maps of the A levels (paper Figure 5)")
 def surface(
-    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="PNG to write")],
+    output: Annotated[
+        Path, typer.Option("-o", "--output", metavar="PATH", dir_okay=False, help="PNG to write")
+    ],
     preset: PresetOpt = "paper",
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,

@@ -297,7 +297,9 @@ def inspect(
     ] = False,
     output: Annotated[
         Path | None,
-        typer.Option("-o", "--output", metavar="PATH", help="PNG of the trace, events shaded"),
+        typer.Option(
+            "-o", "--output", metavar="PATH", dir_okay=False, help="PNG of the trace, events shaded"
+        ),
     ] = None,
 ) -> None:
     """Events found, distance, braking energy, and a plot of a drive cycle."""

@@ -137,6 +137,13 @@ def test_cli_simulate(tmp_path):
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
     assert res.exit_code == 2 and "at least 0 and below 100 %" in res.output
     assert not (tmp_path / "bad.nc").exists()
+    # an output that is a folder is refused before the run, not when its file is written
+    res = runner.invoke(app, ["simulate", "--stops", "1", "-o", str(tmp_path)])
+    assert (
+        res.exit_code == 2 and "is a directory" in res.output and "cells, cycle" not in res.output
+    )
+    res = runner.invoke(app, ["simulate", "-o", str(out), "--seed", "-1"])
+    assert res.exit_code == 2 and "--seed" in res.output
     # a model error (no fibre to carry the torque): exit 1, the error the last line, no file
     small = ["--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100", "--stops", "1"]
     res = runner.invoke(app, ["simulate", *small, "--set", "A=0", "-o", str(tmp_path / "b.nc")])
