@@ -192,7 +192,14 @@ def simulate(
             failure = (str(exc), 2)
     if failure is not None:  # after the bar's last line, so that the error is the last word
         _fail(*failure)
-    result.to_netcdf(output)
+    try:
+        result.to_netcdf(output)
+    except OSError as exc:  # the run is computed: keep it where a file can be written
+        import tempfile
+
+        kept = Path(tempfile.mkdtemp(prefix="brakeca-run-")) / output.name
+        result.to_netcdf(kept)
+        _fail(f"-o {output}: cannot write it ({exc}); the run was saved to {kept}", code=1)
     out.print(f"MU = {result.MU:.4f}")
     out.print(f"V  = {result.V * 1e9:.6g} mm^3 per stop")
     ds = result.dataset

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import xarray as xr
@@ -137,6 +139,16 @@ def test_cli_simulate(tmp_path):
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
     assert res.exit_code == 2 and "at least 0 and below 100 %" in res.output
     assert not (tmp_path / "bad.nc").exists()
+    # an output that cannot be written after the run (its folder is a file): the run is kept
+    blocker = tmp_path / "blocker"
+    blocker.write_text("")
+    tiny = ["simulate", "--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100"]
+    res = runner.invoke(app, [*tiny, "--stops", "1", "--seed", "4", "-o", str(blocker / "r.nc")])
+    assert res.exit_code == 1, res.output
+    kept = Path(res.output.split("the run was saved to ")[1].split()[0])
+    assert RunResult.from_netcdf(kept).MU == r.MU
+    kept.unlink()
+    kept.parent.rmdir()
     # an output that is a folder is refused before the run, not when its file is written
     res = runner.invoke(app, ["simulate", "--stops", "1", "-o", str(tmp_path)])
     assert (
