@@ -137,7 +137,7 @@ def simulate(
     )
 
     from brakeca.contact import ContactError
-    from brakeca.cycle import Stop, n_steps, step_distance
+    from brakeca.cycle import step_distance
     from brakeca.simulation import LedgerError
     from brakeca.simulation import simulate as run_simulation
     from brakeca.traces import configured_cycle, with_cycle
@@ -152,11 +152,7 @@ def simulate(
     n_r, n_t = config.mesh.n_radial, config.mesh.n_angular
     n_stops = len(source.events)
     distance = step_distance(config)
-    # a block's stop counts its steps without making them; a trace's event makes its profile
-    steps = sum(
-        n_steps(e, distance) if isinstance(e, Stop) else e.profile(distance).dt.size
-        for e in source.events
-    )
+    steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper cycle
     console.print(
         f"brakeca {__version__}: {n_r} x {n_t} cells, cycle {source.name} ({source.kind}), "
         f"{n_stops} stop{'' if n_stops == 1 else 's'} ({steps:,} time steps), seed {seed}"

@@ -528,10 +528,9 @@ class SimulationConfig(_Frozen):
             return f"pad.fibre_model = {self.pad.fibre_model!r} (rule 7; only 'columns')"
         if self.automaton.rule6_max_gap is not None:
             return "automaton.rule6_max_gap is set (rule 6; only unset)"
-        mesh = self.mesh
-        # the grid's largest step_sliding_distance, the same operations as geometry.make_grid
-        outer = self.inner_radius + mesh.radial_step * (mesh.n_radial - 1)
-        slide = outer * mesh.columns_per_subdomain * mesh.angular_step
+        from brakeca.geometry import make_grid  # (geometry imports this module)
+
+        slide = float(np.max(make_grid(self).step_sliding_distance))
         wear = self.wear.specific_wear_rate * self.contact.stiffness * slide
         if not wear < 0.5:
             return (
@@ -563,11 +562,9 @@ class SimulationConfig(_Frozen):
         pad = self.pad
         if pad.fibre_area_fraction <= 0.0:
             return {}
-        r0 = self.inner_radius
-        r1 = r0 + self.mesh.band_width
-        angle = math.radians(self.mesh.n_angular * self.mesh.angular_step_deg)
-        area = angle * (r1 * r1 - r0 * r0) / 2.0
-        cover = -math.log1p(-pad.fibre_area_fraction) * area
+        from brakeca.geometry import make_grid  # (geometry imports this module)
+
+        cover = -math.log1p(-pad.fibre_area_fraction) * make_grid(self).area
         length = (pad.fibre_length_min + pad.fibre_length_max) / 2.0
         d0, d1 = pad.fibre_diameter_min, pad.fibre_diameter_max
         counts = {"the surface": cover / (length * (d0 + d1) / 2.0)}

@@ -104,25 +104,6 @@ def step_distance(config: SimulationConfig) -> float:
     )
 
 
-def _full_steps(stop: Stop, distance: float) -> tuple[float, int, float]:
-    """A stop's travel in full steps: as a real number, its whole part, and the rest (0 when
-    the stop ends on a full step to round-off) [-]."""
-    a = stop.deceleration
-    v0, v1 = stop.initial_speed, stop.final_speed
-    total = (v0 * v0 - v1 * v1) / (2.0 * a * distance)  # full steps, fractional
-    n_full = math.floor(total)
-    rest = total - n_full
-    if rest < 1e-9:  # the stop ends on a full step (to round-off)
-        rest = 0.0
-    return total, n_full, rest
-
-
-def n_steps(stop: Stop, distance: float) -> int:
-    """The number of time steps of one stop, the last one partial (:func:`stop_steps`) [-]."""
-    _, n_full, rest = _full_steps(stop, distance)
-    return n_full + (1 if rest > 0.0 else 0)
-
-
 def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     """Durations and sliding fractions of the time steps of one stop.
 
@@ -146,7 +127,11 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     """
     a = stop.deceleration
     v0, v1 = stop.initial_speed, stop.final_speed
-    total, n_full, rest = _full_steps(stop, distance)
+    total = (v0 * v0 - v1 * v1) / (2.0 * a * distance)  # full steps, fractional
+    n_full = math.floor(total)
+    rest = total - n_full
+    if rest < 1e-9:  # the stop ends on a full step (to round-off)
+        rest = 0.0
     n = n_full + (1 if rest > 0.0 else 0)
     k = np.arange(n + 1, dtype=np.float64)
     travelled = np.minimum(k, total) * distance

@@ -60,7 +60,7 @@ def test_factor_aliases():
         (
             {"pad.fibre_diameter_min": 1e-8, "pad.fibre_diameter_max": 1e-8},
             r"pad.fibre_diameter_min/max = 1e-08/1e-08 m: fibres this small would need about "
-            r"7e\+06 of them to make the fibre fraction A = 0.2 of the surface",
+            r"7.1e\+06 of them to make the fibre fraction A = 0.2 of the surface",
         ),
         (
             {
