@@ -624,7 +624,15 @@ def _drop_none(value: Any) -> Any:
 def format_validation_error(exc: ValidationError, source: str) -> str:
     """Turn a pydantic error into lines ``source: field.path: problem (got value)``."""
     lines = []
-    for err in exc.errors():
+    errors = exc.errors()
+    failed_items = {err["loc"][:-1] for err in errors} | {
+        err["loc"][:i] for err in errors for i in range(1, len(err["loc"]))
+    }
+    for err in errors:
+        if err["type"] == "too_short" and err["loc"] in failed_items:
+            # pydantic also calls a list "too short" when its items failed; the items' errors
+            # say what is wrong
+            continue
         path = ".".join(str(p) for p in err["loc"])
         loc = f"{path}: " if path else ""  # a model's validator: its message names the fields
         msg = err["msg"]

@@ -29,6 +29,7 @@ from __future__ import annotations
 import hashlib
 import itertools
 import math
+import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -122,6 +123,21 @@ def _leaf_field_problem(field: str) -> str | None:
     return None
 
 
+def _field_unit(field: str) -> str | None:
+    """The SI unit a configuration field's description states (``[Pa] ...``), or None."""
+    known: Mapping[str, Any] | None = SimulationConfig.model_fields
+    info = None
+    for part in field.split("."):
+        if known is None or part not in known:
+            return None
+        info = known[part]
+        known = getattr(info.annotation, "model_fields", None)
+    if info is None or known is not None:
+        return None
+    match = re.match(r"\s*\[([^\]]+)\]", info.description or "")
+    return match.group(1) if match else None
+
+
 class Factor(_Frozen):
     """One factor of a factorial design.
 
@@ -132,7 +148,7 @@ class Factor(_Frozen):
     field
         Dotted configuration key (``"wear.specific_wear_rate"``) or a factor alias of
         :data:`brakeca.config.FACTOR_ALIASES` (``S``, ``WP``, ``WR``, ``A``; an alias takes the
-        alias's unit, e.g. A in percent).
+        alias's unit, e.g. A in percent). By default the factor's name, when that is an alias.
     levels
         Level values in the design's unit [unit], at least two, all different; their order
         is the design order (low first).
@@ -143,7 +159,8 @@ class Factor(_Frozen):
         Optional level labels (``"-"``, ``"0"``, ``"+"``), one per level.
     unit
         Unit of the levels as the design gives them; by default an alias's unit (``%`` for
-        ``A``), else ``-``.
+        ``A``), else, when ``scale`` is 1, the field's own unit (``Pa`` for
+        ``contact.elastic_modulus``), else ``-``.
     label
         Human-readable description.
     """
@@ -165,12 +182,20 @@ class Factor(_Frozen):
 
     @model_validator(mode="before")
     @classmethod
-    def _alias_unit(cls, data: Any) -> Any:
-        """A factor set through an alias and given no unit takes the alias's unit."""
-        if isinstance(data, Mapping) and "unit" not in data:
-            alias = FACTOR_ALIASES.get(str(data.get("field")))
+    def _alias_defaults(cls, data: Any) -> Any:
+        """A factor named after an alias and given no field sets that alias; a factor given
+        no unit takes its alias's unit, or, unscaled, its field's unit."""
+        if not isinstance(data, Mapping):
+            return data
+        if "field" not in data and str(data.get("name")) in FACTOR_ALIASES:
+            data = {**data, "field": data["name"]}
+        if "unit" not in data:
+            field = str(data.get("field"))
+            alias = FACTOR_ALIASES.get(field)
             if alias is not None:
-                return {**data, "unit": alias[2]}
+                data = {**data, "unit": alias[2]}
+            elif data.get("scale", 1.0) == 1.0 and (unit := _field_unit(field)) is not None:
+                data = {**data, "unit": unit}  # levels in the field's own unit
         return data
 
     @field_validator("name")

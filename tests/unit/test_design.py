@@ -202,7 +202,35 @@ def test_an_alias_factor_takes_the_alias_unit_unless_given():
     assert factor(field="A").unit == "%"
     assert factor(field="WP").unit == "m^3/(N m)"
     assert factor(field="A", unit="percent").unit == "percent"
-    assert factor(field="friction.mu_0").unit == "-"
+    assert factor(field="friction.mu_0").unit == "-"  # the field's own unit, [-]
+    assert factor(field="friction.slope").unit == "1/Pa"
+    # a scaled factor's levels are in the user's unit, which the design does not know
+    assert factor(field="friction.slope", scale=1e-6).unit == "-"
+
+
+def test_a_factor_named_after_an_alias_needs_no_field():
+    design = design_from_dict(
+        {
+            "name": "n",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "WP", "levels": [1e-15, 1e-13]},
+                {"name": "A", "levels": [10, 20]},
+            ],
+        }
+    )
+    assert [(f.field, f.unit) for f in design.factors] == [("WP", "m^3/(N m)"), ("A", "%")]
+    assert [p.config.pad.fibre_area_fraction for p in design.points()][-1] == pytest.approx(0.2)
+
+
+def test_a_factor_without_a_field_is_one_error_not_two():
+    """pydantic also calls the factor list too short when its only item fails; the message
+    keeps only the item's error."""
+    spec = {"name": "F", "levels": [0.5, 0.6]}
+    with pytest.raises(ConfigError) as info:
+        design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
+    assert str(info.value) == "design: factors.0.field: required field is missing"
 
 
 def test_many_factors_full_factorial_is_complete():
@@ -501,3 +529,14 @@ def test_malformed_designs_raise_config_error_only(data):
     points = design.points()
     assert len(points) == design.n_tests * design.replicates
     assert all(math.isfinite(v) for p in points for v in p.levels.values())
+
+
+def test_the_readme_design_loads_as_described():
+    readme = (Path(__file__).parents[2] / "README.md").read_text(encoding="utf-8")
+    blocks = [b.split("```", 1)[0] for b in readme.split("```toml\n")[1:]]
+    design = design_from_dict(tomllib.loads(blocks[0]), source="README.md")
+    assert design.n_tests == 6 and design.replicates == 2
+    assert [(f.name, f.field, f.unit) for f in design.factors] == [
+        ("WP", "WP", "m^3/(N m)"),
+        ("mu0", "friction.mu_0", "-"),
+    ]
