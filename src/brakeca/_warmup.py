@@ -19,6 +19,7 @@ without a word: the run that follows meets the same error and reports it, once, 
 from __future__ import annotations
 
 import pickle
+import signal
 import subprocess
 import sys
 import tempfile
@@ -138,5 +139,13 @@ def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
     return time.perf_counter() - t0
 
 
+def _main(argv: list[str]) -> int:
+    """The child's entry point. It ignores SIGINT: Ctrl-C at a terminal reaches the whole
+    process group, and the parent, interrupted in ``subprocess.run``, kills the child itself,
+    so the user sees the parent's message instead of a compiler's traceback."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return 1 if _child(pickle.loads(Path(argv[1]).read_bytes())) else 0
+
+
 if __name__ == "__main__":
-    sys.exit(1 if _child(pickle.loads(Path(sys.argv[1]).read_bytes())) else 0)
+    sys.exit(_main(sys.argv))

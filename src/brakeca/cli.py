@@ -9,6 +9,8 @@ measured by the scripts in ``benchmarks/`` (``bench.py`` prints the JSON line of
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated
 
@@ -35,6 +37,17 @@ out = LogConsole()
 def _fail(message: str, code: int = 2) -> None:
     console.print(f"[bold red]error:[/] {message}", highlight=False)
     raise typer.Exit(code)
+
+
+@contextmanager
+def _on_interrupt(message: str) -> Iterator[None]:
+    """Turn Ctrl-C inside the block into ``message`` and exit status 130 (typer would exit
+    130 without a word)."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        console.print(f"[bold yellow]interrupted:[/] {message}", highlight=False)
+        raise typer.Exit(130) from None
 
 
 def resolve_config(
@@ -168,11 +181,20 @@ def simulate(
     )
     from brakeca._warmup import warm_up
 
-    warmed = warm_up([config])
+    resume = (
+        f"the checkpoint {checkpoint} resumes it from its last saved stop (the same command)"
+        if checkpoint is not None
+        else "--checkpoint PATH would let a rerun resume"
+    )
+    with _on_interrupt(f"nothing written; {resume}"):
+        warmed = warm_up([config])
     if warmed is not None:
         console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
     failure: tuple[str, int] | None = None
-    with Progress(*columns, console=console, transient=False) as bar:
+    with (
+        _on_interrupt(f"nothing written; {resume}"),
+        Progress(*columns, console=console, transient=False) as bar,
+    ):
         task = bar.add_task("simulate", total=n_stops)
         try:
             result = run_simulation(
@@ -368,20 +390,22 @@ def _run_and_report(
             configured_cycle(with_trace)  # refuses a trace without braking events, up front
             updates["cycle"] = with_trace.cycle.model_dump(mode="json")
         t0 = time.perf_counter()
-        result = run_campaign(
-            design,
-            output,
-            workers=workers,
-            executor=executor,  # type: ignore[arg-type]
-            scheduler=scheduler,
-            scheduler_file=scheduler_file,
-            max_retries=DEFAULT_MAX_RETRIES if max_retries is None else max_retries,
-            checkpoint_every=checkpoint_every or None,
-            quick=quick,
-            max_stops=stops,
-            overrides=updates or None,
-            console=console,
-        )
+        kept = "the finished runs" + (" and the checkpoints" if checkpoint_every else "")
+        with _on_interrupt(f"{kept} in {output} are kept; the same command resumes"):
+            result = run_campaign(
+                design,
+                output,
+                workers=workers,
+                executor=executor,  # type: ignore[arg-type]
+                scheduler=scheduler,
+                scheduler_file=scheduler_file,
+                max_retries=DEFAULT_MAX_RETRIES if max_retries is None else max_retries,
+                checkpoint_every=checkpoint_every or None,
+                quick=quick,
+                max_stops=stops,
+                overrides=updates or None,
+                console=console,
+            )
     except (ConfigError, ExecutorError, CampaignLockedError) as exc:
         _fail(str(exc))
     elapsed = time.perf_counter() - t0
@@ -391,7 +415,10 @@ def _run_and_report(
     )
     _print_summary(result.summary)
     if report:
-        path = write_study(finish_campaign(output))
+        with _on_interrupt(
+            f"every run is in {output}; 'brakeca analyze {output}' writes the report"
+        ):
+            path = write_study(finish_campaign(output))
         out.print(f"report: {path}")
     out.print(f"summary: {Path(output) / 'summary.csv'}")
     if result.failed:
@@ -485,7 +512,8 @@ def analyze(
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         _fail(str(exc))
     _print_summary(result.summary)
-    path = write_study(result, run_maps=run_maps)
+    with _on_interrupt("the report is not complete; run the same command again"):
+        path = write_study(result, run_maps=run_maps)
     out.print(f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}")
 
 

@@ -277,3 +277,51 @@ def test_a_campaign_whose_runs_all_fail_still_gets_its_report(tmp_path):
     assert "0 of 4 runs finished; 4 failed" in html
     assert html.count("would compress the foundation beyond its length") == 4
     assert not list((out / "figures").glob("*.png"))
+
+
+def _interrupt(*_args, **_kwargs):
+    raise KeyboardInterrupt
+
+
+def test_ctrl_c_says_what_is_kept_and_how_to_go_on(tmp_path, monkeypatch):
+    """typer turns Ctrl-C into exit status 130 without a word; the commands say what was kept
+    and how to resume."""
+    import brakeca._warmup
+    import brakeca.campaign
+    import brakeca.simulation
+    import brakeca.study
+
+    design = tmp_path / "d.toml"
+    design.write_text(DESIGN)
+    out = tmp_path / "c"
+    with monkeypatch.context() as patch:
+        patch.setattr(brakeca.campaign, "run_campaign", _interrupt)
+        res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *TINY])
+    assert res.exit_code == 130
+    assert f"interrupted: the finished runs and the checkpoints in {out} are kept" in res.output
+    assert "the same command resumes" in res.output
+
+    # during the report: every run is done, analyze writes it
+    with monkeypatch.context() as patch:
+        patch.setattr(brakeca.study, "write_study", _interrupt)
+        res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *TINY])
+        assert res.exit_code == 130
+        assert f"'brakeca analyze {out}' writes the report" in res.output
+        res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
+        assert res.exit_code == 130 and "the report is not complete" in res.output
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
+    assert res.exit_code == 0 and (out / "report.html").is_file()
+
+    # simulate, in the warm-up or in the run: nothing written, and how a rerun could resume
+    run_file = tmp_path / "r.nc"
+    args = ["simulate", "-o", str(run_file), "--set", "mesh.n_radial=3", "--stops", "1"]
+    with monkeypatch.context() as patch:
+        patch.setattr(brakeca._warmup, "warm_up", _interrupt)
+        res = CliRunner().invoke(app, args)
+    assert res.exit_code == 130 and "--checkpoint PATH would let a rerun resume" in res.output
+    with monkeypatch.context() as patch:
+        patch.setattr(brakeca.simulation, "simulate", _interrupt)
+        res = CliRunner().invoke(app, [*args, "--checkpoint", str(tmp_path / "k.npz")])
+    assert res.exit_code == 130
+    assert f"the checkpoint {tmp_path / 'k.npz'} resumes it" in res.output.replace("\n", "")
+    assert not run_file.exists()

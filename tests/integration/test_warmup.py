@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -141,3 +142,65 @@ def test_the_simulation_module_does_not_load_xarray():
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert out.stdout.strip().splitlines()[-1] == "False False"
+
+
+def test_ctrl_c_during_the_warm_up_gives_no_child_traceback(tmp_path):
+    """Ctrl-C at a terminal reaches the whole process group. The child ignores it and the
+    parent, interrupted in subprocess.run, kills it: no compiler traceback on the terminal,
+    no child left behind. An empty cache makes the child compile (about 45 s), so the signal
+    arrives while it works."""
+    import signal
+    import time
+
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    script = (
+        "import sys\n"
+        "from brakeca._warmup import warm_up\n"
+        "from brakeca.presets import load_preset\n"
+        "print('warming', flush=True)\n"
+        "try:\n"
+        "    warm_up([load_preset()])\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n"
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-c", script],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    assert proc.stdout is not None
+    assert proc.stdout.readline().strip() == "warming"
+    time.sleep(4.0)  # the child has imported numba and is compiling
+    children = _children(proc.pid)
+    assert children, "the warm-up child should be running"
+    os.killpg(proc.pid, signal.SIGINT)
+    out, err = proc.communicate(timeout=30)
+    assert out.strip() == "interrupted"
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    for pid in children:
+        assert not _alive(pid)
+
+
+def _children(pid: int) -> list[int]:
+    """Process ids whose parent is ``pid`` (from /proc)."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:  # gone meanwhile
+            continue
+        if int(fields[1]) == pid:
+            found.append(int(stat.parent.name))
+    return found
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` exists and is not a zombie."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
