@@ -81,6 +81,24 @@ def _figure(figsize: tuple[float, float]) -> Figure:
     return fig
 
 
+def _suptitle(fig: Figure, text: str) -> None:
+    """``fig.suptitle(text)``, broken after its first ": " when one line is wider than the
+    figure (a one-panel interaction plot), and smaller if it is still too wide."""
+    title = fig.suptitle(text)
+    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+    width = fig.bbox.width
+
+    def too_wide() -> bool:
+        return bool(title.get_window_extent(renderer).width > 0.98 * width)
+
+    if too_wide() and ": " in text:
+        title.set_text(text.replace(": ", ":\n", 1))
+    size = float(title.get_fontsize())
+    while too_wide() and size > 7:
+        size -= 1
+        title.set_fontsize(size)
+
+
 def save_figure(fig: Figure, path: str | Path | None) -> Figure:
     """Save ``fig`` as PNG at :data:`DPI` when ``path`` is given (parents are created).
 
@@ -176,7 +194,7 @@ def plot_main_effects(
         ax.grid(True, axis="y", alpha=0.3)
     axes[0].set_ylabel(ylabel)
     axes[0].legend(loc="best", fontsize=8)
-    fig.suptitle(f"Main effects plot for {response}")
+    _suptitle(fig, f"Main effects plot for {response}")
     return save_figure(fig, path)
 
 
@@ -247,7 +265,7 @@ def plot_interactions(
         if j == i + 1:
             ax.set_ylabel(f"{response} (mean)", fontsize=8)
             ax.legend(title=a.name, fontsize=7, title_fontsize=8, loc="best")
-    fig.suptitle(f"Interaction plot for {response}: {ylabel}")
+    _suptitle(fig, f"Interaction plot for {response}: {ylabel}")
     return save_figure(fig, path)
 
 
@@ -552,7 +570,7 @@ def plot_residuals(
 
     fig = _figure((9.0, 6.5))
     (ax_norm, ax_fit), (ax_hist, ax_order) = fig.subplots(2, 2)
-    fig.suptitle(f"Residual plots for {response}")
+    _suptitle(fig, f"Residual plots for {response}")
     if r.size == 0:
         for ax in (ax_norm, ax_fit, ax_hist, ax_order):
             ax.text(0.5, 0.5, "no usable runs", transform=ax.transAxes, ha="center")
@@ -713,7 +731,7 @@ def plot_surface_map(
         h.set_label(f"{h.get_label()}: {100 * f:.1f} %")
     fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
     if title:
-        fig.suptitle(title)
+        _suptitle(fig, title)
     return save_figure(fig, path)
 
 
@@ -754,23 +772,18 @@ def plot_fibre_maps(
     for k, (ax, (name, (status, radius, angle))) in enumerate(
         zip(grid.ravel(), maps.items(), strict=False)
     ):
-        handles, fractions = _draw_map(ax, status, radius, angle, str(name))
-        ax.text(
-            0.99,
-            0.02,
-            f"primary {100 * fractions[1]:.1f} %, secondary {100 * fractions[2]:.1f} %",
-            transform=ax.transAxes,
-            ha="right",
-            va="bottom",
-            fontsize=7,
-            bbox={"facecolor": "white", "alpha": 0.8, "lw": 0},
+        handles, fractions = _draw_map(ax, status, radius, angle, "")
+        # the area fractions in the title, not in a box over the map's corner
+        ax.set_title(
+            f"{name} (primary {100 * fractions[1]:.1f} %, secondary {100 * fractions[2]:.1f} %)",
+            fontsize=10,
         )
         if k // ncols != nrows - 1 and k + ncols < n:
             ax.set_xlabel("")
     for ax in grid.ravel()[n:]:
         fig.delaxes(ax)
     fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
-    fig.suptitle("Pad surface maps")
+    _suptitle(fig, "Pad surface maps")
     return save_figure(fig, path)
 
 

@@ -231,6 +231,9 @@ def test_surface_maps(tmp_path) -> None:
     }
     fig = plot_fibre_maps(maps, path=path)
     _check_png(path, fig, n_axes=2)
+    # the area fractions are in the panels' titles, not over the maps
+    assert fig.axes[0].get_title().startswith("A- (10 %) (primary ")
+    assert all(not ax.texts for ax in fig.axes)
     fig = plot_fibre_maps({**maps, "third": _status_map(40, 80)}, ncols=2)
     assert len(fig.axes) == 3
 
@@ -259,3 +262,18 @@ def test_no_pyplot_state_is_left_behind(summary) -> None:
     before = plt.get_fignums()
     plot_main_effects(summary, FACTORS, "MU")
     assert plt.get_fignums() == before
+
+
+@pytest.mark.parametrize("n_factors", [1, 2, 4])
+def test_titles_fit_in_their_figures(summary, n_factors) -> None:
+    """A one-panel interaction plot (two factors) is 4.2 inches wide: its one-line title was
+    cut at both edges."""
+    factors = FACTORS[:n_factors]
+    figures = [plot_main_effects(summary, factors, "MU"), plot_main_effects(summary, factors, "V")]
+    if n_factors > 1:
+        figures += [plot_interactions(summary, factors, r) for r in ("MU", "V")]
+    for fig in figures:
+        fig.canvas.draw()
+        title = fig._suptitle.get_window_extent()
+        assert 0 <= title.x0 and title.x1 <= fig.bbox.width, fig._suptitle.get_text()
+        assert title.y1 <= fig.bbox.height
