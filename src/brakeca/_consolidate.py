@@ -233,10 +233,17 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
         ``campaign.nc`` is not a brakeca campaign file.
     """
     out = Path(out_dir)
-    for name in ("design.toml", "summary.csv", "campaign.nc"):
+    if not out.is_dir():
+        raise FileNotFoundError(f"{out}: no such folder")
+    if not (out / "design.toml").is_file():
+        raise FileNotFoundError(
+            f"{out}: not a campaign folder (no design.toml; 'brakeca run' writes one)"
+        )
+    for name in ("summary.csv", "campaign.nc"):
         if not (out / name).is_file():
             raise FileNotFoundError(
-                f"{out / name}: missing; is {out} a finished campaign? (run it again to finish it)"
+                f"{out / name}: missing; the campaign has not finished: "
+                f"'brakeca run {out / 'design.toml'} -o {out}' finishes it"
             )
     design = load_design(out / "design.toml")
     summary = read_summary(out / "summary.csv")

@@ -397,9 +397,15 @@ def _execute_points(
         transient=False,
     )
     if how.progress and not console.is_terminal:
+        resumed = (
+            0
+            if how.checkpoint_every is None
+            else sum((runs / f".{run_id(p)}.checkpoint.npz").is_file() for p in todo)
+        )
         say(
             console,
-            f"{len(todo)} of {n_total} run(s) to compute ({n_total - len(todo)} already done)",
+            f"{len(todo)} of {n_total} run(s) to compute ({n_total - len(todo)} already done"
+            + (f"; {resumed} resumed from a checkpoint)" if resumed else ")"),
             highlight=False,
         )
     queue = collections.deque(todo)

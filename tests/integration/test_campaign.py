@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import io
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -338,7 +339,13 @@ def test_finish_campaign_calls_each_step(serial):
 
 
 def test_load_campaign_of_an_unfinished_directory(tmp_path):
-    with pytest.raises(FileNotFoundError, match="finished campaign"):
+    with pytest.raises(FileNotFoundError, match="no such folder"):
+        load_campaign(tmp_path / "nowhere")
+    with pytest.raises(FileNotFoundError, match=r"not a campaign folder \(no design.toml"):
+        load_campaign(tmp_path)
+    (tmp_path / "design.toml").write_text("")
+    hint = f"has not finished: 'brakeca run {tmp_path / 'design.toml'} -o {tmp_path}' finishes"
+    with pytest.raises(FileNotFoundError, match=re.escape(hint)):
         load_campaign(tmp_path)
 
 

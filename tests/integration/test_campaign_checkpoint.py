@@ -8,8 +8,11 @@ bit-identical result, and removes it when the run completes. A checkpoint that c
 
 from __future__ import annotations
 
+import io
+
 import pytest
 from campaign_helpers import DESIGN_TEMPLATE, deterministic, quiet, tiny, write_design
+from rich.console import Console
 
 from brakeca import simulation
 from brakeca.campaign import run_campaign
@@ -69,8 +72,12 @@ def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path,
         return found
 
     monkeypatch.setattr(simulation, "load_checkpoint", spy)
-    result = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
+    log = Console(file=io.StringIO(), width=200)  # a log file: a line says what resumes
+    result = run_campaign(design_file, out, executor="serial", progress=True, console=log)
     assert resumed == [2]
+    assert "4 of 4 run(s) to compute (0 already done; 1 resumed from a checkpoint)" in (
+        log.file.getvalue()  # type: ignore[attr-defined]
+    )
     assert not ckpt.exists()
     assert deterministic(result.summary).equals(deterministic(uninterrupted.summary))
 
