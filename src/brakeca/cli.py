@@ -87,7 +87,9 @@ SetOpt = Annotated[
 ]
 SeedOpt = Annotated[
     int,
-    typer.Option("--seed", min=0, metavar="N", help="seed of the run's random generator"),
+    typer.Option(
+        "--seed", min=0, max=2**64 - 1, metavar="N", help="seed of the run's random generator"
+    ),
 ]
 StopsOpt = Annotated[
     int | None,

@@ -322,6 +322,10 @@ class _StopLog:
     exposures: list[Exposure] = field(default_factory=list)
 
 
+#: The largest run seed [-]: run files store it as an unsigned 64-bit integer.
+MAX_SEED = 2**64 - 1
+
+
 def simulate(
     config: SimulationConfig,
     *,
@@ -338,9 +342,11 @@ def simulate(
     config
         The resolved, validated configuration.
     seed
-        Seed of the run's random generator (recorded in the result). Default 0.
+        Seed of the run's random generator (recorded in the result), a whole number from 0
+        to :data:`MAX_SEED` (2**64 - 1, the largest a run file holds). Default 0.
     rng
-        A generator to use instead of ``seed`` (its seed is then recorded as -1).
+        A generator to use instead of ``seed`` (its seed is then recorded as -1); not with
+        ``seed``.
     progress
         Called as ``progress(stops_done, stops_total)`` after every stop.
     checkpoint
@@ -357,6 +363,8 @@ def simulate(
 
     Raises
     ------
+    ValueError
+        A seed that is not a whole number in range, or both ``seed`` and ``rng``.
     ContactError
         The demanded torque cannot be reached (names the stop and the step).
     LedgerError
@@ -369,9 +377,20 @@ def simulate(
 
     t0 = time.perf_counter()
     if rng is None:
-        seed = 0 if seed is None else int(seed)
+        seed = 0 if seed is None else seed
+        if (
+            isinstance(seed, bool)
+            or not isinstance(seed, int | np.integer)
+            or not 0 <= seed <= MAX_SEED
+        ):
+            # checked before any work: a seed the run file cannot hold (above 2**64 - 1)
+            # failed only when the computed run was written
+            raise ValueError(f"seed must be a whole number from 0 to 2**64 - 1, got {seed!r}")
+        seed = int(seed)
         rng = np.random.default_rng(seed)
-    elif seed is None:
+    elif seed is not None:
+        raise ValueError("give seed or rng, not both (a run records the seed it ran with)")
+    else:
         seed = -1
     if checkpoint_every < 1:
         raise ValueError(f"checkpoint_every must be >= 1, got {checkpoint_every}")

@@ -111,6 +111,24 @@ def test_unreachable_torque_is_a_clear_error(small):
         )
 
 
+def test_seeds_are_checked_before_any_work_and_the_largest_round_trips(small, tmp_path):
+    """A seed above 2**64 - 1 ran the whole run and then failed writing its file (h5py has no
+    type for it); a float seed was truncated without a word."""
+    from brakeca.simulation import MAX_SEED
+
+    for bad in (-1, 1.5, "3", True, MAX_SEED + 1):
+        with pytest.raises(ValueError, match=r"seed must be a whole number from 0 to 2\*\*64 - 1"):
+            simulate(small, seed=bad)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="give seed or rng, not both"):
+        simulate(small, seed=1, rng=np.random.default_rng(1))
+    one_stop = small.with_updates({"cycle.max_stops": 1})
+    path = simulate(one_stop, seed=MAX_SEED).to_netcdf(tmp_path / "max.nc")
+    assert RunResult.from_netcdf(path).seed == MAX_SEED
+    assert simulate(one_stop, seed=np.uint64(7)).seed == 7
+    res = CliRunner().invoke(app, ["simulate", "-o", str(tmp_path / "x.nc"), "--seed", str(2**64)])
+    assert res.exit_code == 2 and "--seed" in res.output
+
+
 def test_cli_simulate(tmp_path):
     runner = CliRunner()
     out = tmp_path / "r.nc"
