@@ -741,4 +741,14 @@ def load_config(path: str | Path) -> SimulationConfig:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
-    return SimulationConfig.from_toml(text, source=str(path))
+    try:
+        return SimulationConfig.from_toml(text, source=str(path))
+    except ConfigError as exc:
+        if f"{path}: cycle: required field is missing" not in str(exc).splitlines():
+            raise
+        # most likely a file of changes only: every section but the cycle has defaults
+        raise ConfigError(
+            f"{exc}\n{path}: a configuration file is a whole configuration, not changes to a "
+            "preset: 'brakeca config > FILE' writes the paper's to edit ('--set KEY=VALUE' "
+            "changes one field of a preset)"
+        ) from None

@@ -135,3 +135,30 @@ def test_any_override_is_valid_or_a_config_error(updates):
         assert str(exc)
     else:
         assert isinstance(c, SimulationConfig)
+
+
+def test_a_config_file_of_changes_only_is_told_what_a_config_file_is(tmp_path):
+    from brakeca.config import load_config
+
+    part = tmp_path / "part.toml"
+    part.write_text("[wear]\nspecific_wear_rate = 1e-13\n")
+    with pytest.raises(ConfigError) as info:
+        load_config(part)
+    assert str(info.value).splitlines() == [
+        f"{part}: cycle: required field is missing",
+        f"{part}: a configuration file is a whole configuration, not changes to a preset: "
+        "'brakeca config > FILE' writes the paper's to edit ('--set KEY=VALUE' changes one "
+        "field of a preset)",
+    ]
+    # what `brakeca config` prints is a whole configuration that loads back
+    whole = tmp_path / "whole.toml"
+    whole.write_text(load_preset().with_updates({"WP": 1e-13}).to_toml())
+    assert load_config(whole) == load_preset().with_updates({"WP": 1e-13})
+    # other errors are left as they are
+    whole.write_text(
+        whole.read_text().replace("specific_wear_rate = 1e-13", "specific_wear_rate = -1")
+    )
+    with pytest.raises(ConfigError) as info:
+        load_config(whole)
+    assert str(info.value).startswith(f"{whole}: wear.specific_wear_rate: Input should be greater")
+    assert "a whole configuration" not in str(info.value)
