@@ -121,7 +121,12 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 <section id="runs">
 <h2>Per-run results</h2>
 <p class="note">MU: mean coefficient of friction over the cycle [-], 3 decimals;
-V: mean emitted wear volume per stop [mm&sup3;].</p>
+V: mean emitted wear volume per stop [mm&sup3;]. Emitted and worn off: the volumes that left
+the band and that wear removed from it over the whole run; the difference is what the
+secondary plateaus still hold (the particles in the contact leave it at the end of every stop). Primary and secondary at end: the plateaus' shares of
+the band in the last stop, time-weighted over it. Ledger residual: the largest relative misclosure of the volume
+ledger in any step; friction residual: the largest relative miss of the demanded friction force.
+Wall time: the run's own computing time.</p>
 {{ render_table(runs) }}
 </section>
 
@@ -217,12 +222,15 @@ def _fmt(value: Any, spec: str = ".6g") -> str:
         return "–"
     if isinstance(value, bool | np.bool_):
         return str(bool(value))
+    whole = spec.endswith("d")  # an integer format: a float column of whole numbers too
     if isinstance(value, int | np.integer):
-        return str(int(value))
+        return format(int(value), spec) if whole else str(int(value))
     if isinstance(value, float | np.floating):
         v = float(value)
         if math.isinf(v):
             return "∞" if v > 0 else "−∞"
+        if whole:
+            return format(int(v), spec) if v.is_integer() else format(v, ".6g")
         return format(v, spec)
     return str(value)
 
@@ -265,11 +273,40 @@ def _generic_table(frame: pd.DataFrame) -> _Table:
     return _Table(columns, numeric, rows)
 
 
+#: the per-run table's headers and formats of the run scalars (RunResult.scalars) and the
+#: campaign's columns: column -> (header, format, multiplier); the CSV keeps the names
+_RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
+    "test": ("Test", "", 1.0),
+    "replicate": ("Replicate", "", 1.0),
+    "order": ("Order", "", 1.0),
+    "run_id": ("Run id", "", 1.0),
+    "seed": ("Seed", "", 1.0),
+    "status": ("Status", "", 1.0),
+    "error": ("Error", "", 1.0),
+    "total_emitted_mm3": ("Emitted [mm³]", ".4g", 1.0),
+    "total_generated_mm3": ("Worn off [mm³]", ".4g", 1.0),
+    "final_primary_area_fraction": ("Primary at end [%]", ".1f", 100.0),
+    "final_secondary_area_fraction": ("Secondary at end [%]", ".1f", 100.0),
+    "max_ledger_residual": ("Ledger residual [-]", ".1e", 1.0),
+    "max_friction_residual": ("Friction residual [-]", ".1e", 1.0),
+    "n_steps": ("Steps", ",d", 1.0),
+    "wall_time": ("Wall time [s]", ".0f", 1.0),
+}
+
+
 def _runs_table(summary: pd.DataFrame) -> _Table:
-    """Per-run table: MU to 3 decimals, V in mm^3 (V_mm3 dropped when V is present)."""
+    """Per-run table: MU to 3 decimals, V in mm^3 (V_mm3 dropped when V is present), the
+    other run scalars with readable headers and units (:data:`_RUN_COLUMNS`)."""
     frame = summary.copy()
     headers: dict[str, str] = {}
     formats: dict[str, str] = {}
+    for name, (header, spec, factor) in _RUN_COLUMNS.items():
+        if name in frame.columns:
+            headers[name] = header
+            if spec:
+                formats[name] = spec
+            if factor != 1.0:
+                frame[name] = pd.to_numeric(frame[name], errors="coerce") * factor
     if "V" in frame.columns:
         frame["V"] = pd.to_numeric(frame["V"], errors="coerce") * 1e9
         frame = frame.drop(columns=["V_mm3"], errors="ignore")

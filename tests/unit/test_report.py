@@ -114,6 +114,8 @@ def test_report_is_complete_and_self_contained(tmp_path) -> None:
     assert f">{mu:.3f}<" in html  # MU to 3 decimals
     assert f">{1.234e-10 * 2 * 1e9:.4g}<" in html  # V of test 1 in mm^3
     assert 'class="failed"' in html
+    # the run scalars under readable headers and in friendly units (the CSV keeps the names)
+    assert "Run id" in html and "run_id" not in html
 
     # ANOVA tables with formatted p-values.
     assert 'id="anova-mu"' in html and 'id="anova-v"' in html
@@ -208,3 +210,21 @@ def test_figures_are_numbered_in_the_order_the_page_shows_them(tmp_path) -> None
     captions = re.findall(r"<figcaption>Figure (\d+)\. (\w+)</figcaption>", html)
     assert captions == [("1", "a0"), ("2", "a2"), ("3", "b1")]
     assert html.index('id="figure-2"') < html.index('id="figure-3"')
+
+
+def test_run_scalars_have_readable_headers_and_units(tmp_path) -> None:
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"].assign(
+        total_emitted_mm3=1234.5678,
+        final_primary_area_fraction=0.10386,
+        max_ledger_residual=6.15284e-14,
+        n_steps=491160,
+        wall_time=29.6289,
+    )
+    summary.loc[3, "n_steps"] = np.nan  # a failed run: the column becomes floats
+    html = render_report(**{**inputs, "summary": summary})
+    for header in ("Emitted [mm³]", "Primary at end [%]", "Ledger residual [-]", "Steps"):
+        assert f"<th>{header}</th>" in html
+    assert "total_emitted_mm3" not in html and "wall_time" not in html
+    for cell in ("1235", "10.4", "6.2e-14", "491,160", "30"):
+        assert f">{cell}<" in html
