@@ -123,9 +123,10 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 <p class="note">MU: mean coefficient of friction over the cycle [-], 3 decimals;
 V: mean emitted wear volume per stop [mm&sup3;]. Emitted and worn off: the volumes that left
 the band and that wear removed from it over the whole run; the difference is what the
-secondary plateaus still hold (the particles in the contact leave it at the end of every stop). Primary and secondary at end: the plateaus' shares of
-the band in the last stop, time-weighted over it. Ledger residual: the largest relative misclosure of the volume
-ledger in any step; friction residual: the largest relative miss of the demanded friction force.
+secondary plateaus still hold (the particles in the contact leave it at the end of every
+stop). Primary and secondary at end: the plateaus' shares of the band in the last stop,
+time-weighted over it. Ledger residual: the largest relative misclosure of the volume ledger
+in any step; friction residual: the largest relative miss of the demanded friction force.
 Wall time: the run's own computing time.</p>
 {{ render_table(runs) }}
 </section>
