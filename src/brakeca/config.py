@@ -13,6 +13,7 @@ doi:10.1155/2016/8181260
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -662,6 +663,20 @@ FACTOR_ALIASES: dict[str, tuple[str, float, str]] = {
 _ALIAS_RANGES = {"A": (0.0, 100.0)}
 
 
+_DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?|[+-]?\d+,")
+
+
+def decimal_point(text: str) -> str:
+    """``text`` with its decimal comma made a point (``"0,25"`` -> ``"0.25"``) when it is a
+    number written that way, as spreadsheets write CSV in such locales; else ``text``."""
+    return text.replace(",", ".") if _DECIMAL_COMMA.fullmatch(text) else text
+
+
+def csv_delimiter(header: str) -> str:
+    """The separator of a CSV file from its header line: comma, semicolon or tab."""
+    return next((d for d in (",", ";", "\t") if d in header), ",")
+
+
 def parse_override(text: str) -> tuple[str, Any]:
     """Split ``KEY=VALUE`` and parse the value as a TOML value (bare words become strings)."""
     if "=" not in text:
@@ -738,7 +753,7 @@ def load_config(path: str | Path) -> SimulationConfig:
     """Load and validate a configuration TOML file."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # a BOM (Windows editors) is not TOML
     except OSError as exc:
         raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
     try:

@@ -40,6 +40,8 @@ from brakeca.config import (
     ConfigError,
     SimulationConfig,
     TraceCycleConfig,
+    csv_delimiter,
+    decimal_point,
 )
 from brakeca.cycle import KMH, Stop, StopProfile, expand_stops
 
@@ -281,9 +283,13 @@ def _role(name: str) -> str | None:
     return None
 
 
-def _parse_number(text: str, what: str, source: str, line: int) -> float:
+def _parse_number(
+    text: str, what: str, source: str, line: int, *, decimal_comma: bool = False
+) -> float:
     if not text:
         raise TraceError(source, line, f"{what} is missing")
+    if decimal_comma:
+        text = decimal_point(text)  # "12,5" from a spreadsheet in a decimal-comma locale
     try:
         value = float(text)
     except ValueError:
@@ -316,7 +322,7 @@ def _read_text(path_or_name: str | Path) -> tuple[str, str, str]:
             raise TraceError(str(p), None, f"cannot read: {exc}") from None
     shipped = _SHIPPED.joinpath(f"{path_or_name}.csv")
     if shipped.is_file():
-        return shipped.read_text(encoding="utf-8"), f"cycle {path_or_name}", str(path_or_name)
+        return shipped.read_text(encoding="utf-8-sig"), f"cycle {path_or_name}", str(path_or_name)
     raise TraceError(
         str(path_or_name),
         None,
@@ -333,7 +339,9 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
         CSV file: ``#`` comment lines, then a header naming a time column (``time_s``,
         ``time [s]``; a bare ``time`` is read as seconds) and a speed column (``speed_kmh``,
         ``speed [km/h]``, ``speed [m/s]``, ``speed_mph``), optionally a ``trip`` column
-        (labels the events); other columns are ignored. Comma, semicolon or tab separated.
+        (labels the events); other columns are ignored. Comma, semicolon or tab separated;
+        a semicolon or tab separated file may write decimal commas (``12,5``), as spreadsheets
+        do in such locales.
     speed_unit
         ``"km/h"``, ``"m/s"`` or ``"mph"``: the unit of the speed column when the header does
         not state one; it must agree with the header when both do. Giving it also confirms
@@ -369,7 +377,7 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
         if not s or s.startswith("#"):
             continue
         if header is None:
-            delim = next((d for d in (",", ";", "\t") if d in s), ",")
+            delim = csv_delimiter(s)
             header = [c.strip() for c in s.split(delim)]
             header_line = lineno
             cols, t_factor, v_factor, unit_label = _read_header(header, source, lineno, speed_unit)
@@ -380,8 +388,9 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
             raise TraceError(
                 source, lineno, f"expected {len(header)} values, found {len(fields)}: {s!r}"
             )
-        t = _parse_number(fields[cols["time"]], "time", source, lineno)
-        v = _parse_number(fields[cols["speed"]], "speed", source, lineno)
+        comma = delim != ","  # a semicolon or tab separated file may use decimal commas
+        t = _parse_number(fields[cols["time"]], "time", source, lineno, decimal_comma=comma)
+        v = _parse_number(fields[cols["speed"]], "speed", source, lineno, decimal_comma=comma)
         if v < 0.0:
             raise TraceError(source, lineno, f"negative speed {fields[cols['speed']]} {unit_label}")
         if times and t * t_factor <= times[-1]:

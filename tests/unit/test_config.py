@@ -162,3 +162,20 @@ def test_a_config_file_of_changes_only_is_told_what_a_config_file_is(tmp_path):
         load_config(whole)
     assert str(info.value).startswith(f"{whole}: wear.specific_wear_rate: Input should be greater")
     assert "a whole configuration" not in str(info.value)
+
+
+def test_config_and_design_files_may_start_with_a_byte_order_mark(tmp_path):
+    """Windows editors save UTF-8 with a byte order mark, which TOML does not allow."""
+    from brakeca.config import load_config
+    from brakeca.design import load_design
+
+    config = tmp_path / "c.toml"
+    config.write_text(load_preset().to_toml(), encoding="utf-8-sig")
+    assert config.read_bytes().startswith(b"\xef\xbb\xbf")
+    assert load_config(config) == load_preset()
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "d"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "A"\nlevels = [10, 20]\n',
+        encoding="utf-8-sig",
+    )
+    assert load_design(design).factor_names == ("A",)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -147,6 +148,39 @@ def test_empty_file(tmp_path):
 def test_missing_file_and_unknown_name(tmp_path):
     with pytest.raises(TraceError, match="no such file"):
         load_trace(tmp_path / "nope.csv")
+
+
+def test_spreadsheet_csv_with_decimal_commas_and_a_byte_order_mark(tmp_path):
+    """What a spreadsheet saves in a decimal-comma locale: semicolons, decimal commas and a
+    UTF-8 byte order mark, for speed traces and for block cycles alike."""
+    from brakeca.presets import load_cycle
+
+    rows = [(0.0, 0.0), (0.5, 12.25), (1.0, 30.5), (1.5, 1.5e1)]
+    plain = load_trace(
+        _write(tmp_path, "time [s],speed [km/h]\n" + "".join(f"{t},{v}\n" for t, v in rows))
+    )
+    for sep in (";", "\t"):
+        text = f"Time [s]{sep}Speed [km/h]\n" + "".join(
+            f"{t}{sep}{v}\n".replace(".", ",") for t, v in rows
+        )
+        path = tmp_path / "excel.csv"
+        path.write_text(text, encoding="utf-8-sig")
+        trace = load_trace(path)
+        np.testing.assert_array_equal(trace.time, plain.time)
+        np.testing.assert_array_equal(trace.speed, plain.speed)
+    # in a comma separated file a comma is a separator, never a decimal mark
+    with pytest.raises(TraceError, match=r"line 2: time '0;5' is not a number"):
+        load_trace(_write(tmp_path, "time_s,speed_kmh\n0;5,3\n"))
+    paper = load_cycle("paper")
+    shipped = (Path(simulation.__file__).parent / "presets" / "cycles" / "paper.csv").read_text()
+    euro = tmp_path / "blocks.csv"
+    lines = [
+        line if line.startswith("#") else ";".join(f.replace(".", ",") for f in line.split(","))
+        for line in shipped.splitlines()
+    ]
+    euro.write_text("\n".join(lines) + "\n", encoding="utf-8-sig")
+    assert load_cycle(euro).blocks == paper.blocks
+    assert "0,25" in euro.read_text(encoding="utf-8-sig")
 
 
 def test_header_and_option_disagree(tmp_path):

@@ -12,7 +12,14 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from brakeca.config import BrakeBlock, ConfigError, CycleConfig, SimulationConfig
+from brakeca.config import (
+    BrakeBlock,
+    ConfigError,
+    CycleConfig,
+    SimulationConfig,
+    csv_delimiter,
+    decimal_point,
+)
 
 __all__ = ["available_designs", "available_presets", "load_cycle", "load_preset", "preset_text"]
 
@@ -46,18 +53,25 @@ def design_path(name: str) -> Path:
 
 
 def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
+    """The blocks of a block-cycle CSV: comma, semicolon or tab separated; a semicolon or
+    tab separated file may write decimal commas (``0,25``)."""
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise ConfigError(f"{source}: empty cycle file")
-    reader = csv.DictReader(io.StringIO("\n".join(lines)))
+    delimiter = csv_delimiter(lines[0])
+    reader = csv.DictReader(io.StringIO("\n".join(lines)), delimiter=delimiter)
+    reader.fieldnames = [name.strip() for name in reader.fieldnames or ()]
     expected = {"name", "initial_speed_kmh", "final_speed_kmh", "deceleration_g", "stops"}
-    missing = expected - set(reader.fieldnames or ())
+    missing = expected - set(reader.fieldnames)
     if missing:
         raise ConfigError(f"{source}: missing column(s) {', '.join(sorted(missing))}")
     blocks = []
     for lineno, row in enumerate(reader, start=2):
+        values = {k: (row[k] or "").strip() for k in expected}
+        if delimiter != ",":
+            values = {k: v if k == "name" else decimal_point(v) for k, v in values.items()}
         try:
-            blocks.append(BrakeBlock.model_validate({k: row[k] for k in expected}))
+            blocks.append(BrakeBlock.model_validate(values))
         except Exception as exc:  # pydantic ValidationError
             from pydantic import ValidationError
 
@@ -73,13 +87,14 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
     """Load a block cycle: a shipped name (``"paper"``) or a CSV file.
 
     The CSV has columns ``name, initial_speed_kmh, final_speed_kmh, deceleration_g, stops``;
-    lines starting with ``#`` are comments.
+    lines starting with ``#`` are comments. Comma, semicolon or tab separated; a semicolon or
+    tab separated file may write decimal commas.
     """
     text: str
     p = Path(name_or_path)
     shipped = _ROOT.joinpath("cycles", f"{name_or_path}.csv")
     if p.suffix.lower() == ".csv" and p.exists():
-        text, name, source = p.read_text(encoding="utf-8"), p.stem, str(p)
+        text, name, source = p.read_text(encoding="utf-8-sig"), p.stem, str(p)
     elif shipped.is_file():
         text, name, source = (
             shipped.read_text(encoding="utf-8"),
