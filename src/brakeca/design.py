@@ -99,6 +99,11 @@ class _Frozen(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
 
 
+def _target(field: str) -> str:
+    """The configuration field a factor field or override key sets (an alias resolved)."""
+    return FACTOR_ALIASES[field][0] if field in FACTOR_ALIASES else field
+
+
 def _leaf_field_problem(field: str) -> str | None:
     """Why ``field`` is not a settable leaf of :class:`SimulationConfig` (None when it is)."""
     if field in FACTOR_ALIASES:
@@ -418,9 +423,7 @@ class Design(_Frozen):
                     f"(also factors.{seen[factor.name]})"
                 )
             seen[factor.name] = i
-            target = (
-                FACTOR_ALIASES[factor.field][0] if factor.field in FACTOR_ALIASES else factor.field
-            )
+            target = _target(factor.field)
             if target in fields:
                 raise ValueError(
                     f"factors.{i}.field: factors {fields[target]!r} and {factor.name!r} both set "
@@ -499,6 +502,14 @@ class Design(_Frozen):
         """
         config = self.load_base()
         updates = dict(overrides or {})
+        varied = {_target(f.field): f.name for f in self.factors}
+        for key in updates:
+            if _target(key) in varied:
+                shown = key if key == _target(key) else f"{key} ({_target(key)})"
+                raise ConfigError(
+                    f"override {shown}: the design's factor {varied[_target(key)]!r} sets this "
+                    "field in every run, so the override would be ignored; remove one of them"
+                )
         if max_stops is not None:
             updates["cycle.max_stops"] = max_stops
         if updates:

@@ -278,12 +278,15 @@ def test_quick_config_narrows_band_centred_on_effective_radius():
 
 
 def test_campaign_wide_settings_and_factor_precedence(paper):
-    points = paper.points(quick=True, max_stops=2, overrides={"friction.mu_0": 0.7, "WP": 5e-14})
+    points = paper.points(quick=True, max_stops=2, overrides={"friction.mu_0": 0.7})
     for p in points:
         assert p.config.quick and p.config.mesh.n_radial == 21
         assert p.config.cycle.max_stops == 2
         assert p.config.friction.mu_0 == 0.7
-        assert p.config.wear.specific_wear_rate == p.levels["WP"]  # the factor wins
+        assert p.config.wear.specific_wear_rate == p.levels["WP"]
+    # an override of a factor's field is refused (it would be ignored), see below
+    with pytest.raises(ConfigError, match="override WP"):
+        paper.points(overrides={"WP": 5e-14})
     assert [p.seed for p in points] == [p.seed for p in paper.points()]
     with pytest.raises(ConfigError, match="friction"):
         paper.points(overrides={"friction.nope": 1})
@@ -540,3 +543,26 @@ def test_the_readme_design_loads_as_described():
         ("WP", "WP", "m^3/(N m)"),
         ("mu0", "friction.mu_0", "-"),
     ]
+
+
+@pytest.mark.parametrize(
+    ("key", "shown"),
+    [
+        ("WP", "WP (wear.specific_wear_rate)"),
+        ("pad.fibre_area_fraction", "pad.fibre_area_fraction"),
+    ],
+)
+def test_an_override_of_a_field_the_design_varies_is_refused(key, shown):
+    """`brakeca run paper --set WP=1e-13` ran the paper's WP levels without a word: the
+    factor sets the field in every run after the campaign-wide overrides."""
+    design = load_design("paper")
+    value = 1e-13 if key == "WP" else 0.3
+    factor = "WP" if key == "WP" else "A"
+    with pytest.raises(ConfigError) as info:
+        design.points(overrides={key: value})
+    assert str(info.value) == (
+        f"override {shown}: the design's factor {factor!r} sets this field in every run, so "
+        "the override would be ignored; remove one of them"
+    )
+    # a field no factor sets is fine
+    assert design.points(overrides={"friction.mu_0": 0.5})[0].config.friction.mu_0 == 0.5
