@@ -456,7 +456,8 @@ class OutputConfig(_Frozen):
         ge=1,
         description=(
             "[-] sum the held volume from the state every N steps for the ledger (1: every step; "
-            "in between the incrementally tracked value is used)"
+            "in between the incrementally tracked value is used); exact kernel only: the lazy "
+            "kernel sums it at the last step of every stop"
         ),
     )
 
