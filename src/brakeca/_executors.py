@@ -10,10 +10,12 @@ Its public names are re-exported by :mod:`brakeca.campaign`.
 from __future__ import annotations
 
 import concurrent.futures as cf
+import importlib.machinery
 import multiprocessing
 import os
 import sys
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -140,6 +142,34 @@ def _init_worker() -> None:
             pass
 
 
+@contextmanager
+def main_module_not_rerun() -> Iterator[None]:
+    """While in this block, processes started by "spawn" do not run this process's main module.
+
+    A spawned process runs the parent's main script first, as ``__mp_main__``, so that
+    functions defined there can be unpickled in it; a script that calls ``run_campaign``
+    without an ``if __name__ == "__main__":`` guard then starts a campaign in every worker
+    (and every one fails on the campaign's lock). brakeca's worker task needs nothing from the
+    main module, so its workers are started while the main module's spec names
+    ``"__main__"``, which ``multiprocessing.spawn.prepare`` leaves alone, as it does for
+    ``python -m package``. It also keeps the command line's modules out of the workers.
+    """
+    main = sys.modules.get("__main__")
+    if main is None:
+        yield
+        return
+    missing = object()
+    saved = main.__dict__.get("__spec__", missing)
+    main.__spec__ = importlib.machinery.ModuleSpec("__main__", None)
+    try:
+        yield
+    finally:
+        if saved is missing:
+            del main.__spec__
+        else:
+            main.__spec__ = saved
+
+
 def _local_pool(workers: int) -> cf.ProcessPoolExecutor:
     """A process pool on the ``"spawn"`` start method, one numba/OpenMP thread per worker."""
     return cf.ProcessPoolExecutor(
@@ -186,7 +216,12 @@ def _dask_executor(
         scheduler_kwargs["allowed_failures"] = int(max_retries)
     # a one-thread worker holds only the run it executes, so a dying worker takes no queued
     # run down with it (dask counts every run on a dead worker as suspicious)
-    with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+    # main_module_not_rerun: the nannies spawn their workers while the cluster starts
+    # (a caller's function reaches a dask worker by value, cloudpickled, not from the module)
+    with (
+        dask.config.set({"distributed.scheduler.worker-saturation": 1.0}),
+        main_module_not_rerun(),
+    ):
         cluster = distributed.LocalCluster(
             n_workers=n,
             threads_per_worker=1,
@@ -410,7 +445,10 @@ class _LocalSlots(_Backend):
         pool = self.pools[slot]
         if pool is None:
             pool = self.pools[slot] = _local_pool(1)
-        future = pool.submit(_execute, simulate_fn, point.config, point.seed, *checkpoint)
+        # the pool starts its process here; brakeca's own task needs no main module (a
+        # simulate_fn of the caller's may come from it)
+        with main_module_not_rerun() if simulate_fn is None else nullcontext():
+            future = pool.submit(_execute, simulate_fn, point.config, point.seed, *checkpoint)
         self.busy[future] = slot
         return future
 

@@ -164,7 +164,10 @@ def run_campaign(
         factor levels.
     simulate_fn
         Module-level (picklable) function with the signature of
-        :func:`brakeca.simulation.simulate`; None uses that function.
+        :func:`brakeca.simulation.simulate`; None uses that function. The local executor's
+        workers run the caller's main module only for a ``simulate_fn`` of the caller's (to
+        find it): a script that passes one must call this under
+        ``if __name__ == "__main__":``; with None no guard is needed.
     progress
         Show a progress bar over the runs, with an ETA.
     console

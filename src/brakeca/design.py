@@ -583,7 +583,8 @@ class Design(_Frozen):
 
         The configuration of a run is the base configuration, then the campaign-wide
         ``overrides`` and ``max_stops``, then :func:`quick_config` when ``quick``, then each
-        factor's field set to ``level * scale`` (factors last, so they always win).
+        factor's field set to ``level * scale``. An override of a field a factor sets is
+        refused (the factor would overwrite it in every run).
 
         Parameters
         ----------

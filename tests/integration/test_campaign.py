@@ -399,3 +399,26 @@ def test_bad_arguments_fail_before_anything_is_written(design_file, tmp_path):
     with pytest.raises(ConfigError, match="exists and is not a folder"):
         run_campaign(design_file, a_file, progress=False)
     assert a_file.read_text() == "keep me"
+
+
+def test_a_script_without_a_main_guard_runs_its_campaign_once(tmp_path):
+    """multiprocessing's "spawn" runs the parent's main script again in every worker; a
+    script that called run_campaign at its top level then started a campaign in each worker,
+    which failed on the campaign's lock, and every run failed. brakeca's workers no longer run
+    the caller's main module."""
+    script = tmp_path / "study.py"
+    script.write_text(
+        "from brakeca.campaign import run_campaign\n"
+        "print('top level ran', flush=True)\n"
+        "result = run_campaign(\n"
+        "    'paper', 'c', workers=2, max_stops=1, progress=False,\n"
+        "    overrides={'mesh.n_radial': 3, 'mesh.n_angular': 100},\n"
+        ")\n"
+        "print('ok runs', int((result.summary.status == 'ok').sum()), flush=True)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=600
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == ["top level ran", "ok runs 24"], done.stdout
+    assert "Traceback" not in done.stderr and "another campaign" not in done.stderr
