@@ -566,3 +566,14 @@ def test_an_override_of_a_field_the_design_varies_is_refused(key, shown):
     )
     # a field no factor sets is fine
     assert design.points(overrides={"friction.mu_0": 0.5})[0].config.friction.mu_0 == 0.5
+
+
+def test_the_designs_guide_example_loads_as_described():
+    guide = (Path(__file__).parents[2] / "docs" / "designs.md").read_text(encoding="utf-8")
+    example = guide.split("```toml\n")[1].split("```", 1)[0]
+    design = design_from_dict(tomllib.loads(example), source="docs/designs.md")
+    assert design.n_tests == 9 and design.replicates == 2  # "its 3 × 3 × 2 = 18 runs"
+    assert [(f.field, f.unit) for f in design.factors] == [
+        ("WP", "m^3/(N m)"),
+        ("friction.mu_0", "-"),
+    ]
