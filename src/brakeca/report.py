@@ -218,7 +218,8 @@ def _is_missing(value: Any) -> bool:
 
 
 def _fmt(value: Any, spec: str = ".6g") -> str:
-    """Format a table cell: floats with ``spec``, integers plainly, missing as a dash."""
+    """Format a table cell: floats with ``spec`` (``"volume"``: 4 significant digits, whole
+    numbers with thousands separators from 10,000 on), integers plainly, missing as a dash."""
     if _is_missing(value):
         return "–"
     if isinstance(value, bool | np.bool_):
@@ -232,6 +233,8 @@ def _fmt(value: Any, spec: str = ".6g") -> str:
             return "∞" if v > 0 else "−∞"
         if whole:
             return format(int(v), spec) if v.is_integer() else format(v, ".6g")
+        if spec == "volume":  # 4 significant digits, and no exponent up to 1e15
+            return f"{v:,.0f}" if 1e4 <= abs(v) < 1e15 else format(v, ".4g")
         return format(v, spec)
     return str(value)
 
@@ -284,8 +287,8 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "seed": ("Seed", "", 1.0),
     "status": ("Status", "", 1.0),
     "error": ("Error", "", 1.0),
-    "total_emitted_mm3": ("Emitted [mm³]", ".4g", 1.0),
-    "total_generated_mm3": ("Worn off [mm³]", ".4g", 1.0),
+    "total_emitted_mm3": ("Emitted [mm³]", "volume", 1.0),
+    "total_generated_mm3": ("Worn off [mm³]", "volume", 1.0),
     "final_primary_area_fraction": ("Primary at end [%]", ".1f", 100.0),
     "final_secondary_area_fraction": ("Secondary at end [%]", ".1f", 100.0),
     "max_ledger_residual": ("Ledger residual [-]", ".1e", 1.0),

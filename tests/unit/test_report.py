@@ -216,6 +216,7 @@ def test_run_scalars_have_readable_headers_and_units(tmp_path) -> None:
     inputs = make_inputs(tmp_path)
     summary = inputs["summary"].assign(
         total_emitted_mm3=1234.5678,
+        total_generated_mm3=26401.7,
         final_primary_area_fraction=0.10386,
         max_ledger_residual=6.15284e-14,
         n_steps=491160,
@@ -226,5 +227,5 @@ def test_run_scalars_have_readable_headers_and_units(tmp_path) -> None:
     for header in ("Emitted [mm³]", "Primary at end [%]", "Ledger residual [-]", "Steps"):
         assert f"<th>{header}</th>" in html
     assert "total_emitted_mm3" not in html and "wall_time" not in html
-    for cell in ("1235", "10.4", "6.2e-14", "491,160", "30"):
+    for cell in ("1235", "26,402", "10.4", "6.2e-14", "491,160", "30"):
         assert f">{cell}<" in html
