@@ -415,7 +415,7 @@ def _run_and_report(
         f"{len(result.computed)} run(s) computed, {len(result.reused)} reused, "
         f"{len(result.failed)} failed in {elapsed:.0f} s"
     )
-    _print_summary(result.summary)
+    _print_summary(result.summary, result.design)
     if report:
         with _on_interrupt(
             f"every run is in {output}; 'brakeca analyze {output}' writes the report"
@@ -427,8 +427,17 @@ def _run_and_report(
         raise typer.Exit(1)
 
 
-def _print_summary(summary) -> None:
+def _print_summary(summary, design=None) -> None:
+    """The runs as a table: test, factor levels (a categorical factor's by its choice's
+    label), status, MU and V."""
     from rich.table import Table
+
+    def level(name: str, value: float) -> str:
+        if design is not None and name in design.factor_names:
+            factor = design.factor(name)
+            if factor.choices is not None and factor.labels is not None:
+                return factor.label_of(value)
+        return f"{value:g}"
 
     table = Table(title="runs", show_lines=False)
     factor_cols = [
@@ -442,7 +451,7 @@ def _print_summary(summary) -> None:
     for _, row in summary.iterrows():
         table.add_row(
             str(int(row["test"])),
-            *(f"{row[c]:g}" for c in factor_cols),
+            *(level(c, row[c]) for c in factor_cols),
             str(row.get("status", "ok")),
             f"{row['MU']:.4f}" if row.get("status", "ok") == "ok" else "-",
             f"{row['V_mm3']:.5g}" if row.get("status", "ok") == "ok" else "-",
@@ -513,7 +522,7 @@ def analyze(
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         _fail(str(exc))
-    _print_summary(result.summary)
+    _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
         path = write_study(result, run_maps=run_maps)
     out.print(f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}")

@@ -161,7 +161,13 @@ class Factor(_Frozen):
         Multiplier from the design's unit to the field's unit [field unit / unit], e.g. 0.01
         for A given in percent and set on ``pad.fibre_area_fraction``.
     labels
-        Optional level labels (``"-"``, ``"0"``, ``"+"``), one per level.
+        Optional level labels (``"-"``, ``"0"``, ``"+"``), one per level; by default a
+        categorical factor's ``choices`` (except a cycle factor's).
+    choices
+        A categorical factor: the value each level sets, one per level, for a field that
+        takes text (``pad.fibre_model``: ``["columns", "field"]``) or for ``cycle`` (a cycle
+        file, relative to the design file, or a shipped name; required there). The levels
+        then only number the choices.
     unit
         Unit of the levels as the design gives them; by default an alias's unit (``%`` for
         ``A``), else, when ``scale`` is 1, the field's own unit (``Pa`` for
@@ -178,8 +184,9 @@ class Factor(_Frozen):
     choices: tuple[str, ...] | None = Field(
         None,
         description=(
-            "for field 'cycle': the drive cycle of each level, a cycle file (block cycle or "
-            "speed trace; relative to the design file) or a shipped name"
+            "the value each level sets, for a field that takes text, or for field 'cycle' the "
+            "drive cycle of each level (a cycle file relative to the design file, or a "
+            "shipped name)"
         ),
     )
     unit: str = "-"
@@ -194,6 +201,9 @@ class Factor(_Frozen):
             return data
         if "field" not in data and str(data.get("name")) in FACTOR_ALIASES:
             data = {**data, "field": data["name"]}
+        choices = data.get("choices")
+        if "labels" not in data and data.get("field") != "cycle" and isinstance(choices, list):
+            data = {**data, "labels": choices}  # a categorical factor's levels are its choices
         if "unit" not in data:
             field = str(data.get("field"))
             alias = FACTOR_ALIASES.get(field)
@@ -257,10 +267,15 @@ class Factor(_Frozen):
                 f"labels: factor {self.name!r} has {len(self.levels)} levels but "
                 f"{len(self.labels)} labels"
             )
-        if (self.field == "cycle") != (self.choices is not None):
+        if self.field == "cycle" and self.choices is None:
             raise ValueError(
                 f"choices: factor {self.name!r}: a factor on field 'cycle' needs choices (one "
-                "cycle file or shipped name per level), and only such a factor takes choices"
+                "cycle file or shipped name per level)"
+            )
+        if self.choices is not None and self.scale != 1.0:
+            raise ValueError(
+                f"scale: factor {self.name!r} has choices: its levels only number them, so a "
+                "scale does not apply"
             )
         if self.choices is not None and len(self.choices) != len(self.levels):
             raise ValueError(
@@ -271,20 +286,23 @@ class Factor(_Frozen):
 
     def apply(self, config: SimulationConfig, value: int | float) -> SimulationConfig:
         """``config`` with this factor set to level ``value`` [unit]."""
-        if self.choices is not None:
+        if self.field == "cycle":
             from brakeca.traces import with_cycle
 
-            if value not in self.levels:
-                raise ConfigError(f"level {value!r} is not one of {list(self.levels)}")
-            return with_cycle(config, self.choices[self.levels.index(value)])
+            return with_cycle(config, self.override(value)[1])
         return config.with_updates(dict([self.override(value)]))
 
     def override(self, value: int | float) -> tuple[str, Any]:
         """The ``(key, value)`` update that sets this factor to ``value`` [unit].
 
-        The key is :attr:`field`; the value is ``value * scale`` (``value`` itself when the
-        scale is 1, so integer fields stay integers).
+        The key is :attr:`field`; the value is the level's choice for a categorical factor,
+        else ``value * scale`` (``value`` itself when the scale is 1, so integer fields stay
+        integers).
         """
+        if self.choices is not None:
+            if value not in self.levels:
+                raise ConfigError(f"level {value!r} is not one of {list(self.levels)}")
+            return self.field, self.choices[self.levels.index(value)]
         return self.field, value if self.scale == 1.0 else value * self.scale
 
     def label_of(self, value: int | float) -> str:
@@ -693,7 +711,7 @@ def design_from_dict(
     base_dir = Path(root) if root is not None else Path.cwd()
     factors = []
     for f in design.factors:  # cycle files relative to the design file
-        if f.choices is not None:
+        if f.field == "cycle" and f.choices is not None:
             f = f.model_copy(
                 update={
                     "choices": tuple(

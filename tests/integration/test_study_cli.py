@@ -209,6 +209,9 @@ def test_design_factor_selects_the_cycle(tmp_path):
         ],
     )
     assert res.exit_code == 0, res.output
+    # the runs table names a categorical factor's levels by their labels
+    rows = [line for line in res.output.splitlines() if "│" in line and " ok " in line]
+    assert [r.split("│")[2].strip() for r in rows] == ["paper", "trace"] * 2
     summary = pd.read_csv(out / "summary.csv")
     for _, row in summary.iterrows():
         run = RunResult.from_netcdf(out / "runs" / f"{row['run_id']}.nc")
@@ -226,7 +229,10 @@ def test_design_factor_selects_the_cycle(tmp_path):
         (lambda t: t.replace('choices = ["paper", "example_trace"]\n', ""), "needs choices"),
         (lambda t: t.replace('["paper", "example_trace"]', '["paper"]'), "2 levels but 1 choices"),
         (lambda t: t.replace('"example_trace"]', '"no_such_cycle"]'), "no_such_cycle"),
-        (lambda t: t.replace('unit = "%"', 'unit = "%"\nchoices = ["a", "b"]'), "only such"),
+        (
+            lambda t: t.replace('unit = "%"', 'unit = "%"\nchoices = ["a", "b"]'),
+            "expected a number",
+        ),
     ],
 )
 def test_bad_cycle_factor_names_the_problem(tmp_path, edit, needle):

@@ -577,3 +577,36 @@ def test_the_designs_guide_example_loads_as_described():
         ("WP", "m^3/(N m)"),
         ("friction.mu_0", "-"),
     ]
+
+
+def test_a_categorical_factor_sets_a_text_field_by_its_choices():
+    spec = {
+        "name": "fibres",
+        "field": "pad.fibre_model",
+        "levels": [0, 1],
+        "choices": ["columns", "field"],
+    }
+    order = {"name": "creation", "field": "automaton.creation_order", "levels": [1, 2]}
+    order["choices"] = ["west_to_east", "east_to_west"]
+    order["labels"] = ["W-E", "E-W"]
+    design = design_from_dict(
+        {"name": "c", "base": "paper", "root_seed": 1, "factors": [spec, order]}
+    )
+    got = [(p.config.pad.fibre_model, p.config.automaton.creation_order) for p in design.points()]
+    assert got == [
+        ("columns", "west_to_east"),
+        ("field", "west_to_east"),
+        ("columns", "east_to_west"),
+        ("field", "east_to_west"),
+    ]
+    # labels default to the choices; given labels are kept
+    assert design.factors[0].labels == ("columns", "field")
+    assert design.factors[1].labels == ("W-E", "E-W")
+    # a choice the field does not take names the factor, the level and the allowed values
+    bad = {**spec, "choices": ["columns", "feld"]}
+    with pytest.raises(ConfigError, match=r"factor 'fibres' .*'columns', 'layer' or 'field'"):
+        design_from_dict({"name": "c", "base": "paper", "root_seed": 1, "factors": [bad]})
+    with pytest.raises(ConfigError, match="a scale does not apply"):
+        design_from_dict(
+            {"name": "c", "base": "paper", "root_seed": 1, "factors": [{**spec, "scale": 2.0}]}
+        )
