@@ -173,6 +173,13 @@ def simulate(
         f"{n_stops} stop{'' if n_stops == 1 else 's'} ({steps:,} time steps), seed {seed}"
         + (" (quick)" if config.quick else "")
     )
+    asked = config.cycle.max_stops
+    if asked is not None and asked > source.n_total:
+        console.print(
+            f"[yellow]note:[/] --stops {asked}: the cycle has {source.n_total} "
+            f"stop{'' if source.n_total == 1 else 's'}; all of them run, once",
+            highlight=False,
+        )
     columns = (
         TextColumn("stops"),
         BarColumn(),

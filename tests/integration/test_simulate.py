@@ -154,6 +154,17 @@ def test_cli_simulate(tmp_path):
     assert r.seed == 4 and r.config.cycle.max_stops == 1 and r.dataset.sizes["stop"] == 1
     # the header announces the run's time steps before any work
     assert f"1 stop ({int(r.dataset.n_steps.sum()):,} time steps), seed 4" in res.output
+    assert "note:" not in res.output
+    short = ["simulate", "--set", "mesh.n_radial=2", "--set", "mesh.n_angular=50"]
+    one_stop_cycle = tmp_path / "one.csv"
+    one_stop_cycle.write_text(
+        "name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nB,20,4,0.3,1\n"
+    )
+    res = runner.invoke(
+        app, [*short, "--cycle", str(one_stop_cycle), "--stops", "5", "-o", str(tmp_path / "f.nc")]
+    )
+    assert res.exit_code == 0, res.output
+    assert "note: --stops 5: the cycle has 1 stop; all of them run, once" in res.output
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
     assert res.exit_code == 2 and "at least 0 and below 100 %" in res.output
     assert not (tmp_path / "bad.nc").exists()
