@@ -242,6 +242,29 @@ def simulate(
     out.print(f"wrote {output}")
 
 
+def _percent_levels(text: str) -> list[float]:
+    """The fibre area fractions [%] of ``--levels``: comma separated, finite, each once."""
+    import math
+
+    example = "give fibre area fractions in %, comma separated, e.g. --levels 10,20"
+    values: list[float] = []
+    for item in (part.strip() for part in text.split(",")):
+        if not item:
+            continue
+        try:
+            value = float(item)
+        except ValueError:
+            raise ConfigError(f"--levels {text!r}: {item!r} is not a number; {example}") from None
+        if not math.isfinite(value):
+            raise ConfigError(f"--levels {text!r}: {item!r} is not a finite number; {example}")
+        if value in values:
+            raise ConfigError(f"--levels {text!r}: {value:g} % is given twice")
+        values.append(value)
+    if not values:
+        raise ConfigError(f"--levels {text!r}: no level; {example}")
+    return values
+
+
 @app.command(short_help="the initial fibre maps of the A levels (paper Figure 5)")
 def surface(
     output: Annotated[
@@ -268,7 +291,7 @@ def surface(
 
     try:
         config = resolve_config(preset, config_file, overrides, None, quick)
-        values = [float(v) for v in levels.split(",") if v.strip()]
+        values = _percent_levels(levels)
         configs = {f"A = {v:g} %": config.with_updates({"A": v}) for v in values}
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))

@@ -227,3 +227,22 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n25,0\n30,0\n")
     with pytest.raises(ConfigError, match="content changed"):
         configured_cycle(config)
+
+
+def test_cli_surface_draws_the_levels_and_names_bad_ones(tmp_path):
+    runner = CliRunner()
+    png = tmp_path / "maps.png"
+    res = runner.invoke(app, ["surface", "-o", str(png), "--quick", "--levels", "10, 20"])
+    assert res.exit_code == 0, res.output
+    assert png.read_bytes().startswith(b"\x89PNG") and f"wrote {png}" in res.output
+    for levels, message in [
+        ("abc", "--levels 'abc': 'abc' is not a number"),
+        ("", "--levels '': no level"),
+        ("10,10", "--levels '10,10': 10 % is given twice"),
+        ("inf", "'inf' is not a finite number"),
+        ("150", "must be at least 0 and below 100 %"),
+    ]:
+        bad = tmp_path / "bad.png"
+        res = runner.invoke(app, ["surface", "-o", str(bad), "--quick", "--levels", levels])
+        assert res.exit_code == 2 and message in res.output, (levels, res.output)
+        assert "Traceback" not in res.output and not bad.exists()
