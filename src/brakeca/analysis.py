@@ -509,7 +509,13 @@ def _fit_anova(
                     table = None
             if table is None:
                 table = _sequential_table(frame, terms, fit)
-                kind = "Type I (sequential; the design is rank-deficient, e.g. empty cells)"
+                if not full_rank:
+                    why = "the design is rank-deficient, e.g. empty cells"
+                elif fit.df_resid < 0.5:
+                    why = "no residual degrees of freedom, which Type II needs"
+                else:
+                    why = "statsmodels could not compute Type II"
+                kind = f"Type I (sequential; {why})"
     messages = sorted(
         {
             f"statsmodels: {w.message}"

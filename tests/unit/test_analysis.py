@@ -285,6 +285,10 @@ def test_anova_saturated_falls_back_without_crashing() -> None:
     assert list(table["term"]) == ["S", "Residual"]
     assert table["F"].isna().all() and table["p_value"].isna().all()
     assert "F and p cannot be computed" in table["note"].iloc[0]
+    # a full-rank design: the reason is the residual degrees of freedom, not empty cells
+    assert table.attrs["typ"] == (
+        "Type I (sequential; no residual degrees of freedom, which Type II needs)"
+    )
 
     # A factor that does not vary, and a single run: still no exception.
     table = anova(two, [S, WP], "MU")
@@ -409,7 +413,9 @@ def test_anova_with_an_empty_cell_uses_sequential_sums_of_squares() -> None:
     rows = _design(noise=1e-3)
     rows = rows[~((rows["S"] == 1.0) & (rows["WP"] == 1e-13))]  # the S+ WP+ cell failed
     table = anova(rows, FACTORS, "MU")
-    assert table.attrs["typ"].startswith("Type I ")
+    assert (
+        table.attrs["typ"] == "Type I (sequential; the design is rank-deficient, e.g. empty cells)"
+    )
     assert "sequential" in table["note"].iloc[0]
     df = dict(zip(table["term"], table["df"], strict=True))
     assert df["S:WP"] == 1  # one of the two interaction contrasts is not estimable
