@@ -1,9 +1,10 @@
 """The command line: parsing and printing, nothing else.
 
-``brakeca simulate`` runs one pad over the drive cycle; ``brakeca surface`` draws the fibre
-maps; ``brakeca run`` / ``analyze`` / ``paper`` run and read factorial campaigns. Speed is
-measured by the scripts in ``benchmarks/`` (``bench.py`` prints the JSON line of
-``docs/performance.md``), which need the NumPy reference kept with the tests.
+``brakeca simulate`` runs one pad over the drive cycle and ``brakeca plot`` draws its
+figures; ``brakeca surface`` draws the fibre maps; ``brakeca run`` / ``analyze`` / ``paper``
+run and read factorial campaigns. Speed is measured by the scripts in ``benchmarks/``
+(``bench.py`` prints the JSON line of ``docs/performance.md``), which need the NumPy reference
+kept with the tests.
 """
 
 from __future__ import annotations
@@ -263,6 +264,42 @@ def _percent_levels(text: str) -> list[float]:
     if not values:
         raise ConfigError(f"--levels {text!r}: no level; {example}")
     return values
+
+
+@app.command("plot", short_help="figures of one run file")
+def plot(
+    run_file: Annotated[
+        Path,
+        typer.Argument(
+            metavar="RUN",
+            exists=True,
+            dir_okay=False,
+            help="a run file written by brakeca simulate (.nc)",
+        ),
+    ],
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o",
+            "--output",
+            metavar="DIR",
+            file_okay=False,
+            help="folder for the PNG files (default: beside the run file, RUN_figures)",
+        ),
+    ] = None,
+) -> None:
+    """Figures of one run: MU per stop over the cycle, the per-step COF and normal force
+    against the braking time, and the initial and final plateau maps."""
+    from brakeca.results import RunResult
+    from brakeca.study import plot_run
+
+    try:
+        result = RunResult.from_netcdf(run_file)
+    except (OSError, ValueError) as exc:
+        _fail(str(exc))
+    folder = output if output is not None else run_file.with_name(f"{run_file.stem}_figures")
+    for path in plot_run(result, folder):
+        out.print(f"wrote {path}")
 
 
 @app.command(short_help="the initial fibre maps of the A levels (paper Figure 5)")

@@ -304,6 +304,7 @@ def plot_mu_per_stop(
     *,
     factors: Iterable[Any] | None = None,
     variable: str = "mean_cof",
+    title: str | None = None,
 ) -> Figure:
     """Mean coefficient of friction per stop over the whole cycle, one line per run.
 
@@ -320,6 +321,9 @@ def plot_mu_per_stop(
         Optional factors; their level labels (``"-"``, ``"0"``, ``"+"``) name the runs.
     variable
         Data variable to plot, ``"mean_cof"`` by default.
+    title
+        The axes' title; by default one for all the runs of a campaign. A single run gets
+        no legend.
 
     Returns
     -------
@@ -399,12 +403,14 @@ def plot_mu_per_stop(
     ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
     ax.set_xlabel("Stop number [-]")
     ax.set_ylabel("Mean coefficient of friction μ per stop [-]")
-    title = "Mean coefficient of friction per stop over the cycle, all runs"
-    if n_tests < n:
-        title += " (the replicates of a test share its colour)"
+    if title is None:
+        title = "Mean coefficient of friction per stop over the cycle, all runs"
+        if n_tests < n:
+            title += " (the replicates of a test share its colour)"
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
-    fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
+    if n > 1:
+        fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
     return save_figure(fig, path)
 
 

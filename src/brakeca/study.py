@@ -27,7 +27,7 @@ from brakeca import __version__
 from brakeca.campaign import CampaignResult
 from brakeca.results import RunResult
 
-__all__ = ["RESPONSES", "with_log_v", "write_study"]
+__all__ = ["RESPONSES", "plot_run", "with_log_v", "write_study"]
 
 RESPONSES = ("MU", "V", "log10_V_mm3")
 _LABELS = {
@@ -272,3 +272,52 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         version=__version__,
         notes=notes,
     )
+
+
+def plot_run(result: RunResult, folder: str | Path) -> list[Path]:
+    """The figures of one run, as ``brakeca plot`` draws them.
+
+    Parameters
+    ----------
+    result
+        A run (``RunResult.from_netcdf`` reads a run file).
+    folder
+        Where the PNG files go (created).
+
+    Returns
+    -------
+    list of Path
+        ``mu_per_stop.png`` (the mean COF of each stop over the cycle, paper Figure 10 for
+        one run), ``steps.png`` (the thinned per-step COF and pad normal force against the
+        braking time [s]) and ``maps.png`` (the initial and final plateau maps).
+    """
+    from brakeca.plotting import plot_cof_series, plot_fibre_maps, plot_mu_per_stop
+
+    ds = result.dataset
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    about = f"seed {result.seed}, MU = {result.MU:.4f}, V = {result.V * 1e9:.4g} mm³ per stop"
+    paths = [out / "mu_per_stop.png", out / "steps.png", out / "maps.png"]
+    plot_mu_per_stop(
+        ds[["mean_cof"]].expand_dims(run=[0]),
+        paths[0],
+        title=f"Mean coefficient of friction per stop over the cycle ({about})",
+    )
+    plot_cof_series(
+        {
+            "cof": ds["step_cof"].to_numpy(),
+            "normal_force": ds["step_normal_force"].to_numpy(),
+            "time": ds["step_time"].to_numpy(),
+        },
+        paths[1],
+    )
+    radius, angle = ds["radius"].to_numpy(), ds["angle"].to_numpy()
+    plot_fibre_maps(
+        {
+            "before the first stop": (ds["initial_status"].to_numpy(), radius, angle),
+            "after the last stop": (ds["final_status"].to_numpy(), radius, angle),
+        },
+        paths[2],
+        ncols=1,
+    )
+    return paths

@@ -246,3 +246,21 @@ def test_cli_surface_draws_the_levels_and_names_bad_ones(tmp_path):
         res = runner.invoke(app, ["surface", "-o", str(bad), "--quick", "--levels", levels])
         assert res.exit_code == 2 and message in res.output, (levels, res.output)
         assert "Traceback" not in res.output and not bad.exists()
+
+
+def test_cli_plot_draws_a_run_files_figures(tmp_path, run):
+    path = run.to_netcdf(tmp_path / "r.nc")
+    res = CliRunner().invoke(app, ["plot", str(path)])
+    assert res.exit_code == 0, res.output
+    folder = tmp_path / "r_figures"
+    for name in ("mu_per_stop.png", "steps.png", "maps.png"):
+        assert (folder / name).read_bytes().startswith(b"\x89PNG")
+        assert f"wrote {folder / name}" in res.output.replace("\n", "")
+    res = CliRunner().invoke(app, ["plot", str(path), "-o", str(tmp_path / "elsewhere")])
+    assert res.exit_code == 0 and (tmp_path / "elsewhere" / "maps.png").is_file()
+    not_a_run = tmp_path / "x.nc"
+    not_a_run.write_text("no")
+    res = CliRunner().invoke(app, ["plot", str(not_a_run)])
+    assert res.exit_code == 2 and "not a readable netCDF file" in res.output
+    res = CliRunner().invoke(app, ["plot", str(tmp_path / "missing.nc")])
+    assert res.exit_code == 2 and "does not exist" in res.output

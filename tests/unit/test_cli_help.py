@@ -14,6 +14,7 @@ from brakeca.cli import app
 COMMANDS = [
     ["simulate"],
     ["surface"],
+    ["plot"],
     ["run"],
     ["analyze"],
     ["paper"],
