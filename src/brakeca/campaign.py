@@ -106,6 +106,11 @@ __all__ = [
 # --- the campaign --------------------------------------------------------------------------
 
 
+def _checkpoint_path(runs: Path, point: RunPoint) -> Path:
+    """Where the run of ``point`` in progress keeps its checkpoint: ``runs/.<run_id>...``."""
+    return runs / f".{run_id(point)}.checkpoint.npz"
+
+
 def run_campaign(
     design: Design | str | Path,
     out_dir: str | Path,
@@ -403,7 +408,7 @@ def _execute_points(
         resumed = (
             0
             if how.checkpoint_every is None
-            else sum((runs / f".{run_id(p)}.checkpoint.npz").is_file() for p in todo)
+            else sum(_checkpoint_path(runs, p).is_file() for p in todo)
         )
         say(
             console,
@@ -423,7 +428,7 @@ def _execute_points(
                     point = queue.popleft()
                     ckpt: tuple = ()
                     if how.checkpoint_every is not None:
-                        path = runs / f".{run_id(point)}.checkpoint.npz"
+                        path = _checkpoint_path(runs, point)
                         ckpt = (path, int(how.checkpoint_every))
                     pending[backend.submit(how.simulate_fn, point, ckpt)] = point
                 done, _ = cf.wait(

@@ -19,7 +19,7 @@ import typer
 
 from brakeca import __version__
 from brakeca._console import LogConsole
-from brakeca.config import ConfigError, SimulationConfig, load_config, parse_override
+from brakeca.config import MAX_SEED, ConfigError, SimulationConfig, load_config, parse_override
 from brakeca.presets import available_designs
 
 app = typer.Typer(
@@ -89,7 +89,7 @@ SetOpt = Annotated[
 SeedOpt = Annotated[
     int,
     typer.Option(
-        "--seed", min=0, max=2**64 - 1, metavar="N", help="seed of the run's random generator"
+        "--seed", min=0, max=MAX_SEED, metavar="N", help="seed of the run's random generator"
     ),
 ]
 StopsOpt = Annotated[

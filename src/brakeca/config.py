@@ -664,6 +664,10 @@ FACTOR_ALIASES: dict[str, tuple[str, float, str]] = {
 _ALIAS_RANGES = {"A": (0.0, 100.0)}
 
 
+#: The largest run seed [-]: run files store it as an unsigned 64-bit integer (checked by
+#: ``simulation.simulate`` and the command line's ``--seed``).
+MAX_SEED = 2**64 - 1
+
 _DECIMAL_COMMA = re.compile(r"[+-]?\d*,\d+(?:[eE][+-]?\d+)?|[+-]?\d+,")
 
 

@@ -104,42 +104,41 @@ def _target(field: str) -> str:
     return FACTOR_ALIASES[field][0] if field in FACTOR_ALIASES else field
 
 
-def _leaf_field_problem(field: str) -> str | None:
-    """Why ``field`` is not a settable leaf of :class:`SimulationConfig` (None when it is)."""
+def _leaf_field(field: str) -> tuple[Any, str | None]:
+    """The :class:`SimulationConfig` field info of the dotted ``field``, and why it is not a
+    settable leaf (None when it is; the info is None then only for an alias)."""
     if field in FACTOR_ALIASES:
-        return None
+        return None, None
     parts = field.split(".")
     known: Mapping[str, Any] | None = SimulationConfig.model_fields
+    info = None
     for depth, part in enumerate(parts):
         here = ".".join(parts[: depth + 1])
         if known is None:
-            return f"{here!r} is below a value, not a section"
+            return None, f"{here!r} is below a value, not a section"
         if part not in known:
             allowed = ", ".join(sorted(known))
             aliases = ", ".join(FACTOR_ALIASES)
-            return (
+            return None, (
                 f"unknown configuration field {here!r}; allowed here: {allowed} "
                 f"(or a factor alias: {aliases})"
             )
-        annotation = known[part].annotation
-        known = getattr(annotation, "model_fields", None)
+        info = known[part]
+        known = getattr(info.annotation, "model_fields", None)
     if known is not None:
-        return f"{field!r} is a section, not a value; name one of its fields"
-    return None
+        return None, f"{field!r} is a section, not a value; name one of its fields"
+    return info, None
+
+
+def _leaf_field_problem(field: str) -> str | None:
+    """Why ``field`` is not a settable leaf of :class:`SimulationConfig` (None when it is)."""
+    return _leaf_field(field)[1]
 
 
 def _field_unit(field: str) -> str | None:
     """The SI unit a configuration field's description states (``[Pa] ...``), or None."""
-    known: Mapping[str, Any] | None = SimulationConfig.model_fields
-    info = None
-    for part in field.split("."):
-        if known is None or part not in known:
-            return None
-        info = known[part]
-        known = getattr(info.annotation, "model_fields", None)
-    if info is None or known is not None:
-        return None
-    match = re.match(r"\s*\[([^\]]+)\]", info.description or "")
+    info = _leaf_field(field)[0]
+    match = re.match(r"\s*\[([^\]]+)\]", (info.description or "") if info else "")
     return match.group(1) if match else None
 
 
@@ -522,10 +521,11 @@ class Design(_Frozen):
         updates = dict(overrides or {})
         varied = {_target(f.field): f.name for f in self.factors}
         for key in updates:
-            if _target(key) in varied:
-                shown = key if key == _target(key) else f"{key} ({_target(key)})"
+            target = _target(key)
+            if target in varied:
+                shown = key if key == target else f"{key} ({target})"
                 raise ConfigError(
-                    f"override {shown}: the design's factor {varied[_target(key)]!r} sets this "
+                    f"override {shown}: the design's factor {varied[target]!r} sets this "
                     "field in every run, so the override would be ignored; remove one of them"
                 )
         if max_stops is not None:

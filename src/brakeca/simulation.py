@@ -25,7 +25,7 @@ from brakeca import _kernels as K
 from brakeca import _lazy
 from brakeca._io import atomic_write
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
-from brakeca.config import PadConfig, SimulationConfig
+from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
 from brakeca.geometry import Grid, make_grid
@@ -320,10 +320,6 @@ class _StopLog:
     s_removed: list[int]
     rule_counts: list[np.ndarray]
     exposures: list[Exposure] = field(default_factory=list)
-
-
-#: The largest run seed [-]: run files store it as an unsigned 64-bit integer.
-MAX_SEED = 2**64 - 1
 
 
 def simulate(

@@ -364,6 +364,7 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
     header: list[str] | None = None
     header_line = 0
     delim = ","
+    comma = False
     cols: dict[str, int] = {}
     t_factor = v_factor = 1.0
     unit_label = ""
@@ -378,6 +379,7 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
             continue
         if header is None:
             delim = csv_delimiter(s)
+            comma = delim != ","  # a semicolon or tab separated file may use decimal commas
             header = [c.strip() for c in s.split(delim)]
             header_line = lineno
             cols, t_factor, v_factor, unit_label = _read_header(header, source, lineno, speed_unit)
@@ -388,7 +390,6 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
             raise TraceError(
                 source, lineno, f"expected {len(header)} values, found {len(fields)}: {s!r}"
             )
-        comma = delim != ","  # a semicolon or tab separated file may use decimal commas
         t = _parse_number(fields[cols["time"]], "time", source, lineno, decimal_comma=comma)
         v = _parse_number(fields[cols["speed"]], "speed", source, lineno, decimal_comma=comma)
         if v < 0.0:
