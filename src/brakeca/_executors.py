@@ -15,7 +15,7 @@ import multiprocessing
 import os
 import sys
 from collections.abc import Callable, Iterator, Mapping
-from contextlib import contextmanager, nullcontext
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -97,12 +97,24 @@ class DaskExecutor(cf.Executor):
         A cluster started for this executor, closed with it.
     own_client
         Close ``client`` on shutdown (True for a client made by :func:`make_executor`).
+    held
+        A context entered for the cluster's lifetime, exited on shutdown after the cluster
+        closes (:func:`main_module_not_rerun` for a LocalCluster, whose nannies also spawn a
+        worker that replaces a dead one).
     """
 
-    def __init__(self, client: Any, cluster: Any = None, *, own_client: bool = True) -> None:
+    def __init__(
+        self,
+        client: Any,
+        cluster: Any = None,
+        *,
+        own_client: bool = True,
+        held: AbstractContextManager[Any] | None = None,
+    ) -> None:
         self.client = client
         self.cluster = cluster
         self._own_client = own_client
+        self._held = held
         self._executor = client.get_executor(pure=False)
         self._closed = False
 
@@ -127,8 +139,12 @@ class DaskExecutor(cf.Executor):
                 if self._own_client:
                     self.client.close()
             finally:
-                if self.cluster is not None:
-                    self.cluster.close()
+                try:
+                    if self.cluster is not None:
+                        self.cluster.close()
+                finally:
+                    if self._held is not None:
+                        self._held.__exit__(None, None, None)
 
 
 def _init_worker() -> None:
@@ -216,27 +232,31 @@ def _dask_executor(
         scheduler_kwargs["allowed_failures"] = int(max_retries)
     # a one-thread worker holds only the run it executes, so a dying worker takes no queued
     # run down with it (dask counts every run on a dead worker as suspicious)
-    # main_module_not_rerun: the nannies spawn their workers while the cluster starts
-    # (a caller's function reaches a dask worker by value, cloudpickled, not from the module)
-    with (
-        dask.config.set({"distributed.scheduler.worker-saturation": 1.0}),
-        main_module_not_rerun(),
-    ):
-        cluster = distributed.LocalCluster(
-            n_workers=n,
-            threads_per_worker=1,
-            processes=True,
-            host="127.0.0.1",
-            dashboard_address=None,
-            scheduler_kwargs=scheduler_kwargs,
-            env=dict(WORKER_ENV),
-        )
+    # main_module_not_rerun, held until the executor shuts down: the nannies spawn their
+    # workers while the cluster starts, and a new one whenever a worker dies (a caller's
+    # function reaches a dask worker by value, cloudpickled, not from the module)
+    held = main_module_not_rerun()
+    held.__enter__()
+    try:
+        with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+            cluster = distributed.LocalCluster(
+                n_workers=n,
+                threads_per_worker=1,
+                processes=True,
+                host="127.0.0.1",
+                dashboard_address=None,
+                scheduler_kwargs=scheduler_kwargs,
+                env=dict(WORKER_ENV),
+            )
         try:
             client = distributed.Client(cluster, set_as_default=False)
         except BaseException:
             cluster.close()
             raise
-    return DaskExecutor(client, cluster)
+    except BaseException:
+        held.__exit__(None, None, None)
+        raise
+    return DaskExecutor(client, cluster, held=held)
 
 
 def make_executor(

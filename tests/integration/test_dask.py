@@ -343,6 +343,41 @@ def test_make_executor_dask_starts_and_closes_a_loopback_cluster():
     _assert_no_new_children(before)
 
 
+def test_an_unguarded_script_is_not_rerun_when_a_dask_worker_is_replaced(tmp_path):
+    """A LocalCluster's nanny spawns a new worker when one dies, at any time while the
+    cluster runs, not only when it starts: the main module (here a script without an
+    ``if __name__ == "__main__":`` guard) must not run in that worker either. The
+    executor's own state is left as it found it: ``__main__.__spec__`` is restored."""
+    script = tmp_path / "study.py"
+    script.write_text(
+        "import os, signal, sys, time\n"
+        "from brakeca.campaign import make_executor\n"
+        "print('top level ran', flush=True)\n"
+        "spec = sys.modules['__main__'].__spec__\n"
+        "with make_executor('dask', 1, max_retries=0) as ex:\n"
+        "    first = ex.submit(os.getpid).result()\n"
+        "    os.kill(first, signal.SIGKILL)\n"
+        "    deadline = time.monotonic() + 60\n"
+        "    while True:\n"
+        "        try:\n"
+        "            second = ex.submit(os.getpid).result(timeout=10)\n"
+        "        except Exception:\n"
+        "            second = first\n"
+        "        if second != first or time.monotonic() > deadline:\n"
+        "            break\n"
+        "        time.sleep(0.5)\n"
+        "    print('replaced', second != first, flush=True)\n"
+        "print('spec restored', sys.modules['__main__'].__spec__ is spec, flush=True)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines() == ["top level ran", "replaced True", "spec restored True"], (
+        done.stdout + done.stderr
+    )
+
+
 def _allowed_failures(dask_scheduler) -> int:
     return dask_scheduler.allowed_failures
 
