@@ -170,7 +170,8 @@ class Factor(_Frozen):
     unit
         Unit of the levels as the design gives them; by default an alias's unit (``%`` for
         ``A``), else, when ``scale`` is 1, the field's own unit (``Pa`` for
-        ``contact.elastic_modulus``), else ``-``.
+        ``contact.elastic_modulus``), else ``-``; none for a categorical factor, whose plots
+        then label its axis by its name alone.
     label
         Human-readable description.
     """
@@ -195,7 +196,8 @@ class Factor(_Frozen):
     @classmethod
     def _alias_defaults(cls, data: Any) -> Any:
         """A factor named after an alias and given no field sets that alias; a factor given
-        no unit takes its alias's unit, or, unscaled, its field's unit."""
+        no unit takes its alias's unit, or, unscaled, its field's unit; a categorical one
+        (``choices``) has none."""
         if not isinstance(data, Mapping):
             return data
         if "field" not in data and str(data.get("name")) in FACTOR_ALIASES:
@@ -206,7 +208,9 @@ class Factor(_Frozen):
         if "unit" not in data:
             field = str(data.get("field"))
             alias = FACTOR_ALIASES.get(field)
-            if alias is not None:
+            if isinstance(choices, list) or field == "cycle":
+                data = {**data, "unit": ""}  # levels only number the choices
+            elif alias is not None:
                 data = {**data, "unit": alias[2]}
             elif data.get("scale", 1.0) == 1.0 and (unit := _field_unit(field)) is not None:
                 data = {**data, "unit": unit}  # levels in the field's own unit

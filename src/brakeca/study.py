@@ -221,7 +221,9 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
         for _, row in ok.iterrows():
             levels = ", ".join(
-                f"{f.name} = {row[f.name]:g}" + ("" if f.unit in ("", "-") else f" {f.unit}")
+                f"{f.name} = {f.label_of(row[f.name])}"
+                if f.choices is not None
+                else f"{f.name} = {row[f.name]:g}" + ("" if f.unit in ("", "-") else f" {f.unit}")
                 for f in factors
             )
             which = (

@@ -218,6 +218,9 @@ def test_design_factor_selects_the_cycle(tmp_path):
         is_trace = row["C"] == 2
         assert bool(run.config.cycle.trace_file) == is_trace
         assert run.dataset.block.values[0] == ("urban" if is_trace else "Burnish")
+    # the report names a categorical factor's levels by their labels too
+    report = (out / "report.html").read_text(encoding="utf-8")
+    assert "Test 2 (C = trace, A = 10 %)" in report, report[:2000]
     pm10 = pd.read_csv(out / "tables" / "pm10.csv")
     assert pm10.loc[pm10["C"] == 1, "PM10_mg_km"].isna().all()
     assert (pm10.loc[pm10["C"] == 2, "PM10_mg_km"] > 0).all()

@@ -15,6 +15,7 @@ import tomli_w
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from brakeca.analysis import as_factor
 from brakeca.config import ConfigError
 from brakeca.design import (
     Design,
@@ -602,6 +603,10 @@ def test_a_categorical_factor_sets_a_text_field_by_its_choices():
     # labels default to the choices; given labels are kept
     assert design.factors[0].labels == ("columns", "field")
     assert design.factors[1].labels == ("W-E", "E-W")
+    # its levels only number the choices: no unit, so a plot's axis reads "fibres", not
+    # "fibres [-]"
+    assert [f.unit for f in design.factors] == ["", ""]
+    assert as_factor(design.factors[0]).axis_label == "fibres"
     # a choice the field does not take names the factor, the level and the allowed values
     bad = {**spec, "choices": ["columns", "feld"]}
     with pytest.raises(ConfigError, match=r"factor 'fibres' .*'columns', 'layer' or 'field'"):
