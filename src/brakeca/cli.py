@@ -266,15 +266,15 @@ def _percent_levels(text: str) -> list[float]:
     return values
 
 
-@app.command("plot", short_help="figures of one run file")
+@app.command("plot", short_help="figures of a run file, or of a campaign's runs")
 def plot(
-    run_file: Annotated[
+    path: Annotated[
         Path,
         typer.Argument(
-            metavar="RUN",
+            metavar="RUN|FOLDER",
             exists=True,
-            dir_okay=False,
-            help="a run file written by brakeca simulate (.nc)",
+            help="a run file (.nc, from brakeca simulate or a campaign's runs/), or a campaign "
+            "folder (brakeca run -o) to draw each of its runs",
         ),
     ],
     output: Annotated[
@@ -284,22 +284,64 @@ def plot(
             "--output",
             metavar="DIR",
             file_okay=False,
-            help="folder for the PNG files (default: beside the run file, RUN_figures)",
+            help="folder for the PNG files (default: beside the run file, RUN_figures; for a "
+            "campaign, FOLDER/run_figures, one subfolder per run)",
+        ),
+    ] = None,
+    tests: Annotated[
+        list[int] | None,
+        typer.Option(
+            "--test",
+            metavar="N",
+            min=1,
+            help="a campaign's test to draw (repeat for more; default: every test)",
         ),
     ] = None,
 ) -> None:
     """Figures of one run: MU per stop over the cycle, the per-step COF and normal force
-    against the braking time, and the initial and final plateau maps."""
+    against the braking time, and the initial and final plateau maps. Given a campaign
+    folder, the same figures for each of its runs (or the tests named by --test)."""
     from brakeca.results import RunResult
-    from brakeca.study import plot_run
+    from brakeca.study import campaign_runs_to_plot, plot_run
 
+    if not path.is_dir():
+        if tests:
+            _fail("--test selects runs of a campaign folder; RUN is a single run file")
+        try:
+            result = RunResult.from_netcdf(path)
+        except (OSError, ValueError) as exc:
+            _fail(str(exc))
+        folder = output if output is not None else path.with_name(f"{path.stem}_figures")
+        for written in plot_run(result, folder):
+            out.print(f"wrote {written}")
+        return
     try:
-        result = RunResult.from_netcdf(run_file)
+        rows = campaign_runs_to_plot(path, tests or ())
     except (OSError, ValueError) as exc:
         _fail(str(exc))
-    folder = output if output is not None else run_file.with_name(f"{run_file.stem}_figures")
-    for path in plot_run(result, folder):
-        out.print(f"wrote {path}")
+    base = output if output is not None else path / "run_figures"
+    replicated = "replicate" in rows.columns and rows["replicate"].nunique() > 1
+    drawn = 0
+    with _on_interrupt(f"the figures written so far are in {base}"):
+        for k, row in enumerate(rows.itertuples(index=False), start=1):
+            name = f"test{int(row.test):02d}_r{int(getattr(row, 'replicate', 0))}"
+            head = f"[{k}/{len(rows)}] test {int(row.test)}"
+            run_file = path / "runs" / f"{row.run_id}.nc"
+            if row.status != "ok" or not run_file.is_file():
+                why = "failed" if row.status != "ok" else f"{run_file} is missing"
+                console.print(f"{head}: skipped ({why})", highlight=False)
+                continue
+            try:
+                result = RunResult.from_netcdf(run_file)
+            except (OSError, ValueError) as exc:
+                console.print(f"{head}: skipped ({exc})", highlight=False)
+                continue
+            replicate = f", replicate {int(row.replicate)}" if replicated else ""
+            plot_run(result, base / name, name=f"test {int(row.test)}{replicate}")
+            drawn += 1
+            out.print(f"{head}: wrote {base / name}", highlight=False)
+    if drawn == 0:
+        _fail(f"no run of {path} could be drawn", code=1)
 
 
 @app.command(short_help="the initial fibre maps of the A levels (paper Figure 5)")

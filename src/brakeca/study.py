@@ -18,6 +18,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -276,7 +277,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     )
 
 
-def plot_run(result: RunResult, folder: str | Path) -> list[Path]:
+def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> list[Path]:
     """The figures of one run, as ``brakeca plot`` draws them.
 
     Parameters
@@ -285,6 +286,8 @@ def plot_run(result: RunResult, folder: str | Path) -> list[Path]:
         A run (``RunResult.from_netcdf`` reads a run file).
     folder
         Where the PNG files go (created).
+    name
+        What the run is, put first in the titles, e.g. ``"test 5"`` for a campaign's run.
 
     Returns
     -------
@@ -299,6 +302,8 @@ def plot_run(result: RunResult, folder: str | Path) -> list[Path]:
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     about = f"seed {result.seed}, MU = {result.MU:.4f}, V = {result.V * 1e9:.4g} mm³ per stop"
+    if name:
+        about = f"{name}, {about}"
     paths = [out / "mu_per_stop.png", out / "steps.png", out / "maps.png"]
     plot_mu_per_stop(
         ds[["mean_cof"]].expand_dims(run=[0]),
@@ -323,3 +328,56 @@ def plot_run(result: RunResult, folder: str | Path) -> list[Path]:
         ncols=1,
     )
     return paths
+
+
+def campaign_runs_to_plot(campaign_dir: str | Path, tests: Sequence[int] = ()) -> pd.DataFrame:
+    """The runs of a finished campaign whose figures ``brakeca plot FOLDER`` draws.
+
+    Parameters
+    ----------
+    campaign_dir
+        A campaign folder (``brakeca run -o``) with its ``summary.csv``.
+    tests
+        Test numbers [-] to draw; empty: every test.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Rows of ``summary.csv`` for the selected tests, in test and replicate order,
+        failed runs included (they have no run file to draw).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such folder, not a campaign, or no ``summary.csv`` yet.
+    ValueError
+        A test number the campaign does not have.
+    """
+    from brakeca._consolidate import read_summary
+
+    out = Path(campaign_dir)
+    if not out.is_dir():
+        raise FileNotFoundError(f"{out}: no such folder")
+    if not (out / "design.toml").is_file():
+        raise FileNotFoundError(
+            f"{out}: not a campaign folder (no design.toml; 'brakeca run' writes one)"
+        )
+    if not (out / "summary.csv").is_file():
+        raise FileNotFoundError(
+            f"{out / 'summary.csv'}: missing; the campaign has not finished: plot a run file "
+            f"of {out / 'runs'} instead, or finish it with "
+            f"'brakeca run {out / 'design.toml'} -o {out}'"
+        )
+    summary = read_summary(out / "summary.csv")
+    have = sorted({int(t) for t in summary["test"]})
+    unknown = sorted({int(t) for t in tests} - set(have))
+    if unknown:
+        raise ValueError(
+            f"--test {', '.join(map(str, unknown))}: the campaign has tests {have[0]} to {have[-1]}"
+            if have == list(range(have[0], have[-1] + 1))
+            else f"--test {', '.join(map(str, unknown))}: the campaign's tests are "
+            f"{', '.join(map(str, have))}"
+        )
+    rows = summary if not tests else summary[summary["test"].isin([int(t) for t in tests])]
+    keys = ["test", "replicate"] if "replicate" in rows.columns else ["test"]
+    return rows.sort_values(keys).reset_index(drop=True)

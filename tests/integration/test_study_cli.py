@@ -128,6 +128,36 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     assert (out / "report.html").exists()
 
 
+def test_plot_draws_a_campaigns_runs(campaign, tmp_path):
+    out, _ = campaign
+    figures = tmp_path / "figs"
+    res = CliRunner().invoke(app, ["plot", str(out), "--test", "3", "-o", str(figures)])
+    assert res.exit_code == 0, res.output
+    assert "[1/1] test 3: wrote" in res.output
+    assert sorted(p.name for p in figures.iterdir()) == ["test03_r0"]
+    names = sorted(p.name for p in (figures / "test03_r0").iterdir())
+    assert names == ["maps.png", "mu_per_stop.png", "steps.png"]
+    # every run, by default into the campaign's run_figures folder
+    res = CliRunner().invoke(app, ["plot", str(out)])
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in (out / "run_figures").iterdir()) == [
+        f"test{t:02d}_r0" for t in (1, 2, 3, 4)
+    ]
+    # a test the campaign lacks, --test on a run file, an unfinished campaign
+    res = CliRunner().invoke(app, ["plot", str(out), "--test", "5"])
+    assert res.exit_code == 2 and "--test 5: the campaign has tests 1 to 4" in res.output
+    run_file = next((out / "runs").glob("*.nc"))
+    res = CliRunner().invoke(app, ["plot", str(run_file), "--test", "1"])
+    assert res.exit_code == 2 and "--test selects runs of a campaign folder" in res.output
+    unfinished = tmp_path / "unfinished"
+    unfinished.mkdir()
+    (unfinished / "design.toml").write_text((out / "design.toml").read_text())
+    res = CliRunner().invoke(app, ["plot", str(unfinished)])
+    assert res.exit_code == 2 and "the campaign has not finished" in res.output
+    res = CliRunner().invoke(app, ["plot", str(tmp_path)])
+    assert res.exit_code == 2 and "not a campaign folder" in res.output
+
+
 def test_bad_design_is_reported_before_any_run(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text(DESIGN.replace("levels = [10.0, 20.0]", "levels = [10.0, 150.0]"))
