@@ -28,7 +28,7 @@ from brakeca import __version__
 from brakeca.campaign import CampaignResult
 from brakeca.results import RunResult
 
-__all__ = ["RESPONSES", "plot_run", "with_log_v", "write_study"]
+__all__ = ["RESPONSES", "per_stop_table", "plot_run", "with_log_v", "write_study"]
 
 RESPONSES = ("MU", "V", "log10_V_mm3")
 _LABELS = {
@@ -53,6 +53,67 @@ def with_log_v(summary: pd.DataFrame) -> pd.DataFrame:
     with np.errstate(divide="ignore", invalid="ignore"):
         log_v = np.where(v_mm3 > 0, np.log10(v_mm3), np.nan)
     return summary.assign(log10_V_mm3=log_v)
+
+
+#: Per-stop variables of ``campaign.nc`` in ``tables/per_stop.csv``: column, variable and
+#: the factor from its SI unit to the column's unit.
+_PER_STOP_COLUMNS = (
+    ("mean_cof", "mean_cof", 1.0),
+    ("emitted_mm3", "emitted_volume", 1e9),
+    ("generated_mm3", "generated_volume", 1e9),
+    ("primary_area_fraction", "primary_area_fraction", 1.0),
+    ("secondary_area_fraction", "secondary_area_fraction", 1.0),
+    ("contact_area_fraction", "contact_area_fraction", 1.0),
+    ("normal_force_N", "normal_force", 1.0),
+    ("line_pressure_MPa", "line_pressure", 1e-6),
+    ("duration_s", "duration", 1.0),
+    ("n_steps", "n_steps", 1.0),
+)
+
+
+def per_stop_table(result: CampaignResult) -> pd.DataFrame:
+    """Every finished run's per-stop results as one long table, for a spreadsheet or a DoE tool.
+
+    Parameters
+    ----------
+    result
+        A loaded campaign.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run and stop it ran, runs with status ``"ok"`` only, in test and
+        replicate order: ``test``, ``replicate``, the factors' levels, ``seed``, ``stop``,
+        ``block`` (when the cycle names its blocks), then ``mean_cof`` [-] (MU is its mean over
+        a run's stops), ``emitted_mm3`` and ``generated_mm3`` [mm³] (V is the mean of
+        ``emitted_mm3``), the time-weighted plateau and contact area fractions of the band
+        [-], ``normal_force_N`` [N] and ``line_pressure_MPa`` [MPa], ``duration_s`` [s] and
+        ``n_steps`` [-].
+    """
+    ds = result.dataset
+    names = [f.name for f in result.design.factors]
+    status = np.asarray(ds["status"].values, dtype=str)
+    frames = []
+    for i in np.flatnonzero(status == "ok"):
+        run = ds.isel(run=int(i))
+        ran = np.isfinite(run["mean_cof"].to_numpy())
+        frame: dict[str, object] = {
+            "test": int(run["test"]),
+            "replicate": int(run["replicate"]) if "replicate" in run.coords else 0,
+        }
+        frame.update({name: run[name].item() for name in names})
+        frame["seed"] = int(run["seed"])
+        frame["stop"] = run["stop"].to_numpy()[ran]
+        if "block" in run.coords:
+            frame["block"] = np.asarray(run["block"].values, dtype=str)[ran]
+        for column, variable, factor in _PER_STOP_COLUMNS:
+            values = run[variable].to_numpy()[ran]
+            frame[column] = values.astype(np.int64) if column == "n_steps" else values * factor
+        frames.append(pd.DataFrame(frame))
+    if not frames:
+        return pd.DataFrame(columns=["test", "replicate", *names, "seed", "stop"])
+    table = pd.concat(frames, ignore_index=True)
+    return table.sort_values(["test", "replicate", "stop"], kind="stable").reset_index(drop=True)
 
 
 def _design_table(result: CampaignResult) -> pd.DataFrame:
@@ -141,6 +202,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     data = with_log_v(summary)
     tables = analysis.analyze(data, factors, RESPONSES)
     analysis.save_tables(tables, tables_dir)
+    per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
 
     figures: list[tuple[str, str, Path]] = []
 

@@ -95,6 +95,18 @@ def test_outputs_present_and_consistent(campaign):
             "residuals",
         ):
             assert (out / "tables" / f"{table}_{resp}.csv").exists()
+    # the per-stop table: every run's stops, in friendly units; MU and V are its means
+    per_stop = pd.read_csv(out / "tables" / "per_stop.csv")
+    assert list(per_stop.columns[:6]) == ["test", "replicate", "S", "A", "seed", "stop"]
+    assert len(per_stop) == 4 * 2 and list(per_stop["stop"]) == [1, 2] * 4
+    by_test = per_stop.groupby("test")
+    np.testing.assert_allclose(by_test["mean_cof"].mean(), summary["MU"], rtol=1e-12)
+    np.testing.assert_allclose(by_test["emitted_mm3"].mean(), summary["V"] * 1e9, rtol=1e-12)
+    assert list(by_test["seed"].first()) == list(summary["seed"])
+    run = RunResult.from_netcdf(out / "runs" / f"{summary['run_id'][2]}.nc").dataset
+    third = per_stop[per_stop["test"] == 3]
+    np.testing.assert_allclose(third["line_pressure_MPa"], run["line_pressure"] * 1e-6)
+    assert list(third["block"]) == list(run["block"].values)
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
     assert n_img == 4 * 3 + 3 + 4  # per response (MU, V, log10 V), per campaign, maps
