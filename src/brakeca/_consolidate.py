@@ -62,6 +62,20 @@ class CampaignResult:
         """True when every run finished."""
         return bool((self.summary["status"] == "ok").all())
 
+    def __repr__(self) -> str:
+        """One line: design, folder and run counts (the attributes hold the rest)."""
+        n = len(self.summary)
+        n_ok = int((self.summary["status"] == "ok").sum()) if n else 0
+        now = (
+            f", {len(self.computed)} computed now, {len(self.reused)} reused"
+            if self.computed or self.reused
+            else ""
+        )
+        return (
+            f"CampaignResult({self.design.name!r} in {str(self.out_dir)!r}: {n} runs, "
+            f"{n_ok} ok, {n - n_ok} failed{now})"
+        )
+
 
 # --- consolidation -------------------------------------------------------------------------
 

@@ -59,6 +59,16 @@ class RunResult:
     seed: int
     dataset: xr.Dataset
 
+    def __repr__(self) -> str:
+        """One line: seed, stops, grid, MU and V (``config`` and ``dataset`` hold the rest)."""
+        ds = self.dataset
+        grid = f"{ds.sizes.get('radius', 0)} x {ds.sizes.get('angle', 0)} cells"
+        quick = " (quick)" if self.config.quick else ""
+        return (
+            f"RunResult(seed={self.seed}, {ds.sizes.get('stop', 0)} stops, {grid}{quick}, "
+            f"MU={self.MU:.4f}, V={self.V * M3_TO_MM3:.4g} mm³ per stop)"
+        )
+
     @property
     def MU(self) -> float:
         """Mean over the stops of the per-stop mean COF [-]."""

@@ -111,6 +111,17 @@ def test_serial_campaign_runs_end_to_end(serial):
     assert (summary["status"] == "ok").all()
     assert np.isfinite(summary["MU"]).all() and (summary["V"] > 0).all()
     assert summary["seed"].nunique() == 4
+    # one line each, not the whole configuration and dataset
+    assert (
+        repr(serial) == f"CampaignResult('tiny' in {str(out)!r}: 4 runs, 4 ok, 0 failed, "
+        "4 computed now, 0 reused)"
+    )
+    assert repr(load_campaign(out)).endswith(": 4 runs, 4 ok, 0 failed)")
+    run = RunResult.from_netcdf(out / "runs" / f"{summary['run_id'][0]}.nc")
+    assert repr(run) == (
+        f"RunResult(seed={summary['seed'][0]}, 3 stops, 5 x 100 cells, "
+        f"MU={summary['MU'][0]:.4f}, V={summary['V_mm3'][0]:.4g} mm³ per stop)"
+    )
 
 
 def test_summary_and_campaign_nc_match_the_run_files(serial):
