@@ -64,8 +64,9 @@ class RunResult:
         ds = self.dataset
         grid = f"{ds.sizes.get('radius', 0)} x {ds.sizes.get('angle', 0)} cells"
         quick = " (quick)" if self.config.quick else ""
+        stops = ds.sizes.get("stop", 0)
         return (
-            f"RunResult(seed={self.seed}, {ds.sizes.get('stop', 0)} stops, {grid}{quick}, "
+            f"RunResult(seed={self.seed}, {stops} stop{'' if stops == 1 else 's'}, {grid}{quick}, "
             f"MU={self.MU:.4f}, V={self.V * M3_TO_MM3:.4g} mm³ per stop)"
         )
 
