@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
+from rich.markup import escape
 
 from brakeca import __version__
 from brakeca._console import LogConsole
@@ -36,7 +37,7 @@ out = LogConsole()
 
 
 def _fail(message: str, code: int = 2) -> None:
-    console.print(f"[bold red]error:[/] {message}", highlight=False)
+    console.print(f"[bold red]error:[/] {escape(message)}", highlight=False)
     raise typer.Exit(code)
 
 
@@ -47,7 +48,7 @@ def _on_interrupt(message: str) -> Iterator[None]:
     try:
         yield
     except KeyboardInterrupt:
-        console.print(f"[bold yellow]interrupted:[/] {message}", highlight=False)
+        console.print(f"[bold yellow]interrupted:[/] {escape(message)}", highlight=False)
         raise typer.Exit(130) from None
 
 
@@ -170,7 +171,7 @@ def simulate(
     distance = step_distance(config)
     steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper cycle
     console.print(
-        f"brakeca {__version__}: {n_r} x {n_t} cells, cycle {source.name} ({source.kind}), "
+        f"brakeca {__version__}: {n_r} x {n_t} cells, cycle {escape(source.name)} ({source.kind}), "
         f"{n_stops} stop{'' if n_stops == 1 else 's'} ({steps:,} time steps), seed {seed}"
         + (" (quick)" if config.quick else "")
     )
@@ -240,7 +241,7 @@ def simulate(
 
         for line in pm10_from_run(result, source.distance).describe():
             out.print(line, highlight=False)
-    out.print(f"wrote {output}")
+    out.print(f"wrote {output}", markup=False)
 
 
 def _percent_levels(text: str) -> list[float]:
@@ -313,7 +314,7 @@ def plot(
             _fail(str(exc))
         folder = output if output is not None else path.with_name(f"{path.stem}_figures")
         for written in plot_run(result, folder):
-            out.print(f"wrote {written}")
+            out.print(f"wrote {written}", markup=False)
         return
     try:
         rows = campaign_runs_to_plot(path, tests or ())
@@ -329,17 +330,17 @@ def plot(
             run_file = path / "runs" / f"{row.run_id}.nc"
             if row.status != "ok" or not run_file.is_file():
                 why = "failed" if row.status != "ok" else f"{run_file} is missing"
-                console.print(f"{head}: skipped ({why})", highlight=False)
+                console.print(f"{head}: skipped ({why})", highlight=False, markup=False)
                 continue
             try:
                 result = RunResult.from_netcdf(run_file)
             except (OSError, ValueError) as exc:
-                console.print(f"{head}: skipped ({exc})", highlight=False)
+                console.print(f"{head}: skipped ({exc})", highlight=False, markup=False)
                 continue
             replicate = f", replicate {int(row.replicate)}" if replicated else ""
             plot_run(result, base / name, name=f"test {int(row.test)}{replicate}")
             drawn += 1
-            out.print(f"{head}: wrote {base / name}", highlight=False)
+            out.print(f"{head}: wrote {base / name}", highlight=False, markup=False)
     if drawn == 0:
         _fail(f"no run of {path} could be drawn", code=1)
 
@@ -380,7 +381,7 @@ def surface(
         surf = generate_surface(cfg.pad, grid, np.random.default_rng(seed))
         maps[label] = (surf.status, np.asarray(grid.radius), np.asarray(grid.angle))
     plot_fibre_maps(maps, path=output)
-    out.print(f"wrote {output}")
+    out.print(f"wrote {output}", markup=False)
 
 
 ExecutorOpt = Annotated[
@@ -530,8 +531,8 @@ def _run_and_report(
             f"every run is in {output}; 'brakeca analyze {output}' writes the report"
         ):
             path = write_study(finish_campaign(output))
-        out.print(f"report: {path}")
-    out.print(f"summary: {Path(output) / 'summary.csv'}")
+        out.print(f"report: {path}", markup=False)
+    out.print(f"summary: {Path(output) / 'summary.csv'}", markup=False)
     if result.failed:
         raise typer.Exit(1)
 
@@ -555,12 +556,12 @@ def _print_summary(summary, design=None) -> None:
         if c not in {"test", "replicate", "order", "run_id", "seed", "status", "error"}
         and summary.columns.get_loc(c) < summary.columns.get_loc("seed")
     ]
-    for col in ["test", *factor_cols, "status", "MU", "V [mm^3/stop]"]:
-        table.add_column(col, justify="right")
+    for col in ["test", *factor_cols, "status", "MU", "V [mm³/stop]"]:
+        table.add_column(escape(col), justify="right")
     for _, row in summary.iterrows():
         table.add_row(
             str(int(row["test"])),
-            *(level(c, row[c]) for c in factor_cols),
+            *(escape(level(c, row[c])) for c in factor_cols),
             str(row.get("status", "ok")),
             f"{row['MU']:.4f}" if row.get("status", "ok") == "ok" else "-",
             f"{row['V_mm3']:.5g}" if row.get("status", "ok") == "ok" else "-",
@@ -634,7 +635,9 @@ def analyze(
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
         path = write_study(result, run_maps=run_maps)
-    out.print(f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}")
+    out.print(
+        f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
+    )
 
 
 @app.command(short_help="the paper's 24-run study, its analysis and report")

@@ -177,6 +177,11 @@ def test_bad_design_is_reported_before_any_run(tmp_path):
     assert res.exit_code == 2
     assert "bad.toml" in res.output and "150" in res.output
     assert not (tmp_path / "c" / "runs").exists() or not list((tmp_path / "c" / "runs").iterdir())
+    # a unit in brackets is not taken for console markup (rich dropped "[m^3/(N m)]")
+    bad.write_text(DESIGN + '[[factors]]\nname = "WP"\nlevels = [1e-13, -5]\n')
+    res = CliRunner().invoke(app, ["run", str(bad), "-o", str(tmp_path / "c"), *TINY[:4]])
+    assert res.exit_code == 2
+    assert "level -5 [m^3/(N m)] is not valid" in " ".join(res.output.split()), res.output
 
 
 def test_one_factor_trace_campaign_reports_pm10(tmp_path):
