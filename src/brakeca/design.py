@@ -1,10 +1,29 @@
-"""Factorial designs: factors, levels, run points, seeds and stable run identifiers.
+"""Designs: factors, levels, run points, seeds and stable run identifiers.
 
 A design file (TOML, see ``presets/designs/paper.toml``) names a base parameter set and a list
-of factors, each a configuration field with its levels. :meth:`Design.points` expands the full
-factorial in the paper's test order (the first factor varies fastest: for the paper S, then WP,
-WR and A, test 1 all minus, test 24 all plus; Table 2 of Wahlström 2016) and resolves one
-validated :class:`~brakeca.config.SimulationConfig` and one seed per run.
+of factors, each a configuration field with its levels. :meth:`Design.combinations` lists the
+design's *tests* (one factor-level combination each) and :meth:`Design.points` resolves one
+validated :class:`~brakeca.config.SimulationConfig` and one seed per run (test and
+replicate). A design is one of three kinds (:attr:`Design.kind`):
+
+Full factorial (the default)
+    Every combination of the factors' levels, in the paper's test order: the first factor
+    varies fastest (for the paper S, then WP, WR and A, test 1 all minus, test 24 all plus;
+    Table 2 of Wahlström 2016).
+Regular two-level fractional factorial (key ``generators``)
+    Each generator ``"D = A*B*C"`` (optionally ``"D = -A*B*C"``) makes ``D`` a *generated*
+    factor whose coded level (``levels[0]`` is -1, ``levels[1]`` is +1) in every test is the
+    sign times the product of the *base* factors' coded levels. The tests are the full
+    factorial of the factors no generator generates, in design order with the first of them
+    varying fastest; the generated levels follow. Every factor in a generator has two levels;
+    the others are crossed, whatever their number of levels. The defining relation (the
+    generators' words ``I = D*A*B*C`` and all their products) gives the resolution, the
+    length of its shortest word; below III (two main effects aliased) the design is refused.
+Run table (key ``runs``, or ``runs_file``: a CSV file)
+    Any design made elsewhere (Plackett-Burman, D-optimal, a JMP custom design): one row per
+    test, giving each factor one of its levels; the tests are the rows, in order. A CSV file
+    is read once, when the design is loaded, and its rows are kept inline, so that
+    :meth:`Design.to_toml` is self-contained.
 
 Seeds
 -----
@@ -15,26 +34,32 @@ The seed of test ``t`` (1-based) and replicate ``r`` (0-based) is::
 It depends on nothing else: not on the number of replicates, the number of factors or the
 execution order, so adding replicates or randomising the order never changes an existing run.
 
-Nothing here writes files; the only I/O is reading a design file and its base configuration.
+Nothing here writes files; the only I/O is reading a design file, its run table and its base
+configuration.
 
 References
 ----------
 J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad Properties on
 Friction and Wear Emissions", Advances in Tribology, 2016, Article ID 8181260.
 doi:10.1155/2016/8181260
+
+D. C. Montgomery, "Design and Analysis of Experiments", 8th ed., Wiley, 2013, chapter 8
+(two-level fractional factorial designs: generators, defining relation, resolution).
 """
 
 from __future__ import annotations
 
+import csv
+import functools
 import hashlib
 import itertools
 import math
 import re
 import tomllib
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import tomli_w
@@ -51,11 +76,14 @@ from brakeca.config import (
     FACTOR_ALIASES,
     ConfigError,
     SimulationConfig,
+    csv_delimiter,
+    decimal_point,
     format_validation_error,
     load_config,
 )
 
 __all__ = [
+    "MAX_GENERATORS",
     "RESERVED_NAMES",
     "Design",
     "Factor",
@@ -93,6 +121,13 @@ RESERVED_NAMES: frozenset[str] = frozenset(
 )
 
 _ORDER_TAG = 0x6F72646572  # "order": keeps the order permutation's stream apart from run seeds
+
+#: The most generators a fractional factorial may have [-]: its defining relation has
+#: 2^p - 1 words, all of which the resolution check visits.
+MAX_GENERATORS = 20
+
+#: At most this many tests x replicates in one design [-].
+_MAX_RUNS = 1_000_000
 
 
 class _Frozen(BaseModel):
@@ -322,7 +357,7 @@ class RunPoint:
     Attributes
     ----------
     test : int
-        Test number in the paper's order, 1-based [-].
+        Test number in the design's test order (:meth:`Design.combinations`), 1-based [-].
     replicate : int
         Replicate index, 0-based [-].
     order : int
@@ -396,8 +431,400 @@ def quick_config(config: SimulationConfig) -> SimulationConfig:
     )
 
 
+# --- fractional factorials ------------------------------------------------------------------
+
+#: ``X = [sign] word``: the generated factor, '=', an optional sign and the product.
+_GENERATOR = re.compile(r"\s*([^=\s]+)\s*=\s*([+-]?)\s*(.*?)\s*", re.DOTALL)
+
+_GENERATOR_FORM = (
+    "a generator is 'X = F1*F2*...*Fk': the generated factor, '=', then the product of base "
+    "factors joined by '*', optionally after a '-' (e.g. 'D = A*B*C' or 'E = -A*B')"
+)
+
+
+class _Generator(NamedTuple):
+    """One parsed generator ``target = sign * word``."""
+
+    position: int
+    target: str
+    sign: int
+    word: tuple[str, ...]
+
+
+class _Word(NamedTuple):
+    """A word of the defining relation: ``I = sign * factors`` (a bit per factor, in design
+    order) and the generators whose product it is (a bit per generator)."""
+
+    sign: int
+    mask: int
+    generators: int
+
+
+def _roman(number: int) -> str:
+    """``number`` (1 or more) in roman numerals: 3 -> ``"III"``, 4 -> ``"IV"``."""
+    numerals = (
+        (1000, "M"),
+        (900, "CM"),
+        (500, "D"),
+        (400, "CD"),
+        (100, "C"),
+        (90, "XC"),
+        (50, "L"),
+        (40, "XL"),
+        (10, "X"),
+        (9, "IX"),
+        (5, "V"),
+        (4, "IV"),
+        (1, "I"),
+    )
+    out = []
+    for value, numeral in numerals:
+        count, number = divmod(number, value)
+        out.append(numeral * count)
+    return "".join(out)
+
+
+def _unknown_factor(key: str, name: str, names: Sequence[str]) -> ValueError:
+    hint = ""
+    if len(name) > 1 and all(c in names for c in name):
+        hint = f"; write a product with '*': {'*'.join(name)}"
+    return ValueError(f"{key}: unknown factor {name!r} (factors: {', '.join(names)}){hint}")
+
+
+def _parse_generators(
+    generators: Sequence[str], factors: Sequence[Factor]
+) -> tuple[_Generator, ...]:
+    """Parse and check the generators of a fractional factorial.
+
+    Parameters
+    ----------
+    generators
+        The ``"X = F1*F2*..."`` texts.
+    factors
+        The design's factors (unique names).
+
+    Returns
+    -------
+    tuple of _Generator
+        One per generator, in the given order.
+
+    Raises
+    ------
+    ValueError
+        Bad syntax, an unknown or repeated factor, a factor generated twice or used in a word
+        while generated, a factor in a generator without exactly two levels; the message
+        starts with ``generators.<i>``.
+    """
+    names = [f.name for f in factors]
+    n_levels = {f.name: len(f.levels) for f in factors}
+    if len(generators) > MAX_GENERATORS:
+        raise ValueError(
+            f"generators: {len(generators)} generators, more than {MAX_GENERATORS}; give a "
+            "design that large as a run table (runs or runs_file)"
+        )
+    parsed: list[_Generator] = []
+    for i, text in enumerate(generators):
+        key = f"generators.{i}"
+        match = _GENERATOR.fullmatch(text)
+        if match is None or not match.group(1).isidentifier():
+            raise ValueError(f"{key}: cannot read {text!r}: {_GENERATOR_FORM}")
+        target, sign, body = match.groups()
+        if not body:
+            raise ValueError(
+                f"{key}: {text!r} has an empty word: after '=' give the product of at least "
+                "two base factors, e.g. 'D = A*B*C'"
+            )
+        word = tuple(part.strip() for part in body.split("*"))
+        if not all(part.isidentifier() for part in word):
+            hint = "" if "*" in body else " (a product is written with '*')"
+            raise ValueError(f"{key}: cannot read {text!r}{hint}: {_GENERATOR_FORM}")
+        for name in (target, *word):
+            if name not in n_levels:
+                raise _unknown_factor(key, name, names)
+        repeated = next((name for name in word if word.count(name) > 1), None)
+        if repeated is not None:
+            raise ValueError(
+                f"{key}: factor {repeated!r} appears {word.count(repeated)} times in the word "
+                f"{'*'.join(word)} of {text!r}; each base factor at most once"
+            )
+        if target in word:
+            raise ValueError(
+                f"{key}: the generated factor {target!r} appears in its own word ({text!r}); "
+                "a word is a product of base factors only"
+            )
+        parsed.append(_Generator(i, target, -1 if sign == "-" else 1, word))
+    generated: dict[str, int] = {}
+    for g in parsed:
+        if g.target in generated:
+            raise ValueError(
+                f"generators.{g.position}: factor {g.target!r} is generated twice (also by "
+                f"generators.{generated[g.target]})"
+            )
+        generated[g.target] = g.position
+    for g in parsed:
+        key = f"generators.{g.position}"
+        for name in g.word:
+            if name in generated:
+                raise ValueError(
+                    f"{key}: factor {name!r} in the word of {generators[g.position]!r} is itself "
+                    f"generated (by generators.{generated[name]}); a word uses base factors "
+                    "only"
+                )
+        for name in (g.target, *g.word):
+            if n_levels[name] != 2:
+                role = "the generated factor" if name == g.target else "the base factor"
+                raise ValueError(
+                    f"{key}: {role} {name!r} has {n_levels[name]} levels; a factor in a "
+                    "generator needs exactly 2 (levels[0] is coded -1, levels[1] +1)"
+                )
+    return tuple(parsed)
+
+
+def _generator_masks(parsed: Sequence[_Generator], names: Sequence[str]) -> list[tuple[int, int]]:
+    """Each generator's defining word ``I = sign * target * word`` as (sign, factor bits)."""
+    bit = {name: 1 << k for k, name in enumerate(names)}
+    return [(g.sign, bit[g.target] | sum(bit[n] for n in g.word)) for g in parsed]
+
+
+def _defining_words(parsed: Sequence[_Generator], names: Sequence[str]) -> Iterator[_Word]:
+    """All 2^p - 1 words of the defining relation (products of the generators' words),
+    visited in Gray-code order: each next word is one generator's product away."""
+    masks = _generator_masks(parsed, names)
+    sign, mask = 1, 0
+    for step in range(1, 2 ** len(masks)):
+        j = (step & -step).bit_length() - 1  # the generator whose inclusion flips
+        sign *= masks[j][0]
+        mask ^= masks[j][1]
+        yield _Word(sign, mask, step ^ (step >> 1))
+
+
+@functools.lru_cache(maxsize=32)
+def _shortest_word(parsed: tuple[_Generator, ...], names: tuple[str, ...]) -> _Word:
+    """The first shortest word of the defining relation, in its stable order (by length,
+    then by its factors' design order); cached, as a relation has up to 2^20 - 1 words."""
+    best: _Word | None = None
+    best_key: tuple[int, tuple[int, ...]] = (len(names) + 1, ())
+    for word in _defining_words(parsed, names):
+        length = word.mask.bit_count()
+        if length <= best_key[0]:
+            key = (length, _word_key(word.mask, len(names)))
+            if key < best_key:
+                best, best_key = word, key
+    assert best is not None, "a fraction has at least one generator"
+    return best
+
+
+def _word_key(mask: int, n: int) -> tuple[int, ...]:
+    """The design-order indices of the factors in ``mask``."""
+    return tuple(k for k in range(n) if mask >> k & 1)
+
+
+def _word_text(sign: int, mask: int, names: Sequence[str]) -> str:
+    """``"I = -A*B*C*D"``."""
+    factors = "*".join(names[k] for k in _word_key(mask, len(names)))
+    return f"I = {'-' if sign < 0 else ''}{factors}"
+
+
+def _check_resolution(parsed: tuple[_Generator, ...], names: tuple[str, ...]) -> None:
+    """Refuse a fraction of resolution below III (two main effects aliased)."""
+    if not parsed:
+        return
+    word = _shortest_word(parsed, names)
+    if word.mask.bit_count() >= 3:
+        return
+    first, second = (names[k] for k in _word_key(word.mask, len(names)))
+    used = [g for k, g in enumerate(parsed) if word.generators >> k & 1]
+    keys = ", ".join(f"generators.{g.position}" for g in used)
+    # a product of m generators holds their m generated factors: a pair is one generator
+    # with a single base factor, or two generators with the same word
+    why = (
+        "a generator's word needs at least two base factors"
+        if len(used) == 1
+        else "two generators have the same word (up to its sign)"
+    )
+    raise ValueError(
+        f"{keys}: the fraction has resolution II: the main effects of {first!r} and "
+        f"{second!r} are aliased (defining word {_word_text(word.sign, word.mask, names)}): "
+        f"{why}; a design needs resolution III or more"
+    )
+
+
+# --- run tables -----------------------------------------------------------------------------
+
+
+def _match_level(factor: Factor, value: int | float | str) -> int | float | None:
+    """The level of ``factor`` that ``value`` stands for (None when none does).
+
+    A number matches a level numerically (10 is the level 10.0; a relative difference of
+    1e-9, as from a spreadsheet's rounding, is forgiven); a text matches a categorical
+    factor's choice or label.
+    """
+    if isinstance(value, str):
+        if factor.choices is None:
+            return None
+        for texts in (factor.choices, factor.labels or ()):
+            if value in texts:
+                return factor.levels[texts.index(value)]
+        return None
+    for level in factor.levels:
+        if value == level:
+            return level
+    for level in factor.levels:
+        if math.isclose(value, level, rel_tol=1e-9, abs_tol=0.0):
+            return level
+    return None
+
+
+def _levels_text(factor: Factor) -> str:
+    text = ", ".join(f"{v!r}" for v in factor.levels)
+    if factor.choices is not None:
+        text += f"; or a choice: {', '.join(factor.choices)}"
+    return text
+
+
+def _not_a_level(key: str, factor: Factor, value: Any) -> ValueError:
+    return ValueError(
+        f"{key}: {value!r} is not a level of factor {factor.name!r} (levels: "
+        f"{_levels_text(factor)})"
+    )
+
+
+def _raw_choices(factors: Any) -> dict[str, dict[str, Any]]:
+    """From unvalidated factor tables: each categorical factor's choice and label texts,
+    mapped to their level numbers."""
+    out: dict[str, dict[str, Any]] = {}
+    if isinstance(factors, str | bytes) or not isinstance(factors, Sequence):
+        return out
+    for f in factors:
+        if not isinstance(f, Mapping) or not isinstance(f.get("name"), str):
+            continue
+        levels, texts = f.get("levels"), {}
+        if not isinstance(levels, Sequence) or isinstance(levels, str | bytes):
+            continue
+        for key in ("labels", "choices"):  # a choice wins over a label
+            seq = f.get(key)
+            if isinstance(seq, Sequence) and not isinstance(seq, str | bytes):
+                if len(seq) == len(levels):
+                    texts.update({str(t): lv for t, lv in zip(seq, levels, strict=True)})
+        choices = f.get("choices")
+        if isinstance(choices, Sequence) and not isinstance(choices, str | bytes):
+            out[f["name"]] = texts
+    return out
+
+
+def _raw_factor_names(factors: Any) -> list[str] | None:
+    """From unvalidated factor tables: the factors' names (None when there is no list)."""
+    if isinstance(factors, str | bytes) or not isinstance(factors, Sequence):
+        return None
+    names = [f.get("name") if isinstance(f, Mapping) else None for f in factors]
+    return (
+        [n for n in names if isinstance(n, str)] if all(isinstance(n, str) for n in names) else None
+    )
+
+
+def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[dict[str, Any]]:
+    """The rows of a run-table CSV file, each a factor-name to level mapping.
+
+    The header row names the factors (every one, in any order); each further row gives one
+    test. UTF-8 (a BOM is accepted), comma, semicolon or tab separated (the separator is the
+    header's, as for drive traces); a semicolon- or tab-separated file may write decimal
+    commas (``1,5``). Blank lines and lines starting with ``#`` are skipped.
+
+    Parameters
+    ----------
+    path
+        The CSV file.
+    factors
+        The design's factors.
+    where
+        Prefix of error messages (the design file and its key).
+
+    Returns
+    -------
+    list of dict
+        One per row, in file order: factor name to the level value from ``levels``, in
+        design order.
+
+    Raises
+    ------
+    ConfigError
+        Unreadable file, a missing, unknown or repeated column, a wrong number of values, a
+        value that is no level of its factor, fewer than two rows; the message names the
+        file and the line.
+    """
+    names = [f.name for f in factors]
+    by_name = {f.name: f for f in factors}
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigError(f"{where}: cannot read {path}: {exc}") from None
+    header: list[str] | None = None
+    delimiter = ","
+    rows: list[dict[str, Any]] = []
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        line = raw.strip()
+        if not line or line.startswith("#"):
+            continue
+        at = f"{where}: {path}, line {lineno}"
+        if header is None:
+            delimiter = csv_delimiter(line)
+            header = [
+                c.strip().strip("\"'").strip()
+                for c in next(csv.reader([line], delimiter=delimiter))
+            ]
+            for k, name in enumerate(header):
+                if not name:
+                    raise ConfigError(f"{at}: column {k + 1} of the header has no name")
+                if header.index(name) != k:
+                    raise ConfigError(f"{at}: column {name!r} appears twice in the header")
+                if name not in by_name:
+                    raise ConfigError(
+                        f"{at}: column {name!r}: unknown factor (factors: {', '.join(names)}); "
+                        "the header row names the factors"
+                    )
+            missing = [n for n in names if n not in header]
+            if missing:
+                raise ConfigError(
+                    f"{at}: no column for factor(s) {', '.join(missing)}; each run gives "
+                    "every factor one of its levels"
+                )
+            continue
+        cells = [
+            c.strip().strip("\"'").strip() for c in next(csv.reader([line], delimiter=delimiter))
+        ]
+        while len(cells) > len(header) and not cells[-1]:
+            cells.pop()  # a spreadsheet's trailing separators
+        if len(cells) != len(header):
+            raise ConfigError(
+                f"{at}: expected {len(header)} values ({', '.join(header)}), found "
+                f"{len(cells)}: {line!r}"
+            )
+        row: dict[str, Any] = {}
+        for name, cell in zip(header, cells, strict=True):
+            factor = by_name[name]
+            key = f"{at}, column {name!r} (runs.{len(rows)}.{name})"
+            if not cell:
+                raise ConfigError(f"{key}: no value; each run gives every factor a level")
+            number = decimal_point(cell) if delimiter != "," else cell
+            try:
+                value: float | str = float(number)
+            except ValueError:
+                value = cell
+            level = _match_level(factor, value)
+            if level is None:
+                raise ConfigError(str(_not_a_level(key, factor, cell)))
+            row[name] = level
+        rows.append({n: row[n] for n in names})
+    if header is None:
+        raise ConfigError(f"{where}: {path}: empty file: no header row naming the factors")
+    if len(rows) < 2:
+        raise ConfigError(f"{where}: {path}: a run table needs at least 2 runs, found {len(rows)}")
+    return rows
+
+
 class Design(_Frozen):
-    """A full factorial design over one base configuration.
+    """A design over one base configuration: a full factorial, a regular two-level
+    fractional factorial (``generators``) or a run table (``runs``).
 
     Parameters
     ----------
@@ -411,13 +838,25 @@ class Design(_Frozen):
     base_config
         Path of a configuration TOML; a relative path is read relative to the design file.
     factors
-        The factors; the first varies fastest in the test order.
+        The factors, in design order; in a full factorial the first varies fastest.
     root_seed
         Root of every run's seed [-], see :func:`point_seed`.
     replicates
         Runs per test [-], each with its own seed.
     randomize_order
         Execute the runs in a permutation seeded by ``root_seed`` (test numbers unchanged).
+    generators
+        A regular two-level fractional factorial: ``"X = F1*F2*...*Fk"`` or
+        ``"X = -F1*F2*...*Fk"`` each, making the factor ``X`` the (signed) product of the base
+        factors ``Fi`` in coded units (``levels[0]`` is -1, ``levels[1]`` +1). At most
+        :data:`MAX_GENERATORS`; the fraction's resolution must be III or more.
+    runs
+        A run table: one mapping per test from every factor's name to one of its levels
+        [design unit] (a categorical factor's level number, or its choice's text); at least
+        two rows, repeats allowed. Kept as the level values of ``levels``.
+    runs_file
+        The run table as a CSV file (header row: the factor names), relative to the design
+        file; :func:`design_from_dict` reads it into ``runs`` and unsets it.
     """
 
     name: str = Field(min_length=1)
@@ -428,6 +867,46 @@ class Design(_Frozen):
     root_seed: int = Field(ge=0, lt=2**128)
     replicates: int = Field(1, ge=1, le=10_000)
     randomize_order: bool = False
+    generators: tuple[str, ...] = ()
+    runs: tuple[dict[str, int | float], ...] | None = None
+    runs_file: Path | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _run_values(cls, data: Any) -> Any:
+        """Check the run table's shape and turn a categorical factor's choice (or label)
+        into its level number; the levels themselves are checked by :meth:`_consistent`."""
+        if not isinstance(data, Mapping) or data.get("runs") is None:
+            return data
+        runs = data["runs"]
+        if isinstance(runs, str | bytes | Mapping) or not isinstance(runs, Sequence):
+            raise ValueError(
+                "runs: expected a list of tables, one per run, each {factor = level, ...}, "
+                f"got {runs!r}"
+            )
+        texts = _raw_choices(data.get("factors"))
+        known = _raw_factor_names(data.get("factors"))
+        rows = []
+        for r, row in enumerate(runs):
+            if not isinstance(row, Mapping):
+                raise ValueError(f"runs.{r}: expected a table {{factor = level, ...}}, got {row!r}")
+            values: dict[str, Any] = {}
+            for name, value in row.items():
+                key = f"runs.{r}.{name}"
+                if known is not None and name not in known:
+                    raise ValueError(
+                        f"{key}: unknown factor {name!r} (factors: {', '.join(known)})"
+                    )
+                if isinstance(value, str) and name in texts and value.strip() in texts[name]:
+                    value = texts[name][value.strip()]
+                elif isinstance(value, bool) or not isinstance(value, int | float):
+                    kind = "a level number or a choice" if name in texts else "a number"
+                    raise ValueError(f"{key}: expected {kind} (a level), got {value!r}")
+                elif not math.isfinite(value):
+                    raise ValueError(f"{key}: expected a finite number (a level), got {value!r}")
+                values[name] = value
+            rows.append(values)
+        return {**data, "runs": rows}
 
     @model_validator(mode="after")
     def _consistent(self) -> Design:
@@ -451,10 +930,65 @@ class Design(_Frozen):
                     f"{target!r}"
                 )
             fields[target] = factor.name
-        n_runs = math.prod(len(f.levels) for f in self.factors) * self.replicates
-        if n_runs > 1_000_000:
-            raise ValueError(f"factors: the design has {n_runs} runs, more than 1,000,000")
+        table = self.runs is not None or self.runs_file is not None
+        if self.runs is not None and self.runs_file is not None:
+            raise ValueError(
+                "runs, runs_file: give the run table inline (runs) or as a CSV file "
+                "(runs_file), not both"
+            )
+        if self.generators and table:
+            key = "runs" if self.runs is not None else "runs_file"
+            raise ValueError(
+                f"generators, {key}: a design is a fractional factorial (generators) or a run "
+                f"table ({key}), not both"
+            )
+        if self.generators:
+            parsed = _parse_generators(self.generators, self.factors)
+            _check_resolution(parsed, self.factor_names)
+        if self.runs is not None:
+            object.__setattr__(self, "runs", self._checked_runs(self.runs))
+        if self.runs is not None or self.runs_file is None:
+            n_runs = self.n_tests * self.replicates
+            if n_runs > _MAX_RUNS:
+                key = "runs" if self.runs is not None else "factors"
+                raise ValueError(f"{key}: the design has {n_runs} runs, more than 1,000,000")
         return self
+
+    def _checked_runs(
+        self, runs: Sequence[Mapping[str, int | float]]
+    ) -> tuple[dict[str, int | float], ...]:
+        """The run table with each value replaced by its level in ``levels``, in design order.
+
+        Raises
+        ------
+        ValueError
+            Fewer than two runs, an unknown or missing factor, a value that is no level;
+            the message starts with ``runs.<row>.<factor>``.
+        """
+        if len(runs) < 2:
+            raise ValueError(f"runs: a run table needs at least 2 runs, got {len(runs)}")
+        names = self.factor_names
+        checked = []
+        for r, row in enumerate(runs):
+            for name in row:
+                if name not in names:
+                    raise ValueError(
+                        f"runs.{r}.{name}: unknown factor {name!r} (factors: {', '.join(names)})"
+                    )
+            levels: dict[str, int | float] = {}
+            for factor in self.factors:
+                key = f"runs.{r}.{factor.name}"
+                if factor.name not in row:
+                    raise ValueError(
+                        f"{key}: missing: each run gives every factor one of its levels "
+                        f"({_levels_text(factor)})"
+                    )
+                level = _match_level(factor, row[factor.name])
+                if level is None:
+                    raise _not_a_level(key, factor, row[factor.name])
+                levels[factor.name] = level
+            checked.append(levels)
+        return tuple(checked)
 
     # --- derived ---------------------------------------------------------------------------
     @property
@@ -463,9 +997,95 @@ class Design(_Frozen):
         return tuple(f.name for f in self.factors)
 
     @property
+    def is_fractional(self) -> bool:
+        """Whether the design is a two-level fractional factorial (it has generators)."""
+        return bool(self.generators)
+
+    @property
+    def is_run_table(self) -> bool:
+        """Whether the design is a run table (``runs`` or ``runs_file``)."""
+        return self.runs is not None or self.runs_file is not None
+
+    def _parsed_generators(self) -> tuple[_Generator, ...]:
+        return _parse_generators(self.generators, self.factors) if self.generators else ()
+
+    @property
+    def generated_factors(self) -> tuple[str, ...]:
+        """Names of the factors the generators generate, in design order (none unless the
+        design is a fraction)."""
+        generated = {g.target for g in self._parsed_generators()}
+        return tuple(n for n in self.factor_names if n in generated)
+
+    def defining_relation(self) -> list[tuple[int, tuple[str, ...]]]:
+        """The defining relation of a fractional factorial: every word ``I = sign * F1*...``.
+
+        Returns
+        -------
+        list of (int, tuple of str)
+            The ``2^p - 1`` words of ``p`` generators (each generator's word ``X*F1*...*Fk``
+            and all their products, factors that appear twice cancelling), as (sign, +1 or
+            -1; factor names in design order), ordered by length, then by the factors'
+            design order. Empty unless the design is a fraction.
+        """
+        names = self.factor_names
+        words = list(_defining_words(self._parsed_generators(), names))
+        words.sort(key=lambda w: (w.mask.bit_count(), _word_key(w.mask, len(names))))
+        return [(w.sign, tuple(names[k] for k in _word_key(w.mask, len(names)))) for w in words]
+
+    @property
+    def resolution(self) -> int | None:
+        """The resolution of a fractional factorial: the length of the shortest word of its
+        defining relation [-] (III: main effects aliased with two-factor interactions; IV:
+        with three-factor ones, two-factor interactions with each other; V: two-factor
+        interactions clear of each other). None unless the design is a fraction."""
+        parsed = self._parsed_generators()
+        if not parsed:
+            return None
+        return _shortest_word(parsed, self.factor_names).mask.bit_count()
+
+    @property
+    def kind(self) -> str:
+        """The kind of design, for reports: ``"full factorial"``, ``"run table"`` or e.g.
+        ``"2^(7-4) fractional factorial, resolution III"`` (with factors of other than two
+        levels crossed: ``"fractional factorial (2^(4-1) in the two-level factors × 3
+        levels of WP), resolution IV"``)."""
+        if self.is_run_table:
+            return "run table"
+        if not self.generators:
+            return "full factorial"
+        two = sum(1 for f in self.factors if len(f.levels) == 2)
+        fraction = f"2^({two}-{len(self.generators)})"
+        resolution = f"resolution {_roman(self.resolution or 0)}"
+        others = [f for f in self.factors if len(f.levels) != 2]
+        if not others:
+            return f"{fraction} fractional factorial, {resolution}"
+        crossed = " × ".join(f"{len(f.levels)} levels of {f.name}" for f in others)
+        return (
+            f"fractional factorial ({fraction} in the two-level factors × {crossed}), {resolution}"
+        )
+
+    @property
     def n_tests(self) -> int:
-        """Number of factor-level combinations [-]."""
-        return math.prod(len(f.levels) for f in self.factors)
+        """Number of tests [-]: factor-level combinations of a full factorial, of the base
+        factors of a fraction, or rows of a run table.
+
+        Raises
+        ------
+        ConfigError
+            A run table given as ``runs_file`` and not yet read (see :func:`design_from_dict`).
+        """
+        if self.runs is not None:
+            return len(self.runs)
+        self._require_runs()
+        generated = set(self.generated_factors)
+        return math.prod(len(f.levels) for f in self.factors if f.name not in generated)
+
+    def _require_runs(self) -> None:
+        if self.runs_file is not None and self.runs is None:
+            raise ConfigError(
+                f"design {self.name}: runs_file {str(self.runs_file)!r} is not read yet; load "
+                "the design with load_design or design_from_dict"
+            )
 
     def factor(self, name: str) -> Factor:
         """The factor called ``name``."""
@@ -475,13 +1095,40 @@ class Design(_Frozen):
         raise KeyError(name)
 
     def combinations(self) -> list[dict[str, int | float]]:
-        """Level combinations in test order: the first factor varies fastest."""
-        reversed_levels = [f.levels for f in reversed(self.factors)]
+        """The tests' factor levels, in test order.
+
+        Returns
+        -------
+        list of dict of str to int or float
+            One per test, factor name to level [design unit], every factor in design order.
+            A full factorial: every combination, the first factor varying fastest. A
+            fraction: the full factorial of the factors no generator generates (in design
+            order, the first of them fastest), each generated factor at the level its
+            generator gives. A run table: its rows.
+
+        Raises
+        ------
+        ConfigError
+            A run table given as ``runs_file`` and not yet read.
+        """
+        if self.runs is not None:
+            return [{f.name: row[f.name] for f in self.factors} for row in self.runs]
+        self._require_runs()
+        parsed = self._parsed_generators()
+        generated = {g.target for g in parsed}
+        base = [f for f in self.factors if f.name not in generated]
+        index = {f.name: k for k, f in enumerate(base)}
+        target_levels = {g.target: self.factor(g.target).levels for g in parsed}
         names = self.factor_names
-        return [
-            dict(zip(names, reversed(combo), strict=True))
-            for combo in itertools.product(*reversed_levels)
-        ]
+        combos: list[dict[str, int | float]] = []
+        for reversed_combo in itertools.product(*[range(len(f.levels)) for f in reversed(base)]):
+            chosen = reversed_combo[::-1]  # level index of each base factor
+            levels = {f.name: f.levels[k] for f, k in zip(base, chosen, strict=True)}
+            for g in parsed:
+                coded = g.sign * math.prod(2 * chosen[index[n]] - 1 for n in g.word)
+                levels[g.target] = target_levels[g.target][(coded + 1) // 2]
+            combos.append({n: levels[n] for n in names})
+        return combos
 
     def load_base(self) -> SimulationConfig:
         """The base configuration (the preset ``base`` or the file ``base_config``).
@@ -657,7 +1304,8 @@ class Design(_Frozen):
 
     # --- serialisation -----------------------------------------------------------------------
     def to_dict(self, *, base_config: str | Path | None = None) -> dict[str, Any]:
-        """Plain dict in the design-file layout (None fields dropped).
+        """Plain dict in the design-file layout (None fields and empty generators dropped; a
+        run table's rows as ``runs``).
 
         Parameters
         ----------
@@ -674,6 +1322,11 @@ class Design(_Frozen):
             {k: (list(v) if isinstance(v, tuple) else v) for k, v in f.items() if v is not None}
             for f in data["factors"]
         ]
+        data["generators"] = list(data["generators"]) or None  # a full factorial: no key
+        if data.get("runs") is not None:
+            data["runs"] = [dict(row) for row in data["runs"]]
+        if data.get("runs_file") is not None:
+            data["runs_file"] = str(data["runs_file"])
         return {k: v for k, v in data.items() if v is not None}
 
     def to_toml(self, *, base_config: str | Path | None = None) -> str:
@@ -693,17 +1346,20 @@ def design_from_dict(
     source
         Name used in error messages (the file path).
     root
-        Directory a relative ``base_config`` is read from (the design file's directory).
+        Directory a relative ``base_config``, ``runs_file`` or cycle file is read from (the
+        design file's directory; by default the working directory).
 
     Returns
     -------
     Design
-        With ``base_config`` made absolute, and every level checked against the base.
+        With ``base_config`` made absolute, a ``runs_file`` read into ``runs`` (and unset),
+        and every level checked against the base.
 
     Raises
     ------
     ConfigError
-        Anything wrong; each message names ``source`` and the field.
+        Anything wrong; each message names ``source`` and the field (for a run-table file,
+        also the CSV file and its line).
     """
     if not isinstance(data, Mapping):
         raise ConfigError(f"{source}: a design must be a table of keys, got {type(data).__name__}")
@@ -713,6 +1369,12 @@ def design_from_dict(
     except ValidationError as exc:
         raise ConfigError(format_validation_error(exc, source)) from None
     base_dir = Path(root) if root is not None else Path.cwd()
+    if design.runs_file is not None:  # kept inline: the design stands alone without the CSV
+        rows = _read_runs_csv(base_dir / design.runs_file, design.factors, f"{source}: runs_file")
+        try:
+            design = Design.model_validate({**data, "runs": rows, "runs_file": None})
+        except ValidationError as exc:
+            raise ConfigError(format_validation_error(exc, source)) from None
     factors = []
     for f in design.factors:  # cycle files relative to the design file
         if f.field == "cycle" and f.choices is not None:
@@ -728,7 +1390,6 @@ def design_from_dict(
     design = design.model_copy(update={"factors": tuple(factors)})
     try:
         if design.base_config is not None and not design.base_config.is_absolute():
-            base_dir = Path(root) if root is not None else Path.cwd()
             absolute = (base_dir / design.base_config).resolve()
             design = design.model_copy(update={"base_config": absolute})
         base = design.load_base()

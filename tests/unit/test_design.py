@@ -615,3 +615,559 @@ def test_a_categorical_factor_sets_a_text_field_by_its_choices():
         design_from_dict(
             {"name": "c", "base": "paper", "root_seed": 1, "factors": [{**spec, "scale": 2.0}]}
         )
+
+
+# --- fractional factorials (generators) ----------------------------------------------------
+
+#: Two-level factors on real configuration fields, by the letters the textbooks use.
+TWO_LEVEL = {
+    "A": ("friction.mu_0", [0.5, 0.6]),
+    "B": ("friction.slope", [1e-8, 2e-8]),
+    "C": ("contact.elastic_modulus", [1e9, 2e9]),
+    "D": ("contact.bar_length", [5e-3, 1e-2]),
+    "E": ("WP", [1e-15, 1e-13]),
+    "F": ("WR", [1e-7, 1e-6]),
+    "G": ("A", [10.0, 20.0]),
+    "H": ("S", [0.0, 1.0]),
+}
+
+
+def _factors(names: str) -> list[dict[str, Any]]:
+    return [{"name": n, "field": TWO_LEVEL[n][0], "levels": list(TWO_LEVEL[n][1])} for n in names]
+
+
+def _fraction(names: str, generators: list[str], **extra: Any) -> Design:
+    data = {
+        "name": "screen",
+        "base": "paper",
+        "root_seed": 1,
+        "generators": generators,
+        "factors": _factors(names),
+        **extra,
+    }
+    return design_from_dict(data, source="screen.toml")
+
+
+def _coded(design: Design, combo: dict[str, Any]) -> dict[str, int]:
+    """Each two-level factor's coded level: levels[0] is -1, levels[1] is +1."""
+    return {
+        f.name: (-1 if combo[f.name] == f.levels[0] else 1)
+        for f in design.factors
+        if len(f.levels) == 2
+    }
+
+
+@pytest.mark.parametrize("sign", [1, -1])
+def test_half_fraction_2_4_1_generates_d_from_abc(sign):
+    design = _fraction("ABCD", ["D = -A*B*C" if sign < 0 else "D = A*B*C"])
+    combos = design.combinations()
+    assert design.n_tests == len(combos) == 8
+    assert design.is_fractional and design.generated_factors == ("D",)
+    coded = [_coded(design, c) for c in combos]
+    # the base factors form the full 2^3 in standard order (A fastest)
+    assert [(c["A"], c["B"], c["C"]) for c in coded] == [
+        (a, b, c) for c in (-1, 1) for b in (-1, 1) for a in (-1, 1)
+    ]
+    assert all(c["D"] == sign * c["A"] * c["B"] * c["C"] for c in coded)
+    assert all(list(c) == ["A", "B", "C", "D"] for c in combos)  # design order
+    assert design.resolution == 4
+    assert design.defining_relation() == [(sign, ("A", "B", "C", "D"))]
+    assert design.kind == "2^(4-1) fractional factorial, resolution IV"
+    # the levels are the factors' own values, set on their fields
+    points = design.points()
+    assert [p.config.contact.bar_length for p in points] == [c["D"] for c in combos]
+    assert {p.levels["D"] for p in points} == {5e-3, 1e-2}
+
+
+def test_fraction_keeps_design_order_whatever_the_generators_order():
+    # the generated factors come first in the design and the generators out of order
+    factors = _factors("EDABC")
+    design = design_from_dict(
+        {
+            "name": "s",
+            "base": "paper",
+            "root_seed": 1,
+            "generators": [" E=-A * C ", "D = A*B"],
+            "factors": factors,
+        }
+    )
+    combos = design.combinations()
+    assert len(combos) == 8
+    assert all(list(c) == ["E", "D", "A", "B", "C"] for c in combos)
+    coded = [_coded(design, c) for c in combos]
+    assert [(c["A"], c["B"], c["C"]) for c in coded] == [
+        (a, b, c) for c in (-1, 1) for b in (-1, 1) for a in (-1, 1)
+    ]
+    assert all(c["D"] == c["A"] * c["B"] and c["E"] == -c["A"] * c["C"] for c in coded)
+    assert design.generated_factors == ("E", "D")
+    assert design.generators == (" E=-A * C ", "D = A*B")  # kept as given
+    # words in design order of their factors, shortest first; products of words included
+    assert design.defining_relation() == [
+        (-1, ("E", "A", "C")),
+        (1, ("D", "A", "B")),
+        (-1, ("E", "D", "B", "C")),
+    ]
+    assert design.resolution == 3
+
+
+def test_2_7_4_resolution_iii_and_its_defining_relation():
+    design = _fraction("ABCDEFG", ["D = A*B", "E = A*C", "F = B*C", "G = A*B*C"])
+    assert design.n_tests == 8 and len(design.combinations()) == 8
+    assert design.resolution == 3
+    relation = design.defining_relation()
+    assert len(relation) == 15 == len({word for _, word in relation})
+    assert (1, ("A", "B", "D")) in relation and (1, ("A", "B", "C", "G")) in relation
+    assert [len(w) for _, w in relation] == sorted(len(w) for _, w in relation)
+    assert min(len(w) for _, w in relation) == 3
+    # every word of the defining relation is constant (its sign) over the fraction's tests
+    coded = [_coded(design, c) for c in design.combinations()]
+    for sign, word in relation:
+        assert all(math.prod(c[n] for n in word) == sign for c in coded), word
+    # and the 8 tests are 8 different points
+    assert len({tuple(c.values()) for c in coded}) == 8
+    assert design.kind == "2^(7-4) fractional factorial, resolution III"
+
+
+def test_2_5_1_with_e_abcd_has_resolution_v():
+    design = _fraction("ABCDE", ["E = A*B*C*D"])
+    assert design.n_tests == 16
+    assert design.resolution == 5
+    assert design.kind == "2^(5-1) fractional factorial, resolution V"
+    assert design.defining_relation() == [(1, ("A", "B", "C", "D", "E"))]
+
+
+def test_a_fraction_crosses_factors_of_other_level_counts():
+    factors = _factors("AB")
+    factors.append({"name": "N", "field": "mesh.n_angular", "levels": [100, 200, 300]})
+    factors += _factors("CD")
+    design = design_from_dict(
+        {
+            "name": "m",
+            "base": "paper",
+            "root_seed": 1,
+            "generators": ["D = A*B*C"],
+            "factors": factors,
+        }
+    )
+    combos = design.combinations()
+    assert design.n_tests == len(combos) == 3 * 2 ** (4 - 1)
+    assert all(list(c) == ["A", "B", "N", "C", "D"] for c in combos)
+    coded = [_coded(design, c) for c in combos]
+    assert all(c["D"] == c["A"] * c["B"] * c["C"] for c in coded)
+    # the base factors (A, B, N, C) form their full factorial, A fastest
+    assert [(c["A"], c["B"], c["N"], c["C"]) for c in combos] == [
+        (a, b, n, c)
+        for c in TWO_LEVEL["C"][1]
+        for n in (100, 200, 300)
+        for b in TWO_LEVEL["B"][1]
+        for a in TWO_LEVEL["A"][1]
+    ]
+    assert design.resolution == 4
+    assert design.kind == (
+        "fractional factorial (2^(4-1) in the two-level factors × 3 levels of N), resolution IV"
+    )
+
+
+def test_a_fraction_counts_its_own_runs_against_the_limit():
+    factors = [
+        *_factors("ABCD"),
+        {"name": "N", "field": "mesh.n_angular", "levels": [100, 200, 300]},
+        {"name": "M", "field": "friction.mu_min", "levels": [0.1, 0.12, 0.14]},
+    ]
+    data = {"name": "big", "base": "paper", "root_seed": 1, "replicates": 10_000}
+    design = design_from_dict({**data, "factors": factors, "generators": ["D = A*B*C"]})
+    assert design.n_tests == 72  # 720,000 runs: allowed
+    with pytest.raises(ConfigError, match="1440000 runs, more than 1,000,000"):
+        design_from_dict({**data, "factors": factors})
+
+
+def test_a_categorical_factor_may_be_generated():
+    factors = [
+        *_factors("AB"),
+        {
+            "name": "creation",
+            "field": "automaton.creation_order",
+            "levels": [0, 1],
+            "choices": ["west_to_east", "east_to_west"],
+        },
+    ]
+    design = design_from_dict(
+        {
+            "name": "c",
+            "base": "paper",
+            "root_seed": 1,
+            "generators": ["creation = A*B"],
+            "factors": factors,
+        }
+    )
+    got = [(p.levels["creation"], p.config.automaton.creation_order) for p in design.points()]
+    assert got == [
+        (1, "east_to_west"),
+        (0, "west_to_east"),
+        (0, "west_to_east"),
+        (1, "east_to_west"),
+    ]
+
+
+def test_points_of_a_replicated_fraction_carry_the_usual_seeds():
+    design = _fraction("ABCD", ["D = A*B*C"], replicates=2, root_seed=7)
+    points = design.points()
+    assert len(points) == 2 * design.n_tests == 16
+    assert [(p.test, p.replicate) for p in points] == [(t, r) for t in range(1, 9) for r in (0, 1)]
+    assert all(p.seed == point_seed(7, p.test, p.replicate) for p in points)
+    assert len({p.run_id for p in points}) == 16
+    combos = design.combinations()
+    assert all(p.levels == combos[p.test - 1] for p in points)
+    shuffled = design.model_copy(update={"randomize_order": True}).points()
+    assert sorted(p.order for p in shuffled) == list(range(1, 17))
+    assert [p.seed for p in shuffled] == [p.seed for p in points]
+
+
+def test_a_fraction_round_trips_through_toml():
+    design = _fraction("ABCDEFG", ["D = A*B", "E = A*C", "F = -B*C", "G = A*B*C"])
+    text = design.to_toml()
+    data = tomllib.loads(text)
+    assert data["generators"] == ["D = A*B", "E = A*C", "F = -B*C", "G = A*B*C"]
+    again = design_from_dict(data, source="round trip")
+    assert again == design
+    assert [p.run_id for p in again.points()] == [p.run_id for p in design.points()]
+
+
+def test_a_full_factorial_is_unchanged(paper):
+    assert paper.kind == "full factorial"
+    assert not paper.is_fractional and paper.resolution is None
+    assert paper.defining_relation() == [] and paper.generated_factors == ()
+    assert paper.generators == () and paper.runs is None and paper.runs_file is None
+    data = tomllib.loads(paper.to_toml())
+    assert "generators" not in data and "runs" not in data and "runs_file" not in data
+
+
+def _gen_case(generators: list[str], names: str = "ABCDE", **levels: list) -> Any:
+    def build() -> dict[str, Any]:
+        factors = _factors(names)
+        for f in factors:
+            if f["name"] in levels:
+                f["levels"] = levels[f["name"]]
+                f["field"] = "mesh.n_angular"
+        return {
+            "name": "g",
+            "base": "paper",
+            "root_seed": 1,
+            "generators": generators,
+            "factors": factors,
+        }
+
+    return build
+
+
+BAD_GENERATORS = {
+    "no '='": (_gen_case(["D A*B*C"]), ["generators.0", "cannot read 'D A*B*C'", "X = F1*F2"]),
+    "two '='": (_gen_case(["D = A = B"]), ["generators.0", "cannot read"]),
+    "juxtaposed letters": (
+        _gen_case(["D = A*B*C", "E = AB"]),
+        ["generators.1", "unknown factor 'AB'", "A*B"],
+    ),
+    "spaces, no '*'": (_gen_case(["D = A B C"]), ["generators.0", "cannot read", "'*'"]),
+    "dangling '*'": (_gen_case(["D = A*B*"]), ["generators.0", "cannot read"]),
+    "non-identifier target": (_gen_case(["1D = A*B"]), ["generators.0", "cannot read"]),
+    "unknown generated factor": (
+        _gen_case(["Z = A*B*C"]),
+        ["generators.0", "unknown factor 'Z'", "factors: A, B, C, D, E"],
+    ),
+    "unknown base factor": (_gen_case(["D = A*B*Q"]), ["generators.0", "unknown factor 'Q'"]),
+    "empty word": (_gen_case(["D = "]), ["generators.0", "empty word"]),
+    "sign only": (_gen_case(["D = -"]), ["generators.0", "empty word"]),
+    "generated factor with 3 levels": (
+        _gen_case(["D = A*B*C"], D=[100, 200, 300]),
+        ["generators.0", "generated factor 'D' has 3 levels", "exactly 2"],
+    ),
+    "base factor with 3 levels": (
+        _gen_case(["D = A*B*C"], B=[100, 200, 300]),
+        ["generators.0", "base factor 'B' has 3 levels", "exactly 2"],
+    ),
+    "repeated factor in a word": (
+        _gen_case(["D = A*B*A"]),
+        ["generators.0", "'A' appears 2 times", "A*B*A"],
+    ),
+    "generated factor in its own word": (
+        _gen_case(["D = A*B*D"]),
+        ["generators.0", "generated factor 'D' appears in its own word"],
+    ),
+    "generated factor in another word": (
+        _gen_case(["D = A*B", "E = A*D"]),
+        ["generators.1", "'D'", "itself generated", "generators.0", "base factors only"],
+    ),
+    "generated factor in an earlier word": (
+        _gen_case(["E = A*D", "D = A*B*C"]),
+        ["generators.0", "'D'", "itself generated", "generators.1"],
+    ),
+    "generated twice": (
+        _gen_case(["D = A*B", "D = A*C"]),
+        ["generators.1", "'D' is generated twice", "generators.0"],
+    ),
+    "D = A: resolution II": (
+        _gen_case(["D = A"]),
+        ["generators.0", "resolution II", "'A' and 'D' are aliased", "I = A*D"],
+    ),
+    "same word twice: resolution II": (
+        _gen_case(["D = A*B", "E = -A*B"]),
+        ["generators.0, generators.1", "resolution II", "'D' and 'E'", "I = -D*E"],
+    ),
+    "a single base factor, negated": (
+        _gen_case(["D = A*B*C", "E = -C"]),
+        ["generators.1:", "resolution II", "'C' and 'E' are aliased", "I = -C*E"],
+    ),
+    "not a list": (_gen_case("D = A*B*C"), ["generators"]),  # type: ignore[arg-type]
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_GENERATORS))
+def test_bad_generators_name_the_generator_and_the_problem(case):
+    build, fragments = BAD_GENERATORS[case]
+    with pytest.raises(ConfigError) as info:
+        design_from_dict(build(), source="bad.toml")
+    message = str(info.value)
+    assert message.startswith("bad.toml: "), message
+    for fragment in fragments:
+        assert fragment in message, f"{fragment!r} not in {message!r}"
+
+
+def test_too_many_generators_are_refused():
+    generators = [f"D = A*B*C{i}" for i in range(21)]
+    with pytest.raises(ConfigError, match="generators: 21 generators, more than 20"):
+        design_from_dict(_gen_case(generators)(), source="bad.toml")
+
+
+# --- run tables (runs, runs_file) ----------------------------------------------------------
+
+PAPER_FACTORS = [{"name": n, "levels": list(v)} for n, v in PAPER_LEVELS.items()]
+TABLE = [
+    {"S": 0, "WP": 1e-15, "WR": 1e-7, "A": 10},
+    {"S": 1, "WP": 1e-13, "WR": 1e-6, "A": 20},
+    {"S": 1.0, "WP": 1e-14, "WR": 1e-7, "A": 20.0},
+    {"S": 0, "WP": 1e-15, "WR": 1e-7, "A": 10},  # a repeated point: its own test and seed
+]
+
+
+def _table_design(**extra: Any) -> dict[str, Any]:
+    return {"name": "t", "base": "paper", "root_seed": 5, "factors": PAPER_FACTORS, **extra}
+
+
+def test_an_inline_run_table_runs_its_rows_in_order():
+    design = design_from_dict(_table_design(runs=TABLE))
+    assert design.kind == "run table" and design.is_run_table and not design.is_fractional
+    assert design.resolution is None and design.defining_relation() == []
+    assert design.n_tests == 4
+    combos = design.combinations()
+    assert combos == [{k: float(v) for k, v in row.items()} for row in TABLE]
+    # the stored levels are the factors' own values (10 is the level 10.0)
+    assert all(isinstance(v, float) for c in combos for v in c.values())
+    points = design.points()
+    assert [p.test for p in points] == [1, 2, 3, 4]
+    assert [p.seed for p in points] == [point_seed(5, t, 0) for t in range(1, 5)]
+    assert points[0].config == points[3].config  # the repeated point ...
+    assert points[0].run_id != points[3].run_id  # ... is a separate run with its own seed
+    assert points[1].config.pad.fibre_area_fraction == pytest.approx(0.2)
+    assert points[2].config.wear.specific_wear_rate == 1e-14
+    replicated = design.model_copy(update={"replicates": 2, "randomize_order": True}).points()
+    assert len(replicated) == 8 and sorted(p.order for p in replicated) == list(range(1, 9))
+
+
+def test_a_run_table_sets_a_categorical_factor_by_its_level_number_or_choice():
+    factors = [
+        {"name": "fibres", "field": "pad.fibre_model", "levels": [0, 1]},
+        {"name": "mu0", "field": "friction.mu_0", "levels": [0.5, 0.6, 0.7]},
+    ]
+    factors[0]["choices"] = ["columns", "field"]
+    # a choice's text stands for its level; 0.1 * 7 = 0.7000000000000001 (a spreadsheet's
+    # arithmetic) is the level 0.7
+    runs = [
+        {"fibres": 0, "mu0": 0.1 * 7},
+        {"fibres": "field", "mu0": 0.5},
+        {"fibres": 1.0, "mu0": 0.6},
+    ]
+    design = design_from_dict(
+        {"name": "c", "base": "paper", "root_seed": 1, "factors": factors, "runs": runs}
+    )
+    assert design.runs == (
+        {"fibres": 0, "mu0": 0.7},
+        {"fibres": 1, "mu0": 0.5},
+        {"fibres": 1, "mu0": 0.6},
+    )
+    assert [p.config.pad.fibre_model for p in design.points()] == ["columns", "field", "field"]
+
+
+CSV_ROWS = [
+    "S,WP,WR,A",
+    "0,1e-15,1e-07,10",
+    "1,1e-13,1e-06,20",
+    "1,1e-14,1e-07,20",
+    "0,1e-15,1e-07,10",
+]
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("comma.csv", "\n".join(CSV_ROWS) + "\n"),
+        (
+            "semicolon.csv",
+            "S;WP;WR;A\r\n0;1,0E-15;0,0000001;10\r\n1;1e-13;0,000001;20,0\r\n"
+            "1;1e-14;1e-7;20\r\n0;1e-15;1e-07;10\r\n",
+        ),
+        ("tab.tsv", "\n".join(r.replace(",", "\t") for r in CSV_ROWS) + "\n"),
+        (
+            "bom.csv",
+            "\ufeff# exported from JMP\n\nA,WR,S,WP\n10,1e-07,0,1e-15\n# a comment\n"
+            "20,1e-06,1,1e-13\n20,1e-07,1,1e-14\n\n10,1e-07,0,1e-15,,\n",
+        ),
+    ],
+)
+def test_a_run_table_from_a_csv_file_is_inlined(tmp_path, name, text):
+    (tmp_path / "tables").mkdir()
+    (tmp_path / "tables" / name).write_text(text, encoding="utf-8")
+    data = _table_design(runs_file=f"tables/{name}")
+    design = load_design(_write(tmp_path, data, "d.toml"))
+    assert design.runs_file is None
+    assert design.runs == design_from_dict(_table_design(runs=TABLE)).runs
+    assert design.n_tests == 4 and design.kind == "run table"
+    # the written design holds the rows: it reloads without the CSV, to the same runs
+    written = design.to_toml()
+    assert "runs_file" not in tomllib.loads(written)
+    (tmp_path / "tables" / name).unlink()
+    elsewhere = tmp_path / "campaign"
+    elsewhere.mkdir()
+    (elsewhere / "design.toml").write_text(written, encoding="utf-8")
+    again = load_design(elsewhere / "design.toml")
+    assert again == design
+    assert [p.run_id for p in again.points()] == [p.run_id for p in design.points()]
+
+
+def test_a_run_table_round_trips_through_toml():
+    design = design_from_dict(_table_design(runs=TABLE, replicates=3))
+    again = design_from_dict(tomllib.loads(design.to_toml()), source="round trip")
+    assert again == design
+    assert again.runs == design.runs and again.replicates == 3
+
+
+BAD_RUNS = {
+    "one row": ([TABLE[0]], ["runs:", "at least 2 runs, got 1"]),
+    "no level": (
+        [TABLE[0], {**TABLE[1], "WP": 2e-15}],
+        ["runs.1.WP", "2e-15 is not a level of factor 'WP'", "1e-15, 1e-14, 1e-13"],
+    ),
+    "missing factor": (
+        [TABLE[0], {k: v for k, v in TABLE[1].items() if k != "WR"}],
+        ["runs.1.WR", "missing"],
+    ),
+    "unknown factor": ([TABLE[0], {**TABLE[1], "X": 1}], ["runs.1.X", "unknown factor 'X'"]),
+    "text level": (
+        [{**TABLE[0], "A": "high"}, TABLE[1]],
+        ["runs.0.A", "expected a number", "'high'"],
+    ),
+    "boolean level": ([TABLE[0], {**TABLE[1], "S": True}], ["runs.1.S", "True"]),
+    "not a table": ([TABLE[0], 3], ["runs.1", "expected a table"]),
+    "not a list": ("S=0", ["runs", "expected a list of tables"]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_RUNS))
+def test_bad_run_tables_name_the_row_and_the_factor(case):
+    runs, fragments = BAD_RUNS[case]
+    with pytest.raises(ConfigError) as info:
+        design_from_dict(_table_design(runs=runs), source="bad.toml")
+    message = str(info.value)
+    assert message.startswith("bad.toml: "), message
+    for fragment in fragments:
+        assert fragment in message, f"{fragment!r} not in {message!r}"
+
+
+BAD_CSV = {
+    "no level": (
+        "S,WP,WR,A\n0,1e-15,1e-07,10\n\n1,2e-13,1e-06,20\n",
+        ["line 4", "column 'WP'", "runs.1.WP", "2e-13", "not a level of factor 'WP'"],
+    ),
+    "decimal comma in a comma file": (
+        'S,WP,WR,A\n0,1e-15,1e-07,10\n1,1e-13,1e-06,"20,0"\n',
+        ["line 3", "runs.1.A", "'20,0'"],
+    ),
+    "unknown column": ("S,WP,WR,A,X\n0,1e-15,1e-07,10,1\n", ["line 1", "'X'", "unknown factor"]),
+    "missing column": ("S,WP,A\n0,1e-15,10\n", ["line 1", "no column for factor(s) WR"]),
+    "repeated column": ("S,WP,WR,A,S\n", ["line 1", "'S' appears twice"]),
+    "too few values": (
+        "S,WP,WR,A\n0,1e-15,1e-07,10\n1,1e-13,1e-06\n",
+        ["line 3", "expected 4 values (S, WP, WR, A), found 3"],
+    ),
+    "empty value": (
+        "S;WP;WR;A\n0;1e-15;1e-07;10\n1;;1e-06;20\n",
+        ["line 3", "runs.1.WP", "no value"],
+    ),
+    "one row": ("# one\nS,WP,WR,A\n0,1e-15,1e-07,10\n", ["at least 2 runs, found 1"]),
+    "empty file": ("# nothing\n\n", ["empty file"]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_CSV))
+def test_bad_run_table_files_name_the_file_and_line(tmp_path, case):
+    text, fragments = BAD_CSV[case]
+    (tmp_path / "runs.csv").write_text(text, encoding="utf-8")
+    path = _write(tmp_path, _table_design(runs_file="runs.csv"))
+    with pytest.raises(ConfigError) as info:
+        load_design(path)
+    message = str(info.value)
+    assert message.startswith(f"{path}: runs_file: {tmp_path / 'runs.csv'}"), message
+    for fragment in fragments:
+        assert fragment in message, f"{fragment!r} not in {message!r}"
+
+
+def test_a_missing_run_table_file_is_named(tmp_path):
+    path = _write(tmp_path, _table_design(runs_file="absent.csv"))
+    with pytest.raises(ConfigError, match=r"bad\.toml: runs_file: cannot read .*absent\.csv"):
+        load_design(path)
+
+
+@pytest.mark.parametrize(
+    ("extra", "fragment"),
+    [
+        ({"runs": TABLE, "generators": ["S = WR*A"]}, "generators, runs: "),
+        ({"runs_file": "runs.csv", "generators": ["S = WR*A"]}, "generators, runs_file: "),
+        ({"runs": TABLE, "runs_file": "runs.csv"}, "runs, runs_file: "),
+    ],
+)
+def test_a_design_has_one_kind(tmp_path, extra, fragment):
+    (tmp_path / "runs.csv").write_text("\n".join(CSV_ROWS), encoding="utf-8")
+    with pytest.raises(ConfigError) as info:
+        design_from_dict(_table_design(**extra), source="bad.toml", root=tmp_path)
+    assert str(info.value).startswith(f"bad.toml: {fragment}"), str(info.value)
+    assert "not both" in str(info.value)
+
+
+def test_an_unread_runs_file_is_no_design_to_run():
+    design = Design.model_validate(_table_design(runs_file="runs.csv"))
+    assert design.kind == "run table"
+    with pytest.raises(ConfigError, match=r"runs_file 'runs\.csv' is not read yet"):
+        design.combinations()
+
+
+def test_the_shipped_screening_design_is_the_standard_16_run_fraction():
+    design = load_design("screen")
+    assert design.n_tests == 16 and design.resolution == 4
+    assert design.kind == "2^(7-3) fractional factorial, resolution IV"
+    words = design.defining_relation()
+    assert len(words) == 7 and all(sign == 1 and len(w) == 4 for sign, w in words)
+    # every pair of its factors is a full 2 x 2 in the 16 tests (resolution >= 3)
+    combos = design.combinations()
+    for a, b in itertools.combinations(design.factor_names, 2):
+        assert len({(c[a], c[b]) for c in combos}) == 4
+
+
+def test_the_designs_guide_run_table_example_loads():
+    guide = (Path(__file__).parents[2] / "docs" / "designs.md").read_text(encoding="utf-8")
+    example = next(
+        b for b in guide.split("```toml\n")[1:] if b.lstrip().startswith('name = "points"')
+    )
+    data = tomllib.loads(example.split("```", 1)[0])
+    paper = tomllib.loads(design_path("paper").read_text(encoding="utf-8"))
+    design = design_from_dict({**data, "factors": paper["factors"]}, source="docs/designs.md")
+    assert design.kind == "run table" and design.n_tests == 3
+    assert design.combinations()[1] == {"S": 1.0, "WP": 1e-13, "WR": 1e-6, "A": 20.0}
