@@ -12,6 +12,14 @@ finite are left out of the analysis of that response.
 Factors are treated as categorical throughout, as in the paper's full factorial design
 (Tables 1 and 2): ``S`` (2 levels), ``WP`` (3 levels), ``WR`` (2 levels), ``A`` (2 levels).
 
+Designs other than a full factorial (a fractional factorial, a run table made elsewhere) may
+not separate every effect: a term whose columns are completely aliased (confounded) with
+terms before it is left out of the model, with a note, and every term's ``aliases`` (the
+terms of up to three factors it cannot be told apart from, Minitab's "Alias Structure") are
+listed beside it. When every factor has two levels, :func:`two_level_effects` gives the
+effects with their significance, from pure error or, unreplicated, from Lenth's pseudo
+standard error, as Minitab's Pareto chart of standardized effects does.
+
 References
 ----------
 J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad Properties on
@@ -34,6 +42,7 @@ import pandas as pd
 
 __all__ = [
     "ANOVA_COLUMNS",
+    "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
     "Factor",
     "analyze",
@@ -48,6 +57,7 @@ __all__ = [
     "ranked_effects",
     "residuals",
     "save_tables",
+    "two_level_effects",
 ]
 
 #: Columns of the table returned by :func:`anova`, in order.
@@ -59,6 +69,7 @@ ANOVA_COLUMNS: tuple[str, ...] = (
     "F",
     "p_value",
     "percent_contribution",
+    "aliases",
     "note",
 )
 
@@ -624,6 +635,7 @@ def anova(
                     np.nan,
                     100.0 if total_ss > 0 else np.nan,
                     "",
+                    "",
                 ]
             ],
             columns=list(ANOVA_COLUMNS),
@@ -654,6 +666,11 @@ def anova(
         out["F"] = table["F"].to_numpy(dtype=float)
         out["p_value"] = table["PR(>F)"].to_numpy(dtype=float)
         out["percent_contribution"] = out["sum_sq"] / total_ss * 100.0 if total_ss > 0 else np.nan
+    names = {t[2:-1]: n for t, n in term_names.items() if ":" not in t}
+    chains = _alias_chains(frame, terms)
+    out["aliases"] = [
+        " + ".join(_display_term(a, names) for a in chains.get(str(t), [])) for t in table.index
+    ]
     resid = out["term"] == "Residual"
     out.loc[resid, ["F", "p_value"]] = np.nan
     if saturated:
@@ -756,6 +773,19 @@ def _model(
         {f"C({a}):C({b})": f"{names[a]}:{names[b]}" for a, b in itertools.combinations(names, 2)}
     )
     terms = mains + (pairs if interactions else [])
+    terms, left_out = _estimable_terms(frame, terms)
+    if left_out:
+        described = []
+        for term, aliases in left_out.items():
+            with_what = " and ".join(term_names[t] for t in aliases)
+            described.append(
+                f"{term_names[term]} (aliased with "
+                f"{with_what or 'a combination of the terms before it'})"
+            )
+        notes.append(
+            "terms aliased (confounded) with terms before them are left out, since the design "
+            "cannot tell them apart: " + "; ".join(described)
+        )
     fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
     if fit.df_resid < 0.5 and interactions and pairs:
         notes.append(
@@ -764,6 +794,111 @@ def _model(
         )
         terms = mains
     return frame, term_names, terms, notes
+
+
+def _contrast_columns(labels: pd.Series) -> np.ndarray:
+    """Deviation (sum-to-zero) coding of a categorical column: one column per observed level
+    but the first, +1 at that level and -1 at the first level; a two-level factor's single
+    column is the classical -1/+1 contrast of a two-level design."""
+    values = labels.to_numpy()
+    levels = sorted(set(values))
+    first = (values == levels[0]).astype(float)
+    return np.column_stack([(values == level).astype(float) - first for level in levels[1:]])
+
+
+def _term_columns(frame: pd.DataFrame, term: str) -> np.ndarray:
+    """The contrast columns of a model term (``"C(f0)"``, ``"C(f0):C(f1)"``, ...): the
+    products of its factors' :func:`_contrast_columns`."""
+    out = np.ones((len(frame), 1))
+    for part in term.split(":"):
+        contrasts = _contrast_columns(frame[part[2:-1]])
+        out = (out[:, :, None] * contrasts[:, None, :]).reshape(len(frame), -1)
+    return out
+
+
+def _rank(*blocks: np.ndarray) -> int:
+    """Rank of the intercept column beside ``blocks`` [-]."""
+    first = blocks[0] if blocks else np.ones((0, 1))
+    return int(np.linalg.matrix_rank(np.hstack([np.ones((first.shape[0], 1)), *blocks])))
+
+
+def _same_span(a: np.ndarray, b: np.ndarray, rank_a: int | None = None) -> bool:
+    """Whether two terms' columns span the same space beside the intercept: the design cannot
+    tell the two effects apart (complete aliasing, e.g. ``AB`` and ``CD`` in a 2^(4-1)
+    fraction with ``D = ABC``)."""
+    rank_a = _rank(a) if rank_a is None else rank_a
+    return _rank(b) == rank_a == _rank(a, b)
+
+
+def _estimable_terms(
+    frame: pd.DataFrame, terms: Sequence[str]
+) -> tuple[list[str], dict[str, list[str]]]:
+    """Split ``terms`` into those the data can estimate in turn and those left out.
+
+    A term is left out when its columns add nothing to the span of the intercept and the
+    terms kept before it: it is completely aliased (confounded) with them, as two-factor
+    interactions are with each other, or with main effects, in a fractional factorial. The
+    mapping gives, for each term left out, the kept terms it is aliased with alone (empty when
+    it is aliased only with a combination of them). A term that adds some but not all of its
+    degrees of freedom (an empty cell of a multi-level interaction) is kept: the ANOVA then
+    reports sequential sums of squares (:func:`_fit_anova`).
+    """
+    columns = {t: _term_columns(frame, t) for t in terms}
+    kept: list[str] = []
+    left_out: dict[str, list[str]] = {}
+    rank = 1
+    for term in terms:
+        new_rank = _rank(*(columns[t] for t in kept), columns[term])
+        if new_rank > rank:
+            kept.append(term)
+            rank = new_rank
+        else:
+            left_out[term] = [t for t in kept if _same_span(columns[term], columns[t])]
+    return kept, left_out
+
+
+#: Largest number of candidate terms :func:`_alias_chains` compares a model term with; beyond
+#: it, three-factor interactions are not searched.
+_MAX_ALIAS_CANDIDATES = 1000
+
+
+def _alias_chains(frame: pd.DataFrame, terms: Sequence[str]) -> dict[str, list[str]]:
+    """For each model term, the other terms of up to three factors that the data cannot tell
+    apart from it (same span beside the intercept), as formula terms (``"C(f1):C(f2)"``).
+
+    Empty lists for a full factorial. For a regular two-level fraction these are the alias
+    chains Minitab prints under "Alias Structure", e.g. ``S`` with ``WP:WR:A`` when
+    ``A = S*WP*WR``; the effect estimated for the term is the sum of its chain's effects.
+    """
+    factors = [c for c in frame.columns if c != "y"]
+    order = 3
+    while order > 1 and sum(math.comb(len(factors), k) for k in range(1, order + 1)) > (
+        _MAX_ALIAS_CANDIDATES
+    ):
+        order -= 1
+    candidates = [
+        ":".join(f"C({f})" for f in combo)
+        for k in range(1, order + 1)
+        for combo in itertools.combinations(factors, k)
+    ]
+    columns = {t: _term_columns(frame, t) for t in candidates}
+    columns.update({t: _term_columns(frame, t) for t in terms if t not in columns})
+    ranks = {t: _rank(c) for t, c in columns.items()}
+    chains: dict[str, list[str]] = {}
+    for term in terms:
+        chains[term] = [
+            other
+            for other in candidates
+            if other != term
+            and ranks[other] == ranks[term]
+            and _same_span(columns[term], columns[other], ranks[term])
+        ]
+    return chains
+
+
+def _display_term(term: str, names: Mapping[str, str]) -> str:
+    """``"C(f0):C(f1)"`` as ``"S:WP"``, from the safe column names' factor names."""
+    return ":".join(names[part[2:-1]] for part in term.split(":"))
 
 
 def _is_constant(y: np.ndarray) -> bool:
@@ -962,6 +1097,188 @@ def _rank_terms(
     return out
 
 
+# --- two-level effects ---------------------------------------------------------------------
+
+#: Columns of :func:`two_level_effects`, in order.
+EFFECTS_COLUMNS: tuple[str, ...] = (
+    "term",
+    "order",
+    "effect",
+    "coefficient",
+    "se",
+    "t",
+    "p_value",
+    "significant",
+    "aliases",
+)
+
+#: Highest interaction order :func:`two_level_effects` estimates [-].
+_MAX_EFFECT_ORDER = 4
+
+
+def _lenth_pse(contrasts: np.ndarray) -> float:
+    """Lenth's pseudo standard error of unreplicated effects [response unit]:
+    ``s0 = 1.5 median |c|``, then ``1.5 median`` of the ``|c| < 2.5 s0`` (Lenth 1989)."""
+    magnitude = np.abs(contrasts)
+    s0 = 1.5 * float(np.median(magnitude))
+    small = magnitude[magnitude < 2.5 * s0]
+    return 1.5 * float(np.median(small)) if small.size else math.nan
+
+
+def two_level_effects(
+    summary: pd.DataFrame, factors: Iterable[Any], response: str, *, alpha: float = 0.05
+) -> pd.DataFrame:
+    """Effects of a design whose factors all have two levels, with their significance, as
+    Minitab's "Coded Coefficients" table and Pareto chart of standardized effects show them.
+
+    The factors are coded -1 (first level) and +1 (second level); every main effect and
+    interaction the data can estimate (up to four factors; one term per alias chain, named
+    by its lowest-order member) is fitted by least squares, and its effect is twice its
+    coefficient: the mean response at +1 minus the mean at -1, for an orthogonal design. The
+    terms are taken in order of their number of factors and left out once they are aliased
+    with terms before them, so an unreplicated design's model is saturated: as many effects
+    as distinct runs less one.
+
+    The standard error of an effect comes from pure error when the design has replicates
+    (runs that repeat a factor-level combination: ``t`` with the pure error's degrees of
+    freedom), and otherwise from Lenth's pseudo standard error (PSE) of the effects, the
+    method Minitab uses for unreplicated two-level designs: with ``m`` effects,
+    ``s0 = 1.5 median|effect|``, ``PSE = 1.5 median{|effect| : |effect| < 2.5 s0}``, ``t =
+    effect / PSE`` with ``m / 3`` degrees of freedom. It assumes that few effects are active
+    (effect sparsity), which is what screening designs rely on.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
+        are used).
+    factors
+        The design's factors.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    alpha
+        Significance level of ``significant`` and the margins of error [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`EFFECTS_COLUMNS`, one row per estimated term, largest ``|t|`` first: ``term``
+        (``"S"``, ``"S:WR"``), ``order`` (factors in the term), ``effect`` and
+        ``coefficient`` [response unit], ``se`` (standard error of the effect) [response
+        unit], ``t`` and ``p_value`` [-], ``significant`` (``p_value < alpha``) and
+        ``aliases`` (the terms of up to three factors the design cannot tell apart from it).
+        Empty (with ``attrs["note"]`` saying why) when a factor that varies has other than two
+        levels, or fewer than two effects can be estimated. ``attrs`` carries ``method``
+        (``"Lenth"`` or ``"pure error"``), ``df``, ``pse`` (Lenth's PSE, NaN with pure error)
+        [response unit], ``margin_of_error`` (the effect a term must exceed to be significant
+        at ``alpha``) and ``simultaneous_margin`` (the same for all ``m`` effects at once,
+        Lenth's SME) [response unit], ``alpha``, ``n`` and ``note``.
+
+    References
+    ----------
+    R. V. Lenth, "Quick and easy analysis of unreplicated factorials", Technometrics 31(4),
+    469-473, 1989. doi:10.1080/00401706.1989.10488595
+    """
+    from scipy import stats
+
+    factors = _factors(factors)
+    data = _clean(summary, factors, response)
+    y = data[response].to_numpy(dtype=float)
+    empty = pd.DataFrame({c: pd.Series(dtype=float) for c in EFFECTS_COLUMNS})
+    empty = empty.astype({"term": object, "aliases": object, "significant": bool})
+
+    def none(why: str) -> pd.DataFrame:
+        out = empty.copy()
+        out.attrs.update(note=why, method=None, n=int(y.size), alpha=alpha)
+        return out
+
+    frame = pd.DataFrame({"y": y})
+    names: dict[str, str] = {}
+    for i, f in enumerate(factors):
+        codes = _codes(data, f)
+        observed = np.unique(codes)
+        if observed.size < 2:
+            continue
+        if len(f.levels) != 2:
+            return none(
+                f"factor {f.name} has {len(f.levels)} levels; effects need two-level factors"
+            )
+        frame[f"f{i}"] = [f"L{c:02d}" for c in codes]
+        names[f"f{i}"] = f.name
+    if not names:
+        return none("no factor varies in the data")
+    cells = list(names)
+    n_points = int(frame.groupby(cells, sort=False).ngroups)
+    candidates = [
+        ":".join(f"C({f})" for f in combo)
+        for k in range(1, min(len(cells), _MAX_EFFECT_ORDER) + 1)
+        for combo in itertools.combinations(cells, k)
+        if math.comb(len(cells), k) <= _MAX_ALIAS_CANDIDATES
+    ]
+    terms, _ = _estimable_terms(frame, candidates)
+    terms = terms[: max(n_points - 1, 0)]
+    if len(terms) < 2:
+        return none(f"only {len(terms)} effect(s) can be estimated from {n_points} distinct runs")
+    exog = np.column_stack([np.ones(y.size)] + [_term_columns(frame, t)[:, 0] for t in terms])
+    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
+    coefficient = coef[1:]
+    effect = 2.0 * coefficient
+    df_pe = float(y.size - n_points)
+    if df_pe >= 1:
+        means = frame.groupby(cells, sort=False)["y"].transform("mean").to_numpy(dtype=float)
+        mse = float(np.sum((y - means) ** 2)) / df_pe
+        unscaled = np.diag(np.linalg.pinv(exog.T @ exog))[1:]
+        se = 2.0 * np.sqrt(mse * unscaled)
+        df, method, pse = df_pe, "pure error", math.nan
+        margin = float(stats.t.ppf(1 - alpha / 2, df)) * float(np.max(se))
+        simultaneous = math.nan
+    else:
+        pse = _lenth_pse(effect)
+        df, method = len(terms) / 3.0, "Lenth"
+        margin = float(stats.t.ppf(1 - alpha / 2, df)) * pse
+        gamma = (1.0 + (1.0 - alpha) ** (1.0 / len(terms))) / 2.0
+        simultaneous = float(stats.t.ppf(gamma, df)) * pse
+        se = np.full(len(terms), pse)
+    scale = se
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(np.isfinite(scale) & (scale > 0), effect / scale, np.nan)
+    p = 2.0 * stats.t.sf(np.abs(t), df)
+    chains = _alias_chains(frame, terms)
+    out = pd.DataFrame(
+        {
+            "term": [_display_term(term, names) for term in terms],
+            "order": [term.count(":") + 1 for term in terms],
+            "effect": effect,
+            "coefficient": coefficient,
+            "se": se,
+            "t": t,
+            "p_value": p,
+            "significant": np.isfinite(p) & (p < alpha),
+            "aliases": [" + ".join(_display_term(a, names) for a in chains[t]) for t in terms],
+        }
+    )
+    out = out.sort_values("t", key=np.abs, ascending=False, kind="stable").reset_index(drop=True)
+    note = ""
+    if method == "Lenth":
+        note = (
+            f"unreplicated: standard errors from Lenth's pseudo standard error (PSE = {pse:.4g}) "
+            f"of the {len(terms)} effects, {df:.3g} degrees of freedom"
+        )
+        if not math.isfinite(pse) or pse == 0.0:
+            note += "; the PSE is zero or undefined (most effects are nil), so t is not defined"
+    out.attrs.update(
+        method=method,
+        df=df,
+        pse=pse,
+        margin_of_error=margin,
+        simultaneous_margin=simultaneous,
+        alpha=alpha,
+        n=int(y.size),
+        note=note,
+    )
+    return out[list(EFFECTS_COLUMNS)]
+
+
 # --- bundle and export -----------------------------------------------------------------------
 
 
@@ -987,7 +1304,8 @@ def analyze(
     dict
         ``{response: {"main_effects": DataFrame, "interactions": {(a, b): DataFrame},
         "interactions_long": DataFrame, "anova": DataFrame, "ranked_effects": DataFrame,
-        "residuals": DataFrame}}``.
+        "residuals": DataFrame, "effects": DataFrame}}``; ``effects`` is
+        :func:`two_level_effects`, empty unless every factor has two levels.
 
     References
     ----------
@@ -1006,6 +1324,7 @@ def analyze(
             "anova": table,
             "ranked_effects": _rank_terms(table, summary, factors, response),
             "residuals": residuals(summary, factors, response),
+            "effects": two_level_effects(summary, factors, response),
         }
     return result
 
@@ -1079,8 +1398,9 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         The files written: ``main_effects_<R>.csv``, ``interactions_<R>.csv`` (long form),
         ``anova_<R>.csv``, ``model_summary_<R>.csv`` (one row: ``n``, ``df_resid``, ``s``,
         ``r_squared``, ``r_squared_adj``, ``r_squared_pred``, ``formula``; see
-        :func:`anova`) and ``ranked_effects_<R>.csv`` for every response ``R``, and
-        ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`).
+        :func:`anova`) and ``ranked_effects_<R>.csv`` for every response ``R``,
+        ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`), and
+        ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table.
     """
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
@@ -1098,6 +1418,9 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         }
         if bundle.get("residuals") is not None:
             tables["residuals"] = bundle["residuals"]
+        effects = bundle.get("effects")
+        if effects is not None and not effects.empty:
+            tables["effects"] = effects
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             table.to_csv(path, index=False)

@@ -539,33 +539,55 @@ def _run_and_report(
 
 def _print_summary(summary, design=None) -> None:
     """The runs as a table: test, factor levels (a categorical factor's by its choice's
-    label), status, MU and V."""
+    label), status, MU and V. When the levels' values make the table wider than the
+    terminal (seven factors in 80 columns), every factor with labels shows its labels (-, +)
+    instead, and the caption says so; the test number and the responses are never cut."""
     from rich.table import Table
 
-    def level(name: str, value: float) -> str:
-        if design is not None and name in design.factor_names:
-            factor = design.factor(name)
-            if factor.choices is not None and factor.labels is not None:
-                return factor.label_of(value)
-        return f"{value:g}"
-
-    table = Table(title="runs", show_lines=False)
     factor_cols = [
         c
         for c in summary.columns
         if c not in {"test", "replicate", "order", "run_id", "seed", "status", "error"}
         and summary.columns.get_loc(c) < summary.columns.get_loc("seed")
     ]
-    for col in ["test", *factor_cols, "status", "MU", "V [mm³/stop]"]:
-        table.add_column(escape(col), justify="right")
-    for _, row in summary.iterrows():
-        table.add_row(
-            str(int(row["test"])),
-            *(escape(level(c, row[c])) for c in factor_cols),
-            str(row.get("status", "ok")),
-            f"{row['MU']:.4f}" if row.get("status", "ok") == "ok" else "-",
-            f"{row['V_mm3']:.5g}" if row.get("status", "ok") == "ok" else "-",
+
+    def level(name: str, value: float, *, labelled: bool) -> str:
+        if design is not None and name in design.factor_names:
+            factor = design.factor(name)
+            if factor.labels is not None and (labelled or factor.choices is not None):
+                return factor.label_of(value)
+        return f"{value:g}"
+
+    def rows(labelled: bool) -> list[list[str]]:
+        return [
+            [
+                str(int(row["test"])),
+                *(escape(level(c, row[c], labelled=labelled)) for c in factor_cols),
+                str(row.get("status", "ok")),
+                f"{row['MU']:.4f}" if row.get("status", "ok") == "ok" else "-",
+                f"{row['V_mm3']:.5g}" if row.get("status", "ok") == "ok" else "-",
+            ]
+            for _, row in summary.iterrows()
+        ]
+
+    headers = ["test", *factor_cols, "status", "MU", "V [mm³/stop]"]
+
+    def widths(cells: list[list[str]]) -> list[int]:
+        return [max([len(h), *(len(r[k]) for r in cells)]) for k, h in enumerate(headers)]
+
+    cells = rows(labelled=False)
+    caption = None
+    if sum(widths(cells)) + 3 * len(headers) + 1 > out.width:
+        cells = rows(labelled=True)
+        caption = "levels by their labels; summary.csv has the values"
+    table = Table(title="runs", caption=caption, show_lines=False)
+    for k, (col, width) in enumerate(zip(headers, widths(cells), strict=True)):
+        whole = k == 0 or k >= len(headers) - 2  # the test number and the responses
+        table.add_column(
+            escape(col), justify="right", no_wrap=whole, min_width=width if whole else None
         )
+    for row in cells:
+        table.add_row(*row)
     out.print(table)
 
 

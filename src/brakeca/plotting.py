@@ -34,6 +34,7 @@ __all__ = [
     "STATUS_COLOURS",
     "STATUS_NAMES",
     "plot_cof_series",
+    "plot_effects",
     "plot_fibre_maps",
     "plot_interactions",
     "plot_main_effects",
@@ -525,6 +526,93 @@ def plot_pareto(
     twin.set_ylabel("Cumulative contribution [%]")
     if not terms:
         ax.text(0.5, 0.5, "no model terms", transform=ax.transAxes, ha="center")
+    return save_figure(fig, path)
+
+
+def plot_effects(
+    effects: pd.DataFrame,
+    response: str,
+    path: str | Path | None = None,
+) -> Figure:
+    """The effects of a two-level design, as Minitab draws them: a Pareto chart of the
+    standardized effects ``|t|`` with the reference line of significance, and a half-normal
+    plot of the absolute effects (Daniel's plot), where inactive effects lie on a line through
+    the origin and active ones stand off it to the right.
+
+    Parameters
+    ----------
+    effects
+        Output of :func:`brakeca.analysis.two_level_effects` (``term``, ``effect``, ``t``,
+        ``significant``; its ``attrs`` ``method``, ``df``, ``alpha``, ``pse``).
+    response
+        Response column the effects are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in the
+        unit of the other figures, mm^3 for ``V``).
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes.
+
+    References
+    ----------
+    R. V. Lenth, Technometrics 31(4), 469-473, 1989 (doi:10.1080/00401706.1989.10488595);
+    C. Daniel, Technometrics 1(4), 311-341, 1959 (half-normal plots).
+    """
+    from scipy import stats
+
+    label, scale = _response_axis(response)
+    attrs = effects.attrs
+    alpha = float(attrs.get("alpha", 0.05))
+    df = float(attrs.get("df", math.nan))
+    method = attrs.get("method") or "?"
+    n = len(effects)
+    fig = _figure((max(9.0, 0.3 * n + 6.0), 4.6))
+    ax_pareto, ax_half = fig.subplots(1, 2, width_ratios=(1.3, 1.0))
+    _suptitle(fig, f"Effects on {response} ({method}, α = {alpha:g})")
+    if n == 0:
+        for ax in (ax_pareto, ax_half):
+            ax.text(0.5, 0.5, "no effects", transform=ax.transAxes, ha="center")
+        return save_figure(fig, path)
+    order = np.argsort(-np.abs(effects["t"].to_numpy(dtype=float)), kind="stable")
+    table = effects.iloc[order]
+    t = np.abs(table["t"].to_numpy(dtype=float))
+    significant = table["significant"].to_numpy(dtype=bool)
+    y = np.arange(n)[::-1]
+    colours = np.where(significant, "#27496d", "#9fb3c8")
+    ax_pareto.barh(y, np.nan_to_num(t), color=colours, zorder=2)
+    ax_pareto.set_yticks(y, [str(term) for term in table["term"]])
+    if math.isfinite(df) and df > 0:
+        critical = float(stats.t.ppf(1 - alpha / 2, df))
+        ax_pareto.axvline(critical, color="#e15759", lw=1.2, ls="--", zorder=3)
+        ax_pareto.text(
+            critical, -0.45, f" {critical:.3g}", color="#e15759", va="bottom", fontsize=8
+        )
+    ax_pareto.set_xlabel("Standardized effect |t| [-]")
+    ax_pareto.set_title("Pareto chart (dark: significant)")
+    ax_pareto.grid(True, axis="x", alpha=0.3, zorder=0)
+    magnitude = np.sort(np.abs(effects["effect"].to_numpy(dtype=float)) * scale)
+    quantile = stats.halfnorm.ppf((np.arange(1, n + 1) - 0.5) / n)
+    by_size = effects.iloc[np.argsort(np.abs(effects["effect"].to_numpy(dtype=float)))]
+    ax_half.plot(magnitude, quantile, "o", color="#9fb3c8", ms=5, zorder=2)
+    active = by_size["significant"].to_numpy(dtype=bool)
+    ax_half.plot(magnitude[active], quantile[active], "o", color="#27496d", ms=5, zorder=3)
+    for x_value, q_value, term, is_active in zip(
+        magnitude, quantile, by_size["term"], active, strict=True
+    ):
+        if is_active:
+            ax_half.annotate(
+                str(term), (x_value, q_value), xytext=(4, -3), textcoords="offset points"
+            )
+    pse = float(attrs.get("pse", math.nan))
+    if math.isfinite(pse) and pse > 0:  # the line the inactive effects follow: |e| = PSE q
+        top = float(quantile[-1])
+        ax_half.plot([0.0, pse * scale * top], [0.0, top], "-", color="#f28e2b", lw=1)
+    ax_half.set_xlabel(f"Absolute effect ({label})")
+    ax_half.set_ylabel("Half-normal quantile [-]")
+    ax_half.set_title("Half-normal plot")
+    ax_half.grid(True, alpha=0.3)
     return save_figure(fig, path)
 
 

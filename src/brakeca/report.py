@@ -115,6 +115,7 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 
 <section id="design">
 <h2>Design</h2>
+{%- if design_info %}<p class="note">{{ design_info }}</p>{% endif %}
 {{ render_table(design) }}
 </section>
 
@@ -138,11 +139,17 @@ Wall time: the run's own computing time.</p>
 {%- if item.info %}<p class="note">{{ item.info }}</p>{% endif %}
 {{ render_table(item.table) }}
 {%- if item.note %}<p class="note">Note: {{ item.note }}</p>{% endif %}
+{%- if item.effects %}
+<p class="note">{{ item.effects_info }}</p>
+{{ render_table(item.effects) }}
+{%- endif %}
 {%- else %}
 <p class="note">No ANOVA tables.</p>
 {%- endfor %}
 <p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
-of squares about the mean.</p>
+of squares about the mean. Aliases (designs that do not separate every effect, such as a
+fractional factorial): the terms of up to three factors the design cannot tell apart from the
+term; what the table gives for the term is the sum of their effects.</p>
 </section>
 
 {% for section in figure_sections %}
@@ -342,6 +349,18 @@ _ANOVA_HEADERS = {
     "F": "F",
     "p_value": "p",
     "percent_contribution": "Contribution [%]",
+    "aliases": "Aliases",
+}
+
+#: the two-level effects table's headers (:func:`brakeca.analysis.two_level_effects`)
+_EFFECT_HEADERS = {
+    "term": "Term",
+    "effect": "Effect",
+    "coefficient": "Coefficient",
+    "se": "SE of effect",
+    "t": "t",
+    "p_value": "p",
+    "aliases": "Aliases",
 }
 
 
@@ -371,6 +390,8 @@ def _anova_in_report_units(response: str, frame: pd.DataFrame) -> tuple[pd.DataF
 
 def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     cols = [c for c in _ANOVA_HEADERS if c in frame.columns]
+    if "aliases" in cols and not frame["aliases"].fillna("").astype(str).str.strip().any():
+        cols.remove("aliases")  # a full factorial: no term has aliases
     extra = [c for c in frame.columns if c not in _ANOVA_HEADERS and c != "note"]
     rows = []
     for _, rec in frame.iterrows():
@@ -383,7 +404,7 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
                 cells.append(_fmt(v, ".0f"))
             elif c == "percent_contribution":
                 cells.append(_fmt(v, ".2f"))
-            elif c == "term":
+            elif c in ("term", "aliases"):
                 cells.append(_fmt(v))
             else:
                 cells.append(_fmt(v, ".4g"))
@@ -391,7 +412,9 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
         sig = not _is_missing(p) and float(p) < 0.05
         rows.append({"cells": cells, "cls": "sig" if sig else ""})
     columns = [_ANOVA_HEADERS[c] for c in cols] + [str(c) for c in extra]
-    numeric = [c != "term" for c in cols] + [pd.api.types.is_numeric_dtype(frame[c]) for c in extra]
+    numeric = [c not in ("term", "aliases") for c in cols] + [
+        pd.api.types.is_numeric_dtype(frame[c]) for c in extra
+    ]
     notes: list[str] = []
     if "note" in frame.columns:
         for n in frame["note"]:
@@ -400,6 +423,50 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     if not notes and frame.attrs.get("note"):
         notes.append(str(frame.attrs["note"]))
     return _Table(columns, numeric, rows), "; ".join(notes)
+
+
+def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
+    """The two-level effects table (in the report's unit of ``response``) and its caption."""
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
+    cols = [c for c in _EFFECT_HEADERS if c in frame.columns]
+    rows = []
+    for _, rec in frame.iterrows():
+        cells = []
+        for c in cols:
+            v = rec[c]
+            if c == "p_value":
+                cells.append(format_p_value(v))
+            elif c in ("term", "aliases"):
+                cells.append(_fmt(v))
+            elif c in ("effect", "coefficient", "se"):
+                cells.append(_fmt(float(v) * factor, ".4g"))
+            else:
+                cells.append(_fmt(v, ".3g"))
+        rows.append({"cells": cells, "cls": "sig" if bool(rec.get("significant")) else ""})
+    headers = [
+        _EFFECT_HEADERS[c] + (f" [{unit}]" if unit and c in ("effect", "coefficient", "se") else "")
+        for c in cols
+    ]
+    attrs = frame.attrs
+    alpha = float(attrs.get("alpha", 0.05))
+    if attrs.get("method") == "Lenth":
+        how = (
+            f"unreplicated, so each effect's standard error is Lenth's pseudo standard error "
+            f"(PSE = {_fmt(float(attrs.get('pse', math.nan)) * factor, '.4g')}"
+            f"{' ' + unit if unit else ''}, {_fmt(attrs.get('df'), '.3g')} degrees of freedom), "
+            "which assumes that few effects are active"
+        )
+    else:
+        how = (
+            f"standard errors from the pure error of the replicates "
+            f"({_fmt(attrs.get('df'), '.0f')} degrees of freedom)"
+        )
+    caption = (
+        f"Effects of {response} (every factor has two levels): the mean at the second level "
+        f"less the mean at the first, for every effect the design can estimate (one term per "
+        f"alias chain); {how}. Significant effects (p < {alpha:g}) in bold."
+    )
+    return _Table(headers, [c not in ("term", "aliases") for c in cols], rows), caption
 
 
 def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
@@ -510,6 +577,8 @@ def render_report(
     version: str,
     notes: str = "",
     generated: datetime | None = None,
+    effects_tables: Mapping[str, pd.DataFrame] | None = None,
+    design_info: str = "",
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -538,6 +607,12 @@ def render_report(
         if unit:
             info += f"; sums of squares and mean squares in ({unit})²"
         info += "." + _model_summary_text(frame.attrs, unit)
+        effects = (effects_tables or {}).get(response)
+        effects_table, effects_info = (
+            _effects_table(str(response), effects)
+            if effects is not None and not effects.empty
+            else (None, "")
+        )
         anova_items.append(
             {
                 "response": str(response),
@@ -545,6 +620,8 @@ def render_report(
                 "table": table,
                 "note": note,
                 "info": info,
+                "effects": effects_table,
+                "effects_info": effects_info,
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
@@ -556,6 +633,7 @@ def render_report(
         reference=PAPER_REFERENCE,
         config_text=config_text,
         design=_generic_table(design_table),
+        design_info=design_info,
         runs=_runs_table(summary),
         anova=anova_items,
         figure_sections=_figure_sections(figures),
@@ -575,6 +653,8 @@ def write_report(
     version: str,
     notes: str = "",
     generated: datetime | None = None,
+    effects_tables: Mapping[str, pd.DataFrame] | None = None,
+    design_info: str = "",
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -604,6 +684,12 @@ def write_report(
         Free text shown at the end; blank lines separate paragraphs.
     generated
         Timestamp for the provenance; now (UTC) by default.
+    effects_tables
+        ``{response: table}`` from :func:`brakeca.analysis.two_level_effects`, shown below
+        the response's ANOVA where not empty (designs whose factors all have two levels).
+    design_info
+        A sentence on the design shown above the design table (its kind, resolution and
+        defining relation for a fractional factorial).
 
     Returns
     -------
@@ -631,6 +717,8 @@ def write_report(
         version=version,
         notes=notes,
         generated=generated,
+        effects_tables=effects_tables,
+        design_info=design_info,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

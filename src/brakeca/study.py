@@ -26,6 +26,7 @@ import pandas as pd
 
 from brakeca import __version__
 from brakeca.campaign import CampaignResult
+from brakeca.design import Design
 from brakeca.results import RunResult
 
 __all__ = ["RESPONSES", "per_stop_table", "plot_run", "with_log_v", "write_study"]
@@ -117,21 +118,60 @@ def per_stop_table(result: CampaignResult) -> pd.DataFrame:
 
 
 def _design_table(result: CampaignResult) -> pd.DataFrame:
+    design = result.design
+    generated = {}  # a fraction's generated factor -> its word, "= S·WP·WR"
+    for text in design.generators:
+        target, word = (part.strip() for part in text.split("=", 1))
+        generated[target] = "= " + word.replace(" ", "").replace("*", "·")
     rows = []
-    for f in result.design.factors:
-        rows.append(
-            {
-                "factor": f.name,
-                "meaning": f.label,
-                "field": f.field,
-                "unit": f.unit,
-                "levels": ", ".join(
-                    f"{lev:g}" if f.labels is None else f"{lab} = {lev:g}"
-                    for lab, lev in zip(f.labels or f.levels, f.levels, strict=True)
-                ),
-            }
-        )
+    for f in design.factors:
+        row = {
+            "factor": f.name,
+            "meaning": f.label,
+            "field": f.field,
+            "unit": f.unit,
+            "levels": ", ".join(
+                f"{lev:g}" if f.labels is None else f"{lab} = {lev:g}"
+                for lab, lev in zip(f.labels or f.levels, f.levels, strict=True)
+            ),
+        }
+        if generated:
+            row["generated"] = generated.get(f.name, "")
+        rows.append(row)
     return pd.DataFrame(rows)
+
+
+def _design_info(design: Design) -> str:
+    """A sentence on the design for the report: its kind, runs and, for a fractional
+    factorial, the defining relation and what the resolution means for the analysis."""
+    runs = design.n_tests * design.replicates
+    text = (
+        f"{design.kind[:1].upper()}{design.kind[1:]}: {design.n_tests} tests"
+        + (f" × {design.replicates} replicates = {runs} runs" if design.replicates > 1 else "")
+        + "."
+    )
+    if design.is_fractional:
+        words = " = ".join(
+            ("-" if sign < 0 else "") + "·".join(word) for sign, word in design.defining_relation()
+        )
+        text += f" Generators: {', '.join(design.generators)}; defining relation I = {words}."
+        resolution = design.resolution
+        if resolution == 3:
+            text += (
+                " Resolution III: main effects are aliased with two-factor interactions; read "
+                "a main effect as the sum of its alias chain (the ANOVA's Aliases column)."
+            )
+        elif resolution == 4:
+            text += (
+                " Resolution IV: main effects are clear of two-factor interactions, which are "
+                "aliased with each other."
+            )
+        elif resolution is not None and resolution >= 5:
+            text += (
+                " Resolution V or higher: main effects and two-factor interactions are clear of "
+                "each other."
+            )
+    return text
 
 
 def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -241,6 +281,18 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                 tables[resp]["ranked_effects"],
                 resp,
             )
+            effects = tables[resp]["effects"]
+            if not effects.empty:  # every factor has two levels
+                add(
+                    "Ranked effects",
+                    f"Effects on {label}: Pareto chart of the standardized effects, with the "
+                    "line a significant effect crosses, and half-normal plot of the effects "
+                    f"({'Lenth' if effects.attrs.get('method') == 'Lenth' else 'pure error'})",
+                    f"effects_{resp}.png",
+                    plotting.plot_effects,
+                    effects,
+                    resp,
+                )
             add(
                 "Residuals",
                 f"Residual plots of the ANOVA model of {label}; model: "
@@ -336,6 +388,8 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         config_text=design_text + "\n# --- base configuration ---\n" + config_text,
         version=__version__,
         notes=notes,
+        effects_tables={resp: tables[resp]["effects"] for resp in RESPONSES},
+        design_info=_design_info(result.design),
     )
 
 

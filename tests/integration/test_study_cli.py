@@ -109,7 +109,10 @@ def test_outputs_present_and_consistent(campaign):
     assert list(third["block"]) == list(run["block"].values)
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
-    assert n_img == 4 * 3 + 3 + 4  # per response (MU, V, log10 V), per campaign, maps
+    # per response (MU, V, log10 V: main effects, interactions, Pareto, residuals and, both
+    # factors having two levels, the effects), per campaign, maps
+    assert n_img == 5 * 3 + 3 + 4
+    assert (out / "tables" / "effects_MU.csv").exists()
     # the maps' captions give each level with its unit (S has none)
     assert "Test 3 (S = 0, A = 20 %): plateaus after the cycle" in html
     assert "Model summary: S = " in html

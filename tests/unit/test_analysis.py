@@ -33,6 +33,7 @@ from brakeca.analysis import (
     ranked_effects,
     residuals,
     save_tables,
+    two_level_effects,
 )
 
 S = Factor("S", (0.0, 1.0), "-", "Secondary plateaus removed", ("-", "+"))
@@ -369,7 +370,9 @@ def test_analyze_and_save_tables(tmp_path) -> None:
             "anova",
             "ranked_effects",
             "residuals",
+            "effects",
         }
+        assert bundle["effects"].empty  # WP has three levels: no two-level effects table
     written = save_tables(result, tmp_path / "tables")
     names = sorted(p.name for p in written)
     stems = ("main_effects", "interactions", "anova", "model_summary", "ranked_effects")
@@ -544,3 +547,137 @@ def _hand_cell_means_all(rows: pd.DataFrame, response: str) -> dict:
         key = tuple(float(row[f.name]) for f in FACTORS)
         sums.setdefault(key, []).append(float(row[response]))
     return {k: sum(v) / len(v) for k, v in sums.items()}
+
+
+# --- fractional designs: aliasing and two-level effects -----------------------------------
+
+
+def _two_level(
+    names: str, generators: dict[str, str], effects: dict[str, float], **kw
+) -> pd.DataFrame:
+    """A regular two-level fraction in standard order: the base factors (those not generated)
+    form a full factorial, first fastest; a generated factor's coded level (-1/+1) is the
+    product of its word's. ``effects`` maps a term (``"A"``, ``"A:D"``) to its coefficient on
+    the coded columns; levels are 0 and 1 in the table."""
+    rng = np.random.default_rng(kw.get("seed", 3))
+    base = [n for n in names if n not in generators]
+    rows = []
+    for replicate in range(kw.get("replicates", 1)):
+        for combo in itertools.product((-1, 1), repeat=len(base)):
+            x = dict(zip(base, reversed(combo), strict=True))
+            for name, word in generators.items():
+                x[name] = int(np.prod([x[f] for f in word]))
+            y = 10.0 + sum(c * np.prod([x[f] for f in t.split(":")]) for t, c in effects.items())
+            y += kw.get("noise", 0.2) * rng.standard_normal()
+            rows.append({**{n: (x[n] + 1) / 2 for n in names}, "y": y, "replicate": replicate})
+    return pd.DataFrame(rows)
+
+
+def _levels01(names: str) -> list[Factor]:
+    return [Factor(n, (0.0, 1.0)) for n in names]
+
+
+def test_full_factorial_has_no_aliases() -> None:
+    table = anova(_design(noise=1e-3), FACTORS, "MU")
+    assert (table["aliases"] == "").all()
+    assert "aliased" not in table.attrs["note"]
+
+
+def test_half_fraction_leaves_aliased_interactions_out() -> None:
+    # 2^(4-1), D = ABC: I = ABCD, so A = BCD, AB = CD, AC = BD, AD = BC
+    rows = _two_level("ABCD", {"D": "ABC"}, {"A": 1.0, "B": 0.5})
+    table = anova(rows, _levels01("ABCD"), "y")
+    note = table.attrs["note"]
+    for left_out, kept in (("C:D", "A:B"), ("B:D", "A:C"), ("B:C", "A:D")):
+        assert f"{left_out} (aliased with {kept})" in note
+    aliases = dict(zip(table["term"], table["aliases"], strict=True))
+    assert aliases["A"] == "B:C:D" and aliases["D"] == "A:B:C"
+    # mains + 3 interaction chains saturate the 8 runs: the chains are pooled, 3 df remain
+    assert list(table["term"]) == ["A", "B", "C", "D", "Residual"]
+    assert table.loc[table["term"] == "Residual", "df"].item() == 3
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(rows, "y"), rel=1e-10)
+    # a main effect's sum of squares is N/4 times its effect squared (orthogonal columns)
+    y, a = rows["y"].to_numpy(), rows["A"].to_numpy()
+    effect = y[a == 1].mean() - y[a == 0].mean()
+    assert table.loc[table["term"] == "A", "sum_sq"].item() == pytest.approx(8 / 4 * effect**2)
+
+
+def test_resolution_three_fraction_aliases_mains_with_interactions() -> None:
+    rows = _two_level("ABC", {"C": "AB"}, {"A": 1.0})  # 2^(3-1), I = ABC
+    table = anova(rows, _levels01("ABC"), "y")
+    assert list(table["term"]) == ["A", "B", "C", "Residual"]
+    assert dict(zip(table["term"], table["aliases"], strict=True))["A"] == "B:C"
+    assert "A:B (aliased with C)" in table.attrs["note"]
+    assert "F and p cannot be computed" in table.attrs["note"]  # 4 runs, 4 parameters
+
+
+def test_mixed_level_fraction_keeps_the_three_level_factor_crossed() -> None:
+    # WP (3 levels) crossed with the 2^(3-1) of S, WR, A with A = S*WR, two seeds a test
+    rows = []
+    rng = np.random.default_rng(5)
+    for _, wp, wr, s in itertools.product(range(2), range(3), (-1, 1), (-1, 1)):
+        a = s * wr
+        rows.append({"S": S.levels[(s + 1) // 2], "WP": WP.levels[wp]})
+        rows[-1].update({"WR": WR.levels[(wr + 1) // 2], "A": A.levels[(a + 1) // 2]})
+        rows[-1]["MU"] = 0.3 + 0.02 * s + 0.05 * a + 0.01 * wp + 1e-3 * rng.standard_normal()
+    frame = pd.DataFrame(rows)
+    table = anova(frame, FACTORS, "MU")
+    note = table.attrs["note"]
+    for left_out, kept in (("S:WR", "A"), ("S:A", "WR"), ("WR:A", "S")):
+        assert f"{left_out} (aliased with {kept})" in note
+    assert list(table["term"]) == ["S", "WP", "WR", "A", "S:WP", "WP:WR", "WP:A", "Residual"]
+    aliases = dict(zip(table["term"], table["aliases"], strict=True))
+    assert aliases["S"] == "WR:A" and aliases["WP"] == ""
+    assert aliases["S:WP"] == "WP:WR:A"  # WP x (S = WR A)
+    assert table.loc[table["term"] == "Residual", "df"].item() == 24 - 12
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(frame, "MU"), rel=1e-9)
+    # unreplicated, the model with the WP interactions saturates the 12 runs: mains only
+    table = anova(frame.iloc[:12], FACTORS, "MU")
+    assert list(table["term"]) == ["S", "WP", "WR", "A", "Residual"]
+
+
+def _lenth_by_hand(effects: list[float]) -> float:
+    magnitude = sorted(abs(e) for e in effects)
+    s0 = 1.5 * float(np.median(magnitude))
+    return 1.5 * float(np.median([m for m in magnitude if m < 2.5 * s0]))
+
+
+def test_two_level_effects_of_an_unreplicated_fraction_use_lenth() -> None:
+    from scipy import stats
+
+    # 2^(7-3), resolution IV: E = ABC, F = BCD, G = ACD, so AD = CG = EF
+    gens = {"E": "ABC", "F": "BCD", "G": "ACD"}
+    rows = _two_level("ABCDEFG", gens, {"A": 3.0, "D": -2.0, "A:D": 1.5}, noise=0.3)
+    effects = two_level_effects(rows, _levels01("ABCDEFG"), "y")
+    assert len(effects) == 15  # a saturated model: 16 runs, 15 effects
+    assert list(effects["term"].iloc[:3]) == ["A", "D", "A:D"]  # the active ones, by |t|
+    assert effects["significant"].iloc[:3].all() and not effects["significant"].iloc[3:].any()
+    by_term = effects.set_index("term")
+    y = rows["y"].to_numpy()
+    for name in "ABCDEFG":
+        x = rows[name].to_numpy()
+        assert by_term.loc[name, "effect"] == pytest.approx(y[x == 1].mean() - y[x == 0].mean())
+    assert set(by_term.loc["A:D", "aliases"].split(" + ")) >= {"C:G", "E:F"}
+    pse = _lenth_by_hand(list(effects["effect"]))
+    assert effects.attrs["method"] == "Lenth" and effects.attrs["pse"] == pytest.approx(pse)
+    assert effects.attrs["df"] == pytest.approx(5.0)
+    t = by_term.loc["A", "effect"] / pse
+    assert by_term.loc["A", "t"] == pytest.approx(t)
+    assert by_term.loc["A", "p_value"] == pytest.approx(2 * stats.t.sf(abs(t), 5.0))
+    assert effects.attrs["margin_of_error"] == pytest.approx(stats.t.ppf(0.975, 5.0) * pse)
+
+
+def test_two_level_effects_with_replicates_use_pure_error() -> None:
+    rows = _two_level("ABCD", {"D": "ABC"}, {"B": 1.0}, replicates=2, noise=0.5)
+    effects = two_level_effects(rows, _levels01("ABCD"), "y")
+    assert len(effects) == 7 and effects.attrs["method"] == "pure error"
+    cells = rows.groupby(["A", "B", "C", "D"])["y"]
+    pure = float(((rows["y"] - cells.transform("mean")) ** 2).sum()) / (16 - 8)
+    se = 2 * math.sqrt(pure / 16)  # orthogonal -1/+1 columns: var(coefficient) = s^2 / N
+    assert np.allclose(effects["se"], se) and effects.attrs["df"] == 8
+    assert effects.set_index("term").loc["B", "significant"]
+
+
+def test_two_level_effects_need_two_level_factors() -> None:
+    effects = two_level_effects(_design(), FACTORS, "MU")
+    assert effects.empty and "WP has 3 levels" in effects.attrs["note"]

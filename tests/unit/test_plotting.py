@@ -277,3 +277,23 @@ def test_titles_fit_in_their_figures(summary, n_factors) -> None:
         title = fig._suptitle.get_window_extent()
         assert 0 <= title.x0 and title.x1 <= fig.bbox.width, fig._suptitle.get_text()
         assert title.y1 <= fig.bbox.height
+
+
+def test_effects_plot(tmp_path) -> None:
+    from brakeca.analysis import two_level_effects
+    from brakeca.plotting import plot_effects
+
+    rng = np.random.default_rng(4)
+    rows = []
+    for c, b, a in itertools.product((0.0, 1.0), repeat=3):
+        rows.append({"A": a, "B": b, "C": c, "MU": 0.3 + 0.1 * a + 0.01 * rng.standard_normal()})
+    factors = [Factor(n, (0.0, 1.0)) for n in "ABC"]
+    effects = two_level_effects(pd.DataFrame(rows), factors, "MU")
+    fig = plot_effects(effects, "MU", tmp_path / "effects.png")
+    assert (tmp_path / "effects.png").read_bytes().startswith(PNG)
+    pareto, half = fig.axes
+    top = max(pareto.get_yticklabels(), key=lambda t: t.get_position()[1])
+    assert top.get_text() == "A"  # the largest effect at the top
+    assert half.get_xlabel().startswith("Absolute effect")
+    empty = plot_effects(effects.iloc[:0], "MU", tmp_path / "none.png")
+    assert "no effects" in empty.axes[0].texts[0].get_text()

@@ -229,3 +229,42 @@ def test_run_scalars_have_readable_headers_and_units(tmp_path) -> None:
     assert "total_emitted_mm3" not in html and "wall_time" not in html
     for cell in ("1235", "26,402", "10.4", "6.2e-14", "491,160", "30"):
         assert f">{cell}<" in html
+
+
+def test_a_fractional_design_shows_aliases_effects_and_its_kind(tmp_path) -> None:
+    import itertools
+
+    from brakeca.analysis import two_level_effects
+
+    # a 2^(4-1) with D = A*B*C: main effects and interaction chains, V in m³
+    factors = [Factor(n, (0.0, 1.0)) for n in "ABCD"]
+    rng = np.random.default_rng(2)
+    rows = []
+    for c, b, a in itertools.product((-1, 1), repeat=3):
+        d = a * b * c
+        v = (2.0 + 1.0 * a + 0.5 * a * b + 0.05 * rng.standard_normal()) * 1e-9
+        rows.append({"A": (a + 1) / 2, "B": (b + 1) / 2, "C": (c + 1) / 2, "D": (d + 1) / 2})
+        rows[-1].update({"V": v, "test": len(rows), "run_id": f"t{len(rows)}", "status": "ok"})
+    summary = pd.DataFrame(rows)
+    inputs = make_inputs(tmp_path)
+    effects = two_level_effects(summary, factors, "V")
+    inputs.update(
+        summary=summary,
+        design_table=summary[["test", "A", "B", "C", "D"]],
+        anova_tables={"V": anova(summary, factors, "V")},
+        effects_tables={"V": effects},
+        design_info="2^(4-1) fractional factorial, resolution IV: I = A·B·C·D",
+    )
+    html = render_report(**inputs)
+    assert "2^(4-1) fractional factorial, resolution IV: I = A·B·C·D" in html
+    assert "<th>Aliases</th>" in html and "<td>B:C:D</td>" in html
+    assert "C:D (aliased with A:B)" in html  # the note of the terms left out
+    # the effects table, in mm³ like the rest of the report, the active effects in bold
+    assert "Effect [mm³]" in html and "Lenth" in html
+    top = effects.iloc[0]
+    assert top["term"] == "A" and top["significant"]
+    assert f'<td class="num">{top["effect"] * 1e9:.4g}</td>' in html
+    assert re.search(r'<tr class="sig">\s*<td>A</td>', html)
+    # a full factorial's ANOVA has no Aliases column, and no effects table with WP at 3 levels
+    full = render_report(**make_inputs(tmp_path))
+    assert "Aliases</th>" not in full and "Effect [" not in full

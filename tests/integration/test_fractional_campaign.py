@@ -1,0 +1,93 @@
+"""A fractional factorial and a run table run end to end through `brakeca run`: the runs
+are the design's, the folder's design.toml alone resumes them, and the report shows the
+design's kind, its aliases and the two-level effects."""
+
+from __future__ import annotations
+
+import tomllib
+
+import pandas as pd
+from typer.testing import CliRunner
+
+from brakeca.cli import app
+from brakeca.design import load_design
+
+FACTORS = """
+[[factors]]
+name = "S"
+levels = [0.0, 1.0]
+[[factors]]
+name = "A"
+levels = [10.0, 20.0]
+[[factors]]
+name = "WR"
+levels = [1e-7, 1e-6]
+"""
+
+FRACTION = 'name = "half"\nbase = "paper"\nroot_seed = 5\ngenerators = ["WR = -S*A"]\n' + FACTORS
+
+TINY = [
+    "--set",
+    "mesh.n_radial=5",
+    "--set",
+    "mesh.n_angular=100",
+    "--set",
+    "WP=1e-13",
+    "--stops",
+    "2",
+    "--executor",
+    "serial",
+]
+
+
+def _run(*args: str) -> str:
+    res = CliRunner().invoke(app, list(args))
+    assert res.exit_code == 0, res.output
+    return res.output
+
+
+def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
+    design = tmp_path / "half.toml"
+    design.write_text(FRACTION)
+    out = tmp_path / "c"
+    _run("run", str(design), "-o", str(out), *TINY)
+    summary = pd.read_csv(out / "summary.csv")
+    # the 2^(3-1) with WR = -S*A: coded WR is minus the product of S's and A's
+    assert list(summary["test"]) == [1, 2, 3, 4]
+    coded = {c: summary[c].rank(method="dense").to_numpy() * 2 - 3 for c in ("S", "A", "WR")}
+    assert (coded["WR"] == -coded["S"] * coded["A"]).all()
+    assert (summary["status"] == "ok").all()
+    # the folder's design.toml keeps the generators and alone resumes every run
+    saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
+    assert saved["generators"] == ["WR = -S*A"]
+    assert load_design(out / "design.toml").n_tests == 4
+    output = _run("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
+    assert "0 run(s) computed, 4 reused" in output
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "2^(3-1) fractional factorial, resolution III: 4 tests." in html
+    assert "defining relation I = -S·A·WR" in html
+    assert "<td>= -S·A</td>" in html  # the design table's generated column
+    assert "A:WR (aliased with S)" in html  # left out of the ANOVA, with its alias
+    effects = pd.read_csv(out / "tables" / "effects_MU.csv", keep_default_na=False)
+    assert sorted(effects["term"]) == ["A", "S", "WR"]
+    assert dict(zip(effects["term"], effects["aliases"], strict=True))["S"] == "A:WR"
+    assert (out / "figures" / "effects_MU.png").is_file()
+
+
+def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:
+    (tmp_path / "runs.csv").write_text("# three points\nWR;A;S\n1e-6;20;1\n1e-7;10;0\n1e-6;20;1\n")
+    design = tmp_path / "table.toml"
+    design.write_text(
+        'name = "table"\nbase = "paper"\nroot_seed = 5\nruns_file = "runs.csv"\n' + FACTORS
+    )
+    out = tmp_path / "c"
+    _run("run", str(design), "-o", str(out), *TINY)
+    summary = pd.read_csv(out / "summary.csv")
+    assert list(summary["S"]) == [1.0, 0.0, 1.0] and list(summary["A"]) == [20.0, 10.0, 20.0]
+    assert summary["seed"].nunique() == 3  # a repeated point is a test of its own
+    saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
+    assert "runs_file" not in saved and len(saved["runs"]) == 3  # inlined: no CSV needed
+    (tmp_path / "runs.csv").unlink()
+    output = _run("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
+    assert "0 run(s) computed, 3 reused" in output
+    assert "Run table: 3 tests." in (out / "report.html").read_text(encoding="utf-8")
