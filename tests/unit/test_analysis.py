@@ -681,3 +681,25 @@ def test_two_level_effects_with_replicates_use_pure_error() -> None:
 def test_two_level_effects_need_two_level_factors() -> None:
     effects = two_level_effects(_design(), FACTORS, "MU")
     assert effects.empty and "WP has 3 levels" in effects.attrs["note"]
+
+
+def test_two_level_effects_reproduce_montgomerys_filtration_example() -> None:
+    """The unreplicated 2^4 of D. C. Montgomery, Design and Analysis of Experiments (Example
+    6.2, the pilot-plant filtration rate): his effect estimates, and the active effects A, C,
+    D, AC and AD that his normal probability plot picks out. Lenth's PSE of these 15 effects
+    is 2.625 (s0 = 1.5 x 2.625; PSE = 1.5 x median of the ten below 2.5 s0 = 1.5 x 1.75)."""
+    rate = [45, 71, 48, 65, 68, 60, 80, 65, 43, 100, 45, 104, 75, 86, 70, 96]  # A fastest
+    rows = [
+        {"A": a, "B": b, "C": c, "D": d, "rate": rate[k]}
+        for k, (d, c, b, a) in enumerate(itertools.product((0.0, 1.0), repeat=4))
+    ]
+    effects = two_level_effects(pd.DataFrame(rows), _levels01("ABCD"), "rate")
+    published = {"A": 21.625, "B": 3.125, "C": 9.875, "D": 14.625, "A:B": 0.125}
+    published.update({"A:C": -18.125, "A:D": 16.625, "B:C": 2.375, "B:D": -0.375})
+    published.update({"C:D": -1.125, "A:B:C": 1.875, "A:B:D": 4.125, "A:C:D": -1.625})
+    published.update({"B:C:D": -2.625, "A:B:C:D": 1.375})
+    got = dict(zip(effects["term"], effects["effect"], strict=True))
+    assert got == pytest.approx(published, abs=1e-12)
+    assert set(effects.loc[effects["significant"], "term"]) == {"A", "C", "D", "A:C", "A:D"}
+    assert effects.attrs["pse"] == pytest.approx(2.625)
+    assert effects.attrs["margin_of_error"] == pytest.approx(2.5706 * 2.625, rel=1e-4)
