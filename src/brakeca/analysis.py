@@ -45,6 +45,7 @@ __all__ = [
     "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
     "Factor",
+    "alias_structure",
     "analyze",
     "anova",
     "as_factor",
@@ -1094,6 +1095,55 @@ def _rank_terms(
     terms["cumulative_percent"] = terms["percent_contribution"].cumsum()
     out = terms[columns].copy()
     out.attrs.update(table.attrs)
+    return out
+
+
+def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame:
+    """The alias structure of a design's tests, as Minitab prints it for a fractional
+    factorial before it runs: each main effect and two-factor interaction the tests can
+    estimate, with the effects of up to three factors they cannot tell it apart from.
+
+    Parameters
+    ----------
+    tests
+        One row per test, a column per factor holding its level [design unit] (e.g.
+        ``pandas.DataFrame(design.combinations())``); no response is needed.
+    factors
+        The design's factors.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``term`` (``"S"``, ``"S:WP"``) and ``aliases`` (``"WR:A + ..."``, empty when
+        none), one row per estimable term, main effects first, then the two-factor
+        interactions in design order, each alias chain once (named by its first member).
+        ``attrs["not_estimable"]`` lists the two-factor interactions that are aliased only
+        with a combination of the terms before them (partial confounding of a non-regular
+        design), which no row names.
+    """
+    factors = _factors(factors)
+    frame = pd.DataFrame(index=range(len(tests)))
+    names: dict[str, str] = {}
+    for i, f in enumerate(factors):
+        codes = _codes(tests, f)
+        if np.unique(codes).size >= 2:
+            frame[f"f{i}"] = [f"L{c:02d}" for c in codes]
+            names[f"f{i}"] = f.name
+    columns = list(names)
+    terms = [f"C({c})" for c in columns] + [
+        f"C({a}):C({b})" for a, b in itertools.combinations(columns, 2)
+    ]
+    kept, left_out = _estimable_terms(frame, terms) if terms else ([], {})
+    chains = _alias_chains(frame, kept)
+    shown = set(kept) | {a for t in kept for a in chains[t]}
+    out = pd.DataFrame(
+        {
+            "term": [_display_term(t, names) for t in kept],
+            "aliases": [" + ".join(_display_term(a, names) for a in chains[t]) for t in kept],
+        },
+        columns=["term", "aliases"],
+    )
+    out.attrs["not_estimable"] = [_display_term(t, names) for t in left_out if t not in shown]
     return out
 
 

@@ -701,6 +701,85 @@ def paper(
     )
 
 
+@app.command("design", short_help="a design's tests, resolution and alias structure")
+def show_design(
+    design: Annotated[
+        str,
+        typer.Argument(
+            metavar="DESIGN",
+            help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}",
+        ),
+    ],
+    tests: Annotated[bool, typer.Option(help="list the tests and their levels")] = True,
+) -> None:
+    """Check a design before running it: its kind and runs, a fraction's generators,
+    defining relation and resolution, the alias structure of its main effects and two-factor
+    interactions (what it cannot tell apart), and its tests."""
+    import pandas as pd
+    from rich.table import Table
+
+    from brakeca.analysis import alias_structure
+    from brakeca.design import load_design
+
+    try:
+        loaded = load_design(design)
+    except ConfigError as exc:
+        _fail(str(exc))
+    combos = loaded.combinations()
+    runs = loaded.n_tests * loaded.replicates
+    out.print(f"{loaded.name}: {loaded.kind}", markup=False, highlight=False)
+    if loaded.description:
+        out.print(loaded.description, markup=False, highlight=False)
+    out.print(
+        f"{loaded.n_tests} tests × {loaded.replicates} replicate(s) = {runs} runs; root seed "
+        f"{loaded.root_seed}",
+        markup=False,
+        highlight=False,
+    )
+    if loaded.is_fractional:
+        words = " = ".join(
+            ("-" if sign < 0 else "") + "*".join(word) for sign, word in loaded.defining_relation()
+        )
+        out.print(f"generators: {', '.join(loaded.generators)}", markup=False, highlight=False)
+        out.print(f"defining relation: I = {words}", markup=False, highlight=False)
+    structure = alias_structure(pd.DataFrame(combos), loaded.factors)
+    chains = [
+        f"{term} + {aliases}"
+        for term, aliases in zip(structure["term"], structure["aliases"], strict=True)
+        if aliases
+    ]
+    if chains:
+        out.print(
+            "alias structure (effects of up to three factors the tests cannot tell apart):",
+            markup=False,
+        )
+        for chain in chains:
+            out.print(f"  {chain}", markup=False, highlight=False, emoji=False)  # WR:A:x: no emoji
+    else:
+        out.print(
+            "alias structure: every main effect and two-factor interaction is clear of the "
+            "others (up to three-factor interactions)",
+            markup=False,
+        )
+    hidden = structure.attrs.get("not_estimable", [])
+    if hidden:
+        out.print(
+            "partly confounded (not estimable apart from the terms before them): "
+            + ", ".join(hidden),
+            markup=False,
+            highlight=False,
+            emoji=False,
+        )
+    if tests:
+        table = Table(title="tests")
+        table.add_column("test", justify="right", no_wrap=True)
+        for f in loaded.factors:
+            table.add_column(escape(f.name), justify="right")
+        for k, combo in enumerate(combos, start=1):
+            table.add_row(str(k), *(escape(loaded.factor(n).label_of(v)) for n, v in combo.items()))
+        out.print(table)
+
+
 @app.command("config", short_help="print the resolved configuration as TOML")
 def show_config(
     preset: PresetOpt = "paper",

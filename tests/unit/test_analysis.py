@@ -21,6 +21,7 @@ from brakeca.analysis import (
     ANOVA_COLUMNS,
     MODEL_SUMMARY_COLUMNS,
     Factor,
+    alias_structure,
     analyze,
     anova,
     as_factor,
@@ -703,3 +704,25 @@ def test_two_level_effects_reproduce_montgomerys_filtration_example() -> None:
     assert set(effects.loc[effects["significant"], "term"]) == {"A", "C", "D", "A:C", "A:D"}
     assert effects.attrs["pse"] == pytest.approx(2.625)
     assert effects.attrs["margin_of_error"] == pytest.approx(2.5706 * 2.625, rel=1e-4)
+
+
+def test_alias_structure_of_a_regular_fraction_and_of_a_plackett_burman_design() -> None:
+    # 2^(5-2) with D = AB, E = AC (resolution III): I = ABD = ACE = BCDE
+    tests = _two_level("ABCDE", {"D": "AB", "E": "AC"}, {}).drop(columns=["y", "replicate"])
+    structure = alias_structure(tests, _levels01("ABCDE"))
+    chains = dict(zip(structure["term"], structure["aliases"], strict=True))
+    assert set(chains["A"].split(" + ")) == {"B:D", "C:E"}
+    assert set(chains["B:C"].split(" + ")) == {"D:E", "A:B:E", "A:C:D"}
+    assert len(structure) == 7 and not structure.attrs["not_estimable"]  # 8 tests
+    # a 12-run Plackett-Burman design (its first row from Plackett and Burman 1946, the next
+    # ten by cyclic shifts, then all minus): main effects only, each two-factor interaction
+    # partly confounded with several of them, so no alias chains but none estimable either
+    first = [1, 1, -1, 1, 1, 1, -1, -1, -1, 1, -1]
+    rows = [first[-k:] + first[:-k] for k in range(11)] + [[-1] * 11]
+    names = "ABCDEFGHJKL"
+    pb = pd.DataFrame([[(x + 1) / 2 for x in row] for row in rows], columns=list(names))
+    coded = pb.to_numpy() * 2 - 1
+    assert np.allclose(coded.T @ coded, 12 * np.eye(11))  # orthogonal main effects
+    structure = alias_structure(pb, _levels01(names))
+    assert list(structure["term"]) == list(names) and (structure["aliases"] == "").all()
+    assert len(structure.attrs["not_estimable"]) == 55

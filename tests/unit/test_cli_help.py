@@ -19,6 +19,7 @@ COMMANDS = [
     ["analyze"],
     ["paper"],
     ["config"],
+    ["design"],
     ["cycle", "inspect"],
 ]
 

@@ -1,0 +1,41 @@
+"""`brakeca design`: a design's kind, runs, defining relation, alias structure and tests,
+before anything runs."""
+
+from __future__ import annotations
+
+from typer.testing import CliRunner
+
+from brakeca.cli import app
+
+
+def _design(*args: str) -> str:
+    res = CliRunner().invoke(app, ["design", *args], env={"COLUMNS": "120"})
+    assert res.exit_code == 0, res.output
+    return res.output
+
+
+def test_a_fraction_shows_its_generators_relation_and_alias_chains() -> None:
+    text = _design("screen")
+    assert text.startswith("screen: 2^(7-3) fractional factorial, resolution IV\n")
+    assert "16 tests × 1 replicate(s) = 16 runs; root seed 2016" in text
+    assert "generators: modulus = S*WP*WR, mu0 = WP*WR*A, slope = S*WR*A" in text
+    assert "defining relation: I = S*WP*WR*modulus = " in text
+    # the chains, with three-factor terms printed as they are (rich would make ':a:' an emoji)
+    assert "  S:WP + WR:modulus + mu0:slope\n" in text
+    assert "WR:A:slope" in text
+    assert "│   16 │ + │  + │  + │ + │       + │   + │     + │" in text  # the last test, all +
+
+
+def test_a_full_factorial_is_clear_and_a_bad_design_names_its_problem(tmp_path) -> None:
+    text = _design("paper", "--no-tests")
+    assert "paper: full factorial" in text and "24 tests" in text
+    assert "every main effect and two-factor interaction is clear" in text
+    assert "tests" not in text.split("\n", 3)[-1]  # --no-tests: no table
+    bad = tmp_path / "bad.toml"
+    bad.write_text(
+        'name = "bad"\nbase = "paper"\nroot_seed = 1\ngenerators = ["A = S"]\n'
+        '[[factors]]\nname = "S"\nlevels = [0, 1]\n[[factors]]\nname = "A"\nlevels = [10, 20]\n'
+    )
+    res = CliRunner().invoke(app, ["design", str(bad)])
+    assert res.exit_code == 2
+    assert "generators.0: the fraction has resolution II" in res.output
