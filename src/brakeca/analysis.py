@@ -669,9 +669,7 @@ def anova(
         out["percent_contribution"] = out["sum_sq"] / total_ss * 100.0 if total_ss > 0 else np.nan
     names = {t[2:-1]: n for t, n in term_names.items() if ":" not in t}
     chains = _alias_chains(frame, terms)
-    out["aliases"] = [
-        " + ".join(_display_term(a, names) for a in chains.get(str(t), [])) for t in table.index
-    ]
+    out["aliases"] = [_chain_text(chains.get(str(t), []), names) for t in table.index]
     resid = out["term"] == "Residual"
     out.loc[resid, ["F", "p_value"]] = np.nan
     if saturated:
@@ -793,7 +791,7 @@ def _model(
             "model with two-factor interactions is saturated (0 residual df): interactions "
             "pooled into the residual, main effects only"
         )
-        terms = mains
+        terms = [t for t in mains if t in terms]  # the estimable ones
     return frame, term_names, terms, notes
 
 
@@ -863,38 +861,63 @@ def _estimable_terms(
 _MAX_ALIAS_CANDIDATES = 1000
 
 
-def _alias_chains(frame: pd.DataFrame, terms: Sequence[str]) -> dict[str, list[str]]:
-    """For each model term, the other terms of up to three factors that the data cannot tell
-    apart from it (same span beside the intercept), as formula terms (``"C(f1):C(f2)"``).
-
-    Empty lists for a full factorial. For a regular two-level fraction these are the alias
-    chains Minitab prints under "Alias Structure", e.g. ``S`` with ``WP:WR:A`` when
-    ``A = S*WP*WR``; the effect estimated for the term is the sum of its chain's effects.
-    """
-    factors = [c for c in frame.columns if c != "y"]
-    order = 3
+def _candidate_terms(factors: Sequence[str], max_order: int) -> list[str]:
+    """Every term of one to ``max_order`` of ``factors`` (safe column names), by order, then
+    design order; the highest orders are dropped while there are more than
+    :data:`_MAX_ALIAS_CANDIDATES` terms."""
+    order = max_order
     while order > 1 and sum(math.comb(len(factors), k) for k in range(1, order + 1)) > (
         _MAX_ALIAS_CANDIDATES
     ):
         order -= 1
-    candidates = [
+    return [
         ":".join(f"C({f})" for f in combo)
-        for k in range(1, order + 1)
+        for k in range(1, min(order, len(factors)) + 1)
         for combo in itertools.combinations(factors, k)
     ]
+
+
+def _alias_chains(frame: pd.DataFrame, terms: Sequence[str]) -> dict[str, list[tuple[str, int]]]:
+    """For each model term, the other terms of up to three factors that the data cannot tell
+    apart from it (same span beside the intercept), as (formula term, sign).
+
+    The sign is that of the alias's contrast column against the term's, +1 or -1, when both
+    are single columns (two-level factors): then the term's estimate is the term's effect plus
+    the signed sum of its aliases' (Minitab's "Alias Structure", e.g. ``A + B:D - C:E`` when
+    ``D = A*B`` and ``E = -A*C``); 0 when a term has several columns (factors of more levels),
+    where no sign applies. Empty lists for a full factorial.
+    """
+    candidates = _candidate_terms([c for c in frame.columns if c != "y"], 3)
     columns = {t: _term_columns(frame, t) for t in candidates}
     columns.update({t: _term_columns(frame, t) for t in terms if t not in columns})
     ranks = {t: _rank(c) for t, c in columns.items()}
-    chains: dict[str, list[str]] = {}
+    chains: dict[str, list[tuple[str, int]]] = {}
     for term in terms:
-        chains[term] = [
-            other
-            for other in candidates
-            if other != term
-            and ranks[other] == ranks[term]
-            and _same_span(columns[term], columns[other], ranks[term])
-        ]
+        chain = []
+        for other in candidates:
+            if other == term or ranks[other] != ranks[term]:
+                continue
+            if not _same_span(columns[term], columns[other], ranks[term]):
+                continue
+            sign = 0
+            if columns[term].shape[1] == 1 and columns[other].shape[1] == 1:
+                sign = 1 if float(columns[term][:, 0] @ columns[other][:, 0]) > 0 else -1
+            chain.append((other, sign))
+        chains[term] = chain
     return chains
+
+
+def _chain_text(aliases: Sequence[tuple[str, int]], names: Mapping[str, str]) -> str:
+    """A term's aliases as signed text: ``"B:D - C:E"`` (a leading ``-`` when the first is
+    negative), joined by ``+`` where no sign applies."""
+    text = ""
+    for k, (term, sign) in enumerate(aliases):
+        shown = _display_term(term, names)
+        if k == 0:
+            text = f"-{shown}" if sign < 0 else shown
+        else:
+            text += f" - {shown}" if sign < 0 else f" + {shown}"
+    return text
 
 
 def _display_term(term: str, names: Mapping[str, str]) -> str:
@@ -1135,11 +1158,11 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
     ]
     kept, left_out = _estimable_terms(frame, terms) if terms else ([], {})
     chains = _alias_chains(frame, kept)
-    shown = set(kept) | {a for t in kept for a in chains[t]}
+    shown = set(kept) | {a for t in kept for a, _ in chains[t]}
     out = pd.DataFrame(
         {
             "term": [_display_term(t, names) for t in kept],
-            "aliases": [" + ".join(_display_term(a, names) for a in chains[t]) for t in kept],
+            "aliases": [_chain_text(chains[t], names) for t in kept],
         },
         columns=["term", "aliases"],
     )
@@ -1165,6 +1188,48 @@ EFFECTS_COLUMNS: tuple[str, ...] = (
 #: Highest interaction order :func:`two_level_effects` estimates [-].
 _MAX_EFFECT_ORDER = 4
 
+#: An interaction whose contrast column correlates this much or more with a column kept
+#: before it is left out of :func:`two_level_effects` (partial confounding: 1/3 in a
+#: 12-run Plackett-Burman design; a failed run of a 16-run fraction gives 1/15) [-].
+_MAX_EFFECT_CORRELATION = 0.2
+
+#: Fewest effects Lenth's method is applied to [-].
+_MIN_LENTH_EFFECTS = 3
+
+
+def _effect_terms(frame: pd.DataFrame, candidates: Sequence[str]) -> tuple[list[str], list[str]]:
+    """The terms :func:`two_level_effects` fits, and the interactions it leaves out as partly
+    confounded.
+
+    Main effects are kept when estimable (:func:`_estimable_terms`); an interaction when
+    estimable and its contrast column's correlation with every column kept so far is below
+    :data:`_MAX_EFFECT_CORRELATION`. A full factorial or a regular fraction keeps one term per
+    alias chain, all orthogonal; a Plackett-Burman design keeps its main effects only, since
+    filling its spare degrees of freedom with the first interactions found would bias them.
+    """
+    mains = [t for t in candidates if ":" not in t]
+    kept, _ = _estimable_terms(frame, mains)
+    columns = [_term_columns(frame, t)[:, 0] for t in kept]
+    rank = _rank(*(c[:, None] for c in columns)) if columns else 1
+    partial: list[str] = []
+    for term in candidates:
+        if ":" not in term:
+            continue
+        column = _term_columns(frame, term)[:, 0]
+        new_rank = _rank(*(c[:, None] for c in columns), column[:, None])
+        if new_rank == rank:
+            continue  # aliased with the terms kept: its chain is named by one of them
+        correlation = max(
+            abs(float(np.corrcoef(column, c)[0, 1])) if np.ptp(c) > 0 else 0.0 for c in columns
+        )
+        if correlation >= _MAX_EFFECT_CORRELATION:
+            partial.append(term)
+            continue
+        kept.append(term)
+        columns.append(column)
+        rank = new_rank
+    return kept, partial
+
 
 def _lenth_pse(contrasts: np.ndarray) -> float:
     """Lenth's pseudo standard error of unreplicated effects [response unit]:
@@ -1181,13 +1246,16 @@ def two_level_effects(
     """Effects of a design whose factors all have two levels, with their significance, as
     Minitab's "Coded Coefficients" table and Pareto chart of standardized effects show them.
 
-    The factors are coded -1 (first level) and +1 (second level); every main effect and
-    interaction the data can estimate (up to four factors; one term per alias chain, named
-    by its lowest-order member) is fitted by least squares, and its effect is twice its
-    coefficient: the mean response at +1 minus the mean at -1, for an orthogonal design. The
-    terms are taken in order of their number of factors and left out once they are aliased
-    with terms before them, so an unreplicated design's model is saturated: as many effects
-    as distinct runs less one.
+    The factors are coded -1 (first level) and +1 (second level); the main effects and the
+    interactions of up to four factors the data can estimate are fitted by least squares, and
+    each effect is twice its coefficient: the mean response at +1 minus the mean at -1, for an
+    orthogonal design. The terms are taken in order of their number of factors; an interaction
+    is left out when it is aliased with the terms before it (its chain is then named by its
+    lowest-order member) or correlated with one of them by :data:`_MAX_EFFECT_CORRELATION` or
+    more (partial confounding, as in a Plackett-Burman design, whose spare degrees of freedom
+    would otherwise take the first interactions found and bias the main effects). A full
+    factorial or a regular fraction, unreplicated, is then saturated: as many effects as
+    distinct runs less one, all orthogonal.
 
     The standard error of an effect comes from pure error when the design has replicates
     (runs that repeat a factor-level combination: ``t`` with the pure error's degrees of
@@ -1195,7 +1263,10 @@ def two_level_effects(
     method Minitab uses for unreplicated two-level designs: with ``m`` effects,
     ``s0 = 1.5 median|effect|``, ``PSE = 1.5 median{|effect| : |effect| < 2.5 s0}``, ``t =
     effect / PSE`` with ``m / 3`` degrees of freedom. It assumes that few effects are active
-    (effect sparsity), which is what screening designs rely on.
+    (effect sparsity), which is what screening designs rely on. Where the columns are not
+    orthogonal (a run table, a failed run) the effects' variances differ: each effect is
+    scaled by the square root of its variance relative to an orthogonal design's before the
+    PSE is taken, and its standard error is the PSE times that root.
 
     Parameters
     ----------
@@ -1218,11 +1289,14 @@ def two_level_effects(
         unit], ``t`` and ``p_value`` [-], ``significant`` (``p_value < alpha``) and
         ``aliases`` (the terms of up to three factors the design cannot tell apart from it).
         Empty (with ``attrs["note"]`` saying why) when a factor that varies has other than two
-        levels, or fewer than two effects can be estimated. ``attrs`` carries ``method``
+        levels, the response is constant, or too few effects can be estimated (none with
+        replicates; fewer than three for Lenth's method). ``attrs`` carries ``method``
         (``"Lenth"`` or ``"pure error"``), ``df``, ``pse`` (Lenth's PSE, NaN with pure error)
-        [response unit], ``margin_of_error`` (the effect a term must exceed to be significant
-        at ``alpha``) and ``simultaneous_margin`` (the same for all ``m`` effects at once,
-        Lenth's SME) [response unit], ``alpha``, ``n`` and ``note``.
+        [response unit], ``margin_of_error`` (the effect a term of an orthogonal design must
+        exceed to be significant at ``alpha``) and ``simultaneous_margin`` (the same for all
+        ``m`` effects at once, Lenth's SME) [response unit], ``alpha``, ``n`` and ``note``
+        (what the reader must know: a design that is not orthogonal, interactions left out as
+        partly confounded, a PSE of zero; empty otherwise).
 
     References
     ----------
@@ -1244,10 +1318,12 @@ def two_level_effects(
 
     frame = pd.DataFrame({"y": y})
     names: dict[str, str] = {}
+    single = []
     for i, f in enumerate(factors):
         codes = _codes(data, f)
         observed = np.unique(codes)
         if observed.size < 2:
+            single.append(f.name)
             continue
         if len(f.levels) != 2:
             return none(
@@ -1257,41 +1333,45 @@ def two_level_effects(
         names[f"f{i}"] = f.name
     if not names:
         return none("no factor varies in the data")
+    if _is_constant(y):
+        return none("the response is constant: no effects")
     cells = list(names)
     n_points = int(frame.groupby(cells, sort=False).ngroups)
-    candidates = [
-        ":".join(f"C({f})" for f in combo)
-        for k in range(1, min(len(cells), _MAX_EFFECT_ORDER) + 1)
-        for combo in itertools.combinations(cells, k)
-        if math.comb(len(cells), k) <= _MAX_ALIAS_CANDIDATES
-    ]
-    terms, _ = _estimable_terms(frame, candidates)
-    terms = terms[: max(n_points - 1, 0)]
-    if len(terms) < 2:
-        return none(f"only {len(terms)} effect(s) can be estimated from {n_points} distinct runs")
+    terms, partial = _effect_terms(frame, _candidate_terms(cells, _MAX_EFFECT_ORDER))
+    df_pe = float(y.size - n_points)
+    method = "pure error" if df_pe >= 1 else "Lenth"
+    if len(terms) < (1 if method == "pure error" else _MIN_LENTH_EFFECTS):
+        return none(
+            f"{len(terms)} effect(s) can be estimated from {n_points} distinct runs; "
+            + (
+                "none to test"
+                if method == "pure error"
+                else f"Lenth's method needs {_MIN_LENTH_EFFECTS} or more"
+            )
+        )
     exog = np.column_stack([np.ones(y.size)] + [_term_columns(frame, t)[:, 0] for t in terms])
     coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
     coefficient = coef[1:]
     effect = 2.0 * coefficient
-    df_pe = float(y.size - n_points)
-    if df_pe >= 1:
+    # each effect's variance relative to an orthogonal design's, sigma^2 * 4 / N (1 for a
+    # full factorial or a regular fraction; larger where the columns are correlated)
+    relative = y.size * np.diag(np.linalg.pinv(exog.T @ exog))[1:]
+    if method == "pure error":
         means = frame.groupby(cells, sort=False)["y"].transform("mean").to_numpy(dtype=float)
         mse = float(np.sum((y - means) ** 2)) / df_pe
-        unscaled = np.diag(np.linalg.pinv(exog.T @ exog))[1:]
-        se = 2.0 * np.sqrt(mse * unscaled)
-        df, method, pse = df_pe, "pure error", math.nan
-        margin = float(stats.t.ppf(1 - alpha / 2, df)) * float(np.max(se))
+        se = 2.0 * np.sqrt(mse * relative / y.size)
+        df, pse = df_pe, math.nan
+        margin = float(stats.t.ppf(1 - alpha / 2, df)) * 2.0 * math.sqrt(mse / y.size)
         simultaneous = math.nan
-    else:
-        pse = _lenth_pse(effect)
-        df, method = len(terms) / 3.0, "Lenth"
+    else:  # Lenth's PSE of the effects, each scaled to an orthogonal design's variance
+        pse = _lenth_pse(effect / np.sqrt(relative))
+        se = pse * np.sqrt(relative)
+        df = len(terms) / 3.0
         margin = float(stats.t.ppf(1 - alpha / 2, df)) * pse
         gamma = (1.0 + (1.0 - alpha) ** (1.0 / len(terms))) / 2.0
         simultaneous = float(stats.t.ppf(gamma, df)) * pse
-        se = np.full(len(terms), pse)
-    scale = se
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(np.isfinite(scale) & (scale > 0), effect / scale, np.nan)
+        t = np.where(np.isfinite(se) & (se > 0), effect / se, np.nan)
     p = 2.0 * stats.t.sf(np.abs(t), df)
     chains = _alias_chains(frame, terms)
     out = pd.DataFrame(
@@ -1304,18 +1384,26 @@ def two_level_effects(
             "t": t,
             "p_value": p,
             "significant": np.isfinite(p) & (p < alpha),
-            "aliases": [" + ".join(_display_term(a, names) for a in chains[t]) for t in terms],
+            "aliases": [_chain_text(chains[term], names) for term in terms],
         }
     )
     out = out.sort_values("t", key=np.abs, ascending=False, kind="stable").reset_index(drop=True)
-    note = ""
-    if method == "Lenth":
-        note = (
-            f"unreplicated: standard errors from Lenth's pseudo standard error (PSE = {pse:.4g}) "
-            f"of the {len(terms)} effects, {df:.3g} degrees of freedom"
+    notes = [f"factor {name} has a single level in the data and is left out" for name in single]
+    if method == "Lenth" and not (math.isfinite(pse) and pse > 0.0):
+        notes.append("Lenth's PSE is zero or undefined (most effects are nil), so t is not defined")
+    if not np.allclose(relative, 1.0, rtol=1e-9, atol=1e-9):
+        notes.append(
+            "the design is not orthogonal (a run table, or failed runs): each effect is twice "
+            "its coefficient adjusted for the others, not the plain difference of means, and its "
+            f"standard error is up to {math.sqrt(float(np.max(relative))):.3g} times an "
+            "orthogonal design's"
         )
-        if not math.isfinite(pse) or pse == 0.0:
-            note += "; the PSE is zero or undefined (most effects are nil), so t is not defined"
+    if partial:
+        notes.append(
+            "interactions partly confounded with the effects before them (a correlation of "
+            f"{_MAX_EFFECT_CORRELATION:g} or more, as in a Plackett-Burman design) are left out: "
+            + ", ".join(_display_term(t, names) for t in partial)
+        )
     out.attrs.update(
         method=method,
         df=df,
@@ -1324,7 +1412,7 @@ def two_level_effects(
         simultaneous_margin=simultaneous,
         alpha=alpha,
         n=int(y.size),
-        note=note,
+        note="; ".join(notes),
     )
     return out[list(EFFECTS_COLUMNS)]
 

@@ -542,6 +542,7 @@ def _print_summary(summary, design=None) -> None:
     label), status, MU and V. When the levels' values make the table wider than the
     terminal (seven factors in 80 columns), every factor with labels shows its labels (-, +)
     instead, and the caption says so; the test number and the responses are never cut."""
+    import pandas as pd
     from rich.table import Table
 
     factor_cols = [
@@ -563,14 +564,16 @@ def _print_summary(summary, design=None) -> None:
             [
                 str(int(row["test"])),
                 *(escape(level(c, row[c], labelled=labelled)) for c in factor_cols),
-                str(row.get("status", "ok")),
+                *([str(row.get("status", "ok"))] if with_status else []),
                 f"{row['MU']:.4f}" if row.get("status", "ok") == "ok" else "-",
                 f"{row['V_mm3']:.5g}" if row.get("status", "ok") == "ok" else "-",
             ]
             for _, row in summary.iterrows()
         ]
 
-    headers = ["test", *factor_cols, "status", "MU", "V [mm³/stop]"]
+    statuses = summary["status"] if "status" in summary.columns else pd.Series(["ok"])
+    with_status = bool((statuses.astype(str) != "ok").any())  # all ok: the column says nothing
+    headers = ["test", *factor_cols, *(["status"] if with_status else []), "MU", "V [mm³/stop]"]
 
     def widths(cells: list[list[str]]) -> list[int]:
         return [max([len(h), *(len(r[k]) for r in cells)]) for k, h in enumerate(headers)]
@@ -737,14 +740,16 @@ def show_design(
         highlight=False,
     )
     if loaded.is_fractional:
-        words = " = ".join(
-            ("-" if sign < 0 else "") + "*".join(word) for sign, word in loaded.defining_relation()
-        )
         out.print(f"generators: {', '.join(loaded.generators)}", markup=False, highlight=False)
-        out.print(f"defining relation: I = {words}", markup=False, highlight=False)
+        out.print(
+            f"defining relation: {loaded.relation_text()}",
+            markup=False,
+            highlight=False,
+            emoji=False,
+        )
     structure = alias_structure(pd.DataFrame(combos), loaded.factors)
     chains = [
-        f"{term} + {aliases}"
+        f"{term} - {aliases[1:]}" if aliases.startswith("-") else f"{term} + {aliases}"
         for term, aliases in zip(structure["term"], structure["aliases"], strict=True)
         if aliases
     ]

@@ -433,6 +433,10 @@ def quick_config(config: SimulationConfig) -> SimulationConfig:
 
 # --- fractional factorials ------------------------------------------------------------------
 
+#: Most generators whose defining relation :meth:`Design.relation_text` lists (2^12 - 1 =
+#: 4095 words to sort); beyond, it gives only the count.
+_MAX_LISTED_GENERATORS = 12
+
 #: ``X = [sign] word``: the generated factor, '=', an optional sign and the product.
 _GENERATOR = re.compile(r"\s*([^=\s]+)\s*=\s*([+-]?)\s*(.*?)\s*", re.DOTALL)
 
@@ -728,7 +732,9 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
     The header row names the factors (every one, in any order); each further row gives one
     test. UTF-8 (a BOM is accepted), comma, semicolon or tab separated (the separator is the
     header's, as for drive traces); a semicolon- or tab-separated file may write decimal
-    commas (``1,5``). Blank lines and lines starting with ``#`` are skipped.
+    commas (``1,5``). Blank lines and lines starting with ``#`` are skipped; a first line
+    ``sep=;`` (as Excel writes it) names the separator; trailing empty cells (a spreadsheet's
+    trailing separators) are ignored.
 
     Parameters
     ----------
@@ -760,18 +766,24 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
         raise ConfigError(f"{where}: cannot read {path}: {exc}") from None
     header: list[str] | None = None
     delimiter = ","
+    named: str | None = None  # the separator an Excel "sep=;" line names
     rows: list[dict[str, Any]] = []
     for lineno, raw in enumerate(text.splitlines(), start=1):
-        line = raw.strip()
-        if not line or line.startswith("#"):
+        if not raw.strip() or raw.lstrip().startswith("#"):
             continue
+        line = raw.rstrip("\r\n")  # a leading empty cell (a tab) stays a cell
         at = f"{where}: {path}, line {lineno}"
+        if header is None and named is None and line.strip().lower().startswith("sep="):
+            named = line.strip()[4:5] or ","
+            continue
         if header is None:
-            delimiter = csv_delimiter(line)
+            delimiter = named or csv_delimiter(line.strip())
             header = [
                 c.strip().strip("\"'").strip()
                 for c in next(csv.reader([line], delimiter=delimiter))
             ]
+            while len(header) > 1 and not header[-1]:
+                header.pop()  # a spreadsheet's trailing separators
             for k, name in enumerate(header):
                 if not name:
                     raise ConfigError(f"{at}: column {k + 1} of the header has no name")
@@ -1031,6 +1043,32 @@ class Design(_Frozen):
         words = list(_defining_words(self._parsed_generators(), names))
         words.sort(key=lambda w: (w.mask.bit_count(), _word_key(w.mask, len(names))))
         return [(w.sign, tuple(names[k] for k in _word_key(w.mask, len(names)))) for w in words]
+
+    def relation_text(self, *, times: str = "*", most: int = 15) -> str:
+        """The defining relation as text, ``"I = A*B*C*D = ..."``: its shortest ``most`` words,
+        then how many more (the whole relation of ``p`` generators has ``2^p - 1`` words; of
+        more than :data:`_MAX_LISTED_GENERATORS` generators only the count is given). Empty
+        unless the design is a fraction.
+
+        Parameters
+        ----------
+        times
+            The product sign between factors (``"·"`` in the report).
+        most
+            The most words written [-].
+        """
+        p = len(self.generators)
+        if p == 0:
+            return ""
+        n_words = 2**p - 1
+        if p > _MAX_LISTED_GENERATORS:
+            return f"I = ... ({n_words:,} words)"
+        words = [
+            ("-" if sign < 0 else "") + times.join(word)
+            for sign, word in self.defining_relation()[:most]
+        ]
+        more = f" = ... ({n_words:,} words in all)" if n_words > most else ""
+        return "I = " + " = ".join(words) + more
 
     @property
     def resolution(self) -> int | None:
@@ -1414,8 +1452,9 @@ def load_design(path_or_name: str | Path) -> Design:
     from brakeca.presets import available_designs, design_path
 
     path = Path(path_or_name)
-    if isinstance(path_or_name, str) and path_or_name in available_designs() and not path.exists():
-        path = design_path(path_or_name)
+    shipped = isinstance(path_or_name, str) and path_or_name in available_designs()
+    if shipped and not path.is_file():  # a folder of that name (a campaign's) is no design
+        path = design_path(str(path_or_name))
     elif not path.is_file():
         raise ConfigError(
             f"design {str(path_or_name)!r}: no such file nor a shipped design "

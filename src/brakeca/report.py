@@ -149,7 +149,8 @@ Wall time: the run's own computing time.</p>
 <p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
 of squares about the mean. Aliases (designs that do not separate every effect, such as a
 fractional factorial): the terms of up to three factors the design cannot tell apart from the
-term; what the table gives for the term is the sum of their effects.</p>
+term; what the table gives for the term is its effect plus theirs, each with the sign shown
+(B:D - C:E: plus the effect of B:D, minus that of C:E; two-level terms only).</p>
 </section>
 
 {% for section in figure_sections %}
@@ -462,10 +463,13 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
             f"({_fmt(attrs.get('df'), '.0f')} degrees of freedom)"
         )
     caption = (
-        f"Effects of {response} (every factor has two levels): the mean at the second level "
-        f"less the mean at the first, for every effect the design can estimate (one term per "
-        f"alias chain); {how}. Significant effects (p < {alpha:g}) in bold."
+        f"Effects of {response} (every factor has two levels): twice the coefficient of each "
+        "term coded -1/+1 (for an orthogonal design, the mean at the second level less the "
+        "mean at the first), for every effect the design can estimate (one term per alias "
+        f"chain); {how}. Significant effects (p < {alpha:g}) in bold."
     )
+    if attrs.get("note"):
+        caption += f" Note: {attrs['note']}."
     return _Table(headers, [c not in ("term", "aliases") for c in cols], rows), caption
 
 

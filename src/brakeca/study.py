@@ -151,15 +151,13 @@ def _design_info(design: Design) -> str:
         + "."
     )
     if design.is_fractional:
-        words = " = ".join(
-            ("-" if sign < 0 else "") + "·".join(word) for sign, word in design.defining_relation()
-        )
-        text += f" Generators: {', '.join(design.generators)}; defining relation I = {words}."
+        relation = design.relation_text(times="·")
+        text += f" Generators: {', '.join(design.generators)}; defining relation {relation}."
         resolution = design.resolution
         if resolution == 3:
             text += (
                 " Resolution III: main effects are aliased with two-factor interactions; read "
-                "a main effect as the sum of its alias chain (the ANOVA's Aliases column)."
+                "a main effect as its alias chain's signed sum (the ANOVA's Aliases column)."
             )
         elif resolution == 4:
             text += (

@@ -70,7 +70,8 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     assert "A:WR (aliased with S)" in html  # left out of the ANOVA, with its alias
     effects = pd.read_csv(out / "tables" / "effects_MU.csv", keep_default_na=False)
     assert sorted(effects["term"]) == ["A", "S", "WR"]
-    assert dict(zip(effects["term"], effects["aliases"], strict=True))["S"] == "A:WR"
+    # WR = -S*A: S's column is minus A:WR's, so S's estimate is S - A:WR
+    assert dict(zip(effects["term"], effects["aliases"], strict=True))["S"] == "-A:WR"
     assert (out / "figures" / "effects_MU.png").is_file()
 
 

@@ -726,3 +726,64 @@ def test_alias_structure_of_a_regular_fraction_and_of_a_plackett_burman_design()
     structure = alias_structure(pb, _levels01(names))
     assert list(structure["term"]) == list(names) and (structure["aliases"] == "").all()
     assert len(structure.attrs["not_estimable"]) == 55
+
+
+def test_alias_chains_carry_their_signs() -> None:
+    # 2^(5-2) with D = AB and E = -AC: A's column equals B:D's and minus C:E's, so the effect
+    # reported for A is A + BD - CE; here y has only C:E (coefficient 2) and B (0.5)
+    rows = _two_level("ABCDE", {"D": "AB", "E": "AC"}, {"C:E": -2.0, "B": 0.5}, noise=0.01)
+    rows["E"] = 1.0 - rows["E"]  # E = -AC: the same runs with E's levels swapped
+    rows["y"] = 10.0 + 0.5 * (2 * rows["B"] - 1) + 2.0 * (2 * rows["C"] - 1) * (2 * rows["E"] - 1)
+    effects = two_level_effects(rows, _levels01("ABCDE"), "y").set_index("term")
+    assert effects.loc["A", "aliases"] == "B:D - C:E"
+    assert effects.loc["A", "effect"] == pytest.approx(-4.0)  # 2 x (0 + 0 - 2)
+    table = anova(rows, _levels01("ABCDE"), "y")
+    assert dict(zip(table["term"], table["aliases"], strict=True))["A"] == "B:D - C:E"
+
+
+def test_plackett_burman_run_table_keeps_its_main_effects_unbiased() -> None:
+    first = [1, 1, -1, 1, 1, 1, -1, -1, -1, 1, -1]
+    rows = [first[-k:] + first[:-k] for k in range(11)] + [[-1] * 11]
+    rng = np.random.default_rng(8)
+    coded = np.array(rows)[:, :5]  # five factors in the first five columns of a PB12
+    y = 1.0 + 0.3 * coded[:, 0] - 0.2 * coded[:, 3] + 0.01 * rng.standard_normal(12)
+    frame = pd.DataFrame((coded + 1) / 2, columns=list("ABCDE")).assign(y=y)
+    effects = two_level_effects(frame, _levels01("ABCDE"), "y")
+    assert sorted(effects["term"]) == list("ABCDE")  # no interaction fills the spare df
+    assert "partly confounded" in effects.attrs["note"]
+    d = frame["D"].to_numpy()
+    plain = y[d == 1].mean() - y[d == 0].mean()
+    assert effects.set_index("term").loc["D", "effect"] == pytest.approx(plain, abs=1e-12)
+
+
+def test_a_failed_run_makes_the_effects_adjusted_with_their_own_standard_errors() -> None:
+    rows = _two_level("ABC", {}, {"A": 1.0, "C": 0.5}, noise=0.05).iloc[:-1]  # 7 of the 2^3
+    effects = two_level_effects(rows, _levels01("ABC"), "y")
+    assert "not orthogonal" in effects.attrs["note"]
+    x = np.column_stack(
+        [np.ones(7)]
+        + [2 * rows[c].to_numpy() - 1 for c in "ABC"]
+        + [
+            (2 * rows[a].to_numpy() - 1) * (2 * rows[b].to_numpy() - 1)
+            for a, b in ("AB", "AC", "BC")
+        ]
+    )
+    relative = 7 * np.diag(np.linalg.inv(x.T @ x))[1:]
+    by_term = effects.set_index("term")
+    ratio = by_term.loc[["A", "B", "C", "A:B", "A:C", "B:C"], "se"] / effects.attrs["pse"]
+    assert np.allclose(ratio.to_numpy(), np.sqrt(relative))
+    assert np.allclose(by_term["t"], by_term["effect"] / by_term["se"])
+
+
+def test_a_constant_response_has_no_effects() -> None:
+    rows = _two_level("ABC", {}, {}, noise=0.0).assign(y=0.3)
+    rows["y"] += 1e-17 * np.arange(len(rows))
+    effects = two_level_effects(rows, _levels01("ABC"), "y")
+    assert effects.empty and "constant" in effects.attrs["note"]
+
+
+def test_a_main_effect_aliased_with_another_stays_out_of_the_pooled_model() -> None:
+    rows = _two_level("AC", {}, {"A": 1.0}).assign(B=lambda f: f["A"])  # B's column is A's
+    table = anova(rows, _levels01("ABC"), "y")
+    assert "B (aliased with A)" in table.attrs["note"]
+    assert "B" not in set(table["term"]) and " B" not in table.attrs["formula"]

@@ -1021,6 +1021,11 @@ CSV_ROWS = [
             "\ufeff# exported from JMP\n\nA,WR,S,WP\n10,1e-07,0,1e-15\n# a comment\n"
             "20,1e-06,1,1e-13\n20,1e-07,1,1e-14\n\n10,1e-07,0,1e-15,,\n",
         ),
+        (  # Excel's separator line, and trailing separators on the header too
+            "excel.csv",
+            "sep=;\r\nS;WP;WR;A;\r\n0;1e-15;1e-07;10;\r\n1;1e-13;1e-06;20;\r\n"
+            "1;1e-14;1e-07;20\r\n0;1e-15;1e-07;10;;\r\n",
+        ),
     ],
 )
 def test_a_run_table_from_a_csv_file_is_inlined(tmp_path, name, text):
@@ -1103,6 +1108,11 @@ BAD_CSV = {
         ["line 3", "runs.1.WP", "no value"],
     ),
     "one row": ("# one\nS,WP,WR,A\n0,1e-15,1e-07,10\n", ["at least 2 runs, found 1"]),
+    "leading empty cell": (  # a tab-separated row whose first cell is empty keeps that cell
+        "S\tWP\tWR\tA\n\t1e-15\t1e-07\t10\n",
+        ["line 2", "runs.0.S", "no value"],
+    ),
+    "header cell without a name": ("\tWP\tWR\tA\n", ["line 1", "column 1 of the header"]),
     "empty file": ("# nothing\n\n", ["empty file"]),
 }
 
@@ -1171,3 +1181,53 @@ def test_the_designs_guide_run_table_example_loads():
     design = design_from_dict({**data, "factors": paper["factors"]}, source="docs/designs.md")
     assert design.kind == "run table" and design.n_tests == 3
     assert design.combinations()[1] == {"S": 1.0, "WP": 1e-13, "WR": 1e-6, "A": 20.0}
+
+
+def test_a_folder_named_like_a_shipped_design_does_not_hide_it(tmp_path, monkeypatch):
+    (tmp_path / "screen").mkdir()  # a campaign folder, as 'brakeca run screen -o screen' makes
+    monkeypatch.chdir(tmp_path)
+    assert load_design("screen").name == "screen"
+
+
+def test_the_defining_relation_text_is_bounded():
+    design = load_design("screen")
+    assert design.relation_text(most=2) == (
+        "I = S*WP*WR*modulus = S*WP*mu0*slope = ... (7 words in all)"
+    )
+    # 2^(15-11): fifteen two-level factors in 16 runs, 2047 words
+    names = [f"F{k}" for k in range(15)]
+    words = ["F0*F1", "F0*F2", "F0*F3", "F1*F2", "F1*F3", "F2*F3", "F0*F1*F2", "F0*F1*F3"]
+    words += ["F0*F2*F3", "F1*F2*F3", "F0*F1*F2*F3"]
+    data = {
+        "name": "saturated",
+        "base": "paper",
+        "root_seed": 1,
+        "factors": [{"name": n, "field": f, "levels": v} for n, f, v in _fifteen(names)],
+        "generators": [f"{n} = {w}" for n, w in zip(names[4:], words, strict=True)],
+    }
+    design = design_from_dict(data)
+    assert design.n_tests == 16 and design.resolution == 3
+    assert design.relation_text().endswith("= ... (2,047 words in all)")
+    assert design.relation_text().count(" = ") == 16  # I = 15 words = ...
+
+
+def _fifteen(names):
+    """Fifteen two-level factors on real fields (their levels within range)."""
+    fields = [
+        ("friction.mu_0", [0.5, 0.7]),
+        ("friction.slope", [2e-8, 4e-8]),
+        ("friction.mu_min", [0.1, 0.15]),
+        ("contact.elastic_modulus", [5e8, 2e9]),
+        ("contact.bar_length", [0.005, 0.01]),
+        ("wear.specific_wear_rate", [1e-15, 1e-13]),
+        ("wear.resin_wear_depth", [1e-7, 1e-6]),
+        ("automaton.secondary_removal_fraction", [0.0, 1.0]),
+        ("pad.fibre_area_fraction", [0.1, 0.2]),
+        ("pad.resin_roughness", [5e-5, 1e-4]),
+        ("pad.fibre_length_min", [0.001, 0.002]),
+        ("pad.fibre_length_max", [0.008, 0.01]),
+        ("pad.fibre_diameter_min", [0.0002, 0.0003]),
+        ("pad.fibre_diameter_max", [0.0006, 0.0007]),
+        ("vehicle.wheel_load_mass", [600.0, 690.0]),
+    ]
+    return [(n, f, v) for n, (f, v) in zip(names, fields, strict=True)]
