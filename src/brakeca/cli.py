@@ -594,15 +594,18 @@ def _print_summary(summary, design=None) -> None:
     out.print(table)
 
 
+DesignArg = Annotated[
+    str,
+    typer.Argument(
+        metavar="DESIGN",
+        help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}",
+    ),
+]
+
+
 @app.command(short_help="run every point of a design (resumes finished runs)")
 def run(
-    design: Annotated[
-        str,
-        typer.Argument(
-            metavar="DESIGN",
-            help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}",
-        ),
-    ],
+    design: DesignArg,
     output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="campaign folder")],
     workers: WorkersOpt = None,
     executor: ExecutorOpt = "local",
@@ -706,13 +709,7 @@ def paper(
 
 @app.command("design", short_help="a design's tests, resolution and alias structure")
 def show_design(
-    design: Annotated[
-        str,
-        typer.Argument(
-            metavar="DESIGN",
-            help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}",
-        ),
-    ],
+    design: DesignArg,
     tests: Annotated[bool, typer.Option(help="list the tests and their levels")] = True,
 ) -> None:
     """Check a design before running it: its kind and runs, a fraction's generators,
