@@ -882,6 +882,22 @@ class Design(_Frozen):
     generators: tuple[str, ...] = ()
     runs: tuple[dict[str, int | float], ...] | None = None
     runs_file: Path | None = None
+    foldover: tuple[str, ...] = ()
+
+    @field_validator("foldover", mode="before")
+    @classmethod
+    def _fold_names(cls, value: Any, info: Any) -> Any:
+        """``"all"`` stands for every two-level factor (expanded here, so the written design
+        names them)."""
+        if value == "all":
+            factors = info.data.get("factors") or ()
+            return tuple(f.name for f in factors if len(f.levels) == 2)
+        if isinstance(value, str):
+            raise ValueError(
+                f"expected a list of factor names or 'all', got {value!r}; e.g. "
+                f"foldover = [{value!r}]"
+            )
+        return value
 
     @model_validator(mode="before")
     @classmethod
@@ -957,6 +973,8 @@ class Design(_Frozen):
         if self.generators:
             parsed = _parse_generators(self.generators, self.factors)
             _check_resolution(parsed, self.factor_names)
+        if self.foldover:
+            self._check_foldover(table)
         if self.runs is not None:
             object.__setattr__(self, "runs", self._checked_runs(self.runs))
         if self.runs is not None or self.runs_file is None:
@@ -965,6 +983,46 @@ class Design(_Frozen):
                 key = "runs" if self.runs is not None else "factors"
                 raise ValueError(f"{key}: the design has {n_runs} runs, more than 1,000,000")
         return self
+
+    def _check_foldover(self, table: bool) -> None:
+        """Refuse a fold-over of a full factorial, of an unknown, repeated or not two-level
+        factor, or one that gives the fraction's own tests back."""
+        if not self.generators and not table:
+            raise ValueError(
+                "foldover: a full factorial folded over repeats its own tests; fold a fraction "
+                "(generators) or a run table, or give the design replicates"
+            )
+        names = self.factor_names
+        for k, name in enumerate(self.foldover):
+            if name not in names:
+                raise ValueError(
+                    f"foldover.{k}: unknown factor {name!r} (factors: {', '.join(names)})"
+                )
+            if self.foldover.index(name) != k:
+                raise ValueError(f"foldover.{k}: factor {name!r} is named twice")
+            levels = len(self.factor(name).levels)
+            if levels != 2:
+                raise ValueError(
+                    f"foldover.{k}: factor {name!r} has {levels} levels; a fold-over switches "
+                    "a two-level factor to its other level"
+                )
+        if self.generators and len(self._folded_words()) == 2 ** len(self.generators) - 1:
+            folded = ", ".join(self.foldover)
+            raise ValueError(
+                f"foldover: folding on {folded} gives the fraction's own tests back: every word "
+                "of its defining relation holds an even number of these factors (a fraction of "
+                "resolution IV folded on all its factors is itself); fold on fewer factors"
+            )
+
+    def _folded_words(self) -> list[_Word]:
+        """The words of the defining relation that survive the fold-over: those holding an
+        even number of the folded factors (the others change sign in the folded half)."""
+        names = self.factor_names
+        words = list(_defining_words(self._parsed_generators(), names))
+        if not self.foldover:
+            return words
+        mask = sum(1 << names.index(n) for n in self.foldover)
+        return [w for w in words if (w.mask & mask).bit_count() % 2 == 0]
 
     def _checked_runs(
         self, runs: Sequence[Mapping[str, int | float]]
@@ -1037,10 +1095,12 @@ class Design(_Frozen):
             The ``2^p - 1`` words of ``p`` generators (each generator's word ``X*F1*...*Fk``
             and all their products, factors that appear twice cancelling), as (sign, +1 or
             -1; factor names in design order), ordered by length, then by the factors'
-            design order. Empty unless the design is a fraction.
+            design order. Empty unless the design is a fraction. With a fold-over, the words
+            holding an even number of the folded factors: the others are what the fold-over
+            resolves (and none left: the two-level factors form a full factorial).
         """
         names = self.factor_names
-        words = list(_defining_words(self._parsed_generators(), names))
+        words = self._folded_words()
         words.sort(key=lambda w: (w.mask.bit_count(), _word_key(w.mask, len(names))))
         return [(w.sign, tuple(names[k] for k in _word_key(w.mask, len(names)))) for w in words]
 
@@ -1060,9 +1120,11 @@ class Design(_Frozen):
         p = len(self.generators)
         if p == 0:
             return ""
-        n_words = 2**p - 1
         if p > _MAX_LISTED_GENERATORS:
-            return f"I = ... ({n_words:,} words)"
+            return f"I = ... ({2**p - 1:,} words before any fold-over)"
+        n_words = len(self._folded_words())
+        if n_words == 0:
+            return "I (no words: a full factorial of the two-level factors)"
         words = [
             ("-" if sign < 0 else "") + times.join(word)
             for sign, word in self.defining_relation()[:most]
@@ -1079,6 +1141,9 @@ class Design(_Frozen):
         parsed = self._parsed_generators()
         if not parsed:
             return None
+        if self.foldover:
+            lengths = [w.mask.bit_count() for w in self._folded_words()]
+            return min(lengths) if lengths else None  # none: a full factorial
         return _shortest_word(parsed, self.factor_names).mask.bit_count()
 
     @property
@@ -1087,19 +1152,24 @@ class Design(_Frozen):
         ``"2^(7-4) fractional factorial, resolution III"`` (with factors of other than two
         levels crossed: ``"fractional factorial (2^(4-1) in the two-level factors × 3
         levels of WP), resolution IV"``)."""
+        folded = f" folded over on {', '.join(self.foldover)}" if self.foldover else ""
         if self.is_run_table:
-            return "run table"
+            return f"run table{folded}"
         if not self.generators:
             return "full factorial"
         two = sum(1 for f in self.factors if len(f.levels) == 2)
         fraction = f"2^({two}-{len(self.generators)})"
-        resolution = f"resolution {_roman(self.resolution or 0)}"
+        if self.resolution is None:  # a fold-over that resolved every word
+            resolution = "a full factorial of its two-level factors"
+        else:
+            resolution = f"resolution {_roman(self.resolution)}"
         others = [f for f in self.factors if len(f.levels) != 2]
         if not others:
-            return f"{fraction} fractional factorial, {resolution}"
+            return f"{fraction} fractional factorial{folded}, {resolution}"
         crossed = " × ".join(f"{len(f.levels)} levels of {f.name}" for f in others)
         return (
-            f"fractional factorial ({fraction} in the two-level factors × {crossed}), {resolution}"
+            f"fractional factorial ({fraction} in the two-level factors × {crossed}){folded}, "
+            f"{resolution}"
         )
 
     @property
@@ -1112,11 +1182,12 @@ class Design(_Frozen):
         ConfigError
             A run table given as ``runs_file`` and not yet read (see :func:`design_from_dict`).
         """
+        fold = 2 if self.foldover else 1
         if self.runs is not None:
-            return len(self.runs)
+            return fold * len(self.runs)
         self._require_runs()
         generated = set(self.generated_factors)
-        return math.prod(len(f.levels) for f in self.factors if f.name not in generated)
+        return fold * math.prod(len(f.levels) for f in self.factors if f.name not in generated)
 
     def _require_runs(self) -> None:
         if self.runs_file is not None and self.runs is None:
@@ -1150,7 +1221,7 @@ class Design(_Frozen):
             A run table given as ``runs_file`` and not yet read.
         """
         if self.runs is not None:
-            return [{f.name: row[f.name] for f in self.factors} for row in self.runs]
+            return self._folded([{f.name: row[f.name] for f in self.factors} for row in self.runs])
         self._require_runs()
         parsed = self._parsed_generators()
         generated = {g.target for g in parsed}
@@ -1166,7 +1237,21 @@ class Design(_Frozen):
                 coded = g.sign * math.prod(2 * chosen[index[n]] - 1 for n in g.word)
                 levels[g.target] = target_levels[g.target][(coded + 1) // 2]
             combos.append({n: levels[n] for n in names})
-        return combos
+        return self._folded(combos)
+
+    def _folded(self, combos: list[dict[str, int | float]]) -> list[dict[str, int | float]]:
+        """``combos`` followed, with a fold-over, by the same tests with each folded factor
+        at its other level."""
+        if not self.foldover:
+            return combos
+        other: dict[str, dict[int | float, int | float]] = {}  # a level -> the other level
+        for name in self.foldover:
+            low, high = self.factor(name).levels
+            other[name] = {low: high, high: low}
+        mirrored = [
+            {n: other[n][v] if n in other else v for n, v in combo.items()} for combo in combos
+        ]
+        return combos + mirrored
 
     def load_base(self) -> SimulationConfig:
         """The base configuration (the preset ``base`` or the file ``base_config``).
@@ -1361,6 +1446,7 @@ class Design(_Frozen):
             for f in data["factors"]
         ]
         data["generators"] = list(data["generators"]) or None  # a full factorial: no key
+        data["foldover"] = list(data["foldover"]) or None
         if data.get("runs") is not None:
             data["runs"] = [dict(row) for row in data["runs"]]
         if data.get("runs_file") is not None:

@@ -1231,3 +1231,79 @@ def _fifteen(names):
         ("vehicle.wheel_load_mass", [600.0, 690.0]),
     ]
     return [(n, f, v) for n, (f, v) in zip(names, fields, strict=True)]
+
+
+# --- fold-over ------------------------------------------------------------------------------
+
+
+def _screen(**extra: Any) -> dict[str, Any]:
+    return {**tomllib.loads(design_path("screen").read_text(encoding="utf-8")), **extra}
+
+
+def test_a_fold_over_appends_the_mirrored_tests_and_keeps_the_first_half():
+    screen = load_design("screen")
+    folded = design_from_dict(_screen(foldover=["S"]))
+    assert folded.n_tests == 32
+    assert folded.kind == "2^(7-3) fractional factorial folded over on S, resolution IV"
+    first, second = folded.combinations()[:16], folded.combinations()[16:]
+    assert first == screen.combinations()
+    assert second == [{**c, "S": 1.0 - c["S"]} for c in first]
+    # the same test numbers, so the same seeds and run ids: a campaign folder reuses them
+    assert [p.run_id for p in folded.points()][:16] == [p.run_id for p in screen.points()]
+    # the words holding S are resolved; the others stay
+    assert folded.defining_relation() == [
+        (1, ("WP", "WR", "A", "mu0")),
+        (1, ("WP", "A", "modulus", "slope")),
+        (1, ("WR", "modulus", "mu0", "slope")),
+    ]
+    assert folded.resolution == 4
+    again = design_from_dict(tomllib.loads(folded.to_toml()))
+    assert again == folded and again.combinations() == folded.combinations()
+
+
+def test_folding_a_resolution_three_fraction_on_all_factors_clears_the_main_effects():
+    data = {
+        "name": "r3",
+        "base": "paper",
+        "root_seed": 1,
+        "factors": [
+            {"name": "S", "levels": [0, 1]},
+            {"name": "A", "levels": [10, 20]},
+            {"name": "WR", "levels": [1e-7, 1e-6]},
+        ],
+        "generators": ["WR = S*A"],
+    }
+    folded = design_from_dict({**data, "foldover": "all"})
+    assert folded.foldover == ("S", "A", "WR")  # "all" is written out
+    assert folded.n_tests == 8 and folded.resolution is None
+    assert folded.kind.endswith("a full factorial of its two-level factors")
+    assert sorted(map(tuple, (c.values() for c in folded.combinations()))) == sorted(
+        map(
+            tuple, (c.values() for c in design_from_dict({**data, "generators": []}).combinations())
+        )
+    )
+    assert folded.relation_text().startswith("I (no words")
+
+
+@pytest.mark.parametrize(
+    ("extra", "fragment"),
+    [
+        ({"foldover": ["X"]}, "foldover.0: unknown factor 'X'"),
+        ({"foldover": ["S", "S"]}, "foldover.1: factor 'S' is named twice"),
+        ({"foldover": "S"}, "expected a list of factor names or 'all'"),
+        ({"foldover": "all"}, "gives the fraction's own tests back"),
+        ({"generators": [], "foldover": ["S"]}, "a full factorial folded over repeats"),
+    ],
+)
+def test_bad_fold_overs_are_refused_naming_the_key(extra, fragment):
+    with pytest.raises(ConfigError) as info:
+        design_from_dict(_screen(**extra), source="f.toml")
+    assert fragment in str(info.value)
+
+
+def test_a_run_table_folds_over_too():
+    design = design_from_dict(_table_design(runs=TABLE[:2], foldover=["S", "A"]))
+    assert design.kind == "run table folded over on S, A" and design.n_tests == 4
+    assert design.combinations()[2] == {"S": 1.0, "WP": 1e-15, "WR": 1e-7, "A": 20.0}
+    with pytest.raises(ConfigError, match=r"foldover\.0: factor 'WP' has 3 levels"):
+        design_from_dict(_table_design(runs=TABLE, foldover=["WP"]))
