@@ -73,6 +73,16 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     # WR = -S*A: S's column is minus A:WR's, so S's estimate is S - A:WR
     assert dict(zip(effects["term"], effects["aliases"], strict=True))["S"] == "-A:WR"
     assert (out / "figures" / "effects_MU.png").is_file()
+    # its fold-over on S into the same folder: the first half's runs are reused
+    folded = tmp_path / "folded.toml"
+    folded.write_text(FRACTION.replace("root_seed = 5\n", 'root_seed = 5\nfoldover = ["S"]\n'))
+    output = _run("run", str(folded), "-o", str(out), *TINY)
+    assert "4 run(s) computed, 4 reused" in output
+    summary = pd.read_csv(out / "summary.csv")
+    assert list(summary["test"]) == list(range(1, 9))
+    assert "folded over on S, a full factorial of its two-level factors" in (
+        out / "report.html"
+    ).read_text(encoding="utf-8")
 
 
 def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:
