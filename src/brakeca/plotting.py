@@ -568,7 +568,7 @@ def plot_effects(
     df = float(attrs.get("df", math.nan))
     method = attrs.get("method") or "?"
     n = len(effects)
-    fig = _figure((max(9.0, 0.3 * n + 6.0), 4.6))
+    fig = _figure((11.0, max(4.6, 0.2 * n + 1.4)))  # a bar per effect, each readable
     ax_pareto, ax_half = fig.subplots(1, 2, width_ratios=(1.3, 1.0))
     _suptitle(fig, f"Effects on {response} ({method}, α = {alpha:g})")
     if n == 0:
