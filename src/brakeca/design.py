@@ -85,6 +85,7 @@ from brakeca.config import (
 __all__ = [
     "MAX_GENERATORS",
     "RESERVED_NAMES",
+    "STANDARD_FRACTIONS",
     "Design",
     "Factor",
     "RunPoint",
@@ -95,6 +96,7 @@ __all__ = [
     "quick_config",
     "run_id",
     "run_id_for",
+    "standard_generators",
 ]
 
 #: Radial rows kept by :func:`quick_config` [-] (2 mm at the paper's 0.1 mm radial step).
@@ -128,6 +130,63 @@ MAX_GENERATORS = 20
 
 #: At most this many tests x replicates in one design [-].
 _MAX_RUNS = 1_000_000
+
+#: Standard generators of two-level fractional factorials, by (two-level factors, runs), with
+#: the factors lettered A, B, C, ... in design order (I skipped): the designs of Box, Hunter
+#: and Hunter (Statistics for Experimenters, 2nd ed., Table 6.14) and Montgomery (Design and
+#: Analysis of Experiments, Table 8.14), minimum aberration up to 8 factors; their resolution
+#: is checked by the tests. ``fraction_runs`` picks one of them.
+STANDARD_FRACTIONS: dict[tuple[int, int], tuple[str, ...]] = {
+    (3, 4): ("C=AB",),
+    (4, 8): ("D=ABC",),
+    (5, 8): ("D=AB", "E=AC"),
+    (5, 16): ("E=ABCD",),
+    (6, 8): ("D=AB", "E=AC", "F=BC"),
+    (6, 16): ("E=ABC", "F=BCD"),
+    (6, 32): ("F=ABCDE",),
+    (7, 8): ("D=AB", "E=AC", "F=BC", "G=ABC"),
+    (7, 16): ("E=ABC", "F=BCD", "G=ACD"),
+    (7, 32): ("F=ABCD", "G=ABDE"),
+    (7, 64): ("G=ABCDEF",),
+    (8, 16): ("E=BCD", "F=ACD", "G=ABC", "H=ABD"),
+    (8, 32): ("F=ABC", "G=ABD", "H=BCDE"),
+    (8, 64): ("G=ABCD", "H=ABEF"),
+    (9, 16): ("E=ABC", "F=BCD", "G=ACD", "H=ABD", "J=ABCD"),
+    (9, 32): ("F=BCDE", "G=ACDE", "H=ABDE", "J=ABCE"),
+    (9, 64): ("G=ABCD", "H=ACEF", "J=CDEF"),
+    (10, 16): ("E=ABC", "F=BCD", "G=ACD", "H=ABD", "J=ABCD", "K=AB"),
+    (10, 32): ("F=ABCD", "G=ABCE", "H=ABDE", "J=ACDE", "K=BCDE"),
+}
+
+_LETTERS = "ABCDEFGHJKL"
+
+
+def standard_generators(names: Sequence[str], runs: int) -> tuple[str, ...]:
+    """The generators of the standard fraction of ``runs`` tests over the two-level factors
+    ``names`` (in design order: the first are the base factors, the last the generated ones),
+    written with the factors' names: ``("E = A*B*C", ...)``; none for the full factorial.
+
+    Raises
+    ------
+    ValueError
+        ``runs`` is not a standard fraction of that many factors; the message lists those
+        that are.
+    """
+    k = len(names)
+    if runs == 2**k:
+        return ()
+    if (k, runs) not in STANDARD_FRACTIONS:
+        choices = [*sorted(n for kk, n in STANDARD_FRACTIONS if kk == k), 2**k]
+        listed = ", ".join(str(n) for n in choices) if k >= 3 else str(2**k)
+        raise ValueError(
+            f"fraction_runs: {runs} is not a standard fraction of {k} two-level factors; "
+            f"choose one of {listed} (the last: the full factorial), or write the generators"
+        )
+    letter = {c: names[i] for i, c in enumerate(_LETTERS[:k])}
+    return tuple(
+        f"{letter[g[0]]} = {'*'.join(letter[c] for c in g[2:])}"
+        for g in STANDARD_FRACTIONS[(k, runs)]
+    )
 
 
 class _Frozen(BaseModel):
@@ -898,6 +957,35 @@ class Design(_Frozen):
                 f"foldover = [{value!r}]"
             )
         return value
+
+    @model_validator(mode="before")
+    @classmethod
+    def _standard_fraction(cls, data: Any) -> Any:
+        """``fraction_runs = 16``: the standard fraction of that many tests over the two-level
+        factors (:data:`STANDARD_FRACTIONS`), written out as its ``generators``."""
+        if not isinstance(data, Mapping) or "fraction_runs" not in data:
+            return data
+        data = dict(data)
+        runs = data.pop("fraction_runs")
+        if data.get("generators") or data.get("runs") is not None or data.get("runs_file"):
+            raise ValueError(
+                "fraction_runs: give the number of runs of a standard fraction, or generators, "
+                "or a run table, not two of them"
+            )
+        if isinstance(runs, bool) or not isinstance(runs, int) or runs < 1:
+            raise ValueError(f"fraction_runs: expected a whole number of runs, got {runs!r}")
+        factors = data.get("factors")
+        if isinstance(factors, str | bytes) or not isinstance(factors, Sequence):
+            return data  # the factors' own error follows
+        names = [
+            f["name"]
+            for f in factors
+            if isinstance(f, Mapping)
+            and isinstance(f.get("levels"), Sequence)
+            and len(f["levels"]) == 2
+        ]
+        data["generators"] = list(standard_generators(names, runs))
+        return data
 
     @model_validator(mode="before")
     @classmethod

@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from brakeca.analysis import as_factor
 from brakeca.config import ConfigError
 from brakeca.design import (
+    STANDARD_FRACTIONS,
     Design,
     Factor,
     design_from_dict,
@@ -1307,3 +1308,75 @@ def test_a_run_table_folds_over_too():
     assert design.combinations()[2] == {"S": 1.0, "WP": 1e-15, "WR": 1e-7, "A": 20.0}
     with pytest.raises(ConfigError, match=r"foldover\.0: factor 'WP' has 3 levels"):
         design_from_dict(_table_design(runs=TABLE, foldover=["WP"]))
+
+
+# --- standard fractions (fraction_runs) -----------------------------------------------------
+
+#: The resolution each standard fraction has (Box, Hunter and Hunter; Montgomery)
+STANDARD_RESOLUTION = {
+    (3, 4): 3,
+    (4, 8): 4,
+    (5, 8): 3,
+    (5, 16): 5,
+    (6, 8): 3,
+    (6, 16): 4,
+    (6, 32): 6,
+    (7, 8): 3,
+    (7, 16): 4,
+    (7, 32): 4,
+    (7, 64): 7,
+    (8, 16): 4,
+    (8, 32): 4,
+    (8, 64): 5,
+    (9, 16): 3,
+    (9, 32): 4,
+    (9, 64): 4,
+    (10, 16): 3,
+    (10, 32): 4,
+}
+
+
+@pytest.mark.parametrize(("k", "runs"), sorted(STANDARD_RESOLUTION))
+def test_every_standard_fraction_has_its_resolution(k, runs):
+    factors = _fifteen([f"F{i}" for i in range(15)])[:k]
+    data = {
+        "name": "std",
+        "base": "paper",
+        "root_seed": 1,
+        "factors": [{"name": n, "field": f, "levels": v} for n, f, v in factors],
+        "fraction_runs": runs,
+    }
+    design = design_from_dict(data)
+    assert design.n_tests == runs and len(design.generators) == k - int(math.log2(runs))
+    assert design.resolution == STANDARD_RESOLUTION[(k, runs)]
+    assert sorted(STANDARD_FRACTIONS) == sorted(STANDARD_RESOLUTION)
+
+
+def test_fraction_runs_writes_the_standard_generators_out():
+    data = _screen()
+    data.pop("generators")
+    design = design_from_dict({**data, "fraction_runs": 16})
+    assert design.generators == ("modulus = S*WP*WR", "mu0 = WP*WR*A", "slope = S*WR*A")
+    assert design == load_design("screen")  # the shipped screen is the standard 2^(7-3)
+    assert "fraction_runs" not in design.to_toml() and "generators" in design.to_toml()
+    assert design_from_dict({**data, "fraction_runs": 128}).kind == "full factorial"
+    # a three-level factor is crossed with the fraction of the two-level ones
+    mixed = design_from_dict(_table_design(fraction_runs=4, factors=PAPER_FACTORS))
+    assert mixed.n_tests == 12 and mixed.generators == ("A = S*WR",)
+
+
+@pytest.mark.parametrize(
+    ("extra", "fragment"),
+    [
+        ({"fraction_runs": 12}, "choose one of 8, 16, 32, 64, 128"),
+        ({"fraction_runs": 16.0}, "expected a whole number of runs"),
+        ({"fraction_runs": 16, "generators": ["mu0 = S*WP"]}, "not two of them"),
+    ],
+)
+def test_bad_fraction_runs_are_refused(extra, fragment):
+    data = _screen(**extra)
+    if "generators" not in extra:
+        data.pop("generators")
+    with pytest.raises(ConfigError) as info:
+        design_from_dict(data, source="f.toml")
+    assert "f.toml: fraction_runs: " in str(info.value) and fragment in str(info.value)
