@@ -740,6 +740,26 @@ def _lack_of_fit(frame: pd.DataFrame, fit: Any) -> dict[str, float]:
     return out
 
 
+def _coded_frame(
+    data: pd.DataFrame, factors: Sequence[Factor], y: np.ndarray | None = None
+) -> tuple[pd.DataFrame, dict[str, str], list[str]]:
+    """The factors that vary in ``data`` as categorical columns ``f0``, ``f1``, ... (level
+    codes ``"L00"``, ``"L01"``, ...; beside ``y`` when given), the mapping of those safe
+    column names to the factor names, and the names of the factors with a single level in
+    the data, which are left out."""
+    frame = pd.DataFrame({"y": y}) if y is not None else pd.DataFrame(index=range(len(data)))
+    names: dict[str, str] = {}
+    single: list[str] = []
+    for i, f in enumerate(factors):
+        codes = _codes(data, f)
+        if np.unique(codes).size < 2:
+            single.append(f.name)
+            continue
+        frame[f"f{i}"] = [f"L{c:02d}" for c in codes]
+        names[f"f{i}"] = f.name
+    return frame, names, single
+
+
 def _model(
     data: pd.DataFrame, factors: Sequence[Factor], y: np.ndarray, interactions: bool
 ) -> tuple[pd.DataFrame, dict[str, str], list[str], list[str]]:
@@ -753,16 +773,8 @@ def _model(
     factor varies.
     """
     notes: list[str] = []
-    frame = pd.DataFrame({"y": y})
-    names: dict[str, str] = {}  # safe column -> factor name
-    for i, f in enumerate(factors):
-        codes = _codes(data, f)
-        if np.unique(codes).size < 2:
-            notes.append(f"factor {f.name} has a single level in the data and is left out")
-            continue
-        safe = f"f{i}"
-        frame[safe] = [f"L{c:02d}" for c in codes]
-        names[safe] = f.name
+    frame, names, single = _coded_frame(data, factors, y)
+    notes.extend(f"factor {n} has a single level in the data and is left out" for n in single)
     if not names:
         return frame, {}, [], notes
     mains = [f"C({s})" for s in names]
@@ -1145,13 +1157,7 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         design), which no row names.
     """
     factors = _factors(factors)
-    frame = pd.DataFrame(index=range(len(tests)))
-    names: dict[str, str] = {}
-    for i, f in enumerate(factors):
-        codes = _codes(tests, f)
-        if np.unique(codes).size >= 2:
-            frame[f"f{i}"] = [f"L{c:02d}" for c in codes]
-            names[f"f{i}"] = f.name
+    frame, names, _ = _coded_frame(tests, factors)
     columns = list(names)
     terms = [f"C({c})" for c in columns] + [
         f"C({a}):C({b})" for a, b in itertools.combinations(columns, 2)
@@ -1316,21 +1322,12 @@ def two_level_effects(
         out.attrs.update(note=why, method=None, n=int(y.size), alpha=alpha)
         return out
 
-    frame = pd.DataFrame({"y": y})
-    names: dict[str, str] = {}
-    single = []
-    for i, f in enumerate(factors):
-        codes = _codes(data, f)
-        observed = np.unique(codes)
-        if observed.size < 2:
-            single.append(f.name)
-            continue
-        if len(f.levels) != 2:
+    frame, names, single = _coded_frame(data, factors, y)
+    for f in factors:
+        if f.name in names.values() and len(f.levels) != 2:
             return none(
                 f"factor {f.name} has {len(f.levels)} levels; effects need two-level factors"
             )
-        frame[f"f{i}"] = [f"L{c:02d}" for c in codes]
-        names[f"f{i}"] = f.name
     if not names:
         return none("no factor varies in the data")
     if _is_constant(y):
