@@ -28,6 +28,20 @@ labels = ["-", "+"]
 unit = "%"
 """
 
+#: `brakeca run` options for a 5 x 100 cell band, WP+ and the first 2 stops, serially.
+TINY_CLI = [
+    "--set",
+    "mesh.n_radial=5",
+    "--set",
+    "mesh.n_angular=100",
+    "--set",
+    "WP=1e-13",
+    "--stops",
+    "2",
+    "--executor",
+    "serial",
+]
+
 #: Summary columns that depend on the machine's speed, not on the run.
 TIMING = ["wall_time"]
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import tomllib
 
 import pandas as pd
+from campaign_helpers import TINY_CLI
 from typer.testing import CliRunner
 
 from brakeca.cli import app
@@ -26,18 +27,7 @@ levels = [1e-7, 1e-6]
 
 FRACTION = 'name = "half"\nbase = "paper"\nroot_seed = 5\ngenerators = ["WR = -S*A"]\n' + FACTORS
 
-TINY = [
-    "--set",
-    "mesh.n_radial=5",
-    "--set",
-    "mesh.n_angular=100",
-    "--set",
-    "WP=1e-13",
-    "--stops",
-    "2",
-    "--executor",
-    "serial",
-]
+TINY = TINY_CLI
 
 
 def _run(*args: str) -> str:

@@ -8,6 +8,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
+from campaign_helpers import TINY_CLI
 from typer.testing import CliRunner
 
 from brakeca.cli import app
@@ -30,18 +31,7 @@ labels = ["-", "+"]
 unit = "%"
 """
 
-TINY = [
-    "--set",
-    "mesh.n_radial=5",
-    "--set",
-    "mesh.n_angular=100",
-    "--set",
-    "WP=1e-13",
-    "--stops",
-    "2",
-    "--executor",
-    "serial",
-]
+TINY = TINY_CLI
 
 
 @pytest.fixture(scope="module")
