@@ -19,11 +19,17 @@ Regular two-level fractional factorial (key ``generators``)
     the others are crossed, whatever their number of levels. The defining relation (the
     generators' words ``I = D*A*B*C`` and all their products) gives the resolution, the
     length of its shortest word; below III (two main effects aliased) the design is refused.
+    ``fraction_runs = 16`` instead of ``generators`` takes the standard fraction of that many
+    tests (:data:`STANDARD_FRACTIONS`) and writes its generators out.
 Run table (key ``runs``, or ``runs_file``: a CSV file)
     Any design made elsewhere (Plackett-Burman, D-optimal, a JMP custom design): one row per
     test, giving each factor one of its levels; the tests are the rows, in order. A CSV file
     is read once, when the design is loaded, and its rows are kept inline, so that
     :meth:`Design.to_toml` is self-contained.
+
+A fraction or a run table may be folded over (key ``foldover``): its tests are followed by
+the same tests with the named two-level factors (or all, ``"all"``) at their other level. The
+first half keeps its test numbers, so its seeds and run ids are the unfolded design's.
 
 Seeds
 -----
