@@ -4,7 +4,7 @@ A design file (TOML, see ``presets/designs/paper.toml``) names a base parameter 
 of factors, each a configuration field with its levels. :meth:`Design.combinations` lists the
 design's *tests* (one factor-level combination each) and :meth:`Design.points` resolves one
 validated :class:`~brakeca.config.SimulationConfig` and one seed per run (test and
-replicate). A design is one of three kinds (:attr:`Design.kind`):
+replicate). A design is one of four kinds (:attr:`Design.kind`):
 
 Full factorial (the default)
     Every combination of the factors' levels, in the paper's test order: the first factor
@@ -26,6 +26,15 @@ Run table (key ``runs``, or ``runs_file``: a CSV file)
     test, giving each factor one of its levels; the tests are the rows, in order. A CSV file
     is read once, when the design is loaded, and its rows are kept inline, so that
     :meth:`Design.to_toml` is self-contained.
+Central composite design (key ``composite``: a table with ``alpha`` and ``center``)
+    A response-surface design (Minitab's "Create Response Surface Design") over 2 to 6
+    numeric factors of two levels each: the 2^k cube points (the full factorial of the levels,
+    coded -1 and +1, the first factor fastest), 2k axial points (each factor in turn at
+    -alpha, then +alpha, the others at their centre, 0) and ``center`` centre points, in this
+    order. ``alpha`` is ``"face"`` (1: every level within the given two), ``"rotatable"``,
+    ``"orthogonal"`` or a number. A factor with ``coding = "log"`` is coded on log10 of its
+    level (its centre is the geometric mean). The tests are written out as a run table when
+    the design is validated, with each factor's levels, labels and ``coded_range``.
 
 A fraction or a run table may be folded over (key ``foldover``): its tests are followed by
 the same tests with the named two-level factors (or all, ``"all"``) at their other level. The
@@ -50,7 +59,8 @@ Friction and Wear Emissions", Advances in Tribology, 2016, Article ID 8181260.
 doi:10.1155/2016/8181260
 
 D. C. Montgomery, "Design and Analysis of Experiments", 8th ed., Wiley, 2013, chapter 8
-(two-level fractional factorial designs: generators, defining relation, resolution).
+(two-level fractional factorial designs: generators, defining relation, resolution) and
+§11.4.2 (central composite designs).
 """
 
 from __future__ import annotations
@@ -65,7 +75,7 @@ import tomllib
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 import tomli_w
@@ -92,6 +102,7 @@ __all__ = [
     "MAX_GENERATORS",
     "RESERVED_NAMES",
     "STANDARD_FRACTIONS",
+    "Composite",
     "Design",
     "Factor",
     "RunPoint",
@@ -274,6 +285,16 @@ class Factor(_Frozen):
         then label its axis by its name alone.
     label
         Human-readable description.
+    coding
+        How a regression model codes the factor (and where a central composite design puts
+        its centre and axial points): ``"linear"`` codes the level itself, ``"log"`` its
+        decimal logarithm (for a factor spanning decades, such as WP = 1e-15..1e-13
+        m^3/(N m): its centre is then the geometric mean). ``"log"`` needs every level and
+        both ends of ``coded_range`` above 0 and a numeric (not categorical) factor.
+    coded_range
+        The two levels [design unit] a regression model codes -1 and +1 (the cube points'
+        low and high of a central composite design), low < high; by default (None) the
+        lowest and the highest level.
     """
 
     name: str = Field(min_length=1, max_length=64)
@@ -291,6 +312,8 @@ class Factor(_Frozen):
     )
     unit: str = "-"
     label: str = ""
+    coding: Literal["linear", "log"] = "linear"
+    coded_range: tuple[float, float] | None = None
 
     @model_validator(mode="before")
     @classmethod
@@ -363,6 +386,23 @@ class Factor(_Frozen):
             raise ValueError(f"levels must all differ, got {list(value)}")
         return value
 
+    @field_validator("coded_range", mode="before")
+    @classmethod
+    def _range(cls, value: Any) -> Any:
+        if value is None:
+            return value
+        if isinstance(value, str | bytes) or not isinstance(value, Sequence) or len(value) != 2:
+            raise ValueError("expected two levels [low, high], the levels coded -1 and +1")
+        for item in value:
+            if isinstance(item, bool) or not isinstance(item, int | float):
+                raise ValueError(f"expected two numbers [low, high]; {item!r} is not a number")
+            if not _finite_number(item):
+                raise ValueError(f"expected two finite numbers [low, high]; {item!r} is not")
+        low, high = value
+        if not low < high:
+            raise ValueError("expected [low, high] with low < high (the levels coded -1 and +1)")
+        return tuple(value)
+
     @model_validator(mode="after")
     def _labels_match(self) -> Factor:
         if self.labels is not None and len(self.labels) != len(self.levels):
@@ -385,7 +425,73 @@ class Factor(_Frozen):
                 f"choices: factor {self.name!r} has {len(self.levels)} levels but "
                 f"{len(self.choices)} choices"
             )
+        if self.categorical and self.coding == "log":
+            raise ValueError(
+                f"coding: factor {self.name!r} is categorical (its levels only number its "
+                "choices), so it cannot be coded on a log scale; remove coding = 'log'"
+            )
+        if self.categorical and self.coded_range is not None:
+            raise ValueError(
+                f"coded_range: factor {self.name!r} is categorical (its levels only number its "
+                "choices), so it has no coded range; remove coded_range"
+            )
+        if self.coding == "log":
+            for value in self.levels:
+                if value <= 0:
+                    raise ValueError(
+                        f"coding: factor {self.name!r} is coded 'log' (log10 of its level), so "
+                        f"every level must be above 0; level {value!r} is not"
+                    )
+            for value in self.coded_range or ():
+                if value <= 0:
+                    raise ValueError(
+                        f"coded_range: factor {self.name!r} is coded 'log' (log10 of its "
+                        f"level), so both ends must be above 0; {value!r} is not"
+                    )
         return self
+
+    @property
+    def categorical(self) -> bool:
+        """Whether the factor is categorical (``choices``, or the field ``cycle``): its levels
+        only number its choices."""
+        return self.choices is not None or self.field == "cycle"
+
+    @property
+    def coding_range(self) -> tuple[float, float]:
+        """The levels coded -1 and +1 [design unit]: :attr:`coded_range`, by default the
+        lowest and the highest level."""
+        if self.coded_range is not None:
+            return self.coded_range
+        return float(min(self.levels)), float(max(self.levels))
+
+    def coded(self, value: float) -> float:
+        """The coded value [-] of level ``value`` [design unit]: -1 and +1 at the ends of
+        :attr:`coding_range`, linear in the level (``coding = "linear"``) or in its log10
+        (``"log"``).
+
+        Raises
+        ------
+        ValueError
+            A categorical factor, or a level at or below 0 with log coding.
+        """
+        if self.categorical:
+            raise ValueError(f"factor {self.name!r} is categorical: its levels have no coding")
+        low, high = self.coding_range
+        if self.coding == "log":
+            if value <= 0:
+                raise ValueError(
+                    f"factor {self.name!r} is coded 'log': level {value!r} is not above 0"
+                )
+            low, high, value = math.log10(low), math.log10(high), math.log10(value)
+        return (2.0 * value - (low + high)) / (high - low)
+
+    def uncoded(self, x: float) -> float:
+        """The level [design unit] at coded value ``x`` [-] (the inverse of :meth:`coded`;
+        exactly the ends of :attr:`coding_range` at -1 and +1)."""
+        if self.categorical:
+            raise ValueError(f"factor {self.name!r} is categorical: its levels have no coding")
+        low, high = self.coding_range
+        return _decode(low, high, self.coding, x)
 
     def apply(self, config: SimulationConfig, value: int | float) -> SimulationConfig:
         """``config`` with this factor set to level ``value`` [unit]."""
@@ -899,9 +1005,171 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
     return rows
 
 
+# --- central composite designs --------------------------------------------------------------
+
+#: The factors a central composite design takes [-]: from 2 (its 2^k cube points are a full
+#: factorial, so 6 factors already give 64 of them).
+_COMPOSITE_FACTORS = (2, 6)
+
+_ALPHA_NAMES = ("face", "rotatable", "orthogonal")
+
+
+def _finite_number(value: Any) -> bool:
+    """Whether ``value`` is a finite int or float (not a bool)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:  # an int too large for a float
+        return False
+
+
+def _decode(low: float, high: float, coding: str, x: float) -> float:
+    """The level [design unit] at coded value ``x`` [-] of a factor coded -1 at ``low`` and +1
+    at ``high``, linearly in the level (``coding = "linear"``) or in its log10 (``"log"``).
+    At -1 and +1 it is ``low`` and ``high`` themselves (not recomputed)."""
+    if x == -1:
+        return low
+    if x == 1:
+        return high
+    if coding == "log":
+        a, b = math.log10(low), math.log10(high)
+        return float(10.0 ** ((a + b) / 2.0 + x * (b - a) / 2.0))
+    return (low + high) / 2.0 + x * (high - low) / 2.0
+
+
+class Composite(_Frozen):
+    """A central composite design (a response-surface design, as Minitab's "Create Response
+    Surface Design"): the 2^k cube points of a full factorial of the factors' two levels
+    (coded -1 and +1), 2k axial points (one factor at -alpha or +alpha, the others at their
+    centre, 0) and ``center`` centre points (every factor at 0).
+
+    Parameters
+    ----------
+    alpha
+        Distance of the axial points from the centre [coded unit]: ``"face"`` 1 (face-centred,
+        CCF: every point within the factors' levels), ``"rotatable"`` (2^k)^(1/4) (the
+        prediction variance depends only on the distance from the centre), ``"orthogonal"``
+        the distance making the pure quadratic terms orthogonal for the given centre points
+        (:meth:`alpha_value`), or a number from 1 to 10.
+    center
+        Centre points [-]: repeated tests at the centre, each with its own seed, so their
+        scatter estimates the seed-to-seed scatter (the pure error).
+
+    References
+    ----------
+    D. C. Montgomery, "Design and Analysis of Experiments", 8th ed., Wiley, 2013, §11.4.2
+    (central composite designs: rotatability, the face-centred and the orthogonal design).
+    """
+
+    alpha: float | Literal["face", "rotatable", "orthogonal"] = "face"
+    center: int = Field(4, ge=1, le=100)
+
+    @field_validator("alpha", mode="before")
+    @classmethod
+    def _alpha(cls, value: Any) -> Any:
+        if isinstance(value, str) and value in _ALPHA_NAMES:
+            return value
+        if _finite_number(value) and 1.0 <= value <= 10.0:
+            return float(value)
+        raise ValueError(
+            "expected 'face', 'rotatable', 'orthogonal' or a number from 1 to 10 (the axial "
+            "points' distance from the centre in coded units)"
+        )
+
+    def alpha_value(self, k: int) -> float:
+        """The axial distance [coded unit] for ``k`` factors.
+
+        ``"face"``: 1; ``"rotatable"``: (2^k)^(1/4); ``"orthogonal"``:
+        ((sqrt(F N) - F)^2 / 4)^(1/4) with F = 2^k cube points and N = F + 2k + ``center``
+        points in all, which makes the centred columns of the squared coded levels
+        orthogonal (e.g. 1.210 for k = 2 and 4 centre points; 1 for k = 2 and 1).
+        """
+        if self.alpha == "face":
+            return 1.0
+        cube = 2.0**k
+        if self.alpha == "rotatable":
+            return float(cube**0.25)
+        if self.alpha == "orthogonal":
+            total = cube + 2 * k + self.center
+            return float(((math.sqrt(cube * total) - cube) ** 2 / 4.0) ** 0.25)
+        return float(self.alpha)
+
+    def describe(self, k: int) -> str:
+        """The kind of axial distance for ``k`` factors: ``"face-centred, α = 1"``,
+        ``"rotatable, α = 1.682"``, ``"orthogonal, α = 1.21"`` or ``"α = 1.5"``."""
+        alpha = self.alpha_value(k)
+        if alpha == 1.0:
+            return "face-centred, α = 1"
+        if isinstance(self.alpha, str):
+            return f"{self.alpha}, α = {alpha:.4g}"
+        return f"α = {alpha:.4g}"
+
+
+def _composite_table(
+    factors: Sequence[tuple[str, float, float, str]], composite: Composite
+) -> tuple[list[list[float]], list[list[str]], list[dict[str, float]]]:
+    """The levels, labels and tests of a central composite design.
+
+    Parameters
+    ----------
+    factors
+        (name, low, high, coding) of each factor in design order: the levels [design unit]
+        coded -1 and +1 and ``"linear"`` or ``"log"``.
+    composite
+        The axial distance and the centre points.
+
+    Returns
+    -------
+    levels : list of list of float
+        Each factor's distinct levels, ascending: low, centre, high (alpha 1), or -alpha,
+        low, centre, high, +alpha.
+    labels : list of list of str
+        Their labels: ``-``, ``0``, ``+`` (alpha 1), or ``-α``, ``-``, ``0``, ``+``, ``+α``.
+    tests : list of dict
+        Factor name to level, in Minitab's standard order: the 2^k cube points (the first
+        factor varying fastest, -1 first), the 2k axial points (each factor in design order
+        at -alpha, then +alpha, the others at 0), then the centre points.
+
+    Raises
+    ------
+    ValueError
+        An axial level that falls on a cube level (alpha too close to 1).
+    """
+    k = len(factors)
+    alpha = composite.alpha_value(k)
+    coded: list[float] = [-1.0, 0.0, 1.0] if alpha == 1.0 else [-alpha, -1.0, 0.0, 1.0, alpha]
+    labels = ["-", "0", "+"] if alpha == 1.0 else ["-α", "-", "0", "+", "+α"]
+    levels: list[list[float]] = []
+    for name, low, high, coding in factors:
+        values = [_decode(low, high, coding, x) for x in coded]
+        if any(b <= a for a, b in itertools.pairwise(values)):
+            raise ValueError(
+                f"composite.alpha: alpha = {alpha!r} puts factor {name!r}'s axial levels on "
+                "its cube levels; give alpha = 1 (face) or a larger one"
+            )
+        levels.append(values)
+    cube = [combo[::-1] for combo in itertools.product((-1.0, 1.0), repeat=k)]
+    axial = [
+        tuple(sign * alpha if j == i else 0.0 for j in range(k))
+        for i in range(k)
+        for sign in (-1.0, 1.0)
+    ]
+    centre = [(0.0,) * k] * composite.center
+    tests = [
+        {
+            name: levels[j][coded.index(x)]
+            for j, ((name, *_), x) in enumerate(zip(factors, point, strict=True))
+        }
+        for point in (*cube, *axial, *centre)
+    ]
+    return levels, [list(labels) for _ in factors], tests
+
+
 class Design(_Frozen):
     """A design over one base configuration: a full factorial, a regular two-level
-    fractional factorial (``generators``) or a run table (``runs``).
+    fractional factorial (``generators``), a run table (``runs``) or a central composite
+    design (``composite``).
 
     Parameters
     ----------
@@ -934,6 +1202,17 @@ class Design(_Frozen):
     runs_file
         The run table as a CSV file (header row: the factor names), relative to the design
         file; :func:`design_from_dict` reads it into ``runs`` and unsets it.
+    foldover
+        Names of two-level factors (or ``"all"``) whose other level a second half of the
+        tests takes (a fraction or a run table only).
+    composite
+        A central composite design (:class:`Composite`) over 2 to 6 numeric factors of two
+        levels each, low < high (its cube points; no labels, generators, run table or
+        fold-over). Its tests are written out when the design is validated: each factor's
+        ``levels`` become the levels used (low, centre and high, and with alpha above 1 the
+        axial levels), its ``labels`` ``-α``, ``-``, ``0``, ``+``, ``+α``, its
+        ``coded_range`` [low, high], and ``runs`` the tests (in Minitab's standard order);
+        a design read back with its ``runs`` is checked against them.
     """
 
     name: str = Field(min_length=1)
@@ -948,6 +1227,7 @@ class Design(_Frozen):
     runs: tuple[dict[str, int | float], ...] | None = None
     runs_file: Path | None = None
     foldover: tuple[str, ...] = ()
+    composite: Composite | None = None
 
     @field_validator("foldover", mode="before")
     @classmethod
@@ -1030,6 +1310,91 @@ class Design(_Frozen):
             rows.append(values)
         return {**data, "runs": rows}
 
+    @model_validator(mode="before")
+    @classmethod
+    def _composite_runs(cls, data: Any) -> Any:
+        """``composite``: write the central composite design's tests out as ``runs`` and each
+        factor's levels, labels and coded range (unless ``runs`` is there already, as in a
+        design written by :meth:`to_toml`; :meth:`_check_composite` checks it then)."""
+        if not isinstance(data, Mapping) or data.get("composite") is None:
+            return data
+        others = {
+            "fraction_runs": "a fractional factorial (fraction_runs)",
+            "generators": "a fractional factorial (generators)",
+            "runs_file": "a run table read from a file (runs_file)",
+            "foldover": "folded over (its axial and centre points have no other level)",
+        }
+        for key, what in others.items():
+            if key in data and data[key] not in (None, "", (), []):
+                raise ValueError(
+                    f"composite, {key}: a central composite design (composite) makes its own "
+                    f"tests, so it cannot also be {what}; remove one of them"
+                )
+        raw = data["composite"]
+        try:
+            composite = raw if isinstance(raw, Composite) else Composite.model_validate(raw)
+        except ValidationError:
+            return data  # the field's own error follows
+        factors = data.get("factors")
+        if data.get("runs") is not None or not isinstance(factors, list | tuple):
+            return data
+        low_k, high_k = _COMPOSITE_FACTORS
+        if not low_k <= len(factors) <= high_k:
+            raise ValueError(
+                f"composite: a central composite design takes {low_k} to {high_k} factors, got "
+                f"{len(factors)}"
+            )
+        specs: list[tuple[str, float, float, str]] = []
+        tables: list[dict[str, Any]] = []
+        for i, f in enumerate(factors):
+            if isinstance(f, Factor):
+                f = f.model_dump(exclude_none=True)
+            if not isinstance(f, Mapping) or not isinstance(f.get("name"), str):
+                return data  # the factor's own error follows
+            key, name = f"factors.{i}", f["name"]
+            if f.get("choices") is not None or f.get("field") == "cycle":
+                raise ValueError(
+                    f"{key}.choices: factor {name!r} is categorical; a central composite "
+                    "design takes numeric factors only (its centre and axial points lie "
+                    "between and beyond the levels)"
+                )
+            levels = f.get("levels")
+            if not isinstance(levels, list | tuple) or not all(map(_finite_number, levels)):
+                return data  # the levels' own error follows
+            if len(levels) != 2 or not levels[0] < levels[1]:
+                raise ValueError(
+                    f"{key}.levels: factor {name!r}: a central composite design takes exactly "
+                    "two levels per factor, [low, high] with low < high (its cube points, "
+                    f"coded -1 and +1; it adds the centre and axial levels), got {list(levels)}"
+                )
+            low, high = levels
+            if f.get("labels") is not None:
+                raise ValueError(
+                    f"{key}.labels: factor {name!r}: a composite design labels its levels "
+                    "itself (-α, -, 0, +, +α); remove labels"
+                )
+            coded_range = f.get("coded_range")
+            if coded_range is not None and (
+                not isinstance(coded_range, list | tuple) or list(coded_range) != [low, high]
+            ):
+                raise ValueError(
+                    f"{key}.coded_range: factor {name!r}: a central composite design codes "
+                    f"its levels [low, high] = {[low, high]} as -1 and +1; remove coded_range"
+                )
+            coding = f.get("coding", "linear")
+            if coding not in ("linear", "log") or (coding == "log" and low <= 0):
+                return data  # the factor's own error follows
+            specs.append((name, low, high, coding))
+            tables.append(dict(f))
+        levels_of, labels_of, tests = _composite_table(specs, composite)
+        rewritten = [
+            {**f, "levels": levels, "labels": labels, "coded_range": [low, high]}
+            for f, levels, labels, (_, low, high, _) in zip(
+                tables, levels_of, labels_of, specs, strict=True
+            )
+        ]
+        return {**data, "factors": rewritten, "runs": tests}
+
     @model_validator(mode="after")
     def _consistent(self) -> Design:
         if (self.base is None) == (self.base_config is None):
@@ -1071,12 +1436,70 @@ class Design(_Frozen):
             self._check_foldover(table)
         if self.runs is not None:
             object.__setattr__(self, "runs", self._checked_runs(self.runs))
+        if self.composite is not None:
+            self._check_composite()
         if self.runs is not None or self.runs_file is None:
             n_runs = self.n_tests * self.replicates
             if n_runs > _MAX_RUNS:
                 key = "runs" if self.runs is not None else "factors"
                 raise ValueError(f"{key}: the design has {n_runs} runs, more than 1,000,000")
         return self
+
+    def _check_composite(self) -> None:
+        """Check a central composite design's factors and tests against those its
+        ``composite`` and the factors' ``coded_range`` give (a design read back with its
+        ``runs``, perhaps edited by hand).
+
+        Raises
+        ------
+        ValueError
+            A categorical factor, one without ``coded_range``, levels or tests other than
+            the design's; the message names the field.
+        """
+        assert self.composite is not None
+        low_k, high_k = _COMPOSITE_FACTORS
+        k = len(self.factors)
+        if not low_k <= k <= high_k:
+            raise ValueError(
+                f"composite: a central composite design takes {low_k} to {high_k} factors, got {k}"
+            )
+        specs: list[tuple[str, float, float, str]] = []
+        for i, f in enumerate(self.factors):
+            if f.categorical:
+                raise ValueError(
+                    f"factors.{i}.choices: factor {f.name!r} is categorical; a central "
+                    "composite design takes numeric factors only"
+                )
+            if f.coded_range is None:
+                raise ValueError(
+                    f"factors.{i}.coded_range: factor {f.name!r}: a central composite design "
+                    "given with its runs needs each factor's coded_range [low, high] (its cube "
+                    "points' levels); or remove runs to make the tests from the two levels"
+                )
+            specs.append((f.name, *f.coded_range, f.coding))
+        levels_of, _, tests = _composite_table(specs, self.composite)
+        what = f"the central composite design ({self.composite.describe(k)})"
+        for i, (f, levels) in enumerate(zip(self.factors, levels_of, strict=True)):
+            if len(f.levels) != len(levels) or not all(
+                math.isclose(a, b, rel_tol=1e-9) for a, b in zip(f.levels, levels, strict=False)
+            ):
+                raise ValueError(
+                    f"factors.{i}.levels: factor {f.name!r}: {what} has the levels {levels} "
+                    f"(from its coded_range), got {list(f.levels)}"
+                )
+        runs = self.runs or ()
+        if len(runs) != len(tests):
+            raise ValueError(
+                f"runs: {what} has {len(tests)} tests, the run table {len(runs)}; remove runs "
+                "to make them again"
+            )
+        for r, (row, test) in enumerate(zip(runs, tests, strict=True)):
+            for name, value in test.items():
+                if not math.isclose(row[name], value, rel_tol=1e-9):
+                    raise ValueError(
+                        f"runs.{r}.{name}: test {r + 1} of {what} has {name} = {value!r}, the "
+                        f"run table {row[name]!r}; remove runs to make the tests again"
+                    )
 
     def _check_foldover(self, table: bool) -> None:
         """Refuse a fold-over of a full factorial, of an unknown, repeated or not two-level
@@ -1167,8 +1590,14 @@ class Design(_Frozen):
 
     @property
     def is_run_table(self) -> bool:
-        """Whether the design is a run table (``runs`` or ``runs_file``)."""
+        """Whether the design is a run table (``runs`` or ``runs_file``; a central composite
+        design is one too, its tests written out as ``runs``)."""
         return self.runs is not None or self.runs_file is not None
+
+    @property
+    def is_composite(self) -> bool:
+        """Whether the design is a central composite design (``composite``)."""
+        return self.composite is not None
 
     def _parsed_generators(self) -> tuple[_Generator, ...]:
         return _parse_generators(self.generators, self.factors) if self.generators else ()
@@ -1245,7 +1674,15 @@ class Design(_Frozen):
         """The kind of design, for reports: ``"full factorial"``, ``"run table"`` or e.g.
         ``"2^(7-4) fractional factorial, resolution III"`` (with factors of other than two
         levels crossed: ``"fractional factorial (2^(4-1) in the two-level factors × 3
-        levels of WP), resolution IV"``)."""
+        levels of WP), resolution IV"``; a central composite design:
+        ``"central composite design (face-centred, α = 1), 3 factors: 8 cube, 6 axial and 3
+        centre points"``)."""
+        if self.composite is not None:
+            k, center = len(self.factors), self.composite.center
+            return (
+                f"central composite design ({self.composite.describe(k)}), {k} factors: "
+                f"{2**k} cube, {2 * k} axial and {center} centre point{'s' if center > 1 else ''}"
+            )
         folded = f" folded over on {', '.join(self.foldover)}" if self.foldover else ""
         if self.is_run_table:
             return f"run table{folded}"
@@ -1410,6 +1847,15 @@ class Design(_Frozen):
         where = source or f"design {self.name}"
         index = self.factor_names.index(factor.name)
         detail = str(exc).replace("\n", "; ")
+        if self.composite is not None and factor.coded_range is not None:
+            low, high = factor.coded_range
+            if not low <= value <= high:
+                alpha = self.composite.alpha_value(len(self.factors))
+                detail += (
+                    f"; it is an axial level of the central composite design (alpha = "
+                    f"{alpha:.4g}): choose a smaller alpha ('face' keeps every level within "
+                    "[low, high]) or narrower levels"
+                )
         return ConfigError(
             f"{where}: factors.{index}.levels: factor {factor.name!r} (field {factor.field}): "
             f"level {value!r} [{factor.unit}] is not valid: {detail}"
@@ -1521,8 +1967,9 @@ class Design(_Frozen):
 
     # --- serialisation -----------------------------------------------------------------------
     def to_dict(self, *, base_config: str | Path | None = None) -> dict[str, Any]:
-        """Plain dict in the design-file layout (None fields and empty generators dropped; a
-        run table's rows as ``runs``).
+        """Plain dict in the design-file layout (None fields, empty generators and a factor's
+        linear coding dropped; a run table's rows as ``runs``, a central composite design's
+        ``composite`` as a table).
 
         Parameters
         ----------
@@ -1536,7 +1983,11 @@ class Design(_Frozen):
         if data.get("base_config") is not None:
             data["base_config"] = str(data["base_config"])
         data["factors"] = [
-            {k: (list(v) if isinstance(v, tuple) else v) for k, v in f.items() if v is not None}
+            {
+                k: (list(v) if isinstance(v, tuple) else v)
+                for k, v in f.items()
+                if v is not None and not (k == "coding" and v == "linear")  # the default
+            }
             for f in data["factors"]
         ]
         data["generators"] = list(data["generators"]) or None  # a full factorial: no key

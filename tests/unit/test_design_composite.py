@@ -1,0 +1,448 @@
+"""Unit tests of brakeca.design's central composite designs (``composite``) and of a factor's
+regression coding (``coding``, ``coded_range``)."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import tomllib
+from typing import Any
+
+import pytest
+
+from brakeca.config import ConfigError
+from brakeca.design import Composite, Design, Factor, design_from_dict, load_design
+from brakeca.presets import available_designs, load_preset
+
+#: Two-level numeric factors on real configuration fields, whose face-centred composite
+#: designs stay inside every field's range.
+FACTORS: dict[str, dict[str, Any]] = {
+    "mu0": {"field": "friction.mu_0", "levels": [0.5, 0.6]},
+    "slope": {"field": "friction.slope", "levels": [1e-8, 2e-8]},
+    "modulus": {"field": "contact.elastic_modulus", "levels": [1e9, 2e9]},
+    "bar": {"field": "contact.bar_length", "levels": [5e-3, 1e-2]},
+    "WP": {"levels": [1e-15, 1e-13], "coding": "log"},
+    "WR": {"levels": [1e-7, 1e-6], "coding": "log"},
+    "A": {"levels": [10.0, 20.0]},
+}
+
+
+def _factors(*names: str, **changes: dict[str, Any]) -> list[dict[str, Any]]:
+    return [{"name": n, **FACTORS[n], **changes.get(n, {})} for n in names]
+
+
+def _data(names: str | list[dict[str, Any]], **extra: Any) -> dict[str, Any]:
+    factors = _factors(*names.split()) if isinstance(names, str) else names
+    return {
+        "name": "ccd",
+        "base": "paper",
+        "root_seed": 7,
+        "composite": {},
+        "factors": factors,
+        **extra,
+    }
+
+
+def _ccd(names: str | list[dict[str, Any]], **extra: Any) -> Design:
+    return design_from_dict(_data(names, **extra), source="ccd.toml")
+
+
+def _coded(design: Design, combo: dict[str, Any]) -> tuple[float, ...]:
+    return tuple(design.factor(n).coded(v) for n, v in combo.items())
+
+
+# --- tests and their order ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("names", "center"),
+    [
+        ("mu0 slope", 1),
+        ("mu0 slope", 4),
+        ("mu0 slope modulus", 3),
+        ("mu0 slope modulus bar", 6),
+        ("mu0 slope modulus bar A", 2),
+        ("mu0 slope modulus bar A WP", 1),
+    ],
+)
+def test_a_composite_design_has_cube_axial_and_centre_points(names, center):
+    design = _ccd(names, composite={"center": center})
+    k = len(names.split())
+    n = 2**k + 2 * k + center
+    assert design.n_tests == n == len(design.combinations())
+    assert design.is_composite and design.is_run_table and not design.is_fractional
+    coded = [_coded(design, c) for c in design.combinations()]
+    # Minitab's standard order: the cube (first factor fastest, - first), the axial points
+    # (each factor at -alpha then +alpha), the centre points
+    cube = [combo[::-1] for combo in itertools.product((-1.0, 1.0), repeat=k)]
+    axial = [tuple(s if j == i else 0.0 for j in range(k)) for i in range(k) for s in (-1.0, 1.0)]
+    expected = cube + axial + [(0.0,) * k] * center
+    assert [tuple(round(x, 12) + 0.0 for x in point) for point in coded] == expected
+
+
+def test_the_cube_points_are_the_given_levels_not_recomputed():
+    # 0.6 - 0.3 is 0.29999999999999993 and 10.4 - 0.3 10.099999999999998: the cube's levels
+    # must be 0.3, 0.9, 10.1 and 10.7 themselves
+    factors = [
+        {"name": "mu0", "field": "friction.mu_0", "levels": [0.3, 0.9]},
+        {"name": "A", "levels": [10.1, 10.7]},
+        {"name": "S", "levels": [0, 1]},
+    ]
+    for alpha in ("face", "rotatable"):
+        design = _ccd(factors[:2], composite={"alpha": alpha})
+        combos = design.combinations()
+        assert {c["mu0"] for c in combos[:4]} == {0.3, 0.9}
+        assert {c["A"] for c in combos[:4]} == {10.1, 10.7}
+        assert design.factor("mu0").coded_range == (0.3, 0.9)
+    # face-centred: the axial points are the given levels too
+    face = _ccd(factors)
+    assert [c["mu0"] for c in face.combinations()[8:10]] == [0.3, 0.9]
+    assert [c["A"] for c in face.combinations()[10:12]] == [10.1, 10.7]
+    assert face.factor("mu0").levels == (0.3, 0.6, 0.9)
+    s = face.factor("S")
+    assert s.levels == (0, 0.5, 1) and all(type(v) is int for v in (s.levels[0], s.levels[2]))
+
+
+@pytest.mark.parametrize("k", [2, 3, 4])
+def test_rotatable_axial_points_lie_at_2_to_the_k_over_4(k):
+    names = "mu0 slope modulus bar".split()[:k]
+    # wide ranges so the axial points stay valid
+    changes = {
+        "mu0": {"levels": [0.4, 0.6]},
+        "slope": {"levels": [2e-8, 4e-8]},
+        "modulus": {"levels": [2e9, 4e9]},
+        "bar": {"levels": [0.02, 0.03]},
+    }
+    design = _ccd(_factors(*names, **changes), composite={"alpha": "rotatable", "center": 2})
+    alpha = 2 ** (k / 4)
+    assert design.composite is not None
+    assert design.composite.alpha_value(k) == pytest.approx(alpha, rel=1e-15)
+    axial = design.combinations()[2**k : 2**k + 2 * k]
+    for i, name in enumerate(names):
+        low, high = changes[name]["levels"]
+        mid, half = (low + high) / 2, (high - low) / 2
+        assert axial[2 * i][name] == pytest.approx(mid - alpha * half, rel=1e-12)
+        assert axial[2 * i + 1][name] == pytest.approx(mid + alpha * half, rel=1e-12)
+        others = [n for n in names if n != name]
+        for row in axial[2 * i : 2 * i + 2]:
+            for n in others:
+                lo, hi = changes[n]["levels"]
+                assert row[n] == pytest.approx((lo + hi) / 2, rel=1e-12)
+        f = design.factor(name)
+        assert f.levels == tuple(sorted(f.levels)) and len(f.levels) == 5
+        assert f.labels == ("-α", "-", "0", "+", "+α")
+        assert (f.levels[1], f.levels[3]) == (low, high)
+
+
+def test_orthogonal_alpha_makes_the_quadratic_columns_orthogonal():
+    # Montgomery (2013), §11.4.2: k = 2 with 4 centre points gives alpha = 1.210
+    assert Composite(alpha="orthogonal", center=4).alpha_value(2) == pytest.approx(1.2100, abs=5e-5)
+    assert Composite(alpha="orthogonal", center=1).alpha_value(2) == 1.0  # face-centred
+    for k, center in itertools.product((2, 3, 4, 5), (1, 3, 6)):
+        alpha = Composite(alpha="orthogonal", center=center).alpha_value(k)
+        points = [list(c) for c in itertools.product((-1.0, 1.0), repeat=k)]
+        points += [
+            [s * alpha if j == i else 0.0 for j in range(k)] for i in range(k) for s in (-1, 1)
+        ]
+        points += [[0.0] * k] * center
+        squares = [[x * x for x in p] for p in points]
+        means = [sum(col) / len(points) for col in zip(*squares, strict=True)]
+        cross = sum((sq[0] - means[0]) * (sq[1] - means[1]) for sq in squares)
+        assert cross == pytest.approx(0.0, abs=1e-9), (k, center)
+    design = _ccd("mu0 slope", composite={"alpha": "orthogonal", "center": 4})
+    assert "(orthogonal, α = 1.21)" in design.kind
+    assert design.factor("mu0").levels[0] == pytest.approx(0.55 - 1.21 * 0.05, rel=1e-4)
+
+
+def test_log_coding_centres_on_the_geometric_mean():
+    design = _ccd("WP A WR", composite={"alpha": "rotatable", "center": 2})
+    wp, wr = design.factor("WP"), design.factor("WR")
+    assert wp.coding == "log" and design.factor("A").coding == "linear"
+    assert wp.levels[2] == pytest.approx(1e-14, rel=1e-12)
+    assert wr.levels[2] == pytest.approx(math.sqrt(1e-7 * 1e-6), rel=1e-12)
+    alpha = 2**0.75
+    assert wp.levels[0] == pytest.approx(10 ** (-14 - alpha), rel=1e-12)
+    assert wp.levels[4] == pytest.approx(10 ** (-14 + alpha), rel=1e-12)
+    assert (wp.levels[1], wp.levels[3]) == (1e-15, 1e-13)
+    assert wp.coded(1e-14) == pytest.approx(0.0, abs=1e-12)
+    assert wp.coded(wp.levels[4]) == pytest.approx(alpha, rel=1e-12)
+    assert wp.uncoded(-1) == 1e-15 and wp.uncoded(1) == 1e-13
+    assert design.combinations()[-1] == {
+        "WP": wp.levels[2],
+        "A": 15.0,
+        "WR": wr.levels[2],
+    }
+
+
+def test_labels_and_levels_of_a_face_centred_design():
+    design = _ccd("mu0 A")
+    for f in design.factors:
+        assert f.labels == ("-", "0", "+") and len(f.levels) == 3
+        assert f.coded_range == (f.levels[0], f.levels[2])
+    labels = [
+        tuple(design.factor(n).label_of(v) for n, v in c.items()) for c in design.combinations()
+    ]
+    assert labels == [
+        ("-", "-"),
+        ("+", "-"),
+        ("-", "+"),
+        ("+", "+"),
+        ("-", "0"),
+        ("+", "0"),
+        ("0", "-"),
+        ("0", "+"),
+        *[("0", "0")] * 4,
+    ]
+
+
+@pytest.mark.parametrize(
+    ("composite", "kind"),
+    [
+        (
+            {"center": 3},
+            "central composite design (face-centred, α = 1), 3 factors: 8 cube, 6 axial and 3 "
+            "centre points",
+        ),
+        (
+            {"alpha": "rotatable", "center": 1},
+            "central composite design (rotatable, α = 1.682), 3 factors: 8 cube, 6 axial and 1 "
+            "centre point",
+        ),
+        ({"alpha": "orthogonal", "center": 6}, "central composite design (orthogonal, α = 1.525)"),
+        ({"alpha": 1.5}, "central composite design (α = 1.5), 3 factors"),
+        ({"alpha": 1}, "central composite design (face-centred, α = 1)"),
+    ],
+)
+def test_kind_describes_the_composite_design(composite, kind):
+    factors = _factors("mu0", "A", "WP", mu0={"levels": [0.4, 0.6]})
+    assert _ccd(factors, composite=composite).kind.startswith(kind)
+
+
+def test_replicates_multiply_every_test_and_centre_points_have_their_own_seeds():
+    design = _ccd("WP A WR", composite={"center": 3}, replicates=2)
+    points = design.points()
+    assert design.n_tests == 17 and len(points) == 34
+    assert [p.test for p in points] == [t for t in range(1, 18) for _ in range(2)]
+    centre = [p for p in points if p.test >= 15]
+    assert len({p.levels["A"] for p in centre}) == 1  # the same levels ...
+    assert len({p.seed for p in centre}) == 6  # ... each run its own seed
+    assert len({p.run_id for p in centre}) == 6
+    assert len({p.run_id for p in points}) == 34
+
+
+# --- round trip ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("alpha", ["face", "rotatable", "orthogonal", 1.3])
+def test_a_composite_design_round_trips_through_toml(alpha):
+    design = _ccd("WP A WR", composite={"alpha": alpha, "center": 2})
+    text = design.to_toml()
+    assert "[composite]" in text and "runs = [" in text
+    data = tomllib.loads(text)
+    assert data["composite"]["alpha"] == alpha
+    again = design_from_dict(data)
+    assert again == design
+    assert again.combinations() == design.combinations()
+    assert again.kind == design.kind
+    assert [f.levels for f in again.factors] == [f.levels for f in design.factors]
+    assert again.to_toml() == text
+
+
+def test_coding_is_written_only_when_not_linear():
+    design = _ccd("WP A")
+    factors = design.to_dict()["factors"]
+    assert factors[0]["coding"] == "log" and "coding" not in factors[1]
+    assert factors[1]["coded_range"] == [10.0, 20.0]
+    paper = load_design("paper").to_dict()
+    assert all("coding" not in f and "coded_range" not in f for f in paper["factors"])
+
+
+def test_a_written_design_with_edited_tests_is_refused():
+    data = tomllib.loads(_ccd("mu0 A", composite={"center": 2}).to_toml())
+    edited = [dict(r) for r in data["runs"]]
+    edited[3]["A"] = 15.0
+    with pytest.raises(ConfigError, match=r"ccd.toml: runs.3.A: test 4 of the central composite"):
+        design_from_dict({**data, "runs": edited}, source="ccd.toml")
+    with pytest.raises(ConfigError, match=r"runs: the central composite design .* has 10 tests"):
+        design_from_dict({**data, "runs": data["runs"][:-1]}, source="ccd.toml")
+    factors = [dict(f) for f in data["factors"]]
+    factors[1]["coded_range"] = [10.0, 30.0]
+    with pytest.raises(ConfigError, match=r"factors.1.levels: factor 'A': the central composite"):
+        design_from_dict({**data, "factors": factors}, source="ccd.toml")
+    factors = [dict(f) for f in data["factors"]]
+    del factors[0]["coded_range"]
+    with pytest.raises(ConfigError, match=r"factors.0.coded_range: factor 'mu0'"):
+        design_from_dict({**data, "factors": factors}, source="ccd.toml")
+
+
+# --- errors -------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("data", "message"),
+    [
+        (_data("mu0"), r"composite: a central composite design takes 2 to 6 factors, got 1"),
+        (
+            _data("mu0 slope modulus bar A WP WR"),
+            r"composite: a central composite design takes 2 to 6 factors, got 7",
+        ),
+        (
+            _data(_factors("mu0", "A", A={"levels": [10.0, 15.0, 20.0]})),
+            r"factors.1.levels: factor 'A': a central composite design takes exactly two levels",
+        ),
+        (
+            _data(_factors("mu0", "A", A={"levels": [20.0, 10.0]})),
+            r"factors.1.levels: .*low < high",
+        ),
+        (
+            _data(
+                [
+                    *_factors("mu0"),
+                    {
+                        "name": "fibres",
+                        "field": "pad.fibre_model",
+                        "levels": [0, 1],
+                        "choices": ["columns", "field"],
+                    },
+                ]
+            ),
+            r"factors.1.choices: factor 'fibres' is categorical",
+        ),
+        (
+            _data(_factors("mu0", "A", A={"labels": ["lo", "hi"]})),
+            r"factors.1.labels: factor 'A': a composite design labels its levels itself",
+        ),
+        (
+            _data(_factors("mu0", "A", A={"coded_range": [10.0, 25.0]})),
+            r"factors.1.coded_range: factor 'A'",
+        ),
+        (_data("mu0 A", generators=["A = mu0"]), r"composite, generators: "),
+        (_data("mu0 A", fraction_runs=4), r"composite, fraction_runs: "),
+        (_data("mu0 A", runs_file="runs.csv"), r"composite, runs_file: "),
+        (_data("mu0 A", foldover="all"), r"composite, foldover: .*no other level"),
+        (_data("mu0 A", composite={"alpha": 0.5}), r"composite.alpha: expected 'face'"),
+        (_data("mu0 A", composite={"alpha": 11}), r"composite.alpha: expected 'face'"),
+        (_data("mu0 A", composite={"alpha": "diagonal"}), r"composite.alpha: expected 'face'"),
+        (_data("mu0 A", composite={"alpha": True}), r"composite.alpha: expected 'face'"),
+        (_data("mu0 A", composite={"center": 0}), r"composite.center: "),
+        (_data("mu0 A", composite={"centre": 3}), r"composite.centre: unknown key"),
+    ],
+)
+def test_a_bad_composite_design_names_the_field(data, message):
+    with pytest.raises(ConfigError, match=message):
+        design_from_dict(data, source="ccd.toml")
+
+
+def test_axial_points_outside_a_field_range_name_the_factor():
+    # A = 1..5 %, rotatable over 3 factors: 3 - 1.682 * 2 < 0 %
+    factors = _factors("mu0", "A", "WP", mu0={"levels": [0.4, 0.6]}, A={"levels": [1.0, 5.0]})
+    with pytest.raises(
+        ConfigError,
+        match=r"ccd.toml: factors.1.levels: factor 'A' .*level -0.36.* an axial level of the "
+        r"central composite design \(alpha = 1.682\): choose a smaller alpha",
+    ):
+        _ccd(factors, composite={"alpha": "rotatable"})
+    assert _ccd(factors).factor("A").levels == (1.0, 3.0, 5.0)  # face-centred: inside
+
+
+@pytest.mark.parametrize(
+    ("factor", "message"),
+    [
+        (
+            {"name": "mu0", "field": "friction.mu_0", "levels": [0.0, 0.5], "coding": "log"},
+            r"factors.0: coding: factor 'mu0' .* level 0.0 is not",
+        ),
+        (
+            {
+                "name": "fibres",
+                "field": "pad.fibre_model",
+                "levels": [0, 1],
+                "choices": ["columns", "field"],
+                "coding": "log",
+            },
+            r"factors.0: coding: factor 'fibres' is categorical",
+        ),
+        (
+            {
+                "name": "fibres",
+                "field": "pad.fibre_model",
+                "levels": [0, 1],
+                "choices": ["columns", "field"],
+                "coded_range": [0, 1],
+            },
+            r"factors.0: coded_range: factor 'fibres' is categorical",
+        ),
+        ({"name": "A", "levels": [10, 20], "coding": "square"}, r"factors.0.coding: "),
+        (
+            {"name": "A", "levels": [10, 20], "coded_range": [20, 10]},
+            r"factors.0.coded_range: .*low < high",
+        ),
+        (
+            {"name": "A", "levels": [10, 20], "coded_range": [10, 10]},
+            r"factors.0.coded_range: .*low < high",
+        ),
+        (
+            {"name": "A", "levels": [10, 20], "coded_range": [10]},
+            r"factors.0.coded_range: expected two",
+        ),
+        (
+            {"name": "A", "levels": [10, 20], "coded_range": [10, math.inf]},
+            r"factors.0.coded_range: expected two finite numbers",
+        ),
+        (
+            {"name": "A", "levels": [10, 20], "coded_range": [0, 20], "coding": "log"},
+            r"factors.0: coded_range: factor 'A' is coded 'log' .* 0.0 is not",
+        ),
+    ],
+)
+def test_a_bad_coding_names_the_field(factor, message):
+    with pytest.raises(ConfigError, match=message):
+        design_from_dict({"name": "d", "base": "paper", "root_seed": 1, "factors": [factor]})
+
+
+def test_a_factorial_factor_may_be_log_coded_with_a_coded_range():
+    design = design_from_dict(
+        {
+            "name": "d",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "WP", "levels": [1e-15, 1e-14, 1e-13], "coding": "log"},
+                {"name": "A", "levels": [10, 15, 20], "coded_range": [12, 18]},
+            ],
+        }
+    )
+    assert design.kind == "full factorial" and design.n_tests == 9
+    wp, a = design.factors
+    assert wp.coding_range == (1e-15, 1e-13) and wp.coded(1e-14) == pytest.approx(0.0, abs=1e-12)
+    assert a.coded(12) == -1.0 and a.coded(18) == 1.0 and a.coded(20) == pytest.approx(5 / 3)
+    assert a.uncoded(0) == 15.0
+    assert Factor(name="A", levels=(10, 20)).coding_range == (10.0, 20.0)
+    assert tomllib.loads(design.to_toml())["factors"][1]["coded_range"] == [12.0, 18.0]
+
+
+# --- the shipped design -------------------------------------------------------------------
+
+
+def test_the_shipped_surface_design_is_a_face_centred_ccd_in_17_runs():
+    assert "surface" in available_designs()
+    design = load_design("surface")
+    assert design.n_tests == 17 and design.replicates == 1 and design.root_seed == 2016
+    assert design.factor_names == ("WP", "A", "WR")
+    assert design.kind == (
+        "central composite design (face-centred, α = 1), 3 factors: 8 cube, 6 axial and 3 "
+        "centre points"
+    )
+    wp, a, wr = design.factors
+    assert (wp.coding, a.coding, wr.coding) == ("log", "linear", "log")
+    assert wp.levels[0] == 1e-15 and wp.levels[2] == 1e-13
+    assert wp.levels[1] == pytest.approx(1e-14, rel=1e-12)
+    assert wr.levels[1] == pytest.approx(3.1622776601683795e-7, rel=1e-12)
+    assert a.levels == (10.0, 15.0, 20.0)
+    points = design.points()
+    # every run inside the paper's ranges; S is the paper preset's
+    s = load_preset("paper").automaton.secondary_removal_fraction
+    assert all(p.config.automaton.secondary_removal_fraction == s for p in points)
+    assert all(1e-15 <= p.config.wear.specific_wear_rate <= 1e-13 for p in points)
+    assert all(1e-7 <= p.config.wear.resin_wear_depth <= 1e-6 for p in points)
+    assert len({p.run_id for p in points}) == 17
