@@ -1,0 +1,674 @@
+"""Response-surface models of a campaign: a quadratic in the coded factors, as Minitab's
+"Analyze Response Surface Design" and JMP's "Response Surface" fit it.
+
+The factorial analysis (:mod:`brakeca.analysis`) treats every factor as categorical: one mean
+per level. A design whose factors take several numeric levels, such as a central composite
+design (``composite`` in a design file, :mod:`brakeca.design`), is read instead as a smooth
+function of the factors: each factor is coded to ``x = -1`` at its low and ``x = +1`` at its
+high level (on log10 of the level for a factor with ``coding = "log"``, such as WP, whose
+levels span decades), and the response is fitted by least squares to
+
+.. math::
+
+    \\hat y = b_0 + \\sum_i b_i x_i + \\sum_i b_{ii} x_i^2 + \\sum_{i<j} b_{ij} x_i x_j
+
+(a square term only for a factor with three or more distinct levels in the data). The fit
+gives Minitab's tables: the coded coefficients with their standard errors, t and p values and
+variance inflation factors; the analysis of variance with adjusted (type III) sums of squares,
+by source (linear, square, two-way interaction, each term) with the error split into lack of
+fit and pure error when the design repeats a point (centre points: here the seed-to-seed
+scatter); the model summary (S, R², adjusted and predicted R²); and the stationary point of
+the surface (where its gradient is zero: a maximum, a minimum or a saddle point), in coded
+and in the factors' own units.
+
+Pure numpy, pandas and scipy; the contour plots are :func:`brakeca.plotting.plot_response_surface`.
+
+References
+----------
+D. C. Montgomery, *Design and Analysis of Experiments*, 8th ed., Wiley, 2013, chapter 11
+(response surface methods; the stationary point, section 11.3.1; the central composite design,
+section 11.4.2).
+G. E. P. Box, J. S. Hunter and W. G. Hunter, *Statistics for Experimenters*, 2nd ed., Wiley,
+2005, chapter 11.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "ANOVA_COLUMNS",
+    "COEFFICIENT_COLUMNS",
+    "Coding",
+    "SurfaceFit",
+    "coding_of",
+    "fit_response_surface",
+    "response_surfaces",
+    "save_surface_tables",
+    "stationary_table",
+]
+
+#: Columns of :attr:`SurfaceFit.coefficients`, in order.
+COEFFICIENT_COLUMNS: tuple[str, ...] = ("term", "coef", "se", "t", "p_value", "vif")
+
+#: Columns of :attr:`SurfaceFit.anova`, in order.
+ANOVA_COLUMNS: tuple[str, ...] = ("source", "depth", "df", "adj_ss", "adj_ms", "F", "p_value")
+
+#: Coded points closer than this [-] are the same point (for pure error and lack of fit).
+_SAME_POINT = 1e-9
+
+
+@dataclass(frozen=True)
+class Coding:
+    """How one factor is coded in a response-surface model.
+
+    Parameters
+    ----------
+    name
+        The factor's name, its column in the campaign summary.
+    low, high
+        The levels coded -1 and +1 [design unit], ``low < high``.
+    log
+        Code log10 of the level (the levels must be positive) rather than the level.
+    unit
+        Unit of the levels, for labels.
+    label
+        Human-readable description.
+    """
+
+    name: str
+    low: float
+    high: float
+    log: bool = False
+    unit: str = ""
+    label: str = ""
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
+            raise ValueError(
+                f"factor {self.name!r}: the levels coded -1 and +1 must be finite with low < "
+                f"high, got {self.low!r} and {self.high!r}"
+            )
+        if self.log and self.low <= 0:
+            raise ValueError(
+                f"factor {self.name!r}: log coding needs positive levels, got {self.low!r}"
+            )
+
+    def _ends(self) -> tuple[float, float]:
+        if self.log:
+            return math.log10(self.low), math.log10(self.high)
+        return self.low, self.high
+
+    def code(self, values: Any) -> np.ndarray:
+        """Coded values [-] of levels ``values`` [design unit] (NaN for a non-positive value
+        of a log-coded factor)."""
+        v = np.asarray(values, dtype=float)
+        lo, hi = self._ends()
+        if self.log:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                v = np.where(v > 0, np.log10(np.where(v > 0, v, 1.0)), np.nan)
+        return (v - 0.5 * (lo + hi)) / (0.5 * (hi - lo))
+
+    def decode(self, coded: Any) -> np.ndarray:
+        """Levels [design unit] at coded values ``coded`` [-]."""
+        x = np.asarray(coded, dtype=float)
+        lo, hi = self._ends()
+        v = 0.5 * (lo + hi) + x * 0.5 * (hi - lo)
+        return np.power(10.0, v) if self.log else v
+
+    @property
+    def axis_label(self) -> str:
+        """Name with unit, e.g. ``"WP [m^3/(N m)]"``."""
+        return f"{self.name} [{self.unit}]" if self.unit and self.unit != "-" else self.name
+
+
+def coding_of(factor: Any) -> Coding:
+    """The :class:`Coding` of a design factor (:class:`brakeca.design.Factor`), an analysis
+    factor (:class:`brakeca.analysis.Factor`) or a mapping with ``name`` and ``levels``.
+
+    Low and high are the factor's ``coded_range`` when it has one (a composite design's cube
+    points), else its lowest and highest level; ``coding = "log"`` codes log10.
+
+    Raises
+    ------
+    ValueError
+        A categorical factor (one with ``choices``): it has no numeric scale to fit a surface
+        over; fewer than two distinct levels; log coding with a level that is not positive.
+    """
+    get = factor.get if isinstance(factor, Mapping) else lambda k, d=None: getattr(factor, k, d)
+    name = str(get("name"))
+    if get("choices") is not None:
+        raise ValueError(
+            f"factor {name!r} is categorical (choices): a response surface needs numeric factors"
+        )
+    levels = [float(v) for v in get("levels") or ()]
+    if len(set(levels)) < 2:
+        raise ValueError(f"factor {name!r}: needs two different levels, got {levels}")
+    coded_range = get("coded_range")
+    low, high = (min(levels), max(levels)) if coded_range is None else map(float, coded_range)
+    log = str(get("coding", "linear") or "linear") == "log"
+    if log and min(levels) <= 0:
+        raise ValueError(f"factor {name!r}: log coding needs positive levels, got {min(levels)!r}")
+    return Coding(
+        name=name,
+        low=low,
+        high=high,
+        log=log,
+        unit=str(get("unit", "") or ""),
+        label=str(get("label", "") or ""),
+    )
+
+
+@dataclass(frozen=True)
+class SurfaceFit:
+    """A fitted response surface (:func:`fit_response_surface`).
+
+    Attributes
+    ----------
+    response
+        The response column, e.g. ``"MU"`` [-].
+    codings
+        The factors' codings, in design order.
+    terms
+        The model's terms after the intercept: ``"WP"`` (linear), ``"WP*WP"`` (square),
+        ``"WP*A"`` (two-way interaction).
+    coef
+        Intercept then one coefficient per term, in coded units [response unit].
+    coefficients
+        :data:`COEFFICIENT_COLUMNS`, the intercept (``"Constant"``) first: ``coef`` and ``se``
+        [response unit], ``t``, ``p_value`` and ``vif`` (variance inflation factor, 1 for
+        orthogonal columns) [-]; ``se``, ``t`` and ``p_value`` NaN without residual degrees of
+        freedom.
+    anova
+        :data:`ANOVA_COLUMNS`: ``source`` (``"Model"``, ``"Linear"``, a term, ``"Square"``,
+        ``"2-Way Interaction"``, ``"Error"``, ``"Lack-of-Fit"``, ``"Pure Error"``,
+        ``"Total"``), ``depth`` (indentation: 0, 1, 2), ``df`` [-], ``adj_ss`` and ``adj_ms``
+        [response unit^2], ``F`` and ``p_value`` [-]. A term's or group's adjusted sum of
+        squares is the rise of the error sum of squares when it is dropped from the model.
+    statistics
+        ``n`` (runs used), ``df_resid``, ``s`` [response unit], ``r_squared``,
+        ``r_squared_adj``, ``r_squared_pred`` [-], ``pure_error_df``, ``lack_of_fit_df``,
+        ``lack_of_fit_F``, ``lack_of_fit_p`` [-] (F and p NaN unless the runs repeat a point
+        and the model leaves degrees of freedom beyond those repeats).
+    stationary
+        The stationary point: ``kind`` (``"maximum"``, ``"minimum"``, ``"saddle point"``),
+        ``coded`` and ``levels`` (per factor [-] and [design unit]), ``predicted`` [response
+        unit], ``eigenvalues`` [response unit], ``inside`` (within the coded box the runs
+        span); None when not every factor has a square term or the quadratic part is singular.
+    points
+        The runs used: the coded factors (one column per factor) and ``y``.
+    notes
+        What was left out of the model and why.
+    """
+
+    response: str
+    codings: tuple[Coding, ...]
+    terms: tuple[str, ...]
+    coef: np.ndarray
+    coefficients: pd.DataFrame
+    anova: pd.DataFrame
+    statistics: dict[str, float]
+    stationary: dict[str, Any] | None
+    points: pd.DataFrame
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    def predict(self, levels: Mapping[str, Any]) -> np.ndarray:
+        """The fitted response [response unit] at factor levels [design unit].
+
+        Parameters
+        ----------
+        levels
+            Every factor's name to a level or an array of levels (broadcast together).
+        """
+        missing = [c.name for c in self.codings if c.name not in levels]
+        if missing:
+            raise KeyError(f"levels missing for factor(s) {missing}")
+        coded = {c.name: c.code(levels[c.name]) for c in self.codings}
+        return self.predict_coded(coded)
+
+    def predict_coded(self, coded: Mapping[str, Any]) -> np.ndarray:
+        """The fitted response [response unit] at coded factor values [-]."""
+        arrays = np.broadcast_arrays(*(np.asarray(coded[c.name], float) for c in self.codings))
+        x = dict(zip((c.name for c in self.codings), arrays, strict=True))
+        out = np.full(arrays[0].shape, float(self.coef[0]))
+        for b, term in zip(self.coef[1:], self.terms, strict=True):
+            out = out + b * _term_values(term, x)
+        return out
+
+    def extent(self) -> dict[str, tuple[float, float]]:
+        """The coded range the runs span, per factor [-]."""
+        return {
+            c.name: (float(self.points[c.name].min()), float(self.points[c.name].max()))
+            for c in self.codings
+        }
+
+    def equation(self, digits: int = 4, *, scale: float = 1.0) -> str:
+        """The fitted model in coded units, e.g. ``"MU = 0.41 - 0.012 WP + ..."``.
+
+        Parameters
+        ----------
+        digits
+            Significant digits of each coefficient [-].
+        scale
+            Multiplier of the coefficients, from the response's unit to the one wanted
+            (1e9 for V in m^3 written in mm^3) [-].
+        """
+        coef = self.coef * scale
+        parts = [f"{self.response} = {coef[0]:.{digits}g}"]
+        for b, term in zip(coef[1:], self.terms, strict=True):
+            sign = "-" if b < 0 else "+"
+            parts.append(f"{sign} {abs(b):.{digits}g} {term.replace('*', '·')}")
+        return " ".join(parts)
+
+
+def _term_values(term: str, x: Mapping[str, np.ndarray]) -> np.ndarray:
+    a, _, b = term.partition("*")
+    return x[a] * x[b] if b else x[a]
+
+
+def _candidate_terms(names: Sequence[str], squares: Sequence[str]) -> list[tuple[str, str]]:
+    """(term, group) in Minitab's order: linear, square, two-way interaction."""
+    out = [(n, "Linear") for n in names]
+    out += [(f"{n}*{n}", "Square") for n in names if n in squares]
+    out += [(f"{a}*{b}", "2-Way Interaction") for a, b in itertools.combinations(names, 2)]
+    return out
+
+
+def _sse(exog: np.ndarray, y: np.ndarray) -> float:
+    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
+    r = y - exog @ coef
+    return float(r @ r)
+
+
+def _f_test(ss: float, df: float, mse: float, df_resid: float) -> tuple[float, float, float]:
+    """Mean square, F and p of a source against the error mean square."""
+    from scipy import stats
+
+    ms = ss / df if df > 0 else math.nan
+    if df_resid > 0.5 and mse > 0 and df > 0:
+        f_value = ms / mse
+        return ms, f_value, float(stats.f.sf(f_value, df, df_resid))
+    return ms, math.nan, math.nan
+
+
+def _vif(exog: np.ndarray) -> np.ndarray:
+    """Variance inflation factors of the columns after the intercept [-]: 1 / (1 - R_j^2),
+    R_j^2 of column j regressed on the others (with the intercept)."""
+    k = exog.shape[1]
+    out = np.full(k, math.nan)
+    for j in range(1, k):
+        col = exog[:, j]
+        others = np.delete(exog, j, axis=1)
+        ss_tot = float(np.sum((col - col.mean()) ** 2))
+        if ss_tot <= 0:
+            continue
+        r2 = 1.0 - _sse(others, col) / ss_tot
+        out[j] = 1.0 / (1.0 - r2) if r2 < 1.0 - 1e-12 else math.inf
+    return out
+
+
+def _clean(summary: pd.DataFrame, codings: Sequence[Coding], response: str) -> pd.DataFrame:
+    """Rows with ``status == "ok"``, a finite response and finite coded factors."""
+    if response not in summary.columns:
+        raise KeyError(f"response {response!r} is not a column of the summary")
+    missing = [c.name for c in codings if c.name not in summary.columns]
+    if missing:
+        raise KeyError(f"factor column(s) {missing} not in the summary")
+    data = summary
+    if "status" in data.columns:
+        data = data[data["status"].astype(str).str.strip().str.lower() == "ok"]
+    y = pd.to_numeric(data[response], errors="coerce").to_numpy(dtype=float)
+    frame = pd.DataFrame(index=range(len(data)))
+    for c in codings:
+        frame[c.name] = c.code(pd.to_numeric(data[c.name], errors="coerce").to_numpy(float))
+    frame["y"] = y
+    return frame[np.isfinite(frame.to_numpy(dtype=float)).all(axis=1)].reset_index(drop=True)
+
+
+def _pure_error(points: pd.DataFrame, names: Sequence[str]) -> tuple[float, float]:
+    """Pure-error sum of squares [response unit^2] and degrees of freedom [-]: the scatter
+    of the runs at one point about their mean."""
+    if not names:
+        y = points["y"].to_numpy(float)
+        return float(np.sum((y - y.mean()) ** 2)), float(y.size - 1)
+    keys = np.round(points[list(names)].to_numpy(float) / _SAME_POINT).astype(np.int64)
+    _, group = np.unique(keys, axis=0, return_inverse=True)
+    group = group.ravel()
+    y = points["y"].to_numpy(float)
+    means = np.bincount(group, weights=y) / np.bincount(group)
+    resid = y - means[group]
+    return float(resid @ resid), float(y.size - means.size)
+
+
+def fit_response_surface(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    quadratic: bool = True,
+    interactions: bool = True,
+) -> SurfaceFit:
+    """Fit a full quadratic response surface in the coded factors.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run; only ``status == "ok"`` rows with a finite response
+        are used.
+    factors
+        The numeric factors (design or analysis factors, or :class:`Coding` objects), coded
+        by :func:`coding_of`. Factors that do not vary in the data are left out, with a note.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"log10_V_mm3"`` [-].
+    quadratic
+        Fit square terms (for the factors with three or more distinct levels in the data).
+    interactions
+        Fit the two-way interactions.
+
+    Returns
+    -------
+    SurfaceFit
+        The coefficients, ANOVA, model summary and stationary point. Terms are taken in
+        order (linear, square, interaction); a term the runs cannot tell apart from the terms
+        before it (its column in their span) is left out, with a note.
+
+    Raises
+    ------
+    ValueError
+        A categorical factor, or fewer than two usable runs.
+
+    Notes
+    -----
+    With ``X`` the model matrix in coded units and ``y`` the response, ``b = (X'X)^-1 X'y``,
+    ``se(b_j) = sqrt(MSE [(X'X)^-1]_jj)``. The stationary point of ``b_0 + x'b + x'Bx``
+    (``B`` symmetric, ``B_ii = b_ii``, ``B_ij = b_ij / 2``) is ``x_s = -B^-1 b / 2``; the
+    signs of ``B``'s eigenvalues tell a maximum (all negative) from a minimum (all positive)
+    and a saddle point (Montgomery 2013, section 11.3.1).
+    """
+    codings = [f if isinstance(f, Coding) else coding_of(f) for f in factors]
+    names = [c.name for c in codings]
+    if len(set(names)) != len(names):
+        raise ValueError(f"factor names repeat: {names}")
+    points = _clean(summary, codings, response)
+    if len(points) < 2:
+        raise ValueError(
+            f"response {response!r}: {len(points)} usable run(s); a surface needs at least 2"
+        )
+    notes: list[str] = []
+    varying = []
+    for c in codings:
+        if np.ptp(points[c.name].to_numpy(float)) > _SAME_POINT:
+            varying.append(c.name)
+        else:
+            notes.append(f"{c.name} does not vary in the runs used and is left out")
+    squares = [
+        n for n in varying if np.unique(np.round(points[n].to_numpy(float) / _SAME_POINT)).size >= 3
+    ]
+    if quadratic:
+        for n in varying:
+            if n not in squares:
+                notes.append(f"{n} has two levels: no square term")
+    candidates = [
+        (t, g)
+        for t, g in _candidate_terms(varying, squares if quadratic else [])
+        if interactions or g != "2-Way Interaction"
+    ]
+    y = points["y"].to_numpy(float)
+    x = {n: points[n].to_numpy(float) for n in varying}
+    columns = [np.ones(len(points))]
+    kept: list[tuple[str, str]] = []
+    rank = 1
+    for term, group in candidates:
+        trial = np.column_stack([*columns, _term_values(term, x)])
+        trial_rank = int(np.linalg.matrix_rank(trial))
+        if trial_rank > rank:
+            columns.append(trial[:, -1])
+            kept.append((term, group))
+            rank = trial_rank
+        else:
+            notes.append(f"{term} cannot be estimated apart from the terms before it: left out")
+    exog = np.column_stack(columns)
+    n, p = exog.shape
+    xtx_inv = np.linalg.inv(exog.T @ exog)
+    coef = xtx_inv @ exog.T @ y
+    fitted = exog @ coef
+    resid = y - fitted
+    sse = float(resid @ resid)
+    df_resid = float(n - p)
+    mse = sse / df_resid if df_resid > 0.5 else math.nan
+    sst = float(np.sum((y - y.mean()) ** 2))
+    constant = sst <= (1e-13 * float(np.max(np.abs(y)))) ** 2 * n
+    if constant:
+        notes.append(f"{response} is constant over the runs: no test is possible")
+
+    from scipy import stats
+
+    se = np.sqrt(mse * np.diag(xtx_inv)) if df_resid > 0.5 else np.full(p, math.nan)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = coef / se
+    p_values = (
+        2.0 * stats.t.sf(np.abs(t), df_resid) if df_resid > 0.5 and not constant else t * math.nan
+    )
+    vif = _vif(exog)
+    coefficients = pd.DataFrame(
+        {
+            "term": ["Constant"] + [term for term, _ in kept],
+            "coef": coef,
+            "se": se,
+            "t": t if not constant else np.full(p, math.nan),
+            "p_value": p_values,
+            "vif": vif,
+        },
+        columns=list(COEFFICIENT_COLUMNS),
+    )
+
+    # analysis of variance, adjusted sums of squares
+    rows: list[dict[str, Any]] = []
+    no_test = constant or not df_resid > 0.5
+
+    def add(source: str, depth: int, df: float, ss: float) -> None:
+        ms, f_value, p_value = _f_test(ss, df, mse, df_resid)
+        if no_test:
+            f_value = p_value = math.nan
+        rows.append(dict(source=source, depth=depth, df=df, adj_ss=ss, adj_ms=ms, F=f_value,
+                         p_value=p_value))  # fmt: skip
+
+    def dropped_ss(indices: Sequence[int]) -> float:
+        keep = [j for j in range(p) if j - 1 not in indices]
+        return max(_sse(exog[:, keep], y) - sse, 0.0)
+
+    add("Model", 0, float(p - 1), max(sst - sse, 0.0))
+    for group in ("Linear", "Square", "2-Way Interaction"):
+        members = [k for k, (_, g) in enumerate(kept) if g == group]
+        if not members:
+            continue
+        add(group, 1, float(len(members)), dropped_ss(members))
+        for k in members:
+            add(kept[k][0], 2, 1.0, dropped_ss([k]))
+    ss_pe, df_pe = _pure_error(points, varying)
+    df_lof = df_resid - df_pe
+    lack = {"pure_error_df": df_pe, "lack_of_fit_df": df_lof}
+    lack.update(lack_of_fit_F=math.nan, lack_of_fit_p=math.nan)
+    rows.append(dict(source="Error", depth=0, df=df_resid, adj_ss=sse, adj_ms=mse, F=math.nan,
+                     p_value=math.nan))  # fmt: skip
+    if df_pe > 0.5 and df_lof > 0.5:
+        ss_lof = max(sse - ss_pe, 0.0)
+        ms_lof, ms_pe = ss_lof / df_lof, ss_pe / df_pe
+        f_lof = ms_lof / ms_pe if ms_pe > 0 and not constant else math.nan
+        p_lof = float(stats.f.sf(f_lof, df_lof, df_pe)) if math.isfinite(f_lof) else math.nan
+        lack.update(lack_of_fit_F=f_lof, lack_of_fit_p=p_lof)
+        rows.append(dict(source="Lack-of-Fit", depth=1, df=df_lof, adj_ss=ss_lof, adj_ms=ms_lof,
+                         F=f_lof, p_value=p_lof))  # fmt: skip
+        rows.append(dict(source="Pure Error", depth=1, df=df_pe, adj_ss=ss_pe, adj_ms=ms_pe,
+                         F=math.nan, p_value=math.nan))  # fmt: skip
+    rows.append(dict(source="Total", depth=0, df=float(n - 1), adj_ss=sst, adj_ms=math.nan,
+                     F=math.nan, p_value=math.nan))  # fmt: skip
+    anova = pd.DataFrame(rows, columns=list(ANOVA_COLUMNS))
+
+    leverage = np.einsum("ij,jk,ik->i", exog, xtx_inv, exog)
+    statistics: dict[str, float] = {"n": float(n), "df_resid": df_resid, "s": math.nan}
+    statistics.update(r_squared=math.nan, r_squared_adj=math.nan, r_squared_pred=math.nan)
+    if df_resid > 0.5:
+        statistics["s"] = math.sqrt(mse)
+    if not constant and sst > 0:
+        statistics["r_squared"] = 1.0 - sse / sst
+        if df_resid > 0.5:
+            statistics["r_squared_adj"] = 1.0 - mse / (sst / (n - 1))
+            if np.all(leverage < 1.0 - 1e-9):
+                press = float(np.sum((resid / (1.0 - leverage)) ** 2))
+                statistics["r_squared_pred"] = 1.0 - press / sst
+    statistics.update(lack)
+
+    used = tuple(c for c in codings if c.name in varying)
+    fit = SurfaceFit(
+        response=response,
+        codings=used,
+        terms=tuple(term for term, _ in kept),
+        coef=coef,
+        coefficients=coefficients,
+        anova=anova,
+        statistics=statistics,
+        stationary=None,
+        points=points[[*varying, "y"]],
+        notes=tuple(notes),
+    )
+    object.__setattr__(fit, "stationary", _stationary(fit))
+    return fit
+
+
+def _stationary(fit: SurfaceFit) -> dict[str, Any] | None:
+    """The stationary point of a surface with a square term for every factor."""
+    names = [c.name for c in fit.codings]
+    k = len(names)
+    coef = dict(zip(fit.terms, fit.coef[1:], strict=True))
+    if k == 0 or any(f"{n}*{n}" not in coef for n in names):
+        return None
+    b = np.array([coef.get(n, 0.0) for n in names])
+    quad = np.zeros((k, k))
+    for i, a in enumerate(names):
+        quad[i, i] = coef[f"{a}*{a}"]
+        for j in range(i + 1, k):
+            quad[i, j] = quad[j, i] = 0.5 * coef.get(f"{a}*{names[j]}", 0.0)
+    eigenvalues = np.linalg.eigvalsh(quad)
+    scale = float(np.max(np.abs(eigenvalues)))
+    if scale == 0.0 or float(np.min(np.abs(eigenvalues))) <= 1e-12 * scale:
+        return None
+    coded = -0.5 * np.linalg.solve(quad, b)
+    if np.all(eigenvalues < 0):
+        kind = "maximum"
+    elif np.all(eigenvalues > 0):
+        kind = "minimum"
+    else:
+        kind = "saddle point"
+    extent = fit.extent()
+    inside = all(
+        extent[n][0] - 1e-9 <= x <= extent[n][1] + 1e-9 for n, x in zip(names, coded, strict=True)
+    )
+    point = dict(zip(names, coded, strict=True))
+    return {
+        "kind": kind,
+        "coded": {n: float(x) for n, x in point.items()},
+        "levels": {c.name: float(c.decode(point[c.name])) for c in fit.codings},
+        "predicted": float(fit.predict_coded(point)),
+        "eigenvalues": [float(v) for v in eigenvalues],
+        "inside": inside,
+    }
+
+
+def response_surfaces(
+    summary: pd.DataFrame, factors: Iterable[Any], responses: Sequence[str]
+) -> dict[str, SurfaceFit]:
+    """:func:`fit_response_surface` for each response that has at least two usable runs.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors (numeric).
+    responses
+        Response columns.
+
+    Returns
+    -------
+    dict of str to SurfaceFit
+        One fit per response; a response with fewer than two usable runs is left out.
+    """
+    factors = list(factors)
+    out = {}
+    for response in responses:
+        try:
+            out[response] = fit_response_surface(summary, factors, response)
+        except ValueError as exc:
+            if "usable run" not in str(exc):
+                raise
+    return out
+
+
+def stationary_table(fit: SurfaceFit) -> pd.DataFrame:
+    """The stationary point as a table, one row per factor: ``factor``, ``coded`` [-],
+    ``level`` [design unit]; empty without one. ``attrs`` carries ``kind``, ``predicted``
+    [response unit] and ``inside``."""
+    st = fit.stationary
+    if st is None:
+        return pd.DataFrame(columns=["factor", "coded", "level"])
+    out = pd.DataFrame(
+        {
+            "factor": list(st["coded"]),
+            "coded": list(st["coded"].values()),
+            "level": [st["levels"][n] for n in st["coded"]],
+        }
+    )
+    out.attrs.update(kind=st["kind"], predicted=st["predicted"], inside=st["inside"])
+    return out
+
+
+def save_surface_tables(fits: Mapping[str, SurfaceFit], directory: str | Path) -> list[Path]:
+    """Write each fit's tables as CSV files.
+
+    Parameters
+    ----------
+    fits
+        Output of :func:`response_surfaces`.
+    directory
+        Target directory; created if missing.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``surface_coefficients_<R>.csv``, ``surface_anova_<R>.csv`` and
+        ``surface_summary_<R>.csv`` (one row: the model summary, the stationary point's kind,
+        predicted response and whether it lies inside the runs' box, and each factor's coded
+        value and level there) for every response ``R``.
+    """
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    written = []
+    for response, fit in fits.items():
+        row: dict[str, Any] = dict(fit.statistics)
+        row["equation"] = fit.equation()
+        st = fit.stationary
+        row["stationary_kind"] = "" if st is None else st["kind"]
+        row["stationary_predicted"] = math.nan if st is None else st["predicted"]
+        row["stationary_inside"] = "" if st is None else bool(st["inside"])
+        for c in fit.codings:
+            row[f"stationary_{c.name}_coded"] = math.nan if st is None else st["coded"][c.name]
+            row[f"stationary_{c.name}"] = math.nan if st is None else st["levels"][c.name]
+        tables = {
+            "surface_coefficients": fit.coefficients,
+            "surface_anova": fit.anova,
+            "surface_summary": pd.DataFrame([row]),
+        }
+        for stem, table in tables.items():
+            path = directory / f"{stem}_{response}.csv"
+            table.to_csv(path, index=False)
+            written.append(path)
+    return written

@@ -1,0 +1,237 @@
+"""Tests of brakeca.rsm: the quadratic response surface against a textbook example, statsmodels
+and surfaces known in closed form.
+
+References
+----------
+D. C. Montgomery, Design and Analysis of Experiments, 8th ed., Wiley, 2013, Example 11.2
+(a central composite design in reaction time and temperature, 5 centre points).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+import statsmodels.api as sm
+import statsmodels.formula.api as smf
+
+from brakeca.analysis import Factor
+from brakeca.rsm import (
+    ANOVA_COLUMNS,
+    COEFFICIENT_COLUMNS,
+    Coding,
+    coding_of,
+    fit_response_surface,
+    response_surfaces,
+    save_surface_tables,
+    stationary_table,
+)
+
+R2 = math.sqrt(2.0)
+# Montgomery (2013), Table 11.6: x1, x2 coded, yield [%]
+_X1 = [-1, -1, 1, 1, 0, 0, 0, 0, 0, R2, -R2, 0, 0]
+_X2 = [-1, 1, -1, 1, 0, 0, 0, 0, 0, 0, 0, R2, -R2]
+_YIELD = [76.5, 77.0, 78.0, 79.5, 79.9, 80.3, 80.0, 79.7, 79.8, 78.4, 75.6, 78.5, 77.0]
+_CODED = (Coding("x1", -1.0, 1.0), Coding("x2", -1.0, 1.0))
+
+
+def _montgomery() -> pd.DataFrame:
+    return pd.DataFrame({"x1": _X1, "x2": _X2, "yield": _YIELD})
+
+
+def _anova_row(fit, source: str) -> pd.Series:
+    rows = fit.anova[fit.anova["source"] == source]
+    assert len(rows) == 1, source
+    return rows.iloc[0]
+
+
+def test_montgomery_example_11_2() -> None:
+    """The fitted model, lack of fit and stationary point Montgomery prints (to his digits)."""
+    fit = fit_response_surface(_montgomery(), _CODED, "yield")
+    coef = dict(zip(fit.coefficients["term"], fit.coefficients["coef"], strict=True))
+    assert coef["Constant"] == pytest.approx(79.94, abs=5e-3)
+    assert coef["x1"] == pytest.approx(0.995, abs=5e-4)
+    assert coef["x2"] == pytest.approx(0.515, abs=5e-4)
+    assert coef["x1*x1"] == pytest.approx(-1.376, abs=5e-4)
+    assert coef["x2*x2"] == pytest.approx(-1.001, abs=5e-4)
+    assert coef["x1*x2"] == pytest.approx(0.250, abs=5e-4)
+    st = fit.stationary
+    assert st is not None and st["kind"] == "maximum" and st["inside"]
+    assert st["coded"]["x1"] == pytest.approx(0.389, abs=5e-4)
+    assert st["coded"]["x2"] == pytest.approx(0.306, abs=5e-4)
+    assert st["predicted"] == pytest.approx(80.21, abs=5e-3)
+    assert sorted(st["eigenvalues"]) == pytest.approx([-1.4141, -0.9634], abs=5e-5)
+    lof = _anova_row(fit, "Lack-of-Fit")
+    assert (lof["df"], _anova_row(fit, "Pure Error")["df"]) == (3.0, 4.0)
+    assert lof["F"] == pytest.approx(1.78, abs=5e-3)
+    assert fit.statistics["r_squared"] == pytest.approx(0.9827, abs=5e-4)
+
+
+def test_matches_statsmodels() -> None:
+    """Coefficients, standard errors, p values and per-term adjusted sums of squares are
+    statsmodels' OLS and type III ANOVA on the same coded columns."""
+    rng = np.random.default_rng(3)
+    x = rng.uniform(-1.5, 1.5, size=(20, 3))
+    y = 2 + x[:, 0] - 0.5 * x[:, 1] + 0.3 * x[:, 2] ** 2 - 0.7 * x[:, 0] * x[:, 2]
+    y = y + 0.1 * rng.standard_normal(20)
+    frame = pd.DataFrame({"a": x[:, 0], "b": x[:, 1], "c": x[:, 2], "y": y})
+    fit = fit_response_surface(frame, [Coding(n, -1.0, 1.0) for n in "abc"], "y")
+    model = smf.ols("y ~ a + b + c + I(a**2) + I(b**2) + I(c**2) + a:b + a:c + b:c", frame).fit()
+    assert list(fit.coefficients["term"]) == [
+        "Constant", "a", "b", "c", "a*a", "b*b", "c*c", "a*b", "a*c", "b*c",
+    ]  # fmt: skip
+    np.testing.assert_allclose(fit.coefficients["coef"], model.params.to_numpy(), rtol=1e-9)
+    np.testing.assert_allclose(fit.coefficients["se"], model.bse.to_numpy(), rtol=1e-9)
+    np.testing.assert_allclose(fit.coefficients["p_value"], model.pvalues.to_numpy(), rtol=1e-6)
+    type3 = sm.stats.anova_lm(model, typ=3)
+    for term, name in zip(
+        ["a", "b", "c", "a*a", "b*b", "c*c", "a*b", "a*c", "b*c"],
+        ["a", "b", "c", "I(a ** 2)", "I(b ** 2)", "I(c ** 2)", "a:b", "a:c", "b:c"],
+        strict=True,
+    ):
+        row = _anova_row(fit, term)
+        assert row["adj_ss"] == pytest.approx(type3.loc[name, "sum_sq"], rel=1e-9)
+        assert row["p_value"] == pytest.approx(type3.loc[name, "PR(>F)"], rel=1e-6)
+    assert fit.statistics["r_squared"] == pytest.approx(model.rsquared, rel=1e-12)
+    assert fit.statistics["r_squared_adj"] == pytest.approx(model.rsquared_adj, rel=1e-12)
+    assert _anova_row(fit, "Error")["adj_ss"] == pytest.approx(model.ssr, rel=1e-9)
+    assert _anova_row(fit, "Model")["adj_ss"] == pytest.approx(model.ess, rel=1e-9)
+    assert list(fit.anova.columns) == list(ANOVA_COLUMNS)
+    assert list(fit.coefficients.columns) == list(COEFFICIENT_COLUMNS)
+
+
+def test_group_sums_of_squares_drop_the_whole_group() -> None:
+    """A group's adjusted SS is the rise of the error SS when all its terms are dropped; with
+    orthogonal linear columns it is the sum of its terms' SS."""
+    fit = fit_response_surface(_montgomery(), _CODED, "yield")
+    linear = _anova_row(fit, "Linear")["adj_ss"]
+    assert linear == pytest.approx(
+        _anova_row(fit, "x1")["adj_ss"] + _anova_row(fit, "x2")["adj_ss"], rel=1e-12
+    )
+    frame = _montgomery().rename(columns={"yield": "y"})
+    reduced = smf.ols("y ~ x1 + x2 + x1:x2", frame).fit()
+    full = smf.ols("y ~ x1 + x2 + I(x1**2) + I(x2**2) + x1:x2", frame).fit()
+    assert _anova_row(fit, "Square")["adj_ss"] == pytest.approx(reduced.ssr - full.ssr, rel=1e-9)
+
+
+def test_exact_quadratic_is_recovered_in_natural_units_with_log_coding() -> None:
+    """A noise-free quadratic in log10(WP) and A: coefficients exact, residuals nil, the
+    stationary point (a minimum) where it was put, in the factors' units."""
+    wp = Coding("WP", 1e-15, 1e-13, log=True, unit="m^3/(N m)")
+    a = Coding("A", 10.0, 20.0, unit="%")
+    rows = []
+    for x1, x2 in itertools.product((-1.0, 0.0, 1.0), repeat=2):
+        rows.append((x1, x2))
+    rows += [(0.0, 0.0)] * 2
+    x = np.array(rows)
+    y = 3.0 + 0.2 * (x[:, 0] - 0.3) ** 2 + 0.5 * (x[:, 1] + 0.4) ** 2
+    frame = pd.DataFrame({"WP": wp.decode(x[:, 0]), "A": a.decode(x[:, 1]), "y": y})
+    fit = fit_response_surface(frame, [wp, a], "y")
+    coef = dict(zip(fit.coefficients["term"], fit.coefficients["coef"], strict=True))
+    assert coef["WP*WP"] == pytest.approx(0.2, abs=1e-12)
+    assert coef["A*A"] == pytest.approx(0.5, abs=1e-12)
+    assert coef["WP*A"] == pytest.approx(0.0, abs=1e-12)
+    assert fit.statistics["r_squared"] == pytest.approx(1.0, abs=1e-12)
+    st = fit.stationary
+    assert st is not None and st["kind"] == "minimum"
+    assert st["levels"]["WP"] == pytest.approx(10 ** (-14 + 0.3), rel=1e-9)
+    assert st["levels"]["A"] == pytest.approx(15.0 - 0.4 * 5.0, rel=1e-9)
+    assert st["predicted"] == pytest.approx(3.0, abs=1e-12)
+    assert fit.predict({"WP": 1e-14, "A": 15.0}) == pytest.approx(3.0 + 0.2 * 0.09 + 0.5 * 0.16)
+    table = stationary_table(fit)
+    assert list(table["factor"]) == ["WP", "A"] and table.attrs["kind"] == "minimum"
+
+
+def test_saddle_point_and_outside() -> None:
+    x = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=2)))
+    y = (x[:, 0] - 2.0) ** 2 - x[:, 1] ** 2
+    frame = pd.DataFrame({"p": x[:, 0], "q": x[:, 1], "y": y})
+    fit = fit_response_surface(frame, [Coding("p", -1, 1), Coding("q", -1, 1)], "y")
+    st = fit.stationary
+    assert st is not None and st["kind"] == "saddle point"
+    assert st["coded"]["p"] == pytest.approx(2.0) and not st["inside"]
+
+
+def test_two_level_factors_get_no_square_and_centre_points_one_curvature_term() -> None:
+    """A 2^2 has no square terms; with centre points the two squares are one column
+    (1 at the corners, 0 at the centre), so the second is left out with a note, and there is
+    no stationary point."""
+    corners = np.array(list(itertools.product((-1.0, 1.0), repeat=2)) * 2)
+    y = 1.0 + corners[:, 0] + 0.5 * corners[:, 1] + 0.01 * np.arange(8)
+    frame = pd.DataFrame({"p": corners[:, 0], "q": corners[:, 1], "y": y})
+    fit = fit_response_surface(frame, [Coding("p", -1, 1), Coding("q", -1, 1)], "y")
+    assert fit.terms == ("p", "q", "p*q")
+    assert any("p has two levels" in n for n in fit.notes)
+    assert fit.stationary is None
+    centre = pd.DataFrame({"p": [0.0] * 3, "q": [0.0] * 3, "y": [1.2, 1.25, 1.18]})
+    fit = fit_response_surface(
+        pd.concat([frame, centre]), [Coding("p", -1, 1), Coding("q", -1, 1)], "y"
+    )
+    assert fit.terms == ("p", "q", "p*p", "p*q")
+    assert any("q*q cannot be estimated" in n for n in fit.notes)
+    assert fit.stationary is None
+
+
+def test_inestimable_terms_left_out_with_a_note() -> None:
+    """Three runs on a line: the second factor copies the first; only one linear term."""
+    frame = pd.DataFrame({"p": [-1.0, 0.0, 1.0, 1.0], "q": [-1.0, 0.0, 1.0, 1.0]})
+    frame["y"] = [1.0, 2.0, 3.5, 3.4]
+    fit = fit_response_surface(frame, [Coding("p", -1, 1), Coding("q", -1, 1)], "y")
+    assert fit.terms == ("p", "p*p")
+    assert any("q cannot be estimated" in n for n in fit.notes)
+    assert fit.statistics["df_resid"] == 1.0
+
+
+def test_constant_response_and_too_few_runs() -> None:
+    x = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=2)))
+    frame = pd.DataFrame({"p": x[:, 0], "q": x[:, 1], "y": 0.4})
+    fit = fit_response_surface(frame, [Coding("p", -1, 1), Coding("q", -1, 1)], "y")
+    assert any("constant" in n for n in fit.notes)
+    assert fit.anova["F"].isna().all() and math.isnan(fit.statistics["r_squared"])
+    with pytest.raises(ValueError, match="1 usable run"):
+        fit_response_surface(frame.iloc[:1], [Coding("p", -1, 1)], "y")
+    assert response_surfaces(frame.iloc[:1], [Coding("p", -1, 1)], ["y"]) == {}
+
+
+def test_failed_runs_and_nan_responses_left_out() -> None:
+    frame = _montgomery()
+    frame["status"] = "ok"
+    frame.loc[0, "status"] = "failed"
+    frame.loc[1, "yield"] = np.nan
+    fit = fit_response_surface(frame, _CODED, "yield")
+    assert fit.statistics["n"] == 11.0
+
+
+def test_coding_of_factors() -> None:
+    wp = coding_of(
+        {"name": "WP", "levels": [1e-15, 1e-14, 1e-13], "coding": "log", "unit": "m^3/(N m)"}
+    )
+    assert wp.log and wp.low == 1e-15 and wp.high == 1e-13
+    np.testing.assert_allclose(wp.code([1e-15, 1e-14, 1e-13]), [-1.0, 0.0, 1.0], atol=1e-12)
+    ccd = coding_of({"name": "A", "levels": [7.9, 10.0, 15.0, 20.0, 22.1], "coded_range": [10, 20]})
+    np.testing.assert_allclose(ccd.code([10.0, 15.0, 20.0, 22.1]), [-1, 0, 1, 1.42])
+    plain = coding_of(Factor("S", (0.0, 1.0)))
+    assert (plain.low, plain.high, plain.log) == (0.0, 1.0, False)
+    with pytest.raises(ValueError, match="categorical"):
+        coding_of({"name": "F", "levels": [0, 1], "choices": ["columns", "field"]})
+    with pytest.raises(ValueError, match="positive"):
+        coding_of({"name": "Z", "levels": [0.0, 1.0], "coding": "log"})
+    with pytest.raises(ValueError, match="low < high"):
+        Coding("Z", 1.0, 1.0)
+
+
+def test_save_surface_tables(tmp_path) -> None:
+    fit = fit_response_surface(_montgomery(), _CODED, "yield")
+    paths = save_surface_tables({"yield": fit}, tmp_path)
+    assert sorted(p.name for p in paths) == [
+        "surface_anova_yield.csv",
+        "surface_coefficients_yield.csv",
+        "surface_summary_yield.csv",
+    ]
+    summary = pd.read_csv(tmp_path / "surface_summary_yield.csv")
+    assert summary.loc[0, "stationary_kind"] == "maximum"
+    assert summary.loc[0, "stationary_x1"] == pytest.approx(0.389, abs=5e-4)
+    assert fit.equation().startswith("yield = 79.94 + 0.995 x1")
