@@ -41,6 +41,7 @@ __all__ = [
     "plot_mu_per_stop",
     "plot_pareto",
     "plot_residuals",
+    "plot_response_surface",
     "plot_surface_map",
     "plot_v_per_run",
     "save_figure",
@@ -613,6 +614,96 @@ def plot_effects(
     ax_half.set_ylabel("Half-normal quantile [-]")
     ax_half.set_title("Half-normal plot")
     ax_half.grid(True, alpha=0.3)
+    return save_figure(fig, path)
+
+
+def plot_response_surface(
+    fit: Any,
+    path: str | Path | None = None,
+    *,
+    resolution: int = 81,
+) -> Figure:
+    """Contour plots of a fitted response surface, as Minitab's contour plots: one panel per
+    pair of factors, the other factors held at their centre (coded 0), over the coded box the
+    runs span, with the runs (projected onto the pair) and the stationary point when it lies
+    in the panel. A single factor gets the fitted curve through its runs.
+
+    Parameters
+    ----------
+    fit
+        A :class:`brakeca.rsm.SurfaceFit`.
+    path
+        Optional PNG file to write (150 dpi).
+    resolution
+        Grid points per axis [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per pair of factors (one for a single factor), each factor on its own scale
+        (logarithmic for a log-coded factor), the response in the unit of the other figures
+        (mm^3 for ``V``).
+    """
+    label, scale = _response_axis(fit.response)
+    codings = list(fit.codings)
+    extent = fit.extent()
+    pairs = list(itertools.combinations(range(len(codings)), 2))
+    n_panels = max(len(pairs), 1)
+    ncols = min(n_panels, 3)
+    nrows = math.ceil(n_panels / ncols)
+    fig = _figure((4.3 * ncols + 0.6, 3.7 * nrows + 0.5))
+    axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
+    _suptitle(fig, f"Fitted response surface of {fit.response} ({label})")
+    for ax in axes[n_panels:]:
+        ax.set_visible(False)
+    st = fit.stationary
+    if len(codings) == 1:
+        c = codings[0]
+        lo, hi = extent[c.name]
+        x = np.linspace(lo, hi, resolution)
+        ax = axes[0]
+        ax.plot(c.decode(x), fit.predict_coded({c.name: x}) * scale, color="#27496d")
+        ax.plot(c.decode(fit.points[c.name]), fit.points["y"] * scale, "o", color="#f28e2b")
+        ax.set_xlabel(c.axis_label)
+        ax.set_ylabel(label)
+        if c.log:
+            ax.set_xscale("log")
+        ax.grid(True, alpha=0.3)
+        return save_figure(fig, path)
+    for ax, (i, j) in zip(axes, pairs, strict=False):
+        a, b = codings[i], codings[j]
+        xa = np.linspace(extent[a.name][0], extent[a.name][1], resolution)
+        xb = np.linspace(extent[b.name][0], extent[b.name][1], resolution)
+        grid_a, grid_b = np.meshgrid(xa, xb)
+        coded = {c.name: np.zeros_like(grid_a) for c in codings}
+        coded[a.name], coded[b.name] = grid_a, grid_b
+        z = fit.predict_coded(coded) * scale
+        filled = ax.contourf(a.decode(grid_a), b.decode(grid_b), z, levels=12, cmap="viridis")
+        lines = ax.contour(
+            a.decode(grid_a), b.decode(grid_b), z, levels=filled.levels, colors="white",
+            linewidths=0.5,
+        )  # fmt: skip
+        ax.clabel(lines, lines.levels[::2], fontsize=7, fmt="%.3g")
+        fig.colorbar(filled, ax=ax, label=label if ax is axes[0] else None)
+        ax.plot(
+            a.decode(fit.points[a.name]), b.decode(fit.points[b.name]), "o", ms=4,
+            mfc="white", mec="black", label="runs (projected)", clip_on=False, zorder=4,
+        )  # fmt: skip
+        if st is not None:
+            sa, sb = st["coded"][a.name], st["coded"][b.name]
+            if xa[0] <= sa <= xa[-1] and xb[0] <= sb <= xb[-1]:
+                ax.plot(a.decode(sa), b.decode(sb), "*", ms=12, color="#e15759", zorder=5,
+                        label=f"stationary point ({st['kind']})")  # fmt: skip
+        if a.log:
+            ax.set_xscale("log")
+        if b.log:
+            ax.set_yscale("log")
+        ax.set_xlabel(a.axis_label)
+        ax.set_ylabel(b.axis_label)
+        held = [c.name for c in codings if c.name not in (a.name, b.name)]
+        if held:
+            ax.set_title("others at their centre: " + ", ".join(held), fontsize=8)
+    axes[0].legend(fontsize=7, loc="best")
     return save_figure(fig, path)
 
 

@@ -90,6 +90,9 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 <li><a href="#design">Design</a></li>
 <li><a href="#runs">Per-run results</a></li>
 <li><a href="#anova">ANOVA</a></li>
+{%- if surfaces %}
+<li><a href="#surface">Response surface</a></li>
+{%- endif %}
 {%- for section in figure_sections %}
 <li><a href="#{{ section.anchor }}">{{ section.name }}</a></li>
 {%- endfor %}
@@ -152,6 +155,20 @@ fractional factorial): the terms of up to three factors the design cannot tell a
 term; what the table gives for the term is its effect plus theirs, each with the sign shown
 (B:D - C:E: plus the effect of B:D, minus that of C:E; two-level terms only).</p>
 </section>
+{%- if surfaces %}
+
+<section id="surface">
+<h2>Response surface</h2>
+<p class="note">{{ surface_intro }}</p>
+{%- for item in surfaces %}
+<h3 id="surface-{{ item.anchor }}">Response {{ item.response }}</h3>
+<p class="note">{{ item.info }}</p>
+{{ render_table(item.coefficients) }}
+{{ render_table(item.anova) }}
+{%- if item.stationary %}<p class="note">{{ item.stationary }}</p>{% endif %}
+{%- endfor %}
+</section>
+{%- endif %}
 
 {% for section in figure_sections %}
 <section id="{{ section.anchor }}">
@@ -473,6 +490,128 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     return _Table(headers, [c not in ("term", "aliases") for c in cols], rows), caption
 
 
+_SURFACE_INTRO = (
+    "The response as a smooth function of the factors: a quadratic in the coded factors (-1 "
+    "at a factor's low and +1 at its high cube level; on log10 of the level for a factor "
+    "coded 'log'), fitted by least squares, as Minitab's Analyze Response Surface Design "
+    "fits it. Coefficients in coded units, with their standard errors, t, p and variance "
+    "inflation factors (VIF 1: a column orthogonal to the others). The ANOVA uses adjusted "
+    "(type III) sums of squares: what the error sum of squares rises by when the term, or "
+    "the whole group, is dropped from the model. Terms with p < 0.05 in bold."
+)
+
+#: headers of the response-surface coefficient table
+_SURFACE_COEF_HEADERS = {
+    "term": "Term",
+    "coef": "Coef",
+    "se": "SE coef",
+    "t": "t",
+    "p_value": "p",
+    "vif": "VIF",
+}
+
+
+def _surface_item(response: str, fit: Any) -> dict[str, Any]:
+    """The report's tables and sentences of one :class:`brakeca.rsm.SurfaceFit`, in the
+    report's unit of ``response`` (mm³ for V)."""
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
+    u = f" [{unit}]" if unit else ""
+    coef_rows = []
+    for _, rec in fit.coefficients.iterrows():
+        p = rec["p_value"]
+        coef_rows.append(
+            {
+                "cells": [
+                    str(rec["term"]),
+                    _fmt(float(rec["coef"]) * factor, ".5g"),
+                    _fmt(float(rec["se"]) * factor, ".3g"),
+                    _fmt(rec["t"], ".3g"),
+                    format_p_value(p),
+                    _fmt(rec["vif"], ".3g"),
+                ],
+                "cls": "sig" if not _is_missing(p) and float(p) < 0.05 else "",
+            }
+        )
+    headers = [
+        _SURFACE_COEF_HEADERS[c] + (u if c in ("coef", "se") else "") for c in _SURFACE_COEF_HEADERS
+    ]
+    coefficients = _Table(headers, [False, True, True, True, True, True], coef_rows)
+    anova_rows = []
+    for _, rec in fit.anova.iterrows():
+        p = rec["p_value"]
+        anova_rows.append(
+            {
+                "cells": [
+                    "\u2003" * int(rec["depth"]) + str(rec["source"]),
+                    _fmt(rec["df"], ".0f"),
+                    _fmt(float(rec["adj_ss"]) * factor**2, ".4g"),
+                    _fmt(float(rec["adj_ms"]) * factor**2, ".4g"),
+                    _fmt(rec["F"], ".3g"),
+                    format_p_value(p),
+                ],
+                "cls": "sig" if not _is_missing(p) and float(p) < 0.05 else "",
+            }
+        )
+    sq = f" [({unit})²]" if unit else ""
+    anova = _Table(
+        ["Source", "DF", f"Adj SS{sq}", f"Adj MS{sq}", "F", "p"],
+        [False, True, True, True, True, True],
+        anova_rows,
+    )
+    stats = dict(fit.statistics)
+    stats["s"] = float(stats.get("s", math.nan)) * factor
+    codings = ", ".join(
+        f"{c.name} {'log10 ' if c.log else ''}{_fmt(c.low, '.4g')} to {_fmt(c.high, '.4g')}"
+        + (f" {c.unit}" if c.unit and c.unit != "-" else "")
+        for c in fit.codings
+    )
+    info = (
+        f"Model: {fit.equation(scale=factor).replace(fit.response, response, 1)} (coded units"
+        + (f"; {response} in {unit}" if unit else "")
+        + f"). Coded -1 to +1: {codings}."
+        + _model_summary_text(stats, unit)
+    )
+    if fit.notes:
+        info += " Note: " + "; ".join(fit.notes) + "."
+    return {
+        "response": response,
+        "anchor": _anchor(response),
+        "info": info,
+        "coefficients": coefficients,
+        "anova": anova,
+        "stationary": _stationary_text(fit, factor, unit),
+    }
+
+
+def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
+    """A sentence on the stationary point of ``fit``, or why there is none."""
+    st = fit.stationary
+    if st is None:
+        return (
+            "No stationary point: not every factor has a square term (two-level factors), or "
+            "the quadratic part is singular."
+        )
+    levels = ", ".join(
+        f"{c.name} = {_fmt(st['levels'][c.name], '.4g')}"
+        + (f" {c.unit}" if c.unit and c.unit != "-" else "")
+        + f" (coded {st['coded'][c.name]:+.2f})"
+        for c in fit.codings
+    )
+    where = (
+        "inside the region the runs span"
+        if st["inside"]
+        else "outside the region the runs span, so an extrapolation: read the contour plots "
+        "for the best point inside it"
+    )
+    predicted = _fmt(float(st["predicted"]) * factor, ".5g") + (f" {unit}" if unit else "")
+    return (
+        f"Stationary point (gradient zero): a {st['kind']} at {levels}, {where}; fitted "
+        f"response there {predicted}. Eigenvalues of the quadratic part: "
+        + ", ".join(_fmt(v * factor, ".3g") for v in st["eigenvalues"])
+        + " (all negative: a maximum; all positive: a minimum; mixed: a saddle)."
+    )
+
+
 def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     """ " Model summary: S = ..., R² = ... %, ..." from :func:`brakeca.analysis.anova`'s attrs,
     or "" when the table carries none."""
@@ -583,6 +722,7 @@ def render_report(
     generated: datetime | None = None,
     effects_tables: Mapping[str, pd.DataFrame] | None = None,
     design_info: str = "",
+    surface_fits: Mapping[str, Any] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -642,6 +782,8 @@ def render_report(
         anova=anova_items,
         figure_sections=_figure_sections(figures),
         notes=paragraphs,
+        surfaces=[_surface_item(str(r), fit) for r, fit in (surface_fits or {}).items()],
+        surface_intro=_SURFACE_INTRO,
     )
 
 
@@ -659,6 +801,7 @@ def write_report(
     generated: datetime | None = None,
     effects_tables: Mapping[str, pd.DataFrame] | None = None,
     design_info: str = "",
+    surface_fits: Mapping[str, Any] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -694,6 +837,10 @@ def write_report(
     design_info
         A sentence on the design shown above the design table (its kind, resolution and
         defining relation for a fractional factorial).
+    surface_fits
+        ``{response: fit}`` from :func:`brakeca.rsm.response_surfaces`, shown in a section
+        "Response surface" (coded coefficients, ANOVA, model summary, stationary point) when
+        given and not empty.
 
     Returns
     -------
@@ -723,6 +870,7 @@ def write_report(
         generated=generated,
         effects_tables=effects_tables,
         design_info=design_info,
+        surface_fits=surface_fits,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

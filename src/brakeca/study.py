@@ -4,9 +4,11 @@ Wiring only: the numbers come from :mod:`brakeca.analysis`, the figures from
 :mod:`brakeca.plotting`, the page from :mod:`brakeca.report`. Outputs, in the campaign folder::
 
     tables/      main effects, interactions (long form), ANOVA, model summary (S, R-squared,
-                 adjusted and predicted R-squared), ranked effects and residuals, per response
+                 adjusted and predicted R-squared), ranked effects and residuals, per response;
+                 for a central composite design the response surface's coefficients, ANOVA
+                 and summary with the stationary point (surface_*_<R>.csv, brakeca.rsm)
     figures/     PNG figures (paper Figures 5-11, Pareto charts, residual plots, final plateau
-                 map of each run)
+                 map of each run; contour plots of a response surface)
     report.html  everything above in one self-contained page
 
 References
@@ -150,6 +152,14 @@ def _design_info(design: Design) -> str:
         + (f" × {design.replicates} replicates = {runs} runs" if design.replicates > 1 else "")
         + "."
     )
+    if getattr(design, "is_composite", False):
+        text += (
+            " Its factors are numeric with three or more levels: the section 'Response "
+            "surface' fits the response as a quadratic in the coded factors (curvature and "
+            "two-factor interactions), with the stationary point; the ANOVA and the "
+            "main-effects and interaction plots treat each level as a category, as for a "
+            "factorial design."
+        )
     if design.is_fractional:
         relation = design.relation_text(times="·")
         text += f" Generators: {', '.join(design.generators)}; defining relation {relation}."
@@ -240,6 +250,12 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     data = with_log_v(summary)
     tables = analysis.analyze(data, factors, RESPONSES)
     analysis.save_tables(tables, tables_dir)
+    surfaces = {}
+    if getattr(result.design, "is_composite", False):  # a response-surface design
+        from brakeca import rsm
+
+        surfaces = rsm.response_surfaces(data, factors, RESPONSES)
+        rsm.save_surface_tables(surfaces, tables_dir)
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
 
     figures: list[tuple[str, str, Path]] = []
@@ -290,6 +306,18 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                     plotting.plot_effects,
                     effects,
                     resp,
+                )
+            if resp in surfaces:
+                fit = surfaces[resp]
+                add(
+                    "Response surface",
+                    f"Contour plots of the fitted quadratic surface of {label} (coded model "
+                    "in the section 'Response surface'), each pair of factors with the others "
+                    "at their centre; the runs projected onto the pair; the star: the "
+                    "stationary point where it lies in the panel",
+                    f"surface_{resp}.png",
+                    plotting.plot_response_surface,
+                    fit,
                 )
             add(
                 "Residuals",
@@ -388,6 +416,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         notes=notes,
         effects_tables={resp: tables[resp]["effects"] for resp in RESPONSES},
         design_info=_design_info(result.design),
+        surface_fits=surfaces,
     )
 
 

@@ -297,3 +297,41 @@ def test_effects_plot(tmp_path) -> None:
     assert half.get_xlabel().startswith("Absolute effect")
     empty = plot_effects(effects.iloc[:0], "MU", tmp_path / "none.png")
     assert "no effects" in empty.axes[0].texts[0].get_text()
+
+
+def test_response_surface_contours(tmp_path) -> None:
+    """One panel per pair of factors on the factors' own (log) scales, V in mm³, the runs
+    and the stationary point drawn; a single factor gets the fitted curve."""
+    from brakeca.plotting import plot_response_surface
+    from brakeca.rsm import Coding, fit_response_surface
+
+    codings = [
+        Coding("WP", 1e-15, 1e-13, log=True, unit="m^3/(N m)"),
+        Coding("A", 10.0, 20.0, unit="%"),
+        Coding("WR", 1e-7, 1e-6, log=True, unit="m"),
+    ]
+    points = [p for p in itertools.product((-1.0, 0.0, 1.0), repeat=3)]
+    rows = []
+    for x in points:
+        v = (3.0 - (x[0] - 0.2) ** 2 - 0.5 * (x[1] + 0.1) ** 2 - 0.3 * x[2] ** 2) * 1e-9
+        rows.append({c.name: c.decode(xi) for c, xi in zip(codings, x, strict=True)} | {"V": v})
+    fit = fit_response_surface(pd.DataFrame(rows), codings, "V")
+    assert fit.stationary is not None and fit.stationary["kind"] == "maximum"
+    fig = plot_response_surface(fit, tmp_path / "surface.png")
+    assert (tmp_path / "surface.png").read_bytes().startswith(PNG)
+    panels = [ax for ax in fig.axes if ax.get_xlabel() and ax.get_visible()]
+    assert [(ax.get_xlabel(), ax.get_ylabel()) for ax in panels] == [
+        ("WP [m^3/(N m)]", "A [%]"),
+        ("WP [m^3/(N m)]", "WR [m]"),
+        ("A [%]", "WR [m]"),
+    ]
+    assert panels[0].get_xscale() == "log" and panels[2].get_yscale() == "log"
+    assert panels[2].get_xscale() == "linear"
+    labels = panels[0].get_legend_handles_labels()[1]
+    assert labels == ["runs (projected)", "stationary point (maximum)"]
+    one = fit_response_surface(pd.DataFrame(rows), codings[:1], "V")
+    curve = plot_response_surface(one, tmp_path / "one.png").axes[0]
+    fitted = curve.lines[0].get_ydata()
+    assert curve.get_xscale() == "log" and max(fitted) == pytest.approx(
+        max(one.predict_coded({"WP": np.linspace(-1, 1, 81)})) * 1e9
+    )

@@ -268,3 +268,38 @@ def test_a_fractional_design_shows_aliases_effects_and_its_kind(tmp_path) -> Non
     # a full factorial's ANOVA has no Aliases column, and no effects table with WP at 3 levels
     full = render_report(**make_inputs(tmp_path))
     assert "Aliases</th>" not in full and "Effect [" not in full
+
+
+def test_a_response_surface_section_in_the_report_units(tmp_path) -> None:
+    """The section 'Response surface': V's coefficients and sums of squares in mm³, the ANOVA
+    by source with its indented terms, lack of fit and the stationary point; none without
+    fits."""
+    import itertools
+
+    from brakeca.rsm import Coding, fit_response_surface
+
+    a, b = Coding("A", 10.0, 20.0, unit="%"), Coding("WR", 1e-7, 1e-6, log=True, unit="m")
+    coded = list(itertools.product((-1.0, 0.0, 1.0), repeat=2)) + [(0.0, 0.0)] * 2
+    rng = np.random.default_rng(4)
+    rows = []
+    for x1, x2 in coded:
+        v = (2.0 + 0.5 * x1 - 0.8 * x1**2 + 0.3 * x1 * x2 + 0.01 * rng.standard_normal()) * 1e-9
+        rows.append({"A": a.decode(x1), "WR": b.decode(x2), "V": v, "status": "ok"})
+    summary = pd.DataFrame(rows)
+    fit = fit_response_surface(summary, [a, b], "V")
+    html = render_report(**make_inputs(tmp_path), surface_fits={"V": fit})
+    section = html[html.index('<section id="surface">') :]
+    section = section[: section.index("</section>")]
+    assert '<a href="#surface">Response surface</a>' in html
+    assert "<th>Coef [mm³]</th>" in section and "Adj SS [(mm³)²]" in section
+    coef = dict(zip(fit.coefficients["term"], fit.coefficients["coef"], strict=True))
+    assert f'<td class="num">{coef["A*A"] * 1e9:.5g}</td>' in section
+    assert "\u2003\u2003A*WR</td>" in section and "Lack-of-Fit</td>" in section
+    assert "Coded -1 to +1: A 10 to 20 %, WR log10 1e-07 to 1e-06 m." in section
+    assert f"Model: V = {fit.coef[0] * 1e9:.4g} + " in section
+    assert "(coded units; V in mm³)" in section
+    st = fit.stationary
+    assert st is not None
+    assert f"Stationary point (gradient zero): a {st['kind']} at A = " in section
+    assert ("inside the region" if st["inside"] else "outside the region") in section
+    assert '<section id="surface">' not in render_report(**make_inputs(tmp_path))

@@ -1,0 +1,75 @@
+"""A central composite design run end to end through `brakeca run`: its tests are the cube,
+axial and centre points, each centre point with its own seed; the folder's design.toml alone
+resumes it; the report and tables carry the fitted response surface."""
+
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pandas as pd
+from campaign_helpers import TINY_CLI
+from typer.testing import CliRunner
+
+from brakeca.cli import app
+from brakeca.design import load_design
+from brakeca.rsm import fit_response_surface
+
+CCD = """
+name = "ccd"
+base = "paper"
+root_seed = 11
+
+[composite]
+alpha = "face"
+center = 2
+
+[[factors]]
+name = "A"
+levels = [10.0, 20.0]
+
+[[factors]]
+name = "WR"
+levels = [1e-7, 1e-6]
+coding = "log"
+"""
+
+
+def _run(*args: str) -> str:
+    res = CliRunner().invoke(app, list(args))
+    assert res.exit_code == 0, res.output
+    return res.output
+
+
+def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path) -> None:
+    design = tmp_path / "ccd.toml"
+    design.write_text(CCD)
+    out = tmp_path / "c"
+    _run("run", str(design), "-o", str(out), *TINY_CLI)
+    summary = pd.read_csv(out / "summary.csv")
+    assert list(summary["test"]) == list(range(1, 11))
+    assert (summary["status"] == "ok").all()
+    # cube (A fastest), axial (A -, A +, WR -, WR +), then the centre twice
+    wr0 = 10**-6.5
+    expected = [(10, 1e-7), (20, 1e-7), (10, 1e-6), (20, 1e-6)]
+    expected += [(10, wr0), (20, wr0), (15, 1e-7), (15, 1e-6), (15, wr0), (15, wr0)]
+    np.testing.assert_allclose(summary[["A", "WR"]].to_numpy(), expected, rtol=1e-12)
+    assert summary["seed"].nunique() == 10 and summary["run_id"].nunique() == 10
+    # the folder's design.toml keeps the composite and its tests, and alone resumes them
+    saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
+    assert saved["composite"] == {"alpha": "face", "center": 2}
+    assert load_design(out / "design.toml").n_tests == 10
+    output = _run("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
+    assert "0 run(s) computed, 10 reused" in output
+    # the response surface: tables, figure and report section, from the summary's runs
+    coefficients = pd.read_csv(out / "tables" / "surface_coefficients_MU.csv")
+    assert list(coefficients["term"]) == ["Constant", "A", "WR", "A*A", "WR*WR", "A*WR"]
+    fit = fit_response_surface(summary, load_design(out / "design.toml").factors, "MU")
+    np.testing.assert_allclose(coefficients["coef"], fit.coefficients["coef"], rtol=1e-9)
+    anova = pd.read_csv(out / "tables" / "surface_anova_MU.csv")
+    assert {"Lack-of-Fit", "Pure Error"} <= set(anova["source"])  # the two centre points
+    assert (out / "figures" / "surface_MU.png").is_file()
+    assert (out / "tables" / "surface_summary_log10_V_mm3.csv").is_file()
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "Central composite design (face-centred, α = 1), 2 factors" in html
+    assert '<section id="surface">' in html and "Coded -1 to +1: A 10 to 20 %, WR log10" in html
