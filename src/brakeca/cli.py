@@ -13,7 +13,7 @@ import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 from rich.markup import escape
@@ -744,6 +744,8 @@ def show_design(
             highlight=False,
             emoji=False,
         )
+    if loaded.is_composite:
+        _print_surface_model(loaded)
     structure = alias_structure(pd.DataFrame(combos), loaded.factors)
     chains = [
         f"{term} - {aliases[1:]}" if aliases.startswith("-") else f"{term} + {aliases}"
@@ -780,6 +782,44 @@ def show_design(
         for k, combo in enumerate(combos, start=1):
             table.add_row(str(k), *(escape(loaded.factor(n).label_of(v)) for n, v in combo.items()))
         out.print(table)
+
+
+def _print_surface_model(design: Any) -> None:
+    """The coding and the quadratic model a composite design's runs can estimate."""
+    import pandas as pd
+
+    from brakeca.rsm import coding_of, surface_terms
+
+    codings = [coding_of(f) for f in design.factors]
+    out.print(
+        "coded -1 to +1: "
+        + "; ".join(
+            f"{c.name} {'log10 ' if c.log else ''}{c.low:g} to {c.high:g}"
+            + (f" {c.unit}" if c.unit and c.unit != "-" else "")
+            for c in codings
+        ),
+        markup=False,
+        highlight=False,
+        emoji=False,
+    )
+    runs = pd.DataFrame(design.combinations() * design.replicates)
+    model = surface_terms(runs, codings)
+    terms = model["terms"]
+    counts = {
+        "linear": sum("*" not in t for t in terms),
+        "square": sum(t.partition("*")[0] == t.partition("*")[2] for t in terms),
+    }
+    counts["interaction"] = len(terms) - counts["linear"] - counts["square"]
+    out.print(
+        f"response-surface model: {len(terms) + 1} coefficients ("
+        + ", ".join(f"{n} {kind}" for kind, n in counts.items())
+        + f" terms and the constant) from {len(runs)} runs: {model['df_resid']:.0f} residual "
+        f"df, {model['pure_error_df']:.0f} of them pure error (repeated points)",
+        markup=False,
+        highlight=False,
+    )
+    for note in model["notes"]:
+        out.print(f"  {note}", markup=False, highlight=False, emoji=False)
 
 
 @app.command("config", short_help="print the resolved configuration as TOML")

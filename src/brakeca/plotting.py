@@ -626,7 +626,8 @@ def plot_response_surface(
     """Contour plots of a fitted response surface, as Minitab's contour plots: one panel per
     pair of factors, the other factors held at their centre (coded 0), over the coded box the
     runs span, with the runs (projected onto the pair) and the stationary point when it lies
-    in the panel. A single factor gets the fitted curve through its runs.
+    in the region the runs span (projected onto the pair, as the runs are). A single factor
+    gets the fitted curve through its runs.
 
     Parameters
     ----------
@@ -689,11 +690,10 @@ def plot_response_surface(
             a.decode(fit.points[a.name]), b.decode(fit.points[b.name]), "o", ms=4,
             mfc="white", mec="black", label="runs (projected)", clip_on=False, zorder=4,
         )  # fmt: skip
-        if st is not None:
+        if st is not None and st["inside"]:  # outside, it is on no panel's slice
             sa, sb = st["coded"][a.name], st["coded"][b.name]
-            if xa[0] <= sa <= xa[-1] and xb[0] <= sb <= xb[-1]:
-                ax.plot(a.decode(sa), b.decode(sb), "*", ms=12, color="#e15759", zorder=5,
-                        label=f"stationary point ({st['kind']})")  # fmt: skip
+            ax.plot(a.decode(sa), b.decode(sb), "*", ms=12, color="#e15759", zorder=5,
+                    label=f"stationary point ({st['kind']}, projected)")  # fmt: skip
         if a.log:
             ax.set_xscale("log")
         if b.log:

@@ -54,6 +54,7 @@ __all__ = [
     "response_surfaces",
     "save_surface_tables",
     "stationary_table",
+    "surface_terms",
 ]
 
 #: Columns of :attr:`SurfaceFit.coefficients`, in order.
@@ -348,6 +349,76 @@ def _pure_error(points: pd.DataFrame, names: Sequence[str]) -> tuple[float, floa
     return float(resid @ resid), float(y.size - means.size)
 
 
+def _model_matrix(
+    points: pd.DataFrame, names: Sequence[str], quadratic: bool, interactions: bool
+) -> tuple[list[str], list[tuple[str, str]], np.ndarray, list[str]]:
+    """The factors that vary, the (term, group) kept, the model matrix (intercept first) and
+    the notes on what was left out, for coded ``points``."""
+    notes: list[str] = []
+    varying = []
+    for name in names:
+        if np.ptp(points[name].to_numpy(float)) > _SAME_POINT:
+            varying.append(name)
+        else:
+            notes.append(f"{name} does not vary in the runs used and is left out")
+    squares = [
+        n for n in varying if np.unique(np.round(points[n].to_numpy(float) / _SAME_POINT)).size >= 3
+    ]
+    if quadratic:
+        for n in varying:
+            if n not in squares:
+                notes.append(f"{n} has two levels: no square term")
+    candidates = [
+        (t, g)
+        for t, g in _candidate_terms(varying, squares if quadratic else [])
+        if interactions or g != "2-Way Interaction"
+    ]
+    x = {n: points[n].to_numpy(float) for n in varying}
+    columns = [np.ones(len(points))]
+    kept: list[tuple[str, str]] = []
+    rank = 1
+    for term, group in candidates:
+        trial = np.column_stack([*columns, _term_values(term, x)])
+        trial_rank = int(np.linalg.matrix_rank(trial))
+        if trial_rank > rank:
+            columns.append(trial[:, -1])
+            kept.append((term, group))
+            rank = trial_rank
+        else:
+            notes.append(f"{term} cannot be estimated apart from the terms before it: left out")
+    return varying, kept, np.column_stack(columns), notes
+
+
+def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]:
+    """What a quadratic response surface over a design's tests can estimate, before any run.
+
+    Parameters
+    ----------
+    tests
+        One row per run (or per test), a column per factor [design unit].
+    factors
+        The numeric factors, coded by :func:`coding_of`.
+
+    Returns
+    -------
+    dict
+        ``terms`` (the model's terms after the intercept), ``df_resid`` (runs less
+        coefficients) [-], ``pure_error_df`` (runs less distinct points) [-] and ``notes``
+        (what is left out and why), as :func:`fit_response_surface` would fit them.
+    """
+    codings = [f if isinstance(f, Coding) else coding_of(f) for f in factors]
+    points = pd.DataFrame({c.name: c.code(tests[c.name].to_numpy(float)) for c in codings})
+    names = [c.name for c in codings]
+    varying, kept, exog, notes = _model_matrix(points, names, True, True)
+    _, df_pe = _pure_error(points.assign(y=0.0), varying)
+    return {
+        "terms": [t for t, _ in kept],
+        "df_resid": float(exog.shape[0] - exog.shape[1]),
+        "pure_error_df": df_pe,
+        "notes": notes,
+    }
+
+
 def fit_response_surface(
     summary: pd.DataFrame,
     factors: Iterable[Any],
@@ -402,40 +473,8 @@ def fit_response_surface(
         raise ValueError(
             f"response {response!r}: {len(points)} usable run(s); a surface needs at least 2"
         )
-    notes: list[str] = []
-    varying = []
-    for c in codings:
-        if np.ptp(points[c.name].to_numpy(float)) > _SAME_POINT:
-            varying.append(c.name)
-        else:
-            notes.append(f"{c.name} does not vary in the runs used and is left out")
-    squares = [
-        n for n in varying if np.unique(np.round(points[n].to_numpy(float) / _SAME_POINT)).size >= 3
-    ]
-    if quadratic:
-        for n in varying:
-            if n not in squares:
-                notes.append(f"{n} has two levels: no square term")
-    candidates = [
-        (t, g)
-        for t, g in _candidate_terms(varying, squares if quadratic else [])
-        if interactions or g != "2-Way Interaction"
-    ]
     y = points["y"].to_numpy(float)
-    x = {n: points[n].to_numpy(float) for n in varying}
-    columns = [np.ones(len(points))]
-    kept: list[tuple[str, str]] = []
-    rank = 1
-    for term, group in candidates:
-        trial = np.column_stack([*columns, _term_values(term, x)])
-        trial_rank = int(np.linalg.matrix_rank(trial))
-        if trial_rank > rank:
-            columns.append(trial[:, -1])
-            kept.append((term, group))
-            rank = trial_rank
-        else:
-            notes.append(f"{term} cannot be estimated apart from the terms before it: left out")
-    exog = np.column_stack(columns)
+    varying, kept, exog, notes = _model_matrix(points, names, quadratic, interactions)
     n, p = exog.shape
     xtx_inv = np.linalg.inv(exog.T @ exog)
     coef = xtx_inv @ exog.T @ y

@@ -314,7 +314,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                     f"Contour plots of the fitted quadratic surface of {label} (coded model "
                     "in the section 'Response surface'), each pair of factors with the others "
                     "at their centre; the runs projected onto the pair; the star: the "
-                    "stationary point where it lies in the panel",
+                    "stationary point, projected, when it lies inside the region the runs span",
                     f"surface_{resp}.png",
                     plotting.plot_response_surface,
                     fit,

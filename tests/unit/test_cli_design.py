@@ -39,3 +39,26 @@ def test_a_full_factorial_is_clear_and_a_bad_design_names_its_problem(tmp_path) 
     res = CliRunner().invoke(app, ["design", str(bad)])
     assert res.exit_code == 2
     assert "generators.0: the fraction has resolution II" in res.output
+
+
+def test_a_composite_design_shows_its_coding_and_quadratic_model(tmp_path) -> None:
+    text = _design("surface")
+    assert text.startswith("surface: central composite design (face-centred, α = 1), 3 factors")
+    assert "coded -1 to +1: WP log10 1e-15 to 1e-13 m^3/(N m); A 10 to 20 %; WR log10" in text
+    assert (
+        "response-surface model: 10 coefficients (3 linear, 3 square, 3 interaction terms and "
+        "the constant) from 17 runs: 7 residual df, 2 of them pure error" in text
+    )
+    assert "│   17 │  0 │ 0 │  0 │" in text  # the last centre point
+    # one centre point: no pure error; a rotatable alpha gives five levels, -α to +α
+    two = tmp_path / "two.toml"
+    two.write_text(
+        'name = "two"\nbase = "paper"\nroot_seed = 1\n[composite]\nalpha = "rotatable"\n'
+        "center = 1\n"
+        '[[factors]]\nname = "A"\nlevels = [12, 18]\n[[factors]]\nname = "S"\nlevels = [0.2, 0.8]\n'
+    )
+    text = _design(str(two))
+    assert "6 coefficients (2 linear, 2 square, 1 interaction terms and the constant)" in text
+    assert "from 9 runs" in text
+    assert "3 residual df, 0 of them pure error" in text
+    assert "│    5 │ -α │  0 │" in text

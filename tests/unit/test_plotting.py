@@ -328,7 +328,7 @@ def test_response_surface_contours(tmp_path) -> None:
     assert panels[0].get_xscale() == "log" and panels[2].get_yscale() == "log"
     assert panels[2].get_xscale() == "linear"
     labels = panels[0].get_legend_handles_labels()[1]
-    assert labels == ["runs (projected)", "stationary point (maximum)"]
+    assert labels == ["runs (projected)", "stationary point (maximum, projected)"]
     one = fit_response_surface(pd.DataFrame(rows), codings[:1], "V")
     curve = plot_response_surface(one, tmp_path / "one.png").axes[0]
     fitted = curve.lines[0].get_ydata()
