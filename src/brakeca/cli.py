@@ -668,6 +668,110 @@ def analyze(
     )
 
 
+#: ``brakeca optimize``'s responses: summary column, the unit goals are given in and the
+#: factor from the column's unit to it.
+_OPTIMIZE_RESPONSES = {"MU": ("-", 1.0), "V": ("mm³", 1e9), "log10_V_mm3": ("-", 1.0)}
+
+_GOAL_FORM = (
+    "RESPONSE:min:LOW:HIGH, RESPONSE:max:LOW:HIGH or RESPONSE:target:LOW:TARGET:HIGH, with "
+    "RESPONSE one of MU, V (in mm³), log10_V_mm3; e.g. V:min:0.1:5 or MU:target:0.35:0.4:0.45"
+)
+
+
+def _parse_goal(text: str) -> Any:
+    """A :class:`brakeca.rsm.Goal` from ``--goal`` text, its limits in the column's unit."""
+    from brakeca.rsm import Goal
+
+    parts = [p.strip() for p in text.split(":")]
+    kinds = {"min": "minimize", "max": "maximize", "target": "target"}
+    if len(parts) < 2 or parts[0] not in _OPTIMIZE_RESPONSES or parts[1] not in kinds:
+        raise ValueError(f"--goal {text!r}: expected {_GOAL_FORM}")
+    response, kind = parts[0], kinds[parts[1]]
+    need = 3 if kind == "target" else 2
+    try:
+        numbers = [float(p) for p in parts[2:]]
+    except ValueError:
+        numbers = []
+    if len(numbers) != need:
+        raise ValueError(f"--goal {text!r}: {parts[1]} takes {need} numbers; expected {_GOAL_FORM}")
+    scale = _OPTIMIZE_RESPONSES[response][1]
+    values = [v / scale for v in numbers]
+    if kind == "target":
+        lower, target, upper = values
+        return Goal(response, "target", lower, upper, target=target)
+    return Goal(response, kind, values[0], values[1])  # type: ignore[arg-type]
+
+
+@app.command(short_help="the factor setting that best meets goals for MU and V")
+def optimize(
+    folder: Annotated[
+        Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
+    ],
+    goals: Annotated[
+        list[str],
+        typer.Option("--goal", "-g", metavar="GOAL", help=f"a response's goal: {_GOAL_FORM}"),
+    ],
+) -> None:
+    """Find the factor setting that best meets every goal, on the response surfaces fitted to
+    a campaign's runs (a quadratic in the coded factors, brakeca.rsm; best from a central
+    composite design): the largest composite desirability (Derringer and Suich), as Minitab's
+    Response Optimizer. Searches the region the runs span; numeric factors only."""
+    from rich.table import Table
+
+    from brakeca.campaign import load_campaign
+    from brakeca.rsm import optimize as find_optimum
+    from brakeca.rsm import response_surfaces
+    from brakeca.study import with_log_v
+
+    try:
+        parsed = [_parse_goal(g) for g in goals]
+        result = load_campaign(folder)
+        fits = response_surfaces(
+            with_log_v(result.summary), result.design.factors, [g.response for g in parsed]
+        )
+        best = find_optimum(fits, parsed)
+    except (ConfigError, FileNotFoundError, ValueError) as exc:
+        _fail(str(exc))
+    table = Table(title="factor setting")
+    for column in ("factor", "level", "coded"):
+        table.add_column(column, justify="left" if column == "factor" else "right")
+    for f in result.design.factors:
+        if f.name in best.levels:
+            unit = "" if f.unit in ("", "-") else f" {f.unit}"
+            table.add_row(
+                escape(f.name), f"{best.levels[f.name]:.4g}{unit}", f"{best.coded[f.name]:+.3f}"
+            )
+    out.print(table)
+    table = Table(title="responses")
+    for column in ("response", "fitted", "95 % CI of the mean", "goal", "desirability"):
+        table.add_column(column, justify="left" if column in ("response", "goal") else "right")
+    for goal in parsed:
+        unit, scale = _OPTIMIZE_RESPONSES[goal.response]
+        low, high = best.interval[goal.response]
+        limits = [goal.lower, goal.target, goal.upper] if goal.kind == "target" else [
+            goal.lower, goal.upper
+        ]  # fmt: skip
+        table.add_row(
+            escape(goal.response + ("" if unit == "-" else f" [{unit}]")),
+            f"{best.predicted[goal.response] * scale:.4g}",
+            f"{low * scale:.4g} to {high * scale:.4g}",
+            f"{goal.kind} " + " / ".join(f"{v * scale:g}" for v in limits),
+            f"{best.desirability[goal.response]:.3f}",
+        )
+    out.print(table)
+    out.print(f"composite desirability: {best.composite:.3f}", markup=False)
+    if best.note:
+        out.print(f"note: {best.note}", markup=False, highlight=False)
+    if best.on_boundary:
+        out.print(
+            "at the edge of the region the runs span: "
+            + ", ".join(best.on_boundary)
+            + " (the best setting may lie beyond it; the surface is not known there)",
+            markup=False,
+            highlight=False,
+        )
+
+
 @app.command(short_help="the paper's 24-run study, its analysis and report")
 def paper(
     output: Annotated[

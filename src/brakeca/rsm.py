@@ -39,7 +39,7 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import pandas as pd
@@ -48,9 +48,12 @@ __all__ = [
     "ANOVA_COLUMNS",
     "COEFFICIENT_COLUMNS",
     "Coding",
+    "Goal",
+    "Optimum",
     "SurfaceFit",
     "coding_of",
     "fit_response_surface",
+    "optimize",
     "response_surfaces",
     "save_surface_tables",
     "stationary_table",
@@ -208,6 +211,9 @@ class SurfaceFit:
         The runs used: the coded factors (one column per factor) and ``y``.
     notes
         What was left out of the model and why.
+    xtx_inv
+        ``(X'X)^-1`` of the model matrix in coded units [-]: times ``s^2``, the coefficients'
+        covariance.
     """
 
     response: str
@@ -220,6 +226,7 @@ class SurfaceFit:
     stationary: dict[str, Any] | None
     points: pd.DataFrame
     notes: tuple[str, ...] = field(default_factory=tuple)
+    xtx_inv: np.ndarray | None = None
 
     def predict(self, levels: Mapping[str, Any]) -> np.ndarray:
         """The fitted response [response unit] at factor levels [design unit].
@@ -243,6 +250,35 @@ class SurfaceFit:
         for b, term in zip(self.coef[1:], self.terms, strict=True):
             out = out + b * _term_values(term, x)
         return out
+
+    def confidence_interval(
+        self, coded: Mapping[str, Any], level: float = 0.95
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Confidence interval of the fitted mean response [response unit] at coded factor
+        values [-]: ``y_hat -/+ t s sqrt(x' (X'X)^-1 x)``; NaN without residual degrees of
+        freedom.
+
+        Parameters
+        ----------
+        coded
+            Every factor's name to coded values (broadcast together).
+        level
+            Confidence level [-].
+        """
+        from scipy import stats
+
+        arrays = np.broadcast_arrays(*(np.asarray(coded[c.name], float) for c in self.codings))
+        x = dict(zip((c.name for c in self.codings), arrays, strict=True))
+        rows = np.stack([np.ones(arrays[0].shape)] + [_term_values(t, x) for t in self.terms])
+        centre = self.predict_coded(coded)
+        df = self.statistics.get("df_resid", math.nan)
+        s = self.statistics.get("s", math.nan)
+        if self.xtx_inv is None or not df > 0.5 or not math.isfinite(s):
+            nan = np.full(centre.shape, math.nan)
+            return nan, nan.copy()
+        var = np.einsum("i...,ij,j...->...", rows, self.xtx_inv, rows)
+        half = float(stats.t.ppf(0.5 + level / 2.0, df)) * s * np.sqrt(var)
+        return centre - half, centre + half
 
     def extent(self) -> dict[str, tuple[float, float]]:
         """The coded range the runs span, per factor [-]."""
@@ -578,6 +614,7 @@ def fit_response_surface(
         stationary=None,
         points=points[[*varying, "y"]],
         notes=tuple(notes),
+        xtx_inv=xtx_inv,
     )
     object.__setattr__(fit, "stationary", _stationary(fit))
     return fit
@@ -711,3 +748,247 @@ def save_surface_tables(fits: Mapping[str, SurfaceFit], directory: str | Path) -
             table.to_csv(path, index=False)
             written.append(path)
     return written
+
+
+# --- response optimizer ----------------------------------------------------------------------
+
+#: Grid points per factor of the optimizer's first search, by number of factors (at most
+#: about 10^5 points in all) [-].
+_GRID = {1: 201, 2: 101, 3: 41, 4: 17, 5: 11, 6: 7}
+
+
+@dataclass(frozen=True)
+class Goal:
+    """What is wanted of one response, as a desirability function (Derringer and Suich 1980;
+    Minitab's Response Optimizer).
+
+    Parameters
+    ----------
+    response
+        The response column, e.g. ``"MU"`` or ``"log10_V_mm3"``.
+    kind
+        ``"minimize"``: desirability 1 at or below ``lower``, 0 at or above ``upper``;
+        ``"maximize"``: 0 at or below ``lower``, 1 at or above ``upper``; ``"target"``: 1 at
+        ``target``, 0 at or beyond ``lower`` and ``upper``.
+    lower, upper
+        The limits [response unit], ``lower < upper``.
+    target
+        The target [response unit], strictly between the limits (``"target"`` only).
+    weight
+        Shape of the desirability between its limits [-]: 1 linear, above 1 stricter, below 1
+        more lenient.
+    importance
+        Weight of this response in the composite desirability [-].
+    """
+
+    response: str
+    kind: Literal["minimize", "maximize", "target"]
+    lower: float
+    upper: float
+    target: float | None = None
+    weight: float = 1.0
+    importance: float = 1.0
+
+    def __post_init__(self) -> None:
+        where = f"goal of {self.response}"
+        if self.kind not in ("minimize", "maximize", "target"):
+            raise ValueError(
+                f"{where}: kind must be 'minimize', 'maximize' or 'target', got {self.kind!r}"
+            )
+        if not (math.isfinite(self.lower) and math.isfinite(self.upper)):
+            raise ValueError(f"{where}: the limits must be finite numbers")
+        if not self.lower < self.upper:
+            raise ValueError(
+                f"{where}: lower limit {self.lower:g} must be below upper limit {self.upper:g}"
+            )
+        if self.kind == "target":
+            if self.target is None or not self.lower < self.target < self.upper:
+                raise ValueError(
+                    f"{where}: a target goal needs a target strictly between {self.lower:g} and "
+                    f"{self.upper:g}, got {self.target!r}"
+                )
+        elif self.target is not None:
+            raise ValueError(f"{where}: only a 'target' goal takes a target")
+        for key in ("weight", "importance"):
+            value = getattr(self, key)
+            if not (math.isfinite(value) and 0.1 <= value <= 10):
+                raise ValueError(f"{where}: {key} must be between 0.1 and 10, got {value!r}")
+
+    def desirability(self, y: Any) -> np.ndarray:
+        """Desirability [-] (0 to 1) of response values ``y`` [response unit]."""
+        y = np.asarray(y, dtype=float)
+        span = self.upper - self.lower
+        if self.kind == "minimize":
+            d = (self.upper - y) / span
+        elif self.kind == "maximize":
+            d = (y - self.lower) / span
+        else:
+            target = float(self.target)  # type: ignore[arg-type]
+            d = np.where(
+                y <= target,
+                (y - self.lower) / (target - self.lower),
+                (self.upper - y) / (self.upper - target),
+            )
+        return np.power(np.clip(d, 0.0, 1.0), self.weight)
+
+
+@dataclass(frozen=True)
+class Optimum:
+    """The best factor setting the optimizer found (:func:`optimize`).
+
+    Attributes
+    ----------
+    coded
+        Each factor's coded value [-].
+    levels
+        Each factor's level [design unit].
+    predicted
+        Each response's fitted value there [response unit].
+    interval
+        Each response's 95 % confidence interval of the fitted mean there [response unit]
+        (NaN without residual degrees of freedom).
+    desirability
+        Each response's desirability there [-].
+    composite
+        The composite desirability, the importance-weighted geometric mean of the
+        individual ones [-]; 0 when some response is outside its limits everywhere searched.
+    on_boundary
+        The factors at an end of the searched region.
+    note
+        Why the setting is a compromise, if it is (empty otherwise).
+    """
+
+    coded: dict[str, float]
+    levels: dict[str, float]
+    predicted: dict[str, float]
+    interval: dict[str, tuple[float, float]]
+    desirability: dict[str, float]
+    composite: float
+    on_boundary: tuple[str, ...]
+    note: str = ""
+
+
+def _composite(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) -> np.ndarray:
+    total = sum(g.importance for g in goals)
+    log_d = 0.0
+    for g in goals:
+        with np.errstate(divide="ignore"):
+            log_d = log_d + g.importance * np.log(g.desirability(values[g.response]))
+    return np.exp(log_d / total)
+
+
+def _mean_desirability(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) -> np.ndarray:
+    total = sum(g.importance for g in goals)
+    weighted = [g.importance * g.desirability(values[g.response]) for g in goals]
+    return np.asarray(np.sum(weighted, axis=0) / total, dtype=float)
+
+
+def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
+    """The factor setting that best meets every goal: the largest composite desirability of
+    the fitted surfaces over the region the runs span (Derringer and Suich 1980, as Minitab's
+    Response Optimizer).
+
+    The region is the box of the coded factors' ranges in the runs (for a face-centred
+    composite design, the cube of the factors' levels). A grid over it (:data:`_GRID` points
+    per factor) is searched first; the ten best grid points are then refined by bounded
+    quasi-Newton steps (L-BFGS-B), and the best point of all is returned. When some goal is
+    missed everywhere (the composite desirability is 0 over the whole grid), the setting of
+    the largest importance-weighted mean desirability is returned instead, with a note.
+
+    Parameters
+    ----------
+    fits
+        Response to fitted surface (:func:`response_surfaces`), all over the same factors.
+    goals
+        One goal per response optimized (at least one; each response once, with a fit).
+
+    Returns
+    -------
+    Optimum
+
+    Raises
+    ------
+    ValueError
+        No goal, a response without a fit or named twice, or fits over different factors.
+
+    References
+    ----------
+    G. Derringer and R. Suich, "Simultaneous optimization of several response variables",
+    Journal of Quality Technology 12(4), 214-219, 1980.
+    """
+    from scipy import optimize as sciopt
+
+    goals = list(goals)
+    if not goals:
+        raise ValueError("optimize: give at least one goal")
+    names = [g.response for g in goals]
+    for name in names:
+        if names.count(name) > 1:
+            raise ValueError(f"optimize: response {name!r} has two goals")
+        if name not in fits:
+            raise ValueError(
+                f"optimize: no fitted surface of {name!r} (responses: {', '.join(fits)})"
+            )
+    chosen = {g.response: fits[g.response] for g in goals}
+    first = next(iter(chosen.values()))
+    factors = [c.name for c in first.codings]
+    for name, fit in chosen.items():
+        if [c.name for c in fit.codings] != factors:
+            raise ValueError(
+                f"optimize: the surfaces are over different factors ({name!r}: "
+                f"{[c.name for c in fit.codings]}, not {factors})"
+            )
+    extent = first.extent()
+    bounds = [extent[n] for n in factors]
+    k = len(factors)
+
+    def values_at(coded: Mapping[str, Any]) -> dict[str, np.ndarray]:
+        return {r: fit.predict_coded(coded) for r, fit in chosen.items()}
+
+    axes = [np.linspace(lo, hi, _GRID.get(k, 5)) for lo, hi in bounds]
+    mesh = np.meshgrid(*axes, indexing="ij")
+    grid = {n: m.ravel() for n, m in zip(factors, mesh, strict=True)}
+    score = _composite
+    note = ""
+    if not np.any(_composite(goals, values_at(grid)) > 0):
+        score = _mean_desirability  # some goal is missed everywhere: the nearest compromise
+        note = (
+            "no setting in the region meets every goal's limits (composite desirability 0 "
+            "everywhere); this is the setting of the largest mean desirability instead"
+        )
+    scores = score(goals, values_at(grid))
+    starts = np.argsort(-scores, kind="stable")[:10]
+    best_x = np.array([grid[n][starts[0]] for n in factors])
+    best_score = float(scores[starts[0]])
+
+    def loss(x: np.ndarray) -> float:
+        point = dict(zip(factors, x, strict=True))
+        return -float(score(goals, values_at(point)))
+
+    if best_score > 0:  # a score of 0 has no slope to follow
+        for i in starts:
+            x0 = np.array([grid[n][i] for n in factors])
+            res = sciopt.minimize(loss, x0, method="L-BFGS-B", bounds=bounds)
+            if -res.fun > best_score + 1e-12:
+                best_x, best_score = np.clip(res.x, *np.array(bounds).T), -float(res.fun)
+    coded = {n: float(x) for n, x in zip(factors, best_x, strict=True)}
+    predicted = {r: float(v) for r, v in values_at(coded).items()}
+    interval = {}
+    for r, fit in chosen.items():
+        lo, hi = fit.confidence_interval(coded)
+        interval[r] = (float(lo), float(hi))
+    span = {n: hi - lo for n, (lo, hi) in extent.items()}
+    return Optimum(
+        coded=coded,
+        levels={c.name: float(c.decode(coded[c.name])) for c in first.codings},
+        predicted=predicted,
+        interval=interval,
+        desirability={g.response: float(g.desirability(predicted[g.response])) for g in goals},
+        composite=float(_composite(goals, {r: np.asarray(v) for r, v in predicted.items()})),
+        on_boundary=tuple(
+            n
+            for n in factors
+            if min(abs(coded[n] - extent[n][0]), abs(coded[n] - extent[n][1])) <= 1e-6 * span[n]
+        ),
+        note=note,
+    )

@@ -73,3 +73,14 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Central composite design (face-centred, α = 1), 2 factors" in html
     assert '<section id="surface">' in html and "Coded -1 to +1: A 10 to 20 %, WR log10" in html
+    # the response optimizer on the same folder: V given in mm³, the setting inside the box
+    res = CliRunner().invoke(
+        app,
+        ["optimize", str(out), "-g", "V:min:0:50", "-g", "MU:target:0.1:0.3:0.6"],
+        env={"COLUMNS": "160"},
+    )
+    assert res.exit_code == 0, res.output
+    assert "composite desirability: " in res.output and "V [mm³]" in res.output
+    assert "target 0.1 / 0.3 / 0.6" in res.output and "minimize 0 / 50" in res.output
+    bad = CliRunner().invoke(app, ["optimize", str(out), "-g", "MU:target:0.3:0.2"])
+    assert bad.exit_code == 2 and "target takes 3 numbers" in bad.output

@@ -23,8 +23,10 @@ from brakeca.rsm import (
     ANOVA_COLUMNS,
     COEFFICIENT_COLUMNS,
     Coding,
+    Goal,
     coding_of,
     fit_response_surface,
+    optimize,
     response_surfaces,
     save_surface_tables,
     stationary_table,
@@ -235,3 +237,92 @@ def test_save_surface_tables(tmp_path) -> None:
     assert summary.loc[0, "stationary_kind"] == "maximum"
     assert summary.loc[0, "stationary_x1"] == pytest.approx(0.389, abs=5e-4)
     assert fit.equation().startswith("yield = 79.94 + 0.995 x1")
+
+
+def _bowl(centre: tuple[float, float], noise: float = 0.0) -> pd.DataFrame:
+    """A 3 x 3 grid plus two centre runs of a bowl with its minimum at ``centre`` (coded)."""
+    x = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=2)) + [(0.0, 0.0)] * 2)
+    rng = np.random.default_rng(8)
+    y = 1.0 + (x[:, 0] - centre[0]) ** 2 + 0.5 * (x[:, 1] - centre[1]) ** 2
+    return pd.DataFrame({"p": x[:, 0], "q": x[:, 1], "y": y + noise * rng.standard_normal(11)})
+
+
+_PQ = (Coding("p", -1.0, 1.0), Coding("q", -1.0, 1.0))
+
+
+def test_desirability_functions() -> None:
+    low = Goal("y", "minimize", 1.0, 3.0)
+    np.testing.assert_allclose(low.desirability([0.5, 1.0, 2.0, 3.0, 4.0]), [1, 1, 0.5, 0, 0])
+    high = Goal("y", "maximize", 1.0, 3.0, weight=2.0)
+    np.testing.assert_allclose(high.desirability([1.0, 2.0, 3.5]), [0, 0.25, 1])
+    target = Goal("y", "target", 1.0, 3.0, target=1.5)
+    np.testing.assert_allclose(
+        target.desirability([1.0, 1.25, 1.5, 2.25, 3.0]), [0, 0.5, 1, 0.5, 0]
+    )
+    for kwargs, message in [
+        ({"kind": "minimize", "lower": 2.0, "upper": 1.0}, "must be below upper"),
+        ({"kind": "target", "lower": 1.0, "upper": 2.0}, "strictly between"),
+        ({"kind": "target", "lower": 1.0, "upper": 2.0, "target": 2.0}, "strictly between"),
+        ({"kind": "maximize", "lower": 1.0, "upper": 2.0, "target": 1.5}, "only a 'target'"),
+        ({"kind": "best", "lower": 1.0, "upper": 2.0}, "kind must be"),
+        ({"kind": "minimize", "lower": 1.0, "upper": 2.0, "weight": 0.0}, "weight must be"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            Goal("y", **kwargs)
+
+
+def test_optimize_finds_the_minimum_of_a_bowl_inside_the_region() -> None:
+    fit = fit_response_surface(_bowl((0.3, -0.2)), _PQ, "y")
+    best = optimize({"y": fit}, [Goal("y", "minimize", 0.5, 3.0)])
+    assert best.coded["p"] == pytest.approx(0.3, abs=1e-4)
+    assert best.coded["q"] == pytest.approx(-0.2, abs=1e-4)
+    assert best.predicted["y"] == pytest.approx(1.0, abs=1e-8)
+    assert best.composite == pytest.approx(0.8, abs=1e-6)  # (3 - 1) / (3 - 0.5)
+    assert best.on_boundary == () and best.note == ""
+    # a target above the minimum: a point of the contour y = 1.5, every one as good
+    best = optimize({"y": fit}, [Goal("y", "target", 1.0, 3.0, target=1.5)])
+    assert best.predicted["y"] == pytest.approx(1.5, abs=1e-5) and best.composite > 0.9999
+
+
+def test_optimize_weighs_two_conflicting_responses() -> None:
+    """y rises with p and z falls with it: maximizing both puts p where the weighted geometric
+    mean of the two desirabilities peaks."""
+    data = _bowl((0.0, 0.0))
+    data["y"] = 2.0 + data["p"]
+    data["z"] = 2.0 - data["p"] + 0.1 * data["q"]
+    fits = {r: fit_response_surface(data, _PQ, r) for r in ("y", "z")}
+    goals = [Goal("y", "maximize", 1.0, 3.0), Goal("z", "maximize", 0.9, 3.1, importance=3.0)]
+    best = optimize(fits, goals)
+    # composite = (d_y d_z^3)^(1/4), d_y = (1 + p) / 2, d_z = (1.2 - p) / 2.2 at q = +1:
+    # its maximum is where 1 / (1 + p) = 3 / (1.2 - p), p = -0.45
+    assert best.coded["q"] == pytest.approx(1.0) and "q" in best.on_boundary
+    assert best.coded["p"] == pytest.approx(-0.45, abs=1e-4)
+    d = best.desirability
+    assert best.composite == pytest.approx((d["y"] * d["z"] ** 3) ** 0.25, rel=1e-9)
+
+
+def test_optimize_reports_a_goal_missed_everywhere_and_bad_requests() -> None:
+    fit = fit_response_surface(_bowl((0.3, -0.2)), _PQ, "y")
+    best = optimize({"y": fit}, [Goal("y", "maximize", 10.0, 20.0)])
+    assert best.composite == 0.0 and "no setting in the region meets" in best.note
+    with pytest.raises(ValueError, match="at least one goal"):
+        optimize({"y": fit}, [])
+    with pytest.raises(ValueError, match="no fitted surface of 'z'"):
+        optimize({"y": fit}, [Goal("z", "minimize", 0.0, 1.0)])
+    with pytest.raises(ValueError, match="two goals"):
+        optimize({"y": fit}, [Goal("y", "minimize", 0.0, 1.0)] * 2)
+    renamed = _bowl((0.0, 0.0)).rename(columns={"q": "r"})
+    other = fit_response_surface(renamed, [_PQ[0], Coding("r", -1, 1)], "y")
+    with pytest.raises(ValueError, match="different factors"):
+        optimize({"y": fit, "w": other}, [Goal("y", "minimize", 0, 5), Goal("w", "minimize", 0, 5)])
+
+
+def test_confidence_interval_of_the_mean_is_statsmodels() -> None:
+    frame = _montgomery().rename(columns={"yield": "y"})
+    fit = fit_response_surface(frame, _CODED, "y")
+    model = smf.ols("y ~ x1 + x2 + I(x1**2) + I(x2**2) + x1:x2", frame).fit()
+    at = pd.DataFrame({"x1": [0.3, 1.0, -1.2], "x2": [0.2, -1.0, 0.5]})
+    expected = model.get_prediction(at).summary_frame(alpha=0.05)
+    low, high = fit.confidence_interval({"x1": at["x1"].to_numpy(), "x2": at["x2"].to_numpy()})
+    np.testing.assert_allclose(low, expected["mean_ci_lower"], rtol=1e-10)
+    np.testing.assert_allclose(high, expected["mean_ci_upper"], rtol=1e-10)
