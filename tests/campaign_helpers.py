@@ -56,6 +56,17 @@ def tiny(max_stops: int) -> dict:
     }
 
 
+def cli_ok(*args: str) -> str:
+    """Run the command line in-process, check that it exits 0 and return its output."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    res = CliRunner().invoke(app, list(args))
+    assert res.exit_code == 0, res.output
+    return res.output
+
+
 def quiet() -> Console:
     """A console that writes to memory."""
     return Console(file=io.StringIO(), width=200)

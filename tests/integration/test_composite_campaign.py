@@ -8,7 +8,7 @@ import tomllib
 
 import numpy as np
 import pandas as pd
-from campaign_helpers import TINY_CLI
+from campaign_helpers import TINY_CLI, cli_ok
 from typer.testing import CliRunner
 
 from brakeca.cli import app
@@ -35,17 +35,11 @@ coding = "log"
 """
 
 
-def _run(*args: str) -> str:
-    res = CliRunner().invoke(app, list(args))
-    assert res.exit_code == 0, res.output
-    return res.output
-
-
 def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path) -> None:
     design = tmp_path / "ccd.toml"
     design.write_text(CCD)
     out = tmp_path / "c"
-    _run("run", str(design), "-o", str(out), *TINY_CLI)
+    cli_ok("run", str(design), "-o", str(out), *TINY_CLI)
     summary = pd.read_csv(out / "summary.csv")
     assert list(summary["test"]) == list(range(1, 11))
     assert (summary["status"] == "ok").all()
@@ -59,7 +53,7 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
     assert saved["composite"] == {"alpha": "face", "center": 2}
     assert load_design(out / "design.toml").n_tests == 10
-    output = _run("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
+    output = cli_ok("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
     assert "0 run(s) computed, 10 reused" in output
     # the response surface: tables, figure and report section, from the summary's runs
     coefficients = pd.read_csv(out / "tables" / "surface_coefficients_MU.csv")

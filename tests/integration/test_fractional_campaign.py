@@ -7,10 +7,8 @@ from __future__ import annotations
 import tomllib
 
 import pandas as pd
-from campaign_helpers import TINY_CLI
-from typer.testing import CliRunner
+from campaign_helpers import TINY_CLI, cli_ok
 
-from brakeca.cli import app
 from brakeca.design import load_design
 
 FACTORS = """
@@ -30,17 +28,11 @@ FRACTION = 'name = "half"\nbase = "paper"\nroot_seed = 5\ngenerators = ["WR = -S
 TINY = TINY_CLI
 
 
-def _run(*args: str) -> str:
-    res = CliRunner().invoke(app, list(args))
-    assert res.exit_code == 0, res.output
-    return res.output
-
-
 def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     design = tmp_path / "half.toml"
     design.write_text(FRACTION)
     out = tmp_path / "c"
-    _run("run", str(design), "-o", str(out), *TINY)
+    cli_ok("run", str(design), "-o", str(out), *TINY)
     summary = pd.read_csv(out / "summary.csv")
     # the 2^(3-1) with WR = -S*A: coded WR is minus the product of S's and A's
     assert list(summary["test"]) == [1, 2, 3, 4]
@@ -51,7 +43,7 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
     assert saved["generators"] == ["WR = -S*A"]
     assert load_design(out / "design.toml").n_tests == 4
-    output = _run("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
+    output = cli_ok("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
     assert "0 run(s) computed, 4 reused" in output
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "2^(3-1) fractional factorial, resolution III: 4 tests." in html
@@ -66,7 +58,7 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     # its fold-over on S into the same folder: the first half's runs are reused
     folded = tmp_path / "folded.toml"
     folded.write_text(FRACTION.replace("root_seed = 5\n", 'root_seed = 5\nfoldover = ["S"]\n'))
-    output = _run("run", str(folded), "-o", str(out), *TINY)
+    output = cli_ok("run", str(folded), "-o", str(out), *TINY)
     assert "4 run(s) computed, 4 reused" in output
     summary = pd.read_csv(out / "summary.csv")
     assert list(summary["test"]) == list(range(1, 9))
@@ -82,13 +74,13 @@ def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:
         'name = "table"\nbase = "paper"\nroot_seed = 5\nruns_file = "runs.csv"\n' + FACTORS
     )
     out = tmp_path / "c"
-    _run("run", str(design), "-o", str(out), *TINY)
+    cli_ok("run", str(design), "-o", str(out), *TINY)
     summary = pd.read_csv(out / "summary.csv")
     assert list(summary["S"]) == [1.0, 0.0, 1.0] and list(summary["A"]) == [20.0, 10.0, 20.0]
     assert summary["seed"].nunique() == 3  # a repeated point is a test of its own
     saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
     assert "runs_file" not in saved and len(saved["runs"]) == 3  # inlined: no CSV needed
     (tmp_path / "runs.csv").unlink()
-    output = _run("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
+    output = cli_ok("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
     assert "0 run(s) computed, 3 reused" in output
     assert "Run table: 3 tests." in (out / "report.html").read_text(encoding="utf-8")

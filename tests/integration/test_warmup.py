@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -149,7 +150,6 @@ def test_ctrl_c_during_the_warm_up_gives_no_child_traceback(tmp_path):
     parent, interrupted in subprocess.run, kills it: no compiler traceback on the terminal,
     no child left behind. An empty cache makes the child compile (about 45 s), so the signal
     arrives while it works."""
-    import signal
     import time
 
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
@@ -173,15 +173,36 @@ def test_ctrl_c_during_the_warm_up_gives_no_child_traceback(tmp_path):
     )
     assert proc.stdout is not None
     assert proc.stdout.readline().strip() == "warming"
-    time.sleep(4.0)  # the child has imported numba and is compiling
-    children = _children(proc.pid)
+    # wait until the child runs and ignores SIGINT (on a loaded machine its start takes
+    # seconds; a signal before that would hit it, or the parent still inside Popen)
+    deadline = time.monotonic() + 120.0
+    children: list[int] = []
+    while time.monotonic() < deadline:
+        children = _children(proc.pid)
+        if children and all(_ignores_sigint(pid) for pid in children):
+            break
+        time.sleep(0.2)
     assert children, "the warm-up child should be running"
+    assert all(_ignores_sigint(pid) for pid in children), "the child should ignore SIGINT"
+    time.sleep(1.0)  # the child is compiling
     os.killpg(proc.pid, signal.SIGINT)
-    out, err = proc.communicate(timeout=30)
+    out, err = proc.communicate(timeout=60)
     assert out.strip() == "interrupted"
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     for pid in children:
         assert not _alive(pid)
+
+
+def _ignores_sigint(pid: int) -> bool:
+    """Whether process ``pid`` ignores SIGINT (its SigIgn mask in /proc holds signal 2)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    for line in status.splitlines():
+        if line.startswith("SigIgn:"):
+            return bool(int(line.split()[1], 16) >> (signal.SIGINT - 1) & 1)
+    return False
 
 
 def _children(pid: int) -> list[int]:
