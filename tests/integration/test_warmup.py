@@ -153,7 +153,10 @@ def test_ctrl_c_during_the_warm_up_gives_no_child_traceback(tmp_path):
     import time
 
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
-    script = (
+    script = (  # SIGINT as at a terminal, even where this test runs with it ignored (a
+        # job started with & by a non-interactive shell): Python then leaves it ignored
+        "import signal\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "import sys\n"
         "from brakeca._warmup import warm_up\n"
         "from brakeca.presets import load_preset\n"
