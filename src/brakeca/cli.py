@@ -848,7 +848,7 @@ def show_design(
             highlight=False,
             emoji=False,
         )
-    if loaded.is_composite:
+    if loaded.is_response_surface:
         _print_surface_model(loaded)
     structure = alias_structure(pd.DataFrame(combos), loaded.factors)
     chains = [

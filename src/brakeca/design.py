@@ -4,7 +4,7 @@ A design file (TOML, see ``presets/designs/paper.toml``) names a base parameter 
 of factors, each a configuration field with its levels. :meth:`Design.combinations` lists the
 design's *tests* (one factor-level combination each) and :meth:`Design.points` resolves one
 validated :class:`~brakeca.config.SimulationConfig` and one seed per run (test and
-replicate). A design is one of four kinds (:attr:`Design.kind`):
+replicate). A design is one of five kinds (:attr:`Design.kind`):
 
 Full factorial (the default)
     Every combination of the factors' levels, in the paper's test order: the first factor
@@ -35,6 +35,10 @@ Central composite design (key ``composite``: a table with ``alpha`` and ``center
     ``"orthogonal"`` or a number. A factor with ``coding = "log"`` is coded on log10 of its
     level (its centre is the geometric mean). The tests are written out as a run table when
     the design is validated, with each factor's levels, labels and ``coded_range``.
+Box-Behnken design (key ``box_behnken``: a table with ``center``)
+    The other response-surface design: over 3 to 5 such factors, for every pair of factors
+    the 2^2 factorial of their levels with the others at their centre, then the centre
+    points; three levels per factor and no run with every factor at an extreme.
 
 A fraction or a run table may be folded over (key ``foldover``): its tests are followed by
 the same tests with the named two-level factors (or all, ``"all"``) at their other level. The
@@ -75,7 +79,7 @@ import tomllib
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal, NamedTuple
+from typing import Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
 import tomli_w
@@ -102,6 +106,7 @@ __all__ = [
     "MAX_GENERATORS",
     "RESERVED_NAMES",
     "STANDARD_FRACTIONS",
+    "BoxBehnken",
     "Composite",
     "Design",
     "Factor",
@@ -1105,6 +1110,96 @@ class Composite(_Frozen):
             return f"{self.alpha}, α = {alpha:.4g}"
         return f"α = {alpha:.4g}"
 
+    #: the design file's key, the design's name, and the factors it takes [-]
+    key: ClassVar[str] = "composite"
+    title: ClassVar[str] = "central composite design"
+    factor_range: ClassVar[tuple[int, int]] = _COMPOSITE_FACTORS
+
+    def kind(self, k: int) -> str:
+        """:attr:`Design.kind` of this design over ``k`` factors."""
+        return (
+            f"{self.title} ({self.describe(k)}), {k} factors: {2**k} cube, {2 * k} axial and "
+            f"{_points(self.center, 'centre point')}"
+        )
+
+    def table(
+        self, factors: Sequence[tuple[str, float, float, str]]
+    ) -> tuple[list[list[float]], list[list[str]], list[dict[str, float]]]:
+        """The levels, labels and tests (:func:`_composite_table`)."""
+        return _composite_table(factors, self)
+
+
+def _points(n: int, what: str) -> str:
+    return f"{n} {what}{'s' if n != 1 else ''}"
+
+
+#: The factors a Box-Behnken design takes [-]: 3 to 5, whose designs pair every two factors.
+_BOX_BEHNKEN_FACTORS = (3, 5)
+
+
+class BoxBehnken(_Frozen):
+    """A Box-Behnken design (a response-surface design, as Minitab's "Create Response
+    Surface Design"): for every pair of factors the 2^2 factorial of their two levels (coded
+    -1 and +1) with the other factors at their centre (0), then ``center`` centre points.
+    Three levels per factor and no run at a corner of the cube (every factor at an extreme
+    at once): 12 + centre runs for 3 factors, 24 + centre for 4, 40 + centre for 5.
+
+    Parameters
+    ----------
+    center
+        Centre points [-], as for :class:`Composite`.
+
+    References
+    ----------
+    G. E. P. Box and D. W. Behnken, "Some new three level designs for the study of
+    quantitative variables", Technometrics 2(4), 455-475, 1960; Montgomery (2013), §11.4.2.
+    """
+
+    center: int = Field(3, ge=1, le=100)
+
+    key: ClassVar[str] = "box_behnken"
+    title: ClassVar[str] = "Box-Behnken design"
+    factor_range: ClassVar[tuple[int, int]] = _BOX_BEHNKEN_FACTORS
+
+    def describe(self, k: int) -> str:
+        """``"Box-Behnken"`` (the same for every ``k``)."""
+        return "Box-Behnken"
+
+    def kind(self, k: int) -> str:
+        """:attr:`Design.kind` of this design over ``k`` factors."""
+        edges = 4 * k * (k - 1) // 2
+        return (
+            f"{self.title}, {k} factors: {edges} edge points (each pair of factors at - and +, "
+            f"the others at 0) and {_points(self.center, 'centre point')}"
+        )
+
+    def table(
+        self, factors: Sequence[tuple[str, float, float, str]]
+    ) -> tuple[list[list[float]], list[list[str]], list[dict[str, float]]]:
+        """The levels (low, centre, high), labels (``-``, ``0``, ``+``) and tests: for each
+        pair of factors in design order, the 2^2 factorial (the first of the pair fastest, -1
+        first) with the others at 0; then the centre points."""
+        coded = [-1.0, 0.0, 1.0]
+        levels = [
+            [_decode(low, high, coding, x) for x in coded] for _, low, high, coding in factors
+        ]
+        k = len(factors)
+        points = []
+        for i, j in itertools.combinations(range(k), 2):
+            for xj, xi in itertools.product((-1.0, 1.0), repeat=2):
+                point = [0.0] * k
+                point[i], point[j] = xi, xj
+                points.append(point)
+        points += [[0.0] * k] * self.center
+        tests = [
+            {
+                name: levels[m][coded.index(x)]
+                for m, ((name, *_), x) in enumerate(zip(factors, p, strict=True))
+            }
+            for p in points
+        ]
+        return levels, [["-", "0", "+"] for _ in factors], tests
+
 
 def _composite_table(
     factors: Sequence[tuple[str, float, float, str]], composite: Composite
@@ -1213,6 +1308,9 @@ class Design(_Frozen):
         axial levels), its ``labels`` ``-α``, ``-``, ``0``, ``+``, ``+α``, its
         ``coded_range`` [low, high], and ``runs`` the tests (in Minitab's standard order);
         a design read back with its ``runs`` is checked against them.
+    box_behnken
+        A Box-Behnken design (:class:`BoxBehnken`) over 3 to 5 numeric factors of two levels
+        each: written out as for ``composite``, with the levels low, centre and high.
     """
 
     name: str = Field(min_length=1)
@@ -1228,6 +1326,7 @@ class Design(_Frozen):
     runs_file: Path | None = None
     foldover: tuple[str, ...] = ()
     composite: Composite | None = None
+    box_behnken: BoxBehnken | None = None
 
     @field_validator("foldover", mode="before")
     @classmethod
@@ -1313,36 +1412,46 @@ class Design(_Frozen):
     @model_validator(mode="before")
     @classmethod
     def _composite_runs(cls, data: Any) -> Any:
-        """``composite``: write the central composite design's tests out as ``runs`` and each
-        factor's levels, labels and coded range (unless ``runs`` is there already, as in a
-        design written by :meth:`to_toml`; :meth:`_check_composite` checks it then)."""
-        if not isinstance(data, Mapping) or data.get("composite") is None:
+        """``composite`` or ``box_behnken``: write the response-surface design's tests out as
+        ``runs`` and each factor's levels, labels and coded range (unless ``runs`` is there
+        already, as in a design written by :meth:`to_toml`; :meth:`_check_composite` checks
+        it then)."""
+        if not isinstance(data, Mapping):
             return data
+        given = [m for m in (Composite, BoxBehnken) if data.get(m.key) is not None]
+        if not given:
+            return data
+        if len(given) > 1:
+            raise ValueError(
+                "composite, box_behnken: a design is a central composite design or a "
+                "Box-Behnken design, not both; remove one of them"
+            )
+        model = given[0]
+        title = model.title
         others = {
             "fraction_runs": "a fractional factorial (fraction_runs)",
             "generators": "a fractional factorial (generators)",
             "runs_file": "a run table read from a file (runs_file)",
-            "foldover": "folded over (its axial and centre points have no other level)",
+            "foldover": "folded over (its centre points have no other level)",
         }
         for key, what in others.items():
             if key in data and data[key] not in (None, "", (), []):
                 raise ValueError(
-                    f"composite, {key}: a central composite design (composite) makes its own "
-                    f"tests, so it cannot also be {what}; remove one of them"
+                    f"{model.key}, {key}: a {title} ({model.key}) makes its own tests, so it "
+                    f"cannot also be {what}; remove one of them"
                 )
-        raw = data["composite"]
+        raw = data[model.key]
         try:
-            composite = raw if isinstance(raw, Composite) else Composite.model_validate(raw)
+            surface = raw if isinstance(raw, model) else model.model_validate(raw)
         except ValidationError:
             return data  # the field's own error follows
         factors = data.get("factors")
         if data.get("runs") is not None or not isinstance(factors, list | tuple):
             return data
-        low_k, high_k = _COMPOSITE_FACTORS
+        low_k, high_k = model.factor_range
         if not low_k <= len(factors) <= high_k:
             raise ValueError(
-                f"composite: a central composite design takes {low_k} to {high_k} factors, got "
-                f"{len(factors)}"
+                f"{model.key}: a {title} takes {low_k} to {high_k} factors, got {len(factors)}"
             )
         specs: list[tuple[str, float, float, str]] = []
         tables: list[dict[str, Any]] = []
@@ -1354,39 +1463,38 @@ class Design(_Frozen):
             key, name = f"factors.{i}", f["name"]
             if f.get("choices") is not None or f.get("field") == "cycle":
                 raise ValueError(
-                    f"{key}.choices: factor {name!r} is categorical; a central composite "
-                    "design takes numeric factors only (its centre and axial points lie "
-                    "between and beyond the levels)"
+                    f"{key}.choices: factor {name!r} is categorical; a {title} takes numeric "
+                    "factors only (its centre points lie between the levels)"
                 )
             levels = f.get("levels")
             if not isinstance(levels, list | tuple) or not all(map(_finite_number, levels)):
                 return data  # the levels' own error follows
             if len(levels) != 2 or not levels[0] < levels[1]:
                 raise ValueError(
-                    f"{key}.levels: factor {name!r}: a central composite design takes exactly "
-                    "two levels per factor, [low, high] with low < high (its cube points, "
-                    f"coded -1 and +1; it adds the centre and axial levels), got {list(levels)}"
+                    f"{key}.levels: factor {name!r}: a {title} takes exactly two levels per "
+                    "factor, [low, high] with low < high (coded -1 and +1; it adds the "
+                    f"others), got {list(levels)}"
                 )
             low, high = levels
             if f.get("labels") is not None:
                 raise ValueError(
-                    f"{key}.labels: factor {name!r}: a composite design labels its levels "
-                    "itself (-α, -, 0, +, +α); remove labels"
+                    f"{key}.labels: factor {name!r}: a {title} labels its levels itself (-, "
+                    "0, + and -α, +α); remove labels"
                 )
             coded_range = f.get("coded_range")
             if coded_range is not None and (
                 not isinstance(coded_range, list | tuple) or list(coded_range) != [low, high]
             ):
                 raise ValueError(
-                    f"{key}.coded_range: factor {name!r}: a central composite design codes "
-                    f"its levels [low, high] = {[low, high]} as -1 and +1; remove coded_range"
+                    f"{key}.coded_range: factor {name!r}: a {title} codes its levels [low, "
+                    f"high] = {[low, high]} as -1 and +1; remove coded_range"
                 )
             coding = f.get("coding", "linear")
             if coding not in ("linear", "log") or (coding == "log" and low <= 0):
                 return data  # the factor's own error follows
             specs.append((name, low, high, coding))
             tables.append(dict(f))
-        levels_of, labels_of, tests = _composite_table(specs, composite)
+        levels_of, labels_of, tests = surface.table(specs)
         rewritten = [
             {**f, "levels": levels, "labels": labels, "coded_range": [low, high]}
             for f, levels, labels, (_, low, high, _) in zip(
@@ -1436,7 +1544,12 @@ class Design(_Frozen):
             self._check_foldover(table)
         if self.runs is not None:
             object.__setattr__(self, "runs", self._checked_runs(self.runs))
-        if self.composite is not None:
+        if self.composite is not None and self.box_behnken is not None:
+            raise ValueError(
+                "composite, box_behnken: a design is a central composite design or a "
+                "Box-Behnken design, not both; remove one of them"
+            )
+        if self.surface_design is not None:
             self._check_composite()
         if self.runs is not None or self.runs_file is None:
             n_runs = self.n_tests * self.replicates
@@ -1456,29 +1569,30 @@ class Design(_Frozen):
             A categorical factor, one without ``coded_range``, levels or tests other than
             the design's; the message names the field.
         """
-        assert self.composite is not None
-        low_k, high_k = _COMPOSITE_FACTORS
+        surface = self.surface_design
+        assert surface is not None
+        low_k, high_k = surface.factor_range
         k = len(self.factors)
         if not low_k <= k <= high_k:
             raise ValueError(
-                f"composite: a central composite design takes {low_k} to {high_k} factors, got {k}"
+                f"{surface.key}: a {surface.title} takes {low_k} to {high_k} factors, got {k}"
             )
         specs: list[tuple[str, float, float, str]] = []
         for i, f in enumerate(self.factors):
             if f.categorical:
                 raise ValueError(
-                    f"factors.{i}.choices: factor {f.name!r} is categorical; a central "
-                    "composite design takes numeric factors only"
+                    f"factors.{i}.choices: factor {f.name!r} is categorical; a "
+                    f"{surface.title} takes numeric factors only"
                 )
             if f.coded_range is None:
                 raise ValueError(
-                    f"factors.{i}.coded_range: factor {f.name!r}: a central composite design "
-                    "given with its runs needs each factor's coded_range [low, high] (its cube "
-                    "points' levels); or remove runs to make the tests from the two levels"
+                    f"factors.{i}.coded_range: factor {f.name!r}: a {surface.title} given with "
+                    "its runs needs each factor's coded_range [low, high] (the levels coded -1 "
+                    "and +1); or remove runs to make the tests from the two levels"
                 )
             specs.append((f.name, *f.coded_range, f.coding))
-        levels_of, _, tests = _composite_table(specs, self.composite)
-        what = f"the central composite design ({self.composite.describe(k)})"
+        levels_of, _, tests = surface.table(specs)
+        what = f"the {surface.title} ({surface.describe(k)})"
         for i, (f, levels) in enumerate(zip(self.factors, levels_of, strict=True)):
             if len(f.levels) != len(levels) or not all(
                 math.isclose(a, b, rel_tol=1e-9) for a, b in zip(f.levels, levels, strict=False)
@@ -1599,6 +1713,17 @@ class Design(_Frozen):
         """Whether the design is a central composite design (``composite``)."""
         return self.composite is not None
 
+    @property
+    def surface_design(self) -> Composite | BoxBehnken | None:
+        """The response-surface design (``composite`` or ``box_behnken``), or None."""
+        return self.composite if self.composite is not None else self.box_behnken
+
+    @property
+    def is_response_surface(self) -> bool:
+        """Whether the design is a response-surface design: a central composite or a
+        Box-Behnken design, whose analysis fits a quadratic surface (:mod:`brakeca.rsm`)."""
+        return self.surface_design is not None
+
     def _parsed_generators(self) -> tuple[_Generator, ...]:
         return _parse_generators(self.generators, self.factors) if self.generators else ()
 
@@ -1677,12 +1802,8 @@ class Design(_Frozen):
         levels of WP), resolution IV"``; a central composite design:
         ``"central composite design (face-centred, α = 1), 3 factors: 8 cube, 6 axial and 3
         centre points"``)."""
-        if self.composite is not None:
-            k, center = len(self.factors), self.composite.center
-            return (
-                f"central composite design ({self.composite.describe(k)}), {k} factors: "
-                f"{2**k} cube, {2 * k} axial and {center} centre point{'s' if center > 1 else ''}"
-            )
+        if self.surface_design is not None:
+            return self.surface_design.kind(len(self.factors))
         folded = f" folded over on {', '.join(self.foldover)}" if self.foldover else ""
         if self.is_run_table:
             return f"run table{folded}"

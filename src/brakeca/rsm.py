@@ -926,8 +926,10 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         if names.count(name) > 1:
             raise ValueError(f"optimize: response {name!r} has two goals")
         if name not in fits:
+            fitted = ", ".join(fits) or "none"
             raise ValueError(
-                f"optimize: no fitted surface of {name!r} (responses: {', '.join(fits)})"
+                f"optimize: no fitted surface of {name!r} (fewer than two finished runs with a "
+                f"finite {name}?); surfaces fitted: {fitted}"
             )
     chosen = {g.response: fits[g.response] for g in goals}
     first = next(iter(chosen.values()))

@@ -152,7 +152,7 @@ def _design_info(design: Design) -> str:
         + (f" × {design.replicates} replicates = {runs} runs" if design.replicates > 1 else "")
         + "."
     )
-    if getattr(design, "is_composite", False):
+    if design.is_response_surface:
         text += (
             " Its factors are numeric with three or more levels: the section 'Response "
             "surface' fits the response as a quadratic in the coded factors (curvature and "
@@ -251,7 +251,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     tables = analysis.analyze(data, factors, RESPONSES)
     analysis.save_tables(tables, tables_dir)
     surfaces = {}
-    if getattr(result.design, "is_composite", False):  # a response-surface design
+    if result.design.is_response_surface:  # a response-surface design
         from brakeca import rsm
 
         surfaces = rsm.response_surfaces(data, factors, RESPONSES)

@@ -62,3 +62,18 @@ def test_a_composite_design_shows_its_coding_and_quadratic_model(tmp_path) -> No
     assert "from 9 runs" in text
     assert "3 residual df, 0 of them pure error" in text
     assert "│    5 │ -α │  0 │" in text
+
+
+def test_a_box_behnken_design_shows_its_quadratic_model(tmp_path) -> None:
+    bbd = tmp_path / "bbd.toml"
+    bbd.write_text(
+        'name = "bbd"\nbase = "paper"\nroot_seed = 1\n[box_behnken]\ncenter = 3\n'
+        '[[factors]]\nname = "WP"\nlevels = [1e-15, 1e-13]\ncoding = "log"\n'
+        '[[factors]]\nname = "A"\nlevels = [10, 20]\n'
+        '[[factors]]\nname = "WR"\nlevels = [1e-7, 1e-6]\ncoding = "log"\n'
+    )
+    text = _design(str(bbd))
+    assert text.startswith("bbd: Box-Behnken design, 3 factors: 12 edge points")
+    assert "10 coefficients (3 linear, 3 square, 3 interaction terms and the constant)" in text
+    assert "from 15 runs: 5 residual df, 2 of them pure error" in text
+    assert "│    1 │  - │ - │  0 │" in text

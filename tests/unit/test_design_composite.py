@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 import tomllib
 from typing import Any
 
@@ -310,7 +311,7 @@ def test_a_written_design_with_edited_tests_is_refused():
         ),
         (
             _data(_factors("mu0", "A", A={"labels": ["lo", "hi"]})),
-            r"factors.1.labels: factor 'A': a composite design labels its levels itself",
+            r"factors.1.labels: factor 'A': a central composite design labels its levels itself",
         ),
         (
             _data(_factors("mu0", "A", A={"coded_range": [10.0, 25.0]})),
@@ -446,3 +447,75 @@ def test_the_shipped_surface_design_is_a_face_centred_ccd_in_17_runs():
     assert all(1e-15 <= p.config.wear.specific_wear_rate <= 1e-13 for p in points)
     assert all(1e-7 <= p.config.wear.resin_wear_depth <= 1e-6 for p in points)
     assert len({p.run_id for p in points}) == 17
+
+
+# --- Box-Behnken designs ------------------------------------------------------------------
+
+
+def _bbd(names: str, **extra: Any) -> Design:
+    data = _data(names, **extra)
+    del data["composite"]
+    data.setdefault("box_behnken", {})
+    return design_from_dict(data, source="bbd.toml")
+
+
+@pytest.mark.parametrize(("names", "edges"), [("mu0 slope modulus", 12),
+                                              ("mu0 slope modulus bar", 24),
+                                              ("mu0 slope modulus bar A", 40)])  # fmt: skip
+def test_a_box_behnken_design_pairs_every_two_factors(names, edges):
+    design = _bbd(names, box_behnken={"center": 2})
+    k = len(names.split())
+    assert design.n_tests == edges + 2 and design.is_response_surface
+    assert not design.is_composite and design.surface_design is design.box_behnken
+    coded = [_coded(design, c) for c in design.combinations()]
+    for point in coded[:edges]:  # two factors at an extreme, the others at the centre
+        assert sorted(abs(round(x, 12)) for x in point) == [0.0] * (k - 2) + [1.0, 1.0]
+    assert {tuple(round(x, 12) + 0.0 for x in p) for p in coded[edges:]} == {(0.0,) * k}
+    pairs = {tuple(i for i, x in enumerate(p) if abs(x) > 0.5) for p in coded[:edges]}
+    assert pairs == set(itertools.combinations(range(k), 2))  # every pair, each 4 times
+    assert all(design.factor(n).labels == ("-", "0", "+") for n in design.factor_names)
+
+
+def test_box_behnken_standard_order_and_kind():
+    """Minitab's standard order for three factors: (A, B), (A, C), (B, C), each pair's 2^2
+    with its first factor fastest, then the centre points."""
+    design = _bbd("mu0 slope modulus")
+    expected = [
+        (-1, -1, 0), (1, -1, 0), (-1, 1, 0), (1, 1, 0),
+        (-1, 0, -1), (1, 0, -1), (-1, 0, 1), (1, 0, 1),
+        (0, -1, -1), (0, 1, -1), (0, -1, 1), (0, 1, 1),
+        (0, 0, 0), (0, 0, 0), (0, 0, 0),
+    ]  # fmt: skip
+    got = [tuple(round(x, 12) + 0.0 for x in _coded(design, c)) for c in design.combinations()]
+    assert got == [tuple(float(x) for x in p) for p in expected]
+    assert design.kind == (
+        "Box-Behnken design, 3 factors: 12 edge points (each pair of factors at - and +, the "
+        "others at 0) and 3 centre points"
+    )
+    back = design_from_dict(tomllib.loads(design.to_toml()), source="written")
+    assert back.combinations() == design.combinations() and back.box_behnken == design.box_behnken
+
+
+@pytest.mark.parametrize(
+    ("extra", "names", "message"),
+    [
+        ({"box_behnken": {}, "composite": {}}, "mu0 slope modulus", "not both"),
+        ({"box_behnken": {}}, "mu0 slope", "box_behnken: a Box-Behnken design takes 3 to 5"),
+        ({"box_behnken": {"center": 0}}, "mu0 slope modulus", "box_behnken.center"),
+        ({"box_behnken": {}, "generators": ["modulus = mu0*slope"]}, "mu0 slope modulus",
+         "box_behnken, generators"),
+    ],
+)  # fmt: skip
+def test_a_bad_box_behnken_design_names_the_field(extra, names, message):
+    data = _data(names, **extra)
+    if "composite" not in extra:
+        del data["composite"]
+    with pytest.raises(ConfigError, match=re.escape(message)):
+        design_from_dict(data, source="bbd.toml")
+
+
+def test_a_written_box_behnken_design_with_edited_tests_is_refused():
+    written = tomllib.loads(_bbd("mu0 slope modulus").to_toml())
+    written["runs"][0]["mu0"] = 0.6
+    with pytest.raises(ConfigError, match=r"runs\.0\.mu0: test 1 of the Box-Behnken design"):
+        design_from_dict(written, source="written")
