@@ -708,14 +708,20 @@ def optimize(
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
     ],
     goals: Annotated[
-        list[str],
-        typer.Option("--goal", "-g", metavar="GOAL", help=f"a response's goal: {_GOAL_FORM}"),
-    ],
+        list[str] | None,
+        typer.Option(
+            "--goal",
+            "-g",
+            metavar="GOAL",
+            help=f"a response's goal: {_GOAL_FORM}; by default the design's goals",
+        ),
+    ] = None,
 ) -> None:
     """Find the factor setting that best meets every goal, on the response surfaces fitted to
     a campaign's runs (a quadratic in the coded factors, brakeca.rsm; best from a central
     composite design): the largest composite desirability (Derringer and Suich), as Minitab's
-    Response Optimizer. Searches the region the runs span; numeric factors only."""
+    Response Optimizer. Searches the region the runs span; numeric factors only. Without
+    --goal, the goals of the campaign's design ([[goals]] in its file)."""
     from rich.table import Table
 
     from brakeca.campaign import load_campaign
@@ -724,8 +730,14 @@ def optimize(
     from brakeca.study import with_log_v
 
     try:
-        parsed = [_parse_goal(g) for g in goals]
+        parsed = [_parse_goal(g) for g in goals or ()]
         result = load_campaign(folder)
+        if not parsed:
+            parsed = [g.to_goal() for g in result.design.goals]
+        if not parsed:
+            raise ValueError(
+                f"{folder}: its design has no goals; give one or more: --goal {_GOAL_FORM}"
+            )
         fits = response_surfaces(
             with_log_v(result.summary), result.design.factors, [g.response for g in parsed]
         )
@@ -823,7 +835,7 @@ def show_design(
     from rich.table import Table
 
     from brakeca.analysis import alias_structure
-    from brakeca.design import load_design
+    from brakeca.design import GOAL_RESPONSES, load_design
 
     try:
         loaded = load_design(design)
@@ -850,6 +862,19 @@ def show_design(
         )
     if loaded.is_response_surface:
         _print_surface_model(loaded)
+    for goal in loaded.goals:
+        limits = [goal.lower, goal.target, goal.upper] if goal.goal == "target" else [
+            goal.lower, goal.upper
+        ]  # fmt: skip
+        unit = GOAL_RESPONSES[goal.response]
+        out.print(
+            f"goal: {goal.response} {goal.goal} "
+            + " / ".join(f"{v:g}" for v in limits)
+            + ("" if unit == "-" else f" {unit}"),
+            markup=False,
+            highlight=False,
+            emoji=False,
+        )
     structure = alias_structure(pd.DataFrame(combos), loaded.factors)
     chains = [
         f"{term} - {aliases[1:]}" if aliases.startswith("-") else f"{term} + {aliases}"

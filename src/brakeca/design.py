@@ -103,6 +103,7 @@ from brakeca.config import (
 )
 
 __all__ = [
+    "GOAL_RESPONSES",
     "MAX_GENERATORS",
     "RESERVED_NAMES",
     "STANDARD_FRACTIONS",
@@ -110,6 +111,7 @@ __all__ = [
     "Composite",
     "Design",
     "Factor",
+    "GoalSpec",
     "RunPoint",
     "design_from_dict",
     "execution_order",
@@ -1261,6 +1263,63 @@ def _composite_table(
     return levels, [list(labels) for _ in factors], tests
 
 
+#: The responses a design's goals may name, with the unit their limits are given in: MU [-],
+#: V in mm^3 per stop (the campaign's V is in m^3), log10 of V in mm^3 [-].
+GOAL_RESPONSES: dict[str, str] = {"MU": "-", "V": "mm³", "log10_V_mm3": "-"}
+
+
+class GoalSpec(_Frozen):
+    """What a response-surface design's report optimizes for one response
+    (:func:`brakeca.rsm.optimize`, Minitab's Response Optimizer); the limits in the unit of
+    :data:`GOAL_RESPONSES` (V in mm^3).
+
+    Parameters
+    ----------
+    response
+        ``"MU"``, ``"V"`` or ``"log10_V_mm3"``.
+    goal
+        ``"minimize"``, ``"maximize"`` or ``"target"``.
+    lower, upper
+        The desirability's limits [response unit; V in mm^3]: for ``minimize`` 1 at or below
+        ``lower`` and 0 at or above ``upper``; for ``maximize`` the reverse; for ``target``
+        0 at and beyond both.
+    target
+        The target [response unit], strictly between the limits (``target`` only).
+    weight, importance
+        The desirability's shape and the response's weight in the composite [-], 0.1 to 10.
+    """
+
+    response: Literal["MU", "V", "log10_V_mm3"]
+    goal: Literal["minimize", "maximize", "target"]
+    lower: float = Field(allow_inf_nan=False)
+    upper: float = Field(allow_inf_nan=False)
+    target: float | None = Field(None, allow_inf_nan=False)
+    weight: float = 1.0
+    importance: float = 1.0
+
+    @model_validator(mode="after")
+    def _as_goal(self) -> GoalSpec:
+        self.to_goal(scale=1.0)  # rsm.Goal's checks and messages, in the design's units
+        return self
+
+    def to_goal(self, scale: float | None = None) -> Any:
+        """The :class:`brakeca.rsm.Goal` in the campaign's units (V in m^3; ``scale``, the
+        factor from the design's unit to the campaign's, by default 1e-9 for V, else 1)."""
+        from brakeca.rsm import Goal
+
+        if scale is None:
+            scale = 1e-9 if self.response == "V" else 1.0
+        return Goal(
+            self.response,
+            self.goal,
+            self.lower * scale,
+            self.upper * scale,
+            target=None if self.target is None else self.target * scale,
+            weight=self.weight,
+            importance=self.importance,
+        )
+
+
 class Design(_Frozen):
     """A design over one base configuration: a full factorial, a regular two-level
     fractional factorial (``generators``), a run table (``runs``) or a central composite
@@ -1311,6 +1370,9 @@ class Design(_Frozen):
     box_behnken
         A Box-Behnken design (:class:`BoxBehnken`) over 3 to 5 numeric factors of two levels
         each: written out as for ``composite``, with the levels low, centre and high.
+    goals
+        What the report of a response-surface design optimizes (:class:`GoalSpec`, each
+        response once): it then finds the factor setting that best meets them all.
     """
 
     name: str = Field(min_length=1)
@@ -1327,6 +1389,7 @@ class Design(_Frozen):
     foldover: tuple[str, ...] = ()
     composite: Composite | None = None
     box_behnken: BoxBehnken | None = None
+    goals: tuple[GoalSpec, ...] = ()
 
     @field_validator("foldover", mode="before")
     @classmethod
@@ -1551,6 +1614,17 @@ class Design(_Frozen):
             )
         if self.surface_design is not None:
             self._check_composite()
+        if self.goals:
+            if self.surface_design is None:
+                raise ValueError(
+                    "goals: the report optimizes goals on the response surface of a "
+                    "central composite or Box-Behnken design; for another design, use "
+                    "'brakeca optimize FOLDER --goal ...' on its campaign"
+                )
+            named = [g.response for g in self.goals]
+            for i, name in enumerate(named):
+                if name in named[:i]:
+                    raise ValueError(f"goals.{i}.response: {name!r} has a goal already")
         if self.runs is not None or self.runs_file is None:
             n_runs = self.n_tests * self.replicates
             if n_runs > _MAX_RUNS:
@@ -2113,6 +2187,9 @@ class Design(_Frozen):
         ]
         data["generators"] = list(data["generators"]) or None  # a full factorial: no key
         data["foldover"] = list(data["foldover"]) or None
+        data["goals"] = [
+            {k: v for k, v in g.items() if v is not None} for g in data["goals"]
+        ] or None
         if data.get("runs") is not None:
             data["runs"] = [dict(row) for row in data["runs"]]
         if data.get("runs_file") is not None:

@@ -39,6 +39,7 @@ __all__ = [
     "plot_interactions",
     "plot_main_effects",
     "plot_mu_per_stop",
+    "plot_overlaid_contours",
     "plot_pareto",
     "plot_residuals",
     "plot_response_surface",
@@ -705,6 +706,126 @@ def plot_response_surface(
             ax.set_title("others at their centre: " + ", ".join(held), fontsize=8)
     axes[0].legend(fontsize=7, loc="best")
     return save_figure(fig, path)
+
+
+def plot_overlaid_contours(
+    fits: Mapping[str, Any],
+    goals: Sequence[Any],
+    optimum: Any,
+    path: str | Path | None = None,
+    *,
+    resolution: int = 121,
+) -> Figure:
+    """Minitab's overlaid contour plot: where every response meets its goal's limits, over
+    each pair of factors with the others at the optimum's levels. White: every response
+    within its limits (at or below a minimize goal's upper limit, at or above a maximize
+    goal's lower limit, between a target goal's limits); grey: some response outside. Each
+    response's limits drawn as its own contour lines; the optimum marked.
+
+    Parameters
+    ----------
+    fits
+        Response to :class:`brakeca.rsm.SurfaceFit`, all over the same factors.
+    goals
+        The :class:`brakeca.rsm.Goal` of each response drawn.
+    optimum
+        The :class:`brakeca.rsm.Optimum` of those goals.
+    path
+        Optional PNG file to write (150 dpi).
+    resolution
+        Grid points per axis [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per pair of factors (one for a single factor: the responses against it).
+    """
+    goals = list(goals)
+    first = fits[goals[0].response]
+    codings = list(first.codings)
+    extent = first.extent()
+    pairs = list(itertools.combinations(range(len(codings)), 2)) or [(0, 0)]
+    ncols = min(len(pairs), 3)
+    nrows = math.ceil(len(pairs) / ncols)
+    fig = _figure((4.3 * ncols + 0.4, 3.9 * nrows + 0.6))
+    axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
+    for ax in axes[len(pairs) :]:
+        ax.set_visible(False)
+    _suptitle(
+        fig,
+        "Where every response meets its limits (white), the others at the optimum: "
+        + ", ".join(_limits_text(g) for g in goals),
+    )
+    colours = ["#e15759", "#4e79a7", "#59a14f", "#f28e2b", "#b07aa1"]
+    for ax, (i, j) in zip(axes, pairs, strict=False):
+        a, b = codings[i], codings[j]
+        xa = np.linspace(extent[a.name][0], extent[a.name][1], resolution)
+        if i == j:  # one factor: each response against it, its limits as lines
+            coded = {a.name: xa}
+            for colour, goal in zip(itertools.cycle(colours), goals):
+                _, scale = _response_axis(goal.response)
+                y = fits[goal.response].predict_coded(coded) * scale
+                ax.plot(a.decode(xa), y, color=colour, label=goal.response)
+                for limit in _limits(goal):
+                    ax.axhline(limit * scale, color=colour, ls="--", lw=0.8)
+            ax.axvline(optimum.levels[a.name], color="black", lw=0.8)
+            ax.set_xlabel(a.axis_label)
+            if a.log:
+                ax.set_xscale("log")
+            ax.legend(fontsize=7)
+            continue
+        xb = np.linspace(extent[b.name][0], extent[b.name][1], resolution)
+        grid_a, grid_b = np.meshgrid(xa, xb)
+        coded = {c.name: np.full_like(grid_a, optimum.coded[c.name]) for c in codings}
+        coded[a.name], coded[b.name] = grid_a, grid_b
+        va, vb = a.decode(grid_a), b.decode(grid_b)
+        values = {g.response: fits[g.response].predict_coded(coded) for g in goals}
+        feasible = np.logical_and.reduce([_within(g, values[g.response]) for g in goals])
+        ax.contourf(va, vb, (~feasible).astype(float), levels=[0.5, 1.5], colors=["#bdbdbd"])
+        for colour, goal in zip(itertools.cycle(colours), goals):
+            _, scale = _response_axis(goal.response)
+            y = values[goal.response] * scale
+            levels = sorted({v * scale for v in _limits(goal)})
+            if np.nanmin(y) < levels[-1] and np.nanmax(y) > levels[0]:
+                lines = ax.contour(va, vb, y, levels=levels, colors=colour, linewidths=1.2)
+                ax.clabel(lines, fontsize=7, fmt=f"{goal.response} %.3g")
+        ax.plot(optimum.levels[a.name], optimum.levels[b.name], "*", ms=13, color="black",
+                label="optimum", zorder=5, clip_on=False)  # fmt: skip
+        if a.log:
+            ax.set_xscale("log")
+        if b.log:
+            ax.set_yscale("log")
+        ax.set_xlabel(a.axis_label)
+        ax.set_ylabel(b.axis_label)
+    axes[0].legend(fontsize=7, loc="lower left")
+    return save_figure(fig, path)
+
+
+def _limits(goal: Any) -> list[float]:
+    """The limits a response must meet for its goal [response unit]."""
+    if goal.kind == "minimize":
+        return [goal.upper]
+    if goal.kind == "maximize":
+        return [goal.lower]
+    return [goal.lower, goal.upper]
+
+
+def _within(goal: Any, y: np.ndarray) -> np.ndarray:
+    if goal.kind == "minimize":
+        return y <= goal.upper
+    if goal.kind == "maximize":
+        return y >= goal.lower
+    return (y >= goal.lower) & (y <= goal.upper)
+
+
+def _limits_text(goal: Any) -> str:
+    _, scale = _response_axis(goal.response)
+    unit = " mm³" if goal.response == "V" else ""
+    if goal.kind == "minimize":
+        return f"{goal.response} ≤ {goal.upper * scale:.3g}{unit}"
+    if goal.kind == "maximize":
+        return f"{goal.response} ≥ {goal.lower * scale:.3g}{unit}"
+    return f"{goal.lower * scale:.3g} ≤ {goal.response} ≤ {goal.upper * scale:.3g}{unit}"
 
 
 def plot_residuals(

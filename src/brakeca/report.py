@@ -22,7 +22,7 @@ import math
 import platform
 import re
 import struct
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
@@ -167,6 +167,13 @@ term; what the table gives for the term is its effect plus theirs, each with the
 {{ render_table(item.anova) }}
 {%- if item.stationary %}<p class="note">{{ item.stationary }}</p>{% endif %}
 {%- endfor %}
+{%- if optimum %}
+<h3 id="surface-optimum">Response optimization</h3>
+<p class="note">{{ optimum.info }}</p>
+{{ render_table(optimum.factors) }}
+{{ render_table(optimum.responses) }}
+{%- endif %}
+{%- if optimum_note %}<p class="note">{{ optimum_note }}</p>{% endif %}
 </section>
 {%- endif %}
 
@@ -583,6 +590,54 @@ def _surface_item(response: str, fit: Any) -> dict[str, Any]:
     }
 
 
+def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
+    """The report's tables of the response optimizer's result."""
+    factor_rows = []
+    for name, level in optimum.levels.items():
+        unit = optimum.units.get(name, "")
+        setting = _fmt(level, ".4g") + ("" if unit in ("", "-") else f" {unit}")
+        factor_rows.append({"cells": [name, setting, f"{optimum.coded[name]:+.3f}"], "cls": ""})
+    factors = _Table(["Factor", "Setting", "Coded"], [False, True, True], factor_rows)
+    rows = []
+    for g in goals:
+        scale, unit = _REPORT_UNITS.get(g.response, (1.0, None))
+        low, high = optimum.interval[g.response]
+        limits = [g.lower, g.target, g.upper] if g.kind == "target" else [g.lower, g.upper]
+        rows.append(
+            {
+                "cells": [
+                    g.response + (f" [{unit}]" if unit else ""),
+                    _fmt(optimum.predicted[g.response] * scale, ".4g"),
+                    f"{_fmt(low * scale, '.4g')} to {_fmt(high * scale, '.4g')}",
+                    g.kind + " " + " / ".join(_fmt(v * scale, ".4g") for v in limits),
+                    _fmt(optimum.desirability[g.response], ".3f"),
+                ],
+                "cls": "",
+            }
+        )
+    responses = _Table(
+        ["Response", "Fitted", "95 % CI of the mean", "Goal (limits)", "Desirability"],
+        [False, True, True, False, True],
+        rows,
+    )
+    info = (
+        "The factor setting that best meets the design's goals (Derringer and Suich's "
+        "desirability, as Minitab's Response Optimizer): each response's desirability runs "
+        "from 0 at its worse limit to 1 at its better one (a target's from 0 at either limit "
+        "to 1 at the target); the setting maximizes their importance-weighted geometric "
+        f"mean, the composite desirability, here {optimum.composite:.3f}, over the region "
+        "the runs span."
+    )
+    if optimum.note:
+        info += f" Note: {optimum.note}."
+    if optimum.on_boundary:
+        info += (
+            f" At the edge of that region: {', '.join(optimum.on_boundary)}; the best setting "
+            "may lie beyond it, where the surface is not known."
+        )
+    return {"info": info, "factors": factors, "responses": responses}
+
+
 def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
     """A sentence on the stationary point of ``fit``, or why there is none."""
     st = fit.stationary
@@ -723,6 +778,8 @@ def render_report(
     effects_tables: Mapping[str, pd.DataFrame] | None = None,
     design_info: str = "",
     surface_fits: Mapping[str, Any] | None = None,
+    optimum: tuple[Any, Any] | None = None,
+    optimum_note: str = "",
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -784,6 +841,8 @@ def render_report(
         notes=paragraphs,
         surfaces=[_surface_item(str(r), fit) for r, fit in (surface_fits or {}).items()],
         surface_intro=_SURFACE_INTRO,
+        optimum=None if optimum is None else _optimum_item(*optimum),
+        optimum_note=optimum_note,
     )
 
 
@@ -802,6 +861,8 @@ def write_report(
     effects_tables: Mapping[str, pd.DataFrame] | None = None,
     design_info: str = "",
     surface_fits: Mapping[str, Any] | None = None,
+    optimum: tuple[Any, Any] | None = None,
+    optimum_note: str = "",
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -841,6 +902,11 @@ def write_report(
         ``{response: fit}`` from :func:`brakeca.rsm.response_surfaces`, shown in a section
         "Response surface" (coded coefficients, ANOVA, model summary, stationary point) when
         given and not empty.
+    optimum
+        ``(goals, optimum)``: the design's goals (:class:`brakeca.rsm.Goal`) and
+        :func:`brakeca.rsm.optimize`'s result, shown at the end of that section.
+    optimum_note
+        Why there is no optimum though the design has goals, shown there instead.
 
     Returns
     -------
@@ -871,6 +937,8 @@ def write_report(
         effects_tables=effects_tables,
         design_info=design_info,
         surface_fits=surface_fits,
+        optimum=optimum,
+        optimum_note=optimum_note,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

@@ -54,6 +54,7 @@ __all__ = [
     "coding_of",
     "fit_response_surface",
     "optimize",
+    "optimum_table",
     "response_surfaces",
     "save_surface_tables",
     "stationary_table",
@@ -856,6 +857,8 @@ class Optimum:
         The factors at an end of the searched region.
     note
         Why the setting is a compromise, if it is (empty otherwise).
+    units
+        Each factor's unit, for labels.
     """
 
     coded: dict[str, float]
@@ -866,6 +869,7 @@ class Optimum:
     composite: float
     on_boundary: tuple[str, ...]
     note: str = ""
+    units: dict[str, str] = field(default_factory=dict)
 
 
 def _composite(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) -> np.ndarray:
@@ -993,4 +997,39 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
             if min(abs(coded[n] - extent[n][0]), abs(coded[n] - extent[n][1])) <= 1e-6 * span[n]
         ),
         note=note,
+        units={c.name: c.unit for c in first.codings},
     )
+
+
+def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
+    """An :class:`Optimum` as one long table: a row per factor (``kind`` "factor": ``name``,
+    ``value`` its level [design unit], ``coded`` [-]) and a row per response (``kind``
+    "response": ``value`` the fitted value, ``low`` and ``high`` the 95 % confidence interval
+    of the mean [response unit], the goal's ``goal``, ``lower``, ``target`` and ``upper``
+    [response unit] and ``desirability`` [-]), then one row "composite" with the composite
+    desirability [-] and the note."""
+    rows: list[dict[str, Any]] = [
+        {"kind": "factor", "name": n, "value": v, "coded": optimum.coded[n]}
+        for n, v in optimum.levels.items()
+    ]
+    for g in goals:
+        low, high = optimum.interval[g.response]
+        rows.append(
+            {
+                "kind": "response",
+                "name": g.response,
+                "value": optimum.predicted[g.response],
+                "low": low,
+                "high": high,
+                "goal": g.kind,
+                "lower": g.lower,
+                "target": g.target,
+                "upper": g.upper,
+                "desirability": optimum.desirability[g.response],
+            }
+        )
+    rows.append(
+        {"kind": "composite", "name": "D", "value": optimum.composite, "note": optimum.note}
+    )
+    columns = ["kind", "name", "value", "coded", "low", "high", "goal", "lower", "target"]
+    return pd.DataFrame(rows, columns=[*columns, "upper", "desirability", "note"])

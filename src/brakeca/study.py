@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -182,6 +183,23 @@ def _design_info(design: Design) -> str:
     return text
 
 
+def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, list, str]:
+    """The optimum of a response-surface design's goals (:func:`brakeca.rsm.optimize`),
+    written to ``tables/optimum.csv``: (optimum, goals, note), or (None, [], why not) when
+    the design has no goals or a goal's response has no surface."""
+    if not design.goals:
+        return None, [], ""
+    from brakeca import rsm
+
+    goals = [g.to_goal() for g in design.goals]
+    try:
+        optimum = rsm.optimize(surfaces, goals)
+    except ValueError as exc:
+        return None, goals, f"The goals could not be optimized: {exc}."
+    rsm.optimum_table(optimum, goals).to_csv(tables_dir / "optimum.csv", index=False)
+    return optimum, goals, ""
+
+
 def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     ds = RunResult.from_netcdf(path).dataset
     return ds[variable].values, ds["radius"].values, ds["angle"].values
@@ -256,6 +274,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
 
         surfaces = rsm.response_surfaces(data, factors, RESPONSES)
         rsm.save_surface_tables(surfaces, tables_dir)
+    optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
 
     figures: list[tuple[str, str, Path]] = []
@@ -327,6 +346,18 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                 plotting.plot_residuals,
                 tables[resp]["residuals"],
                 resp,
+            )
+        if optimum is not None:
+            add(
+                "Response surface",
+                "Overlaid contour plot: where every response meets its goal's limits (white), "
+                "each pair of factors with the others at the optimum's levels; the star: the "
+                "optimum",
+                "overlaid_contours.png",
+                plotting.plot_overlaid_contours,
+                surfaces,
+                goals,
+                optimum,
             )
         add(
             "Runs",
@@ -417,6 +448,8 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         effects_tables={resp: tables[resp]["effects"] for resp in RESPONSES},
         design_info=_design_info(result.design),
         surface_fits=surfaces,
+        optimum=None if optimum is None else (goals, optimum),
+        optimum_note=optimum_note,
     )
 
 

@@ -8,6 +8,7 @@ import tomllib
 
 import numpy as np
 import pandas as pd
+import pytest
 from campaign_helpers import TINY_CLI, cli_ok
 from typer.testing import CliRunner
 
@@ -32,6 +33,12 @@ levels = [10.0, 20.0]
 name = "WR"
 levels = [1e-7, 1e-6]
 coding = "log"
+
+[[goals]]
+response = "V"
+goal = "minimize"
+lower = 0.0
+upper = 50.0
 """
 
 
@@ -67,6 +74,15 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Central composite design (face-centred, α = 1), 2 factors" in html
     assert '<section id="surface">' in html and "Coded -1 to +1: A 10 to 20 %, WR log10" in html
+    # the design's goal: the optimum in the report and tables/optimum.csv, V in mm³
+    optimum = pd.read_csv(out / "tables" / "optimum.csv")
+    v_row = optimum[optimum["name"] == "V"].iloc[0]
+    assert v_row["goal"] == "minimize" and v_row["upper"] == pytest.approx(50e-9, rel=1e-15)
+    assert (out / "figures" / "overlaid_contours.png").is_file()
+    assert '<h3 id="surface-optimum">Response optimization</h3>' in html
+    assert "minimize 0 / 50" in html
+    # without --goal, brakeca optimize takes the design's goals
+    assert "minimize 0 / 50" in cli_ok("optimize", str(out))
     # the response optimizer on the same folder: V given in mm³, the setting inside the box
     res = CliRunner().invoke(
         app,

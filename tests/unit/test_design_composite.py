@@ -519,3 +519,51 @@ def test_a_written_box_behnken_design_with_edited_tests_is_refused():
     written["runs"][0]["mu0"] = 0.6
     with pytest.raises(ConfigError, match=r"runs\.0\.mu0: test 1 of the Box-Behnken design"):
         design_from_dict(written, source="written")
+
+
+# --- goals ----------------------------------------------------------------------------------
+
+_GOALS = [
+    {"response": "V", "goal": "minimize", "lower": 0.1, "upper": 5.0},
+    {"response": "MU", "goal": "target", "lower": 0.3, "target": 0.35, "upper": 0.45},
+]
+
+
+def test_goals_of_a_response_surface_design_round_trip_and_convert_v_to_si():
+    design = _ccd("mu0 slope", goals=_GOALS)
+    v, mu = design.goals
+    goal = v.to_goal()
+    assert goal.kind == "minimize"  # the limits from mm³ to m³
+    assert (goal.lower, goal.upper) == pytest.approx((0.1e-9, 5e-9), rel=1e-15)
+    assert mu.to_goal().target == 0.35
+    back = design_from_dict(tomllib.loads(design.to_toml()), source="written")
+    assert back.goals == design.goals
+    assert "goals" not in _ccd("mu0 slope").to_dict()
+
+
+@pytest.mark.parametrize(
+    ("goals", "extra", "message"),
+    [
+        (_GOALS[:1], {"composite": None}, "goals: the report optimizes goals on the response"),
+        ([_GOALS[0], _GOALS[0]], {}, "goals.1.response: 'V' has a goal already"),
+        ([{**_GOALS[0], "lower": 5.0, "upper": 0.1}], {},
+         "lower limit 5 must be below upper limit 0.1"),  # in the design's mm³
+        ([{**_GOALS[1], "target": 0.5}], {}, "a target goal needs a target strictly between 0.3"),
+        ([{**_GOALS[0], "response": "W"}], {}, "goals.0.response"),
+        ([{**_GOALS[0], "goal": "least"}], {}, "goals.0.goal"),
+    ],
+)  # fmt: skip
+def test_bad_goals_name_the_field(goals, extra, message):
+    data = {**_data("mu0 slope", goals=goals), **extra}
+    if data.get("composite") is None:
+        data.pop("composite")
+    with pytest.raises(ConfigError, match=re.escape(message)):
+        design_from_dict(data, source="ccd.toml")
+
+
+def test_the_shipped_surface_design_has_its_example_goals():
+    goals = load_design("surface").goals
+    assert [(g.response, g.goal) for g in goals] == [
+        ("log10_V_mm3", "minimize"),
+        ("MU", "target"),
+    ]

@@ -335,3 +335,29 @@ def test_response_surface_contours(tmp_path) -> None:
     assert curve.get_xscale() == "log" and max(fitted) == pytest.approx(
         max(one.predict_coded({"WP": np.linspace(-1, 1, 81)})) * 1e9
     )
+
+
+def test_overlaid_contours_shade_where_a_goal_is_missed(tmp_path) -> None:
+    from brakeca.plotting import plot_overlaid_contours
+    from brakeca.rsm import Coding, Goal, fit_response_surface, optimize
+
+    codings = [Coding("p", -1.0, 1.0), Coding("q", 1.0, 100.0, log=True, unit="m")]
+    rows = []
+    for x, y in itertools.product((-1.0, 0.0, 1.0), repeat=2):
+        rows.append({"p": x, "q": codings[1].decode(y), "V": (2 + x + 0.5 * y) * 1e-9,
+                     "MU": 0.3 + 0.05 * y - 0.02 * x * x})  # fmt: skip
+    data = pd.DataFrame(rows)
+    fits = {r: fit_response_surface(data, codings, r) for r in ("V", "MU")}
+    goals = [Goal("V", "minimize", 1e-9, 2e-9), Goal("MU", "maximize", 0.3, 0.35)]
+    best = optimize(fits, goals)
+    fig = plot_overlaid_contours(fits, goals, best, tmp_path / "ov.png")
+    assert (tmp_path / "ov.png").read_bytes().startswith(PNG)
+    ax = fig.axes[0]
+    assert (ax.get_xlabel(), ax.get_ylabel(), ax.get_yscale()) == ("p", "q [m]", "log")
+    assert "V ≤ 2 mm³, MU ≥ 0.3" in fig._suptitle.get_text()
+    star = next(line for line in ax.lines if line.get_label() == "optimum")
+    assert tuple(star.get_xydata()[0]) == pytest.approx((best.levels["p"], best.levels["q"]))
+    one = plot_overlaid_contours(
+        {"V": fits["V"]}, goals[:1], optimize({"V": fits["V"]}, goals[:1]), None
+    )
+    assert len([ax for ax in one.axes if ax.get_visible()]) == 1

@@ -303,3 +303,28 @@ def test_a_response_surface_section_in_the_report_units(tmp_path) -> None:
     assert f"Stationary point (gradient zero): a {st['kind']} at A = " in section
     assert ("inside the region" if st["inside"] else "outside the region") in section
     assert '<section id="surface">' not in render_report(**make_inputs(tmp_path))
+
+
+def test_the_response_optimization_in_the_report(tmp_path) -> None:
+    import itertools
+
+    from brakeca.rsm import Coding, Goal, fit_response_surface, optimize
+
+    a, b = Coding("A", 10.0, 20.0, unit="%"), Coding("WR", 1e-7, 1e-6, log=True, unit="m")
+    rows = [
+        {"A": a.decode(x1), "WR": b.decode(x2), "V": (2.0 + x1 - 0.5 * x2**2) * 1e-9}
+        for x1, x2 in itertools.product((-1.0, 0.0, 1.0), repeat=2)
+    ]
+    fit = fit_response_surface(pd.DataFrame(rows), [a, b], "V")
+    goals = [Goal("V", "minimize", 0.5e-9, 3e-9)]
+    best = optimize({"V": fit}, goals)
+    html = render_report(**make_inputs(tmp_path), surface_fits={"V": fit}, optimum=(goals, best))
+    section = html[html.index('<h3 id="surface-optimum">') :]
+    assert f"composite desirability, here {best.composite:.3f}" in section
+    assert "<td>minimize 0.5 / 3</td>" in section  # V's limits in mm³
+    assert f'<td class="num">{best.predicted["V"] * 1e9:.4g}</td>' in section
+    assert "At the edge of that region: A" in section  # V falls with A: A at its low end
+    no_optimum = render_report(
+        **make_inputs(tmp_path), surface_fits={"V": fit}, optimum_note="The goals could not"
+    )
+    assert "The goals could not" in no_optimum and "surface-optimum" not in no_optimum
