@@ -19,15 +19,21 @@ by source (linear, square, two-way interaction, each term) with the error split 
 fit and pure error when the design repeats a point (centre points: here the seed-to-seed
 scatter); the model summary (S, R², adjusted and predicted R²); and the stationary point of
 the surface (where its gradient is zero: a maximum, a minimum or a saddle point), in coded
-and in the factors' own units.
+and in the factors' own units. :func:`optimize` then finds the factor setting that best meets
+goals for several responses at once (Derringer and Suich's desirability, Minitab's Response
+Optimizer). The designs made for this are the central composite and the Box-Behnken design
+(``composite``, ``box_behnken``).
 
-Pure numpy, pandas and scipy; the contour plots are :func:`brakeca.plotting.plot_response_surface`.
+Pure numpy, pandas and scipy; the figures are :func:`brakeca.plotting.plot_response_surface`
+and :func:`brakeca.plotting.plot_overlaid_contours`.
 
 References
 ----------
 D. C. Montgomery, *Design and Analysis of Experiments*, 8th ed., Wiley, 2013, chapter 11
 (response surface methods; the stationary point, section 11.3.1; the central composite design,
 section 11.4.2).
+G. Derringer and R. Suich, "Simultaneous optimization of several response variables",
+Journal of Quality Technology 12(4), 214-219, 1980.
 G. E. P. Box, J. S. Hunter and W. G. Hunter, *Statistics for Experimenters*, 2nd ed., Wiley,
 2005, chapter 11.
 """
