@@ -49,6 +49,7 @@ __all__ = [
     "analyze",
     "anova",
     "as_factor",
+    "interaction_aliases",
     "interaction_table",
     "interaction_tables",
     "interactions_long",
@@ -1173,6 +1174,39 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         columns=["term", "aliases"],
     )
     out.attrs["not_estimable"] = [_display_term(t, names) for t in left_out if t not in shown]
+    return out
+
+
+def interaction_aliases(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[tuple[str, str], str]:
+    """The two-factor interactions each pair of factors' interaction cannot be told apart
+    from, as signed text: what an interaction plot's panel shows for a fraction.
+
+    Parameters
+    ----------
+    tests
+        One row per test, a column per factor [design unit].
+    factors
+        The design's factors.
+
+    Returns
+    -------
+    dict
+        ``(a, b)`` (factor names in design order) to e.g. ``"WR:modulus + mu0:slope"``
+        (the other two-factor interactions in the pair's alias chain, signed relative to it);
+        only pairs that have such aliases (none for a full factorial).
+    """
+    factors = _factors(factors)
+    frame, names, _ = _coded_frame(tests, factors)
+    columns = list(names)
+    pairs = {f"C({a}):C({b})": (names[a], names[b]) for a, b in itertools.combinations(columns, 2)}
+    if not pairs:
+        return {}
+    chains = _alias_chains(frame, list(pairs))
+    out = {}
+    for term, pair in pairs.items():
+        two = [(t, sign) for t, sign in chains[term] if t.count(":") == 1]
+        if two:
+            out[pair] = _chain_text(two, names)
     return out
 
 

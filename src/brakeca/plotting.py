@@ -206,12 +206,16 @@ def plot_interactions(
     factors: Iterable[Any],
     response: str,
     path: str | Path | None = None,
+    *,
+    aliases: Mapping[tuple[str, str], str] | None = None,
 ) -> Figure:
     """Interaction-plot matrix: cell means of a response for every pair of factors.
 
     The panel in row ``i`` and column ``j`` (``i < j``) shows the mean response against the
     levels of factor ``j``, one line per level of factor ``i``; panels below the diagonal are
-    not drawn, so the figure has one axes per pair.
+    not drawn, so the figure has one axes per pair. In a fraction a panel shows its pair's
+    interaction together with the interactions aliased with it (``aliases``): each such
+    panel is titled with them, e.g. ``"= WR:modulus + mu0:slope"``.
 
     Parameters
     ----------
@@ -223,6 +227,9 @@ def plot_interactions(
         Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
     path
         Optional PNG file to write (150 dpi).
+    aliases
+        ``(a, b)`` to the two-factor interactions aliased with ``a:b``
+        (:func:`brakeca.analysis.interaction_aliases`); none for a full factorial.
 
     Returns
     -------
@@ -233,6 +240,7 @@ def plot_interactions(
     Wahlström (2016), Figures 7 (MU) and 9 (V), doi:10.1155/2016/8181260.
     """
     factors = [as_factor(f) for f in factors]
+    aliases = aliases or {}
     nf = len(factors)
     if nf < 2:
         raise ValueError("an interaction plot needs at least two factors")
@@ -263,6 +271,8 @@ def plot_interactions(
         ax.set_xticks(x, [_tick_label(b, lv) for lv in b.levels], fontsize=8)
         ax.set_xlim(-0.3, len(b.levels) - 0.7)
         ax.set_xlabel(b.axis_label, fontsize=8)
+        if (a.name, b.name) in aliases:
+            ax.set_title(f"= {aliases[(a.name, b.name)]}", fontsize=7, color="#7f7f7f")
         ax.grid(True, axis="y", alpha=0.3)
         ax.tick_params(axis="y", labelleft=True, labelsize=8)
         if j == i + 1:

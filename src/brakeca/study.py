@@ -284,6 +284,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         fig_fn(*args, path=path, **kwargs)
         figures.append((section, caption, path))
 
+    aliases = analysis.interaction_aliases(pd.DataFrame(result.design.combinations()), factors)
     if len(ok):  # with no finished run there is nothing to plot; the report says why
         for resp in RESPONSES:
             label = _LABELS[resp]
@@ -299,12 +300,20 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             if len(factors) >= 2:  # interactions need two factors
                 add(
                     "Interactions",
-                    f"Two-factor interactions on {label}" + _PAPER_INTERACTIONS[resp],
+                    f"Two-factor interactions on {label}"
+                    + _PAPER_INTERACTIONS[resp]
+                    + (
+                        "; a panel titled '= ...' shows its pair's interaction together with "
+                        "the interactions aliased with it"
+                        if aliases
+                        else ""
+                    ),
                     f"interactions_{resp}.png",
                     plotting.plot_interactions,
                     data,
                     factors,
                     resp,
+                    aliases=aliases,
                 )
             add(
                 "Ranked effects",

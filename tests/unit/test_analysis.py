@@ -25,6 +25,7 @@ from brakeca.analysis import (
     analyze,
     anova,
     as_factor,
+    interaction_aliases,
     interaction_table,
     interaction_tables,
     interactions_long,
@@ -787,3 +788,20 @@ def test_a_main_effect_aliased_with_another_stays_out_of_the_pooled_model() -> N
     table = anova(rows, _levels01("ABC"), "y")
     assert "B (aliased with A)" in table.attrs["note"]
     assert "B" not in set(table["term"]) and " B" not in table.attrs["formula"]
+
+
+def test_interaction_aliases_of_a_half_fraction() -> None:
+    """D = -A*B*C: A:B is aliased with -C:D, and so on for every pair; a full factorial has
+    none."""
+    rows = [
+        {"A": a, "B": b, "C": c, "D": -a * b * c}
+        for c, b, a in itertools.product((-1.0, 1.0), repeat=3)
+    ]
+    factors = [Factor(n, (-1.0, 1.0)) for n in "ABCD"]
+    aliases = interaction_aliases(pd.DataFrame(rows), factors)
+    assert aliases == {
+        ("A", "B"): "-C:D", ("A", "C"): "-B:D", ("A", "D"): "-B:C",
+        ("B", "C"): "-A:D", ("B", "D"): "-A:C", ("C", "D"): "-A:B",
+    }  # fmt: skip
+    full = [{"A": a, "B": b} for a, b in itertools.product((-1.0, 1.0), repeat=2)]
+    assert interaction_aliases(pd.DataFrame(full), factors[:2]) == {}

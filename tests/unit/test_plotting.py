@@ -361,3 +361,12 @@ def test_overlaid_contours_shade_where_a_goal_is_missed(tmp_path) -> None:
         {"V": fits["V"]}, goals[:1], optimize({"V": fits["V"]}, goals[:1]), None
     )
     assert len([ax for ax in one.axes if ax.get_visible()]) == 1
+
+
+def test_interaction_panels_of_a_fraction_name_their_aliases(summary) -> None:
+    from brakeca.plotting import plot_interactions
+
+    fig = plot_interactions(summary, FACTORS, "MU", aliases={("WR", "A"): "-S:WP"})
+    titled = [ax for ax in fig.axes if ax.get_title()]
+    assert [(ax.get_title(), ax.get_xlabel()) for ax in titled] == [("= -S:WP", "A [%]")]
+    assert not any(ax.get_title() for ax in plot_interactions(summary, FACTORS, "MU").axes)
