@@ -90,7 +90,7 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 <li><a href="#design">Design</a></li>
 <li><a href="#runs">Per-run results</a></li>
 <li><a href="#anova">ANOVA</a></li>
-{%- if surfaces %}
+{%- if surfaces or optimum_note %}
 <li><a href="#surface">Response surface</a></li>
 {%- endif %}
 {%- for section in figure_sections %}
@@ -155,11 +155,11 @@ fractional factorial): the terms of up to three factors the design cannot tell a
 term; what the table gives for the term is its effect plus theirs, each with the sign shown
 (B:D - C:E: plus the effect of B:D, minus that of C:E; two-level terms only).</p>
 </section>
-{%- if surfaces %}
+{%- if surfaces or optimum_note %}
 
 <section id="surface">
 <h2>Response surface</h2>
-<p class="note">{{ surface_intro }}</p>
+<p class="note">{{ surface_intro if surfaces else surface_none }}</p>
 {%- for item in surfaces %}
 <h3 id="surface-{{ item.anchor }}">Response {{ item.response }}</h3>
 <p class="note">{{ item.info }}</p>
@@ -841,6 +841,8 @@ def render_report(
         notes=paragraphs,
         surfaces=[_surface_item(str(r), fit) for r, fit in (surface_fits or {}).items()],
         surface_intro=_SURFACE_INTRO,
+        surface_none="No response could be fitted (fewer than two finished runs with a finite "
+        "value).",
         optimum=None if optimum is None else _optimum_item(*optimum),
         optimum_note=optimum_note,
     )

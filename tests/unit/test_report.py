@@ -328,3 +328,10 @@ def test_the_response_optimization_in_the_report(tmp_path) -> None:
         **make_inputs(tmp_path), surface_fits={"V": fit}, optimum_note="The goals could not"
     )
     assert "The goals could not" in no_optimum and "surface-optimum" not in no_optimum
+
+
+def test_goals_without_any_surface_still_say_why(tmp_path) -> None:
+    html = render_report(**make_inputs(tmp_path), optimum_note="The goals could not be optimized")
+    section = html[html.index('<section id="surface">') :]
+    assert "No response could be fitted" in section
+    assert "The goals could not be optimized" in section
