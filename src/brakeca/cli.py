@@ -754,23 +754,33 @@ def optimize(
                 escape(f.name), f"{best.levels[f.name]:.4g}{unit}", f"{best.coded[f.name]:+.3f}"
             )
     out.print(table)
-    table = Table(title="responses")
-    for column in ("response", "fitted", "95 % CI of the mean", "goal", "desirability"):
-        table.add_column(column, justify="left" if column in ("response", "goal") else "right")
+    table = Table(title="responses there")
+    for column in ("response", "fitted", "95 % CI of the mean", "95 % PI of one run"):
+        table.add_column(column, justify="left" if column == "response" else "right")
+    goals_table = Table(title="goals")
+    for column in ("response", "goal", "desirability"):
+        goals_table.add_column(column, justify="right" if column == "desirability" else "left")
     for goal in parsed:
         unit, scale = _OPTIMIZE_RESPONSES[goal.response]
+        name = escape(goal.response + ("" if unit == "-" else f" [{unit}]"))
         low, high = best.interval[goal.response]
+        pi_low, pi_high = best.prediction[goal.response]
+        table.add_row(
+            name,
+            f"{best.predicted[goal.response] * scale:.4g}",
+            f"{low * scale:.4g} to {high * scale:.4g}",
+            f"{pi_low * scale:.4g} to {pi_high * scale:.4g}",
+        )
         limits = [goal.lower, goal.target, goal.upper] if goal.kind == "target" else [
             goal.lower, goal.upper
         ]  # fmt: skip
-        table.add_row(
-            escape(goal.response + ("" if unit == "-" else f" [{unit}]")),
-            f"{best.predicted[goal.response] * scale:.4g}",
-            f"{low * scale:.4g} to {high * scale:.4g}",
+        goals_table.add_row(
+            name,
             f"{goal.kind} " + " / ".join(f"{v * scale:g}" for v in limits),
             f"{best.desirability[goal.response]:.3f}",
         )
     out.print(table)
+    out.print(goals_table)
     out.print(f"composite desirability: {best.composite:.3f}", markup=False)
     if best.note:
         out.print(f"note: {best.note}", markup=False, highlight=False)

@@ -602,6 +602,7 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
     for g in goals:
         scale, unit = _REPORT_UNITS.get(g.response, (1.0, None))
         low, high = optimum.interval[g.response]
+        pi_low, pi_high = optimum.prediction[g.response]
         limits = [g.lower, g.target, g.upper] if g.kind == "target" else [g.lower, g.upper]
         rows.append(
             {
@@ -609,6 +610,7 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
                     g.response + (f" [{unit}]" if unit else ""),
                     _fmt(optimum.predicted[g.response] * scale, ".4g"),
                     f"{_fmt(low * scale, '.4g')} to {_fmt(high * scale, '.4g')}",
+                    f"{_fmt(pi_low * scale, '.4g')} to {_fmt(pi_high * scale, '.4g')}",
                     g.kind + " " + " / ".join(_fmt(v * scale, ".4g") for v in limits),
                     _fmt(optimum.desirability[g.response], ".3f"),
                 ],
@@ -616,8 +618,15 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
             }
         )
     responses = _Table(
-        ["Response", "Fitted", "95 % CI of the mean", "Goal (limits)", "Desirability"],
-        [False, True, True, False, True],
+        [
+            "Response",
+            "Fitted",
+            "95 % CI of the mean",
+            "95 % PI of one run",
+            "Goal (limits)",
+            "Desirability",
+        ],
+        [False, True, True, True, False, True],
         rows,
     )
     info = (
@@ -626,7 +635,8 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
         "from 0 at its worse limit to 1 at its better one (a target's from 0 at either limit "
         "to 1 at the target); the setting maximizes their importance-weighted geometric "
         f"mean, the composite desirability, here {optimum.composite:.3f}, over the region "
-        "the runs span."
+        "the runs span. CI: where the fitted mean lies; PI: where one more run (another "
+        "seed) would fall."
     )
     if optimum.note:
         info += f" Note: {optimum.note}."

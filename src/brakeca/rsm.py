@@ -259,11 +259,12 @@ class SurfaceFit:
         return out
 
     def confidence_interval(
-        self, coded: Mapping[str, Any], level: float = 0.95
+        self, coded: Mapping[str, Any], level: float = 0.95, *, new_run: bool = False
     ) -> tuple[np.ndarray, np.ndarray]:
         """Confidence interval of the fitted mean response [response unit] at coded factor
-        values [-]: ``y_hat -/+ t s sqrt(x' (X'X)^-1 x)``; NaN without residual degrees of
-        freedom.
+        values [-]: ``y_hat -/+ t s sqrt(x' (X'X)^-1 x)``; with ``new_run``, the prediction
+        interval of one new run there, ``y_hat -/+ t s sqrt(1 + x' (X'X)^-1 x)`` (here: one
+        more seed). NaN without residual degrees of freedom.
 
         Parameters
         ----------
@@ -271,6 +272,8 @@ class SurfaceFit:
             Every factor's name to coded values (broadcast together).
         level
             Confidence level [-].
+        new_run
+            The prediction interval of a single new run instead of the mean's interval.
         """
         from scipy import stats
 
@@ -283,7 +286,7 @@ class SurfaceFit:
         if self.xtx_inv is None or not df > 0.5 or not math.isfinite(s):
             nan = np.full(centre.shape, math.nan)
             return nan, nan.copy()
-        var = np.einsum("i...,ij,j...->...", rows, self.xtx_inv, rows)
+        var = np.einsum("i...,ij,j...->...", rows, self.xtx_inv, rows) + (1.0 if new_run else 0.0)
         half = float(stats.t.ppf(0.5 + level / 2.0, df)) * s * np.sqrt(var)
         return centre - half, centre + half
 
@@ -854,6 +857,9 @@ class Optimum:
     interval
         Each response's 95 % confidence interval of the fitted mean there [response unit]
         (NaN without residual degrees of freedom).
+    prediction
+        Each response's 95 % prediction interval of one new run there (another seed)
+        [response unit].
     desirability
         Each response's desirability there [-].
     composite
@@ -871,6 +877,7 @@ class Optimum:
     levels: dict[str, float]
     predicted: dict[str, float]
     interval: dict[str, tuple[float, float]]
+    prediction: dict[str, tuple[float, float]]
     desirability: dict[str, float]
     composite: float
     on_boundary: tuple[str, ...]
@@ -985,16 +992,19 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 best_x, best_score = np.clip(res.x, *np.array(bounds).T), -float(res.fun)
     coded = {n: float(x) for n, x in zip(factors, best_x, strict=True)}
     predicted = {r: float(v) for r, v in values_at(coded).items()}
-    interval = {}
+    interval, prediction = {}, {}
     for r, fit in chosen.items():
         lo, hi = fit.confidence_interval(coded)
         interval[r] = (float(lo), float(hi))
+        lo, hi = fit.confidence_interval(coded, new_run=True)
+        prediction[r] = (float(lo), float(hi))
     span = {n: hi - lo for n, (lo, hi) in extent.items()}
     return Optimum(
         coded=coded,
         levels={c.name: float(c.decode(coded[c.name])) for c in first.codings},
         predicted=predicted,
         interval=interval,
+        prediction=prediction,
         desirability={g.response: float(g.desirability(predicted[g.response])) for g in goals},
         composite=float(_composite(goals, {r: np.asarray(v) for r, v in predicted.items()})),
         on_boundary=tuple(
@@ -1011,7 +1021,8 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
     """An :class:`Optimum` as one long table: a row per factor (``kind`` "factor": ``name``,
     ``value`` its level [design unit], ``coded`` [-]) and a row per response (``kind``
     "response": ``value`` the fitted value, ``low`` and ``high`` the 95 % confidence interval
-    of the mean [response unit], the goal's ``goal``, ``lower``, ``target`` and ``upper``
+    of the mean and ``pi_low`` and ``pi_high`` the 95 % prediction interval of one new run
+    [response unit], the goal's ``goal``, ``lower``, ``target`` and ``upper``
     [response unit] and ``desirability`` [-]), then one row "composite" with the composite
     desirability [-] and the note."""
     rows: list[dict[str, Any]] = [
@@ -1020,6 +1031,7 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
     ]
     for g in goals:
         low, high = optimum.interval[g.response]
+        pi_low, pi_high = optimum.prediction[g.response]
         rows.append(
             {
                 "kind": "response",
@@ -1027,6 +1039,8 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
                 "value": optimum.predicted[g.response],
                 "low": low,
                 "high": high,
+                "pi_low": pi_low,
+                "pi_high": pi_high,
                 "goal": g.kind,
                 "lower": g.lower,
                 "target": g.target,
@@ -1037,5 +1051,6 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
     rows.append(
         {"kind": "composite", "name": "D", "value": optimum.composite, "note": optimum.note}
     )
-    columns = ["kind", "name", "value", "coded", "low", "high", "goal", "lower", "target"]
+    columns = ["kind", "name", "value", "coded", "low", "high", "pi_low", "pi_high", "goal"]
+    columns += ["lower", "target"]
     return pd.DataFrame(rows, columns=[*columns, "upper", "desirability", "note"])

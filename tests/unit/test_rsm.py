@@ -326,3 +326,7 @@ def test_confidence_interval_of_the_mean_is_statsmodels() -> None:
     low, high = fit.confidence_interval({"x1": at["x1"].to_numpy(), "x2": at["x2"].to_numpy()})
     np.testing.assert_allclose(low, expected["mean_ci_lower"], rtol=1e-10)
     np.testing.assert_allclose(high, expected["mean_ci_upper"], rtol=1e-10)
+    coded = {"x1": at["x1"].to_numpy(), "x2": at["x2"].to_numpy()}
+    low, high = fit.confidence_interval(coded, new_run=True)
+    np.testing.assert_allclose(low, expected["obs_ci_lower"], rtol=1e-10)
+    np.testing.assert_allclose(high, expected["obs_ci_upper"], rtol=1e-10)
