@@ -898,13 +898,19 @@ def show_design(
         )
         for chain in chains:
             out.print(f"  {chain}", markup=False, highlight=False, emoji=False)  # WR:A:x: no emoji
-    else:
+    hidden = structure.attrs.get("not_estimable", [])
+    if not chains and hidden:
+        out.print(
+            "alias structure: no main effect or two-factor interaction is completely aliased "
+            "with another (up to three-factor interactions), but some are partly confounded",
+            markup=False,
+        )
+    elif not chains:
         out.print(
             "alias structure: every main effect and two-factor interaction is clear of the "
             "others (up to three-factor interactions)",
             markup=False,
         )
-    hidden = structure.attrs.get("not_estimable", [])
     if hidden:
         out.print(
             "partly confounded (not estimable apart from the terms before them): "

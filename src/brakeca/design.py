@@ -4,7 +4,7 @@ A design file (TOML, see ``presets/designs/paper.toml``) names a base parameter 
 of factors, each a configuration field with its levels. :meth:`Design.combinations` lists the
 design's *tests* (one factor-level combination each) and :meth:`Design.points` resolves one
 validated :class:`~brakeca.config.SimulationConfig` and one seed per run (test and
-replicate). A design is one of five kinds (:attr:`Design.kind`):
+replicate). A design is one of six kinds (:attr:`Design.kind`):
 
 Full factorial (the default)
     Every combination of the factors' levels, in the paper's test order: the first factor
@@ -35,6 +35,11 @@ Central composite design (key ``composite``: a table with ``alpha`` and ``center
     ``"orthogonal"`` or a number. A factor with ``coding = "log"`` is coded on log10 of its
     level (its centre is the geometric mean). The tests are written out as a run table when
     the design is validated, with each factor's levels, labels and ``coded_range``.
+Plackett-Burman design (key ``plackett_burman``: 12, 20 or 24 tests)
+    A two-level screening design for up to one factor fewer than its tests: the standard
+    generator row, its cyclic shifts and a test with every factor at its first level; written
+    out as a run table. Main effects are orthogonal, each partly confounded with the other
+    factors' two-factor interactions.
 Box-Behnken design (key ``box_behnken``: a table with ``center``)
     The other response-surface design: over 3 to 5 such factors, for every pair of factors
     the 2^2 factorial of their levels with the others at their centre, then the centre
@@ -105,6 +110,7 @@ from brakeca.config import (
 __all__ = [
     "GOAL_RESPONSES",
     "MAX_GENERATORS",
+    "PLACKETT_BURMAN",
     "RESERVED_NAMES",
     "STANDARD_FRACTIONS",
     "BoxBehnken",
@@ -1263,6 +1269,25 @@ def _composite_table(
     return levels, [list(labels) for _ in factors], tests
 
 
+#: Generator rows of the Plackett-Burman designs (Plackett and Burman 1946): the tests are
+#: the row and its cyclic shifts one place to the right, then a test with every factor at -;
+#: one column per factor, the first k of the N - 1 [-].
+PLACKETT_BURMAN: dict[int, str] = {
+    12: "++-+++---+-",
+    20: "++--++++-+-+----++-",
+    24: "+++++-+-++--++--+-+----",
+}
+
+
+def _plackett_burman_signs(runs: int, k: int) -> list[list[int]]:
+    """The coded levels (-1, +1) of the Plackett-Burman design of ``runs`` tests over ``k``
+    factors, in its standard order (see :data:`PLACKETT_BURMAN`)."""
+    row = [1 if c == "+" else -1 for c in PLACKETT_BURMAN[runs]]
+    n = len(row)
+    tests = [[row[(j - shift) % n] for j in range(k)] for shift in range(n)]
+    return [*tests, [-1] * k]
+
+
 #: The responses a design's goals may name, with the unit their limits are given in: MU [-],
 #: V in mm^3 per stop (the campaign's V is in m^3), log10 of V in mm^3 [-].
 GOAL_RESPONSES: dict[str, str] = {"MU": "-", "V": "mm³", "log10_V_mm3": "-"}
@@ -1370,6 +1395,10 @@ class Design(_Frozen):
     box_behnken
         A Box-Behnken design (:class:`BoxBehnken`) over 3 to 5 numeric factors of two levels
         each: written out as for ``composite``, with the levels low, centre and high.
+    plackett_burman
+        A Plackett-Burman screening design of this many tests (12, 20 or 24;
+        :data:`PLACKETT_BURMAN`) over up to one factor fewer, each of two levels (the first
+        coded -, the second +); written out as ``runs`` when the design is validated.
     goals
         What the report of a response-surface design optimizes (:class:`GoalSpec`, each
         response once): it then finds the factor setting that best meets them all.
@@ -1389,6 +1418,7 @@ class Design(_Frozen):
     foldover: tuple[str, ...] = ()
     composite: Composite | None = None
     box_behnken: BoxBehnken | None = None
+    plackett_burman: int | None = None
     goals: tuple[GoalSpec, ...] = ()
 
     @field_validator("foldover", mode="before")
@@ -1471,6 +1501,52 @@ class Design(_Frozen):
                 values[name] = value
             rows.append(values)
         return {**data, "runs": rows}
+
+    @model_validator(mode="before")
+    @classmethod
+    def _plackett_burman_runs(cls, data: Any) -> Any:
+        """``plackett_burman = 12``: write the screening design's tests out as ``runs``
+        (unless they are there already; :meth:`_check_plackett_burman` checks them then)."""
+        if not isinstance(data, Mapping) or data.get("plackett_burman") is None:
+            return data
+        runs = data["plackett_burman"]
+        if isinstance(runs, bool) or runs not in PLACKETT_BURMAN:
+            raise ValueError(
+                f"plackett_burman: expected the number of tests, one of "
+                f"{', '.join(map(str, PLACKETT_BURMAN))}, got {runs!r} (for 8, 16 or 32 tests "
+                "take a fractional factorial: fraction_runs)"
+            )
+        for key in ("fraction_runs", "generators", "runs_file", "composite", "box_behnken"):
+            if data.get(key) not in (None, "", (), []):
+                raise ValueError(
+                    f"plackett_burman, {key}: a Plackett-Burman design makes its own tests; "
+                    "remove one of them"
+                )
+        factors = data.get("factors")
+        if data.get("runs") is not None or not isinstance(factors, list | tuple):
+            return data
+        if not 2 <= len(factors) <= runs - 1:
+            raise ValueError(
+                f"plackett_burman: a design of {runs} tests takes 2 to {runs - 1} factors, got "
+                f"{len(factors)}"
+            )
+        levels = []
+        for i, f in enumerate(factors):
+            if isinstance(f, Factor):
+                f = f.model_dump(exclude_none=True)
+            if not isinstance(f, Mapping) or not isinstance(f.get("levels"), list | tuple):
+                return data  # the factor's own error follows
+            if len(f["levels"]) != 2:
+                raise ValueError(
+                    f"factors.{i}.levels: factor {f.get('name')!r}: a Plackett-Burman design "
+                    f"takes two levels per factor, got {list(f['levels'])}"
+                )
+            levels.append((f.get("name"), f["levels"]))
+        tests = [
+            {name: pair[(sign + 1) // 2] for (name, pair), sign in zip(levels, signs, strict=True)}
+            for signs in _plackett_burman_signs(runs, len(levels))
+        ]
+        return {**data, "runs": tests}
 
     @model_validator(mode="before")
     @classmethod
@@ -1614,6 +1690,8 @@ class Design(_Frozen):
             )
         if self.surface_design is not None:
             self._check_composite()
+        if self.plackett_burman is not None:
+            self._check_plackett_burman()
         if self.goals:
             if self.surface_design is None:
                 raise ValueError(
@@ -1631,6 +1709,27 @@ class Design(_Frozen):
                 key = "runs" if self.runs is not None else "factors"
                 raise ValueError(f"{key}: the design has {n_runs} runs, more than 1,000,000")
         return self
+
+    def _check_plackett_burman(self) -> None:
+        """Check a Plackett-Burman design's run table against the tests it makes (a design
+        read back with its ``runs``, perhaps edited by hand)."""
+        assert self.plackett_burman is not None
+        k = len(self.factors)
+        expected = _plackett_burman_signs(self.plackett_burman, k)
+        runs = self.runs or ()
+        if len(runs) != len(expected):
+            raise ValueError(
+                f"runs: the Plackett-Burman design has {len(expected)} tests, the run table "
+                f"{len(runs)}; remove runs to make them again"
+            )
+        for r, (row, signs) in enumerate(zip(runs, expected, strict=True)):
+            for f, sign in zip(self.factors, signs, strict=True):
+                if len(f.levels) != 2 or row[f.name] != f.levels[(sign + 1) // 2]:
+                    raise ValueError(
+                        f"runs.{r}.{f.name}: test {r + 1} of the Plackett-Burman design has "
+                        f"{f.name} at its {'+' if sign > 0 else '-'} level; remove runs to "
+                        "make the tests again"
+                    )
 
     def _check_composite(self) -> None:
         """Check a central composite design's factors and tests against those its
@@ -1879,6 +1978,16 @@ class Design(_Frozen):
         if self.surface_design is not None:
             return self.surface_design.kind(len(self.factors))
         folded = f" folded over on {', '.join(self.foldover)}" if self.foldover else ""
+        if self.plackett_burman is not None:
+            return (
+                f"Plackett-Burman design, {self.plackett_burman} tests, {len(self.factors)} "
+                f"factors{folded} (main effects clear of each other"
+                + (
+                    ", each partly confounded with the two-factor interactions of the others)"
+                    if not self.foldover
+                    else ")"
+                )
+            )
         if self.is_run_table:
             return f"run table{folded}"
         if not self.generators:

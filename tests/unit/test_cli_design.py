@@ -77,3 +77,19 @@ def test_a_box_behnken_design_shows_its_quadratic_model(tmp_path) -> None:
     assert "10 coefficients (3 linear, 3 square, 3 interaction terms and the constant)" in text
     assert "from 15 runs: 5 residual df, 2 of them pure error" in text
     assert "│    1 │  - │ - │  0 │" in text
+
+
+def test_a_plackett_burman_design_is_partly_confounded(tmp_path) -> None:
+    pb = tmp_path / "pb.toml"
+    pb.write_text(
+        'name = "pb"\nbase = "paper"\nroot_seed = 1\nplackett_burman = 12\n'
+        + "".join(
+            f'[[factors]]\nname = "{n}"\nlevels = {levels}\n'
+            for n, levels in [("S", "[0, 1]"), ("WP", "[1e-15, 1e-13]"), ("WR", "[1e-7, 1e-6]"),
+                              ("A", "[10, 20]"), ("mu0", "[0.5, 0.7]")]
+        ).replace('name = "mu0"', 'name = "mu0"\nfield = "friction.mu_0"')
+    )  # fmt: skip
+    text = _design(str(pb), "--no-tests")
+    assert text.startswith("pb: Plackett-Burman design, 12 tests, 5 factors")
+    assert "no main effect or two-factor interaction is completely aliased" in text
+    assert "partly confounded (not estimable apart from the terms before them): " in text

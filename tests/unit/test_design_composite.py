@@ -567,3 +567,62 @@ def test_the_shipped_surface_design_has_its_example_goals():
         ("log10_V_mm3", "minimize"),
         ("MU", "target"),
     ]
+
+
+# --- Plackett-Burman designs ----------------------------------------------------------------
+
+
+def _pb(runs: int, factors: list[dict[str, Any]], **extra: Any) -> Design:
+    data = {"name": "pb", "base": "paper", "root_seed": 3, "plackett_burman": runs}
+    return design_from_dict({**data, "factors": factors, **extra}, source="pb.toml")
+
+
+@pytest.mark.parametrize("runs", [12, 20, 24])
+def test_plackett_burman_columns_are_balanced_and_orthogonal(runs):
+    from brakeca.design import _plackett_burman_signs
+
+    signs = _plackett_burman_signs(runs, runs - 1)
+    assert len(signs) == runs and signs[-1] == [-1] * (runs - 1)
+    for i, j in itertools.combinations_with_replacement(range(runs - 1), 2):
+        dot = sum(row[i] * row[j] for row in signs)
+        assert dot == (runs if i == j else 0)
+    assert all(sum(row[i] for row in signs) == 0 for i in range(runs - 1))
+
+
+def test_a_plackett_burman_design_writes_its_tests_and_reads_back():
+    factors = [
+        {"name": "mu0", "field": "friction.mu_0", "levels": [0.5, 0.7]},
+        *({"name": n, **FACTORS[n]} for n in ("slope", "modulus", "bar", "WP", "WR", "A")),
+    ]
+    design = _pb(12, factors)
+    assert design.n_tests == 12 and design.kind.startswith(
+        "Plackett-Burman design, 12 tests, 7 factors (main effects clear"
+    )
+    combos = design.combinations()
+    assert combos[0]["mu0"] == 0.7 and combos[0]["slope"] == 2e-8  # generator ++-+++---+-
+    assert combos[-1] == {f["name"]: f["levels"][0] for f in factors}  # the all-minus test
+    back = design_from_dict(tomllib.loads(design.to_toml()), source="written")
+    assert back.combinations() == combos and back.plackett_burman == 12
+    written = tomllib.loads(design.to_toml())
+    written["runs"][3]["A"] = 20.0 if written["runs"][3]["A"] == 10.0 else 10.0
+    with pytest.raises(ConfigError, match=r"runs\.3\.A: test 4 of the Plackett-Burman"):
+        design_from_dict(written, source="written")
+    folded = _pb(12, factors, foldover="all")
+    assert folded.n_tests == 24 and "folded over on mu0, slope" in folded.kind
+
+
+@pytest.mark.parametrize(
+    ("runs", "factors", "extra", "message"),
+    [
+        (16, 3, {}, "plackett_burman: expected the number of tests, one of 12, 20, 24"),
+        (12, 1, {}, "a design of 12 tests takes 2 to 11 factors, got 1"),
+        (12, 3, {"generators": ["x = a*b"]}, "plackett_burman, generators"),
+    ],
+)
+def test_a_bad_plackett_burman_design_names_the_field(runs, factors, extra, message):
+    names = ("mu0", "slope", "modulus")[:factors]
+    with pytest.raises(ConfigError, match=re.escape(message)):
+        _pb(runs, _factors(*names), **extra)
+    three = _factors("mu0", "slope", mu0={"levels": [0.5, 0.6, 0.7]})
+    with pytest.raises(ConfigError, match=re.escape("factors.0.levels: factor 'mu0'")):
+        _pb(12, three)
