@@ -84,3 +84,24 @@ def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:
     output = cli_ok("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
     assert "0 run(s) computed, 3 reused" in output
     assert "Run table: 3 tests." in (out / "report.html").read_text(encoding="utf-8")
+
+
+def test_a_plackett_burman_design_runs_and_leaves_out_partly_confounded_interactions(
+    tmp_path,
+) -> None:
+    design = tmp_path / "pb.toml"
+    design.write_text(
+        'name = "pb"\nbase = "paper"\nroot_seed = 9\nplackett_burman = 12\n' + FACTORS
+    )
+    out = tmp_path / "c"
+    cli_ok("run", str(design), "-o", str(out), *TINY)
+    summary = pd.read_csv(out / "summary.csv")
+    assert list(summary["test"]) == list(range(1, 13)) and (summary["status"] == "ok").all()
+    # balanced: every factor at each of its levels in 6 tests
+    assert all(summary[f].value_counts().tolist() == [6, 6] for f in ("S", "A", "WR"))
+    effects = pd.read_csv(out / "tables" / "effects_MU.csv", keep_default_na=False)
+    terms = set(effects["term"])
+    assert {"A", "S", "WR"} <= terms  # the two-factor interactions, partly confounded: out
+    assert not {"S:A", "S:WR", "A:WR"} & terms
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "Plackett-Burman design, 12 tests, 3 factors" in html
