@@ -628,6 +628,18 @@ def plot_effects(
     return save_figure(fig, path)
 
 
+def _pair_panels(n_panels: int) -> tuple[Figure, np.ndarray]:
+    """A figure of ``n_panels`` axes, three to a row (those left over hidden), for the
+    panels of pairs of factors of a response surface."""
+    ncols = min(n_panels, 3)
+    nrows = math.ceil(n_panels / ncols)
+    fig = _figure((4.3 * ncols + 0.6, 3.8 * nrows + 0.6))
+    axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
+    for ax in axes[n_panels:]:
+        ax.set_visible(False)
+    return fig, axes
+
+
 def plot_response_surface(
     fit: Any,
     path: str | Path | None = None,
@@ -660,14 +672,8 @@ def plot_response_surface(
     codings = list(fit.codings)
     extent = fit.extent()
     pairs = list(itertools.combinations(range(len(codings)), 2))
-    n_panels = max(len(pairs), 1)
-    ncols = min(n_panels, 3)
-    nrows = math.ceil(n_panels / ncols)
-    fig = _figure((4.3 * ncols + 0.6, 3.7 * nrows + 0.5))
-    axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
+    fig, axes = _pair_panels(max(len(pairs), 1))
     _suptitle(fig, f"Fitted response surface of {fit.response} ({label})")
-    for ax in axes[n_panels:]:
-        ax.set_visible(False)
     st = fit.stationary
     if len(codings) == 1:
         c = codings[0]
@@ -755,12 +761,7 @@ def plot_overlaid_contours(
     codings = list(first.codings)
     extent = first.extent()
     pairs = list(itertools.combinations(range(len(codings)), 2)) or [(0, 0)]
-    ncols = min(len(pairs), 3)
-    nrows = math.ceil(len(pairs) / ncols)
-    fig = _figure((4.3 * ncols + 0.4, 3.9 * nrows + 0.6))
-    axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
-    for ax in axes[len(pairs) :]:
-        ax.set_visible(False)
+    fig, axes = _pair_panels(len(pairs))
     _suptitle(
         fig,
         "Where every response meets its limits (white), the others at the optimum: "
