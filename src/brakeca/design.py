@@ -1510,7 +1510,7 @@ class Design(_Frozen):
         if not isinstance(data, Mapping) or data.get("plackett_burman") is None:
             return data
         runs = data["plackett_burman"]
-        if isinstance(runs, bool) or runs not in PLACKETT_BURMAN:
+        if isinstance(runs, bool) or not isinstance(runs, int) or runs not in PLACKETT_BURMAN:
             raise ValueError(
                 f"plackett_burman: expected the number of tests, one of "
                 f"{', '.join(map(str, PLACKETT_BURMAN))}, got {runs!r} (for 8, 16 or 32 tests "

@@ -10,6 +10,8 @@ import tomllib
 from typing import Any
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from brakeca.config import ConfigError
 from brakeca.design import Composite, Design, Factor, design_from_dict, load_design
@@ -626,3 +628,47 @@ def test_a_bad_plackett_burman_design_names_the_field(runs, factors, extra, mess
     three = _factors("mu0", "slope", mu0={"levels": [0.5, 0.6, 0.7]})
     with pytest.raises(ConfigError, match=re.escape("factors.0.levels: factor 'mu0'")):
         _pb(12, three)
+
+
+# --- any input: a design or a ConfigError, nothing else --------------------------------------
+
+_ANY = st.one_of(
+    st.none(), st.booleans(), st.integers(-3, 30), st.floats(allow_nan=True),
+    st.sampled_from(["face", "rotatable", "orthogonal", "x"]), st.just([]), st.just({}),
+    st.lists(st.floats(-1, 30), max_size=3),
+)  # fmt: skip
+_FACTOR = st.fixed_dictionaries(
+    {"name": st.sampled_from(["S", "WP", "WR", "A", "x y", "mu0"]), "levels": _ANY},
+    optional={
+        "field": st.sampled_from(["friction.mu_0", "friction.slope", "cycle", "no.such"]),
+        "coding": st.sampled_from(["log", "linear", "exp"]),
+        "coded_range": _ANY,
+        "labels": st.just(["-", "+"]),
+    },
+)
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    factors=st.lists(_FACTOR, max_size=5),
+    key=st.sampled_from(["composite", "box_behnken", "plackett_burman"]),
+    value=st.one_of(_ANY, st.fixed_dictionaries({}, optional={"alpha": _ANY, "center": _ANY})),
+    goals=st.one_of(st.none(), st.lists(st.fixed_dictionaries({"response": _ANY}), max_size=2)),
+)
+def test_any_response_surface_or_screening_input_gives_a_design_or_a_config_error(
+    factors, key, value, goals
+):
+    data: dict[str, Any] = {"name": "f", "base": "paper", "root_seed": 1, "factors": factors}
+    data[key] = value
+    if goals is not None:
+        data["goals"] = goals
+    try:
+        design_from_dict(data, source="fuzz.toml")
+    except ConfigError as exc:
+        assert str(exc).startswith("fuzz.toml")
+
+
+@pytest.mark.parametrize("value", [{}, [], "12", 12.0, True])
+def test_a_plackett_burman_size_that_is_no_whole_number_names_the_field(value):
+    with pytest.raises(ConfigError, match="plackett_burman: expected the number of tests"):
+        _pb(value, _factors("mu0", "slope"))  # type: ignore[arg-type]
