@@ -716,6 +716,18 @@ def optimize(
             help=f"a response's goal: {_GOAL_FORM}; by default the design's goals",
         ),
     ] = None,
+    reduce: Annotated[
+        float | None,
+        typer.Option(
+            "--reduce",
+            metavar="ALPHA",
+            min=0.0,
+            max=1.0,
+            help="reduce each surface first: backward elimination of the terms with p above "
+            "ALPHA (0.1 in Minitab), keeping the model hierarchical; by default the design's "
+            "alpha_to_remove, else the full quadratic",
+        ),
+    ] = None,
 ) -> None:
     """Find the factor setting that best meets every goal, on the response surfaces fitted to
     a campaign's runs (a quadratic in the coded factors, brakeca.rsm; best from a central
@@ -738,8 +750,14 @@ def optimize(
             raise ValueError(
                 f"{folder}: its design has no goals; give one or more: --goal {_GOAL_FORM}"
             )
+        alpha = reduce if reduce is not None else result.design.alpha_to_remove
+        if alpha is not None and not 0.0 < alpha < 1.0:
+            raise ValueError(f"--reduce: expected a level above 0 and below 1, got {alpha!r}")
         fits = response_surfaces(
-            with_log_v(result.summary), result.design.factors, [g.response for g in parsed]
+            with_log_v(result.summary),
+            result.design.factors,
+            [g.response for g in parsed],
+            alpha_to_remove=alpha,
         )
         best = find_optimum(fits, parsed)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
@@ -782,6 +800,10 @@ def optimize(
     out.print(table)
     out.print(goals_table)
     out.print(f"composite desirability: {best.composite:.3f}", markup=False)
+    for goal in parsed:
+        for note in fits[goal.response].notes:
+            if note.startswith("removed by backward elimination"):
+                out.print(f"{goal.response}: {note}", markup=False, highlight=False, emoji=False)
     if best.note:
         out.print(f"note: {best.note}", markup=False, highlight=False)
     if best.on_boundary:

@@ -1402,6 +1402,10 @@ class Design(_Frozen):
     goals
         What the report of a response-surface design optimizes (:class:`GoalSpec`, each
         response once): it then finds the factor setting that best meets them all.
+    alpha_to_remove
+        The report of a response-surface design fits reduced surfaces: backward elimination
+        of the terms with p above this level [-], keeping the model hierarchical
+        (:func:`brakeca.rsm.backward_elimination`); by default the full quadratic.
     """
 
     name: str = Field(min_length=1)
@@ -1420,6 +1424,7 @@ class Design(_Frozen):
     box_behnken: BoxBehnken | None = None
     plackett_burman: int | None = None
     goals: tuple[GoalSpec, ...] = ()
+    alpha_to_remove: float | None = Field(None, gt=0.0, lt=1.0)
 
     @field_validator("foldover", mode="before")
     @classmethod
@@ -1692,6 +1697,12 @@ class Design(_Frozen):
             self._check_composite()
         if self.plackett_burman is not None:
             self._check_plackett_burman()
+        if self.alpha_to_remove is not None and self.surface_design is None:
+            raise ValueError(
+                "alpha_to_remove: the report reduces the response surface of a central "
+                "composite or Box-Behnken design; for another design, use "
+                "'brakeca optimize FOLDER --reduce ALPHA' on its campaign"
+            )
         if self.goals:
             if self.surface_design is None:
                 raise ValueError(

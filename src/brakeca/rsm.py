@@ -57,6 +57,7 @@ __all__ = [
     "Goal",
     "Optimum",
     "SurfaceFit",
+    "backward_elimination",
     "coding_of",
     "fit_response_surface",
     "optimize",
@@ -396,10 +397,15 @@ def _pure_error(points: pd.DataFrame, names: Sequence[str]) -> tuple[float, floa
 
 
 def _model_matrix(
-    points: pd.DataFrame, names: Sequence[str], quadratic: bool, interactions: bool
+    points: pd.DataFrame,
+    names: Sequence[str],
+    quadratic: bool,
+    interactions: bool,
+    exclude: frozenset[str] = frozenset(),
 ) -> tuple[list[str], list[tuple[str, str]], np.ndarray, list[str]]:
     """The factors that vary, the (term, group) kept, the model matrix (intercept first) and
-    the notes on what was left out, for coded ``points``."""
+    the notes on what was left out, for coded ``points``; terms in ``exclude`` are not
+    candidates."""
     notes: list[str] = []
     varying = []
     for name in names:
@@ -417,7 +423,7 @@ def _model_matrix(
     candidates = [
         (t, g)
         for t, g in _candidate_terms(varying, squares if quadratic else [])
-        if interactions or g != "2-Way Interaction"
+        if (interactions or g != "2-Way Interaction") and t not in exclude
     ]
     x = {n: points[n].to_numpy(float) for n in varying}
     columns = [np.ones(len(points))]
@@ -472,6 +478,7 @@ def fit_response_surface(
     *,
     quadratic: bool = True,
     interactions: bool = True,
+    exclude: Iterable[str] = (),
 ) -> SurfaceFit:
     """Fit a full quadratic response surface in the coded factors.
 
@@ -489,6 +496,9 @@ def fit_response_surface(
         Fit square terms (for the factors with three or more distinct levels in the data).
     interactions
         Fit the two-way interactions.
+    exclude
+        Terms to leave out (``"WR*WR"``, ``"A*WR"``; a reduced model, see
+        :func:`backward_elimination`).
 
     Returns
     -------
@@ -520,7 +530,9 @@ def fit_response_surface(
             f"response {response!r}: {len(points)} usable run(s); a surface needs at least 2"
         )
     y = points["y"].to_numpy(float)
-    varying, kept, exog, notes = _model_matrix(points, names, quadratic, interactions)
+    varying, kept, exog, notes = _model_matrix(
+        points, names, quadratic, interactions, frozenset(exclude)
+    )
     n, p = exog.shape
     xtx_inv = np.linalg.inv(exog.T @ exog)
     coef = xtx_inv @ exog.T @ y
@@ -669,8 +681,62 @@ def _stationary(fit: SurfaceFit) -> dict[str, Any] | None:
     }
 
 
+def _removable(terms: Sequence[str]) -> list[str]:
+    """The terms that can leave a hierarchical model: every square and interaction, and a
+    linear term only when no square or interaction holding its factor remains."""
+    higher = [t for t in terms if "*" in t]
+    held = {f for t in higher for f in t.split("*")}
+    return [t for t in terms if "*" in t or t not in held]
+
+
+def backward_elimination(
+    summary: pd.DataFrame, factors: Iterable[Any], response: str, *, alpha: float = 0.1
+) -> SurfaceFit:
+    """A reduced response surface: from the full quadratic, drop the term with the largest p
+    value above ``alpha``, refit, and go on until every term left has p <= ``alpha``, keeping
+    the model hierarchical (a factor's linear term stays while a square or interaction of it
+    does), as Minitab's backward elimination ("alpha to remove", 0.1 by default).
+
+    Parameters
+    ----------
+    summary, factors, response
+        As :func:`fit_response_surface`.
+    alpha
+        Alpha to remove [-], between 0 and 1.
+
+    Returns
+    -------
+    SurfaceFit
+        The reduced fit; its ``notes`` name the terms removed, in order. The full fit when
+        it has no residual degrees of freedom (no p values to judge by).
+    """
+    if not 0.0 < alpha < 1.0:
+        raise ValueError(f"alpha: expected a level between 0 and 1, got {alpha!r}")
+    factors = list(factors)
+    removed: list[str] = []
+    fit = fit_response_surface(summary, factors, response)
+    while True:
+        p = dict(zip(fit.coefficients["term"], fit.coefficients["p_value"], strict=True))
+        candidates = [t for t in _removable(fit.terms) if np.isfinite(p[t])]
+        if not candidates:
+            break
+        worst = max(candidates, key=lambda t: p[t])
+        if p[worst] <= alpha:
+            break
+        removed.append(worst)
+        fit = fit_response_surface(summary, factors, response, exclude=removed)
+    if removed:
+        note = f"removed by backward elimination (alpha to remove {alpha:g}): {', '.join(removed)}"
+        object.__setattr__(fit, "notes", (*fit.notes, note))
+    return fit
+
+
 def response_surfaces(
-    summary: pd.DataFrame, factors: Iterable[Any], responses: Sequence[str]
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    responses: Sequence[str],
+    *,
+    alpha_to_remove: float | None = None,
 ) -> dict[str, SurfaceFit]:
     """:func:`fit_response_surface` for each response that has at least two usable runs.
 
@@ -682,6 +748,9 @@ def response_surfaces(
         The design's factors (numeric).
     responses
         Response columns.
+    alpha_to_remove
+        Reduce each surface by :func:`backward_elimination` at this level [-]; None: the
+        full quadratic.
 
     Returns
     -------
@@ -692,7 +761,12 @@ def response_surfaces(
     out = {}
     for response in responses:
         try:
-            out[response] = fit_response_surface(summary, factors, response)
+            if alpha_to_remove is None:
+                out[response] = fit_response_surface(summary, factors, response)
+            else:
+                out[response] = backward_elimination(
+                    summary, factors, response, alpha=alpha_to_remove
+                )
         except ValueError as exc:
             if "usable run" not in str(exc):
                 raise

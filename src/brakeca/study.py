@@ -272,7 +272,9 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     if result.design.is_response_surface:  # a response-surface design
         from brakeca import rsm
 
-        surfaces = rsm.response_surfaces(data, factors, RESPONSES)
+        surfaces = rsm.response_surfaces(
+            data, factors, RESPONSES, alpha_to_remove=result.design.alpha_to_remove
+        )
         rsm.save_surface_tables(surfaces, tables_dir)
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)

@@ -92,5 +92,7 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert res.exit_code == 0, res.output
     assert "composite desirability: " in res.output and "V [mm³]" in res.output
     assert "target 0.1 / 0.3 / 0.6" in res.output and "minimize 0 / 50" in res.output
+    reduced = cli_ok("optimize", str(out), "--reduce", "0.5")
+    assert "composite desirability: " in reduced
     bad = CliRunner().invoke(app, ["optimize", str(out), "-g", "MU:target:0.3:0.2"])
     assert bad.exit_code == 2 and "target takes 3 numbers" in bad.output

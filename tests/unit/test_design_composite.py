@@ -672,3 +672,16 @@ def test_any_response_surface_or_screening_input_gives_a_design_or_a_config_erro
 def test_a_plackett_burman_size_that_is_no_whole_number_names_the_field(value):
     with pytest.raises(ConfigError, match="plackett_burman: expected the number of tests"):
         _pb(value, _factors("mu0", "slope"))  # type: ignore[arg-type]
+
+
+def test_alpha_to_remove_belongs_to_a_response_surface_design():
+    design = _ccd("mu0 slope", alpha_to_remove=0.1)
+    assert design.alpha_to_remove == 0.1
+    assert design_from_dict(tomllib.loads(design.to_toml())).alpha_to_remove == 0.1
+    for value, message in [(1.5, "alpha_to_remove"), (0.0, "alpha_to_remove")]:
+        with pytest.raises(ConfigError, match=message):
+            _ccd("mu0 slope", alpha_to_remove=value)
+    data = {**_data("mu0 slope", alpha_to_remove=0.1)}
+    del data["composite"]
+    with pytest.raises(ConfigError, match="alpha_to_remove: the report reduces"):
+        design_from_dict(data, source="x.toml")

@@ -330,3 +330,27 @@ def test_confidence_interval_of_the_mean_is_statsmodels() -> None:
     low, high = fit.confidence_interval(coded, new_run=True)
     np.testing.assert_allclose(low, expected["obs_ci_lower"], rtol=1e-10)
     np.testing.assert_allclose(high, expected["obs_ci_upper"], rtol=1e-10)
+
+
+def test_backward_elimination_removes_inactive_terms_and_keeps_the_hierarchy() -> None:
+    from brakeca.rsm import backward_elimination
+
+    rng = np.random.default_rng(11)
+    x = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=3)) * 2)
+    noise = 0.01 * rng.standard_normal(len(x))
+    frame = pd.DataFrame({"a": x[:, 0], "b": x[:, 1], "c": x[:, 2]})
+    codings = [Coding(n, -1.0, 1.0) for n in "abc"]
+    # y depends on a, a*a and the b*c interaction only: b and c stay (hierarchy), the rest go
+    frame["y"] = 1.0 + x[:, 0] + 0.5 * x[:, 0] ** 2 + 0.3 * x[:, 1] * x[:, 2] + noise
+    fit = backward_elimination(frame, codings, "y", alpha=0.05)
+    assert set(fit.terms) == {"a", "b", "c", "a*a", "b*c"}
+    removed = fit.notes[-1].split(": ", 1)[1].split(", ")
+    assert set(removed) == {"b*b", "c*c", "a*b", "a*c"}
+    p = dict(zip(fit.coefficients["term"], fit.coefficients["p_value"], strict=True))
+    assert all(p[t] <= 0.05 for t in ("a", "a*a", "b*c"))
+    # a model with nothing to remove is the full fit
+    full = fit_response_surface(_montgomery(), _CODED, "yield")
+    same = backward_elimination(_montgomery(), _CODED, "yield", alpha=0.2)
+    assert same.terms == full.terms and same.notes == full.notes
+    with pytest.raises(ValueError, match="alpha: expected a level between 0 and 1"):
+        backward_elimination(frame, codings, "y", alpha=1.0)
