@@ -4,7 +4,7 @@ Runs the shipped central composite design ``surface`` (WP and WR log-coded, A li
 runs) on the quick band (2 mm, 21 rows) and asks where the pad emits least at a COF near
 0.35, as ``brakeca run surface`` and ``brakeca optimize`` would, but step by step::
 
-    .venv/bin/python examples/response_surface.py            # 1 min 29 s on 2 cores (measured)
+    .venv/bin/python examples/response_surface.py          # 1 min 29 s, 2 cores, compiled kernels
     .venv/bin/python examples/response_surface.py --tiny     # a 5 x 100 cell band, 2 stops
 
 The ``--tiny`` variant (seconds; what the test suite runs) shows the workflow, not results.
