@@ -340,7 +340,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             if resp in surfaces:
                 fit = surfaces[resp]
                 add(
-                    "Response surface",
+                    "Contour plots",
                     f"Contour plots of the fitted quadratic surface of {label} (coded model "
                     "in the section 'Response surface'), each pair of factors with the others "
                     "at their centre; the runs projected onto the pair; the star: the "
@@ -360,7 +360,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             )
         if optimum is not None:
             add(
-                "Response surface",
+                "Contour plots",
                 "Overlaid contour plot: where every response meets its goal's limits (white), "
                 "each pair of factors with the others at the optimum's levels; the star: the "
                 "optimum",

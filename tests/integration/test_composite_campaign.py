@@ -74,6 +74,8 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Central composite design (face-centred, α = 1), 2 factors" in html
     assert '<section id="surface">' in html and "Coded -1 to +1: A 10 to 20 %, WR log10" in html
+    assert html.count("<h2>Response surface</h2>") == 1  # the figures: "Contour plots"
+    assert "<h2>Contour plots</h2>" in html
     # the design's goal: the optimum in the report and tables/optimum.csv, V in mm³
     optimum = pd.read_csv(out / "tables" / "optimum.csv")
     v_row = optimum[optimum["name"] == "V"].iloc[0]
