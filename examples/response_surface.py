@@ -1,8 +1,8 @@
 """A response-surface study from Python: design, runs, quadratic fits, optimum, figures.
 
-Runs the shipped central composite design ``surface`` (WP and WR log-coded, A linear; 17
+Runs the shipped central composite design ``response_surface`` (WP and WR log-coded, A linear; 17
 runs) on the quick band (2 mm, 21 rows) and asks where the pad emits least at a COF near
-0.35, as ``brakeca run surface`` and ``brakeca optimize`` would, but step by step::
+0.35, as ``brakeca run response_surface`` and ``brakeca optimize`` would, but step by step::
 
     .venv/bin/python examples/response_surface.py          # 1 min 29 s, 2 cores, compiled kernels
     .venv/bin/python examples/response_surface.py --tiny     # a 5 x 100 cell band, 2 stops
@@ -36,7 +36,7 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--workers", type=int, default=None)
     args = parser.parse_args(argv)
 
-    design = load_design("surface")
+    design = load_design("response_surface")
     print(design.kind)  # central composite design (face-centred, α = 1), 3 factors: ...
     result = run_campaign(
         design,

@@ -42,8 +42,10 @@ def test_a_full_factorial_is_clear_and_a_bad_design_names_its_problem(tmp_path) 
 
 
 def test_a_composite_design_shows_its_coding_and_quadratic_model(tmp_path) -> None:
-    text = _design("surface")
-    assert text.startswith("surface: central composite design (face-centred, α = 1), 3 factors")
+    text = _design("response_surface")
+    assert text.startswith(
+        "response_surface: central composite design (face-centred, α = 1), 3 factors"
+    )
     assert "coded -1 to +1: WP log10 1e-15 to 1e-13 m^3/(N m); A 10 to 20 %; WR log10" in text
     assert (
         "response-surface model: 10 coefficients (3 linear, 3 square, 3 interaction terms and "

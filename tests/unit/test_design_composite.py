@@ -428,8 +428,8 @@ def test_a_factorial_factor_may_be_log_coded_with_a_coded_range():
 
 
 def test_the_shipped_surface_design_is_a_face_centred_ccd_in_17_runs():
-    assert "surface" in available_designs()
-    design = load_design("surface")
+    assert "response_surface" in available_designs()
+    design = load_design("response_surface")
     assert design.n_tests == 17 and design.replicates == 1 and design.root_seed == 2016
     assert design.factor_names == ("WP", "A", "WR")
     assert design.kind == (
@@ -564,7 +564,7 @@ def test_bad_goals_name_the_field(goals, extra, message):
 
 
 def test_the_shipped_surface_design_has_its_example_goals():
-    goals = load_design("surface").goals
+    goals = load_design("response_surface").goals
     assert [(g.response, g.goal) for g in goals] == [
         ("log10_V_mm3", "minimize"),
         ("MU", "target"),
