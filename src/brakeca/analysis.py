@@ -244,17 +244,20 @@ def _factors(factors: Iterable[Any]) -> list[Factor]:
     return out
 
 
-def _clean(summary: pd.DataFrame, factors: Sequence[Factor], response: str) -> pd.DataFrame:
-    """Rows usable for ``response``: status ok, response finite, factor columns present."""
+def _clean(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> pd.DataFrame:
+    """Rows usable for ``response``: status ok, response finite, factor columns present
+    (``factors``: anything with a ``name``, e.g. :class:`Factor` or
+    :class:`brakeca.rsm.Coding`). Selected by position, so a repeated index label is fine."""
     if response not in summary.columns:
         raise KeyError(f"response {response!r} is not a column of the summary")
     missing = [f.name for f in factors if f.name not in summary.columns]
     if missing:
         raise KeyError(f"factor column(s) {missing} not in the summary")
     data = ok_runs(summary)
-    y = pd.to_numeric(data[response], errors="coerce").astype(float)
-    data = data.loc[np.isfinite(y.to_numpy())].copy()
-    data[response] = y.loc[data.index]
+    y = pd.to_numeric(data[response], errors="coerce").to_numpy(dtype=float)
+    finite = np.isfinite(y)
+    data = data.loc[finite].copy()
+    data[response] = y[finite]
     return data
 
 

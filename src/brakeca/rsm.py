@@ -50,6 +50,9 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
+from brakeca.analysis import _clean as _usable_rows
+from brakeca.analysis import _fit_statistics, _is_constant
+
 __all__ = [
     "ANOVA_COLUMNS",
     "COEFFICIENT_COLUMNS",
@@ -364,20 +367,13 @@ def _vif(exog: np.ndarray) -> np.ndarray:
 
 
 def _clean(summary: pd.DataFrame, codings: Sequence[Coding], response: str) -> pd.DataFrame:
-    """Rows with ``status == "ok"``, a finite response and finite coded factors."""
-    if response not in summary.columns:
-        raise KeyError(f"response {response!r} is not a column of the summary")
-    missing = [c.name for c in codings if c.name not in summary.columns]
-    if missing:
-        raise KeyError(f"factor column(s) {missing} not in the summary")
-    data = summary
-    if "status" in data.columns:
-        data = data[data["status"].astype(str).str.strip().str.lower() == "ok"]
-    y = pd.to_numeric(data[response], errors="coerce").to_numpy(dtype=float)
+    """The coded factors and ``y`` of the rows :func:`brakeca.analysis._clean` keeps (status
+    ok, finite response) whose coded factors are finite too."""
+    data = _usable_rows(summary, codings, response)
     frame = pd.DataFrame(index=range(len(data)))
     for c in codings:
         frame[c.name] = c.code(pd.to_numeric(data[c.name], errors="coerce").to_numpy(float))
-    frame["y"] = y
+    frame["y"] = data[response].to_numpy(float)
     return frame[np.isfinite(frame.to_numpy(dtype=float)).all(axis=1)].reset_index(drop=True)
 
 
@@ -542,7 +538,7 @@ def fit_response_surface(
     df_resid = float(n - p)
     mse = sse / df_resid if df_resid > 0.5 else math.nan
     sst = float(np.sum((y - y.mean()) ** 2))
-    constant = sst <= (1e-13 * float(np.max(np.abs(y)))) ** 2 * n
+    constant = _is_constant(y)
     if constant:
         notes.append(f"{response} is constant over the runs: no test is possible")
 
@@ -611,17 +607,10 @@ def fit_response_surface(
     anova = pd.DataFrame(rows, columns=list(ANOVA_COLUMNS))
 
     leverage = np.einsum("ij,jk,ik->i", exog, xtx_inv, exog)
-    statistics: dict[str, float] = {"n": float(n), "df_resid": df_resid, "s": math.nan}
-    statistics.update(r_squared=math.nan, r_squared_adj=math.nan, r_squared_pred=math.nan)
-    if df_resid > 0.5:
-        statistics["s"] = math.sqrt(mse)
-    if not constant and sst > 0:
-        statistics["r_squared"] = 1.0 - sse / sst
-        if df_resid > 0.5:
-            statistics["r_squared_adj"] = 1.0 - mse / (sst / (n - 1))
-            if np.all(leverage < 1.0 - 1e-9):
-                press = float(np.sum((resid / (1.0 - leverage)) ** 2))
-                statistics["r_squared_pred"] = 1.0 - press / sst
+    statistics: dict[str, float] = {"n": float(n)}
+    statistics.update(_fit_statistics(y, fitted, leverage, df_resid, sst))
+    if constant:  # R² of round-off means nothing
+        statistics.update(r_squared=math.nan, r_squared_adj=math.nan, r_squared_pred=math.nan)
     statistics.update(lack)
 
     used = tuple(c for c in codings if c.name in varying)
