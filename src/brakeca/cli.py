@@ -668,10 +668,6 @@ def analyze(
     )
 
 
-#: ``brakeca optimize``'s responses: summary column, the unit goals are given in and the
-#: factor from the column's unit to it.
-_OPTIMIZE_RESPONSES = {"MU": ("-", 1.0), "V": ("mm³", 1e9), "log10_V_mm3": ("-", 1.0)}
-
 _GOAL_FORM = (
     "RESPONSE:min:LOW:HIGH, RESPONSE:max:LOW:HIGH or RESPONSE:target:LOW:TARGET:HIGH, with "
     "RESPONSE one of MU, V (in mm³), log10_V_mm3; e.g. V:min:0.1:5 or MU:target:0.35:0.4:0.45"
@@ -679,12 +675,16 @@ _GOAL_FORM = (
 
 
 def _parse_goal(text: str) -> Any:
-    """A :class:`brakeca.rsm.Goal` from ``--goal`` text, its limits in the column's unit."""
-    from brakeca.rsm import Goal
+    """A :class:`brakeca.rsm.Goal` from ``--goal`` text, checked as a design's goal
+    (:class:`brakeca.design.GoalSpec`: its messages in the text's units, V in mm³)."""
+    from pydantic import ValidationError
+
+    from brakeca.config import format_validation_error
+    from brakeca.design import GOAL_RESPONSES, GoalSpec
 
     parts = [p.strip() for p in text.split(":")]
     kinds = {"min": "minimize", "max": "maximize", "target": "target"}
-    if len(parts) < 2 or parts[0] not in _OPTIMIZE_RESPONSES or parts[1] not in kinds:
+    if len(parts) < 2 or parts[0] not in GOAL_RESPONSES or parts[1] not in kinds:
         raise ValueError(f"--goal {text!r}: expected {_GOAL_FORM}")
     response, kind = parts[0], kinds[parts[1]]
     need = 3 if kind == "target" else 2
@@ -694,12 +694,15 @@ def _parse_goal(text: str) -> Any:
         numbers = []
     if len(numbers) != need:
         raise ValueError(f"--goal {text!r}: {parts[1]} takes {need} numbers; expected {_GOAL_FORM}")
-    scale = _OPTIMIZE_RESPONSES[response][1]
-    values = [v / scale for v in numbers]
     if kind == "target":
-        lower, target, upper = values
-        return Goal(response, "target", lower, upper, target=target)
-    return Goal(response, kind, values[0], values[1])  # type: ignore[arg-type]
+        limits = {"lower": numbers[0], "target": numbers[1], "upper": numbers[2]}
+    else:
+        limits = {"lower": numbers[0], "upper": numbers[1]}
+    try:
+        spec = GoalSpec(response=response, goal=kind, **limits)
+    except ValidationError as exc:
+        raise ValueError(format_validation_error(exc, f"--goal {text!r}")) from None
+    return spec.to_goal()
 
 
 @app.command(short_help="the factor setting that best meets goals for MU and V")
@@ -737,6 +740,7 @@ def optimize(
     from rich.table import Table
 
     from brakeca.campaign import load_campaign
+    from brakeca.design import GOAL_RESPONSES
     from brakeca.rsm import optimize as find_optimum
     from brakeca.rsm import response_surfaces
     from brakeca.study import with_log_v
@@ -779,7 +783,7 @@ def optimize(
     for column in ("response", "goal", "desirability"):
         goals_table.add_column(column, justify="right" if column == "desirability" else "left")
     for goal in parsed:
-        unit, scale = _OPTIMIZE_RESPONSES[goal.response]
+        unit, scale = GOAL_RESPONSES[goal.response]
         name = escape(goal.response + ("" if unit == "-" else f" [{unit}]"))
         low, high = best.interval[goal.response]
         pi_low, pi_high = best.prediction[goal.response]
@@ -898,7 +902,7 @@ def show_design(
         limits = [goal.lower, goal.target, goal.upper] if goal.goal == "target" else [
             goal.lower, goal.upper
         ]  # fmt: skip
-        unit = GOAL_RESPONSES[goal.response]
+        unit = GOAL_RESPONSES[goal.response][0]
         out.print(
             f"goal: {goal.response} {goal.goal} "
             + " / ".join(f"{v:g}" for v in limits)

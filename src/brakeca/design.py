@@ -1288,9 +1288,14 @@ def _plackett_burman_signs(runs: int, k: int) -> list[list[int]]:
     return [*tests, [-1] * k]
 
 
-#: The responses a design's goals may name, with the unit their limits are given in: MU [-],
-#: V in mm^3 per stop (the campaign's V is in m^3), log10 of V in mm^3 [-].
-GOAL_RESPONSES: dict[str, str] = {"MU": "-", "V": "mm³", "log10_V_mm3": "-"}
+#: The responses a goal may name (a design's or ``brakeca optimize --goal``'s), with the
+#: unit its limits are given in and the factor from the campaign's column to that unit: MU
+#: [-], V in mm^3 per stop (the campaign's V is in m^3), log10 of V in mm^3 [-].
+GOAL_RESPONSES: dict[str, tuple[str, float]] = {
+    "MU": ("-", 1.0),
+    "V": ("mm³", 1e9),
+    "log10_V_mm3": ("-", 1.0),
+}
 
 
 class GoalSpec(_Frozen):
@@ -1328,18 +1333,18 @@ class GoalSpec(_Frozen):
         return self
 
     def to_goal(self, scale: float | None = None) -> Any:
-        """The :class:`brakeca.rsm.Goal` in the campaign's units (V in m^3; ``scale``, the
-        factor from the design's unit to the campaign's, by default 1e-9 for V, else 1)."""
+        """The :class:`brakeca.rsm.Goal` in the campaign's units (V in m^3): the limits
+        divided by ``scale``, by default the response's factor in :data:`GOAL_RESPONSES`."""
         from brakeca.rsm import Goal
 
         if scale is None:
-            scale = 1e-9 if self.response == "V" else 1.0
+            scale = GOAL_RESPONSES[self.response][1]
         return Goal(
             self.response,
             self.goal,
-            self.lower * scale,
-            self.upper * scale,
-            target=None if self.target is None else self.target * scale,
+            self.lower / scale,
+            self.upper / scale,
+            target=None if self.target is None else self.target / scale,
             weight=self.weight,
             importance=self.importance,
         )

@@ -95,3 +95,9 @@ def test_a_plackett_burman_design_is_partly_confounded(tmp_path) -> None:
     assert text.startswith("pb: Plackett-Burman design, 12 tests, 5 factors")
     assert "no main effect or two-factor interaction is completely aliased" in text
     assert "partly confounded (not estimable apart from the terms before them): " in text
+
+
+def test_a_bad_optimize_goal_is_named_in_its_own_units(tmp_path) -> None:
+    res = CliRunner().invoke(app, ["optimize", str(tmp_path), "-g", "V:min:5:0.1"])
+    assert res.exit_code == 2
+    assert "goal of V: lower limit 5 must be below upper limit 0.1" in res.output  # mm³
