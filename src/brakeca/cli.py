@@ -793,12 +793,9 @@ def optimize(
             f"{low * scale:.4g} to {high * scale:.4g}",
             f"{pi_low * scale:.4g} to {pi_high * scale:.4g}",
         )
-        limits = [goal.lower, goal.target, goal.upper] if goal.kind == "target" else [
-            goal.lower, goal.upper
-        ]  # fmt: skip
         goals_table.add_row(
             name,
-            f"{goal.kind} " + " / ".join(f"{v * scale:g}" for v in limits),
+            f"{goal.kind} " + " / ".join(f"{v * scale:g}" for v in goal.bounds),
             f"{best.desirability[goal.response]:.3f}",
         )
     out.print(table)
@@ -899,13 +896,10 @@ def show_design(
     if loaded.is_response_surface:
         _print_surface_model(loaded)
     for goal in loaded.goals:
-        limits = [goal.lower, goal.target, goal.upper] if goal.goal == "target" else [
-            goal.lower, goal.upper
-        ]  # fmt: skip
         unit = GOAL_RESPONSES[goal.response][0]
         out.print(
             f"goal: {goal.response} {goal.goal} "
-            + " / ".join(f"{v:g}" for v in limits)
+            + " / ".join(f"{v:g}" for v in goal.to_goal(scale=1.0).bounds)
             + ("" if unit == "-" else f" {unit}"),
             markup=False,
             highlight=False,

@@ -777,7 +777,7 @@ def plot_overlaid_contours(
                 _, scale = _response_axis(goal.response)
                 y = fits[goal.response].predict_coded(coded) * scale
                 ax.plot(a.decode(xa), y, color=colour, label=goal.response)
-                for limit in _limits(goal):
+                for limit in goal.acceptance_limits:
                     ax.axhline(limit * scale, color=colour, ls="--", lw=0.8)
             ax.axvline(optimum.levels[a.name], color="black", lw=0.8)
             ax.set_xlabel(a.axis_label)
@@ -791,12 +791,12 @@ def plot_overlaid_contours(
         coded[a.name], coded[b.name] = grid_a, grid_b
         va, vb = a.decode(grid_a), b.decode(grid_b)
         values = {g.response: fits[g.response].predict_coded(coded) for g in goals}
-        feasible = np.logical_and.reduce([_within(g, values[g.response]) for g in goals])
+        feasible = np.logical_and.reduce([g.acceptable(values[g.response]) for g in goals])
         ax.contourf(va, vb, (~feasible).astype(float), levels=[0.5, 1.5], colors=["#bdbdbd"])
         for colour, goal in zip(itertools.cycle(colours), goals):
             _, scale = _response_axis(goal.response)
             y = values[goal.response] * scale
-            levels = sorted({v * scale for v in _limits(goal)})
+            levels = sorted({v * scale for v in goal.acceptance_limits})
             if np.nanmin(y) < levels[-1] and np.nanmax(y) > levels[0]:
                 lines = ax.contour(va, vb, y, levels=levels, colors=colour, linewidths=1.2)
                 ax.clabel(lines, fontsize=7, fmt=f"{goal.response} %.3g")
@@ -810,23 +810,6 @@ def plot_overlaid_contours(
         ax.set_ylabel(b.axis_label)
     axes[0].legend(fontsize=7, loc="lower left")
     return save_figure(fig, path)
-
-
-def _limits(goal: Any) -> list[float]:
-    """The limits a response must meet for its goal [response unit]."""
-    if goal.kind == "minimize":
-        return [goal.upper]
-    if goal.kind == "maximize":
-        return [goal.lower]
-    return [goal.lower, goal.upper]
-
-
-def _within(goal: Any, y: np.ndarray) -> np.ndarray:
-    if goal.kind == "minimize":
-        return y <= goal.upper
-    if goal.kind == "maximize":
-        return y >= goal.lower
-    return (y >= goal.lower) & (y <= goal.upper)
 
 
 def _limits_text(goal: Any) -> str:

@@ -603,7 +603,6 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
         scale, unit = _REPORT_UNITS.get(g.response, (1.0, None))
         low, high = optimum.interval[g.response]
         pi_low, pi_high = optimum.prediction[g.response]
-        limits = [g.lower, g.target, g.upper] if g.kind == "target" else [g.lower, g.upper]
         rows.append(
             {
                 "cells": [
@@ -611,7 +610,7 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
                     _fmt(optimum.predicted[g.response] * scale, ".4g"),
                     f"{_fmt(low * scale, '.4g')} to {_fmt(high * scale, '.4g')}",
                     f"{_fmt(pi_low * scale, '.4g')} to {_fmt(pi_high * scale, '.4g')}",
-                    g.kind + " " + " / ".join(_fmt(v * scale, ".4g") for v in limits),
+                    g.kind + " " + " / ".join(_fmt(v * scale, ".4g") for v in g.bounds),
                     _fmt(optimum.desirability[g.response], ".3f"),
                 ],
                 "cls": "",

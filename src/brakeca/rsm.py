@@ -887,6 +887,35 @@ class Goal:
             if not (math.isfinite(value) and 0.1 <= value <= 10):
                 raise ValueError(f"{where}: {key} must be between 0.1 and 10, got {value!r}")
 
+    @property
+    def bounds(self) -> tuple[float, ...]:
+        """The numbers the goal is given by, in order [response unit]: (lower, upper), or
+        (lower, target, upper) for a target."""
+        if self.target is not None:  # a target goal (only it has one)
+            return (self.lower, self.target, self.upper)
+        return (self.lower, self.upper)
+
+    @property
+    def acceptance_limits(self) -> tuple[float, ...]:
+        """The limits a response must stay within to be acceptable at all (desirability
+        above 0) [response unit]: a minimize goal's upper, a maximize goal's lower, or both
+        of a target's."""
+        if self.kind == "minimize":
+            return (self.upper,)
+        if self.kind == "maximize":
+            return (self.lower,)
+        return (self.lower, self.upper)
+
+    def acceptable(self, y: Any) -> np.ndarray:
+        """Whether response values ``y`` [response unit] are within
+        :attr:`acceptance_limits` (limits included)."""
+        y = np.asarray(y, dtype=float)
+        if self.kind == "minimize":
+            return y <= self.upper
+        if self.kind == "maximize":
+            return y >= self.lower
+        return (y >= self.lower) & (y <= self.upper)
+
     def desirability(self, y: Any) -> np.ndarray:
         """Desirability [-] (0 to 1) of response values ``y`` [response unit]."""
         y = np.asarray(y, dtype=float)

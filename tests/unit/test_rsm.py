@@ -354,3 +354,15 @@ def test_backward_elimination_removes_inactive_terms_and_keeps_the_hierarchy() -
     assert same.terms == full.terms and same.notes == full.notes
     with pytest.raises(ValueError, match="alpha: expected a level between 0 and 1"):
         backward_elimination(frame, codings, "y", alpha=1.0)
+
+
+def test_a_goal_names_its_bounds_and_what_is_acceptable() -> None:
+    low = Goal("y", "minimize", 1.0, 3.0)
+    assert low.bounds == (1.0, 3.0) and low.acceptance_limits == (3.0,)
+    np.testing.assert_array_equal(low.acceptable([2.0, 3.0, 3.5]), [True, True, False])
+    high = Goal("y", "maximize", 1.0, 3.0)
+    assert high.acceptance_limits == (1.0,)
+    np.testing.assert_array_equal(high.acceptable([0.5, 1.0]), [False, True])
+    target = Goal("y", "target", 1.0, 3.0, target=1.5)
+    assert target.bounds == (1.0, 1.5, 3.0) and target.acceptance_limits == (1.0, 3.0)
+    np.testing.assert_array_equal(target.acceptable([0.9, 2.0, 3.1]), [False, True, False])
