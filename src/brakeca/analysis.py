@@ -54,6 +54,7 @@ __all__ = [
     "interaction_tables",
     "interactions_long",
     "main_effects",
+    "model_matrix",
     "model_summary",
     "ok_runs",
     "ranked_effects",
@@ -1031,10 +1032,7 @@ def residuals(
         out.attrs.update(response=response, formula="", df_resid=math.nan, s=math.nan)
         return out
     frame, term_names, terms, _ = _model(data, factors, y, interactions)
-    if terms:
-        exog = np.asarray(_fit_anova(frame, terms, check_only=True)[0].model.exog, dtype=float)
-    else:
-        exog = np.ones((y.size, 1))
+    exog = _exog(frame, terms, y.size)
     fitted, leverage, df_resid = _least_squares(exog, y)
     stats = _fit_statistics(y, fitted, leverage, df_resid, float(np.sum((y - y.mean()) ** 2)))
     out["observed"] = y
@@ -1051,6 +1049,50 @@ def residuals(
         s=stats["s"],
     )
     return out
+
+
+def _exog(frame: pd.DataFrame, terms: Sequence[str], n: int) -> np.ndarray:
+    """The model matrix of ``terms`` on ``frame`` (the intercept alone when empty) [-]."""
+    if not terms:
+        return np.ones((n, 1))
+    return np.asarray(_fit_anova(frame, terms, check_only=True)[0].model.exog, dtype=float)
+
+
+def model_matrix(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: bool = True,
+) -> np.ndarray:
+    """The model matrix of the model :func:`anova` fits, one row per usable run.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors.
+    response
+        Response column; it selects the usable runs (finished, with a finite value), in the
+        order of :func:`residuals`.
+    interactions
+        Include two-factor interactions, as in :func:`anova`.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (runs, columns) [-]: the intercept, then the terms' treatment-coded columns
+        (terms aliased with earlier ones left out, as in :func:`anova`; the columns can still
+        be dependent where cells of the design are empty).
+    """
+    factors = _factors(factors)
+    data = _clean(summary, factors, response)
+    y = data[response].to_numpy(dtype=float)
+    if y.size == 0:
+        return np.ones((0, 1))
+    frame, _, terms, _ = _model(data, factors, y, interactions)
+    return _exog(frame, terms, y.size)
 
 
 def ranked_effects(

@@ -33,6 +33,7 @@ __all__ = [
     "DPI",
     "STATUS_COLOURS",
     "STATUS_NAMES",
+    "plot_box_cox",
     "plot_cof_series",
     "plot_effects",
     "plot_fibre_maps",
@@ -912,6 +913,87 @@ def plot_residuals(
             va="top",
             fontsize=8,
         )
+    return save_figure(fig, path)
+
+
+def plot_box_cox(results: Mapping[str, Any], path: str | Path | None = None) -> Figure:
+    """Box-Cox plots: the profile log-likelihood of λ for each response, as R's
+    ``MASS::boxcox`` draws it.
+
+    Each panel shows ``L(λ)`` over [-2, 2], the line ``L(λ̂) - χ²(1, 0.95) / 2`` whose
+    crossings bound the 95 % interval of λ (shaded), λ̂ and the two usual scales, λ = 1 (the
+    response as it is) and λ = 0 (its log). A response for which λ is not defined (a value
+    not positive, no residual degrees of freedom) gets a panel saying why.
+
+    Parameters
+    ----------
+    results
+        ``{response: BoxCox}`` from :mod:`brakeca.boxcox`.
+    path
+        Optional PNG file to write (150 dpi).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per response.
+    """
+    from scipy import stats
+
+    items = list(results.items())
+    n = max(len(items), 1)
+    fig = _figure((4.2 * n, 3.6))
+    axes = np.atleast_1d(fig.subplots(1, n))
+    _suptitle(fig, "Box-Cox plots: which power of the response the model fits best")
+    if not items:
+        axes[0].text(0.5, 0.5, "no response", transform=axes[0].transAxes, ha="center")
+        return save_figure(fig, path)
+    for ax, (response, result) in zip(axes, items, strict=True):
+        ax.set_title(str(response))
+        ax.set_xlabel("λ [-]")
+        ax.set_ylabel("Profile log-likelihood [-]")
+        if not result.defined:
+            ax.text(
+                0.5,
+                0.5,
+                f"λ not defined:\n{result.note}",
+                transform=ax.transAxes,
+                ha="center",
+                va="center",
+                fontsize=8,
+                wrap=True,
+            )
+            continue
+        lam = result.profile["lam"].to_numpy(dtype=float)
+        ll = result.profile["log_likelihood"].to_numpy(dtype=float)
+        cut = float(np.max(ll)) - 0.5 * float(stats.chi2.ppf(result.confidence, 1))
+        cut = max(cut, float(ll.min()))
+        ax.plot(lam, ll, "-", color="#27496d", lw=1.5)
+        low = max(result.ci_low, lam[0])
+        high = min(result.ci_high, lam[-1])
+        ax.axvspan(
+            low,
+            high,
+            color="#9fb3c8",
+            alpha=0.35,
+            lw=0,
+            label=f"{100 * result.confidence:g} % interval",
+        )
+        ax.axhline(cut, color="0.4", lw=0.8, ls=":")
+        ax.axvline(result.lambda_hat, color="#f28e2b", lw=1.2, label=f"λ̂ = {result.lambda_hat:.2f}")
+        for ref, name in ((1.0, "λ = 1"), (0.0, "λ = 0 (log)")):
+            ax.axvline(ref, color="0.2", lw=0.8, ls="--")
+            ax.text(
+                ref,
+                0.02,
+                f" {name}",
+                transform=ax.get_xaxis_transform(),
+                fontsize=7,
+                rotation=90,
+                va="bottom",
+            )
+        ax.set_xlim(lam[0], lam[-1])
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="best")
     return save_figure(fig, path)
 
 

@@ -149,6 +149,11 @@ Wall time: the run's own computing time.</p>
 {%- else %}
 <p class="note">No ANOVA tables.</p>
 {%- endfor %}
+{%- if box_cox %}
+<h3 id="anova-box-cox">Scale of the responses (Box–Cox)</h3>
+<p class="note">{{ box_cox_info }}</p>
+{{ render_table(box_cox) }}
+{%- endif %}
 <p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
 of squares about the mean. Aliases (designs that do not separate every effect, such as a
 fractional factorial): the terms of up to three factors the design cannot tell apart from the
@@ -518,6 +523,30 @@ _SURFACE_COEF_HEADERS = {
 }
 
 
+_BOX_COX_INFO = (
+    "Which power y^λ of each response the model fits best (Box and Cox 1964): the λ of "
+    "greatest likelihood in [−2, 2], searched as Minitab does, its 95 % likelihood-ratio "
+    "interval and the nearest multiple of 0.5. λ = 1 is the response as it is, λ = 0 its log "
+    "(the report's log10_V_mm3 for V). Only a reading of the data: the analysis above is "
+    "not transformed. The figure 'Box-Cox plots' shows each profile."
+)
+
+
+def _box_cox_table(results: Mapping[str, Any]) -> _Table:
+    """The Box-Cox results (:class:`brakeca.boxcox.BoxCox`), one row per response."""
+    rows = []
+    for response, r in results.items():
+        if r.defined:
+            interval = f"{_fmt(r.ci_low, '.2f')} to {_fmt(r.ci_high, '.2f')}"
+            reading = r.reading + (f" ({r.note})" if r.note else "")
+            cells = [_fmt(r.lambda_hat, ".2f"), interval, _fmt(r.rounded, "g"), reading]
+        else:
+            cells = ["–", "–", "–", f"not defined: {r.note}"]
+        rows.append({"cells": [str(response), r.model, *cells], "cls": ""})
+    columns = ["Response", "Model", "λ̂", "95 % interval", "Rounded λ", "Reading"]
+    return _Table(columns, [False, False, True, False, True, False], rows)
+
+
 def _surface_item(response: str, fit: Any) -> dict[str, Any]:
     """The report's tables and sentences of one :class:`brakeca.rsm.SurfaceFit`, in the
     report's unit of ``response`` (mm³ for V)."""
@@ -789,6 +818,7 @@ def render_report(
     surface_fits: Mapping[str, Any] | None = None,
     optimum: tuple[Any, Any] | None = None,
     optimum_note: str = "",
+    box_cox: Mapping[str, Any] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -854,6 +884,8 @@ def render_report(
         "value).",
         optimum=None if optimum is None else _optimum_item(*optimum),
         optimum_note=optimum_note,
+        box_cox=_box_cox_table(box_cox) if box_cox else None,
+        box_cox_info=_BOX_COX_INFO,
     )
 
 
@@ -874,6 +906,7 @@ def write_report(
     surface_fits: Mapping[str, Any] | None = None,
     optimum: tuple[Any, Any] | None = None,
     optimum_note: str = "",
+    box_cox: Mapping[str, Any] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -918,6 +951,9 @@ def write_report(
         :func:`brakeca.rsm.optimize`'s result, shown at the end of that section.
     optimum_note
         Why there is no optimum though the design has goals, shown there instead.
+    box_cox
+        ``{response: BoxCox}`` from :mod:`brakeca.boxcox`, shown at the end of the ANOVA
+        section as "Scale of the responses (Box–Cox)" when given and not empty.
 
     Returns
     -------
@@ -950,6 +986,7 @@ def write_report(
         surface_fits=surface_fits,
         optimum=optimum,
         optimum_note=optimum_note,
+        box_cox=box_cox,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

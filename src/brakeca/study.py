@@ -6,9 +6,10 @@ Wiring only: the numbers come from :mod:`brakeca.analysis`, the figures from
     tables/      main effects, interactions (long form), ANOVA, model summary (S, R-squared,
                  adjusted and predicted R-squared), ranked effects and residuals, per response;
                  for a central composite design the response surface's coefficients, ANOVA
-                 and summary with the stationary point (surface_*_<R>.csv, brakeca.rsm)
-    figures/     PNG figures (paper Figures 5-11, Pareto charts, residual plots, final plateau
-                 map of each run; contour plots of a response surface)
+                 and summary with the stationary point (surface_*_<R>.csv, brakeca.rsm);
+                 the Box-Cox check of MU's and V's scale (box_cox.csv, brakeca.boxcox)
+    figures/     PNG figures (paper Figures 5-11, Pareto charts, residual and Box-Cox plots,
+                 final plateau map of each run; contour plots of a response surface)
     report.html  everything above in one self-contained page
 
 References
@@ -200,6 +201,23 @@ def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, li
     return optimum, goals, ""
 
 
+#: The responses whose scale the report checks (Box-Cox); log10_V_mm3 is one of V's scales.
+_BOX_COX_RESPONSES = ("MU", "V")
+
+
+def _box_cox(data: pd.DataFrame, factors: list[Any], surfaces: dict[str, Any]) -> dict[str, Any]:
+    """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
+    design, under the ANOVA model otherwise."""
+    from brakeca import boxcox
+
+    return {
+        resp: boxcox.surface_box_cox(surfaces[resp])
+        if resp in surfaces
+        else boxcox.box_cox(data, factors, resp)
+        for resp in _BOX_COX_RESPONSES
+    }
+
+
 def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     ds = RunResult.from_netcdf(path).dataset
     return ds[variable].values, ds["radius"].values, ds["angle"].values
@@ -256,7 +274,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     Path
         The report file.
     """
-    from brakeca import analysis, plotting, report
+    from brakeca import analysis, boxcox, plotting, report
 
     out = Path(result.out_dir)
     tables_dir = out / "tables"
@@ -277,6 +295,8 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         )
         rsm.save_surface_tables(surfaces, tables_dir)
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
+    scales = _box_cox(data, factors, surfaces)
+    boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
 
     figures: list[tuple[str, str, Path]] = []
@@ -358,6 +378,15 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                 tables[resp]["residuals"],
                 resp,
             )
+        add(
+            "Residuals",
+            "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "
+            "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
+            "of λ shaded; λ = 0 is the log (section 'Scale of the responses')",
+            "box_cox.png",
+            plotting.plot_box_cox,
+            scales,
+        )
         if optimum is not None:
             add(
                 "Contour plots",
@@ -461,6 +490,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         surface_fits=surfaces,
         optimum=None if optimum is None else (goals, optimum),
         optimum_note=optimum_note,
+        box_cox=scales,
     )
 
 

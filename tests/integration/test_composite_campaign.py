@@ -76,6 +76,10 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert '<section id="surface">' in html and "Coded -1 to +1: A 10 to 20 %, WR log10" in html
     assert html.count("<h2>Response surface</h2>") == 1  # the figures: "Contour plots"
     assert "<h2>Contour plots</h2>" in html
+    # the Box-Cox check of a response surface's responses uses the fitted quadratic
+    scales = pd.read_csv(out / "tables" / "box_cox.csv").set_index("response")
+    assert scales.loc["MU", "model"] == "quadratic model: A + WR + A*A + WR*WR + A*WR"
+    assert (out / "figures" / "box_cox.png").is_file() and "Scale of the responses" in html
     # the design's goal: the optimum in the report and tables/optimum.csv, V in mm³
     optimum = pd.read_csv(out / "tables" / "optimum.csv")
     v_row = optimum[optimum["name"] == "V"].iloc[0]

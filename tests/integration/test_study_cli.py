@@ -72,6 +72,7 @@ def test_outputs_present_and_consistent(campaign):
         "residuals_V",
         "main_effects_log10_V_mm3",
         "residuals_log10_V_mm3",
+        "box_cox",
     ):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
     assert len(list((out / "figures").glob("final_map_test*.png"))) == 4
@@ -100,8 +101,16 @@ def test_outputs_present_and_consistent(campaign):
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
     # per response (MU, V, log10 V: main effects, interactions, Pareto, residuals and, both
-    # factors having two levels, the effects), per campaign, maps
-    assert n_img == 5 * 3 + 3 + 4
+    # factors having two levels, the effects), per campaign (MU per stop, V per run, fibre
+    # maps, Box-Cox plots), maps
+    assert n_img == 5 * 3 + 4 + 4
+    # the Box-Cox check of MU's and V's scale, under the ANOVA model (main effects: the
+    # model with the interaction would leave 4 runs no residual degree of freedom)
+    scales = pd.read_csv(out / "tables" / "box_cox.csv")
+    assert list(scales["response"]) == ["MU", "V"]
+    assert list(scales["model"]) == [f"ANOVA model: {r} ~ S + A" for r in ("MU", "V")]
+    assert (scales["df_resid"] == 1).all()
+    assert '<h3 id="anova-box-cox">Scale of the responses (Box–Cox)</h3>' in html
     assert (out / "tables" / "effects_MU.csv").exists()
     # the maps' captions give each level with its unit (S has none)
     assert "Test 3 (S = 0, A = 20 %): plateaus after the cycle" in html

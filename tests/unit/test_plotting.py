@@ -16,6 +16,7 @@ import xarray as xr
 
 from brakeca.analysis import Factor, ranked_effects, residuals
 from brakeca.plotting import (
+    plot_box_cox,
     plot_cof_series,
     plot_fibre_maps,
     plot_interactions,
@@ -200,6 +201,25 @@ def test_residual_plots(tmp_path, summary) -> None:
     fig = plot_residuals(saturated, "MU")
     assert "Residual (" in fig.axes[0].get_xlabel()
     assert any("raw residuals" in t.get_text() for t in fig.axes[0].texts)
+
+
+def test_box_cox_plots(tmp_path) -> None:
+    """A panel per response: the profile, the interval shaded, λ̂ and the lines at 0 and 1;
+    a response without λ gets a panel saying why."""
+    from brakeca.boxcox import box_cox_profile
+
+    rng = np.random.default_rng(2)
+    good = box_cox_profile(rng.lognormal(0.0, 0.5, 30), response="V")
+    bad = box_cox_profile([1.0, -2.0, 3.0], response="MU")
+    path = tmp_path / "box_cox.png"
+    fig = plot_box_cox({"V": good, "MU": bad}, path=path)
+    _check_png(path, fig, n_axes=2)
+    v_ax, mu_ax = fig.axes
+    curve = v_ax.lines[0]
+    assert np.allclose(curve.get_ydata(), good.profile["log_likelihood"])
+    assert any(np.allclose(line.get_xdata(), good.lambda_hat) for line in v_ax.lines[1:])
+    assert len(v_ax.patches) == 1  # the interval
+    assert any("needs positive values" in t.get_text() for t in mu_ax.texts)
 
 
 def test_surface_maps(tmp_path) -> None:

@@ -335,3 +335,23 @@ def test_goals_without_any_surface_still_say_why(tmp_path) -> None:
     section = html[html.index('<section id="surface">') :]
     assert "No response could be fitted" in section
     assert "The goals could not be optimized" in section
+
+
+def test_the_box_cox_check_in_the_report(tmp_path) -> None:
+    """One row per response: λ̂, its interval (open ends as ∞), the rounded λ and the reading;
+    a response without λ says why; no section without results."""
+    from brakeca.boxcox import box_cox_profile
+
+    rng = np.random.default_rng(8)
+    level = np.tile(np.arange(3.0), 10)
+    exog = np.column_stack([np.ones(30), level == 1, level == 2]).astype(float)
+    v = box_cox_profile(10.0**level * np.exp(rng.normal(0, 0.1, 30)), exog, response="V")
+    mu = box_cox_profile([0.3, -0.1, 0.2], response="MU")
+    html = render_report(**make_inputs(tmp_path), box_cox={"V": v, "MU": mu})
+    section = html[html.index('<h3 id="anova-box-cox">') :]
+    section = section[: section.index("</section>")]
+    assert f'<td class="num">{v.lambda_hat:.2f}</td>' in section
+    assert f"<td>{v.ci_low:.2f} to {v.ci_high:.2f}</td>" in section
+    assert "the log fits better than the response as it is" in section
+    assert "<td>not defined: needs positive values" in section
+    assert "anova-box-cox" not in render_report(**make_inputs(tmp_path))

@@ -1,0 +1,402 @@
+"""Box-Cox check of a response's scale: which power of the response a linear model fits best.
+
+The ANOVA and the response surface assume residuals of one variance. When a factor multiplies
+the response (as WP does V, over two decades), the residuals grow with it, and a power or the
+log of the response is the scale on which the effects add. Box and Cox (1964) choose that
+scale from the data: among the power transformations
+
+    y(λ) = (y^λ - 1) / (λ g^(λ-1))     (λ ≠ 0),     y(0) = g ln y,
+
+with ``g`` the geometric mean of ``y`` (so that every ``y(λ)`` is in the unit of ``y`` and the
+residual sums of squares of different ``λ`` compare), the maximum-likelihood ``λ`` is the one
+whose fit of the model leaves the smallest residual sum of squares ``SSE(λ)``. The profile
+log-likelihood is
+
+    L(λ) = -(n / 2) ln(SSE(λ) / n),
+
+and the values of ``λ`` with ``L(λ) >= L(λ̂) - χ²(1, 0.95) / 2`` form its 95 % confidence
+interval (the likelihood-ratio interval, as R's ``MASS::boxcox`` and Minitab's Box-Cox plot
+draw it). As Minitab does, ``λ`` is searched in [-2, 2] and a rounded value (the nearest
+multiple of 0.5) is reported beside the optimum.
+
+This module only reads the data: it says whether the untransformed response (``λ = 1``) or
+its log (``λ = 0``) is supported, so a reader can tell whether the study's ``log10_V_mm3``
+is the better scale for V. It changes no analysis.
+
+References
+----------
+G. E. P. Box and D. R. Cox, "An analysis of transformations", Journal of the Royal
+Statistical Society B 26 (1964) 211-252, doi:10.1111/j.2517-6161.1964.tb00553.x.
+D. C. Montgomery, Design and Analysis of Experiments, 8th ed., Wiley 2013, section 15.1.1.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+__all__ = [
+    "BOX_COX_COLUMNS",
+    "BoxCox",
+    "box_cox",
+    "box_cox_profile",
+    "box_cox_table",
+    "surface_box_cox",
+]
+
+#: The search range of λ [-], Minitab's.
+LAMBDA_RANGE: tuple[float, float] = (-2.0, 2.0)
+
+#: Points of the profile on :data:`LAMBDA_RANGE` (a step of 0.025) [-].
+_GRID_POINTS = 161
+
+#: Columns of :func:`box_cox_table`, in order.
+BOX_COX_COLUMNS: tuple[str, ...] = (
+    "response",
+    "n",
+    "df_resid",
+    "model",
+    "lambda_hat",
+    "ci_low",
+    "ci_high",
+    "rounded_lambda",
+    "confidence",
+    "reading",
+    "note",
+)
+
+
+@dataclass(frozen=True)
+class BoxCox:
+    """The Box-Cox profile of one response under one model (:func:`box_cox_profile`).
+
+    Attributes
+    ----------
+    response
+        The response column, e.g. ``"V"``.
+    n
+        Runs used [-].
+    df_resid
+        Residual degrees of freedom of the model [-].
+    model
+        The model the transformed response was fitted with, as text.
+    lambda_hat
+        The maximum-likelihood λ in :data:`LAMBDA_RANGE` [-]; NaN when it is not defined
+        (``note`` says why).
+    ci_low, ci_high
+        The confidence interval of λ [-]; ``-inf`` or ``inf`` where it reaches past the
+        search range on that side; NaN when λ is not defined.
+    rounded
+        ``lambda_hat`` rounded to the nearest multiple of 0.5 [-] (Minitab's rounded λ).
+    confidence
+        The interval's confidence level [-].
+    profile
+        ``lam`` [-] and ``log_likelihood`` [-] over :data:`LAMBDA_RANGE` (empty when λ is
+        not defined).
+    note
+        Why λ is not defined, or that the optimum lies on the search range's edge.
+    """
+
+    response: str
+    n: int
+    df_resid: float
+    model: str
+    lambda_hat: float
+    ci_low: float
+    ci_high: float
+    rounded: float
+    confidence: float
+    profile: pd.DataFrame
+    note: str = ""
+
+    @property
+    def defined(self) -> bool:
+        """Whether λ could be estimated."""
+        return math.isfinite(self.lambda_hat)
+
+    def contains(self, lam: float) -> bool:
+        """Whether ``lam`` [-] lies within the confidence interval."""
+        return self.defined and self.ci_low <= lam <= self.ci_high
+
+    @property
+    def reading(self) -> str:
+        """What the interval says about the scale, in one sentence."""
+        if not self.defined:
+            return ""
+        pct = f"{100 * self.confidence:g} %"
+        if self.contains(1.0) and self.contains(0.0):
+            return (
+                f"both λ = 1 (the response as it is) and λ = 0 (its log) lie within the {pct} "
+                "interval: the data do not choose between them"
+            )
+        if self.contains(1.0):
+            return f"λ = 1 lies within the {pct} interval: no transformation is called for"
+        if self.contains(0.0):
+            return (
+                f"λ = 0 lies within the {pct} interval and λ = 1 does not: the log fits "
+                "better than the response as it is"
+            )
+        return (
+            f"neither λ = 1 nor λ = 0 lies within the {pct} interval: the data point to "
+            f"λ ≈ {self.rounded:g}"
+        )
+
+    def row(self) -> dict[str, Any]:
+        """One row of :func:`box_cox_table`."""
+        return {
+            "response": self.response,
+            "n": self.n,
+            "df_resid": self.df_resid,
+            "model": self.model,
+            "lambda_hat": self.lambda_hat,
+            "ci_low": self.ci_low,
+            "ci_high": self.ci_high,
+            "rounded_lambda": self.rounded,
+            "confidence": self.confidence,
+            "reading": self.reading,
+            "note": self.note,
+        }
+
+
+def _undefined(
+    response: str, n: int, df_resid: float, model: str, confidence: float, note: str
+) -> BoxCox:
+    nan = math.nan
+    empty = pd.DataFrame({"lam": pd.Series(dtype=float), "log_likelihood": pd.Series(dtype=float)})
+    return BoxCox(response, n, df_resid, model, nan, nan, nan, nan, confidence, empty, note)
+
+
+def box_cox_profile(
+    y: Sequence[float] | np.ndarray,
+    exog: np.ndarray | None = None,
+    *,
+    response: str = "y",
+    model: str = "",
+    confidence: float = 0.95,
+) -> BoxCox:
+    """The Box-Cox profile likelihood of ``y`` under the linear model ``exog``.
+
+    Parameters
+    ----------
+    y
+        The response, every value positive and finite [response unit].
+    exog
+        The model matrix, one row per value of ``y``, its intercept included [-]; None for
+        the intercept alone. Its rank, not its number of columns, counts.
+    response
+        The response's name, for the result.
+    model
+        The model as text, for the result.
+    confidence
+        Level of the interval of λ [-], in (0, 1).
+
+    Returns
+    -------
+    BoxCox
+        λ̂, its interval, the rounded λ and the profile. λ is not defined (NaN, with a note)
+        when a value is not positive, the response is constant, or the model leaves no
+        residual degrees of freedom.
+
+    Raises
+    ------
+    ValueError
+        ``y`` holds a value that is not finite, ``exog`` has another number of rows, or
+        ``confidence`` lies outside (0, 1).
+
+    Notes
+    -----
+    With ``u = y / g``, ``y(λ) = g (u^λ - 1) / λ`` plus a constant, which the intercept
+    absorbs (``expm1(λ ln u) / λ``, exact at λ = 0 as ``ln u``); so the residuals are computed
+    on a scale near 1 whatever the unit of ``y`` (V in m³ is about 1e-9), and λ̂ does not
+    depend on that unit.
+    """
+    from scipy import optimize, stats
+
+    if not 0.0 < confidence < 1.0:
+        raise ValueError(f"confidence must lie in (0, 1), got {confidence}")
+    y = np.asarray(y, dtype=float).ravel()
+    if not np.all(np.isfinite(y)):
+        raise ValueError(f"{response}: every value must be finite")
+    n = y.size
+    x = np.ones((n, 1)) if exog is None else np.asarray(exog, dtype=float)
+    if x.ndim != 2 or x.shape[0] != n:
+        raise ValueError(f"{response}: exog has shape {x.shape}, {n} rows expected")
+    rank = int(np.linalg.matrix_rank(x)) if n else 0
+    df_resid = float(n - rank)
+
+    def undefined(note: str) -> BoxCox:
+        return _undefined(response, n, df_resid, model, confidence, note)
+
+    if n < 2:
+        return undefined(f"{n} usable run(s)")
+    if np.any(y <= 0.0):
+        return undefined("needs positive values (a power of a value ≤ 0 is not defined)")
+    log_u = np.log(y) - float(np.mean(np.log(y)))
+    if float(np.ptp(log_u)) <= 1e-13:
+        return undefined("the response is constant")
+    if df_resid < 0.5:
+        return undefined("the model leaves no residual degrees of freedom")
+    # An orthonormal basis of the model's columns: the residual of w is w - Q (Q' w).
+    u_svd, sing, _ = np.linalg.svd(x, full_matrices=False)
+    q = u_svd[:, : int(np.sum(sing > sing[0] * max(x.shape) * np.finfo(float).eps))]
+    g = math.exp(float(np.mean(np.log(y))))
+
+    def log_likelihood(lam: float) -> float:
+        w = log_u if lam == 0.0 else np.expm1(lam * log_u) / lam
+        r = w - q @ (q.T @ w)
+        sse = g * g * float(r @ r)
+        if sse <= 0.0:  # an exact fit: the likelihood is unbounded there
+            return math.inf
+        return -0.5 * n * math.log(sse / n)
+
+    lo, hi = LAMBDA_RANGE
+    grid = np.linspace(lo, hi, _GRID_POINTS)
+    ll = np.array([log_likelihood(float(lam)) for lam in grid])
+    if not np.all(np.isfinite(ll)):
+        return undefined("the model fits the transformed response exactly at some λ")
+    k = int(np.argmax(ll))
+    a, b = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    best = optimize.minimize_scalar(
+        lambda lam: -log_likelihood(float(lam)),
+        bounds=(a, b),
+        method="bounded",
+        options={"xatol": 1e-8},
+    )
+    lam_hat, ll_hat = float(best.x), -float(best.fun)
+    if ll[k] > ll_hat:  # the grid point is better (an edge of the range)
+        lam_hat, ll_hat = float(grid[k]), float(ll[k])
+    cut = ll_hat - 0.5 * float(stats.chi2.ppf(confidence, 1))
+
+    def crossing(side: int) -> float:
+        """Where L falls to ``cut`` on one side of λ̂; ±inf beyond the search range."""
+        inner = grid[grid < lam_hat] if side < 0 else grid[grid > lam_hat]
+        points = np.concatenate(([lam_hat], inner[::-1] if side < 0 else inner))
+        values = np.array([ll_hat] + [log_likelihood(float(v)) for v in points[1:]])
+        below = np.nonzero(values < cut)[0]
+        if below.size == 0:
+            return -math.inf if side < 0 else math.inf
+        j = int(below[0])
+        return float(
+            optimize.brentq(
+                lambda lam: log_likelihood(float(lam)) - cut,
+                points[j - 1],
+                points[j],
+                xtol=1e-10,
+            )
+        )
+
+    ci_low, ci_high = crossing(-1), crossing(+1)
+    note = ""
+    if lam_hat <= lo + 1e-6 or lam_hat >= hi - 1e-6:
+        note = (
+            f"the optimum lies on the edge of the search range [{lo:g}, {hi:g}]: the best λ "
+            "may lie beyond it"
+        )
+    rounded = float(min(max(0.5 * round(2.0 * lam_hat), lo), hi))
+    profile = pd.DataFrame({"lam": grid, "log_likelihood": ll})
+    return BoxCox(
+        response,
+        n,
+        df_resid,
+        model,
+        lam_hat,
+        ci_low,
+        ci_high,
+        rounded,
+        confidence,
+        profile,
+        note,
+    )
+
+
+def box_cox(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: bool = True,
+    confidence: float = 0.95,
+) -> BoxCox:
+    """The Box-Cox profile of a campaign's response under the ANOVA model.
+
+    The model is the one :func:`brakeca.analysis.anova` fits (categorical factors, with the
+    two-factor interactions unless they would saturate it), over the usable runs.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run.
+    factors
+        The design's factors.
+    response
+        A positive response, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions
+        Include two-factor interactions, as in :func:`brakeca.analysis.anova`.
+    confidence
+        Level of the interval of λ [-].
+
+    Returns
+    -------
+    BoxCox
+        See :func:`box_cox_profile`.
+    """
+    from brakeca import analysis
+
+    residuals = analysis.residuals(summary, factors, response, interactions=interactions)
+    y = residuals["observed"].to_numpy(dtype=float)
+    exog = analysis.model_matrix(summary, factors, response, interactions=interactions)
+    formula = str(residuals.attrs.get("formula", "")).replace("y ~", f"{response} ~", 1)
+    return box_cox_profile(
+        y, exog, response=response, model=f"ANOVA model: {formula}", confidence=confidence
+    )
+
+
+def surface_box_cox(fit: Any, *, confidence: float = 0.95) -> BoxCox:
+    """The Box-Cox profile of a response under its fitted response-surface model.
+
+    Parameters
+    ----------
+    fit
+        A :class:`brakeca.rsm.SurfaceFit`: its runs and its model's terms (as fitted, after
+        any elimination) in coded units.
+    confidence
+        Level of the interval of λ [-].
+
+    Returns
+    -------
+    BoxCox
+        See :func:`box_cox_profile`.
+    """
+    from brakeca import rsm
+
+    points = fit.points
+    x = {c.name: points[c.name].to_numpy(dtype=float) for c in fit.codings}
+    columns = [np.ones(len(points))] + [rsm._term_values(t, x) for t in fit.terms]
+    model = "quadratic model: " + (" + ".join(fit.terms) if fit.terms else "constant")
+    return box_cox_profile(
+        points["y"].to_numpy(dtype=float),
+        np.column_stack(columns),
+        response=fit.response,
+        model=model,
+        confidence=confidence,
+    )
+
+
+def box_cox_table(results: Mapping[str, BoxCox] | Iterable[BoxCox]) -> pd.DataFrame:
+    """The results as one table, one row per response (:data:`BOX_COX_COLUMNS`)."""
+    items = results.values() if isinstance(results, Mapping) else results
+    return pd.DataFrame([r.row() for r in items], columns=list(BOX_COX_COLUMNS))
+
+
+def save_box_cox_table(results: Mapping[str, BoxCox], path: str | Path) -> Path:
+    """Write :func:`box_cox_table` as CSV to ``path``; returns the path."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    box_cox_table(results).to_csv(path, index=False)
+    return path
