@@ -137,6 +137,7 @@ Wall time: the run's own computing time.</p>
 
 <section id="anova">
 <h2>ANOVA</h2>
+{%- if anova_info %}<p class="note">{{ anova_info }}</p>{% endif %}
 {%- for item in anova %}
 <h3 id="anova-{{ item.anchor }}">Response {{ item.response }}</h3>
 {%- if item.info %}<p class="note">{{ item.info }}</p>{% endif %}
@@ -147,18 +148,20 @@ Wall time: the run's own computing time.</p>
 {{ render_table(item.effects) }}
 {%- endif %}
 {%- else %}
-<p class="note">No ANOVA tables.</p>
+{%- if not anova_info %}<p class="note">No ANOVA tables.</p>{% endif %}
 {%- endfor %}
 {%- if box_cox %}
 <h3 id="anova-box-cox">Scale of the responses (Box–Cox)</h3>
 <p class="note">{{ box_cox_info }}</p>
 {{ render_table(box_cox) }}
 {%- endif %}
+{%- if anova %}
 <p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
 of squares about the mean. Aliases (designs that do not separate every effect, such as a
 fractional factorial): the terms of up to three factors the design cannot tell apart from the
 term; what the table gives for the term is its effect plus theirs, each with the sign shown
 (B:D - C:E: plus the effect of B:D, minus that of C:E; two-level terms only).</p>
+{%- endif %}
 </section>
 {%- if surfaces or optimum_note %}
 
@@ -527,8 +530,8 @@ _BOX_COX_INFO = (
     "Which power y^λ of each response the model fits best (Box and Cox 1964): the λ of "
     "greatest likelihood in [−2, 2], searched as Minitab does, its 95 % likelihood-ratio "
     "interval and the nearest multiple of 0.5. λ = 1 is the response as it is, λ = 0 its log "
-    "(the report's log10_V_mm3 for V). Only a reading of the data: the analysis above is "
-    "not transformed. The figure 'Box-Cox plots' shows each profile."
+    "(the report's log10_V_mm3 for V). Only a reading of the data: no analysis in this "
+    "report is transformed. The figure 'Box-Cox plots' shows each profile."
 )
 
 
@@ -819,6 +822,7 @@ def render_report(
     optimum: tuple[Any, Any] | None = None,
     optimum_note: str = "",
     box_cox: Mapping[str, Any] | None = None,
+    anova_info: str = "",
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -886,6 +890,7 @@ def render_report(
         optimum_note=optimum_note,
         box_cox=_box_cox_table(box_cox) if box_cox else None,
         box_cox_info=_BOX_COX_INFO,
+        anova_info=anova_info,
     )
 
 
@@ -907,6 +912,7 @@ def write_report(
     optimum: tuple[Any, Any] | None = None,
     optimum_note: str = "",
     box_cox: Mapping[str, Any] | None = None,
+    anova_info: str = "",
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -954,6 +960,9 @@ def write_report(
     box_cox
         ``{response: BoxCox}`` from :mod:`brakeca.boxcox`, shown at the end of the ANOVA
         section as "Scale of the responses (Box–Cox)" when given and not empty.
+    anova_info
+        A note shown at the top of the ANOVA section (e.g. why a response-surface design has
+        no categorical ANOVA there).
 
     Returns
     -------
@@ -987,6 +996,7 @@ def write_report(
         optimum=optimum,
         optimum_note=optimum_note,
         box_cox=box_cox,
+        anova_info=anova_info,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

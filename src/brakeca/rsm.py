@@ -68,6 +68,7 @@ __all__ = [
     "response_surfaces",
     "save_surface_tables",
     "stationary_table",
+    "surface_residuals",
     "surface_terms",
 ]
 
@@ -718,6 +719,68 @@ def backward_elimination(
         note = f"removed by backward elimination (alpha to remove {alpha:g}): {', '.join(removed)}"
         object.__setattr__(fit, "notes", (*fit.notes, note))
     return fit
+
+
+def surface_residuals(fit: SurfaceFit, summary: pd.DataFrame) -> pd.DataFrame:
+    """Fitted values and residuals of a response surface, one row per run it was fitted to.
+
+    Parameters
+    ----------
+    fit
+        A fit of :func:`fit_response_surface` (or :func:`backward_elimination`).
+    summary
+        The campaign summary it was fitted to.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The columns of :func:`brakeca.analysis.residuals`: the summary's ``test``,
+        ``replicate`` and ``order`` (those present), ``observed``, ``fitted`` and ``residual``
+        [response unit], ``leverage`` [-] and ``std_residual`` [-] (NaN without residual
+        degrees of freedom, at leverage 1 or for a constant response); ``attrs`` carries
+        ``response``, ``formula``, ``df_resid`` and ``s``.
+
+    Raises
+    ------
+    ValueError
+        ``summary`` is not the one ``fit`` was fitted to (other usable runs or values).
+    """
+    data = _usable_rows(summary, fit.codings, fit.response)
+    coded = {
+        c.name: c.code(pd.to_numeric(data[c.name], errors="coerce").to_numpy(float))
+        for c in fit.codings
+    }
+    y = data[fit.response].to_numpy(float)
+    finite = np.isfinite(y)
+    for values in coded.values():
+        finite &= np.isfinite(values)
+    y = y[finite]
+    if y.size != len(fit.points) or not np.array_equal(y, fit.points["y"].to_numpy(float)):
+        raise ValueError(f"{fit.response}: the summary is not the one the surface was fitted to")
+    x = {name: values[finite] for name, values in coded.items()}
+    exog = np.column_stack([np.ones(y.size)] + [_term_values(t, x) for t in fit.terms])
+    fitted = exog @ fit.coef
+    xtx_inv = fit.xtx_inv if fit.xtx_inv is not None else np.linalg.pinv(exog.T @ exog)
+    leverage = np.einsum("ij,jk,ik->i", exog, xtx_inv, exog)
+    out = data.loc[finite, [c for c in ("test", "replicate", "order") if c in data.columns]]
+    out = out.reset_index(drop=True)
+    s = fit.statistics.get("s", math.nan)
+    out["observed"] = y
+    out["fitted"] = fitted
+    out["residual"] = y - fitted
+    out["leverage"] = leverage
+    with np.errstate(divide="ignore", invalid="ignore"):
+        std = (y - fitted) / (s * np.sqrt(1.0 - leverage))
+    usable = (leverage < 1.0 - 1e-9) & np.isfinite(std) & (not _is_constant(y))
+    out["std_residual"] = np.where(usable, std, np.nan)
+    terms = " + ".join(fit.terms) if fit.terms else "1"
+    out.attrs.update(
+        response=fit.response,
+        formula=f"{fit.response} ~ {terms} (coded)",
+        df_resid=fit.statistics.get("df_resid", math.nan),
+        s=s,
+    )
+    return out
 
 
 def response_surfaces(

@@ -201,6 +201,15 @@ def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, li
     return optimum, goals, ""
 
 
+_SURFACE_ANOVA_NOTE = (
+    "A response-surface design: each response's analysis of variance is that of its quadratic "
+    "model, in the section 'Response surface', and its residual plots are that model's. The "
+    "ANOVA that treats every factor level as a category of its own (main effects and "
+    "two-factor interactions, as for a factorial design) is still written to "
+    "tables/anova_R.csv, but not shown: a composite or Box-Behnken design leaves most "
+    "combinations of those levels without a run, so that ANOVA is rank-deficient."
+)
+
 #: The responses whose scale the report checks (Box-Cox); log10_V_mm3 is one of V's scales.
 _BOX_COX_RESPONSES = ("MU", "V")
 
@@ -286,7 +295,8 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     data = with_log_v(summary)
     tables = analysis.analyze(data, factors, RESPONSES)
     analysis.save_tables(tables, tables_dir)
-    surfaces = {}
+    surfaces: dict[str, Any] = {}
+    surface_residuals: dict[str, pd.DataFrame] = {}
     if result.design.is_response_surface:  # a response-surface design
         from brakeca import rsm
 
@@ -294,6 +304,11 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             data, factors, RESPONSES, alpha_to_remove=result.design.alpha_to_remove
         )
         rsm.save_surface_tables(surfaces, tables_dir)
+        for resp, fit in surfaces.items():
+            surface_residuals[resp] = rsm.surface_residuals(fit, data)
+            surface_residuals[resp].to_csv(
+                tables_dir / f"surface_residuals_{resp}.csv", index=False
+            )
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
     scales = _box_cox(data, factors, surfaces)
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
@@ -337,14 +352,15 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                     resp,
                     aliases=aliases,
                 )
-            add(
-                "Ranked effects",
-                f"Pareto of the ANOVA terms of {label}",
-                f"pareto_{resp}.png",
-                plotting.plot_pareto,
-                tables[resp]["ranked_effects"],
-                resp,
-            )
+            if resp not in surfaces:  # a response surface's terms are in its own section
+                add(
+                    "Ranked effects",
+                    f"Pareto of the ANOVA terms of {label}",
+                    f"pareto_{resp}.png",
+                    plotting.plot_pareto,
+                    tables[resp]["ranked_effects"],
+                    resp,
+                )
             effects = tables[resp]["effects"]
             if not effects.empty:  # every factor has two levels
                 add(
@@ -369,15 +385,27 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                     plotting.plot_response_surface,
                     fit,
                 )
-            add(
-                "Residuals",
-                f"Residual plots of the ANOVA model of {label}; model: "
-                f"{tables[resp]['anova'].attrs.get('formula', '').replace('y ~', resp + ' ~', 1)}",
-                f"residuals_{resp}.png",
-                plotting.plot_residuals,
-                tables[resp]["residuals"],
-                resp,
-            )
+            if resp in surfaces:
+                add(
+                    "Residuals",
+                    f"Residual plots of the quadratic surface of {label}; model: "
+                    f"{surface_residuals[resp].attrs['formula']}",
+                    f"residuals_{resp}.png",
+                    plotting.plot_residuals,
+                    surface_residuals[resp],
+                    resp,
+                )
+            else:
+                formula = tables[resp]["anova"].attrs.get("formula", "")
+                add(
+                    "Residuals",
+                    f"Residual plots of the ANOVA model of {label}; model: "
+                    f"{formula.replace('y ~', resp + ' ~', 1)}",
+                    f"residuals_{resp}.png",
+                    plotting.plot_residuals,
+                    tables[resp]["residuals"],
+                    resp,
+                )
         add(
             "Residuals",
             "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "
@@ -480,7 +508,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         title=f"brakeca study: {result.design.name}",
         design_table=_design_table(result),
         summary=summary,
-        anova_tables={resp: tables[resp]["anova"] for resp in RESPONSES},
+        anova_tables={resp: tables[resp]["anova"] for resp in RESPONSES if resp not in surfaces},
         figures=figures,
         config_text=design_text + "\n# --- base configuration ---\n" + config_text,
         version=__version__,
@@ -491,6 +519,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         optimum=None if optimum is None else (goals, optimum),
         optimum_note=optimum_note,
         box_cox=scales,
+        anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
     )
 
 

@@ -80,6 +80,18 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     scales = pd.read_csv(out / "tables" / "box_cox.csv").set_index("response")
     assert scales.loc["MU", "model"] == "quadratic model: A + WR + A*A + WR*WR + A*WR"
     assert (out / "figures" / "box_cox.png").is_file() and "Scale of the responses" in html
+    # a response surface's ANOVA and residuals are its quadratic's, not the categorical ones
+    anova_section = html[html.index('<section id="anova">') :]
+    anova_section = anova_section[: anova_section.index("</section>")]
+    assert "A response-surface design: each response&#39;s analysis of variance" in anova_section
+    assert '<h3 id="anova-MU">' not in anova_section
+    assert "Residual plots of the quadratic surface of mean COF MU; model: MU ~ A + WR" in html
+    assert not (out / "figures" / "pareto_MU.png").exists()
+    residuals = pd.read_csv(out / "tables" / "surface_residuals_MU.csv")
+    np.testing.assert_allclose(residuals["observed"], summary["MU"], rtol=1e-12)
+    np.testing.assert_allclose(
+        residuals["fitted"], fit.predict({"A": summary["A"], "WR": summary["WR"]}), rtol=1e-9
+    )
     # the design's goal: the optimum in the report and tables/optimum.csv, V in mm³
     optimum = pd.read_csv(out / "tables" / "optimum.csv")
     v_row = optimum[optimum["name"] == "V"].iloc[0]

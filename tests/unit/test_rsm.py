@@ -366,3 +366,30 @@ def test_a_goal_names_its_bounds_and_what_is_acceptable() -> None:
     target = Goal("y", "target", 1.0, 3.0, target=1.5)
     assert target.bounds == (1.0, 1.5, 3.0) and target.acceptance_limits == (1.0, 3.0)
     np.testing.assert_array_equal(target.acceptable([0.9, 2.0, 3.1]), [False, True, False])
+
+
+def test_surface_residuals_are_statsmodels() -> None:
+    """Fitted values, residuals, leverages and internally studentized residuals of the
+    surface are statsmodels' for the same model; failed runs are left out, the summary's test
+    and order columns kept; a summary the surface was not fitted to is refused."""
+    from brakeca.rsm import surface_residuals
+
+    frame = _montgomery()
+    frame["test"] = range(1, 14)
+    frame["order"] = range(13, 0, -1)
+    frame["status"] = "ok"
+    frame.loc[2, "status"] = "failed"
+    fit = fit_response_surface(frame, _CODED, "yield")
+    res = surface_residuals(fit, frame)
+    ok = frame[frame["status"] == "ok"]
+    model = smf.ols("Q('yield') ~ x1 + x2 + I(x1**2) + I(x2**2) + x1:x2", ok).fit()
+    influence = model.get_influence()
+    np.testing.assert_allclose(res["fitted"], model.fittedvalues, rtol=1e-10)
+    np.testing.assert_allclose(res["residual"], model.resid, rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(res["leverage"], influence.hat_matrix_diag, rtol=1e-9)
+    np.testing.assert_allclose(res["std_residual"], influence.resid_studentized_internal, rtol=1e-8)
+    assert list(res["test"]) == list(ok["test"]) and list(res["order"]) == list(ok["order"])
+    assert res.attrs["df_resid"] == model.df_resid
+    assert res.attrs["formula"] == "yield ~ x1 + x2 + x1*x1 + x2*x2 + x1*x2 (coded)"
+    with pytest.raises(ValueError, match="not the one the surface was fitted to"):
+        surface_residuals(fit, frame.assign(status="ok"))
