@@ -1055,6 +1055,24 @@ def _mean_desirability(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) 
     return np.asarray(np.sum(weighted, axis=0) / total, dtype=float)
 
 
+def _beyond_the_runs(fit: SurfaceFit, coded: np.ndarray) -> str:
+    """A note when the coded point lies farther from the design's centre than every run (a
+    rotatable composite or a Box-Behnken design spans a sphere, not the box the optimizer
+    searches, so its corners are extrapolation); empty otherwise."""
+    runs = fit.points[[c.name for c in fit.codings]].to_numpy(dtype=float)
+    if runs.size == 0:
+        return ""
+    farthest = float(np.max(np.linalg.norm(runs, axis=1)))
+    distance = float(np.linalg.norm(coded))
+    if distance <= farthest * (1.0 + 1e-6):
+        return ""
+    return (
+        f"the setting lies {distance:.3g} coded units from the design's centre, farther than "
+        f"any run ({farthest:.3g}): the fitted surfaces are extrapolated there; confirm it "
+        "with runs, or restrict the goals"
+    )
+
+
 def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     """The factor setting that best meets every goal: the largest composite desirability of
     the fitted surfaces over the region the runs span (Derringer and Suich 1980, as Minitab's
@@ -1065,7 +1083,10 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     per factor) is searched first; the ten best grid points are then refined by bounded
     quasi-Newton steps (L-BFGS-B), and the best point of all is returned. When some goal is
     missed everywhere (the composite desirability is 0 over the whole grid), the setting of
-    the largest importance-weighted mean desirability is returned instead, with a note.
+    the largest importance-weighted mean desirability is returned instead, with a note. A
+    setting farther from the centre than every run (a corner of the box of a rotatable
+    composite or a Box-Behnken design, which span a sphere) gets a note that the surfaces are
+    extrapolated there.
 
     Parameters
     ----------
@@ -1154,6 +1175,9 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         lo, hi = fit.confidence_interval(coded, new_run=True)
         prediction[r] = (float(lo), float(hi))
     span = {n: hi - lo for n, (lo, hi) in extent.items()}
+    reach = _beyond_the_runs(first, best_x)
+    if reach:
+        note = f"{note}; {reach}" if note else reach
     return Optimum(
         coded=coded,
         levels={c.name: float(c.decode(coded[c.name])) for c in first.codings},

@@ -393,3 +393,25 @@ def test_surface_residuals_are_statsmodels() -> None:
     assert res.attrs["formula"] == "yield ~ x1 + x2 + x1*x1 + x2*x2 + x1*x2 (coded)"
     with pytest.raises(ValueError, match="not the one the surface was fitted to"):
         surface_residuals(fit, frame.assign(status="ok"))
+
+
+def test_an_optimum_beyond_every_run_is_called_extrapolation() -> None:
+    """A rotatable composite design spans a circle of radius α = √2: a plane rising along
+    p + q is best at the box's corner (√2, √2), 2 units out, where the optimizer says the
+    surface is extrapolated; in a face-centred design the corner (1, 1) is a run, so no note."""
+    a = math.sqrt(2.0)
+    rotatable = [(-1, -1), (1, -1), (-1, 1), (1, 1), (-a, 0), (a, 0), (0, -a), (0, a), (0, 0)]
+    face = [(-1, -1), (1, -1), (-1, 1), (1, 1), (-1, 0), (1, 0), (0, -1), (0, 1), (0, 0)]
+    for points, beyond in ((rotatable, True), (face, False)):
+        frame = pd.DataFrame(points, columns=["p", "q"]).astype(float)
+        frame["y"] = 5.0 + frame["p"] + frame["q"] + 0.01 * frame["p"] ** 2
+        frame.loc[8, "y"] += 0.001  # a residual
+        fit = fit_response_surface(frame, _PQ, "y")
+        best = optimize({"y": fit}, [Goal("y", "maximize", 4.0, 20.0)])
+        corner = max(p for p, _ in points)
+        assert best.coded == pytest.approx({"p": corner, "q": corner}, abs=1e-6)
+        assert ("extrapolated" in best.note) is beyond
+        if beyond:
+            assert "2 coded units from the design's centre, farther than any run (1.41)" in (
+                best.note
+            )
