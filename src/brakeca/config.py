@@ -476,6 +476,9 @@ class NumericsConfig(_Frozen):
     )
 
 
+#: Radial rows of the band ``--quick`` narrows to (2 mm at the paper's 0.1 mm step).
+QUICK_N_RADIAL = 21
+
 #: The most fibres the surface, or one slab of the fibre field, may need to reach the fibre
 #: fraction A: laying a million takes 20 to 80 s. Fibres far smaller than a cell would need
 #: billions, and the surface generation would never end.
@@ -497,6 +500,27 @@ class SimulationConfig(_Frozen):
     output: OutputConfig = OutputConfig()
     numerics: NumericsConfig = NumericsConfig()
     quick: bool = Field(False, description="the band was narrowed by --quick")
+
+    @model_validator(mode="after")
+    def _quick_is_the_quick_band(self) -> SimulationConfig:
+        # `quick` labels a run (its header, run file and report) as the narrowed band; set
+        # by hand on another band it would label a full-width run "quick"
+        if self.quick and (
+            self.mesh.n_radial != QUICK_N_RADIAL or self.mesh.inner_radius is not None
+        ):
+            inner = (
+                f", mesh.inner_radius = {self.mesh.inner_radius:g} m"
+                if self.mesh.inner_radius is not None
+                else ""
+            )
+            raise ValueError(
+                f"quick = true marks the band --quick narrows to {QUICK_N_RADIAL} rows centred "
+                f"on the effective radius (mesh.n_radial = {QUICK_N_RADIAL}, mesh.inner_radius "
+                f"unset), but this configuration has mesh.n_radial = {self.mesh.n_radial}"
+                f"{inner}: use --quick (brakeca.design.quick_config from Python) instead of "
+                "setting quick"
+            )
+        return self
 
     @model_validator(mode="after")
     def _band_on_disc(self) -> SimulationConfig:

@@ -99,6 +99,7 @@ from pydantic import (
 
 from brakeca.config import (
     FACTOR_ALIASES,
+    QUICK_N_RADIAL,
     ConfigError,
     SimulationConfig,
     csv_delimiter,
@@ -129,8 +130,6 @@ __all__ = [
     "standard_generators",
 ]
 
-#: Radial rows kept by :func:`quick_config` [-] (2 mm at the paper's 0.1 mm radial step).
-QUICK_N_RADIAL = 21
 
 #: Names a factor may not take: they are columns of the campaign summary or coordinates of the
 #: consolidated campaign dataset.

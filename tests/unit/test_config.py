@@ -179,3 +179,22 @@ def test_config_and_design_files_may_start_with_a_byte_order_mark(tmp_path):
         encoding="utf-8-sig",
     )
     assert load_design(design).factor_names == ("A",)
+
+
+def test_quick_labels_only_the_quick_band():
+    """`quick` is what --quick sets with the band it narrows to; set by hand on another band
+    it would label a full-width run "quick" (its header, run file and report), so it is
+    refused, naming the fields."""
+    from brakeca.design import quick_config
+
+    paper = load_preset("paper")
+    quick = quick_config(paper)
+    assert quick.quick and quick.mesh.n_radial == 21
+    assert SimulationConfig.from_dict(quick.to_dict()) == quick  # a campaign's base reloads
+    with pytest.raises(ConfigError, match=r"mesh.n_radial = 201: use --quick"):
+        paper.with_updates({"quick": True})
+    with pytest.raises(ConfigError, match=r"mesh.n_radial = 41"):
+        quick.with_updates({"mesh.n_radial": 41})
+    with pytest.raises(ConfigError, match=r"mesh.inner_radius = 0.1 m"):
+        quick.with_updates({"mesh.inner_radius": 0.1})
+    assert not quick.with_updates({"quick": False, "mesh.n_radial": 41}).quick
