@@ -416,6 +416,9 @@ def plot_mu_per_stop(
         )
     ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
     ax.set_xlabel("Stop number [-]")
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # no stop 0.75 with a few stops
     ax.set_ylabel("Mean coefficient of friction μ per stop [-]")
     if title is None:
         title = "Mean coefficient of friction per stop over the cycle, all runs"

@@ -259,7 +259,8 @@ def _is_missing(value: Any) -> bool:
 
 def _fmt(value: Any, spec: str = ".6g") -> str:
     """Format a table cell: floats with ``spec`` (``"volume"``: 4 significant digits, whole
-    numbers with thousands separators from 10,000 on), integers plainly, missing as a dash."""
+    numbers with thousands separators from 10,000 on; ``"seconds"``: one decimal below 10),
+    integers plainly, missing as a dash."""
     if _is_missing(value):
         return "–"
     if isinstance(value, bool | np.bool_):
@@ -275,6 +276,8 @@ def _fmt(value: Any, spec: str = ".6g") -> str:
             return format(int(v), spec) if v.is_integer() else format(v, ".6g")
         if spec == "volume":  # 4 significant digits, and no exponent up to 1e15
             return f"{v:,.0f}" if 1e4 <= abs(v) < 1e15 else format(v, ".4g")
+        if spec == "seconds":  # a tenth of a second below 10 s (a short run is not 0 s)
+            return format(v, ".1f") if abs(v) < 10.0 else format(v, ",.0f")
         return format(v, spec)
     return str(value)
 
@@ -334,7 +337,10 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "max_ledger_residual": ("Ledger residual [-]", ".1e", 1.0),
     "max_friction_residual": ("Friction residual [-]", ".1e", 1.0),
     "n_steps": ("Steps", ",d", 1.0),
-    "wall_time": ("Wall time [s]", ".0f", 1.0),
+    "wall_time": ("Wall time [s]", "seconds", 1.0),
+    "PM10_low_mg_km": ("PM10 low [mg/km]", "volume", 1.0),
+    "PM10_mg_km": ("PM10 [mg/km]", "volume", 1.0),
+    "PM10_high_mg_km": ("PM10 high [mg/km]", "volume", 1.0),
 }
 
 
@@ -537,10 +543,16 @@ _BOX_COX_INFO = (
 
 def _box_cox_table(results: Mapping[str, Any]) -> _Table:
     """The Box-Cox results (:class:`brakeca.boxcox.BoxCox`), one row per response."""
+    from brakeca.boxcox import LAMBDA_RANGE
+
     rows = []
     for response, r in results.items():
         if r.defined:
-            interval = f"{_fmt(r.ci_low, '.2f')} to {_fmt(r.ci_high, '.2f')}"
+            lo, hi = LAMBDA_RANGE
+            # an end the likelihood does not reach within the search range lies beyond it
+            low = f"below {lo:g}" if math.isinf(r.ci_low) else _fmt(r.ci_low, ".2f")
+            high = f"above {hi:g}" if math.isinf(r.ci_high) else _fmt(r.ci_high, ".2f")
+            interval = f"{low} to {high}"
             reading = r.reading + (f" ({r.note})" if r.note else "")
             cells = [_fmt(r.lambda_hat, ".2f"), interval, _fmt(r.rounded, "g"), reading]
         else:

@@ -140,6 +140,9 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     labels = [line.get_label() for line in ax.lines if not line.get_label().startswith("_")]
     assert labels[0] == "T1: S-, WP-, WR-, A-"
     assert labels[-1] == "T24: S+, WP+, WR+, A+"
+    two_stops = campaign.isel(stop=slice(0, 2))
+    ticks = plot_mu_per_stop(two_stops, factors=FACTORS).axes[0].get_xticks()
+    assert np.all(ticks == np.round(ticks))  # stop numbers are whole: no tick at stop 1.25
     # A replicated campaign: runs numbered 1..2n, tests from the coordinate; one colour and
     # one legend entry per test.
     twice = xr.concat([campaign, campaign], dim="run")

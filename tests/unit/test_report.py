@@ -338,7 +338,8 @@ def test_goals_without_any_surface_still_say_why(tmp_path) -> None:
 
 
 def test_the_box_cox_check_in_the_report(tmp_path) -> None:
-    """One row per response: λ̂, its interval (open ends as ∞), the rounded λ and the reading;
+    """One row per response: λ̂, its interval (an end beyond the search range as "below -2" or
+    "above 2"), the rounded λ and the reading;
     a response without λ says why; no section without results."""
     from brakeca.boxcox import box_cox_profile
 
@@ -355,3 +356,18 @@ def test_the_box_cox_check_in_the_report(tmp_path) -> None:
     assert "the log fits better than the response as it is" in section
     assert "<td>not defined: needs positive values" in section
     assert "anova-box-cox" not in render_report(**make_inputs(tmp_path))
+    import dataclasses
+
+    open_ended = dataclasses.replace(v, ci_low=-math.inf, ci_high=math.inf)
+    html = render_report(**make_inputs(tmp_path), box_cox={"V": open_ended})
+    assert "<td>below -2 to above 2</td>" in html
+
+
+def test_short_wall_times_and_pm10_columns_in_the_runs_table(tmp_path) -> None:
+    """A run of 0.4 s is not shown as 0 s; the PM10 columns get headers with their unit."""
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"].assign(wall_time=0.43, PM10_mg_km=13949.7)
+    summary.loc[summary.index[0], "wall_time"] = 123.4
+    html = render_report(**{**inputs, "summary": summary})
+    assert '<td class="num">0.4</td>' in html and '<td class="num">123</td>' in html
+    assert "<th>PM10 [mg/km]</th>" in html and '<td class="num">13,950</td>' in html
