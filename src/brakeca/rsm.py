@@ -1134,13 +1134,20 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 f"{[c.name for c in fit.codings]}, not {factors})"
             )
     extent = first.extent()
+    # a factor in no fitted model (removed by backward elimination) changes nothing: it is
+    # held at the centre of its range, not left to wander to an edge
+    active = {n for fit in chosen.values() for term in fit.terms for n in term.split("*")}
+    idle = [n for n in factors if n not in active]
+    for n in idle:
+        mid = 0.5 * (extent[n][0] + extent[n][1])
+        extent[n] = (mid, mid)
     bounds = [extent[n] for n in factors]
     k = len(factors)
 
     def values_at(coded: Mapping[str, Any]) -> dict[str, np.ndarray]:
         return {r: fit.predict_coded(coded) for r, fit in chosen.items()}
 
-    axes = [np.linspace(lo, hi, _GRID.get(k, 5)) for lo, hi in bounds]
+    axes = [np.linspace(lo, hi, _GRID.get(k, 5) if hi > lo else 1) for lo, hi in bounds]
     mesh = np.meshgrid(*axes, indexing="ij")
     grid = {n: m.ravel() for n, m in zip(factors, mesh, strict=True)}
     score = _composite
@@ -1175,9 +1182,29 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         lo, hi = fit.confidence_interval(coded, new_run=True)
         prediction[r] = (float(lo), float(hi))
     span = {n: hi - lo for n, (lo, hi) in extent.items()}
+    notes = [note] if note else []
+    if idle:
+        notes.append(
+            f"{', '.join(idle)} {'is' if len(idle) == 1 else 'are'} in none of the fitted "
+            "models, so any level gives the same fit: held at the centre of the range"
+        )
     reach = _beyond_the_runs(first, best_x)
     if reach:
-        note = f"{note}; {reach}" if note else reach
+        notes.append(reach)
+    for r, fit in chosen.items():
+        if fit.statistics.get("df_resid", 0.0) < 0.5:
+            notes.append(
+                f"the surface of {r} leaves no residual degrees of freedom (as many terms as "
+                "distinct runs): no confidence or prediction interval"
+            )
+        y = fit.points["y"].to_numpy(dtype=float)
+        if y.size and np.all(y > 0.0) and predicted[r] <= 0.0:
+            notes.append(
+                f"the fitted {r} is {predicted[r]:.3g} there, though every run's {r} is "
+                "positive: the quadratic does not keep the response's sign (a log scale "
+                "may fit it better)"
+            )
+    note = "; ".join(notes)
     return Optimum(
         coded=coded,
         levels={c.name: float(c.decode(coded[c.name])) for c in first.codings},
@@ -1189,7 +1216,8 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         on_boundary=tuple(
             n
             for n in factors
-            if min(abs(coded[n] - extent[n][0]), abs(coded[n] - extent[n][1])) <= 1e-6 * span[n]
+            if n not in idle
+            and min(abs(coded[n] - extent[n][0]), abs(coded[n] - extent[n][1])) <= 1e-6 * span[n]
         ),
         note=note,
         units={c.name: c.unit for c in first.codings},

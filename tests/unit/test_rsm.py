@@ -24,6 +24,7 @@ from brakeca.rsm import (
     COEFFICIENT_COLUMNS,
     Coding,
     Goal,
+    backward_elimination,
     coding_of,
     fit_response_surface,
     optimize,
@@ -415,3 +416,32 @@ def test_an_optimum_beyond_every_run_is_called_extrapolation() -> None:
             assert "2 coded units from the design's centre, farther than any run (1.41)" in (
                 best.note
             )
+
+
+def test_optimize_says_what_its_numbers_cannot_be_trusted_for() -> None:
+    """A factor the reduced model dropped stays at its centre, not at an edge it does not
+    affect; a saturated surface gets a note instead of silent NaN intervals; a fitted value
+    of the wrong sign (V below zero, every run's V positive) is called out."""
+    # q does not act on y: elimination drops it, and the optimum holds it at 0
+    points = [(p, q) for p in (-1.0, 0.0, 1.0) for q in (-1.0, 0.0, 1.0)]
+    frame = pd.DataFrame(points, columns=["p", "q"])
+    noise = np.random.default_rng(1).normal(0.0, 0.01, len(frame))
+    frame["y"] = 3.0 + 2.0 * frame["p"] + noise
+    reduced = backward_elimination(frame, _PQ, "y", alpha=0.05)
+    assert "q" not in " ".join(reduced.terms)
+    best = optimize({"y": reduced}, [Goal("y", "maximize", 1.0, 6.0)])
+    assert best.coded["q"] == 0.0 and best.on_boundary == ("p",)
+    assert "q is in none of the fitted models" in best.note
+    # six runs, six terms: no residual degrees of freedom
+    six = frame.iloc[[0, 2, 4, 6, 8, 1]].reset_index(drop=True)
+    saturated = fit_response_surface(six, _PQ, "y")
+    assert saturated.statistics["df_resid"] == 0.0
+    best = optimize({"y": saturated}, [Goal("y", "maximize", 1.0, 6.0)])
+    assert math.isnan(best.interval["y"][0]) and "no residual degrees of freedom" in best.note
+    # a positive response whose quadratic dips below zero where it is minimized
+    # (exp(2p) through p = -1, 0, 1: the parabola's bottom, at p = -0.66, is -0.19)
+    frame["v"] = np.exp(2.0 * frame["p"]) + 0.1 * frame["q"] ** 2 + noise
+    fit = fit_response_surface(frame, _PQ, "v")
+    best = optimize({"v": fit}, [Goal("v", "minimize", 0.0, 1.0)])
+    assert best.predicted["v"] < 0.0
+    assert "though every run's v is positive" in best.note
