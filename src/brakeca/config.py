@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 import re
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal
 
@@ -366,7 +366,7 @@ class TraceCycleConfig(BaseModel):
         try:
             return cls.model_validate(dict(data))
         except ValidationError as exc:
-            raise ConfigError(format_validation_error(exc, source)) from None
+            raise ConfigError(format_validation_error(exc, source, cls)) from None
 
     @property
     def brake_share(self) -> float:
@@ -623,7 +623,7 @@ class SimulationConfig(_Frozen):
         try:
             return cls.model_validate(dict(data))
         except ValidationError as exc:
-            raise ConfigError(format_validation_error(exc, source)) from None
+            raise ConfigError(format_validation_error(exc, source, cls)) from None
 
     @classmethod
     def from_toml(cls, text: str, *, source: str = "config") -> SimulationConfig:
@@ -647,8 +647,50 @@ def _drop_none(value: Any) -> Any:
     return value
 
 
-def format_validation_error(exc: ValidationError, source: str) -> str:
-    """Turn a pydantic error into lines ``source: field.path: problem (got value)``."""
+#: pydantic's error types of a numeric bound
+_BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
+
+
+def _allowed_range(model: Any, loc: Sequence[Any]) -> str | None:
+    """The interval a numeric field of ``model`` at ``loc`` allows, e.g. ``"[0, 2]"`` or
+    ``"(0, 1)"``, when it has a bound on both sides; None otherwise (one bound, or ``loc``
+    not a field of nested models)."""
+    import annotated_types as at
+    from pydantic import BaseModel
+
+    info = None
+    cls = model
+    for part in loc:
+        if not (isinstance(cls, type) and issubclass(cls, BaseModel)):
+            return None
+        if not isinstance(part, str) or part not in cls.model_fields:
+            return None
+        info = cls.model_fields[part]
+        cls = info.annotation
+    if info is None:
+        return None
+    low = high = None
+    left, right = "[", "]"
+    for bound in info.metadata:
+        if isinstance(bound, at.Ge):
+            low = bound.ge
+        elif isinstance(bound, at.Gt):
+            low, left = bound.gt, "("
+        elif isinstance(bound, at.Le):
+            high = bound.le
+        elif isinstance(bound, at.Lt):
+            high, right = bound.lt, ")"
+    if low is None or high is None:
+        return None
+    return f"{left}{low:g}, {high:g}{right}"
+
+
+def format_validation_error(exc: ValidationError, source: str, model: Any = None) -> str:
+    """Turn a pydantic error into lines ``source: field.path: problem (got value)``.
+
+    ``model`` (the model class validated) lets a bound's error give the whole allowed range
+    of the field, e.g. ``must lie in [0, 2]`` where pydantic names only the bound crossed.
+    """
     lines = []
     errors = exc.errors()
     failed_items = {err["loc"][:-1] for err in errors} | {
@@ -668,8 +710,28 @@ def format_validation_error(exc: ValidationError, source: str) -> str:
             msg = "required field is missing"
         elif err["type"] == "value_error":
             msg = msg.removeprefix("Value error, ")
+        elif err["type"] in ("too_short", "too_long") and "ctx" in err:
+            ctx = err["ctx"]
+            most = "at least" if err["type"] == "too_short" else "at most"
+            bound = ctx.get("min_length" if err["type"] == "too_short" else "max_length")
+            msg = f"needs {most} {bound} item{'' if bound == 1 else 's'}"
+        elif err["type"] in ("list_type", "tuple_type"):
+            msg = "should be a list, in brackets: [...]"
         got = err.get("input")
-        got_text = "" if err["type"] in ("missing",) or isinstance(got, dict) else f" (got {got!r})"
+        if err["type"] in _BOUND_ERRORS or (isinstance(got, float) and math.isnan(got)):
+            interval = _allowed_range(model, err["loc"]) if model is not None else None
+            if isinstance(got, float) and math.isnan(got):
+                msg = "must be a number" + (f" in {interval}" if interval else "") + ", not NaN"
+            elif interval is not None:
+                msg = f"must lie in {interval}"
+        got_text = (
+            ""
+            if err["type"] in ("missing",)
+            or isinstance(got, dict)
+            or "got " in msg
+            or msg.endswith("not NaN")
+            else f" (got {got!r})"
+        )
         lines.append(f"{source}: {loc}{msg}{got_text}")
     return "\n".join(lines)
 

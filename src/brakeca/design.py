@@ -337,6 +337,15 @@ class Factor(_Frozen):
             return data
         if "field" not in data and str(data.get("name")) in FACTOR_ALIASES:
             data = {**data, "field": data["name"]}
+        elif "field" not in data and isinstance(data.get("name"), str):
+            name = data["name"]
+            near = [a for a in FACTOR_ALIASES if a.lower() == name.lower()]
+            raise ValueError(
+                f"factor {name!r} gives no `field` (the configuration field it sets, e.g. "
+                'field = "wear.specific_wear_rate"), and only the paper\'s factors '
+                f"{', '.join(FACTOR_ALIASES)} may leave it out"
+                + (f" (names are case-sensitive: did you mean {near[0]!r}?)" if near else "")
+            )
         choices = data.get("choices")
         if "labels" not in data and data.get("field") != "cycle" and isinstance(choices, list):
             data = {**data, "labels": choices}  # a categorical factor's levels are its choices

@@ -232,7 +232,14 @@ def test_a_factor_without_a_field_is_one_error_not_two():
     spec = {"name": "F", "levels": [0.5, 0.6]}
     with pytest.raises(ConfigError) as info:
         design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
-    assert str(info.value) == "design: factors.0.field: required field is missing"
+    assert str(info.value) == (
+        "design: factors.0: factor 'F' gives no `field` (the configuration field it sets, e.g. "
+        'field = "wear.specific_wear_rate"), and only the paper\'s factors S, WP, WR, A may '
+        "leave it out"
+    )
+    spec = {"name": "Wp", "levels": [1e-15, 1e-13]}  # a paper factor's name, miswritten
+    with pytest.raises(ConfigError, match=r"case-sensitive: did you mean 'WP'\?\)$"):
+        design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
 
 
 def test_many_factors_full_factorial_is_complete():
@@ -1380,3 +1387,25 @@ def test_bad_fraction_runs_are_refused(extra, fragment):
     with pytest.raises(ConfigError) as info:
         design_from_dict(data, source="f.toml")
     assert "f.toml: fraction_runs: " in str(info.value) and fragment in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("extra", "factor", "message"),
+    [
+        ({}, {"name": "A", "levels": [10]}, "factors.0.levels: needs at least 2 items (got (10,))"),
+        ({}, {"name": "A", "levels": [10, 10]}, "levels must all differ, got [10, 10]"),
+        (
+            {"generators": "A = S*WP"},
+            {"name": "A", "levels": [10, 20]},
+            "generators: should be a list, in brackets: [...] (got 'A = S*WP')",
+        ),
+    ],
+)
+def test_shape_errors_read_as_sentences(extra, factor, message) -> None:
+    """pydantic's wording ("Tuple should have at least 2 items after validation") and a value
+    given twice ("got [10, 10] (got [10, 10])") are rewritten (a user review)."""
+    with pytest.raises(ConfigError) as info:
+        design_from_dict(
+            {"name": "n", "base": "paper", "root_seed": 1, "factors": [factor], **extra}
+        )
+    assert str(info.value).endswith(message)
