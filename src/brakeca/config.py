@@ -669,7 +669,8 @@ def _allowed_range(model: Any, loc: Sequence[Any]) -> str | None:
         cls = info.annotation
     if info is None:
         return None
-    low = high = None
+    low: Any = None
+    high: Any = None
     left, right = "[", "]"
     for bound in info.metadata:
         if isinstance(bound, at.Ge):
