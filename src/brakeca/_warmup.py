@@ -10,6 +10,11 @@ each on a two-row band for one stop: the run that follows, or a campaign's worke
 then load the machine code from the cache. It also saves time in a campaign with a cold cache:
 the kernels are compiled once, not once per worker.
 
+Compiling takes about 40 s; loading, a second or two. So that the wait does not look like a
+hang, :func:`warm_up` says ``compiling the kernels ...`` before it when it can tell cheaply that
+the cache lacks a kernel it needs (:func:`cold_kernels`), through the callback it is given or
+the one a caller set with :func:`announcing` (the command line's, around a campaign).
+
 The warm-up is an optimisation only: if it fails (a cache directory that cannot be written, a
 configuration that cannot run on two rows), the runs compile for themselves as before. A
 configuration whose stop raises (a pad no plateau of which reaches the disc, say) is skipped
@@ -18,13 +23,16 @@ without a word: the run that follows meets the same error and reports it, once, 
 
 from __future__ import annotations
 
+import os
 import pickle
 import signal
 import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 
 from brakeca.config import SimulationConfig
@@ -32,6 +40,75 @@ from brakeca.config import SimulationConfig
 # the compiled entry point of each kernel (its dispatcher holds a signature once this process
 # has compiled it or loaded it from the cache, which it wrote or found there)
 _ENTRIES = {"lazy": ("brakeca._lazy", "run_stop_lazy"), "exact": ("brakeca._kernels", "run_stop")}
+
+
+#: What :func:`warm_up` says before it compiles (see :func:`cold_kernels`).
+COMPILING = "compiling the kernels (about a minute, once per version of brakeca) ..."
+
+_ANNOUNCE: ContextVar[Callable[[str], None] | None] = ContextVar("_ANNOUNCE", default=None)
+
+
+@contextmanager
+def announcing(say: Callable[[str], None]) -> Iterator[None]:
+    """Within the block, :func:`warm_up` calls without their own ``announce`` (a campaign's)
+    tell ``say`` before they compile, as if given ``announce=say``."""
+    token = _ANNOUNCE.set(say)
+    try:
+        yield
+    finally:
+        _ANNOUNCE.reset(token)
+
+
+def _kernel_of(config: SimulationConfig) -> str:
+    """:func:`brakeca.simulation.kernel_for` without importing it (and numba with it)."""
+    choice = config.numerics.kernel
+    if choice in ("exact", "lazy"):
+        return choice
+    return "lazy" if config.lazy_kernel_problem() is None else "exact"
+
+
+def _index_pattern(kernel: str) -> str:
+    """The glob pattern, relative to ``NUMBA_CACHE_DIR``, of the cache index file numba writes
+    for ``kernel``'s entry point: ``<folder of the sources>_<hash>/<module>.<function>-<first
+    line>.py<version><abiflags>.nbi``."""
+    module, name = _ENTRIES[kernel]
+    version = f"py{sys.version_info.major}{sys.version_info.minor}{getattr(sys, 'abiflags', '')}"
+    return f"*/{module.rpartition('.')[2]}.{name}-*.{version}.nbi"
+
+
+def cold_kernels(configs: Iterable[SimulationConfig]) -> list[str] | None:
+    """The step kernels (``"lazy"``, ``"exact"``) that ``configs`` need and numba's cache
+    does not hold, so that running them compiles them (about 40 s); from the cache folder's
+    file names alone, without importing numba.
+
+    A kernel counts as cached when its entry point's index file (``*.nbi``) is in
+    ``NUMBA_CACHE_DIR`` (set by ``import brakeca``; see :mod:`brakeca._cachedir`) and is not
+    older than the kernel's source file. A cached kernel may still compile for a model
+    option not run before (the warm-up then takes longer than a load, unannounced).
+
+    Returns
+    -------
+    list of str or None
+        The kernels, in the order of :data:`_ENTRIES` (empty if all are cached); None if
+        the cache folder is not known (``NUMBA_CACHE_DIR`` unset: numba's default place).
+    """
+    cache = os.environ.get("NUMBA_CACHE_DIR")
+    if not cache:
+        return None
+    needed = {_kernel_of(c) for c in configs}
+    cold = []
+    for kernel in _ENTRIES:
+        if kernel not in needed:
+            continue
+        source = Path(__file__).with_name(f"{_ENTRIES[kernel][0].rpartition('.')[2]}.py")
+        try:
+            changed = source.stat().st_mtime
+            stamps = [p.stat().st_mtime for p in Path(cache).glob(_index_pattern(kernel))]
+        except OSError:
+            return None
+        if not any(stamp >= changed for stamp in stamps):
+            cold.append(kernel)
+    return cold
 
 
 def tiny_config(config: SimulationConfig) -> SimulationConfig:
@@ -107,9 +184,20 @@ def _child(configs: list[SimulationConfig]) -> int:
     return failed
 
 
-def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
+def warm_up(
+    configs: Iterable[SimulationConfig], *, announce: Callable[[str], None] | None = None
+) -> float | None:
     """Compile (or load) the kernels ``configs`` need in a child process; see the module
     docstring.
+
+    Parameters
+    ----------
+    configs
+        The configurations to be run.
+    announce
+        Called with :data:`COMPILING` before the child starts when a kernel it needs is not
+        in the cache (:func:`cold_kernels`); by default the callback of :func:`announcing`,
+        if any.
 
     Returns
     -------
@@ -126,6 +214,9 @@ def warm_up(configs: Iterable[SimulationConfig]) -> float | None:
     # modules into a process that may only coordinate workers and write the report (65 MB)
     if not todo:
         return None
+    say = announce if announce is not None else _ANNOUNCE.get()
+    if say is not None and cold_kernels(todo):
+        say(COMPILING)
     t0 = time.perf_counter()
     # a plain interpreter running this module, not a multiprocessing child: "spawn" would
     # import this process's main module there first (the command line's: about 40 MB more

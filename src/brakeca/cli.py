@@ -10,7 +10,7 @@ kept with the tests.
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any
@@ -39,6 +39,97 @@ out = LogConsole()
 def _fail(message: str, code: int = 2) -> None:
     console.print(f"[bold red]error:[/] {escape(message)}", highlight=False)
     raise typer.Exit(code)
+
+
+def output_problem(path: Path, *, folder: bool = False) -> str | None:
+    """Why the output ``path`` cannot be written, or None if it can; nothing is created.
+
+    The command lines of every command that writes (``-o``) ask this before any work, so
+    that a run or a figure is not computed for a place it cannot go. The nearest folder that
+    exists on the way to ``path`` must be a folder and take a new file (a probe file, removed
+    at once: as root, or on a read-only or virtual file system such as ``/proc``, the
+    permission bits do not tell); the folders after it are created when the output is
+    written.
+
+    Parameters
+    ----------
+    path
+        The output: a file, or a folder when ``folder``.
+    folder
+        Whether ``path`` is a folder (a campaign's, the figures'); else a file, written into
+        its parent folder.
+
+    Returns
+    -------
+    str or None
+        The problem, worded to follow ``-o PATH: `` (e.g. ``"cannot create it (afile is a
+        file, not a folder)"``), or None.
+    """
+    import os
+    import tempfile
+
+    verb = "create" if folder else "write"
+    if folder and os.path.lexists(path) and not path.is_dir():
+        return "cannot create it (a file of that name exists; give a folder)"
+    if not folder and path.is_dir():
+        return "cannot write it (it is a folder; give a file name)"
+    existing = path if folder else path.parent
+    while not os.path.lexists(existing) and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"cannot {verb} it ({existing} is a file, not a folder)"
+    if not folder and os.path.lexists(path) and not os.access(path, os.W_OK):
+        return "cannot write it (permission denied: the file is read-only)"
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as exc:
+        return f"cannot {verb} it (cannot write in {existing}: {exc.strerror or exc})"
+    return None
+
+
+def _check_output(path: Path, option: str | None = "-o", *, folder: bool = False) -> None:
+    """Refuse (exit status 2) an output that cannot be written, before any work
+    (:func:`output_problem`); ``option``: the option that gave it, None for a default."""
+    problem = output_problem(path, folder=folder)
+    if problem is not None:
+        _fail(f"{'' if option is None else option + ' '}{path}: {problem}")
+
+
+def _write_or_keep(path: Path, write: Callable[[Path], Any], what: str) -> None:
+    """Write a computed result with ``write(path)`` (its folder created); if that fails, write
+    it into a new temporary folder instead and fail with exit status 1, naming both, so that
+    the work is not lost.
+
+    Parameters
+    ----------
+    path
+        The output file (``-o``).
+    write
+        Writes the result to the file it is given.
+    what
+        The result, for the message (``"run"``, ``"figure"``).
+    """
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write(path)
+    except OSError as exc:  # computed: keep it where a file can be written
+        import tempfile
+
+        kept = Path(tempfile.mkdtemp(prefix=f"brakeca-{what}-")) / path.name
+        write(kept)
+        _fail(f"-o {path}: cannot write it ({exc}); the {what} was saved to {kept}", code=1)
+
+
+def _campaign_folder(folder: Path) -> None:
+    """Refuse (exit status 2) a campaign folder argument that names a file."""
+    if folder.exists() and not folder.is_dir():
+        _fail(f"{folder}: not a folder (a file); give the campaign folder 'brakeca run -o' wrote")
+
+
+def _announce_compiling(message: str) -> None:
+    """Say, before the wait, that the kernels are being compiled (brakeca._warmup)."""
+    console.print(message, style="dim", markup=False, highlight=False)
 
 
 @contextmanager
@@ -101,6 +192,14 @@ QuickOpt = Annotated[
     bool,
     typer.Option("--quick", help="narrow the band to 2 mm (21 rows); same cells and cycle"),
 ]
+SpeedUnitOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--speed-unit",
+        metavar="UNIT",
+        help="km/h, m/s or mph: speed unit of a --cycle trace whose header states none",
+    ),
+]
 
 
 @app.command(short_help="simulate one pad over the drive cycle (netCDF run file)")
@@ -139,10 +238,7 @@ def simulate(
             "(paper, example_trace); see docs/cycles.md",
         ),
     ] = None,
-    speed_unit: Annotated[
-        str | None,
-        typer.Option("--speed-unit", metavar="UNIT", help="speed unit of a trace with none stated"),
-    ] = None,
+    speed_unit: SpeedUnitOpt = None,
 ) -> None:
     """Simulate one pad over the drive cycle and write a netCDF run file."""
     from rich.progress import (
@@ -159,6 +255,8 @@ def simulate(
     from brakeca.simulation import simulate as run_simulation
     from brakeca.traces import configured_cycle, with_cycle
 
+    if speed_unit is not None and cycle is None:
+        _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
     try:
         config = resolve_config(preset, config_file, overrides, stops, quick)
         if cycle is not None:
@@ -166,6 +264,8 @@ def simulate(
         source = configured_cycle(config)
     except ConfigError as exc:
         _fail(str(exc))
+    if checkpoint is not None:
+        _check_output(checkpoint, "--checkpoint")
     n_r, n_t = config.mesh.n_radial, config.mesh.n_angular
     n_stops = len(source.events)
     distance = step_distance(config)
@@ -198,7 +298,7 @@ def simulate(
         else "--checkpoint PATH would let a rerun resume"
     )
     with _on_interrupt(f"nothing written; {resume}"):
-        warmed = warm_up([config])
+        warmed = warm_up([config], announce=_announce_compiling)
     if warmed is not None:
         console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
     failure: tuple[str, int] | None = None
@@ -219,16 +319,11 @@ def simulate(
             failure = (str(exc), 1)
         except ValueError as exc:  # a checkpoint of another run
             failure = (str(exc), 2)
+        except OSError as exc:  # the checkpoint passed the check: a full disk, say
+            failure = (f"--checkpoint {checkpoint}: cannot write it ({exc}); nothing written", 1)
     if failure is not None:  # after the bar's last line, so that the error is the last word
         _fail(*failure)
-    try:
-        result.to_netcdf(output)
-    except OSError as exc:  # the run is computed: keep it where a file can be written
-        import tempfile
-
-        kept = Path(tempfile.mkdtemp(prefix="brakeca-run-")) / output.name
-        result.to_netcdf(kept)
-        _fail(f"-o {output}: cannot write it ({exc}); the run was saved to {kept}", code=1)
+    _write_or_keep(output, result.to_netcdf, "run")
     out.print(f"MU = {result.MU:.4f}")
     out.print(f"V  = {result.V * 1e9:.6g} mm^3 per stop")
     ds = result.dataset
@@ -313,14 +408,20 @@ def plot(
         except (OSError, ValueError) as exc:
             _fail(str(exc))
         folder = output if output is not None else path.with_name(f"{path.stem}_figures")
-        for written in plot_run(result, folder):
-            out.print(f"wrote {written}", markup=False)
+        _check_output(folder, "-o" if output is not None else None, folder=True)
+        try:
+            written = plot_run(result, folder)
+        except OSError as exc:  # after the check: a full disk, say; the run file is unchanged
+            _fail(f"{folder}: cannot write the figures ({exc})", code=1)
+        for figure in written:
+            out.print(f"wrote {figure}", markup=False)
         return
     try:
         rows = campaign_runs_to_plot(path, tests or ())
     except (OSError, ValueError) as exc:
         _fail(str(exc))
     base = output if output is not None else path / "run_figures"
+    _check_output(base, "-o" if output is not None else None, folder=True)
     replicated = "replicate" in rows.columns and rows["replicate"].nunique() > 1
     drawn = 0
     with _on_interrupt(f"the figures written so far are in {base}"):
@@ -338,7 +439,14 @@ def plot(
                 console.print(f"{head}: skipped ({exc})", highlight=False, markup=False)
                 continue
             replicate = f", replicate {int(row.replicate)}" if replicated else ""
-            plot_run(result, base / name, name=f"test {int(row.test)}{replicate}")
+            try:
+                plot_run(result, base / name, name=f"test {int(row.test)}{replicate}")
+            except OSError as exc:  # after the check: a full disk, say
+                _fail(
+                    f"{base / name}: cannot write the figures ({exc}); those of the runs "
+                    f"before it are in {base}",
+                    code=1,
+                )
             drawn += 1
             out.print(f"{head}: wrote {base / name}", highlight=False, markup=False)
     if drawn == 0:
@@ -366,7 +474,7 @@ def surface(
     import numpy as np
 
     from brakeca.geometry import make_grid
-    from brakeca.plotting import plot_fibre_maps
+    from brakeca.plotting import plot_fibre_maps, save_figure
     from brakeca.surface import generate_surface
 
     try:
@@ -375,12 +483,14 @@ def surface(
         configs = {f"A = {v:g} %": config.with_updates({"A": v}) for v in values}
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
+    _check_output(output)
     maps = {}
     for label, cfg in configs.items():
         grid = make_grid(cfg)
         surf = generate_surface(cfg.pad, grid, np.random.default_rng(seed))
         maps[label] = (surf.status, np.asarray(grid.radius), np.asarray(grid.angle))
-    plot_fibre_maps(maps, path=output)
+    figure = plot_fibre_maps(maps)
+    _write_or_keep(output, lambda path: save_figure(figure, path), "figure")
     out.print(f"wrote {output}", markup=False)
 
 
@@ -458,6 +568,7 @@ def _run_and_report(
     max_retries: int | None = None,
     checkpoint_every: int = 10,
     cycle: str | None = None,
+    speed_unit: str | None = None,
 ) -> None:
     import time
 
@@ -492,18 +603,29 @@ def _run_and_report(
             "--workers does not apply to an existing Dask cluster (--scheduler, "
             "--scheduler-file): its workers are started with it"
         )
+    if speed_unit is not None and cycle is None:
+        _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
     try:
         updates = dict(parse_override(o) for o in overrides or [])
         if cycle is not None:
             from brakeca.presets import load_preset
             from brakeca.traces import configured_cycle, with_cycle
 
-            with_trace = with_cycle(load_preset(), cycle)
+            with_trace = with_cycle(load_preset(), cycle, speed_unit=speed_unit)
             configured_cycle(with_trace)  # refuses a trace without braking events, up front
             updates["cycle"] = with_trace.cycle.model_dump(mode="json")
+    except ConfigError as exc:
+        _fail(str(exc))
+    _check_output(output, folder=True)
+    from brakeca._warmup import announcing
+
+    kept = "the finished runs" + (" and the checkpoints" if checkpoint_every else "")
+    try:
         t0 = time.perf_counter()
-        kept = "the finished runs" + (" and the checkpoints" if checkpoint_every else "")
-        with _on_interrupt(f"{kept} in {output} are kept; the same command resumes"):
+        with (
+            _on_interrupt(f"{kept} in {output} are kept; the same command resumes"),
+            announcing(_announce_compiling),
+        ):
             result = run_campaign(
                 design,
                 output,
@@ -520,6 +642,12 @@ def _run_and_report(
             )
     except (ConfigError, ExecutorError, CampaignLockedError) as exc:
         _fail(str(exc))
+    except OSError as exc:  # the folder passed the check: a full disk, say
+        _fail(
+            f"-o {output}: cannot write in it ({exc}); {kept} are kept there, and the same "
+            "command resumes once it can be written",
+            code=1,
+        )
     elapsed = time.perf_counter() - t0
     console.print(
         f"{len(result.computed)} run(s) computed, {len(result.reused)} reused, "
@@ -527,10 +655,12 @@ def _run_and_report(
     )
     _print_summary(result.summary, result.design)
     if report:
-        with _on_interrupt(
-            f"every run is in {output}; 'brakeca analyze {output}' writes the report"
-        ):
-            path = write_study(finish_campaign(output))
+        later = f"every run is in {output}; 'brakeca analyze {output}' writes the report"
+        with _on_interrupt(later):
+            try:
+                path = write_study(finish_campaign(output))
+            except OSError as exc:  # a full disk, say: the runs are done
+                _fail(f"-o {output}: cannot write the report ({exc}); {later}", code=1)
         out.print(f"report: {path}", markup=False)
     out.print(f"summary: {Path(output) / 'summary.csv'}", markup=False)
     if result.failed:
@@ -626,6 +756,7 @@ def run(
             "with a trace the report gives PM10 in mg/km next to the Euro 7 limits",
         ),
     ] = None,
+    speed_unit: SpeedUnitOpt = None,
 ) -> None:
     """Run every point of a design into a campaign folder (resumes finished runs)."""
     _run_and_report(
@@ -642,6 +773,7 @@ def run(
         overrides=overrides,
         report=report,
         cycle=cycle,
+        speed_unit=speed_unit,
     )
 
 
@@ -656,6 +788,7 @@ def analyze(
     from brakeca.campaign import finish_campaign
     from brakeca.study import write_study
 
+    _campaign_folder(folder)
     try:
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
@@ -745,6 +878,7 @@ def optimize(
     from brakeca.rsm import response_surfaces
     from brakeca.study import with_log_v
 
+    _campaign_folder(folder)
     try:
         parsed = [_parse_goal(g) for g in goals or ()]
         result = load_campaign(folder)
@@ -817,6 +951,17 @@ def optimize(
         )
 
 
+def default_paper_folder(*, quick: bool, stops: int | None) -> Path:
+    """The campaign folder of ``brakeca paper`` without ``-o``: ``results/paper``,
+    ``results/paper_quick`` with ``--quick`` (another band: other runs), and ``_stopsN``
+    added with ``--stops N`` (the first N stops only: a study of its own, which must not
+    replace the whole cycle's summary and report)."""
+    name = "paper_quick" if quick else "paper"
+    if stops is not None:
+        name += f"_stops{stops}"
+    return Path("results") / name
+
+
 @app.command(short_help="the paper's 24-run study, its analysis and report")
 def paper(
     output: Annotated[
@@ -825,7 +970,8 @@ def paper(
             "-o",
             "--output",
             metavar="PATH",
-            help="campaign folder (default: results/paper; results/paper_quick with --quick)",
+            help="campaign folder (default: results/paper; results/paper_quick with --quick; "
+            "_stopsN added with --stops N)",
         ),
     ] = None,
     workers: WorkersOpt = None,
@@ -837,9 +983,12 @@ def paper(
     quick: QuickOpt = False,
     stops: StopsOpt = None,
 ) -> None:
-    """The paper's whole study: the 24-run factorial design, then the analysis and report."""
+    """The paper's whole study: the 24-run factorial design, then the analysis and report.
+    With --stops N and no -o, a folder of its own (results/paper_stopsN), so that a
+    truncated study never replaces the whole cycle's."""
     if output is None:  # the quick band's runs are not the full band's: a folder each
-        output = Path("results/paper_quick" if quick else "results/paper")
+        output = default_paper_folder(quick=quick, stops=stops)
+        console.print(f"campaign folder: {output}", markup=False, highlight=False)
     _run_and_report(
         "paper",
         output,
@@ -863,7 +1012,8 @@ def show_design(
 ) -> None:
     """Check a design before running it: its kind and runs, a fraction's generators,
     defining relation and resolution, the alias structure of its main effects and two-factor
-    interactions (what it cannot tell apart), and its tests."""
+    interactions (what it cannot tell apart), its factors (the field each sets, its unit and
+    the value of each level) and its tests (with their run order when it is randomized)."""
     import pandas as pd
     from rich.table import Table
 
@@ -885,6 +1035,22 @@ def show_design(
         markup=False,
         highlight=False,
     )
+    orders: dict[int, list[int]] = {}
+    if loaded.randomize_order:
+        try:
+            for point in loaded.points():
+                orders.setdefault(point.test, []).append(point.order)
+        except ConfigError as exc:
+            _fail(str(exc))
+        listed = tests and loaded.replicates <= _MOST_ORDERS_LISTED
+        out.print(
+            "run order: randomized (randomize_order = true, seeded by the root seed); each "
+            "run's place in it is in "
+            + ("the order column of the tests below and in " if listed else "")
+            + "summary.csv's order column",
+            markup=False,
+            highlight=False,
+        )
     if loaded.is_fractional:
         out.print(f"generators: {', '.join(loaded.generators)}", markup=False, highlight=False)
         out.print(
@@ -939,14 +1105,90 @@ def show_design(
             highlight=False,
             emoji=False,
         )
+    _print_factors(loaded)
     if tests:
         table = Table(title="tests")
         table.add_column("test", justify="right", no_wrap=True)
         for f in loaded.factors:
             table.add_column(escape(f.name), justify="right")
+        with_order = bool(orders) and loaded.replicates <= _MOST_ORDERS_LISTED
+        if with_order:
+            table.add_column("order", justify="right")
         for k, combo in enumerate(combos, start=1):
-            table.add_row(str(k), *(escape(loaded.factor(n).label_of(v)) for n, v in combo.items()))
+            table.add_row(
+                str(k),
+                *(escape(loaded.factor(n).label_of(v)) for n, v in combo.items()),
+                *([", ".join(map(str, orders[k]))] if with_order else []),
+            )
         out.print(table)
+
+
+#: ``brakeca design`` lists a randomized design's run order in its tests table up to this many
+#: replicates (a number per replicate) [-]
+_MOST_ORDERS_LISTED = 4
+
+
+def _factor_cells(design: Any, factor: Any) -> tuple[str, str, str, list[str], str]:
+    """A factor's row of the factors table: name, the configuration field it sets (times its
+    scale), unit, one ``label = value`` per level, and its coding in a response-surface
+    model (empty for other designs)."""
+    from brakeca.config import FACTOR_ALIASES
+
+    field, scale = factor.field, factor.scale
+    if field in FACTOR_ALIASES:  # S, WP, WR, A: the alias's field, in the alias's unit
+        field, alias_scale, _ = FACTOR_ALIASES[field]
+        scale *= alias_scale
+    sets = field if scale == 1.0 else f"{field} × {scale:g}"
+    levels = []
+    for k, value in enumerate(factor.levels):
+        text = factor.choices[k] if factor.choices is not None else f"{value:g}"
+        label = factor.label_of(value)
+        levels.append(text if label == text else f"{label} = {text}")
+    coding = ""
+    if design.is_response_surface and not factor.categorical:
+        coding = "log10" if factor.coding == "log" else "linear"
+    return factor.name, sets, factor.unit, levels, coding
+
+
+def _print_factors(design: Any) -> None:
+    """The factors table of ``brakeca design``: what each factor sets and the value of each
+    of its levels (the tests table gives only their labels), as Minitab's factor information.
+    Each factor on one line when that fits the terminal, else its levels one a line."""
+    from rich.table import Table
+
+    rows = [_factor_cells(design, f) for f in design.factors]
+    headers = ["factor", "sets", "unit", "levels"]
+    if design.is_response_surface:
+        headers.append("coding")
+
+    def cells(stacked: int) -> list[list[str]]:
+        """The rows: stacked (1), a level a line and the scale under the field; and (2) the
+        field broken after its first dot."""
+        if not stacked:
+            return [[n, s, u, ", ".join(levels), c] for n, s, u, levels, c in rows]
+        if stacked > 1:
+            rows_ = [(n, s.replace(".", ".\n", 1), u, lv, c) for n, s, u, lv, c in rows]
+        else:
+            rows_ = rows
+        return [
+            [n, s.replace(" × ", "\n× "), u, "\n".join(levels), c] for n, s, u, levels, c in rows_
+        ]
+
+    def width(table: list[list[str]]) -> int:
+        """Columns [-] the table takes: its widest lines, borders and padding."""
+        widest = [
+            max([len(h), *(len(line) for row in table for line in row[k].splitlines())])
+            for k, h in enumerate(headers)
+        ]
+        return sum(widest) + 3 * len(headers) + 1
+
+    stacked = next((k for k in (0, 1) if width(cells(k)) <= out.width), 2)
+    table = Table(title="factors (each level: label = value, in the unit)", show_lines=stacked > 0)
+    for h in headers:
+        table.add_column(h, justify="left", overflow="fold")  # cut, never dropped for "…"
+    for row in cells(stacked):
+        table.add_row(*(escape(c) for c in row[: len(headers)]))
+    out.print(table)
 
 
 def _print_surface_model(design: Any) -> None:

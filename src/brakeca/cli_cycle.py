@@ -122,6 +122,15 @@ def plot_trace(
     return fig
 
 
+def _write_plot(figure: Figure, path: Path) -> None:
+    """Write the plot as PNG at 150 dpi and say so; where ``path`` cannot be written after
+    all (checked before the work), into a temporary folder, and exit with status 1."""
+    from brakeca.cli import _write_or_keep
+
+    _write_or_keep(path, lambda p: figure.savefig(p, dpi=150, format="png"), "plot")
+    out.print(f"wrote {path}", markup=False, highlight=False)
+
+
 def inspect_cycle(
     file: str,
     trace_config: TraceCycleConfig,
@@ -200,8 +209,7 @@ def inspect_cycle(
             highlight=False,
         )
         if plot is not None:
-            plot_trace(trace, events, path=plot)  # type: ignore[arg-type]
-            out.print(f"wrote {plot}")
+            _write_plot(plot_trace(trace, events), plot)  # type: ignore[arg-type]
         return
     out.print(f"{source.name}: block cycle, {source.n_total} stops", highlight=False)
     table = Table(title="blocks", show_lines=False)
@@ -241,13 +249,12 @@ def inspect_cycle(
                 threshold=0.5 * slowest, min_duration=0.0, merge_gap=0.0
             ),
         )
-        plot_trace(
+        figure = plot_trace(
             trace,
             shown,
-            path=plot,
             title=f"{source.name}: {len(shown)} stops, drawn with invented drives between them",
         )
-        out.print(f"wrote {plot}")
+        _write_plot(figure, plot)
 
 
 @cycle_app.command("inspect", short_help="events, distance, braking energy and a plot of a cycle")
@@ -313,6 +320,12 @@ def inspect(
         }.items()
         if v is not None
     }
+    if output is not None:  # before the table: a plot that cannot be written, up front
+        from brakeca.cli import output_problem
+
+        problem = output_problem(output)
+        if problem is not None:
+            _fail(f"-o {output}: {problem}")
     try:
         if no_corrections:
             tc = TraceCycleConfig.no_corrections(**updates)

@@ -3,6 +3,7 @@ before anything runs."""
 
 from __future__ import annotations
 
+import pytest
 from typer.testing import CliRunner
 
 from brakeca.cli import app
@@ -101,3 +102,106 @@ def test_a_bad_optimize_goal_is_named_in_its_own_units(tmp_path) -> None:
     res = CliRunner().invoke(app, ["optimize", str(tmp_path), "-g", "V:min:5:0.1"])
     assert res.exit_code == 2
     assert "goal of V: lower limit 5 must be below upper limit 0.1" in res.output  # mm³
+
+
+def _table_lines(text: str, title: str) -> list[str]:
+    """The lines of the table titled ``title`` (title line to bottom border)."""
+    lines = text.splitlines()
+    start = next(k for k, line in enumerate(lines) if line.strip() == title)
+    end = next(k for k in range(start, len(lines)) if lines[k].startswith("└"))
+    return lines[start : end + 1]
+
+
+def _cells(line: str) -> list[str]:
+    return [c.strip() for c in line.replace("┃", "│").strip("│").split("│")]
+
+
+FACTORS = "factors (each level: label = value, in the unit)"
+
+
+def _factor_rows(text: str) -> dict[str, list[str]]:
+    """The factors table's rows (a factor a line: a wide terminal), by factor name."""
+    table = _table_lines(text, FACTORS)
+    assert _cells(table[2])[:4] == ["factor", "sets", "unit", "levels"]
+    return {cells[0]: cells for cells in map(_cells, table[4:-1])}
+
+
+@pytest.mark.parametrize("name", ["paper", "screen", "screen_fold", "response_surface"])
+def test_the_factors_table_gives_each_levels_value_and_fits_80_columns(name) -> None:
+    """The tests table gives the levels by their labels (-, 0, +): the factors table gives
+    what each label stands for, the field each factor sets and its unit, before the tests."""
+    from brakeca.design import load_design
+
+    res = CliRunner().invoke(app, ["design", name], env={"COLUMNS": "80"}, terminal_width=80)
+    assert res.exit_code == 0, res.output
+    table = _table_lines(res.output, FACTORS)
+    assert all(len(line) <= 80 for line in table), "\n".join(table)
+    lines = res.output.splitlines()
+    assert lines.index(table[0]) < [line.strip() for line in lines].index("tests")
+    text = "\n".join(table)
+    for factor in load_design(name).factors:
+        assert f"│ {factor.name} " in text
+        for value, label in zip(factor.levels, factor.labels or (), strict=True):
+            assert f"{label} = {value:g}" in text, (factor.name, label, text)
+
+
+def test_the_factors_table_names_field_scale_unit_and_coding() -> None:
+    rows = _factor_rows(_design("paper"))  # 120 columns: a factor a line
+    assert rows["S"] == ["S", "automaton.secondary_removal_fraction", "-", "- = 0, + = 1"]
+    assert rows["WP"] == [
+        "WP",
+        "wear.specific_wear_rate",
+        "m^3/(N m)",
+        "- = 1e-15, 0 = 1e-14, + = 1e-13",
+    ]
+    assert rows["A"] == ["A", "pad.fibre_area_fraction × 0.01", "%", "- = 10, + = 20"]
+    # an alias (screen's A, WP) names the field it stands for, with the alias's scale
+    rows = _factor_rows(_design("screen"))
+    assert rows["A"] == ["A", "pad.fibre_area_fraction × 0.01", "%", "- = 10, + = 20"]
+    assert rows["modulus"] == ["modulus", "contact.elastic_modulus", "Pa", "- = 5e+08, + = 2e+09"]
+    # a response-surface design: each factor's coding; WR's centre is the geometric mean
+    rows = _factor_rows(_design("response_surface"))
+    assert rows["WR"][3:] == ["- = 1e-07, 0 = 3.16228e-07, + = 1e-06", "log10"]
+    assert rows["A"][3:] == ["- = 10, 0 = 15, + = 20", "linear"]
+
+
+def test_categorical_levels_show_their_choices(tmp_path) -> None:
+    design = tmp_path / "cat.toml"
+    design.write_text(
+        'name = "cat"\nbase = "paper"\nroot_seed = 1\n'
+        '[[factors]]\nname = "model"\nfield = "pad.fibre_model"\nlevels = [0, 1]\n'
+        'choices = ["columns", "field"]\n'
+        '[[factors]]\nname = "C"\nfield = "cycle"\nlevels = [1, 2]\n'
+        'choices = ["paper", "example_trace"]\n'
+    )
+    rows = _factor_rows(_design(str(design)))
+    assert rows["model"] == ["model", "pad.fibre_model", "", "columns, field"]
+    assert rows["C"] == ["C", "cycle", "", "1 = paper, 2 = example_trace"]
+
+
+def test_a_randomized_design_says_so_and_lists_the_run_order(tmp_path) -> None:
+    from brakeca.design import load_design
+
+    design = tmp_path / "r.toml"
+    design.write_text(
+        'name = "r"\nbase = "paper"\nroot_seed = 7\nrandomize_order = true\nreplicates = 2\n'
+        '[[factors]]\nname = "S"\nlevels = [0, 1]\n[[factors]]\nname = "A"\nlevels = [10, 20]\n'
+    )
+    text = _design(str(design))
+    assert (
+        "run order: randomized (randomize_order = true, seeded by the root seed); each run's "
+        "place in it is in the order column of the tests below and in summary.csv's order "
+        "column" in text
+    )
+    tests = _table_lines(text, "tests")
+    assert _cells(tests[2]) == ["test", "S", "A", "order"]
+    orders = {int(c[0]): c[3] for c in map(_cells, tests[4:-1])}
+    points = load_design(design).points()
+    assert orders == {
+        t: ", ".join(str(p.order) for p in points if p.test == t) for t in range(1, 5)
+    }
+    assert sorted(p.order for p in points) == list(range(1, 9))
+    assert [p.order for p in points] != list(range(1, 9))
+    # not randomized: no word of it, no order column
+    text = _design("paper")
+    assert "randomized" not in text and "order" not in text

@@ -1,0 +1,240 @@
+"""Outputs the command line cannot write are refused before any work, in one line (no
+traceback); a result computed before a write fails is kept; `run --speed-unit`; the default
+folder of a truncated `brakeca paper`."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+import brakeca.campaign
+import brakeca.cli as cli
+from brakeca.cli import app, output_problem
+
+TINY_DESIGN = """
+name = "tiny"
+base = "paper"
+root_seed = 5
+[[factors]]
+name = "A"
+field = "A"
+levels = [10.0, 20.0]
+unit = "%"
+"""
+
+
+def _invoke(*args: str):
+    return CliRunner().invoke(app, list(args))
+
+
+def _one_error_line(res, code: int = 2) -> str:
+    """The output of a refused command: exit status ``code``, no traceback, and the last
+    line an ``error:`` line, which is returned (joined, if the terminal wrapped it)."""
+    assert res.exit_code == code, res.output
+    assert res.exception is None or isinstance(res.exception, SystemExit), res.exception
+    assert "Traceback" not in res.output
+    text = " ".join(res.output.split())
+    assert "error: " in text, res.output
+    return text[text.index("error: ") :]
+
+
+def _no_work(*_args, **_kwargs):
+    raise AssertionError("no work should start")
+
+
+@pytest.fixture
+def afile(tmp_path, monkeypatch) -> Path:
+    """A file in the working directory, named as a folder by the outputs below."""
+    monkeypatch.chdir(tmp_path)
+    path = Path("afile")
+    path.write_text("")
+    return path
+
+
+def test_output_problem_names_what_is_wrong_and_creates_nothing(tmp_path) -> None:
+    afile = tmp_path / "afile"
+    afile.write_text("")
+    assert output_problem(afile / "c", folder=True) == (
+        f"cannot create it ({afile} is a file, not a folder)"
+    )
+    assert output_problem(afile / "x" / "f.png") == (
+        f"cannot write it ({afile} is a file, not a folder)"
+    )
+    assert output_problem(afile, folder=True) == (
+        "cannot create it (a file of that name exists; give a folder)"
+    )
+    assert output_problem(tmp_path) == "cannot write it (it is a folder; give a file name)"
+    # new folders on the way are fine: they are created when the output is written
+    assert output_problem(tmp_path / "new" / "deeper", folder=True) is None
+    assert output_problem(tmp_path / "new" / "f.png") is None
+    assert output_problem(tmp_path, folder=True) is None
+    assert output_problem(afile) is None  # an existing file is replaced
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
+def test_output_problem_tries_the_folder_instead_of_trusting_permissions() -> None:
+    """As root every permission bit says yes; /proc takes no new file all the same."""
+    problem = output_problem(Path("/proc/x"), folder=True)
+    assert problem is not None and problem.startswith("cannot create it (cannot write in /proc")
+    problem = output_problem(Path("/proc/f.png"))
+    assert problem is not None and problem.startswith("cannot write it (cannot write in /proc")
+
+
+def test_campaign_outputs_are_checked_before_any_run(afile, monkeypatch) -> None:
+    monkeypatch.setattr(brakeca.campaign, "run_campaign", _no_work)
+    design = Path("d.toml")
+    design.write_text(TINY_DESIGN)
+    for args in (
+        ["run", str(design), "-o", "afile/c", "--quick", "--stops", "1"],
+        ["paper", "-o", "afile/c", "--quick", "--stops", "1"],
+    ):
+        line = _one_error_line(_invoke(*args))
+        assert line == "error: -o afile/c: cannot create it (afile is a file, not a folder)"
+    line = _one_error_line(_invoke("run", str(design), "-o", "afile", "--quick"))
+    assert "-o afile: cannot create it (a file of that name exists; give a folder)" in line
+
+
+def test_a_checkpoint_that_cannot_be_written_is_refused_before_the_run(afile, monkeypatch):
+    import brakeca._warmup
+
+    monkeypatch.setattr(brakeca._warmup, "warm_up", _no_work)
+    args = ["simulate", "-o", "r.nc", "--stops", "1", "--checkpoint", "afile/k.npz"]
+    line = _one_error_line(_invoke(*args))
+    assert (
+        line == "error: --checkpoint afile/k.npz: cannot write it (afile is a file, not a folder)"
+    )
+
+
+def test_a_write_that_fails_during_a_campaign_is_one_line_and_keeps_the_runs(
+    tmp_path, monkeypatch
+) -> None:
+    def disk_full(*_args, **_kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(brakeca.campaign, "run_campaign", disk_full)
+    design = tmp_path / "d.toml"
+    design.write_text(TINY_DESIGN)
+    out = tmp_path / "c"
+    line = _one_error_line(_invoke("run", str(design), "-o", str(out)), code=1)
+    assert f"-o {out}: cannot write in it ([Errno 28] No space left on device)" in line
+    assert "the finished runs and the checkpoints are kept there" in line
+
+
+def test_figure_outputs_are_checked_before_any_work(afile, monkeypatch) -> None:
+    import brakeca.study
+    from brakeca.results import RunResult
+
+    line = _one_error_line(_invoke("surface", "-o", "afile/f.png", "--quick"))
+    assert line == "error: -o afile/f.png: cannot write it (afile is a file, not a folder)"
+    # cycle inspect: refused before its table is printed
+    res = _invoke("cycle", "inspect", "example_trace", "-o", "afile/c.png")
+    line = _one_error_line(res)
+    assert line == "error: -o afile/c.png: cannot write it (afile is a file, not a folder)"
+    assert "braking events" not in res.output
+    # plot: a run file's figures, and a campaign's
+    monkeypatch.setattr(RunResult, "from_netcdf", classmethod(lambda cls, path: object()))
+    monkeypatch.setattr(brakeca.study, "plot_run", _no_work)
+    Path("r.nc").write_text("")
+    line = _one_error_line(_invoke("plot", "r.nc", "-o", "afile/figs"))
+    assert line == "error: -o afile/figs: cannot create it (afile is a file, not a folder)"
+    Path("r_figures").write_text("")  # the default folder
+    line = _one_error_line(_invoke("plot", "r.nc"))
+    assert line == "error: r_figures: cannot create it (a file of that name exists; give a folder)"
+
+
+def test_a_campaign_folder_that_is_a_file_is_named_so(afile) -> None:
+    for command in ("analyze", "optimize"):
+        line = _one_error_line(_invoke(command, "afile"))
+        assert line.startswith("error: afile: not a folder (a file)"), line
+    assert "no such folder" in _one_error_line(_invoke("analyze", "missing"))
+
+
+def test_a_figure_that_cannot_be_written_after_all_is_kept(afile, monkeypatch) -> None:
+    """The check passed (a folder that became a file meanwhile, a full disk): the figure is
+    written into a temporary folder, and the command exits 1 naming it."""
+    monkeypatch.setattr(cli, "output_problem", lambda path, folder=False: None)
+    for args, what in (
+        (["surface", "-o", "afile/f.png", "--quick"], "figure"),
+        (["cycle", "inspect", "example_trace", "-o", "afile/c.png"], "plot"),
+    ):
+        line = _one_error_line(_invoke(*args), code=1)
+        assert line.startswith(f"error: -o {args[args.index('-o') + 1]}: cannot write it ("), line
+        kept = Path(line.split(f"the {what} was saved to ")[1])
+        assert kept.read_bytes().startswith(b"\x89PNG")
+        kept.unlink()
+        kept.parent.rmdir()
+
+
+def test_run_takes_the_speed_unit_of_a_trace_without_one(tmp_path, monkeypatch) -> None:
+    seen: dict = {}
+
+    def record(design, output, **kwargs):
+        seen.update(kwargs)
+        raise KeyboardInterrupt  # stop there: nothing to run
+
+    monkeypatch.setattr(brakeca.campaign, "run_campaign", record)
+    trace = tmp_path / "t1.csv"
+    trace.write_text("time_s,speed\n0,0\n10,50\n20,50\n27,0\n30,0\n")
+    design = tmp_path / "d.toml"
+    design.write_text(TINY_DESIGN)
+    base = ["run", str(design), "-o", str(tmp_path / "c"), "--cycle", str(trace)]
+    line = _one_error_line(_invoke(*base))
+    assert "states no unit" in line and "--speed-unit" in line
+    res = _invoke(*base, "--speed-unit", "km/h")
+    assert res.exit_code == 130, res.output
+    assert seen["overrides"]["cycle"]["trace_speed_unit"] == "km/h"
+    line = _one_error_line(_invoke(*base, "--speed-unit", "furlongs"))
+    assert "unknown speed unit 'furlongs'" in line
+    # without a trace to apply to, the option is refused, not ignored
+    for args in (
+        ["run", str(design), "-o", str(tmp_path / "c"), "--speed-unit", "km/h"],
+        ["simulate", "-o", str(tmp_path / "r.nc"), "--speed-unit", "km/h"],
+    ):
+        line = _one_error_line(_invoke(*args))
+        assert line == (
+            "error: --speed-unit gives the speed unit of a --cycle trace; give --cycle too"
+        )
+
+
+@pytest.mark.parametrize(
+    ("args", "folder"),
+    [
+        (["--stops", "10"], "results/paper_stops10"),
+        (["--quick", "--stops", "10"], "results/paper_quick_stops10"),
+        (["--stops", "10", "-o", "elsewhere"], "elsewhere"),
+        ([], "results/paper"),
+    ],
+)
+def test_a_truncated_paper_study_gets_a_folder_of_its_own(monkeypatch, args, folder) -> None:
+    seen: dict = {}
+
+    def record(design, output, **kwargs):
+        seen.update(output=output, stops=kwargs["stops"])
+
+    monkeypatch.setattr(cli, "_run_and_report", record)
+    res = _invoke("paper", *args)
+    assert res.exit_code == 0, res.output
+    assert str(seen["output"]) == folder
+    assert seen["stops"] == (10 if "--stops" in args else None)
+    said = f"campaign folder: {folder}" in res.output
+    assert said == ("-o" not in args)
+
+
+def test_output_problem_leaves_an_unwritable_folder_alone(tmp_path) -> None:
+    """Where permissions do apply (not as root), a read-only folder is refused too."""
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o500)
+    try:
+        problem = output_problem(folder / "f.png")
+        if os.access(folder, os.W_OK):  # root: the probe file was written and removed
+            assert problem is None
+        else:
+            assert problem == f"cannot write it (cannot write in {folder}: Permission denied)"
+        assert list(folder.iterdir()) == []
+    finally:
+        folder.chmod(0o700)
