@@ -1135,7 +1135,8 @@ def plot_fibre_maps(
     path
         Optional PNG file to write (150 dpi).
     ncols
-        Panels per row; all in one row by default.
+        Panels per row; by default all in one row up to three maps, three per row beyond
+        (five A levels side by side made a figure 4,200 pixels wide).
 
     Returns
     -------
@@ -1149,7 +1150,7 @@ def plot_fibre_maps(
     if not maps:
         raise ValueError("no maps to plot")
     n = len(maps)
-    ncols = n if ncols is None else max(1, min(int(ncols), n))
+    ncols = min(n, 3) if ncols is None else max(1, min(int(ncols), n))
     nrows = math.ceil(n / ncols)
     fig = _figure((5.6 * ncols, 3.0 * nrows + 0.8))
     grid = fig.subplots(nrows, ncols, squeeze=False)

@@ -158,9 +158,8 @@ def _design_info(design: Design) -> str:
         text += (
             " Its factors are numeric with three or more levels: the section 'Response "
             "surface' fits the response as a quadratic in the coded factors (curvature and "
-            "two-factor interactions), with the stationary point; the ANOVA and the "
-            "main-effects and interaction plots treat each level as a category, as for a "
-            "factorial design."
+            "two-factor interactions), with the stationary point; the main-effects and "
+            "interaction plots treat each level as a category, as for a factorial design."
         )
     if design.is_fractional:
         relation = design.relation_text(times="·")
@@ -182,6 +181,86 @@ def _design_info(design: Design) -> str:
                 "each other."
             )
     return text
+
+
+_TABLES_README = """\
+# The campaign's tables
+
+Written by brakeca {version} (`brakeca analyze` writes them again). Comma-separated, one header
+row, numbers in full precision.
+
+**Units.** The tables keep the SI units of the analysis: **V in m³ per stop** (1e-9 of the
+mm³ the report, the terminal and the figures show), so V's sums of squares and mean squares
+are in m⁶ and its effects, coefficients, residuals and standard deviation S in m³. A column
+whose name ends in `_mm3` is in mm³, `_MPa` in MPa, `_N` in N, `_s` in s, `_mg_km` in mg/km.
+MU and `log10_V_mm3` (log10 of V in mm³) are dimensionless. Factor columns hold the levels in
+the design's units (WP in m³/(N·m), WR in m, A in %, S in -).
+
+Files (R is the response: MU, V or log10_V_mm3):
+
+- `../summary.csv`: one row per run: levels, seed, MU, V (m³) and V_mm3, the run's scalars.
+- `per_stop.csv`: one row per run and stop: mean COF, emitted and generated volume (mm³),
+  plateau and contact area fractions, normal force (N), line pressure (MPa), duration (s).
+- `main_effects_R.csv`, `interactions_R.csv`: the mean response per level, per pair of levels.
+- `anova_R.csv`, `model_summary_R.csv`, `ranked_effects_R.csv`: the ANOVA of the categorical
+  model, its summary (S, R²), its terms by contribution.
+- `residuals_R.csv`: observed, fitted, residual, leverage, standardized residual per run.
+- `effects_R.csv` (two-level designs): effects, coefficients, SE, t, p.
+- `box_cox.csv`: the Box–Cox check of MU's and V's scale.
+- `surface_*_R.csv` (response-surface designs): coded coefficients, ANOVA by source, summary
+  (its equation in the response's SI unit), residuals of the quadratic.
+- `optimum.csv`: the optimum of the design's goals (V and its limits in m³).
+- `pm10.csv` (runs on a speed trace): the summary with PM10 in mg/km.
+"""
+
+
+def _base_config(out: Path) -> Any:
+    """The campaign's ``base_config.toml`` as a configuration; None when it is missing or no
+    longer loads (the report then says nothing about the scope)."""
+    from brakeca.config import ConfigError, load_config
+
+    path = out / "base_config.toml"
+    if not path.exists():
+        return None
+    try:
+        return load_config(path)
+    except ConfigError:
+        return None
+
+
+def _scope(base: Any) -> str:
+    """What a campaign left out of the paper's study, for the top of the report: the quick
+    band and a cycle cut short (``--stops``); empty for the whole band and cycle."""
+    if base is None:
+        return ""
+    from brakeca.presets import load_preset
+    from brakeca.traces import configured_cycle
+
+    paper = load_preset("paper").mesh
+    mesh = base.mesh
+    parts = []
+    if base.quick:
+        parts.append(
+            f"on the quick band, {mesh.n_radial} radial rows ({mesh.band_width * 1e3:g} mm) "
+            f"instead of the paper's {paper.n_radial}: V is the volume leaving the simulated "
+            f"band, so it is about {mesh.n_radial / paper.n_radial:.2g} times the full band's"
+        )
+    elif (mesh.n_radial, mesh.n_angular) != (paper.n_radial, paper.n_angular):
+        parts.append(
+            f"on a grid of {mesh.n_radial} × {mesh.n_angular} cells instead of the paper's "
+            f"{paper.n_radial} × {paper.n_angular} (its Table 5): V is the volume leaving the "
+            "simulated band, so it grows with the band's width"
+        )
+    n_total = configured_cycle(base).n_total
+    asked = base.cycle.max_stops
+    if asked is not None and asked < n_total:
+        parts.append(
+            f"over the first {asked} of the cycle's {n_total} stops only (--stops), so MU and "
+            "V are means over those stops, not over the cycle"
+        )
+    if not parts:
+        return ""
+    return "These runs were made " + "; and ".join(parts) + "."
 
 
 def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, list, str]:
@@ -310,9 +389,24 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                 tables_dir / f"surface_residuals_{resp}.csv", index=False
             )
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
+    base = _base_config(out)
+    scope = _scope(base)
+    if scope and any(g.response != "MU" for g in goals):
+        optimum_note = " ".join(
+            t
+            for t in (
+                optimum_note,
+                f"{scope} The goals' limits on V are in absolute volume per stop: check that "
+                "they were set for this band and cycle.",
+            )
+            if t
+        )
     scales = _box_cox(data, factors, surfaces)
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
+    (tables_dir / "README.md").write_text(
+        _TABLES_README.format(version=__version__), encoding="utf-8"
+    )
 
     figures: list[tuple[str, str, Path]] = []
 
@@ -497,24 +591,30 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         "log10_V_mm3 is V on a log scale (log10 of V in mm³), where the factors' "
         "multiplicative effects on V add, so an additive model of it needs fewer interactions "
         "(compare the residual plots and R²(pred) of V and log10_V_mm3). "
+        "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
+        "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
     )
     summary, pm10_note = _pm10_columns(result, summary)
     if pm10_note:
         notes = notes + "\n\n" + pm10_note
         summary.to_csv(out / "tables" / "pm10.csv", index=False)
+    shown = summary.copy()
+    for f in factors:
+        if f.choices is not None and f.name in shown.columns:  # 'paper', not its level 1
+            shown[f.name] = [f.label_of(v) if pd.notna(v) else v for v in shown[f.name]]
     return report.write_report(
         out / "report.html",
         title=f"brakeca study: {result.design.name}",
         design_table=_design_table(result),
-        summary=summary,
+        summary=shown,
         anova_tables={resp: tables[resp]["anova"] for resp in RESPONSES if resp not in surfaces},
         figures=figures,
         config_text=design_text + "\n# --- base configuration ---\n" + config_text,
         version=__version__,
         notes=notes,
         effects_tables={resp: tables[resp]["effects"] for resp in RESPONSES},
-        design_info=_design_info(result.design),
+        design_info=" ".join(t for t in (scope, _design_info(result.design)) if t),
         surface_fits=surfaces,
         optimum=None if optimum is None else (goals, optimum),
         optimum_note=optimum_note,

@@ -99,6 +99,7 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert (out / "figures" / "overlaid_contours.png").is_file()
     assert '<h3 id="surface-optimum">Response optimization</h3>' in html
     assert "minimize 0 / 50" in html
+    assert "The goals&#39; limits on V are in absolute volume per stop" in html  # 2 stops
     # without --goal, brakeca optimize takes the design's goals
     assert "minimize 0 / 50" in cli_ok("optimize", str(out))
     # the response optimizer on the same folder: V given in mm³, the setting inside the box

@@ -115,6 +115,16 @@ def test_outputs_present_and_consistent(campaign):
     # the maps' captions give each level with its unit (S has none)
     assert "Test 3 (S = 0, A = 20 %): plateaus after the cycle" in html
     assert "Model summary: S = " in html
+    # the report says at its top what the campaign left out of the paper's study
+    assert (
+        "These runs were made on a grid of 5 × 100 cells instead of the paper&#39;s 201 × 1000 "
+        "(its Table 5)" in html
+    )
+    assert "over the first 2 of the cycle&#39;s 170 stops only (--stops)" in html
+    # the tables' units are written beside them (V in m³ there, mm³ in the report)
+    readme = (out / "tables" / "README.md").read_text(encoding="utf-8")
+    assert "**V in m³ per stop**" in readme and "`per_stop.csv`" in readme
+    assert "The CSV tables in tables/ keep SI units: V in m³ there" in html
     assert "report:" in res.stdout and "summary:" in res.stdout
 
 
@@ -215,7 +225,7 @@ def test_one_factor_trace_campaign_reports_pm10(tmp_path):
     assert np.all(pm10["PM10_low_mg_km"] < pm10["PM10_mg_km"])
     assert np.all(pm10["PM10_mg_km"] < pm10["PM10_high_mg_km"])
     html = (out / "report.html").read_text()
-    assert "7 mg/km" in html and "3 mg/km" in html and "PM10_mg_km" in html
+    assert "7 mg/km" in html and "3 mg/km" in html and "<th>PM10 [mg/km]</th>" in html
 
 
 CYCLE_DESIGN = """
@@ -270,6 +280,10 @@ def test_design_factor_selects_the_cycle(tmp_path):
     # the report names a categorical factor's levels by their labels too
     report = (out / "report.html").read_text(encoding="utf-8")
     assert "Test 2 (C = trace, A = 10 %)" in report, report[:2000]
+    runs = report[report.index('<section id="runs">') :]
+    runs = runs[: runs.index("</section>")]
+    assert runs.count("<td>trace</td>") == 2 and runs.count("<td>paper</td>") == 2
+    assert "<th>PM10 [mg/km]</th>" in runs
     pm10 = pd.read_csv(out / "tables" / "pm10.csv")
     assert pm10.loc[pm10["C"] == 1, "PM10_mg_km"].isna().all()
     assert (pm10.loc[pm10["C"] == 2, "PM10_mg_km"] > 0).all()

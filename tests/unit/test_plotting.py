@@ -259,6 +259,13 @@ def test_surface_maps(tmp_path) -> None:
     assert all(not ax.texts for ax in fig.axes)
     fig = plot_fibre_maps({**maps, "third": _status_map(40, 80)}, ncols=2)
     assert len(fig.axes) == 3
+    # five levels: three per row by default, not one row five maps wide
+    five = {
+        f"A = {a} %": _status_map(40, 80, fraction=a / 100, seed=a) for a in (5, 10, 15, 20, 30)
+    }
+    fig = plot_fibre_maps(five)
+    rows = {round(ax.get_position().y0, 3) for ax in fig.axes}
+    assert len(fig.axes) == 5 and len(rows) == 2
 
 
 def test_cof_series(tmp_path) -> None:
