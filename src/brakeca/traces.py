@@ -455,17 +455,17 @@ def _read_header(
     if head_unit is not None:
         factor = _speed_factor(head_unit, source, line, "header")
         if speed_unit is not None:
-            given = _speed_factor(speed_unit, source, None, "speed_unit option")
+            given = _speed_factor(speed_unit, source, None, "speed_unit / --speed-unit")
             if given != factor:
                 raise TraceError(
                     source,
                     line,
-                    f"the header gives the speed in {head_unit} but the speed unit option "
-                    f"says {speed_unit}",
+                    f"the header gives the speed in {_UNIT_LABEL[factor]} "
+                    f"({header[cols['speed']]!r}) but the speed unit option says {speed_unit}",
                 )
         return cols, t_factor, factor, _UNIT_LABEL[factor]
     assert speed_unit is not None
-    factor = _speed_factor(speed_unit, source, None, "speed_unit option")
+    factor = _speed_factor(speed_unit, source, None, "speed_unit / --speed-unit")
     return cols, t_factor, factor, _UNIT_LABEL[factor]
 
 
@@ -502,8 +502,9 @@ def _check_plausible(trace: SpeedTrace, v_factor: float, unit: str, confirmed: b
             trace._line(top),
             f"the speeds look like m/s given as km/h: the top speed is {v[top] / KMH:.3g} km/h "
             f"and no acceleration exceeds {acc[k]:.2g} m/s^2, a car trace read in km/h would "
-            f"show more. If the file is in m/s, say so (speed_ms, 'speed [m/s]' or "
-            f"speed_unit='m/s'); if km/h is right, confirm it with speed_unit='km/h'",
+            f"show more. If the file is in m/s, say so (a header speed_ms or 'speed [m/s]', "
+            f"or the unit option: --speed-unit m/s, speed_unit='m/s' from Python); if km/h is "
+            f"right, confirm it (--speed-unit km/h, speed_unit='km/h')",
         )
 
 

@@ -184,8 +184,16 @@ def test_spreadsheet_csv_with_decimal_commas_and_a_byte_order_mark(tmp_path):
 
 
 def test_header_and_option_disagree(tmp_path):
-    with pytest.raises(TraceError, match=r"line 1: the header gives the speed in kmh"):
+    with pytest.raises(
+        TraceError,
+        match=r"line 1: the header gives the speed in km/h \('speed_kmh'\) but the speed unit",
+    ):
         load_trace(_write(tmp_path, GOOD), speed_unit="m/s")
+    # speed_ms is m/s, not milliseconds (a user review read "the speed in ms")
+    ms = tmp_path / "ms.csv"
+    ms.write_text("time_s,speed_ms\n0,10\n1,9\n2,8\n", encoding="utf-8")
+    with pytest.raises(TraceError, match=r"the speed in m/s \('speed_ms'\)"):
+        load_trace(ms, speed_unit="km/h")
 
 
 def _city_trace_in_ms() -> str:
