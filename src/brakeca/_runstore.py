@@ -216,6 +216,41 @@ def _error_text(exc: BaseException) -> str:
     return " ".join(text.split())  # one line, for the CSV
 
 
+def _flat(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    """A nested mapping as ``{"dotted.key": value}``."""
+    out: dict[str, Any] = {}
+    for key, value in data.items():
+        if isinstance(value, Mapping):
+            out.update(_flat(value, f"{prefix}{key}."))
+        else:
+            out[f"{prefix}{key}"] = value
+    return out
+
+
+def base_differences(out: Path, base: SimulationConfig) -> list[str]:
+    """How the base configuration of the campaign already in ``out`` differs from ``base``:
+    one ``"key: old -> new"`` per differing field, in the order of the configuration; empty
+    when the folder holds no campaign, the same base, or a base this version cannot read."""
+    from brakeca.config import ConfigError, load_config
+
+    path = out / "base_config.toml"
+    if not path.is_file():
+        return []
+    try:
+        old = load_config(path)
+    except (ConfigError, OSError):
+        return []
+    if old == base:
+        return []
+    before, after = _flat(old.to_dict()), _flat(base.to_dict())
+    keys = list(before) + [k for k in after if k not in before]
+    return [
+        f"{k}: {before.get(k, 'unset')!r} -> {after.get(k, 'unset')!r}"
+        for k in keys
+        if before.get(k) != after.get(k)
+    ]
+
+
 def _write_design(
     out: Path,
     design: Design,

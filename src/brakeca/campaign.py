@@ -74,6 +74,7 @@ from brakeca._runstore import (
     _record_from_result,
     _remove_stale_temporaries,
     _write_design,
+    base_differences,
     campaign_lock,
 )
 from brakeca.config import ConfigError, SimulationConfig
@@ -132,6 +133,7 @@ def run_campaign(
     simulate_fn: SimulateFn | None = None,
     progress: bool = True,
     console: Console | None = None,
+    replace: bool = False,
 ) -> CampaignResult:
     """Run every point of ``design`` into ``out_dir``, reusing the runs already there.
 
@@ -182,6 +184,12 @@ def run_campaign(
         Show a progress bar over the runs, with an ETA.
     console
         Where messages and the progress bar go; None: a console on standard error.
+    replace
+        Write into a folder that holds a campaign of another base configuration (other
+        overrides, ``quick`` or ``max_stops``), replacing its ``summary.csv``,
+        ``campaign.nc`` and report; the run files of both stay. Without it that is refused,
+        since a rerun with other options would quietly replace a finished study. A campaign
+        of the same base (a resume, a fold-over) needs no flag.
 
     Returns
     -------
@@ -193,7 +201,8 @@ def run_campaign(
     Raises
     ------
     ConfigError
-        The design, an override or a level does not validate (before anything is written).
+        The design, an override or a level does not validate, or ``out_dir`` holds a campaign
+        of another base configuration and ``replace`` is false (before anything is written).
     ValueError
         An unknown executor, ``workers`` below 1, ``max_retries`` below 0, or a scheduler
         that does not go with the executor (before anything is written); a
@@ -252,6 +261,7 @@ def run_campaign(
             max_stops=max_stops,
             overrides=overrides,
             console=console,
+            replace=replace,
         )
 
 
@@ -266,6 +276,7 @@ def _run_locked(
     max_stops: int | None,
     overrides: Mapping[str, Any] | None,
     console: Console,
+    replace: bool = False,
 ) -> CampaignResult:
     """The body of :func:`run_campaign`, run while the campaign directory is locked."""
     from rich.markup import escape
@@ -277,6 +288,17 @@ def _run_locked(
     stale = _remove_stale_temporaries(runs) + _remove_stale_temporaries(out)
     if stale:
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
+    changed = base_differences(out, base)
+    if changed and not replace:
+        shown = "; ".join(changed[:4]) + (
+            f"; and {len(changed) - 4} more" if len(changed) > 4 else ""
+        )
+        raise ConfigError(
+            f"{out} holds a campaign of another base configuration ({shown}): this one would "
+            "replace its summary.csv and report.html. Give another folder, or replace it on "
+            "purpose (--replace; replace=True from Python): the run files of both are kept, "
+            "and the first campaign's command, run again, brings its study back"
+        )
     campaign_design = _write_design(
         out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
     )
@@ -545,6 +567,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--max-stops", type=int, default=None)
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     parser.add_argument("--no-progress", action="store_true")
+    parser.add_argument(
+        "--replace",
+        action="store_true",
+        help="write over a folder's campaign of another base configuration",
+    )
     args = parser.parse_args(argv)
     try:
         overrides = dict(parse_override(text) for text in args.set)
@@ -560,6 +587,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             max_stops=args.max_stops,
             overrides=overrides,
             progress=not args.no_progress,
+            replace=args.replace,
         )
     except (ConfigError, ExecutorError, CampaignLockedError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -192,6 +192,14 @@ QuickOpt = Annotated[
     bool,
     typer.Option("--quick", help="narrow the band to 2 mm (21 rows); same cells and cycle"),
 ]
+ReplaceOpt = Annotated[
+    bool,
+    typer.Option(
+        "--replace",
+        help="write over a folder's campaign of other options (--set, --quick, --stops); "
+        "without it that is refused, and the run files of both are kept either way",
+    ),
+]
 SpeedUnitOpt = Annotated[
     str | None,
     typer.Option(
@@ -569,6 +577,7 @@ def _run_and_report(
     checkpoint_every: int = 10,
     cycle: str | None = None,
     speed_unit: str | None = None,
+    replace: bool = False,
 ) -> None:
     import time
 
@@ -639,6 +648,7 @@ def _run_and_report(
                 max_stops=stops,
                 overrides=updates or None,
                 console=console,
+                replace=replace,
             )
     except (ConfigError, ExecutorError, CampaignLockedError) as exc:
         _fail(str(exc))
@@ -757,6 +767,7 @@ def run(
         ),
     ] = None,
     speed_unit: SpeedUnitOpt = None,
+    replace: ReplaceOpt = False,
 ) -> None:
     """Run every point of a design into a campaign folder (resumes finished runs)."""
     _run_and_report(
@@ -774,6 +785,7 @@ def run(
         report=report,
         cycle=cycle,
         speed_unit=speed_unit,
+        replace=replace,
     )
 
 
@@ -982,6 +994,7 @@ def paper(
     checkpoint_every: CheckpointOpt = 10,
     quick: QuickOpt = False,
     stops: StopsOpt = None,
+    replace: ReplaceOpt = False,
 ) -> None:
     """The paper's whole study: the 24-run factorial design, then the analysis and report.
     With --stops N and no -o, a folder of its own (results/paper_stopsN), so that a
@@ -1002,6 +1015,7 @@ def paper(
         stops=stops,
         overrides=None,
         report=True,
+        replace=replace,
     )
 
 

@@ -218,6 +218,40 @@ def test_rerun_skips_every_run(serial, tmp_path):
     pd.testing.assert_frame_equal(third.summary, serial.summary)
 
 
+def test_a_folder_of_other_options_is_not_replaced_unless_asked(serial, tmp_path):
+    """A campaign rerun with other options (here fewer stops: a --stops) into a finished
+    campaign's folder would replace its summary and report: refused before anything is
+    written, naming what differs; with replace=True it runs, and the first campaign's run
+    files stay, so its own command brings its study back without computing anything."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    design = load_design(out / "design.toml")
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and p.suffix != ".lock"}
+    with pytest.raises(ConfigError) as info:
+        run_campaign(design, out, executor="serial", max_stops=2, progress=False, console=quiet())
+    message = str(info.value)
+    assert "holds a campaign of another base configuration (cycle.max_stops: 3 -> 2)" in message
+    assert "--replace; replace=True from Python" in message
+    assert {
+        p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and p.suffix != ".lock"
+    } == before
+    two = run_campaign(
+        design, out, executor="serial", max_stops=2, progress=False, console=quiet(), replace=True
+    )
+    assert two.ok and len(two.computed) == 4 and len(list((out / "runs").glob("*.nc"))) == 8
+    back = run_campaign(
+        design,
+        out,
+        executor="serial",
+        max_stops=3,
+        simulate_fn=must_not_run,
+        progress=False,
+        console=quiet(),
+        replace=True,
+    )
+    pd.testing.assert_frame_equal(back.summary, serial.summary)
+
+
 def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(serial.out_dir, out)

@@ -397,3 +397,27 @@ def test_ctrl_c_says_what_is_kept_and_how_to_go_on(tmp_path, monkeypatch):
     assert res.exit_code == 130
     assert f"the checkpoint {tmp_path / 'k.npz'} resumes it" in res.output.replace("\n", "")
     assert not run_file.exists()
+
+
+def test_other_options_into_a_finished_folder_are_refused_unless_replace(campaign, tmp_path):
+    """`brakeca run` with other options (--stops 1 instead of 2) into a finished campaign's
+    folder: one line naming the difference and --replace, exit 2, the study untouched."""
+    import shutil
+
+    out = tmp_path / "c"
+    shutil.copytree(campaign[0], out)
+    report = (out / "report.html").read_bytes()
+    design = campaign[0].parent / "design_in.toml"
+    options = [o if o != "2" else "1" for o in TINY]  # --stops 1
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *options, "--no-report"])
+    assert res.exit_code == 2, res.output
+    assert "holds a campaign of another base configuration (cycle.max_stops: 2 -> 1)" in (
+        " ".join(res.output.split())  # rich wraps the line at the terminal's width
+    )
+    assert "Traceback" not in res.output and "--replace" in res.output
+    assert (out / "report.html").read_bytes() == report
+    res = CliRunner().invoke(
+        app, ["run", str(design), "-o", str(out), *options, "--no-report", "--replace"]
+    )
+    assert res.exit_code == 0, res.output
+    assert "4 run(s) computed, 0 reused" in res.output
