@@ -1200,7 +1200,11 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         interactions in design order, each alias chain once (named by its first member).
         ``attrs["not_estimable"]`` lists the two-factor interactions that are aliased only
         with a combination of the terms before them (partial confounding of a non-regular
-        design), which no row names.
+        design), which no row names; ``attrs["max_correlation"]`` is the largest absolute
+        correlation between the columns of two different estimable terms [-]: 0 where they
+        are orthogonal (a full factorial, a regular fraction's clear terms), between 0 and 1
+        where terms are partly confounded (a Plackett-Burman design's main effects and
+        two-factor interactions).
     """
     factors = _factors(factors)
     frame, names, _ = _coded_frame(tests, factors)
@@ -1219,7 +1223,24 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         columns=["term", "aliases"],
     )
     out.attrs["not_estimable"] = [_display_term(t, names) for t in left_out if t not in shown]
+    out.attrs["max_correlation"] = _largest_correlation(frame, kept)
     return out
+
+
+def _largest_correlation(frame: pd.DataFrame, terms: Sequence[str]) -> float:
+    """The largest absolute correlation between a column of one term and a column of
+    another [-] (0 for fewer than two terms or orthogonal ones)."""
+    blocks = []
+    for term in terms:
+        cols = _term_columns(frame, term)
+        cols = cols - cols.mean(axis=0)
+        norms = np.linalg.norm(cols, axis=0)
+        blocks.append(cols[:, norms > 0] / norms[norms > 0])
+    largest = 0.0
+    for i, j in itertools.combinations(range(len(blocks)), 2):
+        if blocks[i].size and blocks[j].size:
+            largest = max(largest, float(np.max(np.abs(blocks[i].T @ blocks[j]))))
+    return 0.0 if largest < 1e-12 else largest
 
 
 def interaction_aliases(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[tuple[str, str], str]:

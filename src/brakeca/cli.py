@@ -1099,10 +1099,12 @@ def show_design(
         for chain in chains:
             out.print(f"  {chain}", markup=False, highlight=False, emoji=False)  # WR:A:x: no emoji
     hidden = structure.attrs.get("not_estimable", [])
-    if not chains and hidden:
+    partly = structure.attrs.get("max_correlation", 0.0)
+    if not chains and (hidden or partly > 0.0):
         out.print(
             "alias structure: no main effect or two-factor interaction is completely aliased "
-            "with another (up to three-factor interactions), but some are partly confounded",
+            "with another (up to three-factor interactions), but some are partly confounded"
+            + (f" (correlations up to {partly:.2g})" if partly > 0.0 else ""),
             markup=False,
         )
     elif not chains:

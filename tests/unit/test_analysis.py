@@ -715,6 +715,7 @@ def test_alias_structure_of_a_regular_fraction_and_of_a_plackett_burman_design()
     assert set(chains["A"].split(" + ")) == {"B:D", "C:E"}
     assert set(chains["B:C"].split(" + ")) == {"D:E", "A:B:E", "A:C:D"}
     assert len(structure) == 7 and not structure.attrs["not_estimable"]  # 8 tests
+    assert structure.attrs["max_correlation"] == 0.0  # its estimable chains are orthogonal
     # a 12-run Plackett-Burman design (its first row from Plackett and Burman 1946, the next
     # ten by cyclic shifts, then all minus): main effects only, each two-factor interaction
     # partly confounded with several of them, so no alias chains but none estimable either
@@ -727,6 +728,11 @@ def test_alias_structure_of_a_regular_fraction_and_of_a_plackett_burman_design()
     structure = alias_structure(pb, _levels01(names))
     assert list(structure["term"]) == list(names) and (structure["aliases"] == "").all()
     assert len(structure.attrs["not_estimable"]) == 55
+    # four of its columns: the main effects and their interactions are estimable together
+    # but not orthogonal (a user review found 'clear of the others' printed for PB20)
+    four = alias_structure(pb[list("ABCD")], _levels01("ABCD"))
+    assert not four.attrs["not_estimable"] and (four["aliases"] == "").all()
+    assert four.attrs["max_correlation"] == pytest.approx(1.0 / 3.0)
 
 
 def test_alias_chains_carry_their_signs() -> None:

@@ -96,6 +96,11 @@ def test_a_plackett_burman_design_is_partly_confounded(tmp_path) -> None:
     assert text.startswith("pb: Plackett-Burman design, 12 tests, 5 factors")
     assert "no main effect or two-factor interaction is completely aliased" in text
     assert "partly confounded (not estimable apart from the terms before them): " in text
+    # twenty runs estimate all five main effects and ten interactions, but not orthogonally
+    pb.write_text(pb.read_text().replace("plackett_burman = 12", "plackett_burman = 20"))
+    text = _design(str(pb), "--no-tests")
+    assert "clear of the others" not in text
+    assert "but some are partly confounded (correlations up to 0.2" in " ".join(text.split())
 
 
 def test_a_bad_optimize_goal_is_named_in_its_own_units(tmp_path) -> None:
