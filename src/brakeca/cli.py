@@ -151,11 +151,13 @@ def resolve_config(
     quick: bool,
 ) -> SimulationConfig:
     """Build the run configuration from a preset or file, ``--set`` overrides, --stops, --quick."""
-    from brakeca.design import quick_config
+    from brakeca.design import check_quick_overrides, quick_config
     from brakeca.presets import load_preset
 
     config = load_config(config_file) if config_file is not None else load_preset(preset)
     updates = dict(parse_override(o) for o in overrides or [])
+    if quick:
+        check_quick_overrides(updates)
     if stops is not None:
         updates["cycle.max_stops"] = stops
     if updates:

@@ -120,6 +120,7 @@ __all__ = [
     "Factor",
     "GoalSpec",
     "RunPoint",
+    "check_quick_overrides",
     "design_from_dict",
     "execution_order",
     "load_design",
@@ -604,6 +605,28 @@ def run_id(point: RunPoint) -> str:
 def execution_order(points: Sequence[RunPoint]) -> list[RunPoint]:
     """``points`` sorted into execution order (by :attr:`RunPoint.order`)."""
     return sorted(points, key=lambda p: p.order)
+
+
+#: The fields :func:`quick_config` sets, which an override beside ``--quick`` cannot set.
+QUICK_FIELDS = ("mesh.n_radial", "mesh.inner_radius", "quick")
+
+
+def check_quick_overrides(overrides: Mapping[str, Any]) -> None:
+    """Refuse overrides of the fields ``--quick`` sets (:data:`QUICK_FIELDS`): quick would
+    silently overwrite them.
+
+    Raises
+    ------
+    ConfigError
+        Naming the override and what ``--quick`` sets instead.
+    """
+    for key in overrides:
+        if _target(key) in QUICK_FIELDS:
+            raise ConfigError(
+                f"override {key}: --quick sets the band itself (mesh.n_radial = "
+                f"{QUICK_N_RADIAL}, mesh.inner_radius unset), so the override would be "
+                "ignored; drop --quick or the override"
+            )
 
 
 def quick_config(config: SimulationConfig) -> SimulationConfig:
@@ -2161,6 +2184,8 @@ class Design(_Frozen):
                     f"override {shown}: the design's factor {varied[target]!r} sets this "
                     "field in every run, so the override would be ignored; remove one of them"
                 )
+        if quick:
+            check_quick_overrides(updates)
         if max_stops is not None:
             updates["cycle.max_stops"] = max_stops
         if updates:

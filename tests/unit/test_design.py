@@ -1409,3 +1409,13 @@ def test_shape_errors_read_as_sentences(extra, factor, message) -> None:
             {"name": "n", "base": "paper", "root_seed": 1, "factors": [factor], **extra}
         )
     assert str(info.value).endswith(message)
+
+
+def test_quick_with_an_override_of_the_band_is_refused() -> None:
+    """--quick sets mesh.n_radial and mesh.inner_radius itself: an override of either beside
+    it would be silently ignored (a user review ran --quick --set mesh.n_radial=201)."""
+    paper = load_design("paper")
+    for key in ("mesh.n_radial", "mesh.inner_radius", "quick"):
+        with pytest.raises(ConfigError, match=rf"override {key}: --quick sets the band itself"):
+            paper.resolved_base(overrides={key: 41}, quick=True)
+    assert paper.resolved_base(overrides={"mesh.n_radial": 41}).mesh.n_radial == 41
