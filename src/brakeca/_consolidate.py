@@ -248,7 +248,8 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
     """
     out = Path(out_dir)
     if not out.is_dir():
-        raise FileNotFoundError(f"{out}: no such folder")
+        what = "not a folder (a file)" if out.exists() else "no such folder"
+        raise FileNotFoundError(f"{out}: {what}")
     if not (out / "design.toml").is_file():
         raise FileNotFoundError(
             f"{out}: not a campaign folder (no design.toml; 'brakeca run' writes one)"

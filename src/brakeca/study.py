@@ -703,7 +703,8 @@ def campaign_runs_to_plot(campaign_dir: str | Path, tests: Sequence[int] = ()) -
 
     out = Path(campaign_dir)
     if not out.is_dir():
-        raise FileNotFoundError(f"{out}: no such folder")
+        what = "not a folder (a file)" if out.exists() else "no such folder"
+        raise FileNotFoundError(f"{out}: {what}")
     if not (out / "design.toml").is_file():
         raise FileNotFoundError(
             f"{out}: not a campaign folder (no design.toml; 'brakeca run' writes one)"

@@ -386,6 +386,9 @@ def test_finish_campaign_calls_each_step(serial):
 def test_load_campaign_of_an_unfinished_directory(tmp_path):
     with pytest.raises(FileNotFoundError, match="no such folder"):
         load_campaign(tmp_path / "nowhere")
+    (tmp_path / "afile").write_text("")
+    with pytest.raises(FileNotFoundError, match=r"afile: not a folder \(a file\)"):
+        load_campaign(tmp_path / "afile")
     with pytest.raises(FileNotFoundError, match=r"not a campaign folder \(no design.toml"):
         load_campaign(tmp_path)
     (tmp_path / "design.toml").write_text("")
