@@ -896,6 +896,9 @@ def plot_residuals(
     ax_fit.set_title("Versus fits")
     ax_hist.hist(r, bins=max(5, int(math.sqrt(n)) + 1), color="#9fb3c8", edgecolor="#27496d")
     ax_hist.set_xlabel(r_label)
+    from matplotlib.ticker import MaxNLocator
+
+    ax_hist.xaxis.set_major_locator(MaxNLocator(nbins=5))  # raw residuals' long tick labels
     ax_hist.set_ylabel("Runs [-]")
     ax_hist.set_title("Histogram")
     sort = np.argsort(order, kind="stable")
