@@ -143,6 +143,17 @@ def _on_interrupt(message: str) -> Iterator[None]:
         raise typer.Exit(130) from None
 
 
+def _percent_note(updates: dict[str, Any]) -> None:
+    """A note for ``A`` given below 1: A is in %, and 0.2 reads like the fraction 20 %."""
+    value = updates.get("A")
+    if isinstance(value, int | float) and not isinstance(value, bool) and 0.0 < value < 1.0:
+        console.print(
+            f"[yellow]note:[/] A is in %: A={value:g} is {value:g} % fibres; for "
+            f"{100 * value:g} % give A={100 * value:g}",
+            highlight=False,
+        )
+
+
 def resolve_config(
     preset: str,
     config_file: Path | None,
@@ -156,6 +167,7 @@ def resolve_config(
 
     config = load_config(config_file) if config_file is not None else load_preset(preset)
     updates = dict(parse_override(o) for o in overrides or [])
+    _percent_note(updates)
     if quick:
         check_quick_overrides(updates)
     if stops is not None:
@@ -618,6 +630,7 @@ def _run_and_report(
         _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
     try:
         updates = dict(parse_override(o) for o in overrides or [])
+        _percent_note(updates)
         if cycle is not None:
             from brakeca.presets import load_preset
             from brakeca.traces import configured_cycle, with_cycle

@@ -238,3 +238,18 @@ def test_output_problem_leaves_an_unwritable_folder_alone(tmp_path) -> None:
         assert list(folder.iterdir()) == []
     finally:
         folder.chmod(0o700)
+
+
+def test_a_fraction_given_for_a_percent_gets_a_note() -> None:
+    """A is in %: A=0.2 is taken as 0.2 %, and said so on standard error (the TOML on standard
+    output stays clean); A=20 gets no note (a user review)."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    runner = CliRunner()
+    res = runner.invoke(app, ["config", "--set", "A=0.2"])
+    assert res.exit_code == 0
+    assert "note: A is in %: A=0.2 is 0.2 % fibres; for 20 % give A=20" in res.stderr
+    assert "note" not in res.stdout and "fibre_area_fraction = 0.002" in res.stdout
+    assert "note" not in runner.invoke(app, ["config", "--set", "A=20"]).stderr
