@@ -130,3 +130,15 @@ def test_the_index_looked_for_is_the_one_numba_writes(kernel) -> None:
     index = Path(dispatcher._cache._cache_file._index_path).resolve()
     cache = Path(os.environ["NUMBA_CACHE_DIR"]).resolve()
     assert index.relative_to(cache).match(warmup._index_pattern(kernel))
+
+
+def test_the_warm_up_configuration_of_a_quick_run_is_valid() -> None:
+    """The warm-up compiles on a two-row band: for a --quick configuration that band must not
+    stay labelled quick (a 21-row label; refused since quick = true needs 21 rows), or every
+    quick run's warm-up failed with a traceback and each worker compiled on its own."""
+    from brakeca._warmup import tiny_config
+    from brakeca.design import quick_config
+    from brakeca.presets import load_preset
+
+    tiny = tiny_config(quick_config(load_preset("paper")))
+    assert tiny.mesh.n_radial == 2 and not tiny.quick and tiny.cycle.max_stops == 1
