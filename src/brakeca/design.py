@@ -373,6 +373,14 @@ class Factor(_Frozen):
                 f"factor name {value!r} is reserved (campaign columns: "
                 f"{', '.join(sorted(RESERVED_NAMES))})"
             )
+        from brakeca.results import result_names
+
+        if value in result_names():
+            raise ValueError(
+                f"factor name {value!r} is the name of a result (a column of the campaign's "
+                "summary or a variable of its dataset), which would overwrite the factor's "
+                "levels; name the factor otherwise (e.g. after its field: mu0, not MU)"
+            )
         return value
 
     @field_validator("field")

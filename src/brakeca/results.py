@@ -41,6 +41,63 @@ FORMAT = "brakeca-run/1"  #: format marker written to and checked in every run f
 M3_TO_MM3 = 1e9
 
 
+#: The per-stop variables of a run file: name -> (unit, description).
+STOP_VARIABLES: dict[str, tuple[str, str]] = {
+    "mean_cof": ("1", "time-weighted mean global COF of the stop"),
+    "emitted_volume": ("m3", "wear volume that left the band during the stop and after it"),
+    "generated_volume": ("m3", "pad material removed (primary plateau + resin wear)"),
+    "primary_area_fraction": ("1", "time-weighted primary plateau area / band area"),
+    "secondary_area_fraction": ("1", "time-weighted secondary plateau area / band area"),
+    "contact_area_fraction": ("1", "time-weighted area in contact / band area"),
+    "band_normal_force": ("N", "time-weighted normal force on the simulated band"),
+    "normal_force": ("N", "time-weighted pad normal force, band force * A_pad / A_sim"),
+    "line_pressure": ("Pa", "hydraulic pressure, pad normal force / piston area"),
+    "duration": ("s", "duration of the stop"),
+    "n_steps": ("1", "time steps in the stop"),
+    "max_friction_residual": ("1", "max |F_friction / F_demanded - 1| over the steps"),
+    "max_ledger_residual": ("1", "max relative volume-ledger residual over the steps"),
+    "secondary_removed_between_stops": ("1", "secondary plateaus removed by rule S"),
+    "end_of_stop_emitted_volume": ("m3", "particles flushed and deposits removed by S"),
+    "min_disc_position": ("m", "lowest disc surface position z in the stop"),
+}
+
+#: The per-run scalars of :meth:`RunResult.scalars`: columns of a campaign's summary.
+RUN_SCALARS: tuple[str, ...] = (
+    "MU",
+    "V",
+    "V_mm3",
+    "total_emitted_mm3",
+    "total_generated_mm3",
+    "final_primary_area_fraction",
+    "final_secondary_area_fraction",
+    "max_ledger_residual",
+    "max_friction_residual",
+    "n_steps",
+    "wall_time",
+)
+
+#: Names a campaign's summary and dataset use besides the run scalars and per-stop variables:
+#: the log scale of V, the per-stop rule counts, the fibre field's counters, PM10 columns.
+OTHER_RESULT_NAMES: tuple[str, ...] = (
+    "log10_V_mm3",
+    "rule_firings",
+    "fibre_cells_exposed",
+    "fibre_cells_exposed_late",
+    "fibre_exposure_lag",
+    "fibre_volume_cut_as_resin",
+    "fibre_intervals_skipped",
+    "PM10_low_mg_km",
+    "PM10_mg_km",
+    "PM10_high_mg_km",
+)
+
+
+def result_names() -> frozenset[str]:
+    """Every name a run's results take in a campaign's summary or dataset (a factor may not
+    take one: its column would be overwritten)."""
+    return frozenset(STOP_VARIABLES) | frozenset(RUN_SCALARS) | frozenset(OTHER_RESULT_NAMES)
+
+
 @dataclass(frozen=True)
 class RunResult:
     """The result of one simulated run.
@@ -239,24 +296,6 @@ def build_dataset(
     }
     per_stop["normal_force"] = [f * pad_scale for f in per_stop["band_normal_force"]]
     per_stop["line_pressure"] = [f / piston for f in per_stop["normal_force"]]
-    units = {
-        "mean_cof": ("1", "time-weighted mean global COF of the stop"),
-        "emitted_volume": ("m3", "wear volume that left the band during the stop and after it"),
-        "generated_volume": ("m3", "pad material removed (primary plateau + resin wear)"),
-        "primary_area_fraction": ("1", "time-weighted primary plateau area / band area"),
-        "secondary_area_fraction": ("1", "time-weighted secondary plateau area / band area"),
-        "contact_area_fraction": ("1", "time-weighted area in contact / band area"),
-        "band_normal_force": ("N", "time-weighted normal force on the simulated band"),
-        "normal_force": ("N", "time-weighted pad normal force, band force * A_pad / A_sim"),
-        "line_pressure": ("Pa", "hydraulic pressure, pad normal force / piston area"),
-        "duration": ("s", "duration of the stop"),
-        "n_steps": ("1", "time steps in the stop"),
-        "max_friction_residual": ("1", "max |F_friction / F_demanded - 1| over the steps"),
-        "max_ledger_residual": ("1", "max relative volume-ledger residual over the steps"),
-        "secondary_removed_between_stops": ("1", "secondary plateaus removed by rule S"),
-        "end_of_stop_emitted_volume": ("m3", "particles flushed and deposits removed by S"),
-        "min_disc_position": ("m", "lowest disc surface position z in the stop"),
-    }
     stop_idx = np.arange(1, n + 1)
     # friction residual against the demanded force of each step
     fr_res = col(SUM_FRICTION_RESIDUAL)
@@ -264,7 +303,7 @@ def build_dataset(
 
     data_vars: dict[str, Any] = {}
     for name, values in per_stop.items():
-        unit, desc = units[name]
+        unit, desc = STOP_VARIABLES[name]
         data_vars[name] = ("stop", np.asarray(values), {"units": unit, "long_name": desc})
     all_counts = np.stack(rule_counts)  # index 0: fibres exposed in the steps (the field)
     counts = all_counts[:, 1:8]

@@ -1419,3 +1419,27 @@ def test_quick_with_an_override_of_the_band_is_refused() -> None:
         with pytest.raises(ConfigError, match=rf"override {key}: --quick sets the band itself"):
             paper.resolved_base(overrides={key: 41}, quick=True)
     assert paper.resolved_base(overrides={"mesh.n_radial": 41}).mesh.n_radial == 41
+
+
+@pytest.mark.parametrize("name", ["MU", "V", "V_mm3", "wall_time", "mean_cof", "log10_V_mm3"])
+def test_a_factor_may_not_take_a_results_name(name) -> None:
+    """A factor named MU was accepted, then its summary column held the response and the
+    analysis failed with a traceback (a second review)."""
+    spec = {"name": name, "field": "friction.mu_0", "levels": [0.5, 0.7]}
+    with pytest.raises(ConfigError, match=rf"factor name '{name}' is the name of a result"):
+        design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
+
+
+def test_the_result_names_are_the_run_files() -> None:
+    """The reserved result names cover what a run file and its summary row hold."""
+    from brakeca.presets import load_preset
+    from brakeca.results import RUN_SCALARS, result_names
+    from brakeca.simulation import simulate
+
+    config = load_preset("paper").with_updates(
+        {"mesh.n_radial": 3, "mesh.n_angular": 100, "cycle.max_stops": 1}
+    )
+    run = simulate(config, seed=1)
+    assert tuple(run.scalars()) == RUN_SCALARS
+    per_stop = {str(n) for n, v in run.dataset.data_vars.items() if v.dims[:1] == ("stop",)}
+    assert per_stop <= result_names()
