@@ -450,6 +450,13 @@ class Factor(_Frozen):
                 f"scale: factor {self.name!r} has choices: its levels only number them, so a "
                 "scale does not apply"
             )
+        if self.field in FACTOR_ALIASES and self.scale != 1.0:
+            target, _, unit = FACTOR_ALIASES[self.field]
+            raise ValueError(
+                f"scale: factor {self.name!r} sets the paper factor {self.field}, whose levels "
+                f"are in its own unit ({unit}) and converted by it, so a scale would apply "
+                f"twice; remove scale, or give field = {target!r} with your scale"
+            )
         if self.choices is not None and len(self.choices) != len(self.levels):
             raise ValueError(
                 f"choices: factor {self.name!r} has {len(self.levels)} levels but "

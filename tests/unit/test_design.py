@@ -1443,3 +1443,14 @@ def test_the_result_names_are_the_run_files() -> None:
     assert tuple(run.scalars()) == RUN_SCALARS
     per_stop = {str(n) for n, v in run.dataset.data_vars.items() if v.dims[:1] == ("stop",)}
     assert per_stop <= result_names()
+
+
+def test_a_scale_on_a_paper_factor_is_refused() -> None:
+    """field 'A' converts % itself: scale = 0.01 on it made A = 10 set 0.1 % (a second
+    review); the field's own name takes the scale."""
+    spec = {"name": "A", "levels": [10.0, 20.0], "scale": 0.01}
+    with pytest.raises(ConfigError, match=r"scale: factor 'A' sets the paper factor A, whose"):
+        design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
+    spec["field"] = "pad.fibre_area_fraction"
+    design = design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
+    assert [p.config.pad.fibre_area_fraction for p in design.points()] == pytest.approx([0.1, 0.2])
