@@ -907,9 +907,13 @@ class Goal:
         ``"maximize"``: 0 at or below ``lower``, 1 at or above ``upper``; ``"target"``: 1 at
         ``target``, 0 at or beyond ``lower`` and ``upper``.
     lower, upper
-        The limits [response unit], ``lower < upper``.
+        The limits [response unit: the unit of the summary column the surface was fitted
+        to, so **V in m³** (``Goal("V", "minimize", 0.1e-9, 5e-9)`` for 0.1 to 5 mm³); the
+        command line's ``--goal`` and a design file's ``[[goals]]`` take V in mm³ and
+        convert it (:meth:`brakeca.design.GoalSpec.to_goal`)], ``lower < upper``.
     target
-        The target [response unit], strictly between the limits (``"target"`` only).
+        The target [response unit, as the limits], strictly between the limits
+        (``"target"`` only).
     weight
         Shape of the desirability between its limits [-]: 1 linear, above 1 stricter, below 1
         more lenient.
