@@ -1100,7 +1100,12 @@ def show_design(
             highlight=False,
             emoji=False,
         )
-    structure = alias_structure(pd.DataFrame(combos), loaded.factors)
+    if loaded.is_response_surface:  # its model is the quadratic, printed above, not the
+        # categorical one whose alias structure this is (its levels' columns correlate)
+        structure = pd.DataFrame({"term": [], "aliases": []})
+        structure.attrs.update(not_estimable=[], max_correlation=0.0, skip=True)
+    else:
+        structure = alias_structure(pd.DataFrame(combos), loaded.factors)
     chains = [
         f"{term} - {aliases[1:]}" if aliases.startswith("-") else f"{term} + {aliases}"
         for term, aliases in zip(structure["term"], structure["aliases"], strict=True)
@@ -1122,7 +1127,7 @@ def show_design(
             + (f" (correlations up to {partly:.2g})" if partly > 0.0 else ""),
             markup=False,
         )
-    elif not chains:
+    elif not chains and not structure.attrs.get("skip"):
         out.print(
             "alias structure: every main effect and two-factor interaction is clear of the "
             "others (up to three-factor interactions)",
@@ -1258,6 +1263,21 @@ def _print_surface_model(design: Any) -> None:
     )
     for note in model["notes"]:
         out.print(f"  {note}", markup=False, highlight=False, emoji=False)
+    import numpy as np
+
+    from brakeca.rsm import _term_values, _vif
+
+    x = {c.name: c.code(runs[c.name].to_numpy(dtype=float)) for c in codings}
+    exog = np.column_stack([np.ones(len(runs))] + [_term_values(t, x) for t in terms])
+    vif = _vif(exog)[1:]
+    if vif.size and np.all(np.isfinite(vif)):
+        worst = int(np.argmax(vif))
+        out.print(
+            f"largest variance inflation factor of its terms: {vif[worst]:.3g} ({terms[worst]}; "
+            "1 where a term's column is orthogonal to the others)",
+            markup=False,
+            highlight=False,
+        )
 
 
 @app.command("config", short_help="print the resolved configuration as TOML")

@@ -53,6 +53,10 @@ def test_a_composite_design_shows_its_coding_and_quadratic_model(tmp_path) -> No
         "the constant) from 17 runs: 7 residual df, 2 of them pure error" in text
     )
     assert "│   17 │  0 │ 0 │  0 │" in text  # the last centre point
+    # its terms' correlation is the quadratic's (VIF), not the categorical alias structure's
+    # (a second review saw 'partly confounded (correlations up to 0.67)' for this design)
+    assert "alias structure" not in text and "partly confounded" not in text
+    assert "largest variance inflation factor of its terms: 1.54 (WP*WP;" in text
     # one centre point: no pure error; a rotatable alpha gives five levels, -α to +α
     two = tmp_path / "two.toml"
     two.write_text(
