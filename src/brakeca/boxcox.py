@@ -142,9 +142,17 @@ class BoxCox:
                 f"λ = 0 lies within the {pct} interval and λ = 1 does not: the log fits "
                 "better than the response as it is"
             )
+        lo, hi = LAMBDA_RANGE
+        inside = [k / 2 for k in range(int(2 * lo), int(2 * hi) + 1) if self.contains(k / 2)]
+        if inside:  # the simple power nearest the optimum that the interval holds
+            simple = min(inside, key=lambda lam: abs(lam - self.lambda_hat))
+            return (
+                f"neither λ = 1 nor λ = 0 lies within the {pct} interval: the data point to "
+                f"λ ≈ {simple:g}"
+            )
         return (
-            f"neither λ = 1 nor λ = 0 lies within the {pct} interval: the data point to "
-            f"λ ≈ {self.rounded:g}"
+            f"neither λ = 1 nor λ = 0, nor any multiple of 0.5, lies within the {pct} "
+            f"interval: the data point to λ ≈ {self.lambda_hat:.2g}"
         )
 
     def row(self) -> dict[str, Any]:

@@ -184,3 +184,19 @@ def test_table_and_file(tmp_path) -> None:
     path = save_box_cox_table(results, tmp_path / "t" / "box_cox.csv")
     back = pd.read_csv(path)
     assert back.loc[1, "note"].startswith("needs positive values")
+
+
+def test_the_reading_never_points_outside_the_interval() -> None:
+    """λ̂ = -0.18 with an interval of -0.27 to -0.09 rounds to 0, which the interval excludes:
+    the reading then gives λ̂ itself (a second review saw 'the data point to λ ≈ 0')."""
+    import dataclasses
+
+    base = box_cox_profile(np.random.default_rng(1).lognormal(0.0, 0.5, 40))
+    narrow = dataclasses.replace(base, lambda_hat=-0.18, ci_low=-0.27, ci_high=-0.09, rounded=0.0)
+    assert narrow.reading.endswith(
+        "nor any multiple of 0.5, lies within the 95 % interval: the data point to λ ≈ -0.18"
+    )
+    wide = dataclasses.replace(base, lambda_hat=-1.2, ci_low=-2.0, ci_high=-0.4, rounded=-1.0)
+    assert wide.reading.endswith("the data point to λ ≈ -1")
+    half = dataclasses.replace(base, lambda_hat=0.3, ci_low=0.1, ci_high=0.6, rounded=0.5)
+    assert half.reading.endswith("the data point to λ ≈ 0.5")
