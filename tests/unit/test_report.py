@@ -371,3 +371,21 @@ def test_short_wall_times_and_pm10_columns_in_the_runs_table(tmp_path) -> None:
     html = render_report(**{**inputs, "summary": summary})
     assert '<td class="num">0.4</td>' in html and '<td class="num">123</td>' in html
     assert "<th>PM10 [mg/km]</th>" in html and '<td class="num">13,950</td>' in html
+
+
+def test_a_stationary_value_of_the_wrong_sign_is_called_out(tmp_path) -> None:
+    """A positive response (V) whose fitted bowl bottoms out below zero: the report says so
+    beside the stationary point's value (a second review saw '-0.776 mm³' unremarked)."""
+    import itertools
+
+    from brakeca.rsm import Coding, fit_response_surface
+
+    a, b = Coding("A", 10.0, 20.0, unit="%"), Coding("WR", 1e-7, 1e-6, log=True, unit="m")
+    rows = [
+        {"A": a.decode(x1), "WR": b.decode(x2), "V": (math.exp(2 * x1) + x2**2) * 1e-9}
+        for x1, x2 in itertools.product((-1.0, 0.0, 1.0), repeat=2)
+    ]
+    fit = fit_response_surface(pd.DataFrame(rows), [a, b], "V")
+    assert fit.stationary is not None and fit.stationary["predicted"] < 0.0
+    html = render_report(**make_inputs(tmp_path), surface_fits={"V": fit})
+    assert "(not positive, though every run&#39;s V is: the quadratic does not keep" in html
