@@ -827,7 +827,7 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
             if known is not None and part not in known:
                 allowed = ", ".join(sorted(known)) if known else "(none)"
                 raise ConfigError(
-                    f"--set {key}: unknown field {'.'.join(parts[: depth + 1])!r}; "
+                    f"override {key}: unknown field {'.'.join(parts[: depth + 1])!r}; "
                     f"allowed here: {allowed} (or a factor name: {', '.join(FACTOR_ALIASES)})"
                 )
             if last:
@@ -835,7 +835,7 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
             else:
                 node = node.setdefault(part, {})
                 if not isinstance(node, dict):
-                    raise ConfigError(f"--set {key}: {part!r} is not a section")
+                    raise ConfigError(f"override {key}: {part!r} is not a section")
                 ann = known[part].annotation if known is not None else None
                 known = getattr(ann, "model_fields", None)
     return SimulationConfig.from_dict(data, source="override")

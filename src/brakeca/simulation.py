@@ -359,6 +359,8 @@ def simulate(
 
     Raises
     ------
+    TypeError
+        ``config`` is not a :class:`~brakeca.config.SimulationConfig` (a dict, a preset name).
     ValueError
         A seed that is not a whole number in range, or both ``seed`` and ``rng``.
     ContactError
@@ -371,6 +373,11 @@ def simulate(
     # need (brakeca._warmup)
     from brakeca.results import RunResult, build_dataset, summarise_stop
 
+    if not isinstance(config, SimulationConfig):
+        raise TypeError(
+            f"config must be a SimulationConfig (e.g. brakeca.presets.load_preset('paper'), "
+            f"changed with .with_updates({{'WP': 1e-13}})), not {type(config).__name__}"
+        )
     t0 = time.perf_counter()
     if rng is None:
         seed = 0 if seed is None else seed

@@ -551,6 +551,9 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             plotting.plot_fibre_maps,
             maps,
         )
+    if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
+        for stale in fig_dir.glob("final_map_test*.png"):
+            stale.unlink()
     if run_maps:
         replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
         for _, row in ok.iterrows():

@@ -147,9 +147,12 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     assert "0 run(s) computed, 4 reused" in res.output
     assert mtimes == {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.nc")}
     (out / "report.html").unlink()
+    assert list((out / "figures").glob("final_map_test*.png"))
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
     assert res.exit_code == 0, res.output
     assert (out / "report.html").exists()
+    # the maps of the earlier analysis, which the report no longer lists, are gone
+    assert not list((out / "figures").glob("final_map_test*.png"))
 
 
 def test_plot_draws_a_campaigns_runs(campaign, tmp_path):

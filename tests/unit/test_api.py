@@ -33,3 +33,13 @@ def test_all_names_the_exports():
 def test_an_unknown_name_is_an_attribute_error():
     with pytest.raises(AttributeError, match="has no attribute 'simulation_config'"):
         brakeca.simulation_config  # noqa: B018
+
+
+@pytest.mark.parametrize("config", [{"WP": 1e-13}, "paper", None])
+def test_simulate_says_what_a_config_is(config):
+    """simulate({'WP': 1e-13}) or simulate('paper') raised AttributeError: 'dict' object has
+    no attribute 'mesh' (a second review)."""
+    from brakeca.simulation import simulate
+
+    with pytest.raises(TypeError, match=r"config must be a SimulationConfig \(e.g. brakeca"):
+        simulate(config, seed=1)
