@@ -372,12 +372,22 @@ def build_dataset(
     data_vars["initial_status"] = (
         ("radius", "angle"),
         initial_status.astype(np.int8),
-        {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"},
+        {
+            "long_name": "cell status before the first stop: 0 none (resin), 1 primary "
+            "plateau (fibre), 2 secondary plateau",
+            "flag_values": "0 1 2",
+            "flag_meanings": "none primary secondary",
+        },
     )
     data_vars["final_status"] = (
         ("radius", "angle"),
         final_status.astype(np.int8),
-        {"flag_values": "0 1 2", "flag_meanings": "none primary secondary"},
+        {
+            "long_name": "cell status after the last stop: 0 none (resin), 1 primary plateau "
+            "(fibre), 2 secondary plateau",
+            "flag_values": "0 1 2",
+            "flag_meanings": "none primary secondary",
+        },
     )
     data_vars["final_height"] = (
         ("radius", "angle"),
@@ -397,7 +407,11 @@ def build_dataset(
         max(float(np.max(per_stop["max_ledger_residual"])), final_ledger),
         {"units": "1", "long_name": "max relative volume-ledger residual of the run"},
     )
-    data_vars["max_friction_residual"] = ((), float(np.max(fr_res)), {"units": "1"})
+    data_vars["max_friction_residual"] = (
+        (),
+        float(np.max(fr_res)),
+        {"units": "1", "long_name": "max |F_friction / F_demanded - 1| over the run's steps"},
+    )
     coords = {
         "stop": ("stop", stop_idx),
         "block": ("stop", np.array([s.block for s in stops], dtype=object)),
