@@ -210,8 +210,8 @@ ReplaceOpt = Annotated[
     bool,
     typer.Option(
         "--replace",
-        help="write over a folder's campaign of other options (--set, --quick, --stops); "
-        "without it that is refused, and the run files of both are kept either way",
+        help="write over a folder's campaign of other options (another --quick or --stops, "
+        "or --set); without it that is refused, and the run files of both are kept either way",
     ),
 ]
 SpeedUnitOpt = Annotated[
