@@ -192,7 +192,8 @@ row, numbers in full precision.
 **Units.** The tables keep the SI units of the analysis: **V in m³ per stop** (1e-9 of the
 mm³ the report, the terminal and the figures show), so V's sums of squares and mean squares
 are in m⁶ and its effects, coefficients, residuals and standard deviation S in m³. A column
-whose name ends in `_mm3` is in mm³, `_MPa` in MPa, `_N` in N, `_s` in s, `_mg_km` in mg/km.
+whose name ends in `_mm3` is in mm³, `_MPa` in MPa, `_N` in N, `_s` in s, `_mg_km` in mg/km;
+`wall_time` (a run's computing time) is in s.
 MU and `log10_V_mm3` (log10 of V in mm³) are dimensionless. Factor columns hold the levels in
 the design's units (WP in m³/(N·m), WR in m, A in %, S in -).
 
