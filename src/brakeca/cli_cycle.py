@@ -158,18 +158,22 @@ def inspect_cycle(
             highlight=False,
         )
         table = Table(title="braking events (a: mean deceleration, s: distance)", show_lines=False)
+        # the units on a line of their own: at 80 columns (a pipe, a log) the headers are
+        # then narrow enough that no value is cut ('101-1…')
         for col in (
             "#",
             "trip",
-            "t_on [s]",
-            "dur [s]",
-            "v_on [km/h]",
-            "v_off [km/h]",
-            "a [m/s²]",
-            "s [m]",
+            "t_on\n[s]",
+            "dur\n[s]",
+            "v_on\n[km/h]",
+            "v_off\n[km/h]",
+            "a\n[m/s²]",
+            "s\n[m]",
             "lines",
         ):
-            table.add_column(escape(col), justify="left" if col == "trip" else "right")
+            table.add_column(
+                escape(col), justify="left" if col == "trip" else "right", no_wrap=True
+            )
         for e in events:
             assert isinstance(e, BrakingEvent)
             table.add_row(

@@ -472,6 +472,9 @@ def test_cycle_inspect_cli(tmp_path):
     assert res.exit_code == 0, res.output
     assert "events found: 5" in res.output and "distance: 4.834 km" in res.output
     assert png.stat().st_size > 1000
+    # at 80 columns (CliRunner's, a pipe's) no value of the events table is cut
+    assert "│ 101-107 │" in res.output and "│ extra-urban │" in res.output
+    assert "…" not in res.output
     res = runner.invoke(cycle_app, ["inspect", "paper", "--no-corrections"])
     assert res.exit_code == 0, res.output
     assert "170 stops" in res.output and "braking distance: 11.842 km" in res.output
