@@ -67,13 +67,24 @@ def test_no_plateau_is_a_clear_error():
         solve_disc_position(np.array([]), np.array([]), stiffness=1e11, target=1.0, **LAW)
 
 
-def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config):
+@pytest.mark.parametrize("kernel", ["exact", "lazy"])
+@pytest.mark.parametrize("g", [0.3, 2.0])  # friction stress 0.56 MPa (rising), 3.7 MPa (floor)
+def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config, kernel, g):
     """Uniform flat plateaus under torque control keep a constant uniform pressure; after a stop
     every cell has worn exactly WP p * (sliding distance over the stop). One row, so that every
     cell slides the same distance and the punch stays flat (with several rows the outer rows
-    wear more and the pressure redistributes, by ~1e-6 relative here)."""
+    wear more and the pressure redistributes, by ~1e-6 relative here). Both kernels, on the
+    rising branch of mu(p) p and on the floor (2 g: above the 3 MPa peak friction stress)."""
+    from conftest import short_cycle
+
     config = tiny_config.with_updates(
-        {"cycle.max_stops": 1, "wear.specific_wear_rate": 1e-13, "mesh.n_radial": 1}
+        {
+            "cycle": short_cycle(g=g),
+            "cycle.max_stops": 1,
+            "wear.specific_wear_rate": 1e-13,
+            "mesh.n_radial": 1,
+            "numerics.kernel": kernel,
+        }
     )
     grid = make_grid(config)
     state = flat_plateau_state(grid)
@@ -90,3 +101,74 @@ def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config):
     np.testing.assert_allclose(rec[:, K.R_FRICTION], target, rtol=1e-12)
     np.testing.assert_allclose(rec[:, K.R_NORMAL], p * grid.area, rtol=1e-12)
     assert counts.sum() == 0  # no resin, no secondary: no rule fires
+
+
+def test_the_brake_demand_by_hand_from_the_spec_tables():
+    """Spec section 2 with Table 4's numbers, by hand: T = m_w a R_wheel, each of two pads
+    takes T / (2 r_eff), the band its area's share A_sim / A_pad; the band's area is
+    sum_j r_j dtheta dr over the cells (section 3). At 0.25 g: T = 690 x 2.4525 x 0.314."""
+    from brakeca.presets import load_preset
+
+    config = load_preset("paper")
+    a = 0.25 * 9.81
+    torque = 690.0 * a * 0.314
+    assert torque == pytest.approx(531.35865, rel=1e-12)
+    pad = torque / (2 * 0.113)
+    mesh = config.mesh
+    dtheta = np.radians(mesh.angular_step_deg)
+    r = config.inner_radius + mesh.radial_step * np.arange(mesh.n_radial)
+    area = float(np.sum(r * dtheta * mesh.radial_step)) * mesh.n_angular
+    grid = make_grid(config)
+    assert grid.area == pytest.approx(area, rel=1e-12)
+    demand = brake_demand(config, a, grid.area)
+    assert demand.brake_torque == pytest.approx(torque, rel=1e-12)
+    assert demand.pad_friction_force == pytest.approx(pad, rel=1e-12)
+    assert demand.band_friction_force == pytest.approx(pad * area / 5.080e-3, rel=1e-12)
+    assert pad == pytest.approx(2351.14, abs=0.01)  # N; the band (201 rows): 34.3 % of it
+    assert area / 5.080e-3 == pytest.approx(0.3434, abs=5e-5)
+
+
+def test_the_pad_normal_force_and_line_pressure_of_a_run(tiny_config):
+    """A run's per-stop outputs (spec section 2): the pad's normal force is the band's times
+    A_pad / A_sim, the line pressure that over the piston's area pi d^2 / 4; per step, COF times
+    normal force is the demanded friction (the torque balance)."""
+    from brakeca.simulation import simulate
+
+    config = tiny_config.with_updates({"cycle.max_stops": 2, "output.series_every": 1})
+    ds = simulate(config, seed=4).dataset
+    grid = make_grid(config)
+    scale = 5.080e-3 / grid.area
+    np.testing.assert_allclose(ds["normal_force"], ds["band_normal_force"] * scale, rtol=1e-12)
+    piston = np.pi * 0.057**2 / 4
+    np.testing.assert_allclose(ds["line_pressure"], ds["normal_force"] / piston, rtol=1e-12)
+    stop = expand_stops(config)[0]
+    demand = brake_demand(config, stop.deceleration, grid.area)
+    full = ds["step_stop"].values >= 1  # every step of the two stops
+    friction = ds["step_cof"].values[full] * ds["step_normal_force"].values[full] / scale
+    np.testing.assert_allclose(friction, demand.band_friction_force, rtol=1e-9)
+
+
+def test_the_cycle_kinematics_by_hand():
+    """Spec section 4: constant deceleration, exact kinematics, a partial last step. Over every
+    stop of the paper's cycle the steps' durations add up to (v0 - v1) / a and their sliding
+    fractions times s to (v0^2 - v1^2) / (2 a); s = R_wheel N_m dtheta = 24.113 mm; the
+    cycle has 491,160 steps, the burnish 81,050."""
+    from brakeca.presets import load_preset
+
+    config = load_preset("paper")
+    s = step_distance(config)
+    m = config.mesh
+    assert s == pytest.approx(
+        0.314 * (m.n_angular / m.n_subdomains) * np.radians(m.angular_step_deg)
+    )
+    assert s == pytest.approx(24.113e-3, abs=1e-6)
+    total = burnish = 0
+    for stop in expand_stops(config):
+        dt, fraction = stop_steps(stop, s)
+        v0, v1, a = stop.initial_speed, stop.final_speed, stop.deceleration
+        assert dt.sum() == pytest.approx((v0 - v1) / a, rel=1e-9)
+        assert (fraction * s).sum() == pytest.approx((v0**2 - v1**2) / (2 * a), rel=1e-9)
+        assert np.all(fraction[:-1] == 1.0) and 0.0 < fraction[-1] <= 1.0
+        total += dt.size
+        burnish += dt.size if stop.block == "Burnish" else 0
+    assert (total, burnish) == (491_160, 81_050)
