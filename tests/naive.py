@@ -152,6 +152,12 @@ def step(state, params, target, frac):
         "z": z,
         "friction": fric,
         "normal": norm,
+        "cof": fric / norm,
+        "pmax": float(P.max()),
+        "contact_area": float(np.sum(Acell[contact])),
+        "primary_area": float(np.sum(Acell[S == 1])),  # after the step's status changes
+        "secondary_area": float(np.sum(Acell[S == 2])),
+        "generated": removed,
         "emitted": emitted,
         "ledger": ledger,
         "created": len(created),

@@ -11,6 +11,7 @@ from __future__ import annotations
 import naive
 import numpy as np
 import pytest
+from conftest import short_cycle
 
 from brakeca import _kernels as K
 from brakeca import _lazy
@@ -79,6 +80,10 @@ CASES = {
     "rule6": {"automaton.rule6_max_gap": 20e-6, "wear.specific_wear_rate": 1e-13},
     "layer-rule7": {"pad.fibre_model": "layer", "wear.specific_wear_rate": 1e-13},
     "field": {"pad.fibre_model": "field", "wear.specific_wear_rate": 1e-13},
+    # the COF floor (local pressures past u_f, 15 MPa) with the resin cut and creation going
+    # on: the regime of the A = 10 % runs, which the cases above (rising branch, or the floor
+    # without creation) do not reach (a third review)
+    "floor": {"cycle": short_cycle(v0=14, v1=10, g=1.2), "wear.specific_wear_rate": 1e-12},
     "field-rule6": {
         "pad.fibre_model": "field",
         "automaton.rule6_max_gap": 20e-6,
@@ -129,6 +134,7 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
     S = config.automaton.secondary_removal_fraction
     rng_fast, rng_ref = np.random.default_rng(3), np.random.default_rng(3)
     totals = {"created": 0, "destroyed": 0, "exposed": 0}
+    pmax = 0.0
     fired = np.zeros(8, dtype=np.int64)
     for stop in expand_stops(config):
         created_before, destroyed_before = totals["created"], totals["destroyed"]
@@ -142,7 +148,21 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
             np.testing.assert_allclose(rec[n, K.R_FRICTION], out["friction"], rtol=1e-10)
             np.testing.assert_allclose(rec[n, K.R_NORMAL], out["normal"], rtol=1e-10)
             np.testing.assert_allclose(rec[n, K.R_EMITTED], out["emitted"], rtol=1e-9, atol=1e-30)
+            # the rest of the step's record: COF, areas, the volume worn off, and the kernel's
+            # own ledger (not only the twin's)
+            np.testing.assert_allclose(rec[n, K.R_COF], out["cof"], rtol=1e-10)
+            for col, key in (
+                (K.R_CONTACT_AREA, "contact_area"),
+                (K.R_PRIMARY_AREA, "primary_area"),
+                (K.R_SECONDARY_AREA, "secondary_area"),
+            ):
+                np.testing.assert_allclose(rec[n, col], out[key], rtol=1e-10, atol=1e-22)
+            np.testing.assert_allclose(
+                rec[n, K.R_GENERATED], out["generated"], rtol=1e-8, atol=1e-30
+            )
+            assert abs(rec[n, K.R_LEDGER]) <= 1e-12
             assert abs(out["ledger"]) <= 1e-12 * max(ref["removed"], 1e-300)
+            pmax = max(pmax, out["pmax"])
             totals["created"] += out["created"]
             totals["destroyed"] += out["destroyed"]
             totals["exposed"] += out["exposed"]
@@ -190,3 +210,5 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
         assert totals["exposed"] > 0 and fired[0] == totals["exposed"]
     if case.endswith("rule6"):
         assert fired[6] > 0
+    if case == "floor":  # it reached the floor branch (mu_min from (mu_0 - mu_min) / c)
+        assert pmax > (config.friction.mu_0 - config.friction.mu_min) / config.friction.slope
