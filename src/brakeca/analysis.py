@@ -1021,33 +1021,45 @@ def residuals(
         constant response, whose residuals are round-off). ``attrs``
         carries ``response``, ``formula``, ``df_resid`` and ``s``.
     """
-    factors = _factors(factors)
-    data = _clean(summary, factors, response)
-    y = data[response].to_numpy(dtype=float)
-    keep = [c for c in ("test", "replicate", "order") if c in data.columns]
-    out = data[keep].reset_index(drop=True)
+    data, y, exog, formula = _model_arrays(summary, factors, response, interactions)
     if y.size == 0:
+        out = _run_columns(data)
         for c in ("observed", "fitted", "residual", "leverage", "std_residual"):
             out[c] = pd.Series(dtype=float)
         out.attrs.update(response=response, formula="", df_resid=math.nan, s=math.nan)
         return out
-    frame, term_names, terms, _ = _model(data, factors, y, interactions)
-    exog = _exog(frame, terms, y.size)
     fitted, leverage, df_resid = _least_squares(exog, y)
     stats = _fit_statistics(y, fitted, leverage, df_resid, float(np.sum((y - y.mean()) ** 2)))
+    out = _residual_frame(data, y, fitted, leverage, stats["s"])
+    out.attrs.update(response=response, formula=formula, df_resid=stats["df_resid"], s=stats["s"])
+    return out
+
+
+def _run_columns(data: pd.DataFrame) -> pd.DataFrame:
+    """The ``test``, ``replicate`` and ``order`` columns of ``data`` (those present), indexed
+    from 0: the first columns of a residuals table."""
+    keep = [c for c in ("test", "replicate", "order") if c in data.columns]
+    return data[keep].reset_index(drop=True)
+
+
+def _residual_frame(
+    data: pd.DataFrame, y: np.ndarray, fitted: np.ndarray, leverage: np.ndarray, s: float
+) -> pd.DataFrame:
+    """A residuals table (:func:`residuals`; also :func:`brakeca.rsm.surface_residuals`):
+    the runs' columns of ``data``, then ``observed``, ``fitted``, ``residual`` [response
+    unit], ``leverage`` [-] and ``std_residual`` [-], the residual over ``s sqrt(1 -
+    leverage)`` with ``s`` the fit's residual standard deviation [response unit]; NaN where it
+    is not finite (no residual degrees of freedom), at leverage 1 and for a constant
+    response."""
+    out = _run_columns(data)
     out["observed"] = y
     out["fitted"] = fitted
     out["residual"] = y - fitted
     out["leverage"] = leverage
     with np.errstate(divide="ignore", invalid="ignore"):
-        std = (y - fitted) / (stats["s"] * np.sqrt(1.0 - leverage))
-    out["std_residual"] = np.where((leverage < 1.0 - 1e-9) & (not _is_constant(y)), std, np.nan)
-    out.attrs.update(
-        response=response,
-        formula="y ~ " + (" + ".join(term_names[t] for t in terms) if terms else "1"),
-        df_resid=stats["df_resid"],
-        s=stats["s"],
-    )
+        std = (y - fitted) / (s * np.sqrt(1.0 - leverage))
+    usable = (leverage < 1.0 - 1e-9) & np.isfinite(std) & (not _is_constant(y))
+    out["std_residual"] = np.where(usable, std, np.nan)
     return out
 
 
@@ -1056,6 +1068,22 @@ def _exog(frame: pd.DataFrame, terms: Sequence[str], n: int) -> np.ndarray:
     if not terms:
         return np.ones((n, 1))
     return np.asarray(_fit_anova(frame, terms, check_only=True)[0].model.exog, dtype=float)
+
+
+def _model_arrays(
+    summary: pd.DataFrame, factors: Iterable[Any], response: str, interactions: bool
+) -> tuple[pd.DataFrame, np.ndarray, np.ndarray, str]:
+    """The model :func:`anova` fits, as arrays: the usable rows of ``summary``, their
+    response [response unit], the model matrix [-] (:func:`model_matrix`) and the formula
+    (``"y ~ S + WP + S:WP"``; empty, and a one-column matrix, without usable rows)."""
+    factors = _factors(factors)
+    data = _clean(summary, factors, response)
+    y = data[response].to_numpy(dtype=float)
+    if y.size == 0:
+        return data, y, np.ones((0, 1)), ""
+    frame, term_names, terms, _ = _model(data, factors, y, interactions)
+    formula = "y ~ " + (" + ".join(term_names[t] for t in terms) if terms else "1")
+    return data, y, _exog(frame, terms, y.size), formula
 
 
 def model_matrix(
@@ -1086,13 +1114,7 @@ def model_matrix(
         (terms aliased with earlier ones left out, as in :func:`anova`; the columns can still
         be dependent where cells of the design are empty).
     """
-    factors = _factors(factors)
-    data = _clean(summary, factors, response)
-    y = data[response].to_numpy(dtype=float)
-    if y.size == 0:
-        return np.ones((0, 1))
-    frame, _, terms, _ = _model(data, factors, y, interactions)
-    return _exog(frame, terms, y.size)
+    return _model_arrays(summary, factors, response, interactions)[2]
 
 
 def ranked_effects(

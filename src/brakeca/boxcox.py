@@ -245,7 +245,8 @@ def box_cox_profile(
         return undefined(f"{n} usable run(s)")
     if np.any(y <= 0.0):
         return undefined("needs positive values (a power of a value ≤ 0 is not defined)")
-    log_u = np.log(y) - float(np.mean(np.log(y)))
+    log_y = np.log(y)
+    log_u = log_y - float(np.mean(log_y))
     if float(np.ptp(log_u)) <= 1e-13:
         return undefined("the response is constant")
     if df_resid < 0.5:
@@ -253,7 +254,7 @@ def box_cox_profile(
     # An orthonormal basis of the model's columns: the residual of w is w - Q (Q' w).
     u_svd, sing, _ = np.linalg.svd(x, full_matrices=False)
     q = u_svd[:, : int(np.sum(sing > sing[0] * max(x.shape) * np.finfo(float).eps))]
-    g = math.exp(float(np.mean(np.log(y))))
+    g = math.exp(float(np.mean(log_y)))
 
     def log_likelihood(lam: float) -> float:
         w = log_u if lam == 0.0 else np.expm1(lam * log_u) / lam
@@ -283,9 +284,10 @@ def box_cox_profile(
 
     def crossing(side: int) -> float:
         """Where L falls to ``cut`` on one side of λ̂; ±inf beyond the search range."""
-        inner = grid[grid < lam_hat] if side < 0 else grid[grid > lam_hat]
-        points = np.concatenate(([lam_hat], inner[::-1] if side < 0 else inner))
-        values = np.array([ll_hat] + [log_likelihood(float(v)) for v in points[1:]])
+        # the grid points outwards from λ̂, with the profile already computed there
+        inner = np.flatnonzero(grid < lam_hat)[::-1] if side < 0 else np.flatnonzero(grid > lam_hat)
+        points = np.concatenate(([lam_hat], grid[inner]))
+        values = np.concatenate(([ll_hat], ll[inner]))
         below = np.nonzero(values < cut)[0]
         if below.size == 0:
             return -math.inf if side < 0 else math.inf
@@ -354,12 +356,10 @@ def box_cox(
     BoxCox
         See :func:`box_cox_profile`.
     """
-    from brakeca import analysis
+    from brakeca.analysis import _model_arrays
 
-    residuals = analysis.residuals(summary, factors, response, interactions=interactions)
-    y = residuals["observed"].to_numpy(dtype=float)
-    exog = analysis.model_matrix(summary, factors, response, interactions=interactions)
-    formula = str(residuals.attrs.get("formula", "")).replace("y ~", f"{response} ~", 1)
+    _, y, exog, formula = _model_arrays(summary, factors, response, interactions)
+    formula = formula.replace("y ~", f"{response} ~", 1)
     return box_cox_profile(
         y, exog, response=response, model=f"ANOVA model: {formula}", confidence=confidence
     )
