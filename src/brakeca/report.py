@@ -712,8 +712,7 @@ def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
         "for the best point inside it"
     )
     predicted = _fmt(float(st["predicted"]) * factor, ".5g") + (f" {unit}" if unit else "")
-    y = fit.points["y"].to_numpy(dtype=float)
-    if y.size and np.all(y > 0.0) and float(st["predicted"]) <= 0.0:
+    if fit.loses_sign(float(st["predicted"])):
         predicted += (
             f" (not positive, though every run's {fit.response} is: the quadratic does not "
             "keep the response's sign there, and a log scale may fit it better)"

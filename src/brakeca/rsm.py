@@ -295,6 +295,12 @@ class SurfaceFit:
         half = float(stats.t.ppf(0.5 + level / 2.0, df)) * s * np.sqrt(var)
         return centre - half, centre + half
 
+    def loses_sign(self, value: float) -> bool:
+        """Whether a fitted ``value`` [response unit] is not positive though every run's
+        response is (a quadratic in V can dip below zero, where a log scale would not)."""
+        y = self.points["y"].to_numpy(dtype=float)
+        return bool(y.size and np.all(y > 0.0) and value <= 0.0)
+
     def extent(self) -> dict[str, tuple[float, float]]:
         """The coded range the runs span, per factor [-]."""
         return {
@@ -367,15 +373,23 @@ def _vif(exog: np.ndarray) -> np.ndarray:
     return out
 
 
-def _clean(summary: pd.DataFrame, codings: Sequence[Coding], response: str) -> pd.DataFrame:
-    """The coded factors and ``y`` of the rows :func:`brakeca.analysis._clean` keeps (status
-    ok, finite response) whose coded factors are finite too."""
+def _usable(
+    summary: pd.DataFrame, codings: Sequence[Coding], response: str
+) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The rows :func:`brakeca.analysis._clean` keeps (status ok, finite response) whose
+    coded factors are finite too, and those rows' coded factors and ``y``."""
     data = _usable_rows(summary, codings, response)
     frame = pd.DataFrame(index=range(len(data)))
     for c in codings:
         frame[c.name] = c.code(pd.to_numeric(data[c.name], errors="coerce").to_numpy(float))
     frame["y"] = data[response].to_numpy(float)
-    return frame[np.isfinite(frame.to_numpy(dtype=float)).all(axis=1)].reset_index(drop=True)
+    finite = np.isfinite(frame.to_numpy(dtype=float)).all(axis=1)
+    return data.iloc[np.flatnonzero(finite)], frame[finite].reset_index(drop=True)
+
+
+def _clean(summary: pd.DataFrame, codings: Sequence[Coding], response: str) -> pd.DataFrame:
+    """The coded factors and ``y`` of the usable rows (:func:`_usable`)."""
+    return _usable(summary, codings, response)[1]
 
 
 def _pure_error(points: pd.DataFrame, names: Sequence[str]) -> tuple[float, float]:
@@ -745,34 +759,18 @@ def surface_residuals(fit: SurfaceFit, summary: pd.DataFrame) -> pd.DataFrame:
     ValueError
         ``summary`` is not the one ``fit`` was fitted to (other usable runs or values).
     """
-    data = _usable_rows(summary, fit.codings, fit.response)
-    coded = {
-        c.name: c.code(pd.to_numeric(data[c.name], errors="coerce").to_numpy(float))
-        for c in fit.codings
-    }
-    y = data[fit.response].to_numpy(float)
-    finite = np.isfinite(y)
-    for values in coded.values():
-        finite &= np.isfinite(values)
-    y = y[finite]
+    from brakeca.analysis import _residual_frame
+
+    data, points = _usable(summary, fit.codings, fit.response)
+    y = points["y"].to_numpy(float)
     if y.size != len(fit.points) or not np.array_equal(y, fit.points["y"].to_numpy(float)):
         raise ValueError(f"{fit.response}: the summary is not the one the surface was fitted to")
-    x = {name: values[finite] for name, values in coded.items()}
+    x = {c.name: points[c.name].to_numpy(float) for c in fit.codings}
     exog = np.column_stack([np.ones(y.size)] + [_term_values(t, x) for t in fit.terms])
-    fitted = exog @ fit.coef
     xtx_inv = fit.xtx_inv if fit.xtx_inv is not None else np.linalg.pinv(exog.T @ exog)
     leverage = np.einsum("ij,jk,ik->i", exog, xtx_inv, exog)
-    out = data.loc[finite, [c for c in ("test", "replicate", "order") if c in data.columns]]
-    out = out.reset_index(drop=True)
     s = fit.statistics.get("s", math.nan)
-    out["observed"] = y
-    out["fitted"] = fitted
-    out["residual"] = y - fitted
-    out["leverage"] = leverage
-    with np.errstate(divide="ignore", invalid="ignore"):
-        std = (y - fitted) / (s * np.sqrt(1.0 - leverage))
-    usable = (leverage < 1.0 - 1e-9) & np.isfinite(std) & (not _is_constant(y))
-    out["std_residual"] = np.where(usable, std, np.nan)
+    out = _residual_frame(data, y, exog @ fit.coef, leverage, s)
     terms = " + ".join(fit.terms) if fit.terms else "1"
     out.attrs.update(
         response=fit.response,
@@ -1201,8 +1199,7 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 f"the surface of {r} leaves no residual degrees of freedom (as many terms as "
                 "distinct runs): no confidence or prediction interval"
             )
-        y = fit.points["y"].to_numpy(dtype=float)
-        if y.size and np.all(y > 0.0) and predicted[r] <= 0.0:
+        if fit.loses_sign(predicted[r]):
             notes.append(
                 f"the fitted {r} is {predicted[r]:.3g} there, though every run's {r} is "
                 "positive: the quadratic does not keep the response's sign (a log scale "
