@@ -228,6 +228,28 @@ def read_summary(path: str | Path) -> pd.DataFrame:
     return frame
 
 
+def campaign_folder(out_dir: str | Path) -> Path:
+    """``out_dir`` as a path, checked to be a campaign's folder (it holds ``design.toml``).
+
+    Raises
+    ------
+    FileNotFoundError
+        No such folder, a file, or a folder without ``design.toml``; the message says which.
+    """
+    out = Path(out_dir)
+    if not out.is_dir():
+        if out.exists():
+            raise FileNotFoundError(
+                f"{out}: not a folder (a file); give the campaign folder 'brakeca run -o' wrote"
+            )
+        raise FileNotFoundError(f"{out}: no such folder")
+    if not (out / "design.toml").is_file():
+        raise FileNotFoundError(
+            f"{out}: not a campaign folder (no design.toml; 'brakeca run' writes one)"
+        )
+    return out
+
+
 def load_campaign(out_dir: str | Path) -> CampaignResult:
     """Read a finished campaign directory.
 
@@ -246,14 +268,7 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
     ValueError
         ``campaign.nc`` is not a brakeca campaign file.
     """
-    out = Path(out_dir)
-    if not out.is_dir():
-        what = "not a folder (a file)" if out.exists() else "no such folder"
-        raise FileNotFoundError(f"{out}: {what}")
-    if not (out / "design.toml").is_file():
-        raise FileNotFoundError(
-            f"{out}: not a campaign folder (no design.toml; 'brakeca run' writes one)"
-        )
+    out = campaign_folder(out_dir)
     for name in ("summary.csv", "campaign.nc"):
         if not (out / name).is_file():
             raise FileNotFoundError(

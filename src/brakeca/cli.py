@@ -121,12 +121,6 @@ def _write_or_keep(path: Path, write: Callable[[Path], Any], what: str) -> None:
         _fail(f"-o {path}: cannot write it ({exc}); the {what} was saved to {kept}", code=1)
 
 
-def _campaign_folder(folder: Path) -> None:
-    """Refuse (exit status 2) a campaign folder argument that names a file."""
-    if folder.exists() and not folder.is_dir():
-        _fail(f"{folder}: not a folder (a file); give the campaign folder 'brakeca run -o' wrote")
-
-
 def _announce_compiling(message: str) -> None:
     """Say, before the wait, that the kernels are being compiled (brakeca._warmup)."""
     console.print(message, style="dim", markup=False, highlight=False)
@@ -815,7 +809,6 @@ def analyze(
     from brakeca.campaign import finish_campaign
     from brakeca.study import write_study
 
-    _campaign_folder(folder)
     try:
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
@@ -905,7 +898,6 @@ def optimize(
     from brakeca.rsm import response_surfaces
     from brakeca.study import with_log_v
 
-    _campaign_folder(folder)
     try:
         parsed = [_parse_goal(g) for g in goals or ()]
         result = load_campaign(folder)
@@ -1100,12 +1092,30 @@ def show_design(
             highlight=False,
             emoji=False,
         )
-    if loaded.is_response_surface:  # its model is the quadratic, printed above, not the
-        # categorical one whose alias structure this is (its levels' columns correlate)
-        structure = pd.DataFrame({"term": [], "aliases": []})
-        structure.attrs.update(not_estimable=[], max_correlation=0.0, skip=True)
-    else:
-        structure = alias_structure(pd.DataFrame(combos), loaded.factors)
+    if not loaded.is_response_surface:  # a response surface's model is the quadratic,
+        # printed above, not the categorical one whose alias structure this is
+        _print_aliases(alias_structure(pd.DataFrame(combos), loaded.factors))
+    _print_factors(loaded)
+    if tests:
+        table = Table(title="tests")
+        table.add_column("test", justify="right", no_wrap=True)
+        for f in loaded.factors:
+            table.add_column(escape(f.name), justify="right")
+        with_order = bool(orders) and loaded.replicates <= _MOST_ORDERS_LISTED
+        if with_order:
+            table.add_column("order", justify="right")
+        for k, combo in enumerate(combos, start=1):
+            table.add_row(
+                str(k),
+                *(escape(loaded.factor(n).label_of(v)) for n, v in combo.items()),
+                *([", ".join(map(str, orders[k]))] if with_order else []),
+            )
+        out.print(table)
+
+
+def _print_aliases(structure: Any) -> None:
+    """The alias structure of ``brakeca design`` (:func:`brakeca.analysis.alias_structure`):
+    the alias chains, or that there are none, and the partly confounded terms."""
     chains = [
         f"{term} - {aliases[1:]}" if aliases.startswith("-") else f"{term} + {aliases}"
         for term, aliases in zip(structure["term"], structure["aliases"], strict=True)
@@ -1127,7 +1137,7 @@ def show_design(
             + (f" (correlations up to {partly:.2g})" if partly > 0.0 else ""),
             markup=False,
         )
-    elif not chains and not structure.attrs.get("skip"):
+    elif not chains:
         out.print(
             "alias structure: every main effect and two-factor interaction is clear of the "
             "others (up to three-factor interactions)",
@@ -1141,22 +1151,6 @@ def show_design(
             highlight=False,
             emoji=False,
         )
-    _print_factors(loaded)
-    if tests:
-        table = Table(title="tests")
-        table.add_column("test", justify="right", no_wrap=True)
-        for f in loaded.factors:
-            table.add_column(escape(f.name), justify="right")
-        with_order = bool(orders) and loaded.replicates <= _MOST_ORDERS_LISTED
-        if with_order:
-            table.add_column("order", justify="right")
-        for k, combo in enumerate(combos, start=1):
-            table.add_row(
-                str(k),
-                *(escape(loaded.factor(n).label_of(v)) for n, v in combo.items()),
-                *([", ".join(map(str, orders[k]))] if with_order else []),
-            )
-        out.print(table)
 
 
 #: ``brakeca design`` lists a randomized design's run order in its tests table up to this many
@@ -1265,11 +1259,7 @@ def _print_surface_model(design: Any) -> None:
         out.print(f"  {note}", markup=False, highlight=False, emoji=False)
     import numpy as np
 
-    from brakeca.rsm import _term_values, _vif
-
-    x = {c.name: c.code(runs[c.name].to_numpy(dtype=float)) for c in codings}
-    exog = np.column_stack([np.ones(len(runs))] + [_term_values(t, x) for t in terms])
-    vif = _vif(exog)[1:]
+    vif = model["vif"]
     if vif.size and np.all(np.isfinite(vif)):
         worst = int(np.argmax(vif))
         out.print(

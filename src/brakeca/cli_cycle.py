@@ -126,8 +126,9 @@ def _write_plot(figure: Figure, path: Path) -> None:
     """Write the plot as PNG at 150 dpi and say so; where ``path`` cannot be written after
     all (checked before the work), into a temporary folder, and exit with status 1."""
     from brakeca.cli import _write_or_keep
+    from brakeca.plotting import save_figure
 
-    _write_or_keep(path, lambda p: figure.savefig(p, dpi=150, format="png"), "plot")
+    _write_or_keep(path, lambda p: save_figure(figure, p), "plot")
     out.print(f"wrote {path}", markup=False, highlight=False)
 
 
@@ -325,11 +326,9 @@ def inspect(
         if v is not None
     }
     if output is not None:  # before the table: a plot that cannot be written, up front
-        from brakeca.cli import output_problem
+        from brakeca.cli import _check_output
 
-        problem = output_problem(output)
-        if problem is not None:
-            _fail(f"-o {output}: {problem}")
+        _check_output(output)
     try:
         if no_corrections:
             tc = TraceCycleConfig.no_corrections(**updates)

@@ -466,8 +466,9 @@ def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]
     -------
     dict
         ``terms`` (the model's terms after the intercept), ``df_resid`` (runs less
-        coefficients) [-], ``pure_error_df`` (runs less distinct points) [-] and ``notes``
-        (what is left out and why), as :func:`fit_response_surface` would fit them.
+        coefficients) [-], ``pure_error_df`` (runs less distinct points) [-], ``vif`` (each
+        term's variance inflation factor, 1 for a column orthogonal to the others) [-] and
+        ``notes`` (what is left out and why), as :func:`fit_response_surface` would fit them.
     """
     codings = [f if isinstance(f, Coding) else coding_of(f) for f in factors]
     points = pd.DataFrame({c.name: c.code(tests[c.name].to_numpy(float)) for c in codings})
@@ -478,6 +479,7 @@ def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]
         "terms": [t for t, _ in kept],
         "df_resid": float(exog.shape[0] - exog.shape[1]),
         "pure_error_df": df_pe,
+        "vif": _vif(exog)[1:],
         "notes": notes,
     }
 

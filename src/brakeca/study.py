@@ -703,16 +703,9 @@ def campaign_runs_to_plot(campaign_dir: str | Path, tests: Sequence[int] = ()) -
     ValueError
         A test number the campaign does not have.
     """
-    from brakeca._consolidate import read_summary
+    from brakeca._consolidate import campaign_folder, read_summary
 
-    out = Path(campaign_dir)
-    if not out.is_dir():
-        what = "not a folder (a file)" if out.exists() else "no such folder"
-        raise FileNotFoundError(f"{out}: {what}")
-    if not (out / "design.toml").is_file():
-        raise FileNotFoundError(
-            f"{out}: not a campaign folder (no design.toml; 'brakeca run' writes one)"
-        )
+    out = campaign_folder(campaign_dir)
     if not (out / "summary.csv").is_file():
         raise FileNotFoundError(
             f"{out / 'summary.csv'}: missing; the campaign has not finished: plot a run file "
