@@ -59,14 +59,6 @@ def announcing(say: Callable[[str], None]) -> Iterator[None]:
         _ANNOUNCE.reset(token)
 
 
-def _kernel_of(config: SimulationConfig) -> str:
-    """:func:`brakeca.simulation.kernel_for` without importing it (and numba with it)."""
-    choice = config.numerics.kernel
-    if choice in ("exact", "lazy"):
-        return choice
-    return "lazy" if config.lazy_kernel_problem() is None else "exact"
-
-
 def _index_pattern(kernel: str) -> str:
     """The glob pattern, relative to ``NUMBA_CACHE_DIR``, of the cache index file numba writes
     for ``kernel``'s entry point: ``<folder of the sources>_<hash>/<module>.<function>-<first
@@ -95,7 +87,7 @@ def cold_kernels(configs: Iterable[SimulationConfig]) -> list[str] | None:
     cache = os.environ.get("NUMBA_CACHE_DIR")
     if not cache:
         return None
-    needed = {_kernel_of(c) for c in configs}
+    needed = {c.resolved_kernel() for c in configs}  # without importing numba
     cold = []
     for kernel in _ENTRIES:
         if kernel not in needed:

@@ -545,6 +545,16 @@ class SimulationConfig(_Frozen):
             )
         return self
 
+    def resolved_kernel(self) -> str:
+        """The step kernel that runs this configuration, ``"exact"`` or ``"lazy"``:
+        ``numerics.kernel`` itself, or for ``"auto"`` (the default) the lazy kernel where it
+        can run the configuration (:meth:`lazy_kernel_problem`) and the exact one elsewhere
+        (docs/model.md section 13)."""
+        choice = self.numerics.kernel
+        if choice != "auto":
+            return choice
+        return "lazy" if self.lazy_kernel_problem() is None else "exact"
+
     def lazy_kernel_problem(self) -> str | None:
         """Why the lazy kernel cannot run this configuration, naming the fields; None where it
         can: fibres as columns (no rule 7), rule 6 off, and Archard wear of less than the

@@ -734,10 +734,9 @@ def _field_args(state: SimulationState) -> tuple:
 
 
 def kernel_for(config: SimulationConfig, grid: Grid | None = None) -> str:
-    """The step kernel that runs ``config``: ``"exact"`` or ``"lazy"``. ``numerics.kernel =
-    "auto"`` (the default) resolves to the lazy kernel where it supports the configuration
-    and to the exact kernel where it does not (docs/model.md section 13). ``grid``: the
-    config's grid, if at hand (else it is built).
+    """The step kernel that runs ``config``: ``"exact"`` or ``"lazy"``
+    (:meth:`brakeca.config.SimulationConfig.resolved_kernel`), checked to support it.
+    ``grid``: the config's grid, if at hand (else it is built).
 
     Raises
     ------
@@ -745,13 +744,9 @@ def kernel_for(config: SimulationConfig, grid: Grid | None = None) -> str:
         ``numerics.kernel = "lazy"`` for a configuration the lazy kernel does not support
         (a validated configuration never has it: the configuration refuses it).
     """
-    choice = config.numerics.kernel
-    if choice == "exact":
-        return "exact"
-    if _lazy.supports(config, grid):
-        return "lazy"
-    if choice == "auto":
-        return "exact"
+    kernel = config.resolved_kernel()
+    if kernel == "exact" or config.numerics.kernel == "auto" or _lazy.supports(config, grid):
+        return kernel
     raise ValueError(
         "numerics.kernel = 'lazy' supports fibres as columns with rule 6 off "
         "(pad.fibre_model = 'columns', automaton.rule6_max_gap unset) and WP K s < 1/2; "
