@@ -480,27 +480,18 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
                     plotting.plot_response_surface,
                     fit,
                 )
-            if resp in surfaces:
-                add(
-                    "Residuals",
-                    f"Residual plots of the quadratic surface of {label}; model: "
-                    f"{surface_residuals[resp].attrs['formula']}",
-                    f"residuals_{resp}.png",
-                    plotting.plot_residuals,
-                    surface_residuals[resp],
-                    resp,
-                )
-            else:
-                formula = tables[resp]["anova"].attrs.get("formula", "")
-                add(
-                    "Residuals",
-                    f"Residual plots of the ANOVA model of {label}; model: "
-                    f"{formula.replace('y ~', resp + ' ~', 1)}",
-                    f"residuals_{resp}.png",
-                    plotting.plot_residuals,
-                    tables[resp]["residuals"],
-                    resp,
-                )
+            # a response surface's residuals are its quadratic's, the others the ANOVA's
+            residuals = surface_residuals.get(resp, tables[resp]["residuals"])
+            model = "quadratic surface" if resp in surfaces else "ANOVA model"
+            formula = str(residuals.attrs.get("formula", "")).replace("y ~", resp + " ~", 1)
+            add(
+                "Residuals",
+                f"Residual plots of the {model} of {label}; model: {formula}",
+                f"residuals_{resp}.png",
+                plotting.plot_residuals,
+                residuals,
+                resp,
+            )
         add(
             "Residuals",
             "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "
@@ -555,7 +546,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
         for stale in fig_dir.glob("final_map_test*.png"):
             stale.unlink()
-    if run_maps:
+    else:
         replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
         for _, row in ok.iterrows():
             levels = ", ".join(
