@@ -43,6 +43,7 @@ __all__ = [
     "EURO7_PM10_LIMIT",
     "EURO7_PM10_LIMIT_PEV",
     "EURO7_REFERENCE",
+    "PM10_COLUMNS",
     "EmissionParameters",
     "PM10Estimate",
     "pm10_band",
@@ -58,6 +59,9 @@ EURO7_REFERENCE = (
 EURO7_PM10_LIMIT = 7.0
 #: Euro 7 brake PM10 limit for pure battery-electric M1 cars [mg/km per vehicle].
 EURO7_PM10_LIMIT_PEV = 3.0
+#: The columns a campaign on a speed trace adds to its summary: PM10 low, central and high
+#: [mg/km] (``brakeca.study``).
+PM10_COLUMNS: tuple[str, str, str] = ("PM10_low_mg_km", "PM10_mg_km", "PM10_high_mg_km")
 #: The limits by vehicle, [mg/km].
 EURO7_LIMITS: dict[str, float] = {
     "M1 car": EURO7_PM10_LIMIT,

@@ -61,6 +61,30 @@ STOP_VARIABLES: dict[str, tuple[str, str]] = {
     "min_disc_position": ("m", "lowest disc surface position z in the stop"),
 }
 
+#: The per-stop counters of a run with the fibre field: name -> (unit, description).
+FIBRE_VARIABLES: dict[str, tuple[str, str]] = {
+    "fibre_cells_exposed": (
+        "1",
+        "cells whose wear reached a buried fibre, which became primary plateaus",
+    ),
+    "fibre_cells_exposed_late": (
+        "1",
+        "of those, the cells exposed only after the stop (inside a fibre at its end)",
+    ),
+    "fibre_exposure_lag": (
+        "m",
+        "largest depth a cell exposed after the stop was below its fibre's top",
+    ),
+    "fibre_volume_cut_as_resin": (
+        "m3",
+        "fibre above the cells exposed after the stop, worn as resin or by Archard",
+    ),
+    "fibre_intervals_skipped": (
+        "1",
+        "buried fibres the pad surface passed wholly within the stop, never exposed",
+    ),
+}
+
 #: The per-run scalars of :meth:`RunResult.scalars`: columns of a campaign's summary.
 RUN_SCALARS: tuple[str, ...] = (
     "MU",
@@ -76,26 +100,24 @@ RUN_SCALARS: tuple[str, ...] = (
     "wall_time",
 )
 
-#: Names a campaign's summary and dataset use besides the run scalars and per-stop variables:
-#: the log scale of V, the per-stop rule counts, the fibre field's counters, PM10 columns.
-OTHER_RESULT_NAMES: tuple[str, ...] = (
-    "log10_V_mm3",
-    "rule_firings",
-    "fibre_cells_exposed",
-    "fibre_cells_exposed_late",
-    "fibre_exposure_lag",
-    "fibre_volume_cut_as_resin",
-    "fibre_intervals_skipped",
-    "PM10_low_mg_km",
-    "PM10_mg_km",
-    "PM10_high_mg_km",
-)
+#: Names a campaign's summary and dataset use besides the run scalars and the per-stop
+#: variables: the log scale of V and the per-stop rule counts.
+OTHER_RESULT_NAMES: tuple[str, ...] = ("log10_V_mm3", "rule_firings")
 
 
 def result_names() -> frozenset[str]:
     """Every name a run's results take in a campaign's summary or dataset (a factor may not
-    take one: its column would be overwritten)."""
-    return frozenset(STOP_VARIABLES) | frozenset(RUN_SCALARS) | frozenset(OTHER_RESULT_NAMES)
+    take one: its column would be overwritten), the PM10 columns of a trace cycle's
+    report included."""
+    from brakeca.emissions import PM10_COLUMNS
+
+    return (
+        frozenset(STOP_VARIABLES)
+        | frozenset(FIBRE_VARIABLES)
+        | frozenset(RUN_SCALARS)
+        | frozenset(OTHER_RESULT_NAMES)
+        | frozenset(PM10_COLUMNS)
+    )
 
 
 @dataclass(frozen=True)
@@ -314,35 +336,17 @@ def build_dataset(
     )
     if fibre_exposure is not None:
         late = np.asarray([e.exposed for e in fibre_exposure], dtype=np.int64)
-        fields = {
-            "fibre_cells_exposed": (
-                all_counts[:, 0] + late,
-                "1",
-                "cells whose wear reached a buried fibre, which became primary plateaus",
-            ),
-            "fibre_cells_exposed_late": (
-                late,
-                "1",
-                "of those, the cells exposed only after the stop (inside a fibre at its end)",
-            ),
-            "fibre_exposure_lag": (
-                np.asarray([e.max_lag for e in fibre_exposure]),
-                "m",
-                "largest depth a cell exposed after the stop was below its fibre's top",
-            ),
-            "fibre_volume_cut_as_resin": (
-                np.asarray([e.lag_volume for e in fibre_exposure]),
-                "m3",
-                "fibre above the cells exposed after the stop, worn as resin or by Archard",
-            ),
-            "fibre_intervals_skipped": (
-                np.asarray([e.skipped for e in fibre_exposure], dtype=np.int64),
-                "1",
-                "buried fibres the pad surface passed wholly within the stop, never exposed",
+        values = {
+            "fibre_cells_exposed": all_counts[:, 0] + late,
+            "fibre_cells_exposed_late": late,
+            "fibre_exposure_lag": np.asarray([e.max_lag for e in fibre_exposure]),
+            "fibre_volume_cut_as_resin": np.asarray([e.lag_volume for e in fibre_exposure]),
+            "fibre_intervals_skipped": np.asarray(
+                [e.skipped for e in fibre_exposure], dtype=np.int64
             ),
         }
-        for name, (values, unit, desc) in fields.items():
-            data_vars[name] = ("stop", values, {"units": unit, "long_name": desc})
+        for name, (unit, desc) in FIBRE_VARIABLES.items():
+            data_vars[name] = ("stop", values[name], {"units": unit, "long_name": desc})
     # thinned per-step series
     every = config.output.series_every
     all_dt = np.concatenate(dts)

@@ -319,11 +319,12 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
         EURO7_PM10_LIMIT,
         EURO7_PM10_LIMIT_PEV,
         EURO7_REFERENCE,
+        PM10_COLUMNS,
         pm10_from_run,
     )
     from brakeca.traces import configured_cycle
 
-    rows: dict[str, list[float]] = {"PM10_low_mg_km": [], "PM10_mg_km": [], "PM10_high_mg_km": []}
+    rows: dict[str, list[float]] = {name: [] for name in PM10_COLUMNS}
     any_trace = False
     for _, row in summary.iterrows():
         values = [float("nan")] * 3
