@@ -973,7 +973,8 @@ def write_report(
         ``(goals, optimum)``: the design's goals (:class:`brakeca.rsm.Goal`) and
         :func:`brakeca.rsm.optimize`'s result, shown at the end of that section.
     optimum_note
-        Why there is no optimum though the design has goals, shown there instead.
+        Shown at the end of that section: why there is no optimum though the design has
+        goals, or a caveat beside it (the goals' V limits set for another band or cycle).
     box_cox
         ``{response: BoxCox}`` from :mod:`brakeca.boxcox`, shown at the end of the ANOVA
         section as "Scale of the responses (Box–Cox)" when given and not empty.
