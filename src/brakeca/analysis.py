@@ -1313,9 +1313,6 @@ EFFECTS_COLUMNS: tuple[str, ...] = (
     "aliases",
 )
 
-#: Highest interaction order :func:`two_level_effects` estimates [-].
-_MAX_EFFECT_ORDER = 4
-
 #: An interaction whose contrast column correlates this much or more with a column kept
 #: before it is left out of :func:`two_level_effects` (partial confounding: 1/3 in a
 #: 12-run Plackett-Burman design; a failed run of a 16-run fraction gives 1/15) [-].
@@ -1325,38 +1322,54 @@ _MAX_EFFECT_CORRELATION = 0.2
 _MIN_LENTH_EFFECTS = 3
 
 
-def _effect_terms(frame: pd.DataFrame, candidates: Sequence[str]) -> tuple[list[str], list[str]]:
-    """The terms :func:`two_level_effects` fits, and the interactions it leaves out as partly
-    confounded.
+def _effect_terms(
+    frame: pd.DataFrame, candidates: Sequence[str]
+) -> tuple[list[str], list[str], bool]:
+    """The terms :func:`two_level_effects` fits, the interactions it leaves out as partly
+    confounded, and whether the design is non-regular.
 
-    Main effects are kept when estimable (:func:`_estimable_terms`); an interaction when
-    estimable and its contrast column's correlation with every column kept so far is below
-    :data:`_MAX_EFFECT_CORRELATION`. A full factorial or a regular fraction keeps one term per
-    alias chain, all orthogonal; a Plackett-Burman design keeps its main effects only, since
-    filling its spare degrees of freedom with the first interactions found would bias them.
+    Main effects are kept when estimable (:func:`_estimable_terms`). A design in which an
+    interaction's contrast column correlates with a main effect's by
+    :data:`_MAX_EFFECT_CORRELATION` or more, without being aliased with the terms kept
+    (partial confounding, as in every Plackett-Burman design), is non-regular: its main
+    effects alone are fitted, as Minitab fits a Plackett-Burman design, since filling its
+    spare degrees of freedom with the first interactions found would bias them. Otherwise an
+    interaction is kept when estimable and its column's correlation with every column kept so
+    far is below :data:`_MAX_EFFECT_CORRELATION`: a full factorial or a regular fraction keeps
+    one term per alias chain, all orthogonal.
     """
     mains = [t for t in candidates if ":" not in t]
     kept, _ = _estimable_terms(frame, mains)
     columns = [_term_columns(frame, t)[:, 0] for t in kept]
     rank = _rank(*(c[:, None] for c in columns)) if columns else 1
+
+    def correlation(column: np.ndarray, others: Sequence[np.ndarray]) -> float:
+        return max(
+            (abs(float(np.corrcoef(column, c)[0, 1])) for c in others if np.ptp(c) > 0),
+            default=0.0,
+        )
+
+    interactions = [t for t in candidates if ":" in t]
+    main_columns = list(columns)
+    for term in interactions:
+        column = _term_columns(frame, term)[:, 0]
+        if _rank(*(c[:, None] for c in main_columns), column[:, None]) == rank:
+            continue  # aliased with a main effect (or a combination of them)
+        if correlation(column, main_columns) >= _MAX_EFFECT_CORRELATION:
+            return kept, interactions, True
     partial: list[str] = []
-    for term in candidates:
-        if ":" not in term:
-            continue
+    for term in interactions:
         column = _term_columns(frame, term)[:, 0]
         new_rank = _rank(*(c[:, None] for c in columns), column[:, None])
         if new_rank == rank:
             continue  # aliased with the terms kept: its chain is named by one of them
-        correlation = max(
-            abs(float(np.corrcoef(column, c)[0, 1])) if np.ptp(c) > 0 else 0.0 for c in columns
-        )
-        if correlation >= _MAX_EFFECT_CORRELATION:
+        if correlation(column, columns) >= _MAX_EFFECT_CORRELATION:
             partial.append(term)
             continue
         kept.append(term)
         columns.append(column)
         rank = new_rank
-    return kept, partial
+    return kept, partial, False
 
 
 def _lenth_pse(contrasts: np.ndarray) -> float:
@@ -1369,32 +1382,45 @@ def _lenth_pse(contrasts: np.ndarray) -> float:
 
 
 def two_level_effects(
-    summary: pd.DataFrame, factors: Iterable[Any], response: str, *, alpha: float = 0.05
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    alpha: float = 0.05,
+    main_effects_only: bool = False,
 ) -> pd.DataFrame:
     """Effects of a design whose factors all have two levels, with their significance, as
     Minitab's "Coded Coefficients" table and Pareto chart of standardized effects show them.
 
     The factors are coded -1 (first level) and +1 (second level); the main effects and the
-    interactions of up to four factors the data can estimate are fitted by least squares, and
-    each effect is twice its coefficient: the mean response at +1 minus the mean at -1, for an
-    orthogonal design. The terms are taken in order of their number of factors; an interaction
-    is left out when it is aliased with the terms before it (its chain is then named by its
-    lowest-order member) or correlated with one of them by :data:`_MAX_EFFECT_CORRELATION` or
-    more (partial confounding, as in a Plackett-Burman design, whose spare degrees of freedom
-    would otherwise take the first interactions found and bias the main effects). A full
-    factorial or a regular fraction, unreplicated, is then saturated: as many effects as
-    distinct runs less one, all orthogonal.
+    interactions the data can estimate are fitted by least squares, and each effect is twice
+    its coefficient: the mean response at +1 minus the mean at -1, for an orthogonal design.
+    The terms are taken in order of their number of factors; an interaction is left out when
+    it is aliased with the terms before it (its chain is then named by its lowest-order
+    member) or correlated with one of them by :data:`_MAX_EFFECT_CORRELATION` or more. A
+    non-regular design, whose interactions are partly confounded with the main effects (every
+    Plackett-Burman design), is fitted with its main effects alone, as Minitab fits it: its
+    spare degrees of freedom would otherwise take the first interactions found and bias the
+    main effects. A full factorial or a regular fraction, unreplicated, is saturated: as many
+    effects as distinct runs less one, all orthogonal (interactions of more factors are
+    searched only while there are at most 1000 candidate terms).
 
-    The standard error of an effect comes from pure error when the design has replicates
-    (runs that repeat a factor-level combination: ``t`` with the pure error's degrees of
-    freedom), and otherwise from Lenth's pseudo standard error (PSE) of the effects, the
-    method Minitab uses for unreplicated two-level designs: with ``m`` effects,
-    ``s0 = 1.5 median|effect|``, ``PSE = 1.5 median{|effect| : |effect| < 2.5 s0}``, ``t =
-    effect / PSE`` with ``m / 3`` degrees of freedom. It assumes that few effects are active
-    (effect sparsity), which is what screening designs rely on. Where the columns are not
-    orthogonal (a run table, a failed run) the effects' variances differ: each effect is
-    scaled by the square root of its variance relative to an orthogonal design's before the
-    PSE is taken, and its standard error is the PSE times that root.
+    As in Minitab's coded coefficients, the standard error of an effect comes from the
+    residual mean square of the fitted effects whenever it has degrees of freedom: the pure
+    error of replicates (runs that repeat a factor-level combination), together with the
+    degrees of freedom the fitted terms leave (a Plackett-Burman design's spare columns, the
+    interactions left out); ``t`` then has the residual's degrees of freedom, and the p-values
+    equal the ANOVA's of the same terms. A saturated model has no residual: its effects are
+    judged against Lenth's pseudo standard error (PSE) of the effects, the method Minitab's
+    Pareto chart and normal plot use for it: with ``m`` effects, ``s0 = 1.5 median|effect|``,
+    ``PSE = 1.5 median{|effect| : |effect| < 2.5 s0}``, ``t = effect / PSE`` with ``m / 3``
+    degrees of freedom (Lenth's approximation, conservative for few effects: JMP simulates
+    the reference distribution instead, and calls more effects active in an 8-run fraction).
+    It assumes that few effects are active (effect sparsity), which is what screening designs
+    rely on. Where the columns are not orthogonal (a run table, a failed run) the effects'
+    variances differ: each effect is scaled by the square root of its variance relative to an
+    orthogonal design's before the PSE is taken, and its standard error is the PSE times that
+    root.
 
     Parameters
     ----------
@@ -1407,6 +1433,9 @@ def two_level_effects(
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     alpha
         Significance level of ``significant`` and the margins of error [-].
+    main_effects_only
+        Fit the main effects alone, whatever the data could estimate besides (a
+        Plackett-Burman design's analysis, which :func:`analyze` asks for from the design).
 
     Returns
     -------
@@ -1419,12 +1448,14 @@ def two_level_effects(
         Empty (with ``attrs["note"]`` saying why) when a factor that varies has other than two
         levels, the response is constant, or too few effects can be estimated (none with
         replicates; fewer than three for Lenth's method). ``attrs`` carries ``method``
-        (``"Lenth"`` or ``"pure error"``), ``df``, ``pse`` (Lenth's PSE, NaN with pure error)
+        (``"Lenth"``; ``"pure error"`` when the residual is the replicates' pure error alone;
+        ``"residual"`` otherwise), ``df``, ``pse`` (Lenth's PSE, NaN without Lenth)
         [response unit], ``margin_of_error`` (the effect a term of an orthogonal design must
         exceed to be significant at ``alpha``) and ``simultaneous_margin`` (the same for all
         ``m`` effects at once, Lenth's SME) [response unit], ``alpha``, ``n`` and ``note``
-        (what the reader must know: a design that is not orthogonal, interactions left out as
-        partly confounded, a PSE of zero; empty otherwise).
+        (what the reader must know: a design that is not orthogonal, a non-regular design
+        fitted with its main effects alone, interactions left out as partly confounded, an
+        error that is not pure error alone, a PSE of zero; empty otherwise).
 
     References
     ----------
@@ -1456,15 +1487,24 @@ def two_level_effects(
         return none("the response is constant: no effects")
     cells = list(names)
     n_points = int(frame.groupby(cells, sort=False).ngroups)
-    terms, partial = _effect_terms(frame, _candidate_terms(cells, _MAX_EFFECT_ORDER))
+    partial: list[str] = []
+    nonregular = False
+    if main_effects_only:
+        terms = _estimable_terms(frame, _candidate_terms(cells, 1))[0]
+    else:
+        terms, partial, nonregular = _effect_terms(frame, _candidate_terms(cells, len(cells)))
     df_pe = float(y.size - n_points)
-    method = "pure error" if df_pe >= 1 else "Lenth"
-    if len(terms) < (1 if method == "pure error" else _MIN_LENTH_EFFECTS):
+    df_resid = float(y.size - 1 - len(terms))  # the terms kept are estimable in turn
+    if df_resid >= 1:
+        method = "pure error" if df_resid == df_pe else "residual"
+    else:
+        method = "Lenth"
+    if len(terms) < (1 if method != "Lenth" else _MIN_LENTH_EFFECTS):
         return none(
             f"{len(terms)} effect(s) can be estimated from {n_points} distinct runs; "
             + (
                 "none to test"
-                if method == "pure error"
+                if method != "Lenth"
                 else f"Lenth's method needs {_MIN_LENTH_EFFECTS} or more"
             )
         )
@@ -1475,11 +1515,10 @@ def two_level_effects(
     # each effect's variance relative to an orthogonal design's, sigma^2 * 4 / N (1 for a
     # full factorial or a regular fraction; larger where the columns are correlated)
     relative = y.size * np.diag(np.linalg.pinv(exog.T @ exog))[1:]
-    if method == "pure error":
-        means = frame.groupby(cells, sort=False)["y"].transform("mean").to_numpy(dtype=float)
-        mse = float(np.sum((y - means) ** 2)) / df_pe
+    if method != "Lenth":  # the fitted effects' residual mean square, as Minitab's
+        mse = float(np.sum((y - exog @ coef) ** 2)) / df_resid
         se = 2.0 * np.sqrt(mse * relative / y.size)
-        df, pse = df_pe, math.nan
+        df, pse = df_resid, math.nan
         margin = float(stats.t.ppf(1 - alpha / 2, df)) * 2.0 * math.sqrt(mse / y.size)
         simultaneous = math.nan
     else:  # Lenth's PSE of the effects, each scaled to an orthogonal design's variance
@@ -1517,11 +1556,24 @@ def two_level_effects(
             f"standard error is up to {math.sqrt(float(np.max(relative))):.3g} times an "
             "orthogonal design's"
         )
-    if partial:
+    if main_effects_only:
+        notes.append("the main effects alone are fitted, as for a Plackett-Burman design")
+    elif nonregular:
+        notes.append(
+            "the design is non-regular (as a Plackett-Burman design is): its interactions are "
+            "partly confounded with the main effects, so the main effects alone are fitted"
+        )
+    elif partial:
         notes.append(
             "interactions partly confounded with the effects before them (a correlation of "
-            f"{_MAX_EFFECT_CORRELATION:g} or more, as in a Plackett-Burman design) are left out: "
+            f"{_MAX_EFFECT_CORRELATION:g} or more) are left out: "
             + ", ".join(_display_term(t, names) for t in partial)
+        )
+    if method == "residual":
+        notes.append(
+            f"the error is the residual of the fitted effects ({df_resid:g} degrees of freedom"
+            + (f", {df_pe:g} of them pure error" if df_pe else "")
+            + "), as in the ANOVA"
         )
     out.attrs.update(
         method=method,
@@ -1543,6 +1595,8 @@ def analyze(
     summary: pd.DataFrame,
     factors: Iterable[Any],
     responses: Sequence[str] = ("MU", "V"),
+    *,
+    main_effects_only: bool = False,
 ) -> dict[str, dict[str, Any]]:
     """Run the whole analysis for several responses.
 
@@ -1555,6 +1609,10 @@ def analyze(
     responses
         Response columns, by default ``("MU", "V")`` (mean COF [-], emitted volume per stop
         [m^3]).
+    main_effects_only
+        The ANOVA and the effects table fit the main effects alone, as Minitab analyses a
+        Plackett-Burman design (its interactions are partly confounded with the main
+        effects); the interaction plots' cell means are still given.
 
     Returns
     -------
@@ -1573,7 +1631,7 @@ def analyze(
         responses = (responses,)
     result: dict[str, dict[str, Any]] = {}
     for response in responses:
-        table = anova(summary, factors, response)
+        table = anova(summary, factors, response, interactions=not main_effects_only)
         result[response] = {
             "main_effects": main_effects(summary, factors, response),
             "interactions": interaction_tables(summary, factors, response),
@@ -1581,7 +1639,9 @@ def analyze(
             "anova": table,
             "ranked_effects": _rank_terms(table, summary, factors, response),
             "residuals": residuals(summary, factors, response),
-            "effects": two_level_effects(summary, factors, response),
+            "effects": two_level_effects(
+                summary, factors, response, main_effects_only=main_effects_only
+            ),
         }
     return result
 

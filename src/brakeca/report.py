@@ -495,10 +495,15 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
             f"{' ' + unit if unit else ''}, {_fmt(attrs.get('df'), '.3g')} degrees of freedom), "
             "which assumes that few effects are active"
         )
-    else:
+    elif attrs.get("method") == "pure error":
         how = (
             f"standard errors from the pure error of the replicates "
             f"({_fmt(attrs.get('df'), '.0f')} degrees of freedom)"
+        )
+    else:
+        how = (
+            f"standard errors from the residual mean square of the fitted effects "
+            f"({_fmt(attrs.get('df'), '.0f')} degrees of freedom), as the ANOVA's"
         )
     caption = (
         f"Effects of {response} (every factor has two levels): twice the coefficient of each "

@@ -374,7 +374,9 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     factors = list(result.design.factors)
     ok = analysis.ok_runs(summary)
     data = with_log_v(summary)
-    tables = analysis.analyze(data, factors, RESPONSES)
+    tables = analysis.analyze(
+        data, factors, RESPONSES, main_effects_only=result.design.plackett_burman is not None
+    )
     analysis.save_tables(tables, tables_dir)
     surfaces: dict[str, Any] = {}
     surface_residuals: dict[str, pd.DataFrame] = {}

@@ -86,7 +86,7 @@ def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:
     assert "Run table: 3 tests." in (out / "report.html").read_text(encoding="utf-8")
 
 
-def test_a_plackett_burman_design_runs_and_leaves_out_partly_confounded_interactions(
+def test_a_plackett_burman_design_runs_and_fits_its_main_effects_alone(
     tmp_path,
 ) -> None:
     design = tmp_path / "pb.toml"
@@ -103,5 +103,7 @@ def test_a_plackett_burman_design_runs_and_leaves_out_partly_confounded_interact
     terms = set(effects["term"])
     assert {"A", "S", "WR"} <= terms  # the two-factor interactions, partly confounded: out
     assert not {"S:A", "S:WR", "A:WR"} & terms
+    anova_terms = set(pd.read_csv(out / "tables" / "anova_MU.csv")["term"])
+    assert not any(":" in str(t) for t in anova_terms)  # main effects alone, as Minitab
     html = (out / "report.html").read_text(encoding="utf-8")
     assert "Plackett-Burman design, 12 tests, 3 factors" in html

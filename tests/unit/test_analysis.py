@@ -763,6 +763,68 @@ def test_plackett_burman_run_table_keeps_its_main_effects_unbiased() -> None:
     assert effects.set_index("term").loc["D", "effect"] == pytest.approx(plain, abs=1e-12)
 
 
+def _pb_frame(runs: int, k: int, seed: int = 3) -> tuple[pd.DataFrame, list[Factor]]:
+    from brakeca.design import _plackett_burman_signs
+
+    names = [f"F{i}" for i in range(k)]
+    coded = np.array(_plackett_burman_signs(runs, k), dtype=float)
+    frame = pd.DataFrame((coded + 1) / 2, columns=names)
+    frame["y"] = np.random.default_rng(seed).normal(0.0, 0.1, runs)
+    return frame, [Factor(n, (0.0, 1.0)) for n in names]
+
+
+@pytest.mark.parametrize("runs", [12, 20, 24])
+def test_plackett_burman_designs_fit_their_main_effects_alone(runs) -> None:
+    """A statistics review found interactions in the effects table of every 24-run design (a
+    four-factor term among 11 factors, correlated with the main effects it then biased) and
+    in the 12- and 20-run designs of three factors. Every projection of a Plackett-Burman
+    design is now fitted with its main effects alone, unless it is a full factorial with
+    every point run equally often (a 24-run design over three factors), whose interactions
+    are orthogonal; and always when the design asks for it."""
+    for k in range(2, min(runs - 1, 11) + 1):
+        frame, factors = _pb_frame(runs, k)
+        asked = two_level_effects(frame, factors, "y", main_effects_only=True)
+        assert sorted(asked["term"]) == sorted(f.name for f in factors), (runs, k)
+        assert "main effects alone" in asked.attrs["note"]
+        found = two_level_effects(frame, factors, "y")
+        counts = frame.groupby([f.name for f in factors]).size()
+        if len(counts) == 2**k and counts.nunique() == 1:  # a replicated full factorial
+            assert "non-regular" not in found.attrs["note"], (runs, k)
+            assert found.attrs["method"] == "pure error", (runs, k)
+        else:  # non-regular
+            assert sorted(found["term"]) == sorted(f.name for f in factors), (runs, k)
+            if k < runs - 1:  # a saturated design has no room for an interaction
+                assert "non-regular" in found.attrs["note"], (runs, k)
+            assert "not orthogonal" not in found.attrs["note"], (runs, k)
+
+
+def test_effects_with_spare_degrees_of_freedom_use_the_residual_as_the_anova_does() -> None:
+    """A 12-run design over seven factors leaves 4 residual degrees of freedom: the effects'
+    t and p come from that residual, as Minitab's coded coefficients do and as the ANOVA of
+    the same main effects does (t^2 = F); the review had found Lenth's method there, with p
+    = 0.49 in the effects table against 0.029 in the ANOVA."""
+    from scipy import stats
+
+    frame, factors = _pb_frame(12, 7)
+    coded = 2 * frame[[f.name for f in factors]].to_numpy() - 1
+    frame["y"] += 0.15 * coded[:, 0] - 0.08 * coded[:, 4]
+    effects = two_level_effects(frame, factors, "y")
+    assert effects.attrs["method"] == "residual" and effects.attrs["df"] == 4
+    assert np.isnan(effects.attrs["pse"]) and "4 degrees of freedom" in effects.attrs["note"]
+    table = anova(frame, factors, "y", interactions=False).set_index("term")
+    by_term = effects.set_index("term")
+    for f in factors:
+        assert by_term.loc[f.name, "t"] ** 2 == pytest.approx(table.loc[f.name, "F"], rel=1e-9)
+        assert by_term.loc[f.name, "p_value"] == pytest.approx(table.loc[f.name, "p_value"])
+    x = np.column_stack([np.ones(12), coded])
+    _, rss, *_ = np.linalg.lstsq(x, frame["y"].to_numpy(), rcond=None)
+    se = 2 * math.sqrt(float(rss[0]) / 4 / 12)  # orthogonal columns: var(coef) = s^2 / N
+    assert np.allclose(by_term["se"], se)
+    assert effects.attrs["margin_of_error"] == pytest.approx(stats.t.ppf(0.975, 4) * se)
+    tables = analyze(frame, factors, ["y"], main_effects_only=True)["y"]
+    assert not any(":" in str(t) for t in tables["anova"]["term"])
+
+
 def test_a_failed_run_makes_the_effects_adjusted_with_their_own_standard_errors() -> None:
     rows = _two_level("ABC", {}, {"A": 1.0, "C": 0.5}, noise=0.05).iloc[:-1]  # 7 of the 2^3
     effects = two_level_effects(rows, _levels01("ABC"), "y")
