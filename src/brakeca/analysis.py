@@ -690,7 +690,10 @@ def anova(
             notes.extend(messages)
         if not math.isclose(float(out["sum_sq"].sum()), total_ss, rel_tol=1e-8, abs_tol=0.0):
             notes.append(
-                "unbalanced design: the Type II sums of squares do not add up to the total"
+                "unbalanced design: the Type II sums of squares do not add up to the total, "
+                "and differ from the adjusted (Type III) sums of squares Minitab and JMP show "
+                "(Type II adjusts each term for the others but not for the interactions that "
+                "contain it)"
             )
     note = "; ".join(notes)
     out["note"] = note

@@ -15,9 +15,16 @@ log-likelihood is
     L(λ) = -(n / 2) ln(SSE(λ) / n),
 
 and the values of ``λ`` with ``L(λ) >= L(λ̂) - χ²(1, 0.95) / 2`` form its 95 % confidence
-interval (the likelihood-ratio interval, as R's ``MASS::boxcox`` and Minitab's Box-Cox plot
-draw it). As Minitab does, ``λ`` is searched in [-2, 2] and a rounded value (the nearest
-multiple of 0.5) is reported beside the optimum.
+interval (the likelihood-ratio interval, as R's ``MASS::boxcox`` draws it; Minitab's help
+does not give the formula of its plot's interval). The likelihood counts all ``n`` runs, not
+the residual degrees of freedom, so where the model leaves few of them the interval is narrow:
+Montgomery's approximate interval (section 15.1.1: the ``λ`` whose ``SSE(λ)`` lies below
+``SSE(λ̂) (1 + t²(α/2, ν) / ν)``, ``ν`` the residual degrees of freedom) is wider, e.g. for V
+of the paper's full-resolution study (9 residual degrees of freedom of 24 runs) -0.14 to 0.21
+against -0.08 to 0.11 here, and for MU up to -0.50 against -0.87, which changes none of this
+module's readings there. As Minitab
+does, ``λ`` is searched in [-2, 2] and a rounded value (the nearest multiple of 0.5) is
+reported beside the optimum.
 
 This module only reads the data: it says whether the untransformed response (``λ = 1``) or
 its log (``λ = 0``) is supported, so a reader can tell whether the study's ``log10_V_mm3``

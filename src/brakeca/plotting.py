@@ -534,7 +534,7 @@ def plot_pareto(
     ax.set_xticks(x, terms, rotation=45, ha="right")
     ax.set_xlabel("Model term")
     ax.set_ylabel("Contribution to total sum of squares [%]")
-    ax.set_title(f"Pareto chart of effects on {response} (dark: p < 0.05)")
+    ax.set_title(f"Contribution of the ANOVA terms to {response} (dark: p < 0.05)")
     ax.grid(True, axis="y", alpha=0.3, zorder=0)
     twin = ax.twinx()
     twin.plot(x, np.nancumsum(pct), "o-", color="#f28e2b", ms=4, lw=1.2)

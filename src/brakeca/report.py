@@ -684,7 +684,8 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
         "to 1 at the target); the setting maximizes their importance-weighted geometric "
         f"mean, the composite desirability, here {optimum.composite:.3f}, over the region "
         "the runs span. CI: where the fitted mean lies; PI: where one more run (another "
-        "seed) would fall."
+        "seed) would fall if the model held (both from the model's residual, which holds "
+        "its lack of fit as well as the seed-to-seed scatter)."
     )
     if optimum.note:
         info += f" Note: {optimum.note}."
@@ -758,6 +759,12 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
             f"({float(attrs['lack_of_fit_df']):.0f} df: the terms left out of the model); lack "
             f"of fit F = {float(attrs['lack_of_fit_F']):.3g}, p {p_text}."
         )
+        if float(p_lof) < 0.05:
+            text += (
+                " The lack of fit is significant: the model departs from the runs by more "
+                "than their scatter at repeated levels, so S, the intervals and any optimum "
+                "or stationary point of the model carry that misfit; read them as approximate."
+            )
     return text
 
 

@@ -1201,6 +1201,13 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 f"the surface of {r} leaves no residual degrees of freedom (as many terms as "
                 "distinct runs): no confidence or prediction interval"
             )
+        p_lof = float(fit.statistics.get("lack_of_fit_p", math.nan))
+        if p_lof < 0.05:  # NaN (no repeated points) compares False
+            notes.append(
+                f"the surface of {r} lacks fit (lack-of-fit p = {p_lof:.2g}): the runs depart "
+                "from the quadratic by more than the seed-to-seed scatter, so its fitted value "
+                "here is approximate and its intervals are mostly that misfit"
+            )
         if fit.loses_sign(predicted[r]):
             notes.append(
                 f"the fitted {r} is {predicted[r]:.3g} there, though every run's {r} is "

@@ -196,8 +196,11 @@ def test_model_summary_text_with_lack_of_fit() -> None:
     text = _model_summary_text({**attrs, "lack_of_fit_p": 3e-15}, "m³")
     assert "S = 5e-10 m³, R² = 99.00 %, R²(adj) = 98.00 %, R²(pred) = undefined" in text
     assert "pure error (48 df" in text and "lack of fit (9 df" in text
-    assert text.endswith("lack of fit F = 25.1, p < 0.001.")
-    assert _model_summary_text({**attrs, "lack_of_fit_p": 0.011}, None).endswith("p = 0.011.")
+    assert "lack of fit F = 25.1, p < 0.001. The lack of fit is significant" in text
+    assert text.endswith("read them as approximate.")  # a statistics review asked for it
+    text = _model_summary_text({**attrs, "lack_of_fit_p": 0.011}, None)
+    assert "p = 0.011. The lack of fit is significant" in text
+    assert _model_summary_text({**attrs, "lack_of_fit_p": 0.2}, None).endswith("p = 0.200.")
     assert "lack of fit" not in _model_summary_text({**attrs, "lack_of_fit_p": math.nan}, None)
     assert _model_summary_text({}, None) == ""
 

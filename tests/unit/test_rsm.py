@@ -445,3 +445,22 @@ def test_optimize_says_what_its_numbers_cannot_be_trusted_for() -> None:
     best = optimize({"v": fit}, [Goal("v", "minimize", 0.0, 1.0)])
     assert best.predicted["v"] < 0.0
     assert "though every run's v is positive" in best.note
+
+
+def test_a_surface_that_lacks_fit_is_called_approximate() -> None:
+    """A statistics review: a quadratic whose lack of fit is significant had its optimum and
+    intervals presented as if it held, the intervals described as another seed's scatter. A
+    cubic in p over five levels, with repeated centre runs that scatter little, lacks fit."""
+    levels = (-1.0, -0.5, 0.0, 0.5, 1.0)
+    points = [(p, q) for p in levels for q in (-1.0, 0.0, 1.0)] + [(0.0, 0.0)] * 3
+    frame = pd.DataFrame(points, columns=["p", "q"])
+    noise = np.random.default_rng(4).normal(0.0, 0.001, len(frame))
+    frame["y"] = 2.0 + frame["p"] ** 3 - frame["p"] + 0.2 * frame["q"] + noise
+    fit = fit_response_surface(frame, _PQ, "y")
+    assert fit.statistics["lack_of_fit_p"] < 0.001
+    best = optimize({"y": fit}, [Goal("y", "maximize", 1.0, 3.0)])
+    assert "the surface of y lacks fit (lack-of-fit p = " in best.note
+    # the same response without the cubic: no lack of fit, no note
+    frame["y"] = 2.0 - frame["p"] + 0.2 * frame["q"] + noise
+    best = optimize({"y": fit_response_surface(frame, _PQ, "y")}, [Goal("y", "maximize", 1.0, 3.0)])
+    assert "lacks fit" not in best.note
