@@ -27,10 +27,6 @@ from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-from brakeca._cachedir import configure as _configure_numba_cache
-
-_configure_numba_cache()
-
 #: Public name -> the submodule that defines it (imported when the name is first used).
 _EXPORTS = {
     "ConfigError": "brakeca.config",

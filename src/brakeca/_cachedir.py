@@ -3,27 +3,32 @@
 numba decides whether a cached kernel is still valid from the kernel's own source file only,
 not from the files of the helpers compiled into it (numba issue/PR 8396, not merged). After an
 update that changes only a helper, a shared cache would serve a kernel with the old helper
-inside, and results would silently be those of the old code. So, unless ``NUMBA_CACHE_DIR`` is
-already set (``scripts/paper`` and ``scripts/test`` set their own, keyed the same way), brakeca
-points numba's cache at ``$XDG_CACHE_HOME/brakeca/numba/<key>`` (``~/.cache`` when
+inside, and results would silently be those of the old code. So brakeca caches its own
+compiled functions in ``$XDG_CACHE_HOME/brakeca/numba/<key>`` (``~/.cache`` when
 ``XDG_CACHE_HOME`` is unset), where ``<key>`` is a hash of every ``.py`` file of the package.
-The variable is exported, so worker and warm-up processes use the same folder. If that folder
-cannot be created, numba's default (``__pycache__`` beside the sources) is left in place.
-Each import touches its version's folder; the folders of other versions are removed once
-unused: an empty one after a day, any other after 30 days (:func:`prune`; a version used
-again later just compiles once more). numba has one cache folder per process, so other cached
-numba functions of a process that imports brakeca are cached there too; set
-``NUMBA_CACHE_DIR`` to choose another.
+
+It does so with a cache locator of its own (:func:`install`, called by every module that
+compiles), which numba asks first and which answers only for functions defined in brakeca's
+own files: ``import brakeca`` sets no environment variable and changes no numba setting, and
+the numba functions of other packages and of the user's code are cached where numba puts them.
+Worker and warm-up processes compute the same folder from the same sources. If
+``NUMBA_CACHE_DIR`` is set (``scripts/paper`` and ``scripts/test`` set their own, keyed the
+same way), numba's own locator puts everything there instead. If the folder cannot be created,
+numba's default (``__pycache__`` beside the sources) is left in place; if numba's caching
+internals are not the ones this module knows, it falls back to setting ``NUMBA_CACHE_DIR``
+for the process. The first compiling module of a process touches its version's folder; the
+folders of other versions are removed once unused: an empty one after a day, any other after
+30 days (:func:`prune`; a version used again later just compiles once more).
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
-import sys
 from pathlib import Path
+from typing import Any
 
-__all__ = ["configure", "prune", "source_key"]
+__all__ = ["cache_folder", "install", "kernel_cache_dir", "prune", "source_key"]
 
 _PACKAGE = Path(__file__).resolve().parent
 
@@ -45,27 +50,91 @@ def source_key(package: Path = _PACKAGE) -> str:
     return digest.hexdigest()[:16]
 
 
-def configure() -> str | None:
-    """Set ``NUMBA_CACHE_DIR`` (and numba's config, if numba is loaded) to this version's
-    folder unless it is set already; returns the folder in use, or None for numba's default."""
+_FOLDER: list[Path | None] = []  # this process's folder, once computed
+_INSTALLED: list[bool] = []
+
+
+def cache_folder() -> Path | None:
+    """This version's cache folder, created and touched (and the other versions' pruned) on
+    the first call of the process; None when it cannot be created or written."""
+    if _FOLDER:
+        return _FOLDER[0]
+    root = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    folder: Path | None = Path(root) / "brakeca" / "numba" / source_key()
+    try:
+        assert folder is not None
+        folder.mkdir(parents=True, exist_ok=True)
+        if not os.access(folder, os.W_OK):
+            folder = None
+        else:
+            os.utime(folder)  # in use: loading cached kernels writes nothing numba would date
+            prune(folder)
+    except OSError:
+        folder = None
+    _FOLDER.append(folder)
+    return folder
+
+
+def kernel_cache_dir() -> str | None:
+    """The folder numba caches brakeca's kernels in: ``NUMBA_CACHE_DIR`` when set, else
+    :func:`cache_folder`; None for numba's default place beside the sources."""
     given = os.environ.get("NUMBA_CACHE_DIR")
     if given:
         return given
-    root = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    folder = Path(root) / "brakeca" / "numba" / source_key()
+    folder = cache_folder()
+    return None if folder is None else str(folder)
+
+
+def _inside_package(py_file: str) -> bool:
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        if not os.access(folder, os.W_OK):
-            return None
-        os.utime(folder)  # in use: loading cached kernels writes nothing numba would date
-    except OSError:
-        return None
-    prune(folder)
-    os.environ["NUMBA_CACHE_DIR"] = str(folder)
-    config = sys.modules.get("numba.core.config")
-    if config is not None:  # numba read the environment already: tell it too
+        return Path(py_file).resolve().is_relative_to(_PACKAGE)
+    except (OSError, ValueError):
+        return False
+
+
+def install() -> None:
+    """Make numba cache the functions defined in brakeca's files in :func:`cache_folder`
+    (unless ``NUMBA_CACHE_DIR`` is set), before they are compiled; every other function's
+    cache stays where numba puts it. Safe to call again; call it before decorating."""
+    if _INSTALLED:
+        return
+    _INSTALLED.append(True)
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return  # numba's own locator honours it, for every function
+    folder = cache_folder()
+    if folder is None:
+        return
+    from numba.core import caching
+
+    impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
+    base = getattr(caching, "UserProvidedCacheLocator", None) or getattr(
+        caching, "_UserProvidedCacheLocator", None
+    )
+    classes = getattr(impl, "_locator_classes", None)
+    if base is None or not isinstance(classes, list):  # internals unknown: the whole process
+        os.environ["NUMBA_CACHE_DIR"] = str(folder)
+        from numba.core import config
+
         config.CACHE_DIR = str(folder)  # type: ignore[attr-defined]
-    return str(folder)
+        return
+
+    class BrakecaCacheLocator(base):  # type: ignore[misc, valid-type]
+        """numba's user-provided-folder locator, for brakeca's own files and folder only."""
+
+        def __init__(self, py_func: object, py_file: str) -> None:
+            self._py_file = py_file
+            self._lineno = py_func.__code__.co_firstlineno  # type: ignore[attr-defined]
+            subpath = self.get_suitable_cache_subpath(py_file)
+            self._cache_path = os.path.join(str(folder), subpath)
+
+        @classmethod
+        def from_function(cls, py_func: object, py_file: str) -> BrakecaCacheLocator | None:
+            if not _inside_package(py_file):
+                return None
+            parent: Any = super(base, cls)  # the source-file mixin: its checks
+            return parent.from_function(py_func, py_file)
+
+    classes.insert(0, BrakecaCacheLocator)
 
 
 def _last_used(folder: Path) -> tuple[float, bool]:

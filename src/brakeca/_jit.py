@@ -28,6 +28,10 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic, overload
 
+from brakeca import _cachedir
+
+_cachedir.install()  # before anything below is compiled: brakeca's own cache folder
+
 F = TypeVar("F", bound=Callable[..., Any])
 
 

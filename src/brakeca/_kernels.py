@@ -52,6 +52,7 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from brakeca import _cachedir
 from brakeca._jit import njit_noalloc
 from brakeca._records import (  # the columns of the per-step record array `rec[step, :]`
     N_REC,
@@ -80,6 +81,8 @@ from brakeca.automaton import (
 from brakeca.contact import SOLVE_OK, first_root_binned
 from brakeca.friction import local_cof
 from brakeca.wear import archard_wear_depth, resin_cut_depth
+
+_cachedir.install()  # before anything below is compiled: brakeca's own cache folder
 
 NONE = 0
 PRIMARY = 1

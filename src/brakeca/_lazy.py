@@ -64,6 +64,7 @@ import math
 import numpy as np
 from numba import njit
 
+from brakeca import _cachedir
 from brakeca._jit import njit_noalloc, njit_noalloc_inline, prefetch
 from brakeca._kernels import (
     ACC_EMITTED,
@@ -98,6 +99,8 @@ from brakeca._kernels import (
 from brakeca.automaton import rule4_lost_support
 from brakeca.contact import SOLVE_OK, first_root_binned
 from brakeca.wear import resin_cut_depth
+
+_cachedir.install()  # before anything below is compiled: brakeca's own cache folder
 
 # where a cell is held during a stop
 W_NONE = 0

@@ -1,9 +1,10 @@
 """Compile the step kernels ahead, in a child process.
 
 numba compiles a kernel on its first call and caches the machine code on disk
-(``cache=True``; ``NUMBA_CACHE_DIR`` if set). Compiling holds about 180 MB of LLVM memory that
-the process never gives back, so a full-resolution run that compiles its kernels first peaks
-near 580 MB, against about 410 MB when it loads them from the cache (docs/performance-history.md).
+(``cache=True``, in :func:`brakeca._cachedir.kernel_cache_dir`). Compiling holds about 180 MB
+of LLVM memory that the process never gives back, so a full-resolution run that compiles its
+kernels first peaks near 580 MB, against about 410 MB when it loads them from the cache
+(docs/performance-history.md).
 :func:`warm_up` therefore compiles (or only loads) the kernels a set of configurations needs in
 a short-lived child process (a plain interpreter: ``python -m brakeca._warmup``), by running
 each on a two-row band for one stop: the run that follows, or a campaign's worker processes,
@@ -23,7 +24,6 @@ without a word: the run that follows meets the same error and reports it, once, 
 
 from __future__ import annotations
 
-import os
 import pickle
 import signal
 import subprocess
@@ -60,7 +60,7 @@ def announcing(say: Callable[[str], None]) -> Iterator[None]:
 
 
 def _index_pattern(kernel: str) -> str:
-    """The glob pattern, relative to ``NUMBA_CACHE_DIR``, of the cache index file numba writes
+    """The glob pattern, relative to the kernels' cache folder, of the index file numba writes
     for ``kernel``'s entry point: ``<folder of the sources>_<hash>/<module>.<function>-<first
     line>.py<version><abiflags>.nbi``."""
     module, name = _ENTRIES[kernel]
@@ -73,18 +73,20 @@ def cold_kernels(configs: Iterable[SimulationConfig]) -> list[str] | None:
     does not hold, so that running them compiles them (about 40 s); from the cache folder's
     file names alone, without importing numba.
 
-    A kernel counts as cached when its entry point's index file (``*.nbi``) is in
-    ``NUMBA_CACHE_DIR`` (set by ``import brakeca``; see :mod:`brakeca._cachedir`) and is not
-    older than the kernel's source file. A cached kernel may still compile for a model
+    A kernel counts as cached when its entry point's index file (``*.nbi``) is in the
+    kernels' cache folder (:func:`brakeca._cachedir.kernel_cache_dir`) and is not older than
+    the kernel's source file. A cached kernel may still compile for a model
     option not run before (the warm-up then takes longer than a load, unannounced).
 
     Returns
     -------
     list of str or None
         The kernels, in the order of :data:`_ENTRIES` (empty if all are cached); None if
-        the cache folder is not known (``NUMBA_CACHE_DIR`` unset: numba's default place).
+        the cache folder is not known (numba's default place beside the sources).
     """
-    cache = os.environ.get("NUMBA_CACHE_DIR")
+    from brakeca._cachedir import kernel_cache_dir
+
+    cache = kernel_cache_dir()
     if not cache:
         return None
     needed = {c.resolved_kernel() for c in configs}  # without importing numba

@@ -29,7 +29,10 @@ from typing import NamedTuple
 
 import numpy as np
 
+from brakeca import _cachedir
 from brakeca._jit import njit_noalloc
+
+_cachedir.install()  # before anything below is compiled: brakeca's own cache folder
 
 __all__ = [
     "Exposure",

@@ -25,7 +25,10 @@ import math
 import numpy as np
 from numba import njit
 
+from brakeca import _cachedir
 from brakeca._jit import njit_noalloc
+
+_cachedir.install()  # before anything below is compiled: brakeca's own cache folder
 
 __all__ = [
     "ContactError",

@@ -14,6 +14,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from brakeca import _cachedir
+
+_cachedir.install()  # before anything below is compiled: brakeca's own cache folder
+
 __all__ = ["coefficient_of_friction", "friction_stress_peak", "local_cof"]
 
 

@@ -9,6 +9,10 @@ from __future__ import annotations
 
 from numba import njit
 
+from brakeca import _cachedir
+
+_cachedir.install()  # before anything below is compiled: brakeca's own cache folder
+
 __all__ = ["archard_wear_depth", "resin_cut_depth"]
 
 

@@ -1,7 +1,9 @@
-"""numba's cache folder follows the package's sources (a helper's change is never served stale)."""
+"""numba's cache folder of brakeca's kernels follows the package's sources (a helper's change is
+never served stale), and no other numba function's."""
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -14,15 +16,41 @@ from brakeca._cachedir import prune, source_key
 PACKAGE = Path(brakeca.__file__).resolve().parent
 
 
-def _cache_dir_of_a_fresh_interpreter(env: dict[str, str]) -> str:
-    code = (
-        "import os, brakeca, numba.core.config as c;"
-        "print(os.environ.get('NUMBA_CACHE_DIR', ''), c.CACHE_DIR, sep='|')"
+_PROBE = """
+import json, os, sys
+import brakeca
+imported = {"env": os.environ.get("NUMBA_CACHE_DIR"), "numba": "numba" in sys.modules}
+import brakeca.wear
+import numba.core.config as config
+sys.path.insert(0, sys.argv[1])
+import users_module
+print(json.dumps({
+    **imported,
+    "env_after": os.environ.get("NUMBA_CACHE_DIR"),
+    "config_after": config.CACHE_DIR,
+    "brakeca": brakeca.wear.archard_wear_depth._cache._cache_path,
+    "users": users_module.twice._cache._cache_path,
+}))
+"""
+
+
+def _probe(tmp_path: Path, env: dict[str, str]) -> dict[str, object]:
+    """What a fresh interpreter sees: the environment and numba's setting after ``import
+    brakeca`` and after a compiling module, and where numba caches one of brakeca's kernels
+    and one of a user's own cached functions."""
+    users = tmp_path / "users"
+    users.mkdir(exist_ok=True)
+    (users / "users_module.py").write_text(
+        "from numba import njit\n\n@njit(cache=True)\ndef twice(x):\n    return 2 * x\n"
     )
     out = subprocess.run(
-        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+        [sys.executable, "-c", _PROBE, str(users)],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
     )
-    return out.stdout.strip()
+    return dict(json.loads(out.stdout.strip().splitlines()[-1]))
 
 
 def _env(**changes: str | None) -> dict[str, str]:
@@ -35,24 +63,34 @@ def _env(**changes: str | None) -> dict[str, str]:
     return env
 
 
-def test_cache_folder_is_keyed_by_the_sources(tmp_path) -> None:
+def test_cache_folder_is_keyed_by_the_sources_and_only_for_brakeca(tmp_path) -> None:
+    """brakeca's kernels are cached in the folder of this version of the sources; importing
+    brakeca sets no variable and no numba setting, and a user's own cached numba function
+    stays where numba puts it (a review had found NUMBA_CACHE_DIR set by ``import
+    brakeca``, which redirected every numba cache of the process)."""
     folder = tmp_path / "xdg" / "brakeca" / "numba" / source_key()
-    seen = _cache_dir_of_a_fresh_interpreter(_env(XDG_CACHE_HOME=str(tmp_path / "xdg")))
-    assert seen == f"{folder}|{folder}"
+    seen = _probe(tmp_path, _env(XDG_CACHE_HOME=str(tmp_path / "xdg")))
+    assert seen["env"] is None and not seen["numba"]  # import brakeca: nothing yet
+    assert seen["env_after"] is None and seen["config_after"] == ""
+    assert Path(str(seen["brakeca"])).parent == folder
     assert folder.is_dir()
+    assert Path(str(seen["users"])) == tmp_path / "users" / "__pycache__"  # numba's default
 
 
 def test_a_set_cache_dir_is_kept(tmp_path) -> None:
-    mine = str(tmp_path / "mine")
-    seen = _cache_dir_of_a_fresh_interpreter(_env(NUMBA_CACHE_DIR=mine))
-    assert seen == f"{mine}|{mine}"
+    mine = tmp_path / "mine"
+    seen = _probe(tmp_path, _env(NUMBA_CACHE_DIR=str(mine)))
+    assert seen["env_after"] == str(mine) and seen["config_after"] == str(mine)
+    assert Path(str(seen["brakeca"])).parent == mine
+    assert Path(str(seen["users"])).parent == mine  # numba's own rule, for everyone
 
 
 def test_an_unwritable_cache_home_leaves_numbas_default(tmp_path) -> None:
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    seen = _cache_dir_of_a_fresh_interpreter(_env(XDG_CACHE_HOME=str(blocker)))
-    assert seen == "|"  # NUMBA_CACHE_DIR unset, numba's CACHE_DIR empty: its default
+    seen = _probe(tmp_path, _env(XDG_CACHE_HOME=str(blocker)))
+    assert seen["env_after"] is None and seen["config_after"] == ""
+    assert Path(str(seen["brakeca"])) == PACKAGE / "__pycache__"  # beside the sources
 
 
 def test_any_change_to_any_module_changes_the_key(tmp_path) -> None:
@@ -96,11 +134,42 @@ def test_prune_removes_only_other_versions_unused_long_enough(tmp_path) -> None:
     assert not empty_old.exists() and not full_old.exists()
 
 
-def test_import_touches_its_folder_and_prunes_old_ones(tmp_path) -> None:
+def test_the_kernels_touch_their_folder_and_prune_old_ones(tmp_path) -> None:
     root = tmp_path / "xdg" / "brakeca" / "numba"
     long_ago = 1.0e9  # [s since the epoch] 2001
     stale = _folder(root, "f" * 16, 0.0, long_ago, files=1)
     mine = _folder(root, source_key(), 0.0, long_ago)
-    _cache_dir_of_a_fresh_interpreter(_env(XDG_CACHE_HOME=str(tmp_path / "xdg")))
+    _probe(tmp_path, _env(XDG_CACHE_HOME=str(tmp_path / "xdg")))
     assert not stale.exists()
     assert mine.is_dir() and mine.stat().st_mtime > long_ago + 86400.0  # touched now
+
+
+def test_every_cached_function_of_brakeca_uses_its_folder(tmp_path) -> None:
+    """Each module that compiles calls ``_cachedir.install()`` before it decorates: a module
+    that forgot would cache its functions beside the sources, where a helper's change would
+    not reach them."""
+    code = """
+import importlib, pkgutil, sys, brakeca
+from numba.core.registry import CPUDispatcher
+for info in pkgutil.iter_modules(brakeca.__path__):
+    if info.name not in ("__main__", "cli", "cli_cycle"):
+        importlib.import_module("brakeca." + info.name)
+seen = 0
+for name, module in list(sys.modules.items()):
+    if name.startswith("brakeca"):
+        for value in vars(module).values():
+            cache = getattr(value, "_cache", None)
+            if isinstance(value, CPUDispatcher) and getattr(cache, "_impl", None) is not None:
+                seen += 1
+                kind = type(cache._impl.locator).__name__
+                assert kind == "BrakecaCacheLocator", (name, value.__name__, kind)
+print(seen)
+"""
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        env=_env(XDG_CACHE_HOME=str(tmp_path / "xdg")),
+        capture_output=True,
+        text=True,
+    )
+    assert out.returncode == 0, out.stderr
+    assert int(out.stdout.strip()) > 50  # the kernels and their helpers

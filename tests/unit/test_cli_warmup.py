@@ -43,7 +43,13 @@ def test_cold_kernels_reads_the_cache_folder(tmp_path, monkeypatch) -> None:
     source = Path(warmup.__file__).with_name("_kernels.py").stat().st_mtime
     os.utime(stale, (source - 10.0, source - 10.0))
     assert warmup.cold_kernels([exact]) == ["exact"]
+    # without the variable, brakeca's own folder (brakeca._cachedir.cache_folder)
+    from brakeca import _cachedir
+
     monkeypatch.delenv("NUMBA_CACHE_DIR")
+    monkeypatch.setattr(_cachedir, "_FOLDER", [cache])
+    assert warmup.cold_kernels([lazy]) == []
+    monkeypatch.setattr(_cachedir, "_FOLDER", [None])
     assert warmup.cold_kernels([lazy]) is None  # numba's default place: not known
 
 
@@ -129,7 +135,9 @@ def test_the_index_looked_for_is_the_one_numba_writes(kernel) -> None:
     module, name = warmup._ENTRIES[kernel]
     dispatcher = getattr(importlib.import_module(module), name)
     index = Path(dispatcher._cache._cache_file._index_path).resolve()
-    cache = Path(os.environ["NUMBA_CACHE_DIR"]).resolve()
+    from brakeca._cachedir import kernel_cache_dir
+
+    cache = Path(str(kernel_cache_dir())).resolve()
     assert index.relative_to(cache).match(warmup._index_pattern(kernel))
 
 
