@@ -21,7 +21,15 @@ from typing import Any, Literal
 
 import numpy as np
 import tomli_w
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 
 __all__ = [
     "FACTOR_ALIASES",
@@ -50,7 +58,29 @@ class ConfigError(ValueError):
     """A configuration value is missing, unknown or outside its allowed range."""
 
 
-class _Frozen(BaseModel):
+def _numeric(annotation: Any) -> bool:
+    """Whether a field's annotation is a number (``int``, ``float``, or one of them or None)."""
+    if annotation in (int, float):
+        return True
+    args = getattr(annotation, "__args__", ())
+    return bool(args) and all(a in (int, float, type(None)) for a in args)
+
+
+class _Checked(BaseModel):
+    """A model whose number fields refuse ``true``/``false``: pydantic takes ``True`` for 1
+    in an ``int`` or ``float`` field, so ``mesh.n_radial = true`` had made a one-row band."""
+
+    @field_validator("*", mode="before")
+    @classmethod
+    def _no_bool_for_a_number(cls, value: Any, info: ValidationInfo) -> Any:
+        if isinstance(value, bool) and info.field_name is not None:
+            field = cls.model_fields.get(info.field_name)
+            if field is not None and _numeric(field.annotation):
+                raise ValueError(f"must be a number, not {str(value).lower()}")
+        return value
+
+
+class _Frozen(_Checked):
     model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
 
 
@@ -243,7 +273,7 @@ class BrakeBlock(_Frozen):
         return self
 
 
-class TraceCycleConfig(BaseModel):
+class TraceCycleConfig(_Checked):
     """How braking events are found in a trace and what the modelled brake must deliver.
 
     Defaults, literature ranges and sources are in the field descriptions and in

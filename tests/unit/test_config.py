@@ -202,3 +202,21 @@ def test_quick_labels_only_the_quick_band():
     with pytest.raises(ConfigError, match=r"mesh.inner_radius = 0.1 m"):
         quick.with_updates({"mesh.inner_radius": 0.1})
     assert not quick.with_updates({"quick": False, "mesh.n_radial": 41}).quick
+
+
+def test_a_number_field_refuses_true_and_false(tmp_path):
+    """pydantic takes True for 1 in a number field: ``mesh.n_radial = true`` had given a
+    one-row band, silently (a review's item)."""
+    from brakeca.config import TraceCycleConfig, load_config
+
+    base = load_preset("paper")
+    for key in ("mesh.n_radial", "cycle.max_stops", "friction.mu_0", "output.ledger_tolerance"):
+        with pytest.raises(ConfigError, match=rf"{key}: must be a number, not true"):
+            base.with_updates({key: True})
+    path = tmp_path / "c.toml"
+    path.write_text(base.to_toml().replace("n_radial = 201", "n_radial = false"))
+    with pytest.raises(ConfigError, match=r"mesh\.n_radial: must be a number, not false"):
+        load_config(path)
+    with pytest.raises(ValueError, match="must be a number, not true"):
+        TraceCycleConfig(threshold=True)
+    assert base.with_updates({"mesh.n_radial": 21, "quick": False}).mesh.n_radial == 21
