@@ -124,7 +124,7 @@ figure img { display: block; max-width: 100%; height: auto; border: 1px solid va
 
 <section id="runs">
 <h2>Per-run results</h2>
-<p class="note">MU: mean coefficient of friction over the cycle [-], 3 decimals;
+<p class="note">MU: mean coefficient of friction over the stops run [-], 3 decimals;
 V: mean emitted wear volume per stop [mm&sup3;]. Emitted and worn off: the volumes that left
 the band and that wear removed from it over the whole run; the difference is what the
 secondary plateaus still hold (the particles in the contact leave it at the end of every

@@ -264,6 +264,19 @@ def _scope(base: Any) -> str:
     return "These runs were made " + "; and ".join(parts) + "."
 
 
+def _stops_run(base: Any) -> str:
+    """The stops a campaign ran, in words: "the whole cycle", or "the first N of the cycle's M
+    stops" for one run with --stops (``base``: its base configuration, or None)."""
+    from brakeca.traces import configured_cycle
+
+    if base is not None:
+        n_total = configured_cycle(base).n_total
+        asked = base.cycle.max_stops
+        if asked is not None and asked < n_total:
+            return f"the first {asked} of the cycle's {n_total} stops"
+    return "the whole cycle"
+
+
 def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, list, str]:
     """The optimum of a response-surface design's goals (:func:`brakeca.rsm.optimize`),
     written to ``tables/optimum.csv``: (optimum, goals, note), or (None, [], why not) when
@@ -518,7 +531,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             )
         add(
             "Runs",
-            "MU per stop over the whole cycle for every run (paper Figure 10)",
+            f"MU per stop over {_stops_run(base)} for every run (paper Figure 10)",
             "mu_per_stop.png",
             plotting.plot_mu_per_stop,
             result.dataset,
@@ -565,7 +578,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             )
             add(
                 "Final plateau maps",
-                f"Test {int(row['test'])} ({levels}){which}: plateaus after the cycle",
+                f"Test {int(row['test'])} ({levels}){which}: plateaus after {_stops_run(base)}",
                 f"final_map_test{int(row['test']):02d}_r{int(row.get('replicate', 0))}.png",
                 plotting.plot_surface_map,
                 *_map_of(runs_dir / f"{row['run_id']}.nc", "final_status"),
@@ -636,7 +649,7 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
     Returns
     -------
     list of Path
-        ``mu_per_stop.png`` (the mean COF of each stop over the cycle, paper Figure 10 for
+        ``mu_per_stop.png`` (the mean COF of each stop run, paper Figure 10 for
         one run), ``steps.png`` (the thinned per-step COF and pad normal force against the
         braking time [s]) and ``maps.png`` (the initial and final plateau maps).
     """
@@ -652,7 +665,7 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
     plot_mu_per_stop(
         ds[["mean_cof"]].expand_dims(run=[0]),
         paths[0],
-        title=f"Mean coefficient of friction per stop over the cycle ({about})",
+        title=f"Mean coefficient of friction per stop, {ds.sizes['stop']} stops ({about})",
     )
     plot_cof_series(
         {

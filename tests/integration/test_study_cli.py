@@ -113,7 +113,7 @@ def test_outputs_present_and_consistent(campaign):
     assert '<h3 id="anova-box-cox">Scale of the responses (Box–Cox)</h3>' in html
     assert (out / "tables" / "effects_MU.csv").exists()
     # the maps' captions give each level with its unit (S has none)
-    assert "Test 3 (S = 0, A = 20 %): plateaus after the cycle" in html
+    assert "Test 3 (S = 0, A = 20 %): plateaus after the first 2 of the cycle" in html
     assert "Model summary: S = " in html
     # the report says at its top what the campaign left out of the paper's study
     assert (
@@ -121,6 +121,9 @@ def test_outputs_present_and_consistent(campaign):
         "(its Table 5)" in html
     )
     assert "over the first 2 of the cycle&#39;s 170 stops only (--stops)" in html
+    # and the captions say so too (they had said "over the whole cycle")
+    assert "MU per stop over the first 2 of the cycle&#39;s 170 stops for every run" in html
+    assert "whole cycle" not in html
     # the tables' units are written beside them (V in m³ there, mm³ in the report)
     readme = (out / "tables" / "README.md").read_text(encoding="utf-8")
     assert "**V in m³ per stop**" in readme and "`per_stop.csv`" in readme
