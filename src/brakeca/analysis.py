@@ -1148,7 +1148,10 @@ def ranked_effects(
         ``p_value`` and ``effect`` [response unit]. ``effect`` is the classical effect for
         two-level factors, mean at ``levels[1]`` minus mean at ``levels[0]``, and for the
         interaction of two two-level factors ``(m11 - m10 - m01 + m00) / 2`` from the cell
-        means; NaN otherwise. The residual is not ranked.
+        means; NaN otherwise. These are plain differences of means: once a run has failed
+        (an unbalanced design) they are not adjusted for the other factors, unlike the
+        effects of :func:`two_level_effects` (twice the least-squares coefficient), which
+        then differ from them. The residual is not ranked.
 
     References
     ----------
