@@ -13,7 +13,10 @@ import concurrent.futures as cf
 import importlib.machinery
 import multiprocessing
 import os
+import signal
 import sys
+import threading
+import time
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import AbstractContextManager, contextmanager, nullcontext
 from dataclasses import dataclass
@@ -147,8 +150,28 @@ class DaskExecutor(cf.Executor):
                         self._held.__exit__(None, None, None)
 
 
+#: How often a local worker checks that the campaign's process still lives [s].
+PARENT_CHECK_EVERY = 1.0
+
+
+def _exit_with_parent(parent: int, every: float = PARENT_CHECK_EVERY) -> None:
+    """Watch, in a daemon thread, for the process ``parent`` to end, and end this process then.
+
+    A local worker whose campaign was killed (SIGKILL, a closed terminal) would otherwise run
+    on as an orphan, its result going nowhere. The run's checkpoint is kept, so the next
+    campaign resumes it from there."""
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(every)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="brakeca-parent-watch", daemon=True).start()
+
+
 def _init_worker() -> None:
-    """Process-pool initializer: one numba / OpenMP / BLAS thread per worker."""
+    """Process-pool initializer: one numba / OpenMP / BLAS thread per worker, and an end with
+    the campaign's process (:func:`_exit_with_parent`)."""
     os.environ.update(WORKER_ENV)
     numba = sys.modules.get("numba")
     if numba is not None:  # imported before the initializer ran (e.g. by the main module)
@@ -156,6 +179,46 @@ def _init_worker() -> None:
             numba.set_num_threads(1)
         except Exception:  # a numba without a threading layer: nothing to limit
             pass
+    _exit_with_parent(os.getppid())
+
+
+@contextmanager
+def terminate_as_interrupt() -> Iterator[None]:
+    """While in this block, SIGTERM and SIGHUP raise KeyboardInterrupt in the main thread, as
+    Ctrl-C does: a campaign or a run then stops its workers and keeps what it has (its run
+    files and checkpoints) instead of ending at once with its workers left running. A
+    handler the program set itself is left alone; outside the main thread this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum: int, frame: Any) -> None:
+        raise KeyboardInterrupt(signal.Signals(signum).name)
+
+    saved = {}
+    for name in ("SIGTERM", "SIGHUP"):
+        number = getattr(signal, name, None)
+        if number is not None and signal.getsignal(number) == signal.SIG_DFL:
+            saved[number] = signal.signal(number, interrupt)
+    try:
+        yield
+    finally:
+        for number, handler in saved.items():
+            signal.signal(number, handler)
+
+
+def _stop_pool(pool: cf.ProcessPoolExecutor) -> None:
+    """Shut ``pool`` down now: its worker processes are terminated (a run in progress keeps
+    its checkpoint) and its queued runs cancelled. A plain ``shutdown(wait=False)`` would not
+    do: the interpreter waits at exit for the runs in progress, whose results are lost."""
+    terminate = getattr(pool, "terminate_workers", None)  # Python 3.14
+    if terminate is not None:
+        terminate()
+    else:
+        for process in list((getattr(pool, "_processes", None) or {}).values()):
+            if process.is_alive():
+                process.terminate()
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 @contextmanager
@@ -348,23 +411,31 @@ def _execute(
 
     With the default simulate and a ``checkpoint`` path, the run saves its state there every
     ``checkpoint_every`` stops and resumes from it if it exists (the only file a worker
-    writes; removed when the run completes). A checkpoint that cannot be used (another
-    version's format, unreadable) is deleted and the run starts over. A worker that does not
-    see the campaign folder (a cluster without a shared file system) runs without one."""
+    writes). The worker leaves it when the run completes: the campaign removes it once the
+    run file is written, so a campaign killed before that resumes the run from it. A
+    checkpoint that cannot be used (another version's format, unreadable) is deleted and the
+    run starts over. A worker that does not see the campaign folder (a cluster without a
+    shared file system) runs without one."""
     if simulate_fn is None:
         from brakeca.simulation import CheckpointError, simulate
 
         if checkpoint is None or not Path(checkpoint).parent.is_dir():
             return simulate(config, seed=seed)
-        try:
+
+        def run() -> RunResult:
             return simulate(
-                config, seed=seed, checkpoint=checkpoint, checkpoint_every=checkpoint_every
+                config,
+                seed=seed,
+                checkpoint=checkpoint,
+                checkpoint_every=checkpoint_every,
+                keep_checkpoint=True,
             )
+
+        try:
+            return run()
         except CheckpointError:
             Path(checkpoint).unlink(missing_ok=True)
-            return simulate(
-                config, seed=seed, checkpoint=checkpoint, checkpoint_every=checkpoint_every
-            )
+            return run()
     return simulate_fn(config, seed=seed)
 
 
@@ -487,7 +558,10 @@ class _LocalSlots(_Backend):
         pools = [p for p in self.pools if p is not None]
         self.pools = [None] * len(self.pools)
         for pool in pools:
-            pool.shutdown(wait=not cancel, cancel_futures=cancel)
+            if cancel:
+                _stop_pool(pool)
+            else:
+                pool.shutdown(wait=True)
 
 
 def _backend(

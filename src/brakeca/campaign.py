@@ -64,6 +64,7 @@ from brakeca._executors import (
     _check_scheduler,
     _Execution,
     make_executor,
+    terminate_as_interrupt,
 )
 from brakeca._io import atomic_write
 from brakeca._runstore import (
@@ -163,10 +164,10 @@ def run_campaign(
     checkpoint_every
         Each run in progress saves its state every this many stops to
         ``runs/.<run_id>.checkpoint.npz``, so a campaign killed in the middle of a long run
-        resumes that run from its last checkpoint, bit-identically; the file goes when the run
-        completes. None: no checkpoints. The worker writes it, so on a cluster the campaign
-        folder must be on a file system the workers share (else the checkpoints are lost, and
-        only the finished runs are reused).
+        resumes that run from its last checkpoint, bit-identically; the file goes once the
+        run's file is written. None: no checkpoints. The worker writes it, so on a cluster
+        the campaign folder must be on a file system the workers share (else the checkpoints
+        are lost, and only the finished runs are reused).
     quick
         Narrow every run's band with :func:`brakeca.design.quick_config`.
     max_stops
@@ -317,6 +318,8 @@ def _run_locked(
             if result is not None:
                 records[rid] = _record_from_result(point, rid, result)
                 reused.append(rid)
+                # a campaign killed between writing the run file and removing the checkpoint
+                _checkpoint_path(runs, point).unlink(missing_ok=True)
                 continue
             say(
                 console,
@@ -338,9 +341,10 @@ def _run_locked(
     computed: list[str] = []
     failed: list[str] = []
     if todo:
-        _execute_points(
-            todo, runs, records, computed, failed, how, n_total=len(points), console=console
-        )
+        with terminate_as_interrupt():  # SIGTERM, SIGHUP: stop the workers, keep what is done
+            _execute_points(
+                todo, runs, records, computed, failed, how, n_total=len(points), console=console
+            )
     elif how.progress:
         say(
             console,
@@ -484,6 +488,10 @@ def _execute_points(
                         record = _Record(point, rid, "failed", error)
                     else:
                         record = _finish(future, point, runs)
+                        if record.status == "ok" and how.checkpoint_every is not None:
+                            # the run file is written: its checkpoint can go (the worker
+                            # leaves it, so that a campaign killed before this resumes it)
+                            _checkpoint_path(runs, point).unlink(missing_ok=True)
                     records[rid] = record
                     (computed if record.status == "ok" else failed).append(rid)
                     if record.status != "ok":

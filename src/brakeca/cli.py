@@ -129,9 +129,13 @@ def _announce_compiling(message: str) -> None:
 @contextmanager
 def _on_interrupt(message: str) -> Iterator[None]:
     """Turn Ctrl-C inside the block into ``message`` and exit status 130 (typer would exit
-    130 without a word)."""
+    130 without a word); SIGTERM and SIGHUP too, so that a killed run keeps its checkpoint
+    and stops its children instead of leaving them running."""
+    from brakeca._executors import terminate_as_interrupt
+
     try:
-        yield
+        with terminate_as_interrupt():
+            yield
     except KeyboardInterrupt:
         console.print(f"[bold yellow]interrupted:[/] {escape(message)}", highlight=False)
         raise typer.Exit(130) from None
@@ -330,6 +334,7 @@ def simulate(
                 progress=lambda done, total: bar.update(task, completed=done),
                 checkpoint=checkpoint,
                 checkpoint_every=checkpoint_every,
+                keep_checkpoint=True,  # removed below, once the run file is written
             )
         except (ContactError, LedgerError) as exc:
             failure = (str(exc), 1)
@@ -340,6 +345,8 @@ def simulate(
     if failure is not None:  # after the bar's last line, so that the error is the last word
         _fail(*failure)
     _write_or_keep(output, result.to_netcdf, "run")
+    if checkpoint is not None:
+        checkpoint.unlink(missing_ok=True)
     out.print(f"MU = {result.MU:.4f}")
     out.print(f"V  = {result.V * 1e9:.6g} mm^3 per stop")
     ds = result.dataset

@@ -330,6 +330,7 @@ def simulate(
     progress: Progress | None = None,
     checkpoint: str | Path | None = None,
     checkpoint_every: int = 10,
+    keep_checkpoint: bool = False,
 ) -> RunResult:
     """Simulate one pad over the configured drive cycle.
 
@@ -348,9 +349,13 @@ def simulate(
     checkpoint
         A file to save the run's state to every ``checkpoint_every`` stops (atomically). If it
         exists and belongs to this config and seed, the run resumes from it; the result is
-        bit-identical to an uninterrupted run. Removed when the run completes.
+        bit-identical to an uninterrupted run. Removed when the run completes, unless
+        ``keep_checkpoint``.
     checkpoint_every
         Stops between checkpoints [-].
+    keep_checkpoint
+        Leave the checkpoint when the run completes, for the caller to remove once the
+        result is safe (written to its file): a process killed in between then still has it.
 
     Returns
     -------
@@ -463,7 +468,7 @@ def simulate(
         contact_fallbacks=int(state.lazy_walk[6]),
         fibre_exposure=log.exposures if state.fibres is not None else None,
     )
-    if checkpoint:
+    if checkpoint and not keep_checkpoint:
         Path(checkpoint).unlink(missing_ok=True)
     return RunResult(config=config, seed=seed, dataset=dataset)
 

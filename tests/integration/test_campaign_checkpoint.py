@@ -114,3 +114,29 @@ def test_command_line_option(design_file, uninterrupted, tmp_path):
     assert res.exit_code == 0, res.output
     summary = load_campaign(out).summary
     assert deterministic(summary).equals(deterministic(uninterrupted.summary))
+
+
+def test_a_worker_leaves_its_checkpoint_for_the_campaign_to_remove(
+    design_file, uninterrupted, tmp_path
+):
+    """A robustness review: the worker deleted its checkpoint when its run finished, before
+    the campaign had written the run file, so a campaign killed in between (or a dask
+    client killed while its workers went on) lost the run whole. The worker now leaves it;
+    the campaign removes it after writing the run file, and a resumed campaign removes the
+    checkpoint of a run whose file it reuses."""
+    from brakeca._executors import _execute
+
+    point = next(p for p in load_design(design_file).points() if p.test == 3)
+    ckpt = tmp_path / f".{run_id(point)}.checkpoint.npz"
+    result = _execute(None, point.config, point.seed, ckpt, 1)
+    assert result.MU > 0 and ckpt.exists()  # left for the campaign
+    # a campaign killed after writing run 3's file, before removing its checkpoint
+    out = tmp_path / "campaign"
+    (out / "runs").mkdir(parents=True)
+    result.to_netcdf(out / "runs" / f"{run_id(point)}.nc")
+    stale = out / "runs" / ckpt.name
+    ckpt.rename(stale)
+    resumed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
+    assert resumed.reused == (run_id(point),)
+    assert not list((out / "runs").glob(".*"))
+    assert deterministic(resumed.summary).equals(deterministic(uninterrupted.summary))

@@ -1,0 +1,85 @@
+"""SIGTERM and SIGHUP stop a campaign or a run as Ctrl-C does; local workers end with it."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import pytest
+
+from brakeca._executors import terminate_as_interrupt
+
+
+@pytest.mark.parametrize("name", ["SIGTERM", "SIGHUP"])
+def test_terminate_and_hangup_raise_keyboard_interrupt_inside_the_block(name) -> None:
+    number = getattr(signal, name)
+    before = signal.getsignal(number)
+    with pytest.raises(KeyboardInterrupt, match=name), terminate_as_interrupt():
+        os.kill(os.getpid(), number)
+        time.sleep(1.0)  # the handler runs at the next bytecode
+    assert signal.getsignal(number) == before  # restored
+
+
+def test_a_handler_of_the_program_is_left_alone() -> None:
+    seen = []
+    saved = signal.signal(signal.SIGTERM, lambda *_: seen.append(1))
+    try:
+        with terminate_as_interrupt():
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.2)
+        assert seen == [1]
+    finally:
+        signal.signal(signal.SIGTERM, saved)
+
+
+def test_a_local_worker_ends_with_its_campaign_process(tmp_path) -> None:
+    """A robustness review found a killed campaign's workers running on as orphans. The
+    campaign process here starts a worker of the local pool, writes the worker's pid and is
+    killed by SIGKILL (which it cannot handle); the worker must end within a few seconds."""
+    pid_file = tmp_path / "worker.pid"
+    code = textwrap.dedent(
+        f"""
+        import os, time
+        from brakeca._executors import _local_pool
+        if __name__ == "__main__":
+            pool = _local_pool(1)
+            pid = pool.submit(os.getpid).result()
+            open({str(pid_file)!r}, "w").write(str(pid))
+            time.sleep(60)
+        """
+    )
+    script = tmp_path / "campaign.py"
+    script.write_text(code)
+    parent = subprocess.Popen([sys.executable, str(script)])
+    try:
+        deadline = time.monotonic() + 60
+        while not pid_file.exists() or not pid_file.read_text():
+            assert time.monotonic() < deadline and parent.poll() is None
+            time.sleep(0.1)
+        worker = int(pid_file.read_text())
+        os.kill(worker, 0)  # alive
+        parent.kill()
+        parent.wait()
+        deadline = time.monotonic() + 10
+        while _alive(worker):
+            assert time.monotonic() < deadline, "the worker outlived its campaign"
+            time.sleep(0.2)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    try:  # a zombie (ended, not yet reaped by init) counts as ended
+        with open(f"/proc/{pid}/stat") as stat:
+            return stat.read().split(") ")[1][0] != "Z"
+    except OSError:
+        return False
