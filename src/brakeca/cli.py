@@ -282,14 +282,14 @@ def simulate(
         if cycle is not None:
             config = with_cycle(config, cycle, speed_unit=speed_unit)
         source = configured_cycle(config)
+        distance = step_distance(config)
+        steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper's
     except ConfigError as exc:
         _fail(str(exc))
     if checkpoint is not None:
         _check_output(checkpoint, "--checkpoint")
     n_r, n_t = config.mesh.n_radial, config.mesh.n_angular
     n_stops = len(source.events)
-    distance = step_distance(config)
-    steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper cycle
     console.print(
         f"brakeca {__version__}: {n_r} x {n_t} cells, cycle {escape(source.name)} ({source.kind}), "
         f"{n_stops} stop{'' if n_stops == 1 else 's'} ({steps:,} time steps), seed {seed}"

@@ -81,7 +81,9 @@ class _Checked(BaseModel):
 
 
 class _Frozen(_Checked):
-    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", validate_default=True, allow_inf_nan=False
+    )
 
 
 class VehicleConfig(_Frozen):
@@ -294,7 +296,9 @@ class TraceCycleConfig(_Checked):
     static load share, the reading of the paper's block cycle.
     """
 
-    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", validate_default=True, allow_inf_nan=False
+    )
 
     # detection
     threshold: float = Field(
@@ -759,10 +763,13 @@ def format_validation_error(exc: ValidationError, source: str, model: Any = None
         elif err["type"] in ("list_type", "tuple_type"):
             msg = "should be a list, in brackets: [...]"
         got = err.get("input")
-        if err["type"] in _BOUND_ERRORS or (isinstance(got, float) and math.isnan(got)):
+        not_finite = isinstance(got, float) and not math.isfinite(got)
+        if err["type"] in _BOUND_ERRORS or err["type"] == "finite_number" or not_finite:
             interval = _allowed_range(model, err["loc"]) if model is not None else None
-            if isinstance(got, float) and math.isnan(got):
-                msg = "must be a number" + (f" in {interval}" if interval else "") + ", not NaN"
+            if not_finite:
+                which = "NaN" if math.isnan(got) else "infinite"
+                msg = "must be a finite number" + (f" in {interval}" if interval else "")
+                msg += f", not {which}"
             elif interval is not None:
                 msg = f"must lie in {interval}"
         got_text = (
@@ -770,7 +777,7 @@ def format_validation_error(exc: ValidationError, source: str, model: Any = None
             if err["type"] in ("missing",)
             or isinstance(got, dict)
             or "got " in msg
-            or msg.endswith("not NaN")
+            or not_finite
             else f" (got {got!r})"
         )
         lines.append(f"{source}: {loc}{msg}{got_text}")

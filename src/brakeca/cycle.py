@@ -133,6 +133,15 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     if rest < 1e-9:  # the stop ends on a full step (to round-off)
         rest = 0.0
     n = n_full + (1 if rest > 0.0 else 0)
+    if n == 0:
+        from brakeca.config import ConfigError
+
+        raise ConfigError(
+            f"stop {stop.index} ({stop.block}) brakes over {total * distance:.3g} m, less than "
+            f"one time step's travel s = R_wheel N_m dtheta = {distance:.3g} m: it would have "
+            "no time step (check vehicle.wheel_radius, mesh.angular_step_deg, vehicle.gravity "
+            "and the stop's speeds and deceleration)"
+        )
     k = np.arange(n + 1, dtype=np.float64)
     travelled = np.minimum(k, total) * distance
     v = np.sqrt(np.maximum(v0 * v0 - 2.0 * a * travelled, v1 * v1))

@@ -111,6 +111,27 @@ def test_unreachable_torque_is_a_clear_error(small):
         )
 
 
+def test_a_torque_the_solve_cannot_resolve_fails_the_run(small):
+    """A robustness review: a foundation of 1e30 Pa (or a bar of 1e300 m) ran to the end,
+    MU 0 (or NaN) and a friction residual of 1, recorded as ok. Such a run now fails at its
+    first stop, naming the contact fields; the paper's stiffness meets the torque to
+    round-off."""
+    for updates, missed in (
+        ({"contact.elastic_modulus": 1e30}, "missed the demanded one by 1 of it"),
+        ({"contact.elastic_modulus": 1e24}, "missed the demanded one by "),
+        ({"contact.bar_length": 1e300}, "is not a number"),
+    ):
+        with pytest.raises(ContactError, match=rf"stop 1 \(test\): the friction force {missed}"):
+            simulate(small.with_updates(updates), seed=1)
+    assert simulate(small, seed=1).dataset["max_friction_residual"] < 1e-10
+    # a stop shorter than one step's travel had crashed on an empty array, naming no field
+    from brakeca.config import ConfigError
+
+    for field in ("vehicle.gravity", "vehicle.wheel_radius"):
+        with pytest.raises(ConfigError, match=r"it would have no time step \(check vehicle"):
+            simulate(small.with_updates({field: 1e300}), seed=1)
+
+
 def test_seeds_are_checked_before_any_work_and_the_largest_round_trips(small, tmp_path):
     """A seed above 2**64 - 1 ran the whole run and then failed writing its file (h5py has no
     type for it); a float seed was truncated without a word."""

@@ -48,7 +48,14 @@ def test_factor_aliases():
         ({"pad.fibre_area_fraction": 1.0}, r"pad.fibre_area_fraction: must lie in \[0, 1\)"),
         # both ends of the allowed range, also where pydantic names only the one crossed
         ({"friction.mu_0": 5}, r"friction.mu_0: must lie in \(0, 2\] \(got 5\)"),
-        ({"friction.mu_0": float("nan")}, r"friction.mu_0: must be a number in \(0, 2\], not NaN$"),
+        (
+            {"friction.mu_0": float("nan")},
+            r"friction.mu_0: must be a finite number in \(0, 2\], not NaN$",
+        ),
+        # inf had passed every field without an upper bound, then crashed the run (a review)
+        ({"pad.resin_roughness": float("inf")}, r"resin_roughness: must be a finite number"),
+        ({"contact.bar_length": float("inf")}, r"bar_length: must be a finite number, not inf"),
+        ({"vehicle.wheel_radius": float("-inf")}, r"wheel_radius: must be a finite number"),
         ({"mesh.n_radial": 0}, r"mesh.n_radial: must lie in \[1, 100000\] \(got 0\)"),
         ({"mesh.n_angular": 999}, "multiple of n_subdomains"),
         ({"S": 2}, "automaton.secondary_removal_fraction"),
