@@ -895,6 +895,8 @@ def load_config(path: str | Path) -> SimulationConfig:
         text = path.read_text(encoding="utf-8-sig")  # a BOM (Windows editors) is not TOML
     except OSError as exc:
         raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:  # as a design file's message
+        raise ConfigError(f"{path}: cannot read: {exc} (a TOML file is UTF-8 text)") from None
     try:
         return SimulationConfig.from_toml(text, source=str(path))
     except ConfigError as exc:

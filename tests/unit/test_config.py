@@ -190,6 +190,10 @@ def test_config_and_design_files_may_start_with_a_byte_order_mark(tmp_path):
         encoding="utf-8-sig",
     )
     assert load_design(design).factor_names == ("A",)
+    # a file that is not UTF-8 at all: a one-line error, not a traceback (a review's item)
+    config.write_bytes(b"\xff\xfe garbage")
+    with pytest.raises(ConfigError, match="cannot read: 'utf-8' codec can't decode"):
+        load_config(config)
 
 
 def test_quick_labels_only_the_quick_band():
