@@ -300,6 +300,15 @@ def _run_locked(
             "purpose (--replace; replace=True from Python): the run files of both are kept, "
             "and the first campaign's command, run again, brings its study back"
         )
+    dropped = _runs_left_out(out, {run_id(p) for p in points})
+    if dropped and not replace:
+        raise ConfigError(
+            f"{out} holds the study of another design ({dropped}): this one would replace "
+            "its summary.csv and report.html. Give another folder, or replace it on purpose "
+            "(--replace; replace=True from Python): the run files of both are kept, and the "
+            "first design, run again, brings its study back. A design that keeps every run of "
+            "the study there and adds others (a fold-over, more replicates) needs neither"
+        )
     campaign_design = _write_design(
         out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
     )
@@ -372,6 +381,30 @@ def _run_locked(
         failed=tuple(failed),
         recomputed=tuple(recomputed),
     )
+
+
+def _runs_left_out(out: Path, wanted: set[str]) -> str:
+    """What the study already in ``out`` has that a campaign of the runs ``wanted`` (run ids)
+    would leave out of its summary: e.g. ``"design 'screen', 16 runs, 16 of them not in this
+    one"``; empty when there is no study there or every run of it is wanted."""
+    path = out / "summary.csv"
+    if not path.is_file():
+        return ""
+    try:
+        ids = set(read_summary(path)["run_id"].astype(str))
+    except Exception:  # a damaged summary is rebuilt from the run files: nothing to keep
+        return ""
+    missing = ids - wanted
+    if not missing:
+        return ""
+    name = "?"
+    try:
+        import tomllib
+
+        name = str(tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))["name"])
+    except Exception:
+        pass
+    return f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one"
 
 
 def _execute_points(

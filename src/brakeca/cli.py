@@ -209,7 +209,8 @@ ReplaceOpt = Annotated[
     typer.Option(
         "--replace",
         help="write over a folder's campaign of other options (another --quick or --stops, "
-        "or --set); without it that is refused, and the run files of both are kept either way",
+        "or --set) or of a design whose runs this one leaves out; without it that is refused, "
+        "and the run files of both are kept either way",
     ),
 ]
 SpeedUnitOpt = Annotated[

@@ -252,6 +252,39 @@ def test_a_folder_of_other_options_is_not_replaced_unless_asked(serial, tmp_path
     pd.testing.assert_frame_equal(back.summary, serial.summary)
 
 
+def test_a_design_that_leaves_out_the_folders_runs_is_not_run_there_unless_asked(serial, tmp_path):
+    """A robustness review: an unrelated design run into a finished campaign's folder (same
+    base configuration) replaced its summary, campaign.nc, design and report with one dim
+    line. It is refused now, naming the study there; a design that keeps every run of it and
+    adds others (more replicates here; a fold-over) takes the folder over, computing only
+    the new runs."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    for name in ("other", "more"):
+        (tmp_path / name).mkdir()
+    other = write_design(tmp_path / "other", TINY, DESIGN_TEMPLATE.format(root_seed=12))
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and p.suffix != ".lock"}
+    with pytest.raises(ConfigError) as info:
+        run_campaign(other, out, executor="serial", progress=False, console=quiet())
+    assert "holds the study of another design (design 'tiny', 4 runs, 4 of them not in this" in (
+        str(info.value)
+    )
+    assert {
+        p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and p.suffix != ".lock"
+    } == before
+    more = write_design(
+        tmp_path / "more",
+        TINY,
+        DESIGN.replace("root_seed = 11\n", "root_seed = 11\nreplicates = 2\n"),
+    )
+    bigger = run_campaign(more, out, executor="serial", progress=False, console=quiet())
+    assert len(bigger.reused) == 4 and len(bigger.computed) == 4 and bigger.ok
+    replaced = run_campaign(
+        other, out, executor="serial", progress=False, console=quiet(), replace=True
+    )
+    assert replaced.ok and len(replaced.computed) == 4
+
+
 def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(serial.out_dir, out)
