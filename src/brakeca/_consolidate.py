@@ -283,4 +283,34 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
         raise ValueError(f"{out / 'campaign.nc'}: not a readable netCDF file ({exc})") from None
     if dataset.attrs.get("format") != CAMPAIGN_FORMAT:
         raise ValueError(f"{out / 'campaign.nc'}: not a brakeca campaign file")
+    problem = _summary_problem(summary, dataset, design)
+    if problem:
+        raise ValueError(
+            f"{out / 'summary.csv'}: {problem}: it was edited or damaged; 'brakeca run "
+            f"{out / 'design.toml'} -o {out}' writes it again from the run files"
+        )
     return CampaignResult(out_dir=out, design=design, summary=summary, dataset=dataset)
+
+
+def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design) -> str:
+    """Why a summary read back does not hold the campaign's runs (rows, run ids, levels and
+    status as ``campaign.nc`` and the design have them); empty when it does."""
+    if "run_id" not in summary.columns or "status" not in summary.columns:
+        return "it has no run_id or status column"
+    ids = [str(r) for r in summary["run_id"]]
+    expected = [str(r) for r in dataset["run_id"].values]
+    if ids != expected:
+        return (
+            f"its {len(ids)} runs are not the {len(expected)} of campaign.nc"
+            if len(ids) != len(expected)
+            else "its runs are not those of campaign.nc, in its order"
+        )
+    bad = sorted(set(summary["status"].astype(str)) - {"ok", "failed"})
+    if bad:
+        return f"a run's status is {bad[0]!r}, not 'ok' or 'failed'"
+    for name in design.factor_names:
+        if name not in summary.columns:
+            return f"the column of factor {name} is missing"
+        if summary[name].isna().any():
+            return f"factor {name} has no level in some row"
+    return ""

@@ -430,6 +430,31 @@ def test_load_campaign_of_an_unfinished_directory(tmp_path):
         load_campaign(tmp_path)
 
 
+def test_a_damaged_summary_is_not_analysed(serial, tmp_path):
+    """A robustness review: a summary.csv cut short, or with a row deleted, was analysed as
+    it was (a run with no level, three runs of four) with no word. Read against campaign.nc
+    and the design, it is refused, with the command that writes it again."""
+    text = (serial.out_dir / "summary.csv").read_text(encoding="utf-8")
+    lines = text.splitlines(keepends=True)
+    for damaged, problem in (
+        ("".join(lines[:3] + lines[4:]), "its 3 runs are not the 4 of campaign.nc"),
+        ("".join(lines[:1] + lines[2:] + lines[1:2]), "its runs are not those of campaign.nc"),
+        (text[: len(text) - len(lines[-1]) + 30], "not 'ok' or 'failed'"),
+    ):
+        out = tmp_path / "campaign"
+        shutil.rmtree(out, ignore_errors=True)
+        shutil.copytree(serial.out_dir, out)
+        (out / "summary.csv").write_text(damaged, encoding="utf-8")
+        with pytest.raises(ValueError, match=re.escape(problem)) as info:
+            load_campaign(out)
+        assert f"'brakeca run {out / 'design.toml'} -o {out}' writes it again" in str(info.value)
+    rebuilt = run_campaign(
+        out / "design.toml", out, executor="serial", progress=False, console=quiet()
+    )
+    assert len(rebuilt.reused) == 4
+    pd.testing.assert_frame_equal(load_campaign(out).summary, serial.summary)
+
+
 def test_make_executor():
     with make_executor("serial") as ex:
         assert isinstance(ex, SerialExecutor)
