@@ -77,6 +77,7 @@ from brakeca._runstore import (
     _write_design,
     base_differences,
     campaign_lock,
+    checkpoint_resumes,
 )
 from brakeca.config import ConfigError, SimulationConfig
 from brakeca.design import Design, RunPoint, execution_order, load_design, run_id
@@ -472,7 +473,7 @@ def _execute_points(
         resumed = (
             0
             if how.checkpoint_every is None
-            else sum(_checkpoint_path(runs, p).is_file() for p in todo)
+            else sum(checkpoint_resumes(_checkpoint_path(runs, p), p.config, p.seed) for p in todo)
         )
         say(
             console,

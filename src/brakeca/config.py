@@ -774,10 +774,7 @@ def format_validation_error(exc: ValidationError, source: str, model: Any = None
                 msg = f"must lie in {interval}"
         got_text = (
             ""
-            if err["type"] in ("missing",)
-            or isinstance(got, dict)
-            or "got " in msg
-            or not_finite
+            if err["type"] in ("missing",) or isinstance(got, dict) or "got " in msg or not_finite
             else f" (got {got!r})"
         )
         lines.append(f"{source}: {loc}{msg}{got_text}")

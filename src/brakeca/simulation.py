@@ -24,6 +24,7 @@ import numpy as np
 from brakeca import _kernels as K
 from brakeca import _lazy
 from brakeca._io import atomic_write
+from brakeca._runstore import CHECKPOINT_FORMAT
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
@@ -505,7 +506,6 @@ _STATE_ARRAYS = (
     "lazy_walk",
 )
 _FIELD_ARRAYS = ("offsets", "top", "bottom", "next")
-CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
 
 
 def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:

@@ -88,8 +88,11 @@ def test_an_unusable_checkpoint_is_discarded(design_file, uninterrupted, tmp_pat
     ckpt = out / "runs" / f".{run_id(point)}.checkpoint.npz"
     ckpt.parent.mkdir(parents=True)
     ckpt.write_bytes(b"not a checkpoint")
-    result = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
+    log = Console(file=io.StringIO(), width=200)  # a log file: a line says what resumes
+    result = run_campaign(design_file, out, executor="serial", progress=True, console=log)
     assert result.ok and not ckpt.exists()
+    # not counted as resumed (a robustness review: the line had said "1 resumed")
+    assert "4 of 4 run(s) to compute (0 already done)\n" in log.file.getvalue()  # type: ignore[attr-defined]
     assert deterministic(result.summary).equals(deterministic(uninterrupted.summary))
 
 
