@@ -440,6 +440,12 @@ class Factor(_Frozen):
                 f"labels: factor {self.name!r} has {len(self.levels)} levels but "
                 f"{len(self.labels)} labels"
             )
+        if self.labels is not None and len(set(self.labels)) != len(self.labels):
+            twice = next(x for x in self.labels if self.labels.count(x) > 1)
+            raise ValueError(
+                f"labels: factor {self.name!r} labels two levels {twice!r}; each level needs "
+                "its own label, or the tables and plots could not tell them apart"
+            )
         if self.field == "cycle" and self.choices is None:
             raise ValueError(
                 f"choices: factor {self.name!r}: a factor on field 'cycle' needs choices (one "

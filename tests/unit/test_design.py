@@ -401,6 +401,10 @@ BAD_CASES = {
         lambda d: _set(d, ("factors", 0, "levels"), [0.0, "high"]),
         ["factors.0.levels", "number"],
     ),
+    "repeated label": (  # a robustness review: tables and plots could not tell them apart
+        lambda d: _set(d, ("factors", 0, "labels"), ["lo", "lo"]),
+        ["factors.0", "labels two levels 'lo'"],
+    ),
     "no factors": (lambda d: _set(d, ("factors",), []), ["factors"]),
     "missing root_seed": (lambda d: d.pop("root_seed"), ["root_seed", "required"]),
     "zero replicates": (lambda d: _set(d, ("replicates",), 0), ["replicates"]),
