@@ -275,6 +275,11 @@ def _dask_executor(
         ) from None
     if scheduler is not None or scheduler_file is not None:
         where = scheduler if scheduler is not None else f"scheduler file {scheduler_file}"
+        # an address dask cannot use is refused before a Client exists: a Client that fails
+        # in its constructor spends 60 s closing itself when the interpreter exits
+        problem = _scheduler_address_problem(scheduler, scheduler_file)
+        if problem:
+            raise ExecutorError(f"cannot connect to the Dask scheduler at {where}: {problem}")
         try:
             if scheduler is not None:
                 client = distributed.Client(scheduler, set_as_default=False)
@@ -320,6 +325,31 @@ def _dask_executor(
         held.__exit__(None, None, None)
         raise
     return DaskExecutor(client, cluster, held=held)
+
+
+def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path | None) -> str:
+    """Why dask could not use the scheduler address given, or named in the scheduler file
+    (its JSON ``address``); empty when it could."""
+    import json
+
+    from distributed.comm.addressing import parse_address
+    from distributed.comm.registry import get_backend
+
+    address = scheduler
+    if address is None and scheduler_file is not None:
+        try:
+            address = json.loads(Path(scheduler_file).read_text(encoding="utf-8"))["address"]
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            return (
+                f"the file holds no scheduler address (a JSON object with 'address', as 'dask "
+                f"scheduler --scheduler-file' writes it; {type(exc).__name__}: {exc})"
+            )
+    try:
+        scheme, _ = parse_address(str(address))
+        get_backend(scheme)
+    except (ValueError, TypeError) as exc:
+        return f"{type(exc).__name__}: {exc}"
+    return ""
 
 
 def make_executor(

@@ -299,6 +299,30 @@ def test_unreachable_scheduler_is_reported(design_file, tmp_path):
         )
 
 
+def test_an_address_dask_cannot_use_is_refused_at_once(tmp_path):
+    """A robustness review: 'garbage://x', or a scheduler file without an address, gave the
+    error and then a 60 s hang and a traceback at exit (the half-made Client closing). Both
+    are refused before a Client exists, in a child interpreter that must end quickly."""
+    (tmp_path / "empty.json").write_text("{}")
+    for args, message in (
+        ({"scheduler": "garbage://x"}, "unknown address scheme 'garbage'"),
+        ({"scheduler_file": str(tmp_path / "empty.json")}, "holds no scheduler address"),
+    ):
+        code = (
+            "from brakeca._executors import make_executor, ExecutorError\n"
+            "try:\n"
+            f"    make_executor('dask', **{args!r})\n"
+            "except ExecutorError as exc:\n"
+            "    print(exc)\n"
+        )
+        t0 = time.monotonic()
+        out = subprocess.run(
+            [sys.executable, "-c", code], capture_output=True, text=True, timeout=60
+        )
+        assert message in out.stdout and "Exception ignored" not in out.stderr, out
+        assert time.monotonic() - t0 < 30
+
+
 def test_make_executor_dask_and_scheduler_arguments(tmp_path):
     with pytest.raises(ValueError, match="scheduler needs executor='dask'"):
         make_executor("local", scheduler="tcp://127.0.0.1:8786")
