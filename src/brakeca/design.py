@@ -89,7 +89,6 @@ from typing import Any, ClassVar, Literal, NamedTuple
 import numpy as np
 import tomli_w
 from pydantic import (
-    BaseModel,
     ConfigDict,
     Field,
     ValidationError,
@@ -102,6 +101,7 @@ from brakeca.config import (
     QUICK_N_RADIAL,
     ConfigError,
     SimulationConfig,
+    _Checked,
     csv_delimiter,
     decimal_point,
     format_validation_error,
@@ -219,7 +219,7 @@ def standard_generators(names: Sequence[str], runs: int) -> tuple[str, ...]:
     )
 
 
-class _Frozen(BaseModel):
+class _Frozen(_Checked):  # a number field refuses true and false
     model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
 
 

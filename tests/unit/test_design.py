@@ -408,6 +408,10 @@ BAD_CASES = {
     "no factors": (lambda d: _set(d, ("factors",), []), ["factors"]),
     "missing root_seed": (lambda d: d.pop("root_seed"), ["root_seed", "required"]),
     "zero replicates": (lambda d: _set(d, ("replicates",), 0), ["replicates"]),
+    "true replicates": (  # pydantic takes True for 1
+        lambda d: _set(d, ("replicates",), True),
+        ["replicates: must be a number, not true"],
+    ),
     "unknown preset": (lambda d: _set(d, ("base",), "nope"), ["base", "nope"]),
     "base and base_config": (lambda d: _set(d, ("base_config",), "x.toml"), ["base"]),
     "missing base config file": (
