@@ -29,3 +29,29 @@ def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+#: Format tag of a run's checkpoint (:func:`brakeca.simulation.save_checkpoint`), here so
+#: that a campaign can read a checkpoint's tag without importing the kernels, and the
+#: simulation without importing the run files' modules (xarray).
+CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
+
+
+def checkpoint_resumes(path: Path, config: Any, seed: int) -> bool:
+    """Whether the checkpoint at ``path`` is one the run of ``config`` and ``seed`` would
+    resume from (its format, configuration and seed; only its small ``meta`` entry is read).
+    False for a missing, unreadable or foreign file, which the run discards."""
+    import json
+
+    import numpy as np
+
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+    except Exception:
+        return False
+    return bool(
+        meta.get("format") == CHECKPOINT_FORMAT
+        and meta.get("config") == config.to_toml()
+        and meta.get("seed") == seed
+    )

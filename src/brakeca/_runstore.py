@@ -33,29 +33,6 @@ try:  # POSIX advisory locks; without them (Windows) campaigns are not locked
 except ImportError:  # pragma: no cover - not on the supported platforms
     fcntl = None  # type: ignore[assignment]
 
-#: Format tag of a run's checkpoint (:func:`brakeca.simulation.save_checkpoint`), here so
-#: that a campaign can read a checkpoint's tag without importing the kernels.
-CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
-
-
-def checkpoint_resumes(path: Path, config: SimulationConfig, seed: int) -> bool:
-    """Whether the checkpoint at ``path`` is one the run of ``config`` and ``seed`` would
-    resume from (its format, configuration and seed; only its small ``meta`` entry is read).
-    False for a missing, unreadable or foreign file, which the run discards."""
-    import json
-
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-    except Exception:
-        return False
-    return bool(
-        meta.get("format") == CHECKPOINT_FORMAT
-        and meta.get("config") == config.to_toml()
-        and meta.get("seed") == seed
-    )
-
-
 #: Name of the lock file of a campaign directory.
 LOCK_NAME = ".brakeca.lock"
 

@@ -66,7 +66,7 @@ from brakeca._executors import (
     make_executor,
     terminate_as_interrupt,
 )
-from brakeca._io import atomic_write
+from brakeca._io import atomic_write, checkpoint_resumes
 from brakeca._runstore import (
     CampaignLockedError,
     _finish,
@@ -77,7 +77,6 @@ from brakeca._runstore import (
     _write_design,
     base_differences,
     campaign_lock,
-    checkpoint_resumes,
 )
 from brakeca.config import ConfigError, SimulationConfig
 from brakeca.design import Design, RunPoint, execution_order, load_design, run_id

@@ -23,8 +23,7 @@ import numpy as np
 
 from brakeca import _kernels as K
 from brakeca import _lazy
-from brakeca._io import atomic_write
-from brakeca._runstore import CHECKPOINT_FORMAT
+from brakeca._io import CHECKPOINT_FORMAT, atomic_write
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
