@@ -203,7 +203,8 @@ def run_campaign(
     ------
     ConfigError
         The design, an override or a level does not validate, or ``out_dir`` holds a campaign
-        of another base configuration and ``replace`` is false (before anything is written).
+        of another base configuration, or of a design whose runs this one leaves out, and
+        ``replace`` is false (before anything is written).
     ValueError
         An unknown executor, ``workers`` below 1, ``max_retries`` below 0, or a scheduler
         that does not go with the executor (before anything is written); a
@@ -213,6 +214,11 @@ def run_campaign(
         design files are written, before any run starts).
     CampaignLockedError
         Another campaign is writing ``out_dir`` (before anything is written).
+    KeyboardInterrupt
+        Ctrl-C, or SIGTERM or SIGHUP while the runs are computed (in the main thread, where
+        the program has not set its own handler): the local workers are stopped at once, and
+        the finished runs' files and the runs in progress's checkpoints are kept, so the same
+        call resumes.
     """
     from rich.console import Console
 
