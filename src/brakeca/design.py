@@ -35,7 +35,7 @@ Central composite design (key ``composite``: a table with ``alpha`` and ``center
     ``"orthogonal"`` or a number. A factor with ``coding = "log"`` is coded on log10 of its
     level (its centre is the geometric mean). The tests are written out as a run table when
     the design is validated, with each factor's levels, labels and ``coded_range``.
-Plackett-Burman design (key ``plackett_burman``: 12, 20 or 24 tests)
+Plackett-Burman design (key ``plackett_burman``: 12, 20, 24, 44 or 48 tests)
     A two-level screening design for up to one factor fewer than its tests: the standard
     generator row, its cyclic shifts and a test with every factor at its first level; written
     out as a run table. Main effects are orthogonal, each partly confounded with the other
@@ -1321,13 +1321,26 @@ def _composite_table(
     return levels, [list(labels) for _ in factors], tests
 
 
+def _quadratic_residue_row(q: int) -> str:
+    """Paley's generator row for a prime ``q = 3 (mod 4)``: ``+`` at 0 and at the quadratic
+    residues mod ``q``, ``-`` elsewhere; its cyclic shifts and a row of ``-`` make a Hadamard
+    design of ``q + 1`` runs."""
+    residues = {(i * i) % q for i in range(1, q)}
+    return "".join("+" if i == 0 or i in residues else "-" for i in range(q))
+
+
 #: Generator rows of the Plackett-Burman designs (Plackett and Burman 1946): the tests are
 #: the row and its cyclic shifts one place to the right, then a test with every factor at -;
-#: one column per factor, the first k of the N - 1 [-].
+#: one column per factor, the first k of the N - 1 [-]. The 12-, 20- and 24-run rows are the
+#: published ones; they are also the quadratic-residue rows of 11, 19 and 23 (a test checks
+#: it), and the 44- and 48-run rows are those of 43 and 47 (Paley's construction; not checked
+#: against the printed table).
 PLACKETT_BURMAN: dict[int, str] = {
     12: "++-+++---+-",
     20: "++--++++-+-+----++-",
     24: "+++++-+-++--++--+-+----",
+    44: _quadratic_residue_row(43),
+    48: _quadratic_residue_row(47),
 }
 
 
@@ -1453,7 +1466,7 @@ class Design(_Frozen):
         A Box-Behnken design (:class:`BoxBehnken`) over 3 to 5 numeric factors of two levels
         each: written out as for ``composite``, with the levels low, centre and high.
     plackett_burman
-        A Plackett-Burman screening design of this many tests (12, 20 or 24;
+        A Plackett-Burman screening design of this many tests (12, 20, 24, 44 or 48;
         :data:`PLACKETT_BURMAN`) over up to one factor fewer, each of two levels (the first
         coded -, the second +); written out as ``runs`` when the design is validated.
     goals

@@ -579,7 +579,17 @@ def _pb(runs: int, factors: list[dict[str, Any]], **extra: Any) -> Design:
     return design_from_dict({**data, "factors": factors, **extra}, source="pb.toml")
 
 
-@pytest.mark.parametrize("runs", [12, 20, 24])
+def test_the_published_rows_are_the_quadratic_residue_rows():
+    """Plackett and Burman's 12-, 20- and 24-run generator rows are Paley's quadratic-residue
+    rows of 11, 19 and 23, the construction that gives the 44- and 48-run designs."""
+    from brakeca.design import PLACKETT_BURMAN, _quadratic_residue_row
+
+    for runs in (12, 20, 24):
+        assert _quadratic_residue_row(runs - 1) == PLACKETT_BURMAN[runs]
+    assert sorted(PLACKETT_BURMAN) == [12, 20, 24, 44, 48]
+
+
+@pytest.mark.parametrize("runs", [12, 20, 24, 44, 48])
 def test_plackett_burman_columns_are_balanced_and_orthogonal(runs):
     from brakeca.design import _plackett_burman_signs
 
