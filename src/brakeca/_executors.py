@@ -159,7 +159,8 @@ def _exit_with_parent(parent: int, every: float = PARENT_CHECK_EVERY) -> None:
 
     A local worker whose campaign was killed (SIGKILL, a closed terminal) would otherwise run
     on as an orphan, its result going nowhere. The run's checkpoint is kept, so the next
-    campaign resumes it from there."""
+    campaign resumes it from there. The thread runs only between the run's compiled calls
+    (a compiled stop holds the interpreter's lock), so an orphan ends when its stop does."""
 
     def watch() -> None:
         while os.getppid() == parent:
