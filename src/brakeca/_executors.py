@@ -154,17 +154,26 @@ class DaskExecutor(cf.Executor):
 PARENT_CHECK_EVERY = 1.0
 
 
-def _exit_with_parent(parent: int, every: float = PARENT_CHECK_EVERY) -> None:
+def _exit_with_parent(
+    parent: int, every: float = PARENT_CHECK_EVERY, cleanup: Callable[[], object] | None = None
+) -> None:
     """Watch, in a daemon thread, for the process ``parent`` to end, and end this process then.
 
     A local worker whose campaign was killed (SIGKILL, a closed terminal) would otherwise run
     on as an orphan, its result going nowhere. The run's checkpoint is kept, so the next
     campaign resumes it from there. The thread runs only between the run's compiled calls
-    (a compiled stop holds the interpreter's lock), so an orphan ends when its stop does."""
+    (a compiled stop holds the interpreter's lock), so an orphan ends when its stop does.
+    ``cleanup``, if given, is called first (the warm-up child removes its parent's temporary
+    folder)."""
 
     def watch() -> None:
         while os.getppid() == parent:
             time.sleep(every)
+        if cleanup is not None:
+            try:
+                cleanup()
+            finally:
+                os._exit(1)
         os._exit(1)
 
     threading.Thread(target=watch, name="brakeca-parent-watch", daemon=True).start()

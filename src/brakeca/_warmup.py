@@ -24,6 +24,7 @@ without a word: the run that follows meets the same error and reports it, once, 
 
 from __future__ import annotations
 
+import os
 import pickle
 import signal
 import subprocess
@@ -234,6 +235,18 @@ def _main(argv: list[str]) -> int:
     process group, and the parent, interrupted in ``subprocess.run``, kills the child itself,
     so the user sees the parent's message instead of a compiler's traceback."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # a parent killed outright (SIGKILL) cannot stop this child or remove its folder
+    import shutil
+
+    from brakeca._executors import _exit_with_parent
+
+    folder = Path(argv[1]).parent
+
+    def remove_folder() -> None:
+        if folder.name.startswith("brakeca-warm-up-"):  # warm_up's TemporaryDirectory
+            shutil.rmtree(folder, ignore_errors=True)
+
+    _exit_with_parent(os.getppid(), cleanup=remove_folder)
     return 1 if _child(pickle.loads(Path(argv[1]).read_bytes())) else 0
 
 
