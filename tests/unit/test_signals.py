@@ -83,3 +83,41 @@ def _alive(pid: int) -> bool:
             return stat.read().split(") ")[1][0] != "Z"
     except OSError:
         return False
+
+
+def test_a_child_watching_its_parent_cleans_up_and_ends(tmp_path) -> None:
+    """The warm-up child's guard: when its parent is killed outright, the child calls its
+    cleanup (the warm-up removes its temporary folder) and ends."""
+    marker = tmp_path / "cleaned"
+    pid_file = tmp_path / "child.pid"
+    child = textwrap.dedent(
+        f"""
+        import os, time
+        from pathlib import Path
+        from brakeca._executors import _exit_with_parent
+        _exit_with_parent(os.getppid(), 0.1, cleanup=lambda: Path({str(marker)!r}).touch())
+        Path({str(pid_file)!r}).write_text(str(os.getpid()))
+        time.sleep(60)
+        """
+    )
+    parent_code = (
+        "import subprocess, sys, time\n"
+        f"subprocess.Popen([sys.executable, '-c', {child!r}])\n"
+        "time.sleep(60)\n"
+    )
+    parent = subprocess.Popen([sys.executable, "-c", parent_code])
+    try:
+        deadline = time.monotonic() + 60
+        while not pid_file.exists() or not pid_file.read_text():
+            assert time.monotonic() < deadline and parent.poll() is None
+            time.sleep(0.1)
+        pid = int(pid_file.read_text())
+        parent.kill()
+        parent.wait()
+        deadline = time.monotonic() + 10
+        while _alive(pid) or not marker.exists():
+            assert time.monotonic() < deadline, "the child outlived its parent"
+            time.sleep(0.1)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
