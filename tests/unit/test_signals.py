@@ -54,20 +54,26 @@ def test_a_local_worker_ends_with_its_campaign_process(tmp_path) -> None:
     )
     script = tmp_path / "campaign.py"
     script.write_text(code)
-    parent = subprocess.Popen([sys.executable, str(script)])
+    _kill_parent_then_wait([sys.executable, str(script)], pid_file, lambda: True)
+
+
+def _kill_parent_then_wait(command: list[str], pid_file, done) -> None:
+    """Start ``command`` (the parent), wait for the pid its child writes to ``pid_file``,
+    kill the parent outright and wait up to 10 s for the child to end and ``done()``."""
+    parent = subprocess.Popen(command)
     try:
         deadline = time.monotonic() + 60
         while not pid_file.exists() or not pid_file.read_text():
             assert time.monotonic() < deadline and parent.poll() is None
             time.sleep(0.1)
-        worker = int(pid_file.read_text())
-        os.kill(worker, 0)  # alive
+        child = int(pid_file.read_text())
+        assert _alive(child)
         parent.kill()
         parent.wait()
         deadline = time.monotonic() + 10
-        while _alive(worker):
-            assert time.monotonic() < deadline, "the worker outlived its campaign"
-            time.sleep(0.2)
+        while _alive(child) or not done():
+            assert time.monotonic() < deadline, "the child outlived its parent"
+            time.sleep(0.1)
     finally:
         if parent.poll() is None:
             parent.kill()
@@ -105,19 +111,4 @@ def test_a_child_watching_its_parent_cleans_up_and_ends(tmp_path) -> None:
         f"subprocess.Popen([sys.executable, '-c', {child!r}])\n"
         "time.sleep(60)\n"
     )
-    parent = subprocess.Popen([sys.executable, "-c", parent_code])
-    try:
-        deadline = time.monotonic() + 60
-        while not pid_file.exists() or not pid_file.read_text():
-            assert time.monotonic() < deadline and parent.poll() is None
-            time.sleep(0.1)
-        pid = int(pid_file.read_text())
-        parent.kill()
-        parent.wait()
-        deadline = time.monotonic() + 10
-        while _alive(pid) or not marker.exists():
-            assert time.monotonic() < deadline, "the child outlived its parent"
-            time.sleep(0.1)
-    finally:
-        if parent.poll() is None:
-            parent.kill()
+    _kill_parent_then_wait([sys.executable, "-c", parent_code], pid_file, marker.exists)
