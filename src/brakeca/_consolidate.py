@@ -298,7 +298,7 @@ def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design)
     if "run_id" not in summary.columns or "status" not in summary.columns:
         return "it has no run_id or status column"
     ids = [str(r) for r in summary["run_id"]]
-    expected = [str(r) for r in dataset["run_id"].values]
+    expected = [str(r) for r in dataset["run_id"].values] if "run_id" in dataset else ids
     if ids != expected:
         return (
             f"its {len(ids)} runs are not the {len(expected)} of campaign.nc"
