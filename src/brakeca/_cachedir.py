@@ -23,6 +23,7 @@ folders of other versions are removed once unused: an empty one after a day, any
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 from pathlib import Path
@@ -50,28 +51,20 @@ def source_key(package: Path = _PACKAGE) -> str:
     return digest.hexdigest()[:16]
 
 
-_FOLDER: list[Path | None] = []  # this process's folder, once computed
-_INSTALLED: list[bool] = []
-
-
+@functools.cache
 def cache_folder() -> Path | None:
     """This version's cache folder, created and touched (and the other versions' pruned) on
     the first call of the process; None when it cannot be created or written."""
-    if _FOLDER:
-        return _FOLDER[0]
     root = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    folder: Path | None = Path(root) / "brakeca" / "numba" / source_key()
+    folder = Path(root) / "brakeca" / "numba" / source_key()
     try:
-        assert folder is not None
         folder.mkdir(parents=True, exist_ok=True)
         if not os.access(folder, os.W_OK):
-            folder = None
-        else:
-            os.utime(folder)  # in use: loading cached kernels writes nothing numba would date
-            prune(folder)
+            return None
+        os.utime(folder)  # in use: loading cached kernels writes nothing numba would date
     except OSError:
-        folder = None
-    _FOLDER.append(folder)
+        return None
+    prune(folder)
     return folder
 
 
@@ -92,13 +85,11 @@ def _inside_package(py_file: str) -> bool:
         return False
 
 
+@functools.cache  # once per process
 def install() -> None:
     """Make numba cache the functions defined in brakeca's files in :func:`cache_folder`
     (unless ``NUMBA_CACHE_DIR`` is set), before they are compiled; every other function's
     cache stays where numba puts it. Safe to call again; call it before decorating."""
-    if _INSTALLED:
-        return
-    _INSTALLED.append(True)
     if os.environ.get("NUMBA_CACHE_DIR"):
         return  # numba's own locator honours it, for every function
     folder = cache_folder()

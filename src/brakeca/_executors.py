@@ -169,12 +169,11 @@ def _exit_with_parent(
     def watch() -> None:
         while os.getppid() == parent:
             time.sleep(every)
-        if cleanup is not None:
-            try:
+        try:
+            if cleanup is not None:
                 cleanup()
-            finally:
-                os._exit(1)
-        os._exit(1)
+        finally:
+            os._exit(1)
 
     threading.Thread(target=watch, name="brakeca-parent-watch", daemon=True).start()
 

@@ -47,9 +47,9 @@ def test_cold_kernels_reads_the_cache_folder(tmp_path, monkeypatch) -> None:
     from brakeca import _cachedir
 
     monkeypatch.delenv("NUMBA_CACHE_DIR")
-    monkeypatch.setattr(_cachedir, "_FOLDER", [cache])
+    monkeypatch.setattr(_cachedir, "cache_folder", lambda: cache)
     assert warmup.cold_kernels([lazy]) == []
-    monkeypatch.setattr(_cachedir, "_FOLDER", [None])
+    monkeypatch.setattr(_cachedir, "cache_folder", lambda: None)
     assert warmup.cold_kernels([lazy]) is None  # numba's default place: not known
 
 
