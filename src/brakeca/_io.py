@@ -37,10 +37,19 @@ def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
 CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
 
 
+def checkpoint_is_of(meta: dict[str, Any], config: Any, seed: int) -> bool:
+    """Whether a checkpoint's ``meta`` entry names this format, ``config`` and ``seed``."""
+    return bool(
+        meta.get("format") == CHECKPOINT_FORMAT
+        and meta.get("config") == config.to_toml()
+        and meta.get("seed") == seed
+    )
+
+
 def checkpoint_resumes(path: Path, config: Any, seed: int) -> bool:
     """Whether the checkpoint at ``path`` is one the run of ``config`` and ``seed`` would
-    resume from (its format, configuration and seed; only its small ``meta`` entry is read).
-    False for a missing, unreadable or foreign file, which the run discards."""
+    resume from (:func:`checkpoint_is_of`; only its small ``meta`` entry is read). False for
+    a missing, unreadable or foreign file, which the run discards."""
     import json
 
     import numpy as np
@@ -50,8 +59,4 @@ def checkpoint_resumes(path: Path, config: Any, seed: int) -> bool:
             meta = json.loads(str(data["meta"]))
     except Exception:
         return False
-    return bool(
-        meta.get("format") == CHECKPOINT_FORMAT
-        and meta.get("config") == config.to_toml()
-        and meta.get("seed") == seed
-    )
+    return checkpoint_is_of(meta, config, seed)

@@ -23,7 +23,7 @@ import numpy as np
 
 from brakeca import _kernels as K
 from brakeca import _lazy
-from brakeca._io import CHECKPOINT_FORMAT, atomic_write
+from brakeca._io import CHECKPOINT_FORMAT, atomic_write, checkpoint_is_of
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
@@ -565,11 +565,7 @@ def load_checkpoint(path, config, seed, grid):
         raise CheckpointError(
             f"{path}: unreadable checkpoint ({exc}); delete it to start over"
         ) from None
-    if (
-        meta.get("format") != CHECKPOINT_FORMAT
-        or meta.get("config") != config.to_toml()
-        or (meta.get("seed") != seed)
-    ):
+    if not checkpoint_is_of(meta, config, seed):
         raise CheckpointError(
             f"{path}: checkpoint of another run, or of another brakeca version (config, seed "
             "or format differ)"
@@ -841,9 +837,9 @@ def _check_friction(residual: float, stop: Stop, config: SimulationConfig) -> No
         return
     contact = config.contact
     missed = (
-        f"missed the demanded one by {residual:.3g} of it (tolerance {FRICTION_TOLERANCE:g})"
-        if residual == residual
-        else "is not a number"
+        "is not a number"
+        if math.isnan(residual)
+        else f"missed the demanded one by {residual:.3g} of it (tolerance {FRICTION_TOLERANCE:g})"
     )
     raise ContactError(
         f"stop {stop.index} ({stop.block}): the friction force {missed}: the torque control cannot "
