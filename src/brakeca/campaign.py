@@ -295,26 +295,8 @@ def _run_locked(
     stale = _remove_stale_temporaries(runs) + _remove_stale_temporaries(out)
     if stale:
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
-    changed = base_differences(out, base)
-    if changed and not replace:
-        shown = "; ".join(changed[:4]) + (
-            f"; and {len(changed) - 4} more" if len(changed) > 4 else ""
-        )
-        raise ConfigError(
-            f"{out} holds a campaign of another base configuration ({shown}): this one would "
-            "replace its summary.csv and report.html. Give another folder, or replace it on "
-            "purpose (--replace; replace=True from Python): the run files of both are kept, "
-            "and the first campaign's command, run again, brings its study back"
-        )
-    dropped = _runs_left_out(out, {run_id(p) for p in points})
-    if dropped and not replace:
-        raise ConfigError(
-            f"{out} holds the study of another design ({dropped}): this one would replace "
-            "its summary.csv and report.html. Give another folder, or replace it on purpose "
-            "(--replace; replace=True from Python): the run files of both are kept, and the "
-            "first design, run again, brings its study back. A design that keeps every run of "
-            "the study there and adds others (a fold-over, more replicates) needs neither"
-        )
+    if not replace:
+        _refuse_to_replace(out, base, {run_id(p) for p in points})
     campaign_design = _write_design(
         out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
     )
@@ -386,6 +368,33 @@ def _run_locked(
         reused=tuple(reused),
         failed=tuple(failed),
         recomputed=tuple(recomputed),
+    )
+
+
+def _refuse_to_replace(out: Path, base: SimulationConfig, wanted: set[str]) -> None:
+    """Raise ConfigError if ``out`` holds a study that a campaign of ``base`` and the runs
+    ``wanted`` (run ids) would replace: one of another base configuration, or of a design
+    whose runs it leaves out."""
+    changed = base_differences(out, base)
+    if changed:
+        shown = "; ".join(changed[:4]) + (
+            f"; and {len(changed) - 4} more" if len(changed) > 4 else ""
+        )
+        what, first, after = "a campaign of another base configuration", "campaign's command", ""
+    else:
+        shown = _runs_left_out(out, wanted)
+        if not shown:
+            return
+        what, first = "the study of another design", "design"
+        after = (
+            ". A design that keeps every run of the study there and adds others (a fold-over, "
+            "more replicates) needs neither"
+        )
+    raise ConfigError(
+        f"{out} holds {what} ({shown}): this one would replace its summary.csv and "
+        "report.html. Give another folder, or replace it on purpose (--replace; replace=True "
+        f"from Python): the run files of both are kept, and the first {first}, run again, "
+        f"brings its study back{after}"
     )
 
 
@@ -617,7 +626,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument(
         "--replace",
         action="store_true",
-        help="write over a folder's campaign of another base configuration",
+        help="write over a folder's campaign of another base configuration or design",
     )
     args = parser.parse_args(argv)
     try:

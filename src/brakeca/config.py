@@ -275,7 +275,7 @@ class BrakeBlock(_Frozen):
         return self
 
 
-class TraceCycleConfig(_Checked):
+class TraceCycleConfig(_Frozen):
     """How braking events are found in a trace and what the modelled brake must deliver.
 
     Defaults, literature ranges and sources are in the field descriptions and in
@@ -295,10 +295,6 @@ class TraceCycleConfig(_Checked):
     ``c phi_f m (a - a_road) / 2``). With ``phi_f = psi_f`` and ``c = 1`` the brake takes its
     static load share, the reading of the paper's block cycle.
     """
-
-    model_config = ConfigDict(
-        frozen=True, extra="forbid", validate_default=True, allow_inf_nan=False
-    )
 
     # detection
     threshold: float = Field(
