@@ -1356,16 +1356,17 @@ def _effect_terms(
         )
 
     interactions = [t for t in candidates if ":" in t]
+    column_of = {t: _term_columns(frame, t)[:, 0] for t in interactions}
     main_columns = list(columns)
     for term in interactions:
-        column = _term_columns(frame, term)[:, 0]
+        column = column_of[term]
         if _rank(*(c[:, None] for c in main_columns), column[:, None]) == rank:
             continue  # aliased with a main effect (or a combination of them)
         if correlation(column, main_columns) >= _MAX_EFFECT_CORRELATION:
             return kept, interactions, True
     partial: list[str] = []
     for term in interactions:
-        column = _term_columns(frame, term)[:, 0]
+        column = column_of[term]
         new_rank = _rank(*(c[:, None] for c in columns), column[:, None])
         if new_rank == rank:
             continue  # aliased with the terms kept: its chain is named by one of them
