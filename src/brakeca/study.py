@@ -235,7 +235,6 @@ def _scope(base: Any) -> str:
     if base is None:
         return ""
     from brakeca.presets import load_preset
-    from brakeca.traces import configured_cycle
 
     paper = load_preset("paper").mesh
     mesh = base.mesh
@@ -252,21 +251,20 @@ def _scope(base: Any) -> str:
             f"{paper.n_radial} × {paper.n_angular} (its Table 5): V is the volume leaving the "
             "simulated band, so it grows with the band's width"
         )
-    n_total = configured_cycle(base).n_total
-    asked = base.cycle.max_stops
-    if asked is not None and asked < n_total:
+    cut = _cut_short(base)
+    if cut is not None:
         parts.append(
-            f"over the first {asked} of the cycle's {n_total} stops only (--stops), so MU and "
-            "V are means over those stops, not over the cycle"
+            f"over {cut} only (--stops), so MU and V are means over those stops, not over the "
+            "cycle"
         )
     if not parts:
         return ""
     return "These runs were made " + "; and ".join(parts) + "."
 
 
-def _stops_run(base: Any) -> str:
-    """The stops a campaign ran, in words: "the whole cycle", or "the first N of the cycle's M
-    stops" for one run with --stops (``base``: its base configuration, or None)."""
+def _cut_short(base: Any) -> str | None:
+    """The stops of a campaign run with --stops, in words: "the first N of the cycle's M
+    stops"; None for the whole cycle or an unknown base configuration (``base``: None)."""
     from brakeca.traces import configured_cycle
 
     if base is not None:
@@ -274,7 +272,7 @@ def _stops_run(base: Any) -> str:
         asked = base.cycle.max_stops
         if asked is not None and asked < n_total:
             return f"the first {asked} of the cycle's {n_total} stops"
-    return "the whole cycle"
+    return None
 
 
 def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, list, str]:
@@ -408,6 +406,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
     base = _base_config(out)
     scope = _scope(base)
+    stops_run = _cut_short(base) or "the whole cycle"  # for the captions
     if scope and any(g.response != "MU" for g in goals):
         optimum_note = " ".join(
             t
@@ -531,7 +530,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             )
         add(
             "Runs",
-            f"MU per stop over {_stops_run(base)} for every run (paper Figure 10)",
+            f"MU per stop over {stops_run} for every run (paper Figure 10)",
             "mu_per_stop.png",
             plotting.plot_mu_per_stop,
             result.dataset,
@@ -578,7 +577,7 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
             )
             add(
                 "Final plateau maps",
-                f"Test {int(row['test'])} ({levels}){which}: plateaus after {_stops_run(base)}",
+                f"Test {int(row['test'])} ({levels}){which}: plateaus after {stops_run}",
                 f"final_map_test{int(row['test']):02d}_r{int(row.get('replicate', 0))}.png",
                 plotting.plot_surface_map,
                 *_map_of(runs_dir / f"{row['run_id']}.nc", "final_status"),
