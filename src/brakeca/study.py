@@ -254,8 +254,7 @@ def _scope(base: Any) -> str:
     cut = _cut_short(base)
     if cut is not None:
         parts.append(
-            f"over {cut} only (--stops), so MU and V are means over those stops, not over the "
-            "cycle"
+            f"over {cut} only (--stops), so MU and V are means over those stops, not over the cycle"
         )
     if not parts:
         return ""
