@@ -42,6 +42,7 @@ import pandas as pd
 
 __all__ = [
     "ANOVA_COLUMNS",
+    "ANOVA_TYPES",
     "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
     "Factor",
@@ -496,15 +497,50 @@ def _sequential_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any) -> pd
     return table
 
 
+def _adjusted_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any) -> pd.DataFrame:
+    """Type III (adjusted) ANOVA: each term's sum of squares is the rise of the residual sum
+    of squares when its columns alone leave the full model, with every factor in deviation
+    (sum-to-zero) coding (:func:`_term_columns`), as Minitab's "Adjusted SS" and JMP's
+    effect tests are; its df is its number of columns. Needs a full-rank model matrix."""
+    from scipy import stats
+
+    y = frame["y"].to_numpy(dtype=float)
+    n = y.size
+    blocks = {t: _term_columns(frame, t) for t in terms}
+
+    def ssr(columns: Sequence[np.ndarray]) -> float:
+        exog = np.hstack([np.ones((n, 1)), *columns])
+        coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
+        return float(np.sum((y - exog @ coef) ** 2))
+
+    full = ssr(list(blocks.values()))
+    rows = []
+    for term in terms:
+        reduced = ssr([blocks[t] for t in terms if t != term])
+        rows.append((term, float(blocks[term].shape[1]), max(reduced - full, 0.0)))
+    df_resid = float(fit.df_resid)
+    table = pd.DataFrame(rows, columns=["term", "df", "sum_sq"]).set_index("term")
+    mean_resid = float(fit.ssr) / df_resid if df_resid > 0 else np.nan
+    table["F"] = (table["sum_sq"] / table["df"]) / mean_resid
+    table["PR(>F)"] = stats.f.sf(table["F"], table["df"], df_resid)
+    table.loc["Residual"] = [df_resid, float(fit.ssr), np.nan, np.nan]
+    return table
+
+
+#: The sums of squares :func:`anova` can give: ``typ`` [-] and its name in the table.
+ANOVA_TYPES: dict[int, str] = {2: "Type II", 3: "Type III (adjusted)"}
+
+
 def _fit_anova(
-    frame: pd.DataFrame, terms: Sequence[str], *, check_only: bool = False
+    frame: pd.DataFrame, terms: Sequence[str], *, check_only: bool = False, typ: int = 2
 ) -> tuple[Any, pd.DataFrame | None, str, list[str]]:
     """Fit OLS on ``frame`` (column ``y``); return (fit, ANOVA table, type, messages).
 
-    Type II sums of squares from :func:`statsmodels.stats.anova.anova_lm` for a full-rank
-    design; sequential (Type I) sums of squares from nested fits when the design matrix is
-    rank-deficient (empty cells) or ``anova_lm`` fails. With ``check_only`` only the fit is
-    made (table None).
+    Type II sums of squares from :func:`statsmodels.stats.anova.anova_lm` (``typ=2``) or
+    adjusted Type III ones (``typ=3``, :func:`_adjusted_table`) for a full-rank design;
+    sequential (Type I) sums of squares from nested fits when the design matrix is
+    rank-deficient (empty cells) or the table cannot be computed. With ``check_only`` only
+    the fit is made (table None).
     """
     from statsmodels.stats.anova import anova_lm
 
@@ -515,23 +551,24 @@ def _fit_anova(
         warnings.simplefilter("always")
         fit = _ols(frame, terms)
         table = None
-        kind = "Type II"
+        kind = ANOVA_TYPES[typ]
         if not check_only:
             exog = fit.model.exog
             full_rank = np.linalg.matrix_rank(exog) == exog.shape[1]
             if full_rank:
                 try:
-                    table = anova_lm(fit, typ=2)
+                    table = anova_lm(fit, typ=2) if typ == 2 else _adjusted_table(frame, terms, fit)
                 except (ValueError, np.linalg.LinAlgError):
                     table = None
             if table is None:
                 table = _sequential_table(frame, terms, fit)
+                name = kind.split(" (")[0]
                 if not full_rank:
                     why = "the design is rank-deficient, e.g. empty cells"
                 elif fit.df_resid < 0.5:
-                    why = "no residual degrees of freedom, which Type II needs"
+                    why = f"no residual degrees of freedom, which {name} needs"
                 else:
-                    why = "statsmodels could not compute Type II"
+                    why = f"{name} could not be computed"
                 kind = f"Type I (sequential; {why})"
     messages = sorted(
         {
@@ -553,16 +590,23 @@ def anova(
     response: str,
     *,
     interactions: bool = True,
+    typ: int = 2,
 ) -> pd.DataFrame:
     """Analysis of variance of a response over categorical factors.
 
     Fits ``y ~ C(f1) + C(f2) + ... + C(f1):C(f2) + ...`` (main effects and, when
     ``interactions`` is true, all two-factor interactions) by ordinary least squares with
-    :func:`statsmodels.formula.api.ols` and tabulates it with
-    :func:`statsmodels.stats.anova.anova_lm` using **Type II** sums of squares. For a balanced
-    (orthogonal) design such as the paper's full factorial, Type I, II and the classical
-    hand-computed sums of squares coincide, and the sums of squares of all terms plus the
-    residual add up to the total sum of squares about the mean.
+    :func:`statsmodels.formula.api.ols` and tabulates it with **Type II** sums of squares
+    (:func:`statsmodels.stats.anova.anova_lm`; ``typ=2``, the default) or **Type III**
+    (adjusted) ones (``typ=3``): each term's rise in the residual sum of squares when it alone
+    leaves the full model, the factors in sum-to-zero coding, as Minitab's "Adjusted SS" and
+    JMP's effect tests. For a balanced (orthogonal) design such as the paper's full factorial,
+    Type I, II, III and the classical hand-computed sums of squares coincide, and the sums of
+    squares of all terms plus the residual add up to the total sum of squares about the mean.
+    They differ once the design is unbalanced (a failed run): Type II adjusts each term for
+    the others but not for the interactions that contain it, Type III for every other term;
+    with Type III a two-level term's F equals the square of its coefficient's t in
+    :func:`two_level_effects`.
 
     The residual is what the model does not explain: with replicates (several seeds per
     factor-level combination) it contains the pure error (run-to-run scatter from the random
@@ -595,6 +639,8 @@ def anova(
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
         Include all two-factor interactions (default) or main effects only.
+    typ
+        The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted).
 
     Returns
     -------
@@ -619,6 +665,7 @@ def anova(
     Wahlström (2016), Section 4 (factorial design) and Figures 6 to 9,
     doi:10.1155/2016/8181260.
     """
+    _check_anova_type(typ)
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     n = len(data)
@@ -652,7 +699,7 @@ def anova(
         out.attrs.update(_fit_statistics(y, *_least_squares(np.ones((n, 1)), y), total_ss))
         return out
 
-    fit, table, kind, messages = _fit_anova(frame, terms)
+    fit, table, kind, messages = _fit_anova(frame, terms, typ=typ)
     assert table is not None  # only a check_only call returns no table
     saturated = fit.df_resid < 0.5
     if saturated:
@@ -689,12 +736,19 @@ def anova(
         if messages and not saturated:
             notes.extend(messages)
         if not math.isclose(float(out["sum_sq"].sum()), total_ss, rel_tol=1e-8, abs_tol=0.0):
-            notes.append(
-                "unbalanced design: the Type II sums of squares do not add up to the total, "
-                "and differ from the adjusted (Type III) sums of squares Minitab and JMP show "
-                "(Type II adjusts each term for the others but not for the interactions that "
-                "contain it)"
-            )
+            if kind == ANOVA_TYPES[2]:
+                notes.append(
+                    "unbalanced design: the Type II sums of squares do not add up to the "
+                    "total, and differ from the adjusted (Type III) sums of squares Minitab "
+                    "and JMP show (Type II adjusts each term for the others but not for the "
+                    "interactions that contain it; typ=3, or anova_type = 3 in the design, "
+                    "gives Type III)"
+                )
+            elif kind == ANOVA_TYPES[3]:
+                notes.append(
+                    "unbalanced design: the adjusted (Type III) sums of squares do not add up "
+                    "to the total (each term is adjusted for every other term)"
+                )
     note = "; ".join(notes)
     out["note"] = note
     out = out[list(ANOVA_COLUMNS)].reset_index(drop=True)
@@ -708,6 +762,13 @@ def anova(
     out.attrs.update(_fit_statistics(y, *_least_squares(fit.model.exog, y), total_ss))
     out.attrs.update(_lack_of_fit(frame, fit))
     return out
+
+
+def _check_anova_type(typ: Any) -> None:
+    if isinstance(typ, bool) or typ not in ANOVA_TYPES:
+        raise ValueError(
+            f"typ: the ANOVA's sums of squares are of Type 2 or 3 (Type III, adjusted), got {typ!r}"
+        )
 
 
 def _lack_of_fit(frame: pd.DataFrame, fit: Any) -> dict[str, float]:
@@ -1604,6 +1665,7 @@ def analyze(
     responses: Sequence[str] = ("MU", "V"),
     *,
     main_effects_only: bool = False,
+    anova_type: int = 2,
 ) -> dict[str, dict[str, Any]]:
     """Run the whole analysis for several responses.
 
@@ -1620,6 +1682,9 @@ def analyze(
         The ANOVA and the effects table fit the main effects alone, as Minitab analyses a
         Plackett-Burman design (its interactions are partly confounded with the main
         effects); the interaction plots' cell means are still given.
+    anova_type
+        The ANOVA's sums of squares (:func:`anova`'s ``typ``): 2 (Type II, the default) or 3
+        (Type III, adjusted, as Minitab and JMP give them).
 
     Returns
     -------
@@ -1633,12 +1698,15 @@ def analyze(
     ----------
     Wahlström (2016), Figures 6 to 9, doi:10.1155/2016/8181260.
     """
+    _check_anova_type(anova_type)
     factors = _factors(factors)
     if isinstance(responses, str):
         responses = (responses,)
     result: dict[str, dict[str, Any]] = {}
     for response in responses:
-        table = anova(summary, factors, response, interactions=not main_effects_only)
+        table = anova(
+            summary, factors, response, interactions=not main_effects_only, typ=anova_type
+        )
         result[response] = {
             "main_effects": main_effects(summary, factors, response),
             "interactions": interaction_tables(summary, factors, response),

@@ -812,6 +812,16 @@ def analyze(
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
     ],
     run_maps: Annotated[bool, typer.Option(help="draw the final plateau map of every run")] = True,
+    anova_type: Annotated[
+        int | None,
+        typer.Option(
+            min=2,
+            max=3,
+            metavar="2|3",
+            help="the ANOVA's sums of squares: 2 (Type II) or 3 (Type III, adjusted, as "
+            "Minitab and JMP); by default the design's anova_type (2 unless set)",
+        ),
+    ] = None,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
     from brakeca.campaign import finish_campaign
@@ -823,7 +833,7 @@ def analyze(
         _fail(str(exc))
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
-        path = write_study(result, run_maps=run_maps)
+        path = write_study(result, run_maps=run_maps, anova_type=anova_type)
     out.print(
         f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
     )

@@ -1476,6 +1476,10 @@ class Design(_Frozen):
         The report of a response-surface design fits reduced surfaces: backward elimination
         of the terms with p above this level [-], keeping the model hierarchical
         (:func:`brakeca.rsm.backward_elimination`); by default the full quadratic.
+    anova_type
+        The report's ANOVA sums of squares: 2 (Type II, the default) or 3 (Type III,
+        adjusted, as Minitab and JMP give them); they differ only in an unbalanced design,
+        e.g. once a run has failed (:func:`brakeca.analysis.anova`).
     """
 
     name: str = Field(min_length=1)
@@ -1495,6 +1499,7 @@ class Design(_Frozen):
     plackett_burman: int | None = None
     goals: tuple[GoalSpec, ...] = ()
     alpha_to_remove: float | None = Field(None, gt=0.0, lt=1.0)
+    anova_type: Literal[2, 3] = 2
 
     @field_validator("foldover", mode="before")
     @classmethod
@@ -2386,6 +2391,8 @@ class Design(_Frozen):
             data["runs"] = [dict(row) for row in data["runs"]]
         if data.get("runs_file") is not None:
             data["runs_file"] = str(data["runs_file"])
+        if data["anova_type"] == 2:  # the default
+            data["anova_type"] = None
         return {k: v for k, v in data.items() if v is not None}
 
     def to_toml(self, *, base_config: str | Path | None = None) -> str:

@@ -359,7 +359,9 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
     return summary.assign(**rows), note
 
 
-def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
+def write_study(
+    result: CampaignResult, *, run_maps: bool = True, anova_type: int | None = None
+) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
     Parameters
@@ -368,6 +370,9 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
         A campaign loaded by :func:`brakeca.campaign.load_campaign`.
     run_maps
         Also draw the final plateau map of every run (one PNG per run).
+    anova_type
+        The ANOVA's sums of squares, 2 (Type II) or 3 (Type III, adjusted); by default the
+        design's ``anova_type``.
 
     Returns
     -------
@@ -385,7 +390,11 @@ def write_study(result: CampaignResult, *, run_maps: bool = True) -> Path:
     ok = analysis.ok_runs(summary)
     data = with_log_v(summary)
     tables = analysis.analyze(
-        data, factors, RESPONSES, main_effects_only=result.design.plackett_burman is not None
+        data,
+        factors,
+        RESPONSES,
+        main_effects_only=result.design.plackett_burman is not None,
+        anova_type=result.design.anova_type if anova_type is None else anova_type,
     )
     analysis.save_tables(tables, tables_dir)
     surfaces: dict[str, Any] = {}

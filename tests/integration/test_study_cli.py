@@ -156,6 +156,13 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     assert (out / "report.html").exists()
     # the maps of the earlier analysis, which the report no longer lists, are gone
     assert not list((out / "figures").glob("final_map_test*.png"))
+    assert "Type II ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
+    # Type III sums of squares on request (the design's anova_type is 2)
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--anova-type", "3"])
+    assert res.exit_code == 0, res.output
+    assert "Type III (adjusted) ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
+    res = CliRunner().invoke(app, ["analyze", str(out), "--anova-type", "1"])
+    assert res.exit_code != 0 and "--anova-type" in res.output
 
 
 def test_plot_draws_a_campaigns_runs(campaign, tmp_path):

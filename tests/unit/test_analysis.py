@@ -874,3 +874,84 @@ def test_interaction_aliases_of_a_half_fraction() -> None:
     }  # fmt: skip
     full = [{"A": a, "B": b} for a, b in itertools.product((-1.0, 1.0), repeat=2)]
     assert interaction_aliases(pd.DataFrame(full), factors[:2]) == {}
+
+
+def _unbalanced() -> pd.DataFrame:
+    """The paper's design, replicated twice, with five runs failed: unbalanced, full rank."""
+    rows = _design(replicates=2, noise=2e-3)
+    rows.loc[[0, 7, 18, 30, 41], "status"] = "failed"
+    return rows
+
+
+def test_type_iii_anova_equals_statsmodels_with_sum_coding() -> None:
+    import statsmodels.formula.api as smf
+    from statsmodels.stats.anova import anova_lm
+
+    rows = _unbalanced()
+    table = anova(rows, FACTORS, "MU", typ=3).set_index("term")
+    assert table.attrs["typ"] == "Type III (adjusted)"
+    assert "adjusted (Type III) sums of squares do not add up" in table.attrs["note"]
+    terms = [f"C({f.name}, Sum)" for f in FACTORS]
+    formula = " + ".join(terms + [f"{a}:{b}" for a, b in itertools.combinations(terms, 2)])
+    ref = anova_lm(smf.ols(f"MU ~ {formula}", ok_runs(rows)).fit(), typ=3)
+    for term, name in zip(
+        ref.index[1:-1], [*(f.name for f in FACTORS), *_pair_names()], strict=True
+    ):
+        assert table.loc[name, "df"] == ref.loc[term, "df"], name
+        assert table.loc[name, "sum_sq"] == pytest.approx(ref.loc[term, "sum_sq"], rel=1e-9)
+        assert table.loc[name, "F"] == pytest.approx(ref.loc[term, "F"], rel=1e-9)
+        assert table.loc[name, "p_value"] == pytest.approx(ref.loc[term, "PR(>F)"], rel=1e-6)
+    assert table.loc["Residual", "sum_sq"] == pytest.approx(ref.loc["Residual", "sum_sq"])
+    # Unbalanced, Type II differs from it (so the option changes something here).
+    two = anova(rows, FACTORS, "MU").set_index("term")
+    assert two.attrs["typ"] == "Type II"
+    assert not np.allclose(two.loc["S", "sum_sq"], table.loc["S", "sum_sq"], rtol=1e-6)
+    assert "anova_type = 3" in two.attrs["note"]
+
+
+def _pair_names() -> list[str]:
+    return [f"{a.name}:{b.name}" for a, b in itertools.combinations(FACTORS, 2)]
+
+
+def test_type_ii_and_iii_agree_on_a_balanced_design() -> None:
+    rows = _design(replicates=2, noise=2e-3)
+    two, three = anova(rows, FACTORS, "MU"), anova(rows, FACTORS, "MU", typ=3)
+    assert list(two["term"]) == list(three["term"])
+    np.testing.assert_allclose(three["sum_sq"], two["sum_sq"], rtol=1e-9)
+    np.testing.assert_allclose(three["p_value"], two["p_value"], rtol=1e-6, equal_nan=True)
+    assert "unbalanced" not in three.attrs["note"]
+
+
+def test_type_iii_f_is_the_square_of_the_coefficients_t() -> None:
+    """Minitab's agreement of its coefficients table with its adjusted ANOVA: for a
+    two-level term, F = t^2 once a run has failed, which Type II does not give."""
+    two_level = [S, A]
+    rows = _design(replicates=3, noise=2e-3)
+    rows = rows[(rows["WP"] == WP.levels[0]) & (rows["WR"] == WR.levels[0])].copy()
+    rows.iloc[[0, 5], rows.columns.get_loc("status")] = "failed"
+    assert len(ok_runs(rows)) == 10
+    table = anova(rows, two_level, "MU", typ=3).set_index("term")
+    effects = two_level_effects(rows, two_level, "MU").set_index("term")
+    for term in ["S", "A", "S:A"]:
+        assert table.loc[term, "F"] == pytest.approx(effects.loc[term, "t"] ** 2, rel=1e-9)
+        assert table.loc[term, "p_value"] == pytest.approx(effects.loc[term, "p_value"])
+    second = anova(rows, two_level, "MU").set_index("term")
+    assert second.loc["S", "F"] != pytest.approx(effects.loc["S", "t"] ** 2, rel=1e-6)
+
+
+@pytest.mark.parametrize("typ", [1, 4, True, "3"])
+def test_anova_type_must_be_2_or_3(typ: object) -> None:
+    with pytest.raises(ValueError, match=r"typ: .*Type 2 or 3"):
+        anova(_design(), FACTORS, "MU", typ=typ)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"typ: .*Type 2 or 3"):
+        analyze(_design(), FACTORS, anova_type=typ)  # type: ignore[arg-type]
+
+
+def test_type_iii_falls_back_to_sequential_when_rank_deficient() -> None:
+    rows = _design(replicates=2)
+    rows.loc[rows["test"] == 1, "status"] = "failed"  # the cell S-, WP- left empty
+    rows = rows[(rows["WR"] == WR.levels[0]) & (rows["A"] == A.levels[0])]
+    table = anova(rows, [S, WP], "MU", typ=3).set_index("term")
+    why = "the design is rank-deficient, e.g. empty cells"
+    assert table.attrs["typ"] == f"Type I (sequential; {why})"
+    assert table.loc["S:WP", "df"] == 1  # one of its two degrees of freedom is estimable

@@ -1462,3 +1462,15 @@ def test_a_scale_on_a_paper_factor_is_refused() -> None:
     spec["field"] = "pad.fibre_area_fraction"
     design = design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
     assert [p.config.pad.fibre_area_fraction for p in design.points()] == pytest.approx([0.1, 0.2])
+
+
+def test_anova_type_is_2_or_3_and_written_only_when_3():
+    data = _paper_dict()
+    assert load_design("paper").anova_type == 2
+    assert "anova_type" not in design_from_dict(data).to_toml()
+    three = design_from_dict({**data, "anova_type": 3})
+    assert three.anova_type == 3
+    assert design_from_dict(tomllib.loads(three.to_toml())).anova_type == 3
+    for bad in (1, 4, "3", True, 2.5):
+        with pytest.raises(ConfigError, match=r"anova_type: .*2 or 3"):
+            design_from_dict({**data, "anova_type": bad})
