@@ -35,11 +35,13 @@ Central composite design (key ``composite``: a table with ``alpha`` and ``center
     ``"orthogonal"`` or a number. A factor with ``coding = "log"`` is coded on log10 of its
     level (its centre is the geometric mean). The tests are written out as a run table when
     the design is validated, with each factor's levels, labels and ``coded_range``.
-Plackett-Burman design (key ``plackett_burman``: 12, 20, 24, 44 or 48 tests)
-    A two-level screening design for up to one factor fewer than its tests: the standard
-    generator row, its cyclic shifts and a test with every factor at its first level; written
-    out as a run table. Main effects are orthogonal, each partly confounded with the other
-    factors' two-factor interactions.
+Plackett-Burman design (key ``plackett_burman``: 12, 20, 24, 28, 32, 36, 44 or 48 tests)
+    A two-level screening design for up to one factor fewer than its tests, in Minitab's
+    standard order: the published generator as the first factor's column, each further
+    factor's column it shifted down one test (the 28-run design: three blocks, shifted), and
+    a test with every factor at its first level; written out as a run table. Main effects
+    are orthogonal, each partly confounded with the other factors' two-factor interactions
+    (the 32-run design: a regular fraction, wholly aliased).
 Box-Behnken design (key ``box_behnken``: a table with ``center``)
     The other response-surface design: over 3 to 5 such factors, for every pair of factors
     the 2^2 factorial of their levels with the others at their centre, then the centre
@@ -112,6 +114,8 @@ __all__ = [
     "GOAL_RESPONSES",
     "MAX_GENERATORS",
     "PLACKETT_BURMAN",
+    "PLACKETT_BURMAN_28",
+    "PLACKETT_BURMAN_GENERATORS",
     "RESERVED_NAMES",
     "STANDARD_FRACTIONS",
     "BoxBehnken",
@@ -1329,28 +1333,82 @@ def _quadratic_residue_row(q: int) -> str:
     return "".join("+" if i == 0 or i in residues else "-" for i in range(q))
 
 
-#: Generator rows of the Plackett-Burman designs (Plackett and Burman 1946): the tests are
-#: the row and its cyclic shifts one place to the right, then a test with every factor at -;
-#: one column per factor, the first k of the N - 1 [-]. The 12-, 20- and 24-run rows are the
-#: published ones; they are also the quadratic-residue rows of 11, 19 and 23 (a test checks
-#: it), and the 44- and 48-run rows are those of 43 and 47 (Paley's construction; not checked
-#: against the printed table).
-PLACKETT_BURMAN: dict[int, str] = {
+#: The Plackett-Burman designs made from one generator (Plackett and Burman 1946, as Minitab
+#: lists them in its "Summary of Plackett-Burman designs"): the first factor's column, in
+#: test order; factor j's column is it shifted down j places (cyclically), and a last test
+#: has every factor at -; one column per factor, the first k of the N - 1 [-]. The 12-, 20-,
+#: 24-, 44- and 48-run generators are Paley's quadratic-residue rows of 11, 19, 23, 43 and 47
+#: (a test checks them against the printed ones); the 32- and 36-run ones are printed only.
+PLACKETT_BURMAN_GENERATORS: dict[int, str] = {
     12: "++-+++---+-",
     20: "++--++++-+-+----++-",
     24: "+++++-+-++--++--+-+----",
+    32: "----+-+-+++-++---+++++--++-+--+",
+    36: "-+-+++---+++++-+++--+----+-+-++--+-",
     44: _quadratic_residue_row(43),
     48: _quadratic_residue_row(47),
 }
 
+#: The first 9 tests of the 28-run Plackett-Burman design (Plackett and Burman 1946, as
+#: Minitab lists them), three blocks of 9 factors each (A, B, C); tests 10 to 18 take the
+#: blocks in the order C, A, B and tests 19 to 27 in the order B, C, A (each time shifted one
+#: block to the right), and test 28 has every factor at - [-].
+PLACKETT_BURMAN_28: tuple[str, ...] = (
+    "+-++++----+---+--+++-+-++-+",
+    "++-+++-----++--+---++++-++-",
+    "-+++++---+---+--+-+-+-++-++",
+    "---+-++++--+-+---++-+++-+-+",
+    "---++-++++----++--++--++++-",
+    "----+++++-+-+---+--+++-+-++",
+    "+++---+-+--+--+-+-+-++-+++-",
+    "+++---++-+--+----+++-++--++",
+    "+++----++-+--+-+---++-+++-+",
+)
+
+#: The numbers of tests a Plackett-Burman design may have [-].
+PLACKETT_BURMAN: tuple[int, ...] = tuple(sorted([*PLACKETT_BURMAN_GENERATORS, 28]))
+
 
 def _plackett_burman_signs(runs: int, k: int) -> list[list[int]]:
     """The coded levels (-1, +1) of the Plackett-Burman design of ``runs`` tests over ``k``
-    factors, in its standard order (see :data:`PLACKETT_BURMAN`)."""
-    row = [1 if c == "+" else -1 for c in PLACKETT_BURMAN[runs]]
+    factors, in its standard order, Minitab's (see :data:`PLACKETT_BURMAN_GENERATORS` and
+    :data:`PLACKETT_BURMAN_28`)."""
+    if runs == 28:
+        table = [[1 if c == "+" else -1 for c in row] for row in PLACKETT_BURMAN_28]
+        tests = [
+            [table[i][9 * ((j // 9 - shift) % 3) + j % 9] for j in range(k)]
+            for shift in range(3)
+            for i in range(9)
+        ]
+    else:
+        column = [1 if c == "+" else -1 for c in PLACKETT_BURMAN_GENERATORS[runs]]
+        n = len(column)
+        tests = [[column[(i - j) % n] for j in range(k)] for i in range(n)]
+    return [*tests, [-1] * k]
+
+
+def _plackett_burman_signs_by_rows(runs: int, k: int) -> list[list[int]]:
+    """The tests brakeca wrote for a Plackett-Burman design before it took Minitab's order
+    (until 2026-11-26): the generator as the first test and each test after it shifted one
+    place to the right (the design transposed, equally orthogonal, but other tests once
+    fewer than N - 1 factors are taken); still accepted when read back, so that a campaign
+    made then stays readable [-]."""
+    row = [1 if c == "+" else -1 for c in PLACKETT_BURMAN_GENERATORS[runs]]
     n = len(row)
     tests = [[row[(j - shift) % n] for j in range(k)] for shift in range(n)]
     return [*tests, [-1] * k]
+
+
+def _signs_of(runs: Sequence[Mapping[str, Any]], factors: Sequence[Factor]) -> list[list[int]]:
+    """A two-level run table's coded levels: -1 at a factor's first level, +1 at its second,
+    0 at neither [-]."""
+    return [
+        [
+            -1 if row[f.name] == f.levels[0] else 1 if row[f.name] == f.levels[-1] else 0
+            for f in factors
+        ]
+        for row in runs
+    ]
 
 
 #: The responses a goal may name (a design's or ``brakeca optimize --goal``'s), with the
@@ -1466,7 +1524,8 @@ class Design(_Frozen):
         A Box-Behnken design (:class:`BoxBehnken`) over 3 to 5 numeric factors of two levels
         each: written out as for ``composite``, with the levels low, centre and high.
     plackett_burman
-        A Plackett-Burman screening design of this many tests (12, 20, 24, 44 or 48;
+        A Plackett-Burman screening design of this many tests (12, 20, 24, 28, 32, 36, 44
+        or 48;
         :data:`PLACKETT_BURMAN`) over up to one factor fewer, each of two levels (the first
         coded -, the second +); written out as ``runs`` when the design is validated.
     goals
@@ -1593,7 +1652,7 @@ class Design(_Frozen):
         if isinstance(runs, bool) or not isinstance(runs, int) or runs not in PLACKETT_BURMAN:
             raise ValueError(
                 f"plackett_burman: expected the number of tests, one of "
-                f"{', '.join(map(str, PLACKETT_BURMAN))}, got {runs!r} (for 8, 16 or 32 tests "
+                f"{', '.join(map(str, PLACKETT_BURMAN))}, got {runs!r} (for 8 or 16 tests "
                 "take a fractional factorial: fraction_runs)"
             )
         for key in ("fraction_runs", "generators", "runs_file", "composite", "box_behnken"):
@@ -1803,6 +1862,10 @@ class Design(_Frozen):
         k = len(self.factors)
         expected = _plackett_burman_signs(self.plackett_burman, k)
         runs = self.runs or ()
+        if self.plackett_burman in (12, 20, 24, 44, 48) and _signs_of(
+            runs, self.factors
+        ) == _plackett_burman_signs_by_rows(self.plackett_burman, k):
+            return  # a design written by an earlier brakeca, in its order
         if len(runs) != len(expected):
             raise ValueError(
                 f"runs: the Plackett-Burman design has {len(expected)} tests, the run table "
@@ -2069,9 +2132,11 @@ class Design(_Frozen):
                 f"Plackett-Burman design, {self.plackett_burman} tests, {len(self.factors)} "
                 f"factors{folded} (main effects clear of each other"
                 + (
-                    ", each partly confounded with the two-factor interactions of the others)"
-                    if not self.foldover
-                    else ")"
+                    ")"
+                    if self.foldover
+                    else "; a regular fraction, see the alias structure)"
+                    if self.plackett_burman == 32
+                    else ", each partly confounded with the two-factor interactions of the others)"
                 )
             )
         if self.is_run_table:

@@ -579,26 +579,69 @@ def _pb(runs: int, factors: list[dict[str, Any]], **extra: Any) -> Design:
     return design_from_dict({**data, "factors": factors, **extra}, source="pb.toml")
 
 
-def test_the_published_rows_are_the_quadratic_residue_rows():
-    """Plackett and Burman's 12-, 20- and 24-run generator rows are Paley's quadratic-residue
-    rows of 11, 19 and 23, the construction that gives the 44- and 48-run designs."""
-    from brakeca.design import PLACKETT_BURMAN, _quadratic_residue_row
+def test_the_published_generators_are_the_quadratic_residue_rows():
+    """Plackett and Burman's 12-, 20-, 24-, 44- and 48-run generators (as Minitab's "Summary
+    of Plackett-Burman designs" prints them) are Paley's quadratic-residue rows of 11, 19,
+    23, 43 and 47, from which the 44- and 48-run ones are made here."""
+    from brakeca.design import (
+        PLACKETT_BURMAN,
+        PLACKETT_BURMAN_GENERATORS,
+        _quadratic_residue_row,
+    )
 
-    for runs in (12, 20, 24):
-        assert _quadratic_residue_row(runs - 1) == PLACKETT_BURMAN[runs]
-    assert sorted(PLACKETT_BURMAN) == [12, 20, 24, 44, 48]
+    printed = {
+        44: "++--+-+--+++-+++++---+-+++-----+---++-+-++-",
+        48: "+++++-++++--+-+-+++--+--++-++---+-+-++----+----",
+    }
+    for runs in (12, 20, 24, 44, 48):
+        assert _quadratic_residue_row(runs - 1) == PLACKETT_BURMAN_GENERATORS[runs]
+        assert PLACKETT_BURMAN_GENERATORS[runs] == printed.get(
+            runs, PLACKETT_BURMAN_GENERATORS[runs]
+        )
+    assert PLACKETT_BURMAN == (12, 20, 24, 28, 32, 36, 44, 48)
 
 
-@pytest.mark.parametrize("runs", [12, 20, 24, 44, 48])
+def test_plackett_burman_tests_are_minitabs():
+    """Minitab's own example (its help, "Example of a Plackett-Burman design with center
+    points": 9 factors in 12 runs, randomized, centre points left out here) holds the tests
+    brakeca makes for 9 factors, and not those of the generator read as a row."""
+    from brakeca.design import _plackett_burman_signs, _plackett_burman_signs_by_rows
+
+    minitab = """
+        ---+++-++ +++-++-+- +-+---+++ +-++-+--- -++-+---+ ++-+---++
+        --------- +---+++-+ -+---+++- --+++-++- -+++-++-+ ++-++-+--
+    """
+    rows = {tuple(1 if c == "+" else -1 for c in word) for word in minitab.split()}
+    assert len(rows) == 12
+    assert {tuple(t) for t in _plackett_burman_signs(12, 9)} == rows
+    assert {tuple(t) for t in _plackett_burman_signs_by_rows(12, 9)} != rows
+    # Minitab's standard order: the generator is the first factor's column
+    first = [t[0] for t in _plackett_burman_signs(12, 11)]
+    assert "".join("+" if x > 0 else "-" for x in first) == "++-+++---+--"
+
+
+@pytest.mark.parametrize("runs", [12, 20, 24, 28, 32, 36, 44, 48])
 def test_plackett_burman_columns_are_balanced_and_orthogonal(runs):
     from brakeca.design import _plackett_burman_signs
 
     signs = _plackett_burman_signs(runs, runs - 1)
     assert len(signs) == runs and signs[-1] == [-1] * (runs - 1)
+    assert len({tuple(t) for t in signs}) == runs
     for i, j in itertools.combinations_with_replacement(range(runs - 1), 2):
         dot = sum(row[i] * row[j] for row in signs)
         assert dot == (runs if i == j else 0)
     assert all(sum(row[i] for row in signs) == 0 for i in range(runs - 1))
+
+
+def test_the_28_run_design_shifts_its_three_blocks():
+    from brakeca.design import PLACKETT_BURMAN_28, _plackett_burman_signs
+
+    signs = _plackett_burman_signs(28, 27)
+    text = ["".join("+" if x > 0 else "-" for x in t) for t in signs]
+    assert text[:9] == list(PLACKETT_BURMAN_28)
+    for i, row in enumerate(PLACKETT_BURMAN_28):
+        a, b, c = row[:9], row[9:18], row[18:]
+        assert text[9 + i] == c + a + b and text[18 + i] == b + c + a
 
 
 def test_a_plackett_burman_design_writes_its_tests_and_reads_back():
@@ -611,7 +654,12 @@ def test_a_plackett_burman_design_writes_its_tests_and_reads_back():
         "Plackett-Burman design, 12 tests, 7 factors (main effects clear"
     )
     combos = design.combinations()
-    assert combos[0]["mu0"] == 0.7 and combos[0]["slope"] == 2e-8  # generator ++-+++---+-
+    # the generator ++-+++---+- down the first factor's column: test 1 is + - + - - - + ...
+    assert (
+        combos[0]["mu0"] == 0.7
+        and combos[0]["slope"] == 1e-8
+        and combos[0]["modulus"] == (FACTORS["modulus"]["levels"][1])
+    )
     assert combos[-1] == {f["name"]: f["levels"][0] for f in factors}  # the all-minus test
     back = design_from_dict(tomllib.loads(design.to_toml()), source="written")
     assert back.combinations() == combos and back.plackett_burman == 12
@@ -619,6 +667,19 @@ def test_a_plackett_burman_design_writes_its_tests_and_reads_back():
     written["runs"][3]["A"] = 20.0 if written["runs"][3]["A"] == 10.0 else 10.0
     with pytest.raises(ConfigError, match=r"runs\.3\.A: test 4 of the Plackett-Burman"):
         design_from_dict(written, source="written")
+    # a design written before brakeca took Minitab's order (the generator as the first test)
+    # still reads back, so that its campaign stays readable; another order does not
+    from brakeca.design import _plackett_burman_signs_by_rows
+
+    earlier = tomllib.loads(design.to_toml())
+    earlier["runs"] = [
+        {f["name"]: f["levels"][(x + 1) // 2] for f, x in zip(factors, signs, strict=True)}
+        for signs in _plackett_burman_signs_by_rows(12, 7)
+    ]
+    assert design_from_dict(earlier, source="earlier").runs == tuple(earlier["runs"])
+    earlier["runs"] = earlier["runs"][1:] + earlier["runs"][:1]
+    with pytest.raises(ConfigError, match=r"runs\.0\.\w+: test 1 of the Plackett-Burman"):
+        design_from_dict(earlier, source="earlier")
     folded = _pb(12, factors, foldover="all")
     assert folded.n_tests == 24 and "folded over on mu0, slope" in folded.kind
 
