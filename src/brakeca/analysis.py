@@ -505,13 +505,10 @@ def _adjusted_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any) -> pd.D
     from scipy import stats
 
     y = frame["y"].to_numpy(dtype=float)
-    n = y.size
     blocks = {t: _term_columns(frame, t) for t in terms}
 
     def ssr(columns: Sequence[np.ndarray]) -> float:
-        exog = np.hstack([np.ones((n, 1)), *columns])
-        coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
-        return float(np.sum((y - exog @ coef) ** 2))
+        return _sse(np.hstack([np.ones((y.size, 1)), *columns]), y)
 
     full = ssr(list(blocks.values()))
     rows = []
@@ -1011,6 +1008,30 @@ def _is_constant(y: np.ndarray) -> bool:
     return float(np.ptp(y)) <= 1e-13 * float(np.max(np.abs(y)))
 
 
+def _sse(exog: np.ndarray, y: np.ndarray) -> float:
+    """The residual sum of squares of the least-squares fit of ``y`` on ``exog``
+    [response unit^2]."""
+    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
+    r = y - exog @ coef
+    return float(r @ r)
+
+
+def _vif(exog: np.ndarray) -> np.ndarray:
+    """Variance inflation factors of the columns after the intercept [-]: 1 / (1 - R_j^2),
+    R_j^2 of column j regressed on the others (with the intercept)."""
+    k = exog.shape[1]
+    out = np.full(k, math.nan)
+    for j in range(1, k):
+        col = exog[:, j]
+        others = np.delete(exog, j, axis=1)
+        ss_tot = float(np.sum((col - col.mean()) ** 2))
+        if ss_tot <= 0:
+            continue
+        r2 = 1.0 - _sse(others, col) / ss_tot
+        out[j] = 1.0 / (1.0 - r2) if r2 < 1.0 - 1e-12 else math.inf
+    return out
+
+
 def _least_squares(exog: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
     """The least-squares fit of ``y`` on ``exog``: fitted values [response unit], leverages
     (the diagonal of the hat matrix ``X X^+``, also for a rank-deficient ``X``) [-] and the
@@ -1376,6 +1397,7 @@ EFFECTS_COLUMNS: tuple[str, ...] = (
     "se",
     "t",
     "p_value",
+    "vif",
     "significant",
     "aliases",
 )
@@ -1511,7 +1533,9 @@ def two_level_effects(
         :data:`EFFECTS_COLUMNS`, one row per estimated term, largest ``|t|`` first: ``term``
         (``"S"``, ``"S:WR"``), ``order`` (factors in the term), ``effect`` and
         ``coefficient`` [response unit], ``se`` (standard error of the effect) [response
-        unit], ``t`` and ``p_value`` [-], ``significant`` (``p_value < alpha``) and
+        unit], ``t`` and ``p_value`` [-], ``vif`` (the variance inflation factor, as in
+        Minitab's table: ``1 / (1 - R_j^2)`` of the term's column regressed on the others',
+        1 where the design is orthogonal) [-], ``significant`` (``p_value < alpha``) and
         ``aliases`` (the terms of up to three factors the design cannot tell apart from it).
         Empty (with ``attrs["note"]`` saying why) when a factor that varies has other than two
         levels, the response is constant, or too few effects can be estimated (none with
@@ -1583,6 +1607,7 @@ def two_level_effects(
     # each effect's variance relative to an orthogonal design's, sigma^2 * 4 / N (1 for a
     # full factorial or a regular fraction; larger where the columns are correlated)
     relative = y.size * np.diag(np.linalg.pinv(exog.T @ exog))[1:]
+    vif = _vif(exog)[1:]
     if method != "Lenth":  # the fitted effects' residual mean square, as Minitab's
         mse = float(np.sum((y - exog @ coef) ** 2)) / df_resid
         se = 2.0 * np.sqrt(mse * relative / y.size)
@@ -1609,6 +1634,7 @@ def two_level_effects(
             "se": se,
             "t": t,
             "p_value": p,
+            "vif": vif,
             "significant": np.isfinite(p) & (p < alpha),
             "aliases": [_chain_text(chains[term], names) for term in terms],
         }

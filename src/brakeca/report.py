@@ -399,6 +399,7 @@ _EFFECT_HEADERS = {
     "se": "SE of effect",
     "t": "t",
     "p_value": "p",
+    "vif": "VIF",
     "aliases": "Aliases",
 }
 

@@ -51,7 +51,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca.analysis import _clean as _usable_rows
-from brakeca.analysis import _fit_statistics, _is_constant
+from brakeca.analysis import _fit_statistics, _is_constant, _sse, _vif
 
 __all__ = [
     "ANOVA_COLUMNS",
@@ -340,12 +340,6 @@ def _candidate_terms(names: Sequence[str], squares: Sequence[str]) -> list[tuple
     return out
 
 
-def _sse(exog: np.ndarray, y: np.ndarray) -> float:
-    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
-    r = y - exog @ coef
-    return float(r @ r)
-
-
 def _f_test(ss: float, df: float, mse: float, df_resid: float) -> tuple[float, float, float]:
     """Mean square, F and p of a source against the error mean square."""
     from scipy import stats
@@ -355,22 +349,6 @@ def _f_test(ss: float, df: float, mse: float, df_resid: float) -> tuple[float, f
         f_value = ms / mse
         return ms, f_value, float(stats.f.sf(f_value, df, df_resid))
     return ms, math.nan, math.nan
-
-
-def _vif(exog: np.ndarray) -> np.ndarray:
-    """Variance inflation factors of the columns after the intercept [-]: 1 / (1 - R_j^2),
-    R_j^2 of column j regressed on the others (with the intercept)."""
-    k = exog.shape[1]
-    out = np.full(k, math.nan)
-    for j in range(1, k):
-        col = exog[:, j]
-        others = np.delete(exog, j, axis=1)
-        ss_tot = float(np.sum((col - col.mean()) ** 2))
-        if ss_tot <= 0:
-            continue
-        r2 = 1.0 - _sse(others, col) / ss_tot
-        out[j] = 1.0 / (1.0 - r2) if r2 < 1.0 - 1e-12 else math.inf
-    return out
 
 
 def _usable(

@@ -955,3 +955,25 @@ def test_type_iii_falls_back_to_sequential_when_rank_deficient() -> None:
     why = "the design is rank-deficient, e.g. empty cells"
     assert table.attrs["typ"] == f"Type I (sequential; {why})"
     assert table.loc["S:WP", "df"] == 1  # one of its two degrees of freedom is estimable
+
+
+def test_effects_vif_is_one_when_orthogonal_and_matches_the_regression_definition() -> None:
+    two_level = [S, WR, A]
+    rows = _design(replicates=2, noise=2e-3)
+    rows = rows[rows["WP"] == WP.levels[0]].copy()
+    balanced = two_level_effects(rows, two_level, "MU")
+    np.testing.assert_allclose(balanced["vif"], 1.0, rtol=1e-12)
+    rows.iloc[[0, 3, 6], rows.columns.get_loc("status")] = "failed"
+    effects = two_level_effects(rows, two_level, "MU").set_index("term")
+    assert (effects["vif"] > 1.0 + 1e-6).any()
+    # 1 / (1 - R^2) of each term's -1/+1 column on the other terms', by plain least squares
+    ok = ok_runs(rows)
+    coded = {f.name: np.where(ok[f.name] == f.levels[1], 1.0, -1.0) for f in two_level}
+    columns = {}
+    for term in effects.index:
+        columns[term] = np.prod([coded[name] for name in term.split(":")], axis=0)
+    for term, x in columns.items():
+        others = np.column_stack([np.ones(len(ok))] + [c for t, c in columns.items() if t != term])
+        fitted = others @ np.linalg.lstsq(others, x, rcond=None)[0]
+        r2 = 1.0 - np.sum((x - fitted) ** 2) / np.sum((x - x.mean()) ** 2)
+        assert effects.loc[term, "vif"] == pytest.approx(1.0 / (1.0 - r2), rel=1e-9)
