@@ -601,9 +601,14 @@ def anova(
     Type I, II, III and the classical hand-computed sums of squares coincide, and the sums of
     squares of all terms plus the residual add up to the total sum of squares about the mean.
     They differ once the design is unbalanced (a failed run): Type II adjusts each term for
-    the others but not for the interactions that contain it, Type III for every other term;
-    with Type III a two-level term's F equals the square of its coefficient's t in
-    :func:`two_level_effects`.
+    the others but not for the interactions that contain it, Type III for every other term.
+    With Type III a two-level term's F equals the square of its coefficient's t in
+    :func:`two_level_effects` only where that table fits the same terms as the ANOVA (e.g.
+    two factors and their interaction): it may also keep interactions of three factors, which
+    the ANOVA leaves in the residual, or leave out partly confounded ones. The column
+    ``percent_contribution`` is each term's sum of squares of the table's type over the total;
+    in an unbalanced design it then need not add up to 100 %, and differs from Minitab's
+    "Contribution", which takes the sequential sums of squares.
 
     The residual is what the model does not explain: with replicates (several seeds per
     factor-level combination) it contains the pure error (run-to-run scatter from the random
@@ -762,7 +767,7 @@ def anova(
 
 
 def _check_anova_type(typ: Any) -> None:
-    if isinstance(typ, bool) or typ not in ANOVA_TYPES:
+    if type(typ) is not int or typ not in ANOVA_TYPES:
         raise ValueError(
             f"typ: the ANOVA's sums of squares are of Type 2 or 3 (Type III, adjusted), got {typ!r}"
         )

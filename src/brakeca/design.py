@@ -1390,9 +1390,9 @@ def _plackett_burman_signs(runs: int, k: int) -> list[list[int]]:
 def _plackett_burman_signs_by_rows(runs: int, k: int) -> list[list[int]]:
     """The tests brakeca wrote for a Plackett-Burman design before it took Minitab's order
     (until 2026-11-26): the generator as the first test and each test after it shifted one
-    place to the right (the design transposed, equally orthogonal, but other tests once
-    fewer than N - 1 factors are taken); still accepted when read back, so that a campaign
-    made then stays readable [-]."""
+    place to the right (the design transposed: equally orthogonal, the same design once its
+    factors are renumbered, but not Minitab's tests for each factor); still accepted when
+    read back, so that a campaign made then stays readable [-]."""
     row = [1 if c == "+" else -1 for c in PLACKETT_BURMAN_GENERATORS[runs]]
     n = len(row)
     tests = [[row[(j - shift) % n] for j in range(k)] for shift in range(n)]
@@ -1559,6 +1559,13 @@ class Design(_Frozen):
     goals: tuple[GoalSpec, ...] = ()
     alpha_to_remove: float | None = Field(None, gt=0.0, lt=1.0)
     anova_type: Literal[2, 3] = 2
+
+    @field_validator("anova_type", mode="before")
+    @classmethod
+    def _whole_type(cls, value: Any) -> Any:
+        if type(value) is float:  # 3.0 would pass as 3
+            raise ValueError(f"Input should be 2 or 3 (a whole number), got {value!r}")
+        return value
 
     @field_validator("foldover", mode="before")
     @classmethod

@@ -939,7 +939,7 @@ def test_type_iii_f_is_the_square_of_the_coefficients_t() -> None:
     assert second.loc["S", "F"] != pytest.approx(effects.loc["S", "t"] ** 2, rel=1e-6)
 
 
-@pytest.mark.parametrize("typ", [1, 4, True, "3"])
+@pytest.mark.parametrize("typ", [1, 4, True, "3", 3.0])
 def test_anova_type_must_be_2_or_3(typ: object) -> None:
     with pytest.raises(ValueError, match=r"typ: .*Type 2 or 3"):
         anova(_design(), FACTORS, "MU", typ=typ)  # type: ignore[arg-type]

@@ -1471,6 +1471,6 @@ def test_anova_type_is_2_or_3_and_written_only_when_3():
     three = design_from_dict({**data, "anova_type": 3})
     assert three.anova_type == 3
     assert design_from_dict(tomllib.loads(three.to_toml())).anova_type == 3
-    for bad in (1, 4, "3", True, 2.5):
+    for bad in (1, 4, "3", True, 2.5, 3.0):
         with pytest.raises(ConfigError, match=r"anova_type: .*2 or 3"):
             design_from_dict({**data, "anova_type": bad})
