@@ -354,11 +354,39 @@ def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path
                 f"scheduler --scheduler-file' writes it; {type(exc).__name__}: {exc})"
             )
     try:
-        scheme, _ = parse_address(str(address))
+        scheme, location = parse_address(str(address))
         get_backend(scheme)
     except (ValueError, TypeError) as exc:
         return f"{type(exc).__name__}: {exc}"
+    if scheme in ("tcp", "tls"):
+        return _nothing_listens(location)
     return ""
+
+
+def _nothing_listens(location: str) -> str:
+    """Why no scheduler can be at ``host:port``: the host refuses the connection or does not
+    answer within dask's connect timeout (a Client would wait that long, then fail, and
+    spend a minute closing itself at exit); empty when something accepts it."""
+    import socket
+
+    import dask
+    from dask.utils import parse_timedelta
+    from distributed.comm.addressing import parse_host_port
+
+    try:
+        host, port = parse_host_port(location)
+    except ValueError as exc:
+        return f"ValueError: {exc}"
+    timeout = parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s")
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            return ""
+    except ConnectionRefusedError:
+        return f"nothing listens at {host}:{port} (connection refused): is the scheduler running?"
+    except TimeoutError:
+        return f"{host}:{port} did not answer within {timeout:g} s"
+    except OSError as exc:
+        return f"{type(exc).__name__}: {exc}"
 
 
 def make_executor(
