@@ -359,7 +359,49 @@ def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path
     except (ValueError, TypeError) as exc:
         return f"{type(exc).__name__}: {exc}"
     if scheme in ("tcp", "tls"):
-        return _nothing_listens(location)
+        problem = _nothing_listens(location)
+        if problem or scheme == "tls":  # a TLS handshake needs the cluster's security
+            return problem
+        return _not_a_scheduler(f"{scheme}://{location}")
+    return ""
+
+
+def _not_a_scheduler(address: str) -> str:
+    """Why what answers at ``address`` is not a Dask scheduler: no answer to dask's handshake,
+    or to the identity request every scheduler answers, within dask's connect timeout (a
+    Client waits on a silent or foreign listener, e.g. the dashboard's HTTP port, without a
+    bound); empty when a scheduler answers. Run in a thread of its own, so that it also works
+    where an event loop is running (a notebook)."""
+    import asyncio
+    import concurrent.futures
+
+    import dask
+    from dask.utils import parse_timedelta
+    from distributed.comm import connect
+
+    timeout = parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s")
+
+    async def identify() -> Any:
+        comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
+        try:
+            await asyncio.wait_for(comm.write({"op": "identity", "reply": True}), timeout)
+            return await asyncio.wait_for(comm.read(), timeout)
+        finally:
+            comm.abort()
+
+    with concurrent.futures.ThreadPoolExecutor(1) as pool:
+        try:
+            reply = pool.submit(asyncio.run, identify()).result()
+        except TimeoutError:
+            return (
+                f"what listens at {address} did not answer as a Dask scheduler within "
+                f"{timeout:g} s (the dashboard's port, or another program?)"
+            )
+        except Exception as exc:
+            return f"what listens at {address} is not a Dask scheduler ({_error_text(exc)})"
+    if not isinstance(reply, dict) or reply.get("type") != "Scheduler":
+        kind = reply.get("type") if isinstance(reply, dict) else type(reply).__name__
+        return f"what listens at {address} is not a Dask scheduler (it is a {kind})"
     return ""
 
 

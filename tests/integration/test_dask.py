@@ -306,6 +306,22 @@ def test_unreachable_scheduler_is_reported(design_file, tmp_path):
         )
 
 
+def test_a_listener_that_is_no_scheduler_is_refused(cluster):
+    """Something else at the address (here a socket that never answers, as the dashboard's
+    HTTP port does not answer dask's handshake; and a worker) is named before a Client
+    exists: a Client waited on such a listener without a bound (over ten minutes seen)."""
+    with (
+        socket.create_server(("127.0.0.1", 0)) as silent,
+        dask.config.set({"distributed.comm.timeouts.connect": "1s"}),
+        pytest.raises(ExecutorError, match=r"did not answer as a Dask scheduler within 1 s"),
+    ):
+        make_executor("dask", scheduler=f"tcp://127.0.0.1:{silent.getsockname()[1]}")
+    with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
+        worker = next(iter(client.scheduler_info()["workers"]))
+    with pytest.raises(ExecutorError, match=r"is not a Dask scheduler \(it is a Worker\)"):
+        make_executor("dask", scheduler=worker)
+
+
 def test_an_address_dask_cannot_use_is_refused_at_once(tmp_path):
     """A robustness review: 'garbage://x', or a scheduler file without an address, gave the
     error and then a 60 s hang and a traceback at exit (the half-made Client closing). Both
