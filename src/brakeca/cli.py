@@ -9,6 +9,7 @@ kept with the tests.
 
 from __future__ import annotations
 
+import math
 import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -985,6 +986,125 @@ def optimize(
             + " (the best setting may lie beyond it; the surface is not known there)",
             markup=False,
             highlight=False,
+        )
+
+
+@app.command(short_help="how many replicates a design needs to find an effect")
+def power(
+    design: DesignArg,
+    effect: Annotated[
+        float,
+        typer.Option(
+            metavar="E",
+            help="the difference between two of a factor's level means to find, in the "
+            "response's unit (V in mm³ per stop, MU and log10_V_mm3 without unit)",
+        ),
+    ],
+    sigma: Annotated[
+        float | None,
+        typer.Option(
+            metavar="S",
+            help="the run-to-run (seed-to-seed) standard deviation of the response at one "
+            "setting, in the same unit",
+        ),
+    ] = None,
+    sigma_from: Annotated[
+        Path | None,
+        typer.Option(
+            metavar="FOLDER",
+            help="take S from a replicated campaign: its pure error of --response",
+        ),
+    ] = None,
+    response: Annotated[
+        str,
+        typer.Option(metavar="R", help="the response of --sigma-from: MU, V or log10_V_mm3"),
+    ] = "MU",
+    replicates: Annotated[
+        str,
+        typer.Option(metavar="N,N,...", help="the replicates (runs per test) to evaluate"),
+    ] = "1,2,3,4,5",
+    target: Annotated[
+        float | None,
+        typer.Option(
+            metavar="P",
+            help="instead, the fewest replicates that give each factor this power (e.g. 0.8)",
+        ),
+    ] = None,
+    alpha: Annotated[float, typer.Option(metavar="A", help="significance level")] = 0.05,
+) -> None:
+    """The power of the study's ANOVA to find each factor's effect: the probability that it
+    calls a difference of E between two of the factor's level means significant (p < A) when
+    runs at one setting scatter by S (another seed, another result). For the model the study
+    fits (main effects and two-factor interactions; main effects alone for a Plackett-Burman
+    design), as Minitab's Power and Sample Size for factorial designs. With --target, the
+    fewest replicates that reach that power."""
+    from rich.table import Table
+
+    from brakeca.design import GOAL_RESPONSES, load_design
+    from brakeca.power import factor_power, pure_error_sigma, replicates_needed
+
+    try:
+        loaded = load_design(design)
+        if (sigma is None) == (sigma_from is None):
+            raise ValueError("give the response's scatter: --sigma S or --sigma-from FOLDER")
+        if response not in GOAL_RESPONSES:
+            raise ValueError(
+                f"--response: expected one of {', '.join(GOAL_RESPONSES)}, got {response!r}"
+            )
+        unit, scale = GOAL_RESPONSES[response]
+        if sigma_from is not None:
+            from brakeca.campaign import load_campaign
+            from brakeca.study import with_log_v
+
+            result = load_campaign(sigma_from)
+            sigma = scale * pure_error_sigma(
+                with_log_v(result.summary), result.design.factors, response
+            )
+            shown = "" if unit == "-" else f" {unit}"
+            out.print(
+                f"sigma: {sigma:.4g}{shown}, the pure error of {response} in {sigma_from}",
+                markup=False,
+                highlight=False,
+            )
+        assert sigma is not None
+        if target is not None:
+            table_data = replicates_needed(loaded, effect, sigma, target=target, alpha=alpha)
+        else:
+            try:
+                counts = [int(part) for part in replicates.split(",")]
+            except ValueError:
+                raise ValueError(
+                    f"--replicates: expected whole numbers separated by commas, got {replicates!r}"
+                ) from None
+            table_data = factor_power(loaded, effect, sigma, replicates=counts, alpha=alpha)
+    except (ConfigError, FileNotFoundError, ValueError) as exc:
+        text = str(exc)
+        for name in ("effect", "sigma", "alpha", "target", "replicates"):
+            if text.startswith(f"{name}: "):
+                text = f"--{text}"  # the option that gave it
+        _fail(text)
+    title = (
+        f"fewest replicates for power {target:g}" if target is not None else "power by replicates"
+    )
+    table = Table(title=f"{loaded.name}: {title} (effect {effect:g}, sigma {sigma:.4g}, "
+                  f"alpha {alpha:g})")  # fmt: skip
+    for column in ("factor", "levels", "replicates", "runs", "error df", "power"):
+        table.add_column(column, justify="left" if column == "factor" else "right")
+    for _, row in table_data.iterrows():
+        table.add_row(
+            escape(str(row["factor"])),
+            str(int(row["levels"])),
+            str(int(row["replicates"])),
+            str(int(row["runs"])),
+            f"{row['df_error']:g}",
+            "no error df" if math.isnan(row["power"]) else f"{row['power']:.3f}",
+        )
+    out.print(table)
+    if target is not None and (table_data["power"] < target).any():
+        out.print(
+            "some factors do not reach the power with the most replicates tried "
+            f"({int(table_data['replicates'].max())})",
+            markup=False,
         )
 
 

@@ -7,6 +7,7 @@ second once numba's cache is warm.
 from __future__ import annotations
 
 import io
+import math
 import os
 import re
 import shutil
@@ -30,6 +31,7 @@ from campaign_helpers import (
     write_design,
 )
 from rich.console import Console
+from typer.testing import CliRunner
 
 from brakeca.campaign import (
     CampaignResult,
@@ -39,6 +41,7 @@ from brakeca.campaign import (
     make_executor,
     run_campaign,
 )
+from brakeca.cli import app
 from brakeca.config import ConfigError
 from brakeca.design import load_design
 from brakeca.results import RunResult
@@ -279,6 +282,14 @@ def test_a_design_that_leaves_out_the_folders_runs_is_not_run_there_unless_asked
     )
     bigger = run_campaign(more, out, executor="serial", progress=False, console=quiet())
     assert len(bigger.reused) == 4 and len(bigger.computed) == 4 and bigger.ok
+    # its two seeds per test give brakeca power the seed-to-seed scatter
+    by_test = bigger.summary.groupby("test")["MU"]
+    pooled = math.sqrt(float(((bigger.summary["MU"] - by_test.transform("mean")) ** 2).sum()) / 4)
+    res = CliRunner().invoke(
+        app, ["power", str(more), "--effect", "0.01", "--sigma-from", str(out)]
+    )
+    assert res.exit_code == 0, res.output
+    assert f"sigma: {pooled:.4g}, the pure error of MU in {out}" in " ".join(res.output.split())
     replaced = run_campaign(
         other, out, executor="serial", progress=False, console=quiet(), replace=True
     )

@@ -1,0 +1,144 @@
+"""Tests of brakeca.power against statsmodels' power of the t and F tests and a simulation of
+the study's own ANOVA."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+from statsmodels.stats.power import FTestAnovaPower, TTestIndPower
+from typer.testing import CliRunner
+
+from brakeca.analysis import Factor, anova
+from brakeca.cli import app
+from brakeca.design import design_from_dict, load_design
+from brakeca.power import factor_power, pure_error_sigma, replicates_needed
+
+
+def _one_factor(levels: list[float]) -> object:
+    return design_from_dict(
+        {
+            "name": "one",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [{"name": "mu0", "field": "friction.mu_0", "levels": levels}],
+        }
+    )
+
+
+@pytest.mark.parametrize("replicates", [2, 3, 7])
+def test_a_two_level_factor_alone_is_the_two_sample_t_test(replicates):
+    design = _one_factor([0.5, 0.7])
+    table = factor_power(design, 0.02, 0.015, replicates=[replicates])
+    expected = TTestIndPower().power(
+        effect_size=0.02 / 0.015, nobs1=replicates, ratio=1.0, alpha=0.05
+    )
+    assert table["df_error"].item() == 2 * replicates - 2
+    assert table["power"].item() == pytest.approx(expected, rel=1e-9)
+
+
+def test_a_three_level_factor_alone_is_the_one_way_anova():
+    design = _one_factor([0.5, 0.6, 0.7])
+    table = factor_power(design, 0.03, 0.02, replicates=[4], alpha=0.1)
+    # the least favourable means: two of them the effect apart, the third midway
+    f = math.sqrt(0.03**2 / (2 * 3 * 0.02**2))
+    expected = FTestAnovaPower().power(effect_size=f, nobs=12, alpha=0.1, k_groups=3)
+    assert table["power"].item() == pytest.approx(expected, rel=1e-9)
+
+
+def test_the_paper_design_matches_a_simulation_of_its_anova():
+    """The study's own ANOVA (main effects and two-factor interactions, 9 error df) on the
+    paper's 24 tests: the share of simulated campaigns in which it finds S's effect."""
+    design = load_design("paper")
+    table = factor_power(design, 0.01, 0.01, replicates=[1]).set_index("factor")
+    assert table.loc["S", "df_error"] == 9
+    rng = np.random.default_rng(2016)
+    base = pd.DataFrame(design.combinations())
+    base["status"] = "ok"
+    found = 0
+    trials = 300
+    for _ in range(trials):
+        y = 0.4 + 0.01 * base["S"] + 0.01 * rng.standard_normal(len(base))
+        result = anova(base.assign(MU=y), list(design.factors), "MU").set_index("term")
+        found += result.loc["S", "p_value"] < 0.05
+    # binomial scatter of the share: about 0.028 at 300 trials
+    assert found / trials == pytest.approx(table.loc["S", "power"], abs=0.09)
+
+
+def test_replicates_needed_is_the_fewest_that_reach_the_target():
+    design = load_design("paper")
+    needed = replicates_needed(design, 0.004, 0.01, target=0.8).set_index("factor")
+    for name, row in needed.iterrows():
+        r = int(row["replicates"])
+        assert row["power"] >= 0.8
+        if r > 1:
+            before = factor_power(design, 0.004, 0.01, replicates=[r - 1]).set_index("factor")
+            assert before.loc[name, "power"] < 0.8
+    # WP has three levels: it needs more runs than the two-level factors
+    assert needed.loc["WP", "replicates"] > needed.loc["S", "replicates"]
+
+
+def test_bad_input_names_the_parameter():
+    design = load_design("paper")
+    for kwargs, message in [
+        ({"effect": 0.0, "sigma": 1.0}, "effect: expected a finite number above 0"),
+        ({"effect": 1.0, "sigma": math.nan}, "sigma: expected a finite number above 0"),
+        ({"effect": 1.0, "sigma": 1.0, "alpha": 1.5}, "alpha: expected a significance level"),
+        ({"effect": 1.0, "sigma": 1.0, "replicates": [0]}, "replicates: expected whole numbers"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            factor_power(design, **kwargs)
+    with pytest.raises(ValueError, match="target: expected a power between 0 and 1"):
+        replicates_needed(design, 1.0, 1.0, target=1.0)
+    with pytest.raises(ValueError, match="response-surface design"):
+        factor_power(load_design("response_surface"), 1.0, 1.0)
+
+
+def test_unreplicated_saturated_design_has_no_error_df():
+    design = design_from_dict(
+        {
+            "name": "two",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "S", "levels": [0.0, 1.0]},
+                {"name": "A", "levels": [10.0, 20.0]},
+            ],
+        }
+    )
+    table = factor_power(design, 1.0, 1.0, replicates=[1, 2]).set_index("replicates")
+    # one run per test: the interaction is pooled, 1 error df; two: 4 error df
+    assert list(table["df_error"].unique()) == [1.0, 4.0]
+    assert table["power"].notna().all()
+
+
+def test_pure_error_sigma_is_the_pooled_scatter_within_tests():
+    factor = Factor("S", (0.0, 1.0))
+    summary = pd.DataFrame(
+        {"test": [1, 1, 1, 2, 2], "S": [0.0, 0.0, 0.0, 1.0, 1.0], "status": "ok"}
+    ).assign(MU=[0.40, 0.42, 0.47, 0.50, 0.53])
+    ss = (0.40 - 0.43) ** 2 + (0.42 - 0.43) ** 2 + (0.47 - 0.43) ** 2 + 2 * 0.015**2
+    assert pure_error_sigma(summary, [factor], "MU") == pytest.approx(math.sqrt(ss / 3))
+    with pytest.raises(ValueError, match="no pure error"):
+        pure_error_sigma(summary.iloc[[0, 3]], [factor], "MU")
+
+
+def test_the_power_command():
+    runner = CliRunner()
+    res = runner.invoke(app, ["power", "paper", "--effect", "0.01", "--sigma", "0.01"])
+    assert res.exit_code == 0, res.output
+    assert "power by replicates" in res.output and "0.589" in res.output
+    res = runner.invoke(
+        app, ["power", "paper", "--effect", "0.01", "--sigma", "0.01", "--target", "0.9"]
+    )
+    assert res.exit_code == 0 and "fewest replicates for power 0.9" in res.output
+    for args, message in [
+        (["--effect", "0.01"], "give the response's scatter: --sigma S or --sigma-from"),
+        (["--effect", "-1", "--sigma", "1"], "--effect: expected a finite number above 0"),
+        (["--effect", "1", "--sigma", "1", "--replicates", "1,x"], "--replicates: expected"),
+        (["--effect", "1", "--sigma", "1", "--response", "Q"], "--response: expected one of"),
+    ]:
+        res = runner.invoke(app, ["power", "paper", *args])
+        assert res.exit_code != 0 and message in res.output, res.output
