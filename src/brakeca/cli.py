@@ -1021,8 +1021,12 @@ def power(
     ] = "MU",
     replicates: Annotated[
         str,
-        typer.Option(metavar="N,N,...", help="the replicates (runs per test) to evaluate"),
-    ] = "1,2,3,4,5",
+        typer.Option(
+            metavar="N,N,...",
+            help="the replicates (runs per test) to evaluate; by default 1 to 5, and up to "
+            "the design's own replicates when it has more",
+        ),
+    ] = "",
     target: Annotated[
         float | None,
         typer.Option(
@@ -1045,8 +1049,10 @@ def power(
 
     try:
         loaded = load_design(design)
-        if (sigma is None) == (sigma_from is None):
+        if sigma is None and sigma_from is None:
             raise ValueError("give the response's scatter: --sigma S or --sigma-from FOLDER")
+        if sigma is not None and sigma_from is not None:
+            raise ValueError("--sigma, --sigma-from: give one of them, not both")
         if response not in GOAL_RESPONSES:
             raise ValueError(
                 f"--response: expected one of {', '.join(GOAL_RESPONSES)}, got {response!r}"
@@ -1071,7 +1077,7 @@ def power(
             table_data = replicates_needed(loaded, effect, sigma, target=target, alpha=alpha)
         else:
             try:
-                counts = [int(part) for part in replicates.split(",")]
+                counts = [int(part) for part in replicates.split(",")] if replicates else None
             except ValueError:
                 raise ValueError(
                     f"--replicates: expected whole numbers separated by commas, got {replicates!r}"
@@ -1097,7 +1103,11 @@ def power(
             str(int(row["replicates"])),
             str(int(row["runs"])),
             f"{row['df_error']:g}",
-            "no error df" if math.isnan(row["power"]) else f"{row['power']:.3f}",
+            "not varied"
+            if math.isnan(row["df"])
+            else "no error df"
+            if math.isnan(row["power"])
+            else f"{row['power']:.3f}",
         )
     out.print(table)
     if target is not None and (table_data["power"] < target).any():

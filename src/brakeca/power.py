@@ -6,9 +6,11 @@ depends on the size of its effect against that scatter, on the number of runs an
 degrees of freedom the model leaves for the error. Before spending hours of simulation, this
 module gives, for each factor of a design, the power of that ANOVA's F test: the probability
 that it finds (p < alpha) a difference ``effect`` between two of the factor's level means
-when the runs scatter by ``sigma``, as Minitab's "Power and Sample Size" for factorial designs
-computes it (the smallest noncentrality a difference of ``effect`` can give: two level means
-``effect`` apart, the others midway).
+when the runs scatter by ``sigma``, at the smallest noncentrality a difference of ``effect``
+can give (two level means ``effect`` apart, the others midway), the figure Minitab's "Power
+and Sample Size" for factorial designs uses for a balanced design. Minitab's default model
+differs (every term of a two-level design; terms up to an order, and blocks, for a general
+full factorial), and so do its error degrees of freedom and its power.
 
 The model is the one the study fits (:func:`brakeca.analysis.anova`): main effects and the
 two-factor interactions the design can estimate, main effects alone for a Plackett-Burman
@@ -23,6 +25,7 @@ D. C. Montgomery, Design and Analysis of Experiments, 8th ed., Wiley 2013, secti
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
@@ -59,31 +62,61 @@ def _check(effect: float, sigma: float, alpha: float) -> None:
         raise ValueError(f"alpha: expected a significance level between 0 and 1, got {alpha!r}")
 
 
-def _model_df(design: Design, replicates: int) -> tuple[dict[str, float], float, dict[str, int]]:
-    """The main-effect df of each factor in the study's ANOVA model over the design's tests,
-    each ``replicates`` times, its error df, and each factor's smallest number of runs at one
-    of its levels [-]."""
+def _runs(design: Design, replicates: int) -> pd.DataFrame:
+    """The design's tests, each ``replicates`` times, as a summary of usable runs."""
+    combos = design.combinations()
+    frame = pd.DataFrame(
+        [dict(c) for c in combos for _ in range(replicates)], columns=list(design.factor_names)
+    )
+    frame["status"] = "ok"
+    return frame
+
+
+def _factor_tests(design: Design, replicates: int) -> dict[str, tuple[float, float, float]]:
+    """For each factor: its degrees of freedom in the study's ANOVA over the design's runs,
+    the error degrees of freedom, and the noncentrality per (effect / sigma)^2 of its F test
+    at the least favourable arrangement of its level means [-].
+
+    The noncentrality of an F test is the sum of squares its term would have if every run
+    gave its expected response, over sigma^2; so each pair of the factor's levels is put one
+    unit apart (the others midway, every other effect nil), the study's ANOVA (its model and
+    its ``anova_type``) is taken of those noise-free responses, and the pair whose sum of
+    squares is least gives the factor's figure. In a balanced design that is
+    ``n / 2`` with ``n`` the runs at a level; in an unbalanced one (a run table) it also
+    holds what the adjustment for the other factors takes away. The degrees of freedom are
+    those of the same table: the factor's NaN when it has one level in the runs."""
     from brakeca.analysis import anova
 
-    combos = design.combinations()
-    rows = [dict(c) for c in combos for _ in range(replicates)]
-    frame = pd.DataFrame(rows, columns=list(design.factor_names))
-    # any response that is not constant: the degrees of freedom do not depend on it
-    frame["y"] = np.cos(np.arange(len(frame)) * 2.399963)
-    frame["status"] = "ok"
-    table = anova(
-        frame,
-        list(design.factors),
-        "y",
-        interactions=design.plackett_burman is None,
-    )
-    df = {str(t): float(d) for t, d in zip(table["term"], table["df"], strict=True)}
-    df_error = df.pop("Residual", 0.0)
-    counts = {
-        f.name: int(frame[f.name].value_counts().reindex(list(f.levels), fill_value=0).min())
-        for f in design.factors
-    }
-    return df, df_error, counts
+    frame = _runs(design, replicates)
+    factors = list(design.factors)
+
+    def table_of(y: Any) -> pd.DataFrame:
+        return anova(
+            frame.assign(y=y),
+            factors,
+            "y",
+            interactions=design.plackett_burman is None,
+            typ=design.anova_type,
+        ).set_index("term")
+
+    # any response that is not constant gives the table's degrees of freedom
+    table = table_of(np.cos(np.arange(len(frame)) * 2.399963))
+    df_error = float(table.loc["Residual", "df"]) if "Residual" in table.index else 0.0
+    out = {}
+    for f in factors:
+        used = [level for level in f.levels if (frame[f.name] == level).any()]
+        if f.name not in table.index or len(used) < 2:
+            out[f.name] = (math.nan, df_error, math.nan)
+            continue
+        least = math.inf
+        for low, high in itertools.combinations(used, 2):
+            means = frame[f.name].map(
+                lambda v, lo=low, hi=high: -0.5 if v == lo else 0.5 if v == hi else 0.0
+            )
+            term = table_of(means.astype(float))
+            least = min(least, float(term.loc[f.name, "sum_sq"]) if f.name in term.index else 0.0)
+        out[f.name] = (float(table.loc[f.name, "df"]), df_error, least)
+    return out
 
 
 def factor_power(
@@ -107,7 +140,8 @@ def factor_power(
         scatter; a replicated campaign's pure error, :func:`pure_error_sigma`) [response
         unit, the same as ``effect``'s].
     replicates
-        Runs per test to evaluate [-]; by default 1 to 5.
+        Runs per test to evaluate [-]; by default 1 to 5, and the design's own
+        ``replicates`` when it has more.
     alpha
         Significance level of the test [-].
 
@@ -116,10 +150,11 @@ def factor_power(
     pandas.DataFrame
         :data:`POWER_COLUMNS`, one row per factor and number of replicates: ``levels`` [-],
         ``replicates`` [-], ``runs`` (tests times replicates) [-], ``df`` (the factor's
-        degrees of freedom) [-], ``df_error`` [-], ``noncentrality`` (of the F test,
-        ``n * effect**2 / (2 * sigma**2)`` with ``n`` the runs at each level; the fewest, when
-        a run table gives the levels unevenly, which makes the power a lower bound) [-] and
-        ``power`` [-] (NaN without error degrees of freedom: add replicates).
+        degrees of freedom; NaN when the runs leave it at one level) [-], ``df_error`` [-],
+        ``noncentrality`` of the F test at the least favourable arrangement of the level
+        means (:func:`_factor_tests`; ``n * effect**2 / (2 * sigma**2)`` in a balanced design
+        with ``n`` runs at each level) [-] and ``power`` [-] (NaN without error degrees of
+        freedom, or for a factor the runs do not vary).
 
     Raises
     ------
@@ -127,7 +162,6 @@ def factor_power(
         ``effect`` or ``sigma`` not above 0, ``alpha`` outside (0, 1), a replicate count
         below 1, or a response-surface design.
     """
-    from scipy import stats
 
     _check(effect, sigma, alpha)
     if design.is_response_surface:
@@ -135,19 +169,57 @@ def factor_power(
             "design: the power of a response-surface design's terms is not computed here (its "
             "report fits a quadratic surface, not the factorial ANOVA)"
         )
-    counts = list(replicates) if replicates is not None else [1, 2, 3, 4, 5]
+    counts = (
+        list(replicates)
+        if replicates is not None
+        else list(range(1, max(5, design.replicates) + 1))
+    )
     for r in counts:
         if isinstance(r, bool) or not isinstance(r, int | np.integer) or r < 1:
             raise ValueError(f"replicates: expected whole numbers of 1 or more, got {r!r}")
+    return _power_table(design, effect, sigma, [int(r) for r in counts], alpha, {})
+
+
+def _tests_at(
+    design: Design, r: int, cache: dict[int, dict[str, tuple[float, float, float]]]
+) -> dict[str, tuple[float, float, float]]:
+    """:func:`_factor_tests` at ``r`` replicates, from those at 1 and 2: from two replicates
+    on, the model no longer pools (the repeats give the error degrees of freedom), each more
+    replicate adds the design's tests to the error degrees of freedom, and the noise-free
+    sums of squares grow in proportion to the replicates."""
+    if r <= 2:
+        if r not in cache:
+            cache[r] = _factor_tests(design, r)
+        return cache[r]
+    two = _tests_at(design, 2, cache)
+    return {
+        name: (df_f, df_error + (r - 2) * design.n_tests, per_unit * r / 2)
+        for name, (df_f, df_error, per_unit) in two.items()
+    }
+
+
+def _power_table(
+    design: Design,
+    effect: float,
+    sigma: float,
+    counts: Sequence[int],
+    alpha: float,
+    cache: dict[int, dict[str, tuple[float, float, float]]],
+) -> pd.DataFrame:
+    """:func:`factor_power` for checked arguments, with ``cache`` of :func:`_tests_at`."""
+    from scipy import stats
+
+    ratio = (effect / sigma) ** 2
     rows = []
     for r in counts:
-        df, df_error, at_level = _model_df(design, int(r))
+        tests = _tests_at(design, r, cache)
         for f in design.factors:
-            df_f = df.get(f.name, math.nan)
-            lam = at_level[f.name] * effect**2 / (2.0 * sigma**2)
+            df_f, df_error, per_unit = tests[f.name]
+            lam = per_unit * ratio
             if df_error >= 1 and df_f >= 1:
                 critical = stats.f.isf(alpha, df_f, df_error)
-                power = float(stats.ncf.sf(critical, df_f, df_error, lam))
+                # scipy's noncentral F gives nonsense at a noncentrality of exactly 0
+                power = float(stats.ncf.sf(critical, df_f, df_error, lam)) if lam > 0 else alpha
             else:
                 power = math.nan
             rows.append(
@@ -192,11 +264,14 @@ def replicates_needed(
     if isinstance(target, bool) or not 0 < target < 1:
         raise ValueError(f"target: expected a power between 0 and 1, got {target!r}")
     _check(effect, sigma, alpha)
+    if design.is_response_surface:
+        factor_power(design, effect, sigma, replicates=[1], alpha=alpha)  # its refusal
     rows: dict[int, dict[str, pd.Series]] = {}
+    cache: dict[int, dict[str, tuple[float, float, float]]] = {}
 
     def at(r: int) -> dict[str, pd.Series]:
         if r not in rows:
-            table = factor_power(design, effect, sigma, replicates=[r], alpha=alpha)
+            table = _power_table(design, effect, sigma, [r], alpha, cache)
             rows[r] = {str(row["factor"]): row for _, row in table.iterrows()}
         return rows[r]
 

@@ -134,11 +134,72 @@ def test_the_power_command():
         app, ["power", "paper", "--effect", "0.01", "--sigma", "0.01", "--target", "0.9"]
     )
     assert res.exit_code == 0 and "fewest replicates for power 0.9" in res.output
+    res = runner.invoke(app, ["power", "response_surface", "--effect", "1", "--sigma", "1"])
+    assert res.exit_code != 0 and "response-surface design" in res.output
     for args, message in [
         (["--effect", "0.01"], "give the response's scatter: --sigma S or --sigma-from"),
         (["--effect", "-1", "--sigma", "1"], "--effect: expected a finite number above 0"),
         (["--effect", "1", "--sigma", "1", "--replicates", "1,x"], "--replicates: expected"),
         (["--effect", "1", "--sigma", "1", "--response", "Q"], "--response: expected one of"),
+        (["--effect", "1", "--sigma", "1", "--alpha", "1"], "--alpha: expected a significance"),
+        (["--effect", "1", "--sigma", "1", "--target", "2"], "--target: expected a power"),
+        (["--effect", "1", "--sigma", "1", "--sigma-from", "."], "give one of them, not both"),
     ]:
         res = runner.invoke(app, ["power", "paper", *args])
         assert res.exit_code != 0 and message in res.output, res.output
+
+
+def _run_table(runs: list[dict], a_levels: list[float]) -> object:
+    return design_from_dict(
+        {
+            "name": "table",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "S", "levels": [0.0, 1.0]},
+                {"name": "A", "levels": a_levels},
+            ],
+            "runs": runs,
+        }
+    )
+
+
+def test_an_unbalanced_run_table_loses_what_the_adjustment_takes():
+    """S and A correlated (6 of 8 runs at S-, A- or S+, A+): the Type II test of S adjusts
+    for A, so its noncentrality at E = 2 sigma is 12 with two replicates, not the 16 that
+    the fewest runs at a level would give; power 0.888 (a review's simulation: 0.885)."""
+    runs = [{"S": 0.0, "A": 10.0}] * 3 + [{"S": 1.0, "A": 20.0}] * 3
+    runs += [{"S": 0.0, "A": 20.0}, {"S": 1.0, "A": 10.0}]
+    table = factor_power(_run_table(runs, [10.0, 20.0]), 2.0, 1.0, replicates=[2, 3])
+    table = table.set_index(["replicates", "factor"])
+    assert table.loc[(2, "S"), "noncentrality"] == pytest.approx(12.0, rel=1e-9)
+    assert table.loc[(2, "S"), "power"] == pytest.approx(0.888, abs=5e-4)
+    # from two replicates on, each more adds the tests to the error and its share to the sum
+    assert table.loc[(3, "S"), "noncentrality"] == pytest.approx(18.0, rel=1e-9)
+    assert table.loc[(3, "S"), "df_error"] == table.loc[(2, "S"), "df_error"] + 8
+
+
+def test_levels_the_runs_leave_out_and_a_nil_effect():
+    both = [{"S": s, "A": a} for s in (0.0, 1.0) for a in (10.0, 20.0)]
+    # A's middle level has no run: its two used levels are tested, with 1 df
+    table = factor_power(_run_table(both * 2, [10.0, 15.0, 20.0]), 2.0, 1.0, replicates=[1])
+    row = table.set_index("factor").loc["A"]
+    assert row["df"] == 1 and row["noncentrality"] == pytest.approx(8.0)
+    assert 0.5 < row["power"] < 0.6
+    # a factor the runs leave at one level is not tested
+    one = factor_power(_run_table([{"S": s, "A": 10.0} for s in (0.0, 1.0)] * 3, [10.0, 20.0]),
+                       1.0, 1.0, replicates=[1])  # fmt: skip
+    assert math.isnan(one.set_index("factor").loc["A", "power"])
+    # an effect too small to move the test: its power is alpha (scipy's noncentral F gives
+    # -0.95 at a noncentrality of exactly 0)
+    nil = factor_power(load_design("paper"), 1e-170, 1.0, replicates=[1], alpha=0.05)
+    assert (nil["power"] == 0.05).all()
+
+
+def test_the_design_replicates_are_shown_and_the_search_stops_at_its_cap():
+    table = factor_power(load_design("paper_replicated"), 0.01, 0.01)
+    assert sorted(table["replicates"].unique()) == [1, 2, 3, 4, 5]
+    seven = load_design("paper").model_copy(update={"replicates": 7})
+    assert factor_power(seven, 0.01, 0.01)["replicates"].max() == 7
+    never = replicates_needed(load_design("paper"), 1e-6, 0.01, target=0.9)
+    assert (never["replicates"] == 1000).all() and (never["power"] < 0.9).all()
