@@ -1243,6 +1243,12 @@ def show_design(
     if not loaded.is_response_surface:  # a response surface's model is the quadratic,
         # printed above, not the categorical one whose alias structure this is
         _print_aliases(alias_structure(pd.DataFrame(combos), loaded.factors))
+    if loaded.anova_type == 3:
+        out.print(
+            "ANOVA: Type III (adjusted) sums of squares (anova_type = 3)",
+            markup=False,
+            highlight=False,
+        )
     _print_factors(loaded)
     if tests:
         table = Table(title="tests")

@@ -14,8 +14,10 @@ import pytest
 import tomli_w
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from typer.testing import CliRunner
 
 from brakeca.analysis import as_factor
+from brakeca.cli import app
 from brakeca.config import ConfigError
 from brakeca.design import (
     STANDARD_FRACTIONS,
@@ -1464,12 +1466,16 @@ def test_a_scale_on_a_paper_factor_is_refused() -> None:
     assert [p.config.pad.fibre_area_fraction for p in design.points()] == pytest.approx([0.1, 0.2])
 
 
-def test_anova_type_is_2_or_3_and_written_only_when_3():
+def test_anova_type_is_2_or_3_and_written_only_when_3(tmp_path):
     data = _paper_dict()
     assert load_design("paper").anova_type == 2
     assert "anova_type" not in design_from_dict(data).to_toml()
     three = design_from_dict({**data, "anova_type": 3})
     assert three.anova_type == 3
+    written = tmp_path / "three.toml"
+    written.write_text(three.to_toml(), encoding="utf-8")
+    res = CliRunner().invoke(app, ["design", str(written), "--no-tests"])
+    assert res.exit_code == 0 and "ANOVA: Type III (adjusted) sums of squares" in res.output
     assert design_from_dict(tomllib.loads(three.to_toml())).anova_type == 3
     for bad in (1, 4, "3", True, 2.5, 3.0):
         with pytest.raises(ConfigError, match=r"anova_type: .*2 or 3"):
