@@ -8,7 +8,8 @@ runs) on the quick band (2 mm, 21 rows) and asks where the pad emits least at a 
     .venv/bin/python examples/response_surface.py --tiny     # a 5 x 100 cell band, 2 stops
 
 The ``--tiny`` variant (seconds; what the test suite runs) shows the workflow, not results.
-Outputs go to ``examples_out/response_surface`` (``--out`` for another folder).
+Outputs go to ``examples_out/response_surface`` (``examples_out/response_surface_tiny`` with
+``--tiny``, whose runs are of another band; ``--out`` for another folder).
 """
 
 from __future__ import annotations
@@ -32,9 +33,11 @@ def main(argv: list[str] | None = None) -> dict:
     """Run the example; returns the fits and the optimum (for the tests)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tiny", action="store_true", help="a 5 x 100 cell band, 2 stops")
-    parser.add_argument("--out", type=Path, default=Path("examples_out/response_surface"))
+    parser.add_argument("--out", type=Path, default=None)
     parser.add_argument("--workers", type=int, default=None)
     args = parser.parse_args(argv)
+    if args.out is None:  # the two variants' runs differ: each in its own folder
+        args.out = Path("examples_out/response_surface" + ("_tiny" if args.tiny else ""))
 
     design = load_design("response_surface")
     print(design.kind)  # central composite design (face-centred, α = 1), 3 factors: ...

@@ -11,7 +11,7 @@ each on a two-row band for one stop: the run that follows, or a campaign's worke
 then load the machine code from the cache. It also saves time in a campaign with a cold cache:
 the kernels are compiled once, not once per worker.
 
-Compiling takes about 40 s; loading, a second or two. So that the wait does not look like a
+Compiling takes 35–55 s (measured); loading, a second or two. So that the wait does not look like a
 hang, :func:`warm_up` says ``compiling the kernels ...`` before it when it can tell cheaply that
 the cache lacks a kernel it needs (:func:`cold_kernels`), through the callback it is given or
 the one a caller set with :func:`announcing` (the command line's, around a campaign).
@@ -44,7 +44,7 @@ _ENTRIES = {"lazy": ("brakeca._lazy", "run_stop_lazy"), "exact": ("brakeca._kern
 
 
 #: What :func:`warm_up` says before it compiles (see :func:`cold_kernels`).
-COMPILING = "compiling the kernels (about a minute, once per version of brakeca) ..."
+COMPILING = "compiling the kernels (under a minute, once per version of brakeca) ..."
 
 _ANNOUNCE: ContextVar[Callable[[str], None] | None] = ContextVar("_ANNOUNCE", default=None)
 
@@ -71,7 +71,7 @@ def _index_pattern(kernel: str) -> str:
 
 def cold_kernels(configs: Iterable[SimulationConfig]) -> list[str] | None:
     """The step kernels (``"lazy"``, ``"exact"``) that ``configs`` need and numba's cache
-    does not hold, so that running them compiles them (about 40 s); from the cache folder's
+    does not hold, so that running them compiles them (35–55 s); from the cache folder's
     file names alone, without importing numba.
 
     A kernel counts as cached when its entry point's index file (``*.nbi``) is in the

@@ -323,6 +323,15 @@ def simulate(
         warmed = warm_up([config], announce=_announce_compiling)
     if warmed is not None:
         console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
+    if checkpoint is not None and checkpoint.exists():
+        from brakeca._io import checkpoint_resumes
+
+        if checkpoint_resumes(checkpoint, config, seed):
+            console.print(
+                f"resuming from the checkpoint {escape(str(checkpoint))} (the stops it holds "
+                "are not run again)",
+                highlight=False,
+            )
     failure: tuple[str, int] | None = None
     with (
         _on_interrupt(f"nothing written; {resume}"),

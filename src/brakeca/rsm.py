@@ -134,11 +134,16 @@ class Coding:
         return (v - 0.5 * (lo + hi)) / (0.5 * (hi - lo))
 
     def decode(self, coded: Any) -> np.ndarray:
-        """Levels [design unit] at coded values ``coded`` [-]."""
+        """Levels [design unit] at coded values ``coded`` [-]; a log-coded level beyond the
+        floats' range (a stationary point far outside the runs) is inf or 0, without a
+        warning."""
         x = np.asarray(coded, dtype=float)
         lo, hi = self._ends()
         v = 0.5 * (lo + hi) + x * 0.5 * (hi - lo)
-        return np.power(10.0, v) if self.log else v
+        if not self.log:
+            return v
+        with np.errstate(over="ignore", under="ignore"):
+            return np.power(10.0, v)
 
     @property
     def axis_label(self) -> str:

@@ -93,3 +93,37 @@ def test_foreign_checkpoint_is_refused(tmp_path):
     ckpt.write_bytes(b"not a checkpoint")
     with pytest.raises(ValueError, match="unreadable checkpoint"):
         simulate(config, seed=1, checkpoint=ckpt)
+
+
+def test_the_command_line_says_it_resumes(tmp_path):
+    """brakeca simulate --checkpoint names the checkpoint it resumes from (a review: it had
+    resumed without a word)."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+    from brakeca.config import load_config
+
+    path = tmp_path / "small.toml"
+    path.write_text(
+        load_preset()
+        .with_updates({"mesh.n_radial": 4, "mesh.n_angular": 200, "cycle.max_stops": 3})
+        .to_toml(),
+        encoding="utf-8",
+    )
+    ckpt = tmp_path / "k.npz"
+
+    def die_after_one(done, total):
+        if done == 1:
+            raise Killed
+
+    with pytest.raises(Killed):
+        simulate(load_config(path), seed=3, checkpoint=ckpt, checkpoint_every=1,
+                 progress=die_after_one)  # fmt: skip
+    args = ["simulate", "-c", str(path), "--seed", "3", "-o", str(tmp_path / "r.nc")]
+    res = CliRunner().invoke(app, [*args, "--checkpoint", str(ckpt)])
+    assert res.exit_code == 0, res.output
+    assert f"resuming from the checkpoint {ckpt}" in " ".join(res.output.split())
+    assert not ckpt.exists()
+    res = CliRunner().invoke(app, [*args, "-o", str(tmp_path / "again.nc"),
+                                   "--checkpoint", str(ckpt)])  # fmt: skip
+    assert res.exit_code == 0 and "resuming" not in res.output

@@ -18,8 +18,12 @@ def _load(name: str):
     return module
 
 
-def test_the_response_surface_example_runs(tmp_path, capsys) -> None:
-    out = _load("response_surface").main(["--tiny", "--out", str(tmp_path / "rs")])
+def test_the_response_surface_example_runs(tmp_path, capsys, monkeypatch) -> None:
+    # its own default folder, apart from the quick variant's (whose runs are of another
+    # band: one folder for both refused the second as another study)
+    monkeypatch.chdir(tmp_path)
+    out = _load("response_surface").main(["--tiny"])
+    assert out["figures"] == Path("examples_out/response_surface_tiny/example_figures")
     assert set(out["fits"]) == {"MU", "log10_V_mm3"}
     assert 0.0 <= out["optimum"].composite <= 1.0
     for name in ("surface_MU.png", "surface_log10_V_mm3.png", "overlaid_contours.png"):

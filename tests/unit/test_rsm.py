@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -464,3 +465,13 @@ def test_a_surface_that_lacks_fit_is_called_approximate() -> None:
     frame["y"] = 2.0 - frame["p"] + 0.2 * frame["q"] + noise
     best = optimize({"y": fit_response_surface(frame, _PQ, "y")}, [Goal("y", "maximize", 1.0, 3.0)])
     assert "lacks fit" not in best.note
+
+
+def test_a_log_coded_level_beyond_the_floats_decodes_without_a_warning() -> None:
+    """A stationary point far outside the runs (seen on a campaign of one stop) decoded
+    through a log coding: inf or 0, and no RuntimeWarning reaching the user."""
+    wp = Coding("WP", 1e-15, 1e-13, log=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert wp.decode(400.0) == math.inf and wp.decode(-400.0) == 0.0
+    assert wp.decode(1.0) == pytest.approx(1e-13)
