@@ -9,6 +9,7 @@ kept with the tests.
 
 from __future__ import annotations
 
+import itertools
 import math
 import sys
 from collections.abc import Callable, Iterator
@@ -1252,6 +1253,16 @@ def show_design(
     if not loaded.is_response_surface:  # a response surface's model is the quadratic,
         # printed above, not the categorical one whose alias structure this is
         _print_aliases(alias_structure(pd.DataFrame(combos), loaded.factors))
+    for f in loaded.factors:
+        if not f.categorical and any(b <= a for a, b in itertools.pairwise(f.levels)):
+            out.print(
+                f"note: factor {f.name}'s levels are not given low first "
+                f"({', '.join(f'{v:g}' for v in f.levels)}): tables and plots take them in "
+                "this order, and a two-level effect is the second level's mean less the "
+                "first's",
+                markup=False,
+                highlight=False,
+            )
     if loaded.anova_type == 3:
         out.print(
             "ANOVA: Type III (adjusted) sums of squares (anova_type = 3)",

@@ -214,3 +214,14 @@ def test_a_randomized_design_says_so_and_lists_the_run_order(tmp_path) -> None:
     # not randomized: no word of it, no order column
     text = _design("paper")
     assert "randomized" not in text and "order" not in text
+
+
+def test_levels_not_given_low_first_get_a_note(tmp_path) -> None:
+    descending = tmp_path / "d.toml"
+    descending.write_text(
+        'name = "d"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "A"\n'
+        'levels = [20, 10]\n[[factors]]\nname = "S"\nlevels = [0, 1]\n'
+    )
+    text = " ".join(_design(str(descending), "--no-tests").split())
+    assert "note: factor A's levels are not given low first (20, 10)" in text
+    assert "note:" not in " ".join(_design("paper", "--no-tests").split())
