@@ -1560,6 +1560,13 @@ class Design(_Frozen):
     alpha_to_remove: float | None = Field(None, gt=0.0, lt=1.0)
     anova_type: Literal[2, 3] = 2
 
+    @field_validator("root_seed", mode="before")
+    @classmethod
+    def _whole_seed(cls, value: Any) -> Any:
+        if isinstance(value, str | float):  # "1" and 1.0 would pass as 1
+            raise ValueError(f"expected a whole number, 0 <= root_seed < 2**128, got {value!r}")
+        return value
+
     @field_validator("anova_type", mode="before")
     @classmethod
     def _whole_type(cls, value: Any) -> Any:

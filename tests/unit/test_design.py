@@ -409,6 +409,14 @@ BAD_CASES = {
     ),
     "no factors": (lambda d: _set(d, ("factors",), []), ["factors"]),
     "missing root_seed": (lambda d: d.pop("root_seed"), ["root_seed", "required"]),
+    "text root_seed": (  # pydantic took "1" for 1
+        lambda d: _set(d, ("root_seed",), "1"),
+        ["root_seed: expected a whole number, 0 <= root_seed < 2**128, got '1'"],
+    ),
+    "float root_seed": (
+        lambda d: _set(d, ("root_seed",), 7.0),
+        ["root_seed: expected a whole number", "got 7.0"],
+    ),
     "zero replicates": (lambda d: _set(d, ("replicates",), 0), ["replicates"]),
     "true replicates": (  # pydantic takes True for 1
         lambda d: _set(d, ("replicates",), True),
