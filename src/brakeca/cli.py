@@ -1003,13 +1003,14 @@ def optimize(
 def power(
     design: DesignArg,
     effect: Annotated[
-        float,
+        float | None,
         typer.Option(
             metavar="E",
             help="the difference between two of a factor's level means to find, in the "
-            "response's unit (V in mm³ per stop, MU and log10_V_mm3 without unit)",
+            "response's unit (V in mm³ per stop, MU and log10_V_mm3 without unit); without "
+            "it, --target gives the smallest difference found with that power",
         ),
-    ],
+    ] = None,
     sigma: Annotated[
         float | None,
         typer.Option(
@@ -1041,7 +1042,8 @@ def power(
         float | None,
         typer.Option(
             metavar="P",
-            help="instead, the fewest replicates that give each factor this power (e.g. 0.8)",
+            help="the fewest replicates that give each factor this power (e.g. 0.8); "
+            "without --effect, the smallest difference found with it",
         ),
     ] = None,
     alpha: Annotated[float, typer.Option(metavar="A", help="significance level")] = 0.05,
@@ -1051,11 +1053,12 @@ def power(
     runs at one setting scatter by S (another seed, another result). For the model the study
     fits (main effects and two-factor interactions; main effects alone for a Plackett-Burman
     design), as Minitab's Power and Sample Size for factorial designs. With --target, the
-    fewest replicates that reach that power."""
+    fewest replicates that reach that power, or, without --effect, the smallest difference
+    found with that power."""
     from rich.table import Table
 
     from brakeca.design import GOAL_RESPONSES, load_design
-    from brakeca.power import factor_power, pure_error_sigma, replicates_needed
+    from brakeca.power import factor_power, pure_error_sigma, replicates_needed, smallest_effect
 
     try:
         loaded = load_design(design)
@@ -1083,15 +1086,25 @@ def power(
                 highlight=False,
             )
         assert sigma is not None
-        if target is not None:
+        if effect is None and target is None:
+            raise ValueError(
+                "give --effect E (each factor's power to find it), or --target P without "
+                "--effect (the smallest difference found with that power)"
+            )
+        try:
+            counts = [int(part) for part in replicates.split(",")] if replicates else None
+        except ValueError:
+            raise ValueError(
+                f"--replicates: expected whole numbers separated by commas, got {replicates!r}"
+            ) from None
+        if effect is None:
+            assert target is not None
+            table_data = smallest_effect(
+                loaded, sigma, target=target, replicates=counts, alpha=alpha
+            )
+        elif target is not None:
             table_data = replicates_needed(loaded, effect, sigma, target=target, alpha=alpha)
         else:
-            try:
-                counts = [int(part) for part in replicates.split(",")] if replicates else None
-            except ValueError:
-                raise ValueError(
-                    f"--replicates: expected whole numbers separated by commas, got {replicates!r}"
-                ) from None
             table_data = factor_power(loaded, effect, sigma, replicates=counts, alpha=alpha)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         text = str(exc)
@@ -1099,28 +1112,38 @@ def power(
             if text.startswith(f"{name}: "):
                 text = f"--{text}"  # the option that gave it
         _fail(text)
-    title = (
-        f"fewest replicates for power {target:g}" if target is not None else "power by replicates"
-    )
-    table = Table(title=f"{loaded.name}: {title} (effect {effect:g}, sigma {sigma:.4g}, "
-                  f"alpha {alpha:g})")  # fmt: skip
-    for column in ("factor", "levels", "replicates", "runs", "error df", "power"):
+    if effect is None:
+        title = f"smallest difference found with power {target:g}"
+        given = f"sigma {sigma:.4g}"
+    else:
+        title = (
+            f"fewest replicates for power {target:g}"
+            if target is not None
+            else "power by replicates"
+        )
+        given = f"effect {effect:g}, sigma {sigma:.4g}"
+    table = Table(title=f"{loaded.name}: {title} ({given}, alpha {alpha:g})")
+    last = "smallest difference" if effect is None else "power"
+    for column in ("factor", "levels", "replicates", "runs", "error df", last):
         table.add_column(column, justify="left" if column == "factor" else "right")
     for _, row in table_data.iterrows():
+        value = row["effect"] if effect is None else row["power"]
+        if math.isnan(row["df"]):
+            shown = "not varied"
+        elif math.isnan(value):
+            shown = "no error df"
+        else:
+            shown = f"{value:.4g}" if effect is None else f"{value:.3f}"
         table.add_row(
             escape(str(row["factor"])),
             str(int(row["levels"])),
             str(int(row["replicates"])),
             str(int(row["runs"])),
             f"{row['df_error']:g}",
-            "not varied"
-            if math.isnan(row["df"])
-            else "no error df"
-            if math.isnan(row["power"])
-            else f"{row['power']:.3f}",
+            shown,
         )
     out.print(table)
-    if target is not None and (table_data["power"] < target).any():
+    if effect is not None and target is not None and (table_data["power"] < target).any():
         out.print(
             "some factors do not reach the power with the most replicates tried "
             f"({int(table_data['replicates'].max())})",

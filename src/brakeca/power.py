@@ -36,7 +36,13 @@ import pandas as pd
 if TYPE_CHECKING:
     from brakeca.design import Design
 
-__all__ = ["POWER_COLUMNS", "factor_power", "pure_error_sigma", "replicates_needed"]
+__all__ = [
+    "POWER_COLUMNS",
+    "factor_power",
+    "pure_error_sigma",
+    "replicates_needed",
+    "smallest_effect",
+]
 
 #: Columns of :func:`factor_power`, in order.
 POWER_COLUMNS: tuple[str, ...] = (
@@ -297,6 +303,73 @@ def replicates_needed(
                 low = middle
         chosen.append(at(high)[f.name])
     return pd.DataFrame(chosen, columns=list(POWER_COLUMNS)).reset_index(drop=True)
+
+
+def smallest_effect(
+    design: Design,
+    sigma: float,
+    *,
+    target: float = 0.8,
+    replicates: Sequence[int] | None = None,
+    alpha: float = 0.05,
+) -> pd.DataFrame:
+    """The smallest difference between two of a factor's level means that the study's ANOVA
+    finds with the power ``target``, for each factor and number of replicates (the other way
+    round from :func:`factor_power`).
+
+    Parameters
+    ----------
+    design, sigma, replicates, alpha
+        As for :func:`factor_power`.
+    target
+        The power wanted [-], above ``alpha`` and below 1.
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`POWER_COLUMNS` and ``effect``, the smallest difference [response unit, as
+        ``sigma``], one row per factor and number of replicates; ``power`` is ``target``
+        there. NaN where the test cannot be made (no error degrees of freedom, a factor the
+        runs do not vary).
+
+    Raises
+    ------
+    ValueError
+        As :func:`factor_power`, or ``target`` not between ``alpha`` and 1.
+    """
+    from scipy import optimize, stats
+
+    if isinstance(target, bool) or not alpha < target < 1:
+        raise ValueError(
+            f"target: expected a power above alpha ({alpha:g}) and below 1, got {target!r}"
+        )
+    table = factor_power(design, sigma, sigma, replicates=replicates, alpha=alpha)
+    effects = []
+    for _, row in table.iterrows():
+        df_f, df_error = float(row["df"]), float(row["df_error"])
+        per_unit = float(row["noncentrality"])  # the effect was sigma: (effect/sigma)^2 = 1
+        if not (df_f >= 1 and df_error >= 1 and per_unit > 0):
+            effects.append(math.nan)
+            continue
+        critical = stats.f.isf(alpha, df_f, df_error)
+
+        def short(
+            lam: float, df_f: float = df_f, df_error: float = df_error, critical: float = critical
+        ) -> float:
+            return float(stats.ncf.sf(critical, df_f, df_error, lam)) - target
+
+        high = 1.0
+        while short(high) < 0:
+            high *= 2.0
+        lam = optimize.brentq(short, 1e-12, high, xtol=1e-12, rtol=1e-12)
+        effects.append(sigma * math.sqrt(lam / per_unit))
+    out = table.assign(effect=effects)
+    out["noncentrality"] = [
+        row["noncentrality"] * (e / sigma) ** 2
+        for (_, row), e in zip(table.iterrows(), effects, strict=True)
+    ]
+    out["power"] = np.where(np.isfinite(out["effect"]), target, np.nan)
+    return out
 
 
 def pure_error_sigma(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> float:

@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from brakeca.analysis import Factor, anova
 from brakeca.cli import app
 from brakeca.design import design_from_dict, load_design
-from brakeca.power import factor_power, pure_error_sigma, replicates_needed
+from brakeca.power import factor_power, pure_error_sigma, replicates_needed, smallest_effect
 
 
 def _one_factor(levels: list[float]) -> object:
@@ -203,3 +203,25 @@ def test_the_design_replicates_are_shown_and_the_search_stops_at_its_cap():
     assert factor_power(seven, 0.01, 0.01)["replicates"].max() == 7
     never = replicates_needed(load_design("paper"), 1e-6, 0.01, target=0.9)
     assert (never["replicates"] == 1000).all() and (never["power"] < 0.9).all()
+
+
+def test_the_smallest_effect_is_found_with_the_target_power():
+    """The other way round: the difference each factor's test finds with power 0.8, as
+    statsmodels solves the two-sample t test for its effect size, and the power there."""
+    one = _one_factor([0.5, 0.7])
+    table = smallest_effect(one, 0.015, target=0.8, replicates=[1, 4])
+    assert math.isnan(table.loc[0, "effect"])  # one run per level: no error df
+    expected = TTestIndPower().solve_power(effect_size=None, nobs1=4, power=0.8, alpha=0.05)
+    assert table.loc[1, "effect"] == pytest.approx(0.015 * expected, rel=1e-6)
+    paper = load_design("paper")
+    found = smallest_effect(paper, 0.0059, target=0.9, replicates=[1, 3])
+    for _, row in found.iterrows():
+        power = factor_power(paper, row["effect"], 0.0059, replicates=[int(row["replicates"])])
+        assert power.set_index("factor").loc[row["factor"], "power"] == pytest.approx(0.9)
+    with pytest.raises(ValueError, match=r"target: expected a power above alpha \(0.05\)"):
+        smallest_effect(paper, 1.0, target=0.05)
+    res = CliRunner().invoke(app, ["power", "paper", "--sigma", "0.0059", "--target", "0.8"])
+    assert res.exit_code == 0 and "smallest difference found with power 0.8" in res.output
+    assert "0.007586" in res.output  # S, WR and A with one replicate
+    res = CliRunner().invoke(app, ["power", "paper", "--sigma", "0.0059"])
+    assert res.exit_code != 0 and "give --effect E" in res.output
