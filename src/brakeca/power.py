@@ -60,12 +60,33 @@ POWER_COLUMNS: tuple[str, ...] = (
 MAX_REPLICATES = 1000
 
 
-def _check(effect: float, sigma: float, alpha: float) -> None:
-    for name, value in (("effect", effect), ("sigma", sigma)):
+def _check(design: Design, sigma: float, alpha: float, effect: float | None = None) -> None:
+    """Refuse an ``effect`` or ``sigma`` not above 0, an ``alpha`` outside (0, 1) and a
+    response-surface design, naming the argument."""
+    given = [("sigma", sigma)] if effect is None else [("effect", effect), ("sigma", sigma)]
+    for name, value in given:
         if isinstance(value, bool) or not (math.isfinite(value) and value > 0):
             raise ValueError(f"{name}: expected a finite number above 0, got {value!r}")
     if isinstance(alpha, bool) or not 0 < alpha < 1:
         raise ValueError(f"alpha: expected a significance level between 0 and 1, got {alpha!r}")
+    if design.is_response_surface:
+        raise ValueError(
+            "design: the power of a response-surface design's terms is not computed here (its "
+            "report fits a quadratic surface, not the factorial ANOVA)"
+        )
+
+
+def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[int]:
+    """The replicates to evaluate, checked: by default 1 to 5, and up to the design's own."""
+    counts = (
+        list(replicates)
+        if replicates is not None
+        else list(range(1, max(5, design.replicates) + 1))
+    )
+    for r in counts:
+        if isinstance(r, bool) or not isinstance(r, int | np.integer) or r < 1:
+            raise ValueError(f"replicates: expected whole numbers of 1 or more, got {r!r}")
+    return [int(r) for r in counts]
 
 
 def _runs(design: Design, replicates: int) -> pd.DataFrame:
@@ -169,21 +190,8 @@ def factor_power(
         below 1, or a response-surface design.
     """
 
-    _check(effect, sigma, alpha)
-    if design.is_response_surface:
-        raise ValueError(
-            "design: the power of a response-surface design's terms is not computed here (its "
-            "report fits a quadratic surface, not the factorial ANOVA)"
-        )
-    counts = (
-        list(replicates)
-        if replicates is not None
-        else list(range(1, max(5, design.replicates) + 1))
-    )
-    for r in counts:
-        if isinstance(r, bool) or not isinstance(r, int | np.integer) or r < 1:
-            raise ValueError(f"replicates: expected whole numbers of 1 or more, got {r!r}")
-    return _power_table(design, effect, sigma, [int(r) for r in counts], alpha, {})
+    _check(design, sigma, alpha, effect)
+    return _power_table(design, effect, sigma, _replicate_counts(design, replicates), alpha, {})
 
 
 def _tests_at(
@@ -228,19 +236,30 @@ def _power_table(
                 power = float(stats.ncf.sf(critical, df_f, df_error, lam)) if lam > 0 else alpha
             else:
                 power = math.nan
-            rows.append(
-                {
-                    "factor": f.name,
-                    "levels": len(f.levels),
-                    "replicates": int(r),
-                    "runs": design.n_tests * int(r),
-                    "df": df_f,
-                    "df_error": df_error,
-                    "noncentrality": lam,
-                    "power": power,
-                }
-            )
+            rows.append(_row(design, f.name, r, df_f, df_error, lam, power))
     return pd.DataFrame(rows, columns=list(POWER_COLUMNS))
+
+
+def _row(
+    design: Design,
+    name: str,
+    r: int,
+    df_f: float,
+    df_error: float,
+    lam: float,
+    power: float,
+) -> dict[str, Any]:
+    """One row of :data:`POWER_COLUMNS`."""
+    return {
+        "factor": name,
+        "levels": len(design.factor(name).levels),
+        "replicates": r,
+        "runs": design.n_tests * r,
+        "df": df_f,
+        "df_error": df_error,
+        "noncentrality": lam,
+        "power": power,
+    }
 
 
 def replicates_needed(
@@ -269,9 +288,7 @@ def replicates_needed(
     """
     if isinstance(target, bool) or not 0 < target < 1:
         raise ValueError(f"target: expected a power between 0 and 1, got {target!r}")
-    _check(effect, sigma, alpha)
-    if design.is_response_surface:
-        factor_power(design, effect, sigma, replicates=[1], alpha=alpha)  # its refusal
+    _check(design, sigma, alpha, effect)
     rows: dict[int, dict[str, pd.Series]] = {}
     cache: dict[int, dict[str, tuple[float, float, float]]] = {}
 
@@ -343,33 +360,34 @@ def smallest_effect(
         raise ValueError(
             f"target: expected a power above alpha ({alpha:g}) and below 1, got {target!r}"
         )
-    table = factor_power(design, sigma, sigma, replicates=replicates, alpha=alpha)
-    effects = []
-    for _, row in table.iterrows():
-        df_f, df_error = float(row["df"]), float(row["df_error"])
-        per_unit = float(row["noncentrality"])  # the effect was sigma: (effect/sigma)^2 = 1
-        if not (df_f >= 1 and df_error >= 1 and per_unit > 0):
-            effects.append(math.nan)
-            continue
-        critical = stats.f.isf(alpha, df_f, df_error)
+    _check(design, sigma, alpha)
+    cache: dict[int, dict[str, tuple[float, float, float]]] = {}
+    rows, effects = [], []
+    for r in _replicate_counts(design, replicates):
+        tests = _tests_at(design, r, cache)
+        for f in design.factors:
+            df_f, df_error, per_unit = tests[f.name]
+            if not (df_f >= 1 and df_error >= 1 and per_unit > 0):
+                rows.append(_row(design, f.name, r, df_f, df_error, math.nan, math.nan))
+                effects.append(math.nan)
+                continue
+            critical = stats.f.isf(alpha, df_f, df_error)
 
-        def short(
-            lam: float, df_f: float = df_f, df_error: float = df_error, critical: float = critical
-        ) -> float:
-            return float(stats.ncf.sf(critical, df_f, df_error, lam)) - target
+            def short(
+                lam: float,
+                df_f: float = df_f,
+                df_error: float = df_error,
+                critical: float = critical,
+            ) -> float:
+                return float(stats.ncf.sf(critical, df_f, df_error, lam)) - target
 
-        high = 1.0
-        while short(high) < 0:
-            high *= 2.0
-        lam = optimize.brentq(short, 1e-12, high, xtol=1e-12, rtol=1e-12)
-        effects.append(sigma * math.sqrt(lam / per_unit))
-    out = table.assign(effect=effects)
-    out["noncentrality"] = [
-        row["noncentrality"] * (e / sigma) ** 2
-        for (_, row), e in zip(table.iterrows(), effects, strict=True)
-    ]
-    out["power"] = np.where(np.isfinite(out["effect"]), target, np.nan)
-    return out
+            high = 1.0
+            while short(high) < 0:
+                high *= 2.0
+            lam = optimize.brentq(short, 1e-12, high, xtol=1e-12, rtol=1e-12)
+            rows.append(_row(design, f.name, r, df_f, df_error, lam, target))
+            effects.append(sigma * math.sqrt(lam / per_unit))
+    return pd.DataFrame(rows, columns=list(POWER_COLUMNS)).assign(effect=effects)
 
 
 def pure_error_sigma(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> float:
