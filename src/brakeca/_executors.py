@@ -366,6 +366,14 @@ def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path
     return ""
 
 
+def _connect_timeout() -> float:
+    """Dask's connect timeout, ``distributed.comm.timeouts.connect`` [s]."""
+    import dask
+    from dask.utils import parse_timedelta
+
+    return float(parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s"))
+
+
 def _not_a_scheduler(address: str) -> str:
     """Why what answers at ``address`` is not a Dask scheduler: no answer to dask's handshake,
     or to the identity request every scheduler answers, within dask's connect timeout (a
@@ -375,11 +383,9 @@ def _not_a_scheduler(address: str) -> str:
     import asyncio
     import concurrent.futures
 
-    import dask
-    from dask.utils import parse_timedelta
     from distributed.comm import connect
 
-    timeout = parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s")
+    timeout = _connect_timeout()
 
     async def identify() -> Any:
         comm = await asyncio.wait_for(connect(address, timeout=timeout), timeout)
@@ -411,15 +417,13 @@ def _nothing_listens(location: str) -> str:
     spend a minute closing itself at exit); empty when something accepts it."""
     import socket
 
-    import dask
-    from dask.utils import parse_timedelta
     from distributed.comm.addressing import parse_host_port
 
     try:
         host, port = parse_host_port(location)
     except ValueError as exc:
         return f"ValueError: {exc}"
-    timeout = parse_timedelta(dask.config.get("distributed.comm.timeouts.connect"), "s")
+    timeout = _connect_timeout()
     try:
         with socket.create_connection((host, port), timeout=timeout):
             return ""
