@@ -1729,7 +1729,6 @@ def analyze(
     ----------
     Wahlström (2016), Figures 6 to 9, doi:10.1155/2016/8181260.
     """
-    _check_anova_type(anova_type)
     factors = _factors(factors)
     if isinstance(responses, str):
         responses = (responses,)
