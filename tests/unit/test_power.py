@@ -220,7 +220,7 @@ def test_the_smallest_effect_is_found_with_the_target_power():
         assert power.set_index("factor").loc[row["factor"], "power"] == pytest.approx(0.9)
     with pytest.raises(ValueError, match=r"target: expected a power above alpha \(0.05\)"):
         smallest_effect(paper, 1.0, target=0.05)
-    with pytest.raises(ValueError, match="^sigma: expected a finite number above 0"):
+    with pytest.raises(ValueError, match=r"^sigma: expected a finite number above 0"):
         smallest_effect(paper, 0.0)  # it had said "effect:", checking sigma as the effect
     res = CliRunner().invoke(app, ["power", "paper", "--sigma", "0.0059", "--target", "0.8"])
     assert res.exit_code == 0 and "smallest difference found with power 0.8" in res.output
