@@ -97,6 +97,9 @@ class Factor:
         Long, human-readable description, e.g. ``"Specific wear rate of plateaus"``.
     labels
         Optional level labels, one per level, e.g. ``("-", "0", "+")``.
+    coding
+        ``"linear"`` (default) or ``"log"``: where a two-level factor's centre point lies
+        (:attr:`center`), the middle of its levels or their geometric mean.
 
     References
     ----------
@@ -108,10 +111,15 @@ class Factor:
     unit: str = ""
     label: str = ""
     labels: tuple[str, ...] | None = None
+    coding: str = "linear"
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"factor name must be a non-empty string, got {self.name!r}")
+        if self.coding not in ("linear", "log"):
+            raise ValueError(
+                f"factor {self.name!r}: coding must be 'linear' or 'log', got {self.coding!r}"
+            )
         levels = tuple(float(v) for v in self.levels)
         if not levels:
             raise ValueError(f"factor {self.name!r}: needs at least one level")
@@ -174,6 +182,20 @@ class Factor:
             return str(value)
 
     @property
+    def center(self) -> float | None:
+        """The level of a centre point [user unit]: the middle of a two-level factor's
+        levels, their geometric mean with ``coding = "log"`` (as
+        :meth:`brakeca.design.Design.center_levels`); None for any other factor."""
+        if len(self.levels) != 2:
+            return None
+        low, high = min(self.levels), max(self.levels)
+        if self.coding == "log":
+            if low <= 0:
+                return None
+            return float(10.0 ** ((math.log10(low) + math.log10(high)) / 2.0))
+        return (low + high) / 2.0
+
+    @property
     def axis_label(self) -> str:
         """Name with unit for plot axes, e.g. ``"WP [m^3/(N m)]"``."""
         return f"{self.name} [{self.unit}]" if self.unit else self.name
@@ -212,6 +234,7 @@ def as_factor(obj: Any) -> Factor:
         unit=str(get("unit", "") or ""),
         label=str(get("label", "") or ""),
         labels=None if labels is None else tuple(labels),
+        coding=str(get("coding", "linear") or "linear"),
     )
 
 
@@ -263,6 +286,30 @@ def _clean(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> pd.D
     return data
 
 
+def _center_mask(data: pd.DataFrame, factors: Sequence[Factor]) -> np.ndarray:
+    """Which rows of ``data`` are centre points: every factor at its :attr:`Factor.center`
+    (none unless every factor has two levels)."""
+    mask = np.full(len(data), bool(factors))
+    for f in factors:
+        centre = f.center
+        if centre is None:
+            return np.zeros(len(data), dtype=bool)
+        values = pd.to_numeric(data[f.name], errors="coerce").to_numpy(dtype=float)
+        mask &= np.isclose(values, centre, rtol=_LEVEL_RTOL, atol=0.0)
+    return mask
+
+
+def _cube(data: pd.DataFrame, factors: Sequence[Factor]) -> pd.DataFrame:
+    """``data`` without its centre points (:func:`_center_mask`): the rows at the factors'
+    levels, which level means, cell means and effects are taken over."""
+    return data.loc[~_center_mask(data, factors)]
+
+
+def _count(n: int, what: str) -> str:
+    """``"1 centre point"``, ``"3 centre points"``."""
+    return f"{n} {what}{'' if n == 1 else 's'}"
+
+
 def _codes(data: pd.DataFrame, factor: Factor) -> np.ndarray:
     """Level index of every row for ``factor``; raises on values that match no level."""
     values = data[factor.name].to_list()
@@ -307,7 +354,9 @@ def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -
     pandas.DataFrame
         Columns ``factor``, ``level`` [user unit], ``label``, ``mean`` [response unit] and
         ``n`` (number of runs averaged); one row per factor level in design order. A level
-        without any usable run has ``n = 0`` and ``mean = NaN``.
+        without any usable run has ``n = 0`` and ``mean = NaN``. Centre points (every
+        factor at its :attr:`Factor.center`) are in no level's mean: ``attrs`` carries their
+        mean ``center_mean`` [response unit] and number ``center_n`` (NaN and 0 without).
 
     References
     ----------
@@ -315,6 +364,9 @@ def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -
     """
     factors = _factors(factors)
     data = _clean(summary, factors, response)
+    centre = _center_mask(data, factors)
+    at_centre = data.loc[centre, response].to_numpy(dtype=float)
+    data = data.loc[~centre]
     y = data[response].to_numpy(dtype=float)
     rows = []
     for f in factors:
@@ -331,7 +383,12 @@ def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -
                 }
             )
     out = pd.DataFrame(rows, columns=["factor", "level", "label", "mean", "n"])
-    return out.astype({"level": float, "mean": float, "n": int})
+    out = out.astype({"level": float, "mean": float, "n": int})
+    out.attrs.update(
+        center_mean=float(at_centre.mean()) if at_centre.size else math.nan,
+        center_n=int(at_centre.size),
+    )
+    return out
 
 
 def _cell_stats(
@@ -378,7 +435,7 @@ def interaction_table(
     b = _resolve(summary, factor_b)
     if a.name == b.name:
         raise ValueError(f"interaction of {a.name!r} with itself")
-    data = _clean(summary, [a, b], response)
+    data = _cube(_clean(summary, [a, b], response), [a, b])
     means, _ = _cell_stats(data, a, b, response)
     return pd.DataFrame(
         means,
@@ -432,7 +489,7 @@ def interactions_long(summary: pd.DataFrame, factors: Iterable[Any], response: s
         ``label_b``, ``mean`` [response unit], ``n``.
     """
     factors = _factors(factors)
-    data = _clean(summary, factors, response)
+    data = _cube(_clean(summary, factors, response), factors)
     rows = []
     for a, b in itertools.combinations(factors, 2):
         means, counts = _cell_stats(data, a, b, response)
@@ -497,27 +554,36 @@ def _sequential_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any) -> pd
     return table
 
 
-def _adjusted_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any) -> pd.DataFrame:
-    """Type III (adjusted) ANOVA: each term's sum of squares is the rise of the residual sum
-    of squares when its columns alone leave the full model, with every factor in deviation
-    (sum-to-zero) coding (:func:`_term_columns`), as Minitab's "Adjusted SS" and JMP's
-    effect tests are; its df is its number of columns. Needs a full-rank model matrix."""
+def _column_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any, *, typ: int) -> pd.DataFrame:
+    """Type II or Type III ANOVA from the terms' columns: each term's sum of squares is the
+    rise of the residual sum of squares when its columns leave a model, with every factor in
+    deviation (sum-to-zero) coding (:func:`_term_columns`); its df is its number of columns.
+    Type III (adjusted, ``typ=3``): the term leaves the full model, as Minitab's "Adjusted
+    SS" and JMP's effect tests. Type II (``typ=2``): the term leaves the model of every term
+    that does not contain it, which is what :func:`statsmodels.stats.anova.anova_lm` gives
+    (used here where that cannot run: no residual degrees of freedom). Needs a full-rank
+    model matrix; F and p are taken against ``fit``'s residual (NaN without one)."""
     from scipy import stats
 
     y = frame["y"].to_numpy(dtype=float)
     blocks = {t: _term_columns(frame, t) for t in terms}
 
-    def ssr(columns: Sequence[np.ndarray]) -> float:
-        return _sse(np.hstack([np.ones((y.size, 1)), *columns]), y)
+    def ssr(names: Sequence[str]) -> float:
+        return _sse(np.hstack([np.ones((y.size, 1)), *(blocks[t] for t in names)]), y)
 
-    full = ssr(list(blocks.values()))
+    full = ssr(terms)
     rows = []
     for term in terms:
-        reduced = ssr([blocks[t] for t in terms if t != term])
-        rows.append((term, float(blocks[term].shape[1]), max(reduced - full, 0.0)))
+        if typ == 3:
+            without, within = [t for t in terms if t != term], full
+        else:
+            parts = set(term.split(":"))
+            without = [t for t in terms if not parts <= set(t.split(":"))]
+            within = ssr([*without, term])
+        rows.append((term, float(blocks[term].shape[1]), max(ssr(without) - within, 0.0)))
     df_resid = float(fit.df_resid)
     table = pd.DataFrame(rows, columns=["term", "df", "sum_sq"]).set_index("term")
-    mean_resid = float(fit.ssr) / df_resid if df_resid > 0 else np.nan
+    mean_resid = float(fit.ssr) / df_resid if df_resid > 0.5 else np.nan
     table["F"] = (table["sum_sq"] / table["df"]) / mean_resid
     table["PR(>F)"] = stats.f.sf(table["F"], table["df"], df_resid)
     table.loc["Residual"] = [df_resid, float(fit.ssr), np.nan, np.nan]
@@ -533,8 +599,9 @@ def _fit_anova(
 ) -> tuple[Any, pd.DataFrame | None, str, list[str]]:
     """Fit OLS on ``frame`` (column ``y``); return (fit, ANOVA table, type, messages).
 
-    Type II sums of squares from :func:`statsmodels.stats.anova.anova_lm` (``typ=2``) or
-    adjusted Type III ones (``typ=3``, :func:`_adjusted_table`) for a full-rank design;
+    Type II sums of squares from :func:`statsmodels.stats.anova.anova_lm` (``typ=2``; from
+    :func:`_column_table` without residual degrees of freedom) or adjusted Type III ones
+    (``typ=3``, :func:`_column_table`) for a full-rank design;
     sequential (Type I) sums of squares from nested fits when the design matrix is
     rank-deficient (empty cells) or the table cannot be computed. With ``check_only`` only
     the fit is made (table None).
@@ -554,7 +621,10 @@ def _fit_anova(
             full_rank = np.linalg.matrix_rank(exog) == exog.shape[1]
             if full_rank:
                 try:
-                    table = anova_lm(fit, typ=2) if typ == 2 else _adjusted_table(frame, terms, fit)
+                    if typ == 2 and fit.df_resid >= 0.5:
+                        table = anova_lm(fit, typ=2)
+                    else:  # anova_lm cannot run without residual degrees of freedom
+                        table = _column_table(frame, terms, fit, typ=typ)
                 except (ValueError, np.linalg.LinAlgError):
                     table = None
             if table is None:
@@ -623,6 +693,12 @@ def anova(
     an unbalanced but full-rank design the Type II sums of squares need not add up to the
     total; a note says so.
 
+    **Centre points** (runs with every factor at its :attr:`Factor.center`, a design's
+    ``center_points``) are fitted as Minitab fits them: the model gains an indicator of them
+    ("Ct Pt"), the row ``Curvature`` (1 df) tests their mean against the other runs', every
+    other term's sum of squares is the one the other runs give, and the residual gains the
+    centre points' pure error (:func:`_with_curvature`).
+
     If the requested model leaves zero residual degrees of freedom (saturated, unreplicated),
     the two-factor interactions are pooled into the residual and a main-effects model is
     fitted instead; if that is still saturated, F and p are reported as NaN. Either case is
@@ -677,7 +753,12 @@ def anova(
     constant = _is_constant(y)
     total_ss = 0.0 if constant else float(np.sum((y - y.mean()) ** 2))
 
-    frame, term_names, terms, notes = _model(data, factors, y, interactions)
+    centre = _center_mask(data, factors)
+    y_center = y[centre]
+    spare = max(y_center.size - 1, 0)  # the centre points' pure error
+    frame, term_names, terms, notes = _model(
+        data.loc[~centre], factors, y[~centre], interactions, spare_df=spare
+    )
     if not term_names:
         out = pd.DataFrame(
             [
@@ -703,7 +784,13 @@ def anova(
 
     fit, table, kind, messages = _fit_anova(frame, terms, typ=typ)
     assert table is not None  # only a check_only call returns no table
-    saturated = fit.df_resid < 0.5
+    exog = np.asarray(fit.model.exog, dtype=float)
+    y_fit = frame["y"].to_numpy(dtype=float)
+    lof_frame = frame
+    if y_center.size:
+        table, exog, y_fit, lof_frame = _with_curvature(table, frame, terms, exog, y_center)
+    df_resid = float(table.loc["Residual", "df"])
+    saturated = df_resid < 0.5
     if saturated:
         notes.append("saturated model (0 residual df): F and p cannot be computed")
 
@@ -756,14 +843,72 @@ def anova(
     out = out[list(ANOVA_COLUMNS)].reset_index(drop=True)
     out.attrs.update(
         typ=kind,
-        formula="y ~ " + " + ".join(term_names[t] for t in terms),
+        formula="y ~ "
+        + " + ".join([term_names[t] for t in terms] + (["Ct Pt"] if y_center.size else [])),
         note=note,
         n=n,
         total_sum_sq=total_ss,
+        center_points=int(y_center.size),
     )
-    out.attrs.update(_fit_statistics(y, *_least_squares(fit.model.exog, y), total_ss))
-    out.attrs.update(_lack_of_fit(frame, fit))
+    out.attrs.update(_fit_statistics(y_fit, *_least_squares(exog, y_fit), total_ss))
+    out.attrs.update(_lack_of_fit(lof_frame, df_resid, float(table.loc["Residual", "sum_sq"])))
     return out
+
+
+#: The ANOVA's term for the curvature that centre points test (Minitab's "Curvature").
+CURVATURE = "Curvature"
+
+
+def _with_curvature(
+    table: pd.DataFrame,
+    frame: pd.DataFrame,
+    terms: Sequence[str],
+    exog: np.ndarray,
+    y_center: np.ndarray,
+) -> tuple[pd.DataFrame, np.ndarray, np.ndarray, pd.DataFrame]:
+    """The ANOVA ``table`` of the runs at the factors' levels (``frame``, model matrix
+    ``exog``) with the centre points ``y_center`` [response unit] added, as Minitab fits a
+    design with centre points: the model gains an indicator of the centre points ("Ct Pt"),
+    which fits their mean, so that every other term's sum of squares is unchanged (of any
+    type), the residual gains their scatter about their mean (pure error, ``n_c - 1``
+    degrees of freedom), and the row :data:`CURVATURE` (1 degree of freedom) is the rise of
+    the residual sum of squares when the indicator leaves the model, each factor then coded
+    -1/+1 and the centre points 0: for a balanced design ``n_f n_c / (n_f + n_c)`` times the
+    squared difference of the two means. F and p of every term are taken against the new
+    residual.
+
+    Returns the table (its rows in order, :data:`CURVATURE` before ``Residual``), the model
+    matrix of all runs (the centre points last) [-], their responses and a frame of all runs
+    for :func:`_lack_of_fit` (the centre points one more cell).
+    """
+    from scipy import stats
+
+    y_cube = frame["y"].to_numpy(dtype=float)
+    n_c = y_center.size
+    y = np.concatenate([y_cube, y_center])
+    coded = np.hstack([np.ones((y_cube.size, 1)), *(_term_columns(frame, t) for t in terms)])
+    at_centre = np.zeros((n_c, coded.shape[1]))
+    at_centre[:, 0] = 1.0
+    reduced = np.vstack([coded, at_centre])
+    indicator = np.concatenate([np.zeros(y_cube.size), np.ones(n_c)])[:, None]
+    sse = _sse(np.hstack([reduced, indicator]), y)
+    rows = table.drop(index="Residual")[["df", "sum_sq"]].astype(float)
+    rows.loc[CURVATURE] = [1.0, max(_sse(reduced, y) - sse, 0.0)]
+    df_resid = float(table.loc["Residual", "df"]) + n_c - 1
+    mean_resid = sse / df_resid if df_resid > 0.5 else np.nan
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rows["F"] = (rows["sum_sq"] / rows["df"].where(rows["df"] > 0)) / mean_resid
+    rows["PR(>F)"] = stats.f.sf(rows["F"], rows["df"], df_resid)
+    rows.loc["Residual"] = [df_resid, sse, np.nan, np.nan]
+    exog_all = np.vstack(
+        [
+            np.hstack([exog, np.zeros((y_cube.size, 1))]),
+            np.hstack([at_centre[:, :1], np.zeros((n_c, exog.shape[1] - 1)), np.ones((n_c, 1))]),
+        ]
+    )
+    cells = [c for c in frame.columns if c != "y"]
+    centre_rows = pd.DataFrame({"y": y_center, **{c: "centre" for c in cells}})
+    return rows, exog_all, y, pd.concat([frame, centre_rows], ignore_index=True)
 
 
 def _check_anova_type(typ: Any) -> None:
@@ -773,11 +918,13 @@ def _check_anova_type(typ: Any) -> None:
         )
 
 
-def _lack_of_fit(frame: pd.DataFrame, fit: Any) -> dict[str, float]:
+def _lack_of_fit(frame: pd.DataFrame, df_resid: float, ssr: float) -> dict[str, float]:
     """The residual split, as Minitab prints it for a replicated design, into pure error
     (the scatter of the runs of one factor-level combination about their mean: here the
     seed-to-seed scatter) and lack of fit (what is left: the terms the model leaves out, such
     as three-factor interactions), with the F test of lack of fit against pure error.
+    ``frame`` holds ``y`` and the factors' columns (one cell per distinct row), ``df_resid``
+    [-] and ``ssr`` [response unit^2] are the model's residual.
 
     Returns ``pure_error_df``, ``pure_error_ss`` [response unit^2], ``lack_of_fit_df``,
     ``lack_of_fit_ss`` [response unit^2], ``lack_of_fit_F`` and ``lack_of_fit_p`` [-]; the
@@ -800,8 +947,8 @@ def _lack_of_fit(frame: pd.DataFrame, fit: Any) -> dict[str, float]:
         return out
     means = groups.transform("mean").to_numpy(dtype=float)
     ss_pe = float(np.sum((y - means) ** 2))
-    df_lof = float(fit.df_resid) - df_pe
-    ss_lof = max(float(fit.ssr) - ss_pe, 0.0)
+    df_lof = df_resid - df_pe
+    ss_lof = max(ssr - ss_pe, 0.0)
     out.update(pure_error_ss=ss_pe, lack_of_fit_df=df_lof, lack_of_fit_ss=ss_lof)
     if df_lof > 0.5 and ss_pe > 0:
         from scipy import stats
@@ -832,9 +979,18 @@ def _coded_frame(
 
 
 def _model(
-    data: pd.DataFrame, factors: Sequence[Factor], y: np.ndarray, interactions: bool
+    data: pd.DataFrame,
+    factors: Sequence[Factor],
+    y: np.ndarray,
+    interactions: bool,
+    *,
+    spare_df: int = 0,
 ) -> tuple[pd.DataFrame, dict[str, str], list[str], list[str]]:
     """The model :func:`anova` fits: (frame, term names, terms, notes).
+
+    ``data`` holds the runs at the factors' levels, without centre points, whose pure error
+    brings ``spare_df`` more residual degrees of freedom (so the interactions are kept where
+    only the centre points leave the model any).
 
     ``frame`` holds ``y`` and one categorical column per factor that varies in the data;
     ``terms`` are the formula terms (main effects, and the two-factor interactions unless
@@ -869,7 +1025,7 @@ def _model(
             "cannot tell them apart: " + "; ".join(described)
         )
     fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
-    if fit.df_resid < 0.5 and interactions and pairs:
+    if fit.df_resid + spare_df < 0.5 and interactions and pairs:
         notes.append(
             "model with two-factor interactions is saturated (0 residual df): interactions "
             "pooled into the residual, main effects only"
@@ -1171,9 +1327,23 @@ def _model_arrays(
     y = data[response].to_numpy(dtype=float)
     if y.size == 0:
         return data, y, np.ones((0, 1)), ""
-    frame, term_names, terms, _ = _model(data, factors, y, interactions)
-    formula = "y ~ " + (" + ".join(term_names[t] for t in terms) if terms else "1")
-    return data, y, _exog(frame, terms, y.size), formula
+    centre = _center_mask(data, factors)
+    n_c = int(centre.sum())
+    frame, term_names, terms, _ = _model(
+        data.loc[~centre], factors, y[~centre], interactions, spare_df=max(n_c - 1, 0)
+    )
+    names = [term_names[t] for t in terms] + (["Ct Pt"] if n_c else [])
+    formula = "y ~ " + (" + ".join(names) if names else "1")
+    cube = _exog(frame, terms, y.size - n_c)
+    if not n_c:
+        return data, y, cube, formula
+    # the centre points' rows: the intercept and the indicator ("Ct Pt"), which fits their
+    # mean whatever their other columns hold
+    exog = np.zeros((y.size, cube.shape[1] + 1))
+    exog[~centre, :-1] = cube
+    exog[centre, 0] = 1.0
+    exog[centre, -1] = 1.0
+    return data, y, exog, formula
 
 
 def model_matrix(
@@ -1202,7 +1372,8 @@ def model_matrix(
     numpy.ndarray
         Shape (runs, columns) [-]: the intercept, then the terms' treatment-coded columns
         (terms aliased with earlier ones left out, as in :func:`anova`; the columns can still
-        be dependent where cells of the design are empty).
+        be dependent where cells of the design are empty); with centre points, a last column
+        indicating them (Ct Pt), their other columns 0 but the intercept.
     """
     return _model_arrays(summary, factors, response, interactions)[2]
 
@@ -1230,7 +1401,8 @@ def ranked_effects(
     Returns
     -------
     pandas.DataFrame
-        Columns ``rank`` (1 = largest), ``term``, ``kind`` (``"main"`` or ``"interaction"``),
+        Columns ``rank`` (1 = largest), ``term``, ``kind`` (``"main"``, ``"interaction"`` or,
+        with centre points, ``"curvature"``),
         ``df``, ``sum_sq``, ``percent_contribution`` [%], ``cumulative_percent`` [%], ``F``,
         ``p_value`` and ``effect`` [response unit]. ``effect`` is the classical effect for
         two-level factors, mean at ``levels[1]`` minus mean at ``levels[0]``, and for the
@@ -1268,7 +1440,7 @@ def _rank_terms(
     terms = table.loc[table["term"] != "Residual"].copy()
     if terms.empty:
         return pd.DataFrame({c: pd.Series(dtype=float) for c in columns})
-    data = _clean(summary, factors, response)
+    data = _cube(_clean(summary, factors, response), factors)
     by_name = {f.name: f for f in factors}
     y = data[response].to_numpy(dtype=float)
 
@@ -1284,7 +1456,10 @@ def _rank_terms(
         means, _ = _cell_stats(data, by_name[parts[0]], by_name[parts[1]], response)
         return float((means[1, 1] - means[1, 0] - means[0, 1] + means[0, 0]) / 2.0)
 
-    terms["kind"] = ["interaction" if ":" in t else "main" for t in terms["term"]]
+    terms["kind"] = [
+        "interaction" if ":" in t else "curvature" if t == CURVATURE else "main"
+        for t in terms["term"]
+    ]
     terms["effect"] = [effect(t) for t in terms["term"]]
     terms = terms.sort_values("sum_sq", ascending=False, kind="stable").reset_index(drop=True)
     terms["rank"] = np.arange(1, len(terms) + 1)
@@ -1303,7 +1478,8 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
     ----------
     tests
         One row per test, a column per factor holding its level [design unit] (e.g.
-        ``pandas.DataFrame(design.combinations())``); no response is needed.
+        ``pandas.DataFrame(design.combinations())``); no response is needed. Centre points
+        are left out (they estimate no effect).
     factors
         The design's factors.
 
@@ -1322,7 +1498,7 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         two-factor interactions).
     """
     factors = _factors(factors)
-    frame, names, _ = _coded_frame(tests, factors)
+    frame, names, _ = _coded_frame(_cube(tests, factors), factors)
     columns = list(names)
     terms = [f"C({c})" for c in columns] + [
         f"C({a}):C({b})" for a, b in itertools.combinations(columns, 2)
@@ -1377,7 +1553,7 @@ def interaction_aliases(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[tup
         only pairs that have such aliases (none for a full factorial).
     """
     factors = _factors(factors)
-    frame, names, _ = _coded_frame(tests, factors)
+    frame, names, _ = _coded_frame(_cube(tests, factors), factors)
     columns = list(names)
     pairs = {f"C({a}):C({b})": (names[a], names[b]) for a, b in itertools.combinations(columns, 2)}
     if not pairs:
@@ -1549,7 +1725,11 @@ def two_level_effects(
         ``"residual"`` otherwise), ``df``, ``pse`` (Lenth's PSE, NaN without Lenth)
         [response unit], ``margin_of_error`` (the effect a term of an orthogonal design must
         exceed to be significant at ``alpha``) and ``simultaneous_margin`` (the same for all
-        ``m`` effects at once, Lenth's SME) [response unit], ``alpha``, ``n`` and ``note``
+        ``m`` effects at once, Lenth's SME) [response unit], ``alpha``, ``n``,
+        ``center_points`` (their number; they are fitted by an indicator, Minitab's "Ct Pt",
+        and take no part in the effects), ``curvature`` (the Ct Pt row: ``coefficient``, the
+        centre points' mean less the model's value at the centre [response unit], ``se``,
+        ``t`` and ``p_value``; NaN without centre points or with Lenth's method) and ``note``
         (what the reader must know: a design that is not orthogonal, a non-regular design
         fitted with its main effects alone, interactions left out as partly confounded, an
         error that is not pure error alone, a PSE of zero; empty otherwise).
@@ -1563,6 +1743,10 @@ def two_level_effects(
 
     factors = _factors(factors)
     data = _clean(summary, factors, response)
+    centre = _center_mask(data, factors)
+    y_center = data.loc[centre, response].to_numpy(dtype=float)
+    n_c = y_center.size
+    data = data.loc[~centre]
     y = data[response].to_numpy(dtype=float)
     empty = pd.DataFrame({c: pd.Series(dtype=float) for c in EFFECTS_COLUMNS})
     empty = empty.astype({"term": object, "aliases": object, "significant": bool})
@@ -1580,18 +1764,19 @@ def two_level_effects(
             )
     if not names:
         return none("no factor varies in the data")
-    if _is_constant(y):
+    if _is_constant(np.concatenate([y, y_center])):
         return none("the response is constant: no effects")
     cells = list(names)
-    n_points = int(frame.groupby(cells, sort=False).ngroups)
+    n_points = int(frame.groupby(cells, sort=False).ngroups) + (1 if n_c else 0)
     partial: list[str] = []
     nonregular = False
     if main_effects_only:
         terms = _estimable_terms(frame, _candidate_terms(cells, 1))[0]
     else:
         terms, partial, nonregular = _effect_terms(frame, _candidate_terms(cells, len(cells)))
-    df_pe = float(y.size - n_points)
-    df_resid = float(y.size - 1 - len(terms))  # the terms kept are estimable in turn
+    df_pe = float(y.size + n_c - n_points)
+    # the terms kept are estimable in turn; centre points add their indicator ("Ct Pt")
+    df_resid = float(y.size + n_c - 1 - len(terms) - (1 if n_c else 0))
     if df_resid >= 1:
         method = "pure error" if df_resid == df_pe else "residual"
     else:
@@ -1606,19 +1791,38 @@ def two_level_effects(
             )
         )
     exog = np.column_stack([np.ones(y.size)] + [_term_columns(frame, t)[:, 0] for t in terms])
-    coef, *_ = np.linalg.lstsq(exog, y, rcond=None)
-    coefficient = coef[1:]
+    y_all = y
+    curvature = dict.fromkeys(("coefficient", "se", "t", "p_value"), math.nan)
+    if n_c:  # the centre points: every factor 0, and an indicator that fits their mean
+        exog = np.vstack([exog, np.zeros((n_c, exog.shape[1]))])
+        exog[y.size :, 0] = 1.0
+        exog = np.column_stack([exog, np.r_[np.zeros(y.size), np.ones(n_c)]])
+        y_all = np.concatenate([y, y_center])
+    coef, *_ = np.linalg.lstsq(exog, y_all, rcond=None)
+    k = len(terms)
+    coefficient = coef[1 : 1 + k]
     effect = 2.0 * coefficient
-    # each effect's variance relative to an orthogonal design's, sigma^2 * 4 / N (1 for a
-    # full factorial or a regular fraction; larger where the columns are correlated)
-    relative = y.size * np.diag(np.linalg.pinv(exog.T @ exog))[1:]
-    vif = _vif(exog)[1:]
+    # each effect's variance relative to an orthogonal design's, sigma^2 * 4 / N with N the
+    # runs at the factors' levels (1 for a full factorial or a regular fraction; larger where
+    # the columns are correlated)
+    inverse = np.diag(np.linalg.pinv(exog.T @ exog))
+    relative = y.size * inverse[1 : 1 + k]
+    vif = _vif(exog)[1 : 1 + k]
     if method != "Lenth":  # the fitted effects' residual mean square, as Minitab's
-        mse = float(np.sum((y - exog @ coef) ** 2)) / df_resid
+        mse = float(np.sum((y_all - exog @ coef) ** 2)) / df_resid
         se = 2.0 * np.sqrt(mse * relative / y.size)
         df, pse = df_resid, math.nan
         margin = float(stats.t.ppf(1 - alpha / 2, df)) * 2.0 * math.sqrt(mse / y.size)
         simultaneous = math.nan
+        if n_c:  # Minitab's "Ct Pt" row: the centre points' mean less the fitted one there
+            se_c = math.sqrt(mse * inverse[-1])
+            t_c = coef[-1] / se_c if se_c > 0 else math.nan
+            curvature.update(
+                coefficient=float(coef[-1]),
+                se=se_c,
+                t=t_c,
+                p_value=float(2.0 * stats.t.sf(abs(t_c), df)),
+            )
     else:  # Lenth's PSE of the effects, each scaled to an orthogonal design's variance
         pse = _lenth_pse(effect / np.sqrt(relative))
         se = pse * np.sqrt(relative)
@@ -1674,6 +1878,16 @@ def two_level_effects(
             + (f", {df_pe:g} of them pure error" if df_pe else "")
             + "), as in the ANOVA"
         )
+    if n_c:
+        notes.append(
+            f"{_count(n_c, 'centre point')} fitted by their own term (Ct Pt), which keeps "
+            "them out of the effects"
+            + (
+                ": with one centre point it leaves no pure error, and curvature is not tested"
+                if method == "Lenth"
+                else ""
+            )
+        )
     out.attrs.update(
         method=method,
         df=df,
@@ -1681,7 +1895,9 @@ def two_level_effects(
         margin_of_error=margin,
         simultaneous_margin=simultaneous,
         alpha=alpha,
-        n=int(y.size),
+        n=int(y.size + n_c),
+        center_points=n_c,
+        curvature=curvature,
         note="; ".join(notes),
     )
     return out[list(EFFECTS_COLUMNS)]

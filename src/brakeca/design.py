@@ -51,6 +51,11 @@ A fraction or a run table may be folded over (key ``foldover``): its tests are f
 the same tests with the named two-level factors (or all, ``"all"``) at their other level. The
 first half keeps its test numbers, so its seeds and run ids are the unfolded design's.
 
+A design of two-level numeric factors (not a response-surface design, which has its own) may
+have centre points (key ``center_points``): as many tests with every factor at the middle of
+its two levels, after the others, each with its own seed. They give pure error without
+replicating the whole design, and a test of curvature (:func:`brakeca.analysis.anova`).
+
 Seeds
 -----
 The seed of test ``t`` (1-based) and replicate ``r`` (0-based) is::
@@ -1539,6 +1544,12 @@ class Design(_Frozen):
         The report's ANOVA sums of squares: 2 (Type II, the default) or 3 (Type III,
         adjusted, as Minitab and JMP give them); they differ only in an unbalanced design,
         e.g. once a run has failed (:func:`brakeca.analysis.anova`).
+    center_points
+        Centre points [-] (0 to 100) added to a two-level design of numeric factors (a full
+        factorial, a fraction, a Plackett-Burman design or a run table): tests with every
+        factor at the middle of its levels (:meth:`center_levels`), after the other tests,
+        each with its own seed. Their spread is pure error, and the analysis tests
+        curvature: the centre points' mean against the other tests' (Minitab's "Ct Pt").
     """
 
     name: str = Field(min_length=1)
@@ -1559,12 +1570,20 @@ class Design(_Frozen):
     goals: tuple[GoalSpec, ...] = ()
     alpha_to_remove: float | None = Field(None, gt=0.0, lt=1.0)
     anova_type: Literal[2, 3] = 2
+    center_points: int = Field(0, ge=0, le=100)
 
     @field_validator("root_seed", mode="before")
     @classmethod
     def _whole_seed(cls, value: Any) -> Any:
         if isinstance(value, str | float):  # "1" and 1.0 would pass as 1
             raise ValueError(f"expected a whole number, 0 <= root_seed < 2**128, got {value!r}")
+        return value
+
+    @field_validator("center_points", mode="before")
+    @classmethod
+    def _whole_center_points(cls, value: Any) -> Any:
+        if type(value) is float or isinstance(value, str):  # 2.0 and "2" would pass as 2
+            raise ValueError(f"expected a whole number of centre points, 0 to 100, got {value!r}")
         return value
 
     @field_validator("anova_type", mode="before")
@@ -1845,6 +1864,8 @@ class Design(_Frozen):
             self._check_composite()
         if self.plackett_burman is not None:
             self._check_plackett_burman()
+        if self.center_points:
+            self._check_center_points()
         if self.alpha_to_remove is not None and self.surface_design is None:
             raise ValueError(
                 "alpha_to_remove: the report reduces the response surface of a central "
@@ -1893,6 +1914,47 @@ class Design(_Frozen):
                         f"{f.name} at its {'+' if sign > 0 else '-'} level; remove runs to "
                         "make the tests again"
                     )
+
+    def _check_center_points(self) -> None:
+        """Centre points need a two-level design of numeric factors (each has a centre)."""
+        if self.surface_design is not None:
+            key = self.surface_design.key
+            raise ValueError(
+                f"center_points: a {self.surface_design.title} has its own centre points; "
+                f"give their number as {key}.center and remove center_points"
+            )
+        for i, f in enumerate(self.factors):
+            if f.categorical:
+                raise ValueError(
+                    f"factors.{i}: factor {f.name!r} is categorical; centre points need "
+                    "numeric factors only (every factor at the middle of its two levels)"
+                )
+            if len(f.levels) != 2:
+                raise ValueError(
+                    f"factors.{i}.levels: factor {f.name!r} has {len(f.levels)} levels; "
+                    "centre points need two-level factors (a centre between low and high), "
+                    f"got {list(f.levels)}"
+                )
+
+    def center_levels(self) -> dict[str, int | float]:
+        """The centre point's level of every factor [design unit]: the middle of its two
+        levels (their geometric mean with ``coding = "log"``, whatever its ``coded_range``;
+        an int where both levels are
+        ints and the middle is whole, so that integer fields stay integers).
+
+        Raises
+        ------
+        ValueError
+            The design has no centre points (:attr:`center_points` is 0).
+        """
+        if not self.center_points:
+            raise ValueError(f"design {self.name}: no centre points (center_points = 0)")
+        out: dict[str, int | float] = {}
+        for f in self.factors:
+            value = _decode(float(min(f.levels)), float(max(f.levels)), f.coding, 0.0)
+            whole = all(isinstance(v, int) for v in f.levels) and float(value).is_integer()
+            out[f.name] = int(value) if whole else value
+        return out
 
     def _check_composite(self) -> None:
         """Check a central composite design's factors and tests against those its
@@ -2132,6 +2194,14 @@ class Design(_Frozen):
 
     @property
     def kind(self) -> str:
+        """The kind of design, for reports (:meth:`_cube_kind`), with its centre points:
+        e.g. ``"full factorial, plus 4 centre points"``."""
+        if self.center_points:
+            return f"{self._cube_kind}, plus {_points(self.center_points, 'centre point')}"
+        return self._cube_kind
+
+    @property
+    def _cube_kind(self) -> str:
         """The kind of design, for reports: ``"full factorial"``, ``"run table"`` or e.g.
         ``"2^(7-4) fractional factorial, resolution III"`` (with factors of other than two
         levels crossed: ``"fractional factorial (2^(4-1) in the two-level factors × 3
@@ -2175,7 +2245,8 @@ class Design(_Frozen):
     @property
     def n_tests(self) -> int:
         """Number of tests [-]: factor-level combinations of a full factorial, of the base
-        factors of a fraction, or rows of a run table.
+        factors of a fraction, or rows of a run table (twice as many folded over), and the
+        centre points.
 
         Raises
         ------
@@ -2184,10 +2255,11 @@ class Design(_Frozen):
         """
         fold = 2 if self.foldover else 1
         if self.runs is not None:
-            return fold * len(self.runs)
+            return fold * len(self.runs) + self.center_points
         self._require_runs()
         generated = set(self.generated_factors)
-        return fold * math.prod(len(f.levels) for f in self.factors if f.name not in generated)
+        cube = math.prod(len(f.levels) for f in self.factors if f.name not in generated)
+        return fold * cube + self.center_points
 
     def _require_runs(self) -> None:
         if self.runs_file is not None and self.runs is None:
@@ -2213,7 +2285,9 @@ class Design(_Frozen):
             A full factorial: every combination, the first factor varying fastest. A
             fraction: the full factorial of the factors no generator generates (in design
             order, the first of them fastest), each generated factor at the level its
-            generator gives. A run table: its rows.
+            generator gives. A run table: its rows. Folded over: then the same tests with
+            the folded factors at their other level. Then the centre points, each factor at
+            :meth:`center_levels`.
 
         Raises
         ------
@@ -2223,6 +2297,10 @@ class Design(_Frozen):
         if self.runs is not None:
             return self._folded([{f.name: row[f.name] for f in self.factors} for row in self.runs])
         self._require_runs()
+        return self._folded(self._factorial())
+
+    def _factorial(self) -> list[dict[str, int | float]]:
+        """The tests of a full factorial or a regular fraction (:meth:`combinations`)."""
         parsed = self._parsed_generators()
         generated = {g.target for g in parsed}
         base = [f for f in self.factors if f.name not in generated]
@@ -2237,11 +2315,18 @@ class Design(_Frozen):
                 coded = g.sign * math.prod(2 * chosen[index[n]] - 1 for n in g.word)
                 levels[g.target] = target_levels[g.target][(coded + 1) // 2]
             combos.append({n: levels[n] for n in names})
-        return self._folded(combos)
+        return combos
 
     def _folded(self, combos: list[dict[str, int | float]]) -> list[dict[str, int | float]]:
         """``combos`` followed, with a fold-over, by the same tests with each folded factor
-        at its other level."""
+        at its other level, then the centre points (:attr:`center_points`)."""
+        if self.center_points:
+            centre = self.center_levels()
+            combos = self._folded_only(combos)
+            return combos + [dict(centre) for _ in range(self.center_points)]
+        return self._folded_only(combos)
+
+    def _folded_only(self, combos: list[dict[str, int | float]]) -> list[dict[str, int | float]]:
         if not self.foldover:
             return combos
         other: dict[str, dict[int | float, int | float]] = {}  # a level -> the other level
@@ -2368,8 +2453,10 @@ class Design(_Frozen):
             design file), the factor, its field and the level.
         """
         base = self.load_base() if base is None else base
+        centre = self.center_levels() if self.center_points else {}
         for factor in self.factors:
-            for value in factor.levels:
+            values = [*factor.levels, *([centre[factor.name]] if centre else [])]
+            for value in values:
                 try:
                     factor.apply(base, value)
                 except ConfigError as exc:
@@ -2472,6 +2559,8 @@ class Design(_Frozen):
             data["runs_file"] = str(data["runs_file"])
         if data["anova_type"] == 2:  # the default
             data["anova_type"] = None
+        if not data["center_points"]:
+            data["center_points"] = None
         return {k: v for k, v in data.items() if v is not None}
 
     def to_toml(self, *, base_config: str | Path | None = None) -> str:

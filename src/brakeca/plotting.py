@@ -169,7 +169,8 @@ def plot_main_effects(
     Returns
     -------
     matplotlib.figure.Figure
-        One axes per factor, sharing the y axis; the grand mean is a dashed line.
+        One axes per factor, sharing the y axis; the grand mean is a dashed line, and the
+        centre points' mean (a design with centre points) a square midway between the levels.
 
     References
     ----------
@@ -182,6 +183,8 @@ def plot_main_effects(
     ylabel, scale = _response_axis(response)
     y = _finite_response(summary, response)
     grand = float(y.mean()) * scale if y.size else math.nan
+    centre = table.attrs.get("center_mean", math.nan)
+    centre = float(centre) if table.attrs.get("center_n") else None
 
     fig = _figure((2.6 * len(factors) + 1.0, 3.6))
     axes = fig.subplots(1, len(factors), sharey=True, squeeze=False)[0]
@@ -191,6 +194,8 @@ def plot_main_effects(
         ax.plot(x, rows["mean"].to_numpy() * scale, "o-", color="#27496d", lw=1.8, ms=6)
         if math.isfinite(grand):
             ax.axhline(grand, ls="--", lw=1.0, color="0.45", label="grand mean")
+        if centre is not None and len(rows) == 2:
+            ax.plot([0.5], [centre * scale], "s", color="#c0392b", ms=7, label="centre points")
         ax.set_xticks(x, [_tick_label(factor, lv) for lv in rows["level"]])
         ax.set_xlim(-0.4, len(rows) - 0.6)
         ax.set_xlabel(factor.axis_label)

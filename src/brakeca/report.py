@@ -497,8 +497,9 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
             "which assumes that few effects are active"
         )
     elif attrs.get("method") == "pure error":
+        of = "replicates and centre points" if attrs.get("center_points") else "replicates"
         how = (
-            f"standard errors from the pure error of the replicates "
+            f"standard errors from the pure error of the {of} "
             f"({_fmt(attrs.get('df'), '.0f')} degrees of freedom)"
         )
     else:
@@ -512,6 +513,15 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         "mean at the first), for every effect the design can estimate (one term per alias "
         f"chain); {how}. Significant effects (p < {alpha:g}) in bold."
     )
+    curvature = attrs.get("curvature") or {}
+    if attrs.get("center_points") and not _is_missing(curvature.get("p_value", math.nan)):
+        caption += (
+            " Ct Pt, the centre points' mean less the model's value at the centre: "
+            f"coefficient {_fmt(float(curvature['coefficient']) * factor, '.4g')}"
+            f"{' ' + unit if unit else ''}, SE "
+            f"{_fmt(float(curvature['se']) * factor, '.4g')}, p "
+            f"{format_p_value(curvature['p_value'])}."
+        )
     if attrs.get("note"):
         caption += f" Note: {attrs['note']}."
     return _Table(headers, [c not in ("term", "aliases") for c in cols], rows), caption
@@ -769,6 +779,32 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     return text
 
 
+def _curvature_text(frame: pd.DataFrame) -> str:
+    """ " Curvature: ..." for an ANOVA with centre points (its row ``Curvature``), or ""."""
+    n_c = int(frame.attrs.get("center_points", 0) or 0)
+    rows = frame.loc[frame["term"] == "Curvature"] if "term" in frame.columns else frame.iloc[:0]
+    if not n_c or rows.empty:
+        return ""
+    p = rows["p_value"].iloc[0]
+    what = (
+        f" Curvature: the {n_c} centre point{'s' if n_c != 1 else ''}' mean against the other "
+        "runs' (Minitab's Ct Pt, fitted by its own term so that the other terms are the "
+        "factorial's)"
+    )
+    if _is_missing(p):
+        return what + "; not tested (no residual degrees of freedom)."
+    p_text = format_p_value(p)
+    p_text = p_text if p_text.startswith("<") else f"= {p_text}"
+    if float(p) < 0.05:
+        return (
+            what + f", p {p_text}: significant, so the response is not linear in the factors "
+            "between their levels, and the factorial model does not describe the middle of "
+            "the region; a response-surface design (a central composite design adds axial "
+            "points to these tests) would fit the curvature and tell which factor makes it."
+        )
+    return what + f", p {p_text}: no evidence of curvature between the levels at 0.05."
+
+
 def _anchor(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_-]+", "-", str(text)).strip("-").lower() or "x"
 
@@ -880,7 +916,7 @@ def render_report(
         info = f"{typ} ANOVA of {response}" if typ else f"ANOVA of {response}"
         if unit:
             info += f"; sums of squares and mean squares in ({unit})²"
-        info += "." + _model_summary_text(frame.attrs, unit)
+        info += "." + _model_summary_text(frame.attrs, unit) + _curvature_text(frame)
         effects = (effects_tables or {}).get(response)
         effects_table, effects_info = (
             _effects_table(str(response), effects)

@@ -161,6 +161,14 @@ def _design_info(design: Design) -> str:
             "two-factor interactions), with the stationary point; the main-effects and "
             "interaction plots treat each level as a category, as for a factorial design."
         )
+    if design.center_points:
+        n_c = design.center_points
+        text += (
+            f" Its {n_c} centre point{'s' if n_c != 1 else ''} (every factor midway between "
+            "its levels; at the geometric mean for a factor coded 'log') give pure error and "
+            "test curvature (the ANOVA's row Curvature); the level means, the interaction "
+            "plots and the effects are of the other tests."
+        )
     if design.is_fractional:
         relation = design.relation_text(times="·")
         text += f" Generators: {', '.join(design.generators)}; defining relation {relation}."

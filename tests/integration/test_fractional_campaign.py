@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import tomllib
 
+import numpy as np
 import pandas as pd
 from campaign_helpers import TINY_CLI, cli_ok
 
@@ -65,6 +66,24 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     assert "folded over on S, a full factorial of its two-level factors" in (
         out / "report.html"
     ).read_text(encoding="utf-8")
+    # three centre points added to the finished campaign: only they are computed
+    centred = tmp_path / "centred.toml"
+    centred.write_text(
+        folded.read_text().replace("root_seed = 5\n", "root_seed = 5\ncenter_points = 3\n")
+    )
+    output = cli_ok("run", str(centred), "-o", str(out), *TINY)
+    assert "3 run(s) computed, 8 reused" in output
+    summary = pd.read_csv(out / "summary.csv")
+    assert list(summary["test"]) == list(range(1, 12))
+    centre = summary.iloc[8:]
+    assert (centre["S"] == 0.5).all() and (centre["A"] == 15.0).all()
+    assert np.allclose(centre["WR"], 5.5e-7, rtol=1e-12)
+    assert centre["seed"].nunique() == 3
+    anova = pd.read_csv(out / "tables" / "anova_MU.csv")
+    assert "Curvature" in list(anova["term"])
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "plus 3 centre points: 11 tests." in html
+    assert "Curvature: the 3 centre points&#39; mean" in html
 
 
 def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:

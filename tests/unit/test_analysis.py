@@ -288,10 +288,11 @@ def test_anova_saturated_falls_back_without_crashing() -> None:
     assert list(table["term"]) == ["S", "Residual"]
     assert table["F"].isna().all() and table["p_value"].isna().all()
     assert "F and p cannot be computed" in table["note"].iloc[0]
-    # a full-rank design: the reason is the residual degrees of freedom, not empty cells
-    assert table.attrs["typ"] == (
-        "Type I (sequential; no residual degrees of freedom, which Type II needs)"
-    )
+    # a full-rank design: the Type II sums of squares are defined without residual degrees
+    # of freedom (statsmodels' anova_lm cannot give them then; they come from the columns)
+    assert table.attrs["typ"] == "Type II"
+    assert table["sum_sq"].sum() == pytest.approx(_total_ss(two, "MU"), rel=1e-10)
+    assert "sequential" not in table.attrs["note"]
 
     # A factor that does not vary, and a single run: still no exception.
     table = anova(two, [S, WP], "MU")
@@ -977,3 +978,28 @@ def test_effects_vif_is_one_when_orthogonal_and_matches_the_regression_definitio
         fitted = others @ np.linalg.lstsq(others, x, rcond=None)[0]
         r2 = 1.0 - np.sum((x - fitted) ** 2) / np.sum((x - x.mean()) ** 2)
         assert effects.loc[term, "vif"] == pytest.approx(1.0 / (1.0 - r2), rel=1e-9)
+
+
+def test_type_ii_from_the_columns_equals_statsmodels_on_an_unbalanced_design() -> None:
+    """The Type II table the ANOVA takes where anova_lm cannot run (no residual degrees of
+    freedom) is the same as anova_lm's wherever both run: a 3 x 2 x 2 design, twice, with
+    three runs missing, and every two-factor interaction."""
+    from statsmodels.stats.anova import anova_lm
+
+    from brakeca.analysis import _column_table, _ols
+
+    rng = np.random.default_rng(1)
+    rows = [
+        {"f0": f"L0{a}", "f1": f"L0{b}", "f2": f"L0{c}"}
+        for a, b, c in itertools.product(range(3), range(2), range(2))
+        for _ in range(2)
+    ]
+    frame = pd.DataFrame(rows).drop(index=[0, 5, 9]).reset_index(drop=True)
+    frame.insert(0, "y", rng.normal(size=len(frame)))
+    terms = ["C(f0)", "C(f1)", "C(f2)", "C(f0):C(f1)", "C(f0):C(f2)", "C(f1):C(f2)"]
+    fit = _ols(frame, terms)
+    ours = _column_table(frame, terms, fit, typ=2)
+    theirs = anova_lm(fit, typ=2).loc[ours.index]
+    assert np.allclose(ours["sum_sq"], theirs["sum_sq"], rtol=1e-10, atol=1e-14)
+    assert np.allclose(ours["F"].iloc[:-1], theirs["F"].iloc[:-1], rtol=1e-10)
+    assert list(ours["df"]) == list(theirs["df"])
