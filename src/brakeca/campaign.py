@@ -556,7 +556,7 @@ def _execute_points(
                             f"run {n_total - len(todo) + len(computed) + len(failed)}/{n_total} "
                             f"done: test {point.test}, replicate "
                             f"{point.replicate} ({rid}) in {_seconds(sc['wall_time'])} s: "
-                            f"MU {sc['MU']:.4f}, V {sc['V_mm3']:.4g} mm^3/stop",
+                            f"MU {sc['MU']:.4f}, V {sc['V_mm3']:.4g} mm³/stop",
                             highlight=False,
                         )
                     bar.advance(task)

@@ -360,7 +360,7 @@ def simulate(
     if checkpoint is not None:
         checkpoint.unlink(missing_ok=True)
     out.print(f"MU = {result.MU:.4f}")
-    out.print(f"V  = {result.V * 1e9:.6g} mm^3 per stop")
+    out.print(f"V  = {result.V * 1e9:.6g} mm³ per stop")
     ds = result.dataset
     out.print(
         f"ledger residual (max, relative) = {float(ds['max_ledger_residual']):.2e}; "

@@ -170,7 +170,7 @@ def test_cli_simulate(tmp_path):
         ],
     )
     assert res.exit_code == 0, res.output
-    assert "MU =" in res.stdout and "mm^3 per stop" in res.stdout
+    assert "MU =" in res.stdout and "mm³ per stop" in res.stdout
     r = RunResult.from_netcdf(out)
     assert r.seed == 4 and r.config.cycle.max_stops == 1 and r.dataset.sizes["stop"] == 1
     # the header announces the run's time steps before any work
