@@ -5,7 +5,9 @@ not from the files of the helpers compiled into it (numba issue/PR 8396, not mer
 update that changes only a helper, a shared cache would serve a kernel with the old helper
 inside, and results would silently be those of the old code. So brakeca caches its own
 compiled functions in ``$XDG_CACHE_HOME/brakeca/numba/<key>`` (``~/.cache`` when
-``XDG_CACHE_HOME`` is unset), where ``<key>`` is a hash of every ``.py`` file of the package.
+``XDG_CACHE_HOME`` is unset), where ``<key>`` is a hash of the package's files that
+compiled code comes from (:data:`KERNEL_SOURCES`), so that a change elsewhere (the analysis,
+the report, the command line) loads the kernels already compiled.
 
 It does so with a cache locator of its own (:func:`install`, called by every module that
 compiles), which numba asks first and which answers only for functions defined in brakeca's
@@ -40,13 +42,32 @@ KEEP_UNUSED = 30 * 86400.0
 KEEP_EMPTY = 86400.0
 
 
+#: The package's files that numba's compiled code comes from: every module that defines a
+#: jitted function, and the brakeca modules they import (a kernel may call their functions or
+#: read their constants, which numba freezes into the machine code). A test checks it against
+#: those modules' imports.
+KERNEL_SOURCES: tuple[str, ...] = (
+    "_cachedir.py",
+    "_jit.py",
+    "_kernels.py",
+    "_lazy.py",
+    "_records.py",
+    "automaton.py",
+    "contact.py",
+    "friction.py",
+    "wear.py",
+)
+
+
 def source_key(package: Path = _PACKAGE) -> str:
-    """16 hex digits of the sha256 of the package's ``.py`` files (names and contents)."""
+    """16 hex digits of the sha256 of the package's :data:`KERNEL_SOURCES` (names and
+    contents; a file that is missing counts as empty)."""
     digest = hashlib.sha256()
-    for path in sorted(package.rglob("*.py")):
-        digest.update(path.relative_to(package).as_posix().encode())
+    for name in sorted(KERNEL_SOURCES):
+        path = package / name
+        digest.update(name.encode())
         digest.update(b"\0")
-        digest.update(path.read_bytes())
+        digest.update(path.read_bytes() if path.is_file() else b"")
         digest.update(b"\0")
     return digest.hexdigest()[:16]
 

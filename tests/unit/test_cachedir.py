@@ -5,13 +5,14 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
 import brakeca
-from brakeca._cachedir import prune, source_key
+from brakeca._cachedir import KERNEL_SOURCES, prune, source_key
 
 PACKAGE = Path(brakeca.__file__).resolve().parent
 
@@ -93,15 +94,44 @@ def test_an_unwritable_cache_home_leaves_numbas_default(tmp_path) -> None:
     assert Path(str(seen["brakeca"])) == PACKAGE / "__pycache__"  # beside the sources
 
 
-def test_any_change_to_any_module_changes_the_key(tmp_path) -> None:
+def test_a_change_to_compiled_code_changes_the_key_and_no_other_does(tmp_path) -> None:
     copy = tmp_path / "brakeca"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
     assert source_key(copy) == source_key(PACKAGE)
     helper = copy / "_jit.py"  # a helper file, not a kernel's own
     helper.write_text(helper.read_text() + "\n# a change\n")
-    assert source_key(copy) != source_key(PACKAGE)
-    helper.rename(copy / "_jit2.py")  # names count too
-    assert source_key(copy) != source_key(PACKAGE)
+    changed = source_key(copy)
+    assert changed != source_key(PACKAGE)
+    helper.rename(copy / "_jit2.py")  # a missing file counts too
+    assert source_key(copy) not in (changed, source_key(PACKAGE))
+    helper = copy / "_jit2.py"
+    helper.rename(copy / "_jit.py")
+    for name in ("analysis.py", "cli.py", "config.py", "report.py"):  # no compiled code
+        module = copy / name
+        module.write_text(module.read_text() + "\n# a change\n")
+    assert source_key(copy) == changed
+
+
+_COMPILING = re.compile(r"^\s*@(njit|njit_noalloc|njit_noalloc_inline)\b|\bnjit\(", re.M)
+
+
+def test_the_key_covers_every_module_compiled_code_comes_from() -> None:
+    """KERNEL_SOURCES is every module that defines a jitted function and every brakeca module
+    they import (in a fresh process), so no helper or constant a kernel uses is left out."""
+    compiling = sorted(
+        f"brakeca.{p.stem}" for p in PACKAGE.glob("*.py") if _COMPILING.search(p.read_text())
+    )
+    assert "brakeca._lazy" in compiling and "brakeca.wear" in compiling
+    code = (
+        "import importlib, json, sys\n"
+        f"for name in {compiling!r}: importlib.import_module(name)\n"
+        "print(json.dumps(sorted(m for m in sys.modules if m.startswith('brakeca.'))))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    ).stdout
+    imported = {m.removeprefix("brakeca.") + ".py" for m in json.loads(out)}
+    assert imported == set(KERNEL_SOURCES)
 
 
 def _folder(root: Path, name: str, age: float, now: float, files: int = 0) -> Path:
