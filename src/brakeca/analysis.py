@@ -811,6 +811,10 @@ def anova(
     names = {t[2:-1]: n for t, n in term_names.items() if ":" not in t}
     chains = _alias_chains(frame, terms)
     out["aliases"] = [_chain_text(chains.get(str(t), []), names) for t in table.index]
+    left_out = _left_out(factors, names.values()) if y_center.size else []
+    if left_out:  # the centre points differ from the other runs in those factors too
+        out.loc[out["term"] == CURVATURE, "aliases"] = " + ".join(left_out)
+        notes.append(_confounded_curvature(left_out))
     resid = out["term"] == "Residual"
     out.loc[resid, ["F", "p_value"]] = np.nan
     if saturated:
@@ -857,6 +861,22 @@ def anova(
 
 #: The ANOVA's term for the curvature that centre points test (Minitab's "Curvature").
 CURVATURE = "Curvature"
+
+
+def _left_out(factors: Sequence[Factor], varying: Iterable[str]) -> list[str]:
+    """The factors not among ``varying`` (those with a single level in the runs that are not
+    centre points): the centre points' term is confounded with their main effects."""
+    kept = set(varying)
+    return [f.name for f in factors if f.name not in kept]
+
+
+def _confounded_curvature(left_out: Sequence[str]) -> str:
+    which = ", ".join(left_out)
+    return (
+        f"{which} {'has' if len(left_out) == 1 else 'have'} a single level in the runs that "
+        "are not centre points, so the centre points' term (Curvature, Ct Pt) is confounded "
+        f"with the main effect of {which}: it does not test curvature"
+    )
 
 
 def _with_curvature(
@@ -1729,7 +1749,9 @@ def two_level_effects(
         ``center_points`` (their number; they are fitted by an indicator, Minitab's "Ct Pt",
         and take no part in the effects), ``curvature`` (the Ct Pt row: ``coefficient``, the
         centre points' mean less the model's value at the centre [response unit], ``se``,
-        ``t`` and ``p_value``; NaN without centre points or with Lenth's method) and ``note``
+        ``t`` and ``p_value``; NaN without centre points or with Lenth's method; and
+        ``aliases``, the factors it is confounded with, when one has a single level in the
+        other runs) and ``note``
         (what the reader must know: a design that is not orthogonal, a non-regular design
         fitted with its main effects alone, interactions left out as partly confounded, an
         error that is not pure error alone, a PSE of zero; empty otherwise).
@@ -1792,7 +1814,7 @@ def two_level_effects(
         )
     exog = np.column_stack([np.ones(y.size)] + [_term_columns(frame, t)[:, 0] for t in terms])
     y_all = y
-    curvature = dict.fromkeys(("coefficient", "se", "t", "p_value"), math.nan)
+    curvature: dict[str, Any] = dict.fromkeys(("coefficient", "se", "t", "p_value"), math.nan)
     if n_c:  # the centre points: every factor 0, and an indicator that fits their mean
         exog = np.vstack([exog, np.zeros((n_c, exog.shape[1]))])
         exog[y.size :, 0] = 1.0
@@ -1880,14 +1902,19 @@ def two_level_effects(
         )
     if n_c:
         notes.append(
-            f"{_count(n_c, 'centre point')} fitted by their own term (Ct Pt), which keeps "
-            "them out of the effects"
+            f"{_count(n_c, 'centre point')} fitted by {'its' if n_c == 1 else 'their'} own "
+            "term (Ct Pt), which keeps them out of the effects"
             + (
-                ": with one centre point it leaves no pure error, and curvature is not tested"
+                ": with one centre point the saturated model has no error to test curvature "
+                "against here (the ANOVA tests it against its residual, the interactions it "
+                "leaves out)"
                 if method == "Lenth"
                 else ""
             )
         )
+        if single:  # the centre points differ from the other runs in those factors too
+            curvature["aliases"] = " + ".join(single)
+            notes.append(_confounded_curvature(single))
     out.attrs.update(
         method=method,
         df=df,
@@ -1959,7 +1986,7 @@ def analyze(
             "interactions_long": interactions_long(summary, factors, response),
             "anova": table,
             "ranked_effects": _rank_terms(table, summary, factors, response),
-            "residuals": residuals(summary, factors, response),
+            "residuals": residuals(summary, factors, response, interactions=not main_effects_only),
             "effects": two_level_effects(
                 summary, factors, response, main_effects_only=main_effects_only
             ),

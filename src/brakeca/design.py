@@ -161,6 +161,9 @@ RESERVED_NAMES: frozenset[str] = frozenset(
     }
 )
 
+#: Rows of the analysis's ANOVA table that are not factors' terms (brakeca.analysis).
+_ANOVA_TERMS = frozenset({"Residual", "Curvature"})
+
 _ORDER_TAG = 0x6F72646572  # "order": keeps the order permutation's stream apart from run seeds
 
 #: The most generators a fractional factorial may have [-]: its defining relation has
@@ -381,6 +384,12 @@ class Factor(_Frozen):
             raise ValueError(
                 f"factor name {value!r} is reserved (campaign columns: "
                 f"{', '.join(sorted(RESERVED_NAMES))})"
+            )
+        if value in _ANOVA_TERMS:
+            raise ValueError(
+                f"factor name {value!r} is a row of the analysis's ANOVA table (its terms "
+                f"{', '.join(sorted(_ANOVA_TERMS))}), which the factor's row would be "
+                "mistaken for; name the factor otherwise"
             )
         from brakeca.results import result_names
 

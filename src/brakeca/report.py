@@ -497,7 +497,13 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
             "which assumes that few effects are active"
         )
     elif attrs.get("method") == "pure error":
-        of = "replicates and centre points" if attrs.get("center_points") else "replicates"
+        n_c = int(attrs.get("center_points", 0) or 0)
+        if not n_c:
+            of = "replicates"
+        elif float(attrs.get("df", 0.0)) > n_c - 1 + 0.5:
+            of = "replicates and centre points"
+        else:
+            of = "centre points"
         how = (
             f"standard errors from the pure error of the {of} "
             f"({_fmt(attrs.get('df'), '.0f')} degrees of freedom)"
@@ -516,11 +522,18 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     curvature = attrs.get("curvature") or {}
     if attrs.get("center_points") and not _is_missing(curvature.get("p_value", math.nan)):
         caption += (
-            " Ct Pt, the centre points' mean less the model's value at the centre: "
+            f" Ct Pt, {_centre_points_text(int(attrs['center_points']))} less the model's "
+            "value at the centre: "
             f"coefficient {_fmt(float(curvature['coefficient']) * factor, '.4g')}"
             f"{' ' + unit if unit else ''}, SE "
             f"{_fmt(float(curvature['se']) * factor, '.4g')}, p "
-            f"{format_p_value(curvature['p_value'])}."
+            f"{format_p_value(curvature['p_value'])}"
+            + (
+                f" (confounded with the main effect of {curvature['aliases']}: not a test of "
+                "curvature)."
+                if curvature.get("aliases")
+                else "."
+            )
         )
     if attrs.get("note"):
         caption += f" Note: {attrs['note']}."
@@ -779,20 +792,37 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     return text
 
 
+def _centre_points_text(n: int) -> str:
+    """``"the 3 centre points' mean"``, ``"the centre point's value"``."""
+    return "the centre point's value" if n == 1 else f"the {n} centre points' mean"
+
+
 def _curvature_text(frame: pd.DataFrame) -> str:
     """ " Curvature: ..." for an ANOVA with centre points (its row ``Curvature``), or ""."""
     n_c = int(frame.attrs.get("center_points", 0) or 0)
     rows = frame.loc[frame["term"] == "Curvature"] if "term" in frame.columns else frame.iloc[:0]
     if not n_c or rows.empty:
         return ""
-    p = rows["p_value"].iloc[0]
     what = (
-        f" Curvature: the {n_c} centre point{'s' if n_c != 1 else ''}' mean against the other "
-        "runs' (Minitab's Ct Pt, fitted by its own term so that the other terms are the "
-        "factorial's)"
+        f" Curvature: {_centre_points_text(n_c)} against the other runs' (Minitab's Ct Pt, "
+        "fitted by its own term so that the other terms are the factorial's)"
     )
+    aliases = rows["aliases"].iloc[0] if "aliases" in rows.columns else ""
+    if not _is_missing(aliases) and str(aliases).strip():
+        return (
+            what + f"; not a test of curvature: {aliases} did not vary among the other runs, "
+            f"so the centre points also differ from them in {aliases}, and the term cannot "
+            f"tell curvature from the main effect of {aliases}."
+        )
+    p = rows["p_value"].iloc[0]
     if _is_missing(p):
-        return what + "; not tested (no residual degrees of freedom)."
+        resid = frame.loc[frame["term"] == "Residual", "df"]
+        why = (
+            "no residual degrees of freedom"
+            if resid.empty or _is_missing(resid.iloc[0]) or float(resid.iloc[0]) < 0.5
+            else "F and p are not defined; see the note"
+        )
+        return what + f"; not tested ({why})."
     p_text = format_p_value(p)
     p_text = p_text if p_text.startswith("<") else f"= {p_text}"
     if float(p) < 0.05:

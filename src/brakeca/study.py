@@ -312,15 +312,17 @@ _SURFACE_ANOVA_NOTE = (
 _BOX_COX_RESPONSES = ("MU", "V")
 
 
-def _box_cox(data: pd.DataFrame, factors: list[Any], surfaces: dict[str, Any]) -> dict[str, Any]:
+def _box_cox(
+    data: pd.DataFrame, factors: list[Any], surfaces: dict[str, Any], *, interactions: bool
+) -> dict[str, Any]:
     """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
-    design, under the ANOVA model otherwise."""
+    design, under the ANOVA model otherwise (with its two-factor interactions or not)."""
     from brakeca import boxcox
 
     return {
         resp: boxcox.surface_box_cox(surfaces[resp])
         if resp in surfaces
-        else boxcox.box_cox(data, factors, resp)
+        else boxcox.box_cox(data, factors, resp, interactions=interactions)
         for resp in _BOX_COX_RESPONSES
     }
 
@@ -433,7 +435,7 @@ def write_study(
             )
             if t
         )
-    scales = _box_cox(data, factors, surfaces)
+    scales = _box_cox(data, factors, surfaces, interactions=result.design.plackett_burman is None)
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
     (tables_dir / "README.md").write_text(

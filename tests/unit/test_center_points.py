@@ -284,7 +284,7 @@ def test_one_centre_point_of_a_saturated_design_leaves_lenth() -> None:
     effects = analysis.two_level_effects(runs, FACTORS, "y")
     assert effects.attrs["method"] == "Lenth"
     assert math.isnan(effects.attrs["curvature"]["p_value"])
-    assert "curvature is not tested" in effects.attrs["note"]
+    assert "no error to test curvature against here" in effects.attrs["note"]
     # Lenth's effects are the factorial's alone
     cube = analysis.two_level_effects(runs[runs.ct == 0], FACTORS, "y")
     assert effects["effect"].tolist() == pytest.approx(cube["effect"].tolist(), rel=1e-12)
@@ -313,3 +313,79 @@ def test_power_counts_the_centre_points_pure_error() -> None:
     assert a["runs"] == 12 and a["power"] > b["power"]
     # 4 runs at a level, 1 apart: n / 2 = 2, with the centre points or not
     assert a["noncentrality"] == pytest.approx(2.0) and b["noncentrality"] == pytest.approx(2.0)
+
+
+def test_curvature_confounded_with_a_factor_left_out_is_named_not_reported() -> None:
+    """Both runs at B's second level failed: the centre points differ from the rest in B
+    too, so their term is B's main effect as much as curvature (found by a review)."""
+    factors = [Factor("A", (10.0, 20.0)), Factor("B", (0.0, 1.0))]
+    runs = pd.DataFrame(
+        [(10, 0), (20, 0), (10, 1), (20, 1), (15, 0.5), (15, 0.5), (15, 0.5)], columns=["A", "B"]
+    )
+    runs["y"] = 5 + 2 * (2 * runs.B - 1) + np.array([0.01, -0.02, 0.03, 0, 0.01, -0.01, 0.02])
+    runs["status"] = ["ok", "ok", "failed", "failed", "ok", "ok", "ok"]
+    table = analysis.anova(runs, factors, "y")
+    assert table.set_index("term").loc["Curvature", "aliases"] == "B"
+    assert "confounded with the main effect of B" in table.attrs["note"]
+    text = _curvature_text(table)
+    assert "not a test of curvature" in text and "significant" not in text
+    effects = analysis.two_level_effects(runs, factors, "y")
+    assert effects.attrs["curvature"]["aliases"] == "B"
+    # with every run finished, nothing is confounded
+    runs["status"] = "ok"
+    assert analysis.anova(runs, factors, "y").set_index("term").loc["Curvature", "aliases"] == ""
+    assert "aliases" not in analysis.two_level_effects(runs, factors, "y").attrs["curvature"]
+
+
+def test_plackett_burman_residuals_are_of_the_anovas_main_effects_model() -> None:
+    """analyze(main_effects_only=True) gives residuals of the model its ANOVA fits; the
+    centre points' pure error had let the residuals keep interactions (a review)."""
+    design = design_from_dict(
+        {
+            "name": "pb",
+            "base": "paper",
+            "root_seed": 1,
+            "plackett_burman": 12,
+            "center_points": 3,
+            "factors": [
+                {"name": "S", "levels": [0.0, 1.0]},
+                {"name": "WP", "levels": [1e-15, 1e-13]},
+                {"name": "WR", "levels": [1e-7, 1e-6]},
+                {"name": "A", "levels": [10.0, 20.0]},
+                {"name": "mu0", "field": "friction.mu_0", "levels": [0.5, 0.7]},
+            ],
+        }
+    )
+    runs = pd.DataFrame(design.combinations())
+    runs["y"] = np.random.default_rng(2).normal(size=len(runs)) + runs["S"]
+    runs["status"] = "ok"
+    out = analysis.analyze(runs, design.factors, ["y"], main_effects_only=True)["y"]
+    assert out["anova"].attrs["formula"] == "y ~ S + WP + WR + A + mu0 + Ct Pt"
+    assert out["residuals"].attrs["formula"] == out["anova"].attrs["formula"]
+
+
+def test_report_wording_for_one_centre_point_and_for_pure_error_of_centre_points() -> None:
+    one = analysis.anova(_runs(1, 1), FACTORS, "y")
+    assert "Curvature: the centre point's value against" in _curvature_text(one)
+    from brakeca.report import _effects_table
+
+    _, caption = _effects_table("y", analysis.two_level_effects(_runs(1, 3), FACTORS, "y"))
+    assert "pure error of the centre points (2 degrees of freedom)" in caption
+    assert "Ct Pt, the 3 centre points' mean less the model's value at the centre" in caption
+    _, caption = _effects_table("y", analysis.two_level_effects(_runs(2, 3), FACTORS, "y"))
+    assert "pure error of the replicates and centre points (10 degrees of freedom)" in caption
+    lenth = analysis.two_level_effects(_runs(1, 1), FACTORS, "y")
+    assert "1 centre point fitted by its own term" in lenth.attrs["note"]
+
+
+@pytest.mark.parametrize("name", ["Curvature", "Residual"])
+def test_a_factor_cannot_be_named_after_an_anova_row(name) -> None:
+    with pytest.raises(ConfigError, match=f"factor name '{name}' is a row of the analysis"):
+        design_from_dict(
+            {
+                "name": "c",
+                "base": "paper",
+                "root_seed": 1,
+                "factors": [{"name": name, "field": "S", "levels": [0.0, 1.0]}],
+            }
+        )
