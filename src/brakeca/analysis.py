@@ -861,6 +861,8 @@ def anova(
 
 #: The ANOVA's term for the curvature that centre points test (Minitab's "Curvature").
 CURVATURE = "Curvature"
+#: The effects table's row of the centre points' indicator (Minitab's "Ct Pt").
+CENTER_TERM = "Ct Pt"
 
 
 def _left_out(factors: Sequence[Factor], varying: Iterable[str]) -> list[str]:
@@ -1738,6 +1740,11 @@ def two_level_effects(
         Minitab's table: ``1 / (1 - R_j^2)`` of the term's column regressed on the others',
         1 where the design is orthogonal) [-], ``significant`` (``p_value < alpha``) and
         ``aliases`` (the terms of up to three factors the design cannot tell apart from it).
+        With centre points whose term is tested, a last row :data:`CENTER_TERM` (``"Ct
+        Pt"``, order 0), as Minitab's coded coefficients end: its ``coefficient`` (the
+        centre points' mean less the model's value at the centre), ``t``, ``p_value``,
+        ``vif`` and ``significant``, with no ``effect`` or ``se`` (NaN; its coefficient's
+        standard error is ``attrs["curvature"]["se"]``).
         Empty (with ``attrs["note"]`` saying why) when a factor that varies has other than two
         levels, the response is constant, or too few effects can be estimated (none with
         replicates; fewer than three for Lenth's method). ``attrs`` carries ``method``
@@ -1871,6 +1878,20 @@ def two_level_effects(
         }
     )
     out = out.sort_values("t", key=np.abs, ascending=False, kind="stable").reset_index(drop=True)
+    if n_c and math.isfinite(curvature["p_value"]):  # Minitab's last coded coefficient
+        row = {
+            "term": CENTER_TERM,
+            "order": 0,
+            "effect": math.nan,
+            "coefficient": curvature["coefficient"],
+            "se": math.nan,
+            "t": curvature["t"],
+            "p_value": curvature["p_value"],
+            "vif": float(_vif(exog)[-1]),
+            "significant": bool(curvature["p_value"] < alpha),
+            "aliases": " + ".join(single),
+        }
+        out = pd.concat([out, pd.DataFrame([row])], ignore_index=True)
     notes = [f"factor {name} has a single level in the data and is left out" for name in single]
     if method == "Lenth" and not (math.isfinite(pse) and pse > 0.0):
         notes.append("Lenth's PSE is zero or undefined (most effects are nil), so t is not defined")

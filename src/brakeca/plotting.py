@@ -23,7 +23,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
-from brakeca.analysis import Factor, as_factor, interaction_table, main_effects, ok_runs
+from brakeca.analysis import (
+    CENTER_TERM,
+    Factor,
+    as_factor,
+    interaction_table,
+    main_effects,
+    ok_runs,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -564,7 +571,8 @@ def plot_effects(
     ----------
     effects
         Output of :func:`brakeca.analysis.two_level_effects` (``term``, ``effect``, ``t``,
-        ``significant``; its ``attrs`` ``method``, ``df``, ``alpha``, ``pse``).
+        ``significant``; its ``attrs`` ``method``, ``df``, ``alpha``, ``pse``); a row ``Ct
+        Pt`` (centre points), which has no effect, is left out, as Minitab leaves it out.
     response
         Response column the effects are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in the
         unit of the other figures, mm^3 for ``V``).
@@ -588,6 +596,7 @@ def plot_effects(
     alpha = float(attrs.get("alpha", 0.05))
     df = float(attrs.get("df", math.nan))
     method = attrs.get("method") or "?"
+    effects = effects.loc[effects["term"] != CENTER_TERM]  # no effect: not in the charts
     n = len(effects)
     fig = _figure((11.0, max(4.6, 0.2 * n + 1.4)))  # a bar per effect, each readable
     ax_pareto, ax_half = fig.subplots(1, 2, width_ratios=(1.3, 1.0))

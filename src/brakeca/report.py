@@ -522,15 +522,13 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     curvature = attrs.get("curvature") or {}
     if attrs.get("center_points") and not _is_missing(curvature.get("p_value", math.nan)):
         caption += (
-            f" Ct Pt, {_centre_points_text(int(attrs['center_points']))} less the model's "
-            "value at the centre: "
-            f"coefficient {_fmt(float(curvature['coefficient']) * factor, '.4g')}"
-            f"{' ' + unit if unit else ''}, SE "
-            f"{_fmt(float(curvature['se']) * factor, '.4g')}, p "
-            f"{format_p_value(curvature['p_value'])}"
+            f" The last row, Ct Pt, is the centre points' term: its coefficient is "
+            f"{_centre_points_text(int(attrs['center_points']))} less the model's value at "
+            f"the centre (SE {_fmt(float(curvature['se']) * factor, '.4g')}"
+            f"{' ' + unit if unit else ''}); it has no effect"
             + (
-                f" (confounded with the main effect of {curvature['aliases']}: not a test of "
-                "curvature)."
+                f", and is confounded with the main effect of {curvature['aliases']}: not a "
+                "test of curvature."
                 if curvature.get("aliases")
                 else "."
             )

@@ -265,8 +265,13 @@ def test_effects_with_centre_points_are_the_saturated_model_with_a_centre_point_
     effects = analysis.two_level_effects(runs, FACTORS, "y")
     assert effects.attrs["method"] == "pure error"
     assert effects.attrs["df"] == fit.df_resid
-    terms = dict(_NAMES, **{"A:B:C": "x1:x2:x3"})
-    for _, row in effects.iterrows():
+    terms = dict(_NAMES, **{"A:B:C": "x1:x2:x3", "Ct Pt": "ct"})
+    assert effects["term"].iloc[-1] == "Ct Pt"  # last, as Minitab's coded coefficients end
+    ct = effects.iloc[-1]
+    assert math.isnan(ct["effect"]) and math.isnan(ct["se"]) and ct["order"] == 0
+    assert ct["t"] == pytest.approx(fit.tvalues["ct"], rel=1e-9)
+    assert ct["significant"] == (fit.pvalues["ct"] < 0.05)
+    for _, row in effects.iloc[:-1].iterrows():
         name = terms[row["term"]]
         assert row["coefficient"] == pytest.approx(fit.params[name], rel=1e-9)
         assert row["se"] == pytest.approx(2.0 * fit.bse[name], rel=1e-9)
@@ -285,6 +290,7 @@ def test_one_centre_point_of_a_saturated_design_leaves_lenth() -> None:
     assert effects.attrs["method"] == "Lenth"
     assert math.isnan(effects.attrs["curvature"]["p_value"])
     assert "no error to test curvature against here" in effects.attrs["note"]
+    assert "Ct Pt" not in list(effects["term"])  # not tested: no row
     # Lenth's effects are the factorial's alone
     cube = analysis.two_level_effects(runs[runs.ct == 0], FACTORS, "y")
     assert effects["effect"].tolist() == pytest.approx(cube["effect"].tolist(), rel=1e-12)
@@ -371,7 +377,9 @@ def test_report_wording_for_one_centre_point_and_for_pure_error_of_centre_points
 
     _, caption = _effects_table("y", analysis.two_level_effects(_runs(1, 3), FACTORS, "y"))
     assert "pure error of the centre points (2 degrees of freedom)" in caption
-    assert "Ct Pt, the 3 centre points' mean less the model's value at the centre" in caption
+    assert "Ct Pt, is the centre points' term: its coefficient is the 3 centre points' mean" in (
+        caption
+    )
     _, caption = _effects_table("y", analysis.two_level_effects(_runs(2, 3), FACTORS, "y"))
     assert "pure error of the replicates and centre points (10 degrees of freedom)" in caption
     lenth = analysis.two_level_effects(_runs(1, 1), FACTORS, "y")
@@ -389,3 +397,13 @@ def test_a_factor_cannot_be_named_after_an_anova_row(name) -> None:
                 "factors": [{"name": name, "field": "S", "levels": [0.0, 1.0]}],
             }
         )
+
+
+def test_the_effects_plot_leaves_the_centre_points_row_out(tmp_path) -> None:
+    from brakeca.plotting import plot_effects
+
+    effects = analysis.two_level_effects(_runs(1, 3), FACTORS, "y")
+    fig = plot_effects(effects, "MU", path=tmp_path / "e.png")
+    pareto = fig.axes[0]
+    labels = [t.get_text() for t in pareto.get_yticklabels()]
+    assert len(labels) == 7 and "Ct Pt" not in labels
