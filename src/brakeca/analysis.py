@@ -658,6 +658,7 @@ def anova(
     *,
     interactions: bool = True,
     typ: int = 2,
+    alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """Analysis of variance of a response over categorical factors.
 
@@ -719,6 +720,12 @@ def anova(
         Include all two-factor interactions (default) or main effects only.
     typ
         The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted).
+    alpha_to_remove
+        Reduce the model by backward elimination, as Minitab's stepwise "backward" for a
+        factorial design: drop the term with the largest p value above this level [-] among
+        those no other term contains, refit, until every such term has p at or below it
+        (0.1 in Minitab). The terms removed are pooled into the residual; the note names
+        them. By default the whole model.
 
     Returns
     -------
@@ -744,6 +751,7 @@ def anova(
     doi:10.1155/2016/8181260.
     """
     _check_anova_type(typ)
+    _check_alpha_to_remove(alpha_to_remove)
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     n = len(data)
@@ -755,9 +763,14 @@ def anova(
 
     centre = _center_mask(data, factors)
     y_center = y[centre]
-    spare = max(y_center.size - 1, 0)  # the centre points' pure error
     frame, term_names, terms, notes = _model(
-        data.loc[~centre], factors, y[~centre], interactions, spare_df=spare
+        data.loc[~centre],
+        factors,
+        y[~centre],
+        interactions,
+        y_center=y_center,
+        alpha_to_remove=alpha_to_remove,
+        typ=typ,
     )
     if not term_names:
         out = pd.DataFrame(
@@ -933,6 +946,16 @@ def _with_curvature(
     return rows, exog_all, y, pd.concat([frame, centre_rows], ignore_index=True)
 
 
+def _check_alpha_to_remove(alpha: Any) -> None:
+    if alpha is None:
+        return
+    if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0.0 < alpha < 1.0:
+        raise ValueError(
+            f"alpha_to_remove: expected a significance level between 0 and 1 (0.1 in "
+            f"Minitab), got {alpha!r}"
+        )
+
+
 def _check_anova_type(typ: Any) -> None:
     if type(typ) is not int or typ not in ANOVA_TYPES:
         raise ValueError(
@@ -1006,13 +1029,17 @@ def _model(
     y: np.ndarray,
     interactions: bool,
     *,
-    spare_df: int = 0,
+    y_center: np.ndarray | None = None,
+    alpha_to_remove: float | None = None,
+    typ: int = 2,
 ) -> tuple[pd.DataFrame, dict[str, str], list[str], list[str]]:
     """The model :func:`anova` fits: (frame, term names, terms, notes).
 
-    ``data`` holds the runs at the factors' levels, without centre points, whose pure error
-    brings ``spare_df`` more residual degrees of freedom (so the interactions are kept where
-    only the centre points leave the model any).
+    ``data`` holds the runs at the factors' levels, without centre points, whose responses
+    ``y_center`` bring their pure error to the residual (so the interactions are kept where
+    only the centre points leave the model any degrees of freedom). With
+    ``alpha_to_remove`` the terms are then reduced by backward elimination
+    (:func:`_eliminate`, on the ANOVA of sums of squares of type ``typ``).
 
     ``frame`` holds ``y`` and one categorical column per factor that varies in the data;
     ``terms`` are the formula terms (main effects, and the two-factor interactions unless
@@ -1046,6 +1073,8 @@ def _model(
             "terms aliased (confounded) with terms before them are left out, since the design "
             "cannot tell them apart: " + "; ".join(described)
         )
+    y_center = np.zeros(0) if y_center is None else y_center
+    spare_df = max(y_center.size - 1, 0)
     fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
     if fit.df_resid + spare_df < 0.5 and interactions and pairs:
         notes.append(
@@ -1053,7 +1082,57 @@ def _model(
             "pooled into the residual, main effects only"
         )
         terms = [t for t in mains if t in terms]  # the estimable ones
+    if alpha_to_remove is not None:
+        terms, removed = _eliminate(frame, terms, alpha_to_remove, typ=typ, y_center=y_center)
+        notes.append(
+            f"backward elimination (alpha to remove {alpha_to_remove:g}, keeping the model "
+            "hierarchical): "
+            + (
+                "removed " + ", ".join(term_names[t] for t in removed)
+                if removed
+                else "no term removed"
+            )
+        )
     return frame, term_names, terms, notes
+
+
+def _eliminate(
+    frame: pd.DataFrame,
+    terms: Sequence[str],
+    alpha: float,
+    *,
+    typ: int,
+    y_center: np.ndarray,
+) -> tuple[list[str], list[str]]:
+    """Backward elimination, as Minitab's stepwise "backward" for a factorial design: drop
+    the term with the largest p value above ``alpha`` among those no other term contains (a
+    main effect stays while an interaction of it does), refit, and go on until every such
+    term has p <= ``alpha``. The p values are the ANOVA's (type ``typ``, the centre points'
+    curvature and pure error included), so none without residual degrees of freedom.
+    Returns the terms kept and those removed, in order."""
+    kept, removed = list(terms), []
+    while kept:
+        fit, table, _, _ = _fit_anova(frame, kept, typ=typ)
+        assert table is not None
+        if y_center.size:
+            exog = np.asarray(fit.model.exog, dtype=float)
+            table = _with_curvature(table, frame, kept, exog, y_center)[0]
+        p = table["PR(>F)"]
+        parts = {t: set(t.split(":")) for t in kept}
+        candidates = [
+            t
+            for t in kept
+            if not any(u != t and parts[t] < parts[u] for u in kept)
+            and np.isfinite(p.get(t, np.nan))
+        ]
+        if not candidates:
+            break
+        worst = max(candidates, key=lambda t: float(p[t]))
+        if float(p[worst]) <= alpha:
+            break
+        kept.remove(worst)
+        removed.append(worst)
+    return kept, removed
 
 
 def _contrast_columns(labels: pd.Series) -> np.ndarray:
@@ -1260,6 +1339,8 @@ def residuals(
     response: str,
     *,
     interactions: bool = True,
+    alpha_to_remove: float | None = None,
+    typ: int = 2,
 ) -> pd.DataFrame:
     """Fitted values and residuals of the model :func:`anova` fits, one row per usable run.
 
@@ -1278,6 +1359,8 @@ def residuals(
     interactions
         Include two-factor interactions (as in :func:`anova`, with the same pooling when
         they would saturate the model).
+    alpha_to_remove, typ
+        The model reduced by backward elimination, as :func:`anova` reduces it.
 
     Returns
     -------
@@ -1289,7 +1372,9 @@ def residuals(
         constant response, whose residuals are round-off). ``attrs``
         carries ``response``, ``formula``, ``df_resid`` and ``s``.
     """
-    data, y, exog, formula = _model_arrays(summary, factors, response, interactions)
+    data, y, exog, formula = _model_arrays(
+        summary, factors, response, interactions, alpha_to_remove=alpha_to_remove, typ=typ
+    )
     if y.size == 0:
         out = _run_columns(data)
         for c in ("observed", "fitted", "residual", "leverage", "std_residual"):
@@ -1339,7 +1424,13 @@ def _exog(frame: pd.DataFrame, terms: Sequence[str], n: int) -> np.ndarray:
 
 
 def _model_arrays(
-    summary: pd.DataFrame, factors: Iterable[Any], response: str, interactions: bool
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    interactions: bool,
+    *,
+    alpha_to_remove: float | None = None,
+    typ: int = 2,
 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray, str]:
     """The model :func:`anova` fits, as arrays: the usable rows of ``summary``, their
     response [response unit], the model matrix [-] (:func:`model_matrix`) and the formula
@@ -1352,7 +1443,13 @@ def _model_arrays(
     centre = _center_mask(data, factors)
     n_c = int(centre.sum())
     frame, term_names, terms, _ = _model(
-        data.loc[~centre], factors, y[~centre], interactions, spare_df=max(n_c - 1, 0)
+        data.loc[~centre],
+        factors,
+        y[~centre],
+        interactions,
+        y_center=y[centre],
+        alpha_to_remove=alpha_to_remove,
+        typ=typ,
     )
     names = [term_names[t] for t in terms] + (["Ct Pt"] if n_c else [])
     formula = "y ~ " + (" + ".join(names) if names else "1")
@@ -1681,6 +1778,7 @@ def two_level_effects(
     *,
     alpha: float = 0.05,
     main_effects_only: bool = False,
+    model_terms: Sequence[str] | None = None,
 ) -> pd.DataFrame:
     """Effects of a design whose factors all have two levels, with their significance, as
     Minitab's "Coded Coefficients" table and Pareto chart of standardized effects show them.
@@ -1729,6 +1827,10 @@ def two_level_effects(
     main_effects_only
         Fit the main effects alone, whatever the data could estimate besides (a
         Plackett-Burman design's analysis, which :func:`analyze` asks for from the design).
+    model_terms
+        Fit these terms alone (display names, ``"S"``, ``"S:WR"``; e.g. those of an ANOVA
+        reduced by backward elimination, which :func:`analyze` passes); terms of a factor
+        that does not vary in the data are skipped.
 
     Returns
     -------
@@ -1758,7 +1860,7 @@ def two_level_effects(
         centre points' mean less the model's value at the centre [response unit], ``se``,
         ``t`` and ``p_value``; NaN without centre points or with Lenth's method; and
         ``aliases``, the factors it is confounded with, when one has a single level in the
-        other runs) and ``note``
+        other runs), ``terms_given`` (whether ``model_terms`` chose the terms) and ``note``
         (what the reader must know: a design that is not orthogonal, a non-regular design
         fitted with its main effects alone, interactions left out as partly confounded, an
         error that is not pure error alone, a PSE of zero; empty otherwise).
@@ -1799,7 +1901,15 @@ def two_level_effects(
     n_points = int(frame.groupby(cells, sort=False).ngroups) + (1 if n_c else 0)
     partial: list[str] = []
     nonregular = False
-    if main_effects_only:
+    if model_terms is not None:
+        column = {name: c for c, name in names.items()}
+        wanted = [
+            ":".join(f"C({column[part]})" for part in term.split(":"))
+            for term in model_terms
+            if all(part in column for part in term.split(":"))
+        ]
+        terms = _estimable_terms(frame, wanted)[0]
+    elif main_effects_only:
         terms = _estimable_terms(frame, _candidate_terms(cells, 1))[0]
     else:
         terms, partial, nonregular = _effect_terms(frame, _candidate_terms(cells, len(cells)))
@@ -1902,7 +2012,9 @@ def two_level_effects(
             f"standard error is up to {math.sqrt(float(np.max(relative))):.3g} times an "
             "orthogonal design's"
         )
-    if main_effects_only:
+    if model_terms is not None:
+        notes.append("the terms of the model given are fitted (e.g. a reduced model)")
+    elif main_effects_only:
         notes.append("the main effects alone are fitted, as for a Plackett-Burman design")
     elif nonregular:
         notes.append(
@@ -1944,6 +2056,7 @@ def two_level_effects(
         simultaneous_margin=simultaneous,
         alpha=alpha,
         n=int(y.size + n_c),
+        terms_given=model_terms is not None,
         center_points=n_c,
         curvature=curvature,
         note="; ".join(notes),
@@ -1961,6 +2074,7 @@ def analyze(
     *,
     main_effects_only: bool = False,
     anova_type: int = 2,
+    alpha_to_remove: float | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Run the whole analysis for several responses.
 
@@ -1980,6 +2094,10 @@ def analyze(
     anova_type
         The ANOVA's sums of squares (:func:`anova`'s ``typ``): 2 (Type II, the default) or 3
         (Type III, adjusted, as Minitab and JMP give them).
+    alpha_to_remove
+        Reduce each response's model by backward elimination (:func:`anova`); the residuals
+        and, for a two-level design, the effects table are then of the reduced model, as in
+        Minitab after a stepwise reduction.
 
     Returns
     -------
@@ -1999,7 +2117,17 @@ def analyze(
     result: dict[str, dict[str, Any]] = {}
     for response in responses:
         table = anova(
-            summary, factors, response, interactions=not main_effects_only, typ=anova_type
+            summary,
+            factors,
+            response,
+            interactions=not main_effects_only,
+            typ=anova_type,
+            alpha_to_remove=alpha_to_remove,
+        )
+        kept = (
+            [t for t in table["term"] if t not in ("Residual", CURVATURE)]
+            if alpha_to_remove is not None
+            else None
         )
         result[response] = {
             "main_effects": main_effects(summary, factors, response),
@@ -2007,9 +2135,20 @@ def analyze(
             "interactions_long": interactions_long(summary, factors, response),
             "anova": table,
             "ranked_effects": _rank_terms(table, summary, factors, response),
-            "residuals": residuals(summary, factors, response, interactions=not main_effects_only),
+            "residuals": residuals(
+                summary,
+                factors,
+                response,
+                interactions=not main_effects_only,
+                alpha_to_remove=alpha_to_remove,
+                typ=anova_type,
+            ),
             "effects": two_level_effects(
-                summary, factors, response, main_effects_only=main_effects_only
+                summary,
+                factors,
+                response,
+                main_effects_only=main_effects_only,
+                model_terms=kept,
             ),
         }
     return result

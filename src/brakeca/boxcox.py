@@ -338,6 +338,8 @@ def box_cox(
     response: str,
     *,
     interactions: bool = True,
+    alpha_to_remove: float | None = None,
+    typ: int = 2,
     confidence: float = 0.95,
 ) -> BoxCox:
     """The Box-Cox profile of a campaign's response under the ANOVA model.
@@ -355,6 +357,9 @@ def box_cox(
         A positive response, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
         Include two-factor interactions, as in :func:`brakeca.analysis.anova`.
+    alpha_to_remove, typ
+        The model reduced by backward elimination, as :func:`brakeca.analysis.anova`
+        reduces it (on the response as it is).
     confidence
         Level of the interval of λ [-].
 
@@ -365,7 +370,9 @@ def box_cox(
     """
     from brakeca.analysis import _model_arrays
 
-    _, y, exog, formula = _model_arrays(summary, factors, response, interactions)
+    _, y, exog, formula = _model_arrays(
+        summary, factors, response, interactions, alpha_to_remove=alpha_to_remove, typ=typ
+    )
     formula = formula.replace("y ~", f"{response} ~", 1)
     return box_cox_profile(
         y, exog, response=response, model=f"ANOVA model: {formula}", confidence=confidence

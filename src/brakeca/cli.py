@@ -833,18 +833,33 @@ def analyze(
             "Minitab and JMP); by default the design's anova_type (2 unless set)",
         ),
     ] = None,
+    reduce: Annotated[
+        float | None,
+        typer.Option(
+            "--reduce",
+            metavar="ALPHA",
+            min=0.0,
+            max=1.0,
+            help="reduce the models by backward elimination of the terms with p above ALPHA "
+            "(0.1 in Minitab), keeping them hierarchical: the ANOVA model (and its residuals, "
+            "Box-Cox check and effects table), or a response-surface design's surfaces; by "
+            "default the design's alpha_to_remove (none unless set)",
+        ),
+    ] = None,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
     from brakeca.campaign import finish_campaign
     from brakeca.study import write_study
 
+    if reduce is not None and not 0.0 < reduce < 1.0:
+        _fail(f"--reduce: expected a level above 0 and below 1, got {reduce!r}")
     try:
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         _fail(str(exc))
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
-        path = write_study(result, run_maps=run_maps, anova_type=anova_type)
+        path = write_study(result, run_maps=run_maps, anova_type=anova_type, alpha_to_remove=reduce)
     out.print(
         f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
     )

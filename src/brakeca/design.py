@@ -1546,9 +1546,11 @@ class Design(_Frozen):
         What the report of a response-surface design optimizes (:class:`GoalSpec`, each
         response once): it then finds the factor setting that best meets them all.
     alpha_to_remove
-        The report of a response-surface design fits reduced surfaces: backward elimination
-        of the terms with p above this level [-], keeping the model hierarchical
-        (:func:`brakeca.rsm.backward_elimination`); by default the full quadratic.
+        The report fits reduced models: backward elimination of the terms with p above this
+        level [-], keeping the model hierarchical; for a response-surface design its surfaces
+        (:func:`brakeca.rsm.backward_elimination`), for any other design the ANOVA model
+        (:func:`brakeca.analysis.anova`), whose residuals, Box-Cox check and effects table
+        follow it; by default the whole model.
     anova_type
         The report's ANOVA sums of squares: 2 (Type II, the default) or 3 (Type III,
         adjusted, as Minitab and JMP give them); they differ only in an unbalanced design,
@@ -1875,12 +1877,6 @@ class Design(_Frozen):
             self._check_plackett_burman()
         if self.center_points:
             self._check_center_points()
-        if self.alpha_to_remove is not None and self.surface_design is None:
-            raise ValueError(
-                "alpha_to_remove: the report reduces the response surface of a central "
-                "composite or Box-Behnken design; for another design, use "
-                "'brakeca optimize FOLDER --reduce ALPHA' on its campaign"
-            )
         if self.goals:
             if self.surface_design is None:
                 raise ValueError(

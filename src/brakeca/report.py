@@ -516,8 +516,13 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     caption = (
         f"Effects of {response} (every factor has two levels): twice the coefficient of each "
         "term coded -1/+1 (for an orthogonal design, the mean at the second level less the "
-        "mean at the first), for every effect the design can estimate (one term per alias "
-        f"chain); {how}. Significant effects (p < {alpha:g}) in bold."
+        "mean at the first), "
+        + (
+            "for the terms of the model given (the ANOVA's, reduced by backward elimination)"
+            if attrs.get("terms_given")
+            else "for every effect the design can estimate (one term per alias chain)"
+        )
+        + f"; {how}. Significant effects (p < {alpha:g}) in bold."
     )
     curvature = attrs.get("curvature") or {}
     if attrs.get("center_points") and not _is_missing(curvature.get("p_value", math.nan)):

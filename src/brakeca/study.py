@@ -313,16 +313,30 @@ _BOX_COX_RESPONSES = ("MU", "V")
 
 
 def _box_cox(
-    data: pd.DataFrame, factors: list[Any], surfaces: dict[str, Any], *, interactions: bool
+    data: pd.DataFrame,
+    factors: list[Any],
+    surfaces: dict[str, Any],
+    *,
+    interactions: bool,
+    alpha_to_remove: float | None,
+    typ: int,
 ) -> dict[str, Any]:
     """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
-    design, under the ANOVA model otherwise (with its two-factor interactions or not)."""
+    design, under the ANOVA model otherwise (with its two-factor interactions or not, reduced
+    as the ANOVA is)."""
     from brakeca import boxcox
 
     return {
         resp: boxcox.surface_box_cox(surfaces[resp])
         if resp in surfaces
-        else boxcox.box_cox(data, factors, resp, interactions=interactions)
+        else boxcox.box_cox(
+            data,
+            factors,
+            resp,
+            interactions=interactions,
+            alpha_to_remove=alpha_to_remove,
+            typ=typ,
+        )
         for resp in _BOX_COX_RESPONSES
     }
 
@@ -370,7 +384,11 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
 
 
 def write_study(
-    result: CampaignResult, *, run_maps: bool = True, anova_type: int | None = None
+    result: CampaignResult,
+    *,
+    run_maps: bool = True,
+    anova_type: int | None = None,
+    alpha_to_remove: float | None = None,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -383,6 +401,11 @@ def write_study(
     anova_type
         The ANOVA's sums of squares, 2 (Type II) or 3 (Type III, adjusted); by default the
         design's ``anova_type``.
+    alpha_to_remove
+        Reduce the models by backward elimination at this level [-]: the response surfaces
+        of a response-surface design, the ANOVA model (with its residuals, Box-Cox check and
+        effects table) of any other design; by default the design's ``alpha_to_remove``
+        (none unless set).
 
     Returns
     -------
@@ -399,12 +422,16 @@ def write_study(
     factors = list(result.design.factors)
     ok = analysis.ok_runs(summary)
     data = with_log_v(summary)
+    typ = result.design.anova_type if anova_type is None else anova_type
+    alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
+    surface_design = result.design.is_response_surface
     tables = analysis.analyze(
         data,
         factors,
         RESPONSES,
         main_effects_only=result.design.plackett_burman is not None,
-        anova_type=result.design.anova_type if anova_type is None else anova_type,
+        anova_type=typ,
+        alpha_to_remove=None if surface_design else alpha,
     )
     analysis.save_tables(tables, tables_dir)
     surfaces: dict[str, Any] = {}
@@ -412,9 +439,7 @@ def write_study(
     if result.design.is_response_surface:  # a response-surface design
         from brakeca import rsm
 
-        surfaces = rsm.response_surfaces(
-            data, factors, RESPONSES, alpha_to_remove=result.design.alpha_to_remove
-        )
+        surfaces = rsm.response_surfaces(data, factors, RESPONSES, alpha_to_remove=alpha)
         rsm.save_surface_tables(surfaces, tables_dir)
         for resp, fit in surfaces.items():
             surface_residuals[resp] = rsm.surface_residuals(fit, data)
@@ -435,7 +460,14 @@ def write_study(
             )
             if t
         )
-    scales = _box_cox(data, factors, surfaces, interactions=result.design.plackett_burman is None)
+    scales = _box_cox(
+        data,
+        factors,
+        surfaces,
+        interactions=result.design.plackett_burman is None,
+        alpha_to_remove=None if surface_design else alpha,
+        typ=typ,
+    )
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
     (tables_dir / "README.md").write_text(

@@ -163,6 +163,17 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     assert "Type III (adjusted) ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
     res = CliRunner().invoke(app, ["analyze", str(out), "--anova-type", "1"])
     assert res.exit_code != 0 and "--anova-type" in res.output
+    # a reduced model on request: the ANOVA's note names what backward elimination removed,
+    # and the residual plots are of the same model
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--reduce", "0.5"])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
+    assert "backward elimination (alpha to remove 0.5" in table["note"].iloc[0]
+    formula = "MU ~ " + " + ".join(t for t in table["term"] if t != "Residual")
+    assert f"model: {formula}" in (out / "report.html").read_text(encoding="utf-8")
+    for bad in ("0", "1"):
+        res = CliRunner().invoke(app, ["analyze", str(out), "--reduce", bad])
+        assert res.exit_code != 0 and "--reduce" in res.output
 
 
 def test_plot_draws_a_campaigns_runs(campaign, tmp_path):

@@ -745,14 +745,15 @@ def test_a_plackett_burman_size_that_is_no_whole_number_names_the_field(value):
         _pb(value, _factors("mu0", "slope"))  # type: ignore[arg-type]
 
 
-def test_alpha_to_remove_belongs_to_a_response_surface_design():
+def test_alpha_to_remove_of_a_response_surface_and_of_a_factorial_design():
     design = _ccd("mu0 slope", alpha_to_remove=0.1)
     assert design.alpha_to_remove == 0.1
     assert design_from_dict(tomllib.loads(design.to_toml())).alpha_to_remove == 0.1
     for value, message in [(1.5, "alpha_to_remove"), (0.0, "alpha_to_remove")]:
         with pytest.raises(ConfigError, match=message):
             _ccd("mu0 slope", alpha_to_remove=value)
+    # a factorial design's report reduces its ANOVA model instead (it was refused before)
     data = {**_data("mu0 slope", alpha_to_remove=0.1)}
     del data["composite"]
-    with pytest.raises(ConfigError, match="alpha_to_remove: the report reduces"):
-        design_from_dict(data, source="x.toml")
+    factorial = design_from_dict(data, source="x.toml")
+    assert factorial.alpha_to_remove == 0.1 and not factorial.is_response_surface
