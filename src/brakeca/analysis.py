@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import numbers
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -583,6 +584,7 @@ def _column_table(frame: pd.DataFrame, terms: Sequence[str], fit: Any, *, typ: i
         rows.append((term, float(blocks[term].shape[1]), max(ssr(without) - within, 0.0)))
     df_resid = float(fit.df_resid)
     table = pd.DataFrame(rows, columns=["term", "df", "sum_sq"]).set_index("term")
+    table = table.astype(float)  # also when no term is left (a reduced model)
     mean_resid = float(fit.ssr) / df_resid if df_resid > 0.5 else np.nan
     table["F"] = (table["sum_sq"] / table["df"]) / mean_resid
     table["PR(>F)"] = stats.f.sf(table["F"], table["df"], df_resid)
@@ -770,7 +772,6 @@ def anova(
         interactions,
         y_center=y_center,
         alpha_to_remove=alpha_to_remove,
-        typ=typ,
     )
     if not term_names:
         out = pd.DataFrame(
@@ -861,7 +862,9 @@ def anova(
     out.attrs.update(
         typ=kind,
         formula="y ~ "
-        + " + ".join([term_names[t] for t in terms] + (["Ct Pt"] if y_center.size else [])),
+        + (
+            " + ".join([term_names[t] for t in terms] + (["Ct Pt"] if y_center.size else [])) or "1"
+        ),
         note=note,
         n=n,
         total_sum_sq=total_ss,
@@ -949,7 +952,11 @@ def _with_curvature(
 def _check_alpha_to_remove(alpha: Any) -> None:
     if alpha is None:
         return
-    if isinstance(alpha, bool) or not isinstance(alpha, int | float) or not 0.0 < alpha < 1.0:
+    if (
+        isinstance(alpha, bool | np.bool_)
+        or not isinstance(alpha, numbers.Real)
+        or not (0.0 < float(alpha) < 1.0)
+    ):
         raise ValueError(
             f"alpha_to_remove: expected a significance level between 0 and 1 (0.1 in "
             f"Minitab), got {alpha!r}"
@@ -1031,7 +1038,6 @@ def _model(
     *,
     y_center: np.ndarray | None = None,
     alpha_to_remove: float | None = None,
-    typ: int = 2,
 ) -> tuple[pd.DataFrame, dict[str, str], list[str], list[str]]:
     """The model :func:`anova` fits: (frame, term names, terms, notes).
 
@@ -1039,7 +1045,7 @@ def _model(
     ``y_center`` bring their pure error to the residual (so the interactions are kept where
     only the centre points leave the model any degrees of freedom). With
     ``alpha_to_remove`` the terms are then reduced by backward elimination
-    (:func:`_eliminate`, on the ANOVA of sums of squares of type ``typ``).
+    (:func:`_eliminate`).
 
     ``frame`` holds ``y`` and one categorical column per factor that varies in the data;
     ``terms`` are the formula terms (main effects, and the two-factor interactions unless
@@ -1083,7 +1089,7 @@ def _model(
         )
         terms = [t for t in mains if t in terms]  # the estimable ones
     if alpha_to_remove is not None:
-        terms, removed = _eliminate(frame, terms, alpha_to_remove, typ=typ, y_center=y_center)
+        terms, removed = _eliminate(frame, terms, alpha_to_remove, y_center=y_center)
         notes.append(
             f"backward elimination (alpha to remove {alpha_to_remove:g}, keeping the model "
             "hierarchical): "
@@ -1092,43 +1098,63 @@ def _model(
                 if removed
                 else "no term removed"
             )
+            + ("; no term is left" if removed and not terms else "")
         )
     return frame, term_names, terms, notes
 
 
 def _eliminate(
-    frame: pd.DataFrame,
-    terms: Sequence[str],
-    alpha: float,
-    *,
-    typ: int,
-    y_center: np.ndarray,
+    frame: pd.DataFrame, terms: Sequence[str], alpha: float, *, y_center: np.ndarray
 ) -> tuple[list[str], list[str]]:
     """Backward elimination, as Minitab's stepwise "backward" for a factorial design: drop
     the term with the largest p value above ``alpha`` among those no other term contains (a
     main effect stays while an interaction of it does), refit, and go on until every such
-    term has p <= ``alpha``. The p values are the ANOVA's (type ``typ``, the centre points'
-    curvature and pure error included), so none without residual degrees of freedom.
-    Returns the terms kept and those removed, in order."""
-    kept, removed = list(terms), []
+    term has p <= ``alpha``. A term's p is the F test of dropping it alone from the current
+    model (the rise of the residual sum of squares over the columns it takes away, against
+    the model's residual mean square, the centre points' indicator and pure error
+    included): its adjusted test, which Type II and Type III give alike for such a term, and
+    which holds in a design with empty cells too. Nothing is removed without residual
+    degrees of freedom or from a constant response (no p values to judge by). Returns the
+    terms kept and those removed, in order."""
+    from scipy import stats
+
+    y_cube = frame["y"].to_numpy(dtype=float)
+    n_c = y_center.size
+    y = np.concatenate([y_cube, y_center])
+    blocks = {t: _term_columns(frame, t) for t in terms}
+
+    def fit(names: Sequence[str]) -> tuple[float, int]:
+        x = np.hstack([np.ones((y_cube.size, 1)), *(blocks[t] for t in names)])
+        if n_c:  # the centre points: every column 0 but the intercept and their indicator
+            centre = np.zeros((n_c, x.shape[1]))
+            centre[:, 0] = 1.0
+            x = np.vstack([x, centre])
+            x = np.hstack([x, np.r_[np.zeros(y_cube.size), np.ones(n_c)][:, None]])
+        return _sse(x, y), int(np.linalg.matrix_rank(x))
+
+    kept: list[str] = list(terms)
+    removed: list[str] = []
+    if _is_constant(y):
+        return kept, removed
     while kept:
-        fit, table, _, _ = _fit_anova(frame, kept, typ=typ)
-        assert table is not None
-        if y_center.size:
-            exog = np.asarray(fit.model.exog, dtype=float)
-            table = _with_curvature(table, frame, kept, exog, y_center)[0]
-        p = table["PR(>F)"]
-        parts = {t: set(t.split(":")) for t in kept}
-        candidates = [
-            t
-            for t in kept
-            if not any(u != t and parts[t] < parts[u] for u in kept)
-            and np.isfinite(p.get(t, np.nan))
-        ]
-        if not candidates:
+        sse, rank = fit(kept)
+        df_resid = y.size - rank
+        if df_resid < 1 or not sse > 0.0:
             break
-        worst = max(candidates, key=lambda t: float(p[t]))
-        if float(p[worst]) <= alpha:
+        parts = {t: set(t.split(":")) for t in kept}
+        p: dict[str, float] = {}
+        for t in kept:
+            if any(u != t and parts[t] < parts[u] for u in kept):
+                continue  # an interaction holds it
+            sse_t, rank_t = fit([u for u in kept if u != t])
+            df_t = rank - rank_t
+            if df_t >= 1:
+                f_value = ((sse_t - sse) / df_t) / (sse / df_resid)
+                p[t] = float(stats.f.sf(max(f_value, 0.0), df_t, df_resid))
+        if not p:
+            break
+        worst = max(p, key=lambda t: p[t])
+        if p[worst] <= alpha:
             break
         kept.remove(worst)
         removed.append(worst)
@@ -1340,7 +1366,6 @@ def residuals(
     *,
     interactions: bool = True,
     alpha_to_remove: float | None = None,
-    typ: int = 2,
 ) -> pd.DataFrame:
     """Fitted values and residuals of the model :func:`anova` fits, one row per usable run.
 
@@ -1359,7 +1384,7 @@ def residuals(
     interactions
         Include two-factor interactions (as in :func:`anova`, with the same pooling when
         they would saturate the model).
-    alpha_to_remove, typ
+    alpha_to_remove
         The model reduced by backward elimination, as :func:`anova` reduces it.
 
     Returns
@@ -1373,7 +1398,7 @@ def residuals(
         carries ``response``, ``formula``, ``df_resid`` and ``s``.
     """
     data, y, exog, formula = _model_arrays(
-        summary, factors, response, interactions, alpha_to_remove=alpha_to_remove, typ=typ
+        summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
     )
     if y.size == 0:
         out = _run_columns(data)
@@ -1430,11 +1455,11 @@ def _model_arrays(
     interactions: bool,
     *,
     alpha_to_remove: float | None = None,
-    typ: int = 2,
 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray, str]:
     """The model :func:`anova` fits, as arrays: the usable rows of ``summary``, their
     response [response unit], the model matrix [-] (:func:`model_matrix`) and the formula
     (``"y ~ S + WP + S:WP"``; empty, and a one-column matrix, without usable rows)."""
+    _check_alpha_to_remove(alpha_to_remove)
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     y = data[response].to_numpy(dtype=float)
@@ -1449,7 +1474,6 @@ def _model_arrays(
         interactions,
         y_center=y[centre],
         alpha_to_remove=alpha_to_remove,
-        typ=typ,
     )
     names = [term_names[t] for t in terms] + (["Ct Pt"] if n_c else [])
     formula = "y ~ " + (" + ".join(names) if names else "1")
@@ -1920,6 +1944,11 @@ def two_level_effects(
         method = "pure error" if df_resid == df_pe else "residual"
     else:
         method = "Lenth"
+    if model_terms is not None and not terms:
+        return none(
+            "no term of the model given varies in the data (e.g. backward elimination "
+            "removed every term)"
+        )
     if len(terms) < (1 if method != "Lenth" else _MIN_LENTH_EFFECTS):
         return none(
             f"{len(terms)} effect(s) can be estimated from {n_points} distinct runs; "
@@ -2141,7 +2170,6 @@ def analyze(
                 response,
                 interactions=not main_effects_only,
                 alpha_to_remove=alpha_to_remove,
-                typ=anova_type,
             ),
             "effects": two_level_effects(
                 summary,
@@ -2246,6 +2274,8 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         effects = bundle.get("effects")
         if effects is not None and not effects.empty:
             tables["effects"] = effects
+        else:  # an earlier analysis's (e.g. of another reduced model) would outlive it
+            (directory / f"effects_{response}.csv").unlink(missing_ok=True)
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             table.to_csv(path, index=False)

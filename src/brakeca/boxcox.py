@@ -339,7 +339,6 @@ def box_cox(
     *,
     interactions: bool = True,
     alpha_to_remove: float | None = None,
-    typ: int = 2,
     confidence: float = 0.95,
 ) -> BoxCox:
     """The Box-Cox profile of a campaign's response under the ANOVA model.
@@ -357,7 +356,7 @@ def box_cox(
         A positive response, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
         Include two-factor interactions, as in :func:`brakeca.analysis.anova`.
-    alpha_to_remove, typ
+    alpha_to_remove
         The model reduced by backward elimination, as :func:`brakeca.analysis.anova`
         reduces it (on the response as it is).
     confidence
@@ -371,7 +370,7 @@ def box_cox(
     from brakeca.analysis import _model_arrays
 
     _, y, exog, formula = _model_arrays(
-        summary, factors, response, interactions, alpha_to_remove=alpha_to_remove, typ=typ
+        summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
     )
     formula = formula.replace("y ~", f"{response} ~", 1)
     return box_cox_profile(

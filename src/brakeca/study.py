@@ -312,6 +312,14 @@ _SURFACE_ANOVA_NOTE = (
 _BOX_COX_RESPONSES = ("MU", "V")
 
 
+#: how the effects chart judges the effects (two_level_effects' attrs "method"), in captions
+_EFFECTS_METHOD = {
+    "Lenth": "Lenth's pseudo standard error",
+    "pure error": "against the pure error",
+    "residual": "against the residual of the fitted effects",
+}
+
+
 def _box_cox(
     data: pd.DataFrame,
     factors: list[Any],
@@ -319,7 +327,6 @@ def _box_cox(
     *,
     interactions: bool,
     alpha_to_remove: float | None,
-    typ: int,
 ) -> dict[str, Any]:
     """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
     design, under the ANOVA model otherwise (with its two-factor interactions or not, reduced
@@ -335,7 +342,6 @@ def _box_cox(
             resp,
             interactions=interactions,
             alpha_to_remove=alpha_to_remove,
-            typ=typ,
         )
         for resp in _BOX_COX_RESPONSES
     }
@@ -466,7 +472,6 @@ def write_study(
         surfaces,
         interactions=result.design.plackett_burman is None,
         alpha_to_remove=None if surface_design else alpha,
-        typ=typ,
     )
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
@@ -527,7 +532,7 @@ def write_study(
                     "Ranked effects",
                     f"Effects on {label}: Pareto chart of the standardized effects, with the "
                     "line a significant effect crosses, and half-normal plot of the effects "
-                    f"({'Lenth' if effects.attrs.get('method') == 'Lenth' else 'pure error'})",
+                    f"({_EFFECTS_METHOD.get(str(effects.attrs.get('method')), '')})",
                     f"effects_{resp}.png",
                     plotting.plot_effects,
                     effects,
