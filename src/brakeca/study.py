@@ -538,6 +538,8 @@ def write_study(
                     effects,
                     resp,
                 )
+            else:  # an earlier analysis's (e.g. of another reduced model) would outlive it
+                (fig_dir / f"effects_{resp}.png").unlink(missing_ok=True)
             if resp in surfaces:
                 fit = surfaces[resp]
                 add(

@@ -174,6 +174,17 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     for bad in ("0", "1"):
         res = CliRunner().invoke(app, ["analyze", str(out), "--reduce", bad])
         assert res.exit_code != 0 and "--reduce" in res.output
+    # every term removed: no effects table or figure of an earlier analysis is left behind
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
+    assert res.exit_code == 0, res.output
+    assert (out / "tables" / "effects_MU.csv").is_file()
+    assert (out / "figures" / "effects_MU.png").is_file()
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--reduce", "1e-300"])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
+    assert list(table["term"]) == ["Residual"]
+    assert not (out / "tables" / "effects_MU.csv").exists()
+    assert not (out / "figures" / "effects_MU.png").exists()
 
 
 def test_plot_draws_a_campaigns_runs(campaign, tmp_path):
