@@ -17,8 +17,11 @@ not separate every effect: a term whose columns are completely aliased (confound
 terms before it is left out of the model, with a note, and every term's ``aliases`` (the
 terms of up to three factors it cannot be told apart from, Minitab's "Alias Structure") are
 listed beside it. When every factor has two levels, :func:`two_level_effects` gives the
-effects with their significance, from pure error or, unreplicated, from Lenth's pseudo
-standard error, as Minitab's Pareto chart of standardized effects does.
+effects with their significance, from the residual of the fitted effects (the pure error of
+replicates or centre points, the terms left out) or, where the model is saturated, from
+Lenth's pseudo standard error, as Minitab's Pareto chart of standardized effects does.
+Centre points add a test of curvature (:func:`anova`), and ``alpha_to_remove`` reduces the
+model by backward elimination.
 
 References
 ----------
@@ -634,8 +637,6 @@ def _fit_anova(
                 name = kind.split(" (")[0]
                 if not full_rank:
                     why = "the design is rank-deficient, e.g. empty cells"
-                elif fit.df_resid < 0.5:
-                    why = f"no residual degrees of freedom, which {name} needs"
                 else:
                     why = f"{name} could not be computed"
                 kind = f"Type I (sequential; {why})"
@@ -732,11 +733,13 @@ def anova(
     Returns
     -------
     pandas.DataFrame
-        Columns ``term`` (``"S"``, ``"WP"``, ``"S:WP"``, ..., ``"Residual"``), ``df``,
+        Columns ``term`` (``"S"``, ``"WP"``, ``"S:WP"``, ..., with centre points
+        ``"Curvature"``, then ``"Residual"``), ``df``,
         ``sum_sq`` [response unit^2], ``mean_sq`` [response unit^2], ``F``, ``p_value``,
         ``percent_contribution`` (``sum_sq`` / total sum of squares about the mean * 100 [%])
         and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
-        ``formula``, ``note``, ``n`` and ``total_sum_sq``, and the model summary that Minitab
+        ``formula``, ``note``, ``n``, ``total_sum_sq`` and ``center_points`` (their number),
+        and the model summary that Minitab
         and JMP print beside the table: ``s`` (residual standard deviation, sqrt of the
         residual mean square) [response unit], ``r_squared``, ``r_squared_adj``,
         ``r_squared_pred`` (predicted R-squared, 1 - PRESS / total sum of squares) [-] and
@@ -1874,7 +1877,8 @@ def two_level_effects(
         Empty (with ``attrs["note"]`` saying why) when a factor that varies has other than two
         levels, the response is constant, or too few effects can be estimated (none with
         replicates; fewer than three for Lenth's method). ``attrs`` carries ``method``
-        (``"Lenth"``; ``"pure error"`` when the residual is the replicates' pure error alone;
+        (``"Lenth"``; ``"pure error"`` when the residual is pure error alone, of replicates or
+        centre points;
         ``"residual"`` otherwise), ``df``, ``pse`` (Lenth's PSE, NaN without Lenth)
         [response unit], ``margin_of_error`` (the effect a term of an orthogonal design must
         exceed to be significant at ``alpha``) and ``simultaneous_margin`` (the same for all

@@ -838,12 +838,11 @@ def analyze(
         typer.Option(
             "--reduce",
             metavar="ALPHA",
-            min=0.0,
-            max=1.0,
             help="reduce the models by backward elimination of the terms with p above ALPHA "
-            "(0.1 in Minitab), keeping them hierarchical: the ANOVA model (and its residuals, "
-            "Box-Cox check and effects table), or a response-surface design's surfaces; by "
-            "default the design's alpha_to_remove (none unless set)",
+            "(above 0 and below 1; 0.1 in Minitab), keeping them hierarchical: the ANOVA "
+            "model (and its residuals, Box-Cox check and effects table), or a "
+            "response-surface design's surfaces; by default the design's alpha_to_remove "
+            "(none unless set)",
         ),
     ] = None,
 ) -> None:
@@ -921,11 +920,9 @@ def optimize(
         typer.Option(
             "--reduce",
             metavar="ALPHA",
-            min=0.0,
-            max=1.0,
             help="reduce each surface first: backward elimination of the terms with p above "
-            "ALPHA (0.1 in Minitab), keeping the model hierarchical; by default the design's "
-            "alpha_to_remove, else the full quadratic",
+            "ALPHA (above 0 and below 1; 0.1 in Minitab), keeping the model hierarchical; by "
+            "default the design's alpha_to_remove, else the full quadratic",
         ),
     ] = None,
 ) -> None:
@@ -1067,9 +1064,10 @@ def power(
     calls a difference of E between two of the factor's level means significant (p < A) when
     runs at one setting scatter by S (another seed, another result). For the model the study
     fits (main effects and two-factor interactions; main effects alone for a Plackett-Burman
-    design), as Minitab's Power and Sample Size for factorial designs. With --target, the
-    fewest replicates that reach that power, or, without --effect, the smallest difference
-    found with that power."""
+    design; the whole model, not one alpha_to_remove reduces by the data; centre points'
+    pure error counted), as Minitab's Power and Sample Size for factorial designs. With
+    --target, the fewest replicates that reach that power, or, without --effect, the
+    smallest difference found with that power."""
     from rich.table import Table
 
     from brakeca.design import GOAL_RESPONSES, load_design

@@ -14,8 +14,9 @@ full factorial), and so do its error degrees of freedom and its power.
 
 The model is the one the study fits (:func:`brakeca.analysis.anova`): main effects and the
 two-factor interactions the design can estimate, main effects alone for a Plackett-Burman
-design, the interactions pooled into the error when they would leave none. Its error degrees
-of freedom come from the design's own tests, repeated ``replicates`` times.
+design, the interactions pooled into the error when they would leave none; the whole model,
+not one that a design's ``alpha_to_remove`` reduces by the data. Its error degrees of freedom
+come from the design's own tests (centre points included), repeated ``replicates`` times.
 
 References
 ----------

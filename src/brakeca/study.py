@@ -162,12 +162,18 @@ def _design_info(design: Design) -> str:
             "interaction plots treat each level as a category, as for a factorial design."
         )
     if design.center_points:
-        n_c = design.center_points
+        n_c = design.center_points * design.replicates  # runs at the centre
         text += (
-            f" Its {n_c} centre point{'s' if n_c != 1 else ''} (every factor midway between "
-            "its levels; at the geometric mean for a factor coded 'log') give pure error and "
-            "test curvature (the ANOVA's row Curvature); the level means, the interaction "
-            "plots and the effects are of the other tests."
+            (
+                f" Its {n_c} centre point runs (every factor midway between its levels; at "
+                "the geometric mean for a factor coded 'log') give pure error and test "
+                "curvature"
+                if n_c > 1
+                else " Its centre point (every factor midway between its levels; at the "
+                "geometric mean for a factor coded 'log') tests curvature, without pure error"
+            )
+            + " (the ANOVA's row Curvature); the level means, the interaction plots and the "
+            "effects are of the other tests."
         )
     if design.is_fractional:
         relation = design.relation_text(times="·")
