@@ -387,8 +387,9 @@ def _refuse_to_replace(out: Path, base: SimulationConfig, wanted: set[str]) -> N
             return
         what, first = "the study of another design", "design"
         after = (
-            ". A design that keeps every run of the study there and adds others (a fold-over, "
-            "more replicates) needs neither"
+            ". A design that keeps every run of the study there and adds others (more "
+            "replicates, centre points, a fold-over of a design without centre points) needs "
+            "neither"
         )
     raise ConfigError(
         f"{out} holds {what} ({shown}): this one would replace its summary.csv and "
