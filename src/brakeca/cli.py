@@ -1305,6 +1305,14 @@ def show_design(
             markup=False,
             highlight=False,
         )
+    if loaded.alpha_to_remove is not None:
+        what = "surfaces" if loaded.is_response_surface else "ANOVA model"
+        out.print(
+            f"the report reduces its {what} by backward elimination of the terms with p above "
+            f"{loaded.alpha_to_remove:g} (alpha_to_remove)",
+            markup=False,
+            highlight=False,
+        )
     _print_factors(loaded)
     if tests:
         table = Table(title="tests")

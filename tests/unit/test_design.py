@@ -1488,3 +1488,14 @@ def test_anova_type_is_2_or_3_and_written_only_when_3(tmp_path):
     for bad in (1, 4, "3", True, 2.5, 3.0):
         with pytest.raises(ConfigError, match=r"anova_type: .*2 or 3"):
             design_from_dict({**data, "anova_type": bad})
+
+
+def test_a_factorial_designs_alpha_to_remove_is_written_and_announced(tmp_path):
+    reduced = design_from_dict({**_paper_dict(), "alpha_to_remove": 0.1})
+    written = tmp_path / "reduced.toml"
+    written.write_text(reduced.to_toml(), encoding="utf-8")
+    assert load_design(written).alpha_to_remove == 0.1
+    res = CliRunner().invoke(app, ["design", str(written), "--no-tests"])
+    assert res.exit_code == 0, res.output
+    assert "the report reduces its ANOVA model by backward elimination" in res.output
+    assert "above 0.1 (alpha_to_remove)" in res.output
