@@ -135,7 +135,9 @@ def _factor_rows(text: str) -> dict[str, list[str]]:
     return {cells[0]: cells for cells in map(_cells, table[4:-1])}
 
 
-@pytest.mark.parametrize("name", ["paper", "screen", "screen_fold", "response_surface"])
+@pytest.mark.parametrize(
+    "name", ["paper", "screen", "screen_fold", "screen_center", "response_surface"]
+)
 def test_the_factors_table_gives_each_levels_value_and_fits_80_columns(name) -> None:
     """The tests table gives the levels by their labels (-, 0, +): the factors table gives
     what each label stands for, the field each factor sets and its unit, before the tests."""
