@@ -228,7 +228,9 @@ def plot_interactions(
     levels of factor ``j``, one line per level of factor ``i``; panels below the diagonal are
     not drawn, so the figure has one axes per pair. In a fraction a panel shows its pair's
     interaction together with the interactions aliased with it (``aliases``): each such
-    panel is titled with them, e.g. ``"= WR:modulus + mu0:slope"``.
+    panel is titled with them, e.g. ``"= WR:modulus + mu0:slope"``. In a design with centre
+    points their mean is a square midway in each panel of two-level factors, as in the
+    main-effects plot.
 
     Parameters
     ----------
@@ -258,6 +260,8 @@ def plot_interactions(
     if nf < 2:
         raise ValueError("an interaction plot needs at least two factors")
     ylabel, scale = _response_axis(response)
+    means = main_effects(summary, factors, response).attrs
+    centre = float(means["center_mean"]) if means.get("center_n") else None
     size = nf - 1
     fig = _figure((3.0 * size + 1.2, 2.6 * size + 0.6))
     grid = fig.subplots(size, size, sharey=True, squeeze=False)
@@ -281,6 +285,8 @@ def plot_interactions(
                 ms=5,
                 label=_legend_label(a, level),
             )
+        if centre is not None and len(b.levels) == 2:  # as in the main-effects plot
+            ax.plot([0.5], [centre * scale], "s", color="#c0392b", ms=6, label="centre points")
         ax.set_xticks(x, [_tick_label(b, lv) for lv in b.levels], fontsize=8)
         ax.set_xlim(-0.3, len(b.levels) - 0.7)
         ax.set_xlabel(b.axis_label, fontsize=8)

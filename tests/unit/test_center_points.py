@@ -407,3 +407,24 @@ def test_the_effects_plot_leaves_the_centre_points_row_out(tmp_path) -> None:
     pareto = fig.axes[0]
     labels = [t.get_text() for t in pareto.get_yticklabels()]
     assert len(labels) == 7 and "Ct Pt" not in labels
+
+
+def test_the_interaction_plot_marks_the_centre_points_mean(tmp_path) -> None:
+    from brakeca.plotting import plot_interactions
+
+    runs = _runs(1, 3)
+    fig = plot_interactions(runs, FACTORS, "y", path=tmp_path / "i.png")
+    marks = [
+        line for ax in fig.axes for line in ax.get_lines() if line.get_label() == "centre points"
+    ]
+    assert len(marks) == 3  # one in each of the three panels of three factors
+    centre = runs.loc[runs.ct == 1, "y"].mean()
+    assert all(float(m.get_ydata()[0]) == pytest.approx(centre) for m in marks)
+    assert all(float(m.get_xdata()[0]) == 0.5 for m in marks)
+    no_centre = plot_interactions(runs[runs.ct == 0], FACTORS, "y")
+    assert not [
+        line
+        for ax in no_centre.axes
+        for line in ax.get_lines()
+        if line.get_label() == "centre points"
+    ]
