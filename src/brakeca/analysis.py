@@ -1154,14 +1154,23 @@ def _eliminate(
             if df_t >= 1:
                 f_value = ((sse_t - sse) / df_t) / (sse / df_resid)
                 p[t] = float(stats.f.sf(max(f_value, 0.0), df_t, df_resid))
-        if not p:
-            break
-        worst = max(p, key=lambda t: p[t])
-        if p[worst] <= alpha:
+        worst = _next_to_remove(p, alpha)
+        if worst is None:
             break
         kept.remove(worst)
         removed.append(worst)
     return kept, removed
+
+
+def _next_to_remove(p: Mapping[str, float], alpha: float) -> str | None:
+    """The term backward elimination removes next, of those it may remove with their p
+    values: the one of largest p if that is above ``alpha`` [-], else None (also when no p
+    is finite). Shared with :func:`brakeca.rsm.backward_elimination`."""
+    finite = {t: float(v) for t, v in p.items() if np.isfinite(v)}
+    if not finite:
+        return None
+    worst = max(finite, key=finite.__getitem__)
+    return worst if finite[worst] > alpha else None
 
 
 def _contrast_columns(labels: pd.Series) -> np.ndarray:

@@ -51,7 +51,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca.analysis import _clean as _usable_rows
-from brakeca.analysis import _fit_statistics, _is_constant, _sse, _vif
+from brakeca.analysis import _fit_statistics, _is_constant, _next_to_remove, _sse, _vif
 
 __all__ = [
     "ANOVA_COLUMNS",
@@ -706,11 +706,8 @@ def backward_elimination(
     fit = fit_response_surface(summary, factors, response)
     while True:
         p = dict(zip(fit.coefficients["term"], fit.coefficients["p_value"], strict=True))
-        candidates = [t for t in _removable(fit.terms) if np.isfinite(p[t])]
-        if not candidates:
-            break
-        worst = max(candidates, key=lambda t: p[t])
-        if p[worst] <= alpha:
+        worst = _next_to_remove({t: p[t] for t in _removable(fit.terms)}, alpha)
+        if worst is None:
             break
         removed.append(worst)
         fit = fit_response_surface(summary, factors, response, exclude=removed)
