@@ -659,14 +659,15 @@ def anova(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool = True,
+    interactions: bool | int = True,
     typ: int = 2,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """Analysis of variance of a response over categorical factors.
 
     Fits ``y ~ C(f1) + C(f2) + ... + C(f1):C(f2) + ...`` (main effects and, when
-    ``interactions`` is true, all two-factor interactions) by ordinary least squares with
+    ``interactions`` is true, all two-factor interactions; or up to the order it gives) by
+    ordinary least squares with
     :func:`statsmodels.formula.api.ols` and tabulates it with **Type II** sums of squares
     (:func:`statsmodels.stats.anova.anova_lm`; ``typ=2``, the default) or **Type III**
     (adjusted) ones (``typ=3``): each term's rise in the residual sum of squares when it alone
@@ -720,7 +721,11 @@ def anova(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
-        Include all two-factor interactions (default) or main effects only.
+        Include all two-factor interactions (True, the default), main effects only (False),
+        or the interactions of up to this many factors (a whole number: 1 main effects, 2
+        the default, 3 with the three-factor interactions, as Minitab's "terms up through
+        order"). Where the model would leave no residual degrees of freedom, the highest
+        order is pooled into the residual, order by order, with a note.
     typ
         The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted).
     alpha_to_remove
@@ -1033,11 +1038,27 @@ def _coded_frame(
     return frame, names, single
 
 
+def _model_order(interactions: bool | int) -> int:
+    """The highest number of factors in the model's terms, from ``interactions``: True 2 (the
+    two-factor interactions), False 1 (main effects), a whole number that number."""
+    if isinstance(interactions, bool | np.bool_):
+        return 2 if interactions else 1
+    if not isinstance(interactions, numbers.Integral) or interactions < 1:
+        raise ValueError(
+            "interactions: expected True (two-factor interactions), False (main effects) or "
+            f"the most factors in a term, a whole number from 1, got {interactions!r}"
+        )
+    return int(interactions)
+
+
+_ORDER_NAMES = {2: "two-factor", 3: "three-factor", 4: "four-factor", 5: "five-factor"}
+
+
 def _model(
     data: pd.DataFrame,
     factors: Sequence[Factor],
     y: np.ndarray,
-    interactions: bool,
+    interactions: bool | int,
     *,
     y_center: np.ndarray | None = None,
     alpha_to_remove: float | None = None,
@@ -1057,6 +1078,7 @@ def _model(
     pooled ones included, to its display name (``"S"``, ``"S:WP"``), and is empty when no
     factor varies.
     """
+    order = _model_order(interactions)
     notes: list[str] = []
     frame, names, single = _coded_frame(data, factors, y)
     notes.extend(f"factor {n} has a single level in the data and is left out" for n in single)
@@ -1068,7 +1090,16 @@ def _model(
     term_names.update(
         {f"C({a}):C({b})": f"{names[a]}:{names[b]}" for a, b in itertools.combinations(names, 2)}
     )
-    terms = mains + (pairs if interactions else [])
+    higher = [  # the interactions of three or more factors asked for
+        combo
+        for k in range(3, min(order, len(names)) + 1)
+        for combo in itertools.combinations(names, k)
+    ]
+    term_names.update(
+        {":".join(f"C({c})" for c in combo): ":".join(names[c] for c in combo) for combo in higher}
+    )
+    terms = mains + (pairs if order >= 2 else [])
+    terms += [":".join(f"C({c})" for c in combo) for combo in higher]
     terms, left_out = _estimable_terms(frame, terms)
     if left_out:
         described = []
@@ -1085,7 +1116,17 @@ def _model(
     y_center = np.zeros(0) if y_center is None else y_center
     spare_df = max(y_center.size - 1, 0)
     fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
-    if fit.df_resid + spare_df < 0.5 and interactions and pairs:
+    top = max((t.count(":") + 1 for t in terms), default=1)
+    while top > 2 and fit.df_resid + spare_df < 0.5:
+        name = _ORDER_NAMES.get(top, f"{top}-factor")
+        notes.append(
+            f"model with {name} interactions is saturated (0 residual df): the {name} "
+            "interactions pooled into the residual"
+        )
+        terms = [t for t in terms if t.count(":") + 1 < top]
+        top -= 1
+        fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
+    if fit.df_resid + spare_df < 0.5 and top == 2 and pairs:
         notes.append(
             "model with two-factor interactions is saturated (0 residual df): interactions "
             "pooled into the residual, main effects only"
@@ -1376,7 +1417,7 @@ def residuals(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool = True,
+    interactions: bool | int = True,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """Fitted values and residuals of the model :func:`anova` fits, one row per usable run.
@@ -1464,7 +1505,7 @@ def _model_arrays(
     summary: pd.DataFrame,
     factors: Iterable[Any],
     response: str,
-    interactions: bool,
+    interactions: bool | int,
     *,
     alpha_to_remove: float | None = None,
 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray, str]:
@@ -1506,7 +1547,7 @@ def model_matrix(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool = True,
+    interactions: bool | int = True,
 ) -> np.ndarray:
     """The model matrix of the model :func:`anova` fits, one row per usable run.
 
@@ -1538,7 +1579,7 @@ def ranked_effects(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool = True,
+    interactions: bool | int = True,
 ) -> pd.DataFrame:
     """Model terms ranked by sum of squares, for a Pareto chart.
 
@@ -2117,6 +2158,7 @@ def analyze(
     main_effects_only: bool = False,
     anova_type: int = 2,
     alpha_to_remove: float | None = None,
+    max_order: int | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Run the whole analysis for several responses.
 
@@ -2140,6 +2182,10 @@ def analyze(
         Reduce each response's model by backward elimination (:func:`anova`); the residuals
         and, for a two-level design, the effects table are then of the reduced model, as in
         Minitab after a stepwise reduction.
+    max_order
+        The model's terms up through this many factors (:func:`anova`'s ``interactions``),
+        instead of main effects and two-factor interactions (main effects alone with
+        ``main_effects_only``); the effects table then fits the ANOVA's terms too.
 
     Returns
     -------
@@ -2157,18 +2203,21 @@ def analyze(
     if isinstance(responses, str):
         responses = (responses,)
     result: dict[str, dict[str, Any]] = {}
+    if max_order is not None:
+        _model_order(max_order)  # checked before any work
+    model: bool | int = max_order if max_order is not None else not main_effects_only
     for response in responses:
         table = anova(
             summary,
             factors,
             response,
-            interactions=not main_effects_only,
+            interactions=model,
             typ=anova_type,
             alpha_to_remove=alpha_to_remove,
         )
         kept = (
             [t for t in table["term"] if t not in ("Residual", CURVATURE)]
-            if alpha_to_remove is not None
+            if alpha_to_remove is not None or max_order is not None
             else None
         )
         result[response] = {
@@ -2181,7 +2230,7 @@ def analyze(
                 summary,
                 factors,
                 response,
-                interactions=not main_effects_only,
+                interactions=model,
                 alpha_to_remove=alpha_to_remove,
             ),
             "effects": two_level_effects(

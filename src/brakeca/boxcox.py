@@ -337,7 +337,7 @@ def box_cox(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool = True,
+    interactions: bool | int = True,
     alpha_to_remove: float | None = None,
     confidence: float = 0.95,
 ) -> BoxCox:
@@ -355,7 +355,8 @@ def box_cox(
     response
         A positive response, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
-        Include two-factor interactions, as in :func:`brakeca.analysis.anova`.
+        Include two-factor interactions, or up to an order, as in
+        :func:`brakeca.analysis.anova`.
     alpha_to_remove
         The model reduced by backward elimination, as :func:`brakeca.analysis.anova`
         reduces it (on the response as it is).

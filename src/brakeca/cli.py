@@ -833,6 +833,19 @@ def analyze(
             "Minitab and JMP); by default the design's anova_type (2 unless set)",
         ),
     ] = None,
+    order: Annotated[
+        int | None,
+        typer.Option(
+            "--order",
+            metavar="K",
+            min=1,
+            max=10,
+            help="the ANOVA model's terms up through K factors: 1 main effects, 2 with the "
+            "two-factor interactions, 3 with the three-factor ones (Minitab's 'terms up "
+            "through order'); by default the design's model_order (2, or main effects for a "
+            "Plackett-Burman design, unless set)",
+        ),
+    ] = None,
     reduce: Annotated[
         float | None,
         typer.Option(
@@ -858,7 +871,13 @@ def analyze(
         _fail(str(exc))
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
-        path = write_study(result, run_maps=run_maps, anova_type=anova_type, alpha_to_remove=reduce)
+        path = write_study(
+            result,
+            run_maps=run_maps,
+            anova_type=anova_type,
+            alpha_to_remove=reduce,
+            max_order=order,
+        )
     out.print(
         f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
     )
@@ -1302,6 +1321,13 @@ def show_design(
     if loaded.anova_type == 3:
         out.print(
             "ANOVA: Type III (adjusted) sums of squares (anova_type = 3)",
+            markup=False,
+            highlight=False,
+        )
+    if loaded.model_order is not None:
+        out.print(
+            f"the report's ANOVA model: terms up through {loaded.model_order} factor"
+            f"{'s' if loaded.model_order != 1 else ''} (model_order)",
             markup=False,
             highlight=False,
         )

@@ -1555,6 +1555,12 @@ class Design(_Frozen):
         The report's ANOVA sums of squares: 2 (Type II, the default) or 3 (Type III,
         adjusted, as Minitab and JMP give them); they differ only in an unbalanced design,
         e.g. once a run has failed (:func:`brakeca.analysis.anova`).
+    model_order
+        The report's ANOVA model: its terms up through this many factors [-] (1 main
+        effects, 2 main effects and two-factor interactions, 3 with the three-factor ones, as
+        Minitab's "terms up through order"); by default 2, and main effects alone for a
+        Plackett-Burman design. Not for a response-surface design, whose report fits a
+        quadratic.
     center_points
         Centre points [-] (0 to 100) added to a two-level design of numeric factors (a full
         factorial, a fraction, a Plackett-Burman design or a run table): tests with every
@@ -1582,6 +1588,7 @@ class Design(_Frozen):
     alpha_to_remove: float | None = Field(None, gt=0.0, lt=1.0)
     anova_type: Literal[2, 3] = 2
     center_points: int = Field(0, ge=0, le=100)
+    model_order: int | None = Field(None, ge=1, le=10)
 
     @field_validator("root_seed", mode="before")
     @classmethod
@@ -1595,6 +1602,15 @@ class Design(_Frozen):
     def _whole_center_points(cls, value: Any) -> Any:
         if type(value) is float or isinstance(value, str):  # 2.0 and "2" would pass as 2
             raise ValueError(f"expected a whole number of centre points, 0 to 100, got {value!r}")
+        return value
+
+    @field_validator("model_order", mode="before")
+    @classmethod
+    def _whole_order(cls, value: Any) -> Any:
+        if type(value) is float or isinstance(value, str):  # 2.0 and "2" would pass as 2
+            raise ValueError(
+                f"expected the most factors in a model term, a whole number from 1, got {value!r}"
+            )
         return value
 
     @field_validator("anova_type", mode="before")
@@ -1877,6 +1893,11 @@ class Design(_Frozen):
             self._check_plackett_burman()
         if self.center_points:
             self._check_center_points()
+        if self.model_order is not None and self.surface_design is not None:
+            raise ValueError(
+                f"model_order: a {self.surface_design.title}'s report fits a quadratic "
+                "surface, not a factorial model of some order; remove model_order"
+            )
         if self.goals:
             if self.surface_design is None:
                 raise ValueError(

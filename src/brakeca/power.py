@@ -14,7 +14,8 @@ full factorial), and so do its error degrees of freedom and its power.
 
 The model is the one the study fits (:func:`brakeca.analysis.anova`): main effects and the
 two-factor interactions the design can estimate, main effects alone for a Plackett-Burman
-design, the interactions pooled into the error when they would leave none; the whole model,
+design, the interactions pooled into the error when they would leave none, or the terms up
+through the design's ``model_order``; the whole model,
 not one that a design's ``alpha_to_remove`` reduces by the data. Its error degrees of freedom
 come from the design's own tests (centre points included), repeated ``replicates`` times.
 
@@ -123,7 +124,11 @@ def _factor_tests(design: Design, replicates: int) -> dict[str, tuple[float, flo
             frame.assign(y=y),
             factors,
             "y",
-            interactions=design.plackett_burman is None,
+            interactions=(
+                design.model_order
+                if design.model_order is not None
+                else design.plackett_burman is None
+            ),
             typ=design.anova_type,
         ).set_index("term")
 

@@ -331,7 +331,7 @@ def _box_cox(
     factors: list[Any],
     surfaces: dict[str, Any],
     *,
-    interactions: bool,
+    interactions: bool | int,
     alpha_to_remove: float | None,
 ) -> dict[str, Any]:
     """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
@@ -401,6 +401,7 @@ def write_study(
     run_maps: bool = True,
     anova_type: int | None = None,
     alpha_to_remove: float | None = None,
+    max_order: int | None = None,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -418,6 +419,10 @@ def write_study(
         of a response-surface design, the ANOVA model (with its residuals, Box-Cox check and
         effects table) of any other design; by default the design's ``alpha_to_remove``
         (none unless set).
+    max_order
+        The ANOVA model's terms up through this many factors (1 main effects, 2 the
+        default, 3...); by default the design's ``model_order`` (2, or main effects alone
+        for a Plackett-Burman design, unless set).
 
     Returns
     -------
@@ -437,6 +442,7 @@ def write_study(
     typ = result.design.anova_type if anova_type is None else anova_type
     alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
     surface_design = result.design.is_response_surface
+    order = result.design.model_order if max_order is None else max_order
     tables = analysis.analyze(
         data,
         factors,
@@ -444,6 +450,7 @@ def write_study(
         main_effects_only=result.design.plackett_burman is not None,
         anova_type=typ,
         alpha_to_remove=None if surface_design else alpha,
+        max_order=order,
     )
     analysis.save_tables(tables, tables_dir)
     surfaces: dict[str, Any] = {}
@@ -476,7 +483,7 @@ def write_study(
         data,
         factors,
         surfaces,
-        interactions=result.design.plackett_burman is None,
+        interactions=order if order is not None else result.design.plackett_burman is None,
         alpha_to_remove=None if surface_design else alpha,
     )
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")

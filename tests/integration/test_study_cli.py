@@ -174,6 +174,11 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     for bad in ("0", "1"):
         res = CliRunner().invoke(app, ["analyze", str(out), "--reduce", bad])
         assert res.exit_code != 0 and "--reduce" in res.output
+    # the model's order on request: main effects only
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--order", "1"])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
+    assert [t for t in table["term"] if t != "Residual"] == ["S", "A"]
     # every term removed: no effects table or figure of an earlier analysis is left behind
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
     assert res.exit_code == 0, res.output

@@ -1499,3 +1499,17 @@ def test_a_factorial_designs_alpha_to_remove_is_written_and_announced(tmp_path):
     assert res.exit_code == 0, res.output
     assert "the report reduces its ANOVA model by backward elimination" in res.output
     assert "above 0.1 (alpha_to_remove)" in res.output
+
+
+def test_model_order_is_a_whole_number_written_and_announced(tmp_path):
+    data = _paper_dict()
+    three = design_from_dict({**data, "model_order": 3})
+    assert three.model_order == 3 and "model_order" not in design_from_dict(data).to_toml()
+    written = tmp_path / "three.toml"
+    written.write_text(three.to_toml(), encoding="utf-8")
+    assert load_design(written).model_order == 3
+    res = CliRunner().invoke(app, ["design", str(written), "--no-tests"])
+    assert res.exit_code == 0 and "terms up through 3 factors (model_order)" in res.output
+    for bad in (0, 11, 2.0, "2"):
+        with pytest.raises(ConfigError, match="model_order"):
+            design_from_dict({**data, "model_order": bad})

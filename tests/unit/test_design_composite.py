@@ -757,3 +757,8 @@ def test_alpha_to_remove_of_a_response_surface_and_of_a_factorial_design():
     del data["composite"]
     factorial = design_from_dict(data, source="x.toml")
     assert factorial.alpha_to_remove == 0.1 and not factorial.is_response_surface
+
+
+def test_model_order_is_refused_for_a_response_surface_design():
+    with pytest.raises(ConfigError, match="model_order: a central composite design's report"):
+        _ccd("mu0 slope", model_order=2)

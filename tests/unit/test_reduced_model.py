@@ -259,3 +259,53 @@ def test_the_reviews_empty_cell_case_keeps_the_term_its_sequential_p_would_drop(
     table = analysis.anova(runs, factors, "y", alpha_to_remove=0.3)
     assert "no term removed" in table.attrs["note"]
     assert _drop_one_by_hand(runs, ["P", "Q", "R"], 0.3) == ["P", "Q", "R", "P:Q", "P:R", "Q:R"]
+
+
+# --- the model's order -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("typ", [2, 3])
+def test_terms_up_through_three_factors_equal_statsmodels(typ) -> None:
+    runs = _runs({"A": 1.0, "A:B:C": 0.4})
+    table = analysis.anova(runs, FACTORS, "y", typ=typ, interactions=3)
+    assert list(table["term"]) == ["A", "B", "C", "A:B", "A:C", "B:C", "A:B:C", "Residual"]
+    # the factor column C would hide patsy's C(): the coded columns stand for the factors
+    fit = ols("y ~ C(x1, Sum) * C(x2, Sum) * C(x3, Sum)", runs.drop(columns="C")).fit()
+    reference = anova_lm(fit, typ=typ)
+    for (_, row), (_, ref) in zip(
+        table.iterrows(), reference.drop(index="Intercept", errors="ignore").iterrows(), strict=True
+    ):
+        assert row["sum_sq"] == pytest.approx(ref["sum_sq"], rel=1e-9)
+        assert row["df"] == ref["df"]
+    assert table.attrs["formula"] == "y ~ A + B + C + A:B + A:C + B:C + A:B:C"
+    assert (
+        analysis.residuals(runs, FACTORS, "y", interactions=3).attrs["formula"]
+        == (table.attrs["formula"])
+    )
+
+
+def test_order_one_is_main_effects_and_a_saturated_order_is_pooled_step_by_step() -> None:
+    runs = _runs({"A": 1.0})
+    one = analysis.anova(runs, FACTORS, "y", interactions=1)
+    assert one.equals(analysis.anova(runs, FACTORS, "y", interactions=False))
+    single = _runs({"A": 1.0}, replicates=1)  # 8 runs: the three-factor term leaves no df
+    table = analysis.anova(single, FACTORS, "y", interactions=3)
+    assert list(table["term"])[-2:] == ["B:C", "Residual"]
+    assert table.set_index("term").loc["Residual", "df"] == 1
+    assert "three-factor interactions pooled into the residual" in table.attrs["note"]
+
+
+@pytest.mark.parametrize("bad", [0, -1, 2.5, "2"])
+def test_the_order_is_checked(bad) -> None:
+    with pytest.raises(ValueError, match="interactions: expected True"):
+        analysis.anova(_runs({}), FACTORS, "y", interactions=bad)
+    with pytest.raises(ValueError, match="interactions: expected True"):
+        analysis.analyze(_runs({}), FACTORS, ["y"], max_order=bad)
+
+
+def test_analyze_with_an_order_fits_the_effects_of_its_terms() -> None:
+    runs = _runs({"A": 1.0, "A:B": 0.5})
+    result = analysis.analyze(runs, FACTORS, ["y"], max_order=1)["y"]
+    assert [t for t in result["anova"]["term"] if t != "Residual"] == ["A", "B", "C"]
+    assert sorted(result["effects"]["term"]) == ["A", "B", "C"]
+    assert result["residuals"].attrs["formula"] == "y ~ A + B + C"
