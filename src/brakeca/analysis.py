@@ -1603,7 +1603,8 @@ def ranked_effects(
         ``p_value`` and ``effect`` [response unit]. ``effect`` is the classical effect for
         two-level factors, mean at ``levels[1]`` minus mean at ``levels[0]``, and for the
         interaction of two two-level factors ``(m11 - m10 - m01 + m00) / 2`` from the cell
-        means; NaN otherwise. These are plain differences of means: once a run has failed
+        means (of q factors, the signed sum of the 2^q cell means over 2^(q-1)); NaN
+        otherwise. These are plain differences of means: once a run has failed
         (an unbalanced design) they are not adjusted for the other factors, unlike the
         effects of :func:`two_level_effects` (twice the least-squares coefficient), which
         then differ from them. The residual is not ranked.
@@ -1649,8 +1650,17 @@ def _rank_terms(
             if not (np.any(codes == 0) and np.any(codes == 1)):
                 return math.nan
             return float(y[codes == 1].mean() - y[codes == 0].mean())
-        means, _ = _cell_stats(data, by_name[parts[0]], by_name[parts[1]], response)
-        return float((means[1, 1] - means[1, 0] - means[0, 1] + means[0, 0]) / 2.0)
+        # the contrast of the cell means of the term's factors: for two factors
+        # (m11 - m10 - m01 + m00) / 2, for q factors the signed sum over 2^q cells / 2^(q-1)
+        codes = np.column_stack([_codes(data, by_name[p]) for p in parts])
+        total = 0.0
+        for cell in itertools.product((0, 1), repeat=len(parts)):
+            at = np.all(codes == np.array(cell), axis=1)
+            if not at.any():
+                return math.nan  # an empty cell: no classical effect
+            sign = (-1) ** (len(parts) - sum(cell))
+            total += sign * float(y[at].mean())
+        return total / 2.0 ** (len(parts) - 1)
 
     terms["kind"] = [
         "interaction" if ":" in t else "curvature" if t == CURVATURE else "main"

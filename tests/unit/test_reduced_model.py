@@ -309,3 +309,15 @@ def test_analyze_with_an_order_fits_the_effects_of_its_terms() -> None:
     assert [t for t in result["anova"]["term"] if t != "Residual"] == ["A", "B", "C"]
     assert sorted(result["effects"]["term"]) == ["A", "B", "C"]
     assert result["residuals"].attrs["formula"] == "y ~ A + B + C"
+
+
+def test_ranked_effects_of_a_three_factor_term_are_its_classical_effect() -> None:
+    runs = _runs({"A:B:C": 0.4, "A:B": 0.7})
+    ranked = analysis.ranked_effects(runs, FACTORS, "y", interactions=3).set_index("term")
+    sign = runs.x1 * runs.x2 * runs.x3
+    hand = runs.y[sign > 0].mean() - runs.y[sign < 0].mean()
+    assert ranked.loc["A:B:C", "effect"] == pytest.approx(hand, rel=1e-12)
+    sign2 = runs.x1 * runs.x2
+    assert ranked.loc["A:B", "effect"] == pytest.approx(
+        runs.y[sign2 > 0].mean() - runs.y[sign2 < 0].mean(), rel=1e-12
+    )
