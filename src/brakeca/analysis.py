@@ -705,8 +705,9 @@ def anova(
     centre points' pure error (:func:`_with_curvature`).
 
     If the requested model leaves zero residual degrees of freedom (saturated, unreplicated),
-    the two-factor interactions are pooled into the residual and a main-effects model is
-    fitted instead; if that is still saturated, F and p are reported as NaN. Either case is
+    its highest-order interactions are pooled into the residual, order by order down to the
+    two-factor ones, and then a main-effects model is fitted; if that is still saturated, F
+    and p are reported as NaN. Either case is
     explained in the ``note`` column (and ``attrs["note"]``); the function never raises for
     lack of degrees of freedom.
 
@@ -762,6 +763,7 @@ def anova(
     """
     _check_anova_type(typ)
     _check_alpha_to_remove(alpha_to_remove)
+    _model_order(interactions)
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     n = len(data)
@@ -1072,11 +1074,11 @@ def _model(
     (:func:`_eliminate`).
 
     ``frame`` holds ``y`` and one categorical column per factor that varies in the data;
-    ``terms`` are the formula terms (main effects, and the two-factor interactions unless
-    they would leave no residual degrees of freedom, in which case they are pooled into the
-    residual and a note says so); ``term names`` maps every main-effect and two-factor term,
-    pooled ones included, to its display name (``"S"``, ``"S:WP"``), and is empty when no
-    factor varies.
+    ``terms`` are the formula terms (main effects, and the interactions up through the order
+    ``interactions`` gives, :func:`_model_order`, unless they would leave no residual degrees
+    of freedom, in which case the highest order is pooled into the residual, order by order,
+    and a note says so); ``term names`` maps every term asked for, pooled ones included, to
+    its display name (``"S"``, ``"S:WP"``), and is empty when no factor varies.
     """
     order = _model_order(interactions)
     notes: list[str] = []
@@ -1105,10 +1107,14 @@ def _model(
         described = []
         for term, aliases in left_out.items():
             with_what = " and ".join(term_names[t] for t in aliases)
-            described.append(
-                f"{term_names[term]} (aliased with "
-                f"{with_what or 'a combination of the terms before it'})"
-            )
+            if not with_what:
+                columns = _term_columns(frame, term)
+                with_what = (
+                    "the mean: a word of the design's defining relation"
+                    if np.allclose(columns, columns[:1], rtol=0.0, atol=1e-12)
+                    else "a combination of the terms before it"
+                )
+            described.append(f"{term_names[term]} (aliased with {with_what})")
         notes.append(
             "terms aliased (confounded) with terms before them are left out, since the design "
             "cannot tell them apart: " + "; ".join(described)
@@ -1435,8 +1441,8 @@ def residuals(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
-        Include two-factor interactions (as in :func:`anova`, with the same pooling when
-        they would saturate the model).
+        Include two-factor interactions, or the terms up through an order (as in
+        :func:`anova`, with the same pooling when they would saturate the model).
     alpha_to_remove
         The model reduced by backward elimination, as :func:`anova` reduces it.
 
@@ -1513,6 +1519,7 @@ def _model_arrays(
     response [response unit], the model matrix [-] (:func:`model_matrix`) and the formula
     (``"y ~ S + WP + S:WP"``; empty, and a one-column matrix, without usable rows)."""
     _check_alpha_to_remove(alpha_to_remove)
+    _model_order(interactions)
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     y = data[response].to_numpy(dtype=float)
@@ -1561,7 +1568,8 @@ def model_matrix(
         Response column; it selects the usable runs (finished, with a finite value), in the
         order of :func:`residuals`.
     interactions
-        Include two-factor interactions, as in :func:`anova`.
+        Include two-factor interactions, or the terms up through an order, as in
+        :func:`anova`.
 
     Returns
     -------
@@ -1592,7 +1600,8 @@ def ranked_effects(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
-        Include two-factor interactions (as in :func:`anova`).
+        Include two-factor interactions, or the terms up through an order (as in
+        :func:`anova`).
 
     Returns
     -------
@@ -2195,7 +2204,8 @@ def analyze(
     max_order
         The model's terms up through this many factors (:func:`anova`'s ``interactions``),
         instead of main effects and two-factor interactions (main effects alone with
-        ``main_effects_only``); the effects table then fits the ANOVA's terms too.
+        ``main_effects_only``); where it is not that default, the effects table then fits
+        the ANOVA's terms too.
 
     Returns
     -------
@@ -2213,9 +2223,15 @@ def analyze(
     if isinstance(responses, str):
         responses = (responses,)
     result: dict[str, dict[str, Any]] = {}
+    default = 1 if main_effects_only else 2
     if max_order is not None:
+        if isinstance(max_order, bool | np.bool_):
+            raise ValueError(f"max_order: expected a whole number from 1, got {max_order!r}")
         _model_order(max_order)  # checked before any work
     model: bool | int = max_order if max_order is not None else not main_effects_only
+    # the effects table fits every effect the data can estimate, unless the ANOVA's model is
+    # not the default one (another order, or reduced): then that model's terms
+    follow = alpha_to_remove is not None or (max_order is not None and max_order != default)
     for response in responses:
         table = anova(
             summary,
@@ -2225,11 +2241,7 @@ def analyze(
             typ=anova_type,
             alpha_to_remove=alpha_to_remove,
         )
-        kept = (
-            [t for t in table["term"] if t not in ("Residual", CURVATURE)]
-            if alpha_to_remove is not None or max_order is not None
-            else None
-        )
+        kept = [t for t in table["term"] if t not in ("Residual", CURVATURE)] if follow else None
         result[response] = {
             "main_effects": main_effects(summary, factors, response),
             "interactions": interaction_tables(summary, factors, response),

@@ -869,6 +869,11 @@ def analyze(
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         _fail(str(exc))
+    if order is not None and result.design.is_response_surface:
+        _fail(
+            "--order: a response-surface design's report fits a quadratic surface, not a "
+            "factorial model of some order"
+        )
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
         path = write_study(

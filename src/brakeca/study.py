@@ -335,8 +335,8 @@ def _box_cox(
     alpha_to_remove: float | None,
 ) -> dict[str, Any]:
     """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
-    design, under the ANOVA model otherwise (with its two-factor interactions or not, reduced
-    as the ANOVA is)."""
+    design, under the ANOVA model otherwise (its order, ``interactions``, and reduced as the
+    ANOVA is)."""
     from brakeca import boxcox
 
     return {
@@ -442,6 +442,11 @@ def write_study(
     typ = result.design.anova_type if anova_type is None else anova_type
     alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
     surface_design = result.design.is_response_surface
+    if max_order is not None and result.design.is_response_surface:
+        raise ValueError(
+            "max_order: a response-surface design's report fits a quadratic surface, not a "
+            "factorial model of some order"
+        )
     order = result.design.model_order if max_order is None else max_order
     tables = analysis.analyze(
         data,

@@ -115,3 +115,6 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert "composite desirability: " in reduced
     bad = CliRunner().invoke(app, ["optimize", str(out), "-g", "MU:target:0.3:0.2"])
     assert bad.exit_code == 2 and "target takes 3 numbers" in bad.output
+    # a response surface's report fits a quadratic: no factorial model order for it
+    bad = CliRunner().invoke(app, ["analyze", str(out), "--order", "1"])
+    assert bad.exit_code != 0 and "--order: a response-surface design's report" in bad.output

@@ -321,3 +321,40 @@ def test_ranked_effects_of_a_three_factor_term_are_its_classical_effect() -> Non
     assert ranked.loc["A:B", "effect"] == pytest.approx(
         runs.y[sign2 > 0].mean() - runs.y[sign2 < 0].mean(), rel=1e-12
     )
+
+
+def test_an_explicit_default_order_changes_nothing() -> None:
+    """max_order=2 is the default model: the report is the same as without it (a review
+    found the effects table switched from every estimable effect to the ANOVA's terms)."""
+    runs = _runs({"A": 3.0}, replicates=1)
+    plain = analysis.analyze(runs, FACTORS, ["y"])["y"]
+    two = analysis.analyze(runs, FACTORS, ["y"], max_order=2)["y"]
+    assert plain["effects"].equals(two["effects"]) and plain["anova"].equals(two["anova"])
+    assert "A:B:C" in list(plain["effects"]["term"])  # every estimable effect, Lenth's
+    main = analysis.analyze(runs, FACTORS, ["y"], main_effects_only=True, max_order=1)["y"]
+    assert (
+        main["effects"].attrs["note"]
+        == analysis.analyze(runs, FACTORS, ["y"], main_effects_only=True)["y"]["effects"].attrs[
+            "note"
+        ]
+    )
+    with pytest.raises(ValueError, match="max_order"):
+        analysis.analyze(runs, FACTORS, ["y"], max_order=True)
+
+
+def test_the_order_is_checked_before_the_data() -> None:
+    one_run = _runs({}).iloc[:1]
+    with pytest.raises(ValueError, match="interactions: expected True"):
+        analysis.anova(one_run, FACTORS, "y", interactions=0)
+    with pytest.raises(ValueError, match="interactions: expected True"):
+        analysis.residuals(one_run.iloc[:0], FACTORS, "y", interactions="2")
+
+
+def test_a_term_that_is_a_word_of_the_defining_relation_is_aliased_with_the_mean() -> None:
+    runs = _runs({"A": 1.0}, replicates=2)
+    half = runs[(runs.x1 * runs.x2 * runs.x3) > 0]  # I = A*B*C
+    table = analysis.anova(half, FACTORS, "y", interactions=3)
+    assert (
+        "A:B:C (aliased with the mean: a word of the design's defining relation)"
+        in (table.attrs["note"])
+    )
