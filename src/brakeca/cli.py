@@ -817,6 +817,12 @@ def run(
     )
 
 
+#: ``--reduce``'s help: what it does and the values it takes
+_BACKWARD = (
+    "backward elimination of the terms with p above ALPHA (above 0 and below 1; 0.1 in Minitab)"
+)
+
+
 @app.command(short_help="main effects, interactions, ANOVA, figures, report")
 def analyze(
     folder: Annotated[
@@ -851,8 +857,7 @@ def analyze(
         typer.Option(
             "--reduce",
             metavar="ALPHA",
-            help="reduce the models by backward elimination of the terms with p above ALPHA "
-            "(above 0 and below 1; 0.1 in Minitab), keeping them hierarchical: the ANOVA "
+            help=f"reduce the models by {_BACKWARD}, keeping them hierarchical: the ANOVA "
             "model (and its residuals, Box-Cox check and effects table), or a "
             "response-surface design's surfaces; by default the design's alpha_to_remove "
             "(none unless set)",
@@ -944,9 +949,8 @@ def optimize(
         typer.Option(
             "--reduce",
             metavar="ALPHA",
-            help="reduce each surface first: backward elimination of the terms with p above "
-            "ALPHA (above 0 and below 1; 0.1 in Minitab), keeping the model hierarchical; by "
-            "default the design's alpha_to_remove, else the full quadratic",
+            help=f"reduce each surface first: {_BACKWARD}, keeping the model hierarchical; "
+            "by default the design's alpha_to_remove, else the full quadratic",
         ),
     ] = None,
 ) -> None:

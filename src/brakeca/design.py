@@ -99,6 +99,7 @@ from pydantic import (
     ConfigDict,
     Field,
     ValidationError,
+    ValidationInfo,
     field_validator,
     model_validator,
 )
@@ -1590,34 +1591,21 @@ class Design(_Frozen):
     center_points: int = Field(0, ge=0, le=100)
     model_order: int | None = Field(None, ge=1, le=10)
 
-    @field_validator("root_seed", mode="before")
-    @classmethod
-    def _whole_seed(cls, value: Any) -> Any:
-        if isinstance(value, str | float):  # "1" and 1.0 would pass as 1
-            raise ValueError(f"expected a whole number, 0 <= root_seed < 2**128, got {value!r}")
-        return value
+    #: the whole-number keys and what each takes, for the refusal of text and floats, which
+    #: pydantic would take for whole numbers ("1" and 1.0 as 1)
+    _WHOLE_NUMBERS: ClassVar[dict[str, str]] = {
+        "root_seed": "a whole number, 0 <= root_seed < 2**128",
+        "center_points": "a whole number of centre points, 0 to 100",
+        "model_order": "the most factors in a model term, a whole number from 1",
+        "anova_type": "2 or 3 (a whole number)",
+    }
 
-    @field_validator("center_points", mode="before")
+    @field_validator(*_WHOLE_NUMBERS, mode="before")
     @classmethod
-    def _whole_center_points(cls, value: Any) -> Any:
-        if type(value) is float or isinstance(value, str):  # 2.0 and "2" would pass as 2
-            raise ValueError(f"expected a whole number of centre points, 0 to 100, got {value!r}")
-        return value
-
-    @field_validator("model_order", mode="before")
-    @classmethod
-    def _whole_order(cls, value: Any) -> Any:
-        if type(value) is float or isinstance(value, str):  # 2.0 and "2" would pass as 2
-            raise ValueError(
-                f"expected the most factors in a model term, a whole number from 1, got {value!r}"
-            )
-        return value
-
-    @field_validator("anova_type", mode="before")
-    @classmethod
-    def _whole_type(cls, value: Any) -> Any:
-        if type(value) is float:  # 3.0 would pass as 3
-            raise ValueError(f"Input should be 2 or 3 (a whole number), got {value!r}")
+    def _whole_number(cls, value: Any, info: ValidationInfo) -> Any:
+        if isinstance(value, str | float):
+            expected = cls._WHOLE_NUMBERS[str(info.field_name)]
+            raise ValueError(f"expected {expected}, got {value!r}")
         return value
 
     @field_validator("foldover", mode="before")
