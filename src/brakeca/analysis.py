@@ -744,8 +744,9 @@ def anova(
         ``sum_sq`` [response unit^2], ``mean_sq`` [response unit^2], ``F``, ``p_value``,
         ``percent_contribution`` (``sum_sq`` / total sum of squares about the mean * 100 [%])
         and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
-        ``formula``, ``note``, ``n``, ``total_sum_sq`` and ``center_points`` (their number),
-        and the model summary that Minitab
+        ``formula``, ``note``, ``n``, ``total_sum_sq``, ``center_points`` (their number),
+        ``order`` (the most factors in a term asked for) and ``alpha_to_remove``, and the
+        model summary that Minitab
         and JMP print beside the table: ``s`` (residual standard deviation, sqrt of the
         residual mean square) [response unit], ``r_squared``, ``r_squared_adj``,
         ``r_squared_pred`` (predicted R-squared, 1 - PRESS / total sum of squares) [-] and
@@ -879,6 +880,8 @@ def anova(
         n=n,
         total_sum_sq=total_ss,
         center_points=int(y_center.size),
+        order=_model_order(interactions),
+        alpha_to_remove=alpha_to_remove,
     )
     out.attrs.update(_fit_statistics(y_fit, *_least_squares(exog, y_fit), total_ss))
     out.attrs.update(_lack_of_fit(lof_frame, df_resid, float(table.loc["Residual", "sum_sq"])))
@@ -1940,9 +1943,9 @@ def two_level_effects(
         ``aliases`` (the terms of up to three factors the design cannot tell apart from it).
         With centre points whose term is tested, a last row :data:`CENTER_TERM` (``"Ct
         Pt"``, order 0), as Minitab's coded coefficients end: its ``coefficient`` (the
-        centre points' mean less the model's value at the centre), ``t``, ``p_value``,
-        ``vif`` and ``significant``, with no ``effect`` or ``se`` (NaN; its coefficient's
-        standard error is ``attrs["curvature"]["se"]``).
+        centre points' mean less the model's value at the centre), ``se`` (twice its
+        coefficient's standard error, as in the other rows, so that t = 2 coefficient / se),
+        ``t``, ``p_value``, ``vif`` and ``significant``, with no ``effect`` (NaN).
         Empty (with ``attrs["note"]`` saying why) when a factor that varies has other than two
         levels, the response is constant, or too few effects can be estimated (none with
         replicates; fewer than three for Lenth's method). ``attrs`` carries ``method``
@@ -2096,7 +2099,7 @@ def two_level_effects(
             "order": 0,
             "effect": math.nan,
             "coefficient": curvature["coefficient"],
-            "se": math.nan,
+            "se": 2.0 * curvature["se"],  # as the other rows': t = 2 coefficient / se
             "t": curvature["t"],
             "p_value": curvature["p_value"],
             "vif": float(_vif(exog)[-1]),

@@ -2426,6 +2426,13 @@ class Design(_Frozen):
                     f"{alpha:.4g}): choose a smaller alpha ('face' keeps every level within "
                     "[low, high]) or narrower levels"
                 )
+        if self.center_points and value not in factor.levels:
+            return ConfigError(
+                f"{where}: center_points: factor {factor.name!r} (field {factor.field}): its "
+                f"centre point, {value!r} [{factor.unit}] midway between its levels "
+                f"{list(factor.levels)}, is not valid: {detail}; give levels whose middle the "
+                "field takes, or remove center_points"
+            )
         return ConfigError(
             f"{where}: factors.{index}.levels: factor {factor.name!r} (field {factor.field}): "
             f"level {value!r} [{factor.unit}] is not valid: {detail}"

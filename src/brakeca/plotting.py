@@ -177,7 +177,7 @@ def plot_main_effects(
     -------
     matplotlib.figure.Figure
         One axes per factor, sharing the y axis; the grand mean is a dashed line, and the
-        centre points' mean (a design with centre points) a square midway between the levels.
+        centre points' mean (a design with centre points) a black diamond midway between the levels.
 
     References
     ----------
@@ -202,7 +202,7 @@ def plot_main_effects(
         if math.isfinite(grand):
             ax.axhline(grand, ls="--", lw=1.0, color="0.45", label="grand mean")
         if centre is not None and len(rows) == 2:
-            ax.plot([0.5], [centre * scale], "s", color="#c0392b", ms=7, label="centre points")
+            ax.plot([0.5], [centre * scale], "D", color="#222222", ms=6, label="centre points")
         ax.set_xticks(x, [_tick_label(factor, lv) for lv in rows["level"]])
         ax.set_xlim(-0.4, len(rows) - 0.6)
         ax.set_xlabel(factor.axis_label)
@@ -229,7 +229,7 @@ def plot_interactions(
     not drawn, so the figure has one axes per pair. In a fraction a panel shows its pair's
     interaction together with the interactions aliased with it (``aliases``): each such
     panel is titled with them, e.g. ``"= WR:modulus + mu0:slope"``. In a design with centre
-    points their mean is a square midway in each panel of two-level factors, as in the
+    points their mean is a black diamond midway in each panel of two-level factors, as in the
     main-effects plot.
 
     Parameters
@@ -286,7 +286,7 @@ def plot_interactions(
                 label=_legend_label(a, level),
             )
         if centre is not None and len(b.levels) == 2:  # as in the main-effects plot
-            ax.plot([0.5], [centre * scale], "s", color="#c0392b", ms=6, label="centre points")
+            ax.plot([0.5], [centre * scale], "D", color="#222222", ms=6, label="centre points")
         ax.set_xticks(x, [_tick_label(b, lv) for lv in b.levels], fontsize=8)
         ax.set_xlim(-0.3, len(b.levels) - 0.7)
         ax.set_xlabel(b.axis_label, fontsize=8)

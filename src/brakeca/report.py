@@ -518,12 +518,19 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         "term coded -1/+1 (for an orthogonal design, the mean at the second level less the "
         "mean at the first), "
         + (
-            "for the terms of the model given (the ANOVA's, reduced by backward elimination)"
+            "for the terms of the ANOVA's model (of the order asked for, or reduced by "
+            "backward elimination)"
             if attrs.get("terms_given")
             else "for every effect the design can estimate (one term per alias chain)"
         )
         + f"; {how}. Significant effects (p < {alpha:g}) in bold."
     )
+    if not attrs.get("terms_given") and "order" in frame.columns and (frame["order"] >= 3).any():
+        caption += (
+            " It keeps interactions of three or more factors, which the ANOVA above leaves in "
+            "its residual, so the two tables' errors, and their p values, differ; the design's "
+            "model_order (brakeca analyze --order) fits the same terms in both."
+        )
     curvature = attrs.get("curvature") or {}
     if attrs.get("center_points") and not _is_missing(curvature.get("p_value", math.nan)):
         caption += (
@@ -947,6 +954,15 @@ def render_report(
         table, note = _anova_table(frame)
         typ = frame.attrs.get("typ")
         info = f"{typ} ANOVA of {response}" if typ else f"ANOVA of {response}"
+        if frame.attrs.get("order") not in (None, 2):
+            info += f", terms up through {frame.attrs['order']} factor" + (
+                "s" if frame.attrs["order"] != 1 else ""
+            )
+        if frame.attrs.get("alpha_to_remove") is not None:
+            info += (
+                ", reduced by backward elimination (alpha to remove "
+                f"{float(frame.attrs['alpha_to_remove']):g}; the note names the terms removed)"
+            )
         if unit:
             info += f"; sums of squares and mean squares in ({unit})²"
         info += "." + _model_summary_text(frame.attrs, unit) + _curvature_text(frame)

@@ -108,7 +108,9 @@ def test_centre_points_need_two_level_numeric_factors() -> None:
         design_from_dict({**base, "factors": choice})
     # an integer field whose middle is not whole: named, with the level
     rows = [{"name": "rows", "field": "mesh.n_radial", "levels": [21, 40]}]
-    with pytest.raises(ConfigError, match=r"factor 'rows' \(field mesh\.n_radial\): level 30\.5"):
+    with pytest.raises(
+        ConfigError, match=r"center_points: factor 'rows' .*its centre point, 30\.5"
+    ):
         design_from_dict({**base, "factors": rows})
     whole = design_from_dict(
         {**base, "factors": [{"name": "rows", "field": "mesh.n_radial", "levels": [21, 41]}]}
@@ -268,7 +270,8 @@ def test_effects_with_centre_points_are_the_saturated_model_with_a_centre_point_
     terms = dict(_NAMES, **{"A:B:C": "x1:x2:x3", "Ct Pt": "ct"})
     assert effects["term"].iloc[-1] == "Ct Pt"  # last, as Minitab's coded coefficients end
     ct = effects.iloc[-1]
-    assert math.isnan(ct["effect"]) and math.isnan(ct["se"]) and ct["order"] == 0
+    assert math.isnan(ct["effect"]) and ct["order"] == 0
+    assert ct["se"] == pytest.approx(2.0 * fit.bse["ct"], rel=1e-9)  # as the other rows
     assert ct["t"] == pytest.approx(fit.tvalues["ct"], rel=1e-9)
     assert ct["significant"] == (fit.pvalues["ct"] < 0.05)
     for _, row in effects.iloc[:-1].iterrows():

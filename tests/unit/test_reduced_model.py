@@ -110,7 +110,10 @@ def test_the_reduced_models_residuals_and_effects_follow_the_anova() -> None:
     assert "model given" in result["effects"].attrs["note"]
     from brakeca.report import _effects_table
 
-    assert "for the terms of the model given" in _effects_table("y", result["effects"])[1]
+    assert (
+        "for the terms of the ANOVA's model (of the order asked for, or reduced"
+        in (_effects_table("y", result["effects"])[1])
+    )
     # without it: the whole model
     whole = analysis.analyze(runs, FACTORS, ["y"])["y"]["anova"]
     assert len(whole) == 7 and "backward" not in whole.attrs["note"]
@@ -358,3 +361,34 @@ def test_a_term_that_is_a_word_of_the_defining_relation_is_aliased_with_the_mean
         "A:B:C (aliased with the mean: a word of the design's defining relation)"
         in (table.attrs["note"])
     )
+
+
+def test_the_report_says_the_anova_is_reduced_or_of_another_order() -> None:
+    from brakeca.report import render_report
+
+    runs = _runs({"A": 1.0, "A:B": 0.5})
+    reduced = analysis.anova(runs, FACTORS, "y", alpha_to_remove=0.1)
+    three = analysis.anova(runs, FACTORS, "y", interactions=3)
+    assert reduced.attrs["alpha_to_remove"] == 0.1 and three.attrs["order"] == 3
+    html = render_report(
+        title="t",
+        design_table=pd.DataFrame({"test": [1]}),
+        summary=runs,
+        anova_tables={"y": reduced, "z": three},
+        figures={},
+        config_text="",
+        version="0",
+    )
+    assert "reduced by backward elimination (alpha to remove 0.1" in html
+    assert "terms up through 3 factors" in html
+
+
+def test_the_effects_caption_says_when_it_fits_more_than_the_anova() -> None:
+    from brakeca.report import _effects_table
+
+    runs = _runs({"A": 1.0}, replicates=2)  # replicated 2^3: A:B:C estimable
+    default = analysis.analyze(runs, FACTORS, ["y"])["y"]["effects"]
+    assert "A:B:C" in list(default["term"])
+    assert "keeps interactions of three or more factors" in _effects_table("y", default)[1]
+    three = analysis.analyze(runs, FACTORS, ["y"], max_order=3)["y"]["effects"]
+    assert "keeps interactions of three" not in _effects_table("y", three)[1]
