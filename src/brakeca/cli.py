@@ -1333,6 +1333,13 @@ def show_design(
             markup=False,
             highlight=False,
         )
+    if loaded.center_points and loaded.center_points * loaded.replicates == 1:
+        out.print(
+            "note: one centre point run tests curvature but gives no pure error (two or more "
+            "do: the error of an unreplicated design without its interactions)",
+            markup=False,
+            highlight=False,
+        )
     if loaded.model_order is not None:
         out.print(
             f"the report's ANOVA model: terms up through {loaded.model_order} factor"
@@ -1427,6 +1434,9 @@ def _factor_cells(design: Any, factor: Any) -> tuple[str, str, str, list[str], s
         text = factor.choices[k] if factor.choices is not None else f"{value:g}"
         label = factor.label_of(value)
         levels.append(text if label == text else f"{label} = {text}")
+    if design.center_points:  # where the centre points put it
+        centre = design.center_levels()[factor.name]
+        levels.append(f"centre = {centre:g}" + (" (geometric)" if factor.coding == "log" else ""))
     coding = ""
     if design.is_response_surface and not factor.categorical:
         coding = "log10" if factor.coding == "log" else "linear"

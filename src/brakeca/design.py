@@ -1593,19 +1593,41 @@ class Design(_Frozen):
 
     #: the whole-number keys and what each takes, for the refusal of text and floats, which
     #: pydantic would take for whole numbers ("1" and 1.0 as 1)
-    _WHOLE_NUMBERS: ClassVar[dict[str, str]] = {
-        "root_seed": "a whole number, 0 <= root_seed < 2**128",
-        "center_points": "a whole number of centre points, 0 to 100",
-        "model_order": "the most factors in a model term, a whole number from 1",
-        "anova_type": "2 or 3 (a whole number)",
+    _WHOLE_NUMBERS: ClassVar[dict[str, tuple[str, int, int]]] = {
+        "root_seed": ("a whole number, 0 <= root_seed < 2**128", 0, 2**128 - 1),
+        "center_points": ("a whole number of centre points, 0 to 100", 0, 100),
+        "model_order": ("the most factors in a model term, a whole number from 1 to 10", 1, 10),
+        "anova_type": ("2 or 3 (a whole number)", 2, 3),
     }
 
     @field_validator(*_WHOLE_NUMBERS, mode="before")
     @classmethod
     def _whole_number(cls, value: Any, info: ValidationInfo) -> Any:
-        if isinstance(value, str | float):
-            expected = cls._WHOLE_NUMBERS[str(info.field_name)]
+        """Text and floats are refused, and a number out of range gets the whole range."""
+        expected, low, high = cls._WHOLE_NUMBERS[str(info.field_name)]
+        if value is None and info.field_name == "model_order":
+            return value
+        out_of_range = (
+            isinstance(value, int) and not isinstance(value, bool) and not low <= value <= high
+        )
+        if isinstance(value, str | float) or out_of_range:
             raise ValueError(f"expected {expected}, got {value!r}")
+        return value
+
+    @field_validator("alpha_to_remove", mode="before")
+    @classmethod
+    def _a_level(cls, value: Any) -> Any:
+        """alpha_to_remove is a number above 0 and below 1 (not text, which pydantic takes)."""
+        if value is None:
+            return value
+        if (
+            isinstance(value, bool | str)
+            or not isinstance(value, int | float)
+            or not (0 < value < 1)
+        ):
+            raise ValueError(
+                f"expected a level above 0 and below 1 (0.1 in Minitab), got {value!r}"
+            )
         return value
 
     @field_validator("foldover", mode="before")

@@ -431,3 +431,36 @@ def test_the_interaction_plot_marks_the_centre_points_mean(tmp_path) -> None:
         for line in ax.get_lines()
         if line.get_label() == "centre points"
     ]
+
+
+def test_brakeca_design_shows_the_centre_and_notes_a_single_centre_point(tmp_path) -> None:
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    res = CliRunner().invoke(
+        app, ["design", "screen_center", "--no-tests"], env={"COLUMNS": "200"}, terminal_width=200
+    )
+    assert res.exit_code == 0, res.output
+    assert "centre = 1e-14 (geometric)" in res.output and "centre = 0.5" in res.output
+    assert "one centre point run" not in res.output
+    one = tmp_path / "one.toml"
+    one.write_text(_design(center_points=1).to_toml(), encoding="utf-8")
+    res = CliRunner().invoke(app, ["design", str(one), "--no-tests"])
+    assert res.exit_code == 0 and "one centre point run tests curvature but gives no" in (
+        res.output
+    )
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        ("center_points", 101, "a whole number of centre points, 0 to 100, got 101"),
+        ("model_order", 0, "the most factors in a model term, a whole number from 1 to 10, got 0"),
+        ("alpha_to_remove", 1, "a level above 0 and below 1 .0.1 in Minitab., got 1"),
+        ("alpha_to_remove", "0.1", "a level above 0 and below 1"),
+    ],
+)
+def test_out_of_range_keys_give_the_whole_range(key, value, message) -> None:
+    with pytest.raises(ConfigError, match=f"{key}: expected {message}"):
+        _design(**{key: value})
