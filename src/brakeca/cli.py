@@ -1184,6 +1184,14 @@ def power(
             shown,
         )
     out.print(table)
+    if loaded.center_points:
+        out.print(
+            f"runs: the design's tests, its {loaded.center_points} centre point"
+            f"{'s' if loaded.center_points != 1 else ''} among them, each run as often as the "
+            "replicates say (centre points too); their pure error is in the error df",
+            markup=False,
+            highlight=False,
+        )
     if effect is not None and target is not None and (table_data["power"] < target).any():
         out.print(
             "some factors do not reach the power with the most replicates tried "
@@ -1343,7 +1351,13 @@ def show_design(
     if loaded.model_order is not None:
         out.print(
             f"the report's ANOVA model: terms up through {loaded.model_order} factor"
-            f"{'s' if loaded.model_order != 1 else ''} (model_order)",
+            f"{'s' if loaded.model_order != 1 else ''} (model_order)"
+            + (
+                f"; the design has {len(loaded.factors)}, so every interaction the data can "
+                "estimate"
+                if loaded.model_order > len(loaded.factors)
+                else ""
+            ),
             markup=False,
             highlight=False,
         )

@@ -464,3 +464,15 @@ def test_brakeca_design_shows_the_centre_and_notes_a_single_centre_point(tmp_pat
 def test_out_of_range_keys_give_the_whole_range(key, value, message) -> None:
     with pytest.raises(ConfigError, match=f"{key}: expected {message}"):
         _design(**{key: value})
+
+
+def test_brakeca_power_says_its_runs_include_the_centre_points() -> None:
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    res = CliRunner().invoke(
+        app, ["power", "screen_center", "--effect", "0.02", "--sigma", "0.013", "--replicates", "1"]
+    )
+    assert res.exit_code == 0, res.output
+    assert "its 4 centre points among them" in res.output

@@ -1513,3 +1513,11 @@ def test_model_order_is_a_whole_number_written_and_announced(tmp_path):
     for bad in (0, 11, 2.0, "2"):
         with pytest.raises(ConfigError, match="model_order"):
             design_from_dict({**data, "model_order": bad})
+
+
+def test_a_model_order_above_the_factors_is_noted(tmp_path):
+    data = {**_paper_dict(), "model_order": 7}
+    written = tmp_path / "seven.toml"
+    written.write_text(design_from_dict(data).to_toml(), encoding="utf-8")
+    res = CliRunner().invoke(app, ["design", str(written), "--no-tests"])
+    assert res.exit_code == 0 and "the design has 4, so every interaction" in res.output
