@@ -12,6 +12,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
+import difflib
 import math
 import re
 import tomllib
@@ -726,6 +727,31 @@ def _allowed_range(model: Any, loc: Sequence[Any]) -> str | None:
     return f"{left}{low:g}, {high:g}{right}"
 
 
+def _known_keys(model: Any, loc: Sequence[Any]) -> list[str] | None:
+    """The keys the table at ``loc`` (field names, no list indexes) in ``model`` takes,
+    following nested models, the items of lists of them and optional ones; None where
+    ``loc`` leads elsewhere."""
+    import typing
+
+    from pydantic import BaseModel
+
+    def is_model(cls: Any) -> bool:
+        return isinstance(cls, type) and issubclass(cls, BaseModel)
+
+    def model_in(annotation: Any) -> Any:
+        if is_model(annotation):
+            return annotation
+        args = [a for a in typing.get_args(annotation) if a is not type(None)]
+        return args[0] if args else None
+
+    cls = model
+    for part in loc:
+        if not is_model(cls) or part not in cls.model_fields:
+            return None
+        cls = model_in(cls.model_fields[part].annotation)
+    return list(cls.model_fields) if is_model(cls) else None
+
+
 def format_validation_error(exc: ValidationError, source: str, model: Any = None) -> str:
     """Turn a pydantic error into lines ``source: field.path: problem (got value)``.
 
@@ -747,6 +773,10 @@ def format_validation_error(exc: ValidationError, source: str, model: Any = None
         msg = err["msg"]
         if err["type"] == "extra_forbidden":
             msg = "unknown key"
+            keys = _known_keys(model, [p for p in err["loc"][:-1] if not isinstance(p, int)])
+            close = difflib.get_close_matches(str(err["loc"][-1]), keys or [], n=1, cutoff=0.6)
+            if close:
+                msg += f" (did you mean {close[0]!r}?)"
         elif err["type"] == "missing":
             msg = "required field is missing"
         elif err["type"] == "value_error":

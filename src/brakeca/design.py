@@ -2644,14 +2644,14 @@ def design_from_dict(
     try:
         design = Design.model_validate(data)
     except ValidationError as exc:
-        raise ConfigError(format_validation_error(exc, source)) from None
+        raise ConfigError(format_validation_error(exc, source, Design)) from None
     base_dir = Path(root) if root is not None else Path.cwd()
     if design.runs_file is not None:  # kept inline: the design stands alone without the CSV
         rows = _read_runs_csv(base_dir / design.runs_file, design.factors, f"{source}: runs_file")
         try:
             design = Design.model_validate({**data, "runs": rows, "runs_file": None})
         except ValidationError as exc:
-            raise ConfigError(format_validation_error(exc, source)) from None
+            raise ConfigError(format_validation_error(exc, source, Design)) from None
     factors = []
     for f in design.factors:  # cycle files relative to the design file
         if f.field == "cycle" and f.choices is not None:

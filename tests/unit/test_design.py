@@ -1521,3 +1521,30 @@ def test_a_model_order_above_the_factors_is_noted(tmp_path):
     written.write_text(design_from_dict(data).to_toml(), encoding="utf-8")
     res = CliRunner().invoke(app, ["design", str(written), "--no-tests"])
     assert res.exit_code == 0 and "the design has 4, so every interaction" in res.output
+
+
+@pytest.mark.parametrize(
+    ("key", "path", "suggestion"),
+    [
+        ({"center_point": 4}, "center_point", "center_points"),
+        ({"replicate": 2}, "replicate", "replicates"),
+        ({"anova_typ": 3}, "anova_typ", "anova_type"),
+    ],
+)
+def test_a_mistyped_design_key_gets_a_suggestion(key, path, suggestion):
+    with pytest.raises(ConfigError, match=f"{path}: unknown key \\(did you mean '{suggestion}'"):
+        design_from_dict({**_paper_dict(), **key})
+
+
+def test_a_mistyped_factor_or_configuration_key_gets_a_suggestion():
+    from brakeca.config import SimulationConfig
+
+    data = _paper_dict()
+    data["factors"] = [dict(data["factors"][0], lable="fibres"), *data["factors"][1:]]
+    with pytest.raises(ConfigError, match=r"factors\.0\.lable: unknown key \(did you mean 'label'"):
+        design_from_dict(data)
+    with pytest.raises(ConfigError, match=r"mesh\.n_radail: unknown key \(did you mean 'n_radial'"):
+        SimulationConfig.from_toml("[mesh]\nn_radail = 21\n", source="cfg")
+    with pytest.raises(ConfigError) as far:  # nothing close: no guess
+        design_from_dict({**_paper_dict(), "colour": "red"})
+    assert "colour: unknown key (got 'red')" in str(far.value)
