@@ -783,6 +783,14 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
         "deviation; R²(pred) from the PRESS statistic, each run predicted by the model fitted "
         "without it)."
     )
+    pred = attrs.get("r_squared_pred", math.nan)
+    if not _is_missing(pred) and float(pred) < 0.0:
+        text += (
+            " R²(pred) below 0: the model predicts a run left out worse than the mean of the "
+            "others does. In a design with few runs per term (an unreplicated factorial) each "
+            "run carries much of its own fit (high leverage), so the model may describe these "
+            "runs well and still predict new ones poorly."
+        )
     p_lof = attrs.get("lack_of_fit_p", math.nan)
     if not _is_missing(p_lof):
         p_text = format_p_value(p_lof)

@@ -392,3 +392,13 @@ def test_a_stationary_value_of_the_wrong_sign_is_called_out(tmp_path) -> None:
     assert fit.stationary is not None and fit.stationary["predicted"] < 0.0
     html = render_report(**make_inputs(tmp_path), surface_fits={"V": fit})
     assert "(not positive, though every run&#39;s V is: the quadratic does not keep" in html
+
+
+def test_model_summary_text_reads_a_negative_predicted_r_squared() -> None:
+    from brakeca.report import _model_summary_text
+
+    attrs = {"s": 0.04, "r_squared": 0.98, "r_squared_adj": 0.92}
+    text = _model_summary_text({**attrs, "r_squared_pred": -2.9788}, None)
+    assert "R²(pred) = -297.88 %" in text and "R²(pred) below 0: the model predicts" in text
+    assert "below 0" not in _model_summary_text({**attrs, "r_squared_pred": 0.5}, None)
+    assert "below 0" not in _model_summary_text({**attrs, "r_squared_pred": math.nan}, None)
