@@ -832,8 +832,6 @@ def analyze(
     anova_type: Annotated[
         int | None,
         typer.Option(
-            min=2,
-            max=3,
             metavar="2|3",
             help="the ANOVA's sums of squares: 2 (Type II) or 3 (Type III, adjusted, as "
             "Minitab and JMP); by default the design's anova_type (2 unless set)",
@@ -844,11 +842,9 @@ def analyze(
         typer.Option(
             "--order",
             metavar="K",
-            min=1,
-            max=10,
-            help="the ANOVA model's terms up through K factors: 1 main effects, 2 with the "
-            "two-factor interactions, 3 with the three-factor ones (Minitab's 'terms up "
-            "through order'); by default the design's model_order (2, or main effects for a "
+            help="the ANOVA model's terms up through K factors (1 to 10): 1 main effects, 2 "
+            "with the two-factor interactions, 3 with the three-factor ones (Minitab's 'terms "
+            "up through order'); by default the design's model_order (2, or main effects for a "
             "Plackett-Burman design, unless set)",
         ),
     ] = None,
@@ -870,6 +866,10 @@ def analyze(
 
     if reduce is not None and not 0.0 < reduce < 1.0:
         _fail(f"--reduce: expected a level above 0 and below 1, got {reduce!r}")
+    if anova_type is not None and anova_type not in (2, 3):
+        _fail(f"--anova-type: expected 2 (Type II) or 3 (Type III, adjusted), got {anova_type}")
+    if order is not None and not 1 <= order <= 10:
+        _fail(f"--order: expected the most factors in a model term, 1 to 10, got {order}")
     try:
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:

@@ -162,7 +162,7 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     assert res.exit_code == 0, res.output
     assert "Type III (adjusted) ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
     res = CliRunner().invoke(app, ["analyze", str(out), "--anova-type", "1"])
-    assert res.exit_code != 0 and "--anova-type" in res.output
+    assert res.exit_code != 0 and "--anova-type: expected 2 (Type II) or 3" in res.output
     # a reduced model on request: the ANOVA's note names what backward elimination removed,
     # and the residual plots are of the same model
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--reduce", "0.5"])
@@ -174,6 +174,10 @@ def test_rerun_reuses_and_analyze_rewrites(campaign):
     for bad in ("0", "1"):
         res = CliRunner().invoke(app, ["analyze", str(out), "--reduce", bad])
         assert res.exit_code != 0 and "--reduce" in res.output
+    res = CliRunner().invoke(app, ["analyze", str(out), "--order", "0"])
+    assert res.exit_code != 0 and "--order: expected the most factors in a model term, 1 to 10" in (
+        res.output
+    )
     # the model's order on request: main effects only
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--order", "1"])
     assert res.exit_code == 0, res.output
