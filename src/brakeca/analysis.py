@@ -309,9 +309,17 @@ def _cube(data: pd.DataFrame, factors: Sequence[Factor]) -> pd.DataFrame:
     return data.loc[~_center_mask(data, factors)]
 
 
-def _count(n: int, what: str) -> str:
-    """``"1 centre point"``, ``"3 centre points"``."""
-    return f"{n} {what}{'' if n == 1 else 's'}"
+def _with_centre_rows(x: np.ndarray, n_c: int, *, indicator: bool = True) -> np.ndarray:
+    """The model matrix ``x`` [-] of the runs at the factors' levels (its first column the
+    intercept) followed by ``n_c`` centre points' rows: 1 in the intercept and 0 in every
+    other column (a factor coded -1/+1 is 0 midway), and with ``indicator`` a last column
+    that is 1 on the centre points alone (Minitab's "Ct Pt"), which fits their mean."""
+    centre = np.zeros((n_c, x.shape[1]))
+    centre[:, 0] = 1.0
+    out = np.vstack([x, centre])
+    if indicator:
+        out = np.column_stack([out, np.r_[np.zeros(len(x)), np.ones(n_c)]])
+    return out
 
 
 def _codes(data: pd.DataFrame, factor: Factor) -> np.ndarray:
@@ -938,11 +946,8 @@ def _with_curvature(
     n_c = y_center.size
     y = np.concatenate([y_cube, y_center])
     coded = np.hstack([np.ones((y_cube.size, 1)), *(_term_columns(frame, t) for t in terms)])
-    at_centre = np.zeros((n_c, coded.shape[1]))
-    at_centre[:, 0] = 1.0
-    reduced = np.vstack([coded, at_centre])
-    indicator = np.concatenate([np.zeros(y_cube.size), np.ones(n_c)])[:, None]
-    sse = _sse(np.hstack([reduced, indicator]), y)
+    reduced = _with_centre_rows(coded, n_c, indicator=False)
+    sse = _sse(_with_centre_rows(coded, n_c), y)
     rows = table.drop(index="Residual")[["df", "sum_sq"]].astype(float)
     rows.loc[CURVATURE] = [1.0, max(_sse(reduced, y) - sse, 0.0)]
     df_resid = float(table.loc["Residual", "df"]) + n_c - 1
@@ -951,12 +956,7 @@ def _with_curvature(
         rows["F"] = (rows["sum_sq"] / rows["df"].where(rows["df"] > 0)) / mean_resid
     rows["PR(>F)"] = stats.f.sf(rows["F"], rows["df"], df_resid)
     rows.loc["Residual"] = [df_resid, sse, np.nan, np.nan]
-    exog_all = np.vstack(
-        [
-            np.hstack([exog, np.zeros((y_cube.size, 1))]),
-            np.hstack([at_centre[:, :1], np.zeros((n_c, exog.shape[1] - 1)), np.ones((n_c, 1))]),
-        ]
-    )
+    exog_all = _with_centre_rows(exog, n_c)
     cells = [c for c in frame.columns if c != "y"]
     centre_rows = pd.DataFrame({"y": y_center, **{c: "centre" for c in cells}})
     return rows, exog_all, y, pd.concat([frame, centre_rows], ignore_index=True)
@@ -1178,11 +1178,8 @@ def _eliminate(
 
     def fit(names: Sequence[str]) -> tuple[float, int]:
         x = np.hstack([np.ones((y_cube.size, 1)), *(blocks[t] for t in names)])
-        if n_c:  # the centre points: every column 0 but the intercept and their indicator
-            centre = np.zeros((n_c, x.shape[1]))
-            centre[:, 0] = 1.0
-            x = np.vstack([x, centre])
-            x = np.hstack([x, np.r_[np.zeros(y_cube.size), np.ones(n_c)][:, None]])
+        if n_c:
+            x = _with_centre_rows(x, n_c)
         return _sse(x, y), int(np.linalg.matrix_rank(x))
 
     kept: list[str] = list(terms)
@@ -1543,12 +1540,12 @@ def _model_arrays(
     cube = _exog(frame, terms, y.size - n_c)
     if not n_c:
         return data, y, cube, formula
-    # the centre points' rows: the intercept and the indicator ("Ct Pt"), which fits their
-    # mean whatever their other columns hold
-    exog = np.zeros((y.size, cube.shape[1] + 1))
-    exog[~centre, :-1] = cube
-    exog[centre, 0] = 1.0
-    exog[centre, -1] = 1.0
+    # the centre points' rows (the intercept and the indicator, "Ct Pt", which fits their
+    # mean whatever their other columns hold), put back in the runs' order
+    stacked = _with_centre_rows(cube, n_c)
+    exog = np.empty_like(stacked)
+    exog[~centre] = stacked[: len(cube)]
+    exog[centre] = stacked[len(cube) :]
     return data, y, exog, formula
 
 
@@ -1972,6 +1969,8 @@ def two_level_effects(
     """
     from scipy import stats
 
+    from brakeca.design import _points  # "1 centre point", "3 centre points"
+
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     centre = _center_mask(data, factors)
@@ -2038,9 +2037,7 @@ def two_level_effects(
     y_all = y
     curvature: dict[str, Any] = dict.fromkeys(("coefficient", "se", "t", "p_value"), math.nan)
     if n_c:  # the centre points: every factor 0, and an indicator that fits their mean
-        exog = np.vstack([exog, np.zeros((n_c, exog.shape[1]))])
-        exog[y.size :, 0] = 1.0
-        exog = np.column_stack([exog, np.r_[np.zeros(y.size), np.ones(n_c)]])
+        exog = _with_centre_rows(exog, n_c)
         y_all = np.concatenate([y, y_center])
     coef, *_ = np.linalg.lstsq(exog, y_all, rcond=None)
     k = len(terms)
@@ -2051,7 +2048,8 @@ def two_level_effects(
     # the columns are correlated)
     inverse = np.diag(np.linalg.pinv(exog.T @ exog))
     relative = y.size * inverse[1 : 1 + k]
-    vif = _vif(exog)[1 : 1 + k]
+    vifs = _vif(exog)  # the terms', then the indicator's with centre points
+    vif = vifs[1 : 1 + k]
     if method != "Lenth":  # the fitted effects' residual mean square, as Minitab's
         mse = float(np.sum((y_all - exog @ coef) ** 2)) / df_resid
         se = 2.0 * np.sqrt(mse * relative / y.size)
@@ -2102,7 +2100,7 @@ def two_level_effects(
             "se": 2.0 * curvature["se"],  # as the other rows': t = 2 coefficient / se
             "t": curvature["t"],
             "p_value": curvature["p_value"],
-            "vif": float(_vif(exog)[-1]),
+            "vif": float(vifs[-1]),
             "significant": bool(curvature["p_value"] < alpha),
             "aliases": " + ".join(single),
         }
@@ -2140,7 +2138,7 @@ def two_level_effects(
         )
     if n_c:
         notes.append(
-            f"{_count(n_c, 'centre point')} fitted by {'its' if n_c == 1 else 'their'} own "
+            f"{_points(n_c, 'centre point')} fitted by {'its' if n_c == 1 else 'their'} own "
             "term (Ct Pt), which keeps them out of the effects"
             + (
                 ": with one centre point the saturated model has no error to test curvature "
