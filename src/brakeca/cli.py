@@ -862,7 +862,7 @@ def analyze(
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
     from brakeca.campaign import finish_campaign
-    from brakeca.study import write_study
+    from brakeca.study import check_max_order, write_study
 
     if reduce is not None and not 0.0 < reduce < 1.0:
         _fail(f"--reduce: expected a level above 0 and below 1, got {reduce!r}")
@@ -874,11 +874,10 @@ def analyze(
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         _fail(str(exc))
-    if order is not None and result.design.is_response_surface:
-        _fail(
-            "--order: a response-surface design's report fits a quadratic surface, not a "
-            "factorial model of some order"
-        )
+    try:
+        check_max_order(result.design, order)  # before the summary is printed
+    except ValueError as exc:
+        _fail("--order: " + str(exc).removeprefix("max_order: "))
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
         path = write_study(

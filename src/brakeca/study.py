@@ -395,6 +395,22 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
     return summary.assign(**rows), note
 
 
+def check_max_order(design: Any, max_order: int | None) -> None:
+    """Refuse a model order for a response-surface design (:func:`write_study`'s
+    ``max_order``), whose report fits a quadratic surface instead.
+
+    Raises
+    ------
+    ValueError
+        ``max_order`` given for a response-surface design.
+    """
+    if max_order is not None and design.is_response_surface:
+        raise ValueError(
+            "max_order: a response-surface design's report fits a quadratic surface, not a "
+            "factorial model of some order"
+        )
+
+
 def write_study(
     result: CampaignResult,
     *,
@@ -442,11 +458,7 @@ def write_study(
     typ = result.design.anova_type if anova_type is None else anova_type
     alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
     surface_design = result.design.is_response_surface
-    if max_order is not None and result.design.is_response_surface:
-        raise ValueError(
-            "max_order: a response-surface design's report fits a quadratic surface, not a "
-            "factorial model of some order"
-        )
+    check_max_order(result.design, max_order)
     order = result.design.model_order if max_order is None else max_order
     tables = analysis.analyze(
         data,
