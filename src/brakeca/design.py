@@ -2158,6 +2158,14 @@ class Design(_Frozen):
         Box-Behnken design, whose analysis fits a quadratic surface (:mod:`brakeca.rsm`)."""
         return self.surface_design is not None
 
+    @property
+    def anova_order(self) -> int:
+        """The most factors in a term of the report's ANOVA model [-]: :attr:`model_order`,
+        else 1 for a Plackett-Burman design (its main effects alone), else 2."""
+        if self.model_order is not None:
+            return self.model_order
+        return 1 if self.plackett_burman is not None else 2
+
     def _parsed_generators(self) -> tuple[_Generator, ...]:
         return _parse_generators(self.generators, self.factors) if self.generators else ()
 

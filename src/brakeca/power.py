@@ -124,11 +124,7 @@ def _factor_tests(design: Design, replicates: int) -> dict[str, tuple[float, flo
             frame.assign(y=y),
             factors,
             "y",
-            interactions=(
-                design.model_order
-                if design.model_order is not None
-                else design.plackett_burman is None
-            ),
+            interactions=design.anova_order,
             typ=design.anova_type,
         ).set_index("term")
 

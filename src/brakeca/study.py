@@ -459,7 +459,7 @@ def write_study(
     alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
     surface_design = result.design.is_response_surface
     check_max_order(result.design, max_order)
-    order = result.design.model_order if max_order is None else max_order
+    order = result.design.anova_order if max_order is None else max_order
     tables = analysis.analyze(
         data,
         factors,
@@ -500,7 +500,7 @@ def write_study(
         data,
         factors,
         surfaces,
-        interactions=order if order is not None else result.design.plackett_burman is None,
+        interactions=order,
         alpha_to_remove=None if surface_design else alpha,
     )
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
