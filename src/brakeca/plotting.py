@@ -154,6 +154,12 @@ def _finite_response(summary: pd.DataFrame, response: str) -> np.ndarray:
 # --- main effects and interactions (Figures 6 to 9) ------------------------------------------
 
 
+def _mark_centre(ax: Any, value: float) -> None:
+    """The centre points' mean ``value`` [plotted unit] as a black diamond midway between a
+    two-level factor's levels (at x = 0.5), labelled for the legend."""
+    ax.plot([0.5], [value], "D", color="#222222", ms=6, label="centre points")
+
+
 def plot_main_effects(
     summary: pd.DataFrame,
     factors: Iterable[Any],
@@ -202,7 +208,7 @@ def plot_main_effects(
         if math.isfinite(grand):
             ax.axhline(grand, ls="--", lw=1.0, color="0.45", label="grand mean")
         if centre is not None and len(rows) == 2:
-            ax.plot([0.5], [centre * scale], "D", color="#222222", ms=6, label="centre points")
+            _mark_centre(ax, centre * scale)
         ax.set_xticks(x, [_tick_label(factor, lv) for lv in rows["level"]])
         ax.set_xlim(-0.4, len(rows) - 0.6)
         ax.set_xlabel(factor.axis_label)
@@ -286,7 +292,7 @@ def plot_interactions(
                 label=_legend_label(a, level),
             )
         if centre is not None and len(b.levels) == 2:  # as in the main-effects plot
-            ax.plot([0.5], [centre * scale], "D", color="#222222", ms=6, label="centre points")
+            _mark_centre(ax, centre * scale)
         ax.set_xticks(x, [_tick_label(b, lv) for lv in b.levels], fontsize=8)
         ax.set_xlim(-0.3, len(b.levels) - 0.7)
         ax.set_xlabel(b.axis_label, fontsize=8)

@@ -793,8 +793,7 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
         )
     p_lof = attrs.get("lack_of_fit_p", math.nan)
     if not _is_missing(p_lof):
-        p_text = format_p_value(p_lof)
-        p_text = p_text if p_text.startswith("<") else f"= {p_text}"
+        p_text = _p_relation(p_lof)
         text += (
             f" The residual splits into pure error ({float(attrs['pure_error_df']):.0f} df: the "
             f"scatter between runs of the same levels) and lack of fit "
@@ -808,6 +807,12 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
                 "or stationary point of the model carry that misfit; read them as approximate."
             )
     return text
+
+
+def _p_relation(p: Any) -> str:
+    """A p-value for a sentence, ``"p " + this``: ``"< 0.001"`` or ``"= 0.011"``."""
+    text = format_p_value(p)
+    return text if text.startswith("<") else f"= {text}"
 
 
 def _centre_points_text(n: int) -> str:
@@ -841,8 +846,7 @@ def _curvature_text(frame: pd.DataFrame) -> str:
             else "F and p are not defined; see the note"
         )
         return what + f"; not tested ({why})."
-    p_text = format_p_value(p)
-    p_text = p_text if p_text.startswith("<") else f"= {p_text}"
+    p_text = _p_relation(p)
     if float(p) < 0.05:
         return (
             what + f", p {p_text}: significant, so the response is not linear in the factors "
