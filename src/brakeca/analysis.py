@@ -962,18 +962,24 @@ def _with_curvature(
     return rows, exog_all, y, pd.concat([frame, centre_rows], ignore_index=True)
 
 
-def _check_alpha_to_remove(alpha: Any) -> None:
-    if alpha is None:
-        return
+def alpha_problem(alpha: Any) -> str | None:
+    """What is wrong with ``alpha`` as an alpha to remove [-] (a number above 0 and below 1,
+    not text or a bool), or None when nothing is: the one rule of every place that takes one
+    (a design's ``alpha_to_remove``, ``brakeca analyze --reduce``, :func:`anova`,
+    :func:`brakeca.rsm.backward_elimination`), which each prefix with their own name."""
     if (
-        isinstance(alpha, bool | np.bool_)
+        isinstance(alpha, bool | np.bool_ | str)
         or not isinstance(alpha, numbers.Real)
         or not (0.0 < float(alpha) < 1.0)
     ):
-        raise ValueError(
-            f"alpha_to_remove: expected a significance level between 0 and 1 (0.1 in "
-            f"Minitab), got {alpha!r}"
-        )
+        return f"expected a level above 0 and below 1 (0.1 in Minitab), got {alpha!r}"
+    return None
+
+
+def _check_alpha_to_remove(alpha: Any) -> None:
+    problem = None if alpha is None else alpha_problem(alpha)
+    if problem:
+        raise ValueError(f"alpha_to_remove: {problem}")
 
 
 def _check_anova_type(typ: Any) -> None:

@@ -861,11 +861,12 @@ def analyze(
     ] = None,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
+    from brakeca.analysis import alpha_problem
     from brakeca.campaign import finish_campaign
     from brakeca.study import check_max_order, write_study
 
-    if reduce is not None and not 0.0 < reduce < 1.0:
-        _fail(f"--reduce: expected a level above 0 and below 1, got {reduce!r}")
+    if reduce is not None and (problem := alpha_problem(reduce)):
+        _fail(f"--reduce: {problem}")
     if anova_type is not None and anova_type not in (2, 3):
         _fail(f"--anova-type: expected 2 (Type II) or 3 (Type III, adjusted), got {anova_type}")
     if order is not None and not 1 <= order <= 10:
@@ -960,6 +961,7 @@ def optimize(
     --goal, the goals of the campaign's design ([[goals]] in its file)."""
     from rich.table import Table
 
+    from brakeca.analysis import alpha_problem
     from brakeca.campaign import load_campaign
     from brakeca.design import GOAL_RESPONSES
     from brakeca.rsm import optimize as find_optimum
@@ -976,8 +978,8 @@ def optimize(
                 f"{folder}: its design has no goals; give one or more: --goal {_GOAL_FORM}"
             )
         alpha = reduce if reduce is not None else result.design.alpha_to_remove
-        if alpha is not None and not 0.0 < alpha < 1.0:
-            raise ValueError(f"--reduce: expected a level above 0 and below 1, got {alpha!r}")
+        if alpha is not None and (problem := alpha_problem(alpha)):
+            raise ValueError(f"--reduce: {problem}")
         fits = response_surfaces(
             with_log_v(result.summary),
             result.design.factors,

@@ -1618,16 +1618,11 @@ class Design(_Frozen):
     @classmethod
     def _a_level(cls, value: Any) -> Any:
         """alpha_to_remove is a number above 0 and below 1 (not text, which pydantic takes)."""
-        if value is None:
-            return value
-        if (
-            isinstance(value, bool | str)
-            or not isinstance(value, int | float)
-            or not (0 < value < 1)
-        ):
-            raise ValueError(
-                f"expected a level above 0 and below 1 (0.1 in Minitab), got {value!r}"
-            )
+        from brakeca.analysis import alpha_problem
+
+        problem = None if value is None else alpha_problem(value)
+        if problem:
+            raise ValueError(problem)
         return value
 
     @field_validator("foldover", mode="before")

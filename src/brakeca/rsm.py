@@ -51,7 +51,14 @@ import numpy as np
 import pandas as pd
 
 from brakeca.analysis import _clean as _usable_rows
-from brakeca.analysis import _fit_statistics, _is_constant, _next_to_remove, _sse, _vif
+from brakeca.analysis import (
+    _fit_statistics,
+    _is_constant,
+    _next_to_remove,
+    _sse,
+    _vif,
+    alpha_problem,
+)
 
 __all__ = [
     "ANOVA_COLUMNS",
@@ -699,8 +706,9 @@ def backward_elimination(
         The reduced fit; its ``notes`` name the terms removed, in order. The full fit when
         it has no residual degrees of freedom (no p values to judge by).
     """
-    if not 0.0 < alpha < 1.0:
-        raise ValueError(f"alpha: expected a level between 0 and 1, got {alpha!r}")
+    problem = alpha_problem(alpha)
+    if problem:
+        raise ValueError(f"alpha: {problem}")
     factors = list(factors)
     removed: list[str] = []
     fit = fit_response_surface(summary, factors, response)

@@ -126,12 +126,6 @@ def test_no_residual_degrees_of_freedom_removes_nothing() -> None:
     assert "no term removed" in table.attrs["note"]
 
 
-@pytest.mark.parametrize("bad", [0.0, 1.0, 1.5, True, "0.1"])
-def test_alpha_to_remove_is_checked(bad) -> None:
-    with pytest.raises(ValueError, match="alpha_to_remove: expected a significance level"):
-        analysis.anova(_runs({}), FACTORS, "y", alpha_to_remove=bad)
-
-
 def _drop_one_by_hand(runs: pd.DataFrame, names: list[str], alpha: float) -> list[str]:
     """Backward elimination with statsmodels' least squares, each term's p from the F test
     of dropping it alone (valid with empty cells, where the ANOVA is sequential)."""
@@ -392,3 +386,33 @@ def test_the_effects_caption_says_when_it_fits_more_than_the_anova() -> None:
     assert "keeps interactions of three or more factors" in _effects_table("y", default)[1]
     three = analysis.analyze(runs, FACTORS, ["y"], max_order=3)["y"]["effects"]
     assert "keeps interactions of three" not in _effects_table("y", three)[1]
+
+
+@pytest.mark.parametrize("bad", [0, 0.0, 1, 1.0, 1.5, -0.1, float("nan"), "0.1", True, None])
+def test_alpha_to_remove_has_one_rule_everywhere(bad):
+    """The design, anova, rsm's elimination and both commands' --reduce refuse the same
+    values with the same words (each prefixed with its own name); None means "no
+    reduction" to anova and the design, and is no level for rsm's alpha."""
+    from pydantic import ValidationError
+
+    from brakeca import rsm
+    from brakeca.design import Design
+
+    runs = _runs({"A": 1.0})
+    expected = "expected a level above 0 and below 1 (0.1 in Minitab)"
+    if bad is None:
+        assert analysis.alpha_problem(bad) is not None
+        analysis.anova(runs, FACTORS, "y", alpha_to_remove=None)
+        return
+    assert analysis.alpha_problem(bad) == f"{expected}, got {bad!r}"
+    with pytest.raises(ValueError, match=r"alpha_to_remove: expected a level above 0"):
+        analysis.anova(runs, FACTORS, "y", alpha_to_remove=bad)
+    with pytest.raises(ValueError, match=r"^alpha: expected a level above 0"):
+        rsm.backward_elimination(runs, FACTORS[:2], "y", alpha=bad)
+    factors = [{"name": "WP", "field": "wear.k_plateau", "levels": [1e-14, 1e-13]}]
+    with pytest.raises(ValidationError) as err:
+        Design.model_validate(
+            {"name": "d", "base_config": "paper", "factors": factors, "alpha_to_remove": bad}
+        )
+    assert expected in str(err.value) and "alpha_to_remove" in str(err.value)
+    assert analysis.alpha_problem(0.1) is None and analysis.alpha_problem(np.float64(0.05)) is None

@@ -354,7 +354,7 @@ def test_backward_elimination_removes_inactive_terms_and_keeps_the_hierarchy() -
     full = fit_response_surface(_montgomery(), _CODED, "yield")
     same = backward_elimination(_montgomery(), _CODED, "yield", alpha=0.2)
     assert same.terms == full.terms and same.notes == full.notes
-    with pytest.raises(ValueError, match="alpha: expected a level between 0 and 1"):
+    with pytest.raises(ValueError, match="alpha: expected a level above 0 and below 1"):
         backward_elimination(frame, codings, "y", alpha=1.0)
 
 
