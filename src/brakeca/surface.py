@@ -148,8 +148,9 @@ class _Band:
     @classmethod
     def of(cls, grid: Grid) -> _Band:
         r, th = grid.radius, grid.angle
-        dr = r[1] - r[0] if r.size > 1 else 1.0
-        dth = th[1] - th[0] if th.size > 1 else 1.0
+        dth = th[1] - th[0]  # a mesh has at least two columns
+        # one row: the radial step from the row's cell area, A_j = r_j dtheta dr
+        dr = r[1] - r[0] if r.size > 1 else grid.cell_area[0] / (r[0] * dth)
         return cls(r, th, dr, dth, r[0] - dr / 2, r[-1] + dr / 2, th[0] - dth / 2, th[-1] + dth / 2)
 
     def draw(self, pad: PadConfig, rng: np.random.Generator) -> tuple[float, ...]:
