@@ -75,7 +75,8 @@ def first_root(height, area, n_plateau, stiffness, mu_0, slope, mu_min, target):
     n_in : int
         Number of leading cells with ``h > z`` (the cells in contact).
     code : int
-        0 ok, 1 no plateau cell.
+        0 ok, 1 no plateau cell, 2 no root: with ``mu_min = 0`` the friction force has a
+        maximum (``mu(p) p`` peaks at ``mu_0^2 / 4c``), which ``target`` may exceed.
     """
     return first_root_binned(
         height,
@@ -146,6 +147,11 @@ def first_root_binned(
         z_next = h_a if h_a > zf else zf
         w_max = z_hi - z_next
         rest = target - f
+        if mu_min == 0.0 and not (w_max < math.inf):
+            # every cell is past its floor, where mu(p) p = 0: F stays at f (0 but for
+            # round-off, which could leave d a little above 0 and put a root far away), below
+            # the target; with mu_min = 0 the friction force has a maximum the demand exceeds
+            return z_hi, a, SOLVE_NO_ROOT
         # F(w) = f + d w - q w^2 <= f + d w_max on the interval: when that bound stays below the
         # target (the usual case: intervals are short) no root lies here and the quadratic is
         # not solved. The root found is the same, bit for bit.
@@ -160,7 +166,7 @@ def first_root_binned(
             if w <= w_max:
                 return z_hi - w, a, SOLVE_OK
         if not (w_max < math.inf):
-            return z_hi, a, SOLVE_NO_ROOT  # unreachable for a non-empty set; kept for safety
+            return z_hi, a, SOLVE_NO_ROOT  # unreachable with mu_min > 0; kept for safety
         f += d * w_max - q * w_max * w_max
         d -= 2.0 * q * w_max
         z_hi = z_next
@@ -204,7 +210,8 @@ def solve_disc_position(
     Raises
     ------
     ContactError
-        If there is no plateau cell or the target is not positive.
+        If there is no plateau cell, the target is not positive, or no position reaches it
+        (with ``mu_min = 0`` the friction force has a maximum).
     """
     h = np.ascontiguousarray(np.ravel(height), dtype=np.float64)
     ar = np.ascontiguousarray(np.broadcast_to(area, np.shape(height)).ravel(), dtype=np.float64)
@@ -221,6 +228,11 @@ def solve_disc_position(
         mu_min,
         target,
     )
+    if code == SOLVE_NO_ROOT:
+        raise ContactError(
+            f"no disc position gives the demanded friction force {target:.4g} N: with mu_min = 0 "
+            f"the friction force has a maximum (mu(p) p peaks at mu_0^2 / 4c), below the demand"
+        )
     if code != SOLVE_OK:
         raise ContactError("no plateau cell can reach the disc")
     return z

@@ -31,6 +31,7 @@ from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
 from brakeca.geometry import Grid, make_grid
 from brakeca.surface import (
     NONE,
+    PRIMARY,
     SECONDARY,
     FibreField,
     Surface,
@@ -662,7 +663,13 @@ def advance_stop(
         )
         if code != K.OK:
             _raise_kernel_error(
-                code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config
+                code,
+                done,
+                stop,
+                float(targets[min(done, dt.size - 1)]),
+                rec,
+                config,
+                _plateau_area(state),
             )
         return dt, rec, counts
     if state.packed_stale:
@@ -715,7 +722,15 @@ def advance_stop(
         *_field_args(state),
     )
     if code != K.OK:
-        _raise_kernel_error(code, done, stop, float(targets[min(done, dt.size - 1)]), rec, config)
+        _raise_kernel_error(
+            code,
+            done,
+            stop,
+            float(targets[min(done, dt.size - 1)]),
+            rec,
+            config,
+            _plateau_area(state),
+        )
     return dt, rec, counts
 
 
@@ -849,8 +864,47 @@ def _check_friction(residual: float, stop: Stop, config: SimulationConfig) -> No
     )
 
 
-def _raise_kernel_error(code, done, stop: Stop, target, rec, config) -> None:
+def _plateau_area(state: SimulationState) -> float:
+    """The area [m^2] of the cells that are plateaus (primary or secondary) in ``state``."""
+    plateau = (state.status == PRIMARY) | (state.status == SECONDARY)
+    return float(state.cell_area[plateau].sum())
+
+
+def _friction_peak_note(code, target, config, plateau_area) -> str:
+    """Why a demand failed when the friction law has a maximum, or "".
+
+    With ``friction.mu_min = 0`` (and ``slope > 0``) ``mu(p) p`` peaks at ``p = mu_0 / (2c)``
+    and falls to 0 beyond ``mu_0 / c``, so the friction force has a maximum over the disc
+    position and a demand above it has no root: the solver then reports no root (which the
+    kernels call "no plateau") or a root far past the foundation's length. ``plateau_area``
+    [m^2] bounds that maximum: ``mu_0^2 / (4c)`` [Pa] times it."""
+    fr = config.friction
+    if code not in (K.ERR_NO_PLATEAU, K.ERR_BAR) or fr.mu_min != 0.0 or fr.slope <= 0.0:
+        return ""
+    if plateau_area <= 0.0:
+        return ""
+    peak = fr.mu_0 * fr.mu_0 / (4.0 * fr.slope)  # [Pa], the most mu(p) p can be
+    bound = peak * plateau_area
+    law = (
+        f"with friction.mu_min = 0 the friction law mu(p) p peaks at {peak / 1e6:.3g} MPa "
+        f"(p = mu_0 / 2c = {fr.mu_0 / (2.0 * fr.slope) / 1e6:.3g} MPa) and falls to 0 beyond "
+        f"mu_0 / c, so the friction force has a maximum over the disc position"
+    )
+    if target > bound or code == K.ERR_NO_PLATEAU:
+        return (
+            f"{law}, and the demanded friction force {target:.4g} N is above it: no disc "
+            f"position carries it (the {plateau_area * 1e6:.4g} mm^2 of plateaus give at most "
+            f"{bound:.4g} N, were they all at that pressure at once). Set friction.mu_min above "
+            "0 (the paper's floor is 0.15), or lower the demand"
+        )
+    return f" ({law}, which this demand may exceed)"
+
+
+def _raise_kernel_error(code, done, stop: Stop, target, rec, config, plateau_area) -> None:
     where = f"stop {stop.index} ({stop.block}), step {done + 1}"
+    note = _friction_peak_note(code, target, config, plateau_area)
+    if note and not note.startswith(" "):
+        raise ContactError(f"{where}: {note}")
     if code == K.ERR_NO_PLATEAU:
         raise ContactError(
             f"{where}: no plateau cell can reach the disc, so the demanded friction force "
@@ -861,7 +915,7 @@ def _raise_kernel_error(code, done, stop: Stop, target, rec, config) -> None:
         raise ContactError(
             f"{where}: reaching the demanded friction force {target:.4g} N would compress the "
             f"foundation beyond its length contact.bar_length = {config.contact.bar_length} m; "
-            "the torque cannot be reached"
+            f"the torque cannot be reached{note}"
         )
     if code == K.ERR_LEDGER:
         raise LedgerError(

@@ -304,3 +304,18 @@ def test_a_ledger_beyond_its_tolerance_stops_the_run(small, kernel):
     assert "the volume ledger residual" in message
     assert "exceeds output.ledger_tolerance = 1e-300" in message
     assert float(simulate(config, seed=1).dataset["max_ledger_residual"]) < 1e-12
+
+
+@pytest.mark.parametrize("kernel", ["exact", "lazy"])
+def test_a_demand_above_a_floorless_laws_maximum_names_the_law(small, kernel):
+    """friction.mu_min = 0: the friction force has a maximum, here below the demand. Both
+    kernels had said "no plateau cell can reach the disc", or that the foundation would be
+    compressed beyond its length (a root far away, from round-off), though plateaus touch."""
+    config = small.with_updates(
+        {"friction.mu_min": 0.0, "A": 20, "numerics.kernel": kernel, "cycle.max_stops": 1}
+    )
+    with pytest.raises(ContactError) as err:
+        simulate(config, seed=1)
+    message = str(err.value)
+    assert "friction.mu_min = 0" in message and "no disc position carries it" in message
+    assert "no plateau cell" not in message and "bar_length" not in message

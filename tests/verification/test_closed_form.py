@@ -172,3 +172,27 @@ def test_the_cycle_kinematics_by_hand():
         total += dt.size
         burnish += dt.size if stop.block == "Burnish" else 0
     assert (total, burnish) == (491_160, 81_050)
+
+
+def test_a_demand_above_the_maximum_of_a_floorless_law_has_no_root():
+    """With mu_min = 0, mu(p) p peaks at mu_0^2 / 4c = 3 MPa and falls to 0 beyond mu_0 / c:
+    the friction force has a maximum. A demand above it has no root, and the solver says so;
+    round-off had left the slope past every floor a little above 0 and returned a root some
+    1e11 m away with code 0 (a helper's fidelity audit). Below the peak the root is found."""
+    from brakeca.contact import SOLVE_NO_ROOT, SOLVE_OK, first_root
+
+    law = {"mu_0": 0.6, "slope": 3e-8, "mu_min": 0.0}
+    h = np.sort(np.random.default_rng(0).uniform(100e-6, 350e-6, 2000))[::-1].copy()
+    area = np.full(h.size, 1e-8)
+    peak = 0.6**2 / (4 * 3e-8) * area.sum()  # no position gives more
+    _, _, code = first_root(h, area, h.size, 1e11, *law.values(), 1.2 * peak)
+    assert code == SOLVE_NO_ROOT
+    with pytest.raises(ContactError, match="mu_min = 0 the friction force has a maximum"):
+        solve_disc_position(h, area, stiffness=1e11, target=1.2 * peak, **law)
+    z, _, code = first_root(h, area, h.size, 1e11, *law.values(), 0.3 * peak)
+    assert code == SOLVE_OK
+    assert friction_force(h, area, z, 1e11, **law) == pytest.approx(0.3 * peak, rel=1e-12)
+    # a flat punch just above its peak friction stress
+    flat = np.full(50, 1e-4)
+    with pytest.raises(ContactError, match="has a maximum"):
+        solve_disc_position(flat, area[:50], stiffness=1e11, target=3.01e6 * 50e-8, **law)
