@@ -962,17 +962,19 @@ def _with_curvature(
     return rows, exog_all, y, pd.concat([frame, centre_rows], ignore_index=True)
 
 
-def alpha_problem(alpha: Any) -> str | None:
-    """What is wrong with ``alpha`` as an alpha to remove [-] (a number above 0 and below 1,
+def alpha_problem(alpha: Any, *, usual: str = "0.1 in Minitab") -> str | None:
+    """What is wrong with ``alpha`` as a significance level [-] (a number above 0 and below 1,
     not text or a bool), or None when nothing is: the one rule of every place that takes one
     (a design's ``alpha_to_remove``, ``brakeca analyze --reduce``, :func:`anova`,
-    :func:`brakeca.rsm.backward_elimination`), which each prefix with their own name."""
+    :func:`brakeca.rsm.backward_elimination`, :func:`two_level_effects`, the power
+    functions), which each prefix with their own name. ``usual`` is the value the message
+    gives as usual (an alpha to remove's by default)."""
     if (
         isinstance(alpha, bool | np.bool_ | str)
         or not isinstance(alpha, numbers.Real)
         or not (0.0 < float(alpha) < 1.0)
     ):
-        return f"expected a level above 0 and below 1 (0.1 in Minitab), got {alpha!r}"
+        return f"expected a level above 0 and below 1 ({usual}), got {alpha!r}"
     return None
 
 
@@ -1977,6 +1979,9 @@ def two_level_effects(
 
     from brakeca.design import _points  # "1 centre point", "3 centre points"
 
+    problem = alpha_problem(alpha, usual="0.05 is usual")
+    if problem:
+        raise ValueError(f"alpha: {problem}")
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     centre = _center_mask(data, factors)

@@ -1204,9 +1204,11 @@ def plot_fibre_maps(
 
 # --- per-step series -------------------------------------------------------------------------
 
-_COF_NAMES = ("cof", "mu", "mean_cof", "friction_coefficient", "COF", "MU")
-_FORCE_NAMES = ("normal_force", "force", "FN", "F_N")
-_TIME_NAMES = ("time", "t")
+# a run's dataset (brakeca.results.RunResult.dataset) names its per-step series step_*; they
+# come first, since it also holds per-stop variables (mean_cof, normal_force) of other names
+_COF_NAMES = ("step_cof", "cof", "mu", "mean_cof", "friction_coefficient", "COF", "MU")
+_FORCE_NAMES = ("step_normal_force", "normal_force", "force", "FN", "F_N")
+_TIME_NAMES = ("step_time", "time", "t")
 
 
 def _column(source: Any, names: Sequence[str]) -> tuple[str, np.ndarray] | None:
@@ -1230,9 +1232,11 @@ def plot_cof_series(
     Parameters
     ----------
     steps_ds
+        A run (:class:`~brakeca.results.RunResult` or its dataset, whose per-step series
+        ``step_cof`` [-], ``step_normal_force`` [N] and ``step_time`` [s] are drawn), or an
         xarray Dataset, pandas DataFrame or mapping with a COF series (``cof``, ``mu`` or
         ``mean_cof``) [-], optionally ``normal_force`` [N] and ``time`` [s] (else the step
-        index is used on x).
+        index is used on x). A variable over stops or runs is refused.
     path
         Optional PNG file to write (150 dpi).
     max_points
@@ -1247,9 +1251,17 @@ def plot_cof_series(
     ----------
     Wahlström (2016), Section 3 (brake cycle), doi:10.1155/2016/8181260.
     """
+    steps_ds = getattr(steps_ds, "dataset", steps_ds)  # a RunResult: its dataset
     cof = _column(steps_ds, _COF_NAMES)
     if cof is None:
         raise KeyError(f"no COF series found (looked for {', '.join(_COF_NAMES)})")
+    dims = getattr(steps_ds[cof[0]], "dims", ())
+    if "stop" in dims or "run" in dims:
+        raise ValueError(
+            f"{cof[0]!r} is a series over {', '.join(map(str, dims))}, not over steps: pass a "
+            "run's dataset (its per-step series are step_cof, step_normal_force and step_time), "
+            "or plot the per-stop means with plot_mu_per_stop"
+        )
     force = _column(steps_ds, _FORCE_NAMES)
     time = _column(steps_ds, _TIME_NAMES)
     n = cof[1].size

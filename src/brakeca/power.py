@@ -29,7 +29,9 @@ from __future__ import annotations
 
 import itertools
 import math
+import numbers
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -62,20 +64,40 @@ POWER_COLUMNS: tuple[str, ...] = (
 MAX_REPLICATES = 1000
 
 
-def _check(design: Design, sigma: float, alpha: float, effect: float | None = None) -> None:
-    """Refuse an ``effect`` or ``sigma`` not above 0, an ``alpha`` outside (0, 1) and a
-    response-surface design, naming the argument."""
+def _check(
+    design: Design | str | Path, sigma: float, alpha: float, effect: float | None = None
+) -> Design:
+    """The design (a :class:`~brakeca.design.Design`, a shipped design's name or a design
+    file, as :func:`brakeca.campaign.run_campaign` takes), after refusing an ``effect`` or
+    ``sigma`` not above 0, an ``alpha`` outside (0, 1) and a response-surface design, naming
+    the argument."""
+    from brakeca.analysis import alpha_problem
+    from brakeca.design import Design, load_design
+
     given = [("sigma", sigma)] if effect is None else [("effect", effect), ("sigma", sigma)]
     for name, value in given:
-        if isinstance(value, bool) or not (math.isfinite(value) and value > 0):
+        if (
+            isinstance(value, bool | str)
+            or not isinstance(value, numbers.Real)
+            or not (math.isfinite(value) and value > 0)
+        ):
             raise ValueError(f"{name}: expected a finite number above 0, got {value!r}")
-    if isinstance(alpha, bool) or not 0 < alpha < 1:
-        raise ValueError(f"alpha: expected a significance level between 0 and 1, got {alpha!r}")
+    problem = alpha_problem(alpha, usual="0.05 is usual")
+    if problem:
+        raise ValueError(f"alpha: {problem}")
+    if isinstance(design, str | Path):
+        design = load_design(design)
+    elif not isinstance(design, Design):
+        raise TypeError(
+            f"design: expected a Design, a shipped design's name or a design file, got "
+            f"{type(design).__name__}"
+        )
     if design.is_response_surface:
         raise ValueError(
             "design: the power of a response-surface design's terms is not computed here (its "
             "report fits a quadratic surface, not the factorial ANOVA)"
         )
+    return design
 
 
 def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[int]:
@@ -149,7 +171,7 @@ def _factor_tests(design: Design, replicates: int) -> dict[str, tuple[float, flo
 
 
 def factor_power(
-    design: Design,
+    design: Design | str | Path,
     effect: float,
     sigma: float,
     *,
@@ -161,7 +183,8 @@ def factor_power(
     Parameters
     ----------
     design
-        A design (not a response-surface design, whose report fits a surface instead).
+        A design, a shipped design's name or a design file (not a response-surface design,
+        whose report fits a surface instead).
     effect
         The difference between two of a factor's level means to find [response unit].
     sigma
@@ -192,7 +215,7 @@ def factor_power(
         below 1, or a response-surface design.
     """
 
-    _check(design, sigma, alpha, effect)
+    design = _check(design, sigma, alpha, effect)
     return _power_table(design, effect, sigma, _replicate_counts(design, replicates), alpha, {})
 
 
@@ -265,7 +288,12 @@ def _row(
 
 
 def replicates_needed(
-    design: Design, effect: float, sigma: float, *, target: float = 0.8, alpha: float = 0.05
+    design: Design | str | Path,
+    effect: float,
+    sigma: float,
+    *,
+    target: float = 0.8,
+    alpha: float = 0.05,
 ) -> pd.DataFrame:
     """The fewest replicates (runs per test) that give each factor's effect the power
     ``target``.
@@ -288,9 +316,9 @@ def replicates_needed(
     ValueError
         As :func:`factor_power`, or ``target`` outside (0, 1).
     """
-    if isinstance(target, bool) or not 0 < target < 1:
+    design = _check(design, sigma, alpha, effect)
+    if isinstance(target, bool | str) or not 0 < target < 1:
         raise ValueError(f"target: expected a power between 0 and 1, got {target!r}")
-    _check(design, sigma, alpha, effect)
     rows: dict[int, dict[str, pd.Series]] = {}
     cache: dict[int, dict[str, tuple[float, float, float]]] = {}
 
@@ -325,7 +353,7 @@ def replicates_needed(
 
 
 def smallest_effect(
-    design: Design,
+    design: Design | str | Path,
     sigma: float,
     *,
     target: float = 0.8,
@@ -358,11 +386,11 @@ def smallest_effect(
     """
     from scipy import optimize, stats
 
-    if isinstance(target, bool) or not alpha < target < 1:
+    design = _check(design, sigma, alpha)
+    if isinstance(target, bool | str) or not alpha < target < 1:
         raise ValueError(
             f"target: expected a power above alpha ({alpha:g}) and below 1, got {target!r}"
         )
-    _check(design, sigma, alpha)
     cache: dict[int, dict[str, tuple[float, float, float]]] = {}
     rows, effects = [], []
     for r in _replicate_counts(design, replicates):

@@ -645,6 +645,14 @@ def _lenth_by_hand(effects: list[float]) -> float:
     return 1.5 * float(np.median([m for m in magnitude if m < 2.5 * s0]))
 
 
+@pytest.mark.parametrize("alpha", [5, 1.0, 0.0, -1, "0.05", True])
+def test_two_level_effects_refuse_an_alpha_outside_0_1(alpha) -> None:
+    """alpha=5 had marked every effect significant and alpha=-1 none (a helper's review)."""
+    rows = _two_level("ABC", {}, {"A": 3.0}, noise=0.3)
+    with pytest.raises(ValueError, match=r"^alpha: expected a level above 0 and below 1"):
+        two_level_effects(rows, _levels01("ABC"), "y", alpha=alpha)
+
+
 def test_two_level_effects_of_an_unreplicated_fraction_use_lenth() -> None:
     from scipy import stats
 

@@ -400,3 +400,28 @@ def test_interaction_panels_of_a_fraction_name_their_aliases(summary) -> None:
     titled = [ax for ax in fig.axes if ax.get_title()]
     assert [(ax.get_title(), ax.get_xlabel()) for ax in titled] == [("= -S:WP", "A [%]")]
     assert not any(ax.get_title() for ax in plot_interactions(summary, FACTORS, "MU").axes)
+
+
+def test_cof_series_of_a_run_draws_its_steps_not_its_stops() -> None:
+    """A run's dataset holds per-stop means (mean_cof, normal_force over ``stop``) beside its
+    per-step series (step_*): the steps are drawn, against time. A series over stops alone is
+    refused (it had been drawn and labelled as steps; a helper's API review)."""
+    import types
+
+    n, stops = 300, 4
+    run = xr.Dataset(
+        {
+            "step_cof": ("step", np.full(n, 0.4)),
+            "step_normal_force": ("step", np.full(n, 2500.0)),
+            "step_time": ("step", np.linspace(0.0, 30.0, n)),
+            "mean_cof": ("stop", np.full(stops, 0.3)),
+            "normal_force": ("stop", np.full(stops, 9.0)),
+        }
+    )
+    for source in (run, types.SimpleNamespace(dataset=run)):  # a RunResult has .dataset
+        fig = plot_cof_series(source)
+        assert len(fig.axes[0].lines[0].get_ydata()) == n
+        assert set(fig.axes[1].lines[0].get_ydata()) == {2500.0}
+        assert fig.axes[-1].get_xlabel() == "Time [s]"
+    with pytest.raises(ValueError, match="'mean_cof' is a series over stop, not over steps"):
+        plot_cof_series(run[["mean_cof", "normal_force"]])

@@ -85,7 +85,10 @@ def test_bad_input_names_the_parameter():
     for kwargs, message in [
         ({"effect": 0.0, "sigma": 1.0}, "effect: expected a finite number above 0"),
         ({"effect": 1.0, "sigma": math.nan}, "sigma: expected a finite number above 0"),
-        ({"effect": 1.0, "sigma": 1.0, "alpha": 1.5}, "alpha: expected a significance level"),
+        ({"effect": 1.0, "sigma": 1.0, "alpha": 1.5}, "alpha: expected a level above 0 and below"),
+        ({"effect": 1.0, "sigma": 1.0, "alpha": "0.05"}, "alpha: expected a level above 0"),
+        ({"effect": 1.0, "sigma": "0.0059"}, "sigma: expected a finite number above 0"),
+        ({"effect": "1", "sigma": 1.0}, "effect: expected a finite number above 0"),
         ({"effect": 1.0, "sigma": 1.0, "replicates": [0]}, "replicates: expected whole numbers"),
     ]:
         with pytest.raises(ValueError, match=message):
@@ -94,6 +97,21 @@ def test_bad_input_names_the_parameter():
         replicates_needed(design, 1.0, 1.0, target=1.0)
     with pytest.raises(ValueError, match="response-surface design"):
         factor_power(load_design("response_surface"), 1.0, 1.0)
+    with pytest.raises(ValueError, match="target: expected a power between 0 and 1"):
+        replicates_needed(design, 1.0, 1.0, target="0.8")
+    with pytest.raises(TypeError, match="design: expected a Design, a shipped design's name"):
+        factor_power({"name": "paper"}, 1.0, 1.0)
+
+
+def test_a_design_is_taken_by_name_or_file_as_run_campaign_takes_it(tmp_path):
+    """factor_power("paper", ...) had failed with an AttributeError (a helper's API review)."""
+    from brakeca.presets import design_path
+
+    by_object = factor_power(load_design("paper"), 0.01, 0.0059)
+    pd.testing.assert_frame_equal(factor_power("paper", 0.01, 0.0059), by_object)
+    pd.testing.assert_frame_equal(factor_power(design_path("paper"), 0.01, 0.0059), by_object)
+    assert not replicates_needed("paper", 0.01, 0.0059).empty
+    assert not smallest_effect("paper", 0.0059, replicates=[2]).empty
 
 
 def test_unreplicated_saturated_design_has_no_error_df():
@@ -141,7 +159,7 @@ def test_the_power_command():
         (["--effect", "-1", "--sigma", "1"], "--effect: expected a finite number above 0"),
         (["--effect", "1", "--sigma", "1", "--replicates", "1,x"], "--replicates: expected"),
         (["--effect", "1", "--sigma", "1", "--response", "Q"], "--response: expected one of"),
-        (["--effect", "1", "--sigma", "1", "--alpha", "1"], "--alpha: expected a significance"),
+        (["--effect", "1", "--sigma", "1", "--alpha", "1"], "--alpha: expected a level above 0"),
         (["--effect", "1", "--sigma", "1", "--target", "2"], "--target: expected a power"),
         (["--effect", "1", "--sigma", "1", "--sigma-from", "."], "give one of them, not both"),
     ]:
