@@ -1051,15 +1051,25 @@ def _coded_frame(
     return frame, names, single
 
 
-def _model_order(interactions: bool | int) -> int:
+def _model_order(interactions: bool | int, *, name: str = "interactions") -> int:
     """The highest number of factors in the model's terms, from ``interactions``: True 2 (the
-    two-factor interactions), False 1 (main effects), a whole number that number."""
-    if isinstance(interactions, bool | np.bool_):
+    two-factor interactions), False 1 (main effects), a whole number that number. ``name``
+    is the argument the caller took it as: ``max_order`` takes a whole number only."""
+    if isinstance(interactions, bool | np.bool_) and name == "interactions":
         return 2 if interactions else 1
-    if not isinstance(interactions, numbers.Integral) or interactions < 1:
+    if (
+        isinstance(interactions, bool | np.bool_)
+        or not isinstance(interactions, numbers.Integral)
+        or interactions < 1
+    ):
+        flags = (
+            "True (two-factor interactions), False (main effects) or "
+            if name == "interactions"
+            else ""
+        )
         raise ValueError(
-            "interactions: expected True (two-factor interactions), False (main effects) or "
-            f"the most factors in a term, a whole number from 1, got {interactions!r}"
+            f"{name}: expected {flags}the most factors in a term, a whole number from 1, "
+            f"got {interactions!r}"
         )
     return int(interactions)
 
@@ -2237,9 +2247,7 @@ def analyze(
     result: dict[str, dict[str, Any]] = {}
     default = 1 if main_effects_only else 2
     if max_order is not None:
-        if isinstance(max_order, bool | np.bool_):
-            raise ValueError(f"max_order: expected a whole number from 1, got {max_order!r}")
-        _model_order(max_order)  # checked before any work
+        _model_order(max_order, name="max_order")  # checked before any work
     model: bool | int = max_order if max_order is not None else not main_effects_only
     # the effects table fits every effect the data can estimate, unless the ANOVA's model is
     # not the default one (another order, or reduced): then that model's terms

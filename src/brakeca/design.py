@@ -86,6 +86,7 @@ import functools
 import hashlib
 import itertools
 import math
+import numbers
 import re
 import tomllib
 from collections.abc import Iterator, Mapping, Sequence
@@ -2429,7 +2430,15 @@ class Design(_Frozen):
         if quick:
             check_quick_overrides(updates)
         if max_stops is not None:
-            updates["cycle.max_stops"] = max_stops
+            if (
+                isinstance(max_stops, bool | np.bool_)
+                or not isinstance(max_stops, numbers.Integral)
+                or max_stops < 1
+            ):
+                raise ConfigError(
+                    f"max_stops: expected a whole number of stops from 1, got {max_stops!r}"
+                )
+            updates["cycle.max_stops"] = int(max_stops)
         if updates:
             config = config.with_updates(updates)
         if quick:

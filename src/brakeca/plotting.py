@@ -349,10 +349,13 @@ def plot_mu_per_stop(
     Parameters
     ----------
     campaign
-        xarray Dataset with dims ``run`` and ``stop``, the variable ``variable`` [-], the
-        factor coordinates along ``run``, optionally ``test(run)`` (a campaign's test numbers:
-        the replicates of a test share its colour and legend entry; without it each run is
-        its own test) and ``block(stop)`` (block names), which are shaded and labelled.
+        A :class:`~brakeca.campaign.CampaignResult` (its dataset, and its design's factors
+        unless ``factors`` is given), a :class:`~brakeca.results.RunResult`, or an xarray
+        Dataset with dims ``run`` and ``stop`` (or ``stop`` alone, one run), the variable
+        ``variable`` [-], the factor coordinates along ``run``, optionally ``test(run)`` (a
+        campaign's test numbers: the replicates of a test share its colour and legend entry;
+        without it each run is its own test) and ``block(stop)`` (block names), which are
+        shaded and labelled.
     path
         Optional PNG file to write (150 dpi).
     factors
@@ -375,8 +378,19 @@ def plot_mu_per_stop(
     import matplotlib as mpl
     from matplotlib.transforms import blended_transform_factory
 
+    design = getattr(campaign, "design", None)  # a CampaignResult: its design's factors
+    if factors is None and design is not None:
+        factors = design.factors
+    campaign = getattr(campaign, "dataset", campaign)  # a CampaignResult or a RunResult
+    if not hasattr(campaign, "data_vars"):
+        raise TypeError(
+            "campaign: expected a CampaignResult, a RunResult or an xarray Dataset, got "
+            f"{type(campaign).__name__}"
+        )
     if variable not in campaign.data_vars:
         raise KeyError(f"campaign has no variable {variable!r}")
+    if "run" not in campaign[variable].dims:  # one run
+        campaign = campaign[[variable]].expand_dims(run=[0])
     by_name = {f.name: f for f in (as_factor(f) for f in (factors or ()))}
     data = campaign[variable].transpose("run", "stop")
     runs = campaign["run"].to_numpy()

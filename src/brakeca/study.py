@@ -749,7 +749,7 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
         about = f"{name}, {about}"
     paths = [out / "mu_per_stop.png", out / "steps.png", out / "maps.png"]
     plot_mu_per_stop(
-        ds[["mean_cof"]].expand_dims(run=[0]),
+        ds,
         paths[0],
         title=f"Mean coefficient of friction per stop, {ds.sizes['stop']} stops ({about})",
     )

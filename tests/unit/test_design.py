@@ -1548,3 +1548,13 @@ def test_a_mistyped_factor_or_configuration_key_gets_a_suggestion():
     with pytest.raises(ConfigError) as far:  # nothing close: no guess
         design_from_dict({**_paper_dict(), "colour": "red"})
     assert "colour: unknown key (got 'red')" in str(far.value)
+
+
+@pytest.mark.parametrize("bad", [0, -2, 2.5, "3", True])
+def test_max_stops_is_checked_under_its_own_name(bad) -> None:
+    """run_campaign(max_stops=0) had said "override: cycle.max_stops", naming an override
+    nobody gave (a helper's API review)."""
+    design = load_design("paper")
+    with pytest.raises(ConfigError, match=r"^max_stops: expected a whole number of stops from 1"):
+        design.resolved_base(max_stops=bad)
+    assert design.resolved_base(max_stops=np.int64(3)).cycle.max_stops == 3

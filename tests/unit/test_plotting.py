@@ -425,3 +425,24 @@ def test_cof_series_of_a_run_draws_its_steps_not_its_stops() -> None:
         assert fig.axes[-1].get_xlabel() == "Time [s]"
     with pytest.raises(ValueError, match="'mean_cof' is a series over stop, not over steps"):
         plot_cof_series(run[["mean_cof", "normal_force"]])
+
+
+def test_mu_per_stop_takes_a_campaign_result_or_one_run(campaign) -> None:
+    """A CampaignResult (its dataset and its design's factors) and a single run's dataset (no
+    ``run`` dimension) are drawn; the first had raised AttributeError (a helper's review)."""
+    import types
+
+    result = types.SimpleNamespace(dataset=campaign, design=types.SimpleNamespace(factors=FACTORS))
+    fig = plot_mu_per_stop(result)
+    expected = plot_mu_per_stop(campaign, factors=FACTORS)
+    assert [line.get_label() for line in fig.axes[0].lines] == [
+        line.get_label() for line in expected.axes[0].lines
+    ]
+    one = campaign.isel(run=0, drop=True)[["mean_cof"]]
+    assert "run" not in one.dims
+    fig = plot_mu_per_stop(types.SimpleNamespace(dataset=one))  # a RunResult has .dataset
+    runs = [line for line in fig.axes[0].lines if np.size(line.get_xdata()) == one.sizes["stop"]]
+    assert len(runs) == 1
+    np.testing.assert_array_equal(runs[0].get_ydata(), one["mean_cof"].to_numpy())
+    with pytest.raises(TypeError, match="campaign: expected a CampaignResult"):
+        plot_mu_per_stop([0.4, 0.5])

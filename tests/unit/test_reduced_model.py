@@ -296,8 +296,9 @@ def test_order_one_is_main_effects_and_a_saturated_order_is_pooled_step_by_step(
 def test_the_order_is_checked(bad) -> None:
     with pytest.raises(ValueError, match="interactions: expected True"):
         analysis.anova(_runs({}), FACTORS, "y", interactions=bad)
-    with pytest.raises(ValueError, match="interactions: expected True"):
-        analysis.analyze(_runs({}), FACTORS, ["y"], max_order=bad)
+    for order in (bad, True):  # max_order takes a whole number, not interactions' flags
+        with pytest.raises(ValueError, match=r"^max_order: expected the most factors in a term"):
+            analysis.analyze(_runs({}), FACTORS, ["y"], max_order=order)
 
 
 def test_analyze_with_an_order_fits_the_effects_of_its_terms() -> None:
