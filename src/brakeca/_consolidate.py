@@ -21,6 +21,7 @@ from brakeca import __version__
 from brakeca._runstore import _Record
 from brakeca.config import SimulationConfig
 from brakeca.design import Design, load_design
+from brakeca.results import scalar_attrs
 
 CAMPAIGN_FORMAT = "brakeca-campaign/1"  #: format marker of campaign.nc
 
@@ -175,7 +176,11 @@ def _campaign_dataset(
     for name in _scalar_names(records):
         if name in data_vars or name in coords:
             continue
-        data_vars[name] = ("run", pd.to_numeric(summary[name], errors="coerce").to_numpy())
+        data_vars[name] = (
+            "run",
+            pd.to_numeric(summary[name], errors="coerce").to_numpy(),
+            scalar_attrs(name),
+        )
     attrs = {
         "format": CAMPAIGN_FORMAT,
         "title": f"brakeca campaign {design.name}",

@@ -100,6 +100,32 @@ RUN_SCALARS: tuple[str, ...] = (
     "wall_time",
 )
 
+#: The per-run scalars: name -> (unit, description); a run file's MU, V and residuals and a
+#: campaign's dataset carry them as ``units`` and ``long_name``.
+RUN_SCALAR_UNITS: dict[str, tuple[str, str]] = {
+    "MU": ("1", "mean over the stops of the per-stop mean COF"),
+    "V": ("m3", "mean emitted wear volume per stop"),
+    "V_mm3": ("mm3", "mean emitted wear volume per stop"),
+    "total_emitted_mm3": ("mm3", "wear volume emitted over the run"),
+    "total_generated_mm3": ("mm3", "wear volume generated over the run"),
+    "final_primary_area_fraction": ("1", "primary plateau area fraction in the last stop"),
+    "final_secondary_area_fraction": ("1", "secondary plateau area fraction in the last stop"),
+    "max_ledger_residual": ("1", "max relative volume-ledger residual of the run"),
+    "max_friction_residual": ("1", "max |F_friction / F_demanded - 1| over the run's steps"),
+    "n_steps": ("1", "time steps of the run"),
+    "wall_time": ("s", "wall time of the run"),
+}
+
+
+def scalar_attrs(name: str) -> dict[str, str]:
+    """``units`` and ``long_name`` of the run scalar ``name`` (:data:`RUN_SCALAR_UNITS`);
+    empty for another name."""
+    if name not in RUN_SCALAR_UNITS:
+        return {}
+    unit, description = RUN_SCALAR_UNITS[name]
+    return {"units": unit, "long_name": description}
+
+
 #: Names a campaign's summary and dataset use besides the run scalars and the per-stop
 #: variables: the log scale of V and the per-stop rule counts.
 OTHER_RESULT_NAMES: tuple[str, ...] = ("log10_V_mm3", "rule_firings")
@@ -400,21 +426,17 @@ def build_dataset(
     )
     mu = float(np.mean(per_stop["mean_cof"]))
     v = float(np.mean(per_stop["emitted_volume"]))
-    data_vars["MU"] = (
-        (),
-        mu,
-        {"units": "1", "long_name": "mean over the stops of the per-stop mean COF"},
-    )
-    data_vars["V"] = ((), v, {"units": "m3", "long_name": "mean emitted wear volume per stop"})
+    data_vars["MU"] = ((), mu, scalar_attrs("MU"))
+    data_vars["V"] = ((), v, scalar_attrs("V"))
     data_vars["max_ledger_residual"] = (
         (),
         max(float(np.max(per_stop["max_ledger_residual"])), final_ledger),
-        {"units": "1", "long_name": "max relative volume-ledger residual of the run"},
+        scalar_attrs("max_ledger_residual"),
     )
     data_vars["max_friction_residual"] = (
         (),
         float(np.max(fr_res)),
-        {"units": "1", "long_name": "max |F_friction / F_demanded - 1| over the run's steps"},
+        scalar_attrs("max_friction_residual"),
     )
     coords = {
         "stop": ("stop", stop_idx),

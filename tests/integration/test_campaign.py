@@ -138,6 +138,14 @@ def test_summary_and_campaign_nc_match_the_run_files(serial):
     assert list(ds["S"].values) == [0.0, 1.0, 0.0, 1.0]
     assert ds["A"].attrs["units"] == "%"
     assert list(ds["block"].values) == ["Burnish"] * 3
+    # every run scalar carries its unit, as the run files' MU and V do (a helper's review)
+    from brakeca.results import RUN_SCALARS
+
+    for name in RUN_SCALARS:
+        if name in ds.data_vars and ds[name].dims == ("run",):
+            assert ds[name].attrs["units"] and ds[name].attrs["long_name"], name
+    assert (ds["V"].attrs["units"], ds["V_mm3"].attrs["units"]) == ("m3", "mm3")
+    assert ds["wall_time"].attrs["units"] == "s"
     for i, row in summary.iterrows():
         run = RunResult.from_netcdf(out / "runs" / f"{row['run_id']}.nc")
         assert run.seed == row["seed"] == int(ds["seed"][i])
