@@ -266,6 +266,11 @@ def ok_runs(summary: pd.DataFrame) -> pd.DataFrame:
 
 
 def _factors(factors: Iterable[Any]) -> list[Factor]:
+    if hasattr(factors, "factor_names"):  # a Design (iterating it gives its fields)
+        raise TypeError(
+            f"factors: got the design {getattr(factors, 'name', '?')!r}, not its factors; "
+            "pass design.factors"
+        )
     out = [as_factor(f) for f in factors]
     names = [f.name for f in out]
     if len(set(names)) != len(names):

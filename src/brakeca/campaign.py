@@ -610,7 +610,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     import argparse
 
-    from brakeca.config import parse_override
+    from brakeca.config import parse_overrides
 
     parser = argparse.ArgumentParser(prog="python -m brakeca.campaign", description=main.__doc__)
     parser.add_argument("design", help="shipped design name or design TOML file")
@@ -631,7 +631,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     args = parser.parse_args(argv)
     try:
-        overrides = dict(parse_override(text) for text in args.set)
+        overrides = parse_overrides(args.set)
         result = run_campaign(
             args.design,
             args.out_dir,

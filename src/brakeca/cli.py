@@ -22,7 +22,7 @@ from rich.markup import escape
 
 from brakeca import __version__
 from brakeca._console import LogConsole
-from brakeca.config import MAX_SEED, ConfigError, SimulationConfig, load_config, parse_override
+from brakeca.config import MAX_SEED, ConfigError, SimulationConfig, load_config, parse_overrides
 from brakeca.presets import available_designs
 
 app = typer.Typer(
@@ -166,11 +166,13 @@ def resolve_config(
     from brakeca.presets import load_preset
 
     config = load_config(config_file) if config_file is not None else load_preset(preset)
-    updates = dict(parse_override(o) for o in overrides or [])
+    updates = parse_overrides(overrides)
     _percent_note(updates)
     if quick:
         check_quick_overrides(updates)
     if stops is not None:
+        if "cycle.max_stops" in updates:
+            raise ConfigError("--stops and --set cycle.max_stops both set it; give one of them")
         updates["cycle.max_stops"] = stops
     if updates:
         config = config.with_updates(updates)
@@ -642,7 +644,7 @@ def _run_and_report(
     if speed_unit is not None and cycle is None:
         _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
     try:
-        updates = dict(parse_override(o) for o in overrides or [])
+        updates = parse_overrides(overrides)
         _percent_note(updates)
         if cycle is not None:
             from brakeca.presets import load_preset

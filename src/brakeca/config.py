@@ -52,6 +52,7 @@ __all__ = [
     "apply_overrides",
     "load_config",
     "parse_override",
+    "parse_overrides",
 ]
 
 
@@ -855,6 +856,20 @@ def parse_override(text: str) -> tuple[str, Any]:
     return key, value
 
 
+def parse_overrides(texts: Sequence[str] | None) -> dict[str, Any]:
+    """``--set KEY=VALUE`` options as a mapping (:func:`parse_override` each); a key given
+    twice is refused, where the last would silently have won."""
+    updates: dict[str, Any] = {}
+    for text in texts or ():
+        key, value = parse_override(text)
+        if key in updates:
+            raise ConfigError(
+                f"--set {key} is given twice ({updates[key]!r} and {value!r}); give it once"
+            )
+        updates[key] = value
+    return updates
+
+
 def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
     if key not in FACTOR_ALIASES:
         return key, value
@@ -884,11 +899,18 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
     Raises
     ------
     ConfigError
-        Unknown key, or a value outside its allowed range; the message names the field.
+        Unknown key, a value outside its allowed range, or two keys for one field (a factor
+        name and its dotted key); the message names the field.
     """
     data = config.to_dict()
+    given: dict[str, str] = {}  # field -> the key that set it
     for key, value in updates.items():
         path, value = _resolve_alias(key, value)
+        if path in given:
+            raise ConfigError(
+                f"override {key}: {given[path]} sets the same field ({path}); give one of them"
+            )
+        given[path] = key
         parts = path.split(".")
         node = data
         known: dict[str, Any] | None = SimulationConfig.model_fields

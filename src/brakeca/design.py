@@ -2438,6 +2438,10 @@ class Design(_Frozen):
                 raise ConfigError(
                     f"max_stops: expected a whole number of stops from 1, got {max_stops!r}"
                 )
+            if "cycle.max_stops" in updates:
+                raise ConfigError(
+                    "max_stops and the override cycle.max_stops both set it; give one of them"
+                )
             updates["cycle.max_stops"] = int(max_stops)
         if updates:
             config = config.with_updates(updates)

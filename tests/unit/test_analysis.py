@@ -1011,3 +1011,14 @@ def test_type_ii_from_the_columns_equals_statsmodels_on_an_unbalanced_design() -
     assert np.allclose(ours["sum_sq"], theirs["sum_sq"], rtol=1e-10, atol=1e-14)
     assert np.allclose(ours["F"].iloc[:-1], theirs["F"].iloc[:-1], rtol=1e-10)
     assert list(ours["df"]) == list(theirs["df"])
+
+
+def test_a_design_given_for_its_factors_is_named() -> None:
+    """analyze(summary, design) had said "not a factor (needs 'name' and 'levels'): ('name',
+    'paper')", a field of the design (a helper's API review)."""
+    from brakeca.design import load_design
+
+    design = load_design("paper")
+    rows = pd.DataFrame({"S": [0.0, 1.0], "MU": [0.3, 0.4], "status": "ok"})
+    with pytest.raises(TypeError, match="factors: got the design 'paper', not its factors"):
+        main_effects(rows, design, "MU")

@@ -231,3 +231,37 @@ def test_a_number_field_refuses_true_and_false(tmp_path):
     with pytest.raises(ValueError, match="must be a number, not true"):
         TraceCycleConfig(threshold=True)
     assert base.with_updates({"mesh.n_radial": 21, "quick": False}).mesh.n_radial == 21
+
+
+def test_one_field_set_twice_is_refused():
+    """A factor name and its dotted key, or one --set key twice, had let the last one win
+    silently (a helper's API review); designs already refused it."""
+    from brakeca.config import parse_overrides
+
+    config = load_preset("paper")
+    for updates in (
+        {"S": 0.5, "automaton.secondary_removal_fraction": 0.2},
+        {"wear.specific_wear_rate": 1e-13, "WP": 1e-14},
+    ):
+        with pytest.raises(ConfigError, match=r"sets the same field .* give one of them"):
+            config.with_updates(updates)
+    assert config.with_updates({"S": 0.5, "WP": 1e-14}).automaton.secondary_removal_fraction == 0.5
+    with pytest.raises(ConfigError, match=r"--set WP is given twice \(1e-14 and 1e-13\)"):
+        parse_overrides(["WP=1e-14", "WP=1e-13"])
+    assert parse_overrides(["WP=1e-14", "A=10"]) == {"WP": 1e-14, "A": 10}
+    assert parse_overrides(None) == {}
+
+
+def test_stops_and_an_override_of_max_stops_are_refused_together(tmp_path):
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+    from brakeca.design import load_design
+
+    res = CliRunner().invoke(
+        app,
+        ["simulate", "-o", str(tmp_path / "r.nc"), "--stops", "2", "--set", "cycle.max_stops=3"],
+    )
+    assert res.exit_code != 0 and "--stops and --set cycle.max_stops both set it" in res.output
+    with pytest.raises(ConfigError, match=r"max_stops and the override cycle.max_stops"):
+        load_design("paper").resolved_base(overrides={"cycle.max_stops": 3}, max_stops=2)
