@@ -2681,14 +2681,19 @@ def design_from_dict(
             )
         factors.append(f)
     design = design.model_copy(update={"factors": tuple(factors)})
+    given = design.base_config
     try:
         if design.base_config is not None and not design.base_config.is_absolute():
             absolute = (base_dir / design.base_config).resolve()
             design = design.model_copy(update={"base_config": absolute})
         base = design.load_base()
     except (ValueError, OSError) as exc:  # ConfigError is a ValueError
+        from brakeca.presets import available_presets
+
         field = "base" if design.base is not None else "base_config"
         detail = str(exc).replace("\n", "; ")
+        if given is not None and str(given) in available_presets():
+            detail += f' (a shipped preset is given as base = "{given}"; base_config is a file)'
         raise ConfigError(
             f"{source}: {field}: cannot load the base configuration: {detail}"
         ) from None

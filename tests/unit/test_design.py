@@ -1558,3 +1558,15 @@ def test_max_stops_is_checked_under_its_own_name(bad) -> None:
     with pytest.raises(ConfigError, match=r"^max_stops: expected a whole number of stops from 1"):
         design.resolved_base(max_stops=bad)
     assert design.resolved_base(max_stops=np.int64(3)).cycle.max_stops == 3
+
+
+def test_a_preset_name_given_as_base_config_is_told_the_key_for_it(tmp_path) -> None:
+    """base_config is a file; a preset's name there gets the key that takes it (base)."""
+    path = tmp_path / "d.toml"
+    path.write_text(
+        'name = "d"\nbase_config = "paper"\nroot_seed = 1\n[[factors]]\nname = "S"\n'
+        'field = "automaton.secondary_removal_fraction"\nlevels = [0, 1]\n',
+        encoding="utf-8",
+    )
+    with pytest.raises(ConfigError, match='a shipped preset is given as base = "paper"'):
+        load_design(path)
