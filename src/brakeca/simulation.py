@@ -662,15 +662,7 @@ def advance_stop(
             state, grid, config, targets, fraction, rec, counts, scratch=(created, destroyed)
         )
         if code != K.OK:
-            _raise_kernel_error(
-                code,
-                done,
-                stop,
-                float(targets[min(done, dt.size - 1)]),
-                rec,
-                config,
-                _plateau_area(state),
-            )
+            _raise_kernel_error(code, done, stop, targets, rec, config, state)
         return dt, rec, counts
     if state.packed_stale:
         state.resync()
@@ -722,15 +714,7 @@ def advance_stop(
         *_field_args(state),
     )
     if code != K.OK:
-        _raise_kernel_error(
-            code,
-            done,
-            stop,
-            float(targets[min(done, dt.size - 1)]),
-            rec,
-            config,
-            _plateau_area(state),
-        )
+        _raise_kernel_error(code, done, stop, targets, rec, config, state)
     return dt, rec, counts
 
 
@@ -900,9 +884,12 @@ def _friction_peak_note(code, target, config, plateau_area) -> str:
     return f" ({law}, which this demand may exceed)"
 
 
-def _raise_kernel_error(code, done, stop: Stop, target, rec, config, plateau_area) -> None:
+def _raise_kernel_error(code, done, stop: Stop, targets, rec, config, state) -> None:
+    """Raise the error of kernel ``code`` at step ``done`` of ``stop``, whose demanded
+    friction forces [N] are ``targets``."""
     where = f"stop {stop.index} ({stop.block}), step {done + 1}"
-    note = _friction_peak_note(code, target, config, plateau_area)
+    target = float(targets[min(done, targets.size - 1)])
+    note = _friction_peak_note(code, target, config, _plateau_area(state))
     if note and not note.startswith(" "):
         raise ContactError(f"{where}: {note}")
     if code == K.ERR_NO_PLATEAU:
