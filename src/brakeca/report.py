@@ -138,6 +138,15 @@ Wall time: the run's own computing time.</p>
 <section id="anova">
 <h2>ANOVA</h2>
 {%- if anova_info %}<p class="note">{{ anova_info }}</p>{% endif %}
+{%- if anova %}
+<p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
+of squares about the mean.
+{%- if anova_aliases %} Aliases (designs that do not separate every effect, such as a
+fractional factorial): the terms of up to three factors the design cannot tell apart from the
+term; what the table gives for the term is its effect plus theirs, each with the sign shown
+(B:D - C:E: plus the effect of B:D, minus that of C:E; two-level terms only).
+{%- endif %}</p>
+{%- endif %}
 {%- for item in anova %}
 <h3 id="anova-{{ item.anchor }}">Response {{ item.response }}</h3>
 {%- if item.info %}<p class="note">{{ item.info }}</p>{% endif %}
@@ -154,13 +163,6 @@ Wall time: the run's own computing time.</p>
 <h3 id="anova-box-cox">Scale of the responses (Box–Cox)</h3>
 <p class="note">{{ box_cox_info }}</p>
 {{ render_table(box_cox) }}
-{%- endif %}
-{%- if anova %}
-<p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
-of squares about the mean. Aliases (designs that do not separate every effect, such as a
-fractional factorial): the terms of up to three factors the design cannot tell apart from the
-term; what the table gives for the term is its effect plus theirs, each with the sign shown
-(B:D - C:E: plus the effect of B:D, minus that of C:E; two-level terms only).</p>
 {%- endif %}
 </section>
 {%- if surfaces or optimum_note %}
@@ -396,7 +398,7 @@ _EFFECT_HEADERS = {
     "term": "Term",
     "effect": "Effect",
     "coefficient": "Coefficient",
-    "se": "SE of effect",
+    "se": "SE of coefficient",
     "t": "t",
     "p_value": "p",
     "vif": "VIF",
@@ -426,6 +428,15 @@ def _anova_in_report_units(response: str, frame: pd.DataFrame) -> tuple[pd.DataF
     if "s" in shown.attrs and not _is_missing(shown.attrs["s"]):
         shown.attrs["s"] = float(shown.attrs["s"]) * factor
     return shown, unit
+
+
+def _names_aliases(table: _Table) -> bool:
+    """Whether ``table`` has an Aliases column with a term in it (a full factorial's has none,
+    and then the report need not explain the column)."""
+    if "Aliases" not in table.columns:
+        return False
+    at = table.columns.index("Aliases")
+    return any(str(row["cells"][at]).strip() not in ("", "–", "-") for row in table.rows)
 
 
 def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
@@ -478,8 +489,13 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
                 cells.append(format_p_value(v))
             elif c in ("term", "aliases"):
                 cells.append(_fmt(v))
-            elif c in ("effect", "coefficient", "se"):
+            elif c in ("effect", "coefficient"):
                 cells.append(_fmt(float(v) * factor, ".4g"))
+            elif c == "se":
+                # the table's se is the effect's (the Ct Pt row's: twice its coefficient's);
+                # shown as the coefficient's, as Minitab's SE Coef, so t = coefficient / SE on
+                # every row, the Ct Pt row's too (which has no effect)
+                cells.append(_fmt(0.5 * float(v) * factor, ".4g"))
             else:
                 cells.append(_fmt(v, ".3g"))
         rows.append({"cells": cells, "cls": "sig" if bool(rec.get("significant")) else ""})
@@ -575,8 +591,9 @@ _BOX_COX_INFO = (
     "Which power y^λ of each response the model fits best (Box and Cox 1964): the λ of "
     "greatest likelihood in [−2, 2], searched as Minitab does, its 95 % likelihood-ratio "
     "interval and the nearest multiple of 0.5. λ = 1 is the response as it is, λ = 0 its log "
-    "(the report's log10_V_mm3 for V). Only a reading of the data: no analysis in this "
-    "report is transformed. The figure 'Box-Cox plots' shows each profile."
+    "(the report's log10_V_mm3 for V). Only a reading of the data: it transforms nothing, "
+    "and each response is analysed on the scale it has in this report (V both as it is and "
+    "as log10_V_mm3, the λ = 0 reading). The figure 'Box-Cox plots' shows each profile."
 )
 
 
@@ -792,6 +809,21 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
             "runs well and still predict new ones poorly."
         )
     p_lof = attrs.get("lack_of_fit_p", math.nan)
+    pure_df = attrs.get("pure_error_df", math.nan)
+    resid_df = attrs.get("df_resid", math.nan)
+    if not _is_missing(pure_df) and float(pure_df) < 0.5 and not _is_missing(resid_df):
+        if float(resid_df) > 0.5:
+            order = int(attrs.get("order") or 2)
+            left = f"interactions of more than {order} factor{'s' if order > 1 else ''}"
+            if attrs.get("alpha_to_remove") is not None:
+                left += " and the terms backward elimination removed"
+            text += (
+                f" The residual ({float(resid_df):.0f} df) is the terms the model leaves out "
+                f"({left}): no two runs share their levels, so there is no pure error to "
+                "test them against. Its mean square estimates the run-to-run scatter only "
+                "where those terms are negligible; where they are not it is larger, and the F "
+                "tests are conservative."
+            )
     if not _is_missing(p_lof):
         p_text = _p_relation(p_lof)
         text += (
@@ -1007,6 +1039,12 @@ def render_report(
         design_info=design_info,
         runs=_runs_table(summary),
         anova=anova_items,
+        anova_aliases=any(
+            _names_aliases(table)
+            for item in anova_items
+            for table in (item["table"], item["effects"])
+            if isinstance(table, _Table)
+        ),
         figure_sections=_figure_sections(figures),
         notes=paragraphs,
         surfaces=[_surface_item(str(r), fit) for r, fit in (surface_fits or {}).items()],

@@ -476,3 +476,23 @@ def test_brakeca_power_says_its_runs_include_the_centre_points() -> None:
     )
     assert res.exit_code == 0, res.output
     assert "its 4 centre points among them" in res.output
+
+
+def test_the_reports_effects_table_gives_t_as_coefficient_over_its_se_on_every_row() -> None:
+    """The report shows Minitab's SE Coef, so t = coefficient / SE on every row, the Ct Pt
+    row's too, which has no effect (it had shown twice its coefficient's SE in a column
+    named "SE of effect", beside a t and a caption from the coefficient's; a helper's
+    review of the report)."""
+    from brakeca.report import _effects_table
+
+    effects = analysis.two_level_effects(_runs(1, 3), FACTORS, "y")
+    assert effects["term"].iloc[-1] == "Ct Pt"
+    table, caption = _effects_table("y", effects)
+    col = {name: i for i, name in enumerate(table.columns)}
+    assert "SE of coefficient" in col
+    for row in table.rows:
+        cells = row["cells"]
+        coef, se, t = (float(cells[col[c]]) for c in ("Coefficient", "SE of coefficient", "t"))
+        assert t == pytest.approx(coef / se, rel=1e-2)  # t is shown to 3 digits
+    se_ct = float(table.rows[-1]["cells"][col["SE of coefficient"]])
+    assert f"(SE {se_ct:.4g}" in caption

@@ -402,3 +402,58 @@ def test_model_summary_text_reads_a_negative_predicted_r_squared() -> None:
     assert "R²(pred) = -297.88 %" in text and "R²(pred) below 0: the model predicts" in text
     assert "below 0" not in _model_summary_text({**attrs, "r_squared_pred": 0.5}, None)
     assert "below 0" not in _model_summary_text({**attrs, "r_squared_pred": math.nan}, None)
+
+
+def test_the_model_summary_says_what_an_unreplicated_residual_is() -> None:
+    """Without pure error the residual is the terms left out, and the report says so (a
+    helper's review: the paper study's 'Residual 9 df' was explained nowhere)."""
+    from brakeca.report import _model_summary_text
+
+    base = {"r_squared": 0.9, "r_squared_adj": 0.8, "r_squared_pred": 0.7, "s": 0.01}
+    text = _model_summary_text({**base, "df_resid": 9.0, "pure_error_df": 0.0, "order": 2}, None)
+    assert "The residual (9 df) is the terms the model leaves out (interactions of more " in text
+    assert "than 2 factors): no two runs share their levels" in text
+    one = _model_summary_text({**base, "df_resid": 4.0, "pure_error_df": 0.0, "order": 1}, None)
+    assert "(interactions of more than 1 factor)" in one
+    reduced = {**base, "df_resid": 5.0, "pure_error_df": 0.0, "alpha_to_remove": 0.1}
+    assert "and the terms backward elimination removed" in _model_summary_text(reduced, None)
+    for attrs in (
+        {**base, "df_resid": 9.0, "pure_error_df": 3.0},  # replicates: lack of fit instead
+        {**base, "df_resid": 0.0, "pure_error_df": 0.0},  # saturated
+        base,
+    ):
+        assert "leaves out" not in _model_summary_text(attrs, None)
+
+
+def test_the_alias_note_comes_with_aliases_only_and_before_the_tables(tmp_path) -> None:
+    """The ANOVA's general note (bold, Contribution) heads the section; the explanation of
+    the Aliases column only where a table names aliases (it had followed the Box-Cox table,
+    explaining a column a full factorial does not have; a helper's review of the report)."""
+    html = render_report(**make_inputs(tmp_path))
+    assert "Terms with p &lt; 0.05 in bold" in html
+    assert html.index("Terms with p &lt; 0.05 in bold") < html.index('id="anova-mu"')
+    assert "Aliases (designs that do not separate" not in html
+    from brakeca.design import design_from_dict
+
+    design = design_from_dict(
+        {
+            "name": "frac",
+            "base": "paper",
+            "root_seed": 1,
+            "generators": ["C = A*B"],
+            "factors": [
+                {"name": n, "field": f, "levels": lv}
+                for n, f, lv in (
+                    ("A", "automaton.secondary_removal_fraction", [0, 1]),
+                    ("B", "wear.resin_wear_depth", [1e-7, 1e-6]),
+                    ("C", "pad.fibre_area_fraction", [0.1, 0.2]),
+                )
+            ],
+        }
+    )
+    rows = pd.DataFrame([dict(p.levels) for p in design.points() for _ in range(2)])
+    rows["MU"] = np.random.default_rng(3).normal(0.3, 0.01, len(rows)) + 0.05 * rows["A"]
+    rows["status"] = "ok"
+    inputs = make_inputs(tmp_path)
+    inputs["anova_tables"] = {"MU": anova(rows, design.factors, "MU")}
+    assert "Aliases (designs that do not separate" in render_report(**inputs)
