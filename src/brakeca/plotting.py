@@ -49,6 +49,7 @@ __all__ = [
     "plot_mu_per_stop",
     "plot_overlaid_contours",
     "plot_pareto",
+    "plot_profiler",
     "plot_residuals",
     "plot_response_surface",
     "plot_surface_map",
@@ -746,7 +747,7 @@ def plot_response_surface(
             linewidths=0.5,
         )  # fmt: skip
         ax.clabel(lines, lines.levels[::2], fontsize=7, fmt="%.3g")
-        fig.colorbar(filled, ax=ax, label=label if ax is axes[0] else None)
+        fig.colorbar(filled, ax=ax, label=label)  # each panel has its own colour scale
         ax.plot(
             a.decode(fit.points[a.name]), b.decode(fit.points[b.name]), "o", ms=4,
             mfc="white", mec="black", label="runs (projected)", clip_on=False, zorder=4,
@@ -761,10 +762,76 @@ def plot_response_surface(
             ax.set_yscale("log")
         ax.set_xlabel(a.axis_label)
         ax.set_ylabel(b.axis_label)
-        held = [c.name for c in codings if c.name not in (a.name, b.name)]
+        held = [c for c in codings if c.name not in (a.name, b.name)]
         if held:
-            ax.set_title("others at their centre: " + ", ".join(held), fontsize=8)
+            ax.set_title(
+                "others at their centre: "
+                + ", ".join(f"{c.name} = {float(c.decode(0.0)):.3g}" for c in held),
+                fontsize=8,
+            )
     axes[0].legend(fontsize=7, loc="best")
+    return save_figure(fig, path)
+
+
+def plot_profiler(
+    fit: Any,
+    path: str | Path | None = None,
+    *,
+    resolution: int = 81,
+    level: float = 0.95,
+) -> Figure:
+    """The fitted response surface along each factor with the others at their centre (coded
+    0), with the confidence band of the fitted mean, as JMP's prediction profiler: the main
+    effects of a response-surface design as its quadratic gives them. (The level means of a
+    composite design's runs are no such thing: its levels are not balanced against the other
+    factors, so a factor's raw means mix in the others' effects.)
+
+    Parameters
+    ----------
+    fit
+        A :class:`brakeca.rsm.SurfaceFit`.
+    path
+        Optional PNG file to write (150 dpi).
+    resolution
+        Points per factor [-].
+    level
+        Confidence level of the band [-] (none drawn without residual degrees of freedom).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per factor, sharing the response axis (in the unit of the other figures:
+        mm^3 for ``V``), each factor over the coded range its runs span, on its own scale
+        (logarithmic for a log-coded factor), with its centre marked.
+    """
+    label, scale = _response_axis(fit.response)
+    codings = list(fit.codings)
+    extent = fit.extent()
+    n = max(len(codings), 1)
+    fig = _figure((3.0 * n + 0.8, 3.4))
+    axes = np.atleast_1d(fig.subplots(1, n, sharey=True, squeeze=False).ravel())
+    _suptitle(
+        fig,
+        f"Prediction profile of {fit.response} ({label}): the fitted surface along each factor, "
+        f"the others at their centre, {100 * level:g} % confidence band",
+    )
+    for ax, c in zip(axes, codings, strict=False):
+        lo, hi = extent[c.name]
+        x = np.linspace(lo, hi, resolution)
+        coded = {d.name: np.zeros_like(x) for d in codings}
+        coded[c.name] = x
+        fitted = fit.predict_coded(coded) * scale
+        low, high = fit.confidence_interval(coded, level)
+        levels = c.decode(x)
+        if np.all(np.isfinite(low)):
+            ax.fill_between(levels, low * scale, high * scale, color="#27496d", alpha=0.18)
+        ax.plot(levels, fitted, color="#27496d")
+        ax.axvline(float(c.decode(0.0)), color="0.5", lw=0.8, ls=":")
+        if c.log:
+            ax.set_xscale("log")
+        ax.set_xlabel(c.axis_label)
+        ax.grid(True, alpha=0.3)
+    axes[0].set_ylabel(label)
     return save_figure(fig, path)
 
 

@@ -520,16 +520,36 @@ def write_study(
     if len(ok):  # with no finished run there is nothing to plot; the report says why
         for resp in RESPONSES:
             label = _LABELS[resp]
-            add(
-                "Main effects",
-                f"Main effects on {label}" + _PAPER_MAIN[resp],
-                f"main_effects_{resp}.png",
-                plotting.plot_main_effects,
-                data,
-                factors,
-                resp,
-            )
-            if len(factors) >= 2:  # interactions need two factors
+            if resp in surfaces:
+                # a composite design's level means are not balanced against the other
+                # factors, so its raw main-effects and interaction plots mix in their effects
+                # (and can contradict the fit): the fitted surface's profile instead, and the
+                # contour plots for the pairs
+                for name in (f"main_effects_{resp}.png", f"interactions_{resp}.png"):
+                    (fig_dir / name).unlink(missing_ok=True)
+                add(
+                    "Main effects",
+                    f"Main effects on {label}, from the fitted quadratic surface: the response "
+                    "along each factor with the others at their centre, with the 95 % "
+                    "confidence band of the fitted mean (JMP's prediction profiler). The "
+                    "runs' level means are in tables/main_effects_*.csv; they are not "
+                    "balanced against the other factors in a composite design, so they mix "
+                    "in the others' effects",
+                    f"profile_{resp}.png",
+                    plotting.plot_profiler,
+                    surfaces[resp],
+                )
+            else:
+                add(
+                    "Main effects",
+                    f"Main effects on {label}" + _PAPER_MAIN[resp],
+                    f"main_effects_{resp}.png",
+                    plotting.plot_main_effects,
+                    data,
+                    factors,
+                    resp,
+                )
+            if len(factors) >= 2 and resp not in surfaces:  # interactions need two factors
                 add(
                     "Interactions",
                     f"Two-factor interactions on {label}"
@@ -639,7 +659,7 @@ def write_study(
             first = ok[ok["A"] == level].iloc[0]
             maps[f"A = {level:g} %"] = _map_of(runs_dir / f"{first['run_id']}.nc", "initial_status")
         add(
-            "Surfaces",
+            "Pad surfaces",
             "Initial fibre maps of the A levels (paper Figure 5)",
             "fibre_maps.png",
             plotting.plot_fibre_maps,

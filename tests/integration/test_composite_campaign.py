@@ -87,6 +87,13 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert '<h3 id="anova-MU">' not in anova_section
     assert "Residual plots of the quadratic surface of mean COF MU; model: MU ~ A + WR" in html
     assert not (out / "figures" / "pareto_MU.png").exists()
+    # main effects from the fitted surface (a profile), not the unbalanced level means, and
+    # no categorical interaction plot (the contour plots cover the pairs)
+    for resp in ("MU", "V", "log10_V_mm3"):
+        assert (out / "figures" / f"profile_{resp}.png").is_file()
+        assert not (out / "figures" / f"main_effects_{resp}.png").exists()
+        assert not (out / "figures" / f"interactions_{resp}.png").exists()
+    assert "from the fitted quadratic surface" in html
     residuals = pd.read_csv(out / "tables" / "surface_residuals_MU.csv")
     np.testing.assert_allclose(residuals["observed"], summary["MU"], rtol=1e-12)
     np.testing.assert_allclose(

@@ -446,3 +446,28 @@ def test_mu_per_stop_takes_a_campaign_result_or_one_run(campaign) -> None:
     np.testing.assert_array_equal(runs[0].get_ydata(), one["mean_cof"].to_numpy())
     with pytest.raises(TypeError, match="campaign: expected a CampaignResult"):
         plot_mu_per_stop([0.4, 0.5])
+
+
+def test_profiler_draws_the_fitted_surface_along_each_factor() -> None:
+    """Each panel: the quadratic along one factor, the others at their centre, with the
+    confidence band of the fitted mean around it (checked against the fit itself)."""
+    from brakeca.analysis import Factor
+    from brakeca.plotting import plot_profiler
+    from brakeca.rsm import fit_response_surface
+
+    rng = np.random.default_rng(5)
+    a, b = np.meshgrid([-1.0, 0.0, 1.0], [-1.0, 0.0, 1.0])
+    a, b = np.r_[a.ravel(), 0.0, 0.0], np.r_[b.ravel(), 0.0, 0.0]
+    y = 2.0 + 0.5 * a - 0.3 * b + 0.4 * a * a + 0.1 * a * b + rng.normal(0, 0.02, a.size)
+    rows = pd.DataFrame({"P": 10 + 5 * a, "Q": 1 + 0.5 * b, "y": y, "status": "ok"})
+    factors = [Factor("P", (5.0, 10.0, 15.0)), Factor("Q", (0.5, 1.0, 1.5))]
+    fit = fit_response_surface(rows, factors, "y")
+    fig = plot_profiler(fit)
+    assert len(fig.axes) == 2
+    line = fig.axes[0].lines[0]
+    x, fitted = line.get_xdata(), line.get_ydata()
+    np.testing.assert_allclose(x[[0, -1]], [5.0, 15.0])
+    np.testing.assert_allclose(fitted, fit.predict({"P": x, "Q": np.ones_like(x)}), rtol=1e-12)
+    band = fig.axes[0].collections[0].get_paths()[0].vertices[:, 1]
+    low, high = fit.confidence_interval({"P": (x - 10) / 5, "Q": np.zeros_like(x)})
+    assert band.min() == pytest.approx(low.min()) and band.max() == pytest.approx(high.max())
