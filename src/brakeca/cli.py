@@ -1020,7 +1020,7 @@ def optimize(
         )
         goals_table.add_row(
             name,
-            f"{goal.kind} " + " / ".join(f"{v * scale:g}" for v in goal.bounds),
+            goal.describe(scale, "g"),
             f"{best.desirability[goal.response]:.3f}",
         )
     out.print(table)
@@ -1318,9 +1318,9 @@ def show_design(
     for goal in loaded.goals:
         unit = GOAL_RESPONSES[goal.response][0]
         out.print(
-            f"goal: {goal.response} {goal.goal} "
-            + " / ".join(f"{v:g}" for v in goal.to_goal(scale=1.0).bounds)
-            + ("" if unit == "-" else f" {unit}"),
+            f"goal: {goal.response} "
+            + goal.to_goal(scale=1.0).describe(spec="g")
+            + ("" if unit == "-" else f" [{unit}]"),
             markup=False,
             highlight=False,
             emoji=False,

@@ -703,19 +703,24 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
         scale, unit = _REPORT_UNITS.get(g.response, (1.0, None))
         low, high = optimum.interval[g.response]
         pi_low, pi_high = optimum.prediction[g.response]
-        rows.append(
-            {
-                "cells": [
-                    g.response + (f" [{unit}]" if unit else ""),
-                    _fmt(optimum.predicted[g.response] * scale, ".4g"),
-                    f"{_fmt(low * scale, '.4g')} to {_fmt(high * scale, '.4g')}",
-                    f"{_fmt(pi_low * scale, '.4g')} to {_fmt(pi_high * scale, '.4g')}",
-                    g.kind + " " + " / ".join(_fmt(v * scale, ".4g") for v in g.bounds),
-                    _fmt(optimum.desirability[g.response], ".3f"),
-                ],
-                "cls": "",
-            }
-        )
+        fitted = optimum.predicted[g.response]
+
+        def shown(v: float, scale: float = scale) -> str:
+            return _fmt(v * scale, ".4g")
+
+        cells = [
+            g.response + (f" [{unit}]" if unit else ""),
+            shown(fitted),
+            f"{shown(low)} to {shown(high)}",
+            f"{shown(pi_low)} to {shown(pi_high)}",
+            g.describe(scale),
+            _fmt(optimum.desirability[g.response], ".3f"),
+        ]
+        if g.response == "log10_V_mm3":  # V itself, in the unit an engineer reads
+            cells[1] += f" (V {_fmt(10.0**fitted, '.3g')} mm³)"
+            cells[2] += f" (V {_fmt(10.0**low, '.3g')} to {_fmt(10.0**high, '.3g')} mm³)"
+            cells[3] += f" (V {_fmt(10.0**pi_low, '.3g')} to {_fmt(10.0**pi_high, '.3g')} mm³)"
+        rows.append({"cells": cells, "cls": ""})
     responses = _Table(
         [
             "Response",

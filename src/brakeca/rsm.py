@@ -950,6 +950,21 @@ class Goal:
             return (self.lower, self.target, self.upper)
         return (self.lower, self.upper)
 
+    def describe(self, scale: float = 1.0, spec: str = ".4g") -> str:
+        """The goal with its numbers named, as Minitab's optimizer names them:
+        ``"minimize: target 0.5, upper 3"``, ``"maximize: lower 0.3, target 0.45"``,
+        ``"target: lower 0.3, target 0.35, upper 0.45"`` (the numbers times ``scale`` [the
+        unit shown per response unit], formatted with ``spec``)."""
+        names = {
+            "minimize": ("target", "upper"),
+            "maximize": ("lower", "target"),
+            "target": ("lower", "target", "upper"),
+        }[self.kind]
+        values = ", ".join(
+            f"{n} {format(v * scale, spec)}" for n, v in zip(names, self.bounds, strict=True)
+        )
+        return f"{self.kind}: {values}"
+
     @property
     def acceptance_limits(self) -> tuple[float, ...]:
         """The limits a response must stay within to be acceptable at all (desirability

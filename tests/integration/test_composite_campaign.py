@@ -105,10 +105,10 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert v_row["goal"] == "minimize" and v_row["upper"] == pytest.approx(50e-9, rel=1e-15)
     assert (out / "figures" / "overlaid_contours.png").is_file()
     assert '<h3 id="surface-optimum">Response optimization</h3>' in html
-    assert "minimize 0 / 50" in html
+    assert "minimize: target 0, upper 50" in html
     assert "The goals&#39; limits on V are in absolute volume per stop" in html  # 2 stops
     # without --goal, brakeca optimize takes the design's goals
-    assert "minimize 0 / 50" in cli_ok("optimize", str(out))
+    assert "minimize: target 0, upper 50" in cli_ok("optimize", str(out))
     # the response optimizer on the same folder: V given in mm³, the setting inside the box
     res = CliRunner().invoke(
         app,
@@ -117,7 +117,10 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     )
     assert res.exit_code == 0, res.output
     assert "composite desirability: " in res.output and "V [mm³]" in res.output
-    assert "target 0.1 / 0.3 / 0.6" in res.output and "minimize 0 / 50" in res.output
+    assert (
+        "target: lower 0.1, target 0.3, upper 0.6" in res.output
+        and "minimize: target 0, upper 50" in res.output
+    )
     reduced = cli_ok("optimize", str(out), "--reduce", "0.5")
     assert "composite desirability: " in reduced
     bad = CliRunner().invoke(app, ["optimize", str(out), "-g", "MU:target:0.3:0.2"])

@@ -324,7 +324,7 @@ def test_the_response_optimization_in_the_report(tmp_path) -> None:
     html = render_report(**make_inputs(tmp_path), surface_fits={"V": fit}, optimum=(goals, best))
     section = html[html.index('<h3 id="surface-optimum">') :]
     assert f"composite desirability, here {best.composite:.3f}" in section
-    assert "<td>minimize 0.5 / 3</td>" in section  # V's limits in mm³
+    assert "<td>minimize: target 0.5, upper 3</td>" in section  # V's limits in mm³
     assert f'<td class="num">{best.predicted["V"] * 1e9:.4g}</td>' in section
     assert "At the edge of that region: A" in section  # V falls with A: A at its low end
     no_optimum = render_report(
@@ -457,3 +457,29 @@ def test_the_alias_note_comes_with_aliases_only_and_before_the_tables(tmp_path) 
     inputs = make_inputs(tmp_path)
     inputs["anova_tables"] = {"MU": anova(rows, design.factors, "MU")}
     assert "Aliases (designs that do not separate" in render_report(**inputs)
+
+
+def test_an_optimized_log10_v_is_also_given_as_v(tmp_path) -> None:
+    """A goal on log10_V_mm3: the fitted value and both intervals also as V in mm³ (an
+    engineer reads V; a helper's review of the report)."""
+    import itertools
+
+    from brakeca.rsm import Coding, Goal, fit_response_surface, optimize
+
+    a, b = Coding("A", 10.0, 20.0, unit="%"), Coding("WR", 1e-7, 1e-6, log=True, unit="m")
+    rng = np.random.default_rng(2)
+    rows = [
+        {"A": a.decode(x1), "WR": b.decode(x2), "log10_V_mm3": 1.0 - 0.2 * x1 + rng.normal(0, 0.01)}
+        for x1, x2 in itertools.product((-1.0, 0.0, 1.0), repeat=2)
+    ]
+    fit = fit_response_surface(pd.DataFrame(rows), [a, b], "log10_V_mm3")
+    goals = [Goal("log10_V_mm3", "minimize", 0.5, 1.5)]
+    best = optimize({"log10_V_mm3": fit}, goals)
+    html = render_report(
+        **make_inputs(tmp_path), surface_fits={"log10_V_mm3": fit}, optimum=(goals, best)
+    )
+    section = html[html.index('<h3 id="surface-optimum">') :]
+    fitted = best.predicted["log10_V_mm3"]
+    assert f"{fitted:.4g} (V {10**fitted:.3g} mm³)" in section
+    low, high = best.prediction["log10_V_mm3"]
+    assert f"(V {10**low:.3g} to {10**high:.3g} mm³)" in section
