@@ -473,6 +473,8 @@ def plot_mu_per_stop(
 def plot_v_per_run(
     summary: pd.DataFrame,
     path: str | Path | None = None,
+    *,
+    log: bool | None = None,
 ) -> Figure:
     """Mean emitted wear volume per stop for every run (test), as bars in mm^3.
 
@@ -485,6 +487,9 @@ def plot_v_per_run(
         Campaign summary with ``test`` and ``V`` [m^3] (or ``V_mm3`` [mm^3]).
     path
         Optional PNG file to write (150 dpi).
+    log
+        A logarithmic V axis; by default where the tests' V span more than two decades
+        (where a linear axis shows the smallest as empty bars).
 
     Returns
     -------
@@ -513,15 +518,30 @@ def plot_v_per_run(
     x = np.asarray(tests, dtype=float)
     heights = grouped["mean"].to_numpy(dtype=float)
     err = grouped["std"].where(grouped["count"] > 1).to_numpy(dtype=float)
+    shown = heights[np.isfinite(heights)]
+    if log is None:
+        log = bool(shown.size and np.all(shown > 0) and shown.max() > 100.0 * shown.min())
+    if log:
+        ax.set_yscale("log")
     ax.bar(x, np.nan_to_num(heights), width=0.75, color="#27496d", zorder=2)
     if np.isfinite(err).any():
         ax.errorbar(x, heights, yerr=err, fmt="none", ecolor="0.2", capsize=2, lw=0.8, zorder=3)
     for xi, h in zip(x, heights, strict=True):
         if not np.isfinite(h):
-            ax.text(xi, 0, "failed", rotation=90, ha="center", va="bottom", fontsize=7, color="r")
+            ax.text(
+                xi,
+                0.0,
+                "failed",
+                rotation=90,
+                ha="center",
+                va="bottom",
+                fontsize=7,
+                color="r",
+                transform=ax.get_xaxis_transform(),  # at the axes' bottom, on either scale
+            )
     ax.set_xticks(x, [str(t) for t in tests], fontsize=8)
     ax.set_xlabel("Test number [-]")
-    ax.set_ylabel("Emitted wear volume per stop V [mm³]")
+    ax.set_ylabel("Emitted wear volume per stop V [mm³]" + (", log scale" if log else ""))
     title = "Mean emitted wear volume per stop, per test"
     if np.isfinite(err).any():
         title += " (mean ± 1 standard deviation of its replicates)"

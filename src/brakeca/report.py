@@ -76,8 +76,11 @@ tr.failed td { color: #a61b1b; }
 tr:nth-child(even) td { background: #fafbfc; }
 pre { background: #f6f8fa; border: 1px solid var(--line); padding: .8rem; overflow-x: auto;
   font: 12px/1.4 ui-monospace, SFMono-Regular, Menlo, Consolas, monospace; }
-figure { margin: 1.2rem 0 2rem; }
+figure { margin: 1.2rem 0 2rem; overflow-x: auto; }
 figure img { display: block; max-width: 100%; height: auto; border: 1px solid var(--line); }
+figure label.zoom { cursor: zoom-in; }
+input.zoom:checked + label.zoom { cursor: zoom-out; }
+input.zoom:checked + label.zoom img { max-width: none; }
 @media print { nav { display: none; } figure, table { page-break-inside: avoid; } }
 </style>
 </head>
@@ -192,8 +195,14 @@ term; what the table gives for the term is its effect plus theirs, each with the
 <h2>{{ section.name }}</h2>
 {%- for fig in section.figures %}
 <figure id="figure-{{ fig.number }}">
+{%- if fig.wide %}
+<input type="checkbox" class="zoom" id="zoom-{{ fig.number }}" hidden>
+<label class="zoom" for="zoom-{{ fig.number }}"
+ title="click: full size (scroll sideways), click again: fit">
+{%- endif %}
 <img src="data:image/png;base64,{{ fig.data }}" alt="{{ fig.caption }}"
 {%- if fig.width %} width="{{ fig.width }}" height="{{ fig.height }}"{% endif %}>
+{%- if fig.wide %}</label>{% endif %}
 <figcaption>Figure {{ fig.number }}. {{ fig.caption }}</figcaption>
 </figure>
 {%- endfor %}
@@ -925,6 +934,11 @@ def _figure_entries(
     return entries
 
 
+#: Width [px] of the page's text column (body max-width 1200 px less 2 x 2rem padding):
+#: a wider figure is shown scaled down, and a click on it shows it at full size.
+_PAGE_WIDTH_PX = 1136
+
+
 def _figure_sections(
     figures: Mapping[str, str | Path] | Iterable[tuple[Any, ...]] | None,
 ) -> list[dict[str, Any]]:
@@ -947,6 +961,9 @@ def _figure_sections(
                 "data": base64.b64encode(data).decode("ascii"),
                 "width": size[0] if size else None,
                 "height": size[1] if size else None,
+                # wider than the page shows it (1200 px less padding): a click shows it
+                # at full size, where a large panel grid's labels are legible
+                "wide": bool(size and size[0] > _PAGE_WIDTH_PX),
             }
         )
     number = 0

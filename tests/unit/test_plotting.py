@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from brakeca.analysis import Factor, ranked_effects, residuals
+from brakeca.analysis import Factor, ok_runs, ranked_effects, residuals
 from brakeca.plotting import (
     plot_box_cox,
     plot_cof_series,
@@ -176,6 +176,16 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     assert len(fig.axes[0].patches) == 24
     assert "replicates" in fig.axes[0].get_title()
     assert "replicates" not in plot_v_per_run(summary).axes[0].get_title()
+    # a log axis where the tests' V span more than two decades (the smallest bars had looked
+    # empty; a helper's review), else linear; either can be asked for
+    spread = ok_runs(summary)["V"]
+    expected = "log" if spread.max() > 100 * spread.min() else "linear"
+    assert plot_v_per_run(summary).axes[0].get_yscale() == expected
+    wide = summary.assign(V=summary["V"] * np.where(summary["test"] % 2 == 0, 1e3, 1.0))
+    assert plot_v_per_run(wide).axes[0].get_yscale() == "log"
+    assert "log scale" in plot_v_per_run(wide).axes[0].get_ylabel()
+    assert plot_v_per_run(wide, log=False).axes[0].get_yscale() == "linear"
+    assert plot_v_per_run(summary, log=True).axes[0].get_yscale() == "log"
 
     path = tmp_path / "pareto.png"
     ranked = ranked_effects(summary, FACTORS, "MU")

@@ -483,3 +483,23 @@ def test_an_optimized_log10_v_is_also_given_as_v(tmp_path) -> None:
     assert f"{fitted:.4g} (V {10**fitted:.3g} mm³)" in section
     low, high = best.prediction["log10_V_mm3"]
     assert f"(V {10**low:.3g} to {10**high:.3g} mm³)" in section
+
+
+def test_a_figure_wider_than_the_page_opens_at_full_size_on_a_click(tmp_path) -> None:
+    """A large panel grid is scaled down to the page, where its labels are too small to
+    read (a helper's review): a click shows it at full size (a checkbox and its label, no
+    script); a figure that fits the page is shown as it is."""
+    inputs = make_inputs(tmp_path)
+    inputs["figures"] = [
+        ("Interactions", "wide", tiny_png(tmp_path / "wide.png", width=2880, height=40)),
+        ("Interactions", "narrow", tiny_png(tmp_path / "narrow.png", width=800, height=40)),
+    ]
+    html = render_report(**inputs)
+    wide = html[html.index('<figure id="figure-1">') : html.index('<figure id="figure-2">')]
+    narrow = html[html.index('<figure id="figure-2">') :]
+    narrow = narrow[: narrow.index("</figure>")]
+    assert '<input type="checkbox" class="zoom" id="zoom-1" hidden>' in wide
+    assert '<label class="zoom" for="zoom-1"' in wide and "</label>" in wide
+    assert 'width="2880"' in wide
+    assert "zoom" not in narrow
+    assert "input.zoom:checked + label.zoom img { max-width: none; }" in html
