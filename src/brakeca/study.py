@@ -30,7 +30,7 @@ import pandas as pd
 
 from brakeca import __version__
 from brakeca.campaign import CampaignResult
-from brakeca.design import Design
+from brakeca.design import Design, _target
 from brakeca.results import RunResult
 
 __all__ = ["RESPONSES", "per_stop_table", "plot_run", "with_log_v", "write_study"]
@@ -128,17 +128,23 @@ def _design_table(result: CampaignResult) -> pd.DataFrame:
         target, word = (part.strip() for part in text.split("=", 1))
         generated[target] = "= " + word.replace(" ", "").replace("*", "·")
     rows = []
+    logs = any(f.coding == "log" for f in design.factors)
+    centre = design.center_levels() if design.center_points else {}
     for f in design.factors:
         row = {
             "factor": f.name,
             "meaning": f.label,
-            "field": f.field,
+            "field": _target(f.field),  # a factor alias ("WP") as the field it sets
             "unit": f.unit,
             "levels": ", ".join(
                 f"{lev:g}" if f.labels is None else f"{lab} = {lev:g}"
                 for lab, lev in zip(f.labels or f.levels, f.levels, strict=True)
             ),
         }
+        if logs:  # which factors are coded on log10 of the level (geometric centre)
+            row["coding"] = f.coding
+        if centre:
+            row["centre point"] = f"{centre[f.name]:.4g}"
         if generated:
             row["generated"] = generated.get(f.name, "")
         rows.append(row)
@@ -158,8 +164,10 @@ def _design_info(design: Design) -> str:
         text += (
             " Its factors are numeric with three or more levels: the section 'Response "
             "surface' fits the response as a quadratic in the coded factors (curvature and "
-            "two-factor interactions), with the stationary point; the main-effects and "
-            "interaction plots treat each level as a category, as for a factorial design."
+            "two-factor interactions), with the stationary point; the main effects are shown "
+            "along the fitted surface (a profile) and the pairs in contour plots, since a "
+            "composite design's level means, in the tables, are not balanced against the "
+            "other factors."
         )
     if design.center_points:
         n_c = design.center_points * design.replicates  # runs at the centre

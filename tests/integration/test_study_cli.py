@@ -465,3 +465,30 @@ def test_other_options_into_a_finished_folder_are_refused_unless_replace(campaig
     )
     assert res.exit_code == 0, res.output
     assert "4 run(s) computed, 0 reused" in res.output
+
+
+def test_the_design_table_names_coding_centre_and_field() -> None:
+    """The report's design table gives each factor's coding where any is log-coded, its
+    centre point where the design has them, and the configuration field an alias sets (a
+    helper's review: the geometric centre of a log-coded factor showed only per run)."""
+    import types
+
+    from brakeca.design import design_from_dict
+    from brakeca.study import _design_table
+
+    design = design_from_dict(
+        {
+            "name": "c",
+            "base": "paper",
+            "root_seed": 1,
+            "center_points": 2,
+            "factors": [
+                {"name": "WR", "field": "WR", "levels": [1e-7, 1e-6], "coding": "log"},
+                {"name": "A", "field": "A", "levels": [10, 20]},
+            ],
+        }
+    )
+    table = _design_table(types.SimpleNamespace(design=design)).set_index("factor")
+    assert list(table["coding"]) == ["log", "linear"]
+    assert table.loc["WR", "centre point"] == "3.162e-07" and table.loc["A", "centre point"] == "15"
+    assert list(table["field"]) == ["wear.resin_wear_depth", "pad.fibre_area_fraction"]
