@@ -179,8 +179,14 @@ def _exit_with_parent(
 
 
 def _init_worker() -> None:
-    """Process-pool initializer: one numba / OpenMP / BLAS thread per worker, and an end with
-    the campaign's process (:func:`_exit_with_parent`)."""
+    """Process-pool initializer: one numba / OpenMP / BLAS thread per worker, Ctrl-C left to
+    the campaign's process, and an end with it (:func:`_exit_with_parent`).
+
+    Ctrl-C in a terminal reaches every process of its group: a worker waiting for its next
+    run printed a KeyboardInterrupt traceback, though the campaign's process stops its
+    workers itself (:func:`_stop_pool`, which terminates them; a run in progress keeps its
+    checkpoint) and says what is kept."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     os.environ.update(WORKER_ENV)
     numba = sys.modules.get("numba")
     if numba is not None:  # imported before the initializer ran (e.g. by the main module)

@@ -46,6 +46,39 @@ def checkpoint_is_of(meta: dict[str, Any], config: Any, seed: int) -> bool:
     )
 
 
+def checkpoint_problem(path: str | Path) -> str | None:
+    """Why the existing file ``path`` is not a brakeca checkpoint, or None when it is one
+    (an ``.npz`` archive with brakeca's ``meta`` entry; of which run, not asked) or there is
+    no file. Only the archive's directory and its small ``meta`` entry are read."""
+    import json
+    import zipfile
+
+    path = Path(path)
+    if not path.exists():
+        return None
+    try:
+        with path.open("rb") as f:
+            head = f.read(8)
+    except OSError as exc:
+        return f"cannot read it ({exc.strerror or exc})"
+    if head.startswith(b"\x89HDF"):
+        return "a netCDF/HDF5 file (a run file?), not a brakeca checkpoint"
+    if not zipfile.is_zipfile(path):
+        return "not a brakeca checkpoint (not an .npz archive; a damaged one, or another file)"
+    try:
+        import numpy as np
+
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(str(data["meta"]))
+    except Exception:
+        return "an .npz archive without a readable brakeca checkpoint entry (meta)"
+    if not isinstance(meta, dict) or not str(meta.get("format", "")).startswith(
+        "brakeca-checkpoint/"
+    ):
+        return "an .npz archive that is not a brakeca checkpoint"
+    return None
+
+
 def checkpoint_resumes(path: Path, config: Any, seed: int) -> bool:
     """Whether the checkpoint at ``path`` is one the run of ``config`` and ``seed`` would
     resume from (:func:`checkpoint_is_of`; only its small ``meta`` entry is read). False for

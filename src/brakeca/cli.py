@@ -129,17 +129,18 @@ def _announce_compiling(message: str) -> None:
 
 
 @contextmanager
-def _on_interrupt(message: str) -> Iterator[None]:
-    """Turn Ctrl-C inside the block into ``message`` and exit status 130 (typer would exit
-    130 without a word); SIGTERM and SIGHUP too, so that a killed run keeps its checkpoint
-    and stops its children instead of leaving them running."""
+def _on_interrupt(message: str | Callable[[], str]) -> Iterator[None]:
+    """Turn Ctrl-C inside the block into ``message`` (or what ``message()`` says then) and
+    exit status 130 (typer would exit 130 without a word); SIGTERM and SIGHUP too, so that a
+    killed run keeps its checkpoint and stops its children instead of leaving them running."""
     from brakeca._executors import terminate_as_interrupt
 
     try:
         with terminate_as_interrupt():
             yield
     except KeyboardInterrupt:
-        console.print(f"[bold yellow]interrupted:[/] {escape(message)}", highlight=False)
+        text = message() if callable(message) else message
+        console.print(f"[bold yellow]interrupted:[/] {escape(text)}", highlight=False)
         raise typer.Exit(130) from None
 
 
@@ -251,9 +252,14 @@ def simulate(
         ),
     ] = None,
     checkpoint_every: Annotated[
-        int,
-        typer.Option("--checkpoint-every", min=1, metavar="N", help="stops between checkpoints"),
-    ] = 10,
+        int | None,
+        typer.Option(
+            "--checkpoint-every",
+            min=1,
+            metavar="N",
+            help="stops between checkpoints (with --checkpoint)  [default: 10]",
+        ),
+    ] = None,
     cycle: Annotated[
         str | None,
         typer.Option(
@@ -291,8 +297,24 @@ def simulate(
         steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper's
     except ConfigError as exc:
         _fail(str(exc))
+    _check_output(output)
+    if checkpoint is None and checkpoint_every is not None:
+        _fail("--checkpoint-every sets how often --checkpoint saves; give --checkpoint too")
     if checkpoint is not None:
+        from brakeca._io import checkpoint_problem
+
         _check_output(checkpoint, "--checkpoint")
+        if checkpoint.resolve() == output.resolve():
+            _fail(
+                f"--checkpoint {checkpoint}: the same file as -o, which the run file would "
+                "replace and the end of the run remove; give the checkpoint another name"
+            )
+        problem = checkpoint_problem(checkpoint)
+        if problem is not None:
+            _fail(
+                f"--checkpoint {checkpoint}: {problem}; give the checkpoint another path (if "
+                "it is a damaged checkpoint of this run, delete it to start over)"
+            )
     n_r, n_t = config.mesh.n_radial, config.mesh.n_angular
     n_stops = len(source.events)
     console.print(
@@ -317,12 +339,14 @@ def simulate(
     )
     from brakeca._warmup import warm_up
 
-    resume = (
-        f"the checkpoint {checkpoint} resumes it from its last saved stop (the same command)"
-        if checkpoint is not None
-        else "--checkpoint PATH would let a rerun resume"
-    )
-    with _on_interrupt(f"nothing written; {resume}"):
+    def resume() -> str:  # read when the interrupt comes: has a checkpoint been saved?
+        if checkpoint is None:
+            return "--checkpoint PATH would let a rerun resume"
+        if not checkpoint.exists():
+            return f"no stop had been saved to {checkpoint} yet; the same command starts over"
+        return f"the checkpoint {checkpoint} resumes it from its last saved stop (the same command)"
+
+    with _on_interrupt(lambda: f"nothing written; {resume()}"):
         warmed = warm_up([config], announce=_announce_compiling)
     if warmed is not None:
         console.print(f"[dim]kernels compiled or loaded in a child process ({warmed:.1f} s)[/]")
@@ -337,7 +361,7 @@ def simulate(
             )
     failure: tuple[str, int] | None = None
     with (
-        _on_interrupt(f"nothing written; {resume}"),
+        _on_interrupt(lambda: f"nothing written; {resume()}"),
         Progress(*columns, console=console, transient=False) as bar,
     ):
         task = bar.add_task("simulate", total=n_stops)
@@ -347,7 +371,7 @@ def simulate(
                 seed=seed,
                 progress=lambda done, total: bar.update(task, completed=done),
                 checkpoint=checkpoint,
-                checkpoint_every=checkpoint_every,
+                checkpoint_every=10 if checkpoint_every is None else checkpoint_every,
                 keep_checkpoint=True,  # removed below, once the run file is written
             )
         except (ContactError, LedgerError) as exc:

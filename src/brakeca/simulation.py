@@ -23,7 +23,7 @@ import numpy as np
 
 from brakeca import _kernels as K
 from brakeca import _lazy
-from brakeca._io import CHECKPOINT_FORMAT, atomic_write, checkpoint_is_of
+from brakeca._io import CHECKPOINT_FORMAT, atomic_write, checkpoint_is_of, checkpoint_problem
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
@@ -558,6 +558,12 @@ def load_checkpoint(path, config, seed, grid):
     path = Path(path)
     if not path.exists():
         return None
+    problem = checkpoint_problem(path)
+    if problem is not None:
+        raise CheckpointError(
+            f"{path}: {problem}; give the checkpoint another path (if this is a damaged "
+            "checkpoint of this run, delete it to start over)"
+        )
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))

@@ -91,7 +91,7 @@ def test_foreign_checkpoint_is_refused(tmp_path):
     with pytest.raises(ValueError, match="checkpoint of another run"):
         simulate(config, seed=2, checkpoint=ckpt)
     ckpt.write_bytes(b"not a checkpoint")
-    with pytest.raises(ValueError, match="unreadable checkpoint"):
+    with pytest.raises(ValueError, match=r"not a brakeca checkpoint \(not an \.npz archive"):
         simulate(config, seed=1, checkpoint=ckpt)
 
 
@@ -127,3 +127,28 @@ def test_the_command_line_says_it_resumes(tmp_path):
     res = CliRunner().invoke(app, [*args, "-o", str(tmp_path / "again.nc"),
                                    "--checkpoint", str(ckpt)])  # fmt: skip
     assert res.exit_code == 0 and "resuming" not in res.output
+
+
+def test_the_command_line_refuses_a_checkpoint_it_would_lose_or_misread(tmp_path):
+    """Checked before any work (a helper's review of the command line): -o as the checkpoint
+    (the end of the run had removed the run file it had just written), a run file as the
+    checkpoint (its message had pointed to unpickling it and told to delete it), and
+    --checkpoint-every without --checkpoint (ignored without a word)."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    run = tmp_path / "r.nc"
+    args = ["simulate", "--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100", "--stops", "1"]
+    res = CliRunner().invoke(app, [*args, "-o", str(run), "--checkpoint", str(run)])
+    assert res.exit_code == 2 and "the same file as -o" in " ".join(res.output.split())
+    assert CliRunner().invoke(app, [*args, "-o", str(run)]).exit_code == 0
+    res = CliRunner().invoke(app, [*args, "-o", str(tmp_path / "s.nc"), "--checkpoint", str(run)])
+    out = " ".join(res.output.split())
+    assert (
+        res.exit_code == 2 and "a netCDF/HDF5 file (a run file?), not a brakeca checkpoint" in out
+    )
+    assert "0/1" not in out  # refused before the run began (no progress bar)
+    assert run.exists()
+    res = CliRunner().invoke(app, [*args, "-o", str(tmp_path / "t.nc"), "--checkpoint-every", "2"])
+    assert res.exit_code == 2 and "give --checkpoint too" in res.output

@@ -189,11 +189,27 @@ def test_cli_simulate(tmp_path):
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
     assert res.exit_code == 2 and "at least 0 and below 100 %" in res.output
     assert not (tmp_path / "bad.nc").exists()
-    # an output that cannot be written after the run (its folder is a file): the run is kept
+    # an output that cannot be written (its folder is a file) is refused before the run
     blocker = tmp_path / "blocker"
     blocker.write_text("")
     tiny = ["simulate", "--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100"]
     res = runner.invoke(app, [*tiny, "--stops", "1", "--seed", "4", "-o", str(blocker / "r.nc")])
+    assert res.exit_code == 2 and "cells, cycle" not in res.output, res.output
+    # one that fails when written after the run (a full disk, say): the run is kept
+    real_write = RunResult.to_netcdf
+
+    def full_disk(self, path):
+        if Path(path).parent == tmp_path:
+            raise OSError(28, "No space left on device")
+        return real_write(self, path)
+
+    RunResult.to_netcdf = full_disk
+    try:
+        res = runner.invoke(
+            app, [*tiny, "--stops", "1", "--seed", "4", "-o", str(tmp_path / "f2.nc")]
+        )
+    finally:
+        RunResult.to_netcdf = real_write
     assert res.exit_code == 1, res.output
     kept = Path(res.output.split("the run was saved to ")[1].split()[0])
     assert RunResult.from_netcdf(kept).MU == r.MU

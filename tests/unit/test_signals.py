@@ -112,3 +112,72 @@ def test_a_child_watching_its_parent_cleans_up_and_ends(tmp_path) -> None:
         "time.sleep(60)\n"
     )
     _kill_parent_then_wait([sys.executable, "-c", parent_code], pid_file, marker.exists)
+
+
+def test_the_interrupt_message_is_worked_out_when_the_interrupt_comes(tmp_path) -> None:
+    """brakeca simulate's message names its checkpoint as resuming only once one was saved
+    (it had named one that did not exist yet; a helper's review of the command line)."""
+    import typer
+
+    from brakeca import cli
+
+    saved = tmp_path / "k.npz"
+
+    def message() -> str:
+        return f"resumes from {saved}" if saved.exists() else "nothing saved yet"
+
+    for exists, expected in ((False, "nothing saved yet"), (True, f"resumes from {saved}")):
+        if exists:
+            saved.write_bytes(b"x")
+        with cli.console.capture() as captured, pytest.raises(typer.Exit) as stop:
+            with cli._on_interrupt(message):
+                raise KeyboardInterrupt
+        assert stop.value.exit_code == 130
+        assert expected in " ".join(captured.get().split())
+
+
+def test_a_local_worker_leaves_ctrl_c_to_the_campaign(tmp_path) -> None:
+    """Ctrl-C reaches the whole process group: an idle worker printed a KeyboardInterrupt
+    traceback (a helper's review). Workers ignore SIGINT; the campaign's process stops them.
+    Here the whole group of a small campaign process gets SIGINT while its worker waits:
+    nothing is printed by the worker, and the campaign process alone handles it."""
+    ready = tmp_path / "ready"
+    code = textwrap.dedent(
+        f"""
+        import os, signal, sys, time
+        from brakeca._executors import _local_pool
+        if __name__ == "__main__":
+            pool = _local_pool(1)
+            ignored = pool.submit(signal.getsignal, signal.SIGINT).result()
+            assert ignored == signal.SIG_IGN, ignored
+            open({str(ready)!r}, "w").write("1")
+            try:
+                time.sleep(60)
+            except KeyboardInterrupt:
+                pool.shutdown(cancel_futures=True)
+                print("parent interrupted")
+                sys.exit(0)
+        """
+    )
+    script = tmp_path / "campaign.py"
+    script.write_text(code)
+    proc = subprocess.Popen(
+        [sys.executable, str(script)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # its own process group, which the signal goes to
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while not ready.exists():
+            assert time.monotonic() < deadline and proc.poll() is None, proc.stderr.read()
+            time.sleep(0.1)
+        time.sleep(0.5)  # the worker back to waiting for its next call
+        os.killpg(proc.pid, signal.SIGINT)
+        out, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert proc.returncode == 0 and "parent interrupted" in out
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
