@@ -98,6 +98,18 @@ def _check_output(path: Path, option: str | None = "-o", *, folder: bool = False
         _fail(f"{'' if option is None else option + ' '}{path}: {problem}")
 
 
+def _check_figure_output(path: Path) -> None:
+    """:func:`_check_output` for a figure's ``-o``, whose suffix must be a figure format
+    (:func:`brakeca.plotting.figure_format`)."""
+    from brakeca.plotting import figure_format
+
+    _check_output(path)
+    try:
+        figure_format(path)
+    except ValueError as exc:
+        _fail(f"-o {exc}")
+
+
 def _write_or_keep(path: Path, write: Callable[[Path], Any], what: str) -> None:
     """Write a computed result with ``write(path)`` (its folder created); if that fails, write
     it into a new temporary folder instead and fail with exit status 1, naming both, so that
@@ -156,7 +168,7 @@ def _percent_note(updates: dict[str, Any]) -> None:
 
 
 def resolve_config(
-    preset: str,
+    preset: str | None,
     config_file: Path | None,
     overrides: list[str] | None,
     stops: int | None,
@@ -166,7 +178,15 @@ def resolve_config(
     from brakeca.design import check_quick_overrides, quick_config
     from brakeca.presets import load_preset
 
-    config = load_config(config_file) if config_file is not None else load_preset(preset)
+    if config_file is not None and preset is not None:
+        raise ConfigError(
+            f"--preset {preset} and -c {config_file}: give one of them (a config file is a "
+            "whole configuration, not changes to a preset)"
+        )
+    if config_file is not None:
+        config = load_config(config_file)
+    else:
+        config = load_preset("paper" if preset is None else preset)
     updates = parse_overrides(overrides)
     _percent_note(updates)
     if quick:
@@ -182,7 +202,10 @@ def resolve_config(
     return config
 
 
-PresetOpt = Annotated[str, typer.Option("--preset", metavar="NAME", help="shipped parameter set")]
+PresetOpt = Annotated[
+    str | None,
+    typer.Option("--preset", metavar="NAME", help="shipped parameter set  [default: paper]"),
+]
 ConfigOpt = Annotated[
     Path | None,
     typer.Option("--config", "-c", metavar="PATH", help="a config TOML file instead of a preset"),
@@ -236,7 +259,7 @@ def simulate(
             "-o", "--output", metavar="PATH", dir_okay=False, help="run file to write (.nc)"
         ),
     ],
-    preset: PresetOpt = "paper",
+    preset: PresetOpt = None,
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
     seed: SeedOpt = 0,
@@ -517,9 +540,16 @@ def plot(
 @app.command(short_help="the initial fibre maps of the A levels (paper Figure 5)")
 def surface(
     output: Annotated[
-        Path, typer.Option("-o", "--output", metavar="PATH", dir_okay=False, help="PNG to write")
+        Path,
+        typer.Option(
+            "-o",
+            "--output",
+            metavar="PATH",
+            dir_okay=False,
+            help="figure to write (.png; .pdf, .svg and others by the suffix)",
+        ),
     ],
-    preset: PresetOpt = "paper",
+    preset: PresetOpt = None,
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
     seed: SeedOpt = 0,
@@ -539,12 +569,19 @@ def surface(
     from brakeca.surface import generate_surface
 
     try:
+        given = parse_overrides(overrides)
+        fixed = [k for k in given if k in ("A", "pad.fibre_area_fraction")]
+        if fixed:
+            raise ConfigError(
+                f"--set {fixed[0]}: the maps' fibre fractions are --levels (in %), which "
+                "would replace it; give --levels instead"
+            )
         config = resolve_config(preset, config_file, overrides, None, quick)
         values = _percent_levels(levels)
         configs = {f"A = {v:g} %": config.with_updates({"A": v}) for v in values}
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
-    _check_output(output)
+    _check_figure_output(output)
     maps = {}
     for label, cfg in configs.items():
         grid = make_grid(cfg)
@@ -1095,7 +1132,11 @@ def power(
     ] = None,
     response: Annotated[
         str,
-        typer.Option(metavar="R", help="the response of --sigma-from: MU, V or log10_V_mm3"),
+        typer.Option(
+            metavar="R",
+            help="the response: MU, V (in mm³) or log10_V_mm3, whose unit E and S are in, "
+            "and whose pure error --sigma-from takes",
+        ),
     ] = "MU",
     replicates: Annotated[
         str,
@@ -1180,20 +1221,25 @@ def power(
             if text.startswith(f"{name}: "):
                 text = f"--{text}"  # the option that gave it
         _fail(text)
+    unit_text = "" if unit == "-" else f" {unit}"
     if effect is None:
-        title = f"smallest difference found with power {target:g}"
-        given = f"sigma {sigma:.4g}"
+        title = f"smallest difference in {response} found with power {target:g}"
+        given = f"sigma {sigma:.4g}{unit_text}"
     else:
         title = (
             f"fewest replicates for power {target:g}"
             if target is not None
             else "power by replicates"
         )
-        given = f"effect {effect:g}, sigma {sigma:.4g}"
+        given = f"effect in {response} {effect:g}{unit_text}, sigma {sigma:.4g}{unit_text}"
     table = Table(title=f"{loaded.name}: {title} ({given}, alpha {alpha:g})")
-    last = "smallest difference" if effect is None else "power"
+    last = (
+        ("smallest difference" + ("" if unit == "-" else f" [{unit}]"))
+        if effect is None
+        else "power"
+    )
     for column in ("factor", "levels", "replicates", "runs", "error df", last):
-        table.add_column(column, justify="left" if column == "factor" else "right")
+        table.add_column(escape(column), justify="left" if column == "factor" else "right")
     for _, row in table_data.iterrows():
         value = row["effect"] if effect is None else row["power"]
         if math.isnan(row["df"]):
@@ -1576,7 +1622,7 @@ def _print_surface_model(design: Any) -> None:
 
 @app.command("config", short_help="print the resolved configuration as TOML")
 def show_config(
-    preset: PresetOpt = "paper",
+    preset: PresetOpt = None,
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
     stops: StopsOpt = None,

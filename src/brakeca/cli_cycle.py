@@ -310,7 +310,11 @@ def inspect(
     output: Annotated[
         Path | None,
         typer.Option(
-            "-o", "--output", metavar="PATH", dir_okay=False, help="PNG of the trace, events shaded"
+            "-o",
+            "--output",
+            metavar="PATH",
+            dir_okay=False,
+            help="figure of the trace, events shaded (.png; .pdf, .svg... by the suffix)",
         ),
     ] = None,
 ) -> None:
@@ -326,9 +330,9 @@ def inspect(
         if v is not None
     }
     if output is not None:  # before the table: a plot that cannot be written, up front
-        from brakeca.cli import _check_output
+        from brakeca.cli import _check_figure_output
 
-        _check_output(output)
+        _check_figure_output(output)
     try:
         if no_corrections:
             tc = TraceCycleConfig.no_corrections(**updates)

@@ -111,8 +111,26 @@ def _suptitle(fig: Figure, text: str) -> None:
         title.set_fontsize(size)
 
 
+#: The file formats a figure is written in, by the file's suffix (none: PNG).
+FIGURE_FORMATS: tuple[str, ...] = ("png", "pdf", "svg", "jpg", "jpeg", "tif", "tiff", "eps", "webp")
+
+
+def figure_format(path: str | Path) -> str:
+    """The format a figure written to ``path`` takes: its suffix's (``.svg`` -> ``"svg"``),
+    PNG without one; raises ValueError naming the formats for another suffix (a ``.xyz``
+    had been written as PNG)."""
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if not suffix:
+        return "png"
+    if suffix not in FIGURE_FORMATS:
+        shown = ", ".join("." + f for f in FIGURE_FORMATS)
+        raise ValueError(f"{path}: a figure is written as {shown} (by its suffix), not .{suffix}")
+    return suffix
+
+
 def save_figure(fig: Figure, path: str | Path | None) -> Figure:
-    """Save ``fig`` as PNG at :data:`DPI` when ``path`` is given (parents are created).
+    """Save ``fig`` when ``path`` is given (parents are created), in the format of its suffix
+    (:func:`figure_format`: PNG, PDF, SVG...; raster formats at :data:`DPI`).
 
     Parameters
     ----------
@@ -128,8 +146,9 @@ def save_figure(fig: Figure, path: str | Path | None) -> Figure:
     """
     if path is not None:
         path = Path(path)
+        kind = figure_format(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=DPI, format="png")
+        fig.savefig(path, dpi=DPI, format=kind)
     return fig
 
 

@@ -253,3 +253,35 @@ def test_a_fraction_given_for_a_percent_gets_a_note() -> None:
     assert "note: A is in %: A=0.2 is 0.2 % fibres; for 20 % give A=20" in res.stderr
     assert "note" not in res.stdout and "fibre_area_fraction = 0.002" in res.stdout
     assert "note" not in runner.invoke(app, ["config", "--set", "A=20"]).stderr
+
+
+def test_a_figure_is_written_in_the_format_of_its_suffix(tmp_path) -> None:
+    """brakeca surface -o s.svg had written PNG data under any suffix (a helper's review):
+    the suffix's format is written, and an unknown suffix is refused before any work."""
+    from brakeca.plotting import figure_format
+
+    assert figure_format("a.SVG") == "svg" and figure_format("noext") == "png"
+    with pytest.raises(ValueError, match=r"not \.xyz"):
+        figure_format("a.xyz")
+    runner = CliRunner()
+    base = ["surface", "--set", "mesh.n_radial=5", "--set", "mesh.n_angular=100"]
+    res = runner.invoke(app, [*base, "-o", str(tmp_path / "s.svg")])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "s.svg").read_text(encoding="utf-8").lstrip().startswith("<?xml")
+    res = runner.invoke(app, [*base, "-o", str(tmp_path / "s.xyz")])
+    assert res.exit_code == 2 and "a figure is written as .png" in res.output
+    assert not (tmp_path / "s.xyz").exists()
+    res = runner.invoke(app, [*base, "--set", "A=50", "-o", str(tmp_path / "a.png")])
+    assert res.exit_code == 2 and "give --levels instead" in res.output
+
+
+def test_a_preset_and_a_config_file_are_not_given_together(tmp_path) -> None:
+    """-c won silently over --preset (and --preset nope passed; a helper's review)."""
+    path = tmp_path / "c.toml"
+    res = CliRunner().invoke(app, ["config"])
+    path.write_text(res.stdout, encoding="utf-8")
+    for preset in ("nope", "paper"):
+        res = CliRunner().invoke(app, ["config", "-c", str(path), "--preset", preset])
+        assert res.exit_code == 2 and "give one of them" in res.output
+    assert CliRunner().invoke(app, ["config", "-c", str(path)]).exit_code == 0
+    assert CliRunner().invoke(app, ["config", "--preset", "paper"]).exit_code == 0

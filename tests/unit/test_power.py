@@ -241,7 +241,12 @@ def test_the_smallest_effect_is_found_with_the_target_power():
     with pytest.raises(ValueError, match=r"^sigma: expected a finite number above 0"):
         smallest_effect(paper, 0.0)  # it had said "effect:", checking sigma as the effect
     res = CliRunner().invoke(app, ["power", "paper", "--sigma", "0.0059", "--target", "0.8"])
-    assert res.exit_code == 0 and "smallest difference found with power 0.8" in res.output
+    assert res.exit_code == 0 and "smallest difference in MU found with power 0.8" in res.output
     assert "0.007586" in res.output  # S, WR and A with one replicate
+    # V's figures carry their unit (a helper's review: the table had none)
+    args = ["power", "paper", "--sigma", "0.01", "--target", "0.8", "--response", "V"]
+    res = CliRunner().invoke(app, args, env={"COLUMNS": "200"})
+    out = " ".join(res.output.split())
+    assert res.exit_code == 0 and "sigma 0.01 mm³" in out and "smallest difference [mm³]" in out
     res = CliRunner().invoke(app, ["power", "paper", "--sigma", "0.0059"])
     assert res.exit_code != 0 and "give --effect E" in res.output
