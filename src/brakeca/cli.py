@@ -237,8 +237,8 @@ ReplaceOpt = Annotated[
     typer.Option(
         "--replace",
         help="write over a folder's campaign of other options (another --quick or --stops, "
-        "or --set) or of a design whose runs this one leaves out; without it that is refused, "
-        "and the run files of both are kept either way",
+        "or, for run, --set or --cycle) or of a design whose runs this one leaves out; "
+        "without it that is refused, and the run files of both are kept either way",
     ),
 ]
 SpeedUnitOpt = Annotated[
@@ -962,6 +962,14 @@ _GOAL_FORM = (
 )
 
 
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _parse_goal(text: str) -> Any:
     """A :class:`brakeca.rsm.Goal` from ``--goal`` text, checked as a design's goal
     (:class:`brakeca.design.GoalSpec`: its messages in the text's units, V in mm³)."""
@@ -976,12 +984,15 @@ def _parse_goal(text: str) -> Any:
         raise ValueError(f"--goal {text!r}: expected {_GOAL_FORM}")
     response, kind = parts[0], kinds[parts[1]]
     need = 3 if kind == "target" else 2
+    if len(parts) - 2 != need:
+        raise ValueError(f"--goal {text!r}: {parts[1]} takes {need} numbers; expected {_GOAL_FORM}")
     try:
         numbers = [float(p) for p in parts[2:]]
     except ValueError:
-        numbers = []
-    if len(numbers) != need:
-        raise ValueError(f"--goal {text!r}: {parts[1]} takes {need} numbers; expected {_GOAL_FORM}")
+        bad = next(p for p in parts[2:] if not _is_float(p))
+        raise ValueError(
+            f"--goal {text!r}: {bad!r} is not a number; expected {_GOAL_FORM}"
+        ) from None
     if kind == "target":
         limits = {"lower": numbers[0], "target": numbers[1], "upper": numbers[2]}
     else:

@@ -340,4 +340,7 @@ def inspect(
             tc = TraceCycleConfig.from_dict(updates, source="options")
         inspect_cycle(file, tc, speed_unit=speed_unit, plot=output)
     except ConfigError as exc:
-        _fail(str(exc))
+        text = str(exc)
+        for name in updates:  # a field of the options is the option that gave it
+            text = text.replace(f"options: {name}:", f"--{name.replace('_', '-')}:")
+        _fail(text)

@@ -930,7 +930,16 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
                     raise ConfigError(f"override {key}: {part!r} is not a section")
                 ann = known[part].annotation if known is not None else None
                 known = getattr(ann, "model_fields", None)
-    return SimulationConfig.from_dict(data, source="override")
+    try:
+        return SimulationConfig.from_dict(data, source="override")
+    except ConfigError as exc:  # name a factor's field by the name it was given as
+        text = str(exc)
+        for path, key in given.items():
+            if key != path:
+                text = text.replace(f"override: {path}:", f"override {key} (= {path}):")
+        if text == str(exc):
+            raise
+        raise ConfigError(text) from None
 
 
 def load_config(path: str | Path) -> SimulationConfig:

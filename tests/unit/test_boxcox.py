@@ -200,3 +200,25 @@ def test_the_reading_never_points_outside_the_interval() -> None:
     assert wide.reading.endswith("the data point to λ ≈ -1")
     half = dataclasses.replace(base, lambda_hat=0.3, ci_low=0.1, ci_high=0.6, rounded=0.5)
     assert half.reading.endswith("the data point to λ ≈ 0.5")
+
+
+def test_an_optimum_a_hair_inside_the_edge_is_flagged_too() -> None:
+    """A campaign's MU whose profile still rises at -2: the bounded search stopped at
+    -1.9997, and the note of the edge was missing (a helper's review of the command line).
+    Its 2 x 2 design with 2 replicates, the model of the report (with the interaction)."""
+    mu = [
+        0.17007593402541168,
+        0.16954222411085793,
+        0.16989818931682316,
+        0.1668956053683922,
+        0.346048650748015,
+        0.3626827316588751,
+        0.403376895456233,
+        0.3736608351407872,
+    ]
+    a = np.array([-1, -1, 1, 1, -1, -1, 1, 1], dtype=float)
+    b = np.array([-1, -1, -1, -1, 1, 1, 1, 1], dtype=float)
+    exog = np.column_stack([np.ones(8), a, b, a * b])
+    result = box_cox_profile(mu, exog)
+    assert result.lambda_hat < -1.99
+    assert "edge of the search range" in result.note and math.isinf(result.ci_low)

@@ -285,3 +285,19 @@ def test_a_preset_and_a_config_file_are_not_given_together(tmp_path) -> None:
         assert res.exit_code == 2 and "give one of them" in res.output
     assert CliRunner().invoke(app, ["config", "-c", str(path)]).exit_code == 0
     assert CliRunner().invoke(app, ["config", "--preset", "paper"]).exit_code == 0
+
+
+def test_messages_name_what_the_user_gave() -> None:
+    """A helper's review of the command line: --set S=2 named only the field S sets, a bad
+    --threshold was 'options: threshold', and a goal with words for numbers was told it
+    had the wrong count of them."""
+    runner = CliRunner()
+    res = runner.invoke(app, ["config", "--set", "S=2"])
+    assert res.exit_code == 2
+    assert "override S (= automaton.secondary_removal_fraction): must lie in [0, 1]" in res.output
+    res = runner.invoke(app, ["cycle", "inspect", "example_trace", "--threshold", "-1"])
+    assert res.exit_code == 2 and "error: --threshold: must lie in" in res.output
+    with pytest.raises(ValueError, match="'a' is not a number"):
+        cli._parse_goal("MU:min:a:b")
+    with pytest.raises(ValueError, match="min takes 2 numbers"):
+        cli._parse_goal("MU:min:1")
