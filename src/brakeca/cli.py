@@ -1518,8 +1518,8 @@ _MOST_ORDERS_LISTED = 4
 
 def _factor_cells(design: Any, factor: Any) -> tuple[str, str, str, list[str], str]:
     """A factor's row of the factors table: name, the configuration field it sets (times its
-    scale), unit, one ``label = value`` per level, and its coding in a response-surface
-    model (empty for other designs)."""
+    scale), unit, one ``label = value`` per level, and its coding where the design shows
+    codings (:func:`_shows_coding`; empty for others)."""
     from brakeca.config import FACTOR_ALIASES
 
     field, scale = factor.field, factor.scale
@@ -1536,9 +1536,16 @@ def _factor_cells(design: Any, factor: Any) -> tuple[str, str, str, list[str], s
         centre = design.center_levels()[factor.name]
         levels.append(f"centre = {centre:g}" + (" (geometric)" if factor.coding == "log" else ""))
     coding = ""
-    if design.is_response_surface and not factor.categorical:
+    if _shows_coding(design) and not factor.categorical:
         coding = "log10" if factor.coding == "log" else "linear"
     return factor.name, sets, factor.unit, levels, coding
+
+
+def _shows_coding(design: Any) -> bool:
+    """Whether ``brakeca design`` gives the factors' coding: for a response-surface design
+    (its model's), and wherever a factor is log-coded (its centre point, an optimized
+    setting's coded value: a run table's too)."""
+    return bool(design.is_response_surface or any(f.coding == "log" for f in design.factors))
 
 
 def _print_factors(design: Any) -> None:
@@ -1549,7 +1556,7 @@ def _print_factors(design: Any) -> None:
 
     rows = [_factor_cells(design, f) for f in design.factors]
     headers = ["factor", "sets", "unit", "levels"]
-    if design.is_response_surface:
+    if _shows_coding(design):
         headers.append("coding")
 
     def cells(stacked: int) -> list[list[str]]:

@@ -174,6 +174,11 @@ def test_the_factors_table_names_field_scale_unit_and_coding() -> None:
     rows = _factor_rows(_design("response_surface"))
     assert rows["WR"][3:] == ["- = 1e-07, 0 = 3.16228e-07, + = 1e-06", "log10"]
     assert rows["A"][3:] == ["- = 10, 0 = 15, + = 20", "linear"]
+    # any design with a log-coded factor shows the coding (its centre point's, an optimized
+    # setting's coded value); screen_center's WP and WR are (a helper's review: a run table
+    # had shown none)
+    rows = _factor_rows(_design("screen_center"))
+    assert rows["WR"][-1] == "log10" and rows["S"][-1] == "linear"
 
 
 def test_categorical_levels_show_their_choices(tmp_path) -> None:
