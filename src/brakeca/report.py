@@ -92,6 +92,9 @@ input.zoom:checked + label.zoom img { max-width: none; }
 <nav aria-label="Contents"><ul>
 <li><a href="#design">Design</a></li>
 <li><a href="#runs">Per-run results</a></li>
+{%- if level_means %}
+<li><a href="#level-means">Level means</a></li>
+{%- endif %}
 <li><a href="#anova">ANOVA</a></li>
 {%- if surfaces or optimum_note %}
 <li><a href="#surface">Response surface</a></li>
@@ -137,6 +140,14 @@ in any step; friction residual: the largest relative miss of the demanded fricti
 Wall time: the run's own computing time.</p>
 {{ render_table(runs) }}
 </section>
+
+{%- if level_means %}
+<section id="level-means">
+<h2>Level means</h2>
+<p class="note">{{ level_means_info }}</p>
+{{ render_table(level_means) }}
+</section>
+{%- endif %}
 
 <section id="anova">
 <h2>ANOVA</h2>
@@ -606,6 +617,41 @@ _BOX_COX_INFO = (
 )
 
 
+_LEVEL_MEANS_INFO = (
+    "The mean of each response over the runs at each level of each factor (the main-effects "
+    "plots' points), with the number of runs averaged; centre points are in no level's "
+    "mean. V in mm³ per stop. In an unbalanced design (failed runs, a composite design) "
+    "a level's mean also carries the other factors' effects."
+)
+
+
+def _level_means_table(means: Mapping[str, pd.DataFrame]) -> _Table:
+    """One row per factor level: its label and value, each response's mean at it (in the
+    report's unit: mm³ for V) and the runs averaged, from :func:`brakeca.analysis.main_effects`
+    tables by response (which share their factors, levels and counts)."""
+    responses = list(means)
+    first = means[responses[0]]
+    columns = ["Factor", "Level"]
+    for response in responses:
+        _, unit = _REPORT_UNITS.get(response, (1.0, None))
+        columns.append(f"{response}" + (f" [{unit}]" if unit else ""))
+    columns.append("Runs")
+    rows = []
+    for i in range(len(first)):
+        rec = first.iloc[i]
+        label = str(rec["label"]) if not _is_missing(rec.get("label")) else ""
+        value = _fmt(rec["level"], ".4g")
+        level = value if not label or label == value else f"{label} = {value}"
+        cells = [str(rec["factor"]), level]
+        for response in responses:
+            factor, _ = _REPORT_UNITS.get(response, (1.0, None))
+            mean = means[response].iloc[i]["mean"]
+            cells.append(_fmt(float(mean) * factor, ".4g") if not _is_missing(mean) else "–")
+        cells.append(_fmt(rec["n"]))
+        rows.append({"cells": cells, "cls": ""})
+    return _Table(columns, [False, False] + [True] * (len(responses) + 1), rows)
+
+
 def _box_cox_table(results: Mapping[str, Any]) -> _Table:
     """The Box-Cox results (:class:`brakeca.boxcox.BoxCox`), one row per response."""
     from brakeca.boxcox import LAMBDA_RANGE
@@ -993,6 +1039,7 @@ def render_report(
     surface_fits: Mapping[str, Any] | None = None,
     optimum: tuple[Any, Any] | None = None,
     optimum_note: str = "",
+    level_means: Mapping[str, pd.DataFrame] | None = None,
     box_cox: Mapping[str, Any] | None = None,
     anova_info: str = "",
 ) -> str:
@@ -1060,6 +1107,8 @@ def render_report(
         design=_generic_table(design_table),
         design_info=design_info,
         runs=_runs_table(summary),
+        level_means=_level_means_table(level_means) if level_means else None,
+        level_means_info=_LEVEL_MEANS_INFO,
         anova=anova_items,
         anova_aliases=any(
             _names_aliases(table)
@@ -1100,6 +1149,7 @@ def write_report(
     optimum_note: str = "",
     box_cox: Mapping[str, Any] | None = None,
     anova_info: str = "",
+    level_means: Mapping[str, pd.DataFrame] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -1151,6 +1201,9 @@ def write_report(
     anova_info
         A note shown at the top of the ANOVA section (e.g. why a response-surface design has
         no categorical ANOVA there).
+    level_means
+        ``{response: table}`` from :func:`brakeca.analysis.main_effects` (the same factors
+        and runs for every response), shown as one table "Level means" before the ANOVA.
 
     Returns
     -------
@@ -1185,6 +1238,7 @@ def write_report(
         optimum_note=optimum_note,
         box_cox=box_cox,
         anova_info=anova_info,
+        level_means=level_means,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

@@ -745,6 +745,7 @@ def write_study(
         optimum_note=optimum_note,
         box_cox=scales,
         anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
+        level_means={resp: tables[resp]["main_effects"] for resp in RESPONSES},
     )
 
 

@@ -503,3 +503,22 @@ def test_a_figure_wider_than_the_page_opens_at_full_size_on_a_click(tmp_path) ->
     assert 'width="2880"' in wide
     assert "zoom" not in narrow
     assert "input.zoom:checked + label.zoom img { max-width: none; }" in html
+
+
+def test_the_level_means_table(tmp_path) -> None:
+    """Each factor level's mean of every response, V in mm³, with the runs averaged (a
+    helper's review: the report had the level means in plots and CSV files only)."""
+    from brakeca.analysis import main_effects
+
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"]
+    means = {r: main_effects(summary, FACTORS, r) for r in ("MU", "V")}
+    html = render_report(**inputs, level_means=means)
+    section = html[html.index('<section id="level-means">') :]
+    section = section[: section.index("</section>")]
+    assert '<a href="#level-means">Level means</a>' in html
+    assert "<th>MU</th><th>V [mm³]</th><th>Runs</th>" in section
+    first = means["V"].iloc[0]
+    assert f'<td class="num">{first["mean"] * 1e9:.4g}</td>' in section
+    assert f'<td class="num">{means["MU"].iloc[0]["mean"]:.4g}</td>' in section
+    assert 'id="level-means"' not in render_report(**inputs)
