@@ -533,7 +533,11 @@ def write_study(
                 # factors, so its raw main-effects and interaction plots mix in their effects
                 # (and can contradict the fit): the fitted surface's profile instead, and the
                 # contour plots for the pairs
-                for name in (f"main_effects_{resp}.png", f"interactions_{resp}.png"):
+                for name in (
+                    f"main_effects_{resp}.png",
+                    f"interactions_{resp}.png",
+                    f"pareto_{resp}.png",  # the categorical ANOVA's, which is not shown
+                ):
                     (fig_dir / name).unlink(missing_ok=True)
                 add(
                     "Main effects",
