@@ -435,11 +435,24 @@ def test_ctrl_c_says_what_is_kept_and_how_to_go_on(tmp_path, monkeypatch):
         patch.setattr(brakeca._warmup, "warm_up", _interrupt)
         res = CliRunner().invoke(app, args)
     assert res.exit_code == 130 and "--checkpoint PATH would let a rerun resume" in res.output
+    checkpoint = tmp_path / "k.npz"
     with monkeypatch.context() as patch:
         patch.setattr(brakeca.simulation, "simulate", _interrupt)
-        res = CliRunner().invoke(app, [*args, "--checkpoint", str(tmp_path / "k.npz")])
+        res = CliRunner().invoke(app, [*args, "--checkpoint", str(checkpoint)])
+    assert res.exit_code == 130  # before any stop was saved: nothing to resume from
+    assert f"no stop had been saved to {checkpoint} yet" in " ".join(res.output.split())
+    import json
+
+    import numpy as np
+
+    from brakeca._io import CHECKPOINT_FORMAT
+
+    np.savez(checkpoint, meta=json.dumps({"format": CHECKPOINT_FORMAT}))  # one was saved
+    with monkeypatch.context() as patch:
+        patch.setattr(brakeca.simulation, "simulate", _interrupt)
+        res = CliRunner().invoke(app, [*args, "--checkpoint", str(checkpoint)])
     assert res.exit_code == 130
-    assert f"the checkpoint {tmp_path / 'k.npz'} resumes it" in res.output.replace("\n", "")
+    assert f"the checkpoint {checkpoint} resumes it" in res.output.replace("\n", "")
     assert not run_file.exists()
 
 
