@@ -435,21 +435,21 @@ def plot_mu_per_stop(
                 ax.axvspan(lo, hi, color="0.93", lw=0, zorder=0)
             if k:
                 ax.axvline(lo, color="0.6", lw=0.6, zorder=1)
-            ax.text(
+            ax.text(  # above the axes, clear of the runs' lines
                 0.5 * (lo + hi),
-                0.98,
+                1.01,
                 name,
                 transform=trans,
                 rotation=90,
                 ha="center",
-                va="top",
+                va="bottom",
                 fontsize=7,
                 color="0.25",
-                zorder=5,
-                bbox={"facecolor": "white", "alpha": 0.75, "lw": 0, "pad": 1.0},
             )
 
-    cmap = mpl.colormaps["turbo"]
+    # neighbouring tests in different hues (a qualitative palette), the line style changing
+    # every ten: up to 40 tests told apart (a rainbow had made neighbours alike)
+    palette = mpl.colormaps["tab10"]
     styles = ("-", "--", ":", "-.")
     values = data.to_numpy()
     # A run is named by its test; the replicates of a test (several seeds) share its colour,
@@ -468,8 +468,8 @@ def plot_mu_per_stop(
             stops,
             values[k],
             lw=1.0,
-            ls=styles[(i // 12) % len(styles)] if n_tests > 12 else "-",
-            color=cmap(0.05 + 0.9 * i / max(n_tests - 1, 1)),
+            ls=styles[(i // 10) % len(styles)],
+            color=palette(i % 10),
             label=_run_label(key, levels, by_name) if first else "_replicate",
         )
     ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
@@ -482,7 +482,8 @@ def plot_mu_per_stop(
         title = "Mean coefficient of friction per stop over the cycle, all runs"
         if n_tests < n:
             title += " (the replicates of a test share its colour)"
-    ax.set_title(title)
+    # above the block names, which stand above the axes
+    ax.set_title(title, pad=62 if "block" in campaign.coords else 6)
     ax.grid(True, alpha=0.3)
     if n > 1:
         fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)

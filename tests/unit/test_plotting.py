@@ -481,3 +481,17 @@ def test_profiler_draws_the_fitted_surface_along_each_factor() -> None:
     band = fig.axes[0].collections[0].get_paths()[0].vertices[:, 1]
     low, high = fit.confidence_interval({"P": (x - 10) / 5, "Q": np.zeros_like(x)})
     assert band.min() == pytest.approx(low.min()) and band.max() == pytest.approx(high.max())
+
+
+def test_mu_per_stop_tells_neighbouring_tests_apart(campaign) -> None:
+    """A qualitative palette with the line style changing every ten tests (neighbouring
+    tests had shared a rainbow hue), and the block names above the axes, off the lines (a
+    helper's review of the report)."""
+    fig = plot_mu_per_stop(campaign, factors=FACTORS)
+    ax = fig.axes[0]
+    runs = [line for line in ax.lines if np.size(line.get_xdata()) == len(campaign["stop"])]
+    styles = [(line.get_color(), line.get_linestyle()) for line in runs]
+    assert len(set(styles)) == len(runs) == 24  # every test its own colour and style
+    assert all(a[0] != b[0] for a, b in itertools.pairwise(styles))  # neighbours' hues
+    assert styles[0][0] == styles[10][0] and styles[0][1] != styles[10][1]
+    assert ax.texts and all(t.get_position()[1] > 1.0 for t in ax.texts)
