@@ -828,6 +828,15 @@ def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
         else "outside the region the runs span, so an extrapolation: read the contour plots "
         "for the best point inside it"
     )
+    # a level below 0 where every run's is above (A = -45 %): no pad has it
+    impossible = [
+        c.name for c in fit.codings if float(st["levels"][c.name]) < 0.0 < min(c.low, c.high)
+    ]
+    if impossible:
+        where += (
+            f" ({', '.join(impossible)} below 0 there, which no pad can have: the point is "
+            "a property of the fitted quadratic, not a setting)"
+        )
     predicted = _fmt(float(st["predicted"]) * factor, ".5g") + (f" {unit}" if unit else "")
     if fit.loses_sign(float(st["predicted"])):
         predicted += (

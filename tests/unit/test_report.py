@@ -522,3 +522,21 @@ def test_the_level_means_table(tmp_path) -> None:
     assert f'<td class="num">{first["mean"] * 1e9:.4g}</td>' in section
     assert f'<td class="num">{means["MU"].iloc[0]["mean"]:.4g}</td>' in section
     assert 'id="level-means"' not in render_report(**inputs)
+
+
+def test_a_stationary_point_at_an_impossible_level_says_so() -> None:
+    """A = -45 % at log10 V's stationary point was printed as a setting (a helper's review)."""
+    import itertools
+
+    from brakeca.report import _stationary_text
+    from brakeca.rsm import Coding, fit_response_surface
+
+    a, b = Coding("A", 10.0, 20.0, unit="%"), Coding("WR", 1e-7, 1e-6, log=True, unit="m")
+    rows = [  # a minimum in A far below its low level: at coded -12
+        {"A": a.decode(x1), "WR": b.decode(x2), "y": (x1 + 12.0) ** 2 + x2**2}
+        for x1, x2 in itertools.product((-1.0, 0.0, 1.0), repeat=2)
+    ]
+    fit = fit_response_surface(pd.DataFrame(rows), [a, b], "y")
+    assert fit.stationary is not None and fit.stationary["levels"]["A"] < 0
+    text = _stationary_text(fit, 1.0, None)
+    assert "A below 0 there, which no pad can have" in text
