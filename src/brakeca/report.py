@@ -280,9 +280,9 @@ def _is_missing(value: Any) -> bool:
 
 
 def _fmt(value: Any, spec: str = ".6g") -> str:
-    """Format a table cell: floats with ``spec`` (``"volume"``: 4 significant digits, whole
-    numbers with thousands separators from 10,000 on; ``"seconds"``: one decimal below 10),
-    integers plainly, missing as a dash."""
+    """Format a table cell: floats with ``spec`` (``"volume"``: 4 significant digits, trailing
+    zeros kept, whole numbers with thousands separators from 10,000 on; ``"seconds"``: one
+    decimal below 10), integers plainly, missing as a dash."""
     if _is_missing(value):
         return "–"
     if isinstance(value, bool | np.bool_):
@@ -297,7 +297,10 @@ def _fmt(value: Any, spec: str = ".6g") -> str:
         if whole:
             return format(int(v), spec) if v.is_integer() else format(v, ".6g")
         if spec == "volume":  # 4 significant digits, and no exponent up to 1e15
-            return f"{v:,.0f}" if 1e4 <= abs(v) < 1e15 else format(v, ".4g")
+            if 1e4 <= abs(v) < 1e15:
+                return f"{v:,.0f}"
+            # trailing zeros kept, so that a column reads alike (0.3350 beside 0.3463)
+            return format(v, "#.4g").rstrip(".") if v != 0.0 else "0"
         if spec == "seconds":  # a tenth of a second below 10 s (a short run is not 0 s)
             return format(v, ".1f") if abs(v) < 10.0 else format(v, ",.0f")
         return format(v, spec)

@@ -540,3 +540,18 @@ def test_a_stationary_point_at_an_impossible_level_says_so() -> None:
     assert fit.stationary is not None and fit.stationary["levels"]["A"] < 0
     text = _stationary_text(fit, 1.0, None)
     assert "A below 0 there, which no pad can have" in text
+
+
+def test_volumes_keep_their_trailing_zeros() -> None:
+    """A column of volumes reads alike: 0.3350 beside 0.3463 (it had been 0.335; a helper's
+    review of the report)."""
+    from brakeca.report import _fmt
+
+    assert [_fmt(v, "volume") for v in (0.335, 0.3463, 354.0, 15.8, 0.0, 12345.6)] == [
+        "0.3350",
+        "0.3463",
+        "354.0",
+        "15.80",
+        "0",
+        "12,346",
+    ]
