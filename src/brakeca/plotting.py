@@ -197,7 +197,7 @@ def plot_main_effects(
     response
         Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
     Returns
     -------
@@ -267,7 +267,7 @@ def plot_interactions(
     response
         Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     aliases
         ``(a, b)`` to the two-factor interactions aliased with ``a:b``
         (:func:`brakeca.analysis.interaction_aliases`); none for a full factorial.
@@ -377,7 +377,7 @@ def plot_mu_per_stop(
         without it each run is its own test) and ``block(stop)`` (block names), which are
         shaded and labelled.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     factors
         Optional factors; their level labels (``"-"``, ``"0"``, ``"+"``) name the runs.
     variable
@@ -506,7 +506,7 @@ def plot_v_per_run(
     summary
         Campaign summary with ``test`` and ``V`` [m^3] (or ``V_mm3`` [mm^3]).
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     log
         A logarithmic V axis; by default where the tests' V span more than two decades
         (where a linear axis shows the smallest as empty bars).
@@ -585,7 +585,7 @@ def plot_pareto(
     response
         Response name, for the title.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
     Returns
     -------
@@ -644,7 +644,7 @@ def plot_effects(
         Response column the effects are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in the
         unit of the other figures, mm^3 for ``V``).
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
     Returns
     -------
@@ -742,7 +742,7 @@ def plot_response_surface(
     fit
         A :class:`brakeca.rsm.SurfaceFit`.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     resolution
         Grid points per axis [-].
 
@@ -831,7 +831,7 @@ def plot_profiler(
     fit
         A :class:`brakeca.rsm.SurfaceFit`.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     resolution
         Points per factor [-].
     level
@@ -898,7 +898,7 @@ def plot_overlaid_contours(
     optimum
         The :class:`brakeca.rsm.Optimum` of those goals.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     resolution
         Grid points per axis [-].
 
@@ -997,7 +997,7 @@ def plot_residuals(
         Response column the residuals are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in
         the unit of the other figures, mm^3 for ``V``).
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
     Returns
     -------
@@ -1083,7 +1083,7 @@ def plot_box_cox(results: Mapping[str, Any], path: str | Path | None = None) -> 
     results
         ``{response: BoxCox}`` from :mod:`brakeca.boxcox`.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
     Returns
     -------
@@ -1247,7 +1247,7 @@ def plot_surface_map(
     title
         Figure title.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
     Returns
     -------
@@ -1283,7 +1283,7 @@ def plot_fibre_maps(
     maps
         ``{panel title: (status, radius [m], angle [rad])}``, see :func:`plot_surface_map`.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     ncols
         Panels per row; by default all in one row up to three maps, three per row beyond
         (five A levels side by side made a figure 4,200 pixels wide).
@@ -1359,7 +1359,7 @@ def plot_cof_series(
         ``mean_cof``) [-], optionally ``normal_force`` [N] and ``time`` [s] (else the step
         index is used on x). A variable over stops or runs is refused.
     path
-        Optional PNG file to write (150 dpi).
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     max_points
         At most this many points per series are drawn (regular stride).
 
