@@ -16,6 +16,10 @@ Measures, in one process on one core:
 * ``scaling`` (with ``--scaling 21,61,201``): the same stops on several band widths, to show the
   cost grows linearly with cells x steps (constant ns per cell-step);
 * ``peak_rss_mb``: peak resident memory of the process (the full-resolution run dominates).
+
+``--set KEY=VALUE`` (repeated) times other levels than the preset's, e.g. test 5's
+(``--set WP=1e-13 --set A=10``), the study's most expensive; the JSON line then names them
+(``levels``).
 """
 
 from __future__ import annotations
@@ -34,6 +38,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from brakeca import __version__
+from brakeca.config import parse_overrides
 from brakeca.cycle import brake_demand, expand_stops, step_distance, stop_steps
 from brakeca.geometry import make_grid
 from brakeca.presets import load_preset
@@ -53,9 +58,16 @@ def time_compile(kernels: list[str]) -> float:
     return time.perf_counter() - t
 
 
-def time_run(rows: int, stops: int, seed: int, kernel: str = "auto") -> dict:
+def time_run(
+    rows: int, stops: int, seed: int, kernel: str = "auto", updates: dict | None = None
+) -> dict:
     config = load_preset().with_updates(
-        {"mesh.n_radial": rows, "cycle.max_stops": stops, "numerics.kernel": kernel}
+        {
+            **(updates or {}),
+            "mesh.n_radial": rows,
+            "cycle.max_stops": stops,
+            "numerics.kernel": kernel,
+        }
     )
     t = time.perf_counter()
     result = simulate(config, seed=seed)
@@ -70,6 +82,9 @@ def time_run(rows: int, stops: int, seed: int, kernel: str = "auto") -> dict:
         "steps_per_s": round(steps / elapsed, 1),
         "ns_per_cell_step": round(elapsed / steps / cells * 1e9, 3),
         "cycle_extrapolated_s": round(elapsed / steps * CYCLE_STEPS, 1),
+        # the first stops are the cycle's cheapest (burnish, little of the band in contact):
+        # a whole run costs more per step, by its levels (docs/performance.md, whole runs)
+        "extrapolated_from": f"the first {stops} stop{'' if stops == 1 else 's'} only",
         "MU": round(result.MU, 5),
         "kernel": kernel_for(config),
         "stops_lazy": int(result.dataset.attrs["stops_lazy"]),
@@ -163,24 +178,35 @@ def main() -> None:
         "--kernel", default="auto", choices=["auto", "lazy", "exact"], help="numerics.kernel"
     )
     ap.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a config override of the timed runs, e.g. --set WP=1e-13 --set A=10 (test 5's "
+        "levels, the study's most expensive)",
+    )
+    ap.add_argument(
         "--also-exact",
         action="store_true",
         help="time the same run with the exact kernel too, in this process (ratio in one run)",
     )
     args = ap.parse_args()
+    updates = parse_overrides(args.set)
     out = {
         "brakeca": __version__,
         "machine": f"{platform.machine()} {os.cpu_count()} cpu, {platform.python_version()}",
         "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
         "compile_s": round(time_compile([args.kernel] + (["exact"] if args.also_exact else [])), 3),
     }
-    out["run"] = time_run(args.rows, args.stops, args.seed, args.kernel)
+    if updates:
+        out["levels"] = updates
+    out["run"] = time_run(args.rows, args.stops, args.seed, args.kernel, updates)
     if args.also_exact:
-        out["exact_run"] = time_run(args.rows, args.stops, args.seed, "exact")
+        out["exact_run"] = time_run(args.rows, args.stops, args.seed, "exact", updates)
         out["exact_over_this"] = round(out["exact_run"]["measured_s"] / out["run"]["measured_s"], 2)
     if args.scaling:
         out["scaling"] = [
-            time_run(int(r), args.stops, args.seed, args.kernel)
+            time_run(int(r), args.stops, args.seed, args.kernel, updates)
             for r in args.scaling.split(",")
             if r.strip()
         ]
