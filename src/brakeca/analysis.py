@@ -175,11 +175,19 @@ class Factor:
         -------
         str
             The level's label when :attr:`labels` is set and ``value`` matches a level,
-            otherwise ``value`` in ``%g`` format.
+            ``"0"`` (Minitab's code of the centre) when it is the labelled factor's centre
+            point (:attr:`center`), otherwise ``value`` in ``%g`` format.
         """
         i = self.level_index(value)
         if i is not None and self.labels is not None:
             return self.labels[i]
+        centre = self.center
+        if self.labels is not None and centre is not None:
+            try:
+                if math.isclose(float(value), centre, rel_tol=_LEVEL_RTOL, abs_tol=0.0):
+                    return "0"
+            except (TypeError, ValueError):
+                pass
         try:
             return f"{float(value):g}"
         except (TypeError, ValueError):

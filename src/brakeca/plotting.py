@@ -226,7 +226,8 @@ def plot_main_effects(
         x = np.arange(len(rows))
         ax.plot(x, rows["mean"].to_numpy() * scale, "o-", color="#27496d", lw=1.8, ms=6)
         if math.isfinite(grand):
-            ax.axhline(grand, ls="--", lw=1.0, color="0.45", label="grand mean")
+            what = "grand mean" + (" (all runs, centre points too)" if centre is not None else "")
+            ax.axhline(grand, ls="--", lw=1.0, color="0.45", label=what)
         if centre is not None and len(rows) == 2:
             _mark_centre(ax, centre * scale)
         ax.set_xticks(x, [_tick_label(factor, lv) for lv in rows["level"]])
@@ -345,8 +346,10 @@ def _run_label(run: Any, levels: Mapping[str, Any], factors: Mapping[str, Factor
     parts = []
     for name, value in levels.items():
         factor = factors.get(name)
-        if factor is not None and factor.labels is not None:
-            parts.append(f"{name}{factor.level_label(value)}")
+        label = factor.level_label(value) if factor is not None else None
+        if factor is not None and factor.labels is not None and label in (*factor.labels, "0"):
+            # "S+", a centre point's "S0"; "mu0 +" where the name ends in a digit
+            parts.append(f"{name} {label}" if name[-1:].isdigit() else f"{name}{label}")
         else:
             try:
                 parts.append(f"{name}={float(value):g}")
@@ -482,8 +485,13 @@ def plot_mu_per_stop(
         title = "Mean coefficient of friction per stop over the cycle, all runs"
         if n_tests < n:
             title += " (the replicates of a test share its colour)"
-    # above the block names, which stand above the axes
-    ax.set_title(title, pad=62 if "block" in campaign.coords else 6)
+    # above the block names, which stand above the axes: pad by the tallest name [points]
+    pad = 6.0
+    if ax.texts:
+        renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
+        tallest = max(t.get_window_extent(renderer).height for t in ax.texts)
+        pad += tallest * 72.0 / fig.dpi + 0.01 * ax.bbox.height * 72.0 / fig.dpi
+    ax.set_title(title, pad=pad)
     ax.grid(True, alpha=0.3)
     if n > 1:
         fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
@@ -508,8 +516,9 @@ def plot_v_per_run(
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     log
-        A logarithmic V axis; by default where the tests' V span more than two decades
-        (where a linear axis shows the smallest as empty bars).
+        A logarithmic V axis, with a point per test instead of a bar; by default where the
+        tests' V span more than two decades (where a linear axis shows the smallest as
+        empty bars).
 
     Returns
     -------
@@ -541,9 +550,11 @@ def plot_v_per_run(
     shown = heights[np.isfinite(heights)]
     if log is None:
         log = bool(shown.size and np.all(shown > 0) and shown.max() > 100.0 * shown.min())
-    if log:
+    if log:  # points: a bar's length on a log axis would depend on where the axis starts
         ax.set_yscale("log")
-    ax.bar(x, np.nan_to_num(heights), width=0.75, color="#27496d", zorder=2)
+        ax.plot(x, heights, "o", color="#27496d", ms=6, zorder=2)
+    else:
+        ax.bar(x, np.nan_to_num(heights), width=0.75, color="#27496d", zorder=2)
     if np.isfinite(err).any():
         ax.errorbar(x, heights, yerr=err, fmt="none", ecolor="0.2", capsize=2, lw=0.8, zorder=3)
     for xi, h in zip(x, heights, strict=True):
@@ -566,7 +577,7 @@ def plot_v_per_run(
     if np.isfinite(err).any():
         title += " (mean ± 1 standard deviation of its replicates)"
     ax.set_title(title)
-    ax.grid(True, axis="y", alpha=0.3, zorder=0)
+    ax.grid(True, axis="both" if log else "y", alpha=0.3, zorder=0)
     return save_figure(fig, path)
 
 
@@ -867,6 +878,17 @@ def plot_profiler(
             ax.fill_between(levels, low * scale, high * scale, color="#27496d", alpha=0.18)
         ax.plot(levels, fitted, color="#27496d")
         ax.axvline(float(c.decode(0.0)), color="0.5", lw=0.8, ls=":")
+        if fit.loses_sign(float(np.min(fitted)) / scale):  # a positive response below 0
+            ax.axhline(0.0, color="#a61b1b", lw=0.8)
+            ax.text(
+                0.02,
+                0.02,
+                "below 0: the quadratic's,\nnot any run's",
+                transform=ax.transAxes,
+                fontsize=7,
+                color="#a61b1b",
+                va="bottom",
+            )
         if c.log:
             ax.set_xscale("log")
         ax.set_xlabel(c.axis_label)

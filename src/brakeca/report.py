@@ -280,9 +280,9 @@ def _is_missing(value: Any) -> bool:
 
 
 def _fmt(value: Any, spec: str = ".6g") -> str:
-    """Format a table cell: floats with ``spec`` (``"volume"``: 4 significant digits, trailing
-    zeros kept, whole numbers with thousands separators from 10,000 on; ``"seconds"``: one
-    decimal below 10), integers plainly, missing as a dash."""
+    """Format a table cell: floats with ``spec`` (``"sig4"``: 4 significant digits, trailing
+    zeros kept; ``"volume"``: the same, and whole numbers with thousands separators from
+    10,000 on; ``"seconds"``: one decimal below 10), integers plainly, missing as a dash."""
     if _is_missing(value):
         return "–"
     if isinstance(value, bool | np.bool_):
@@ -296,10 +296,11 @@ def _fmt(value: Any, spec: str = ".6g") -> str:
             return "∞" if v > 0 else "−∞"
         if whole:
             return format(int(v), spec) if v.is_integer() else format(v, ".6g")
-        if spec == "volume":  # 4 significant digits, and no exponent up to 1e15
-            if 1e4 <= abs(v) < 1e15:
-                return f"{v:,.0f}"
-            # trailing zeros kept, so that a column reads alike (0.3350 beside 0.3463)
+        if spec == "volume" and 1e4 <= abs(v) < 1e15:  # no exponent up to 1e15
+            return f"{v:,.0f}"
+        if spec in ("volume", "sig4"):
+            # 4 significant digits, trailing zeros kept, so that a column reads alike
+            # (0.3350 beside 0.3463)
             return format(v, "#.4g").rstrip(".") if v != 0.0 else "0"
         if spec == "seconds":  # a tenth of a second below 10 s (a short run is not 0 s)
             return format(v, ".1f") if abs(v) < 10.0 else format(v, ",.0f")
@@ -386,10 +387,10 @@ def _runs_table(summary: pd.DataFrame) -> _Table:
         frame["V"] = pd.to_numeric(frame["V"], errors="coerce") * 1e9
         frame = frame.drop(columns=["V_mm3"], errors="ignore")
         headers["V"] = "V [mm³]"
-        formats["V"] = ".4g"
+        formats["V"] = "volume"
     elif "V_mm3" in frame.columns:
         headers["V_mm3"] = "V [mm³]"
-        formats["V_mm3"] = ".4g"
+        formats["V_mm3"] = "volume"
     if "MU" in frame.columns:
         headers["MU"] = "MU [-]"
         formats["MU"] = ".3f"
@@ -576,7 +577,8 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
             f" The last row, Ct Pt, is the centre points' term: its coefficient is "
             f"{_centre_points_text(int(attrs['center_points']))} less the model's value at "
             f"the centre (SE {_fmt(float(curvature['se']) * factor, '.4g')}"
-            f"{' ' + unit if unit else ''}); it has no effect"
+            f"{' ' + unit if unit else ''}); its Effect cell is blank (an effect belongs to a "
+            "two-level term)"
             + (
                 f", and is confounded with the main effect of {curvature['aliases']}: not a "
                 "test of curvature."
@@ -620,12 +622,28 @@ _BOX_COX_INFO = (
 )
 
 
-_LEVEL_MEANS_INFO = (
-    "The mean of each response over the runs at each level of each factor (the main-effects "
-    "plots' points), with the number of runs averaged; centre points are in no level's "
-    "mean. V in mm³ per stop. In an unbalanced design (failed runs, a composite design) "
-    "a level's mean also carries the other factors' effects."
-)
+def _level_means_info(means: Mapping[str, pd.DataFrame], surface: bool) -> str:
+    """The note above the level-means table: what a mean is over, for this design."""
+    text = "The mean of each response over the runs at each level of each factor"
+    if not surface:
+        text += " (the main-effects plots' points)"
+    text += ", with the number of runs averaged"
+    n_c = max((int(t.attrs.get("center_n", 0) or 0) for t in means.values()), default=0)
+    if n_c:
+        text += f"; the {n_c} centre point runs are in no level's mean"
+    if surface:
+        text += (
+            "; a composite design's middle level holds its centre points and the axial "
+            "runs at it, and its levels are not balanced against the other factors, so a "
+            "level's mean also carries their effects (the profiles in 'Main effects' give "
+            "each factor's effect from the fitted surface)"
+        )
+    else:
+        text += (
+            ". In an unbalanced design (failed runs) a level's mean also carries the other "
+            "factors' effects"
+        )
+    return text + ". V in mm³ per stop."
 
 
 def _level_means_table(means: Mapping[str, pd.DataFrame]) -> _Table:
@@ -649,7 +667,7 @@ def _level_means_table(means: Mapping[str, pd.DataFrame]) -> _Table:
         for response in responses:
             factor, _ = _REPORT_UNITS.get(response, (1.0, None))
             mean = means[response].iloc[i]["mean"]
-            cells.append(_fmt(float(mean) * factor, ".4g") if not _is_missing(mean) else "–")
+            cells.append(_fmt(float(mean) * factor, "sig4") if not _is_missing(mean) else "–")
         cells.append(_fmt(rec["n"]))
         rows.append({"cells": cells, "cls": ""})
     return _Table(columns, [False, False] + [True] * (len(responses) + 1), rows)
@@ -764,7 +782,7 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
         fitted = optimum.predicted[g.response]
 
         def shown(v: float, scale: float = scale) -> str:
-            return _fmt(v * scale, ".4g")
+            return _fmt(v * scale, "sig4")
 
         cells = [
             g.response + (f" [{unit}]" if unit else ""),
@@ -775,9 +793,14 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
             _fmt(optimum.desirability[g.response], ".3f"),
         ]
         if g.response == "log10_V_mm3":  # V itself, in the unit an engineer reads
-            cells[1] += f" (V {_fmt(10.0**fitted, '.3g')} mm³)"
-            cells[2] += f" (V {_fmt(10.0**low, '.3g')} to {_fmt(10.0**high, '.3g')} mm³)"
+            # 10^(the mean of log10 V) is V's geometric mean (its median, for a log-normal
+            # scatter), not its mean; a run's interval transforms as it is
+            cells[1] += f" (geometric-mean V {_fmt(10.0**fitted, '.3g')} mm³)"
+            cells[2] += (
+                f" (geometric-mean V {_fmt(10.0**low, '.3g')} to {_fmt(10.0**high, '.3g')} mm³)"
+            )
             cells[3] += f" (V {_fmt(10.0**pi_low, '.3g')} to {_fmt(10.0**pi_high, '.3g')} mm³)"
+            cells[4] += " (V " + ", ".join(f"{10.0**v:.3g}" for v in g.bounds) + " mm³)"
         rows.append({"cells": cells, "cls": ""})
     responses = _Table(
         [
@@ -954,7 +977,9 @@ def _curvature_text(frame: pd.DataFrame) -> str:
     if float(p) < 0.05:
         return (
             what + f", p {p_text}: significant, so the response is not linear in the factors "
-            "between their levels, and the factorial model does not describe the middle of "
+            "between their levels (on their coded scale: the log10 of a factor coded 'log', "
+            "so a response that is linear in log10 WP shows none), and the factorial model "
+            "does not describe the middle of "
             "the region; a response-surface design (a central composite design adds axial "
             "points to these tests) would fit the curvature and tell which factor makes it."
         )
@@ -1120,7 +1145,7 @@ def render_report(
         design_info=design_info,
         runs=_runs_table(summary),
         level_means=_level_means_table(level_means) if level_means else None,
-        level_means_info=_LEVEL_MEANS_INFO,
+        level_means_info=_level_means_info(level_means or {}, bool(surface_fits)),
         anova=anova_items,
         anova_aliases=any(
             _names_aliases(table)

@@ -228,7 +228,10 @@ Files (R is the response: MU, V or log10_V_mm3):
 - `anova_R.csv`, `model_summary_R.csv`, `ranked_effects_R.csv`: the ANOVA of the categorical
   model, its summary (S, R²), its terms by contribution.
 - `residuals_R.csv`: observed, fitted, residual, leverage, standardized residual per run.
-- `effects_R.csv` (two-level designs): effects, coefficients, SE, t, p.
+- `effects_R.csv` (two-level designs): effects, coefficients, `se` (the standard error of the
+  effect, twice the coefficient's; on the Ct Pt row, which has no effect, twice its
+  coefficient's, so t = coefficient / (se / 2) on every row; the report shows the
+  coefficient's), t, p.
 - `box_cox.csv`: the Box–Cox check of MU's and V's scale.
 - `surface_*_R.csv` (response-surface designs): coded coefficients, ANOVA by source, summary
   (its equation in the response's SI unit), residuals of the quadratic.
@@ -544,9 +547,9 @@ def write_study(
                     f"Main effects on {label}, from the fitted quadratic surface: the response "
                     "along each factor with the others at their centre, with the 95 % "
                     "confidence band of the fitted mean (JMP's prediction profiler). The "
-                    "runs' level means are in tables/main_effects_*.csv; they are not "
-                    "balanced against the other factors in a composite design, so they mix "
-                    "in the others' effects",
+                    "runs' level means (the table 'Level means') are not balanced against "
+                    "the other factors in a composite design, so they mix in the others' "
+                    "effects",
                     f"profile_{resp}.png",
                     plotting.plot_profiler,
                     surfaces[resp],
@@ -657,7 +660,8 @@ def write_study(
         )
         add(
             "Runs",
-            "V for every run (paper Figure 11)",
+            "V for every run (paper Figure 11; on a log axis, a point per test, where the "
+            "tests' V span more than two decades)",
             "v_per_run.png",
             plotting.plot_v_per_run,
             summary,

@@ -183,6 +183,8 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     assert plot_v_per_run(summary).axes[0].get_yscale() == expected
     wide = summary.assign(V=summary["V"] * np.where(summary["test"] % 2 == 0, 1e3, 1.0))
     assert plot_v_per_run(wide).axes[0].get_yscale() == "log"
+    points = plot_v_per_run(wide).axes[0]
+    assert not points.patches and len(points.lines[0].get_ydata()) == 24  # points, no bars
     assert "log scale" in plot_v_per_run(wide).axes[0].get_ylabel()
     assert plot_v_per_run(wide, log=False).axes[0].get_yscale() == "linear"
     assert plot_v_per_run(summary, log=True).axes[0].get_yscale() == "log"
@@ -495,3 +497,29 @@ def test_mu_per_stop_tells_neighbouring_tests_apart(campaign) -> None:
     assert all(a[0] != b[0] for a, b in itertools.pairwise(styles))  # neighbours' hues
     assert styles[0][0] == styles[10][0] and styles[0][1] != styles[10][1]
     assert ax.texts and all(t.get_position()[1] > 1.0 for t in ax.texts)
+
+
+def test_mu_per_stop_title_clears_the_block_names(campaign) -> None:
+    """The rotated block names above the axes had reached into the title (a helper's review)."""
+    fig = plot_mu_per_stop(campaign, factors=FACTORS)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    title = ax.title.get_window_extent(renderer)
+    assert ax.texts
+    assert all(t.get_window_extent(renderer).y1 < title.y0 for t in ax.texts)
+
+
+def test_run_labels_code_centre_points_as_0() -> None:
+    """A centre point's legend entry had read 'S0.5, WP1e-14, mu00.6' (a helper's review):
+    each labelled factor at its centre reads 0, and a name ending in a digit is spaced."""
+    from brakeca.plotting import _run_label
+
+    factors = {
+        "S": Factor("S", (0.0, 1.0), labels=("-", "+")),
+        "mu0": Factor("mu0", (0.5, 0.7), labels=("-", "+")),
+        "WP": Factor("WP", (1e-15, 1e-13), labels=("-", "+"), coding="log"),
+    }
+    assert _run_label(17, {"S": 0.5, "mu0": 0.6, "WP": 1e-14}, factors) == "T17: S0, mu0 0, WP0"
+    assert _run_label(1, {"S": 1.0, "mu0": 0.5, "WP": 1e-15}, factors) == "T1: S+, mu0 -, WP-"
+    assert _run_label(2, {"S": 0.3, "mu0": 0.5, "WP": 1e-15}, factors) == "T2: S=0.3, mu0 -, WP-"

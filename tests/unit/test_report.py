@@ -325,7 +325,7 @@ def test_the_response_optimization_in_the_report(tmp_path) -> None:
     section = html[html.index('<h3 id="surface-optimum">') :]
     assert f"composite desirability, here {best.composite:.3f}" in section
     assert "<td>minimize: target 0.5, upper 3</td>" in section  # V's limits in mm³
-    assert f'<td class="num">{best.predicted["V"] * 1e9:.4g}</td>' in section
+    assert f'<td class="num">{best.predicted["V"] * 1e9:#.4g}</td>' in section
     assert "At the edge of that region: A" in section  # V falls with A: A at its low end
     no_optimum = render_report(
         **make_inputs(tmp_path), surface_fits={"V": fit}, optimum_note="The goals could not"
@@ -480,9 +480,10 @@ def test_an_optimized_log10_v_is_also_given_as_v(tmp_path) -> None:
     )
     section = html[html.index('<h3 id="surface-optimum">') :]
     fitted = best.predicted["log10_V_mm3"]
-    assert f"{fitted:.4g} (V {10**fitted:.3g} mm³)" in section
+    assert f"{fitted:#.4g} (geometric-mean V {10**fitted:.3g} mm³)" in section
     low, high = best.prediction["log10_V_mm3"]
     assert f"(V {10**low:.3g} to {10**high:.3g} mm³)" in section
+    assert "minimize: target 0.5, upper 1.5 (V 3.16, 31.6 mm³)" in section  # the goal as V
 
 
 def test_a_figure_wider_than_the_page_opens_at_full_size_on_a_click(tmp_path) -> None:
@@ -519,8 +520,8 @@ def test_the_level_means_table(tmp_path) -> None:
     assert '<a href="#level-means">Level means</a>' in html
     assert "<th>MU</th><th>V [mm³]</th><th>Runs</th>" in section
     first = means["V"].iloc[0]
-    assert f'<td class="num">{first["mean"] * 1e9:.4g}</td>' in section
-    assert f'<td class="num">{means["MU"].iloc[0]["mean"]:.4g}</td>' in section
+    assert f'<td class="num">{first["mean"] * 1e9:#.4g}</td>' in section
+    assert f'<td class="num">{means["MU"].iloc[0]["mean"]:#.4g}</td>' in section
     assert 'id="level-means"' not in render_report(**inputs)
 
 
@@ -555,3 +556,20 @@ def test_volumes_keep_their_trailing_zeros() -> None:
         "0",
         "12,346",
     ]
+
+
+def test_the_level_means_note_fits_the_design() -> None:
+    """Centre points of a two-level design are in no level's mean; a composite design's
+    middle level holds its centre and axial runs (the note had said the first of both; a
+    helper's second review)."""
+    from brakeca.report import _level_means_info
+
+    table = pd.DataFrame({"factor": ["A"], "level": [1.0], "mean": [0.3], "n": [4]})
+    centred = table.copy()
+    centred.attrs["center_n"] = 4
+    two_level = _level_means_info({"MU": centred}, surface=False)
+    assert "the 4 centre point runs are in no level's mean" in two_level
+    assert "(the main-effects plots' points)" in two_level
+    composite = _level_means_info({"MU": table}, surface=True)
+    assert "middle level holds its centre points and the axial runs" in composite
+    assert "no level's mean" not in composite and "plots' points" not in composite
