@@ -695,7 +695,14 @@ def _backend(
     """The backend that runs ``n_todo`` runs on ``executor`` (see run_campaign)."""
     n_workers = (os.cpu_count() or 1) if workers is None else workers
     if isinstance(executor, cf.Executor):
-        window = 1 if isinstance(executor, SerialExecutor) else 2 * max(1, n_workers)
+        if isinstance(executor, SerialExecutor):
+            window = 1
+        elif type(executor).__module__.split(".")[0] == "distributed":
+            # a dask client's executor: a worker's death is charged to every run it holds,
+            # waiting ones too, so no more runs in flight than workers (docs/cluster.md)
+            window = max(1, n_workers)
+        else:  # one waiting per worker, so that none idles between runs
+            window = 2 * max(1, n_workers)
         return _Backend(executor, window, own=False)
     if executor == "serial":
         return _Backend(SerialExecutor(), 1, own=True)

@@ -338,6 +338,14 @@ def _run_locked(
     computed: list[str] = []
     failed: list[str] = []
     if todo:
+        from brakeca.traces import check_trace_unchanged
+
+        checked: set[tuple[str | None, str | None]] = set()
+        for point in todo:  # a changed trace fails every run: refuse it before any is run
+            key = (point.config.cycle.trace_file, point.config.cycle.trace_sha256)
+            if key not in checked:
+                checked.add(key)
+                check_trace_unchanged(point.config)
         with terminate_as_interrupt():  # SIGTERM, SIGHUP: stop the workers, keep what is done
             _execute_points(
                 todo, runs, records, computed, failed, how, n_total=len(points), console=console

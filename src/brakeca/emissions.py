@@ -59,8 +59,8 @@ EURO7_REFERENCE = (
 EURO7_PM10_LIMIT = 7.0
 #: Euro 7 brake PM10 limit for pure battery-electric M1 cars [mg/km per vehicle].
 EURO7_PM10_LIMIT_PEV = 3.0
-#: The columns a campaign on a speed trace adds to its summary: PM10 low, central and high
-#: [mg/km] (``brakeca.study``).
+#: The columns of a campaign's PM10 table on a speed trace (``tables/pm10.csv``, written by
+#: ``brakeca.study``; not columns of ``summary.csv``): PM10 low, central and high [mg/km].
 PM10_COLUMNS: tuple[str, str, str] = ("PM10_low_mg_km", "PM10_mg_km", "PM10_high_mg_km")
 #: The limits by vehicle, [mg/km].
 EURO7_LIMITS: dict[str, float] = {

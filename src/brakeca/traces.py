@@ -1030,6 +1030,21 @@ def with_cycle(
     return config.with_updates({"cycle": cycle})
 
 
+def check_trace_unchanged(config: SimulationConfig) -> None:
+    """Raise ConfigError if ``config``'s speed trace (``cycle.trace_file``) is missing or its
+    content changed since the configuration was made (its ``cycle.trace_sha256``); nothing
+    for a block cycle. Only the file's digest is computed, no event detected."""
+    cyc = config.cycle
+    if not cyc.trace_file or cyc.trace_sha256 is None:
+        return
+    digest = _file_digest(cyc.trace_file)
+    if digest != cyc.trace_sha256:
+        raise ConfigError(
+            f"cycle.trace_file {cyc.trace_file}: its content changed since the "
+            f"configuration was made (sha256 {digest[:12]} != {cyc.trace_sha256[:12]})"
+        )
+
+
 def configured_cycle(config: SimulationConfig) -> CycleSource:
     """The events to simulate for ``config`` and the distance they belong to.
 
@@ -1046,13 +1061,8 @@ def configured_cycle(config: SimulationConfig) -> CycleSource:
         return CycleSource(
             cyc.name, "blocks", tuple(stops), full, float(sum(event_distance(s) for s in stops))
         )
-    digest = _file_digest(cyc.trace_file)
-    if cyc.trace_sha256 is not None and digest != cyc.trace_sha256:
-        raise ConfigError(
-            f"cycle.trace_file {cyc.trace_file}: its content changed since the "
-            f"configuration was made (sha256 {digest[:12]} != {cyc.trace_sha256[:12]})"
-        )
-    source = _trace_source(config, digest)
+    check_trace_unchanged(config)
+    source = _trace_source(config, _file_digest(cyc.trace_file))
     if not source.events:
         tc = cyc.trace
         raise ConfigError(

@@ -547,3 +547,24 @@ def test_a_script_without_a_main_guard_runs_its_campaign_once(tmp_path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.splitlines() == ["top level ran", "ok runs 24"], done.stdout
     assert "Traceback" not in done.stderr and "another campaign" not in done.stderr
+
+
+def test_a_dask_clients_executor_gets_no_more_runs_than_workers() -> None:
+    """A dask worker's death is charged to every run it holds, waiting ones too: a client's
+    executor gets ``workers`` runs in flight, another executor twice that (docs/cluster.md;
+    a helper's review found the doc's 'workers' untrue for the client's executor)."""
+    import concurrent.futures as cf
+
+    from brakeca._executors import _backend
+
+    class ClientExecutor(cf.Executor):  # stands for distributed.cfexecutor.ClientExecutor
+        pass
+
+    ClientExecutor.__module__ = "distributed.cfexecutor"
+    kw = {"scheduler": None, "scheduler_file": None, "max_retries": 2}
+    assert _backend(ClientExecutor(), 3, 10, **kw).window == 3
+    distributed = pytest.importorskip("distributed")
+    real = distributed.cfexecutor.ClientExecutor  # where dask's own lives
+    assert real.__module__.split(".")[0] == "distributed"
+    with cf.ThreadPoolExecutor(2) as pool:
+        assert _backend(pool, 3, 10, **kw).window == 6

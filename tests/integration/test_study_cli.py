@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -505,3 +506,35 @@ def test_the_design_table_names_coding_centre_and_field() -> None:
     assert list(table["coding"]) == ["log", "linear"]
     assert table.loc["WR", "centre point"] == "3.162e-07" and table.loc["A", "centre point"] == "15"
     assert list(table["field"]) == ["wear.resin_wear_depth", "pad.fibre_area_fraction"]
+
+
+def test_a_changed_trace_is_refused_before_any_run(tmp_path):
+    """A trace edited after the campaign's configuration was made had failed every run to
+    compute, one by one (a helper's review of the docs): it is refused before any run; runs
+    already finished are reused as they are."""
+    import shutil
+
+    import brakeca.presets
+
+    trace = tmp_path / "trace.csv"
+    shutil.copy(Path(brakeca.presets.__file__).parent / "cycles" / "example_trace.csv", trace)
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "one"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "A"\nfield = "A"\n'
+        'levels = [10.0, 20.0]\nunit = "%"\n'
+    )
+    out = tmp_path / "c"
+    small = ["--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100", "--stops", "1"]
+    args = ["run", str(design), "-o", str(out), "--cycle", str(trace), *small]
+    res = CliRunner().invoke(app, [*args, "--executor", "serial", "--no-report"])
+    assert res.exit_code == 0, res.output
+    trace.write_text(trace.read_text() + "\n", encoding="utf-8")  # edited afterwards
+    again = ["run", str(out / "design.toml"), "-o", str(out), "--executor", "serial"]
+    res = CliRunner().invoke(app, [*again, "--no-report"])
+    assert res.exit_code == 0 and "already done" in res.output  # finished runs: reused
+    for run_file in (out / "runs").glob("*.nc"):
+        run_file.unlink()
+    res = CliRunner().invoke(app, [*again, "--no-report"])
+    assert res.exit_code == 2, res.output
+    assert "its content changed since the configuration was made" in " ".join(res.output.split())
+    assert not list((out / "runs").glob("*.nc"))

@@ -1,9 +1,11 @@
 """The compiled stop kernel matches its slow NumPy twin (tests/naive.py) on small grids.
 
 Both kernels are checked: the exact one and the lazy one (per-row affine wear, brakeca._lazy).
-Tolerance: statuses must be identical; heights, disc positions and forces agree to 1e-10
-relative. The two compute the contact root by different arithmetic (incremental quadratic
-scan vs direct evaluation and a quadratic fit), so they agree to round-off, not bit for bit.
+Tolerance: statuses must be identical; heights, disc positions, forces, the COF and the
+areas agree to 1e-10 relative, the volume emitted in a step to 1e-9 and the volume worn off
+in a step to 1e-8 (sums over many cells' wear, added in other orders). The two compute the
+contact root by different arithmetic (incremental quadratic scan vs direct evaluation and a
+quadratic fit), so they agree to round-off, not bit for bit.
 """
 
 from __future__ import annotations

@@ -1,0 +1,121 @@
+"""The responses MU and V, and the mesh's sliding distance, checked against quantities built
+independently of the code that reduces them: the per-step series (MU's time weighting), the
+volume generated over a run (V's end-of-stop emissions), and the mesh table (the sliding
+distance of each row). A helper's audit of the tests found MU and V checked only against
+other outputs of the same reduction, and the sliding distance only through tests that take
+it from the grid itself.
+
+References
+----------
+Wahlström (2016), Sections 2.2 and 3 and Table 5, doi:10.1155/2016/8181260.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from brakeca.geometry import make_grid
+from brakeca.presets import load_preset
+from brakeca.simulation import simulate
+from brakeca.surface import Surface
+
+
+def _config(**updates):
+    from conftest import short_cycle
+
+    return load_preset().with_updates(
+        {
+            "mesh.n_radial": 5,
+            "WP": 1e-13,
+            "pad.resin_roughness": 100e-6,
+            "cycle": short_cycle(stops=3, v0=30, v1=4, g=0.25),
+            "output.series_every": 1,
+            **updates,
+        }
+    )
+
+
+@pytest.mark.parametrize("kernel", ["exact", "lazy"])
+def test_mu_is_the_mean_over_stops_of_the_time_weighted_cof(kernel):
+    """Each stop's mean_cof is its steps' COF weighted by their durations (from the braking
+    time at each step's end, every step kept), and MU their mean over the stops: a plain
+    mean of the steps' COF, or a mean over steps rather than stops, is told apart."""
+    ds = simulate(_config(**{"numerics.kernel": kernel}), seed=5).dataset
+    time_end = ds["step_time"].to_numpy()
+    dt = np.diff(np.concatenate(([0.0], time_end)))
+    cof = ds["step_cof"].to_numpy()
+    stop = ds["step_stop"].to_numpy()
+    assert cof.size == int(ds["n_steps"].sum())  # every step kept
+    expected = [
+        float(np.sum(cof[stop == s] * dt[stop == s]) / np.sum(dt[stop == s]))
+        for s in ds["stop"].to_numpy()
+    ]
+    np.testing.assert_allclose(ds["mean_cof"].to_numpy(), expected, rtol=1e-12)
+    np.testing.assert_allclose(
+        ds["duration"].to_numpy(),
+        [np.sum(dt[stop == s]) for s in ds["stop"].to_numpy()],
+        rtol=1e-12,
+    )
+    assert float(ds["MU"]) == pytest.approx(np.mean(expected), rel=1e-12)
+    plain = float(np.mean(cof))  # what an unweighted reduction would give
+    assert not math.isclose(plain, float(ds["MU"]), rel_tol=1e-6)
+
+
+def _hand_surface(pad, grid, rng):
+    """Primary plateaus 10-60 um high on 30 % of the cells, resin 0-10 um (as the NumPy
+    twin's cases): the disc reaches the resin at once and secondary plateaus form within a
+    short stop, which the generated surfaces of a few stops do not give."""
+    shape = grid.shape
+    prim = rng.random(shape) < 0.3
+    height = np.where(prim, rng.uniform(10e-6, 60e-6, shape), rng.uniform(0.0, 10e-6, shape))
+    return Surface(
+        height=height,
+        status=prim.astype(np.int8),
+        fibre_floor=np.full(shape, -np.inf),
+        n_fibres=0,
+    )
+
+
+@pytest.mark.parametrize("kernel", ["exact", "lazy"])
+def test_with_s_1_every_volume_worn_is_emitted_by_the_end(tiny_config, monkeypatch, kernel):
+    """With S = 1 every secondary plateau goes at each stop's end, its deposit emitted, and the
+    streams leave the contact: what wear removed over the run (primary plateaus and resin)
+    is what left it, so V times the stops equals the volume generated. V without the
+    end-of-stop emissions (the flush and the deposits S removes) falls short of it, and with
+    S = 0 the deposits stay: less is emitted than worn."""
+    import brakeca.simulation
+
+    monkeypatch.setattr(brakeca.simulation, "generate_surface", _hand_surface)
+    config = tiny_config.with_updates({"WP": 1e-12, "numerics.kernel": kernel})
+    ds = simulate(config.with_updates({"S": 1}), seed=5).dataset
+    emitted = ds["emitted_volume"].to_numpy()
+    generated = ds["generated_volume"].to_numpy()
+    assert int(ds["secondary_removed_between_stops"].sum()) > 0  # S acted on deposits
+    assert float(ds["end_of_stop_emitted_volume"].sum()) > 1e-3 * generated.sum()
+    assert emitted.sum() == pytest.approx(generated.sum(), rel=1e-9, abs=0.0)
+    assert float(ds["V"]) * ds.sizes["stop"] == pytest.approx(generated.sum(), rel=1e-9, abs=0.0)
+    kept = simulate(config.with_updates({"S": 0}), seed=5).dataset
+    assert float(kept["secondary_area_fraction"][-1]) > 0
+    assert kept["emitted_volume"].sum() < 0.999 * kept["generated_volume"].sum()
+
+
+def test_each_rows_sliding_distance_is_its_radius_times_the_subdomain_angle():
+    """Table 5: r_i = 103 mm, dr = 0.1 mm, N_m = 100 columns of 0.044 deg a subdomain; a
+    full step slides row j by (r_i + j dr) N_m dtheta."""
+    config = load_preset()
+    grid = make_grid(config)
+    j = np.arange(201)
+    expected = (0.103 + 1e-4 * j) * 100 * math.radians(0.044)
+    np.testing.assert_allclose(grid.step_sliding_distance, expected, rtol=1e-12)
+    np.testing.assert_allclose(grid.radius, 0.103 + 1e-4 * j, rtol=1e-12)
+    # at the effective radius 8.68 mm; the vehicle travels 24.11 mm a step, the wheel's
+    # radius over the effective radius times that (the step length s, cycle.step_distance)
+    from brakeca.cycle import step_distance
+
+    assert grid.step_sliding_distance[100] == pytest.approx(0.113 * 100 * math.radians(0.044))
+    ratio = config.vehicle.wheel_radius / config.brake.effective_radius
+    assert step_distance(config) == pytest.approx(grid.step_sliding_distance[100] * ratio)
+    assert step_distance(config) == pytest.approx(0.02411, abs=5e-6)
