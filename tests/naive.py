@@ -159,6 +159,8 @@ def step(state, params, target, frac):
         "secondary_area": float(np.sum(Acell[S == 2])),
         "generated": removed,
         "emitted": emitted,
+        "held": held,
+        "stream": float(inflow.sum()),
         "ledger": ledger,
         "created": len(created),
         "exposed": len(exposed),
