@@ -864,6 +864,8 @@ def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
             "a property of the fitted quadratic, not a setting)"
         )
     predicted = _fmt(float(st["predicted"]) * factor, ".5g") + (f" {unit}" if unit else "")
+    if fit.response == "log10_V_mm3" and abs(float(st["predicted"])) < 300:
+        predicted += f" (geometric-mean V {_fmt(10.0 ** float(st['predicted']), '.3g')} mm³)"
     if fit.loses_sign(float(st["predicted"])):
         predicted += (
             f" (not positive, though every run's {fit.response} is: the quadratic does not "

@@ -573,3 +573,21 @@ def test_the_level_means_note_fits_the_design() -> None:
     composite = _level_means_info({"MU": table}, surface=True)
     assert "middle level holds its centre points and the axial runs" in composite
     assert "no level's mean" not in composite and "plots' points" not in composite
+
+
+def test_a_stationary_log10_v_is_also_given_as_v() -> None:
+    """log10 V's stationary point's fitted value also as V in mm³ (a helper's review)."""
+    import itertools
+
+    from brakeca.report import _stationary_text
+    from brakeca.rsm import Coding, fit_response_surface
+
+    a, b = Coding("A", 10.0, 20.0, unit="%"), Coding("WR", 1e-7, 1e-6, log=True, unit="m")
+    rows = [
+        {"A": a.decode(x1), "WR": b.decode(x2), "log10_V_mm3": 1.0 + x1**2 + x2**2}
+        for x1, x2 in itertools.product((-1.0, 0.0, 1.0), repeat=2)
+    ]
+    fit = fit_response_surface(pd.DataFrame(rows), [a, b], "log10_V_mm3")
+    text = _stationary_text(fit, 1.0, None)
+    value = float(fit.stationary["predicted"])
+    assert f"(geometric-mean V {10**value:.3g} mm³)" in text
