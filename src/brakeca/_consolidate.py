@@ -40,9 +40,14 @@ class CampaignResult:
     design : Design
         The design as written to ``design.toml`` (its base is ``base_config.toml``).
     summary : pandas.DataFrame
-        ``summary.csv``: one row per run in test order.
+        ``summary.csv``: one row per run in test order: ids, the factors' levels [design
+        unit], seed, status, error, and the run scalars of
+        :data:`brakeca.results.RUN_SCALAR_UNITS` (``MU`` [-], ``V`` [m^3 per stop],
+        ``V_mm3`` [mm^3 per stop], the totals [mm^3], fractions and residuals [-],
+        ``wall_time`` [s]).
     dataset : xarray.Dataset
-        ``campaign.nc``: per-stop variables on (run, stop), scalars on run.
+        ``campaign.nc``: per-stop variables on (run, stop), scalars on run, each with its
+        ``units`` and ``long_name`` attributes (as a run file's, :mod:`brakeca.results`).
     computed, reused, failed, recomputed : tuple of str
         Run ids computed now, reused from existing files, failed, and recomputed because
         their file was corrupt or foreign (also in ``computed`` or ``failed``). Empty for a

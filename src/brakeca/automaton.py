@@ -112,7 +112,9 @@ def creation_rule(status, idx: int, n_radial: int, n_angular: int) -> int:
 
 @njit_noalloc
 def gap_fill_cost(disc_position: float, height: float, cell_area: float) -> float:
-    """Particle volume needed to fill a cell's gap to the disc, ``(z - h) A`` [m^3]."""
+    """Particle volume needed to fill a cell's gap to the disc, ``(z - h) A`` [m^3], for the
+    disc at ``disc_position`` z [m], the cell's height ``height`` h [m] and area ``cell_area``
+    A [m^2]."""
     return (disc_position - height) * cell_area
 
 
@@ -128,21 +130,24 @@ def rule4_lost_support(status, idx: int, n_angular: int) -> bool:
 
 @njit_noalloc
 def rule5_deposit_worn(status, height: float, deposit_base: float) -> bool:
-    """Rule 5: a secondary plateau whose deposit has been worn away is destroyed."""
+    """Rule 5: a secondary plateau (status 2) whose deposit has been worn away is destroyed:
+    its height ``height`` [m] at or below its deposit's base ``deposit_base`` [m]."""
     return status == 2 and height <= deposit_base
 
 
 @njit_noalloc
 def rule6_primary_out_of_reach(status, height: float, disc_position: float, max_gap: float) -> bool:
-    """Rule 6: a primary plateau whose gap to the disc exceeds ``max_gap`` [m] is destroyed
-    (reading of "its height is less than the minimum gap"; ``max_gap = inf`` switches it off)."""
+    """Rule 6: a primary plateau whose gap to the disc, ``disc_position - height`` [m] (both
+    [m]), exceeds ``max_gap`` [m] is destroyed (reading of "its height is less than the
+    minimum gap"; ``max_gap = inf`` switches it off)."""
     return status == 1 and disc_position - height > max_gap
 
 
 @njit_noalloc
 def rule7_fibre_worn(status, height: float, fibre_floor: float) -> bool:
-    """Rule 7: a primary plateau worn down to the underside of its fibre is destroyed
-    (never with fibres as columns, whose floor is -inf)."""
+    """Rule 7: a primary plateau worn down to the underside of its fibre is destroyed: its
+    height ``height`` [m] at or below ``fibre_floor`` [m] (never with fibres as columns,
+    whose floor is -inf)."""
     return status == 1 and height <= fibre_floor
 
 
@@ -164,8 +169,8 @@ class Exposure(NamedTuple):
 
 
 def pad_surface(status: np.ndarray, height: np.ndarray, base: np.ndarray) -> np.ndarray:
-    """The pad material's surface of each cell [m]: its height, or for a secondary plateau
-    the height under its deposit."""
+    """The pad material's surface of each cell [m]: its height ``height`` [m], or for a
+    secondary plateau (``status`` 2) the height under its deposit, ``base`` [m]."""
     return np.where(status == _SECONDARY, base, height)
 
 

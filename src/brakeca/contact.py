@@ -173,12 +173,16 @@ def first_root_binned(
 
 
 def contact_pressure(height, disc_position: float, stiffness: float):
-    """Winkler contact pressure ``p = K max(h - z, 0)`` [Pa] of heights [m] at disc position [m]."""
+    """Winkler contact pressure ``p = K max(h - z, 0)`` [Pa] of cells of undeformed heights
+    ``height`` [m] against the disc surface at ``disc_position`` z [m], on a foundation of
+    stiffness ``stiffness`` K = E / L [Pa/m]."""
     return stiffness * np.maximum(np.asarray(height, dtype=float) - disc_position, 0.0)
 
 
 def friction_force(height, area, disc_position, stiffness, mu_0, slope, mu_min) -> float:
-    """Friction force ``sum mu(p) p A`` [N] of plateau cells (heights [m], areas [m^2])."""
+    """Friction force ``sum mu(p) p A`` [N] of plateau cells of heights ``height`` [m] and
+    areas ``area`` [m^2], the disc at ``disc_position`` [m], the foundation's ``stiffness``
+    [Pa/m], and the friction law ``mu_0`` [-], ``slope`` c [1/Pa], ``mu_min`` [-]."""
     p = contact_pressure(height, disc_position, stiffness)
     mu = np.maximum(mu_min, mu_0 - slope * p)
     return float(np.sum(mu * p * np.asarray(area, dtype=float)))

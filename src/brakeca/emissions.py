@@ -95,7 +95,9 @@ class EmissionParameters(BaseModel):
             "approximate, from data-sheet values)"
         ),
     )
-    debris_density_range: tuple[float, float] = (2000.0, 4000.0)
+    debris_density_range: tuple[float, float] = Field(
+        (2000.0, 4000.0), description="[kg/m^3] low and high debris density of the envelope"
+    )
     airborne_fraction: float = Field(
         0.5,
         gt=0,
@@ -106,7 +108,9 @@ class EmissionParameters(BaseModel):
             "Grigoratos & Martini 2015)"
         ),
     )
-    airborne_fraction_range: tuple[float, float] = (0.3, 0.6)
+    airborne_fraction_range: tuple[float, float] = Field(
+        (0.3, 0.6), description="[-] low and high airborne share of the envelope"
+    )
     pm10_share: float = Field(
         0.8,
         gt=0,
@@ -116,7 +120,9 @@ class EmissionParameters(BaseModel):
             "(same sources)"
         ),
     )
-    pm10_share_range: tuple[float, float] = (0.6, 0.9)
+    pm10_share_range: tuple[float, float] = Field(
+        (0.6, 0.9), description="[-] low and high PM10 share of the envelope"
+    )
     disc_to_pad_mass_ratio: float = Field(
         0.0,
         ge=0,
@@ -126,7 +132,9 @@ class EmissionParameters(BaseModel):
             "mass (rough, pairing dependent), hence the range"
         ),
     )
-    disc_to_pad_mass_ratio_range: tuple[float, float] = (0.0, 2.0)
+    disc_to_pad_mass_ratio_range: tuple[float, float] = Field(
+        (0.0, 2.0), description="[-] low and high disc-to-pad wear mass ratio of the envelope"
+    )
     front_emission_share: float = Field(
         0.7,
         gt=0,
@@ -136,7 +144,9 @@ class EmissionParameters(BaseModel):
             "follow friction work, the front brake force share (0.6-0.8 for cars, Limpert 2011)"
         ),
     )
-    front_emission_share_range: tuple[float, float] = (0.6, 0.8)
+    front_emission_share_range: tuple[float, float] = Field(
+        (0.6, 0.8), description="[-] low and high front-axle share of the envelope"
+    )
     pads_per_brake: int = Field(
         2, ge=1, le=8, description="[-] pads of one brake; like brake.pads_per_brake"
     )

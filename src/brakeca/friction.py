@@ -46,11 +46,24 @@ def local_cof(pressure: float, mu_0: float, slope: float, mu_min: float) -> floa
 
 
 def coefficient_of_friction(pressure, mu_0: float = 0.6, slope: float = 3e-8, mu_min: float = 0.15):
-    """Vectorised ``mu(p) = max(mu_min, mu_0 - c p)`` for an array of pressures [Pa] -> [-].
+    """Vectorised ``mu(p) = max(mu_min, mu_0 - c p)`` for an array of pressures.
+
+    Parameters
+    ----------
+    pressure : array_like
+        Contact pressures p [Pa].
+    mu_0, slope, mu_min : float
+        The friction law: COF at zero pressure mu_0 [-], its fall c [1/Pa], its floor
+        mu_min [-] (the defaults are the configuration's, ``friction.*``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The local COF mu(p) [-], shaped as ``pressure``.
 
     Examples
     --------
-    >>> float(coefficient_of_friction(5e6))
+    >>> round(float(coefficient_of_friction(5e6)), 12)  # 0.6 - 3e-8 * 5e6, to round-off
     0.45
     >>> float(coefficient_of_friction(20e6))
     0.15
@@ -60,6 +73,16 @@ def coefficient_of_friction(pressure, mu_0: float = 0.6, slope: float = 3e-8, mu
 
 def friction_stress_peak(mu_0: float, slope: float, mu_min: float) -> tuple[float, float]:
     """Pressure [Pa] and friction stress [Pa] where ``mu(p) p`` peaks on the linear branch.
+
+    Parameters
+    ----------
+    mu_0, slope, mu_min : float
+        The friction law: mu_0 [-], c [1/Pa], mu_min [-].
+
+    Returns
+    -------
+    tuple of float
+        ``(p*, mu(p*) p*)`` [Pa, Pa]; ``(inf, inf)`` when ``mu p`` has no peak there.
 
     Notes
     -----

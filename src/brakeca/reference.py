@@ -52,5 +52,7 @@ def flat_punch_pressure(
 def archard_wear_depth_constant_pressure(
     specific_wear_rate: float, pressure: float, sliding_distance: float
 ) -> float:
-    """Archard wear depth ``h = k p s`` [m] at constant pressure [Pa] over a distance [m]."""
+    """Archard wear depth ``h = k p s`` [m] at constant pressure ``pressure`` p [Pa] over
+    ``sliding_distance`` s [m], with the specific wear rate ``specific_wear_rate`` k
+    [m^3/(N m)] (= m^2/N)."""
     return specific_wear_rate * pressure * sliding_distance

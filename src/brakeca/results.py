@@ -4,15 +4,23 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 [m^3], ``generated_volume`` [m^3], ``primary_area_fraction`` and ``secondary_area_fraction``
 (time-weighted) [-], ``contact_area_fraction`` [-], ``normal_force`` (pad) [N],
 ``band_normal_force`` [N], ``line_pressure`` [Pa], ``duration`` [s], ``n_steps``,
-``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``rule_firings(stop, rule)``; with
-the fibre field (``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-], of those
+``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``secondary_removed_between_stops``
+[-] (rule S), ``end_of_stop_emitted_volume`` [m^3] (the flush and the deposits S removes),
+``min_disc_position`` [m], ``rule_firings(stop, rule)`` [-]; with the fibre field
+(``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-], of those
 ``fibre_cells_exposed_late`` [-] (only after the stop), ``fibre_exposure_lag`` [m] and
-``fibre_volume_cut_as_resin`` [m^3], ``fibre_intervals_skipped`` [-].
+``fibre_volume_cut_as_resin`` [m^3], ``fibre_intervals_skipped`` [-]. Every variable carries
+its ``units`` and ``long_name`` attributes.
 
-Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual``, ``max_friction_residual``.
-A thinned per-step series on dim ``step``. Maps on (``radius``, ``angle``): ``initial_status``,
-``final_status``, ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package
-version, wall time, the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
+Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual`` [-],
+``max_friction_residual`` [-] (:data:`RUN_SCALAR_UNITS`). A thinned per-step series on dim
+``step`` (every ``output.series_every``-th step): ``step_time`` [s] (braking time at the
+step's end), ``step_stop`` [-], ``step_cof`` [-], ``step_normal_force`` (pad) [N],
+``step_contact_area_fraction``, ``step_primary_area_fraction``,
+``step_secondary_area_fraction`` [-], ``step_disc_position`` [m]. Maps on (``radius`` [m],
+``angle`` [rad]): ``initial_status``, ``final_status`` (0 resin, 1 primary, 2 secondary
+plateau), ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package version,
+wall time [s], the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
 applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
 ``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan.
 
@@ -35,7 +43,14 @@ from brakeca import _records as R  # the record columns (without numba)
 from brakeca._io import atomic_write
 from brakeca.config import SimulationConfig
 
-__all__ = ["FORMAT", "RunResult", "build_dataset", "summarise_stop"]
+__all__ = [
+    "FORMAT",
+    "RUN_SCALARS",
+    "RUN_SCALAR_UNITS",
+    "RunResult",
+    "build_dataset",
+    "summarise_stop",
+]
 
 FORMAT = "brakeca-run/1"  #: format marker written to and checked in every run file
 M3_TO_MM3 = 1e9
@@ -186,7 +201,16 @@ class RunResult:
         return float(self.dataset["V"])
 
     def scalars(self) -> dict[str, float]:
-        """Per-run scalars for a summary table (MU, V, V_mm3, residuals, steps, wall time)."""
+        """Per-run scalars for a summary table.
+
+        Returns
+        -------
+        dict
+            :data:`RUN_SCALARS` by name, in the units of :data:`RUN_SCALAR_UNITS`: ``MU`` [-],
+            ``V`` [m^3 per stop], ``V_mm3`` [mm^3 per stop], ``total_emitted_mm3`` and
+            ``total_generated_mm3`` [mm^3], the final area fractions [-], the residuals
+            [-], ``n_steps`` [-] and ``wall_time`` [s].
+        """
         ds = self.dataset
         return {
             "MU": self.MU,
@@ -312,11 +336,49 @@ def build_dataset(
     contact_fallbacks: int = 0,
     fibre_exposure: list | None = None,
 ) -> xr.Dataset:
-    """Assemble the run Dataset (see module docstring) from the per-stop reductions of the
-    kernel's per-step records (``summaries``: stops x ``N_SUM``, rows of
-    :func:`summarise_stop`) and the records of the kept steps (``kept``, the stops' in order).
-    ``fibre_exposure``: with the fibre field, per stop what the exposure after it did
-    (:class:`brakeca.automaton.Exposure`)."""
+    """Assemble the run Dataset (see the module docstring for its variables and units).
+
+    Parameters
+    ----------
+    config, seed
+        The run's configuration and seed [-].
+    grid
+        Its :class:`brakeca.geometry.Grid` (radii [m], angles [rad], cell areas [m^2]).
+    stops
+        The stops run (:class:`brakeca.cycle.Stop`).
+    summaries
+        Stops x ``N_SUM``: the per-stop reductions of the kernel's per-step records, rows of
+        :func:`summarise_stop` (forces [N], areas [m^2], volumes [m^3], COF [-]).
+    kept
+        The records of the kept steps, the stops' in order (the per-step series).
+    dts
+        Each stop's step durations [s].
+    flush
+        Each stop's end-of-stop emission (the streams' flush and the deposits S removes)
+        [m^3].
+    s_removed
+        Each stop's secondary plateaus removed by S [-].
+    rule_counts
+        Each stop's rule firings [-].
+    initial_status, final_status
+        The cells' statuses before the first and after the last stop [-].
+    final_height
+        The cells' heights after the last stop [m].
+    final_ledger
+        The volume ledger's relative residual after the last stop [-].
+    wall_time
+        The run's wall time [s].
+    kernel, kernel_stops, contact_fallbacks
+        The kernel setting, the stops each kernel ran and the lazy kernel's fallbacks [-].
+    fibre_exposure
+        With the fibre field, per stop what the exposure after it did
+        (:class:`brakeca.automaton.Exposure`).
+
+    Returns
+    -------
+    xarray.Dataset
+        The run's dataset, every variable with its ``units`` and ``long_name``.
+    """
     area = grid.area
     pad_scale = config.brake.pad_area / area
     piston = np.pi * config.brake.piston_diameter**2 / 4.0

@@ -83,6 +83,12 @@ class SimulationState:
         Particle streams per bin ``j * n_sub + k`` [m^3].
     acc : float64 array
         Accumulators: removed, emitted, held [m^3]; primary and secondary area [m^2].
+    cell_area : float64 array
+        Each cell's area, its row's ``A_j = r_j dtheta dr`` [m^2].
+    cell_slide : float64 array
+        Each cell's sliding distance in a full step, its row's ``r_j N_m dtheta`` [m].
+    cell_bin : int64 array
+        Each cell's stream bin ``j * n_sub + k`` [-].
     fibres : FibreField or None
         The fibre field (``pad.fibre_model = "field"`` only); its ``next`` changes in place,
         and it is replaced when it is laid deeper.
@@ -513,6 +519,28 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
 
     Everything the next stop reads is saved, the kernel's bookkeeping included (plateau order
     with its tie order, the resin heap), so a resumed run is bit-identical.
+
+    Parameters
+    ----------
+    path
+        The checkpoint file.
+    config, seed
+        The run's configuration and seed [-] (a resume checks them).
+    state
+        The :class:`SimulationState` after the last stop done.
+    initial_status
+        The cells' statuses before the first stop [-].
+    log
+        The per-stop log so far (records, step durations [s], end-of-stop emissions [m^3]).
+    rng
+        The run's random generator (its state is saved).
+    elapsed
+        The run's wall time so far [s].
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
     """
     lengths = np.array([d.size for d in log.dts], dtype=np.int64)
     arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
@@ -551,9 +579,27 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
 def load_checkpoint(path, config, seed, grid):
     """Read a checkpoint written by :func:`save_checkpoint` for this config and seed.
 
-    Returns None when there is no file; raises :class:`CheckpointError` (a ``ValueError``) for
-    a checkpoint of another run or an unreadable file (it is never silently trusted or
-    ignored).
+    Parameters
+    ----------
+    path
+        The checkpoint file.
+    config, seed
+        The run's configuration and seed [-]: the checkpoint must be of them.
+    grid
+        The run's :class:`brakeca.geometry.Grid`.
+
+    Returns
+    -------
+    tuple or None
+        ``(state, initial_status, log, rng_state, elapsed)``: the :class:`SimulationState`,
+        the statuses before the first stop [-], the per-stop log, the random generator's
+        saved state and the run's wall time so far [s]; None when there is no file.
+
+    Raises
+    ------
+    CheckpointError
+        (A ``ValueError``.) A checkpoint of another run, or a file that is not a readable
+        checkpoint: it is never silently trusted or ignored.
     """
     path = Path(path)
     if not path.exists():

@@ -35,6 +35,8 @@ from brakeca.results import RunResult
 
 __all__ = ["RESPONSES", "per_stop_table", "plot_run", "with_log_v", "write_study"]
 
+#: The responses a study analyses: ``MU`` [-], ``V`` [m^3 per stop] (shown in mm^3) and
+#: ``log10_V_mm3`` [-] (log10 of V in mm^3 per stop).
 RESPONSES = ("MU", "V", "log10_V_mm3")
 _LABELS = {
     "MU": "mean COF MU",
@@ -90,10 +92,10 @@ def per_stop_table(result: CampaignResult) -> pd.DataFrame:
         One row per run and stop it ran, runs with status ``"ok"`` only, in test and
         replicate order: ``test``, ``replicate``, the factors' levels, ``seed``, ``stop``,
         ``block`` (when the cycle names its blocks), then ``mean_cof`` [-] (MU is its mean over
-        a run's stops), ``emitted_mm3`` and ``generated_mm3`` [mm³] (V is the mean of
-        ``emitted_mm3``), the time-weighted plateau and contact area fractions of the band
-        [-], ``normal_force_N`` [N] and ``line_pressure_MPa`` [MPa], ``duration_s`` [s] and
-        ``n_steps`` [-].
+        a run's stops), ``emitted_mm3`` and ``generated_mm3`` [mm³] (``V_mm3`` is the mean
+        of ``emitted_mm3``; V [m^3] that of ``emitted_volume``), the time-weighted plateau
+        and contact area fractions of the band [-], ``normal_force_N`` [N] and
+        ``line_pressure_MPa`` [MPa], ``duration_s`` [s] and ``n_steps`` [-].
     """
     ds = result.dataset
     names = [f.name for f in result.design.factors]
