@@ -263,6 +263,11 @@ def campaign_folder(out_dir: str | Path) -> Path:
 def load_campaign(out_dir: str | Path) -> CampaignResult:
     """Read a finished campaign directory.
 
+    Parameters
+    ----------
+    out_dir
+        The campaign's folder (``brakeca run -o``, ``run_campaign``'s ``out_dir``).
+
     Returns
     -------
     CampaignResult

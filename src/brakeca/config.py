@@ -943,7 +943,24 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
 
 
 def load_config(path: str | Path) -> SimulationConfig:
-    """Load and validate a configuration TOML file."""
+    """Load and validate a configuration TOML file.
+
+    Parameters
+    ----------
+    path
+        A whole configuration in TOML (``brakeca config > FILE`` writes the paper's), UTF-8.
+
+    Returns
+    -------
+    SimulationConfig
+        The validated configuration (SI units inside; see each field's description).
+
+    Raises
+    ------
+    ConfigError
+        The file cannot be read, is not TOML, or a field is unknown, missing or out of its
+        range; the message names the file and the field.
+    """
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8-sig")  # a BOM (Windows editors) is not TOML

@@ -80,7 +80,19 @@ class StopProfile:
 
 
 def expand_stops(config: SimulationConfig) -> list[Stop]:
-    """The stops of the configured cycle in driving order, cut to ``cycle.max_stops``."""
+    """The stops of the configured block cycle in driving order, cut to ``cycle.max_stops``.
+
+    Parameters
+    ----------
+    config
+        The configuration; its ``cycle.blocks`` give speeds [km/h] and decelerations [g].
+
+    Returns
+    -------
+    list of Stop
+        One per stop, numbered from 1, in SI units: initial and final speed [m/s],
+        deceleration [m/s^2].
+    """
     stops: list[Stop] = []
     g = config.vehicle.gravity
     for block in config.cycle.blocks:
@@ -98,7 +110,21 @@ def expand_stops(config: SimulationConfig) -> list[Stop]:
 
 
 def step_distance(config: SimulationConfig) -> float:
-    """Vehicle travel per full time step, s = R_wheel N_m dtheta [m]."""
+    """Vehicle travel per full time step, s = R_wheel N_m dtheta [m]: the wheel turns, as the
+    disc, by one subdomain (N_m columns of dtheta [rad]) a step; 24.11 mm at Table 5's mesh
+    and the paper's 314 mm wheel.
+
+    Parameters
+    ----------
+    config
+        The configuration (``vehicle.wheel_radius`` [m], the mesh's columns per subdomain
+        [-] and angular step [rad]).
+
+    Returns
+    -------
+    float
+        s [m].
+    """
     return (
         config.vehicle.wheel_radius * config.mesh.columns_per_subdomain * config.mesh.angular_step
     )
@@ -173,7 +199,24 @@ class BrakeDemand:
 
 
 def brake_demand(config: SimulationConfig, deceleration: float, band_area: float) -> BrakeDemand:
-    """Demanded friction for a deceleration [m/s^2] on a simulated band of area [m^2]."""
+    """Demanded friction for a deceleration on a simulated band.
+
+    Parameters
+    ----------
+    config
+        The configuration (wheel load [kg], wheel radius [m], pads, effective radius [m], pad
+        area [m^2]).
+    deceleration
+        The vehicle's deceleration [m/s^2].
+    band_area
+        The simulated band's area A_sim [m^2].
+
+    Returns
+    -------
+    BrakeDemand
+        The brake torque [N m], each pad's friction force [N] and the band's share of it
+        [N] (uniform nominal pressure: the pad's times A_sim / A_pad).
+    """
     torque = config.vehicle.wheel_load_mass * deceleration * config.vehicle.wheel_radius
     pad = torque / (config.brake.pads_per_brake * config.brake.effective_radius)
     return BrakeDemand(torque, pad, pad * band_area / config.brake.pad_area)

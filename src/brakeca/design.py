@@ -2704,6 +2704,18 @@ def design_from_dict(
 def load_design(path_or_name: str | Path) -> Design:
     """Load and validate a design: a shipped name (``"paper"``) or a TOML file.
 
+    Parameters
+    ----------
+    path_or_name
+        A shipped design's name (``brakeca.presets.available_designs()``) or a design file
+        (docs/designs.md: factors, levels in their units, seeds, options).
+
+    Returns
+    -------
+    Design
+        The validated design, its base configuration resolved and its levels checked
+        against the fields they set.
+
     Raises
     ------
     ConfigError

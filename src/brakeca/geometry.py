@@ -67,7 +67,20 @@ class Grid:
 
 
 def make_grid(config: SimulationConfig) -> Grid:
-    """Build the grid of ``config``: radii ``r_i + j dr``, angles ``i dtheta`` (Table 5)."""
+    """Build the grid of ``config``: radii ``r_i + j dr``, angles ``i dtheta`` (Table 5).
+
+    Parameters
+    ----------
+    config
+        The configuration: its mesh (``mesh.radial_step`` dr [m], ``mesh.angular_step_deg``
+        [deg], the rows, columns and subdomains [-]) and its inner radius r_i [m].
+
+    Returns
+    -------
+    Grid
+        Radii [m], angles [rad], cell areas [m^2] and sliding distances [m] per row, all
+        read-only.
+    """
     mesh = config.mesh
     dtheta = mesh.angular_step
     radius = config.inner_radius + mesh.radial_step * np.arange(mesh.n_radial)
