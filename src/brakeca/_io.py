@@ -46,11 +46,22 @@ def checkpoint_is_of(meta: dict[str, Any], config: Any, seed: int) -> bool:
     )
 
 
-def checkpoint_problem(path: str | Path) -> str | None:
-    """Why the existing file ``path`` is not a brakeca checkpoint, or None when it is one
-    (an ``.npz`` archive with brakeca's ``meta`` entry; of which run, not asked) or there is
-    no file. Only the archive's directory and its small ``meta`` entry are read."""
+def _checkpoint_meta(path: Path) -> Any:
+    """A checkpoint's small ``meta`` entry (JSON), read without its arrays; raises on a file
+    that has none."""
     import json
+
+    import numpy as np
+
+    with np.load(path, allow_pickle=False) as data:
+        return json.loads(str(data["meta"]))
+
+
+def checkpoint_problem(path: str | Path) -> str | None:
+    """Why the existing file ``path`` is not a brakeca checkpoint, with what to do, or None
+    when it is one (an ``.npz`` archive with brakeca's ``meta`` entry; of which run, not
+    asked) or there is no file. Only the archive's directory and its ``meta`` are read; the
+    command line and :func:`brakeca.simulation.load_checkpoint` both ask it."""
     import zipfile
 
     path = Path(path)
@@ -62,34 +73,32 @@ def checkpoint_problem(path: str | Path) -> str | None:
     except OSError as exc:
         return f"cannot read it ({exc.strerror or exc})"
     if head.startswith(b"\x89HDF"):
-        return "a netCDF/HDF5 file (a run file?), not a brakeca checkpoint"
-    if not zipfile.is_zipfile(path):
-        return "not a brakeca checkpoint (not an .npz archive; a damaged one, or another file)"
-    try:
-        import numpy as np
-
-        with np.load(path, allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
-    except Exception:
-        return "an .npz archive without a readable brakeca checkpoint entry (meta)"
-    if not isinstance(meta, dict) or not str(meta.get("format", "")).startswith(
-        "brakeca-checkpoint/"
-    ):
-        return "an .npz archive that is not a brakeca checkpoint"
-    return None
+        problem = "a netCDF/HDF5 file (a run file?), not a brakeca checkpoint"
+    elif not zipfile.is_zipfile(path):
+        problem = "not a brakeca checkpoint (not an .npz archive; a damaged one, or another file)"
+    else:
+        try:
+            meta = _checkpoint_meta(path)
+        except Exception:
+            problem = "an .npz archive without a readable brakeca checkpoint entry (meta)"
+        else:
+            if isinstance(meta, dict) and str(meta.get("format", "")).startswith(
+                "brakeca-checkpoint/"
+            ):
+                return None
+            problem = "an .npz archive that is not a brakeca checkpoint"
+    return (
+        f"{problem}; give the checkpoint another path (if it is a damaged checkpoint of this "
+        "run, delete it to start over)"
+    )
 
 
 def checkpoint_resumes(path: Path, config: Any, seed: int) -> bool:
     """Whether the checkpoint at ``path`` is one the run of ``config`` and ``seed`` would
     resume from (:func:`checkpoint_is_of`; only its small ``meta`` entry is read). False for
     a missing, unreadable or foreign file, which the run discards."""
-    import json
-
-    import numpy as np
-
     try:
-        with np.load(path, allow_pickle=False) as data:
-            meta = json.loads(str(data["meta"]))
+        meta = _checkpoint_meta(path)
     except Exception:
         return False
     return checkpoint_is_of(meta, config, seed)

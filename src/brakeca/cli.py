@@ -334,10 +334,7 @@ def simulate(
             )
         problem = checkpoint_problem(checkpoint)
         if problem is not None:
-            _fail(
-                f"--checkpoint {checkpoint}: {problem}; give the checkpoint another path (if "
-                "it is a damaged checkpoint of this run, delete it to start over)"
-            )
+            _fail(f"--checkpoint {checkpoint}: {problem}")
     n_r, n_t = config.mesh.n_radial, config.mesh.n_angular
     n_stops = len(source.events)
     console.print(
@@ -962,14 +959,6 @@ _GOAL_FORM = (
 )
 
 
-def _is_float(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
 def _parse_goal(text: str) -> Any:
     """A :class:`brakeca.rsm.Goal` from ``--goal`` text, checked as a design's goal
     (:class:`brakeca.design.GoalSpec`: its messages in the text's units, V in mm³)."""
@@ -986,13 +975,14 @@ def _parse_goal(text: str) -> Any:
     need = 3 if kind == "target" else 2
     if len(parts) - 2 != need:
         raise ValueError(f"--goal {text!r}: {parts[1]} takes {need} numbers; expected {_GOAL_FORM}")
-    try:
-        numbers = [float(p) for p in parts[2:]]
-    except ValueError:
-        bad = next(p for p in parts[2:] if not _is_float(p))
-        raise ValueError(
-            f"--goal {text!r}: {bad!r} is not a number; expected {_GOAL_FORM}"
-        ) from None
+    numbers = []
+    for part in parts[2:]:
+        try:
+            numbers.append(float(part))
+        except ValueError:
+            raise ValueError(
+                f"--goal {text!r}: {part!r} is not a number; expected {_GOAL_FORM}"
+            ) from None
     if kind == "target":
         limits = {"lower": numbers[0], "target": numbers[1], "upper": numbers[2]}
     else:

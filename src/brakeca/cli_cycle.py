@@ -337,10 +337,9 @@ def inspect(
         if no_corrections:
             tc = TraceCycleConfig.no_corrections(**updates)
         else:
-            tc = TraceCycleConfig.from_dict(updates, source="options")
+            # a field of the options is named by the option that gave it
+            heads = {name: f"--{name.replace('_', '-')}" for name in updates}
+            tc = TraceCycleConfig.from_dict(updates, source="options", heads=heads)
         inspect_cycle(file, tc, speed_unit=speed_unit, plot=output)
     except ConfigError as exc:
-        text = str(exc)
-        for name in updates:  # a field of the options is the option that gave it
-            text = text.replace(f"options: {name}:", f"--{name.replace('_', '-')}:")
-        _fail(text)
+        _fail(str(exc))

@@ -393,12 +393,19 @@ class TraceCycleConfig(_Frozen):
         return cls.from_dict({**base, **updates})
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], *, source: str = "trace cycle") -> TraceCycleConfig:
-        """Validate a mapping; errors name the field (``ConfigError``)."""
+    def from_dict(
+        cls,
+        data: dict[str, Any],
+        *,
+        source: str = "trace cycle",
+        heads: Mapping[str, str] | None = None,
+    ) -> TraceCycleConfig:
+        """Validate a mapping; errors name the field (``ConfigError``; a field in ``heads`` by
+        the name given there, :func:`format_validation_error`)."""
         try:
             return cls.model_validate(dict(data))
         except ValidationError as exc:
-            raise ConfigError(format_validation_error(exc, source, cls)) from None
+            raise ConfigError(format_validation_error(exc, source, cls, heads)) from None
 
     @property
     def brake_share(self) -> float:
@@ -660,12 +667,19 @@ class SimulationConfig(_Frozen):
         return tomli_w.dumps(self.to_dict())
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any], *, source: str = "config") -> SimulationConfig:
-        """Validate a nested mapping; errors name the field and the allowed values."""
+    def from_dict(
+        cls,
+        data: Mapping[str, Any],
+        *,
+        source: str = "config",
+        heads: Mapping[str, str] | None = None,
+    ) -> SimulationConfig:
+        """Validate a nested mapping; errors name the field and the allowed values (a field
+        in ``heads`` by the name given there, :func:`format_validation_error`)."""
         try:
             return cls.model_validate(dict(data))
         except ValidationError as exc:
-            raise ConfigError(format_validation_error(exc, source, cls)) from None
+            raise ConfigError(format_validation_error(exc, source, cls, heads)) from None
 
     @classmethod
     def from_toml(cls, text: str, *, source: str = "config") -> SimulationConfig:
@@ -753,12 +767,21 @@ def _known_keys(model: Any, loc: Sequence[Any]) -> list[str] | None:
     return list(cls.model_fields) if is_model(cls) else None
 
 
-def format_validation_error(exc: ValidationError, source: str, model: Any = None) -> str:
+def format_validation_error(
+    exc: ValidationError,
+    source: str,
+    model: Any = None,
+    heads: Mapping[str, str] | None = None,
+) -> str:
     """Turn a pydantic error into lines ``source: field.path: problem (got value)``.
 
     ``model`` (the model class validated) lets a bound's error give the whole allowed range
     of the field, e.g. ``must lie in [0, 2]`` where pydantic names only the bound crossed.
+    ``heads`` maps a field's path to what its lines begin with instead of ``source:
+    field.path``: the name the user gave it (``override S (= automaton.secondary_...)``,
+    ``--threshold``).
     """
+    heads = heads or {}
     lines = []
     errors = exc.errors()
     failed_items = {err["loc"][:-1] for err in errors} | {
@@ -804,7 +827,9 @@ def format_validation_error(exc: ValidationError, source: str, model: Any = None
             if err["type"] in ("missing",) or isinstance(got, dict) or "got " in msg or not_finite
             else f" (got {got!r})"
         )
-        lines.append(f"{source}: {loc}{msg}{got_text}")
+        head = heads.get(path)
+        lines.append(f"{head}: " if head else f"{source}: {loc}")
+        lines[-1] += f"{msg}{got_text}"
     return "\n".join(lines)
 
 
@@ -930,16 +955,9 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
                     raise ConfigError(f"override {key}: {part!r} is not a section")
                 ann = known[part].annotation if known is not None else None
                 known = getattr(ann, "model_fields", None)
-    try:
-        return SimulationConfig.from_dict(data, source="override")
-    except ConfigError as exc:  # name a factor's field by the name it was given as
-        text = str(exc)
-        for path, key in given.items():
-            if key != path:
-                text = text.replace(f"override: {path}:", f"override {key} (= {path}):")
-        if text == str(exc):
-            raise
-        raise ConfigError(text) from None
+    # a factor's field named by the name it was given as
+    heads = {path: f"override {key} (= {path})" for path, key in given.items() if key != path}
+    return SimulationConfig.from_dict(data, source="override", heads=heads)
 
 
 def load_config(path: str | Path) -> SimulationConfig:

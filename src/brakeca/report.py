@@ -766,6 +766,11 @@ def _surface_item(response: str, fit: Any) -> dict[str, Any]:
     }
 
 
+def _v_of(log10_v_mm3: float) -> str:
+    """V [mm³] of a value of ``log10_V_mm3``, to 3 significant digits."""
+    return _fmt(10.0**log10_v_mm3, ".3g")
+
+
 def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
     """The report's tables of the response optimizer's result."""
     factor_rows = []
@@ -795,12 +800,10 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
         if g.response == "log10_V_mm3":  # V itself, in the unit an engineer reads
             # 10^(the mean of log10 V) is V's geometric mean (its median, for a log-normal
             # scatter), not its mean; a run's interval transforms as it is
-            cells[1] += f" (geometric-mean V {_fmt(10.0**fitted, '.3g')} mm³)"
-            cells[2] += (
-                f" (geometric-mean V {_fmt(10.0**low, '.3g')} to {_fmt(10.0**high, '.3g')} mm³)"
-            )
-            cells[3] += f" (V {_fmt(10.0**pi_low, '.3g')} to {_fmt(10.0**pi_high, '.3g')} mm³)"
-            cells[4] += " (V " + ", ".join(f"{10.0**v:.3g}" for v in g.bounds) + " mm³)"
+            cells[1] += f" (geometric-mean V {_v_of(fitted)} mm³)"
+            cells[2] += f" (geometric-mean V {_v_of(low)} to {_v_of(high)} mm³)"
+            cells[3] += f" (V {_v_of(pi_low)} to {_v_of(pi_high)} mm³)"
+            cells[4] += " (V " + ", ".join(_v_of(v) for v in g.bounds) + " mm³)"
         rows.append({"cells": cells, "cls": ""})
     responses = _Table(
         [
@@ -865,7 +868,7 @@ def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
         )
     predicted = _fmt(float(st["predicted"]) * factor, ".5g") + (f" {unit}" if unit else "")
     if fit.response == "log10_V_mm3" and abs(float(st["predicted"])) < 300:
-        predicted += f" (geometric-mean V {_fmt(10.0 ** float(st['predicted']), '.3g')} mm³)"
+        predicted += f" (geometric-mean V {_v_of(float(st['predicted']))} mm³)"
     if fit.loses_sign(float(st["predicted"])):
         predicted += (
             f" (not positive, though every run's {fit.response} is: the quadratic does not "

@@ -606,10 +606,7 @@ def load_checkpoint(path, config, seed, grid):
         return None
     problem = checkpoint_problem(path)
     if problem is not None:
-        raise CheckpointError(
-            f"{path}: {problem}; give the checkpoint another path (if this is a damaged "
-            "checkpoint of this run, delete it to start over)"
-        )
+        raise CheckpointError(f"{path}: {problem}")
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["meta"]))
@@ -906,34 +903,24 @@ def _plateau_area(state: SimulationState) -> float:
     return float(state.cell_area[plateau].sum())
 
 
-def _friction_peak_note(code, target, config, plateau_area) -> str:
-    """Why a demand failed when the friction law has a maximum, or "".
-
-    With ``friction.mu_min = 0`` (and ``slope > 0``) ``mu(p) p`` peaks at ``p = mu_0 / (2c)``
-    and falls to 0 beyond ``mu_0 / c``, so the friction force has a maximum over the disc
-    position and a demand above it has no root: the solver then reports no root (which the
-    kernels call "no plateau") or a root far past the foundation's length. ``plateau_area``
-    [m^2] bounds that maximum: ``mu_0^2 / (4c)`` [Pa] times it."""
+def _friction_maximum(config: SimulationConfig, plateau_area: float) -> tuple[str, float] | None:
+    """The friction law's maximum, when it has one: with ``friction.mu_min = 0`` (and
+    ``slope > 0``) ``mu(p) p`` peaks at ``p = mu_0 / (2c)`` and falls to 0 beyond
+    ``mu_0 / c``, so the friction force has a maximum over the disc position and a demand
+    above it has no root (the solvers report no root, which the kernels call "no plateau",
+    or a root past the foundation's length). Returns a sentence saying so and the bound
+    [N] of that maximum, ``mu_0^2 / (4c)`` [Pa] times the plateaus' area ``plateau_area``
+    [m^2]; None without a maximum or without plateaus."""
     fr = config.friction
-    if code not in (K.ERR_NO_PLATEAU, K.ERR_BAR) or fr.mu_min != 0.0 or fr.slope <= 0.0:
-        return ""
-    if plateau_area <= 0.0:
-        return ""
+    if fr.mu_min != 0.0 or fr.slope <= 0.0 or plateau_area <= 0.0:
+        return None
     peak = fr.mu_0 * fr.mu_0 / (4.0 * fr.slope)  # [Pa], the most mu(p) p can be
-    bound = peak * plateau_area
     law = (
         f"with friction.mu_min = 0 the friction law mu(p) p peaks at {peak / 1e6:.3g} MPa "
         f"(p = mu_0 / 2c = {fr.mu_0 / (2.0 * fr.slope) / 1e6:.3g} MPa) and falls to 0 beyond "
         f"mu_0 / c, so the friction force has a maximum over the disc position"
     )
-    if target > bound or code == K.ERR_NO_PLATEAU:
-        return (
-            f"{law}, and the demanded friction force {target:.4g} N is above it: no disc "
-            f"position carries it (the {plateau_area * 1e6:.4g} mm^2 of plateaus give at most "
-            f"{bound:.4g} N, were they all at that pressure at once). Set friction.mu_min above "
-            "0 (the paper's floor is 0.15), or lower the demand"
-        )
-    return f" ({law}, which this demand may exceed)"
+    return law, peak * plateau_area
 
 
 def _raise_kernel_error(code, done, stop: Stop, targets, rec, config, state) -> None:
@@ -941,9 +928,21 @@ def _raise_kernel_error(code, done, stop: Stop, targets, rec, config, state) -> 
     friction forces [N] are ``targets``."""
     where = f"stop {stop.index} ({stop.block}), step {done + 1}"
     target = float(targets[min(done, targets.size - 1)])
-    note = _friction_peak_note(code, target, config, _plateau_area(state))
-    if note and not note.startswith(" "):
-        raise ContactError(f"{where}: {note}")
+    note = ""  # what the friction law's maximum adds to a "beyond its length"
+    if code in (K.ERR_NO_PLATEAU, K.ERR_BAR):
+        area = _plateau_area(state)
+        maximum = _friction_maximum(config, area)
+        if maximum is not None:
+            law, bound = maximum
+            if target > bound or code == K.ERR_NO_PLATEAU:  # plateaus there: no root
+                raise ContactError(
+                    f"{where}: {law}, and the demanded friction force {target:.4g} N is above "
+                    f"it: no disc position carries it (the {area * 1e6:.4g} mm^2 of "
+                    f"plateaus give at most {bound:.4g} N, were they all at that pressure at "
+                    "once). Set friction.mu_min above 0 (the paper's floor is 0.15), or lower "
+                    "the demand"
+                )
+            note = f" ({law}, which this demand may exceed)"
     if code == K.ERR_NO_PLATEAU:
         raise ContactError(
             f"{where}: no plateau cell can reach the disc, so the demanded friction force "
