@@ -767,6 +767,18 @@ def _known_keys(model: Any, loc: Sequence[Any]) -> list[str] | None:
     return list(cls.model_fields) if is_model(cls) else None
 
 
+def item_path(loc: Sequence[str | int]) -> str:
+    """A field's path as a user reads it: keys joined by dots, a list's items counted from 1,
+    as a TOML file's tables are (``("factors", 2, "levels")`` is ``factors #3.levels``)."""
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f" #{part + 1}"
+        else:
+            out += f".{part}" if out else str(part)
+    return out
+
+
 def format_validation_error(
     exc: ValidationError,
     source: str,
@@ -793,7 +805,8 @@ def format_validation_error(
             # say what is wrong
             continue
         path = ".".join(str(p) for p in err["loc"])
-        loc = f"{path}: " if path else ""  # a model's validator: its message names the fields
+        shown = item_path(err["loc"])
+        loc = f"{shown}: " if shown else ""  # a model's validator: its message names the fields
         msg = err["msg"]
         if err["type"] == "extra_forbidden":
             msg = "unknown key"

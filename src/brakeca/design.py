@@ -773,7 +773,7 @@ def _parse_generators(
     ValueError
         Bad syntax, an unknown or repeated factor, a factor generated twice or used in a word
         while generated, a factor in a generator without exactly two levels; the message
-        starts with ``generators.<i>``.
+        starts with ``generators #<n>`` (counted from 1).
     """
     names = [f.name for f in factors]
     n_levels = {f.name: len(f.levels) for f in factors}
@@ -784,7 +784,7 @@ def _parse_generators(
         )
     parsed: list[_Generator] = []
     for i, text in enumerate(generators):
-        key = f"generators.{i}"
+        key = f"generators #{i + 1}"
         match = _GENERATOR.fullmatch(text)
         if match is None or not match.group(1).isidentifier():
             raise ValueError(f"{key}: cannot read {text!r}: {_GENERATOR_FORM}")
@@ -817,17 +817,17 @@ def _parse_generators(
     for g in parsed:
         if g.target in generated:
             raise ValueError(
-                f"generators.{g.position}: factor {g.target!r} is generated twice (also by "
-                f"generators.{generated[g.target]})"
+                f"generators #{g.position + 1}: factor {g.target!r} is generated twice (also by "
+                f"generators #{generated[g.target] + 1})"
             )
         generated[g.target] = g.position
     for g in parsed:
-        key = f"generators.{g.position}"
+        key = f"generators #{g.position + 1}"
         for name in g.word:
             if name in generated:
                 raise ValueError(
                     f"{key}: factor {name!r} in the word of {generators[g.position]!r} is itself "
-                    f"generated (by generators.{generated[name]}); a word uses base factors "
+                    f"generated (by generators #{generated[name] + 1}); a word uses base factors "
                     "only"
                 )
         for name in (g.target, *g.word):
@@ -894,7 +894,7 @@ def _check_resolution(parsed: tuple[_Generator, ...], names: tuple[str, ...]) ->
         return
     first, second = (names[k] for k in _word_key(word.mask, len(names)))
     used = [g for k, g in enumerate(parsed) if word.generators >> k & 1]
-    keys = ", ".join(f"generators.{g.position}" for g in used)
+    keys = ", ".join(f"generators #{g.position + 1}" for g in used)
     # a product of m generators holds their m generated factors: a pair is one generator
     # with a single base factor, or two generators with the same word
     why = (
@@ -1070,7 +1070,7 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
         row: dict[str, Any] = {}
         for name, cell in zip(header, cells, strict=True):
             factor = by_name[name]
-            key = f"{at}, column {name!r} (runs.{len(rows)}.{name})"
+            key = f"{at}, column {name!r} (runs #{len(rows) + 1}.{name})"
             if not cell:
                 raise ConfigError(f"{key}: no value; each run gives every factor a level")
             number = decimal_point(cell) if delimiter != "," else cell
@@ -1688,10 +1688,12 @@ class Design(_Frozen):
         rows = []
         for r, row in enumerate(runs):
             if not isinstance(row, Mapping):
-                raise ValueError(f"runs.{r}: expected a table {{factor = level, ...}}, got {row!r}")
+                raise ValueError(
+                    f"runs #{r + 1}: expected a table {{factor = level, ...}}, got {row!r}"
+                )
             values: dict[str, Any] = {}
             for name, value in row.items():
-                key = f"runs.{r}.{name}"
+                key = f"runs #{r + 1}.{name}"
                 if known is not None and name not in known:
                     raise ValueError(
                         f"{key}: unknown factor {name!r} (factors: {', '.join(known)})"
@@ -1743,7 +1745,7 @@ class Design(_Frozen):
                 return data  # the factor's own error follows
             if len(f["levels"]) != 2:
                 raise ValueError(
-                    f"factors.{i}.levels: factor {f.get('name')!r}: a Plackett-Burman design "
+                    f"factors #{i + 1}.levels: factor {f.get('name')!r}: a Plackett-Burman design "
                     f"takes two levels per factor, got {list(f['levels'])}"
                 )
             levels.append((f.get("name"), f["levels"]))
@@ -1804,7 +1806,7 @@ class Design(_Frozen):
                 f = f.model_dump(exclude_none=True)
             if not isinstance(f, Mapping) or not isinstance(f.get("name"), str):
                 return data  # the factor's own error follows
-            key, name = f"factors.{i}", f["name"]
+            key, name = f"factors #{i + 1}", f["name"]
             if f.get("choices") is not None or f.get("field") == "cycle":
                 raise ValueError(
                     f"{key}.choices: factor {name!r} is categorical; a {title} takes numeric "
@@ -1858,15 +1860,15 @@ class Design(_Frozen):
         for i, factor in enumerate(self.factors):
             if factor.name in seen:
                 raise ValueError(
-                    f"factors.{i}.name: duplicate factor name {factor.name!r} "
-                    f"(also factors.{seen[factor.name]})"
+                    f"factors #{i + 1}.name: duplicate factor name {factor.name!r} "
+                    f"(also factors #{seen[factor.name] + 1})"
                 )
             seen[factor.name] = i
             target = _target(factor.field)
             if target in fields:
                 raise ValueError(
-                    f"factors.{i}.field: factors {fields[target]!r} and {factor.name!r} both set "
-                    f"{target!r}"
+                    f"factors #{i + 1}.field: factors {fields[target]!r} and {factor.name!r} "
+                    f"both set {target!r}"
                 )
             fields[target] = factor.name
         table = self.runs is not None or self.runs_file is not None
@@ -1914,7 +1916,7 @@ class Design(_Frozen):
             named = [g.response for g in self.goals]
             for i, name in enumerate(named):
                 if name in named[:i]:
-                    raise ValueError(f"goals.{i}.response: {name!r} has a goal already")
+                    raise ValueError(f"goals #{i + 1}.response: {name!r} has a goal already")
         if self.runs is not None or self.runs_file is None:
             n_runs = self.n_tests * self.replicates
             if n_runs > _MAX_RUNS:
@@ -1942,7 +1944,7 @@ class Design(_Frozen):
             for f, sign in zip(self.factors, signs, strict=True):
                 if len(f.levels) != 2 or row[f.name] != f.levels[(sign + 1) // 2]:
                     raise ValueError(
-                        f"runs.{r}.{f.name}: test {r + 1} of the Plackett-Burman design has "
+                        f"runs #{r + 1}.{f.name}: test {r + 1} of the Plackett-Burman design has "
                         f"{f.name} at its {'+' if sign > 0 else '-'} level; remove runs to "
                         "make the tests again"
                     )
@@ -1958,12 +1960,12 @@ class Design(_Frozen):
         for i, f in enumerate(self.factors):
             if f.categorical:
                 raise ValueError(
-                    f"factors.{i}: factor {f.name!r} is categorical; centre points need "
+                    f"factors #{i + 1}: factor {f.name!r} is categorical; centre points need "
                     "numeric factors only (every factor at the middle of its two levels)"
                 )
             if len(f.levels) != 2:
                 raise ValueError(
-                    f"factors.{i}.levels: factor {f.name!r} has {len(f.levels)} levels; "
+                    f"factors #{i + 1}.levels: factor {f.name!r} has {len(f.levels)} levels; "
                     "centre points need two-level factors (a centre between low and high), "
                     f"got {list(f.levels)}"
                 )
@@ -2011,14 +2013,14 @@ class Design(_Frozen):
         for i, f in enumerate(self.factors):
             if f.categorical:
                 raise ValueError(
-                    f"factors.{i}.choices: factor {f.name!r} is categorical; a "
+                    f"factors #{i + 1}.choices: factor {f.name!r} is categorical; a "
                     f"{surface.title} takes numeric factors only"
                 )
             if f.coded_range is None:
                 raise ValueError(
-                    f"factors.{i}.coded_range: factor {f.name!r}: a {surface.title} given with "
-                    "its runs needs each factor's coded_range [low, high] (the levels coded -1 "
-                    "and +1); or remove runs to make the tests from the two levels"
+                    f"factors #{i + 1}.coded_range: factor {f.name!r}: a {surface.title} given "
+                    "with its runs needs each factor's coded_range [low, high] (the levels coded "
+                    "-1 and +1); or remove runs to make the tests from the two levels"
                 )
             specs.append((f.name, *f.coded_range, f.coding))
         levels_of, _, tests = surface.table(specs)
@@ -2028,7 +2030,7 @@ class Design(_Frozen):
                 math.isclose(a, b, rel_tol=1e-9) for a, b in zip(f.levels, levels, strict=False)
             ):
                 raise ValueError(
-                    f"factors.{i}.levels: factor {f.name!r}: {what} has the levels {levels} "
+                    f"factors #{i + 1}.levels: factor {f.name!r}: {what} has the levels {levels} "
                     f"(from its coded_range), got {list(f.levels)}"
                 )
         runs = self.runs or ()
@@ -2041,7 +2043,7 @@ class Design(_Frozen):
             for name, value in test.items():
                 if not math.isclose(row[name], value, rel_tol=1e-9):
                     raise ValueError(
-                        f"runs.{r}.{name}: test {r + 1} of {what} has {name} = {value!r}, the "
+                        f"runs #{r + 1}.{name}: test {r + 1} of {what} has {name} = {value!r}, the "
                         f"run table {row[name]!r}; remove runs to make the tests again"
                     )
 
@@ -2104,11 +2106,12 @@ class Design(_Frozen):
             for name in row:
                 if name not in names:
                     raise ValueError(
-                        f"runs.{r}.{name}: unknown factor {name!r} (factors: {', '.join(names)})"
+                        f"runs #{r + 1}.{name}: unknown factor {name!r} "
+                        f"(factors: {', '.join(names)})"
                     )
             levels: dict[str, int | float] = {}
             for factor in self.factors:
-                key = f"runs.{r}.{factor.name}"
+                key = f"runs #{r + 1}.{factor.name}"
                 if factor.name not in row:
                     raise ValueError(
                         f"{key}: missing: each run gives every factor one of its levels "
@@ -2472,7 +2475,7 @@ class Design(_Frozen):
                 "field takes, or remove center_points"
             )
         return ConfigError(
-            f"{where}: factors.{index}.levels: factor {factor.name!r} (field {factor.field}): "
+            f"{where}: factors #{index + 1}.levels: factor {factor.name!r} (field {factor.field}): "
             f"level {value!r} [{factor.unit}] is not valid: {detail}"
         )
 

@@ -98,7 +98,7 @@ def test_centre_point_counts_and_designs_refused(extra, message) -> None:
 def test_centre_points_need_two_level_numeric_factors() -> None:
     base = {"name": "c", "base": "paper", "root_seed": 1, "center_points": 2}
     three = [{"name": "A", "levels": [10, 15, 20]}, {"name": "S", "levels": [0.0, 1.0]}]
-    with pytest.raises(ConfigError, match=r"factors\.0\.levels: factor 'A' has 3 levels"):
+    with pytest.raises(ConfigError, match=r"factors #1\.levels: factor 'A' has 3 levels"):
         design_from_dict({**base, "factors": three})
     choice = [
         {"name": "cyc", "field": "cycle", "levels": [1, 2], "choices": ["paper", "paper"]},

@@ -39,7 +39,7 @@ def test_a_full_factorial_is_clear_and_a_bad_design_names_its_problem(tmp_path) 
     )
     res = CliRunner().invoke(app, ["design", str(bad)])
     assert res.exit_code == 2
-    assert "generators.0: the fraction has resolution II" in res.output
+    assert "generators #1: the fraction has resolution II" in res.output
 
 
 def test_a_composite_design_shows_its_coding_and_quadratic_model(tmp_path) -> None:

@@ -6,7 +6,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from brakeca.config import ConfigError, SimulationConfig, parse_override
+from brakeca.config import ConfigError, SimulationConfig, item_path, parse_override
+from brakeca.design import design_from_dict
 from brakeca.presets import load_cycle, load_preset
 
 
@@ -265,3 +266,16 @@ def test_stops_and_an_override_of_max_stops_are_refused_together(tmp_path):
     assert res.exit_code != 0 and "--stops and --set cycle.max_stops both set it" in res.output
     with pytest.raises(ConfigError, match=r"max_stops and the override cycle.max_stops"):
         load_design("paper").resolved_base(overrides={"cycle.max_stops": 3}, max_stops=2)
+
+
+def test_a_fields_path_counts_list_items_from_one():
+    """A design's [[factors]] tables are the first, second... to whoever wrote them: an
+    error's path had counted them from 0 (``factors.2.levels`` for the third)."""
+    assert item_path(("factors", 2, "levels")) == "factors #3.levels"
+    assert item_path(("runs", 0, "WP")) == "runs #1.WP"
+    assert item_path(("mesh", "n_radial")) == "mesh.n_radial"
+    assert item_path(()) == ""
+    table = {"name": "d", "base": "paper", "root_seed": 1}
+    factors = [{"name": "WP", "levels": [1e-15, 1e-13]}, {"name": "A", "levels": [10, "x"]}]
+    with pytest.raises(ConfigError, match=r"^d: factors #2\.levels: levels must be numbers"):
+        design_from_dict({**table, "factors": factors}, source="d")

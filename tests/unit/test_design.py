@@ -235,7 +235,7 @@ def test_a_factor_without_a_field_is_one_error_not_two():
     with pytest.raises(ConfigError) as info:
         design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
     assert str(info.value) == (
-        "design: factors.0: factor 'F' gives no `field` (the configuration field it sets, e.g. "
+        "design: factors #1: factor 'F' gives no `field` (the configuration field it sets, e.g. "
         'field = "wear.specific_wear_rate"), and only the paper\'s factors S, WP, WR, A may '
         "leave it out"
     )
@@ -354,58 +354,58 @@ BAD_CASES = {
     "unknown top-level key": (lambda d: _set(d, ("colour",), "red"), ["colour", "unknown key"]),
     "unknown factor key": (
         lambda d: _set(d, ("factors", 1, "step"), 2),
-        ["factors.1.step", "unknown key"],
+        ["factors #2.step", "unknown key"],
     ),
     "duplicate factor names": (
         lambda d: _set(d, ("factors", 2, "name"), "WP"),
-        ["factors.2.name", "duplicate", "'WP'"],
+        ["factors #3.name", "duplicate", "'WP'"],
     ),
     "unknown field": (
         lambda d: _set(d, ("factors", 0, "field"), "automaton.secondary_removal"),
-        ["factors.0.field", "automaton.secondary_removal", "unknown configuration field"],
+        ["factors #1.field", "automaton.secondary_removal", "unknown configuration field"],
     ),
     "unknown section": (
         lambda d: _set(d, ("factors", 0, "field"), "brakes.pad_area"),
-        ["factors.0.field", "brakes"],
+        ["factors #1.field", "brakes"],
     ),
     "field is a section": (
         lambda d: _set(d, ("factors", 0, "field"), "wear"),
-        ["factors.0.field", "section"],
+        ["factors #1.field", "section"],
     ),
     "A = 150 %": (
         lambda d: _set(d, ("factors", 3, "levels"), [10.0, 150.0]),
-        ["factors.3.levels", "'A'", "150", "pad.fibre_area_fraction"],
+        ["factors #4.levels", "'A'", "150", "pad.fibre_area_fraction"],
     ),
     "A alias = 150 %": (
         lambda d: (
             (_set(d, ("factors", 3, "field"), "A"), _set(d, ("factors", 3, "scale"), 1.0))
             and _set(d, ("factors", 3, "levels"), [10.0, 150.0])
         ),
-        ["factors.3.levels", "'A'", "150"],
+        ["factors #4.levels", "'A'", "150"],
     ),
     "negative wear rate": (
         lambda d: _set(d, ("factors", 1, "levels"), [-1e-15, 1e-14, 1e-13]),
-        ["factors.1.levels", "'WP'", "wear.specific_wear_rate"],
+        ["factors #2.levels", "'WP'", "wear.specific_wear_rate"],
     ),
     "labels mismatch": (
         lambda d: _set(d, ("factors", 1, "labels"), ["-", "+"]),
-        ["factors.1", "labels", "3 levels", "2 labels"],
+        ["factors #2", "labels", "3 levels", "2 labels"],
     ),
     "one level": (
         lambda d: _set(d, ("factors", 0, "levels"), [0.0]),
-        ["factors.0.levels", "at least 2"],
+        ["factors #1.levels", "at least 2"],
     ),
     "repeated level": (
         lambda d: _set(d, ("factors", 0, "levels"), [1.0, 1.0]),
-        ["factors.0.levels", "differ"],
+        ["factors #1.levels", "differ"],
     ),
     "string level": (
         lambda d: _set(d, ("factors", 0, "levels"), [0.0, "high"]),
-        ["factors.0.levels", "number"],
+        ["factors #1.levels", "number"],
     ),
     "repeated label": (  # a robustness review: tables and plots could not tell them apart
         lambda d: _set(d, ("factors", 0, "labels"), ["lo", "lo"]),
-        ["factors.0", "labels two levels 'lo'"],
+        ["factors #1", "labels two levels 'lo'"],
     ),
     "no factors": (lambda d: _set(d, ("factors",), []), ["factors"]),
     "missing root_seed": (lambda d: d.pop("root_seed"), ["root_seed", "required"]),
@@ -430,15 +430,15 @@ BAD_CASES = {
     ),
     "reserved factor name": (
         lambda d: _set(d, ("factors", 0, "name"), "seed"),
-        ["factors.0.name", "reserved"],
+        ["factors #1.name", "reserved"],
     ),
     "non-identifier factor name": (
         lambda d: _set(d, ("factors", 0, "name"), "S plus"),
-        ["factors.0.name", "identifier"],
+        ["factors #1.name", "identifier"],
     ),
     "two factors, one field": (
         lambda d: _set(d, ("factors", 0, "field"), "wear.specific_wear_rate"),
-        ["factors.1.field", "both set", "wear.specific_wear_rate"],
+        ["factors #2.field", "both set", "wear.specific_wear_rate"],
     ),
 }
 
@@ -887,61 +887,61 @@ def _gen_case(generators: list[str], names: str = "ABCDE", **levels: list) -> An
 
 
 BAD_GENERATORS = {
-    "no '='": (_gen_case(["D A*B*C"]), ["generators.0", "cannot read 'D A*B*C'", "X = F1*F2"]),
-    "two '='": (_gen_case(["D = A = B"]), ["generators.0", "cannot read"]),
+    "no '='": (_gen_case(["D A*B*C"]), ["generators #1", "cannot read 'D A*B*C'", "X = F1*F2"]),
+    "two '='": (_gen_case(["D = A = B"]), ["generators #1", "cannot read"]),
     "juxtaposed letters": (
         _gen_case(["D = A*B*C", "E = AB"]),
-        ["generators.1", "unknown factor 'AB'", "A*B"],
+        ["generators #2", "unknown factor 'AB'", "A*B"],
     ),
-    "spaces, no '*'": (_gen_case(["D = A B C"]), ["generators.0", "cannot read", "'*'"]),
-    "dangling '*'": (_gen_case(["D = A*B*"]), ["generators.0", "cannot read"]),
-    "non-identifier target": (_gen_case(["1D = A*B"]), ["generators.0", "cannot read"]),
+    "spaces, no '*'": (_gen_case(["D = A B C"]), ["generators #1", "cannot read", "'*'"]),
+    "dangling '*'": (_gen_case(["D = A*B*"]), ["generators #1", "cannot read"]),
+    "non-identifier target": (_gen_case(["1D = A*B"]), ["generators #1", "cannot read"]),
     "unknown generated factor": (
         _gen_case(["Z = A*B*C"]),
-        ["generators.0", "unknown factor 'Z'", "factors: A, B, C, D, E"],
+        ["generators #1", "unknown factor 'Z'", "factors: A, B, C, D, E"],
     ),
-    "unknown base factor": (_gen_case(["D = A*B*Q"]), ["generators.0", "unknown factor 'Q'"]),
-    "empty word": (_gen_case(["D = "]), ["generators.0", "empty word"]),
-    "sign only": (_gen_case(["D = -"]), ["generators.0", "empty word"]),
+    "unknown base factor": (_gen_case(["D = A*B*Q"]), ["generators #1", "unknown factor 'Q'"]),
+    "empty word": (_gen_case(["D = "]), ["generators #1", "empty word"]),
+    "sign only": (_gen_case(["D = -"]), ["generators #1", "empty word"]),
     "generated factor with 3 levels": (
         _gen_case(["D = A*B*C"], D=[100, 200, 300]),
-        ["generators.0", "generated factor 'D' has 3 levels", "exactly 2"],
+        ["generators #1", "generated factor 'D' has 3 levels", "exactly 2"],
     ),
     "base factor with 3 levels": (
         _gen_case(["D = A*B*C"], B=[100, 200, 300]),
-        ["generators.0", "base factor 'B' has 3 levels", "exactly 2"],
+        ["generators #1", "base factor 'B' has 3 levels", "exactly 2"],
     ),
     "repeated factor in a word": (
         _gen_case(["D = A*B*A"]),
-        ["generators.0", "'A' appears 2 times", "A*B*A"],
+        ["generators #1", "'A' appears 2 times", "A*B*A"],
     ),
     "generated factor in its own word": (
         _gen_case(["D = A*B*D"]),
-        ["generators.0", "generated factor 'D' appears in its own word"],
+        ["generators #1", "generated factor 'D' appears in its own word"],
     ),
     "generated factor in another word": (
         _gen_case(["D = A*B", "E = A*D"]),
-        ["generators.1", "'D'", "itself generated", "generators.0", "base factors only"],
+        ["generators #2", "'D'", "itself generated", "generators #1", "base factors only"],
     ),
     "generated factor in an earlier word": (
         _gen_case(["E = A*D", "D = A*B*C"]),
-        ["generators.0", "'D'", "itself generated", "generators.1"],
+        ["generators #1", "'D'", "itself generated", "generators #2"],
     ),
     "generated twice": (
         _gen_case(["D = A*B", "D = A*C"]),
-        ["generators.1", "'D' is generated twice", "generators.0"],
+        ["generators #2", "'D' is generated twice", "generators #1"],
     ),
     "D = A: resolution II": (
         _gen_case(["D = A"]),
-        ["generators.0", "resolution II", "'A' and 'D' are aliased", "I = A*D"],
+        ["generators #1", "resolution II", "'A' and 'D' are aliased", "I = A*D"],
     ),
     "same word twice: resolution II": (
         _gen_case(["D = A*B", "E = -A*B"]),
-        ["generators.0, generators.1", "resolution II", "'D' and 'E'", "I = -D*E"],
+        ["generators #1, generators #2", "resolution II", "'D' and 'E'", "I = -D*E"],
     ),
     "a single base factor, negated": (
         _gen_case(["D = A*B*C", "E = -C"]),
-        ["generators.1:", "resolution II", "'C' and 'E' are aliased", "I = -C*E"],
+        ["generators #2:", "resolution II", "'C' and 'E' are aliased", "I = -C*E"],
     ),
     "not a list": (_gen_case("D = A*B*C"), ["generators"]),  # type: ignore[arg-type]
 }
@@ -1085,19 +1085,19 @@ BAD_RUNS = {
     "one row": ([TABLE[0]], ["runs:", "at least 2 runs, got 1"]),
     "no level": (
         [TABLE[0], {**TABLE[1], "WP": 2e-15}],
-        ["runs.1.WP", "2e-15 is not a level of factor 'WP'", "1e-15, 1e-14, 1e-13"],
+        ["runs #2.WP", "2e-15 is not a level of factor 'WP'", "1e-15, 1e-14, 1e-13"],
     ),
     "missing factor": (
         [TABLE[0], {k: v for k, v in TABLE[1].items() if k != "WR"}],
-        ["runs.1.WR", "missing"],
+        ["runs #2.WR", "missing"],
     ),
-    "unknown factor": ([TABLE[0], {**TABLE[1], "X": 1}], ["runs.1.X", "unknown factor 'X'"]),
+    "unknown factor": ([TABLE[0], {**TABLE[1], "X": 1}], ["runs #2.X", "unknown factor 'X'"]),
     "text level": (
         [{**TABLE[0], "A": "high"}, TABLE[1]],
-        ["runs.0.A", "expected a number", "'high'"],
+        ["runs #1.A", "expected a number", "'high'"],
     ),
-    "boolean level": ([TABLE[0], {**TABLE[1], "S": True}], ["runs.1.S", "True"]),
-    "not a table": ([TABLE[0], 3], ["runs.1", "expected a table"]),
+    "boolean level": ([TABLE[0], {**TABLE[1], "S": True}], ["runs #2.S", "True"]),
+    "not a table": ([TABLE[0], 3], ["runs #2", "expected a table"]),
     "not a list": ("S=0", ["runs", "expected a list of tables"]),
 }
 
@@ -1116,11 +1116,11 @@ def test_bad_run_tables_name_the_row_and_the_factor(case):
 BAD_CSV = {
     "no level": (
         "S,WP,WR,A\n0,1e-15,1e-07,10\n\n1,2e-13,1e-06,20\n",
-        ["line 4", "column 'WP'", "runs.1.WP", "2e-13", "not a level of factor 'WP'"],
+        ["line 4", "column 'WP'", "runs #2.WP", "2e-13", "not a level of factor 'WP'"],
     ),
     "decimal comma in a comma file": (
         'S,WP,WR,A\n0,1e-15,1e-07,10\n1,1e-13,1e-06,"20,0"\n',
-        ["line 3", "runs.1.A", "'20,0'"],
+        ["line 3", "runs #2.A", "'20,0'"],
     ),
     "unknown column": ("S,WP,WR,A,X\n0,1e-15,1e-07,10,1\n", ["line 1", "'X'", "unknown factor"]),
     "missing column": ("S,WP,A\n0,1e-15,10\n", ["line 1", "no column for factor(s) WR"]),
@@ -1131,12 +1131,12 @@ BAD_CSV = {
     ),
     "empty value": (
         "S;WP;WR;A\n0;1e-15;1e-07;10\n1;;1e-06;20\n",
-        ["line 3", "runs.1.WP", "no value"],
+        ["line 3", "runs #2.WP", "no value"],
     ),
     "one row": ("# one\nS,WP,WR,A\n0,1e-15,1e-07,10\n", ["at least 2 runs, found 1"]),
     "leading empty cell": (  # a tab-separated row whose first cell is empty keeps that cell
         "S\tWP\tWR\tA\n\t1e-15\t1e-07\t10\n",
-        ["line 2", "runs.0.S", "no value"],
+        ["line 2", "runs #1.S", "no value"],
     ),
     "header cell without a name": ("\tWP\tWR\tA\n", ["line 1", "column 1 of the header"]),
     "empty file": ("# nothing\n\n", ["empty file"]),
@@ -1410,7 +1410,11 @@ def test_bad_fraction_runs_are_refused(extra, fragment):
 @pytest.mark.parametrize(
     ("extra", "factor", "message"),
     [
-        ({}, {"name": "A", "levels": [10]}, "factors.0.levels: needs at least 2 items (got (10,))"),
+        (
+            {},
+            {"name": "A", "levels": [10]},
+            "factors #1.levels: needs at least 2 items (got (10,))",
+        ),
         ({}, {"name": "A", "levels": [10, 10]}, "levels must all differ, got [10, 10]"),
         (
             {"generators": "A = S*WP"},
@@ -1541,7 +1545,7 @@ def test_a_mistyped_factor_or_configuration_key_gets_a_suggestion():
 
     data = _paper_dict()
     data["factors"] = [dict(data["factors"][0], lable="fibres"), *data["factors"][1:]]
-    with pytest.raises(ConfigError, match=r"factors\.0\.lable: unknown key \(did you mean 'label'"):
+    with pytest.raises(ConfigError, match=r"factors #1\.lable: unknown key \(did you mean 'label'"):
         design_from_dict(data)
     with pytest.raises(ConfigError, match=r"mesh\.n_radail: unknown key \(did you mean 'n_radial'"):
         SimulationConfig.from_toml("[mesh]\nn_radail = 21\n", source="cfg")

@@ -264,17 +264,17 @@ def test_a_written_design_with_edited_tests_is_refused():
     data = tomllib.loads(_ccd("mu0 A", composite={"center": 2}).to_toml())
     edited = [dict(r) for r in data["runs"]]
     edited[3]["A"] = 15.0
-    with pytest.raises(ConfigError, match=r"ccd.toml: runs.3.A: test 4 of the central composite"):
+    with pytest.raises(ConfigError, match=r"ccd.toml: runs #4.A: test 4 of the central composite"):
         design_from_dict({**data, "runs": edited}, source="ccd.toml")
     with pytest.raises(ConfigError, match=r"runs: the central composite design .* has 10 tests"):
         design_from_dict({**data, "runs": data["runs"][:-1]}, source="ccd.toml")
     factors = [dict(f) for f in data["factors"]]
     factors[1]["coded_range"] = [10.0, 30.0]
-    with pytest.raises(ConfigError, match=r"factors.1.levels: factor 'A': the central composite"):
+    with pytest.raises(ConfigError, match=r"factors #2.levels: factor 'A': the central composite"):
         design_from_dict({**data, "factors": factors}, source="ccd.toml")
     factors = [dict(f) for f in data["factors"]]
     del factors[0]["coded_range"]
-    with pytest.raises(ConfigError, match=r"factors.0.coded_range: factor 'mu0'"):
+    with pytest.raises(ConfigError, match=r"factors #1.coded_range: factor 'mu0'"):
         design_from_dict({**data, "factors": factors}, source="ccd.toml")
 
 
@@ -291,11 +291,11 @@ def test_a_written_design_with_edited_tests_is_refused():
         ),
         (
             _data(_factors("mu0", "A", A={"levels": [10.0, 15.0, 20.0]})),
-            r"factors.1.levels: factor 'A': a central composite design takes exactly two levels",
+            r"factors #2.levels: factor 'A': a central composite design takes exactly two levels",
         ),
         (
             _data(_factors("mu0", "A", A={"levels": [20.0, 10.0]})),
-            r"factors.1.levels: .*low < high",
+            r"factors #2.levels: .*low < high",
         ),
         (
             _data(
@@ -309,15 +309,15 @@ def test_a_written_design_with_edited_tests_is_refused():
                     },
                 ]
             ),
-            r"factors.1.choices: factor 'fibres' is categorical",
+            r"factors #2.choices: factor 'fibres' is categorical",
         ),
         (
             _data(_factors("mu0", "A", A={"labels": ["lo", "hi"]})),
-            r"factors.1.labels: factor 'A': a central composite design labels its levels itself",
+            r"factors #2.labels: factor 'A': a central composite design labels its levels itself",
         ),
         (
             _data(_factors("mu0", "A", A={"coded_range": [10.0, 25.0]})),
-            r"factors.1.coded_range: factor 'A'",
+            r"factors #2.coded_range: factor 'A'",
         ),
         (_data("mu0 A", generators=["A = mu0"]), r"composite, generators: "),
         (_data("mu0 A", fraction_runs=4), r"composite, fraction_runs: "),
@@ -341,7 +341,7 @@ def test_axial_points_outside_a_field_range_name_the_factor():
     factors = _factors("mu0", "A", "WP", mu0={"levels": [0.4, 0.6]}, A={"levels": [1.0, 5.0]})
     with pytest.raises(
         ConfigError,
-        match=r"ccd.toml: factors.1.levels: factor 'A' .*level -0.36.* an axial level of the "
+        match=r"ccd.toml: factors #2.levels: factor 'A' .*level -0.36.* an axial level of the "
         r"central composite design \(alpha = 1.682\): choose a smaller alpha",
     ):
         _ccd(factors, composite={"alpha": "rotatable"})
@@ -353,7 +353,7 @@ def test_axial_points_outside_a_field_range_name_the_factor():
     [
         (
             {"name": "mu0", "field": "friction.mu_0", "levels": [0.0, 0.5], "coding": "log"},
-            r"factors.0: coding: factor 'mu0' .* level 0.0 is not",
+            r"factors #1: coding: factor 'mu0' .* level 0.0 is not",
         ),
         (
             {
@@ -363,7 +363,7 @@ def test_axial_points_outside_a_field_range_name_the_factor():
                 "choices": ["columns", "field"],
                 "coding": "log",
             },
-            r"factors.0: coding: factor 'fibres' is categorical",
+            r"factors #1: coding: factor 'fibres' is categorical",
         ),
         (
             {
@@ -373,28 +373,28 @@ def test_axial_points_outside_a_field_range_name_the_factor():
                 "choices": ["columns", "field"],
                 "coded_range": [0, 1],
             },
-            r"factors.0: coded_range: factor 'fibres' is categorical",
+            r"factors #1: coded_range: factor 'fibres' is categorical",
         ),
-        ({"name": "A", "levels": [10, 20], "coding": "square"}, r"factors.0.coding: "),
+        ({"name": "A", "levels": [10, 20], "coding": "square"}, r"factors #1.coding: "),
         (
             {"name": "A", "levels": [10, 20], "coded_range": [20, 10]},
-            r"factors.0.coded_range: .*low < high",
+            r"factors #1.coded_range: .*low < high",
         ),
         (
             {"name": "A", "levels": [10, 20], "coded_range": [10, 10]},
-            r"factors.0.coded_range: .*low < high",
+            r"factors #1.coded_range: .*low < high",
         ),
         (
             {"name": "A", "levels": [10, 20], "coded_range": [10]},
-            r"factors.0.coded_range: expected two",
+            r"factors #1.coded_range: expected two",
         ),
         (
             {"name": "A", "levels": [10, 20], "coded_range": [10, math.inf]},
-            r"factors.0.coded_range: expected two finite numbers",
+            r"factors #1.coded_range: expected two finite numbers",
         ),
         (
             {"name": "A", "levels": [10, 20], "coded_range": [0, 20], "coding": "log"},
-            r"factors.0: coded_range: factor 'A' is coded 'log' .* 0.0 is not",
+            r"factors #1: coded_range: factor 'A' is coded 'log' .* 0.0 is not",
         ),
     ],
 )
@@ -519,7 +519,7 @@ def test_a_bad_box_behnken_design_names_the_field(extra, names, message):
 def test_a_written_box_behnken_design_with_edited_tests_is_refused():
     written = tomllib.loads(_bbd("mu0 slope modulus").to_toml())
     written["runs"][0]["mu0"] = 0.6
-    with pytest.raises(ConfigError, match=r"runs\.0\.mu0: test 1 of the Box-Behnken design"):
+    with pytest.raises(ConfigError, match=r"runs #1\.mu0: test 1 of the Box-Behnken design"):
         design_from_dict(written, source="written")
 
 
@@ -547,12 +547,12 @@ def test_goals_of_a_response_surface_design_round_trip_and_convert_v_to_si():
     ("goals", "extra", "message"),
     [
         (_GOALS[:1], {"composite": None}, "goals: the report optimizes goals on the response"),
-        ([_GOALS[0], _GOALS[0]], {}, "goals.1.response: 'V' has a goal already"),
+        ([_GOALS[0], _GOALS[0]], {}, "goals #2.response: 'V' has a goal already"),
         ([{**_GOALS[0], "lower": 5.0, "upper": 0.1}], {},
          "lower limit 5 must be below upper limit 0.1"),  # in the design's mm³
         ([{**_GOALS[1], "target": 0.5}], {}, "a target goal needs a target strictly between 0.3"),
-        ([{**_GOALS[0], "response": "W"}], {}, "goals.0.response"),
-        ([{**_GOALS[0], "goal": "least"}], {}, "goals.0.goal"),
+        ([{**_GOALS[0], "response": "W"}], {}, "goals #1.response"),
+        ([{**_GOALS[0], "goal": "least"}], {}, "goals #1.goal"),
     ],
 )  # fmt: skip
 def test_bad_goals_name_the_field(goals, extra, message):
@@ -665,7 +665,7 @@ def test_a_plackett_burman_design_writes_its_tests_and_reads_back():
     assert back.combinations() == combos and back.plackett_burman == 12
     written = tomllib.loads(design.to_toml())
     written["runs"][3]["A"] = 20.0 if written["runs"][3]["A"] == 10.0 else 10.0
-    with pytest.raises(ConfigError, match=r"runs\.3\.A: test 4 of the Plackett-Burman"):
+    with pytest.raises(ConfigError, match=r"runs #4\.A: test 4 of the Plackett-Burman"):
         design_from_dict(written, source="written")
     # a design written before brakeca took Minitab's order (the generator as the first test)
     # still reads back, so that its campaign stays readable; another order does not
@@ -678,7 +678,7 @@ def test_a_plackett_burman_design_writes_its_tests_and_reads_back():
     ]
     assert design_from_dict(earlier, source="earlier").runs == tuple(earlier["runs"])
     earlier["runs"] = earlier["runs"][1:] + earlier["runs"][:1]
-    with pytest.raises(ConfigError, match=r"runs\.0\.\w+: test 1 of the Plackett-Burman"):
+    with pytest.raises(ConfigError, match=r"runs #1\.\w+: test 1 of the Plackett-Burman"):
         design_from_dict(earlier, source="earlier")
     folded = _pb(12, factors, foldover="all")
     assert folded.n_tests == 24 and "folded over on mu0, slope" in folded.kind
@@ -697,7 +697,7 @@ def test_a_bad_plackett_burman_design_names_the_field(runs, factors, extra, mess
     with pytest.raises(ConfigError, match=re.escape(message)):
         _pb(runs, _factors(*names), **extra)
     three = _factors("mu0", "slope", mu0={"levels": [0.5, 0.6, 0.7]})
-    with pytest.raises(ConfigError, match=re.escape("factors.0.levels: factor 'mu0'")):
+    with pytest.raises(ConfigError, match=re.escape("factors #1.levels: factor 'mu0'")):
         _pb(12, three)
 
 
