@@ -55,7 +55,24 @@ class Stop:
     deceleration: float
 
     def profile(self, distance: float) -> StopProfile:
-        """The time steps of this stop for a full-step travel ``distance`` [m]."""
+        """The time steps of this stop for a full-step travel ``distance`` [m].
+
+        Parameters
+        ----------
+        distance
+            Vehicle travel of one full step, s [m] (:func:`step_distance`).
+
+        Returns
+        -------
+        StopProfile
+            Step durations [s], fractions of a full step [-] (:func:`stop_steps`), and the
+            stop's constant deceleration in every step [m/s^2].
+
+        Raises
+        ------
+        ConfigError
+            As :func:`stop_steps`: the stop would have no time step.
+        """
         dt, fraction = stop_steps(self, distance)
         return StopProfile(dt, fraction, np.full(dt.size, self.deceleration))
 
@@ -147,6 +164,13 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     fraction : ndarray
         Fraction of a full step travelled (1 except for the last, partial step) [-].
 
+    Raises
+    ------
+    ConfigError
+        If the stop would have no time step: it brakes over less than 1e-9 of a step's
+        travel ``s`` (a stop shorter than one step but longer than that takes one partial
+        step); the message names the stop and the fields to check.
+
     Notes
     -----
     ``v_{n+1}^2 = v_n^2 - 2 a s``; the stop ends when the speed reaches its final speed.
@@ -163,10 +187,10 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
         from brakeca.config import ConfigError
 
         raise ConfigError(
-            f"stop {stop.index} ({stop.block}) brakes over {total * distance:.3g} m, less than "
-            f"one time step's travel s = R_wheel N_m dtheta = {distance:.3g} m: it would have "
-            "no time step (check vehicle.wheel_radius, mesh.angular_step_deg, vehicle.gravity "
-            "and the stop's speeds and deceleration)"
+            f"stop {stop.index} ({stop.block}) brakes over {total * distance:.3g} m, under "
+            f"1e-9 of one time step's travel s = R_wheel N_m dtheta = {distance:.3g} m: it "
+            "would have no time step (check vehicle.wheel_radius, mesh.angular_step_deg, "
+            "vehicle.gravity and the stop's speeds and deceleration)"
         )
     k = np.arange(n + 1, dtype=np.float64)
     travelled = np.minimum(k, total) * distance

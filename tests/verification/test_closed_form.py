@@ -196,3 +196,21 @@ def test_a_demand_above_the_maximum_of_a_floorless_law_has_no_root():
     flat = np.full(50, 1e-4)
     with pytest.raises(ContactError, match="has a maximum"):
         solve_disc_position(flat, area[:50], stiffness=1e11, target=3.01e6 * 50e-8, **law)
+
+
+def test_a_stop_shorter_than_one_step_takes_one_partial_step():
+    """Only a stop over (to round-off) no travel at all has no time step: half a step's
+    travel is one step of fraction 0.5, whose duration is the stop's (v0 - v1) / a."""
+    from brakeca.config import ConfigError
+    from brakeca.cycle import Stop
+
+    a, s = 2.0, 0.024
+    v1 = 10.0
+    v0 = np.sqrt(v1**2 + a * s)  # (v0² - v1²) / 2a = s / 2
+    half = Stop(index=1, block="b", initial_speed=v0, final_speed=v1, deceleration=a)
+    dt, fraction = stop_steps(half, s)
+    assert fraction.tolist() == [pytest.approx(0.5, rel=1e-12)]
+    assert dt.tolist() == [pytest.approx((half.initial_speed - v1) / a, rel=1e-12)]
+    none = Stop(index=2, block="b", initial_speed=v1 + 1e-14, final_speed=v1, deceleration=a)
+    with pytest.raises(ConfigError, match=r"stop 2 \(b\) brakes over .* under 1e-9 of one"):
+        stop_steps(none, s)
