@@ -74,7 +74,24 @@ def _supports(status, idx: int, n_radial: int, n_angular: int):
 
 @njit_noalloc
 def rule1_east_support(status, idx: int, n_radial: int, n_angular: int) -> bool:
-    """Rule 1: a none cell with a plateau east and none north-east or south-east."""
+    """Rule 1: a none cell with a plateau east and none north-east or south-east.
+
+    Parameters
+    ----------
+    status : int8 array (n_cells,)
+        Cell statuses at the start of the step, flat (``idx = j * n_angular + i``): 0 none,
+        1 primary, 2 secondary [-].
+    idx : int
+        Flat index of the cell [-].
+    n_radial, n_angular : int
+        Rows and columns of the grid [-].
+
+    Returns
+    -------
+    bool
+        Whether rule 1 makes the cell a creation candidate (off-grid neighbours count as
+        none).
+    """
     if status[idx] != _NONE:
         return False
     e, ne, se = _supports(status, idx, n_radial, n_angular)
@@ -83,7 +100,24 @@ def rule1_east_support(status, idx: int, n_radial: int, n_angular: int) -> bool:
 
 @njit_noalloc
 def rule2_east_and_one_diagonal(status, idx: int, n_radial: int, n_angular: int) -> bool:
-    """Rule 2: a none cell with a plateau east and exactly one of north-east / south-east."""
+    """Rule 2: a none cell with a plateau east and exactly one of north-east / south-east.
+
+    Parameters
+    ----------
+    status : int8 array (n_cells,)
+        Cell statuses at the start of the step, flat (``idx = j * n_angular + i``): 0 none,
+        1 primary, 2 secondary [-].
+    idx : int
+        Flat index of the cell [-].
+    n_radial, n_angular : int
+        Rows and columns of the grid [-].
+
+    Returns
+    -------
+    bool
+        Whether rule 2 makes the cell a creation candidate (off-grid neighbours count as
+        none).
+    """
     if status[idx] != _NONE:
         return False
     e, ne, se = _supports(status, idx, n_radial, n_angular)
@@ -92,7 +126,23 @@ def rule2_east_and_one_diagonal(status, idx: int, n_radial: int, n_angular: int)
 
 @njit_noalloc
 def rule3_east_and_both_diagonals(status, idx: int, n_radial: int, n_angular: int) -> bool:
-    """Rule 3: a none cell with plateaus east, north-east and south-east."""
+    """Rule 3: a none cell with plateaus east, north-east and south-east.
+
+    Parameters
+    ----------
+    status : int8 array (n_cells,)
+        Cell statuses at the start of the step, flat (``idx = j * n_angular + i``): 0 none,
+        1 primary, 2 secondary [-].
+    idx : int
+        Flat index of the cell [-].
+    n_radial, n_angular : int
+        Rows and columns of the grid [-].
+
+    Returns
+    -------
+    bool
+        Whether rule 3 makes the cell a creation candidate.
+    """
     if status[idx] != _NONE:
         return False
     e, ne, se = _supports(status, idx, n_radial, n_angular)
@@ -101,7 +151,24 @@ def rule3_east_and_both_diagonals(status, idx: int, n_radial: int, n_angular: in
 
 @njit_noalloc
 def creation_rule(status, idx: int, n_radial: int, n_angular: int) -> int:
-    """Which creation rule (1, 2 or 3) makes cell idx a candidate; 0 if none does."""
+    """Which creation rule (1, 2 or 3) makes cell idx a candidate; 0 if none does.
+
+    Parameters
+    ----------
+    status : int8 array (n_cells,)
+        Cell statuses at the start of the step, flat (``idx = j * n_angular + i``): 0 none,
+        1 primary, 2 secondary [-].
+    idx : int
+        Flat index of the cell [-].
+    n_radial, n_angular : int
+        Rows and columns of the grid [-].
+
+    Returns
+    -------
+    int
+        1, 2 or 3: the rule (1 + the number of diagonal plateau neighbours, given a plateau
+        east); 0 when the cell is not a none cell or has no plateau east [-].
+    """
     if status[idx] != _NONE:
         return 0
     e, ne, se = _supports(status, idx, n_radial, n_angular)
@@ -114,14 +181,46 @@ def creation_rule(status, idx: int, n_radial: int, n_angular: int) -> int:
 def gap_fill_cost(disc_position: float, height: float, cell_area: float) -> float:
     """Particle volume needed to fill a cell's gap to the disc, ``(z - h) A`` [m^3], for the
     disc at ``disc_position`` z [m], the cell's height ``height`` h [m] and area ``cell_area``
-    A [m^2]."""
+    A [m^2].
+
+    Parameters
+    ----------
+    disc_position : float
+        Disc surface position z of the step [m].
+    height : float
+        Height h of the cell [m].
+    cell_area : float
+        Area A of the cell [m^2].
+
+    Returns
+    -------
+    float
+        Gap volume ``(z - h) A`` [m^3] (negative for a cell above the disc; not clipped).
+    """
     return (disc_position - height) * cell_area
 
 
 @njit_noalloc
 def rule4_lost_support(status, idx: int, n_angular: int) -> bool:
     """Rule 4: a secondary plateau with no plateau directly east (fewer than one eastern
-    plateau neighbour) loses its support and is destroyed."""
+    plateau neighbour) loses its support and is destroyed.
+
+    Parameters
+    ----------
+    status : int8 array (n_cells,)
+        Cell statuses at the start of the step, flat (``idx = j * n_angular + i``): 0 none,
+        1 primary, 2 secondary [-].
+    idx : int
+        Flat index of the cell [-].
+    n_angular : int
+        Columns of the grid [-].
+
+    Returns
+    -------
+    bool
+        Whether the cell is a secondary plateau whose east neighbour is none or off the grid
+        (a cell in the last column).
+    """
     if status[idx] != 2:
         return False
     i = idx % n_angular
@@ -131,7 +230,22 @@ def rule4_lost_support(status, idx: int, n_angular: int) -> bool:
 @njit_noalloc
 def rule5_deposit_worn(status, height: float, deposit_base: float) -> bool:
     """Rule 5: a secondary plateau (status 2) whose deposit has been worn away is destroyed:
-    its height ``height`` [m] at or below its deposit's base ``deposit_base`` [m]."""
+    its height ``height`` [m] at or below its deposit's base ``deposit_base`` [m].
+
+    Parameters
+    ----------
+    status : int
+        Status of the cell: 0 none, 1 primary, 2 secondary [-].
+    height : float
+        Height of the cell after this step's wear [m].
+    deposit_base : float
+        Height under the cell's deposit [m].
+
+    Returns
+    -------
+    bool
+        Whether the cell is a secondary plateau with ``height <= deposit_base``.
+    """
     return status == 2 and height <= deposit_base
 
 
@@ -139,7 +253,25 @@ def rule5_deposit_worn(status, height: float, deposit_base: float) -> bool:
 def rule6_primary_out_of_reach(status, height: float, disc_position: float, max_gap: float) -> bool:
     """Rule 6: a primary plateau whose gap to the disc, ``disc_position - height`` [m] (both
     [m]), exceeds ``max_gap`` [m] is destroyed (reading of "its height is less than the
-    minimum gap"; ``max_gap = inf`` switches it off)."""
+    minimum gap"; ``max_gap = inf`` switches it off).
+
+    Parameters
+    ----------
+    status : int
+        Status of the cell: 0 none, 1 primary, 2 secondary [-].
+    height : float
+        Height of the cell [m].
+    disc_position : float
+        Disc surface position z of the step [m].
+    max_gap : float
+        Largest gap below the disc a primary plateau survives [m]
+        (``automaton.rule6_max_gap``; ``inf`` when unset).
+
+    Returns
+    -------
+    bool
+        Whether the cell is a primary plateau with ``disc_position - height > max_gap``.
+    """
     return status == 1 and disc_position - height > max_gap
 
 
@@ -147,7 +279,22 @@ def rule6_primary_out_of_reach(status, height: float, disc_position: float, max_
 def rule7_fibre_worn(status, height: float, fibre_floor: float) -> bool:
     """Rule 7: a primary plateau worn down to the underside of its fibre is destroyed: its
     height ``height`` [m] at or below ``fibre_floor`` [m] (never with fibres as columns,
-    whose floor is -inf)."""
+    whose floor is -inf).
+
+    Parameters
+    ----------
+    status : int
+        Status of the cell: 0 none, 1 primary, 2 secondary [-].
+    height : float
+        Height of the cell after this step's wear [m].
+    fibre_floor : float
+        Underside of the cell's fibre [m] (``-inf`` with fibres as columns).
+
+    Returns
+    -------
+    bool
+        Whether the cell is a primary plateau with ``height <= fibre_floor``.
+    """
     return status == 1 and height <= fibre_floor
 
 
@@ -170,7 +317,22 @@ class Exposure(NamedTuple):
 
 def pad_surface(status: np.ndarray, height: np.ndarray, base: np.ndarray) -> np.ndarray:
     """The pad material's surface of each cell [m]: its height ``height`` [m], or for a
-    secondary plateau (``status`` 2) the height under its deposit, ``base`` [m]."""
+    secondary plateau (``status`` 2) the height under its deposit, ``base`` [m].
+
+    Parameters
+    ----------
+    status : int array
+        Cell statuses: 0 none, 1 primary, 2 secondary [-].
+    height : float64 array
+        Cell heights [m] (same shape as ``status``).
+    base : float64 array
+        Heights under the secondary plateaus' deposits [m] (same shape).
+
+    Returns
+    -------
+    float64 array
+        Pad surface of each cell [m], of the shape of the arguments (a new array).
+    """
     return np.where(status == _SECONDARY, base, height)
 
 

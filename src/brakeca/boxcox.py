@@ -128,7 +128,18 @@ class BoxCox:
         return math.isfinite(self.lambda_hat)
 
     def contains(self, lam: float) -> bool:
-        """Whether ``lam`` [-] lies within the confidence interval."""
+        """Whether ``lam`` [-] lies within the confidence interval.
+
+        Parameters
+        ----------
+        lam
+            A power λ [-].
+
+        Returns
+        -------
+        bool
+            True if λ is defined and ``ci_low <= lam <= ci_high`` (ends included).
+        """
         return self.defined and self.ci_low <= lam <= self.ci_high
 
     @property
@@ -369,6 +380,12 @@ def box_cox(
     -------
     BoxCox
         See :func:`box_cox_profile`.
+
+    Raises
+    ------
+    ValueError
+        An ``interactions`` order or ``alpha_to_remove`` that :func:`brakeca.analysis.anova`
+        refuses, or as :func:`box_cox_profile` (``confidence`` outside (0, 1)).
     """
     from brakeca.analysis import _model_arrays
 
@@ -396,6 +413,11 @@ def surface_box_cox(fit: Any, *, confidence: float = 0.95) -> BoxCox:
     -------
     BoxCox
         See :func:`box_cox_profile`.
+
+    Raises
+    ------
+    ValueError
+        ``confidence`` outside (0, 1) (as :func:`box_cox_profile`).
     """
     from brakeca import rsm
 
@@ -413,13 +435,38 @@ def surface_box_cox(fit: Any, *, confidence: float = 0.95) -> BoxCox:
 
 
 def box_cox_table(results: Mapping[str, BoxCox] | Iterable[BoxCox]) -> pd.DataFrame:
-    """The results as one table, one row per response (:data:`BOX_COX_COLUMNS`)."""
+    """The results as one table, one row per response (:data:`BOX_COX_COLUMNS`).
+
+    Parameters
+    ----------
+    results
+        :class:`BoxCox` results, or a mapping whose values are (its keys are not used).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per result (:meth:`BoxCox.row`), the columns :data:`BOX_COX_COLUMNS`; λ and
+        its interval [-].
+    """
     items = results.values() if isinstance(results, Mapping) else results
     return pd.DataFrame([r.row() for r in items], columns=list(BOX_COX_COLUMNS))
 
 
 def save_box_cox_table(results: Mapping[str, BoxCox], path: str | Path) -> Path:
-    """Write :func:`box_cox_table` as CSV to ``path``; returns the path."""
+    """Write :func:`box_cox_table` as CSV to ``path``; returns the path.
+
+    Parameters
+    ----------
+    results
+        Response to :class:`BoxCox` result.
+    path
+        The CSV file to write; its folder is created if missing.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     box_cox_table(results).to_csv(path, index=False)

@@ -99,6 +99,32 @@ def first_root_binned(
 
     The kernel's packed plateau records carry a stream bin, not an area (every cell of a row
     has the same area); :func:`first_root` is this function with ``cell_bin = arange(n)``.
+
+    Parameters
+    ----------
+    height : float64 array
+        Plateau cell heights sorted highest first [m] (the first ``n_plateau`` are used).
+    cell_bin : int array
+        Stream bin (row and subdomain) of each cell, in the same order [-].
+    bin_area : float64 array
+        Cell area of each stream bin [m^2].
+    n_plateau : int
+        Number of plateau cells.
+    stiffness : float
+        Foundation stiffness K [Pa/m].
+    mu_0, slope, mu_min : float
+        Friction law: mu_0 [-], c [1/Pa], mu_min [-].
+    target : float
+        Demanded friction force [N], > 0.
+
+    Returns
+    -------
+    z : float
+        Disc surface position [m].
+    n_in : int
+        Number of leading cells with ``h > z`` (the cells in contact).
+    code : int
+        0 ok, 1 no plateau cell, 2 no root (as :func:`first_root`).
     """
     if n_plateau == 0:
         return 0.0, 0, SOLVE_NO_PLATEAU
@@ -175,14 +201,48 @@ def first_root_binned(
 def contact_pressure(height, disc_position: float, stiffness: float):
     """Winkler contact pressure ``p = K max(h - z, 0)`` [Pa] of cells of undeformed heights
     ``height`` [m] against the disc surface at ``disc_position`` z [m], on a foundation of
-    stiffness ``stiffness`` K = E / L [Pa/m]."""
+    stiffness ``stiffness`` K = E / L [Pa/m].
+
+    Parameters
+    ----------
+    height : array_like
+        Undeformed cell heights h [m].
+    disc_position : float
+        Disc surface position z [m].
+    stiffness : float
+        Foundation stiffness K [Pa/m].
+
+    Returns
+    -------
+    float64 array
+        Contact pressure of each cell [Pa], of the shape of ``height``; 0 where ``h <= z``.
+    """
     return stiffness * np.maximum(np.asarray(height, dtype=float) - disc_position, 0.0)
 
 
 def friction_force(height, area, disc_position, stiffness, mu_0, slope, mu_min) -> float:
     """Friction force ``sum mu(p) p A`` [N] of plateau cells of heights ``height`` [m] and
     areas ``area`` [m^2], the disc at ``disc_position`` [m], the foundation's ``stiffness``
-    [Pa/m], and the friction law ``mu_0`` [-], ``slope`` c [1/Pa], ``mu_min`` [-]."""
+    [Pa/m], and the friction law ``mu_0`` [-], ``slope`` c [1/Pa], ``mu_min`` [-].
+
+    Parameters
+    ----------
+    height : array_like
+        Plateau cell heights [m] (any order).
+    area : array_like
+        Their areas [m^2] (broadcast against ``height``).
+    disc_position : float
+        Disc surface position z [m].
+    stiffness : float
+        Foundation stiffness K [Pa/m].
+    mu_0, slope, mu_min : float
+        Friction law mu(p) = max(mu_min, mu_0 - c p): [-], [1/Pa], [-].
+
+    Returns
+    -------
+    float
+        Friction force [N].
+    """
     p = contact_pressure(height, disc_position, stiffness)
     mu = np.maximum(mu_min, mu_0 - slope * p)
     return float(np.sum(mu * p * np.asarray(area, dtype=float)))

@@ -167,7 +167,29 @@ class EmissionParameters(BaseModel):
 
     @classmethod
     def from_dict(cls, data: dict[str, Any], *, source: str = "emissions") -> EmissionParameters:
-        """Validate a mapping; errors name the field (``ConfigError``)."""
+        """Validate a mapping; errors name the field (``ConfigError``).
+
+        Parameters
+        ----------
+        data
+            Field names to values, in the fields' units (densities [kg/m^3], shares and
+            ratios [-], counts [-]); missing fields take their defaults.
+        source
+            What the error messages' lines begin with (the file or option the mapping came
+            from).
+
+        Returns
+        -------
+        EmissionParameters
+            The validated parameters.
+
+        Raises
+        ------
+        ConfigError
+            (A ``ValueError``.) An unknown field, a value outside its allowed bounds, a range
+            whose low end exceeds its high end, or a factor outside its own range; the
+            message names the field.
+        """
         try:
             return cls.model_validate(dict(data))
         except ValidationError as exc:
@@ -179,7 +201,21 @@ class EmissionParameters(BaseModel):
         return self.airborne_fraction * self.pm10_share
 
     def at(self, end: Literal["low", "high"]) -> EmissionParameters:
-        """These parameters with every ranged factor at the end that gives the low/high E."""
+        """These parameters with every ranged factor at the end that gives the low/high E.
+
+        Parameters
+        ----------
+        end
+            ``"low"``: each ranged factor at the end of its range that lowers the PM10
+            emission E; ``"high"``: at the end that raises it.
+
+        Returns
+        -------
+        EmissionParameters
+            A copy with ``debris_density``, ``airborne_fraction``, ``pm10_share``,
+            ``disc_to_pad_mass_ratio`` and ``front_emission_share`` moved to those ends (the
+            ranges and the pad and brake counts unchanged).
+        """
         updates: dict[str, float] = {}
         for name, sign in _DIRECTION.items():
             lo, hi = getattr(self, f"{name}_range")
@@ -214,6 +250,12 @@ def pm10_mg_per_km(
     -------
     float
         Airborne PM10 of the vehicle's brakes [mg/km].
+
+    Raises
+    ------
+    ValueError
+        If ``band_area``, ``pad_area`` or ``distance`` is not positive, or the emitted volume
+        is negative.
     """
     p = params or EmissionParameters()
     if not (band_area > 0 and pad_area > 0 and distance > 0):
@@ -252,7 +294,19 @@ class PM10Estimate:
     params: EmissionParameters
 
     def position(self, limit: float) -> Literal["below", "straddles", "above"]:
-        """Where the band lies against a limit [mg/km]: wholly below, across it, wholly above."""
+        """Where the band lies against a limit [mg/km]: wholly below, across it, wholly above.
+
+        Parameters
+        ----------
+        limit
+            The PM10 limit [mg/km], e.g. :data:`EURO7_PM10_LIMIT`.
+
+        Returns
+        -------
+        str
+            ``"below"`` if ``high < limit``, ``"above"`` if ``low > limit``, else
+            ``"straddles"`` (a band end equal to the limit straddles it).
+        """
         if self.high < limit:
             return "below"
         if self.low > limit:
@@ -284,7 +338,33 @@ def pm10_band(
     distance: float,
     params: EmissionParameters | None = None,
 ) -> PM10Estimate:
-    """(low, central, high) brake PM10 [mg/km]; arguments as :func:`pm10_mg_per_km`."""
+    """(low, central, high) brake PM10 [mg/km]; arguments as :func:`pm10_mg_per_km`.
+
+    Parameters
+    ----------
+    emitted_volume_band
+        Wear volume that left the simulated band over the cycle [m^3].
+    band_area
+        Area of the simulated band A_band [m^2].
+    pad_area
+        Area of the whole pad A_pad [m^2].
+    distance
+        Distance of the cycle the volume belongs to [m].
+    params
+        The factors of the chain and their ranges (default :class:`EmissionParameters`).
+
+    Returns
+    -------
+    PM10Estimate
+        PM10 with the factors at the lowering ends, at their values and at the raising ends
+        [mg/km] (:meth:`EmissionParameters.at`), with ``distance`` [m] and ``params``.
+
+    Raises
+    ------
+    ValueError
+        As :func:`pm10_mg_per_km`: an area or the distance not positive, or the volume
+        negative.
+    """
     p = params or EmissionParameters()
     args = (emitted_volume_band, band_area, pad_area, distance)
     return PM10Estimate(
@@ -313,6 +393,17 @@ def pm10_from_run(
     params
         Emission factors; by default :class:`EmissionParameters` with ``pads_per_brake``
         taken from the run's ``brake.pads_per_brake``.
+
+    Returns
+    -------
+    PM10Estimate
+        Low, central and high PM10 [mg/km] of the run's band volume [m^3] scaled from the
+        band's area (:func:`brakeca.geometry.make_grid`) to ``brake.pad_area`` [m^2].
+
+    Raises
+    ------
+    ValueError
+        If ``distance`` is not positive (as :func:`pm10_mg_per_km`).
     """
     from brakeca.geometry import make_grid
 

@@ -212,7 +212,10 @@ def factor_power(
     ------
     ValueError
         ``effect`` or ``sigma`` not above 0, ``alpha`` outside (0, 1), a replicate count
-        below 1, or a response-surface design.
+        below 1, or a response-surface design; a ``ConfigError`` (a ``ValueError``) for a
+        design name or file :func:`brakeca.design.load_design` cannot load.
+    TypeError
+        ``design`` is none of a design, a name or a file.
     """
 
     design = _check(design, sigma, alpha, effect)
@@ -315,6 +318,8 @@ def replicates_needed(
     ------
     ValueError
         As :func:`factor_power`, or ``target`` outside (0, 1).
+    TypeError
+        As :func:`factor_power`.
     """
     design = _check(design, sigma, alpha, effect)
     if isinstance(target, bool | str) or not 0 < target < 1:
@@ -383,6 +388,8 @@ def smallest_effect(
     ------
     ValueError
         As :func:`factor_power`, or ``target`` not between ``alpha`` and 1.
+    TypeError
+        As :func:`factor_power`.
     """
     from scipy import optimize, stats
 
@@ -424,6 +431,22 @@ def pure_error_sigma(summary: pd.DataFrame, factors: Sequence[Any], response: st
     """The run-to-run standard deviation of ``response`` at one setting, from a replicated
     campaign: the square root of its pure-error mean square (the runs' scatter about their
     test's mean, pooled over the tests) [response unit].
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only usable runs count, as in
+        :func:`brakeca.analysis.anova`).
+    factors
+        The design's factors.
+    response
+        The response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+
+    Returns
+    -------
+    float
+        ``sqrt(pure_error_ss / pure_error_df)`` [response unit], the ``sigma`` that
+        :func:`factor_power` takes.
 
     Raises
     ------

@@ -34,8 +34,9 @@ def flat_punch_pressure(
     Notes
     -----
     On the linear branch ``mu_0 p - c p^2 = F/A`` gives ``p = (mu_0 - sqrt(mu_0^2 - 4 c F/A))/(2c)``
-    when the discriminant is non-negative and the root lies above the floor; otherwise the root
-    is on the floor branch, ``p = F / (mu_min A)``.
+    when the discriminant is non-negative and the root lies above the floor (its COF at least
+    ``mu_min``, ``p <= (mu_0 - mu_min) / c``); otherwise the root is on the floor branch,
+    ``p = F / (mu_min A)``. With ``slope = 0``, ``p = F / (mu_0 A)``.
     """
     tau = friction_force / area
     if slope == 0.0:
@@ -54,5 +55,20 @@ def archard_wear_depth_constant_pressure(
 ) -> float:
     """Archard wear depth ``h = k p s`` [m] at constant pressure ``pressure`` p [Pa] over
     ``sliding_distance`` s [m], with the specific wear rate ``specific_wear_rate`` k
-    [m^3/(N m)] (= m^2/N)."""
+    [m^3/(N m)] (= m^2/N).
+
+    Parameters
+    ----------
+    specific_wear_rate : float
+        Specific wear rate k [m^3/(N m)] (= m^2/N).
+    pressure : float
+        Contact pressure p, constant over the sliding [Pa].
+    sliding_distance : float
+        Sliding distance s [m].
+
+    Returns
+    -------
+    float
+        Wear depth h [m] (not clipped at any gap, unlike the simulation's Archard step).
+    """
     return specific_wear_rate * pressure * sliding_distance

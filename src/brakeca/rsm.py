@@ -132,7 +132,18 @@ class Coding:
 
     def code(self, values: Any) -> np.ndarray:
         """Coded values [-] of levels ``values`` [design unit] (NaN for a non-positive value
-        of a log-coded factor)."""
+        of a log-coded factor).
+
+        Parameters
+        ----------
+        values
+            A level or an array of levels [design unit].
+
+        Returns
+        -------
+        numpy.ndarray
+            Float array of the shape of ``values``: -1 at ``low``, +1 at ``high`` [-].
+        """
         v = np.asarray(values, dtype=float)
         lo, hi = self._ends()
         if self.log:
@@ -143,7 +154,19 @@ class Coding:
     def decode(self, coded: Any) -> np.ndarray:
         """Levels [design unit] at coded values ``coded`` [-]; a log-coded level beyond the
         floats' range (a stationary point far outside the runs) is inf or 0, without a
-        warning."""
+        warning.
+
+        Parameters
+        ----------
+        coded
+            A coded value or an array of them [-].
+
+        Returns
+        -------
+        numpy.ndarray
+            Float array of the shape of ``coded``: the levels [design unit] (the inverse of
+            :meth:`code`).
+        """
         x = np.asarray(coded, dtype=float)
         lo, hi = self._ends()
         v = 0.5 * (lo + hi) + x * 0.5 * (hi - lo)
@@ -164,6 +187,18 @@ def coding_of(factor: Any) -> Coding:
 
     Low and high are the factor's ``coded_range`` when it has one (a composite design's cube
     points), else its lowest and highest level; ``coding = "log"`` codes log10.
+
+    Parameters
+    ----------
+    factor
+        The factor: its ``name``, ``levels`` [design unit], and when present ``choices``,
+        ``coded_range`` [design unit], ``coding``, ``unit`` and ``label``.
+
+    Returns
+    -------
+    Coding
+        The factor's name, the levels coded -1 and +1 [design unit], log or linear coding,
+        unit and label.
 
     Raises
     ------
@@ -259,6 +294,16 @@ class SurfaceFit:
         ----------
         levels
             Every factor's name to a level or an array of levels (broadcast together).
+
+        Returns
+        -------
+        numpy.ndarray
+            The fitted response [response unit], of the broadcast shape.
+
+        Raises
+        ------
+        KeyError
+            A factor of the fit has no level in ``levels``.
         """
         missing = [c.name for c in self.codings if c.name not in levels]
         if missing:
@@ -267,7 +312,19 @@ class SurfaceFit:
         return self.predict_coded(coded)
 
     def predict_coded(self, coded: Mapping[str, Any]) -> np.ndarray:
-        """The fitted response [response unit] at coded factor values [-]."""
+        """The fitted response [response unit] at coded factor values [-].
+
+        Parameters
+        ----------
+        coded
+            Every factor's name to a coded value or an array of them (broadcast together)
+            [-].
+
+        Returns
+        -------
+        numpy.ndarray
+            The fitted response [response unit], of the broadcast shape.
+        """
         arrays = np.broadcast_arrays(*(np.asarray(coded[c.name], float) for c in self.codings))
         x = dict(zip((c.name for c in self.codings), arrays, strict=True))
         out = np.full(arrays[0].shape, float(self.coef[0]))
@@ -291,6 +348,11 @@ class SurfaceFit:
             Confidence level [-].
         new_run
             The prediction interval of a single new run instead of the mean's interval.
+
+        Returns
+        -------
+        low, high : numpy.ndarray
+            The interval's ends [response unit], of the broadcast shape.
         """
         from scipy import stats
 
@@ -309,7 +371,18 @@ class SurfaceFit:
 
     def loses_sign(self, value: float) -> bool:
         """Whether a fitted ``value`` [response unit] is not positive though every run's
-        response is (a quadratic in V can dip below zero, where a log scale would not)."""
+        response is (a quadratic in V can dip below zero, where a log scale would not).
+
+        Parameters
+        ----------
+        value
+            A fitted response value [response unit].
+
+        Returns
+        -------
+        bool
+            True if every run's response is positive (and there are runs) and ``value <= 0``.
+        """
         y = self.points["y"].to_numpy(dtype=float)
         return bool(y.size and np.all(y > 0.0) and value <= 0.0)
 
@@ -330,6 +403,12 @@ class SurfaceFit:
         scale
             Multiplier of the coefficients, from the response's unit to the one wanted
             (1e9 for V in m^3 written in mm^3) [-].
+
+        Returns
+        -------
+        str
+            ``"<response> = b0 +/- b WP ..."``, interactions and squares written with ``·``
+            (``WP·A``, ``WP·WP``).
         """
         coef = self.coef * scale
         parts = [f"{self.response} = {coef[0]:.{digits}g}"]
@@ -459,6 +538,12 @@ def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]
         coefficients) [-], ``pure_error_df`` (runs less distinct points) [-], ``vif`` (each
         term's variance inflation factor, 1 for a column orthogonal to the others) [-] and
         ``notes`` (what is left out and why), as :func:`fit_response_surface` would fit them.
+
+    Raises
+    ------
+    ValueError
+        A factor :func:`coding_of` refuses (categorical, fewer than two levels, log coding
+        of a level that is not positive).
     """
     codings = [f if isinstance(f, Coding) else coding_of(f) for f in factors]
     points = pd.DataFrame({c.name: c.code(tests[c.name].to_numpy(float)) for c in codings})
@@ -513,7 +598,7 @@ def fit_response_surface(
     Raises
     ------
     ValueError
-        A categorical factor, or fewer than two usable runs.
+        A categorical factor, factor names that repeat, or fewer than two usable runs.
 
     Notes
     -----
@@ -705,6 +790,11 @@ def backward_elimination(
     SurfaceFit
         The reduced fit; its ``notes`` name the terms removed, in order. The full fit when
         it has no residual degrees of freedom (no p values to judge by).
+
+    Raises
+    ------
+    ValueError
+        ``alpha`` not between 0 and 1, or as :func:`fit_response_surface`.
     """
     problem = alpha_problem(alpha)
     if problem:
@@ -796,6 +886,12 @@ def response_surfaces(
     -------
     dict of str to SurfaceFit
         One fit per response; a response with fewer than two usable runs is left out.
+
+    Raises
+    ------
+    ValueError
+        As :func:`fit_response_surface` and :func:`backward_elimination`, but for too few
+        usable runs (that response is left out).
     """
     factors = list(factors)
     out = {}
@@ -816,7 +912,19 @@ def response_surfaces(
 def stationary_table(fit: SurfaceFit) -> pd.DataFrame:
     """The stationary point as a table, one row per factor: ``factor``, ``coded`` [-],
     ``level`` [design unit]; empty without one. ``attrs`` carries ``kind``, ``predicted``
-    [response unit] and ``inside``."""
+    [response unit] and ``inside``.
+
+    Parameters
+    ----------
+    fit
+        A fitted response surface.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``factor``, ``coded`` [-] and ``level`` [design unit], a row per factor of
+        the fit; no row when it has no stationary point (and no ``attrs``).
+    """
     st = fit.stationary
     if st is None:
         return pd.DataFrame(columns=["factor", "coded", "level"])
@@ -954,7 +1062,21 @@ class Goal:
         """The goal with its numbers named, as Minitab's optimizer names them:
         ``"minimize: target 0.5, upper 3"``, ``"maximize: lower 0.3, target 0.45"``,
         ``"target: lower 0.3, target 0.35, upper 0.45"`` (the numbers times ``scale`` [the
-        unit shown per response unit], formatted with ``spec``)."""
+        unit shown per response unit], formatted with ``spec``).
+
+        Parameters
+        ----------
+        scale
+            Multiplier of the numbers, from the response unit to the unit shown (1e9 for V
+            in m^3 shown in mm^3) [-].
+        spec
+            Format specification of each number (:func:`format`).
+
+        Returns
+        -------
+        str
+            The kind, then each of :attr:`bounds` with its name.
+        """
         names = {
             "minimize": ("target", "upper"),
             "maximize": ("lower", "target"),
@@ -978,7 +1100,18 @@ class Goal:
 
     def acceptable(self, y: Any) -> np.ndarray:
         """Whether response values ``y`` [response unit] are within
-        :attr:`acceptance_limits` (limits included)."""
+        :attr:`acceptance_limits` (limits included).
+
+        Parameters
+        ----------
+        y
+            A response value or an array of them [response unit].
+
+        Returns
+        -------
+        numpy.ndarray
+            Bool array of the shape of ``y``.
+        """
         y = np.asarray(y, dtype=float)
         if self.kind == "minimize":
             return y <= self.upper
@@ -987,7 +1120,19 @@ class Goal:
         return (y >= self.lower) & (y <= self.upper)
 
     def desirability(self, y: Any) -> np.ndarray:
-        """Desirability [-] (0 to 1) of response values ``y`` [response unit]."""
+        """Desirability [-] (0 to 1) of response values ``y`` [response unit].
+
+        Parameters
+        ----------
+        y
+            A response value or an array of them [response unit].
+
+        Returns
+        -------
+        numpy.ndarray
+            Float array of the shape of ``y``, 0 to 1 [-]: linear between the limits (and the
+            target) raised to the power ``weight``, clipped to 0 and 1 beyond them.
+        """
         y = np.asarray(y, dtype=float)
         span = self.upper - self.lower
         if self.kind == "minimize":
@@ -1105,6 +1250,9 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     Returns
     -------
     Optimum
+        The setting in coded [-] and design units [design unit], each response's fitted
+        value, 95 % confidence and prediction intervals [response unit] and desirability
+        [-], the composite desirability [-], the factors on the boundary, and notes.
 
     Raises
     ------
@@ -1244,7 +1392,22 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
     of the mean and ``pi_low`` and ``pi_high`` the 95 % prediction interval of one new run
     [response unit], the goal's ``goal``, ``lower``, ``target`` and ``upper``
     [response unit] and ``desirability`` [-]), then one row "composite" with the composite
-    desirability [-] and the note."""
+    desirability [-] and the note.
+
+    Parameters
+    ----------
+    optimum
+        A result of :func:`optimize`.
+    goals
+        The goals it was found for (a row per goal, in their order).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``kind``, ``name``, ``value``, ``coded``, ``low``, ``high``, ``pi_low``,
+        ``pi_high``, ``goal``, ``lower``, ``target``, ``upper``, ``desirability`` and
+        ``note``; NaN (or None) where a column does not apply to a row.
+    """
     rows: list[dict[str, Any]] = [
         {"kind": "factor", "name": n, "value": v, "coded": optimum.coded[n]}
         for n, v in optimum.levels.items()

@@ -93,6 +93,11 @@ class FibreField:
             Area of each cell [m^2], flat index.
         upper, lower : float
             The levels [m], ``lower < upper``.
+
+        Returns
+        -------
+        float
+            Fibre volume between the levels over the band's volume between them [-].
         """
         length = np.maximum(np.minimum(self.top, upper) - np.maximum(self.bottom, lower), 0.0)
         cell = np.repeat(np.arange(cell_area.size), np.diff(self.offsets))
@@ -207,8 +212,9 @@ def generate_surface(pad: PadConfig, grid: Grid, rng: np.random.Generator) -> Su
     Returns
     -------
     Surface
-        Heights [m], statuses and fibre floors [m]; with ``pad.fibre_model = "field"`` also the
-        fibre field's first slab below the resin band (:func:`start_fibre_field`).
+        Heights [m], statuses [-] and fibre floors [m], each of shape (n_radial, n_angular),
+        and the number of fibres laid; with ``pad.fibre_model = "field"`` also the fibre
+        field's first slab below the resin band (:func:`start_fibre_field`).
 
     Notes
     -----
@@ -335,6 +341,18 @@ def start_fibre_field(
     band, is_fibre, top, floor
         The band and the surface's fibres (mask, tops and undersides [m], grid-shaped), as
         :func:`generate_surface` laid them; none for a field without surface fibres.
+
+    Returns
+    -------
+    FibreField
+        One slab laid, its intervals [m] merged with the surface fibres'; each cell's
+        ``next`` is its first interval, or its second where a surface fibre holds the first.
+
+    Raises
+    ------
+    ValueError
+        If ``pad.fibre_area_fraction`` is 1 or more (the slab's volume target,
+        ``-ln(1 - A)``, would be infinite).
     """
     if pad.fibre_area_fraction >= 1.0:
         raise ValueError("pad.fibre_area_fraction must be below 1 for fibre_model = 'field'")
@@ -388,7 +406,14 @@ def deepen_fibre_field(
     -------
     FibreField
         The field with its new slabs, the intervals above the wear dropped, and each cell's
-        ``next`` at its first interval below the surface.
+        ``next`` at its first interval below the surface; ``field`` itself, unchanged, when
+        ``lowest`` is not yet within a slab of the field's last level.
+
+    Raises
+    ------
+    RuntimeError
+        If ``lowest`` lies less than the largest fibre radius (``pad.fibre_diameter_max /
+        2``) above the field's last level: the surface wore into the unlaid slab in one stop.
     """
     if lowest - FIELD_SLAB >= -field.slabs * FIELD_SLAB:
         return field

@@ -210,7 +210,18 @@ class SpeedTrace:
         return None if self.line is None else int(self.line[k])
 
     def where(self, k: int) -> str:
-        """``"line L"`` of sample ``k`` (0-based), or ``"sample k+1"`` without line numbers."""
+        """``"line L"`` of sample ``k`` (0-based), or ``"sample k+1"`` without line numbers.
+
+        Parameters
+        ----------
+        k
+            0-based sample index [-].
+
+        Returns
+        -------
+        str
+            Where the sample is, for messages.
+        """
         return f"line {self.line[k]}" if self.line is not None else f"sample {k + 1}"
 
     @property
@@ -224,23 +235,61 @@ class SpeedTrace:
         return trace_distance(self)
 
     def cumulative_distance(self) -> np.ndarray:
-        """Distance travelled from the first sample to each sample [m] (speed linear in time)."""
+        """Distance travelled from the first sample to each sample [m] (speed linear in time).
+
+        Returns
+        -------
+        ndarray
+            Float64 array of the trace's length, 0 at the first sample [m].
+        """
         t, v = self.time, self.speed
         seg = 0.5 * (v[:-1] + v[1:]) * np.diff(t)
         return np.concatenate(([0.0], np.cumsum(seg)))
 
     def acceleration(self) -> np.ndarray:
-        """Acceleration of each sample interval, dv/dt [m/s^2] (length n - 1)."""
+        """Acceleration of each sample interval, dv/dt [m/s^2] (length n - 1).
+
+        Returns
+        -------
+        ndarray
+            Float64 array of length n - 1, negative while decelerating [m/s^2].
+        """
         return np.diff(self.speed) / np.diff(self.time)
 
 
 def trace_distance(trace: SpeedTrace) -> float:
-    """Distance travelled over ``trace`` [m], speed linear in time between samples."""
+    """Distance travelled over ``trace`` [m], speed linear in time between samples.
+
+    Parameters
+    ----------
+    trace
+        The speed trace.
+
+    Returns
+    -------
+    float
+        Distance from the first to the last sample [m].
+    """
     return float(trace.cumulative_distance()[-1])
 
 
 def distance_until(trace: SpeedTrace, time: float) -> float:
-    """Distance travelled from the start of ``trace`` until ``time`` [s] (clipped) [m]."""
+    """Distance travelled from the start of ``trace`` until ``time`` [s] (clipped) [m].
+
+    Parameters
+    ----------
+    trace
+        The speed trace.
+    time
+        A time on the trace's clock (as ``trace.time``, not since its first sample) [s];
+        clipped to the trace's first and last sample.
+
+    Returns
+    -------
+    float
+        Distance from the first sample to ``time`` [m], exact for speed linear in time
+        between samples.
+    """
     t, v = trace.time, trace.speed
     x = trace.cumulative_distance()
     if time <= t[0]:
@@ -355,10 +404,10 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
     Raises
     ------
     TraceError
-        Naming the file, the line and the problem: no header or no data (empty file), a
-        missing or non-numeric value, NaN or infinite values, negative speed, time not
-        increasing, an unknown or conflicting unit, speeds that look like m/s given as km/h
-        (or km/h given as m/s).
+        Naming the file, the line and the problem: no such file nor shipped trace, or one
+        that cannot be read; no header or no data (empty file), a missing or non-numeric
+        value, NaN or infinite values, negative speed, time not increasing, an unknown or
+        conflicting unit, speeds that look like m/s given as km/h (or km/h given as m/s).
     """
     text, source, name = _read_text(path)
     header: list[str] | None = None
@@ -509,7 +558,22 @@ def _check_plausible(trace: SpeedTrace, v_factor: float, unit: str, confirmed: b
 
 
 def write_trace(trace: SpeedTrace, path: str | Path, *, comment: str = "") -> Path:
-    """Write ``trace`` as CSV ``time_s,speed_kmh[,trip]`` at full float precision."""
+    """Write ``trace`` as CSV ``time_s,speed_kmh[,trip]`` at full float precision.
+
+    Parameters
+    ----------
+    trace
+        The speed trace (time [s], speed [m/s]; written as s and km/h).
+    path
+        The file to write (replaced if it exists).
+    comment
+        Text written first, each of its lines as a ``#`` comment line.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     out = [f"# {ln}" for ln in comment.splitlines()]
     out.append("time_s,speed_kmh" + (",trip" if trace.trip is not None else ""))
@@ -631,6 +695,24 @@ class BrakingEvent:
         Between samples the speed is linear in time, so ``v^2 = v_j^2 + 2 a_j x`` holds exactly
         within sample interval ``j``; a step boundary at travel ``x`` is placed there and its time
         solved in closed form. As in the block cycle, the last step is partial.
+
+        Parameters
+        ----------
+        distance
+            Vehicle travel of one full step, s [m] (:func:`brakeca.cycle.step_distance`).
+
+        Returns
+        -------
+        EventKinematics
+            Per step (n steps): durations [s], fractions of a full step [-], mean vehicle
+            decelerations [m/s^2] and the brake's decelerations after road load and brake
+            share [m/s^2]; the speeds at the n + 1 step boundaries [m/s].
+
+        Raises
+        ------
+        ValueError
+            If ``distance`` is not positive, or a step comes out with no duration (a bad
+            trace).
         """
         if not distance > 0.0:
             raise ValueError(f"step distance must be positive, got {distance}")
@@ -695,6 +777,22 @@ class BrakingEvent:
 
         ``deceleration`` is what the modelled brake must deliver for its wheel-load mass
         (road load and brake share applied); see :meth:`kinematics`.
+
+        Parameters
+        ----------
+        distance
+            Vehicle travel of one full step, s [m].
+
+        Returns
+        -------
+        StopProfile
+            Step durations [s], fractions of a full step [-] and the brake's deceleration of
+            each step [m/s^2].
+
+        Raises
+        ------
+        ValueError
+            As :meth:`kinematics`.
         """
         k = self.kinematics(distance)
         return StopProfile(k.dt, k.fraction, k.brake_deceleration)
@@ -740,6 +838,12 @@ def detect_events(
     -------
     list of BrakingEvent
         In time order, numbered from 1.
+
+    Raises
+    ------
+    ConfigError
+        If ``threshold`` or ``min_duration`` lies outside the range its
+        :class:`TraceCycleConfig` field allows.
     """
     cfg = config or TraceCycleConfig()
     updates: dict[str, float] = {}
@@ -786,13 +890,40 @@ def expand_trace_events(
     *,
     max_stops: int | None = None,
 ) -> list[BrakingEvent]:
-    """The braking events of ``trace`` in driving order, cut to the first ``max_stops``."""
+    """The braking events of ``trace`` in driving order, cut to the first ``max_stops``.
+
+    Parameters
+    ----------
+    trace
+        The speed trace.
+    config
+        Detection, road-load and brake-share parameters (default :class:`TraceCycleConfig`).
+    max_stops
+        Most events to keep [-]; None keeps all.
+
+    Returns
+    -------
+    list of BrakingEvent
+        The first ``max_stops`` events of :func:`detect_events`.
+    """
     events = detect_events(trace, config=config)
     return events if max_stops is None else events[:max_stops]
 
 
 def event_distance(event: Stop | BrakingEvent) -> float:
-    """Distance travelled while braking in one stop or event [m]."""
+    """Distance travelled while braking in one stop or event [m].
+
+    Parameters
+    ----------
+    event
+        A block stop (constant deceleration) or a trace event.
+
+    Returns
+    -------
+    float
+        Braking distance, ``(v_on^2 - v_off^2) / 2a`` for a stop, the integral of the
+        (linear in time) speed for an event [m].
+    """
     if isinstance(event, BrakingEvent):
         return event.distance
     v0, v1 = event.initial_speed, event.final_speed
@@ -801,7 +932,20 @@ def event_distance(event: Stop | BrakingEvent) -> float:
 
 def braking_energy(events: Sequence[Stop | BrakingEvent], mass: float) -> float:
     """Kinetic energy a body of ``mass`` [kg] loses in the events, sum of m (v_on^2 - v_off^2)/2
-    [J]. With the vehicle mass: what all brakes and road load absorb together."""
+    [J]. With the vehicle mass: what all brakes and road load absorb together.
+
+    Parameters
+    ----------
+    events
+        Block stops or trace events (their brake-on and brake-off speeds [m/s]).
+    mass
+        The decelerated mass m [kg].
+
+    Returns
+    -------
+    float
+        Kinetic energy lost [J].
+    """
     return float(sum(0.5 * mass * (e.initial_speed**2 - e.final_speed**2) for e in events))
 
 
@@ -817,7 +961,12 @@ def brake_work(
     wheel_mass
         Mass the modelled brake decelerates, ``vehicle.wheel_load_mass`` [kg].
     step
-        Travel per integration step [m].
+        Travel per integration step [m] (trace events only; a block stop is exact).
+
+    Returns
+    -------
+    float
+        Work of the modelled brake [J].
     """
     total = 0.0
     for e in events:
@@ -851,6 +1000,34 @@ def block_trace(
     brake-off exactly, and in between at equal intervals of at most ``sample_interval`` [s].
     Each sample is labelled with the block of the stop it leads to, so detected events carry
     the block names.
+
+    Parameters
+    ----------
+    stops
+        The block stops, in driving order; the trace starts at the first one's brake-on
+        speed [m/s].
+    acceleration
+        Acceleration up to a faster brake-on speed [m/s^2].
+    coast
+        Deceleration down to a slower brake-on speed [m/s^2].
+    cruise
+        Time at the brake-on speed before each stop [s].
+    dwell
+        Time at the final speed after each stop [s].
+    sample_interval
+        Longest interval between samples [s].
+    name
+        The trace's name.
+
+    Returns
+    -------
+    SpeedTrace
+        Time [s] and speed [m/s], each sample labelled (``trip``) with its stop's block.
+
+    Raises
+    ------
+    TraceError
+        If ``stops`` is empty (a trace needs two samples).
     """
     times: list[float] = [0.0]
     speeds: list[float] = [stops[0].initial_speed if stops else 0.0]
@@ -897,7 +1074,19 @@ def available_cycles() -> list[str]:
 
 
 def cycle_file_kind(text: str) -> Literal["blocks", "trace"]:
-    """``"blocks"`` when the CSV header has the block columns, else ``"trace"``."""
+    """``"blocks"`` when the CSV header has the block columns, else ``"trace"``.
+
+    Parameters
+    ----------
+    text
+        A cycle file's content.
+
+    Returns
+    -------
+    str
+        ``"blocks"`` when its first line that is neither blank nor a ``#`` comment names
+        ``initial_speed_kmh``; ``"trace"`` otherwise (also for a file without such a line).
+    """
     for raw in text.splitlines():
         s = raw.strip()
         if s and not s.startswith("#"):
@@ -955,6 +1144,18 @@ def load_cycle_source(
         Detection, road load and brake share for a trace (default :class:`TraceCycleConfig`).
     speed_unit
         Speed unit of a trace without one in its header (:func:`load_trace`).
+
+    Returns
+    -------
+    CycleSource
+        The events, the count in the whole cycle and the distance they belong to [m].
+
+    Raises
+    ------
+    ConfigError
+        A path that is neither a file nor a shipped cycle's name, a file that cannot be
+        read, a bad block cycle, or a bad trace (a :class:`TraceError`, as
+        :func:`load_trace`).
     """
     from brakeca.presets import load_cycle
 
@@ -986,6 +1187,21 @@ def load_cycle_events(
     """The stops (block cycle) or braking events (trace) to simulate, cut to max_stops.
 
     See :func:`load_cycle_source`, which also gives the cycle's distance for mg/km.
+
+    Parameters
+    ----------
+    path_or_name, config, trace_config, speed_unit
+        As :func:`load_cycle_source`.
+
+    Returns
+    -------
+    list of Stop or BrakingEvent
+        The events of :func:`load_cycle_source` (speeds [m/s], decelerations [m/s^2]).
+
+    Raises
+    ------
+    ConfigError
+        As :func:`load_cycle_source`.
     """
     return list(load_cycle_source(path_or_name, config, trace_config, speed_unit=speed_unit).events)
 
@@ -1009,6 +1225,28 @@ def with_cycle(
     referenced (``cycle.trace_file``, absolute path unless shipped) with the SHA-256 of its
     content, so a run file records exactly which trace it came from and a changed file is
     refused. The trace is loaded once here, so a bad trace fails before any work.
+
+    Parameters
+    ----------
+    config
+        The configuration; its ``cycle.max_stops`` and ``cycle.trace`` are kept.
+    path_or_name
+        A CSV file or a shipped cycle (:func:`available_cycles`).
+    speed_unit
+        Speed unit of a trace without one in its header (:func:`load_trace`); recorded as
+        ``cycle.trace_speed_unit``.
+
+    Returns
+    -------
+    SimulationConfig
+        A new configuration with the cycle replaced.
+
+    Raises
+    ------
+    ConfigError
+        A path that is neither a file nor a shipped cycle's name, a file that cannot be
+        read, a bad block cycle, or a bad trace (a :class:`TraceError`, as
+        :func:`load_trace`).
     """
     text, _, name = _read_text(path_or_name)
     keep = {"max_stops": config.cycle.max_stops, "trace": config.cycle.trace.model_dump()}
@@ -1033,7 +1271,19 @@ def with_cycle(
 def check_trace_unchanged(config: SimulationConfig) -> None:
     """Raise ConfigError if ``config``'s speed trace (``cycle.trace_file``) is missing or its
     content changed since the configuration was made (its ``cycle.trace_sha256``); nothing
-    for a block cycle. Only the file's digest is computed, no event detected."""
+    for a block cycle. Only the file's digest is computed, no event detected.
+
+    Parameters
+    ----------
+    config
+        The configuration.
+
+    Raises
+    ------
+    ConfigError
+        The trace file is missing or cannot be read (a :class:`TraceError`), or its
+        content's SHA-256 differs from ``cycle.trace_sha256``.
+    """
     cyc = config.cycle
     if not cyc.trace_file or cyc.trace_sha256 is None:
         return
@@ -1047,6 +1297,18 @@ def check_trace_unchanged(config: SimulationConfig) -> None:
 
 def configured_cycle(config: SimulationConfig) -> CycleSource:
     """The events to simulate for ``config`` and the distance they belong to.
+
+    Parameters
+    ----------
+    config
+        The configuration: a block cycle (``cycle.blocks``) or a speed trace
+        (``cycle.trace_file``), cut to ``cycle.max_stops``.
+
+    Returns
+    -------
+    CycleSource
+        The events, the count in the whole cycle and the distance they belong to [m]. A
+        trace's events are detected once for the same configuration and file content.
 
     Raises
     ------
