@@ -37,7 +37,16 @@ def flat_punch_pressure(
     when the discriminant is non-negative and the root lies above the floor (its COF at least
     ``mu_min``, ``p <= (mu_0 - mu_min) / c``); otherwise the root is on the floor branch,
     ``p = F / (mu_min A)``. With ``slope = 0``, ``p = F / (mu_0 A)``.
+
+    Raises
+    ------
+    ValueError
+        ``area`` not above 0, or no pressure gives ``F``: with ``mu_min = 0`` the friction
+        force has the maximum ``mu_0^2 A / (4 c)`` (the simulation's ContactError, model.md
+        §5).
     """
+    if not area > 0.0:
+        raise ValueError(f"area must be above 0 m^2, got {area!r}")
     tau = friction_force / area
     if slope == 0.0:
         return tau / mu_0
@@ -47,6 +56,11 @@ def flat_punch_pressure(
         p = 2.0 * tau / (mu_0 + math.sqrt(disc))
         if p <= p_floor:
             return p
+    if mu_min == 0.0:
+        raise ValueError(
+            f"no pressure gives a friction force of {friction_force!r} N: with mu_min = 0 the "
+            f"force peaks at mu_0^2 A / (4 c) = {mu_0 * mu_0 * area / (4.0 * slope):.6g} N"
+        )
     return tau / mu_min
 
 

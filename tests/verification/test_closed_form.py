@@ -214,3 +214,16 @@ def test_a_stop_shorter_than_one_step_takes_one_partial_step():
     none = Stop(index=2, block="b", initial_speed=v1 + 1e-14, final_speed=v1, deceleration=a)
     with pytest.raises(ConfigError, match=r"stop 2 \(b\) brakes over .* under 1e-9 of one"):
         stop_steps(none, s)
+
+
+def test_the_flat_punch_reference_refuses_a_force_no_pressure_gives():
+    """With mu_min = 0 a force above mu_0² A / 4c has no pressure (it had divided by
+    mu_min = 0); below the peak the root is the smaller of the quadratic's."""
+    law = {"mu_0": 0.6, "slope": 3e-8, "mu_min": 0.0}
+    peak = 0.6**2 * 1e-3 / (4 * 3e-8)
+    # 0.75 of the peak: mu_0 p - c p² = 0.75 mu_0² / 4c, p = (0.6 - 0.3) / 2c = 5 MPa
+    assert flat_punch_pressure(0.75 * peak, 1e-3, **law) == pytest.approx(5e6, rel=1e-12)
+    with pytest.raises(ValueError, match=r"peaks at mu_0\^2 A / \(4 c\) = 3000 N"):
+        flat_punch_pressure(1.01 * peak, 1e-3, **law)
+    with pytest.raises(ValueError, match="area must be above 0 m"):
+        flat_punch_pressure(1.0, 0.0, **LAW)
