@@ -1452,10 +1452,17 @@ def show_design(
         with_order = bool(orders) and loaded.replicates <= _MOST_ORDERS_LISTED
         if with_order:
             table.add_column("order", justify="right")
+        centre = loaded.center_levels() if loaded.center_points else None
         for k, combo in enumerate(combos, start=1):
+            at_centre = centre is not None and all(combo[n] == centre[n] for n in centre)
             table.add_row(
                 str(k),
-                *(escape(loaded.factor(n).label_of(v)) for n, v in combo.items()),
+                *(
+                    "0"
+                    if at_centre and loaded.factor(n).labels
+                    else escape(loaded.factor(n).label_of(v))
+                    for n, v in combo.items()
+                ),
                 *([", ".join(map(str, orders[k]))] if with_order else []),
             )
         out.print(table)
@@ -1524,7 +1531,9 @@ def _factor_cells(design: Any, factor: Any) -> tuple[str, str, str, list[str], s
         levels.append(text if label == text else f"{label} = {text}")
     if design.center_points:  # where the centre points put it
         centre = design.center_levels()[factor.name]
-        levels.append(f"centre = {centre:g}" + (" (geometric)" if factor.coding == "log" else ""))
+        geometric = " (geometric)" if factor.coding == "log" else ""
+        # coded 0 in the tests table, as Minitab codes a centre point, where levels have labels
+        levels.append(f"{'0' if factor.labels else 'centre'} = {centre:g}{geometric}")
     coding = ""
     if _shows_coding(design) and not factor.categorical:
         coding = "log10" if factor.coding == "log" else "linear"

@@ -439,10 +439,15 @@ def test_brakeca_design_shows_the_centre_and_notes_a_single_centre_point(tmp_pat
     from brakeca.cli import app
 
     res = CliRunner().invoke(
-        app, ["design", "screen_center", "--no-tests"], env={"COLUMNS": "200"}, terminal_width=200
+        app, ["design", "screen_center"], env={"COLUMNS": "200"}, terminal_width=200
     )
     assert res.exit_code == 0, res.output
-    assert "centre = 1e-14 (geometric)" in res.output and "centre = 0.5" in res.output
+    # the centre coded 0, as in the tests table (and the report's), where the levels are - / +
+    assert "- = 0, + = 1, 0 = 0.5 " in res.output and "0 = 1e-14 (geometric)" in res.output
+    rows = [line.split("│")[1:-1] for line in res.output.splitlines() if line.startswith("│  ")]
+    tests = {int(r[0]): [c.strip() for c in r[1:]] for r in rows if r[0].strip().isdigit()}
+    assert len(tests) == 20 and tests[17] == tests[20] == ["0"] * 7
+    assert set(tests[1]) == {"-"} and set(tests[16]) == {"+"}
     assert "one centre point run" not in res.output
     one = tmp_path / "one.toml"
     one.write_text(_design(center_points=1).to_toml(), encoding="utf-8")
