@@ -442,7 +442,8 @@ def interaction_table(
         Campaign summary, one row per run (only ``status == "ok"`` rows are used).
     factor_a, factor_b
         The two factors (:class:`Factor`, factor-like object, or a column name, in which case
-        the levels are the sorted distinct values found in the summary).
+        the levels are the sorted distinct values found in the summary: a design's centre
+        points are then a level of their own; give the design's factors to leave them out).
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
 
