@@ -78,49 +78,65 @@ _PER_STOP_COLUMNS = (
 )
 
 
-def per_stop_table(result: CampaignResult) -> pd.DataFrame:
-    """Every finished run's per-stop results as one long table, for a spreadsheet or a DoE tool.
+def per_stop_table(result: CampaignResult | RunResult) -> pd.DataFrame:
+    """Per-stop results as one long table, for a spreadsheet or a DoE tool: every finished
+    run's of a campaign, or a single run's.
 
     Parameters
     ----------
     result
-        A loaded campaign.
+        A loaded campaign, or one run (:func:`brakeca.simulation.simulate`'s result or
+        :meth:`RunResult.from_netcdf`).
 
     Returns
     -------
     pandas.DataFrame
         One row per run and stop it ran, runs with status ``"ok"`` only, in test and
-        replicate order: ``test``, ``replicate``, the factors' levels, ``seed``, ``stop``,
-        ``block`` (when the cycle names its blocks), then ``mean_cof`` [-] (MU is its mean over
-        a run's stops), ``emitted_mm3`` and ``generated_mm3`` [mm³] (``V_mm3`` is the mean
-        of ``emitted_mm3``; V [m^3] that of ``emitted_volume``), the time-weighted plateau
-        and contact area fractions of the band [-], ``normal_force_N`` [N] and
-        ``line_pressure_MPa`` [MPa], ``duration_s`` [s] and ``n_steps`` [-].
+        replicate order: ``test``, ``replicate``, the factors' levels (these three for a
+        campaign only), ``seed``, ``stop``, ``block`` (when the cycle names its blocks), then
+        ``mean_cof`` [-] (MU is its mean over a run's stops), ``emitted_mm3`` and
+        ``generated_mm3`` [mm³] (``V_mm3`` is the mean of ``emitted_mm3``; V [m^3] that of
+        ``emitted_volume``), the time-weighted plateau and contact area fractions of the band
+        [-], ``normal_force_N`` [N] and ``line_pressure_MPa`` [MPa], ``duration_s`` [s] and
+        ``n_steps`` [-].
     """
+    if isinstance(result, RunResult):
+        return _stops_frame(result.dataset, {"seed": int(result.seed)})
+    if not isinstance(result, CampaignResult):
+        raise TypeError(
+            f"per_stop_table takes a CampaignResult or a RunResult, got {type(result).__name__}"
+        )
     ds = result.dataset
     names = [f.name for f in result.design.factors]
     status = np.asarray(ds["status"].values, dtype=str)
     frames = []
     for i in np.flatnonzero(status == "ok"):
         run = ds.isel(run=int(i))
-        ran = np.isfinite(run["mean_cof"].to_numpy())
-        frame: dict[str, object] = {
+        ids: dict[str, object] = {
             "test": int(run["test"]),
             "replicate": int(run["replicate"]) if "replicate" in run.coords else 0,
         }
-        frame.update({name: run[name].item() for name in names})
-        frame["seed"] = int(run["seed"])
-        frame["stop"] = run["stop"].to_numpy()[ran]
-        if "block" in run.coords:
-            frame["block"] = np.asarray(run["block"].values, dtype=str)[ran]
-        for column, variable, factor in _PER_STOP_COLUMNS:
-            values = run[variable].to_numpy()[ran]
-            frame[column] = values.astype(np.int64) if column == "n_steps" else values * factor
-        frames.append(pd.DataFrame(frame))
+        ids.update({name: run[name].item() for name in names})
+        ids["seed"] = int(run["seed"])
+        frames.append(_stops_frame(run, ids))
     if not frames:
         return pd.DataFrame(columns=["test", "replicate", *names, "seed", "stop"])
     table = pd.concat(frames, ignore_index=True)
     return table.sort_values(["test", "replicate", "stop"], kind="stable").reset_index(drop=True)
+
+
+def _stops_frame(run: Any, ids: dict[str, object]) -> pd.DataFrame:
+    """One run's rows of :func:`per_stop_table`: ``ids`` (its test, levels, seed), then the
+    stops it ran (a campaign's runs share a stop axis; a shorter run's tail is NaN)."""
+    ran = np.isfinite(run["mean_cof"].to_numpy())
+    frame: dict[str, object] = dict(ids)
+    frame["stop"] = run["stop"].to_numpy()[ran]
+    if "block" in run.coords:
+        frame["block"] = np.asarray(run["block"].values, dtype=str)[ran]
+    for column, variable, factor in _PER_STOP_COLUMNS:
+        values = run[variable].to_numpy()[ran]
+        frame[column] = values.astype(np.int64) if column == "n_steps" else values * factor
+    return pd.DataFrame(frame)
 
 
 def _design_table(result: CampaignResult) -> pd.DataFrame:

@@ -538,3 +538,22 @@ def test_a_changed_trace_is_refused_before_any_run(tmp_path):
     assert res.exit_code == 2, res.output
     assert "its content changed since the configuration was made" in " ".join(res.output.split())
     assert not list((out / "runs").glob("*.nc"))
+
+
+def test_the_per_stop_table_of_one_run_is_its_rows_of_the_campaigns(campaign):
+    """per_stop_table takes a single run as well (a helper writing the examples had built
+    the table by hand): a run file's rows are the campaign table's rows of that run, less
+    the design's columns."""
+    from brakeca.campaign import load_campaign
+    from brakeca.study import per_stop_table
+
+    out, _ = campaign
+    result = load_campaign(out)
+    whole = per_stop_table(result)
+    run_id = result.summary["run_id"][2]
+    one = per_stop_table(RunResult.from_netcdf(out / "runs" / f"{run_id}.nc"))
+    assert list(one.columns) == list(whole.columns[4:])  # from seed on
+    expected = whole[whole["test"] == 3].drop(columns=["test", "replicate", "S", "A"])
+    pd.testing.assert_frame_equal(one, expected.reset_index(drop=True))
+    with pytest.raises(TypeError, match="takes a CampaignResult or a RunResult, got DataFrame"):
+        per_stop_table(result.summary)
