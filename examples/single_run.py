@@ -22,8 +22,8 @@ import argparse
 from pathlib import Path
 
 import pandas as pd
-import xarray as xr
 
+from brakeca import study
 from brakeca.design import quick_config
 from brakeca.plotting import (
     plot_cof_series,
@@ -41,24 +41,12 @@ M3_TO_MM3 = 1e9
 
 
 def per_stop_table(run: RunResult) -> pd.DataFrame:
-    """The run's per-stop results in engineering units (MU and V are the means of the
-    ``mean_cof`` and ``emitted_mm3`` columns)."""
-    ds = run.dataset
-    return pd.DataFrame(
-        {
-            "stop": ds["stop"].to_numpy(),
-            "block": ds["block"].to_numpy().astype(str),
-            "mean_cof": ds["mean_cof"].to_numpy(),
-            "emitted_mm3": ds["emitted_volume"].to_numpy() * M3_TO_MM3,
-            "generated_mm3": ds["generated_volume"].to_numpy() * M3_TO_MM3,
-            "primary_%": ds["primary_area_fraction"].to_numpy() * 100,
-            "secondary_%": ds["secondary_area_fraction"].to_numpy() * 100,
-            "contact_%": ds["contact_area_fraction"].to_numpy() * 100,
-            "normal_force_N": ds["normal_force"].to_numpy(),
-            "line_pressure_MPa": ds["line_pressure"].to_numpy() * 1e-6,
-            "duration_s": ds["duration"].to_numpy(),
-        }
-    )
+    """The run's per-stop results in engineering units (brakeca.study.per_stop_table: MU and
+    V are the means of its ``mean_cof`` and ``emitted_mm3`` columns), area fractions in %."""
+    table = study.per_stop_table(run)
+    for name in ("primary", "secondary", "contact"):
+        table[f"{name}_%"] = 100 * table.pop(f"{name}_area_fraction")
+    return table
 
 
 def _shown(table: pd.DataFrame, rows: int = 8) -> str:
@@ -157,12 +145,13 @@ def main(argv: list[str] | None = None) -> dict:
         f"V x {difference['V_ratio']:.3g} ({run.V * M3_TO_MM3:.4g} -> "
         f"{other.V * M3_TO_MM3:.4g} mm³ per stop)"
     )
-    # both runs' MU per stop in one figure: their per-stop series along a "run" dimension
-    pair = xr.concat(
-        [r.dataset[["mean_cof"]] for r in (run, other)], dim="run", coords="minimal"
-    ).assign_coords(run=["A = 10 %", "A = 20 %"])
+    # both runs' MU per stop in one figure, each labelled
     paths.append(figures / "compare_mu_per_stop.png")
-    plot_mu_per_stop(pair, paths[-1], title=f"WP = 1e-13, seed {args.seed}: A = 10 % and 20 %")
+    plot_mu_per_stop(
+        {"A = 10 %": run, "A = 20 %": other},
+        paths[-1],
+        title=f"WP = 1e-13, seed {args.seed}: A = 10 % and 20 %",
+    )
     paths.append(figures / "compare_final_maps.png")
     plot_fibre_maps(
         {

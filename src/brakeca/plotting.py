@@ -359,6 +359,36 @@ def _run_label(run: Any, levels: Mapping[str, Any], factors: Mapping[str, Factor
     return f"{head}: {', '.join(parts)}" if parts else head
 
 
+def _runs_side_by_side(runs: Any, variable: str) -> Any:
+    """Runs given as ``{label: RunResult}`` or a list of RunResults (labelled by seed) as one
+    Dataset of ``variable`` along a ``run`` dimension of their labels, for
+    :func:`plot_mu_per_stop`."""
+    import xarray as xr
+
+    items = list(runs.items()) if isinstance(runs, Mapping) else [(None, r) for r in runs]
+    if not items:
+        raise ValueError("campaign: no runs to plot")
+    labels, frames = [], []
+    for k, (label, run) in enumerate(items):
+        dataset = getattr(run, "dataset", None)
+        if dataset is None or variable not in getattr(dataset, "data_vars", ()):
+            raise TypeError(
+                f"campaign: item {k + 1} is a {type(run).__name__}, not a RunResult with "
+                f"{variable!r}"
+            )
+        labels.append(str(label) if label is not None else f"seed {run.seed}")
+        frames.append(dataset[[variable]])
+    if len(set(labels)) < len(labels):
+        raise ValueError(f"campaign: two runs share a label ({labels}); give them as a mapping")
+    return xr.concat(
+        frames,
+        dim=pd.Index(labels, name="run"),
+        join="outer",
+        coords="minimal",
+        compat="override",
+    )
+
+
 def plot_mu_per_stop(
     campaign: Any,
     path: str | Path | None = None,
@@ -373,7 +403,9 @@ def plot_mu_per_stop(
     ----------
     campaign
         A :class:`~brakeca.campaign.CampaignResult` (its dataset, and its design's factors
-        unless ``factors`` is given), a :class:`~brakeca.results.RunResult`, or an xarray
+        unless ``factors`` is given), a :class:`~brakeca.results.RunResult`, several runs
+        to compare (a mapping ``{label: RunResult}``, or a list of them, named by their
+        seeds; runs of different lengths end where they end), or an xarray
         Dataset with dims ``run`` and ``stop`` (or ``stop`` alone, one run), the variable
         ``variable`` [-], the factor coordinates along ``run``, optionally ``test(run)`` (a
         campaign's test numbers: the replicates of a test share its colour and legend entry;
@@ -401,6 +433,11 @@ def plot_mu_per_stop(
     import matplotlib as mpl
     from matplotlib.transforms import blended_transform_factory
 
+    if not hasattr(campaign, "data_vars") and (  # a Dataset is a Mapping too
+        isinstance(campaign, Mapping)
+        or (isinstance(campaign, Sequence) and not isinstance(campaign, str))
+    ):
+        campaign = _runs_side_by_side(campaign, variable)
     design = getattr(campaign, "design", None)  # a CampaignResult: its design's factors
     if factors is None and design is not None:
         factors = design.factors

@@ -457,7 +457,34 @@ def test_mu_per_stop_takes_a_campaign_result_or_one_run(campaign) -> None:
     assert len(runs) == 1
     np.testing.assert_array_equal(runs[0].get_ydata(), one["mean_cof"].to_numpy())
     with pytest.raises(TypeError, match="campaign: expected a CampaignResult"):
+        plot_mu_per_stop(0.4)
+    with pytest.raises(TypeError, match="campaign: item 1 is a float, not a RunResult"):
         plot_mu_per_stop([0.4, 0.5])
+
+
+def test_mu_per_stop_compares_runs_given_as_a_mapping_or_a_list(campaign) -> None:
+    """Two runs to compare need no campaign (a helper writing the examples had concatenated
+    their datasets by hand): a mapping labels them, a list by their seeds; a shorter run
+    ends where it ends."""
+    import types
+
+    def run(k: int, stops: int) -> types.SimpleNamespace:  # what plotting reads of a RunResult
+        ds = campaign.isel(run=k, drop=True).isel(stop=slice(0, stops))[["mean_cof"]]
+        return types.SimpleNamespace(dataset=ds, seed=10 + k)
+
+    a, b = run(0, campaign.sizes["stop"]), run(1, 5)
+    fig = plot_mu_per_stop({"A = 10 %": a, "A = 20 %": b})
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["A = 10 %", "A = 20 %"]
+    lines = [line for line in fig.axes[0].lines if line.get_label().startswith("A = ")]
+    np.testing.assert_array_equal(lines[0].get_ydata(), a.dataset["mean_cof"].to_numpy())
+    np.testing.assert_array_equal(lines[1].get_ydata()[:5], b.dataset["mean_cof"].to_numpy())
+    assert np.isnan(lines[1].get_ydata()[5:]).all()
+    fig = plot_mu_per_stop([a, b])
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["seed 10", "seed 11"]
+    with pytest.raises(ValueError, match="two runs share a label"):
+        plot_mu_per_stop([a, a])
+    with pytest.raises(ValueError, match="no runs to plot"):
+        plot_mu_per_stop({})
 
 
 def test_profiler_draws_the_fitted_surface_along_each_factor() -> None:
