@@ -293,6 +293,15 @@ def simulate(
         ),
     ] = None,
     speed_unit: SpeedUnitOpt = None,
+    maps_at: Annotated[
+        str | None,
+        typer.Option(
+            "--maps-at",
+            metavar="STOPS",
+            help="keep the pad's status and height maps after these stops, e.g. 1,50,170 "
+            "('brakeca plot' draws them)",
+        ),
+    ] = None,
 ) -> None:
     """Simulate one pad over the drive cycle and write a netCDF run file."""
     from rich.progress import (
@@ -305,7 +314,7 @@ def simulate(
 
     from brakeca.contact import ContactError
     from brakeca.cycle import step_distance
-    from brakeca.simulation import LedgerError
+    from brakeca.simulation import LedgerError, map_stops
     from brakeca.simulation import simulate as run_simulation
     from brakeca.traces import configured_cycle, with_cycle
 
@@ -320,6 +329,18 @@ def simulate(
         steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper's
     except ConfigError as exc:
         _fail(str(exc))
+    kept_maps: list[int] = []
+    if maps_at is not None:
+        try:
+            asked_maps = [int(part) for part in maps_at.split(",")]
+        except ValueError:
+            _fail(
+                f"--maps-at {maps_at!r}: expected stop numbers separated by commas, e.g. 1,50,170"
+            )
+        try:
+            kept_maps = map_stops(asked_maps, len(source.events), name="--maps-at")
+        except ValueError as exc:
+            _fail(str(exc))
     _check_output(output)
     if checkpoint is None and checkpoint_every is not None:
         _fail("--checkpoint-every sets how often --checkpoint saves; give --checkpoint too")
@@ -393,11 +414,12 @@ def simulate(
                 checkpoint=checkpoint,
                 checkpoint_every=10 if checkpoint_every is None else checkpoint_every,
                 keep_checkpoint=True,  # removed below, once the run file is written
+                maps_at=kept_maps,
             )
         except (ContactError, LedgerError) as exc:
             failure = (str(exc), 1)
-        except ValueError as exc:  # a checkpoint of another run
-            failure = (str(exc), 2)
+        except ValueError as exc:  # a checkpoint of another run, or without a map asked for
+            failure = (str(exc).replace("maps_at: ", "--maps-at: ", 1), 2)
         except OSError as exc:  # the checkpoint passed the check: a full disk, say
             failure = (f"--checkpoint {checkpoint}: cannot write it ({exc}); nothing written", 1)
     if failure is not None:  # after the bar's last line, so that the error is the last word

@@ -19,7 +19,9 @@ step's end), ``step_stop`` [-], ``step_cof`` [-], ``step_normal_force`` (pad) [N
 ``step_contact_area_fraction``, ``step_primary_area_fraction``,
 ``step_secondary_area_fraction`` [-], ``step_disc_position`` [m]. Maps on (``radius`` [m],
 ``angle`` [rad]): ``initial_status``, ``final_status`` (0 resin, 1 primary, 2 secondary
-plateau), ``final_height`` [m]. Attributes: the resolved config (TOML), seed, package version,
+plateau), ``final_height`` [m]; where the run was asked to keep them (``simulate(maps_at=)``,
+``brakeca simulate --maps-at``), ``map_status`` [-] and ``map_height`` [m] after those stops,
+along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package version,
 wall time [s], the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
 applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
 ``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan.
@@ -335,6 +337,7 @@ def build_dataset(
     kernel_stops: dict[str, int] | None = None,
     contact_fallbacks: int = 0,
     fibre_exposure: list | None = None,
+    maps: dict[int, tuple[np.ndarray, np.ndarray]] | None = None,
 ) -> xr.Dataset:
     """Assemble the run Dataset (see the module docstring for its variables and units).
 
@@ -373,6 +376,9 @@ def build_dataset(
     fibre_exposure
         With the fibre field, per stop what the exposure after it did
         (:class:`brakeca.automaton.Exposure`).
+    maps
+        ``{stop: (statuses [-], heights [m])}``, maps after the stops the run was asked to
+        keep them for (``simulate(maps_at=)``); none by default.
 
     Returns
     -------
@@ -486,6 +492,23 @@ def build_dataset(
         final_height.astype(np.float32),
         {"units": "m", "long_name": "cell height after the cycle"},
     )
+    if maps:
+        kept_stops = sorted(maps)
+        data_vars["map_status"] = (
+            ("map_stop", "radius", "angle"),
+            np.stack([maps[k][0] for k in kept_stops]).astype(np.int8),
+            {
+                "long_name": "cell status after the stop (after rule S): 0 none (resin), 1 "
+                "primary plateau (fibre), 2 secondary plateau",
+                "flag_values": "0 1 2",
+                "flag_meanings": "none primary secondary",
+            },
+        )
+        data_vars["map_height"] = (
+            ("map_stop", "radius", "angle"),
+            np.stack([maps[k][1] for k in kept_stops]).astype(np.float32),
+            {"units": "m", "long_name": "cell height after the stop"},
+        )
     mu = float(np.mean(per_stop["mean_cof"]))
     v = float(np.mean(per_stop["emitted_volume"]))
     data_vars["MU"] = ((), mu, scalar_attrs("MU"))
@@ -508,6 +531,8 @@ def build_dataset(
         "radius": ("radius", np.asarray(grid.radius), {"units": "m"}),
         "angle": ("angle", np.asarray(grid.angle), {"units": "rad"}),
     }
+    if maps:
+        coords["map_stop"] = ("map_stop", np.array(sorted(maps), dtype=np.int64))
     attrs = {
         "format": FORMAT,
         "title": "brakeca run",

@@ -13,7 +13,7 @@ import dataclasses
 import json
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
@@ -318,7 +318,7 @@ class _StopLog:
     records and the records of the steps the per-step series keeps
     (:func:`brakeca.results.summarise_stop`), the step durations [s], the volume flushed at
     the end of the stop [m^3], the secondary plateaus rule S removed, the rule counts, and
-    with the fibre field what the exposure after the stop did."""
+    with the fibre field what the exposure after the stop did; the maps kept after stops."""
 
     summaries: list[np.ndarray]
     kept: list[np.ndarray]
@@ -327,6 +327,9 @@ class _StopLog:
     s_removed: list[int]
     rule_counts: list[np.ndarray]
     exposures: list[Exposure] = field(default_factory=list)
+    #: stop -> (statuses [-], heights [m]) after it, for the stops :func:`simulate`'s
+    #: ``maps_at`` asks for
+    maps: dict[int, tuple[np.ndarray, np.ndarray]] = field(default_factory=dict)
 
 
 def simulate(
@@ -338,6 +341,7 @@ def simulate(
     checkpoint: str | Path | None = None,
     checkpoint_every: int = 10,
     keep_checkpoint: bool = False,
+    maps_at: Iterable[int] = (),
 ) -> RunResult:
     """Simulate one pad over the configured drive cycle.
 
@@ -363,6 +367,11 @@ def simulate(
     keep_checkpoint
         Leave the checkpoint when the run completes, for the caller to remove once the
         result is safe (written to its file): a process killed in between then still has it.
+    maps_at
+        Stops (numbered from 1) after which to keep the pad's status and height maps, at the
+        stop's end after rule S (the run file's ``map_status`` and ``map_height`` along
+        ``map_stop``), to show how the plateaus develop over the cycle. Keeping them changes
+        nothing else of the run.
 
     Returns
     -------
@@ -374,7 +383,9 @@ def simulate(
     TypeError
         ``config`` is not a :class:`~brakeca.config.SimulationConfig` (a dict, a preset name).
     ValueError
-        A seed that is not a whole number in range, or both ``seed`` and ``rng``.
+        A seed that is not a whole number in range, or both ``seed`` and ``rng``; a stop of
+        ``maps_at`` that the cycle does not have, or that a resumed checkpoint ran without
+        keeping its map.
     ContactError
         The demanded torque cannot be reached (names the stop and the step).
     LedgerError
@@ -412,6 +423,7 @@ def simulate(
     grid = make_grid(config)
     kernel = kernel_for(config)  # an unsupported numerics.kernel is refused before any work
     stops = list(cycle_events(config))
+    kept_maps = map_stops(maps_at, len(stops))
     n_r, n_t = grid.shape
     lists = scratch_lists(n_r * n_t)
     resumed = load_checkpoint(checkpoint, config, seed, grid) if checkpoint else None
@@ -424,6 +436,13 @@ def simulate(
     else:
         state, initial_status, log, rng_state, elapsed_before = resumed
         rng.bit_generator.state = rng_state
+        missed = [k for k in kept_maps if k <= len(log.dts) and k not in log.maps]
+        if missed:
+            raise ValueError(
+                f"maps_at: stop {missed[0]} ran before the checkpoint {checkpoint} without "
+                f"keeping its map; ask only for stops after {len(log.dts)}, or delete the "
+                "checkpoint to run from the start"
+            )
     start = sum(d.size for d in log.dts)  # steps done before the first stop to run
     for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
@@ -441,6 +460,11 @@ def simulate(
         log.s_removed.append(n_removed)
         log.rule_counts.append(counts)
         log.exposures.append(exposure)
+        if stop.index in kept_maps:
+            log.maps[stop.index] = (
+                state.status.reshape(n_r, n_t).astype(np.int8),
+                state.height.reshape(n_r, n_t).astype(np.float32),
+            )
         if checkpoint and stop.index % checkpoint_every == 0 and stop.index < len(stops):
             save_checkpoint(
                 checkpoint,
@@ -475,10 +499,47 @@ def simulate(
         kernel_stops={kernel: len(log.dts)},  # one kernel runs every stop
         contact_fallbacks=int(state.lazy_walk[6]),
         fibre_exposure=log.exposures if state.fibres is not None else None,
+        maps={k: log.maps[k] for k in kept_maps},
     )
     if checkpoint and not keep_checkpoint:
         Path(checkpoint).unlink(missing_ok=True)
     return RunResult(config=config, seed=seed, dataset=dataset)
+
+
+def map_stops(maps_at: Iterable[int], n_stops: int, *, name: str = "maps_at") -> list[int]:
+    """``maps_at`` (:func:`simulate`) checked against a cycle of ``n_stops`` stops.
+
+    Parameters
+    ----------
+    maps_at
+        Stop numbers [-], from 1.
+    n_stops
+        The cycle's stops [-].
+    name
+        What the errors call ``maps_at`` (``--maps-at`` on the command line).
+
+    Returns
+    -------
+    list of int
+        The stops, in order.
+
+    Raises
+    ------
+    ValueError
+        Not whole numbers from 1 to ``n_stops``, or a stop given twice.
+    """
+    if isinstance(maps_at, str | bytes) or not isinstance(maps_at, Iterable):
+        raise ValueError(f"{name}: expected stop numbers, e.g. [1, 50, 170], got {maps_at!r}")
+    stops = list(maps_at)
+    for k in stops:
+        if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k <= n_stops:
+            raise ValueError(
+                f"{name}: stop {k!r} is not a stop of this cycle (whole numbers from 1 to "
+                f"{n_stops})"
+            )
+    if len(set(stops)) < len(stops):
+        raise ValueError(f"{name}: a stop is given twice ({stops})")
+    return sorted(int(k) for k in stops)
 
 
 # --- checkpoints -------------------------------------------------------------------------
@@ -559,6 +620,13 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         log_s_removed=np.asarray(log.s_removed, dtype=np.int64),
         log_rule_counts=np.stack(log.rule_counts),
         log_exposures=np.array(log.exposures, dtype=np.float64).reshape(-1, len(Exposure._fields)),
+        log_map_stops=np.array(sorted(log.maps), dtype=np.int64),
+        log_map_status=np.array([log.maps[k][0] for k in sorted(log.maps)], dtype=np.int8).reshape(
+            -1, *initial_status.shape
+        ),
+        log_map_height=np.array(
+            [log.maps[k][1] for k in sorted(log.maps)], dtype=np.float32
+        ).reshape(-1, *initial_status.shape),
     )
     meta = {
         "format": CHECKPOINT_FORMAT,
@@ -649,6 +717,10 @@ def load_checkpoint(path, config, seed, grid):
             Exposure(int(e[0]), float(e[1]), float(e[2]), int(e[3]), float(e[4]))
             for e in arrays["log_exposures"]
         ],
+        maps={
+            int(k): (arrays["log_map_status"][i], arrays["log_map_height"][i])
+            for i, k in enumerate(arrays.get("log_map_stops", ()))
+        },
     )
     return state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"])
 

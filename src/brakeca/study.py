@@ -792,7 +792,10 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
     list of Path
         ``mu_per_stop.png`` (the mean COF of each stop run, paper Figure 10 for
         one run), ``steps.png`` (the thinned per-step COF and pad normal force against the
-        braking time [s]) and ``maps.png`` (the initial and final plateau maps).
+        braking time [s]) and ``maps.png`` (the initial and final plateau maps); for a run
+        that kept maps after chosen stops (``simulate(maps_at=)``, ``brakeca simulate
+        --maps-at``) also ``maps_by_stop.png``, the map before the first stop and after each
+        of those, one under the other.
     """
     from brakeca.plotting import plot_cof_series, plot_fibre_maps, plot_mu_per_stop
 
@@ -825,6 +828,15 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
         paths[2],
         ncols=1,
     )
+    if "map_status" in ds:
+        blocks = ds["block"].to_series() if "block" in ds.coords else None
+        maps = {"before the first stop": (ds["initial_status"].to_numpy(), radius, angle)}
+        for k in ds["map_stop"].to_numpy():
+            where = f" ({blocks.loc[int(k)]})" if blocks is not None else ""
+            status = ds["map_status"].sel(map_stop=k).to_numpy()
+            maps[f"after stop {int(k)}{where}"] = (status, radius, angle)
+        paths.append(out / "maps_by_stop.png")
+        plot_fibre_maps(maps, paths[-1], ncols=1)
     return paths
 
 

@@ -152,3 +152,60 @@ def test_the_command_line_refuses_a_checkpoint_it_would_lose_or_misread(tmp_path
     assert run.exists()
     res = CliRunner().invoke(app, [*args, "-o", str(tmp_path / "t.nc"), "--checkpoint-every", "2"])
     assert res.exit_code == 2 and "give --checkpoint too" in res.output
+
+
+def test_maps_after_chosen_stops_survive_a_resume_and_change_nothing_else(tmp_path):
+    """simulate(maps_at=) keeps the status and height maps after the stops asked for; the
+    maps of stops before a checkpoint are in it, so a killed run resumes with them (its file
+    identical to the uninterrupted run's); without maps_at the run is the same but for them.
+    A resume that would lack a map (asked for only now) is refused, naming the stop."""
+    from conftest import short_cycle
+
+    config = load_preset().with_updates(
+        {
+            "mesh.n_radial": 4,
+            "mesh.n_angular": 200,
+            "WP": 1e-13,
+            "S": 0.5,
+            "cycle": short_cycle(stops=5, v0=30, v1=4, g=0.3),
+        }
+    )
+    plain = simulate(config, seed=3)
+    whole = simulate(config, seed=3, maps_at=[5, 2, 1])
+    maps = whole.dataset[["map_status", "map_height"]]
+    assert list(maps["map_stop"].values) == [1, 2, 5]
+    assert maps["map_status"].dtype == "int8" and maps["map_height"].attrs["units"] == "m"
+    xr.testing.assert_identical(
+        maps["map_status"].sel(map_stop=5, drop=True).rename("final_status").drop_attrs(),
+        whole.dataset["final_status"].drop_attrs(),
+    )
+    assert (maps["map_height"].sel(map_stop=1) > maps["map_height"].sel(map_stop=5)).any()  # wear
+    xr.testing.assert_identical(
+        _no_wall(whole.dataset.drop_vars(["map_status", "map_height", "map_stop"])),
+        _no_wall(plain.dataset),
+    )
+    ckpt = tmp_path / "run.ckpt.npz"
+
+    def die_after_three(done, total):
+        if done == 3:
+            raise Killed
+
+    with pytest.raises(Killed):
+        simulate(
+            config,
+            seed=3,
+            checkpoint=ckpt,
+            checkpoint_every=1,
+            progress=die_after_three,
+            maps_at=[1, 2, 5],
+        )
+    with pytest.raises(ValueError, match=r"maps_at: stop 3 ran before the checkpoint"):
+        simulate(config, seed=3, checkpoint=ckpt, maps_at=[1, 3])
+    resumed = simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, maps_at=[1, 2, 5])
+    xr.testing.assert_identical(_no_wall(resumed.dataset), _no_wall(whole.dataset))
+    back = type(whole).from_netcdf(whole.to_netcdf(tmp_path / "run.nc"))
+    xr.testing.assert_identical(
+        _no_wall(back.dataset[["map_status", "map_height"]]), _no_wall(maps)
+    )
+    with pytest.raises(ValueError, match=r"maps_at: stop 6 is not a stop of this cycle"):
+        simulate(config, seed=3, maps_at=[6])

@@ -335,3 +335,31 @@ def test_a_demand_above_a_floorless_laws_maximum_names_the_law(small, kernel):
     message = str(err.value)
     assert "friction.mu_min = 0" in message and "no disc position carries it" in message
     assert "no plateau cell" not in message and "bar_length" not in message
+
+
+def test_cli_simulate_keeps_maps_after_the_stops_asked_and_plot_draws_them(tmp_path):
+    """--maps-at keeps the status and height maps after chosen stops in the run file (the
+    last one equal to the final map); 'brakeca plot' then draws them one under the other.
+    Stops the cycle does not have, or text, are refused before any work."""
+    from campaign_helpers import TINY_CLI
+
+    tiny = TINY_CLI[: TINY_CLI.index("--executor")]  # simulate has no executor
+    runner = CliRunner()
+    path = tmp_path / "r.nc"
+    res = runner.invoke(app, ["simulate", "-o", str(path), *tiny, "--maps-at", "2,1"])
+    assert res.exit_code == 0, res.output
+    ds = RunResult.from_netcdf(path).dataset
+    assert list(ds["map_stop"].values) == [1, 2] and ds["map_status"].shape == (2, 5, 100)
+    np.testing.assert_array_equal(ds["map_status"].sel(map_stop=2), ds["final_status"])
+    res = runner.invoke(app, ["plot", str(path)])
+    assert res.exit_code == 0, res.output
+    assert (tmp_path / "r_figures" / "maps_by_stop.png").read_bytes().startswith(b"\x89PNG")
+    for maps, message in (
+        ("3", "--maps-at: stop 3 is not a stop of this cycle (whole numbers from 1 to 2)"),
+        ("1,1", "--maps-at: a stop is given twice"),
+        ("1;2", "--maps-at '1;2': expected stop numbers separated by commas"),
+    ):
+        other = tmp_path / "other.nc"
+        res = runner.invoke(app, ["simulate", "-o", str(other), *tiny, "--maps-at", maps])
+        assert res.exit_code == 2 and message in res.output, (maps, res.output)
+        assert not other.exists()
