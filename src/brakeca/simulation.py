@@ -371,7 +371,8 @@ def simulate(
         Stops (numbered from 1) after which to keep the pad's status and height maps, at the
         stop's end after rule S (the run file's ``map_status`` and ``map_height`` along
         ``map_stop``), to show how the plateaus develop over the cycle. Keeping them changes
-        nothing else of the run.
+        nothing else of the run. Each map costs 5 bytes a cell in memory and in the file
+        (1 MB at the paper's full resolution).
 
     Returns
     -------
