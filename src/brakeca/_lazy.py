@@ -1182,9 +1182,10 @@ def _walk(
         if f >= target:
             return zc
         z_next = evt[1]
-        if z_next == -math.inf and mu_min == 0.0:
+        if z_next == -math.inf and mu_min == 0.0 and slope > 0.0:
             # every cell is past its floor, where mu(p) p = 0: F stays below the target (the
-            # round-off left in df would put a root far away); the exact scan says no root
+            # round-off left in df would put a root far away); the exact scan says no root.
+            # (With slope = 0 no cell has a floor, mu = mu_0: F rises without bound.)
             return -math.inf
         delta = _local_step(f, df, q, target)
         if delta == delta and delta >= 0.0 and zc - delta >= z_next:

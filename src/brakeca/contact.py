@@ -173,10 +173,11 @@ def first_root_binned(
         z_next = h_a if h_a > zf else zf
         w_max = z_hi - z_next
         rest = target - f
-        if mu_min == 0.0 and not (w_max < math.inf):
+        if mu_min == 0.0 and slope > 0.0 and not (w_max < math.inf):
             # every cell is past its floor, where mu(p) p = 0: F stays at f (0 but for
             # round-off, which could leave d a little above 0 and put a root far away), below
-            # the target; with mu_min = 0 the friction force has a maximum the demand exceeds
+            # the target; with mu_min = 0 the friction force has a maximum the demand exceeds.
+            # (With slope = 0 no cell has a floor, mu = mu_0: F rises without bound.)
             return z_hi, a, SOLVE_NO_ROOT
         # F(w) = f + d w - q w^2 <= f + d w_max on the interval: when that bound stays below the
         # target (the usual case: intervals are short) no root lies here and the quadratic is

@@ -227,3 +227,50 @@ def test_the_flat_punch_reference_refuses_a_force_no_pressure_gives():
         flat_punch_pressure(1.01 * peak, 1e-3, **law)
     with pytest.raises(ValueError, match="area must be above 0 m"):
         flat_punch_pressure(1.0, 0.0, **LAW)
+
+
+@pytest.mark.parametrize("mu_min", [0.0, 0.15])
+def test_a_constant_cof_law_has_a_root_at_any_load(mu_min):
+    """slope = 0 is a constant COF, mu = mu_0, whatever mu_min: the friction force rises
+    without bound, so a root exists at any load. With mu_min = 0 both solvers had taken the
+    last interval for 'every cell past its floor' and reported no root (a helper's fuzzing;
+    with slope = 0 no cell has a floor). The flat punch carries p = F / (mu_0 A)."""
+    law = {"mu_0": 0.6, "slope": 0.0, "mu_min": mu_min}
+    area = np.full(50, 1e-8)
+    h = np.full(50, 1e-4)
+    for tau in (0.5e6, 50e6):
+        z = solve_disc_position(h, area, stiffness=1e11, target=tau * area.sum(), **law)
+        p = 1e11 * (1e-4 - z)
+        assert p == pytest.approx(tau / 0.6, rel=1e-12)
+        assert p == pytest.approx(flat_punch_pressure(tau * area.sum(), area.sum(), **law))
+
+
+def test_a_constant_cof_law_runs_on_both_kernels():
+    """The same law in a run: with mu_min = 0 the exact kernel had failed at the first step
+    ('no plateau cell can reach the disc'); both kernels now give MU = mu_0 and the same
+    run as with the floor at 0.15, which a constant 0.6 never reaches."""
+    from brakeca.presets import load_preset
+    from brakeca.simulation import simulate
+
+    base = load_preset("paper").with_updates(
+        {
+            "mesh.n_radial": 3,
+            "mesh.n_angular": 100,
+            "contact.elastic_modulus": 1e7,
+            "friction.slope": 0.0,
+            "cycle.max_stops": 1,
+        }
+    )
+    runs = {
+        (kernel, mu_min): simulate(
+            base.with_updates({"numerics.kernel": kernel, "friction.mu_min": mu_min}), seed=1
+        )
+        for kernel in ("exact", "lazy")
+        for mu_min in (0.0, 0.15)
+    }
+    for run in runs.values():
+        assert run.MU == pytest.approx(0.6, rel=1e-12)
+        assert float(run.dataset["max_friction_residual"]) < 1e-10
+    for kernel in ("exact", "lazy"):
+        assert runs[kernel, 0.0].V == runs[kernel, 0.15].V
+    assert runs["lazy", 0.0].V == pytest.approx(runs["exact", 0.0].V, rel=1e-9)
