@@ -316,6 +316,7 @@ def simulate(
     from brakeca.cycle import step_distance
     from brakeca.simulation import LedgerError, map_stops
     from brakeca.simulation import simulate as run_simulation
+    from brakeca.surface import FibreFieldError
     from brakeca.traces import configured_cycle, with_cycle
 
     if speed_unit is not None and cycle is None:
@@ -416,7 +417,7 @@ def simulate(
                 keep_checkpoint=True,  # removed below, once the run file is written
                 maps_at=kept_maps,
             )
-        except (ContactError, LedgerError) as exc:
+        except (ContactError, LedgerError, FibreFieldError) as exc:
             failure = (str(exc), 1)
         except ValueError as exc:  # a checkpoint of another run, or without a map asked for
             failure = (str(exc).replace("maps_at: ", "--maps-at: ", 1), 2)

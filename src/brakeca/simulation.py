@@ -23,6 +23,7 @@ import numpy as np
 
 from brakeca import _kernels as K
 from brakeca import _lazy
+from brakeca import _records as R
 from brakeca._io import CHECKPOINT_FORMAT, atomic_write, checkpoint_is_of, checkpoint_problem
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
@@ -34,6 +35,7 @@ from brakeca.surface import (
     PRIMARY,
     SECONDARY,
     FibreField,
+    FibreFieldError,
     Surface,
     deepen_fibre_field,
     generate_surface,
@@ -448,7 +450,10 @@ def simulate(
     for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
-        exposure = expose_fibres(state, config.pad, grid)
+        try:
+            exposure = expose_fibres(state, config.pad, grid)
+        except FibreFieldError as exc:
+            raise _field_error(exc, stop, config, float(rec[:, R.R_DISC].min())) from None
         flush += exposure.released
         summary, kept = summarise_stop(rec, dt, start, config.output.series_every)
         del rec  # not kept: the whole run's records would be 51 MB at full resolution
@@ -994,6 +999,23 @@ def _friction_maximum(config: SimulationConfig, plateau_area: float) -> tuple[st
         f"mu_0 / c, so the friction force has a maximum over the disc position"
     )
     return law, peak * plateau_area
+
+
+def _field_error(
+    exc: FibreFieldError, stop: Stop, config: SimulationConfig, lowest_disc: float
+) -> FibreFieldError:
+    """``exc`` of :func:`brakeca.surface.deepen_fibre_field` with the stop, the disc's lowest
+    position in it [m] and the fields that set how far the surface comes down."""
+    c, w = config.contact, config.wear
+    return FibreFieldError(
+        f"stop {stop.index} ({stop.block}): {exc}. The disc came down to "
+        f"{lowest_disc * 1e3:.3f} mm in this stop, and the resin above it was cut to it: the "
+        f"foundation's compliance (contact.elastic_modulus = {c.elastic_modulus:g} Pa, "
+        f"contact.bar_length = {c.bar_length:g} m) or the wear (wear.specific_wear_rate = "
+        f"{w.specific_wear_rate:g} m^2/N, wear.resin_wear_depth = {w.resin_wear_depth:g} m) "
+        "take the surface down faster than the field is laid; pad.fibre_model = 'columns' "
+        "has no such limit (docs/model.md §7)"
+    )
 
 
 def _raise_kernel_error(code, done, stop: Stop, targets, rec, config, state) -> None:

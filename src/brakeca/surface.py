@@ -31,6 +31,7 @@ __all__ = [
     "PRIMARY",
     "SECONDARY",
     "FibreField",
+    "FibreFieldError",
     "Surface",
     "deepen_fibre_field",
     "generate_surface",
@@ -43,6 +44,11 @@ SECONDARY = 2  #: secondary plateau (compacted wear particles)
 
 
 FIELD_SLAB = 2e-3  #: thickness of the slabs the fibre field is laid in, as wear needs [m]
+
+
+class FibreFieldError(RuntimeError):
+    """The pad surface came down past the fibre field laid ahead of it in one stop (more than
+    a slab, :data:`FIELD_SLAB`): fibres there would have been passed unseen."""
 
 
 @dataclass(frozen=True)
@@ -411,17 +417,18 @@ def deepen_fibre_field(
 
     Raises
     ------
-    RuntimeError
-        If ``lowest`` lies less than the largest fibre radius (``pad.fibre_diameter_max /
-        2``) above the field's last level: the surface wore into the unlaid slab in one stop.
+    FibreFieldError
+        (A ``RuntimeError``.) If ``lowest`` lies less than the largest fibre radius
+        (``pad.fibre_diameter_max / 2``) above the field's last level: the surface came
+        down into the unlaid slab in one stop.
     """
     if lowest - FIELD_SLAB >= -field.slabs * FIELD_SLAB:
         return field
     if lowest < -field.slabs * FIELD_SLAB + pad.fibre_diameter_max / 2:
-        raise RuntimeError(
+        raise FibreFieldError(
             f"the pad surface came down to {lowest * 1e3:.3f} mm, into the fibre field's "
-            f"unlaid slab (below {-field.slabs * FIELD_SLAB * 1e3:.3f} mm): it wore more than "
-            "a slab of the field in one stop"
+            f"unlaid slab (below {-field.slabs * FIELD_SLAB * 1e3:.3f} mm): it came down more "
+            f"than a slab of the field ({FIELD_SLAB * 1e3:g} mm, less a fibre radius) in one stop"
         )
     band = _Band.of(grid)
     n_cells = status.size

@@ -20,6 +20,7 @@ from brakeca.surface import (
     NONE,
     PRIMARY,
     SECONDARY,
+    FibreFieldError,
     _merge_intervals,
     deepen_fibre_field,
     generate_surface,
@@ -139,7 +140,7 @@ def test_deepening_drops_worn_intervals_and_extends_floors():
     # the new slab's fibres all lie below the first slab's axes
     r_max = config.pad.fibre_diameter_max / 2
     assert np.all(deeper.top[deeper.next[deeper.next < deeper.offsets[1:]]] <= -FIELD_SLAB + r_max)
-    with pytest.raises(RuntimeError, match="wore more than a slab"):
+    with pytest.raises(FibreFieldError, match="came down more than a slab"):
         deepen_fibre_field(deeper, config.pad, grid, -2.9 * FIELD_SLAB, status, height, floor)
 
 
@@ -276,3 +277,34 @@ def test_expected_fibre_counts_match_what_is_laid():
         slab = _lay_slab(config.pad, grid, _Band.of(grid), 4, 3)[3]
         assert laid == pytest.approx(expected["the surface"], rel=0.25)
         assert slab == pytest.approx(expected["each slab of the fibre field"], rel=0.25)
+
+
+def test_a_surface_that_comes_down_past_the_field_in_one_stop_is_a_clear_error(tmp_path):
+    """A soft foundation lets the disc sink 3.7 mm in the first stop and the resin cut
+    follows it, past the 2 mm the field is laid ahead: the run stops with a FibreFieldError
+    naming the stop, the disc's depth and the fields that set it (a helper's fuzzing: it had
+    been a bare RuntimeError that blamed wear, a traceback on the command line)."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+    from brakeca.simulation import simulate
+
+    soft = {
+        "mesh.n_radial": 3,
+        "mesh.n_angular": 100,
+        "contact.elastic_modulus": 1e7,
+        "pad.fibre_model": "field",
+        "cycle.max_stops": 1,
+    }
+    config = load_preset("paper").with_updates(soft)
+    with pytest.raises(FibreFieldError) as info:
+        simulate(config, seed=0)
+    message = str(info.value)
+    assert message.startswith("stop 1 (Burnish): the pad surface came down to -3.725 mm")
+    assert "The disc came down to -3.725 mm in this stop" in message
+    assert "contact.elastic_modulus = 1e+07 Pa" in message and "pad.fibre_model" in message
+    settings = [a for k, v in soft.items() if k != "cycle.max_stops" for a in ("--set", f"{k}={v}")]
+    out = tmp_path / "x.nc"
+    res = CliRunner().invoke(app, ["simulate", "-o", str(out), *settings, "--stops", "1"])
+    assert res.exit_code == 1 and "Traceback" not in res.output and not out.exists()
+    assert "error: stop 1 (Burnish): the pad surface came down" in res.output
