@@ -431,6 +431,13 @@ def simulate(
     out.print(f"MU = {result.MU:.4f}")
     out.print(f"V  = {result.V * 1e9:.6g} mm³ per stop")
     ds = result.dataset
+    from brakeca.geometry import make_grid
+
+    worn = float(ds["generated_volume"].sum())  # [m^3] of pad material: fibre and resin
+    out.print(
+        f"pad worn: {worn * 1e9:.6g} mm³, a mean depth of {worn / make_grid(config).area * 1e3:.4g}"
+        " mm over the band"
+    )
     out.print(
         f"ledger residual (max, relative) = {float(ds['max_ledger_residual']):.2e}; "
         f"friction residual (max) = {float(ds['max_friction_residual']):.2e}"

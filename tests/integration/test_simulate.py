@@ -363,3 +363,25 @@ def test_cli_simulate_keeps_maps_after_the_stops_asked_and_plot_draws_them(tmp_p
         res = runner.invoke(app, ["simulate", "-o", str(other), *tiny, "--maps-at", maps])
         assert res.exit_code == 2 and message in res.output, (maps, res.output)
         assert not other.exists()
+
+
+def test_cli_simulate_says_how_much_pad_wore(tmp_path):
+    """The pad's worn volume (fibre and resin, the run's generated volume) and the mean depth
+    it makes over the band, which the run file gives only as volumes per stop."""
+    import re
+
+    from campaign_helpers import TINY_CLI
+
+    from brakeca.geometry import make_grid
+
+    tiny = TINY_CLI[: TINY_CLI.index("--executor")]
+    path = tmp_path / "r.nc"
+    res = CliRunner().invoke(app, ["simulate", "-o", str(path), *tiny])
+    assert res.exit_code == 0, res.output
+    match = re.search(r"pad worn: (\S+) mm³, a mean depth of (\S+) mm over the band", res.output)
+    assert match is not None, res.output
+    run = RunResult.from_netcdf(path)
+    worn = float(run.dataset["generated_volume"].sum())
+    assert float(match[1]) == pytest.approx(worn * 1e9, rel=1e-5)
+    depth = worn / make_grid(run.config).area
+    assert float(match[2]) == pytest.approx(depth * 1e3, rel=1e-3) and depth > 0
