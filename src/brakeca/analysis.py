@@ -82,7 +82,7 @@ ANOVA_COLUMNS: tuple[str, ...] = (
 )
 
 #: Relative tolerance used to match a value in the summary to one of a factor's levels.
-_LEVEL_RTOL = 1e-6
+_LEVEL_RTOL = 1e-6  # brakeca.design.LEVEL_RTOL (a test checks they agree)
 
 
 @dataclass(frozen=True)
@@ -650,6 +650,11 @@ def _fit_anova(
                 try:
                     if typ == 2 and fit.df_resid >= 0.5:
                         table = anova_lm(fit, typ=2)
+                        if table.drop(index="Residual")["sum_sq"].isna().any():
+                            # an exact fit (no residual): anova_lm's Wald tests divide by a
+                            # zero scale; the nested fits give the same Type II sums
+                            table = _column_table(frame, terms, fit, typ=2)
+                            caught[:] = [w for w in caught if "full rank" not in str(w.message)]
                     else:  # anova_lm cannot run without residual degrees of freedom
                         table = _column_table(frame, terms, fit, typ=typ)
                 except (ValueError, np.linalg.LinAlgError):
@@ -840,6 +845,11 @@ def anova(
     saturated = df_resid < 0.5
     if saturated:
         notes.append("saturated model (0 residual df): F and p cannot be computed")
+    elif float(table.loc["Residual", "sum_sq"]) == 0.0 and not constant:
+        notes.append(
+            "exact fit: the model leaves no residual scatter (residual sum of squares 0), so "
+            "F is infinite and p 0 for every term with a sum of squares above 0"
+        )
 
     out = pd.DataFrame(
         {

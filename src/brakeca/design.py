@@ -163,6 +163,10 @@ RESERVED_NAMES: frozenset[str] = frozenset(
     }
 )
 
+#: Two levels of a factor closer than this, relative [-], are one level to the analysis
+#: (``brakeca.analysis``, which matches a run's value to a level within it).
+LEVEL_RTOL = 1e-6
+
 #: Rows of the analysis's ANOVA table that are not factors' terms (brakeca.analysis).
 _ANOVA_TERMS = frozenset({"Residual", "Curvature"})
 
@@ -434,6 +438,12 @@ class Factor(_Frozen):
     def _unique(cls, value: tuple[int | float, ...]) -> tuple[int | float, ...]:
         if len(set(value)) != len(value):
             raise ValueError(f"levels must all differ, got {list(value)}")
+        for a, b in itertools.combinations(value, 2):
+            if math.isclose(a, b, rel_tol=LEVEL_RTOL, abs_tol=0.0):
+                raise ValueError(
+                    f"levels {a!r} and {b!r} differ by less than {LEVEL_RTOL:g} of their "
+                    f"size, which the analysis reads as one level; got {list(value)}"
+                )
         return value
 
     @field_validator("coded_range", mode="before")
@@ -1318,10 +1328,14 @@ def _composite_table(
     levels: list[list[float]] = []
     for name, low, high, coding in factors:
         values = [_decode(low, high, coding, x) for x in coded]
-        if any(b <= a for a, b in itertools.pairwise(values)):
+        if any(
+            b <= a or math.isclose(a, b, rel_tol=LEVEL_RTOL, abs_tol=0.0)
+            for a, b in itertools.pairwise(values)
+        ):
             raise ValueError(
                 f"composite.alpha: alpha = {alpha!r} puts factor {name!r}'s axial levels on "
-                "its cube levels; give alpha = 1 (face) or a larger one"
+                f"its cube levels (or within {LEVEL_RTOL:g} of them, which the analysis reads "
+                "as one level); give alpha = 1 (face) or a larger one"
             )
         levels.append(values)
     cube = [combo[::-1] for combo in itertools.product((-1.0, 1.0), repeat=k)]

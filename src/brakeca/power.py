@@ -30,7 +30,7 @@ from __future__ import annotations
 import itertools
 import math
 import numbers
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -102,6 +102,12 @@ def _check(
 
 def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[int]:
     """The replicates to evaluate, checked: by default 1 to 5, and up to the design's own."""
+    if replicates is not None and (
+        isinstance(replicates, str | bytes) or not isinstance(replicates, Iterable)
+    ):
+        raise ValueError(
+            f"replicates: expected a list of whole numbers, e.g. [2], got {replicates!r}"
+        )
     counts = (
         list(replicates)
         if replicates is not None

@@ -1022,3 +1022,19 @@ def test_a_design_given_for_its_factors_is_named() -> None:
     rows = pd.DataFrame({"S": [0.0, 1.0], "MU": [0.3, 0.4], "status": "ok"})
     with pytest.raises(TypeError, match="factors: got the design 'paper', not its factors"):
         main_effects(rows, design, "MU")
+
+
+def test_an_exact_fit_has_its_type_ii_sums_of_squares():
+    """A response the model fits exactly (residual sum of squares 0) with residual df left:
+    Type II had given NaN sums of squares, F and p, a statsmodels note and a false
+    'unbalanced design' (a helper's fuzzing). Both types now give the term its sum of
+    squares, F infinite, p 0, and a note that says why."""
+    d = pd.DataFrame({"A": [20.0, 20.0, 10.0, 10.0], "y": [0.5, 0.5, -0.5, -0.5]})
+    d["status"] = "ok"
+    for typ in (2, 3):
+        out = anova(d, [Factor("A", (10.0, 20.0))], "y", typ=typ).set_index("term")
+        assert out.loc["A", "sum_sq"] == pytest.approx(1.0, rel=1e-12)
+        assert out.loc["A", "F"] == math.inf and out.loc["A", "p_value"] == 0.0
+        assert out.loc["Residual", "sum_sq"] == 0.0 and out.loc["Residual", "df"] == 2.0
+        assert out.attrs["note"].startswith("exact fit: the model leaves no residual scatter")
+        assert "statsmodels" not in out.attrs["note"] and "unbalanced" not in out.attrs["note"]

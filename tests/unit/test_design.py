@@ -1574,3 +1574,24 @@ def test_a_preset_name_given_as_base_config_is_told_the_key_for_it(tmp_path) -> 
     )
     with pytest.raises(ConfigError, match='a shipped preset is given as base = "paper"'):
         load_design(path)
+
+
+def test_levels_the_analysis_would_read_as_one_are_refused_before_any_run() -> None:
+    """Levels within 1e-6 of each other, relative, are one level to the analysis, which had
+    refused them with a traceback after every run was made (a helper's fuzzing): the design
+    is refused, naming the two levels; so is a composite alpha that puts its axial levels
+    that close to the cube's. The two tolerances are one."""
+    from brakeca import analysis
+    from brakeca.design import LEVEL_RTOL
+
+    assert analysis._LEVEL_RTOL == LEVEL_RTOL
+    base = {"name": "n", "base": "paper", "root_seed": 1}
+    mu0 = {"name": "mu0", "field": "friction.mu_0", "levels": [0.5, 0.7]}
+    close = {"name": "A", "levels": [10.0, 10.0000001]}
+    wide = {"name": "A", "levels": [10.0, 20.0]}
+    with pytest.raises(ConfigError, match=r"factors #1\.levels: levels 10\.0 and 10\.0000001 "):
+        design_from_dict({**base, "factors": [close, mu0]})
+    assert design_from_dict({**base, "factors": [{"name": "A", "levels": [10.0, 10.0001]}, mu0]})
+    with pytest.raises(ConfigError, match=r"composite\.alpha: alpha = 1\.0000001 puts factor"):
+        design_from_dict({**base, "factors": [mu0, wide], "composite": {"alpha": 1.0000001}})
+    assert design_from_dict({**base, "factors": [mu0, wide], "composite": {"alpha": 1.01}})
