@@ -308,8 +308,9 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
 
 
 def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design) -> str:
-    """Why a summary read back does not hold the campaign's runs (rows, run ids, levels and
-    status as ``campaign.nc`` and the design have them); empty when it does."""
+    """Why a summary read back does not hold the campaign's runs (rows, run ids, status,
+    levels, and every other value ``campaign.nc`` holds per run, as it and the design have
+    them); empty when it does."""
     if "run_id" not in summary.columns or "status" not in summary.columns:
         return "it has no run_id or status column"
     ids = [str(r) for r in summary["run_id"]]
@@ -328,4 +329,33 @@ def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design)
             return f"the column of factor {name} is missing"
         if summary[name].isna().any():
             return f"factor {name} has no level in some row"
+    # every column campaign.nc holds per run, value for value (a level, a response or a
+    # test number edited by hand had reached the analysis as it was, or as a traceback)
+    for key, values in dataset.variables.items():
+        name = str(key)
+        if name == "run" or tuple(values.dims) != ("run",):
+            continue
+        if name not in summary.columns:
+            return f"its column {name} is missing"
+        row = _first_difference(summary[name].to_numpy(), np.asarray(values.values))
+        if row is not None:
+            mine, theirs = summary[name].iloc[row], np.asarray(values.values)[row]
+            mine = mine.item() if isinstance(mine, np.generic) else mine
+            return (
+                f"its {name} in row {row + 1} is {mine!r}, where campaign.nc has {theirs.item()!r}"
+            )
     return ""
+
+
+def _first_difference(mine: np.ndarray, theirs: np.ndarray) -> int | None:
+    """The first row where a summary column ``mine`` differs from campaign.nc's ``theirs``
+    (numbers compared exactly, NaN equal to NaN; text as text), or None."""
+    if theirs.dtype.kind in "iuf":
+        ours = pd.to_numeric(pd.Series(mine), errors="coerce").to_numpy(dtype=float)
+        other = theirs.astype(float)
+        # text that is no number (a decimal comma) is NaN here, unlike campaign.nc's
+        same = (ours == other) | (np.isnan(ours) & np.isnan(other))
+    else:
+        same = np.array([str(a) == str(b) for a, b in zip(mine, theirs, strict=True)])
+    bad = np.flatnonzero(~same)
+    return int(bad[0]) if bad.size else None

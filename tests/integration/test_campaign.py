@@ -568,3 +568,38 @@ def test_a_dask_clients_executor_gets_no_more_runs_than_workers() -> None:
     assert real.__module__.split(".")[0] == "distributed"
     with cf.ThreadPoolExecutor(2) as pool:
         assert _backend(pool, 3, 10, **kw).window == 6
+
+
+def test_an_edited_value_of_the_summary_is_named(serial, tmp_path):
+    """A level, a response or a test number edited by hand (a spreadsheet's decimal comma,
+    text, a level the design lacks) had reached the analysis as it was, or as a traceback
+    (a helper's fuzzing): every value campaign.nc holds per run is checked, and the first
+    that differs is named."""
+    import csv
+
+    text = (serial.out_dir / "summary.csv").read_text(encoding="utf-8")
+    rows = list(csv.reader(io.StringIO(text)))
+    header = rows[0]
+    first = dict(zip(header, rows[1], strict=True))
+    for column, value, problem in (
+        ("S", "0.5", f"its S in row 1 is 0.5, where campaign.nc has {float(first['S'])!r}"),
+        ("A", "10,0", "its A in row 1 is '10,0', where campaign.nc has 10.0"),
+        ("MU", "high", "its MU in row 1 is 'high', where campaign.nc has"),
+        ("test", "one", "its test in row 1 is 'one', where campaign.nc has 1"),
+        ("MU", None, "its column MU is missing"),
+    ):
+        edited = [list(r) for r in rows]
+        k = header.index(column)
+        if value is None:
+            edited = [r[:k] + r[k + 1 :] for r in edited]
+        else:
+            edited[1][k] = value
+        buffer = io.StringIO()
+        csv.writer(buffer, lineterminator="\n").writerows(edited)
+        out = tmp_path / "campaign"
+        shutil.rmtree(out, ignore_errors=True)
+        shutil.copytree(serial.out_dir, out)
+        (out / "summary.csv").write_text(buffer.getvalue(), encoding="utf-8")
+        with pytest.raises(ValueError, match=re.escape(problem)):
+            load_campaign(out)
+    pd.testing.assert_frame_equal(load_campaign(serial.out_dir).summary, serial.summary)
