@@ -2467,8 +2467,16 @@ class Design(_Frozen):
         return config
 
     def _level_error(
-        self, factor: Factor, value: int | float, exc: ConfigError, source: str | None
+        self,
+        factor: Factor,
+        value: int | float,
+        exc: ConfigError,
+        source: str | None,
+        applied: Mapping[str, int | float] | None = None,
     ) -> ConfigError:
+        """The error of ``factor``'s level ``value``, which ``exc`` refused; ``applied`` are
+        the levels of the run's factors set before it (a level valid alone may not be with
+        them)."""
         where = source or f"design {self.name}"
         index = self.factor_names.index(factor.name)
         detail = str(exc).replace("\n", "; ")
@@ -2488,10 +2496,23 @@ class Design(_Frozen):
                 f"{list(factor.levels)}, is not valid: {detail}; give levels whose middle the "
                 "field takes, or remove center_points"
             )
+        shown = self._level_text(factor, value)
+        if applied:
+            shown += " with " + ", ".join(
+                f"{name} = {self._level_text(self.factor(name), v)}" for name, v in applied.items()
+            )
         return ConfigError(
             f"{where}: factors #{index + 1}.levels: factor {factor.name!r} (field {factor.field}): "
-            f"level {value!r} [{factor.unit}] is not valid: {detail}"
+            f"level {shown} is not valid: {detail}"
         )
+
+    @staticmethod
+    def _level_text(factor: Factor, value: int | float) -> str:
+        """A level as a message shows it: a categorical factor's choice (``'lazy'``), or the
+        value with its unit (``150 [%]``; no brackets without a unit)."""
+        if factor.choices is not None and value in factor.levels:
+            return repr(factor.choices[factor.levels.index(value)])
+        return f"{value!r} [{factor.unit}]" if factor.unit else repr(value)
 
     def apply_levels(
         self,
@@ -2509,12 +2530,14 @@ class Design(_Frozen):
             the field and the level.
         """
         config = base
+        applied: dict[str, int | float] = {}
         for factor in self.factors:
             value = levels[factor.name]
             try:
                 config = factor.apply(config, value)
             except ConfigError as exc:
-                raise self._level_error(factor, value, exc, source) from None
+                raise self._level_error(factor, value, exc, source, applied) from None
+            applied[factor.name] = value
         return config
 
     def check_levels(

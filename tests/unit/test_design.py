@@ -1595,3 +1595,27 @@ def test_levels_the_analysis_would_read_as_one_are_refused_before_any_run() -> N
     with pytest.raises(ConfigError, match=r"composite\.alpha: alpha = 1\.0000001 puts factor"):
         design_from_dict({**base, "factors": [mu0, wide], "composite": {"alpha": 1.0000001}})
     assert design_from_dict({**base, "factors": [mu0, wide], "composite": {"alpha": 1.01}})
+
+
+def test_a_combination_that_cannot_run_names_its_choices() -> None:
+    """Two categorical levels each valid alone but not together (the lazy kernel and the
+    fibre field) are refused when the run is made, before any runs: the message had read
+    "level 1 [] is not valid"; it names the choice and the levels it was set with."""
+    design = design_from_dict(
+        {
+            "name": "k",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "kernel", "field": "numerics.kernel", "levels": [0, 1],
+                 "choices": ["exact", "lazy"]},
+                {"name": "fibres", "field": "pad.fibre_model", "levels": [0, 1],
+                 "choices": ["columns", "field"]},
+            ],
+        }
+    )  # fmt: skip
+    with pytest.raises(ConfigError) as info:
+        design.points()
+    assert "factor 'fibres' (field pad.fibre_model): level 'field' with kernel = 'lazy' is not" in (
+        str(info.value)
+    )
