@@ -167,8 +167,11 @@ RESERVED_NAMES: frozenset[str] = frozenset(
 #: (``brakeca.analysis``, which matches a run's value to a level within it).
 LEVEL_RTOL = 1e-6
 
-#: Rows of the analysis's ANOVA table that are not factors' terms (brakeca.analysis).
-_ANOVA_TERMS = frozenset({"Residual", "Curvature"})
+#: Rows of the analysis's tables that are not factors' terms: the factorial ANOVA's
+#: (brakeca.analysis) and the response surface's ANOVA and coefficients (brakeca.rsm).
+_ANOVA_TERMS = frozenset(
+    {"Residual", "Curvature", "Model", "Linear", "Square", "Error", "Total", "Constant"}
+)
 
 _ORDER_TAG = 0x6F72646572  # "order": keeps the order permutation's stream apart from run seeds
 
@@ -393,7 +396,7 @@ class Factor(_Frozen):
             )
         if value in _ANOVA_TERMS:
             raise ValueError(
-                f"factor name {value!r} is a row of the analysis's ANOVA table (its terms "
+                f"factor name {value!r} is a row of the analysis's tables (its terms "
                 f"{', '.join(sorted(_ANOVA_TERMS))}), which the factor's row would be "
                 "mistaken for; name the factor otherwise"
             )

@@ -389,7 +389,9 @@ def test_report_wording_for_one_centre_point_and_for_pure_error_of_centre_points
     assert "1 centre point fitted by its own term" in lenth.attrs["note"]
 
 
-@pytest.mark.parametrize("name", ["Curvature", "Residual"])
+@pytest.mark.parametrize(
+    "name", ["Curvature", "Residual", "Model", "Linear", "Square", "Error", "Total", "Constant"]
+)
 def test_a_factor_cannot_be_named_after_an_anova_row(name) -> None:
     with pytest.raises(ConfigError, match=f"factor name '{name}' is a row of the analysis"):
         design_from_dict(
