@@ -756,10 +756,13 @@ class BrakingEvent:
             tau_end[1:] - tau_start,
             (dts[j_start] - tau_start) + (whole[j_end] - whole[j_start + 1]) + tau_end[1:],
         )
-        # within one interval of constant a: dt = dv / a, exactly as cycle.stop_steps
+        # within one interval of constant a: dt = dv / a, exactly as cycle.stop_steps, where
+        # dv stands above the speeds' round-off; at a speed constant but for round-off (a
+        # smoothed or merged hold: |a| ~ 1e-15 m/s^2) dv / a is round-off over round-off, 0 or
+        # of either sign, and the times of the ends are kept
         a_step = acc[j_end]
         dv = vx[1:] - vx[:-1]
-        exact = same & (a_step != 0.0)
+        exact = same & (a_step != 0.0) & (np.abs(dv) > 1e-9 * np.maximum(vx[1:], vx[:-1]))
         np.divide(dv, a_step, out=dt, where=exact)
         if np.any(dt <= 0.0):
             k = int(np.flatnonzero(dt <= 0.0)[0])

@@ -488,3 +488,26 @@ def test_cycle_inspect_cli(tmp_path):
 
 def test_round_numbers():
     assert math.isclose(MPH, 1609.344 / 3600)
+
+
+@pytest.mark.parametrize(
+    ("text", "smoothing"),
+    [
+        ("0,93\n1,90\n2,90\n3,68\n4,39\n5,18\n6,12\n", 1.0),  # a smoothed hold
+        ("0,72\n2,54\n2.5,54.00000000000001\n4.5,36\n", 0.0),  # a merged hold's last bit
+    ],
+)
+def test_a_hold_constant_but_for_round_off_has_finite_steps(tmp_path, text, smoothing):
+    """Smoothing (a cumulative sum's differences) or a merged hold leaves a speed constant but
+    for its last bit, |a| ~ 1e-15 m/s^2; the steps there had been cut with dt = dv / a, 0 or
+    negative, and the event raised 'step K has no duration' as a traceback in cycle inspect
+    and simulate (a helper's fuzzing: 11 of 60 measured-like 10 Hz traces with the
+    documented smoothing of 1 s). The steps now take the times of their ends there."""
+    trace = load_trace(_write(tmp_path, "time_s,speed_kmh\n" + text))
+    events = detect_events(trace, config=TraceCycleConfig(smoothing=smoothing))
+    assert len(events) == 1
+    s = step_distance(load_preset("paper"))
+    k = events[0].kinematics(s)
+    assert np.all(k.dt > 0) and np.all(np.isfinite(k.dt))
+    assert k.dt.sum() == pytest.approx(events[0].time[-1] - events[0].time[0], rel=1e-9)
+    assert (k.fraction.sum() * s) == pytest.approx(events[0].distance, rel=1e-9)
