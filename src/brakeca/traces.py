@@ -439,6 +439,14 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
             raise TraceError(
                 source, lineno, f"expected {len(header)} values, found {len(fields)}: {s!r}"
             )
+        if any(fields[len(header) :]):  # an empty value past the header's is a trailing delimiter
+            raise TraceError(
+                source,
+                lineno,
+                f"expected {len(header)} values, found more: {s!r} (a decimal comma in a "
+                f"file separated by {'commas' if delim == ',' else repr(delim)}? write decimal "
+                "points there, or separate the values with ';')",
+            )
         t = _parse_number(fields[cols["time"]], "time", source, lineno, decimal_comma=comma)
         v = _parse_number(fields[cols["speed"]], "speed", source, lineno, decimal_comma=comma)
         if v < 0.0:

@@ -92,7 +92,9 @@ def test_bad_values_name_the_field(updates, needle):
 def test_cycle_final_speed_above_initial(tmp_path):
     p = tmp_path / "c.csv"
     p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,50,60,0.3,2\n")
-    with pytest.raises(ConfigError, match=r"row 2.*final_speed_kmh \(60.0\) must be lower"):
+    with pytest.raises(
+        ConfigError, match=r"c.csv line 2: .*final_speed_kmh \(60.0\) must be lower"
+    ):
         load_cycle(p)
 
 

@@ -511,3 +511,33 @@ def test_a_hold_constant_but_for_round_off_has_finite_steps(tmp_path, text, smoo
     assert np.all(k.dt > 0) and np.all(np.isfinite(k.dt))
     assert k.dt.sum() == pytest.approx(events[0].time[-1] - events[0].time[0], rel=1e-9)
     assert (k.fraction.sum() * s) == pytest.approx(events[0].distance, rel=1e-9)
+
+
+def test_values_past_the_header_are_refused_not_dropped(tmp_path):
+    """A decimal comma in a comma-separated file splits a value in two, and the second half
+    had been dropped without a word: 50,5 km/h read as 50, and Excel's quoted "50,0" as 0,
+    in traces; 1,5 g as 1 g (with the stops shifted) in block cycles (a helper's fuzzing).
+    Such a line is refused, naming the file's line; a trailing delimiter is still fine. A
+    block cycle's errors name the file's line (comments and blank lines counted), an empty
+    one says so, and a block file need not be called .csv."""
+    from brakeca.presets import load_cycle
+
+    trunc = _write(tmp_path, "time_s,speed_kmh\n0,50,5\n1,40,9\n2,0\n")
+    with pytest.raises(TraceError, match=r"line 2: expected 2 values, found more: '0,50,5'"):
+        load_trace(trunc)
+    quoted = _write(tmp_path, 'time_s,speed_kmh\n"0,0","50,0"\n"1,0","0,0"\n', "q.csv")
+    with pytest.raises(TraceError, match="a decimal comma in a file separated by commas"):
+        load_trace(quoted)
+    trailing = load_trace(_write(tmp_path, "time_s,speed_kmh,\n0,50,\n10,0,\n", "t.csv"))
+    assert trailing.speed.tolist() == pytest.approx([50 / 3.6, 0.0])
+    header = "name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\n"
+    blocks = _write(tmp_path, header + "Town,50,4,1,5,20\n", "b.csv")
+    with pytest.raises(ConfigError, match=r"b.csv line 2: expected 5 values, found more \('20'"):
+        load_cycle(blocks)
+    with pytest.raises(ConfigError, match=r"e.csv: no block after the header"):
+        load_cycle(_write(tmp_path, header, "e.csv"))
+    late = _write(tmp_path, "# a comment\n\n" + header + "A,50,4,0.3,2\n\nB,50,60,0.3,1\n", "l.csv")
+    with pytest.raises(ConfigError, match=r"l.csv line 6: .*final_speed_kmh \(60.0\) must be"):
+        load_cycle(late)
+    txt = _write(tmp_path, header + "A,50,4,0.3,2\n", "blocks.txt")
+    assert [b.stops for b in load_cycle(txt).blocks] == [2]

@@ -55,9 +55,14 @@ def design_path(name: str) -> Path:
 def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
     """The blocks of a block-cycle CSV: comma, semicolon or tab separated; a semicolon or
     tab separated file may write decimal commas (``0,25``)."""
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    if not lines:
+    kept = [
+        (lineno, ln)
+        for lineno, ln in enumerate(text.splitlines(), start=1)
+        if ln.strip() and not ln.lstrip().startswith("#")
+    ]
+    if not kept:
         raise ConfigError(f"{source}: empty cycle file")
+    lines = [ln for _, ln in kept]
     delimiter = csv_delimiter(lines[0])
     reader = csv.DictReader(io.StringIO("\n".join(lines)), delimiter=delimiter)
     reader.fieldnames = [name.strip() for name in reader.fieldnames or ()]
@@ -66,7 +71,16 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
     if missing:
         raise ConfigError(f"{source}: missing column(s) {', '.join(sorted(missing))}")
     blocks = []
-    for lineno, row in enumerate(reader, start=2):
+    for row in reader:
+        lineno = kept[reader.line_num - 1][0]  # the file's line, comments and blanks counted
+        extra = [v for v in row.get(None) or () if v.strip()]
+        if extra:
+            raise ConfigError(
+                f"{source} line {lineno}: expected {len(reader.fieldnames)} values, found "
+                f"more ({', '.join(map(repr, extra))} past the header's): a decimal comma in "
+                "a file separated by commas? write decimal points there, or separate the "
+                "values with ';'"
+            )
         values = {k: (row[k] or "").strip() for k in expected}
         if delimiter != ",":
             values = {k: v if k == "name" else decimal_point(v) for k, v in values.items()}
@@ -78,8 +92,10 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
             from brakeca.config import format_validation_error
 
             if isinstance(exc, ValidationError):
-                raise ConfigError(format_validation_error(exc, f"{source} row {lineno}")) from None
+                raise ConfigError(format_validation_error(exc, f"{source} line {lineno}")) from None
             raise
+    if not blocks:
+        raise ConfigError(f"{source}: no block after the header (an empty cycle)")
     return tuple(blocks)
 
 
@@ -93,7 +109,7 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
     text: str
     p = Path(name_or_path)
     shipped = _ROOT.joinpath("cycles", f"{name_or_path}.csv")
-    if p.suffix.lower() == ".csv" and p.exists():
+    if p.is_file() and not (p.suffix == "" and shipped.is_file()):  # a file, whatever its suffix
         text, name, source = p.read_text(encoding="utf-8-sig"), p.stem, str(p)
     elif shipped.is_file():
         text, name, source = (
@@ -103,7 +119,7 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
         )
     else:
         raise ConfigError(
-            f"unknown cycle {str(name_or_path)!r}: not a CSV file nor a shipped cycle (paper)"
+            f"unknown cycle {str(name_or_path)!r}: no such file nor a shipped cycle (paper)"
         )
     return CycleConfig(name=name, blocks=_read_cycle_csv(text, source))
 
