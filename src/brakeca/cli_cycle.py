@@ -7,6 +7,7 @@ formats and the detection parameters are described in ``docs/cycles.md``.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -220,15 +221,18 @@ def inspect_cycle(
     table = Table(title="blocks", show_lines=False)
     for col in ("block", "stops", "v_on [km/h]", "v_off [km/h]", "a [m/s²]", "s per stop [m]"):
         table.add_column(escape(col), justify="left" if col == "block" else "right")
-    seen: dict[str, list[Stop]] = {}
-    for s in events:
-        assert isinstance(s, Stop)
-        seen.setdefault(s.block, []).append(s)
-    for block, stops in seen.items():
-        s = stops[0]
+    # a row per run of like stops: two blocks of one name apart in the cycle are two rows
+    # (one dict by name had counted both under the first's speeds and deceleration)
+    block_stops = [e for e in events if isinstance(e, Stop)]
+    runs = itertools.groupby(
+        block_stops, key=lambda e: (e.block, e.initial_speed, e.final_speed, e.deceleration)
+    )
+    for (block, *_), group in runs:
+        like = list(group)
+        s = like[0]
         table.add_row(
             block,
-            str(len(stops)),
+            str(len(like)),
             f"{s.initial_speed / KMH:.0f}",
             f"{s.final_speed / KMH:.0f}",
             f"{s.deceleration:.2f}",

@@ -541,3 +541,20 @@ def test_values_past_the_header_are_refused_not_dropped(tmp_path):
         load_cycle(late)
     txt = _write(tmp_path, header + "A,50,4,0.3,2\n", "blocks.txt")
     assert [b.stops for b in load_cycle(txt).blocks] == [2]
+
+
+def test_inspect_lists_two_blocks_of_one_name_apart(tmp_path):
+    """Blocks of one name apart in the cycle are two rows of cycle inspect's table: one row
+    per name had counted the second block's stops under the first's speeds (a helper's
+    fuzzing)."""
+    header = "name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\n"
+    path = _write(tmp_path, header + "Town,50,4,0.25,2\nHighway,150,80,0.4,1\nTown,100,0,0.5,3\n")
+    res = CliRunner().invoke(cycle_app, ["inspect", str(path)], env={"COLUMNS": "150"})
+    assert res.exit_code == 0, res.output
+    rows = [line.split("│")[1:-1] for line in res.output.splitlines() if line.startswith("│")]
+    table = [[c.strip() for c in r[:4]] for r in rows]
+    assert table == [
+        ["Town", "2", "50", "4"],
+        ["Highway", "1", "150", "80"],
+        ["Town", "3", "100", "0"],
+    ]
