@@ -322,6 +322,10 @@ def _split_header(text: str) -> tuple[str, str | None]:
     return low, None
 
 
+#: Column names that are a role alone (beside the role's own name), chosen among several.
+_PLAIN_NAMES = {"time": ("t",), "speed": ("v", "velocity", "vehicle_speed")}
+
+
 def _role(name: str) -> str | None:
     if name == "t" or "time" in name:
         return "time"
@@ -484,12 +488,28 @@ def _read_header(
 ) -> tuple[dict[str, int], float, float, str]:
     cols: dict[str, int] = {}
     units: dict[str, str | None] = {}
+    found: dict[str, list[tuple[int, str, str | None]]] = {}
     for k, title in enumerate(header):
         name, unit = _split_header(title)
         role = _role(name)
-        if role is not None and role not in cols:
-            cols[role] = k
-            units[role] = unit
+        if role is not None:
+            found.setdefault(role, []).append((k, name, unit))
+    for role, candidates in found.items():
+        # several columns of a role (wind_speed beside speed): the one named the role alone,
+        # else none is guessed (the first had been taken, a wind speed for the vehicle's)
+        plain = [c for c in candidates if c[1] == role or c[1] in _PLAIN_NAMES.get(role, ())]
+        if len(candidates) > 1 and len(plain) != 1:
+            titles = ", ".join(repr(header[c[0]]) for c in candidates)
+            raise TraceError(
+                source,
+                line,
+                f"several {role} columns ({titles}): name the vehicle's {role} column "
+                f"{role} alone (e.g. '{'speed_kmh' if role == 'speed' else 'time_s'}'), or "
+                "remove the others",
+            )
+        k, _, unit = plain[0] if len(candidates) > 1 else candidates[0]
+        cols[role] = k
+        units[role] = unit
     if "time" not in cols or "speed" not in cols:
         raise TraceError(
             source,

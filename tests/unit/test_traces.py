@@ -558,3 +558,20 @@ def test_inspect_lists_two_blocks_of_one_name_apart(tmp_path):
         ["Highway", "1", "150", "80"],
         ["Town", "3", "100", "0"],
     ]
+
+
+def test_of_several_speed_columns_the_vehicles_is_taken_or_none(tmp_path):
+    """A trace with a wind speed before the vehicle's had been read by its first speed
+    column, the wind's, and its 80 km/h stop missed (a helper's fuzzing): of several, the
+    column named speed alone (or vehicle_speed) is taken, an engine speed in rpm beside it
+    no longer stops the file, and several with none so named are refused, naming them."""
+    rows = "0,3,80\n5,3,0\n10,3,0\n"
+    wind = load_trace(_write(tmp_path, "time_s,wind_speed_ms,speed_kmh\n" + rows, "w.csv"))
+    assert wind.speed.tolist() == pytest.approx([80 / 3.6, 0.0, 0.0])
+    rpm = load_trace(
+        _write(tmp_path, "time_s,engine_speed [rpm],vehicle_speed [km/h]\n" + rows, "r.csv")
+    )
+    assert rpm.speed.tolist() == pytest.approx([80 / 3.6, 0.0, 0.0])
+    both = _write(tmp_path, "time_s,wind_speed_ms,gps_speed_kmh\n" + rows, "b.csv")
+    with pytest.raises(TraceError, match=r"several speed columns \('wind_speed_ms', 'gps_spe"):
+        load_trace(both)
