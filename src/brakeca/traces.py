@@ -898,7 +898,9 @@ def detect_events(
             spans.append([a, b])
     events: list[BrakingEvent] = []
     for a, b in spans:
-        if t[b] - t[a] < cfg.min_duration or not v[b] < v[a]:
+        # to the time stamps' round-off: 2.3 - 0.3 s is 1.9999999999999998 s, and a 2 s
+        # event had been kept or dropped by where it started
+        if t[b] - t[a] < cfg.min_duration - 1e-9 * max(1.0, abs(t[b])) or not v[b] < v[a]:
             continue
         block = trace.trip[a] if trace.trip is not None else trace.name
         events.append(

@@ -575,3 +575,25 @@ def test_of_several_speed_columns_the_vehicles_is_taken_or_none(tmp_path):
     both = _write(tmp_path, "time_s,wind_speed_ms,gps_speed_kmh\n" + rows, "b.csv")
     with pytest.raises(TraceError, match=r"several speed columns \('wind_speed_ms', 'gps_spe"):
         load_trace(both)
+
+
+def test_an_event_of_exactly_the_shortest_duration_is_kept_wherever_it_starts(tmp_path):
+    """A 2.0 s braking at 10 Hz is kept at min_duration = 2 s whether it starts at 0.3 s or
+    0.4 s: at 0.3 s its duration had come out 1.9999999999999998 s and the event dropped
+    (a helper's fuzzing)."""
+    kept = []
+    for start in (3, 4):  # tenths of a second
+        lines = ["time_s,speed_kmh"]
+        for k in range(60):
+            t = k / 10
+            if k <= start:
+                v = 80.0
+            elif k <= start + 20:
+                v = 80.0 - 0.72 * (k - start)
+            else:
+                v = 80.0 - 0.72 * 20
+            lines.append(f"{t:.1f},{v:.4f}")
+        trace = load_trace(_write(tmp_path, "\n".join(lines) + "\n", f"s{start}.csv"))
+        events = detect_events(trace, config=TraceCycleConfig(min_duration=2.0, threshold=0.3))
+        kept.append(len(events))
+    assert kept == [1, 1]
