@@ -264,7 +264,12 @@ class BrakeBlock(_Frozen):
     name: str = Field(min_length=1, description="block name")
     initial_speed_kmh: float = Field(gt=0, le=500, description="[km/h] speed at brake-on")
     final_speed_kmh: float = Field(ge=0, le=500, description="[km/h] speed at brake-off")
-    deceleration_g: float = Field(gt=0, le=2.0, description="[g] constant deceleration")
+    deceleration_g: float = Field(
+        ge=0.01,
+        le=2.0,
+        description="[g] constant deceleration (from 0.01 g: a stop of 200 km/h then lasts "
+        "under 10 minutes; 1e-9 g had asked for terabytes of time steps)",
+    )
     stops: int = Field(ge=1, le=100_000, description="[-] number of stops in the block")
 
     @model_validator(mode="after")

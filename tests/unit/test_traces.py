@@ -597,3 +597,15 @@ def test_an_event_of_exactly_the_shortest_duration_is_kept_wherever_it_starts(tm
         events = detect_events(trace, config=TraceCycleConfig(min_duration=2.0, threshold=0.3))
         kept.append(len(events))
     assert kept == [1, 1]
+
+
+def test_a_block_deceleration_too_small_to_simulate_is_refused(tmp_path):
+    """A block of 1e-9 g had passed (only > 0 was asked) and then asked for 29.5 TiB of time
+    steps in simulate, or hung cycle inspect -o (a helper's fuzzing): from 0.01 g, with the
+    range in the message."""
+    from brakeca.presets import load_cycle
+
+    header = "name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\n"
+    with pytest.raises(ConfigError, match=r"line 2: deceleration_g: must lie in \[0.01, 2\]"):
+        load_cycle(_write(tmp_path, header + "A,50,4,1e-9,1\n", "d.csv"))
+    assert load_cycle(_write(tmp_path, header + "A,50,4,0.01,1\n", "ok.csv")).blocks

@@ -92,7 +92,9 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
             from brakeca.config import format_validation_error
 
             if isinstance(exc, ValidationError):
-                raise ConfigError(format_validation_error(exc, f"{source} line {lineno}")) from None
+                raise ConfigError(
+                    format_validation_error(exc, f"{source} line {lineno}", BrakeBlock)
+                ) from None
             raise
     if not blocks:
         raise ConfigError(f"{source}: no block after the header (an empty cycle)")
