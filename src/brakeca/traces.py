@@ -86,7 +86,7 @@ SPEED_UNITS: dict[str, float] = {
     "mph": MPH,
 }
 #: Time units accepted in a header (normalised spelling -> s).
-TIME_UNITS: dict[str, float] = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "min": 60.0}
+TIME_UNITS: dict[str, float] = {"s": 1.0, "sec": 1.0, "ms": 1e-3, "min": 60.0, "h": 3600.0}
 
 #: Above this speed [m/s] (250 km/h) a drive-cycle trace is taken to be in the wrong unit.
 IMPLAUSIBLE_SPEED = 250.0 * KMH

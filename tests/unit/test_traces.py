@@ -124,7 +124,7 @@ GOOD = "time_s,speed_kmh\n0,0\n1,10\n2,20\n3,40\n4,60\n5,70\n"
         ("time,speed\n0,0\n1,10\n", 1, "states no unit"),
         ("time_s,speed [furlong/fortnight]\n0,0\n", 1, "unknown speed unit"),
         ("time_s,rpm\n0,0\n1,10\n", 1, "naming a time and a speed column"),
-        ("time [h],speed [km/h]\n0,0\n", 1, "unknown time unit"),
+        ("time [d],speed [km/h]\n0,0\n", 1, "unknown time unit"),
     ],
 )
 def test_bad_trace_names_line_and_problem(tmp_path, text, line, needle):
@@ -609,3 +609,12 @@ def test_a_block_deceleration_too_small_to_simulate_is_refused(tmp_path):
     with pytest.raises(ConfigError, match=r"line 2: deceleration_g: must lie in \[0.01, 2\]"):
         load_cycle(_write(tmp_path, header + "A,50,4,1e-9,1\n", "d.csv"))
     assert load_cycle(_write(tmp_path, header + "A,50,4,0.01,1\n", "ok.csv")).blocks
+
+
+def test_a_time_in_hours_is_read_as_hours(tmp_path):
+    """time_h had been read as seconds (its unit dropped) and the trace then refused with the
+    wrong diagnosis, while time [h] was refused as an unknown unit (a helper's fuzzing)."""
+    rows = "0,50\n0.001,40\n0.005,0\n"
+    for head in ("time_h", "time [h]"):
+        trace = load_trace(_write(tmp_path, f"{head},speed_kmh\n" + rows, "h.csv"))
+        assert trace.time.tolist() == pytest.approx([0.0, 3.6, 18.0])
