@@ -1195,6 +1195,7 @@ def load_cycle_source(
     text, _, name = _read_text(path_or_name)
     max_stops = config.cycle.max_stops
     if cycle_file_kind(text) == "blocks":
+        _no_speed_unit(speed_unit, str(path_or_name))
         cyc = load_cycle(path_or_name)
         full = expand_stops(config.with_updates({"cycle": {**cyc.model_dump(), "max_stops": None}}))
         stops = full if max_stops is None else full[:max_stops]
@@ -1249,6 +1250,17 @@ def _file_digest(path_or_name: str | Path) -> str:
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
+def _no_speed_unit(speed_unit: str | None, name: str) -> None:
+    """A speed unit given for a block cycle, whose columns state theirs, is refused (it had
+    been ignored without a word)."""
+    if speed_unit is not None:
+        raise ConfigError(
+            f"{name} is a block cycle, whose speeds are in km/h by its columns "
+            "(initial_speed_kmh, final_speed_kmh): a speed unit (speed_unit, --speed-unit) "
+            "is for a speed trace; remove it"
+        )
+
+
 def with_cycle(
     config: SimulationConfig, path_or_name: str | Path, *, speed_unit: str | None = None
 ) -> SimulationConfig:
@@ -1286,6 +1298,7 @@ def with_cycle(
     if cycle_file_kind(text) == "blocks":
         from brakeca.presets import load_cycle
 
+        _no_speed_unit(speed_unit, str(path_or_name))
         cycle = {**load_cycle(path_or_name).model_dump(), **keep}
     else:
         load_trace(path_or_name, speed_unit=speed_unit)  # validate now

@@ -618,3 +618,18 @@ def test_a_time_in_hours_is_read_as_hours(tmp_path):
     for head in ("time_h", "time [h]"):
         trace = load_trace(_write(tmp_path, f"{head},speed_kmh\n" + rows, "h.csv"))
         assert trace.time.tolist() == pytest.approx([0.0, 3.6, 18.0])
+
+
+def test_a_speed_unit_with_a_block_cycle_is_refused(tmp_path):
+    """A block cycle states its speeds' unit in its columns; --speed-unit beside one had been
+    ignored without a word (a helper's fuzzing)."""
+    from brakeca.traces import with_cycle
+
+    header = "name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\n"
+    path = _write(tmp_path, header + "A,50,4,0.3,2\n", "b.csv")
+    config = load_preset("paper")
+    with pytest.raises(ConfigError, match=r"b.csv is a block cycle, whose speeds are in km/h"):
+        with_cycle(config, path, speed_unit="m/s")
+    with pytest.raises(ConfigError, match=r"a speed unit .* is for a speed trace"):
+        load_cycle_source(path, config, speed_unit="km/h")
+    assert with_cycle(config, path).cycle.blocks[0].stops == 2
