@@ -426,12 +426,16 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
     speeds: list[float] = []
     trips: list[str] = []
     lines: list[int] = []
+    named: str | None = None  # the separator an Excel "sep=;" line names
     for lineno, raw in enumerate(text.splitlines(), start=1):
         s = raw.strip()
         if not s or s.startswith("#"):
             continue
+        if header is None and named is None and s.lower().startswith("sep="):
+            named = raw.strip("\r\n ")[4:5] or ","
+            continue
         if header is None:
-            delim = csv_delimiter(s)
+            delim = named or csv_delimiter(s)
             comma = delim != ","  # a semicolon or tab separated file may use decimal commas
             header = [c.strip() for c in s.split(delim)]
             header_line = lineno
@@ -1117,12 +1121,13 @@ def cycle_file_kind(text: str) -> Literal["blocks", "trace"]:
     Returns
     -------
     str
-        ``"blocks"`` when its first line that is neither blank nor a ``#`` comment names
-        ``initial_speed_kmh``; ``"trace"`` otherwise (also for a file without such a line).
+        ``"blocks"`` when its first line that is neither blank, a ``#`` comment nor an Excel
+        ``sep=`` line names ``initial_speed_kmh``; ``"trace"`` otherwise (also for a file
+        without such a line).
     """
     for raw in text.splitlines():
         s = raw.strip()
-        if s and not s.startswith("#"):
+        if s and not s.startswith("#") and not s.lower().startswith("sep="):
             return "blocks" if "initial_speed_kmh" in s.lower() else "trace"
     return "trace"
 

@@ -633,3 +633,17 @@ def test_a_speed_unit_with_a_block_cycle_is_refused(tmp_path):
     with pytest.raises(ConfigError, match=r"a speed unit .* is for a speed trace"):
         load_cycle_source(path, config, speed_unit="km/h")
     assert with_cycle(config, path).cycle.blocks[0].stops == 2
+
+
+def test_an_excel_sep_line_names_the_separator(tmp_path):
+    """Excel writes 'sep=;' above the header of a CSV it saves for another locale; a trace
+    or block file with one had been read with that line as its header and refused."""
+    from brakeca.presets import load_cycle
+    from brakeca.traces import cycle_file_kind
+
+    trace = load_trace(_write(tmp_path, "sep=;\ntime_s;speed_kmh\n0;50,5\n5;0\n", "t.csv"))
+    assert trace.speed.tolist() == pytest.approx([50.5 / 3.6, 0.0])
+    text = "sep=;\nname;initial_speed_kmh;final_speed_kmh;deceleration_g;stops\nA;50;4;0,3;2\n"
+    assert cycle_file_kind(text) == "blocks"
+    block = load_cycle(_write(tmp_path, text, "b.csv")).blocks[0]
+    assert (block.deceleration_g, block.stops) == (0.3, 2)

@@ -60,10 +60,13 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
         for lineno, ln in enumerate(text.splitlines(), start=1)
         if ln.strip() and not ln.lstrip().startswith("#")
     ]
+    named = None  # the separator an Excel "sep=;" line names
+    if kept and kept[0][1].strip().lower().startswith("sep="):
+        named = kept.pop(0)[1].strip("\r\n ")[4:5] or ","
     if not kept:
         raise ConfigError(f"{source}: empty cycle file")
     lines = [ln for _, ln in kept]
-    delimiter = csv_delimiter(lines[0])
+    delimiter = named or csv_delimiter(lines[0])
     reader = csv.DictReader(io.StringIO("\n".join(lines)), delimiter=delimiter)
     reader.fieldnames = [name.strip() for name in reader.fieldnames or ()]
     expected = {"name", "initial_speed_kmh", "final_speed_kmh", "deceleration_g", "stops"}
