@@ -114,6 +114,7 @@ from brakeca.config import (
     csv_delimiter,
     decimal_point,
     format_validation_error,
+    item_path,
     load_config,
 )
 
@@ -797,7 +798,7 @@ def _parse_generators(
         )
     parsed: list[_Generator] = []
     for i, text in enumerate(generators):
-        key = f"generators #{i + 1}"
+        key = item_path(("generators", i))
         match = _GENERATOR.fullmatch(text)
         if match is None or not match.group(1).isidentifier():
             raise ValueError(f"{key}: cannot read {text!r}: {_GENERATOR_FORM}")
@@ -830,18 +831,19 @@ def _parse_generators(
     for g in parsed:
         if g.target in generated:
             raise ValueError(
-                f"generators #{g.position + 1}: factor {g.target!r} is generated twice (also by "
-                f"generators #{generated[g.target] + 1})"
+                f"{item_path(('generators', g.position))}: "
+                f"factor {g.target!r} is generated twice (also by "
+                f"{item_path(('generators', generated[g.target]))})"
             )
         generated[g.target] = g.position
     for g in parsed:
-        key = f"generators #{g.position + 1}"
+        key = item_path(("generators", g.position))
         for name in g.word:
             if name in generated:
                 raise ValueError(
                     f"{key}: factor {name!r} in the word of {generators[g.position]!r} is itself "
-                    f"generated (by generators #{generated[name] + 1}); a word uses base factors "
-                    "only"
+                    f"generated (by {item_path(('generators', generated[name]))}); a word uses "
+                    "base factors only"
                 )
         for name in (g.target, *g.word):
             if n_levels[name] != 2:
@@ -907,7 +909,7 @@ def _check_resolution(parsed: tuple[_Generator, ...], names: tuple[str, ...]) ->
         return
     first, second = (names[k] for k in _word_key(word.mask, len(names)))
     used = [g for k, g in enumerate(parsed) if word.generators >> k & 1]
-    keys = ", ".join(f"generators #{g.position + 1}" for g in used)
+    keys = ", ".join(item_path(("generators", g.position)) for g in used)
     # a product of m generators holds their m generated factors: a pair is one generator
     # with a single base factor, or two generators with the same word
     why = (
@@ -1083,7 +1085,7 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
         row: dict[str, Any] = {}
         for name, cell in zip(header, cells, strict=True):
             factor = by_name[name]
-            key = f"{at}, column {name!r} (runs #{len(rows) + 1}.{name})"
+            key = f"{at}, column {name!r} ({item_path(('runs', len(rows), name))})"
             if not cell:
                 raise ConfigError(f"{key}: no value; each run gives every factor a level")
             number = decimal_point(cell) if delimiter != "," else cell
@@ -1706,11 +1708,12 @@ class Design(_Frozen):
         for r, row in enumerate(runs):
             if not isinstance(row, Mapping):
                 raise ValueError(
-                    f"runs #{r + 1}: expected a table {{factor = level, ...}}, got {row!r}"
+                    f"{item_path(('runs', r))}: "
+                    f"expected a table {{factor = level, ...}}, got {row!r}"
                 )
             values: dict[str, Any] = {}
             for name, value in row.items():
-                key = f"runs #{r + 1}.{name}"
+                key = item_path(("runs", r, name))
                 if known is not None and name not in known:
                     raise ValueError(
                         f"{key}: unknown factor {name!r} (factors: {', '.join(known)})"
@@ -1762,7 +1765,8 @@ class Design(_Frozen):
                 return data  # the factor's own error follows
             if len(f["levels"]) != 2:
                 raise ValueError(
-                    f"factors #{i + 1}.levels: factor {f.get('name')!r}: a Plackett-Burman design "
+                    f"{item_path(('factors', i, 'levels'))}: "
+                    f"factor {f.get('name')!r}: a Plackett-Burman design "
                     f"takes two levels per factor, got {list(f['levels'])}"
                 )
             levels.append((f.get("name"), f["levels"]))
@@ -1823,7 +1827,7 @@ class Design(_Frozen):
                 f = f.model_dump(exclude_none=True)
             if not isinstance(f, Mapping) or not isinstance(f.get("name"), str):
                 return data  # the factor's own error follows
-            key, name = f"factors #{i + 1}", f["name"]
+            key, name = item_path(("factors", i)), f["name"]
             if f.get("choices") is not None or f.get("field") == "cycle":
                 raise ValueError(
                     f"{key}.choices: factor {name!r} is categorical; a {title} takes numeric "
@@ -1877,14 +1881,15 @@ class Design(_Frozen):
         for i, factor in enumerate(self.factors):
             if factor.name in seen:
                 raise ValueError(
-                    f"factors #{i + 1}.name: duplicate factor name {factor.name!r} "
-                    f"(also factors #{seen[factor.name] + 1})"
+                    f"{item_path(('factors', i, 'name'))}: duplicate factor name {factor.name!r} "
+                    f"(also {item_path(('factors', seen[factor.name]))})"
                 )
             seen[factor.name] = i
             target = _target(factor.field)
             if target in fields:
                 raise ValueError(
-                    f"factors #{i + 1}.field: factors {fields[target]!r} and {factor.name!r} "
+                    f"{item_path(('factors', i, 'field'))}: "
+                    f"factors {fields[target]!r} and {factor.name!r} "
                     f"both set {target!r}"
                 )
             fields[target] = factor.name
@@ -1933,7 +1938,9 @@ class Design(_Frozen):
             named = [g.response for g in self.goals]
             for i, name in enumerate(named):
                 if name in named[:i]:
-                    raise ValueError(f"goals #{i + 1}.response: {name!r} has a goal already")
+                    raise ValueError(
+                        f"{item_path(('goals', i, 'response'))}: {name!r} has a goal already"
+                    )
         if self.runs is not None or self.runs_file is None:
             n_runs = self.n_tests * self.replicates
             if n_runs > _MAX_RUNS:
@@ -1961,7 +1968,8 @@ class Design(_Frozen):
             for f, sign in zip(self.factors, signs, strict=True):
                 if len(f.levels) != 2 or row[f.name] != f.levels[(sign + 1) // 2]:
                     raise ValueError(
-                        f"runs #{r + 1}.{f.name}: test {r + 1} of the Plackett-Burman design has "
+                        f"{item_path(('runs', r, f.name))}: "
+                        f"test {r + 1} of the Plackett-Burman design has "
                         f"{f.name} at its {'+' if sign > 0 else '-'} level; remove runs to "
                         "make the tests again"
                     )
@@ -1977,12 +1985,14 @@ class Design(_Frozen):
         for i, f in enumerate(self.factors):
             if f.categorical:
                 raise ValueError(
-                    f"factors #{i + 1}: factor {f.name!r} is categorical; centre points need "
+                    f"{item_path(('factors', i))}: "
+                    f"factor {f.name!r} is categorical; centre points need "
                     "numeric factors only (every factor at the middle of its two levels)"
                 )
             if len(f.levels) != 2:
                 raise ValueError(
-                    f"factors #{i + 1}.levels: factor {f.name!r} has {len(f.levels)} levels; "
+                    f"{item_path(('factors', i, 'levels'))}: "
+                    f"factor {f.name!r} has {len(f.levels)} levels; "
                     "centre points need two-level factors (a centre between low and high), "
                     f"got {list(f.levels)}"
                 )
@@ -2030,12 +2040,13 @@ class Design(_Frozen):
         for i, f in enumerate(self.factors):
             if f.categorical:
                 raise ValueError(
-                    f"factors #{i + 1}.choices: factor {f.name!r} is categorical; a "
+                    f"{item_path(('factors', i, 'choices'))}: factor {f.name!r} is categorical; a "
                     f"{surface.title} takes numeric factors only"
                 )
             if f.coded_range is None:
                 raise ValueError(
-                    f"factors #{i + 1}.coded_range: factor {f.name!r}: a {surface.title} given "
+                    f"{item_path(('factors', i, 'coded_range'))}: "
+                    f"factor {f.name!r}: a {surface.title} given "
                     "with its runs needs each factor's coded_range [low, high] (the levels coded "
                     "-1 and +1); or remove runs to make the tests from the two levels"
                 )
@@ -2047,7 +2058,8 @@ class Design(_Frozen):
                 math.isclose(a, b, rel_tol=1e-9) for a, b in zip(f.levels, levels, strict=False)
             ):
                 raise ValueError(
-                    f"factors #{i + 1}.levels: factor {f.name!r}: {what} has the levels {levels} "
+                    f"{item_path(('factors', i, 'levels'))}: "
+                    f"factor {f.name!r}: {what} has the levels {levels} "
                     f"(from its coded_range), got {list(f.levels)}"
                 )
         runs = self.runs or ()
@@ -2060,7 +2072,8 @@ class Design(_Frozen):
             for name, value in test.items():
                 if not math.isclose(row[name], value, rel_tol=1e-9):
                     raise ValueError(
-                        f"runs #{r + 1}.{name}: test {r + 1} of {what} has {name} = {value!r}, the "
+                        f"{item_path(('runs', r, name))}: "
+                        f"test {r + 1} of {what} has {name} = {value!r}, the "
                         f"run table {row[name]!r}; remove runs to make the tests again"
                     )
 
@@ -2123,12 +2136,12 @@ class Design(_Frozen):
             for name in row:
                 if name not in names:
                     raise ValueError(
-                        f"runs #{r + 1}.{name}: unknown factor {name!r} "
+                        f"{item_path(('runs', r, name))}: unknown factor {name!r} "
                         f"(factors: {', '.join(names)})"
                     )
             levels: dict[str, int | float] = {}
             for factor in self.factors:
-                key = f"runs #{r + 1}.{factor.name}"
+                key = item_path(("runs", r, factor.name))
                 if factor.name not in row:
                     raise ValueError(
                         f"{key}: missing: each run gives every factor one of its levels "
@@ -2505,8 +2518,8 @@ class Design(_Frozen):
                 f"{name} = {self._level_text(self.factor(name), v)}" for name, v in applied.items()
             )
         return ConfigError(
-            f"{where}: factors #{index + 1}.levels: factor {factor.name!r} (field {factor.field}): "
-            f"level {shown} is not valid: {detail}"
+            f"{where}: {item_path(('factors', index, 'levels'))}: factor {factor.name!r} "
+            f"(field {factor.field}): level {shown} is not valid: {detail}"
         )
 
     @staticmethod
