@@ -883,6 +883,15 @@ def csv_delimiter(header: str) -> str:
     return next((d for d in (",", ";", "\t") if d in header), ",")
 
 
+def excel_separator(line: str) -> str | None:
+    """The separator an Excel ``sep=;`` line above a CSV header names (``sep=`` alone: a
+    comma), or None for any other line."""
+    s = line.strip("\r\n ")
+    if not s.lower().startswith("sep="):
+        return None
+    return s[4:5] or ","
+
+
 def parse_override(text: str) -> tuple[str, Any]:
     """Split ``KEY=VALUE`` and parse the value as a TOML value (bare words become strings)."""
     if "=" not in text:

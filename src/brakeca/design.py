@@ -113,6 +113,7 @@ from brakeca.config import (
     _Checked,
     csv_delimiter,
     decimal_point,
+    excel_separator,
     format_validation_error,
     item_path,
     load_config,
@@ -1044,8 +1045,7 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
             continue
         line = raw.rstrip("\r\n")  # a leading empty cell (a tab) stays a cell
         at = f"{where}: {path}, line {lineno}"
-        if header is None and named is None and line.strip().lower().startswith("sep="):
-            named = line.strip()[4:5] or ","
+        if header is None and named is None and (named := excel_separator(line)) is not None:
             continue
         if header is None:
             delimiter = named or csv_delimiter(line.strip())

@@ -42,6 +42,7 @@ from brakeca.config import (
     TraceCycleConfig,
     csv_delimiter,
     decimal_point,
+    excel_separator,
 )
 from brakeca.cycle import KMH, Stop, StopProfile, expand_stops
 
@@ -431,8 +432,7 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
         s = raw.strip()
         if not s or s.startswith("#"):
             continue
-        if header is None and named is None and s.lower().startswith("sep="):
-            named = raw.strip("\r\n ")[4:5] or ","
+        if header is None and named is None and (named := excel_separator(raw)) is not None:
             continue
         if header is None:
             delim = named or csv_delimiter(s)
@@ -1127,7 +1127,7 @@ def cycle_file_kind(text: str) -> Literal["blocks", "trace"]:
     """
     for raw in text.splitlines():
         s = raw.strip()
-        if s and not s.startswith("#") and not s.lower().startswith("sep="):
+        if s and not s.startswith("#") and excel_separator(s) is None:
             return "blocks" if "initial_speed_kmh" in s.lower() else "trace"
     return "trace"
 

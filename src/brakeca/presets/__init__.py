@@ -19,6 +19,7 @@ from brakeca.config import (
     SimulationConfig,
     csv_delimiter,
     decimal_point,
+    excel_separator,
 )
 
 __all__ = ["available_designs", "available_presets", "load_cycle", "load_preset", "preset_text"]
@@ -60,9 +61,9 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
         for lineno, ln in enumerate(text.splitlines(), start=1)
         if ln.strip() and not ln.lstrip().startswith("#")
     ]
-    named = None  # the separator an Excel "sep=;" line names
-    if kept and kept[0][1].strip().lower().startswith("sep="):
-        named = kept.pop(0)[1].strip("\r\n ")[4:5] or ","
+    named = excel_separator(kept[0][1]) if kept else None  # an Excel "sep=;" line's
+    if named is not None:
+        kept.pop(0)
     if not kept:
         raise ConfigError(f"{source}: empty cycle file")
     lines = [ln for _, ln in kept]
