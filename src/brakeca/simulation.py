@@ -610,6 +610,7 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         ``path``.
     """
     lengths = np.array([d.size for d in log.dts], dtype=np.int64)
+    map_keys = sorted(log.maps)
     arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
     if state.fibres is not None:
         f = state.fibres
@@ -626,13 +627,13 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
         log_s_removed=np.asarray(log.s_removed, dtype=np.int64),
         log_rule_counts=np.stack(log.rule_counts),
         log_exposures=np.array(log.exposures, dtype=np.float64).reshape(-1, len(Exposure._fields)),
-        log_map_stops=np.array(sorted(log.maps), dtype=np.int64),
-        log_map_status=np.array([log.maps[k][0] for k in sorted(log.maps)], dtype=np.int8).reshape(
+        log_map_stops=np.array(map_keys, dtype=np.int64),
+        log_map_status=np.array([log.maps[k][0] for k in map_keys], dtype=np.int8).reshape(
             -1, *initial_status.shape
         ),
-        log_map_height=np.array(
-            [log.maps[k][1] for k in sorted(log.maps)], dtype=np.float32
-        ).reshape(-1, *initial_status.shape),
+        log_map_height=np.array([log.maps[k][1] for k in map_keys], dtype=np.float32).reshape(
+            -1, *initial_status.shape
+        ),
     )
     meta = {
         "format": CHECKPOINT_FORMAT,
