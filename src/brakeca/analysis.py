@@ -1900,6 +1900,11 @@ def _effect_terms(
     return kept, partial, False
 
 
+#: Lenth's PSE below this fraction of the largest effect [-] is round-off: the data have no
+#: scatter (a deterministic response), and the t values measure the floating-point error.
+_ROUND_OFF_PSE = 1e-9
+
+
 def _lenth_pse(contrasts: np.ndarray) -> float:
     """Lenth's pseudo standard error of unreplicated effects [response unit]:
     ``s0 = 1.5 median |c|``, then ``1.5 median`` of the ``|c| < 2.5 s0`` (Lenth 1989)."""
@@ -2153,6 +2158,12 @@ def two_level_effects(
     notes = [f"factor {name} has a single level in the data and is left out" for name in single]
     if method == "Lenth" and not (math.isfinite(pse) and pse > 0.0):
         notes.append("Lenth's PSE is zero or undefined (most effects are nil), so t is not defined")
+    elif method == "Lenth" and pse < _ROUND_OFF_PSE * float(np.max(np.abs(effect))):
+        notes.append(
+            f"Lenth's PSE ({pse:.3g}) is at the round-off of the largest effect: the small "
+            "effects are nil, the response holds no scatter, so t and p measure round-off, not "
+            "evidence"
+        )
     if not np.allclose(relative, 1.0, rtol=1e-9, atol=1e-9):
         notes.append(
             "the design is not orthogonal (a run table, or failed runs): each effect is twice "

@@ -1025,6 +1025,14 @@ def _parse_goal(text: str) -> Any:
 
 
 @app.command(short_help="the factor setting that best meets goals for MU and V")
+def _interval_text(low: float, high: float) -> str:
+    """An interval's ends as the optimizer's table shows them: ``"none"`` where it is not
+    defined (a surface with no residual degrees of freedom), not ``"nan to nan"``."""
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return "none"
+    return f"{low:.4g} to {high:.4g}"
+
+
 def optimize(
     folder: Annotated[
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
@@ -1107,8 +1115,8 @@ def optimize(
         table.add_row(
             name,
             f"{best.predicted[goal.response] * scale:.4g}",
-            f"{low * scale:.4g} to {high * scale:.4g}",
-            f"{pi_low * scale:.4g} to {pi_high * scale:.4g}",
+            _interval_text(low * scale, high * scale),
+            _interval_text(pi_low * scale, pi_high * scale),
         )
         goals_table.add_row(
             name,
@@ -1202,6 +1210,7 @@ def power(
 
     try:
         loaded = load_design(design)
+        loaded.points()  # every run's levels together, as brakeca run checks them
         if sigma is None and sigma_from is None:
             raise ValueError("give the response's scatter: --sigma S or --sigma-from FOLDER")
         if sigma is not None and sigma_from is not None:
@@ -1377,6 +1386,7 @@ def show_design(
 
     try:
         loaded = load_design(design)
+        loaded.points()  # every run's levels together (a level valid alone may not be)
     except ConfigError as exc:
         _fail(str(exc))
     combos = loaded.combinations()

@@ -878,6 +878,21 @@ def decimal_point(text: str) -> str:
     return text.replace(",", ".") if _DECIMAL_COMMA.fullmatch(text) else text
 
 
+def csv_float(text: str) -> float:
+    """``float(text)`` for a number in a CSV cell, without the Python-only spelling that
+    ``float`` takes and no spreadsheet writes: digits grouped by underscores (``"1_0"``,
+    which ``float`` reads as 10).
+
+    Raises
+    ------
+    ValueError
+        ``text`` is not a number, or groups its digits with underscores.
+    """
+    if "_" in text:
+        raise ValueError(f"could not convert string to float: {text!r}")
+    return float(text)
+
+
 def csv_delimiter(header: str) -> str:
     """The separator of a CSV file from its header line: comma, semicolon or tab."""
     return next((d for d in (",", ";", "\t") if d in header), ",")

@@ -112,6 +112,7 @@ from brakeca.config import (
     SimulationConfig,
     _Checked,
     csv_delimiter,
+    csv_float,
     decimal_point,
     excel_separator,
     format_validation_error,
@@ -1090,7 +1091,7 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
                 raise ConfigError(f"{key}: no value; each run gives every factor a level")
             number = decimal_point(cell) if delimiter != "," else cell
             try:
-                value: float | str = float(number)
+                value: float | str = csv_float(number)
             except ValueError:
                 value = cell
             level = _match_level(factor, value)

@@ -771,6 +771,13 @@ def _v_of(log10_v_mm3: float) -> str:
     return _fmt(10.0**log10_v_mm3, ".3g")
 
 
+def _interval_cell(shown: Any, low: float, high: float) -> str:
+    """An interval's cell: its ends, or a dash where it is not defined (no residual df)."""
+    if not (math.isfinite(low) and math.isfinite(high)):
+        return "–"
+    return f"{shown(low)} to {shown(high)}"
+
+
 def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
     """The report's tables of the response optimizer's result."""
     factor_rows = []
@@ -792,8 +799,8 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
         cells = [
             g.response + (f" [{unit}]" if unit else ""),
             shown(fitted),
-            f"{shown(low)} to {shown(high)}",
-            f"{shown(pi_low)} to {shown(pi_high)}",
+            _interval_cell(shown, low, high),
+            _interval_cell(shown, pi_low, pi_high),
             g.describe(scale),
             _fmt(optimum.desirability[g.response], ".3f"),
         ]

@@ -41,6 +41,7 @@ from brakeca.config import (
     SimulationConfig,
     TraceCycleConfig,
     csv_delimiter,
+    csv_float,
     decimal_point,
     excel_separator,
 )
@@ -345,7 +346,7 @@ def _parse_number(
     if decimal_comma:
         text = decimal_point(text)  # "12,5" from a spreadsheet in a decimal-comma locale
     try:
-        value = float(text)
+        value = csv_float(text)
     except ValueError:
         raise TraceError(source, line, f"{what} {text!r} is not a number") from None
     if math.isnan(value):

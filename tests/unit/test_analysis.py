@@ -678,6 +678,19 @@ def test_two_level_effects_of_an_unreplicated_fraction_use_lenth() -> None:
     assert effects.attrs["margin_of_error"] == pytest.approx(stats.t.ppf(0.975, 5.0) * pse)
 
 
+def test_lenth_on_a_response_without_scatter_says_t_measures_round_off() -> None:
+    """A deterministic response (no seed-to-seed scatter) leaves the nil effects at round-off,
+    so Lenth's PSE is 1e-16 and t reaches 1e15: a note says so; with scatter, no note."""
+    rows = _two_level("ABCD", {}, {"A": 3.0, "B": 0.1}, noise=0.0)
+    rows["y"] = rows["y"] * 0.1 + 0.3  # round-off in the nil effects
+    effects = two_level_effects(rows, _levels01("ABCD"), "y")
+    assert effects.attrs["method"] == "Lenth" and 0 < effects.attrs["pse"] < 1e-14
+    assert "is at the round-off of the largest effect" in effects.attrs["note"]
+    noisy_rows = _two_level("ABCD", {}, {"A": 3.0}, noise=1e-6)
+    noisy = two_level_effects(noisy_rows, _levels01("ABCD"), "y")
+    assert noisy.attrs["method"] == "Lenth" and "round-off" not in noisy.attrs["note"]
+
+
 def test_two_level_effects_with_replicates_use_pure_error() -> None:
     rows = _two_level("ABCD", {"D": "ABC"}, {"B": 1.0}, replicates=2, noise=0.5)
     effects = two_level_effects(rows, _levels01("ABCD"), "y")

@@ -232,3 +232,23 @@ def test_levels_not_given_low_first_get_a_note(tmp_path) -> None:
     text = " ".join(_design(str(descending), "--no-tests").split())
     assert "note: factor A's levels are not given low first (20, 10)" in text
     assert "note:" not in " ".join(_design("paper", "--no-tests").split())
+
+
+def test_design_and_power_refuse_levels_that_cannot_run_together(tmp_path) -> None:
+    """A level valid alone but not with a run's other levels (the lazy kernel and the fibre
+    field) is refused by ``brakeca design`` and ``brakeca power`` as ``brakeca run`` refuses
+    it, before anything is shown: both had printed the design as if it could run."""
+    path = tmp_path / "combo.toml"
+    path.write_text(
+        'name = "combo"\nbase = "paper"\nroot_seed = 1\n'
+        '[[factors]]\nname = "kernel"\nfield = "numerics.kernel"\nlevels = [0, 1]\n'
+        'choices = ["exact", "lazy"]\n'
+        '[[factors]]\nname = "fibres"\nfield = "pad.fibre_model"\nlevels = [0, 1]\n'
+        'choices = ["columns", "field"]\n'
+    )
+    expected = "factor 'fibres' (field pad.fibre_model): level 'field' with kernel = 'lazy'"
+    for args in (["design", str(path)], ["power", str(path), "--sigma", "1", "--effect", "1"]):
+        res = CliRunner().invoke(app, args, env={"COLUMNS": "200"})
+        assert res.exit_code == 2, res.output
+        assert expected in res.output
+        assert "tests" not in res.output  # nothing of the design was printed

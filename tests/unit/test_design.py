@@ -1122,6 +1122,10 @@ BAD_CSV = {
         'S,WP,WR,A\n0,1e-15,1e-07,10\n1,1e-13,1e-06,"20,0"\n',
         ["line 3", "runs #2.A", "'20,0'"],
     ),
+    "digits grouped by an underscore": (  # float() reads 1_0 as 10, a level of A
+        "S,WP,WR,A\n0,1e-15,1e-07,1_0\n",
+        ["line 2", "runs #1.A", "'1_0'", "not a level of factor 'A'"],
+    ),
     "unknown column": ("S,WP,WR,A,X\n0,1e-15,1e-07,10,1\n", ["line 1", "'X'", "unknown factor"]),
     "missing column": ("S,WP,A\n0,1e-15,10\n", ["line 1", "no column for factor(s) WR"]),
     "repeated column": ("S,WP,WR,A,S\n", ["line 1", "'S' appears twice"]),

@@ -475,3 +475,15 @@ def test_a_log_coded_level_beyond_the_floats_decodes_without_a_warning() -> None
         warnings.simplefilter("error")
         assert wp.decode(400.0) == math.inf and wp.decode(-400.0) == 0.0
     assert wp.decode(1.0) == pytest.approx(1e-13)
+
+
+def test_an_interval_that_is_not_defined_is_shown_as_none() -> None:
+    """An exact fit leaves a surface no residual df, so its intervals are NaN: the optimizer
+    had printed "nan to nan" (beside the note that says why)."""
+    from brakeca.cli import _interval_text
+    from brakeca.report import _interval_cell
+
+    assert _interval_text(0.25, 0.5) == "0.25 to 0.5"
+    assert _interval_text(math.nan, math.nan) == "none"
+    assert _interval_cell(lambda v: f"{v:g}", math.nan, math.nan) == "–"
+    assert _interval_cell(lambda v: f"{v:g}", 1.0, 2.0) == "1 to 2"

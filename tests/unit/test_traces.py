@@ -117,6 +117,7 @@ GOOD = "time_s,speed_kmh\n0,0\n1,10\n2,20\n3,40\n4,60\n5,70\n"
         ("time_s,speed_kmh\n0,0\nNaN,3\n", 3, "time is NaN"),
         ("time_s,speed_kmh\n0,0\n1,inf\n", 3, "speed is infinite"),
         ("time_s,speed_kmh\n0,0\n1,fast\n", 3, "speed 'fast' is not a number"),
+        ("time_s,speed_kmh\n0,0\n1,1_0\n", 3, "speed '1_0' is not a number"),  # float(): 10
         ("time_s,speed_kmh\n0,0\n1\n", 3, "expected 2 values, found 1"),
         ("time_s,speed_kmh\n0,0\n1,\n", 3, "speed is missing"),
         ("# only a comment\ntime_s,speed_kmh\n", 2, "no data after the header"),
@@ -541,6 +542,9 @@ def test_values_past_the_header_are_refused_not_dropped(tmp_path):
         load_cycle(late)
     txt = _write(tmp_path, header + "A,50,4,0.3,2\n", "blocks.txt")
     assert [b.stops for b in load_cycle(txt).blocks] == [2]
+    grouped = _write(tmp_path, header + "A,50,4,0.3,2\nB,5_0,4,0.3,2\n", "g.csv")
+    with pytest.raises(ConfigError, match=r"g.csv line 3: initial_speed_kmh: '5_0' is not a n"):
+        load_cycle(grouped)  # pydantic had read it as 50
 
 
 def test_inspect_lists_two_blocks_of_one_name_apart(tmp_path):

@@ -88,6 +88,10 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
         values = {k: (row[k] or "").strip() for k in expected}
         if delimiter != ",":
             values = {k: v if k == "name" else decimal_point(v) for k, v in values.items()}
+        grouped = [k for k in sorted(expected - {"name"}) if "_" in values[k]]
+        if grouped:  # float() and pydantic read "5_0" as 50; no spreadsheet writes it
+            k = grouped[0]
+            raise ConfigError(f"{source} line {lineno}: {k}: {values[k]!r} is not a number")
         try:
             blocks.append(BrakeBlock.model_validate(values))
         except Exception as exc:  # pydantic ValidationError
