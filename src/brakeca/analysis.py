@@ -39,7 +39,7 @@ import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeGuard
 
 import numpy as np
 import pandas as pd
@@ -50,10 +50,12 @@ __all__ = [
     "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
     "Factor",
+    "Model",
     "alias_structure",
     "analyze",
     "anova",
     "as_factor",
+    "canonical_terms",
     "interaction_aliases",
     "interaction_table",
     "interaction_tables",
@@ -65,8 +67,16 @@ __all__ = [
     "ranked_effects",
     "residuals",
     "save_tables",
+    "split_terms",
     "two_level_effects",
 ]
+
+#: A model's terms, as :func:`anova` and the functions beside it take them (``interactions``):
+#: True (main effects and two-factor interactions), False (main effects), a whole number (the
+#: terms up through that many factors) or a list of terms (``["S", "WP", "S*WP"]``, as
+#: Minitab's Terms dialog picks them one by one).
+Model = bool | int | Sequence[str]
+
 
 #: Columns of the table returned by :func:`anova`, in order.
 ANOVA_COLUMNS: tuple[str, ...] = (
@@ -686,7 +696,7 @@ def anova(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool | int = True,
+    interactions: Model = True,
     typ: int = 2,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
@@ -753,7 +763,12 @@ def anova(
         or the interactions of up to this many factors (a whole number: 1 main effects, 2
         the default, 3 with the three-factor interactions, as Minitab's "terms up through
         order"). Where the model would leave no residual degrees of freedom, the highest
-        order is pooled into the residual, order by order, with a note.
+        order is pooled into the residual, order by order, with a note. Or the model's
+        terms one by one, as Minitab's Terms dialog picks them: a list such as ``["S",
+        "WP", "A", "WP*A"]`` (or one string, ``"S WP A WP*A"``; :func:`canonical_terms`),
+        fitted as given (no pooling; a note says where an interaction lacks a lower-order
+        term it contains, and a term of a factor with one level in the data is left
+        out).
     typ
         The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted).
     alpha_to_remove
@@ -772,7 +787,8 @@ def anova(
         ``percent_contribution`` (``sum_sq`` / total sum of squares about the mean * 100 [%])
         and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
         ``formula``, ``note``, ``n``, ``total_sum_sq``, ``center_points`` (their number),
-        ``order`` (the most factors in a term asked for) and ``alpha_to_remove``, and the
+        ``order`` (the most factors in a term asked for), ``model_terms`` (the terms given,
+        as the table names them, or None) and ``alpha_to_remove``, and the
         model summary that Minitab
         and JMP print beside the table: ``s`` (residual standard deviation, sqrt of the
         residual mean square) [response unit], ``r_squared``, ``r_squared_adj``,
@@ -913,6 +929,11 @@ def anova(
         total_sum_sq=total_ss,
         center_points=int(y_center.size),
         order=_model_order(interactions),
+        model_terms=(
+            canonical_terms(interactions, [f.name for f in factors], name="interactions")
+            if _is_term_list(interactions)
+            else None
+        ),
         alpha_to_remove=alpha_to_remove,
     )
     out.attrs.update(_fit_statistics(y_fit, *_least_squares(exog, y_fit), total_ss))
@@ -1075,27 +1096,125 @@ def _coded_frame(
     return frame, names, single
 
 
-def _model_order(interactions: bool | int, *, name: str = "interactions") -> int:
+def split_terms(text: str) -> list[str]:
+    """The terms of a model written on one line, as ``brakeca analyze --terms`` and a
+    design's ``model_terms`` take them: separated by spaces, commas or ``+`` (``"S WP WR A
+    S*WP"``, ``"S + WP + S:WP"``); a term's factors joined by ``*`` or ``:``."""
+    import re
+
+    joined = re.sub(r"\s*([*:])\s*", r"\1", text)  # "WP * A" is one term
+    return [t for t in re.split(r"[\s,+]+", joined) if t]
+
+
+def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_terms") -> list[str]:
+    """The model ``terms`` checked against the ``factors`` (their names, in design order),
+    each written as the tables write it (``"S:WP"``: the factors joined by ``:`` in design
+    order), in the order the model fits them: by number of factors, then design order.
+
+    Parameters
+    ----------
+    terms
+        A list of terms, each a factor name or factor names joined by ``*`` or ``:``
+        (``"S*WP"``, ``"S:WP:A"``); a string is split by :func:`split_terms`.
+    factors
+        The design's factor names.
+    name
+        What the caller calls the argument, which starts every message.
+
+    Returns
+    -------
+    list of str
+        The terms, as above.
+
+    Raises
+    ------
+    ValueError
+        No term, a factor not in the design, a factor twice in a term (squares belong to a
+        response-surface design) or a term given twice; the message names the term.
+    """
+    if isinstance(terms, str):
+        terms = split_terms(terms)
+    if not isinstance(terms, Iterable) or not all(isinstance(t, str) for t in terms):
+        raise ValueError(
+            f"{name}: expected a list of terms (factor names, an interaction's joined by '*'), "
+            f"got {terms!r}"
+        )
+    terms = list(terms)
+    if not terms:
+        raise ValueError(f"{name}: no term given; name at least one factor")
+    index = {f: i for i, f in enumerate(factors)}
+    seen: dict[tuple[int, ...], str] = {}
+    for term in terms:
+        parts = [p.strip() for p in term.replace("*", ":").split(":")]
+        unknown = [p for p in parts if p not in index]
+        if unknown:
+            what = repr(unknown[0]) if unknown[0] else "an empty name"
+            raise ValueError(
+                f"{name}: term {term!r}: {what} is not a factor of the design (its factors: "
+                f"{', '.join(factors)})"
+            )
+        if len(set(parts)) < len(parts):
+            raise ValueError(
+                f"{name}: term {term!r} names a factor twice; a factorial model's terms "
+                "are main effects and interactions of different factors (squares belong "
+                "to a response-surface design)"
+            )
+        key = tuple(sorted(index[p] for p in parts))
+        if key in seen:
+            raise ValueError(f"{name}: term {term!r} is given twice (as {seen[key]!r})")
+        seen[key] = term
+    return [":".join(factors[i] for i in key) for key in sorted(seen, key=lambda k: (len(k), k))]
+
+
+def _hierarchy_gaps(terms: Sequence[str]) -> list[str]:
+    """The terms (``"S:WP"``) of which some lower-order part is not among ``terms``, each
+    with its missing parts: ``["S:WP without S"]``."""
+    given = {frozenset(t.split(":")) for t in terms}
+    gaps = []
+    for term in terms:
+        parts = term.split(":")
+        missing = [
+            ":".join(sub)
+            for k in range(1, len(parts))
+            for sub in itertools.combinations(parts, k)
+            if frozenset(sub) not in given
+        ]
+        if missing:
+            gaps.append(f"{term} without {', '.join(missing)}")
+    return gaps
+
+
+def _model_order(interactions: Model, *, name: str = "interactions") -> int:
     """The highest number of factors in the model's terms, from ``interactions``: True 2 (the
-    two-factor interactions), False 1 (main effects), a whole number that number. ``name``
+    two-factor interactions), False 1 (main effects), a whole number that number, a list of
+    terms its longest term's (checked against the factors by :func:`canonical_terms`). ``name``
     is the argument the caller took it as: ``max_order`` takes a whole number only."""
     if isinstance(interactions, bool | np.bool_) and name == "interactions":
         return 2 if interactions else 1
+    if name == "interactions" and _is_term_list(interactions):
+        return max((len(str(t).replace("*", ":").split(":")) for t in interactions), default=1)
     if (
         isinstance(interactions, bool | np.bool_)
         or not isinstance(interactions, numbers.Integral)
         or interactions < 1
     ):
         flags = (
-            "True (two-factor interactions), False (main effects) or "
+            "True (two-factor interactions), False (main effects), "
             if name == "interactions"
             else ""
         )
+        terms = ", or a list of terms" if name == "interactions" else ""
         raise ValueError(
-            f"{name}: expected {flags}the most factors in a term, a whole number from 1, "
+            f"{name}: expected {flags}the most factors in a term, a whole number from 1{terms}, "
             f"got {interactions!r}"
         )
     return int(interactions)
+
+
+def _is_term_list(interactions: Any) -> TypeGuard[Sequence[str]]:
+    """Whether ``interactions`` gives the model's terms (a list of them), not a flag or an
+    order."""
+    return isinstance(interactions, Sequence) and not isinstance(interactions, str | bytes)
 
 
 _ORDER_NAMES = {2: "two-factor", 3: "three-factor", 4: "four-factor", 5: "five-factor"}
@@ -1105,7 +1224,7 @@ def _model(
     data: pd.DataFrame,
     factors: Sequence[Factor],
     y: np.ndarray,
-    interactions: bool | int,
+    interactions: Model,
     *,
     y_center: np.ndarray | None = None,
     alpha_to_remove: float | None = None,
@@ -1119,11 +1238,13 @@ def _model(
     (:func:`_eliminate`).
 
     ``frame`` holds ``y`` and one categorical column per factor that varies in the data;
-    ``terms`` are the formula terms (main effects, and the interactions up through the order
+    ``terms`` are the formula terms: main effects, and the interactions up through the order
     ``interactions`` gives, :func:`_model_order`, unless they would leave no residual degrees
     of freedom, in which case the highest order is pooled into the residual, order by order,
-    and a note says so); ``term names`` maps every term asked for, pooled ones included, to
-    its display name (``"S"``, ``"S:WP"``), and is empty when no factor varies.
+    and a note says so; or the terms ``interactions`` lists (:func:`canonical_terms`), as they
+    are, less those of a factor with a single level in the data. ``term names`` maps every
+    term asked for, pooled ones included, to its display name (``"S"``, ``"S:WP"``), and is
+    empty when no factor varies.
     """
     order = _model_order(interactions)
     notes: list[str] = []
@@ -1131,22 +1252,91 @@ def _model(
     notes.extend(f"factor {n} has a single level in the data and is left out" for n in single)
     if not names:
         return frame, {}, [], notes
-    mains = [f"C({s})" for s in names]
-    pairs = [f"C({a}):C({b})" for a, b in itertools.combinations(names, 2)]
-    term_names = {f"C({s})": names[s] for s in names}
-    term_names.update(
-        {f"C({a}):C({b})": f"{names[a]}:{names[b]}" for a, b in itertools.combinations(names, 2)}
-    )
-    higher = [  # the interactions of three or more factors asked for
+    y_center = np.zeros(0) if y_center is None else y_center
+    if _is_term_list(interactions):
+        terms, term_names, given_notes = _given_terms(factors, names, interactions)
+        notes.extend(given_notes)
+        terms = _estimable(frame, terms, term_names, notes)
+    else:
+        terms, term_names = _terms_up_through(names, order)
+        terms = _estimable(frame, terms, term_names, notes)
+        terms = _pooled_while_saturated(frame, terms, y_center, notes)
+    if alpha_to_remove is not None:
+        terms, removed = _eliminate(frame, terms, alpha_to_remove, y_center=y_center)
+        notes.append(
+            f"backward elimination (alpha to remove {alpha_to_remove:g}, keeping the model "
+            "hierarchical): "
+            + (
+                "removed " + ", ".join(term_names[t] for t in removed)
+                if removed
+                else "no term removed"
+            )
+            + ("; no term is left" if removed and not terms else "")
+        )
+    return frame, term_names, terms, notes
+
+
+def _terms_up_through(names: Mapping[str, str], order: int) -> tuple[list[str], dict[str, str]]:
+    """The formula terms of every main effect and interaction of up to ``order`` of the
+    factors ``names`` (safe column name to factor name), by order, and their display
+    names."""
+    combos = [
         combo
-        for k in range(3, min(order, len(names)) + 1)
+        for k in range(1, min(order, len(names)) + 1)
         for combo in itertools.combinations(names, k)
     ]
-    term_names.update(
-        {":".join(f"C({c})" for c in combo): ":".join(names[c] for c in combo) for combo in higher}
-    )
-    terms = mains + (pairs if order >= 2 else [])
-    terms += [":".join(f"C({c})" for c in combo) for combo in higher]
+    if order < 2:  # the two-factor names too, for what a caller pools (as before)
+        pairs = list(itertools.combinations(names, 2))
+    else:
+        pairs = []
+    term_names = {
+        ":".join(f"C({c})" for c in combo): ":".join(names[c] for c in combo)
+        for combo in [*combos, *pairs]
+    }
+    return [":".join(f"C({c})" for c in combo) for combo in combos], term_names
+
+
+def _given_terms(
+    factors: Sequence[Factor], names: Mapping[str, str], given: Sequence[str]
+) -> tuple[list[str], dict[str, str], list[str]]:
+    """The formula terms of the model terms ``given`` (:func:`canonical_terms`) over the factors
+    that vary (``names``, safe column name to factor name), their display names and notes:
+    the terms left out for a factor with a single level in the data, and the lower-order
+    terms a given interaction lacks (the model is then not hierarchical)."""
+    given = canonical_terms(given, [f.name for f in factors], name="interactions")
+    column = {factor: safe for safe, factor in names.items()}
+    terms: list[str] = []
+    term_names: dict[str, str] = {}
+    dropped: list[str] = []
+    for term in given:
+        parts = term.split(":")
+        if not all(p in column for p in parts):
+            dropped.append(term)
+            continue
+        formula = ":".join(f"C({column[p]})" for p in parts)
+        terms.append(formula)
+        term_names[formula] = term
+    notes = []
+    if dropped:
+        notes.append(
+            "terms of a factor with a single level in the data are left out: " + ", ".join(dropped)
+        )
+    gaps = _hierarchy_gaps(list(term_names.values()))
+    if gaps:
+        notes.append(
+            "the model given is not hierarchical ("
+            + "; ".join(gaps)
+            + "): each such interaction's sum of squares then also holds what the terms it "
+            "lacks would explain"
+        )
+    return terms, term_names, notes
+
+
+def _estimable(
+    frame: pd.DataFrame, terms: list[str], term_names: Mapping[str, str], notes: list[str]
+) -> list[str]:
+    """``terms`` less those aliased (confounded) with terms before them, each named in a note
+    added to ``notes`` with what it is aliased with."""
     terms, left_out = _estimable_terms(frame, terms)
     if left_out:
         described = []
@@ -1164,7 +1354,15 @@ def _model(
             "terms aliased (confounded) with terms before them are left out, since the design "
             "cannot tell them apart: " + "; ".join(described)
         )
-    y_center = np.zeros(0) if y_center is None else y_center
+    return terms
+
+
+def _pooled_while_saturated(
+    frame: pd.DataFrame, terms: list[str], y_center: np.ndarray, notes: list[str]
+) -> list[str]:
+    """``terms`` with the interactions of the highest order pooled into the residual, order
+    by order, while the model leaves no residual degrees of freedom (the centre points'
+    ``y_center`` counted), each step named in a note added to ``notes``."""
     spare_df = max(y_center.size - 1, 0)
     fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
     top = max((t.count(":") + 1 for t in terms), default=1)
@@ -1177,25 +1375,13 @@ def _model(
         terms = [t for t in terms if t.count(":") + 1 < top]
         top -= 1
         fit, _, _, _ = _fit_anova(frame, terms, check_only=True)
-    if fit.df_resid + spare_df < 0.5 and top == 2 and pairs:
+    if fit.df_resid + spare_df < 0.5 and top == 2:
         notes.append(
             "model with two-factor interactions is saturated (0 residual df): interactions "
             "pooled into the residual, main effects only"
         )
-        terms = [t for t in mains if t in terms]  # the estimable ones
-    if alpha_to_remove is not None:
-        terms, removed = _eliminate(frame, terms, alpha_to_remove, y_center=y_center)
-        notes.append(
-            f"backward elimination (alpha to remove {alpha_to_remove:g}, keeping the model "
-            "hierarchical): "
-            + (
-                "removed " + ", ".join(term_names[t] for t in removed)
-                if removed
-                else "no term removed"
-            )
-            + ("; no term is left" if removed and not terms else "")
-        )
-    return frame, term_names, terms, notes
+        terms = [t for t in terms if ":" not in t]
+    return terms
 
 
 def _eliminate(
@@ -1465,7 +1651,7 @@ def residuals(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool | int = True,
+    interactions: Model = True,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """Fitted values and residuals of the model :func:`anova` fits, one row per usable run.
@@ -1483,8 +1669,9 @@ def residuals(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
-        Include two-factor interactions, or the terms up through an order (as in
-        :func:`anova`, with the same pooling when they would saturate the model).
+        Include two-factor interactions, the terms up through an order (as in
+        :func:`anova`, with the same pooling when they would saturate the model), or the
+        terms listed.
     alpha_to_remove
         The model reduced by backward elimination, as :func:`anova` reduces it.
 
@@ -1553,7 +1740,7 @@ def _model_arrays(
     summary: pd.DataFrame,
     factors: Iterable[Any],
     response: str,
-    interactions: bool | int,
+    interactions: Model,
     *,
     alpha_to_remove: float | None = None,
 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray, str]:
@@ -1596,7 +1783,7 @@ def model_matrix(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool | int = True,
+    interactions: Model = True,
 ) -> np.ndarray:
     """The model matrix of the model :func:`anova` fits, one row per usable run.
 
@@ -1610,8 +1797,8 @@ def model_matrix(
         Response column; it selects the usable runs (finished, with a finite value), in the
         order of :func:`residuals`.
     interactions
-        Include two-factor interactions, or the terms up through an order, as in
-        :func:`anova`.
+        Include two-factor interactions, the terms up through an order, or the terms
+        listed, as in :func:`anova`.
 
     Returns
     -------
@@ -1629,7 +1816,7 @@ def ranked_effects(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool | int = True,
+    interactions: Model = True,
 ) -> pd.DataFrame:
     """Model terms ranked by sum of squares, for a Pareto chart.
 
@@ -1642,8 +1829,8 @@ def ranked_effects(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
-        Include two-factor interactions, or the terms up through an order (as in
-        :func:`anova`).
+        Include two-factor interactions, the terms up through an order, or the terms
+        listed (as in :func:`anova`).
 
     Returns
     -------
@@ -2235,6 +2422,7 @@ def analyze(
     anova_type: int = 2,
     alpha_to_remove: float | None = None,
     max_order: int | None = None,
+    model_terms: Sequence[str] | str | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Run the whole analysis for several responses.
 
@@ -2263,6 +2451,17 @@ def analyze(
         instead of main effects and two-factor interactions (main effects alone with
         ``main_effects_only``); where it is not that default, the effects table then fits
         the ANOVA's terms too.
+    model_terms
+        The model's terms one by one instead (:func:`canonical_terms`: ``["S", "WP",
+        "S*WP"]``, or one string of them), as Minitab's Terms dialog picks them; the
+        residuals and the effects table are then of that model. Not with ``max_order``.
+
+    Raises
+    ------
+    ValueError
+        ``max_order`` not a whole number from 1, ``model_terms`` naming a factor not in
+        ``factors`` (or as :func:`canonical_terms` refuses it), or both given; before any
+        work.
 
     Returns
     -------
@@ -2283,10 +2482,18 @@ def analyze(
     default = 1 if main_effects_only else 2
     if max_order is not None:
         _model_order(max_order, name="max_order")  # checked before any work
-    model: bool | int = max_order if max_order is not None else not main_effects_only
+    model: Model = max_order if max_order is not None else not main_effects_only
+    if model_terms is not None:
+        if max_order is not None:
+            raise ValueError("model_terms, max_order: give one of them, not both")
+        model = canonical_terms(model_terms, [f.name for f in factors])
     # the effects table fits every effect the data can estimate, unless the ANOVA's model is
-    # not the default one (another order, or reduced): then that model's terms
-    follow = alpha_to_remove is not None or (max_order is not None and max_order != default)
+    # not the default one (another order, terms given, or reduced): then that model's terms
+    follow = (
+        alpha_to_remove is not None
+        or model_terms is not None
+        or (max_order is not None and max_order != default)
+    )
     for response in responses:
         table = anova(
             summary,

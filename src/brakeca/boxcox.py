@@ -350,7 +350,7 @@ def box_cox(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool | int = True,
+    interactions: bool | int | Sequence[str] = True,
     alpha_to_remove: float | None = None,
     confidence: float = 0.95,
 ) -> BoxCox:

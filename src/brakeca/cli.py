@@ -938,6 +938,17 @@ def analyze(
             "Plackett-Burman design, unless set)",
         ),
     ] = None,
+    terms: Annotated[
+        str | None,
+        typer.Option(
+            "--terms",
+            metavar="TERMS",
+            help="the ANOVA model's terms one by one instead, as Minitab's Terms dialog "
+            "picks them: factor names, an interaction's joined by '*', separated by spaces, "
+            "commas or '+' (e.g. \"S WP WR A WP*A\"); its residuals, Box-Cox check and effects "
+            "table follow it; by default the design's model_terms (if set)",
+        ),
+    ] = None,
     reduce: Annotated[
         float | None,
         typer.Option(
@@ -966,9 +977,18 @@ def analyze(
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         _fail(str(exc))
     try:
-        check_max_order(result.design, order)  # before the summary is printed
+        check_max_order(result.design, order, terms)  # before the summary is printed
     except ValueError as exc:
-        _fail("--order: " + str(exc).removeprefix("max_order: "))
+        text = str(exc)
+        for name, option in (
+            ("model_terms, max_order: ", "--terms, --order: "),
+            ("model_terms: ", "--terms: "),
+            ("max_order: ", "--order: "),
+        ):
+            if text.startswith(name):
+                text = option + text.removeprefix(name)
+                break
+        _fail(text)
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
         path = write_study(
@@ -977,6 +997,7 @@ def analyze(
             anova_type=anova_type,
             alpha_to_remove=reduce,
             max_order=order,
+            model_terms=terms,
         )
     out.print(
         f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
@@ -1024,7 +1045,6 @@ def _parse_goal(text: str) -> Any:
     return spec.to_goal()
 
 
-@app.command(short_help="the factor setting that best meets goals for MU and V")
 def _interval_text(low: float, high: float) -> str:
     """An interval's ends as the optimizer's table shows them: ``"none"`` where it is not
     defined (a surface with no residual degrees of freedom), not ``"nan to nan"``."""
@@ -1033,6 +1053,7 @@ def _interval_text(low: float, high: float) -> str:
     return f"{low:.4g} to {high:.4g}"
 
 
+@app.command(short_help="the factor setting that best meets goals for MU and V")
 def optimize(
     folder: Annotated[
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
@@ -1472,6 +1493,16 @@ def show_design(
                 if loaded.model_order > len(loaded.factors)
                 else ""
             ),
+            markup=False,
+            highlight=False,
+        )
+    if loaded.model_terms is not None:
+        from brakeca.analysis import _hierarchy_gaps
+
+        gaps = _hierarchy_gaps(loaded.model_terms)
+        out.print(
+            f"the report's ANOVA model: the terms {', '.join(loaded.model_terms)} (model_terms)"
+            + (f"; not hierarchical ({'; '.join(gaps)})" if gaps else ""),
             markup=False,
             highlight=False,
         )

@@ -1583,6 +1583,13 @@ class Design(_Frozen):
         Minitab's "terms up through order"); by default 2, and main effects alone for a
         Plackett-Burman design. Not for a response-surface design, whose report fits a
         quadratic.
+    model_terms
+        The report's ANOVA model term by term instead of :attr:`model_order`, as Minitab's
+        Terms dialog picks them: factor names, an interaction's joined by ``*`` or ``:``
+        (``["S", "WP", "WR", "A", "WP*A"]``, or one string ``"S WP WR A WP*A"``); kept as
+        the tables write them (``"WP:A"``, factors in design order), by number of factors
+        (:func:`brakeca.analysis.canonical_terms`). Its residuals, Box-Cox check and effects
+        table follow it. Not with ``model_order``, nor for a response-surface design.
     center_points
         Centre points [-] (0 to 100) added to a two-level design of numeric factors (a full
         factorial, a fraction, a Plackett-Burman design or a run table): tests with every
@@ -1611,6 +1618,7 @@ class Design(_Frozen):
     anova_type: Literal[2, 3] = 2
     center_points: int = Field(0, ge=0, le=100)
     model_order: int | None = Field(None, ge=1, le=10)
+    model_terms: tuple[str, ...] | None = None
 
     #: the whole-number keys and what each takes, for the refusal of text and floats, which
     #: pydantic would take for whole numbers ("1" and 1.0 as 1)
@@ -1633,6 +1641,16 @@ class Design(_Frozen):
         )
         if isinstance(value, str | float) or out_of_range:
             raise ValueError(f"expected {expected}, got {value!r}")
+        return value
+
+    @field_validator("model_terms", mode="before")
+    @classmethod
+    def _terms_line(cls, value: Any) -> Any:
+        """One string of terms is split as ``brakeca analyze --terms`` splits it."""
+        if isinstance(value, str):
+            from brakeca.analysis import split_terms
+
+            return tuple(split_terms(value))
         return value
 
     @field_validator("alpha_to_remove", mode="before")
@@ -1929,6 +1947,8 @@ class Design(_Frozen):
                 f"model_order: a {self.surface_design.title}'s report fits a quadratic "
                 "surface, not a factorial model of some order; remove model_order"
             )
+        if self.model_terms is not None:
+            self._check_model_terms()
         if self.goals:
             if self.surface_design is None:
                 raise ValueError(
@@ -2187,6 +2207,31 @@ class Design(_Frozen):
         """Whether the design is a response-surface design: a central composite or a
         Box-Behnken design, whose analysis fits a quadratic surface (:mod:`brakeca.rsm`)."""
         return self.surface_design is not None
+
+    def _check_model_terms(self) -> None:
+        """``model_terms`` name the design's factors, alone (not with ``model_order``), for a
+        design whose report fits a factorial model; kept as the tables write them."""
+        from brakeca.analysis import canonical_terms
+
+        if self.surface_design is not None:
+            raise ValueError(
+                f"model_terms: a {self.surface_design.title}'s report fits a quadratic "
+                "surface, not a factorial model of chosen terms; remove model_terms"
+            )
+        if self.model_order is not None:
+            raise ValueError(
+                "model_terms, model_order: give one of them (the terms one by one, or every "
+                "term up through an order), not both"
+            )
+        assert self.model_terms is not None
+        terms = canonical_terms(self.model_terms, self.factor_names)
+        object.__setattr__(self, "model_terms", tuple(terms))
+
+    @property
+    def anova_model(self) -> int | tuple[str, ...]:
+        """The report's ANOVA model, as :func:`brakeca.analysis.anova` takes it
+        (``interactions``): :attr:`model_terms` where given, else :attr:`anova_order`."""
+        return self.model_terms if self.model_terms is not None else self.anova_order
 
     @property
     def anova_order(self) -> int:

@@ -14,8 +14,8 @@ full factorial), and so do its error degrees of freedom and its power.
 
 The model is the one the study fits (:func:`brakeca.analysis.anova`): main effects and the
 two-factor interactions the design can estimate, main effects alone for a Plackett-Burman
-design, the interactions pooled into the error when they would leave none, or the terms up
-through the design's ``model_order``; the whole model,
+design, the interactions pooled into the error when they would leave none, the terms up
+through the design's ``model_order``, or its ``model_terms``; the whole model,
 not one that a design's ``alpha_to_remove`` reduces by the data. Its error degrees of freedom
 come from the design's own tests (centre points included), repeated ``replicates`` times.
 
@@ -152,7 +152,7 @@ def _factor_tests(design: Design, replicates: int) -> dict[str, tuple[float, flo
             frame.assign(y=y),
             factors,
             "y",
-            interactions=design.anova_order,
+            interactions=design.anova_model,
             typ=design.anova_type,
         ).set_index("term")
 

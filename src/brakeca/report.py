@@ -558,8 +558,8 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         "term coded -1/+1 (for an orthogonal design, the mean at the second level less the "
         "mean at the first), "
         + (
-            "for the terms of the ANOVA's model (of the order asked for, or reduced by "
-            "backward elimination)"
+            "for the terms of the ANOVA's model (of the order asked for, the terms chosen, "
+            "or reduced by backward elimination)"
             if attrs.get("terms_given")
             else "for every effect the design can estimate (one term per alias chain)"
         )
@@ -921,7 +921,11 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     if not _is_missing(pure_df) and float(pure_df) < 0.5 and not _is_missing(resid_df):
         if float(resid_df) > 0.5:
             order = int(attrs.get("order") or 2)
-            left = f"interactions of more than {order} factor{'s' if order > 1 else ''}"
+            left = (
+                "every term not among those chosen"
+                if attrs.get("model_terms")
+                else f"interactions of more than {order} factor{'s' if order > 1 else ''}"
+            )
             if attrs.get("alpha_to_remove") is not None:
                 left += " and the terms backward elimination removed"
             text += (
@@ -1116,7 +1120,9 @@ def render_report(
         table, note = _anova_table(frame)
         typ = frame.attrs.get("typ")
         info = f"{typ} ANOVA of {response}" if typ else f"ANOVA of {response}"
-        if frame.attrs.get("order") not in (None, 2):
+        if frame.attrs.get("model_terms"):
+            info += ", of the terms chosen: " + ", ".join(frame.attrs["model_terms"])
+        elif frame.attrs.get("order") not in (None, 2):
             info += f", terms up through {frame.attrs['order']} factor" + (
                 "s" if frame.attrs["order"] != 1 else ""
             )

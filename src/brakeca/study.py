@@ -360,7 +360,7 @@ def _box_cox(
     factors: list[Any],
     surfaces: dict[str, Any],
     *,
-    interactions: bool | int,
+    interactions: bool | int | Sequence[str],
     alpha_to_remove: float | None,
 ) -> dict[str, Any]:
     """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
@@ -424,20 +424,41 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
     return summary.assign(**rows), note
 
 
-def check_max_order(design: Any, max_order: int | None) -> None:
-    """Refuse a model order for a response-surface design (:func:`write_study`'s
-    ``max_order``), whose report fits a quadratic surface instead.
+def check_max_order(
+    design: Any, max_order: int | None, model_terms: Sequence[str] | str | None = None
+) -> list[str] | None:
+    """Check :func:`write_study`'s model against the design: a model order or terms are
+    refused for a response-surface design, whose report fits a quadratic surface instead;
+    the terms must name the design's factors, and are not given with an order.
+
+    Returns
+    -------
+    list of str or None
+        The terms as the tables write them (:func:`brakeca.analysis.canonical_terms`), or
+        None without ``model_terms``.
 
     Raises
     ------
     ValueError
-        ``max_order`` given for a response-surface design.
+        As above; the message starts with the argument's name.
     """
+    from brakeca.analysis import canonical_terms
+
     if max_order is not None and design.is_response_surface:
         raise ValueError(
             "max_order: a response-surface design's report fits a quadratic surface, not a "
             "factorial model of some order"
         )
+    if model_terms is None:
+        return None
+    if design.is_response_surface:
+        raise ValueError(
+            "model_terms: a response-surface design's report fits a quadratic surface, not a "
+            "factorial model of chosen terms"
+        )
+    if max_order is not None:
+        raise ValueError("model_terms, max_order: give one of them, not both")
+    return canonical_terms(model_terms, list(design.factor_names))
 
 
 def write_study(
@@ -447,6 +468,7 @@ def write_study(
     anova_type: int | None = None,
     alpha_to_remove: float | None = None,
     max_order: int | None = None,
+    model_terms: Sequence[str] | str | None = None,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -468,6 +490,11 @@ def write_study(
         The ANOVA model's terms up through this many factors (1 main effects, 2 the
         default, 3...); by default the design's ``model_order`` (2, or main effects alone
         for a Plackett-Burman design, unless set).
+    model_terms
+        The ANOVA model's terms one by one instead (``["S", "WP", "WR", "A", "WP*A"]``, or
+        one string of them; :func:`brakeca.analysis.canonical_terms`), as Minitab's Terms
+        dialog picks them; by default the design's ``model_terms`` where it has them and
+        no ``max_order`` is given. Not with ``max_order``.
 
     Returns
     -------
@@ -487,8 +514,14 @@ def write_study(
     typ = result.design.anova_type if anova_type is None else anova_type
     alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
     surface_design = result.design.is_response_surface
-    check_max_order(result.design, max_order)
-    order = result.design.anova_order if max_order is None else max_order
+    terms = check_max_order(result.design, max_order, model_terms)
+    model: int | Sequence[str]
+    if terms is not None:
+        model = terms
+    elif max_order is not None:
+        model = max_order
+    else:
+        model = result.design.anova_model
     tables = analysis.analyze(
         data,
         factors,
@@ -496,7 +529,8 @@ def write_study(
         main_effects_only=result.design.plackett_burman is not None,
         anova_type=typ,
         alpha_to_remove=None if surface_design else alpha,
-        max_order=order,
+        max_order=model if isinstance(model, int) else None,
+        model_terms=None if isinstance(model, int) else model,
     )
     analysis.save_tables(tables, tables_dir)
     surfaces: dict[str, Any] = {}
@@ -529,7 +563,7 @@ def write_study(
         data,
         factors,
         surfaces,
-        interactions=order,
+        interactions=model,
         alpha_to_remove=None if surface_design else alpha,
     )
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")

@@ -557,3 +557,28 @@ def test_the_per_stop_table_of_one_run_is_its_rows_of_the_campaigns(campaign):
     pd.testing.assert_frame_equal(one, expected.reset_index(drop=True))
     with pytest.raises(TypeError, match="takes a CampaignResult or a RunResult, got DataFrame"):
         per_stop_table(result.summary)
+
+
+def test_analyze_fits_the_terms_chosen(campaign, tmp_path):
+    """``--terms`` fits the ANOVA of the terms given (Minitab's Terms dialog), and the
+    report says so; a bad term, or --terms with --order, is refused before any work."""
+    import shutil
+
+    out = tmp_path / "c"
+    shutil.copytree(campaign[0], out)
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--terms", "A S"])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
+    assert list(table["term"]) == ["S", "A", "Residual"]  # design order, no S:A
+    assert table["df"].iloc[-1] == 1
+    html = (out / "report.html").read_text(encoding="utf-8")
+    assert "ANOVA of MU, of the terms chosen: S, A." in html
+    assert "model: MU ~ S + A" in html  # the residual plots are of that model
+    effects = pd.read_csv(out / "tables" / "effects_MU.csv", keep_default_na=False)
+    assert sorted(effects["term"]) == ["A", "S"]
+    for args, message in (
+        (["--terms", "S*B"], "error: --terms: term 'S*B': 'B' is not a factor of the design"),
+        (["--terms", "S", "--order", "2"], "error: --terms, --order: give one of them"),
+    ):
+        res = CliRunner().invoke(app, ["analyze", str(out), *args])
+        assert res.exit_code == 2 and message in res.output, res.output

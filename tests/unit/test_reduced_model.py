@@ -111,7 +111,7 @@ def test_the_reduced_models_residuals_and_effects_follow_the_anova() -> None:
     from brakeca.report import _effects_table
 
     assert (
-        "for the terms of the ANOVA's model (of the order asked for, or reduced"
+        "for the terms of the ANOVA's model (of the order asked for, the terms chosen, or reduced"
         in (_effects_table("y", result["effects"])[1])
     )
     # without it: the whole model
