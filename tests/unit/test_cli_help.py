@@ -17,6 +17,8 @@ COMMANDS = [
     ["plot"],
     ["run"],
     ["analyze"],
+    ["optimize"],
+    ["power"],
     ["paper"],
     ["config"],
     ["design"],
@@ -62,3 +64,14 @@ def test_command_lists_are_not_cut(args):
     assert "..." not in commands and "…" not in commands
     names = [line.split()[0] for line in commands.strip().splitlines()]
     assert sorted(names) == sorted(_command(args).commands)
+
+
+def test_every_command_is_registered():
+    """A helper put between a command's decorator and its function had taken the command's
+    place: ``brakeca optimize`` was gone, and only an integration test noticed."""
+    top = typer.main.get_command(app).commands
+    assert sorted(top) == sorted(
+        ["simulate", "plot", "surface", "run", "analyze", "optimize", "power", "paper",
+         "design", "config", "cycle"]
+    )  # fmt: skip
+    assert top["optimize"].callback.__name__ == "optimize"
