@@ -487,6 +487,30 @@ def test_cycle_inspect_cli(tmp_path):
     assert res.exit_code == 2 and "threshold" in res.output
 
 
+def test_the_events_plot_shades_every_event_with_one_artist():
+    """A long block cycle's events had been drawn as one patch each: two blocks of 100,000
+    stops took 121 s and 2.8 GB in ``cycle inspect -o``. They are one collection, with the
+    legend's one entry, spanning each event's times over the axes' height."""
+    from matplotlib.collections import PolyCollection
+
+    from brakeca.cli_cycle import plot_trace
+    from brakeca.traces import block_trace, detect_events
+
+    stops = expand_stops(load_preset("paper").with_updates({"cycle.max_stops": 50}))
+    trace = block_trace(stops)
+    events = detect_events(trace)
+    fig = plot_trace(trace, events)
+    ax = fig.axes[0]
+    assert not ax.patches
+    (spans,) = [c for c in ax.collections if isinstance(c, PolyCollection)]
+    assert len(spans.get_paths()) == len(events) == 50
+    corners = spans.get_paths()[7].vertices
+    assert corners[:, 0].min() == pytest.approx(events[7].start_time)
+    assert corners[:, 0].max() == pytest.approx(events[7].end_time)
+    assert (corners[:, 1].min(), corners[:, 1].max()) == (0.0, 1.0)  # the axes' height
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["speed", "braking event"]
+
+
 def test_round_numbers():
     assert math.isclose(MPH, 1609.344 / 3600)
 
