@@ -764,11 +764,11 @@ def anova(
         the default, 3 with the three-factor interactions, as Minitab's "terms up through
         order"). Where the model would leave no residual degrees of freedom, the highest
         order is pooled into the residual, order by order, with a note. Or the model's
-        terms one by one, as Minitab's Terms dialog picks them: a list such as ``["S",
-        "WP", "A", "WP*A"]`` (or one string, ``"S WP A WP*A"``; :func:`canonical_terms`),
-        fitted as given (no pooling; a note says where an interaction lacks a lower-order
-        term it contains, and a term of a factor with one level in the data is left
-        out).
+        terms one by one, as Minitab's Terms dialog picks them: a list (or array) such as
+        ``["S", "WP", "A", "WP*A"]`` (:func:`canonical_terms`; a hierarchical model, each
+        interaction with the lower-order terms of its factors), fitted as given: no
+        pooling, and a term of a factor with one level in the data is left out with a
+        note.
     typ
         The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted).
     alpha_to_remove
@@ -1099,11 +1099,22 @@ def _coded_frame(
 def split_terms(text: str) -> list[str]:
     """The terms of a model written on one line, as ``brakeca analyze --terms`` and a
     design's ``model_terms`` take them: separated by spaces, commas or ``+`` (``"S WP WR A
-    S*WP"``, ``"S + WP + S:WP"``); a term's factors joined by ``*`` or ``:``."""
+    S*WP"``, ``"S + WP + S:WP"``); a term's factors joined by ``*`` or ``:``.
+
+    Raises
+    ------
+    ValueError
+        Two commas or ``+`` with no term between them (``"S,,WP"``).
+    """
     import re
 
-    joined = re.sub(r"\s*([*:])\s*", r"\1", text)  # "WP * A" is one term
-    return [t for t in re.split(r"[\s,+]+", joined) if t]
+    joined = re.sub(r"\s*([*:])\s*", r"\1", text.strip())  # "WP * A" is one term
+    if not joined:
+        return []
+    terms = re.split(r"\s*[,+]\s*|\s+", joined)
+    if "" in terms:  # "S,,WP", "S + + WP", ", S": a term left out by mistake?
+        raise ValueError(f"model_terms: an empty term between separators in {text!r}")
+    return terms
 
 
 def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_terms") -> list[str]:
@@ -1130,7 +1141,10 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
     ------
     ValueError
         No term, a factor not in the design, a factor twice in a term (squares belong to a
-        response-surface design) or a term given twice; the message names the term.
+        response-surface design), a term given twice, or a model that is not hierarchical
+        (an interaction without a lower-order term of its factors: its columns would also
+        take those terms' effects, and the tables could not code it as one product of
+        contrasts throughout); the message names the term.
     """
     if isinstance(terms, str):
         terms = split_terms(terms)
@@ -1149,9 +1163,11 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
         unknown = [p for p in parts if p not in index]
         if unknown:
             what = repr(unknown[0]) if unknown[0] else "an empty name"
+            alike = [f for f in factors if f.lower() == unknown[0].lower()]
+            hint = f"; did you mean {alike[0]!r}? names are case-sensitive" if alike else ""
             raise ValueError(
                 f"{name}: term {term!r}: {what} is not a factor of the design (its factors: "
-                f"{', '.join(factors)})"
+                f"{', '.join(factors)}){hint}"
             )
         if len(set(parts)) < len(parts):
             raise ValueError(
@@ -1163,7 +1179,15 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
         if key in seen:
             raise ValueError(f"{name}: term {term!r} is given twice (as {seen[key]!r})")
         seen[key] = term
-    return [":".join(factors[i] for i in key) for key in sorted(seen, key=lambda k: (len(k), k))]
+    out = [":".join(factors[i] for i in key) for key in sorted(seen, key=lambda k: (len(k), k))]
+    gaps = _hierarchy_gaps(out)
+    if gaps:
+        raise ValueError(
+            f"{name}: the model is not hierarchical ({'; '.join(gaps)}): each interaction "
+            "needs every lower-order term of its factors in the model, as in 'WP A WP*A'; "
+            "add them (a term without them would take over their effects)"
+        )
+    return out
 
 
 def _hierarchy_gaps(terms: Sequence[str]) -> list[str]:
@@ -1214,7 +1238,9 @@ def _model_order(interactions: Model, *, name: str = "interactions") -> int:
 def _is_term_list(interactions: Any) -> TypeGuard[Sequence[str]]:
     """Whether ``interactions`` gives the model's terms (a list of them), not a flag or an
     order."""
-    return isinstance(interactions, Sequence) and not isinstance(interactions, str | bytes)
+    return isinstance(interactions, Sequence | np.ndarray | pd.Series | pd.Index) and not (
+        isinstance(interactions, str | bytes)
+    )
 
 
 _ORDER_NAMES = {2: "two-factor", 3: "three-factor", 4: "four-factor", 5: "five-factor"}
@@ -1299,14 +1325,17 @@ def _terms_up_through(names: Mapping[str, str], order: int) -> tuple[list[str], 
 def _given_terms(
     factors: Sequence[Factor], names: Mapping[str, str], given: Sequence[str]
 ) -> tuple[list[str], dict[str, str], list[str]]:
-    """The formula terms of the model terms ``given`` (:func:`canonical_terms`) over the factors
-    that vary (``names``, safe column name to factor name), their display names and notes:
-    the terms left out for a factor with a single level in the data, and the lower-order
-    terms a given interaction lacks (the model is then not hierarchical)."""
-    given = canonical_terms(given, [f.name for f in factors], name="interactions")
+    """The formula terms of the model terms ``given`` (:func:`canonical_terms`, which refuses
+    a model that is not hierarchical) over the factors that vary (``names``, safe column
+    name to factor name), the display names of those terms and of every varying factor's
+    main effect, and a note naming the terms left out for a factor with a single level in
+    the data."""
+    given = canonical_terms(list(given), [f.name for f in factors], name="interactions")
     column = {factor: safe for safe, factor in names.items()}
     terms: list[str] = []
-    term_names: dict[str, str] = {}
+    # every varying factor's main effect is named, in the model or not: the alias chains
+    # and the curvature's confounding name them
+    term_names = {f"C({safe})": factor for safe, factor in names.items()}
     dropped: list[str] = []
     for term in given:
         parts = term.split(":")
@@ -1319,15 +1348,9 @@ def _given_terms(
     notes = []
     if dropped:
         notes.append(
-            "terms of a factor with a single level in the data are left out: " + ", ".join(dropped)
-        )
-    gaps = _hierarchy_gaps(list(term_names.values()))
-    if gaps:
-        notes.append(
-            "the model given is not hierarchical ("
-            + "; ".join(gaps)
-            + "): each such interaction's sum of squares then also holds what the terms it "
-            "lacks would explain"
+            "terms of a factor with a single level in the data are left out: "
+            + ", ".join(dropped)
+            + ("; no term of the model is left" if not terms else "")
         )
     return terms, term_names, notes
 

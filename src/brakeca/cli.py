@@ -1045,6 +1045,26 @@ def _parse_goal(text: str) -> Any:
     return spec.to_goal()
 
 
+def _anova_model_text(design: Any) -> str:
+    """The report's ANOVA model of ``design`` in words: its terms, or up through which
+    order, and where that comes from."""
+    if design.model_terms is not None:
+        return f"the terms {', '.join(design.model_terms)} (model_terms)"
+    order = design.anova_order
+    where = (
+        " (model_order)"
+        if design.model_order is not None
+        else " (a Plackett-Burman design)"
+        if design.plackett_burman is not None
+        else ""
+    )
+    if order == 1:
+        return "main effects" + where
+    if order == 2:
+        return "main effects and two-factor interactions" + where
+    return f"every term up through {order} factors" + where
+
+
 def _interval_text(low: float, high: float) -> str:
     """An interval's ends as the optimizer's table shows them: ``"none"`` where it is not
     defined (a surface with no residual degrees of freedom), not ``"nan to nan"``."""
@@ -1220,8 +1240,9 @@ def power(
     calls a difference of E between two of the factor's level means significant (p < A) when
     runs at one setting scatter by S (another seed, another result). For the model the study
     fits (main effects and two-factor interactions; main effects alone for a Plackett-Burman
-    design; the whole model, not one alpha_to_remove reduces by the data; centre points'
-    pure error counted), as Minitab's Power and Sample Size for factorial designs. With
+    design; the design's model_order or model_terms where set; the whole model, not one
+    alpha_to_remove reduces by the data; centre points' pure error counted), as Minitab's
+    Power and Sample Size for factorial designs. With
     --target, the fewest replicates that reach that power, or, without --effect, the
     smallest difference found with that power."""
     from rich.table import Table
@@ -1301,9 +1322,15 @@ def power(
     )
     for column in ("factor", "levels", "replicates", "runs", "error df", last):
         table.add_column(escape(column), justify="left" if column == "factor" else "right")
+
+    def in_model(factor: str) -> bool:
+        return loaded.model_terms is None or factor in loaded.model_terms
+
     for _, row in table_data.iterrows():
         value = row["effect"] if effect is None else row["power"]
-        if math.isnan(row["df"]):
+        if math.isnan(row["df"]) and not in_model(str(row["factor"])):
+            shown = "not in the model"
+        elif math.isnan(row["df"]):
             shown = "not varied"
         elif math.isnan(value):
             shown = "no error df"
@@ -1318,6 +1345,7 @@ def power(
             shown,
         )
     out.print(table)
+    out.print(f"the ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False)
     if loaded.center_points:
         out.print(
             f"runs: the design's tests, its {loaded.center_points} centre point"
@@ -1497,12 +1525,8 @@ def show_design(
             highlight=False,
         )
     if loaded.model_terms is not None:
-        from brakeca.analysis import _hierarchy_gaps
-
-        gaps = _hierarchy_gaps(loaded.model_terms)
         out.print(
-            f"the report's ANOVA model: the terms {', '.join(loaded.model_terms)} (model_terms)"
-            + (f"; not hierarchical ({'; '.join(gaps)})" if gaps else ""),
+            f"the report's ANOVA model: the terms {', '.join(loaded.model_terms)} (model_terms)",
             markup=False,
             highlight=False,
         )
