@@ -500,6 +500,14 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     return _Table(columns, numeric, rows), "; ".join(notes)
 
 
+def _model_terms_of(effects: pd.DataFrame) -> list[str]:
+    """The terms of an effects table (not its centre points' row), fewest factors first."""
+    from brakeca.analysis import CENTER_TERM
+
+    rows = effects[effects["term"] != CENTER_TERM].sort_values("order", kind="stable")
+    return [str(t) for t in rows["term"]]
+
+
 def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     """The two-level effects table (in the report's unit of ``response``) and its caption."""
     factor, unit = _REPORT_UNITS.get(response, (1.0, None))
@@ -558,8 +566,8 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         "term coded -1/+1 (for an orthogonal design, the mean at the second level less the "
         "mean at the first), "
         + (
-            "for the terms of the ANOVA's model (of the order asked for, the terms chosen, "
-            "or reduced by backward elimination)"
+            "for the terms of the ANOVA's model: "
+            + ", ".join(_model_terms_of(frame))
             if attrs.get("terms_given")
             else "for every effect the design can estimate (one term per alias chain)"
         )
