@@ -566,8 +566,7 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         "term coded -1/+1 (for an orthogonal design, the mean at the second level less the "
         "mean at the first), "
         + (
-            "for the terms of the ANOVA's model: "
-            + ", ".join(_model_terms_of(frame))
+            "for the terms of the ANOVA's model: " + ", ".join(_model_terms_of(frame))
             if attrs.get("terms_given")
             else "for every effect the design can estimate (one term per alias chain)"
         )
