@@ -75,7 +75,9 @@ def main(argv: list[str] | None = None) -> dict:
     tables and the figures (for the tests)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tiny", action="store_true", help="a 5 x 100 cell band, 2 stops")
-    parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument(
+        "--out", type=Path, default=None, help="output folder (default examples_out/...)"
+    )
     parser.add_argument("--workers", type=int, default=2, help="runs at once (default 2)")
     args = parser.parse_args(argv)
     if args.out is None:  # the two variants' runs differ: each in its own folder

@@ -2,7 +2,10 @@
 
 Runs the shipped central composite design ``response_surface`` (WP and WR log-coded, A linear; 17
 runs) on the quick band (2 mm, 21 rows) and asks where the pad emits least at a COF near
-0.35, as ``brakeca run response_surface`` and ``brakeca optimize`` would, but step by step::
+0.35, as ``brakeca run response_surface --quick`` and ``brakeca optimize FOLDER --reduce 0.1
+-g log10_V_mm3:min:-1.5:1 -g MU:target:0.3:0.35:0.45`` would, but step by step (the surfaces
+reduced by backward elimination at alpha 0.1, as ``--reduce 0.1`` does; without it,
+``brakeca optimize`` fits the full quadratics and finds another optimum)::
 
     .venv/bin/python examples/response_surface.py          # 1 min 29 s, 2 cores, compiled kernels
     .venv/bin/python examples/response_surface.py --tiny     # a 5 x 100 cell band, 2 stops
@@ -33,8 +36,12 @@ def main(argv: list[str] | None = None) -> dict:
     """Run the example; returns the fits and the optimum (for the tests)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tiny", action="store_true", help="a 5 x 100 cell band, 2 stops")
-    parser.add_argument("--out", type=Path, default=None)
-    parser.add_argument("--workers", type=int, default=None)
+    parser.add_argument(
+        "--out", type=Path, default=None, help="output folder (default examples_out/...)"
+    )
+    parser.add_argument(
+        "--workers", type=int, default=None, help="runs at once (default: one per core)"
+    )
     args = parser.parse_args(argv)
     if args.out is None:  # the two variants' runs differ: each in its own folder
         args.out = Path("examples_out/response_surface" + ("_tiny" if args.tiny else ""))

@@ -70,7 +70,9 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--tiny", action="store_true", help="a 5 x 100 cell band, 3 stops")
     parser.add_argument("--stops", type=int, default=None, help="the first N stops only")
     parser.add_argument("--seed", type=int, default=3, help="the runs' seed (default 3)")
-    parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument(
+        "--out", type=Path, default=None, help="output folder (default examples_out/...)"
+    )
     args = parser.parse_args(argv)
     if args.out is None:
         args.out = Path("examples_out/single_run" + ("_tiny" if args.tiny else ""))

@@ -977,7 +977,7 @@ def analyze(
     except (ConfigError, FileNotFoundError, ValueError) as exc:
         _fail(str(exc))
     try:
-        check_max_order(result.design, order, terms)  # before the summary is printed
+        chosen = check_max_order(result.design, order, terms)  # before the summary is printed
     except ValueError as exc:
         text = str(exc)
         for name, option in (
@@ -999,14 +999,24 @@ def analyze(
             max_order=order,
             model_terms=terms,
         )
+    if chosen is not None or order is not None:
+        model = f"the terms {', '.join(chosen)}" if chosen else f"terms up through order {order}"
+        out.print(
+            f"the report's ANOVA model: {model} (the design's own model: brakeca analyze "
+            f"{folder} without {'--terms' if chosen else '--order'})",
+            markup=False,
+            highlight=False,
+        )
     out.print(
         f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
     )
 
 
 _GOAL_FORM = (
-    "RESPONSE:min:LOW:HIGH, RESPONSE:max:LOW:HIGH or RESPONSE:target:LOW:TARGET:HIGH, with "
-    "RESPONSE one of MU, V (in mm³), log10_V_mm3; e.g. V:min:0.1:5 or MU:target:0.35:0.4:0.45"
+    "RESPONSE:min:TARGET:UPPER, RESPONSE:max:LOWER:TARGET or "
+    "RESPONSE:target:LOWER:TARGET:UPPER (desirability 1 at TARGET, 0 at LOWER and UPPER, as "
+    "Minitab names them), with RESPONSE one of MU, V (in mm³), log10_V_mm3; e.g. V:min:0.1:5 "
+    "or MU:target:0.35:0.4:0.45"
 )
 
 
@@ -1745,7 +1755,7 @@ def show_config(
         config = resolve_config(preset, config_file, overrides, stops, quick)
     except ConfigError as exc:
         _fail(str(exc))
-    out.print(config.to_toml(), highlight=False, markup=False)
+    out.print(config.to_commented_toml(), highlight=False, markup=False, end="")
 
 
 @app.callback(invoke_without_command=True)

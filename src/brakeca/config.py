@@ -671,6 +671,29 @@ class SimulationConfig(_Frozen):
         """The resolved configuration as TOML text."""
         return tomli_w.dumps(self.to_dict())
 
+    def to_commented_toml(self) -> str:
+        """:meth:`to_toml` with each field's description (its unit first, ``[m]``) as a
+        comment at the end of its line, as ``brakeca config`` prints it; the comments change
+        nothing when the text is read back (:meth:`from_toml`)."""
+        import re
+
+        lines = []
+        table: list[str] = []
+        for line in self.to_toml().splitlines():
+            header = re.fullmatch(r"\[\[?([A-Za-z0-9_.]+)\]\]?", line.strip())
+            if header:
+                table = header.group(1).split(".")
+            match = re.match(r"([A-Za-z0-9_]+) = ", line)
+            text = _field_description(type(self), [*table, match.group(1)]) if match else None
+            if text and not line.rstrip().endswith(("[", "{")):  # not a value's first line
+                line = f"{line}  # {_first_sentence(text)}"
+            lines.append(line)
+        head = (
+            "# brakeca configuration (brakeca config): SI units inside, each field's unit in "
+            "brackets;\n# docs/nomenclature.md names the symbols, docs/model.md the model.\n"
+        )
+        return head + "\n".join(lines) + "\n"
+
     @classmethod
     def from_dict(
         cls,
@@ -770,6 +793,44 @@ def _known_keys(model: Any, loc: Sequence[Any]) -> list[str] | None:
             return None
         cls = model_in(cls.model_fields[part].annotation)
     return list(cls.model_fields) if is_model(cls) else None
+
+
+def _first_sentence(text: str, most: int = 110) -> str:
+    """``text`` up to the end of its first sentence, without its first parenthesis where it
+    is longer than ``most`` characters, and then at most that (cut at a word, with "...")."""
+    head = text.split(". ", 1)[0]
+    for aside in (" (", "; "):  # the unit and name, without the aside
+        if len(head) > most and aside in head[10:]:
+            head = head[: head.index(aside, 10)]
+    if len(head) <= most:
+        return head
+    return head[: most - 3].rsplit(" ", 1)[0] + "..."
+
+
+def _field_description(model: Any, loc: Sequence[str]) -> str | None:
+    """The description of the field at ``loc`` (field names) in ``model``, following nested
+    models, lists of them and optional ones; None where there is none."""
+    import typing
+
+    from pydantic import BaseModel
+
+    def model_in(annotation: Any) -> Any:
+        if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+            return annotation
+        for arg in typing.get_args(annotation):
+            found = model_in(arg)
+            if found is not None:
+                return found
+        return None
+
+    cls = model
+    for part in loc[:-1]:
+        if cls is None or part not in cls.model_fields:
+            return None
+        cls = model_in(cls.model_fields[part].annotation)
+    if cls is None or loc[-1] not in cls.model_fields:
+        return None
+    return cls.model_fields[loc[-1]].description
 
 
 def item_path(loc: Sequence[str | int]) -> str:

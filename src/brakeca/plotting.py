@@ -1448,16 +1448,29 @@ def plot_cof_series(
     stride = max(1, math.ceil(n / max(int(max_points), 1)))
     if time is not None and time[1].size == n:
         x, xlabel = time[1].astype(float), "Time [s]"
+        if time[0] == "step_time":  # a run's: the stops' braking times end to end
+            xlabel = "Braking time [s] (the stops end to end)"
     else:
         x, xlabel = np.arange(n, dtype=float), "Step index [-]"
+    # a run keeps every output.series_every-th step of its n_steps_total (results.py)
+    total = getattr(steps_ds, "attrs", {}).get("n_steps_total")
+    kept = 1
+    if "step" in getattr(steps_ds, "coords", ()) and np.asarray(steps_ds["step"]).size >= 2:
+        index = np.asarray(steps_ds["step"])
+        kept = max(int(index[1] - index[0]), 1)
+    every = stride * kept
+    of = f"{int(total):,} steps" if total else f"{n * kept:,} steps"
+    title = (
+        f"Per-step series (one step in {every:,} of the run's {of})"
+        if every > 1
+        else (f"Per-step series ({of})")
+    )
 
     fig = _figure((10.0, 5.5 if force is not None else 3.4))
     axes = fig.subplots(2 if force is not None else 1, 1, sharex=True, squeeze=False)[:, 0]
     axes[0].plot(x[::stride], cof[1][::stride], lw=0.7, color="#27496d")
     axes[0].set_ylabel("Coefficient of friction μ [-]")
-    axes[0].set_title(
-        "Per-step series" + (f" (every {stride}th step of {n})" if stride > 1 else f" ({n} steps)")
-    )
+    axes[0].set_title(title)
     axes[0].grid(True, alpha=0.3)
     if force is not None:
         axes[1].plot(x[::stride], force[1][::stride], lw=0.7, color="#f28e2b")

@@ -897,8 +897,8 @@ def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
 
 
 def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
-    """ " Model summary: S = ..., R² = ... %, ..." from :func:`brakeca.analysis.anova`'s attrs,
-    or "" when the table carries none."""
+    """ " Model summary: residual standard deviation s = ..., R² = ... %, ..." from
+    :func:`brakeca.analysis.anova`'s attrs, or "" when the table carries none."""
     if "r_squared" not in attrs:
         return ""
 
@@ -909,10 +909,10 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     s = attrs.get("s", math.nan)
     s_text = "undefined" if _is_missing(s) else f"{float(s):.4g}" + (f" {unit}" if unit else "")
     text = (
-        f" Model summary: S = {s_text}, R² = {pct('r_squared')}, R²(adj) = "
-        f"{pct('r_squared_adj')}, R²(pred) = {pct('r_squared_pred')} (S: residual standard "
-        "deviation; R²(pred) from the PRESS statistic, each run predicted by the model fitted "
-        "without it)."
+        f" Model summary: residual standard deviation s = {s_text} (Minitab's S), R² = "
+        f"{pct('r_squared')}, R²(adj) = {pct('r_squared_adj')}, R²(pred) = "
+        f"{pct('r_squared_pred')} (R²(pred) from the PRESS statistic, each run predicted by "
+        "the model fitted without it)."
     )
     pred = attrs.get("r_squared_pred", math.nan)
     if not _is_missing(pred) and float(pred) < 0.0:
@@ -953,7 +953,7 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
         if float(p_lof) < 0.05:
             text += (
                 " The lack of fit is significant: the model departs from the runs by more "
-                "than their scatter at repeated levels, so S, the intervals and any optimum "
+                "than their scatter at repeated levels, so s, the intervals and any optimum "
                 "or stationary point of the model carry that misfit; read them as approximate."
             )
     return text

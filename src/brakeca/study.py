@@ -142,9 +142,15 @@ def _stops_frame(run: Any, ids: dict[str, object]) -> pd.DataFrame:
 def _design_table(result: CampaignResult) -> pd.DataFrame:
     design = result.design
     generated = {}  # a fraction's generated factor -> its word, "= S·WP·WR"
+    folded = set(design.foldover)
     for text in design.generators:
         target, word = (part.strip() for part in text.split("=", 1))
-        generated[target] = "= " + word.replace(" ", "").replace("*", "·")
+        shown = word.replace(" ", "").replace("*", "·")
+        factors = {target, *(f.strip().lstrip("+-") for f in word.split("*"))}
+        if len(factors & folded) % 2:  # the fold-over reversed one side's sign in half the tests
+            generated[target] = f"(= {shown} before the fold-over)"
+        else:
+            generated[target] = "= " + shown
     rows = []
     logs = any(f.coding == "log" for f in design.factors)
     centre = design.center_levels() if design.center_points else {}
@@ -203,7 +209,16 @@ def _design_info(design: Design) -> str:
         )
     if design.is_fractional:
         relation = design.relation_text(times="·")
-        text += f" Generators: {', '.join(design.generators)}; defining relation {relation}."
+        if design.foldover:
+            folded = ", ".join(design.foldover)
+            text += (
+                f" Generators of the fraction before its fold-over on {folded}: "
+                f"{', '.join(design.generators)}; the fold-over (the tests again with the signs "
+                f"of {folded} reversed) keeps the words with an even number of them: defining "
+                f"relation {relation}."
+            )
+        else:
+            text += f" Generators: {', '.join(design.generators)}; defining relation {relation}."
         resolution = design.resolution
         if resolution == 3:
             text += (

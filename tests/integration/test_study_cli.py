@@ -115,7 +115,7 @@ def test_outputs_present_and_consistent(campaign):
     assert (out / "tables" / "effects_MU.csv").exists()
     # the maps' captions give each level with its unit (S has none)
     assert "Test 3 (S = 0, A = 20 %): plateaus after the first 2 of the cycle" in html
-    assert "Model summary: S = " in html
+    assert "Model summary: residual standard deviation s = " in html
     # the report says at its top what the campaign left out of the paper's study
     assert (
         "These runs were made on a grid of 5 × 100 cells instead of the paper&#39;s 201 × 1000 "
@@ -568,6 +568,7 @@ def test_analyze_fits_the_terms_chosen(campaign, tmp_path):
     shutil.copytree(campaign[0], out)
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--terms", "A S"])
     assert res.exit_code == 0, res.output
+    assert "the report's ANOVA model: the terms S, A (the design's own model: " in res.output
     table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
     assert list(table["term"]) == ["S", "A", "Residual"]  # design order, no S:A
     assert table["df"].iloc[-1] == 1

@@ -281,3 +281,27 @@ def test_a_fields_path_counts_list_items_from_one():
     factors = [{"name": "WP", "levels": [1e-15, 1e-13]}, {"name": "A", "levels": [10, "x"]}]
     with pytest.raises(ConfigError, match=r"^d: factors #2\.levels: levels must be numbers"):
         design_from_dict({**table, "factors": factors}, source="d")
+
+
+def test_brakeca_config_prints_each_fields_unit_and_reads_back_the_same(tmp_path) -> None:
+    """``brakeca config > my.toml`` had given bare numbers (``slope = 3e-08``): each field
+    now carries its description, unit first, as a comment; the text reads back unchanged,
+    also through --config."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    config = load_preset("paper")
+    text = config.to_commented_toml()
+    assert "slope = 3e-08  # [1/Pa] decrease of COF per pascal, c (0.03 per MPa; decision)" in text
+    assert "initial_speed_kmh = 50.0  # [km/h] speed at brake-on" in text
+    assert "elastic_modulus = 1000000000.0  # [Pa] foundation modulus E" in text
+    assert max(len(line) for line in text.splitlines()) <= 130
+    assert SimulationConfig.from_toml(text) == config
+    res = CliRunner().invoke(app, ["config", "--set", "WP=1e-13"])
+    assert res.exit_code == 0, res.output
+    path = tmp_path / "my.toml"
+    path.write_text(res.stdout)
+    again = CliRunner().invoke(app, ["config", "--config", str(path)])
+    assert again.exit_code == 0, again.output
+    assert again.stdout == res.stdout

@@ -434,7 +434,14 @@ def test_cof_series_of_a_run_draws_its_steps_not_its_stops() -> None:
         fig = plot_cof_series(source)
         assert len(fig.axes[0].lines[0].get_ydata()) == n
         assert set(fig.axes[1].lines[0].get_ydata()) == {2500.0}
-        assert fig.axes[-1].get_xlabel() == "Time [s]"
+        assert fig.axes[-1].get_xlabel() == "Braking time [s] (the stops end to end)"
+        assert fig.axes[0].get_title() == "Per-step series (300 steps)"
+    # a run keeps one step in output.series_every: the title says so, of the run's steps
+    # (it had read "9824 steps" for a run of 491,160)
+    sampled = run.assign_coords(step=np.arange(n) * 50 + 1)
+    sampled.attrs["n_steps_total"] = 15_000
+    title = plot_cof_series(sampled, max_points=100).axes[0].get_title()
+    assert title == "Per-step series (one step in 150 of the run's 15,000 steps)"
     with pytest.raises(ValueError, match="'mean_cof' is a series over stop, not over steps"):
         plot_cof_series(run[["mean_cof", "normal_force"]])
 

@@ -126,10 +126,10 @@ def test_report_is_complete_and_self_contained(tmp_path) -> None:
     # Test 4 has one run left (the other failed): the model fits it whatever its value
     # (leverage 1), so no prediction of it without it, and no predicted R-squared.
     assert math.isnan(attrs["r_squared_pred"]) and "R²(pred) = undefined" in html
-    assert f"S = {attrs['s']:.4g} m³" not in html  # MU has no unit
+    assert f"s = {attrs['s']:.4g} m³" not in html  # MU has no unit
     # V's ANOVA in mm³, like the per-run table and the figures (the CSV tables keep m³)
     v_anova = inputs["anova_tables"]["V"]
-    assert f"S = {v_anova.attrs['s'] * 1e9:.4g} mm³" in html
+    assert f"deviation s = {v_anova.attrs['s'] * 1e9:.4g} mm³ (Minitab&#39;s S)" in html
     assert "sums of squares and mean squares in (mm³)²" in html
     v_ss = v_anova.loc[v_anova["term"] == "Residual", "sum_sq"].iloc[0]
     assert f">{v_ss * 1e18:.4g}<" in html
@@ -194,7 +194,8 @@ def test_model_summary_text_with_lack_of_fit() -> None:
     attrs = {"s": 0.5e-9, "r_squared": 0.99, "r_squared_adj": 0.98, "r_squared_pred": math.nan}
     attrs |= {"pure_error_df": 48.0, "lack_of_fit_df": 9.0, "lack_of_fit_F": 25.06}
     text = _model_summary_text({**attrs, "lack_of_fit_p": 3e-15}, "m³")
-    assert "S = 5e-10 m³, R² = 99.00 %, R²(adj) = 98.00 %, R²(pred) = undefined" in text
+    expected = "s = 5e-10 m³ (Minitab's S), R² = 99.00 %, R²(adj) = 98.00 %, R²(pred) = undefined"
+    assert expected in text
     assert "pure error (48 df" in text and "lack of fit (9 df" in text
     assert "lack of fit F = 25.1, p < 0.001. The lack of fit is significant" in text
     assert text.endswith("read them as approximate.")  # a statistics review asked for it

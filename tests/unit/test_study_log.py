@@ -66,3 +66,23 @@ def test_design_table_lists_levels_with_their_labels_or_alone() -> None:
     table = _design_table(SimpleNamespace(design=design))  # type: ignore[arg-type]
     assert list(table["levels"]) == ["0, 10", "- = 1e-14, + = 1e-13"]
     assert list(table["unit"]) == ["%", "m^3/(N m)"]
+
+
+def test_a_fold_over_report_gives_the_generators_the_fold_over_broke_as_before_it() -> None:
+    """After a fold-over on S, modulus = S*WP*WR and slope = S*WR*A no longer hold (the
+    folded half reverses S): the report had listed them as the design's generators."""
+    from types import SimpleNamespace
+
+    from brakeca.design import load_design
+    from brakeca.study import _design_info, _design_table
+
+    design = load_design("screen_fold")
+    table = _design_table(SimpleNamespace(design=design)).set_index("factor")  # type: ignore[arg-type]
+    assert table.loc["modulus", "generated"] == "(= S·WP·WR before the fold-over)"
+    assert table.loc["slope", "generated"] == "(= S·WR·A before the fold-over)"
+    assert table.loc["mu0", "generated"] == "= WP·WR·A"  # no S: it still holds
+    info = _design_info(design)
+    assert "Generators of the fraction before its fold-over on S: modulus = S*WP*WR" in info
+    assert "defining relation I = WP·WR·A·mu0 = " in info
+    plain = _design_table(SimpleNamespace(design=load_design("screen"))).set_index("factor")  # type: ignore[arg-type]
+    assert plain.loc["modulus", "generated"] == "= S·WP·WR"
