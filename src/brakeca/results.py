@@ -24,7 +24,9 @@ plateau), ``final_height`` [m]; where the run was asked to keep them (``simulate
 along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package version,
 wall time [s], the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
 applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
-``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan.
+``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan,
+with a ``comment`` that explains ``quick``, ``max_stops`` and ``n_steps_total``; the ``rule``
+coordinate's ``rule_meanings`` names the seven plateau rules (:data:`RULE_ATTRS`).
 
 References
 ----------
@@ -145,6 +147,20 @@ def scalar_attrs(name: str) -> dict[str, str]:
 
 #: Names a campaign's summary and dataset use besides the run scalars and the per-stop
 #: variables: the log scale of V and the per-stop rule counts.
+#: Attributes of a run file's ``rule`` coordinate: the seven plateau rules of the paper's
+#: Section 2 (docs/model.md section 5 gives how each is read).
+RULE_ATTRS: dict[str, str] = {
+    "units": "1",
+    "long_name": "plateau rule of the cellular automaton",
+    "rule_meanings": (
+        "1-3: a cell with a plateau directly east (1), and one (2) or both (3) eastern "
+        "diagonals, becomes a secondary plateau; 4: a secondary plateau without a plateau "
+        "directly east is removed; 5: a secondary plateau whose deposit is worn through is "
+        "removed; 6: a primary plateau out of the disc's reach (off by default); 7: a fibre "
+        "worn through (never with fibres as columns)"
+    ),
+}
+
 OTHER_RESULT_NAMES: tuple[str, ...] = ("log10_V_mm3", "rule_firings")
 
 
@@ -524,9 +540,13 @@ def build_dataset(
         scalar_attrs("max_friction_residual"),
     )
     coords = {
-        "stop": ("stop", stop_idx),
-        "block": ("stop", np.array([s.block for s in stops], dtype=object)),
-        "rule": ("rule", np.arange(1, 8)),
+        "stop": ("stop", stop_idx, {"units": "1", "long_name": "stop of the drive cycle, from 1"}),
+        "block": (
+            "stop",
+            np.array([s.block for s in stops], dtype=object),
+            {"long_name": "the drive cycle's block the stop belongs to"},
+        ),
+        "rule": ("rule", np.arange(1, 8), RULE_ATTRS),
         "step": ("step", keep + 1),
         "radius": ("radius", np.asarray(grid.radius), {"units": "m"}),
         "angle": ("angle", np.asarray(grid.angle), {"units": "rad"}),
@@ -535,6 +555,13 @@ def build_dataset(
         coords["map_stop"] = ("map_stop", np.array(sorted(maps), dtype=np.int64))
     attrs = {
         "format": FORMAT,
+        "comment": (
+            "quick: 1 when the band was narrowed by --quick; max_stops: the cycle's first N "
+            "stops only, -1 for the whole cycle; n_steps_total: the run's steps, of which the "
+            "step_* series keep every output.series_every-th; config: the run's whole "
+            "configuration (TOML); a campaign's summary.csv names each run's test and levels "
+            "by its run id (the file name)"
+        ),
         "title": "brakeca run",
         "references": "J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260",
         "brakeca_version": __version__,

@@ -148,6 +148,13 @@ def test_summary_and_campaign_nc_match_the_run_files(serial):
     assert ds["wall_time"].attrs["units"] == "s"
     for i, row in summary.iterrows():
         run = RunResult.from_netcdf(out / "runs" / f"{row['run_id']}.nc")
+        if i == 0:  # the run file explains its coordinates and attributes (a helper's walk)
+            assert (
+                "5: a secondary plateau whose deposit is worn through"
+                in (run.dataset["rule"].attrs["rule_meanings"])
+            )
+            assert run.dataset["stop"].attrs["long_name"] == "stop of the drive cycle, from 1"
+            assert "max_stops: the cycle's first N stops only" in run.dataset.attrs["comment"]
         assert run.seed == row["seed"] == int(ds["seed"][i])
         scalars = run.scalars()
         assert row["MU"] == scalars["MU"] == float(ds["MU"][i])
