@@ -434,10 +434,14 @@ def simulate(
     from brakeca.geometry import make_grid
 
     worn = float(ds["generated_volume"].sum())  # [m^3] of pad material: fibre and resin
-    out.print(
-        f"pad worn: {worn * 1e9:.6g} mm³, a mean depth of {worn / make_grid(config).area * 1e3:.4g}"
-        " mm over the band"
-    )
+    depth = worn / make_grid(config).area  # [m]
+    out.print(f"pad worn: {worn * 1e9:.6g} mm³, a mean depth of {depth * 1e3:.4g} mm over the band")
+    if depth > PAD_DEPTH_NOTE:
+        out.print(
+            "[yellow]note:[/] more than a new car pad's friction material (typically 10-12 "
+            "mm): the model sets no pad thickness and wears on (docs/model.md section 6)",
+            highlight=False,
+        )
     out.print(
         f"ledger residual (max, relative) = {float(ds['max_ledger_residual']):.2e}; "
         f"friction residual (max) = {float(ds['max_friction_residual']):.2e}"
@@ -1073,6 +1077,12 @@ def _anova_model_text(design: Any) -> str:
     if order == 2:
         return "main effects and two-factor interactions" + where
     return f"every term up through {order} factors" + where
+
+
+#: A mean wear depth [m] above which ``brakeca simulate`` notes that a real pad would be worn
+#: through: a new car pad's friction material is typically 10-12 mm thick (docs/model.md
+#: section 6; the model itself has no thickness).
+PAD_DEPTH_NOTE = 10e-3
 
 
 def _interval_text(low: float, high: float) -> str:

@@ -221,7 +221,9 @@ def inspect_cycle(
         out.print(
             f"work of the modelled front brake (wheel load {m_w:g} kg, brake share "
             f"{tc.brake_share:.3g}, road load C_rr {tc.rolling_resistance:g}, C_dA "
-            f"{tc.drag_area:g} m²): {_energy(brake_work(events, m_w))}",
+            f"{tc.drag_area:g} m²): {_energy(brake_work(events, m_w))}; the brake share "
+            "c φ_f / ψ_f is the front brake's share of the braking over its share of the "
+            "load, above 1 for front-biased brakes (docs/cycles.md)",
             highlight=False,
         )
         if plot is not None:

@@ -385,3 +385,20 @@ def test_cli_simulate_says_how_much_pad_wore(tmp_path):
     assert float(match[1]) == pytest.approx(worn * 1e9, rel=1e-5)
     depth = worn / make_grid(run.config).area
     assert float(match[2]) == pytest.approx(depth * 1e3, rel=1e-3) and depth > 0
+    assert "note: more than a new car pad" not in res.output  # 2 stops: far from 10 mm
+
+
+def test_cli_simulate_notes_a_depth_past_a_real_pads(tmp_path, monkeypatch):
+    """The model has no pad thickness: a depth beyond a new pad's friction material is
+    noted (the threshold lowered here so that two tiny stops pass it)."""
+    from campaign_helpers import TINY_CLI
+
+    from brakeca import cli
+
+    monkeypatch.setattr(cli, "PAD_DEPTH_NOTE", 1e-12)
+    tiny = TINY_CLI[: TINY_CLI.index("--executor")]
+    res = CliRunner().invoke(app, ["simulate", "-o", str(tmp_path / "r.nc"), *tiny])
+    assert res.exit_code == 0, res.output
+    assert "note: more than a new car pad's friction material (typically 10-12 mm)" in (
+        " ".join(res.output.split())
+    )
