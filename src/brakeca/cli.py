@@ -814,10 +814,14 @@ def _print_summary(summary, design=None) -> None:
         and summary.columns.get_loc(c) < summary.columns.get_loc("seed")
     ]
 
+    centre = design.center_levels() if design is not None and design.center_points else {}
+
     def level(name: str, value: float, *, labelled: bool) -> str:
         if design is not None and name in design.factor_names:
             factor = design.factor(name)
             if factor.labels is not None and (labelled or factor.choices is not None):
+                if name in centre and value == centre[name] and value not in factor.levels:
+                    return "0"  # a centre point's level, coded 0 as brakeca design codes it
                 return factor.label_of(value)
         return f"{value:g}"
 
@@ -844,7 +848,11 @@ def _print_summary(summary, design=None) -> None:
     caption = None
     if sum(widths(cells)) + 3 * len(headers) + 1 > out.width:
         cells = rows(labelled=True)
-        caption = "levels by their labels; summary.csv has the values"
+        caption = (
+            "levels by their labels"
+            + (", centre points 0" if centre else "")
+            + ("; summary.csv has the values")
+        )
     table = Table(title="runs", caption=caption, show_lines=False)
     for k, (col, width) in enumerate(zip(headers, widths(cells), strict=True)):
         whole = k == 0 or k >= len(headers) - 2  # the test number and the responses

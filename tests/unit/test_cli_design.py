@@ -252,3 +252,34 @@ def test_design_and_power_refuse_levels_that_cannot_run_together(tmp_path) -> No
         assert res.exit_code == 2, res.output
         assert expected in res.output
         assert "tests" not in res.output  # nothing of the design was printed
+
+
+def test_the_runs_table_codes_centre_points_0_among_labels(tmp_path) -> None:
+    """Seven factors in 80 columns: the runs table gives the levels by their labels, and a
+    centre point's levels (not labels of the design) had shown as cut values ('3.16…')."""
+    import io
+
+    import pandas as pd
+    from rich.console import Console
+
+    from brakeca import cli
+    from brakeca.design import load_design
+
+    design = load_design("screen_center")
+    rows = []
+    for test, combo in enumerate(design.combinations(), start=1):
+        rows.append({"test": test, **combo, "seed": test, "MU": 0.3, "V_mm3": 1.0})
+    summary = pd.DataFrame(rows)
+    buffer = io.StringIO()
+    console = Console(file=buffer, width=80)
+    saved = cli.out
+    cli.out = console
+    try:
+        cli._print_summary(summary, design)
+    finally:
+        cli.out = saved
+    text = buffer.getvalue()
+    assert "levels by their labels, centre points 0; summary.csv has the values" in text
+    last = next(line for line in text.splitlines() if line.startswith("│   20 │"))
+    assert [c.strip() for c in last.strip("│").split("│")][1:8] == ["0"] * 7
+    assert "…" not in text
