@@ -47,6 +47,7 @@ __all__ = [
     "plot_interactions",
     "plot_main_effects",
     "plot_mu_per_stop",
+    "plot_mu_per_stop_by_level",
     "plot_overlaid_contours",
     "plot_pareto",
     "plot_profiler",
@@ -532,6 +533,102 @@ def plot_mu_per_stop(
     ax.grid(True, alpha=0.3)
     if n > 1:
         fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
+    return save_figure(fig, path)
+
+
+def plot_mu_per_stop_by_level(
+    campaign: Any,
+    factors: Iterable[Any] | None = None,
+    path: str | Path | None = None,
+    *,
+    variable: str = "mean_cof",
+) -> Figure:
+    """The main effects over the cycle: the mean COF per stop of the runs at each level of
+    each factor, one panel per factor.
+
+    Each line is the mean, stop by stop, over the finished runs at that level (in an
+    orthogonal design the other factors are balanced in it, as in a main-effects plot);
+    runs at none of the levels (centre points) are left out. Where all runs' lines cross,
+    as in :func:`plot_mu_per_stop` with 24 of them, these show which factor moves MU in
+    which block of the cycle.
+
+    Parameters
+    ----------
+    campaign
+        A :class:`~brakeca.campaign.CampaignResult` (its dataset, and its design's factors
+        unless ``factors`` is given) or an xarray Dataset with dims ``run`` and ``stop``,
+        ``variable`` [-], the factors' levels as coordinates along ``run`` and optionally
+        ``block(stop)``, whose blocks are shaded.
+    factors
+        The factors (:class:`brakeca.analysis.Factor` or factor-like); by default the
+        campaign's design's.
+    path
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    variable
+        Data variable to average, ``"mean_cof"`` [-] by default.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per factor (two columns), sharing both axes.
+    """
+    import matplotlib as mpl
+
+    design = getattr(campaign, "design", None)
+    if factors is None and design is not None:
+        factors = design.factors
+    data = getattr(campaign, "dataset", campaign)
+    factors = [as_factor(f) for f in (factors or ())]
+    factors = [f for f in factors if f.name in getattr(data, "coords", {})]
+    if not factors:
+        raise ValueError("no factor of the campaign to plot by (its levels along 'run')")
+    if variable not in data.data_vars:
+        raise KeyError(f"campaign has no variable {variable!r}")
+    values = data[variable].transpose("run", "stop").to_numpy().astype(float)
+    stops = data["stop"].to_numpy()
+    cols = 2 if len(factors) > 1 else 1
+    rows = math.ceil(len(factors) / cols)
+    fig = _figure((12.0, 2.3 * rows + 1.0))
+    axes = fig.subplots(rows, cols, sharex=True, sharey=True, squeeze=False).ravel()
+    blocks = [str(b) for b in data["block"].to_numpy()] if "block" in data.coords else []
+    for ax, factor in zip(axes, factors, strict=False):
+        for k, (_, lo, hi) in enumerate(_block_spans(blocks, stops) if blocks else []):
+            if k % 2:
+                ax.axvspan(lo, hi, color="0.93", lw=0, zorder=0)
+        at = data[factor.name].to_numpy()
+        n_levels = len(factor.levels)
+        colours = (
+            ["#2166ac", "#b2182b"]
+            if n_levels == 2
+            else ["#2166ac", "#4d9221", "#b2182b"]
+            if n_levels == 3
+            else list(mpl.colormaps["viridis"](np.linspace(0.0, 0.9, n_levels)))
+        )  # low blue, high red
+        for level, colour in zip(factor.levels, colours, strict=True):
+            mine = values[np.isclose(at.astype(float), float(level), rtol=1e-9, atol=0.0)]
+            mine = mine[np.isfinite(mine).all(axis=1)] if mine.size else mine
+            if not len(mine):
+                continue
+            ax.plot(
+                stops,
+                mine.mean(axis=0),
+                lw=1.3,
+                color=colour,
+                label=f"{_legend_label(factor, level)}, {len(mine)} run"
+                + ("s" if len(mine) != 1 else ""),
+            )
+        ax.set_title(factor.label or factor.name, fontsize=9)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize=7)
+    for ax in axes[len(factors) :]:
+        ax.set_visible(False)
+    for k in range(len(factors)):  # the lowest panel of each column shows the stops
+        if k + cols >= len(factors):
+            axes[k].xaxis.set_tick_params(labelbottom=True)
+            axes[k].set_xlabel("Stop number [-]")
+    for ax in axes[::cols]:
+        ax.set_ylabel("Mean μ per stop [-]")
+    _suptitle(fig, "Mean coefficient of friction per stop at each factor level (main effects)")
     return save_figure(fig, path)
 
 

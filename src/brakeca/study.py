@@ -727,6 +727,16 @@ def write_study(
         )
         add(
             "Runs",
+            f"MU per stop over {stops_run} at each level of each factor: the mean of the "
+            "finished runs at that level, stop by stop (the main effects over the cycle; "
+            "centre points left out), the cycle's blocks shaded as above",
+            "mu_per_stop_by_level.png",
+            plotting.plot_mu_per_stop_by_level,
+            result.dataset,
+            factors,
+        )
+        add(
+            "Runs",
             "V for every run (paper Figure 11; on a log axis, a point per test, where the "
             "tests' V span more than two decades)",
             "v_per_run.png",

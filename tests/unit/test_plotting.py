@@ -557,3 +557,37 @@ def test_run_labels_code_centre_points_as_0() -> None:
     assert _run_label(17, {"S": 0.5, "mu0": 0.6, "WP": 1e-14}, factors) == "T17: S0, mu0 0, WP0"
     assert _run_label(1, {"S": 1.0, "mu0": 0.5, "WP": 1e-15}, factors) == "T1: S+, mu0 -, WP-"
     assert _run_label(2, {"S": 0.3, "mu0": 0.5, "WP": 1e-15}, factors) == "T2: S=0.3, mu0 -, WP-"
+
+
+def test_mu_per_stop_by_level_draws_each_levels_mean_of_the_finished_runs() -> None:
+    """The main effects over the cycle: each line the stop-by-stop mean of the runs at one
+    level; a centre point (at no level) and a failed run (NaN) are left out."""
+    from brakeca.plotting import plot_mu_per_stop_by_level
+
+    stops = 5
+    a = np.array([10.0, 20.0, 10.0, 20.0, 15.0, 10.0])
+    s = np.array([0.0, 0.0, 1.0, 1.0, 0.5, 1.0])
+    cof = np.outer(a / 100.0 + s, np.ones(stops)) + np.arange(stops) * 1e-3
+    cof[5] = np.nan  # a failed run
+    ds = xr.Dataset(
+        {"mean_cof": (("run", "stop"), cof)},
+        coords={
+            "run": np.arange(1, 7),
+            "stop": np.arange(1, stops + 1),
+            "A": ("run", a),
+            "S": ("run", s),
+            "block": ("stop", ["B1"] * 2 + ["B2"] * 3),
+        },
+    )
+    factors = [Factor("S", (0.0, 1.0), "-", "S", ("-", "+")), Factor("A", (10.0, 20.0), "%")]
+    fig = plot_mu_per_stop_by_level(ds, factors)
+    s_ax, a_ax = fig.axes[:2]
+    low, high = (line.get_ydata() for line in s_ax.lines)
+    np.testing.assert_allclose(low, cof[[0, 1]].mean(axis=0))
+    np.testing.assert_allclose(high, cof[[2, 3]].mean(axis=0))  # not the failed run 6
+    labels = [t.get_text() for t in s_ax.get_legend().get_texts()]
+    assert labels == ["S- (0), 2 runs", "S+ (1), 2 runs"]
+    np.testing.assert_allclose(a_ax.lines[0].get_ydata(), cof[[0, 2]].mean(axis=0))
+    assert [t.get_text() for t in a_ax.get_legend().get_texts()][1] == "A = 20, 2 runs"
+    with pytest.raises(ValueError, match="no factor of the campaign"):
+        plot_mu_per_stop_by_level(ds, [Factor("X", (0.0, 1.0))])
