@@ -767,8 +767,8 @@ def anova(
         terms one by one, as Minitab's Terms dialog picks them: a list (or array) such as
         ``["S", "WP", "A", "WP*A"]`` (:func:`canonical_terms`; a hierarchical model, each
         interaction with the lower-order terms of its factors), fitted as given: no
-        pooling, and a term of a factor with one level in the data is left out with a
-        note.
+        pooling; a term of a factor with one level in the data, or aliased with the terms
+        before it (in a fraction), is left out with a note.
     typ
         The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted).
     alpha_to_remove
@@ -809,6 +809,8 @@ def anova(
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
     factors = _factors(factors)
+    if _is_term_list(interactions):  # checked once, before any work
+        interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
     data = _clean(summary, factors, response)
     n = len(data)
     y = data[response].to_numpy(dtype=float)
@@ -929,11 +931,7 @@ def anova(
         total_sum_sq=total_ss,
         center_points=int(y_center.size),
         order=_model_order(interactions),
-        model_terms=(
-            canonical_terms(interactions, [f.name for f in factors], name="interactions")
-            if _is_term_list(interactions)
-            else None
-        ),
+        model_terms=list(interactions) if _is_term_list(interactions) else None,
         alpha_to_remove=alpha_to_remove,
     )
     out.attrs.update(_fit_statistics(y_fit, *_least_squares(exog, y_fit), total_ss))
@@ -1101,6 +1099,17 @@ def split_terms(text: str) -> list[str]:
     design's ``model_terms`` take them: separated by spaces, commas or ``+`` (``"S WP WR A
     S*WP"``, ``"S + WP + S:WP"``); a term's factors joined by ``*`` or ``:``.
 
+    Parameters
+    ----------
+    text
+        The terms on one line.
+
+    Returns
+    -------
+    list of str
+        The terms as written (``"S*WP"``), spaces around ``*`` and ``:`` removed; empty for
+        a blank line. :func:`canonical_terms` checks them against the factors.
+
     Raises
     ------
     ValueError
@@ -1113,7 +1122,7 @@ def split_terms(text: str) -> list[str]:
         return []
     terms = re.split(r"\s*[,+]\s*|\s+", joined)
     if "" in terms:  # "S,,WP", "S + + WP", ", S": a term left out by mistake?
-        raise ValueError(f"model_terms: an empty term between separators in {text!r}")
+        raise ValueError(f"an empty term between separators in {text!r}")
     return terms
 
 
@@ -1147,13 +1156,17 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
         contrasts throughout); the message names the term.
     """
     if isinstance(terms, str):
-        terms = split_terms(terms)
-    if not isinstance(terms, Iterable) or not all(isinstance(t, str) for t in terms):
+        try:
+            terms = split_terms(terms)
+        except ValueError as exc:
+            raise ValueError(f"{name}: {exc}") from None
+    if isinstance(terms, Iterable) and not isinstance(terms, Mapping | bytes):
+        terms = list(terms)  # once: a generator is read here
+    if not isinstance(terms, list) or not all(isinstance(t, str) for t in terms):
         raise ValueError(
             f"{name}: expected a list of terms (factor names, an interaction's joined by '*'), "
             f"got {terms!r}"
         )
-    terms = list(terms)
     if not terms:
         raise ValueError(f"{name}: no term given; name at least one factor")
     index = {f: i for i, f in enumerate(factors)}
@@ -1238,9 +1251,9 @@ def _model_order(interactions: Model, *, name: str = "interactions") -> int:
 def _is_term_list(interactions: Any) -> TypeGuard[Sequence[str]]:
     """Whether ``interactions`` gives the model's terms (a list of them), not a flag or an
     order."""
-    return isinstance(interactions, Sequence | np.ndarray | pd.Series | pd.Index) and not (
-        isinstance(interactions, str | bytes)
-    )
+    return isinstance(
+        interactions, Sequence | np.ndarray | pd.Series | pd.Index | set | frozenset
+    ) and not isinstance(interactions, str | bytes)
 
 
 _ORDER_NAMES = {2: "two-factor", 3: "three-factor", 4: "four-factor", 5: "five-factor"}
@@ -1773,6 +1786,8 @@ def _model_arrays(
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
     factors = _factors(factors)
+    if _is_term_list(interactions):  # checked once, before any work
+        interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
     data = _clean(summary, factors, response)
     y = data[response].to_numpy(dtype=float)
     if y.size == 0:
@@ -2214,7 +2229,8 @@ def two_level_effects(
         centre points' mean less the model's value at the centre [response unit], ``se``,
         ``t`` and ``p_value``; NaN without centre points or with Lenth's method; and
         ``aliases``, the factors it is confounded with, when one has a single level in the
-        other runs), ``terms_given`` (whether ``model_terms`` chose the terms) and ``note``
+        other runs), ``terms_given`` (whether ``model_terms`` chose the terms),
+        ``model_terms`` (those terms as given, in the model's order, or None) and ``note``
         (what the reader must know: a design that is not orthogonal, a non-regular design
         fitted with its main effects alone, interactions left out as partly confounded, an
         error that is not pure error alone, a PSE of zero; empty otherwise).
@@ -2426,6 +2442,7 @@ def two_level_effects(
         alpha=alpha,
         n=int(y.size + n_c),
         terms_given=model_terms is not None,
+        model_terms=None if model_terms is None else [str(t) for t in model_terms],
         center_points=n_c,
         curvature=curvature,
         note="; ".join(notes),
@@ -2477,7 +2494,8 @@ def analyze(
     model_terms
         The model's terms one by one instead (:func:`canonical_terms`: ``["S", "WP",
         "S*WP"]``, or one string of them), as Minitab's Terms dialog picks them; the
-        residuals and the effects table are then of that model. Not with ``max_order``.
+        residuals and the effects table are then of that model, and ``main_effects_only``
+        no longer applies to either. Not with ``max_order``.
 
     Raises
     ------

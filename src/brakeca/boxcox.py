@@ -43,10 +43,13 @@ import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
+
+if TYPE_CHECKING:
+    from brakeca.analysis import Model
 
 __all__ = [
     "BOX_COX_COLUMNS",
@@ -350,7 +353,7 @@ def box_cox(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: bool | int | Sequence[str] = True,
+    interactions: Model = True,
     alpha_to_remove: float | None = None,
     confidence: float = 0.95,
 ) -> BoxCox:

@@ -851,7 +851,7 @@ def _print_summary(summary, design=None) -> None:
         caption = (
             "levels by their labels"
             + (", centre points 0" if centre else "")
-            + ("; summary.csv has the values")
+            + "; summary.csv has the values"
         )
     table = Table(title="runs", caption=caption, show_lines=False)
     for k, (col, width) in enumerate(zip(headers, widths(cells), strict=True)):
@@ -1067,6 +1067,26 @@ def _parse_goal(text: str) -> Any:
     return spec.to_goal()
 
 
+#: The most tests whose levels ``brakeca design`` and ``power`` check together (a fraction of
+#: a millisecond each; ``brakeca run`` checks every one before it starts).
+_MOST_TESTS_CHECKED = 20_000
+
+
+def _check_combinations(design: Any) -> None:
+    """Check every test's levels together (:meth:`Design.apply_levels`, keeping nothing),
+    up to :data:`_MOST_TESTS_CHECKED` tests; beyond, say that ``brakeca run`` will."""
+    if design.n_tests > _MOST_TESTS_CHECKED:
+        console.print(
+            f"[yellow]note:[/] the levels of the {design.n_tests:,} tests are checked together "
+            "by brakeca run, before it starts, not here",
+            highlight=False,
+        )
+        return
+    base = design.resolved_base()
+    for combo in design.combinations():
+        design.apply_levels(base, combo)
+
+
 def _anova_model_text(design: Any) -> str:
     """The report's ANOVA model of ``design`` in words: its terms, or up through which
     order, and where that comes from."""
@@ -1280,7 +1300,7 @@ def power(
 
     try:
         loaded = load_design(design)
-        loaded.points()  # every run's levels together, as brakeca run checks them
+        _check_combinations(loaded)  # every run's levels together, as brakeca run does
         if sigma is None and sigma_from is None:
             raise ValueError("give the response's scatter: --sigma S or --sigma-from FOLDER")
         if sigma is not None and sigma_from is not None:
@@ -1463,7 +1483,7 @@ def show_design(
 
     try:
         loaded = load_design(design)
-        loaded.points()  # every run's levels together (a level valid alone may not be)
+        _check_combinations(loaded)  # a level valid alone may not be with the others
     except ConfigError as exc:
         _fail(str(exc))
     combos = loaded.combinations()

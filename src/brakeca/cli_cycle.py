@@ -109,16 +109,15 @@ def plot_trace(
             ),
             autolim=False,
         )
-    for e in events:
-        if len(events) <= 40:
-            ax.annotate(
-                str(e.index),
-                ((e.start_time + e.end_time) / 2.0 / scale, e.initial_speed / KMH),
-                xytext=(0, 4),
-                textcoords="offset points",
-                ha="center",
-                fontsize=7,
-            )
+    for e in events if len(events) <= 40 else ():  # numbered while they can be read
+        ax.annotate(
+            str(e.index),
+            ((e.start_time + e.end_time) / 2.0 / scale, e.initial_speed / KMH),
+            xytext=(0, 4),
+            textcoords="offset points",
+            ha="center",
+            fontsize=7,
+        )
     ax.set_xlabel("time [min]" if minutes else "time [s]")
     ax.set_ylabel("speed [km/h]")
     ax.set_ylim(0.0, max(top * 1.12, 1.0))

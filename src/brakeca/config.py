@@ -686,7 +686,7 @@ class SimulationConfig(_Frozen):
             match = re.match(r"([A-Za-z0-9_]+) = ", line)
             text = _field_description(type(self), [*table, match.group(1)]) if match else None
             if text and not line.rstrip().endswith(("[", "{")):  # not a value's first line
-                line = f"{line}  # {_first_sentence(text)}"
+                line = f"{line}  # {text}"
             lines.append(line)
         head = (
             "# brakeca configuration (brakeca config): SI units inside, each field's unit in "
@@ -808,8 +808,9 @@ def _first_sentence(text: str, most: int = 110) -> str:
 
 
 def _field_description(model: Any, loc: Sequence[str]) -> str | None:
-    """The description of the field at ``loc`` (field names) in ``model``, following nested
-    models, lists of them and optional ones; None where there is none."""
+    """The comment of the field at ``loc`` (field names) in ``model``, following nested
+    models, lists of them and optional ones: the first sentence of its description (its
+    unit first), or the choices of a field of fixed choices; None where there is none."""
     import typing
 
     from pydantic import BaseModel
@@ -830,7 +831,16 @@ def _field_description(model: Any, loc: Sequence[str]) -> str | None:
         cls = model_in(cls.model_fields[part].annotation)
     if cls is None or loc[-1] not in cls.model_fields:
         return None
-    return cls.model_fields[loc[-1]].description
+    field = cls.model_fields[loc[-1]]
+    choices = [
+        a
+        for arg in [field.annotation, *typing.get_args(field.annotation)]
+        if typing.get_origin(arg) is typing.Literal
+        for a in typing.get_args(arg)
+    ]
+    if choices:  # a description cut short would name one choice, not the one set
+        return "one of " + ", ".join(repr(c) for c in choices)
+    return _first_sentence(field.description) if field.description else None
 
 
 def item_path(loc: Sequence[str | int]) -> str:

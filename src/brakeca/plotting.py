@@ -571,6 +571,13 @@ def plot_mu_per_stop_by_level(
     -------
     matplotlib.figure.Figure
         One axes per factor (two columns), sharing both axes.
+
+    Raises
+    ------
+    ValueError
+        No factor has its levels as a coordinate of the campaign.
+    KeyError
+        The campaign has no ``variable``.
     """
     import matplotlib as mpl
 
@@ -584,6 +591,9 @@ def plot_mu_per_stop_by_level(
         raise ValueError("no factor of the campaign to plot by (its levels along 'run')")
     if variable not in data.data_vars:
         raise KeyError(f"campaign has no variable {variable!r}")
+    if "run" not in data[variable].dims:  # one run: its own levels
+        data = data.expand_dims(run=[0])
+        data = data.assign_coords({f.name: ("run", [data[f.name].item()]) for f in factors})
     values = data[variable].transpose("run", "stop").to_numpy().astype(float)
     stops = data["stop"].to_numpy()
     cols = 2 if len(factors) > 1 else 1
@@ -595,7 +605,7 @@ def plot_mu_per_stop_by_level(
         for k, (_, lo, hi) in enumerate(_block_spans(blocks, stops) if blocks else []):
             if k % 2:
                 ax.axvspan(lo, hi, color="0.93", lw=0, zorder=0)
-        at = data[factor.name].to_numpy()
+        at = np.array([factor.level_index(v) for v in data[factor.name].to_numpy()])
         n_levels = len(factor.levels)
         colours = (
             ["#2166ac", "#b2182b"]
@@ -604,8 +614,8 @@ def plot_mu_per_stop_by_level(
             if n_levels == 3
             else list(mpl.colormaps["viridis"](np.linspace(0.0, 0.9, n_levels)))
         )  # low blue, high red
-        for level, colour in zip(factor.levels, colours, strict=True):
-            mine = values[np.isclose(at.astype(float), float(level), rtol=1e-9, atol=0.0)]
+        for index, (level, colour) in enumerate(zip(factor.levels, colours, strict=True)):
+            mine = values[at == index]  # the runs at this level (Factor.level_index)
             mine = mine[np.isfinite(mine).all(axis=1)] if mine.size else mine
             if not len(mine):
                 continue

@@ -208,7 +208,8 @@ def factor_power(
     pandas.DataFrame
         :data:`POWER_COLUMNS`, one row per factor and number of replicates: ``levels`` [-],
         ``replicates`` [-], ``runs`` (tests times replicates) [-], ``df`` (the factor's
-        degrees of freedom; NaN when the runs leave it at one level) [-], ``df_error`` [-],
+        degrees of freedom; NaN when the runs leave it at one level, or the design's
+        ``model_terms`` give it no term) [-], ``df_error`` [-],
         ``noncentrality`` of the F test at the least favourable arrangement of the level
         means (:func:`_factor_tests`; ``n * effect**2 / (2 * sigma**2)`` in a balanced design
         with ``n`` runs at each level) [-] and ``power`` [-] (NaN without error degrees of

@@ -437,7 +437,7 @@ _REPORT_UNITS = {"V": (1e9, "mm³"), "V_mm3": (1.0, "mm³")}
 
 
 def _anova_in_report_units(response: str, frame: pd.DataFrame) -> tuple[pd.DataFrame, str | None]:
-    """``frame`` with its sums of squares, mean squares and residual standard deviation S
+    """``frame`` with its sums of squares, mean squares and residual standard deviation s
     converted to the unit the report shows ``response`` in, and that unit (None: unitless)."""
     if response not in _REPORT_UNITS:
         return frame, None
@@ -501,9 +501,14 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
 
 
 def _model_terms_of(effects: pd.DataFrame) -> list[str]:
-    """The terms of an effects table (not its centre points' row), fewest factors first."""
+    """The terms an effects table fits, in the model's order (its attrs' ``model_terms``,
+    those kept there); else its rows' (not the centre points'), fewest factors first."""
     from brakeca.analysis import CENTER_TERM
 
+    shown = {str(t) for t in effects["term"]}
+    given = effects.attrs.get("model_terms")
+    if given:
+        return [str(t) for t in given if str(t) in shown]
     rows = effects[effects["term"] != CENTER_TERM].sort_values("order", kind="stable")
     return [str(t) for t in rows["term"]]
 

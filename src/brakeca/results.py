@@ -145,10 +145,8 @@ def scalar_attrs(name: str) -> dict[str, str]:
     return {"units": unit, "long_name": description}
 
 
-#: Names a campaign's summary and dataset use besides the run scalars and the per-stop
-#: variables: the log scale of V and the per-stop rule counts.
 #: Attributes of a run file's ``rule`` coordinate: the seven plateau rules of the paper's
-#: Section 2 (docs/model.md section 5 gives how each is read).
+#: Section 2 (docs/model.md section 7 gives how each is read).
 RULE_ATTRS: dict[str, str] = {
     "units": "1",
     "long_name": "plateau rule of the cellular automaton",
@@ -161,6 +159,8 @@ RULE_ATTRS: dict[str, str] = {
     ),
 }
 
+#: Names a campaign's summary and dataset use besides the run scalars and the per-stop
+#: variables: the log scale of V and the per-stop rule counts.
 OTHER_RESULT_NAMES: tuple[str, ...] = ("log10_V_mm3", "rule_firings")
 
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -32,6 +32,9 @@ from brakeca import __version__
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
 from brakeca.results import RunResult
+
+if TYPE_CHECKING:
+    from brakeca.analysis import Model
 
 __all__ = ["RESPONSES", "per_stop_table", "plot_run", "with_log_v", "write_study"]
 
@@ -375,7 +378,7 @@ def _box_cox(
     factors: list[Any],
     surfaces: dict[str, Any],
     *,
-    interactions: bool | int | Sequence[str],
+    interactions: Model,
     alpha_to_remove: float | None,
 ) -> dict[str, Any]:
     """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface

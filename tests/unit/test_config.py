@@ -305,3 +305,11 @@ def test_brakeca_config_prints_each_fields_unit_and_reads_back_the_same(tmp_path
     again = CliRunner().invoke(app, ["config", "--config", str(path)])
     assert again.exit_code == 0, again.output
     assert again.stdout == res.stdout
+
+
+def test_a_field_of_fixed_choices_is_commented_with_its_choices() -> None:
+    """Cut at its first aside, such a field's description named one choice: 'kernel =
+    "exact"  # step kernel: 'lazy'' (a helper's review)."""
+    text = load_preset("paper").with_updates({"numerics.kernel": "exact"}).to_commented_toml()
+    assert "kernel = \"exact\"  # one of 'auto', 'lazy', 'exact'\n" in text
+    assert "fibre_model = \"columns\"  # one of 'columns', 'layer', 'field'\n" in text

@@ -253,3 +253,36 @@ def test_brakeca_power_names_the_model_and_the_factors_left_out_of_it(tmp_path) 
     assert "the ANOVA model: the terms S, WP, S:WP (model_terms)" in res.output
     plain = CliRunner().invoke(app, ["power", "paper", "--effect", "0.01", "--sigma", "0.01"])
     assert "the ANOVA model: main effects and two-factor interactions\n" in plain.output
+
+
+def test_terms_from_any_iterable_once_and_bad_ones_before_any_work() -> None:
+    """A generator was read by the type check and then refused as empty; a dict was taken
+    as its keys; a bad term passed unchecked where fewer than two runs were usable (a
+    helper's review of the change)."""
+    from brakeca.config import ConfigError
+    from brakeca.design import design_from_dict, load_design
+
+    assert canonical_terms((t for t in ["WP", "S"]), NAMES) == ["S", "WP"]
+    assert canonical_terms({"WP", "S"}, NAMES) == ["S", "WP"]
+    with pytest.raises(ValueError, match="expected a list of terms"):
+        canonical_terms({"S": 1}, NAMES)
+    one_run = _design().iloc[:1]
+    with pytest.raises(ValueError, match=r"^interactions: term 'X': 'X' is not a factor"):
+        anova(one_run, FACTORS, "MU", interactions=["X"])
+    rows = _design(replicates=2)
+    by_set = anova(rows, FACTORS, "MU", interactions={"S", "WP", "S*WP"})
+    assert list(by_set["term"]) == ["S", "WP", "S:WP", "Residual"]
+    with pytest.raises(ConfigError) as info:  # the message says model_terms once
+        design_from_dict({**load_design("paper").to_dict(), "model_terms": "S,,WP"}, source="d")
+    assert "model_terms: an empty term between separators in 'S,,WP'" in str(info.value)
+    assert "model_terms: model_terms" not in str(info.value)
+
+
+def test_the_effects_caption_lists_the_terms_in_the_models_order() -> None:
+    from brakeca.report import _effects_table
+
+    gens = {"D": "ABC"}
+    rows = _two_level("ABCD", gens, {"A": 3.0, "D": 1.0}, noise=0.3, replicates=2)
+    effects = analyze(rows, _levels01("ABCD"), ("y",), model_terms="A B C D A*B")["y"]["effects"]
+    caption = _effects_table("y", effects)[1]
+    assert "for the terms of the ANOVA's model: A, B, C, D, A:B;" in caption
