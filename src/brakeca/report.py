@@ -90,6 +90,9 @@ input.zoom:checked + label.zoom img { max-width: none; }
 <p class="meta">brakeca {{ version }} &middot; generated {{ generated }}</p>
 </header>
 <nav aria-label="Contents"><ul>
+{%- if findings %}
+<li><a href="#findings">In short</a></li>
+{%- endif %}
 <li><a href="#design">Design</a></li>
 <li><a href="#runs">Per-run results</a></li>
 {%- if level_means %}
@@ -121,6 +124,20 @@ input.zoom:checked + label.zoom img { max-width: none; }
 {%- endfor %}
 </tbody></table></div>
 {%- endmacro %}
+
+{%- if findings %}
+<section id="findings">
+<h2>In short</h2>
+<p class="note">The terms of each response's ANOVA (below) with p &lt; 0.05, largest share of
+the variation first (contribution: the term's sum of squares over the total); the ANOVA's notes
+say what its error holds.</p>
+<ul>
+{%- for line in findings %}
+<li>{{ line }}</li>
+{%- endfor %}
+</ul>
+</section>
+{%- endif %}
 
 <section id="design">
 <h2>Design</h2>
@@ -1164,6 +1181,7 @@ def render_report(
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
+    findings = [line for r, frame in anova_tables.items() if (line := _finding(str(r), frame))]
     return template.render(
         title=title,
         version=version,
@@ -1194,7 +1212,43 @@ def render_report(
         box_cox=_box_cox_table(box_cox) if box_cox else None,
         box_cox_info=_BOX_COX_INFO,
         anova_info=anova_info,
+        findings=findings,
     )
+
+
+#: The most significant terms :func:`_finding` names for a response.
+_MOST_FINDINGS = 6
+
+
+def _finding(response: str, frame: pd.DataFrame) -> str:
+    """One line of the report's "In short": the terms of ``response``'s ANOVA with p < 0.05,
+    largest contribution first, with their contributions [%] and R²; what stands in the way
+    where there is no test (no residual degrees of freedom, a constant response); empty for
+    an empty table."""
+    if frame.empty or "p_value" not in frame.columns:
+        return ""
+    terms = frame[~frame["term"].isin(["Residual"])]
+    if terms.empty:
+        return f"{response}: no term in the model"
+    r2 = frame.attrs.get("r_squared", math.nan)
+    r2_text = "" if _is_missing(r2) else f"; R² = {100.0 * float(r2):.1f} %"
+    p = terms["p_value"].astype(float)
+    if p.isna().all():
+        return (
+            f"{response}: no term can be tested (no residual degrees of freedom, or a "
+            "constant response; the ANOVA's note says which)"
+        )
+    hits = terms[p < 0.05].sort_values("percent_contribution", ascending=False, kind="stable")
+    if hits.empty:
+        return f"{response}: no term has p < 0.05" + r2_text
+    named = [
+        f"{t} ({float(c):.1f} %)"
+        for t, c in zip(hits["term"], hits["percent_contribution"], strict=True)
+    ]
+    more = len(named) - _MOST_FINDINGS
+    text = ", ".join(named[:_MOST_FINDINGS]) + (f" and {more} more" if more > 0 else "")
+    share = float(hits["percent_contribution"].sum())
+    return f"{response}: {text}; together {share:.1f} % of the variation" + r2_text
 
 
 def write_report(

@@ -116,6 +116,7 @@ def test_outputs_present_and_consistent(campaign):
     # the maps' captions give each level with its unit (S has none)
     assert "Test 3 (S = 0, A = 20 %): plateaus after the first 2 of the cycle" in html
     assert "Model summary: residual standard deviation s = " in html
+    assert "<h2>In short</h2>" in html and "<li>MU: " in html  # the significant terms
     # the report says at its top what the campaign left out of the paper's study
     assert (
         "These runs were made on a grid of 5 × 100 cells instead of the paper&#39;s 201 × 1000 "

@@ -592,3 +592,34 @@ def test_a_stationary_log10_v_is_also_given_as_v() -> None:
     text = _stationary_text(fit, 1.0, None)
     value = float(fit.stationary["predicted"])
     assert f"(geometric-mean V {10**value:.3g} mm³)" in text
+
+
+def test_in_short_names_the_significant_terms_by_contribution() -> None:
+    """The report's first section: each response's terms with p < 0.05, the largest
+    contribution first, with R²; a table without a test says so."""
+    from brakeca.report import _finding
+
+    frame = pd.DataFrame(
+        {
+            "term": ["S", "A", "S:A", "WR", "Residual"],
+            "p_value": [0.01, 1e-6, 0.2, 0.04, math.nan],
+            "percent_contribution": [5.0, 80.0, 1.0, 3.0, 11.0],
+        }
+    )
+    frame.attrs["r_squared"] = 0.89
+    assert _finding("MU", frame) == (
+        "MU: A (80.0 %), S (5.0 %), WR (3.0 %); together 88.0 % of the variation; R² = 89.0 %"
+    )
+    none = frame.assign(p_value=[0.3, 0.2, 0.5, 0.9, math.nan])
+    assert _finding("V", none) == "V: no term has p < 0.05; R² = 89.0 %"
+    saturated = frame.assign(p_value=math.nan)
+    assert _finding("V", saturated).startswith("V: no term can be tested")
+    assert _finding("V", pd.DataFrame()) == ""
+    many = pd.DataFrame(
+        {
+            "term": [f"T{k}" for k in range(8)] + ["Residual"],
+            "p_value": [0.001] * 8 + [math.nan],
+            "percent_contribution": [10.0] * 8 + [20.0],
+        }
+    )
+    assert "T5 (10.0 %) and 2 more; together 80.0 %" in _finding("y", many)
