@@ -25,7 +25,8 @@ along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package ve
 wall time [s], the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
 applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
 ``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan,
-with a ``comment`` that explains ``quick``, ``max_stops`` and ``n_steps_total``; the ``rule``
+``paper_factors`` (the paper's S, WP, WR and A as the run has them, in their units) and a
+``comment`` that explains ``quick``, ``max_stops`` and ``n_steps_total``; the ``rule``
 coordinate's ``rule_meanings`` names the seven plateau rules (:data:`RULE_ATTRS`).
 
 References
@@ -143,6 +144,21 @@ def scalar_attrs(name: str) -> dict[str, str]:
         return {}
     unit, description = RUN_SCALAR_UNITS[name]
     return {"units": unit, "long_name": description}
+
+
+def _paper_factors(config: SimulationConfig) -> str:
+    """The paper's factors S, WP, WR and A as ``config`` sets them, in their units (A in %):
+    ``"S = 0, WP = 1e-13 m^3/(N m), WR = 1e-06 m, A = 20 %"``, a run file's attribute."""
+    from brakeca.config import FACTOR_ALIASES
+
+    parts = []
+    for name, (field, scale, unit) in FACTOR_ALIASES.items():
+        value: Any = config
+        for part in field.split("."):
+            value = getattr(value, part)
+        shown = f"{float(value) / scale:g}"
+        parts.append(f"{name} = {shown}" + ("" if unit == "-" else f" {unit}"))
+    return ", ".join(parts)
 
 
 #: Attributes of a run file's ``rule`` coordinate: the seven plateau rules of the paper's
@@ -555,12 +571,14 @@ def build_dataset(
         coords["map_stop"] = ("map_stop", np.array(sorted(maps), dtype=np.int64))
     attrs = {
         "format": FORMAT,
+        "paper_factors": _paper_factors(config),
         "comment": (
             "quick: 1 when the band was narrowed by --quick; max_stops: the cycle's first N "
             "stops only, -1 for the whole cycle; n_steps_total: the run's steps, of which the "
             "step_* series keep every output.series_every-th; config: the run's whole "
-            "configuration (TOML); a campaign's summary.csv names each run's test and levels "
-            "by its run id (the file name)"
+            "configuration (TOML); paper_factors: the paper's four factors as the run has "
+            "them (a design's other factors are in config); a campaign's summary.csv names "
+            "each run's test and levels by its run id (the file name)"
         ),
         "title": "brakeca run",
         "references": "J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260",

@@ -155,6 +155,10 @@ def test_summary_and_campaign_nc_match_the_run_files(serial):
             )
             assert run.dataset["stop"].attrs["long_name"] == "stop of the drive cycle, from 1"
             assert "max_stops: the cycle's first N stops only" in run.dataset.attrs["comment"]
+            assert run.dataset.attrs["paper_factors"] == (
+                f"S = {row['S']:g}, WP = {run.config.wear.specific_wear_rate:g} m^3/(N m), "
+                f"WR = {run.config.wear.resin_wear_depth:g} m, A = {row['A']:g} %"
+            )
         assert run.seed == row["seed"] == int(ds["seed"][i])
         scalars = run.scalars()
         assert row["MU"] == scalars["MU"] == float(ds["MU"][i])
