@@ -1293,7 +1293,7 @@ def _model(
         return frame, {}, [], notes
     y_center = np.zeros(0) if y_center is None else y_center
     if _is_term_list(interactions):
-        terms, term_names, given_notes = _given_terms(factors, names, interactions)
+        terms, term_names, given_notes = _given_terms(names, interactions)
         notes.extend(given_notes)
         terms = _estimable(frame, terms, term_names, notes)
     else:
@@ -1324,26 +1324,21 @@ def _terms_up_through(names: Mapping[str, str], order: int) -> tuple[list[str], 
         for k in range(1, min(order, len(names)) + 1)
         for combo in itertools.combinations(names, k)
     ]
-    if order < 2:  # the two-factor names too, for what a caller pools (as before)
-        pairs = list(itertools.combinations(names, 2))
-    else:
-        pairs = []
+    terms = [":".join(f"C({c})" for c in combo) for combo in combos]
     term_names = {
-        ":".join(f"C({c})" for c in combo): ":".join(names[c] for c in combo)
-        for combo in [*combos, *pairs]
+        term: ":".join(names[c] for c in combo) for term, combo in zip(terms, combos, strict=True)
     }
-    return [":".join(f"C({c})" for c in combo) for combo in combos], term_names
+    return terms, term_names
 
 
 def _given_terms(
-    factors: Sequence[Factor], names: Mapping[str, str], given: Sequence[str]
+    names: Mapping[str, str], given: Sequence[str]
 ) -> tuple[list[str], dict[str, str], list[str]]:
-    """The formula terms of the model terms ``given`` (:func:`canonical_terms`, which refuses
-    a model that is not hierarchical) over the factors that vary (``names``, safe column
-    name to factor name), the display names of those terms and of every varying factor's
-    main effect, and a note naming the terms left out for a factor with a single level in
-    the data."""
-    given = canonical_terms(list(given), [f.name for f in factors], name="interactions")
+    """The formula terms of the model terms ``given`` (as :func:`canonical_terms` writes
+    them: :func:`anova` and :func:`_model_arrays` check them first) over the factors that
+    vary (``names``, safe column name to factor name), the display names of those terms and
+    of every varying factor's main effect, and a note naming the terms left out for a factor
+    with a single level in the data."""
     column = {factor: safe for safe, factor in names.items()}
     terms: list[str] = []
     # every varying factor's main effect is named, in the model or not: the alias chains
