@@ -2131,12 +2131,28 @@ class Design(_Frozen):
     def _folded_words(self) -> list[_Word]:
         """The words of the defining relation that survive the fold-over: those holding an
         even number of the folded factors (the others change sign in the folded half)."""
-        names = self.factor_names
-        words = list(_defining_words(self._parsed_generators(), names))
+        words = list(_defining_words(self._parsed_generators(), self.factor_names))
         if not self.foldover:
             return words
-        mask = sum(1 << names.index(n) for n in self.foldover)
-        return [w for w in words if (w.mask & mask).bit_count() % 2 == 0]
+        fold = self._fold_mask()
+        return [w for w in words if (w.mask & fold).bit_count() % 2 == 0]
+
+    def _fold_mask(self) -> int:
+        """The folded factors as bits, one per factor in design order (0 without a
+        fold-over)."""
+        return sum(1 << self.factor_names.index(n) for n in self.foldover)
+
+    @property
+    def generators_folded_away(self) -> tuple[str, ...]:
+        """The generated factors whose generator no longer holds after the fold-over (its
+        word holds an odd number of the folded factors, whose signs the folded half
+        reverses), in the generators' order; none without a fold-over."""
+        parsed = self._parsed_generators()
+        masks = _generator_masks(parsed, self.factor_names)
+        fold = self._fold_mask()
+        return tuple(
+            g.target for g, (_, m) in zip(parsed, masks, strict=True) if (m & fold).bit_count() % 2
+        )
 
     def _checked_runs(
         self, runs: Sequence[Mapping[str, int | float]]

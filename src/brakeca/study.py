@@ -145,15 +145,13 @@ def _stops_frame(run: Any, ids: dict[str, object]) -> pd.DataFrame:
 def _design_table(result: CampaignResult) -> pd.DataFrame:
     design = result.design
     generated = {}  # a fraction's generated factor -> its word, "= S·WP·WR"
-    folded = set(design.foldover)
+    broken = design.generators_folded_away
     for text in design.generators:
         target, word = (part.strip() for part in text.split("=", 1))
         shown = word.replace(" ", "").replace("*", "·")
-        factors = {target, *(f.strip().lstrip("+-") for f in word.split("*"))}
-        if len(factors & folded) % 2:  # the fold-over reversed one side's sign in half the tests
-            generated[target] = f"(= {shown} before the fold-over)"
-        else:
-            generated[target] = "= " + shown
+        generated[target] = (
+            f"(= {shown} before the fold-over)" if target in broken else ("= " + shown)
+        )
     rows = []
     logs = any(f.coding == "log" for f in design.factors)
     centre = design.center_levels() if design.center_points else {}
