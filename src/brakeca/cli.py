@@ -1574,9 +1574,7 @@ def show_design(
         )
     if loaded.model_terms is not None:
         out.print(
-            f"the report's ANOVA model: the terms {', '.join(loaded.model_terms)} (model_terms)",
-            markup=False,
-            highlight=False,
+            f"the report's ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False
         )
     if loaded.alpha_to_remove is not None:
         what = "surfaces" if loaded.is_response_surface else "ANOVA model"
