@@ -343,6 +343,13 @@ def _block_spans(blocks: Sequence[Any], stops: np.ndarray) -> list[tuple[str, fl
     return spans
 
 
+def _shade_blocks(ax: Any, spans: Sequence[tuple[str, float, float]]) -> None:
+    """Shade every second block of :func:`_block_spans` light grey, behind the lines."""
+    for k, (_, lo, hi) in enumerate(spans):
+        if k % 2:
+            ax.axvspan(lo, hi, color="0.93", lw=0, zorder=0)
+
+
 def _run_label(run: Any, levels: Mapping[str, Any], factors: Mapping[str, Factor]) -> str:
     parts = []
     for name, value in levels.items():
@@ -471,9 +478,9 @@ def plot_mu_per_stop(
     if "block" in campaign.coords:
         blocks = [str(b) for b in campaign["block"].to_numpy()]
         trans = blended_transform_factory(ax.transData, ax.transAxes)
-        for k, (name, lo, hi) in enumerate(_block_spans(blocks, stops)):
-            if k % 2:
-                ax.axvspan(lo, hi, color="0.93", lw=0, zorder=0)
+        spans = _block_spans(blocks, stops)
+        _shade_blocks(ax, spans)
+        for k, (name, lo, hi) in enumerate(spans):
             if k:
                 ax.axvline(lo, color="0.6", lw=0.6, zorder=1)
             ax.text(  # above the axes, clear of the runs' lines
@@ -602,9 +609,7 @@ def plot_mu_per_stop_by_level(
     axes = fig.subplots(rows, cols, sharex=True, sharey=True, squeeze=False).ravel()
     blocks = [str(b) for b in data["block"].to_numpy()] if "block" in data.coords else []
     for ax, factor in zip(axes, factors, strict=False):
-        for k, (_, lo, hi) in enumerate(_block_spans(blocks, stops) if blocks else []):
-            if k % 2:
-                ax.axvspan(lo, hi, color="0.93", lw=0, zorder=0)
+        _shade_blocks(ax, _block_spans(blocks, stops) if blocks else [])
         at = np.array([factor.level_index(v) for v in data[factor.name].to_numpy()])
         n_levels = len(factor.levels)
         colours = (
@@ -616,7 +621,7 @@ def plot_mu_per_stop_by_level(
         )  # low blue, high red
         for index, (level, colour) in enumerate(zip(factor.levels, colours, strict=True)):
             mine = values[at == index]  # the runs at this level (Factor.level_index)
-            mine = mine[np.isfinite(mine).all(axis=1)] if mine.size else mine
+            mine = mine[np.isfinite(mine).all(axis=1)]  # the finished runs
             if not len(mine):
                 continue
             ax.plot(
