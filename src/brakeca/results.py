@@ -149,14 +149,13 @@ def scalar_attrs(name: str) -> dict[str, str]:
 def _paper_factors(config: SimulationConfig) -> str:
     """The paper's factors S, WP, WR and A as ``config`` sets them, in their units (A in %):
     ``"S = 0, WP = 1e-13 m^3/(N m), WR = 1e-06 m, A = 20 %"``, a run file's attribute."""
+    import operator
+
     from brakeca.config import FACTOR_ALIASES
 
     parts = []
     for name, (field, scale, unit) in FACTOR_ALIASES.items():
-        value: Any = config
-        for part in field.split("."):
-            value = getattr(value, part)
-        shown = f"{float(value) / scale:g}"
+        shown = f"{float(operator.attrgetter(field)(config)) / scale:g}"
         parts.append(f"{name} = {shown}" + ("" if unit == "-" else f" {unit}"))
     return ", ".join(parts)
 
