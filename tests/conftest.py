@@ -37,6 +37,20 @@ def short_cycle(stops: int = 3, v0: float = 11.0, v1: float = 10.0, g: float = 0
     return CycleConfig(name="test", blocks=(block,)).model_dump()
 
 
+def resumable_config(stops: int, removal: float = 0.5):
+    """A 4 x 200 band at WP = 1e-13 with ``stops`` short stops (30 to 4 km/h at 0.3 g) and
+    S = ``removal``: a run that wears and builds plateaus in a second, to kill and resume."""
+    return load_preset().with_updates(
+        {
+            "mesh.n_radial": 4,
+            "mesh.n_angular": 200,
+            "WP": 1e-13,
+            "S": removal,
+            "cycle": short_cycle(stops=stops, v0=30, v1=4, g=0.3),
+        }
+    )
+
+
 @pytest.fixture
 def tiny_config():
     """8 x 60 cells, 6 subdomains, three short stops."""

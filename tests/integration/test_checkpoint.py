@@ -21,17 +21,9 @@ def _no_wall(ds):
 
 @pytest.mark.parametrize("removal", [0.0, 0.5])
 def test_resume_from_checkpoint_is_identical(tmp_path, removal):
-    from conftest import short_cycle
+    from conftest import resumable_config
 
-    config = load_preset().with_updates(
-        {
-            "mesh.n_radial": 4,
-            "mesh.n_angular": 200,
-            "WP": 1e-13,
-            "S": removal,
-            "cycle": short_cycle(stops=5, v0=30, v1=4, g=0.3),
-        }
-    )
+    config = resumable_config(stops=5, removal=removal)
     whole = simulate(config, seed=3)
     ckpt = tmp_path / "run.ckpt.npz"
 
@@ -159,17 +151,9 @@ def test_maps_after_chosen_stops_survive_a_resume_and_change_nothing_else(tmp_pa
     maps of stops before a checkpoint are in it, so a killed run resumes with them (its file
     identical to the uninterrupted run's); without maps_at the run is the same but for them.
     A resume that would lack a map (asked for only now) is refused, naming the stop."""
-    from conftest import short_cycle
+    from conftest import resumable_config
 
-    config = load_preset().with_updates(
-        {
-            "mesh.n_radial": 4,
-            "mesh.n_angular": 200,
-            "WP": 1e-13,
-            "S": 0.5,
-            "cycle": short_cycle(stops=5, v0=30, v1=4, g=0.3),
-        }
-    )
+    config = resumable_config(stops=5)
     plain = simulate(config, seed=3)
     whole = simulate(config, seed=3, maps_at=[5, 2, 1])
     maps = whole.dataset[["map_status", "map_height"]]

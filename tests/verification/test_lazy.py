@@ -470,17 +470,9 @@ def test_auto_runs_the_lazy_kernel_where_it_applies_and_resumes_identically(tmp_
     every stop with the exact kernel where it does not (rule 6 on); a run killed in the middle
     and resumed from its checkpoint is identical to one that was not."""
     import xarray as xr
-    from conftest import short_cycle
+    from conftest import resumable_config
 
-    config = load_preset().with_updates(
-        {
-            "mesh.n_radial": 4,
-            "mesh.n_angular": 200,
-            "WP": 1e-13,
-            "S": 0.5,
-            "cycle": short_cycle(stops=9, v0=30, v1=4, g=0.3),
-        }
-    )
+    config = resumable_config(stops=9)
     whole = simulate(config, seed=4)
     assert whole.dataset.attrs["kernel"] == "auto"
     assert whole.dataset.attrs["stops_lazy"] == 9
