@@ -525,6 +525,7 @@ def _execute(
     seed: int,
     checkpoint: Path | None = None,
     checkpoint_every: int = 10,
+    maps_at: tuple[int, ...] = (),
 ) -> RunResult:
     """Worker task: run one simulation and return its result.
 
@@ -532,14 +533,16 @@ def _execute(
     ``checkpoint_every`` stops and resumes from it if it exists (the only file a worker
     writes). The worker leaves it when the run completes: the campaign removes it once the
     run file is written, so a campaign killed before that resumes the run from it. A
-    checkpoint that cannot be used (another version's format, unreadable) is deleted and the
-    run starts over. A worker that does not see the campaign folder (a cluster without a
-    shared file system) runs without one."""
+    checkpoint that cannot be used (another version's format, unreadable, or one that ran a
+    stop of ``maps_at`` without keeping its map) is deleted and the run starts over. A worker
+    that does not see the campaign folder (a cluster without a shared file system) runs
+    without one. ``maps_at``: the stops after which the run keeps its maps
+    (:func:`brakeca.simulation.simulate`); passed to a ``simulate_fn`` only when not empty."""
     if simulate_fn is None:
         from brakeca.simulation import CheckpointError, simulate
 
         if checkpoint is None or not Path(checkpoint).parent.is_dir():
-            return simulate(config, seed=seed)
+            return simulate(config, seed=seed, maps_at=maps_at)
 
         def run() -> RunResult:
             return simulate(
@@ -548,6 +551,7 @@ def _execute(
                 checkpoint=checkpoint,
                 checkpoint_every=checkpoint_every,
                 keep_checkpoint=True,
+                maps_at=maps_at,
             )
 
         try:
@@ -555,6 +559,8 @@ def _execute(
         except CheckpointError:
             Path(checkpoint).unlink(missing_ok=True)
             return run()
+    if maps_at:
+        return simulate_fn(config, seed=seed, maps_at=maps_at)
     return simulate_fn(config, seed=seed)
 
 
@@ -583,15 +589,14 @@ class _Backend:
         return self.window - self.in_flight
 
     def submit(
-        self, simulate_fn: SimulateFn | None, point: RunPoint, checkpoint: tuple = ()
+        self, simulate_fn: SimulateFn | None, point: RunPoint, options: Mapping[str, Any]
     ) -> cf.Future:
         """Submit one run; a refused submission comes back as a failed future.
-        ``checkpoint``: (path, every) for :func:`_execute`, or ()."""
+        ``options``: :func:`_execute`'s keywords (``checkpoint``, ``checkpoint_every``,
+        ``maps_at``)."""
         self.in_flight += 1
         try:
-            return self.executor.submit(
-                _execute, simulate_fn, point.config, point.seed, *checkpoint
-            )
+            return self.executor.submit(_execute, simulate_fn, point.config, point.seed, **options)
         except Exception as exc:  # e.g. a broken executor owned by the caller
             future: cf.Future = cf.Future()
             future.set_exception(exc)
@@ -648,7 +653,7 @@ class _LocalSlots(_Backend):
         return len(self.pools) - len(self.busy)
 
     def submit(
-        self, simulate_fn: SimulateFn | None, point: RunPoint, checkpoint: tuple = ()
+        self, simulate_fn: SimulateFn | None, point: RunPoint, options: Mapping[str, Any]
     ) -> cf.Future:
         taken = set(self.busy.values())
         slot = next(i for i in range(len(self.pools)) if i not in taken)
@@ -658,7 +663,7 @@ class _LocalSlots(_Backend):
         # the pool starts its process here; brakeca's own task needs no main module (a
         # simulate_fn of the caller's may come from it)
         with main_module_not_rerun() if simulate_fn is None else nullcontext():
-            future = pool.submit(_execute, simulate_fn, point.config, point.seed, *checkpoint)
+            future = pool.submit(_execute, simulate_fn, point.config, point.seed, **options)
         self.busy[future] = slot
         return future
 
@@ -730,3 +735,4 @@ class _Execution:
     checkpoint_every: int | None
     simulate_fn: SimulateFn | None
     progress: bool
+    maps_at: tuple[int, ...] = ()

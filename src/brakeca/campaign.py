@@ -84,6 +84,8 @@ from brakeca.design import Design, RunPoint, execution_order, load_design, run_i
 if TYPE_CHECKING:
     from rich.console import Console
 
+    from brakeca.results import RunResult
+
 
 __all__ = [
     "CAMPAIGN_FORMAT",
@@ -113,6 +115,33 @@ def _seconds(t: float) -> str:
     return f"{t:.1f}" if t < 10.0 else f"{t:.0f}"
 
 
+def _maps_for(maps_at: Iterable[int], points: Sequence[RunPoint]) -> list[int]:
+    """``maps_at`` checked against the cycle of every run, before any work: the stops, in
+    order (ValueError names ``maps_at`` and the stops the shortest cycle has)."""
+    from brakeca.simulation import cycle_events, map_stops
+
+    if isinstance(maps_at, str | bytes) or not isinstance(maps_at, Iterable):
+        raise ConfigError(f"maps_at: expected stop numbers, e.g. [1, 85, 170], got {maps_at!r}")
+    asked = list(maps_at)
+    if not asked:
+        return []
+    stops: dict[str, int] = {}
+    for point in points:
+        key = point.config.cycle.model_dump_json()
+        if key not in stops:
+            stops[key] = len(cycle_events(point.config))
+    try:
+        return map_stops(asked, min(stops.values(), default=0))
+    except ValueError as exc:  # a ConfigError, as the design's and the overrides' are
+        raise ConfigError(str(exc)) from None
+
+
+def _kept_maps(result: RunResult) -> set[int]:
+    """The stops after which a run kept its maps (``map_stop``; empty for none)."""
+    ds = result.dataset
+    return {int(k) for k in ds["map_stop"].to_numpy()} if "map_stop" in ds.coords else set()
+
+
 def _checkpoint_path(runs: Path, point: RunPoint) -> Path:
     """Where the run of ``point`` in progress keeps its checkpoint: ``runs/.<run_id>...``."""
     return runs / f".{run_id(point)}.checkpoint.npz"
@@ -135,6 +164,7 @@ def run_campaign(
     progress: bool = True,
     console: Console | None = None,
     replace: bool = False,
+    maps_at: Iterable[int] = (),
 ) -> CampaignResult:
     """Run every point of ``design`` into ``out_dir``, reusing the runs already there.
 
@@ -191,6 +221,13 @@ def run_campaign(
         ``campaign.nc`` and report; the run files of both stay. Without it that is refused,
         since a rerun with other options would quietly replace a finished study. A campaign
         of the same base (a resume, a fold-over) needs no flag.
+    maps_at
+        Stops (numbered from 1) after which every run keeps the pad's status and height maps
+        (:func:`brakeca.simulation.simulate`'s ``maps_at``); the report then shows each run's
+        plateaus over the cycle. Keeping them changes no result and no run id, so a finished
+        run is reused as it is: one that ran without these maps is kept without them (a
+        warning names it; delete its file to run it again with them). A run resumed from a
+        checkpoint that ran a stop of ``maps_at`` without its map starts over.
 
     Returns
     -------
@@ -202,7 +239,8 @@ def run_campaign(
     Raises
     ------
     ConfigError
-        The design, an override or a level does not validate, or ``out_dir`` holds a campaign
+        The design, an override or a level does not validate, a stop of ``maps_at`` is not
+        one of the cycle's (also with ``max_stops``), or ``out_dir`` holds a campaign
         of another base configuration, or of a design whose runs this one leaves out, and
         ``replace`` is false (before anything is written).
     ValueError
@@ -243,6 +281,7 @@ def run_campaign(
         design = load_design(design)
     points = design.points(overrides=overrides, quick=quick, max_stops=max_stops)
     base = design.resolved_base(overrides=overrides, quick=quick, max_stops=max_stops)
+    kept_maps = _maps_for(maps_at, points)
 
     how = _Execution(
         executor=executor,
@@ -253,6 +292,7 @@ def run_campaign(
         checkpoint_every=checkpoint_every,
         simulate_fn=simulate_fn,
         progress=progress,
+        maps_at=tuple(kept_maps),
     )
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
@@ -305,6 +345,7 @@ def _run_locked(
     todo: list[RunPoint] = []
     recomputed: list[str] = []
     reused: list[str] = []
+    without_maps: list[RunPoint] = []  # reused runs that lack a map maps_at asks for
     wanted: set[str] = set()
     for point in execution_order(points):
         rid = run_id(point)
@@ -315,6 +356,8 @@ def _run_locked(
             if result is not None:
                 records[rid] = _record_from_result(point, rid, result)
                 reused.append(rid)
+                if not set(how.maps_at) <= _kept_maps(result):
+                    without_maps.append(point)
                 # a campaign killed between writing the run file and removing the checkpoint
                 _checkpoint_path(runs, point).unlink(missing_ok=True)
                 continue
@@ -325,6 +368,18 @@ def _run_locked(
             )
             recomputed.append(rid)
         todo.append(point)
+
+    if without_maps:
+        tests = ", ".join(str(p.test) for p in sorted(without_maps, key=lambda p: p.test)[:8])
+        more = " and others" if len(without_maps) > 8 else ""
+        say(
+            console,
+            f"[yellow]warning:[/] {len(without_maps)} finished run(s) (tests {tests}{more}) "
+            f"ran without keeping maps after stops {', '.join(map(str, how.maps_at))}; they "
+            "are reused as they are, without those maps. Delete their run files in "
+            f"{escape(str(runs))} to run them again with the maps",
+            highlight=False,
+        )
 
     foreign = sorted(f.name for f in runs.glob("*.nc") if f.stem not in wanted)
     if foreign:
@@ -514,11 +569,13 @@ def _execute_points(
             while queue or pending:
                 while queue and backend.free() > 0:
                     point = queue.popleft()
-                    ckpt: tuple = ()
+                    options: dict[str, Any] = {}
                     if how.checkpoint_every is not None:
-                        path = _checkpoint_path(runs, point)
-                        ckpt = (path, int(how.checkpoint_every))
-                    pending[backend.submit(how.simulate_fn, point, ckpt)] = point
+                        options["checkpoint"] = _checkpoint_path(runs, point)
+                        options["checkpoint_every"] = int(how.checkpoint_every)
+                    if how.maps_at:
+                        options["maps_at"] = how.maps_at
+                    pending[backend.submit(how.simulate_fn, point, options)] = point
                 done, _ = cf.wait(
                     list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
                 )

@@ -15,7 +15,7 @@ import sys
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, NoReturn
 
 import typer
 from rich.markup import escape
@@ -38,7 +38,7 @@ console = LogConsole(stderr=True)
 out = LogConsole()
 
 
-def _fail(message: str, code: int = 2) -> None:
+def _fail(message: str, code: int = 2) -> NoReturn:
     console.print(f"[bold red]error:[/] {escape(message)}", highlight=False)
     raise typer.Exit(code)
 
@@ -333,13 +333,7 @@ def simulate(
     kept_maps: list[int] = []
     if maps_at is not None:
         try:
-            asked_maps = [int(part) for part in maps_at.split(",")]
-        except ValueError:
-            _fail(
-                f"--maps-at {maps_at!r}: expected stop numbers separated by commas, e.g. 1,50,170"
-            )
-        try:
-            kept_maps = map_stops(asked_maps, len(source.events), name="--maps-at")
+            kept_maps = map_stops(_maps_at_stops(maps_at), len(source.events), name="--maps-at")
         except ValueError as exc:
             _fail(str(exc))
     _check_output(output)
@@ -682,6 +676,26 @@ CheckpointOpt = Annotated[
 ]
 
 
+MapsAtOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--maps-at",
+        metavar="STOPS",
+        help="every run keeps the pad's status and height maps after these stops, e.g. "
+        "1,85,170; the report shows each run's plateaus over the cycle (a finished run is "
+        "reused as it is)",
+    ),
+]
+
+
+def _maps_at_stops(text: str) -> list[int]:
+    """``--maps-at``'s stop numbers, e.g. ``"1,50,170"`` (exits 2 on anything else)."""
+    try:
+        return [int(part) for part in text.split(",")]
+    except ValueError:
+        _fail(f"--maps-at {text!r}: expected stop numbers separated by commas, e.g. 1,50,170")
+
+
 def _run_and_report(
     design: str,
     output: Path,
@@ -699,6 +713,7 @@ def _run_and_report(
     cycle: str | None = None,
     speed_unit: str | None = None,
     replace: bool = False,
+    maps_at: str | None = None,
 ) -> None:
     import time
 
@@ -747,6 +762,7 @@ def _run_and_report(
             updates["cycle"] = with_trace.cycle.model_dump(mode="json")
     except ConfigError as exc:
         _fail(str(exc))
+    asked_maps = _maps_at_stops(maps_at) if maps_at is not None else []
     _check_output(output, folder=True)
     from brakeca._warmup import announcing
 
@@ -771,9 +787,10 @@ def _run_and_report(
                 overrides=updates or None,
                 console=console,
                 replace=replace,
+                maps_at=asked_maps,
             )
     except (ConfigError, ExecutorError, CampaignLockedError) as exc:
-        _fail(str(exc))
+        _fail(str(exc).replace("maps_at: ", "--maps-at: ", 1))
     except OSError as exc:  # the folder passed the check: a full disk, say
         _fail(
             f"-o {output}: cannot write in it ({exc}); {kept} are kept there, and the same "
@@ -898,6 +915,7 @@ def run(
     ] = None,
     speed_unit: SpeedUnitOpt = None,
     replace: ReplaceOpt = False,
+    maps_at: MapsAtOpt = None,
 ) -> None:
     """Run every point of a design into a campaign folder (resumes finished runs)."""
     _run_and_report(
@@ -916,6 +934,7 @@ def run(
         cycle=cycle,
         speed_unit=speed_unit,
         replace=replace,
+        maps_at=maps_at,
     )
 
 
@@ -930,7 +949,12 @@ def analyze(
     folder: Annotated[
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
     ],
-    run_maps: Annotated[bool, typer.Option(help="draw the final plateau map of every run")] = True,
+    run_maps: Annotated[
+        bool,
+        typer.Option(
+            help="draw the plateau maps of every run (final; over the cycle where it kept maps)"
+        ),
+    ] = True,
     anova_type: Annotated[
         int | None,
         typer.Option(
@@ -1442,6 +1466,7 @@ def paper(
     quick: QuickOpt = False,
     stops: StopsOpt = None,
     replace: ReplaceOpt = False,
+    maps_at: MapsAtOpt = None,
 ) -> None:
     """The paper's whole study: the 24-run factorial design, then the analysis and report.
     With --stops N and no -o, a folder of its own (results/paper_stopsN), so that a
@@ -1463,6 +1488,7 @@ def paper(
         overrides=None,
         report=True,
         replace=replace,
+        maps_at=maps_at,
     )
 
 

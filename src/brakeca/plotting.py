@@ -1446,6 +1446,7 @@ def plot_fibre_maps(
     path: str | Path | None = None,
     *,
     ncols: int | None = None,
+    title: str = "Pad surface maps",
 ) -> Figure:
     """Several surface maps side by side, e.g. the fibre layouts of the A levels.
 
@@ -1456,8 +1457,10 @@ def plot_fibre_maps(
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     ncols
-        Panels per row; by default all in one row up to three maps, three per row beyond
-        (five A levels side by side made a figure 4,200 pixels wide).
+        Panels per row; by default all in one row up to three maps, two by two for four, three
+        per row beyond (five A levels side by side made a figure 4,200 pixels wide).
+    title
+        The figure's title.
 
     Returns
     -------
@@ -1471,7 +1474,7 @@ def plot_fibre_maps(
     if not maps:
         raise ValueError("no maps to plot")
     n = len(maps)
-    ncols = min(n, 3) if ncols is None else max(1, min(int(ncols), n))
+    ncols = (2 if n == 4 else min(n, 3)) if ncols is None else max(1, min(int(ncols), n))
     nrows = math.ceil(n / ncols)
     fig = _figure((5.6 * ncols, 3.0 * nrows + 0.8))
     grid = fig.subplots(nrows, ncols, squeeze=False)
@@ -1490,7 +1493,7 @@ def plot_fibre_maps(
     for ax in grid.ravel()[n:]:
         fig.delaxes(ax)
     fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
-    _suptitle(fig, "Pad surface maps")
+    _suptitle(fig, title)
     return save_figure(fig, path)
 
 

@@ -387,8 +387,10 @@ def simulate(
         ``config`` is not a :class:`~brakeca.config.SimulationConfig` (a dict, a preset name).
     ValueError
         A seed that is not a whole number in range, or both ``seed`` and ``rng``; a stop of
-        ``maps_at`` that the cycle does not have, or that a resumed checkpoint ran without
-        keeping its map.
+        ``maps_at`` that the cycle does not have.
+    CheckpointError
+        A ValueError: the checkpoint is of another run or cannot be read, or it ran a stop
+        of ``maps_at`` without keeping its map.
     ContactError
         The demanded torque cannot be reached (names the stop and the step).
     LedgerError
@@ -441,7 +443,7 @@ def simulate(
         rng.bit_generator.state = rng_state
         missed = [k for k in kept_maps if k <= len(log.dts) and k not in log.maps]
         if missed:
-            raise ValueError(
+            raise CheckpointError(
                 f"maps_at: stop {missed[0]} ran before the checkpoint {checkpoint} without "
                 f"keeping its map; ask only for stops after {len(log.dts)}, or delete the "
                 "checkpoint to run from the start"

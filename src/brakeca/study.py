@@ -34,6 +34,8 @@ from brakeca.design import Design, _target
 from brakeca.results import RunResult
 
 if TYPE_CHECKING:
+    import xarray as xr
+
     from brakeca.analysis import Model
 
 __all__ = ["RESPONSES", "per_stop_table", "plot_run", "with_log_v", "write_study"]
@@ -493,7 +495,8 @@ def write_study(
     result
         A campaign loaded by :func:`brakeca.campaign.load_campaign`.
     run_maps
-        Also draw the final plateau map of every run (one PNG per run).
+        Also draw the final plateau map of every run (one PNG per run), and for a run that
+        kept maps after chosen stops (``run_campaign(maps_at=)``) its maps over the cycle.
     anova_type
         The ANOVA's sums of squares, 2 (Type II) or 3 (Type III, adjusted); by default the
         design's ``anova_type``.
@@ -760,7 +763,7 @@ def write_study(
             maps,
         )
     if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
-        for stale in fig_dir.glob("final_map_test*.png"):
+        for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
             stale.unlink()
     else:
         replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
@@ -776,13 +779,29 @@ def write_study(
                 if replicated
                 else ""
             )
+            ds = RunResult.from_netcdf(runs_dir / f"{row['run_id']}.nc").dataset
+            tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
             add(
                 "Final plateau maps",
                 f"Test {int(row['test'])} ({levels}){which}: plateaus after {stops_run}",
-                f"final_map_test{int(row['test']):02d}_r{int(row.get('replicate', 0))}.png",
+                f"final_map_{tag}.png",
                 plotting.plot_surface_map,
-                *_map_of(runs_dir / f"{row['run_id']}.nc", "final_status"),
+                *(ds[name].to_numpy() for name in ("final_status", "radius", "angle")),
                 title=f"Test {int(row['test'])}: {levels}",
+            )
+            if "map_status" not in ds:
+                (fig_dir / f"maps_by_stop_{tag}.png").unlink(missing_ok=True)
+                continue
+            kept = ", ".join(str(int(k)) for k in ds["map_stop"].to_numpy())
+            add(
+                "Plateau maps over the cycle",
+                f"Test {int(row['test'])} ({levels}){which}: plateaus before the first stop "
+                f"and after stop{'s' if ds.sizes['map_stop'] > 1 else ''} {kept} (brakeca run "
+                "--maps-at)",
+                f"maps_by_stop_{tag}.png",
+                plotting.plot_fibre_maps,
+                _maps_over_cycle(ds),
+                title=f"Test {int(row['test'])}: {levels}{which}",
             )
 
     config_text = (
@@ -889,15 +908,23 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
         ncols=1,
     )
     if "map_status" in ds:
-        blocks = ds["block"].to_series() if "block" in ds.coords else None
-        maps = {"before the first stop": (ds["initial_status"].to_numpy(), radius, angle)}
-        for k in ds["map_stop"].to_numpy():
-            where = f" ({blocks.loc[int(k)]})" if blocks is not None else ""
-            status = ds["map_status"].sel(map_stop=k).to_numpy()
-            maps[f"after stop {int(k)}{where}"] = (status, radius, angle)
         paths.append(out / "maps_by_stop.png")
-        plot_fibre_maps(maps, paths[-1], ncols=1)
+        plot_fibre_maps(_maps_over_cycle(ds), paths[-1], ncols=1)
     return paths
+
+
+def _maps_over_cycle(ds: xr.Dataset) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """A run's plateau maps before the first stop and after each stop it kept a map of
+    (``map_stop``), titled with the stop and its block: :func:`plotting.plot_fibre_maps`'s
+    input (status [-], radius [m], angle [rad])."""
+    radius, angle = ds["radius"].to_numpy(), ds["angle"].to_numpy()
+    blocks = ds["block"].to_series() if "block" in ds.coords else None
+    maps = {"before the first stop": (ds["initial_status"].to_numpy(), radius, angle)}
+    for k in ds["map_stop"].to_numpy():
+        where = f" ({blocks.loc[int(k)]})" if blocks is not None else ""
+        status = ds["map_status"].sel(map_stop=k).to_numpy()
+        maps[f"after stop {int(k)}{where}"] = (status, radius, angle)
+    return maps
 
 
 def campaign_runs_to_plot(campaign_dir: str | Path, tests: Sequence[int] = ()) -> pd.DataFrame:

@@ -16,6 +16,7 @@ import socket
 import subprocess
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -63,8 +64,12 @@ def _run_dataset(out: Path, rid: str) -> xr.Dataset:
     return ds
 
 
-def _assert_same_runs(result: CampaignResult, reference: CampaignResult) -> None:
-    """Bit-identical summaries, campaign datasets and run files (timing aside)."""
+def _assert_same_runs(
+    result: CampaignResult, reference: CampaignResult, *, maps_at: Sequence[int] = ()
+) -> None:
+    """Bit-identical summaries, campaign datasets and run files (timing aside); with
+    ``maps_at``, the result's runs kept maps after those stops, which the reference's did not
+    (and which are all their files have more)."""
     pd.testing.assert_frame_equal(
         deterministic(result.summary),
         deterministic(reference.summary),
@@ -76,9 +81,11 @@ def _assert_same_runs(result: CampaignResult, reference: CampaignResult) -> None
         reference.dataset.drop_vars(TIMING).assign_attrs(result.dataset.attrs),
     )
     for rid in reference.summary["run_id"]:
-        xr.testing.assert_identical(
-            _run_dataset(result.out_dir, rid), _run_dataset(reference.out_dir, rid)
-        )
+        run = _run_dataset(result.out_dir, rid)
+        if maps_at:
+            assert list(run["map_stop"].to_numpy()) == list(maps_at)
+            run = run.drop_vars(["map_status", "map_height", "map_stop"])
+        xr.testing.assert_identical(run, _run_dataset(reference.out_dir, rid))
 
 
 def _children() -> set[int]:
@@ -544,11 +551,13 @@ def test_cli_runs_on_an_existing_cluster(cluster, local, design_file, tmp_path):
             "--max-retries",
             "1",
             "--no-report",
+            "--maps-at",
+            "2",  # passed to the cluster's workers with the run
         ],
     )
     assert res.exit_code == 0, res.output
     assert "4 run(s) computed" in res.output
-    _assert_same_runs(load_campaign(out), local)
+    _assert_same_runs(load_campaign(out), local, maps_at=[2])
     # the campaign did not close a cluster it did not start
     with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
         assert client.submit(pow, 2, 5).result() == 32

@@ -278,6 +278,12 @@ def test_surface_maps(tmp_path) -> None:
     fig = plot_fibre_maps(five)
     rows = {round(ax.get_position().y0, 3) for ax in fig.axes}
     assert len(fig.axes) == 5 and len(rows) == 2
+    # four: two by two, not three and one; the title is the caller's
+    fig = plot_fibre_maps(dict(list(five.items())[:4]), title="Test 5: S = 0")
+    rows = {round(ax.get_position().y0, 3) for ax in fig.axes}
+    assert len(fig.axes) == 4 and len(rows) == 2
+    assert len({round(ax.get_position().x0, 3) for ax in fig.axes}) == 2
+    assert fig.get_suptitle() == "Test 5: S = 0"
 
 
 def test_cof_series(tmp_path) -> None:

@@ -1,0 +1,173 @@
+"""A campaign's runs keep their plateau maps after chosen stops (``maps_at``, ``--maps-at``).
+
+The maps change no result and no run id: a campaign with them gives the summary of one
+without them, and reuses runs that kept none (saying so). The report shows each run's maps
+over the cycle.
+"""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+from campaign_helpers import (
+    DESIGN_TEMPLATE,
+    console_text,
+    deterministic,
+    quiet,
+    tiny,
+    write_design,
+)
+from typer.testing import CliRunner
+
+from brakeca.campaign import finish_campaign, run_campaign
+from brakeca.cli import app
+from brakeca.config import ConfigError
+from brakeca.design import load_design, run_id
+from brakeca.results import RunResult
+from brakeca.study import write_study
+
+
+def must_not_run(config, *, seed, progress=None, maps_at=()):
+    """A simulate that fails the test if a reused run is computed again."""
+    raise AssertionError("simulate was called for a run that should have been reused")
+
+
+@pytest.fixture(scope="module")
+def design_file(tmp_path_factory):
+    return write_design(
+        tmp_path_factory.mktemp("design"), tiny(3), DESIGN_TEMPLATE.format(root_seed=7)
+    )
+
+
+@pytest.fixture(scope="module")
+def plain(design_file, tmp_path_factory):
+    out = tmp_path_factory.mktemp("plain") / "campaign"
+    return run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
+
+
+@pytest.fixture(scope="module")
+def mapped(design_file, tmp_path_factory):
+    out = tmp_path_factory.mktemp("mapped") / "campaign"
+    return run_campaign(
+        design_file, out, executor="serial", progress=False, console=quiet(), maps_at=(3, 1)
+    )
+
+
+def test_the_runs_keep_their_maps_and_nothing_else_changes(plain, mapped):
+    assert mapped.ok
+    assert list(mapped.summary["run_id"]) == list(plain.summary["run_id"])
+    assert deterministic(mapped.summary).equals(deterministic(plain.summary))
+    for rid in mapped.summary["run_id"]:
+        ds = RunResult.from_netcdf(mapped.out_dir / "runs" / f"{rid}.nc").dataset
+        assert list(ds["map_stop"].to_numpy()) == [1, 3]
+        # the map after the last stop is the run's final map
+        np.testing.assert_array_equal(
+            ds["map_status"].sel(map_stop=3).to_numpy(), ds["final_status"].to_numpy()
+        )
+        plain_ds = RunResult.from_netcdf(plain.out_dir / "runs" / f"{rid}.nc").dataset
+        assert "map_stop" not in plain_ds.coords
+
+
+def test_the_report_shows_each_runs_maps_over_the_cycle(mapped, tmp_path):
+    out = tmp_path / "campaign"
+    shutil.copytree(mapped.out_dir, out)
+    html = write_study(finish_campaign(out)).read_text(encoding="utf-8")
+    assert "Plateau maps over the cycle" in html
+    assert "plateaus before the first stop and after stops 1, 3 (brakeca run --maps-at)" in html
+    figures = sorted(p.name for p in (out / "figures").glob("maps_by_stop_*.png"))
+    assert figures == [f"maps_by_stop_test{t:02d}_r0.png" for t in (1, 2, 3, 4)]
+    # analysed without the run maps, the report drops them and their files
+    write_study(finish_campaign(out), run_maps=False)
+    assert not list((out / "figures").glob("maps_by_stop_*.png"))
+
+
+def test_a_campaign_without_maps_draws_no_maps_over_the_cycle(plain, tmp_path):
+    out = tmp_path / "campaign"
+    shutil.copytree(plain.out_dir, out)
+    stale = out / "figures" / "maps_by_stop_test01_r0.png"  # left by an earlier analysis
+    stale.parent.mkdir(exist_ok=True)
+    stale.write_bytes(b"x")
+    html = write_study(finish_campaign(out)).read_text(encoding="utf-8")
+    assert "Plateau maps over the cycle" not in html
+    assert not stale.exists()
+
+
+def test_finished_runs_without_the_maps_are_reused_with_a_warning(plain, tmp_path):
+    out = tmp_path / "campaign"
+    shutil.copytree(plain.out_dir, out)
+    console = quiet()
+    again = run_campaign(
+        load_design(out / "design.toml"),
+        out,
+        executor="serial",
+        simulate_fn=must_not_run,
+        console=console,
+        maps_at=[2],
+    )
+    assert sorted(again.reused) == sorted(plain.computed) and not again.computed
+    text = " ".join(console_text(console).split())
+    assert "4 finished run(s) (tests 1, 2, 3, 4) ran without keeping maps after stops 2" in text
+    assert "Delete their run files" in text
+
+
+@pytest.mark.parametrize(
+    ("maps_at", "message"),
+    [
+        ([4], r"maps_at: stop 4 is not a stop of this cycle \(whole numbers from 1 to 3\)"),
+        ([0], r"maps_at: stop 0 is not a stop of this cycle"),
+        ([1, 1], r"maps_at: a stop is given twice"),
+        ([1.5], r"maps_at: stop 1.5 is not a stop"),
+        ("1,2", r"maps_at: expected stop numbers, e.g. \[1, 85, 170\], got '1,2'"),
+    ],
+)
+def test_maps_at_is_checked_before_anything_is_written(design_file, tmp_path, maps_at, message):
+    out = tmp_path / "campaign"
+    with pytest.raises(ConfigError, match=message):
+        run_campaign(design_file, out, executor="serial", console=quiet(), maps_at=maps_at)
+    assert not out.exists()
+    # also against a cycle cut short with max_stops
+    with pytest.raises(
+        ConfigError, match=r"stop 3 is not a stop of this cycle \(whole numbers from 1 to 2\)"
+    ):
+        run_campaign(design_file, out, executor="serial", console=quiet(), max_stops=2, maps_at=[3])
+    assert not out.exists()
+
+
+def test_the_command_line_takes_maps_at(design_file, mapped, tmp_path):
+    out = tmp_path / "campaign"
+    args = ["run", str(design_file), "-o", str(out), "--executor", "serial", "--no-report"]
+    res = CliRunner().invoke(app, [*args, "--maps-at", "1,x"])
+    assert res.exit_code == 2 and "--maps-at '1,x': expected stop numbers" in res.output
+    res = CliRunner().invoke(app, [*args, "--maps-at", "9"])
+    assert res.exit_code == 2
+    assert "--maps-at: stop 9 is not a stop of this cycle" in " ".join(res.output.split())
+    assert not out.exists()
+    res = CliRunner().invoke(app, [*args, "--maps-at", "3,1"])
+    assert res.exit_code == 0, res.output
+    for rid in mapped.summary["run_id"]:
+        ds = RunResult.from_netcdf(out / "runs" / f"{rid}.nc").dataset
+        assert list(ds["map_stop"].to_numpy()) == [1, 3]
+
+
+def test_a_checkpoint_without_an_asked_map_starts_the_run_over(design_file, mapped, tmp_path):
+    """A campaign killed in a run, resumed with --maps-at for a stop its checkpoint ran
+    without a map: the worker discards the checkpoint and runs from the start, so the run
+    keeps every asked map and its result is the uninterrupted run's."""
+    from brakeca._executors import _execute
+    from brakeca.simulation import simulate
+
+    point = next(p for p in load_design(design_file).points() if p.test == 2)
+    ckpt = tmp_path / f".{run_id(point)}.checkpoint.npz"
+    simulate(
+        point.config, seed=point.seed, checkpoint=ckpt, checkpoint_every=1, keep_checkpoint=True
+    )
+    assert ckpt.exists()  # saved after stop 3, without maps
+    result = _execute(None, point.config, point.seed, ckpt, 1, maps_at=(1, 3))
+    assert list(result.dataset["map_stop"].to_numpy()) == [1, 3]
+    kept = RunResult.from_netcdf(mapped.out_dir / "runs" / f"{run_id(point)}.nc").dataset
+    np.testing.assert_array_equal(
+        result.dataset["map_status"].to_numpy(), kept["map_status"].to_numpy()
+    )
+    assert result.MU == mapped.summary.set_index("test").loc[2, "MU"]
