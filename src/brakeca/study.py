@@ -407,7 +407,8 @@ def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarr
 
 def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.DataFrame, str]:
     """PM10 [mg/km] low/central/high of every run on a speed-trace cycle (NaN for runs on a
-    block cycle, whose distance between stops is unknown, and for failed runs)."""
+    block cycle, whose distance between stops is unknown, for failed runs and for runs whose
+    file is missing)."""
     from brakeca.emissions import (
         EURO7_PM10_LIMIT,
         EURO7_PM10_LIMIT_PEV,
@@ -421,8 +422,9 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
     any_trace = False
     for _, row in summary.iterrows():
         values = [float("nan")] * 3
-        if row.get("status", "ok") == "ok":
-            run = RunResult.from_netcdf(Path(result.out_dir) / "runs" / f"{row['run_id']}.nc")
+        path = Path(result.out_dir) / "runs" / f"{row['run_id']}.nc"
+        if row.get("status", "ok") == "ok" and path.is_file():  # (write_study notes a lost file)
+            run = RunResult.from_netcdf(path)
             if run.config.cycle.trace_file:
                 any_trace = True
                 est = pm10_from_run(run, configured_cycle(run.config).distance)
@@ -749,11 +751,14 @@ def write_study(
         )
 
     runs_dir = out / "runs"
+    # the figures of the runs' own files draw the runs whose file is there: a folder sent
+    # without runs/ (summary.csv and campaign.nc) still gives every table and the report
+    filed = ok[[(runs_dir / f"{rid}.nc").is_file() for rid in ok["run_id"]]]
     names = {f.name for f in factors}
-    if "A" in names and len(ok):
+    if "A" in names and len(filed):
         maps = {}
-        for level in sorted(ok["A"].unique()):
-            first = ok[ok["A"] == level].iloc[0]
+        for level in sorted(filed["A"].unique()):
+            first = filed[filed["A"] == level].iloc[0]
             maps[f"A = {level:g} %"] = _map_of(runs_dir / f"{first['run_id']}.nc", "initial_status")
         add(
             "Pad surfaces",
@@ -767,7 +772,7 @@ def write_study(
             stale.unlink()
     else:
         replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
-        for _, row in ok.iterrows():
+        for _, row in filed.iterrows():
             levels = ", ".join(
                 f"{f.name} = {f.label_of(row[f.name])}"
                 if f.choices is not None
@@ -825,6 +830,22 @@ def write_study(
         "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
     )
+    if len(filed) < len(ok):
+        tests = [int(t) for t in ok.loc[~ok["run_id"].isin(filed["run_id"]), "test"]]
+        which = (
+            f"none of the {len(ok)} finished runs has its run file"
+            if not len(filed)
+            else f"{len(tests)} of the {len(ok)} finished runs have no run file (test"
+            + ("s " if len(tests) > 1 else " ")
+            + ", ".join(map(str, tests[:8]))
+            + (" and others" if len(tests) > 8 else "")
+            + ")"
+        )
+        notes += (
+            f"\n\nIn {runs_dir}, {which}: the tables and the per-stop figures come from "
+            "summary.csv and campaign.nc, but those runs' plateau maps (and PM10 on a speed "
+            "trace) are not shown."
+        )
     summary, pm10_note = _pm10_columns(result, summary)
     if pm10_note:
         notes = notes + "\n\n" + pm10_note

@@ -584,3 +584,39 @@ def test_analyze_fits_the_terms_chosen(campaign, tmp_path):
     ):
         res = CliRunner().invoke(app, ["analyze", str(out), *args])
         assert res.exit_code == 2 and message in res.output, res.output
+
+
+def test_a_folder_sent_without_its_run_files_is_analysed(campaign, tmp_path):
+    """A helper's review: `brakeca analyze` on a folder of summary.csv, campaign.nc and the
+    design (sent without runs/) stopped with a traceback in the fibre-map figure, even with
+    --no-run-maps. The tables and report now come from what is there, the run files' maps
+    are drawn for the runs that have them, and the report says which runs have none."""
+    import shutil
+
+    out, _ = campaign
+    sent = tmp_path / "sent"
+    sent.mkdir()
+    for name in ("summary.csv", "campaign.nc", "design.toml", "base_config.toml"):
+        shutil.copy(out / name, sent / name)
+    res = CliRunner().invoke(app, ["analyze", str(sent)])
+    assert res.exit_code == 0, res.output
+    html = (sent / "report.html").read_text(encoding="utf-8")
+    assert "none of the 4 finished runs has its run file" in html
+    assert not list((sent / "figures").glob("final_map_*.png"))
+    assert not (sent / "figures" / "fibre_maps.png").exists()
+    for name in ("anova_MU.csv", "per_stop.csv", "box_cox.csv"):
+        assert (sent / "tables" / name).is_file()
+    anova = pd.read_csv(sent / "tables" / "anova_MU.csv")
+    assert {"S", "A", "Residual"} <= set(anova.iloc[:, 0])
+    # one run file back: its maps are drawn, the other three named
+    summary = pd.read_csv(out / "summary.csv")
+    (sent / "runs").mkdir()
+    rid = summary.loc[summary["test"] == 3, "run_id"].item()
+    shutil.copy(out / "runs" / f"{rid}.nc", sent / "runs")
+    res = CliRunner().invoke(app, ["analyze", str(sent)])
+    assert res.exit_code == 0, res.output
+    html = " ".join((sent / "report.html").read_text(encoding="utf-8").split())
+    assert "3 of the 4 finished runs have no run file (tests 1, 2, 4)" in html
+    assert [p.name for p in (sent / "figures").glob("final_map_*.png")] == [
+        "final_map_test03_r0.png"
+    ]
