@@ -2524,6 +2524,19 @@ class Design(_Frozen):
                 )
         if quick:
             check_quick_overrides(updates)
+            for target, name in varied.items():
+                if target in QUICK_FIELDS:
+                    raise ConfigError(
+                        f"quick (--quick): the design's factor {name!r} sets {target}, which "
+                        f"--quick sets itself (mesh.n_radial = {QUICK_N_RADIAL}, "
+                        "mesh.inner_radius unset) to narrow the band; run the design without "
+                        "--quick, or leave the factor out"
+                    )
+        if max_stops is not None and "cycle.max_stops" in varied:
+            raise ConfigError(
+                f"max_stops (--stops): the design's factor {varied['cycle.max_stops']!r} sets "
+                "cycle.max_stops in every run, so --stops would be ignored; remove one of them"
+            )
         if max_stops is not None:
             if (
                 isinstance(max_stops, bool | np.bool_)

@@ -569,7 +569,16 @@ def write_study(
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
     base = _base_config(out)
     scope = _scope(base)
-    stops_run = _cut_short(base) or "the whole cycle"  # for the captions
+    # for the captions; a factor on the cycle (its file, its stops) gives each run its own
+    on_cycle = [f.name for f in factors if _target(f.field).split(".")[0] == "cycle"]
+    cut = base.cycle.max_stops if base is not None and on_cycle else None
+    stops_run = (
+        (f"the first {cut} stops of " if cut is not None else "")
+        + f"each run's cycle (the design's factor{'s' if len(on_cycle) > 1 else ''} "
+        + f"{', '.join(on_cycle)} set{'' if len(on_cycle) > 1 else 's'} it)"
+        if on_cycle
+        else _cut_short(base) or "the whole cycle"
+    )
     if scope and any(g.response != "MU" for g in goals):
         optimum_note = " ".join(
             t
@@ -784,11 +793,13 @@ def write_study(
                 if replicated
                 else ""
             )
-            ds = RunResult.from_netcdf(runs_dir / f"{row['run_id']}.nc").dataset
+            run = RunResult.from_netcdf(runs_dir / f"{row['run_id']}.nc")
+            ds = run.dataset
             tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
+            after = _cut_short(run.config) or "the whole cycle"
             add(
                 "Final plateau maps",
-                f"Test {int(row['test'])} ({levels}){which}: plateaus after {stops_run}",
+                f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
                 f"final_map_{tag}.png",
                 plotting.plot_surface_map,
                 *(ds[name].to_numpy() for name in ("final_status", "radius", "angle")),

@@ -326,6 +326,14 @@ def test_design_factor_selects_the_cycle(tmp_path):
     # the report names a categorical factor's levels by their labels too
     report = (out / "report.html").read_text(encoding="utf-8")
     assert "Test 2 (C = trace, A = 10 %)" in report, report[:2000]
+    # the captions say each run has its cycle, and each map after how many of its stops
+    import html
+
+    report = html.unescape(report)
+    assert (
+        "MU per stop over the first 2 stops of each run's cycle (the design's factor C " in report
+    )
+    assert "Test 2 (C = trace, A = 10 %): plateaus after the first 2 of the cycle's " in report
     runs = report[report.index('<section id="runs">') :]
     runs = runs[: runs.index("</section>")]
     assert runs.count("<td>trace</td>") == 2 and runs.count("<td>paper</td>") == 2

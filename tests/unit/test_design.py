@@ -1447,6 +1447,31 @@ def test_quick_with_an_override_of_the_band_is_refused() -> None:
     assert paper.resolved_base(overrides={"mesh.n_radial": 41}).mesh.n_radial == 41
 
 
+def test_a_factor_on_what_quick_or_stops_sets_is_refused_with_them() -> None:
+    """A black-box review: a factor on cycle.max_stops silently overrode --stops (and the
+    report spoke of the stops --stops asked for), and a factor on mesh.n_radial with --quick
+    was refused with a message about setting ``quick``, which the user had not set."""
+
+    def design(field: str, levels: list[int]):
+        spec = {"name": "f", "field": field, "levels": levels}
+        return design_from_dict({"name": "n", "base": "paper", "root_seed": 1, "factors": [spec]})
+
+    stops = design("cycle.max_stops", [2, 4])
+    with pytest.raises(
+        ConfigError,
+        match=r"max_stops \(--stops\): the design's factor 'f' sets cycle.max_stops in every run",
+    ):
+        stops.points(max_stops=3)
+    assert [p.config.cycle.max_stops for p in stops.points()] == [2, 4]
+    rows = design("mesh.n_radial", [21, 31])
+    with pytest.raises(
+        ConfigError,
+        match=r"quick \(--quick\): the design's factor 'f' sets mesh.n_radial, which --quick sets",
+    ):
+        rows.points(quick=True)
+    assert [p.config.mesh.n_radial for p in rows.points()] == [21, 31]
+
+
 @pytest.mark.parametrize("name", ["MU", "V", "V_mm3", "wall_time", "mean_cof", "log10_V_mm3"])
 def test_a_factor_may_not_take_a_results_name(name) -> None:
     """A factor named MU was accepted, then its summary column held the response and the
