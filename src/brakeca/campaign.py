@@ -336,7 +336,7 @@ def _run_locked(
     if stale:
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     if not replace:
-        _refuse_to_replace(out, base, {run_id(p) for p in points})
+        _refuse_to_replace(out, base, points)
     campaign_design = _write_design(
         out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
     )
@@ -434,10 +434,10 @@ def _run_locked(
     )
 
 
-def _refuse_to_replace(out: Path, base: SimulationConfig, wanted: set[str]) -> None:
+def _refuse_to_replace(out: Path, base: SimulationConfig, points: Sequence[RunPoint]) -> None:
     """Raise ConfigError if ``out`` holds a study that a campaign of ``base`` and the runs
-    ``wanted`` (run ids) would replace: one of another base configuration, or of a design
-    whose runs it leaves out."""
+    ``points`` would replace: one of another base configuration, or of a design whose runs
+    it leaves out."""
     changed = base_differences(out, base)
     if changed:
         shown = "; ".join(changed[:4]) + (
@@ -445,15 +445,22 @@ def _refuse_to_replace(out: Path, base: SimulationConfig, wanted: set[str]) -> N
         )
         what, first, after = "a campaign of another base configuration", "campaign's command", ""
     else:
-        shown = _runs_left_out(out, wanted)
+        shown, renumbered = _runs_left_out(out, points)
         if not shown:
             return
         what, first = "the study of another design", "design"
         after = (
             ". A design that keeps every run of the study there and adds others (more "
-            "replicates, centre points, a fold-over of a design without centre points) needs "
-            "neither"
+            "replicates, centre points, a fold-over of a design without centre points, a "
+            "level after the last level of the last factor) needs neither"
         )
+        if renumbered:
+            after += (
+                f". {renumbered} of the runs left out have levels this design also runs, "
+                "under other test numbers: a run's seed follows its test number (and "
+                "replicate), so those are other runs. A level added anywhere but after the "
+                "last level of the last factor, or a factor added, numbers the tests anew"
+            )
     raise ConfigError(
         f"{out} holds {what} ({shown}): this one would replace its summary.csv and "
         "report.html. Give another folder, or replace it on purpose (--replace; replace=True "
@@ -462,20 +469,23 @@ def _refuse_to_replace(out: Path, base: SimulationConfig, wanted: set[str]) -> N
     )
 
 
-def _runs_left_out(out: Path, wanted: set[str]) -> str:
-    """What the study already in ``out`` has that a campaign of the runs ``wanted`` (run ids)
-    would leave out of its summary: e.g. ``"design 'screen', 16 runs, 16 of them not in this
-    one"``; empty when there is no study there or every run of it is wanted."""
+def _runs_left_out(out: Path, points: Sequence[RunPoint]) -> tuple[str, int]:
+    """What the study already in ``out`` has that a campaign of ``points`` would leave out of
+    its summary: e.g. ``"design 'screen', 16 runs, 16 of them not in this one"`` (empty when
+    there is no study there or every run of it is in ``points``), and how many of the runs
+    left out have a combination of levels that ``points`` also has (under another test
+    number, so another seed)."""
     path = out / "summary.csv"
     if not path.is_file():
-        return ""
+        return "", 0
     try:
-        ids = set(read_summary(path)["run_id"].astype(str))
+        old = read_summary(path)
+        ids = set(old["run_id"].astype(str))
     except Exception:  # a damaged summary is rebuilt from the run files: nothing to keep
-        return ""
-    missing = ids - wanted
+        return "", 0
+    missing = ids - {run_id(p) for p in points}
     if not missing:
-        return ""
+        return "", 0
     name = "?"
     try:
         import tomllib
@@ -483,7 +493,16 @@ def _runs_left_out(out: Path, wanted: set[str]) -> str:
         name = str(tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))["name"])
     except Exception:
         pass
-    return f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one"
+    renumbered = 0
+    names = sorted({key for p in points for key in p.levels})
+    if names and set(names) <= set(old.columns):
+        ours = {tuple(float(p.levels[k]) for k in names) for p in points}
+        for _, row in old[old["run_id"].astype(str).isin(missing)].iterrows():
+            try:
+                renumbered += tuple(float(row[k]) for k in names) in ours
+            except (TypeError, ValueError):
+                pass
+    return f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one", renumbered
 
 
 def _execute_points(

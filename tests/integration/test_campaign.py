@@ -315,6 +315,34 @@ def test_a_design_that_leaves_out_the_folders_runs_is_not_run_there_unless_asked
     assert replaced.ok and len(replaced.computed) == 4
 
 
+def _levels_of_a(levels: str) -> str:
+    """The design with A's levels ``levels`` (and no labels)."""
+    return DESIGN.replace("levels = [10.0, 20.0]", f"levels = {levels}").replace(
+        'scale = 0.01\nlabels = ["-", "+"]', "scale = 0.01"
+    )
+
+
+def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, tmp_path):
+    """A black-box review: a level added in the middle of a factor was refused as 'another
+    design', with no word of why every old level's runs were 'not in this one' (the tests
+    are numbered anew, and a run's seed follows its test number). The refusal says so now;
+    a level after the last level of the last factor keeps every run."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    for name in ("middle", "after"):
+        (tmp_path / name).mkdir()
+    middle = write_design(tmp_path / "middle", TINY, _levels_of_a("[10.0, 15.0, 20.0]"))
+    with pytest.raises(ConfigError) as info:
+        run_campaign(middle, out, executor="serial", progress=False, console=quiet())
+    text = str(info.value)
+    assert "(design 'tiny', 4 runs, 2 of them not in this one)" in text
+    assert "2 of the runs left out have levels this design also runs, under other test" in text
+    assert "a level after the last level of the last factor) needs neither" in text
+    after = write_design(tmp_path / "after", TINY, _levels_of_a("[10.0, 20.0, 30.0]"))
+    bigger = run_campaign(after, out, executor="serial", progress=False, console=quiet())
+    assert bigger.ok and len(bigger.reused) == 4 and len(bigger.computed) == 2
+
+
 def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(serial.out_dir, out)
