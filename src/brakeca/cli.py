@@ -167,6 +167,22 @@ def _percent_note(updates: dict[str, Any]) -> None:
         )
 
 
+def _design_percent_note(design: Any) -> None:
+    """A note for a design factor on A (the fibre fraction, in %) with levels below 1 %:
+    levels of 0.1 and 0.2 read like the fractions 10 % and 20 %."""
+    for factor in design.factors:
+        if factor.choices is not None or factor.field != "A":  # the alias, in %
+            continue
+        low = [f"{level:g}" for level in factor.levels if 0.0 < factor.override(level)[1] < 1.0]
+        if low:
+            console.print(
+                f"[yellow]note:[/] factor {factor.name!r} sets A, the fibre fraction in %: "
+                f"level{'s' if len(low) > 1 else ''} {', '.join(low)} "
+                f"{'are' if len(low) > 1 else 'is'} less than 1 % fibres; for 10 % give 10",
+                highlight=False,
+            )
+
+
 def resolve_config(
     preset: str | None,
     config_file: Path | None,
@@ -764,6 +780,12 @@ def _run_and_report(
         _fail(str(exc))
     asked_maps = _maps_at_stops(maps_at) if maps_at is not None else []
     _check_output(output, folder=True)
+    from brakeca.design import load_design
+
+    try:
+        _design_percent_note(load_design(design))
+    except ConfigError:  # run_campaign says what is wrong with it, before any run
+        pass
     from brakeca._warmup import announcing
 
     kept = "the finished runs" + (" and the checkpoints" if checkpoint_every else "")
@@ -1512,6 +1534,7 @@ def show_design(
         _check_combinations(loaded)  # a level valid alone may not be with the others
     except ConfigError as exc:
         _fail(str(exc))
+    _design_percent_note(loaded)
     combos = loaded.combinations()
     runs = loaded.n_tests * loaded.replicates
     out.print(f"{loaded.name}: {loaded.kind}", markup=False, highlight=False)

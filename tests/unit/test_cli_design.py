@@ -283,3 +283,16 @@ def test_the_runs_table_codes_centre_points_0_among_labels(tmp_path) -> None:
     last = next(line for line in text.splitlines() if line.startswith("│   20 │"))
     assert [c.strip() for c in last.strip("│").split("│")][1:8] == ["0"] * 7
     assert "…" not in text
+
+
+def test_a_levels_that_read_like_fractions_get_a_note(tmp_path) -> None:
+    """A black-box review: A with levels [0.1, 0.2], meant as 10 % and 20 %, ran as 0.1 %
+    and 0.2 % fibres without a word. A is in %, and `--set A=0.2` already had a note."""
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "d"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "A"\nlevels = [0.1, 20]\n'
+    )
+    text = " ".join(_design(str(design)).split())
+    assert "note: factor 'A' sets A, the fibre fraction in %: level 0.1 is less than 1 %" in text
+    assert "fibres; for 10 % give 10" in text
+    assert "note:" not in " ".join(_design("paper").split())
