@@ -1690,8 +1690,8 @@ def _print_aliases(structure: Any) -> None:
         )
     if hidden:
         out.print(
-            "partly confounded (not estimable apart from the terms before them): "
-            + ", ".join(hidden),
+            "not estimable (each aliased with a combination of the terms before it, though "
+            "with no single one): " + ", ".join(hidden),
             markup=False,
             highlight=False,
             emoji=False,

@@ -1361,7 +1361,9 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
             )
         if fit.loses_sign(predicted[r]):
             notes.append(
-                f"the fitted {r} is {predicted[r]:.3g} there, though every run's {r} is "
+                f"the fitted {r} is "
+                + (f"{predicted[r] * 1e9:.3g} mm³" if r == "V" else f"{predicted[r]:.3g}")
+                + f" there, though every run's {r} is "
                 "positive: the quadratic does not keep the response's sign (a log scale "
                 "may fit it better)"
             )

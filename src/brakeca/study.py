@@ -193,8 +193,8 @@ def _design_info(design: Design) -> str:
             "surface' fits the response as a quadratic in the coded factors (curvature and "
             "two-factor interactions), with the stationary point; the main effects are shown "
             "along the fitted surface (a profile) and the pairs in contour plots, since a "
-            "composite design's level means, in the tables, are not balanced against the "
-            "other factors."
+            "response-surface design's level means, in the tables, are not balanced against "
+            "the other factors."
         )
     if design.center_points:
         n_c = design.center_points * design.replicates  # runs at the centre
@@ -630,7 +630,7 @@ def write_study(
                     "along each factor with the others at their centre, with the 95 % "
                     "confidence band of the fitted mean (JMP's prediction profiler). The "
                     "runs' level means (the table 'Level means') are not balanced against "
-                    "the other factors in a composite design, so they mix in the others' "
+                    "the other factors in a response-surface design, so they mix in the others' "
                     "effects",
                     f"profile_{resp}.png",
                     plotting.plot_profiler,
