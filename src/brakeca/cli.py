@@ -783,7 +783,19 @@ def _run_and_report(
     from brakeca.design import load_design
 
     try:
-        _design_percent_note(load_design(design))
+        loaded = load_design(design)
+        _design_percent_note(loaded)
+        if stops is not None:
+            from brakeca.traces import configured_cycle
+
+            base = loaded.resolved_base(overrides=updates, quick=quick, max_stops=stops)
+            n_total = configured_cycle(base).n_total
+            if stops > n_total:
+                console.print(
+                    f"[yellow]note:[/] --stops {stops}: the cycle has {n_total} stops, so every "
+                    "run goes the whole cycle",
+                    highlight=False,
+                )
     except ConfigError:  # run_campaign says what is wrong with it, before any run
         pass
     from brakeca._warmup import announcing

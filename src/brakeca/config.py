@@ -189,10 +189,10 @@ class PadConfig(_Frozen):
 
     @model_validator(mode="after")
     def _ranges(self) -> PadConfig:
-        if self.fibre_length_min > self.fibre_length_max:
-            raise ValueError("fibre_length_min must not exceed fibre_length_max")
-        if self.fibre_diameter_min > self.fibre_diameter_max:
-            raise ValueError("fibre_diameter_min must not exceed fibre_diameter_max")
+        for name in ("fibre_length", "fibre_diameter"):
+            low, high = getattr(self, f"{name}_min"), getattr(self, f"{name}_max")
+            if low > high:
+                raise ValueError(f"{name}_min ({low:g} m) must not exceed {name}_max ({high:g} m)")
         return self
 
 

@@ -628,3 +628,24 @@ def test_a_folder_sent_without_its_run_files_is_analysed(campaign, tmp_path):
     assert [p.name for p in (sent / "figures").glob("final_map_*.png")] == [
         "final_map_test03_r0.png"
     ]
+
+
+def test_stops_beyond_the_cycle_get_a_note(tmp_path, monkeypatch):
+    """A black-box review: `brakeca run --stops 500` ran the 170 stops without a word
+    (`brakeca simulate` had a note)."""
+    import brakeca.campaign
+    from brakeca.config import ConfigError
+
+    def stop_here(*args, **kwargs):
+        raise ConfigError("stopped before any run")
+
+    monkeypatch.setattr(brakeca.campaign, "run_campaign", stop_here)
+    for stops, noted in (("500", True), ("170", False)):
+        res = CliRunner().invoke(
+            app, ["run", "paper", "-o", str(tmp_path / "c"), "--quick", "--stops", stops]
+        )
+        assert res.exit_code == 2 and "stopped before any run" in res.output
+        text = " ".join(res.output.split())
+        assert (
+            "note: --stops 500: the cycle has 170 stops, so every run goes the whole cycle" in text
+        ) is noted

@@ -61,6 +61,11 @@ def test_factor_aliases():
         ({"mesh.n_angular": 999}, "multiple of n_subdomains"),
         ({"S": 2}, "automaton.secondary_removal_fraction"),
         ({"friction.mu_min": 0.9}, r"must not exceed mu_0"),
+        # with the values, the one not given too (a black-box review)
+        (
+            {"pad.fibre_length_max": 5e-4},
+            r"fibre_length_min \(0.001 m\) must not exceed fibre_length_max \(0.0005 m\)",
+        ),
         ({"mesh.n_radial": 5000}, "must lie on the disc"),
         ({"pad.fibre_model": "spaghetti"}, "pad.fibre_model"),
         (
