@@ -167,6 +167,19 @@ def _percent_note(updates: dict[str, Any]) -> None:
         )
 
 
+def _unused_levels_note(design: Any) -> None:
+    """A note for a run table that leaves a factor's level without a test (its main-effects
+    row would have no run)."""
+    for name, levels in design.levels_without_runs().items():
+        shown = ", ".join(design.factor(name).label_of(v) for v in levels)
+        console.print(
+            f"[yellow]note:[/] factor {name!r}: level{'s' if len(levels) > 1 else ''} {shown} "
+            f"{'have' if len(levels) > 1 else 'has'} no test in the run table; the analysis "
+            "shows no mean there (drop it from levels, or add a run at it)",
+            highlight=False,
+        )
+
+
 def _design_percent_note(design: Any) -> None:
     """A note for a design factor on A (the fibre fraction, in %) with levels below 1 %:
     levels of 0.1 and 0.2 read like the fractions 10 % and 20 %."""
@@ -785,6 +798,7 @@ def _run_and_report(
     try:
         loaded = load_design(design)
         _design_percent_note(loaded)
+        _unused_levels_note(loaded)
         if stops is not None:
             from brakeca.traces import configured_cycle
 
@@ -1547,6 +1561,7 @@ def show_design(
     except ConfigError as exc:
         _fail(str(exc))
     _design_percent_note(loaded)
+    _unused_levels_note(loaded)
     combos = loaded.combinations()
     runs = loaded.n_tests * loaded.replicates
     out.print(f"{loaded.name}: {loaded.kind}", markup=False, highlight=False)

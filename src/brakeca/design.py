@@ -2410,6 +2410,19 @@ class Design(_Frozen):
                 return f
         raise KeyError(name)
 
+    def levels_without_runs(self) -> dict[str, list[int | float]]:
+        """Each factor's levels that no test of a run table sets (a run table may leave a
+        level of ``levels`` out): ``{factor name: [level, ...]}``, only the factors with such
+        levels; empty for the other designs, whose tests hold every level."""
+        if self.runs is None:
+            return {}
+        used: dict[str, set[int | float]] = {f.name: set() for f in self.factors}
+        for combo in self.combinations():
+            for name, value in combo.items():
+                used[name].add(value)
+        out = {f.name: [v for v in f.levels if v not in used[f.name]] for f in self.factors}
+        return {name: levels for name, levels in out.items() if levels}
+
     def combinations(self) -> list[dict[str, int | float]]:
         """The tests' factor levels, in test order.
 

@@ -298,3 +298,21 @@ def test_a_levels_that_read_like_fractions_get_a_note(tmp_path) -> None:
     assert "note: factor 'A' sets A, the fibre fraction in %: level 0.1 is less than 1 %" in text
     assert "fibres; for 10 % give 10" in text
     assert "note:" not in " ".join(_design("paper").split())
+
+
+def test_a_run_table_that_leaves_a_level_without_a_test_gets_a_note(tmp_path) -> None:
+    """A black-box review: a run table with no run at WP = 1e-14, one of WP's levels, gave
+    a main-effects row of n = 0 and a broken line, and brakeca design said nothing."""
+    design = tmp_path / "rt.toml"
+    design.write_text(
+        'name = "rt"\nbase = "paper"\nroot_seed = 1\n'
+        "runs = [{S = 0, WP = 1e-15}, {S = 1, WP = 1e-13}, {S = 1, WP = 1e-15}]\n"
+        '[[factors]]\nname = "S"\nlevels = [0, 1]\n'
+        '[[factors]]\nname = "WP"\nlevels = [1e-15, 1e-14, 1e-13]\n'
+    )
+    text = " ".join(_design(str(design)).split())
+    assert "note: factor 'WP': level 1e-14 has no test in the run table" in text
+    from brakeca.design import load_design
+
+    assert load_design(design).levels_without_runs() == {"WP": [1e-14]}
+    assert load_design("paper").levels_without_runs() == {}
