@@ -21,8 +21,12 @@ the residual degrees of freedom, so where the model leaves few of them the inter
 Montgomery's approximate interval (section 15.1.1: the ``λ`` whose ``SSE(λ)`` lies below
 ``SSE(λ̂) (1 + t²(α/2, ν) / ν)``, ``ν`` the residual degrees of freedom) is wider, e.g. for V
 of the paper's full-resolution study (9 residual degrees of freedom of 24 runs) -0.14 to 0.21
-against -0.08 to 0.11 here, and for MU up to -0.50 against -0.87, which changes none of this
-module's readings there. As Minitab
+against -0.08 to 0.11, and for MU up to -0.50 against -0.87. Both are computed
+(``ci_low``, ``ci_high`` and ``ci_low_df``, ``ci_high_df``). The reading follows the
+likelihood-ratio interval, and says so where Montgomery's also holds λ = 1 or λ = 0 that the
+other leaves out: then the data do not settle the scale (a helper's review found a response
+surface with 7 residual degrees of freedom whose MU read "the log fits better" though
+Montgomery's interval held λ = 1). As Minitab
 does, ``λ`` is searched in [-2, 2] and a rounded value (the nearest multiple of 0.5) is
 reported beside the optimum.
 
@@ -75,11 +79,22 @@ BOX_COX_COLUMNS: tuple[str, ...] = (
     "lambda_hat",
     "ci_low",
     "ci_high",
+    "ci_low_df",
+    "ci_high_df",
     "rounded_lambda",
     "confidence",
     "reading",
     "note",
 )
+
+
+def interval_text(low: float, high: float) -> str:
+    """An interval of λ in words, ``"-0.08 to 0.11"``; an end beyond the search range
+    (infinite) as ``"below -2"`` or ``"above 2"``."""
+    lo, hi = LAMBDA_RANGE
+    a = f"below {lo:g}" if math.isinf(low) else f"{low:.2f}"
+    b = f"above {hi:g}" if math.isinf(high) else f"{high:.2f}"
+    return f"{a} to {b}"
 
 
 @dataclass(frozen=True)
@@ -111,6 +126,10 @@ class BoxCox:
         not defined).
     note
         Why λ is not defined, or that the optimum lies on the search range's edge.
+    ci_low_df, ci_high_df
+        Montgomery's approximate interval of λ [-], which counts the residual degrees of
+        freedom: the λ whose ``SSE(λ)`` lies below ``SSE(λ̂) (1 + t²(α/2, ν) / ν)``; wider than
+        ``ci_low``, ``ci_high`` where ``ν`` is small. ``-inf``, ``inf`` and NaN as those.
     """
 
     response: str
@@ -124,6 +143,8 @@ class BoxCox:
     confidence: float
     profile: pd.DataFrame
     note: str = ""
+    ci_low_df: float = math.nan
+    ci_high_df: float = math.nan
 
     @property
     def defined(self) -> bool:
@@ -147,9 +168,28 @@ class BoxCox:
 
     @property
     def reading(self) -> str:
-        """What the interval says about the scale, in one sentence."""
+        """What the interval says about the scale, in one sentence; where Montgomery's wider
+        interval (``ci_low_df``, ``ci_high_df``) also holds λ = 1 or λ = 0 that the
+        likelihood-ratio interval leaves out, a clause says so."""
         if not self.defined:
             return ""
+        sentence = self._likelihood_reading()
+        also = [
+            f"λ = {lam:g}"
+            for lam in (1.0, 0.0)
+            if not self.contains(lam) and self.ci_low_df <= lam <= self.ci_high_df
+        ]
+        if also:
+            wider = interval_text(self.ci_low_df, self.ci_high_df)
+            sentence += (
+                f"; but with {self.df_resid:g} residual degrees of freedom, Montgomery's wider "
+                f"interval ({wider}) also holds {' and '.join(also)}, so the data do not "
+                "settle the scale"
+            )
+        return sentence
+
+    def _likelihood_reading(self) -> str:
+        """:attr:`reading` from the likelihood-ratio interval alone."""
         pct = f"{100 * self.confidence:g} %"
         if self.contains(1.0) and self.contains(0.0):
             return (
@@ -186,6 +226,8 @@ class BoxCox:
             "lambda_hat": self.lambda_hat,
             "ci_low": self.ci_low,
             "ci_high": self.ci_high,
+            "ci_low_df": self.ci_low_df,
+            "ci_high_df": self.ci_high_df,
             "rounded_lambda": self.rounded,
             "confidence": self.confidence,
             "reading": self.reading,
@@ -302,8 +344,11 @@ def box_cox_profile(
     if ll[k] > ll_hat:  # the grid point is better (an edge of the range)
         lam_hat, ll_hat = float(grid[k]), float(ll[k])
     cut = ll_hat - 0.5 * float(stats.chi2.ppf(confidence, 1))
+    # Montgomery's: SSE(λ) <= SSE(λ̂) (1 + t²/ν), i.e. L(λ) >= L(λ̂) - (n/2) ln(1 + t²/ν)
+    t = float(stats.t.ppf(0.5 + confidence / 2, df_resid))
+    cut_df = ll_hat - 0.5 * n * math.log1p(t * t / df_resid)
 
-    def crossing(side: int) -> float:
+    def crossing(side: int, cut: float) -> float:
         """Where L falls to ``cut`` on one side of λ̂; ±inf beyond the search range."""
         # the grid points outwards from λ̂, with the profile already computed there
         inner = np.flatnonzero(grid < lam_hat)[::-1] if side < 0 else np.flatnonzero(grid > lam_hat)
@@ -322,7 +367,8 @@ def box_cox_profile(
             )
         )
 
-    ci_low, ci_high = crossing(-1), crossing(+1)
+    ci_low, ci_high = crossing(-1, cut), crossing(+1, cut)
+    ci_low_df, ci_high_df = crossing(-1, cut_df), crossing(+1, cut_df)
     note = ""
     # the bounded search stops within about 1e-3 of an edge where the likelihood still
     # rises there (-1.9997 was seen for a rising profile; a helper's review)
@@ -345,6 +391,8 @@ def box_cox_profile(
         confidence,
         profile,
         note,
+        ci_low_df,
+        ci_high_df,
     )
 
 

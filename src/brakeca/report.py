@@ -704,23 +704,32 @@ def _level_means_table(means: Mapping[str, pd.DataFrame]) -> _Table:
 
 def _box_cox_table(results: Mapping[str, Any]) -> _Table:
     """The Box-Cox results (:class:`brakeca.boxcox.BoxCox`), one row per response."""
-    from brakeca.boxcox import LAMBDA_RANGE
+    from brakeca.boxcox import interval_text
 
     rows = []
     for response, r in results.items():
         if r.defined:
-            lo, hi = LAMBDA_RANGE
-            # an end the likelihood does not reach within the search range lies beyond it
-            low = f"below {lo:g}" if math.isinf(r.ci_low) else _fmt(r.ci_low, ".2f")
-            high = f"above {hi:g}" if math.isinf(r.ci_high) else _fmt(r.ci_high, ".2f")
-            interval = f"{low} to {high}"
             reading = r.reading + (f" ({r.note})" if r.note else "")
-            cells = [_fmt(r.lambda_hat, ".2f"), interval, _fmt(r.rounded, "g"), reading]
+            cells = [
+                _fmt(r.lambda_hat, ".2f"),
+                interval_text(r.ci_low, r.ci_high),
+                interval_text(r.ci_low_df, r.ci_high_df),
+                _fmt(r.rounded, "g"),
+                reading,
+            ]
         else:
-            cells = ["–", "–", "–", f"not defined: {r.note}"]
+            cells = ["–", "–", "–", "–", f"not defined: {r.note}"]
         rows.append({"cells": [str(response), r.model, *cells], "cls": ""})
-    columns = ["Response", "Model", "λ̂", "95 % interval", "Rounded λ", "Reading"]
-    return _Table(columns, [False, False, True, False, True, False], rows)
+    columns = [
+        "Response",
+        "Model",
+        "λ̂",
+        "95 % interval",
+        "by residual df (Montgomery)",
+        "Rounded λ",
+        "Reading",
+    ]
+    return _Table(columns, [False, False, True, False, False, True, False], rows)
 
 
 def _surface_item(response: str, fit: Any) -> dict[str, Any]:

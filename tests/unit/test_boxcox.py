@@ -192,6 +192,7 @@ def test_the_reading_never_points_outside_the_interval() -> None:
     import dataclasses
 
     base = box_cox_profile(np.random.default_rng(1).lognormal(0.0, 0.5, 40))
+    base = dataclasses.replace(base, ci_low_df=math.nan, ci_high_df=math.nan)  # LR alone
     narrow = dataclasses.replace(base, lambda_hat=-0.18, ci_low=-0.27, ci_high=-0.09, rounded=0.0)
     assert narrow.reading.endswith(
         "nor any multiple of 0.5, lies within the 95 % interval: the data point to λ ≈ -0.18"
@@ -222,3 +223,47 @@ def test_an_optimum_a_hair_inside_the_edge_is_flagged_too() -> None:
     result = box_cox_profile(mu, exog)
     assert result.lambda_hat < -1.99
     assert "edge of the search range" in result.note and math.isinf(result.ci_low)
+
+
+def test_montgomerys_interval_counts_the_residual_degrees_of_freedom() -> None:
+    """A helper's review: the likelihood-ratio interval counts all n runs, so with few
+    residual degrees of freedom it is narrow (a response surface's MU, 7 of them, read 'the
+    log fits better' though Montgomery's interval held λ = 1). Montgomery's interval (section
+    15.1.1) is computed too: at its ends SSE(λ) = SSE(λ̂) (1 + t²(α/2, ν)/ν), by statsmodels'
+    OLS of the scaled transform; it holds the likelihood-ratio interval; and the reading says
+    where it holds λ = 1 or 0 that the other leaves out."""
+    import dataclasses
+
+    import statsmodels.api as sm
+
+    rng = np.random.default_rng(3)
+    x = np.repeat(np.arange(4.0), 3)
+    exog = np.column_stack([np.ones(x.size), x, x**2, x**3])  # 12 runs, 8 residual df
+    y = np.exp(0.5 * x + rng.normal(0.0, 0.15, x.size))
+    result = box_cox_profile(y, exog)
+    g = math.exp(np.mean(np.log(y)))
+
+    def sse(lam: float) -> float:
+        w = np.log(y) * g if lam == 0.0 else (y**lam - 1.0) / (lam * g ** (lam - 1.0))
+        return float(sm.OLS(w, exog).fit().ssr)
+
+    nu = result.df_resid
+    assert nu == 8.0
+    t = stats.t.ppf(0.975, nu)
+    for end in (result.ci_low_df, result.ci_high_df):
+        assert math.isfinite(end)
+        assert sse(end) == pytest.approx(sse(result.lambda_hat) * (1.0 + t * t / nu), rel=1e-6)
+    assert result.ci_low_df < result.ci_low < result.ci_high < result.ci_high_df
+    row = result.row()
+    assert (row["ci_low_df"], row["ci_high_df"]) == (result.ci_low_df, result.ci_high_df)
+    # λ = 0 inside the wider interval only: the reading says the scale is not settled
+    only_df = dataclasses.replace(
+        result, lambda_hat=0.6, ci_low=0.2, ci_high=1.0, ci_low_df=-0.1, ci_high_df=1.2
+    )
+    assert only_df.reading.startswith("λ = 1 lies within the 95 % interval")
+    assert only_df.reading.endswith(
+        "; but with 8 residual degrees of freedom, Montgomery's wider interval (-0.10 to "
+        "1.20) also holds λ = 0, so the data do not settle the scale"
+    )
+    same = dataclasses.replace(only_df, ci_low_df=0.1, ci_high_df=0.9)
+    assert "Montgomery" not in same.reading
