@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import secrets
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -93,12 +93,23 @@ def checkpoint_problem(path: str | Path) -> str | None:
     )
 
 
-def checkpoint_resumes(path: Path, config: Any, seed: int) -> bool:
+def checkpoint_resumes(path: Path, config: Any, seed: int, maps_at: Sequence[int] = ()) -> bool:
     """Whether the checkpoint at ``path`` is one the run of ``config`` and ``seed`` would
-    resume from (:func:`checkpoint_is_of`; only its small ``meta`` entry is read). False for
-    a missing, unreadable or foreign file, which the run discards."""
+    resume from (:func:`checkpoint_is_of`; only its small ``meta`` entry is read, and with
+    ``maps_at`` the stops it ran and kept maps of). False for a missing, unreadable or
+    foreign file, and for one that ran a stop of ``maps_at`` without keeping its map: the
+    run discards those and starts over."""
     try:
         meta = _checkpoint_meta(path)
+        if not checkpoint_is_of(meta, config, seed):
+            return False
+        if not maps_at:
+            return True
+        import numpy as np
+
+        with np.load(path, allow_pickle=False) as data:
+            done = int(data["log_lengths"].size)
+            kept = {int(k) for k in data["log_map_stops"]}
+        return all(k in kept or k > done for k in maps_at)
     except Exception:
         return False
-    return checkpoint_is_of(meta, config, seed)

@@ -117,23 +117,23 @@ def _seconds(t: float) -> str:
 
 def _maps_for(maps_at: Iterable[int], points: Sequence[RunPoint]) -> list[int]:
     """``maps_at`` checked against the cycle of every run, before any work: the stops, in
-    order (ValueError names ``maps_at`` and the stops the shortest cycle has)."""
+    order (ConfigError names ``maps_at`` and the stops of the shortest cycle)."""
     from brakeca.simulation import cycle_events, map_stops
 
-    if isinstance(maps_at, str | bytes) or not isinstance(maps_at, Iterable):
-        raise ConfigError(f"maps_at: expected stop numbers, e.g. [1, 85, 170], got {maps_at!r}")
-    asked = list(maps_at)
-    if not asked:
-        return []
+    if isinstance(maps_at, Iterable) and not isinstance(maps_at, str | bytes):
+        maps_at = list(maps_at)  # (a generator is read once)
+        if not maps_at:
+            return []
     stops: dict[str, int] = {}
     for point in points:
         key = point.config.cycle.model_dump_json()
         if key not in stops:
             stops[key] = len(cycle_events(point.config))
     try:
-        return map_stops(asked, min(stops.values(), default=0))
+        return map_stops(maps_at, min(stops.values(), default=0))
     except ValueError as exc:  # a ConfigError, as the design's and the overrides' are
-        raise ConfigError(str(exc)) from None
+        shortest = " (the shortest of the design's cycles)" if len(set(stops.values())) > 1 else ""
+        raise ConfigError(f"{exc}{shortest}") from None
 
 
 def _kept_maps(result: RunResult) -> set[int]:
@@ -370,11 +370,13 @@ def _run_locked(
         todo.append(point)
 
     if without_maps:
-        tests = ", ".join(str(p.test) for p in sorted(without_maps, key=lambda p: p.test)[:8])
-        more = " and others" if len(without_maps) > 8 else ""
+        numbers = sorted({p.test for p in without_maps})
+        tests = ", ".join(map(str, numbers[:8]))
+        more = " and others" if len(numbers) > 8 else ""
         say(
             console,
-            f"[yellow]warning:[/] {len(without_maps)} finished run(s) (tests {tests}{more}) "
+            f"[yellow]warning:[/] {len(without_maps)} finished run(s) (of test"
+            f"{'s' if len(numbers) > 1 else ''} {tests}{more}) "
             f"ran without keeping maps after stops {', '.join(map(str, how.maps_at))}; they "
             "are reused as they are, without those maps. Delete their run files in "
             f"{escape(str(runs))} to run them again with the maps",
@@ -493,13 +495,16 @@ def _runs_left_out(out: Path, points: Sequence[RunPoint]) -> tuple[str, int]:
         name = str(tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))["name"])
     except Exception:
         pass
-    renumbered = 0
+    renumbered = 0  # left out, with levels this design runs under other test numbers
     names = sorted({key for p in points for key in p.levels})
-    if names and set(names) <= set(old.columns):
-        ours = {tuple(float(p.levels[k]) for k in names) for p in points}
+    if names and set(names) <= set(old.columns) and "test" in old.columns:
+        tests_of: dict[tuple[float, ...], set[int]] = {}
+        for p in points:
+            tests_of.setdefault(tuple(float(p.levels[k]) for k in names), set()).add(p.test)
         for _, row in old[old["run_id"].astype(str).isin(missing)].iterrows():
             try:
-                renumbered += tuple(float(row[k]) for k in names) in ours
+                ours = tests_of.get(tuple(float(row[k]) for k in names), set())
+                renumbered += bool(ours) and int(row["test"]) not in ours
             except (TypeError, ValueError):
                 pass
     return f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one", renumbered
@@ -570,7 +575,10 @@ def _execute_points(
         resumed = (
             0
             if how.checkpoint_every is None
-            else sum(checkpoint_resumes(_checkpoint_path(runs, p), p.config, p.seed) for p in todo)
+            else sum(
+                checkpoint_resumes(_checkpoint_path(runs, p), p.config, p.seed, how.maps_at)
+                for p in todo
+            )
         )
         say(
             console,

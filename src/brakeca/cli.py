@@ -191,7 +191,7 @@ def _design_percent_note(design: Any) -> None:
             console.print(
                 f"[yellow]note:[/] factor {factor.name!r} sets A, the fibre fraction in %: "
                 f"level{'s' if len(low) > 1 else ''} {', '.join(low)} "
-                f"{'are' if len(low) > 1 else 'is'} less than 1 % fibres; for 10 % give 10",
+                f"{'are' if len(low) > 1 else 'is'} less than 1 % fibres (a level of 10 is 10 %)",
                 highlight=False,
             )
 

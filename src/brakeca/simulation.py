@@ -541,8 +541,9 @@ def map_stops(maps_at: Iterable[int], n_stops: int, *, name: str = "maps_at") ->
     stops = list(maps_at)
     for k in stops:
         if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k <= n_stops:
+            shown = int(k) if isinstance(k, np.integer) else repr(k)  # not np.int64(9)
             raise ValueError(
-                f"{name}: stop {k!r} is not a stop of this cycle (whole numbers from 1 to "
+                f"{name}: stop {shown} is not a stop of this cycle (whole numbers from 1 to "
                 f"{n_stops})"
             )
     if len(set(stops)) < len(stops):

@@ -571,7 +571,13 @@ def write_study(
     scope = _scope(base)
     # for the captions; a factor on the cycle (its file, its stops) gives each run its own
     on_cycle = [f.name for f in factors if _target(f.field).split(".")[0] == "cycle"]
-    cut = base.cycle.max_stops if base is not None and on_cycle else None
+    cut = (  # --stops, unless a factor sets the stops (each run's own then)
+        base.cycle.max_stops
+        if base is not None
+        and on_cycle
+        and not any(_target(f.field) == "cycle.max_stops" for f in factors)
+        else None
+    )
     stops_run = (
         (f"the first {cut} stops of " if cut is not None else "")
         + f"each run's cycle (the design's factor{'s' if len(on_cycle) > 1 else ''} "
@@ -842,11 +848,12 @@ def write_study(
         "Modelling decisions: docs/model.md."
     )
     if len(filed) < len(ok):
-        tests = [int(t) for t in ok.loc[~ok["run_id"].isin(filed["run_id"]), "test"]]
+        tests = sorted({int(t) for t in ok.loc[~ok["run_id"].isin(filed["run_id"]), "test"]})
+        n_lost = len(ok) - len(filed)
         which = (
             f"none of the {len(ok)} finished runs has its run file"
             if not len(filed)
-            else f"{len(tests)} of the {len(ok)} finished runs have no run file (test"
+            else f"{n_lost} of the {len(ok)} finished runs have no run file (of test"
             + ("s " if len(tests) > 1 else " ")
             + ", ".join(map(str, tests[:8]))
             + (" and others" if len(tests) > 8 else "")

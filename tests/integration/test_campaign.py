@@ -338,6 +338,19 @@ def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, t
     assert "(design 'tiny', 4 runs, 2 of them not in this one)" in text
     assert "2 of the runs left out have levels this design also runs, under other test" in text
     assert "a level after the last level of the last factor) needs neither" in text
+    # another root seed keeps the test numbers: its runs are not 'under other test numbers'
+    (tmp_path / "seed").mkdir()
+    reseeded = DESIGN.replace("root_seed = 11", "root_seed = 12")
+    with pytest.raises(ConfigError) as info:
+        run_campaign(
+            write_design(tmp_path / "seed", TINY, reseeded),
+            out,
+            executor="serial",
+            progress=False,
+            console=quiet(),
+        )
+    assert "4 of them not in this one" in str(info.value)
+    assert "under other test numbers" not in str(info.value)
     after = write_design(tmp_path / "after", TINY, _levels_of_a("[10.0, 20.0, 30.0]"))
     bigger = run_campaign(after, out, executor="serial", progress=False, console=quiet())
     assert bigger.ok and len(bigger.reused) == 4 and len(bigger.computed) == 2

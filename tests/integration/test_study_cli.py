@@ -624,7 +624,7 @@ def test_a_folder_sent_without_its_run_files_is_analysed(campaign, tmp_path):
     res = CliRunner().invoke(app, ["analyze", str(sent)])
     assert res.exit_code == 0, res.output
     html = " ".join((sent / "report.html").read_text(encoding="utf-8").split())
-    assert "3 of the 4 finished runs have no run file (tests 1, 2, 4)" in html
+    assert "3 of the 4 finished runs have no run file (of tests 1, 2, 4)" in html
     assert [p.name for p in (sent / "figures").glob("final_map_*.png")] == [
         "final_map_test03_r0.png"
     ]
@@ -649,3 +649,33 @@ def test_stops_beyond_the_cycle_get_a_note(tmp_path, monkeypatch):
         assert (
             "note: --stops 500: the cycle has 170 stops, so every run goes the whole cycle" in text
         ) is noted
+
+
+def test_a_factor_on_the_stops_gives_each_run_its_own(tmp_path):
+    """A factor on cycle.max_stops: each run goes its own stops, which the captions say
+    (a review saw the base configuration's stops in them); --stops beside it is refused,
+    and --maps-at is checked against the shortest of the runs' cycles."""
+    import html
+
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "ms"\nbase = "paper"\nroot_seed = 1\n'
+        '[[factors]]\nname = "N"\nfield = "cycle.max_stops"\nlevels = [1, 2]\n'
+    )
+    tiny = ["--set", "mesh.n_radial=5", "--set", "mesh.n_angular=100", "--executor", "serial"]
+    out = tmp_path / "c"
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *tiny, "--stops", "2"])
+    assert res.exit_code == 2 and "the design's factor 'N' sets cycle.max_stops" in res.output
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *tiny, "--maps-at", "2"])
+    assert res.exit_code == 2
+    assert (
+        "stop 2 is not a stop of this cycle (whole numbers from 1 to 1) (the shortest of the "
+        in (" ".join(res.output.split()))
+    )
+    assert not out.exists()
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *tiny])
+    assert res.exit_code == 0, res.output
+    report = html.unescape((out / "report.html").read_text(encoding="utf-8"))
+    assert "MU per stop over each run's cycle (the design's factor N sets it)" in report
+    assert "Test 1 (N = 1): plateaus after the first 1 of the cycle's 170 stops" in report
+    assert "Test 2 (N = 2): plateaus after the first 2 of the cycle's 170 stops" in report

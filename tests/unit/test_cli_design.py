@@ -296,7 +296,7 @@ def test_a_levels_that_read_like_fractions_get_a_note(tmp_path) -> None:
     )
     text = " ".join(_design(str(design)).split())
     assert "note: factor 'A' sets A, the fibre fraction in %: level 0.1 is less than 1 %" in text
-    assert "fibres; for 10 % give 10" in text
+    assert "fibres (a level of 10 is 10 %)" in text
     assert "note:" not in " ".join(_design("paper").split())
 
 
