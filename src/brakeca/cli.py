@@ -12,7 +12,7 @@ from __future__ import annotations
 import itertools
 import math
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
@@ -96,6 +96,34 @@ def _check_output(path: Path, option: str | None = "-o", *, folder: bool = False
     problem = output_problem(path, folder=folder)
     if problem is not None:
         _fail(f"{'' if option is None else option + ' '}{path}: {problem}")
+
+
+#: How a netCDF file starts: netCDF-4 (HDF5) and classic netCDF.
+_NETCDF_MAGIC = (b"\x89HDF\r\n\x1a\n", b"CDF\x01", b"CDF\x02", b"CDF\x05")
+
+
+def _check_run_output(path: Path, inputs: Sequence[Path | str | None]) -> None:
+    """Refuse (exit status 2) a run file's ``-o`` that is one of the command's input files,
+    or an existing file that is not a netCDF file: writing would destroy it (a black-box
+    review wrote a run over its own trace). A name that does not end in ``.nc`` gets a
+    note."""
+    for source in inputs:
+        if source and path.exists() and Path(source).exists() and path.samefile(source):
+            _fail(f"-o {path}: the same file as an input of this run ({source}); name the run file")
+    if path.is_file():
+        with path.open("rb") as fh:
+            head = fh.read(8)
+        if head and not head.startswith(_NETCDF_MAGIC):
+            _fail(
+                f"-o {path}: exists and is not a netCDF file (a run file), so writing would "
+                "destroy it; give another name or delete it first"
+            )
+    if path.suffix.lower() != ".nc":
+        console.print(
+            f"[yellow]note:[/] -o {escape(str(path))}: a run file is netCDF; brakeca plot and "
+            "xarray read it whatever its name, but .nc tells others what it is",
+            highlight=False,
+        )
 
 
 def _check_figure_output(path: Path) -> None:
@@ -366,6 +394,9 @@ def simulate(
         except ValueError as exc:
             _fail(str(exc))
     _check_output(output)
+    _check_run_output(
+        output, [config_file, config.cycle.trace_file and Path(config.cycle.trace_file)]
+    )
     if checkpoint is None and checkpoint_every is not None:
         _fail("--checkpoint-every sets how often --checkpoint saves; give --checkpoint too")
     if checkpoint is not None:

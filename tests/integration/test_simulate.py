@@ -402,3 +402,37 @@ def test_cli_simulate_notes_a_depth_past_a_real_pads(tmp_path, monkeypatch):
     assert "note: more than a new car pad's friction material (typically 10-12 mm)" in (
         " ".join(res.output.split())
     )
+
+
+def test_the_run_file_may_not_overwrite_an_input_or_another_kind_of_file(tmp_path):
+    """A black-box review: `simulate --cycle my.csv -o my.csv` wrote the run over its own
+    trace (and -o over any file). The inputs and files that are not netCDF are refused
+    before any work; a name without .nc gets a note."""
+    import shutil
+
+    from campaign_helpers import TINY_CLI
+
+    from brakeca.presets import __file__ as presets_init
+
+    tiny = TINY_CLI[: TINY_CLI.index("--executor")]
+    trace = tmp_path / "my.csv"
+    shutil.copy(Path(presets_init).parent / "cycles" / "example_trace.csv", trace)
+    before = trace.read_bytes()
+    res = CliRunner().invoke(app, ["simulate", "--cycle", str(trace), "-o", str(trace), *tiny])
+    assert res.exit_code == 2, res.output
+    assert "the same file as an input of this run" in " ".join(res.output.split())
+    assert trace.read_bytes() == before
+    notes = tmp_path / "notes.txt"
+    notes.write_text("my notes\n")
+    res = CliRunner().invoke(app, ["simulate", "-o", str(notes), *tiny])
+    assert res.exit_code == 2
+    assert "exists and is not a netCDF file (a run file)" in " ".join(res.output.split())
+    assert notes.read_text() == "my notes\n"
+    run = tmp_path / "run.dat"
+    res = CliRunner().invoke(app, ["simulate", "-o", str(run), *tiny])
+    assert res.exit_code == 0, res.output
+    assert "a run file is netCDF" in " ".join(res.output.split())
+    # a run file is written over by the next run of that name, as before
+    res = CliRunner().invoke(app, ["simulate", "-o", str(run), *tiny, "--seed", "2"])
+    assert res.exit_code == 0, res.output
+    assert RunResult.from_netcdf(run).seed == 2
