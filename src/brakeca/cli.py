@@ -208,6 +208,16 @@ def _unused_levels_note(design: Any) -> None:
         )
 
 
+def _slow_events_note(events: Sequence[Any], threshold: float) -> None:
+    """A warning for a trace whose events look like noise
+    (:func:`brakeca.traces.slow_events_warning`)."""
+    from brakeca.traces import slow_events_warning
+
+    text = slow_events_warning(events, threshold)
+    if text is not None:
+        console.print(f"[yellow]warning:[/] {escape(text)}", highlight=False)
+
+
 def _design_percent_note(design: Any) -> None:
     """A note for a design factor on A (the fibre fraction, in %) with levels below 1 %:
     levels of 0.1 and 0.2 read like the fractions 10 % and 20 %."""
@@ -418,6 +428,7 @@ def simulate(
         f"{n_stops} stop{'' if n_stops == 1 else 's'} ({steps:,} time steps), seed {seed}"
         + (" (quick)" if config.quick else "")
     )
+    _slow_events_note(source.events, config.cycle.trace.threshold)
     asked = config.cycle.max_stops
     if asked is not None and asked > source.n_total:
         console.print(
@@ -818,7 +829,8 @@ def _run_and_report(
             from brakeca.traces import configured_cycle, with_cycle
 
             with_trace = with_cycle(load_preset(), cycle, speed_unit=speed_unit)
-            configured_cycle(with_trace)  # refuses a trace without braking events, up front
+            # refuses a trace without braking events, up front
+            _slow_events_note(configured_cycle(with_trace).events, with_trace.cycle.trace.threshold)
             updates["cycle"] = with_trace.cycle.model_dump(mode="json")
     except ConfigError as exc:
         _fail(str(exc))

@@ -28,6 +28,7 @@ from brakeca.traces import (
     event_distance,
     load_cycle_events,
     load_cycle_source,
+    slow_events_warning,
 )
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -207,6 +208,9 @@ def inspect_cycle(
             f"{tc.merge_gap:g} s)",
             highlight=False,
         )
+        warning = slow_events_warning(events, tc.threshold)
+        if warning is not None:
+            out.print(f"[yellow]warning:[/] {escape(warning)}", highlight=False)
         out.print(
             f"distance: {source.distance / 1000.0:.3f} km, of which braking "
             f"{braking / 1000.0:.3f} km",

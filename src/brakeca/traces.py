@@ -922,6 +922,43 @@ def detect_events(
     return events
 
 
+def slow_events_warning(events: Sequence[Stop | BrakingEvent], threshold: float) -> str | None:
+    """Why a trace's events look like noise, or None: the events whose mean deceleration is
+    below the detection ``threshold`` [m/s^2].
+
+    Every braking interval of an event decelerates faster than the threshold, so an event
+    that does not on average is mostly the gaps that ``merge_gap`` joined: on a measured
+    trace, speed noise makes short dips that join into long "events" over most of the drive,
+    and the simulation then brakes the whole way (a black-box review saw a noisy 10 Hz trace
+    give 80 times the PM10 of the same trace smoothed).
+
+    Parameters
+    ----------
+    events
+        The cycle's events (block stops are never flagged).
+    threshold
+        The detection threshold, ``cycle.trace.threshold`` [m/s^2].
+
+    Returns
+    -------
+    str or None
+        One sentence naming how many events and the slowest, with what to do.
+    """
+    slow = [e for e in events if isinstance(e, BrakingEvent) and e.deceleration < threshold]
+    if not slow:
+        return None
+    worst = min(slow, key=lambda e: e.deceleration)
+    return (
+        f"{len(slow)} of the {len(events)} braking events decelerate on average more slowly "
+        f"than the detection threshold ({threshold:g} m/s²), e.g. event {worst.index}: "
+        f"{worst.deceleration:.2g} m/s² over {worst.duration:.3g} s. Speed noise makes short "
+        "dips that join into long events, which brake most of the drive and inflate V and "
+        "PM10: smooth the trace over about a second (cycle.trace.smoothing: --set "
+        "cycle.trace.smoothing=1; cycle inspect --smoothing 1) and check its events with "
+        "brakeca cycle inspect"
+    )
+
+
 def expand_trace_events(
     trace: SpeedTrace,
     config: TraceCycleConfig | None = None,
