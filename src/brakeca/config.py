@@ -94,17 +94,26 @@ class VehicleConfig(_Frozen):
     wheel_load_mass: float = Field(
         690.0, gt=0, description="[kg] front wheel load, read as the mass this brake decelerates"
     )
-    wheel_radius: float = Field(0.314, gt=0, description="[m] rolling radius of the wheel")
+    wheel_radius: float = Field(
+        0.314,
+        gt=0,
+        le=2.0,
+        description="[m] rolling radius of the wheel (at most 2 m: a mining truck's is about 1.8)",
+    )
     gravity: float = Field(9.81, gt=0, description="[m/s^2] standard gravity, converts g to m/s^2")
 
 
 class BrakeConfig(_Frozen):
     """Disc, pad and calliper geometry (Table 4 of the paper)."""
 
-    disc_outer_radius: float = Field(0.139, gt=0, description="[m] disc outer radius")
+    disc_outer_radius: float = Field(
+        0.139, gt=0, le=1.0, description="[m] disc outer radius (at most 1 m)"
+    )
     disc_inner_radius: float = Field(0.080, gt=0, description="[m] disc inner radius")
     effective_radius: float = Field(0.113, gt=0, description="[m] disc effective radius")
-    pad_area: float = Field(5.080e-3, gt=0, description="[m^2] pad area")
+    pad_area: float = Field(
+        5.080e-3, gt=0, description="[m^2] pad area (less than the disc face it rubs on)"
+    )
     piston_diameter: float = Field(0.057, gt=0, description="[m] calliper cylinder diameter")
     pads_per_brake: int = Field(
         2, ge=1, le=8, description="[-] sliding interfaces sharing the torque (decision: 2)"
@@ -116,6 +125,13 @@ class BrakeConfig(_Frozen):
             raise ValueError(
                 "need disc_inner_radius < effective_radius < disc_outer_radius, got "
                 f"{self.disc_inner_radius} / {self.effective_radius} / {self.disc_outer_radius} m"
+            )
+        face = math.pi * (self.disc_outer_radius**2 - self.disc_inner_radius**2)
+        if self.pad_area >= face:
+            raise ValueError(
+                f"pad_area ({self.pad_area:g} m²) must be less than the disc face it rubs on, "
+                f"pi (disc_outer_radius² - disc_inner_radius²) = {face:.4g} m² (a pad of 50 cm² "
+                "is 5e-3 m²)"
             )
         return self
 

@@ -61,6 +61,13 @@ def test_factor_aliases():
         ({"mesh.n_angular": 999}, "multiple of n_subdomains"),
         ({"S": 2}, "automaton.secondary_removal_fraction"),
         ({"friction.mu_min": 0.9}, r"must not exceed mu_0"),
+        # unit slips: mm² typed as m², mm as m (a black-box review ran pad_area = 5080)
+        ({"brake.pad_area": 5080.0}, r"pad_area \(5080 m²\) must be less than the disc face"),
+        (
+            {"vehicle.wheel_radius": 300.0},
+            r"vehicle.wheel_radius: must lie in \(0, 2\] \(got 300",
+        ),
+        ({"brake.disc_outer_radius": 139.0}, r"brake.disc_outer_radius: must lie in \(0, 1\]"),
         # with the values, the one not given too (a black-box review)
         (
             {"pad.fibre_length_max": 5e-4},
