@@ -1116,7 +1116,7 @@ def load_config(path: str | Path) -> SimulationConfig:
     except UnicodeDecodeError as exc:  # as a design file's message
         raise ConfigError(f"{path}: cannot read: {exc} (a TOML file is UTF-8 text)") from None
     try:
-        return SimulationConfig.from_toml(text, source=str(path))
+        config = SimulationConfig.from_toml(text, source=str(path))
     except ConfigError as exc:
         if f"{path}: cycle: required field is missing" not in str(exc).splitlines():
             raise
@@ -1126,3 +1126,26 @@ def load_config(path: str | Path) -> SimulationConfig:
             "preset: 'brakeca config > FILE' writes the paper's to edit ('--set KEY=VALUE' "
             "changes one field of a preset)"
         ) from None
+    return _anchored_trace(config, path)
+
+
+def _anchored_trace(config: SimulationConfig, path: Path) -> SimulationConfig:
+    """``config`` (loaded from the file ``path``) with a speed trace given by a relative
+    ``cycle.trace_file`` read next to the file, as a design's ``base_config`` is, and, where
+    the file gives no ``cycle.trace_sha256``, recorded as ``--cycle`` records it: its
+    absolute path, the SHA-256 of its content and its name (a black-box review: a trace set
+    in a configuration file ran under the name 'paper', without its digest, and from the
+    folder the command ran in)."""
+    trace = config.cycle.trace_file
+    if not trace or config.cycle.trace_sha256 is not None:
+        return config
+    from brakeca.traces import with_cycle
+
+    here = path.parent / trace
+    chosen = here if not Path(trace).is_absolute() and here.is_file() else Path(trace)
+    if not chosen.is_file():  # a shipped trace's name, or a missing file (configured_cycle)
+        return config
+    try:
+        return with_cycle(config, chosen, speed_unit=config.cycle.trace_speed_unit)
+    except ConfigError as exc:
+        raise ConfigError(f"{path}: cycle.trace_file {trace}: {exc}") from None

@@ -712,3 +712,34 @@ def test_events_slower_than_the_threshold_are_called_noise(tmp_path) -> None:
     res = CliRunner().invoke(app, ["cycle", "inspect", str(path)])
     assert res.exit_code == 0, res.output
     assert re.search(r"warning: \d+ of the \d+ braking events decelerate", res.output)
+
+
+def test_a_trace_in_a_configuration_file_is_read_next_to_it_and_recorded(tmp_path, monkeypatch):
+    """A black-box review: a configuration file naming a trace by a relative path read it
+    from the folder the command ran in, and the run recorded it as cycle 'paper' without
+    its SHA-256 (which --cycle records). The path is now read next to the file first, and
+    the trace recorded as --cycle records it."""
+    import shutil
+
+    from brakeca.config import load_config
+    from brakeca.presets import __file__ as presets_init
+    from brakeca.traces import _file_digest
+
+    folder = tmp_path / "study"
+    (folder / "traces").mkdir(parents=True)
+    trace = folder / "traces" / "k2.csv"
+    shutil.copy(Path(presets_init).parent / "cycles" / "example_trace.csv", trace)
+    config = load_preset("paper").with_updates(
+        {"cycle.blocks": [], "cycle.trace_file": "traces/k2.csv"}
+    )
+    (folder / "k2.toml").write_text(config.to_toml(), encoding="utf-8")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    loaded = load_config(Path("..") / "study" / "k2.toml")
+    assert Path(loaded.cycle.trace_file) == trace.resolve()
+    assert loaded.cycle.trace_sha256 == _file_digest(trace)
+    assert loaded.cycle.name == "k2"
+    # a file that records its trace's digest is taken as it is
+    (folder / "again.toml").write_text(loaded.to_toml(), encoding="utf-8")
+    assert load_config(folder / "again.toml") == loaded
