@@ -965,6 +965,35 @@ def decimal_point(text: str) -> str:
     return text.replace(",", ".") if _DECIMAL_COMMA.fullmatch(text) else text
 
 
+def read_csv_text(path: str | Path) -> str:
+    """The text of a CSV file: UTF-8 (a byte-order mark dropped), else Windows-1252, which
+    spreadsheets in western European locales write (a German Excel export's ``Straße``);
+    the numbers and the ASCII headers read the same either way.
+
+    Parameters
+    ----------
+    path
+        The file.
+
+    Returns
+    -------
+    str
+        Its text.
+
+    Raises
+    ------
+    OSError
+        The file cannot be read.
+    UnicodeDecodeError
+        Neither UTF-8 nor Windows-1252 (a byte that Windows-1252 leaves undefined).
+    """
+    data = Path(path).read_bytes()
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return data.decode("cp1252")
+
+
 def csv_float(text: str) -> float:
     """``float(text)`` for a number in a CSV cell, without the Python-only spelling that
     ``float`` takes and no spreadsheet writes: digits grouped by underscores (``"1_0"``,

@@ -118,6 +118,7 @@ from brakeca.config import (
     format_validation_error,
     item_path,
     load_config,
+    read_csv_text,
 )
 
 __all__ = [
@@ -1034,7 +1035,7 @@ def _read_runs_csv(path: Path, factors: Sequence[Factor], where: str) -> list[di
     names = [f.name for f in factors]
     by_name = {f.name: f for f in factors}
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        text = read_csv_text(path)
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(f"{where}: cannot read {path}: {exc}") from None
     header: list[str] | None = None

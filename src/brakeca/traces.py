@@ -44,6 +44,7 @@ from brakeca.config import (
     csv_float,
     decimal_point,
     excel_separator,
+    read_csv_text,
 )
 from brakeca.cycle import KMH, Stop, StopProfile, expand_stops
 
@@ -372,7 +373,7 @@ def _read_text(path_or_name: str | Path) -> tuple[str, str, str]:
     p = Path(path_or_name)
     if p.is_file():
         try:
-            return p.read_text(encoding="utf-8-sig"), str(p), p.stem
+            return read_csv_text(p), str(p), p.stem
         except (OSError, UnicodeDecodeError) as exc:
             raise TraceError(str(p), None, f"cannot read: {exc}") from None
     shipped = _SHIPPED.joinpath(f"{path_or_name}.csv")

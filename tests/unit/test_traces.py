@@ -743,3 +743,22 @@ def test_a_trace_in_a_configuration_file_is_read_next_to_it_and_recorded(tmp_pat
     # a file that records its trace's digest is taken as it is
     (folder / "again.toml").write_text(loaded.to_toml(), encoding="utf-8")
     assert load_config(folder / "again.toml") == loaded
+
+
+def test_a_trace_saved_in_windows_1252_is_read(tmp_path) -> None:
+    """A black-box review: a trace saved by a German Excel (Windows-1252: 'über', 'Straße')
+    was refused with a raw codec error. UTF-8 is read first, then Windows-1252; the numbers
+    and the ASCII header read the same."""
+    from brakeca.config import read_csv_text
+
+    text = "# Fahrt über Land\ntime [s];speed [km/h];Bemerkung\n" + "".join(
+        f"{k};{v};Straße\n" for k, v in enumerate([0, 30, 50, 50, 40, 25, 10, 0, 0, 0])
+    )
+    latin = tmp_path / "latin.csv"
+    latin.write_bytes(text.encode("cp1252"))
+    utf8 = tmp_path / "utf8.csv"
+    utf8.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    assert read_csv_text(latin) == read_csv_text(utf8) == text
+    a, b = load_trace(latin), load_trace(utf8)
+    np.testing.assert_array_equal(a.speed, b.speed)
+    assert a.speed.max() == pytest.approx(50 * KMH)

@@ -20,6 +20,7 @@ from brakeca.config import (
     csv_delimiter,
     decimal_point,
     excel_separator,
+    read_csv_text,
 )
 
 __all__ = ["available_designs", "available_presets", "load_cycle", "load_preset", "preset_text"]
@@ -120,7 +121,7 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
     p = Path(name_or_path)
     shipped = _ROOT.joinpath("cycles", f"{name_or_path}.csv")
     if p.is_file() and not (p.suffix == "" and shipped.is_file()):  # a file, whatever its suffix
-        text, name, source = p.read_text(encoding="utf-8-sig"), p.stem, str(p)
+        text, name, source = read_csv_text(p), p.stem, str(p)
     elif shipped.is_file():
         text, name, source = (
             shipped.read_text(encoding="utf-8"),
