@@ -218,6 +218,16 @@ def _slow_events_note(events: Sequence[Any], threshold: float) -> None:
         console.print(f"[yellow]warning:[/] {escape(text)}", highlight=False)
 
 
+def _wheel_load_note(config: SimulationConfig) -> None:
+    """A note for a trace run whose brake load does not fit its car
+    (:func:`brakeca.traces.wheel_load_note`)."""
+    from brakeca.traces import wheel_load_note
+
+    text = wheel_load_note(config)
+    if text is not None:
+        console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
+
+
 def _design_percent_note(design: Any) -> None:
     """A note for a design factor on A (the fibre fraction, in %) with levels below 1 %:
     levels of 0.1 and 0.2 read like the fractions 10 % and 20 %."""
@@ -429,6 +439,7 @@ def simulate(
         + (" (quick)" if config.quick else "")
     )
     _slow_events_note(source.events, config.cycle.trace.threshold)
+    _wheel_load_note(config)
     asked = config.cycle.max_stops
     if asked is not None and asked > source.n_total:
         console.print(
@@ -842,10 +853,11 @@ def _run_and_report(
         loaded = load_design(design)
         _design_percent_note(loaded)
         _unused_levels_note(loaded)
+        base = loaded.resolved_base(overrides=updates, quick=quick, max_stops=stops)
+        _wheel_load_note(base)
         if stops is not None:
             from brakeca.traces import configured_cycle
 
-            base = loaded.resolved_base(overrides=updates, quick=quick, max_stops=stops)
             n_total = configured_cycle(base).n_total
             if stops > n_total:
                 console.print(

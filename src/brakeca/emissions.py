@@ -392,7 +392,12 @@ def pm10_from_run(
         :attr:`brakeca.traces.CycleSource.distance`.
     params
         Emission factors; by default :class:`EmissionParameters` with ``pads_per_brake``
-        taken from the run's ``brake.pads_per_brake``.
+        taken from the run's ``brake.pads_per_brake`` and, on a speed trace, the front axle's
+        share of the emissions ``front_emission_share`` from the run's front brake force
+        share ``cycle.trace.front_brake_share`` (emissions following friction work; its range
+        widened to hold it): the run's front brake was loaded with that share, so a fixed
+        0.7 would scale a front brake given 0.9 of the braking up to a vehicle that brakes
+        more than it does.
 
     Returns
     -------
@@ -409,6 +414,14 @@ def pm10_from_run(
 
     config = result.config
     if params is None:
-        params = EmissionParameters(pads_per_brake=config.brake.pads_per_brake)
+        share: dict[str, Any] = {}
+        if config.cycle.trace_file:
+            phi = config.cycle.trace.front_brake_share
+            lo, hi = EmissionParameters.model_fields["front_emission_share_range"].default
+            share = {
+                "front_emission_share": phi,
+                "front_emission_share_range": (min(lo, phi), max(hi, phi)),
+            }
+        params = EmissionParameters(pads_per_brake=config.brake.pads_per_brake, **share)
     volume = float(result.dataset["emitted_volume"].sum())
     return pm10_band(volume, make_grid(config).area, config.brake.pad_area, distance, params)

@@ -960,6 +960,38 @@ def slow_events_warning(events: Sequence[Stop | BrakingEvent], threshold: float)
     )
 
 
+def wheel_load_note(config: SimulationConfig) -> str | None:
+    """Why a trace run's brake load does not fit its vehicle, or None: where the front
+    wheel's share of the vehicle, ``cycle.trace.vehicle_mass * front_load_share / 2``,
+    differs from ``vehicle.wheel_load_mass`` (the mass the simulated brake decelerates) by
+    more than 10 %. The vehicle mass enters only the road load (a black-box review set a
+    1200 kg car and got the 2300 kg car's brake load).
+
+    Parameters
+    ----------
+    config
+        A configuration; None for a block cycle.
+
+    Returns
+    -------
+    str or None
+        One sentence with the two masses and the setting that makes them agree.
+    """
+    if not config.cycle.trace_file:
+        return None
+    tc = config.cycle.trace
+    share = tc.vehicle_mass * tc.front_load_share / 2.0
+    m_w = config.vehicle.wheel_load_mass
+    if abs(share - m_w) <= 0.1 * m_w:
+        return None
+    return (
+        f"the brake decelerates vehicle.wheel_load_mass = {m_w:g} kg, but this trace's car "
+        f"puts {share:.4g} kg on a front wheel (cycle.trace.vehicle_mass {tc.vehicle_mass:g} "
+        f"kg × front_load_share {tc.front_load_share:g} / 2), which enters only the road "
+        f"load; for this car set vehicle.wheel_load_mass={share:.4g}"
+    )
+
+
 def expand_trace_events(
     trace: SpeedTrace,
     config: TraceCycleConfig | None = None,

@@ -762,3 +762,18 @@ def test_a_trace_saved_in_windows_1252_is_read(tmp_path) -> None:
     a, b = load_trace(latin), load_trace(utf8)
     np.testing.assert_array_equal(a.speed, b.speed)
     assert a.speed.max() == pytest.approx(50 * KMH)
+
+
+def test_a_car_whose_front_wheel_load_is_not_the_brakes_gets_a_note() -> None:
+    """A black-box review: cycle.trace.vehicle_mass 1200 kg ran with the paper's 690 kg
+    wheel load (the vehicle mass enters only the road load) without a word."""
+    from brakeca.traces import wheel_load_note, with_cycle
+
+    paper = load_preset("paper")
+    traced = with_cycle(paper, "example_trace")
+    assert wheel_load_note(traced) is None  # 2300 kg × 0.6 / 2 = 690 kg
+    assert wheel_load_note(paper) is None  # a block cycle
+    light = traced.with_updates({"cycle.trace.vehicle_mass": 1200.0})
+    text = wheel_load_note(light)
+    assert text is not None and "for this car set vehicle.wheel_load_mass=360" in text
+    assert wheel_load_note(light.with_updates({"vehicle.wheel_load_mass": 360.0})) is None
