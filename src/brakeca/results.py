@@ -26,8 +26,11 @@ wall time [s], the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy w
 applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
 ``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan,
 ``paper_factors`` (the paper's S, WP, WR and A as the run has them, in their units) and a
-``comment`` that explains ``quick``, ``max_stops`` and ``n_steps_total``; the ``rule``
-coordinate's ``rule_meanings`` names the seven plateau rules (:data:`RULE_ATTRS`).
+``comment`` that explains ``quick``, ``max_stops`` and ``n_steps_total``; a run on a speed
+trace also ``distance`` [m] (the trace's distance its events belong to) and ``pm10_mg_km``,
+``pm10_mg_km_low``, ``pm10_mg_km_high`` [mg/km] (:func:`brakeca.emissions.pm10_from_run`,
+the default factors); the ``rule`` coordinate's ``rule_meanings`` names the seven plateau
+rules (:data:`RULE_ATTRS`).
 
 References
 ----------

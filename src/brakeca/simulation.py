@@ -511,7 +511,33 @@ def simulate(
     )
     if checkpoint and not keep_checkpoint:
         Path(checkpoint).unlink(missing_ok=True)
-    return RunResult(config=config, seed=seed, dataset=dataset)
+    result = RunResult(config=config, seed=seed, dataset=dataset)
+    if config.cycle.trace_file:
+        _record_pm10(result)
+    return result
+
+
+def _record_pm10(result: RunResult) -> None:
+    """Record a trace run's distance and PM10 in its dataset's attributes, so that the run
+    file gives them without its trace (a black-box review: only the console had them)."""
+    from brakeca.emissions import pm10_from_run
+    from brakeca.traces import configured_cycle
+
+    distance = configured_cycle(result.config).distance
+    estimate = pm10_from_run(result, distance)
+    result.dataset.attrs.update(
+        {
+            "distance": float(distance),
+            "pm10_mg_km": float(estimate.central),
+            "pm10_mg_km_low": float(estimate.low),
+            "pm10_mg_km_high": float(estimate.high),
+        }
+    )
+    result.dataset.attrs["comment"] += (
+        "; distance: the trace's distance the simulated events belong to [m]; pm10_mg_km "
+        "(_low, _high): the vehicle's brake PM10 over it [mg/km] with brakeca.emissions' "
+        "default factors and their ranges (docs/cycles.md section 5)"
+    )
 
 
 def map_stops(maps_at: Iterable[int], n_stops: int, *, name: str = "maps_at") -> list[int]:

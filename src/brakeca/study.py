@@ -427,8 +427,12 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
             run = RunResult.from_netcdf(path)
             if run.config.cycle.trace_file:
                 any_trace = True
-                est = pm10_from_run(run, configured_cycle(run.config).distance)
-                values = [est.low, est.central, est.high]
+                attrs = run.dataset.attrs
+                if "pm10_mg_km" in attrs:  # recorded by the run: its trace need not be here
+                    values = [float(attrs[f"pm10_mg_km{k}"]) for k in ("_low", "", "_high")]
+                else:  # a run file of an earlier version
+                    est = pm10_from_run(run, configured_cycle(run.config).distance)
+                    values = [est.low, est.central, est.high]
         for key, value in zip(rows, values, strict=True):
             rows[key].append(value)
     if not any_trace:

@@ -136,3 +136,16 @@ def test_a_trace_runs_front_brake_share_is_its_front_axles_share_of_the_emission
     assert volume > 0
     block = simulate(base, seed=1)
     assert pm10_from_run(block, 5e3).params.front_emission_share == 0.7
+    # the run records its distance and PM10 (a review: only the console had them)
+    from brakeca.traces import configured_cycle
+
+    distance = configured_cycle(traced).distance
+    own = pm10_from_run(run, distance)
+    attrs = run.dataset.attrs
+    assert attrs["distance"] == distance
+    assert (attrs["pm10_mg_km_low"], attrs["pm10_mg_km"], attrs["pm10_mg_km_high"]) == (
+        own.low,
+        own.central,
+        own.high,
+    )
+    assert "pm10_mg_km" not in block.dataset.attrs
