@@ -412,7 +412,16 @@ def simulate(
         try:
             kept_maps = map_stops(_maps_at_stops(maps_at), len(source.events), name="--maps-at")
         except ValueError as exc:
-            _fail(str(exc))
+            cut = len(source.events) < source.n_total
+            _fail(
+                str(exc)
+                + (
+                    f" (--stops {len(source.events)} runs only the first {len(source.events)} "
+                    f"of the cycle's {source.n_total} stops)"
+                    if cut
+                    else ""
+                )
+            )
     _check_output(output)
     _check_run_output(
         output, [config_file, config.cycle.trace_file and Path(config.cycle.trace_file)]

@@ -933,14 +933,9 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
         paths[0],
         title=f"Mean coefficient of friction per stop, {ds.sizes['stop']} stops ({about})",
     )
-    plot_cof_series(
-        {
-            "cof": ds["step_cof"].to_numpy(),
-            "normal_force": ds["step_normal_force"].to_numpy(),
-            "time": ds["step_time"].to_numpy(),
-        },
-        paths[1],
-    )
+    # the dataset's step series with its attributes: the title then says which of the
+    # run's steps it shows (a plain dict gave "4,652 steps" for a run of 232,582)
+    plot_cof_series(ds[["step_cof", "step_normal_force", "step_time"]], paths[1])
     radius, angle = ds["radius"].to_numpy(), ds["angle"].to_numpy()
     plot_fibre_maps(
         {

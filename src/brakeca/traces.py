@@ -525,7 +525,7 @@ def _read_header(
         )
     t_unit = units["time"] or "s"
     if _norm_unit(t_unit) not in TIME_UNITS:
-        raise TraceError(source, line, f"unknown time unit {t_unit!r}; use s, ms or min")
+        raise TraceError(source, line, f"unknown time unit {t_unit!r}; use s, ms, min or h")
     t_factor = TIME_UNITS[_norm_unit(t_unit)]
     head_unit = units["speed"]
     if head_unit is None and speed_unit is None:
@@ -561,9 +561,16 @@ def _check_plausible(trace: SpeedTrace, v_factor: float, unit: str, confirmed: b
         raise TraceError(
             trace.source,
             trace._line(top),
-            f"speed {v[top] / v_factor:g} {unit} ({v[top] / KMH:.0f} km/h) is beyond any drive "
-            "cycle: is the file in km/h but labelled m/s? State the unit in the header or "
-            "give it explicitly",
+            f"speed {v[top] / v_factor:g} {unit}"
+            + (f" ({v[top] / KMH:.0f} km/h)" if unit != "km/h" else "")
+            + " is beyond any drive cycle"
+            + (
+                ": is the file in km/h but labelled m/s? State the unit in the header or "
+                "give it explicitly"
+                if unit != "km/h"
+                else ": a glitch in the data, or a unit mix-up (give --speed-unit to confirm "
+                "the file's unit)"
+            ),
         )
     k = int(np.argmax(acc))
     if acc[k] > IMPLAUSIBLE_ACCELERATION:

@@ -357,13 +357,18 @@ def test_cli_simulate_keeps_maps_after_the_stops_asked_and_plot_draws_them(tmp_p
     assert res.exit_code == 0, res.output
     assert (tmp_path / "r_figures" / "maps_by_stop.png").read_bytes().startswith(b"\x89PNG")
     for maps, message in (
-        ("3", "--maps-at: stop 3 is not a stop of this cycle (whole numbers from 1 to 2)"),
+        # (with --stops 2 of the cycle's 170, which it now says)
+        (
+            "3",
+            "--maps-at: stop 3 is not a stop of this cycle (whole numbers from 1 to 2) "
+            "(--stops 2 runs only the first 2 of the cycle's 170 stops)",
+        ),
         ("1,1", "--maps-at: a stop is given twice"),
         ("1;2", "--maps-at '1;2': expected stop numbers separated by commas"),
     ):
         other = tmp_path / "other.nc"
         res = runner.invoke(app, ["simulate", "-o", str(other), *tiny, "--maps-at", maps])
-        assert res.exit_code == 2 and message in res.output, (maps, res.output)
+        assert res.exit_code == 2 and message in " ".join(res.output.split()), (maps, res.output)
         assert not other.exists()
 
 

@@ -777,3 +777,21 @@ def test_a_car_whose_front_wheel_load_is_not_the_brakes_gets_a_note() -> None:
     text = wheel_load_note(light)
     assert text is not None and "for this car set vehicle.wheel_load_mass=360" in text
     assert wheel_load_note(light.with_updates({"vehicle.wheel_load_mass": 360.0})) is None
+
+
+def test_messages_a_review_found_wanting(tmp_path) -> None:
+    """A black-box review: 'h' is a time unit the message left out; a km/h file at 300 km/h
+    was asked whether it was 'in km/h but labelled m/s'."""
+    hours = _write(tmp_path, "time [d],speed [km/h]\n0,0\n1,10\n", "d.csv")
+    with pytest.raises(ConfigError, match=r"unknown time unit 'd'; use s, ms, min or h"):
+        load_trace(hours)
+    fast = _write(
+        tmp_path,
+        "time_s,speed_kmh\n" + "".join(f"{k},{min(30 * k, 300)}\n" for k in range(20)),
+        "fast.csv",
+    )
+    with pytest.raises(
+        ConfigError, match=r"speed 300 km/h is beyond any drive cycle: a glitch"
+    ) as info:
+        load_trace(fast)
+    assert "labelled m/s" not in str(info.value)
