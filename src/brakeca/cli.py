@@ -697,6 +697,8 @@ def surface(
         configs = {f"A = {v:g} %": config.with_updates({"A": v}) for v in values}
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
+    for value in values:
+        _percent_note({"A": value})
     _check_figure_output(output)
     maps = {}
     for label, cfg in configs.items():

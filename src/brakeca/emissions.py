@@ -328,7 +328,17 @@ class PM10Estimate:
         for who, limit in EURO7_LIMITS.items():
             lines.append(f"Euro 7 limit {limit:g} mg/km ({who}): {words[self.position(limit)]} it")
         lines.append(f"limits: {EURO7_REFERENCE}")
+        if self.distance < SHORT_DISTANCE:
+            lines.append(
+                f"note: over {self.distance / 1000.0:.3g} km only; the limits hold for the "
+                "WLTP-Brake cycle's 192 km, whose mix of stops a short trace does not have"
+            )
         return lines
+
+
+#: Below this distance [m] a trace's mg/km is compared with the Euro 7 limits with a note:
+#: they hold for the WLTP-Brake cycle, 192 km of mixed driving (UN GTR No. 24).
+SHORT_DISTANCE = 10_000.0
 
 
 def pm10_band(

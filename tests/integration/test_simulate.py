@@ -274,6 +274,10 @@ def test_cli_surface_draws_the_levels_and_names_bad_ones(tmp_path):
     res = runner.invoke(app, ["surface", "-o", str(png), "--quick", "--levels", "10, 20"])
     assert res.exit_code == 0, res.output
     assert png.read_bytes().startswith(b"\x89PNG") and f"wrote {png}" in res.output
+    assert "note:" not in res.output
+    # a level that reads like a fraction gets the note --set A=0.2 gets (a black-box review)
+    res = runner.invoke(app, ["surface", "-o", str(png), "--quick", "--levels", "0.2,20"])
+    assert res.exit_code == 0 and "note: A is in %: A=0.2 is 0.2 % fibres" in res.output
     for levels, message in [
         ("abc", "--levels 'abc': 'abc' is not a number"),
         ("", "--levels '': no level"),

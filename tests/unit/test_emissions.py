@@ -79,6 +79,11 @@ def test_describe_shows_band_and_limits_not_pass_fail():
     assert "4.8 mg/km" in text and "0.9 to 25.9 mg/km" in text
     assert "7 mg/km" in text and "3 mg/km" in text and "2024/1257" in text
     assert "pass" not in text.lower() and "fail" not in text.lower()
+    # 10 km (HAND): no note; a short trace's figure is said to be one (a black-box review
+    # saw a Euro 7 comparison for a 4 m trace)
+    assert "note:" not in text
+    short = PM10Estimate(1.0, 2.0, 3.0, 4.0, EmissionParameters()).describe()
+    assert short[-1].startswith("note: over 0.004 km only; the limits hold for the WLTP-Brake")
 
 
 @pytest.mark.parametrize(
