@@ -722,7 +722,7 @@ def load_checkpoint(path, config, seed, grid):
     if not checkpoint_is_of(meta, config, seed):
         raise CheckpointError(
             f"{path}: checkpoint of another run, or of another brakeca version (config, seed "
-            "or format differ)"
+            "or format differ); delete it, or give another checkpoint file, to start this run"
         )
     state = SimulationState.from_surface(
         Surface(
