@@ -129,8 +129,10 @@ input.zoom:checked + label.zoom img { max-width: none; }
 <section id="findings">
 <h2>In short</h2>
 <p class="note">The terms of each response's ANOVA (below) with p &lt; 0.05, largest share of
-the variation first (contribution: the term's sum of squares over the total); the ANOVA's notes
-say what its error holds.</p>
+the variation first (contribution: the term's sum of squares over the total), a main effect
+with the mean response at each of its levels (the table "Level means": plain means of the
+runs, which a design that is not balanced mixes with the other factors' effects); the
+ANOVA's notes say what its error holds.</p>
 <ul>
 {%- for line in findings %}
 <li>{{ line }}</li>
@@ -1190,7 +1192,11 @@ def render_report(
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
-    findings = [line for r, frame in anova_tables.items() if (line := _finding(str(r), frame))]
+    findings = [
+        line
+        for r, frame in anova_tables.items()
+        if (line := _finding(str(r), frame, (level_means or {}).get(r)))
+    ]
     return template.render(
         title=title,
         version=version,
@@ -1229,11 +1235,30 @@ def render_report(
 _MOST_FINDINGS = 6
 
 
-def _finding(response: str, frame: pd.DataFrame) -> str:
+def _level_run(response: str, factor: str, means: pd.DataFrame | None) -> str:
+    """A main effect in words from the level means: ``"0.225 at S = 0, 0.203 at S = 1"``
+    (in the report's unit: mm³ for V); empty where the table lacks the factor or a mean."""
+    if means is None or means.empty or "factor" not in means.columns:
+        return ""
+    rows = means[means["factor"] == factor]
+    if rows.empty or rows["mean"].isna().any():
+        return ""
+    scale, unit = _REPORT_UNITS.get(response, (1.0, None))
+    parts = []
+    for _, rec in rows.iterrows():
+        label = str(rec["label"]) if not _is_missing(rec.get("label")) else ""
+        value = _fmt(rec["level"], ".4g")
+        shown = label if label and label not in ("-", "+", "0") and label != value else value
+        parts.append(f"{_fmt(float(rec['mean']) * scale, 'sig4')} at {factor} = {shown}")
+    return ", ".join(parts) + (f" [{unit}]" if unit else "")
+
+
+def _finding(response: str, frame: pd.DataFrame, means: pd.DataFrame | None = None) -> str:
     """One line of the report's "In short": the terms of ``response``'s ANOVA with p < 0.05,
-    largest contribution first, with their contributions [%] and R²; what stands in the way
-    where there is no test (no residual degrees of freedom, a constant response); empty for
-    an empty table."""
+    largest contribution first, with their contributions [%] and R², and for a main effect
+    the mean response at each of its levels (``means``, :func:`brakeca.analysis.main_effects`);
+    what stands in the way where there is no test (no residual degrees of freedom, a constant
+    response); empty for an empty table."""
     if frame.empty or "p_value" not in frame.columns:
         return ""
     terms = frame[~frame["term"].isin(["Residual"])]
@@ -1250,10 +1275,10 @@ def _finding(response: str, frame: pd.DataFrame) -> str:
     hits = terms[p < 0.05].sort_values("percent_contribution", ascending=False, kind="stable")
     if hits.empty:
         return f"{response}: no term has p < 0.05" + r2_text
-    named = [
-        f"{t} ({float(c):.1f} %)"
-        for t, c in zip(hits["term"], hits["percent_contribution"], strict=True)
-    ]
+    named = []
+    for t, c in zip(hits["term"], hits["percent_contribution"], strict=True):
+        run = "" if ":" in str(t) else _level_run(response, str(t), means)
+        named.append(f"{t} ({float(c):.1f} %" + (f": {run}" if run else "") + ")")
     more = len(named) - _MOST_FINDINGS
     text = ", ".join(named[:_MOST_FINDINGS]) + (f" and {more} more" if more > 0 else "")
     share = float(hits["percent_contribution"].sum())

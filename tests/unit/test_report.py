@@ -623,3 +623,22 @@ def test_in_short_names_the_significant_terms_by_contribution() -> None:
         }
     )
     assert "T5 (10.0 %) and 2 more; together 80.0 %" in _finding("y", many)
+    # a main effect with its level means, in the report's unit (mm³ for V), labels that are
+    # names rather than signs; an interaction without
+    means = pd.DataFrame(
+        {
+            "factor": ["S", "S", "A", "A", "C", "C"],
+            "level": [0.0, 1.0, 10.0, 20.0, 1.0, 2.0],
+            "label": ["-", "+", "-", "+", "paper", "trace"],
+            "mean": [2e-9, 3e-9, 1e-9, 4.5e-9, 2e-9, 2e-9],
+            "n": [2] * 6,
+        }
+    )
+    frame.loc[2, "p_value"] = 0.001
+    text = _finding("V", frame, means)
+    assert text.startswith(
+        "V: A (80.0 %: 1.000 at A = 10, 4.500 at A = 20 [mm³]), S (5.0 %: 2.000 at S = 0, "
+        "3.000 at S = 1 [mm³]), WR (3.0 %), S:A (1.0 %); together"
+    )
+    c = frame.assign(term=["C", "A", "S:A", "WR", "Residual"])
+    assert "C (5.0 %: 2.000 at C = paper, 2.000 at C = trace [mm³])" in _finding("V", c, means)
