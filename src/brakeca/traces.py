@@ -1200,13 +1200,16 @@ def cycle_file_kind(text: str) -> Literal["blocks", "trace"]:
     -------
     str
         ``"blocks"`` when its first line that is neither blank, a ``#`` comment nor an Excel
-        ``sep=`` line names ``initial_speed_kmh``; ``"trace"`` otherwise (also for a file
-        without such a line).
+        ``sep=`` line names a block column, ``initial_speed_kmh`` or ``deceleration_g``
+        (also ``initial_speed`` in another unit, which the block reader then names as
+        missing its km/h column, rather than reading a block file as a trace);
+        ``"trace"`` otherwise (also for a file without such a line).
     """
     for raw in text.splitlines():
         s = raw.strip()
         if s and not s.startswith("#") and excel_separator(s) is None:
-            return "blocks" if "initial_speed_kmh" in s.lower() else "trace"
+            head = s.lower()
+            return "blocks" if "initial_speed" in head or "deceleration_g" in head else "trace"
     return "trace"
 
 

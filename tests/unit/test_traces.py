@@ -795,3 +795,21 @@ def test_messages_a_review_found_wanting(tmp_path) -> None:
     ) as info:
         load_trace(fast)
     assert "labelled m/s" not in str(info.value)
+
+
+def test_a_block_cycle_with_speeds_in_m_per_s_is_named_a_block_cycle(tmp_path) -> None:
+    """A black-box review: a block file with initial_speed_ms columns was read as a trace
+    and refused for 'several speed columns'. It is read as a block cycle, which names the
+    km/h columns it lacks."""
+    from brakeca.traces import cycle_file_kind, with_cycle
+
+    text = "name,initial_speed_ms,final_speed_ms,deceleration_g,stops\nA,14,0,0.25,2\n"
+    assert cycle_file_kind(text) == "blocks"
+    path = _write(tmp_path, text, "blk.csv")
+    with pytest.raises(
+        ConfigError,
+        match=r"missing column\(s\) final_speed_kmh, initial_speed_kmh; a block cycle gives "
+        r"its speeds in km/h \(it has initial_speed_ms, final_speed_ms\)",
+    ):
+        with_cycle(load_preset("paper"), path)
+    assert cycle_file_kind("time_s,speed_kmh\n0,0\n") == "trace"

@@ -74,7 +74,13 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
     expected = {"name", "initial_speed_kmh", "final_speed_kmh", "deceleration_g", "stops"}
     missing = expected - set(reader.fieldnames)
     if missing:
-        raise ConfigError(f"{source}: missing column(s) {', '.join(sorted(missing))}")
+        other = [f for f in reader.fieldnames if "speed" in f.lower() and f not in expected]
+        hint = (
+            f"; a block cycle gives its speeds in km/h (it has {', '.join(other)})"
+            if other and any("speed_kmh" in m for m in missing)
+            else ""
+        )
+        raise ConfigError(f"{source}: missing column(s) {', '.join(sorted(missing))}{hint}")
     blocks = []
     for row in reader:
         lineno = kept[reader.line_num - 1][0]  # the file's line, comments and blanks counted
