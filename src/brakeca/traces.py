@@ -521,7 +521,7 @@ def _read_header(
             source,
             line,
             f"expected a header naming a time and a speed column, e.g. 'time_s,speed_kmh' or "
-            f"'time [s],speed [km/h]'; got {','.join(header)!r}",
+            f"'time [s],speed [km/h]'; got the columns {', '.join(map(repr, header))}",
         )
     t_unit = units["time"] or "s"
     if _norm_unit(t_unit) not in TIME_UNITS:

@@ -126,6 +126,8 @@ GOOD = "time_s,speed_kmh\n0,0\n1,10\n2,20\n3,40\n4,60\n5,70\n"
         ("time,speed\n0,0\n1,10\n", 1, "states no unit"),
         ("time_s,speed [furlong/fortnight]\n0,0\n", 1, "unknown speed unit"),
         ("time_s,rpm\n0,0\n1,10\n", 1, "naming a time and a speed column"),
+        # the columns as the file has them, not joined with commas (a black-box review)
+        ("Zeit [s];Geschw. [km/h]\n0;0\n", 1, "got the columns 'Zeit [s]', 'Geschw. [km/h]'"),
         ("time [d],speed [km/h]\n0,0\n", 1, "unknown time unit"),
     ],
 )
