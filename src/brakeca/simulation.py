@@ -428,6 +428,9 @@ def simulate(
     grid = make_grid(config)
     kernel = kernel_for(config)  # an unsupported numerics.kernel is refused before any work
     stops = list(cycle_events(config))
+    # a trace's distance, for the run file's PM10: taken now, from the events run (the
+    # trace file is not read again at the end, where a change to it would lose the run)
+    distance = _trace_distance(config)
     kept_maps = map_stops(maps_at, len(stops))
     n_r, n_t = grid.shape
     lists = scratch_lists(n_r * n_t)
@@ -512,18 +515,26 @@ def simulate(
     if checkpoint and not keep_checkpoint:
         Path(checkpoint).unlink(missing_ok=True)
     result = RunResult(config=config, seed=seed, dataset=dataset)
-    if config.cycle.trace_file:
-        _record_pm10(result)
+    if distance is not None:
+        _record_pm10(result, distance)
     return result
 
 
-def _record_pm10(result: RunResult) -> None:
-    """Record a trace run's distance and PM10 in its dataset's attributes, so that the run
-    file gives them without its trace (a black-box review: only the console had them)."""
-    from brakeca.emissions import pm10_from_run
+def _trace_distance(config: SimulationConfig) -> float | None:
+    """The distance [m] a trace cycle's simulated events belong to; None for a block cycle."""
+    if not config.cycle.trace_file:
+        return None
     from brakeca.traces import configured_cycle
 
-    distance = configured_cycle(result.config).distance
+    return float(configured_cycle(config).distance)
+
+
+def _record_pm10(result: RunResult, distance: float) -> None:
+    """Record a trace run's ``distance`` [m] and PM10 in its dataset's attributes, so that
+    the run file gives them without its trace (a black-box review: only the console had
+    them)."""
+    from brakeca.emissions import pm10_from_run
+
     estimate = pm10_from_run(result, distance)
     result.dataset.attrs.update(
         {

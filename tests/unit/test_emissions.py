@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from brakeca.config import ConfigError
@@ -154,3 +156,30 @@ def test_a_trace_runs_front_brake_share_is_its_front_axles_share_of_the_emission
         own.high,
     )
     assert "pm10_mg_km" not in block.dataset.attrs
+
+
+def test_a_trace_changed_during_its_run_loses_nothing(tmp_path):
+    """The run's PM10 is recorded from the distance taken before its first stop: a trace
+    file changed while the run went on had failed the finished run at its end."""
+    import shutil
+
+    from brakeca.presets import __file__ as presets_init
+    from brakeca.traces import configured_cycle, with_cycle
+
+    trace = tmp_path / "t.csv"
+    shutil.copy(Path(presets_init).parent / "cycles" / "example_trace.csv", trace)
+    config = with_cycle(
+        load_preset("paper").with_updates(
+            {"mesh.n_radial": 3, "mesh.n_angular": 100, "cycle.max_stops": 2}
+        ),
+        trace,
+    )
+    distance = configured_cycle(config).distance
+
+    def edit(done: int, total: int) -> None:
+        if done == 1:
+            trace.write_text(trace.read_text() + "# edited\n")
+
+    run = simulate(config, seed=1, progress=edit)
+    assert run.dataset.attrs["distance"] == distance
+    assert run.dataset.attrs["pm10_mg_km"] == pm10_from_run(run, distance).central
