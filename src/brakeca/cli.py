@@ -412,13 +412,13 @@ def simulate(
         try:
             kept_maps = map_stops(_maps_at_stops(maps_at), len(source.events), name="--maps-at")
         except ValueError as exc:
-            cut = len(source.events) < source.n_total
+            n_run = len(source.events)
             _fail(
                 str(exc)
                 + (
-                    f" (--stops {len(source.events)} runs only the first {len(source.events)} "
-                    f"of the cycle's {source.n_total} stops)"
-                    if cut
+                    f" (cycle.max_stops = {n_run}, --stops, runs only the first {n_run} of the "
+                    f"cycle's {source.n_total} stops)"
+                    if n_run < source.n_total
                     else ""
                 )
             )
@@ -697,8 +697,13 @@ def surface(
         configs = {f"A = {v:g} %": config.with_updates({"A": v}) for v in values}
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
-    for value in values:
-        _percent_note({"A": value})
+    low = [f"{v:g}" for v in values if 0.0 < v < 1.0]
+    if low:  # (--set A's note would name A=...)
+        console.print(
+            f"[yellow]note:[/] --levels are in %: {', '.join(low)} "
+            f"{'are' if len(low) > 1 else 'is'} less than 1 % fibres (10 is 10 %)",
+            highlight=False,
+        )
     _check_figure_output(output)
     maps = {}
     for label, cfg in configs.items():
@@ -851,8 +856,7 @@ def _run_and_report(
             from brakeca.traces import configured_cycle, with_cycle
 
             with_trace = with_cycle(load_preset(), cycle, speed_unit=speed_unit)
-            # refuses a trace without braking events, up front
-            _slow_events_note(configured_cycle(with_trace).events, with_trace.cycle.trace.threshold)
+            configured_cycle(with_trace)  # refuses a trace without braking events, up front
             updates["cycle"] = with_trace.cycle.model_dump(mode="json")
     except ConfigError as exc:
         _fail(str(exc))
@@ -866,6 +870,10 @@ def _run_and_report(
         _unused_levels_note(loaded)
         base = loaded.resolved_base(overrides=updates, quick=quick, max_stops=stops)
         _wheel_load_note(base)
+        if base.cycle.trace_file:  # --cycle, or the design's base configuration
+            from brakeca.traces import configured_cycle
+
+            _slow_events_note(configured_cycle(base).events, base.cycle.trace.threshold)
         if stops is not None:
             from brakeca.traces import configured_cycle
 

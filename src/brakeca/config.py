@@ -966,7 +966,8 @@ def decimal_point(text: str) -> str:
 
 
 def read_csv_text(path: str | Path) -> str:
-    """The text of a CSV file: UTF-8 (a byte-order mark dropped), else Windows-1252, which
+    """The text of a CSV file: UTF-16 where it begins with its byte-order mark (Windows
+    PowerShell writes it), else UTF-8 (a byte-order mark dropped), else Windows-1252, which
     spreadsheets in western European locales write (a German Excel export's ``Straße``);
     the numbers and the ASCII headers read the same either way.
 
@@ -985,9 +986,12 @@ def read_csv_text(path: str | Path) -> str:
     OSError
         The file cannot be read.
     UnicodeDecodeError
-        Neither UTF-8 nor Windows-1252 (a byte that Windows-1252 leaves undefined).
+        Not UTF-16 with its mark, UTF-8 or Windows-1252 (a byte that Windows-1252 leaves
+        undefined).
     """
     data = Path(path).read_bytes()
+    if data.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16, as Windows PowerShell writes
+        return data.decode("utf-16")
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError:
@@ -1113,6 +1117,10 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
                     raise ConfigError(f"override {key}: {part!r} is not a section")
                 ann = known[part].annotation if known is not None else None
                 known = getattr(ann, "model_fields", None)
+    if "cycle.trace_file" in given and "cycle.trace_sha256" not in given:
+        # the digest was the old file's: a new trace would be refused as 'changed' (a
+        # review: --set cycle.trace_file on a configuration file that records its trace)
+        data.get("cycle", {}).pop("trace_sha256", None)
     # a factor's field named by the name it was given as
     heads = {path: f"override {key} (= {path})" for path, key in given.items() if key != path}
     return SimulationConfig.from_dict(data, source="override", heads=heads)
@@ -1160,21 +1168,33 @@ def load_config(path: str | Path) -> SimulationConfig:
 
 def _anchored_trace(config: SimulationConfig, path: Path) -> SimulationConfig:
     """``config`` (loaded from the file ``path``) with a speed trace given by a relative
-    ``cycle.trace_file`` read next to the file, as a design's ``base_config`` is, and, where
-    the file gives no ``cycle.trace_sha256``, recorded as ``--cycle`` records it: its
-    absolute path, the SHA-256 of its content and its name (a black-box review: a trace set
-    in a configuration file ran under the name 'paper', without its digest, and from the
-    folder the command ran in)."""
-    trace = config.cycle.trace_file
-    if not trace or config.cycle.trace_sha256 is not None:
+    ``cycle.trace_file`` read next to the file where it is there (as a design's
+    ``base_config`` is; else from the current folder, as before), and, where the file gives
+    no ``cycle.trace_sha256``, recorded as ``--cycle`` records it: its absolute path and the
+    SHA-256 of its content, and its name unless the file names the cycle itself (other than
+    the preset's ``paper`` or the default ``custom``). A black-box review: a trace set in a
+    configuration file ran under the name 'paper', without its digest, and from the folder
+    the command ran in."""
+    cyc = config.cycle
+    trace = cyc.trace_file
+    if not trace:
         return config
-    from brakeca.traces import with_cycle
-
     here = path.parent / trace
     chosen = here if not Path(trace).is_absolute() and here.is_file() else Path(trace)
     if not chosen.is_file():  # a shipped trace's name, or a missing file (configured_cycle)
         return config
+    if cyc.trace_sha256 is not None:  # recorded: only where to read it
+        if chosen == Path(trace):
+            return config
+        return config.with_updates(
+            {"cycle.trace_file": str(chosen.resolve()), "cycle.trace_sha256": cyc.trace_sha256}
+        )
+    from brakeca.traces import with_cycle
+
     try:
-        return with_cycle(config, chosen, speed_unit=config.cycle.trace_speed_unit)
+        recorded = with_cycle(config, chosen, speed_unit=cyc.trace_speed_unit)
     except ConfigError as exc:
         raise ConfigError(f"{path}: cycle.trace_file {trace}: {exc}") from None
+    if cyc.name not in ("paper", "custom"):
+        recorded = recorded.with_updates({"cycle.name": cyc.name})
+    return recorded

@@ -277,7 +277,8 @@ def test_cli_surface_draws_the_levels_and_names_bad_ones(tmp_path):
     assert "note:" not in res.output
     # a level that reads like a fraction gets the note --set A=0.2 gets (a black-box review)
     res = runner.invoke(app, ["surface", "-o", str(png), "--quick", "--levels", "0.2,20"])
-    assert res.exit_code == 0 and "note: A is in %: A=0.2 is 0.2 % fibres" in res.output
+    assert res.exit_code == 0
+    assert "note: --levels are in %: 0.2 is less than 1 % fibres (10 is 10 %)" in res.output
     for levels, message in [
         ("abc", "--levels 'abc': 'abc' is not a number"),
         ("", "--levels '': no level"),
@@ -365,7 +366,7 @@ def test_cli_simulate_keeps_maps_after_the_stops_asked_and_plot_draws_them(tmp_p
         (
             "3",
             "--maps-at: stop 3 is not a stop of this cycle (whole numbers from 1 to 2) "
-            "(--stops 2 runs only the first 2 of the cycle's 170 stops)",
+            "(cycle.max_stops = 2, --stops, runs only the first 2 of the cycle's 170 stops)",
         ),
         ("1,1", "--maps-at: a stop is given twice"),
         ("1;2", "--maps-at '1;2': expected stop numbers separated by commas"),

@@ -694,13 +694,24 @@ def test_events_slower_than_the_threshold_are_called_noise(tmp_path) -> None:
     noisy = np.maximum(noisy, 0.0)
     events = detect_events(SpeedTrace(time=t, speed=noisy))
     text = slow_events_warning(events, 0.3)
-    assert text is not None and "braking events decelerate on average more slowly than" in text
-    assert all(e.deceleration < 0.3 for e in events)
+    assert text is not None and "braking events decelerate on average at less than half" in text
+    assert all(e.deceleration < 0.15 for e in events)
     smoothed = detect_events(
         SpeedTrace(time=t, speed=noisy), config=TraceCycleConfig(smoothing=1.0)
     )
     assert slow_events_warning(smoothed, 0.3) is None and len(smoothed) == 2
     assert slow_events_warning(detect_events(SpeedTrace(time=t, speed=clean)), 0.3) is None
+    # a clean, gentle stop with short pauses, merged into one event just under the
+    # threshold, is no noise (a review saw the warning there)
+    knots_t, knots_v, v = [0.0], [60.0], 60.0
+    for _ in range(12):
+        v -= 3 * 0.34 / KMH
+        knots_t += [knots_t[-1] + 3.0, knots_t[-1] + 4.0]
+        knots_v += [v, v]
+    gentle = np.interp(np.arange(0.0, knots_t[-1], 0.5), knots_t, knots_v) * KMH
+    merged = detect_events(SpeedTrace(time=np.arange(0.0, knots_t[-1], 0.5), speed=gentle))
+    assert len(merged) == 1 and 0.15 < merged[0].deceleration < 0.3
+    assert slow_events_warning(merged, 0.3) is None
     # the command line says so where it reads the trace
     from typer.testing import CliRunner
 
@@ -713,7 +724,7 @@ def test_events_slower_than_the_threshold_are_called_noise(tmp_path) -> None:
     )
     res = CliRunner().invoke(app, ["cycle", "inspect", str(path)])
     assert res.exit_code == 0, res.output
-    assert re.search(r"warning: \d+ of the \d+ braking events decelerate", res.output)
+    assert re.search(r"warning: \d+ of the \d+ braking events decelerate on", res.output)
 
 
 def test_a_trace_in_a_configuration_file_is_read_next_to_it_and_recorded(tmp_path, monkeypatch):
@@ -725,7 +736,7 @@ def test_a_trace_in_a_configuration_file_is_read_next_to_it_and_recorded(tmp_pat
 
     from brakeca.config import load_config
     from brakeca.presets import __file__ as presets_init
-    from brakeca.traces import _file_digest
+    from brakeca.traces import _file_digest, configured_cycle
 
     folder = tmp_path / "study"
     (folder / "traces").mkdir(parents=True)
@@ -745,6 +756,24 @@ def test_a_trace_in_a_configuration_file_is_read_next_to_it_and_recorded(tmp_pat
     # a file that records its trace's digest is taken as it is
     (folder / "again.toml").write_text(loaded.to_toml(), encoding="utf-8")
     assert load_config(folder / "again.toml") == loaded
+    # a review: a relative path with its digest was still read from the current folder,
+    # and a name the file gives was replaced by the file's stem
+    digest = _file_digest(trace)
+    named = config.with_updates({"cycle.name": "urban_loop", "cycle.trace_sha256": digest})
+    (folder / "named.toml").write_text(named.to_toml(), encoding="utf-8")
+    again = load_config(Path("..") / "study" / "named.toml")
+    assert Path(again.cycle.trace_file) == trace.resolve()
+    assert again.cycle.trace_sha256 == digest and again.cycle.name == "urban_loop"
+    undigested = config.with_updates({"cycle.name": "urban_loop"})
+    (folder / "undigested.toml").write_text(undigested.to_toml(), encoding="utf-8")
+    assert load_config(folder / "undigested.toml").cycle.name == "urban_loop"
+    # another trace set over a recorded one drops the old digest (it was refused as
+    # 'changed since the configuration was made')
+    other = folder / "traces" / "other.csv"
+    other.write_text(trace.read_text(encoding="utf-8") + "# another\n", encoding="utf-8")
+    moved = loaded.with_updates({"cycle.trace_file": str(other)})
+    assert moved.cycle.trace_sha256 is None
+    assert configured_cycle(moved).events
 
 
 def test_a_trace_saved_in_windows_1252_is_read(tmp_path) -> None:
@@ -760,7 +789,9 @@ def test_a_trace_saved_in_windows_1252_is_read(tmp_path) -> None:
     latin.write_bytes(text.encode("cp1252"))
     utf8 = tmp_path / "utf8.csv"
     utf8.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
-    assert read_csv_text(latin) == read_csv_text(utf8) == text
+    utf16 = tmp_path / "utf16.csv"
+    utf16.write_bytes(text.encode("utf-16"))  # with its mark, as Windows PowerShell writes
+    assert read_csv_text(latin) == read_csv_text(utf8) == read_csv_text(utf16) == text
     a, b = load_trace(latin), load_trace(utf8)
     np.testing.assert_array_equal(a.speed, b.speed)
     assert a.speed.max() == pytest.approx(50 * KMH)
@@ -815,3 +846,7 @@ def test_a_block_cycle_with_speeds_in_m_per_s_is_named_a_block_cycle(tmp_path) -
     ):
         with_cycle(load_preset("paper"), path)
     assert cycle_file_kind("time_s,speed_kmh\n0,0\n") == "trace"
+    # a trace with a column named like a block cycle's (a review: it was read as blocks)
+    extra = "time_s,speed_kmh,trip,deceleration_g\n0,0,a,0\n1,10,a,0\n2,20,a,0\n"
+    assert cycle_file_kind(extra) == "trace"
+    assert load_trace(_write(tmp_path, extra, "extra.csv")).speed.size == 3

@@ -74,7 +74,11 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
     expected = {"name", "initial_speed_kmh", "final_speed_kmh", "deceleration_g", "stops"}
     missing = expected - set(reader.fieldnames)
     if missing:
-        other = [f for f in reader.fieldnames if "speed" in f.lower() and f not in expected]
+        other = [
+            f
+            for f in reader.fieldnames
+            if f.lower().startswith(("initial_speed", "final_speed")) and f not in expected
+        ]
         hint = (
             f"; a block cycle gives its speeds in km/h (it has {', '.join(other)})"
             if other and any("speed_kmh" in m for m in missing)
