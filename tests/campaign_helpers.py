@@ -92,3 +92,26 @@ def write_design(folder, overrides: dict, design_text: str):
     path = folder / "tiny.toml"
     path.write_text(design_text, encoding="utf-8")
     return path
+
+
+def must_not_run(config, *, seed, progress=None, maps_at=()):
+    """A simulate that fails the test if a reused run is computed again."""
+    raise AssertionError("simulate was called for a run that should have been reused")
+
+
+def rerun_reusing(out, **kwargs):
+    """Run the campaign in ``out`` again from its own design.toml, serially, with a simulate
+    that fails the test if any run is computed: (result, what its console said)."""
+    from brakeca.campaign import run_campaign
+    from brakeca.design import load_design
+
+    console = quiet()
+    result = run_campaign(
+        load_design(out / "design.toml"),
+        out,
+        executor="serial",
+        simulate_fn=must_not_run,
+        console=console,
+        **kwargs,
+    )
+    return result, console_text(console)

@@ -26,7 +26,9 @@ from campaign_helpers import (
     TIMING,
     console_text,
     deterministic,
+    must_not_run,
     quiet,
+    rerun_reusing,
     tiny,
     write_design,
 )
@@ -56,11 +58,6 @@ def _mtimes(folder: Path) -> dict[str, int]:
 
 
 # top-level (picklable) simulate functions -----------------------------------------------------
-
-
-def must_not_run(config, *, seed, progress=None):
-    """A simulate that fails the test if a reused run is computed again."""
-    raise AssertionError("simulate was called for a run that should have been reused")
 
 
 def fails_on_test_3(config, *, seed, progress=None):
@@ -213,16 +210,7 @@ def test_rerun_skips_every_run(serial, tmp_path):
     before = _mtimes(out / "runs")
 
     def rerun() -> tuple[CampaignResult, str]:
-        console = quiet()
-        result = run_campaign(
-            load_design(out / "design.toml"),
-            out,
-            executor="serial",
-            simulate_fn=must_not_run,
-            progress=True,
-            console=console,
-        )
-        return result, console_text(console)
+        return rerun_reusing(out, progress=True)
 
     again, text = rerun()
     assert sorted(again.reused) == sorted(serial.computed)

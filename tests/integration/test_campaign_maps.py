@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from campaign_helpers import (
     DESIGN_TEMPLATE,
-    console_text,
     deterministic,
     quiet,
+    rerun_reusing,
     tiny,
     write_design,
 )
@@ -27,11 +27,6 @@ from brakeca.config import ConfigError
 from brakeca.design import load_design, run_id
 from brakeca.results import RunResult
 from brakeca.study import write_study
-
-
-def must_not_run(config, *, seed, progress=None, maps_at=()):
-    """A simulate that fails the test if a reused run is computed again."""
-    raise AssertionError("simulate was called for a run that should have been reused")
 
 
 @pytest.fixture(scope="module")
@@ -97,17 +92,9 @@ def test_a_campaign_without_maps_draws_no_maps_over_the_cycle(plain, tmp_path):
 def test_finished_runs_without_the_maps_are_reused_with_a_warning(plain, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(plain.out_dir, out)
-    console = quiet()
-    again = run_campaign(
-        load_design(out / "design.toml"),
-        out,
-        executor="serial",
-        simulate_fn=must_not_run,
-        console=console,
-        maps_at=[2],
-    )
+    again, said = rerun_reusing(out, maps_at=[2])
     assert sorted(again.reused) == sorted(plain.computed) and not again.computed
-    text = " ".join(console_text(console).split())
+    text = " ".join(said.split())
     assert "4 finished run(s) (of tests 1, 2, 3, 4) ran without keeping maps after stops 2" in (
         text
     )
