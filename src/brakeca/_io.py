@@ -97,8 +97,9 @@ def checkpoint_resumes(path: Path, config: Any, seed: int, maps_at: Sequence[int
     """Whether the checkpoint at ``path`` is one the run of ``config`` and ``seed`` would
     resume from (:func:`checkpoint_is_of`; only its small ``meta`` entry is read, and with
     ``maps_at`` the stops it ran and kept maps of). False for a missing, unreadable or
-    foreign file, and for one that ran a stop of ``maps_at`` without keeping its map: the
-    run discards those and starts over."""
+    foreign file, and for one that ran a stop of ``maps_at`` without keeping its map (a
+    campaign's worker discards those and starts the run over; :func:`brakeca.simulation.simulate`
+    refuses the last with a :class:`~brakeca.simulation.CheckpointError`)."""
     try:
         meta = _checkpoint_meta(path)
         if not checkpoint_is_of(meta, config, seed):

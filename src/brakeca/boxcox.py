@@ -270,7 +270,8 @@ def box_cox_profile(
     Returns
     -------
     BoxCox
-        λ̂, its interval, the rounded λ and the profile. λ is not defined (NaN, with a note)
+        λ̂, its likelihood-ratio interval and Montgomery's (``ci_low_df``, ``ci_high_df``),
+        the rounded λ and the profile. λ is not defined (NaN, with a note)
         when a value is not positive, the response is constant, or the model leaves no
         residual degrees of freedom.
 

@@ -480,7 +480,7 @@ def simulate(
     if checkpoint is not None and checkpoint.exists():
         from brakeca._io import checkpoint_resumes
 
-        if checkpoint_resumes(checkpoint, config, seed):
+        if checkpoint_resumes(checkpoint, config, seed, kept_maps):
             console.print(
                 f"resuming from the checkpoint {escape(str(checkpoint))} (the stops it holds "
                 "are not run again)",

@@ -379,7 +379,9 @@ def simulate(
     Returns
     -------
     RunResult
-        Per-stop responses, MU, V, thinned per-step series, surface maps, provenance.
+        Per-stop responses, MU, V, thinned per-step series, surface maps, provenance; on a
+        speed trace also the distance [m] and the PM10 band [mg/km] in the dataset's
+        attributes (``distance``, ``pm10_mg_km``, ``pm10_mg_km_low``, ``pm10_mg_km_high``).
 
     Raises
     ------

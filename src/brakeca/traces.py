@@ -951,7 +951,7 @@ def slow_events_warning(events: Sequence[Stop | BrakingEvent], threshold: float)
     Returns
     -------
     str or None
-        One sentence naming how many events and the slowest, with what to do.
+        How many events and the slowest, then what to do (two sentences).
     """
     slow = [e for e in events if isinstance(e, BrakingEvent) and e.deceleration < threshold / 2]
     if not slow:
@@ -978,7 +978,7 @@ def wheel_load_note(config: SimulationConfig) -> str | None:
     Parameters
     ----------
     config
-        A configuration; None for a block cycle.
+        A configuration (a block cycle gives None).
 
     Returns
     -------
