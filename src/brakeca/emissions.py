@@ -405,9 +405,9 @@ def pm10_from_run(
         taken from the run's ``brake.pads_per_brake`` and, on a speed trace, the front axle's
         share of the emissions ``front_emission_share`` from the run's front brake force
         share ``cycle.trace.front_brake_share`` (emissions following friction work; its range
-        widened to hold it): the run's front brake was loaded with that share, so a fixed
-        0.7 would scale a front brake given 0.9 of the braking up to a vehicle that brakes
-        more than it does.
+        the default's spread about it, 0.1 either side, within (0, 1]): the run's front
+        brake was loaded with that share, so a fixed 0.7 would scale a front brake given 0.9
+        of the braking up to a vehicle that brakes more than it does.
 
     Returns
     -------
@@ -428,9 +428,14 @@ def pm10_from_run(
         if config.cycle.trace_file:
             phi = config.cycle.trace.front_brake_share
             lo, hi = EmissionParameters.model_fields["front_emission_share_range"].default
+            default = EmissionParameters.model_fields["front_emission_share"].default
+            # the default's spread (0.6 to 0.8 about 0.7) moved to the run's share, within (0, 1]
             share = {
                 "front_emission_share": phi,
-                "front_emission_share_range": (min(lo, phi), max(hi, phi)),
+                "front_emission_share_range": (
+                    max(lo + (phi - default), 0.5 * phi),  # lo itself at the default share
+                    min(hi + (phi - default), 1.0),
+                ),
             }
         params = EmissionParameters(pads_per_brake=config.brake.pads_per_brake, **share)
     volume = float(result.dataset["emitted_volume"].sum())
