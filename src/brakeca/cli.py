@@ -208,6 +208,30 @@ def _unused_levels_note(design: Any) -> None:
         )
 
 
+def _trace_notes(points: Sequence[Any]) -> None:
+    """The trace notes of :func:`_slow_events_note` and :func:`_wheel_load_note` for the
+    runs of a campaign (``points``: :class:`brakeca.design.RunPoint`), each text once: the
+    trace of ``--cycle``, of the design's base, or of a design factor on the cycle."""
+    from brakeca.traces import configured_cycle, slow_events_warning, wheel_load_note
+
+    said: set[str] = set()
+    for point in points:
+        config = point.config
+        if not config.cycle.trace_file:
+            continue
+        texts = [
+            (
+                "warning",
+                slow_events_warning(configured_cycle(config).events, config.cycle.trace.threshold),
+            ),
+            ("note", wheel_load_note(config)),
+        ]
+        for kind, text in texts:
+            if text is not None and text not in said:
+                said.add(text)
+                console.print(f"[yellow]{kind}:[/] {escape(text)}", highlight=False)
+
+
 def _slow_events_note(events: Sequence[Any], threshold: float) -> None:
     """A warning for a trace whose events look like noise
     (:func:`brakeca.traces.slow_events_warning`)."""
@@ -869,11 +893,7 @@ def _run_and_report(
         _design_percent_note(loaded)
         _unused_levels_note(loaded)
         base = loaded.resolved_base(overrides=updates, quick=quick, max_stops=stops)
-        _wheel_load_note(base)
-        if base.cycle.trace_file:  # --cycle, or the design's base configuration
-            from brakeca.traces import configured_cycle
-
-            _slow_events_note(configured_cycle(base).events, base.cycle.trace.threshold)
+        _trace_notes(loaded.points(overrides=updates, quick=quick, max_stops=stops))
         if stops is not None:
             from brakeca.traces import configured_cycle
 

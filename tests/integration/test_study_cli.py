@@ -679,3 +679,29 @@ def test_a_factor_on_the_stops_gives_each_run_its_own(tmp_path):
     assert "MU per stop over each run's cycle (the design's factor N sets it)" in report
     assert "Test 1 (N = 1): plateaus after the first 1 of the cycle's 170 stops" in report
     assert "Test 2 (N = 2): plateaus after the first 2 of the cycle's 170 stops" in report
+
+
+def test_run_warns_of_a_noisy_trace_a_cycle_factor_chooses(tmp_path, monkeypatch):
+    """A review: `brakeca run` warned of speed noise only for the trace of --cycle or of the
+    design's base, not for one a design's cycle factor chooses. Each trace of the runs is
+    looked at now, and each warning said once."""
+    import brakeca.campaign
+    from brakeca.config import ConfigError
+
+    def stop_here(*args, **kwargs):
+        raise ConfigError("stopped before any run")
+
+    monkeypatch.setattr(brakeca.campaign, "run_campaign", stop_here)
+    t = np.arange(0.0, 130.0, 0.1)
+    clean = np.interp(t, [0, 20, 60, 70, 100, 130], [0, 60, 60, 0, 80, 20])
+    noisy = np.maximum(clean + np.random.default_rng(0).normal(0.0, 0.5, t.size), 0.0)
+    trace = tmp_path / "noisy.csv"
+    trace.write_text(
+        "time_s,speed_kmh\n" + "".join(f"{a:.1f},{b:.3f}\n" for a, b in zip(t, noisy, strict=True))
+    )
+    design = tmp_path / "d.toml"
+    design.write_text(CYCLE_DESIGN.replace('"example_trace"', repr(str(trace)).replace("'", '"')))
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(tmp_path / "c"), "--quick"])
+    assert res.exit_code == 2 and "stopped before any run" in res.output
+    text = " ".join(res.output.split())
+    assert text.count("braking events decelerate on average at less than half") == 1
