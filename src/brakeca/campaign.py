@@ -715,6 +715,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--max-stops", type=int, default=None)
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    parser.add_argument(
+        "--maps-at",
+        type=lambda text: [int(k) for k in text.split(",")],
+        default=[],
+        metavar="STOPS",
+        help="every run keeps its plateau maps after these stops, e.g. 1,85,170",
+    )
     parser.add_argument("--no-progress", action="store_true")
     parser.add_argument(
         "--replace",
@@ -737,6 +744,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             overrides=overrides,
             progress=not args.no_progress,
             replace=args.replace,
+            maps_at=args.maps_at,
         )
     except (ConfigError, ExecutorError, CampaignLockedError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)

@@ -167,3 +167,19 @@ def test_a_checkpoint_without_an_asked_map_starts_the_run_over(design_file, mapp
         result.dataset["map_status"].to_numpy(), kept["map_status"].to_numpy()
     )
     assert result.MU == mapped.summary.set_index("test").loc[2, "MU"]
+
+
+def test_the_minimal_command_line_takes_maps_at(design_file, mapped, tmp_path):
+    """`python -m brakeca.campaign ... --maps-at` as `brakeca run --maps-at` (a review found
+    the minimal command line without it)."""
+    from brakeca.campaign import main
+
+    out = tmp_path / "campaign"
+    common = [str(design_file), str(out), "--executor", "serial", "--no-progress"]
+    assert main([*common, "--maps-at", "9"]) == 2 and not out.exists()
+    assert main([*common, "--maps-at", "1,3"]) == 0
+    for rid in mapped.summary["run_id"]:
+        ds = RunResult.from_netcdf(out / "runs" / f"{rid}.nc").dataset
+        assert list(ds["map_stop"].to_numpy()) == [1, 3]
+    with pytest.raises(SystemExit):
+        main([*common, "--maps-at", "x"])
