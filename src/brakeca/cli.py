@@ -892,16 +892,22 @@ def _run_and_report(
         loaded = load_design(design)
         _design_percent_note(loaded)
         _unused_levels_note(loaded)
-        base = loaded.resolved_base(overrides=updates, quick=quick, max_stops=stops)
-        _trace_notes(loaded.points(overrides=updates, quick=quick, max_stops=stops))
+        points = loaded.points(overrides=updates, quick=quick, max_stops=stops)
+        _trace_notes(points)
         if stops is not None:
             from brakeca.traces import configured_cycle
 
-            n_total = configured_cycle(base).n_total
+            # every run's cycle: a design factor on the cycle may give runs another one
+            n_total = max(configured_cycle(p.config).n_total for p in points)
             if stops > n_total:
                 console.print(
-                    f"[yellow]note:[/] --stops {stops}: the cycle has {n_total} stops, so every "
-                    "run goes the whole cycle",
+                    f"[yellow]note:[/] --stops {stops}: the "
+                    + (
+                        "cycle has"
+                        if len({p.config.cycle for p in points}) == 1
+                        else "longest cycle of the runs has"
+                    )
+                    + f" {n_total} stops, so every run goes its whole cycle",
                     highlight=False,
                 )
     except ConfigError:  # run_campaign says what is wrong with it, before any run

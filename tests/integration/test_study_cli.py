@@ -647,8 +647,18 @@ def test_stops_beyond_the_cycle_get_a_note(tmp_path, monkeypatch):
         assert res.exit_code == 2 and "stopped before any run" in res.output
         text = " ".join(res.output.split())
         assert (
-            "note: --stops 500: the cycle has 170 stops, so every run goes the whole cycle" in text
+            "note: --stops 500: the cycle has 170 stops, so every run goes its whole cycle" in text
         ) is noted
+    # a design whose factor chooses the cycle: the longest of its runs' cycles
+    design = tmp_path / "cycles.toml"
+    design.write_text(CYCLE_DESIGN)
+    for stops, noted in (("500", True), ("100", False)):
+        res = CliRunner().invoke(
+            app, ["run", str(design), "-o", str(tmp_path / "c"), "--quick", "--stops", stops]
+        )
+        assert res.exit_code == 2, res.output
+        text = " ".join(res.output.split())
+        assert ("the longest cycle of the runs has 170 stops" in text) is noted
 
 
 def test_a_factor_on_the_stops_gives_each_run_its_own(tmp_path):
