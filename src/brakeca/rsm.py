@@ -1207,6 +1207,25 @@ def _mean_desirability(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) 
     return np.asarray(np.sum(weighted, axis=0) / total, dtype=float)
 
 
+def _nearest_limits(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Minus the goals' shortfalls: how far each goal's response lies beyond the limit it
+    must reach to have any desirability (above ``upper`` for a minimum, below ``lower`` for
+    a maximum, outside ``lower`` to ``upper`` for a target), in spans of its limits, weighted
+    by importance and summed [-]; 0 where every goal has some desirability."""
+    total: Any = 0.0
+    for g in goals:
+        y = np.asarray(values[g.response], dtype=float)
+        span = g.upper - g.lower
+        if g.kind == "minimize":
+            miss = np.maximum(y - g.upper, 0.0)
+        elif g.kind == "maximize":
+            miss = np.maximum(g.lower - y, 0.0)
+        else:
+            miss = np.maximum(g.lower - y, 0.0) + np.maximum(y - g.upper, 0.0)
+        total = total - g.importance * miss / span
+    return np.asarray(total, dtype=float)
+
+
 def _beyond_the_runs(fit: SurfaceFit, coded: np.ndarray) -> str:
     """A note when the coded point lies farther from the design's centre than every run (a
     rotatable composite or a Box-Behnken design spans a sphere, not the box the optimizer
@@ -1308,11 +1327,19 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     score = _composite
     note = ""
     if not np.any(_composite(goals, values_at(grid)) > 0):
-        score = _mean_desirability  # some goal is missed everywhere: the nearest compromise
-        note = (
-            "no setting in the region meets every goal's limits (composite desirability 0 "
-            "everywhere); this is the setting of the largest mean desirability instead"
-        )
+        if np.any(_mean_desirability(goals, values_at(grid)) > 0):
+            score = _mean_desirability  # some goal is missed everywhere: a compromise
+            note = (
+                "no setting in the region meets every goal's limits (composite desirability 0 "
+                "everywhere); this is the setting of the largest mean desirability instead"
+            )
+        else:  # every goal missed everywhere (a review: the first grid point came back)
+            score = _nearest_limits
+            note = (
+                "no setting in the region gives any goal a desirability above 0; this is the "
+                "setting nearest the goals' limits (each goal's distance beyond its limit, in "
+                "spans of its limits): the fitted responses do not reach the limits asked for"
+            )
     scores = score(goals, values_at(grid))
     starts = np.argsort(-scores, kind="stable")[:10]
     best_x = np.array([grid[n][starts[0]] for n in factors])
@@ -1322,7 +1349,7 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         point = dict(zip(factors, x, strict=True))
         return -float(score(goals, values_at(point)))
 
-    if best_score > 0:  # a score of 0 has no slope to follow
+    if best_score > 0 or score is _nearest_limits:  # a score of 0 has no slope to follow
         for i in starts:
             x0 = np.array([grid[n][i] for n in factors])
             res = sciopt.minimize(loss, x0, method="L-BFGS-B", bounds=bounds)

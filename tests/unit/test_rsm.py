@@ -306,7 +306,9 @@ def test_optimize_weighs_two_conflicting_responses() -> None:
 def test_optimize_reports_a_goal_missed_everywhere_and_bad_requests() -> None:
     fit = fit_response_surface(_bowl((0.3, -0.2)), _PQ, "y")
     best = optimize({"y": fit}, [Goal("y", "maximize", 10.0, 20.0)])
-    assert best.composite == 0.0 and "no setting in the region meets" in best.note
+    assert best.composite == 0.0 and "no setting in the region gives any goal" in best.note
+    # the bowl's highest point in the region, its corner farthest from the bottom
+    assert (best.coded["p"], best.coded["q"]) == pytest.approx((-1.0, 1.0))
     with pytest.raises(ValueError, match="at least one goal"):
         optimize({"y": fit}, [])
     with pytest.raises(ValueError, match="no fitted surface of 'z'"):
@@ -493,3 +495,25 @@ def test_an_interval_that_is_not_defined_is_shown_as_none() -> None:
     assert _interval_text(math.nan, math.nan) == "none"
     assert _interval_cell(lambda v: f"{v:g}", math.nan, math.nan) == "–"
     assert _interval_cell(lambda v: f"{v:g}", 1.0, 2.0) == "1 to 2"
+
+
+def test_goals_missed_everywhere_give_the_setting_nearest_their_limits() -> None:
+    """A black-box review: with every goal missed everywhere (desirability 0 at every
+    setting) the optimizer returned the first point of its grid, the worst setting; it now
+    returns the one nearest the goals' limits, and says so."""
+    points = [(p, q) for p in (-1.0, 0.0, 1.0) for q in (-1.0, 0.0, 1.0)]
+    frame = pd.DataFrame(points, columns=["p", "q"])
+    noise = np.random.default_rng(2).normal(0.0, 0.01, len(frame))
+    frame["y"] = 3.0 + 2.0 * frame["p"] - 0.5 * frame["q"] + noise
+    fit = fit_response_surface(frame, _PQ, "y")
+    best = optimize({"y": fit}, [Goal("y", "maximize", 10.0, 12.0)])
+    assert best.coded["p"] == pytest.approx(1.0) and best.coded["q"] == pytest.approx(-1.0)
+    assert "no setting in the region gives any goal a desirability above 0" in best.note
+    low = optimize({"y": fit}, [Goal("y", "target", -8.0, -6.0, target=-7.0)])
+    assert low.coded["p"] == pytest.approx(-1.0) and low.coded["q"] == pytest.approx(1.0)
+    # one goal missed everywhere, another met somewhere: the largest mean desirability
+    frame["z"] = 1.0 + frame["q"] + noise
+    fits = {"y": fit, "z": fit_response_surface(frame, _PQ, "z")}
+    both = optimize(fits, [Goal("y", "maximize", 10.0, 12.0), Goal("z", "maximize", 0.0, 2.0)])
+    assert "this is the setting of the largest mean desirability instead" in both.note
+    assert both.coded["q"] == pytest.approx(1.0)
