@@ -1327,8 +1327,8 @@ def optimize(
     from brakeca.analysis import alpha_problem
     from brakeca.campaign import load_campaign
     from brakeca.design import GOAL_RESPONSES
+    from brakeca.rsm import LEFT_OUT_NOTE, response_surfaces
     from brakeca.rsm import optimize as find_optimum
-    from brakeca.rsm import response_surfaces
     from brakeca.study import with_log_v
 
     try:
@@ -1387,10 +1387,35 @@ def optimize(
     out.print(table)
     out.print(goals_table)
     out.print(f"composite desirability: {best.composite:.3f}", markup=False)
-    for goal in parsed:
+    said: list[str] = []
+    aliased: list[str] = []  # terms left out: aliased with terms before them, one line
+    for goal in parsed:  # each fit's notes, once when the fits share them
         for note in fits[goal.response].notes:
             if note.startswith("removed by backward elimination"):
                 out.print(f"{goal.response}: {note}", markup=False, highlight=False, emoji=False)
+            elif note.endswith(LEFT_OUT_NOTE):
+                term = note[: -len(LEFT_OUT_NOTE)]
+                if term not in aliased:
+                    aliased.append(term)
+            elif note not in said:
+                said.append(note)
+    if aliased:
+        said.append(
+            f"left out of the quadratic, since the runs cannot estimate them apart from the "
+            f"terms before them: {', '.join(aliased)}"
+        )
+    for note in said:
+        out.print(f"note: {note}", markup=False, highlight=False, emoji=False)
+    if not result.design.is_response_surface:
+        out.print(
+            f"note: {folder} holds a {result.design.kind}, not a response-surface design: its "
+            "runs do not give every factor a square term (a factor at two levels has none; "
+            "centre points give the curvature as one term, the first factor's square standing "
+            "for all), so a setting inside the region rests on that pooled curvature. A "
+            "central composite or Box-Behnken design estimates each factor's",
+            markup=False,
+            highlight=False,
+        )
     if best.note:
         out.print(f"note: {best.note}", markup=False, highlight=False)
     if best.on_boundary:

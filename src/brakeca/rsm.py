@@ -63,6 +63,7 @@ from brakeca.analysis import (
 __all__ = [
     "ANOVA_COLUMNS",
     "COEFFICIENT_COLUMNS",
+    "LEFT_OUT_NOTE",
     "Coding",
     "Goal",
     "Optimum",
@@ -84,6 +85,10 @@ COEFFICIENT_COLUMNS: tuple[str, ...] = ("term", "coef", "se", "t", "p_value", "v
 
 #: Columns of :attr:`SurfaceFit.anova`, in order.
 ANOVA_COLUMNS: tuple[str, ...] = ("source", "depth", "df", "adj_ss", "adj_ms", "F", "p_value")
+
+#: The end of a fit's note on a term it leaves out, aliased with the terms before it (a term
+#: name comes first: ``"A*B" + LEFT_OUT_NOTE``).
+LEFT_OUT_NOTE = " cannot be estimated apart from the terms before it: left out"
 
 #: Coded points closer than this [-] are the same point (for pure error and lack of fit).
 _SAME_POINT = 1e-9
@@ -517,7 +522,7 @@ def _model_matrix(
             kept.append((term, group))
             rank = trial_rank
         else:
-            notes.append(f"{term} cannot be estimated apart from the terms before it: left out")
+            notes.append(f"{term}{LEFT_OUT_NOTE}")
     return varying, kept, np.column_stack(columns), notes
 
 
