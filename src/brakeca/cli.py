@@ -1591,6 +1591,16 @@ def power(
         )
     out.print(table)
     out.print(f"the ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False)
+    from brakeca.power import pooling_note
+
+    for r in sorted({int(r) for r in table_data["replicates"]}):
+        if pooled := pooling_note(loaded, r):  # the model as fitted at that many replicates
+            out.print(
+                f"with {r} replicate{'s' if r != 1 else ''}: {pooled} (as the report's ANOVA "
+                "does; the error df above count them)",
+                markup=False,
+                highlight=False,
+            )
     if loaded.center_points:
         out.print(
             f"runs: the design's tests, its {loaded.center_points} centre point"

@@ -43,6 +43,7 @@ if TYPE_CHECKING:
 __all__ = [
     "POWER_COLUMNS",
     "factor_power",
+    "pooling_note",
     "pure_error_sigma",
     "replicates_needed",
     "smallest_effect",
@@ -245,6 +246,38 @@ def _tests_at(
         name: (df_f, df_error + (r - 2) * design.n_tests, per_unit * r / 2)
         for name, (df_f, df_error, per_unit) in two.items()
     }
+
+
+def pooling_note(design: Design, replicates: int) -> str:
+    """What the study's ANOVA pools into the error over ``replicates`` repeats of the
+    design's tests, where its model would leave no error degrees of freedom: e.g. ``"model
+    with two-factor interactions is saturated (0 residual df): interactions pooled into the
+    residual, main effects only"``; empty when it pools nothing.
+
+    Parameters
+    ----------
+    design
+        The design.
+    replicates
+        Each test's repeats [-], at least 1.
+
+    Returns
+    -------
+    str
+        The ANOVA's notes on pooling, joined by ``"; "``.
+    """
+    from brakeca.analysis import anova
+
+    frame = _runs(design, replicates)
+    table = anova(
+        frame.assign(y=np.cos(np.arange(len(frame)) * 2.399963)),
+        list(design.factors),
+        "y",
+        interactions=design.anova_model,
+        typ=design.anova_type,
+    )
+    parts = [p.strip() for p in str(table.attrs.get("note", "")).split(";")]
+    return "; ".join(p for p in parts if "pooled into the residual" in p)
 
 
 def _power_table(

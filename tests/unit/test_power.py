@@ -269,3 +269,38 @@ def test_a_run_table_has_the_power_of_the_same_full_factorial():
     assert smallest_effect(table, sigma=0.01, target=0.8, replicates=[2])["effect"].gt(0).all()
     with pytest.raises(ValueError, match=r"replicates: expected a list of whole numbers, e.g\."):
         smallest_effect(table, sigma=0.01, replicates=2)  # type: ignore[arg-type]
+
+
+def test_power_says_where_the_model_pools_its_interactions(tmp_path) -> None:
+    """A black-box review: an unreplicated 2 x 2 leaves its interaction no error, so the
+    model pools it (error df 1), yet power's footer read 'main effects and two-factor
+    interactions'. It now says at which replicates the model pools what."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+    from brakeca.power import pooling_note
+
+    spec = {
+        "name": "ff",
+        "base": "paper",
+        "root_seed": 1,
+        "factors": [
+            {"name": "WP", "levels": [1e-15, 1e-13]},
+            {"name": "A", "levels": [10, 20]},
+        ],
+    }
+    design = design_from_dict(spec)
+    assert "interactions pooled into the residual, main effects only" in pooling_note(design, 1)
+    assert pooling_note(design, 2) == ""
+    assert pooling_note(load_design("paper"), 1) == ""
+    path = tmp_path / "ff.toml"
+    path.write_text(
+        'name = "ff"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "WP"\n'
+        'levels = [1e-15, 1e-13]\n[[factors]]\nname = "A"\nlevels = [10, 20]\n'
+    )
+    args = ["power", str(path), "--effect", "0.01", "--sigma", "0.0059", "--replicates", "1,2"]
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 0, res.output
+    text = " ".join(res.output.split())
+    assert "with 1 replicate: model with two-factor interactions is saturated" in text
+    assert "with 2 replicates:" not in text
