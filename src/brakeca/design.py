@@ -1487,6 +1487,13 @@ class GoalSpec(_Frozen):
     weight: float = 1.0
     importance: float = 1.0
 
+    @field_validator("goal", mode="before")
+    @classmethod
+    def _short_kind(cls, value: Any) -> Any:
+        """``min`` and ``max``, as ``brakeca optimize --goal`` writes them (a black-box review
+        saw them refused in a design file)."""
+        return {"min": "minimize", "max": "maximize"}.get(value, value)
+
     @model_validator(mode="after")
     def _as_goal(self) -> GoalSpec:
         self.to_goal(scale=1.0)  # rsm.Goal's checks and messages, in the design's units

@@ -1039,8 +1039,15 @@ class Goal:
         if not (math.isfinite(self.lower) and math.isfinite(self.upper)):
             raise ValueError(f"{where}: the limits must be finite numbers")
         if not self.lower < self.upper:
+            # named as describe() names them: a minimum's lower number is its target, a
+            # maximum's upper one (a black-box review saw 'lower limit' for a minimum's target)
+            first, second = {
+                "minimize": ("target", "upper limit"),
+                "maximize": ("lower limit", "target"),
+            }.get(self.kind, ("lower limit", "upper limit"))
             raise ValueError(
-                f"{where}: lower limit {self.lower:g} must be below upper limit {self.upper:g}"
+                f"{where}: {self.kind}: the {first} {self.lower:g} (lower) must be below the "
+                f"{second} {self.upper:g} (upper)"
             )
         if self.kind == "target":
             if self.target is None or not self.lower < self.target < self.upper:
@@ -1080,7 +1087,8 @@ class Goal:
         Returns
         -------
         str
-            The kind, then each of :attr:`bounds` with its name.
+            The kind, then each of :attr:`bounds` with its name, then ``weight`` and
+            ``importance`` where they are not 1.
         """
         names = {
             "minimize": ("target", "upper"),
@@ -1090,7 +1098,12 @@ class Goal:
         values = ", ".join(
             f"{n} {format(v * scale, spec)}" for n, v in zip(names, self.bounds, strict=True)
         )
-        return f"{self.kind}: {values}"
+        extra = "".join(
+            f", {key} {getattr(self, key):g}"
+            for key in ("weight", "importance")
+            if getattr(self, key) != 1.0
+        )
+        return f"{self.kind}: {values}{extra}"
 
     @property
     def acceptance_limits(self) -> tuple[float, ...]:

@@ -112,7 +112,9 @@ def test_a_plackett_burman_design_is_partly_confounded(tmp_path) -> None:
 def test_a_bad_optimize_goal_is_named_in_its_own_units(tmp_path) -> None:
     res = CliRunner().invoke(app, ["optimize", str(tmp_path), "-g", "V:min:5:0.1"])
     assert res.exit_code == 2
-    assert "goal of V: lower limit 5 must be below upper limit 0.1" in res.output  # mm³
+    assert (
+        "goal of V: minimize: the target 5 (lower) must be below the upper limit 0.1" in res.output
+    )
 
 
 def _table_lines(text: str, title: str) -> list[str]:

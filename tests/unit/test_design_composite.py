@@ -549,7 +549,7 @@ def test_goals_of_a_response_surface_design_round_trip_and_convert_v_to_si():
         (_GOALS[:1], {"composite": None}, "goals: the report optimizes goals on the response"),
         ([_GOALS[0], _GOALS[0]], {}, "goals #2.response: 'V' has a goal already"),
         ([{**_GOALS[0], "lower": 5.0, "upper": 0.1}], {},
-         "lower limit 5 must be below upper limit 0.1"),  # in the design's mm³
+         "minimize: the target 5 (lower) must be below the upper limit 0.1 (upper)"),
         ([{**_GOALS[1], "target": 0.5}], {}, "a target goal needs a target strictly between 0.3"),
         ([{**_GOALS[0], "response": "W"}], {}, "goals #1.response"),
         ([{**_GOALS[0], "goal": "least"}], {}, "goals #1.goal"),

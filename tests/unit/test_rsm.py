@@ -252,6 +252,21 @@ def _bowl(centre: tuple[float, float], noise: float = 0.0) -> pd.DataFrame:
 _PQ = (Coding("p", -1.0, 1.0), Coding("q", -1.0, 1.0))
 
 
+def test_a_goal_names_its_weight_and_importance_and_a_design_takes_min_and_max() -> None:
+    """A black-box review: weight and importance, set in a design file or from Python, were
+    shown in no goal table; a design file refused the 'min' and 'max' that --goal takes."""
+    from brakeca.design import GoalSpec
+
+    assert Goal("y", "maximize", 1.0, 3.0).describe() == "maximize: lower 1, target 3"
+    weighted = Goal("y", "maximize", 1.0, 3.0, weight=2.0, importance=3.0)
+    assert weighted.describe() == "maximize: lower 1, target 3, weight 2, importance 3"
+    short = GoalSpec(response="MU", goal="min", lower=0.2, upper=0.3)
+    assert (
+        short.goal == "minimize"
+        and GoalSpec(response="MU", goal="max", lower=0.2, upper=0.3).goal == "maximize"
+    )
+
+
 def test_desirability_functions() -> None:
     low = Goal("y", "minimize", 1.0, 3.0)
     np.testing.assert_allclose(low.desirability([0.5, 1.0, 2.0, 3.0, 4.0]), [1, 1, 0.5, 0, 0])
@@ -262,7 +277,10 @@ def test_desirability_functions() -> None:
         target.desirability([1.0, 1.25, 1.5, 2.25, 3.0]), [0, 0.5, 1, 0.5, 0]
     )
     for kwargs, message in [
-        ({"kind": "minimize", "lower": 2.0, "upper": 1.0}, "must be below upper"),
+        (
+            {"kind": "minimize", "lower": 2.0, "upper": 1.0},
+            "must be below the upper limit 1 \\(upper\\)",
+        ),
         ({"kind": "target", "lower": 1.0, "upper": 2.0}, "strictly between"),
         ({"kind": "target", "lower": 1.0, "upper": 2.0, "target": 2.0}, "strictly between"),
         ({"kind": "maximize", "lower": 1.0, "upper": 2.0, "target": 1.5}, "only a 'target'"),
