@@ -1539,6 +1539,11 @@ def power(
                 loaded, sigma, target=target, replicates=counts, alpha=alpha
             )
         elif target is not None:
+            if counts is not None:  # (they were ignored: a black-box review)
+                raise ValueError(
+                    "--replicates with --target and --effect: the search finds the replicates "
+                    "itself; give --replicates without --target for the power at those"
+                )
             table_data = replicates_needed(loaded, effect, sigma, target=target, alpha=alpha)
         else:
             table_data = factor_power(loaded, effect, sigma, replicates=counts, alpha=alpha)

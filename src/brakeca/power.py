@@ -117,6 +117,9 @@ def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[
     for r in counts:
         if isinstance(r, bool) or not isinstance(r, int | np.integer) or r < 1:
             raise ValueError(f"replicates: expected whole numbers of 1 or more, got {r!r}")
+    twice = sorted({int(r) for r in counts if counts.count(r) > 1})
+    if twice:
+        raise ValueError(f"replicates: {twice[0]} is given twice")
     return [int(r) for r in counts]
 
 
@@ -357,13 +360,16 @@ def replicates_needed(
     Raises
     ------
     ValueError
-        As :func:`factor_power`, or ``target`` outside (0, 1).
+        As :func:`factor_power`, or ``target`` not above ``alpha`` and below 1.
     TypeError
         As :func:`factor_power`.
     """
     design = _check(design, sigma, alpha, effect)
-    if isinstance(target, bool | str) or not 0 < target < 1:
-        raise ValueError(f"target: expected a power between 0 and 1, got {target!r}")
+    if isinstance(target, bool | str) or not alpha < target < 1:
+        # a power at or below alpha is met without any effect (a black-box review)
+        raise ValueError(
+            f"target: expected a power above alpha ({alpha:g}) and below 1, got {target!r}"
+        )
     rows: dict[int, dict[str, pd.Series]] = {}
     cache: dict[int, dict[str, tuple[float, float, float]]] = {}
 

@@ -93,11 +93,16 @@ def test_bad_input_names_the_parameter():
     ]:
         with pytest.raises(ValueError, match=message):
             factor_power(design, **kwargs)
-    with pytest.raises(ValueError, match="target: expected a power between 0 and 1"):
+    with pytest.raises(ValueError, match=r"target: expected a power above alpha \(0.05\)"):
         replicates_needed(design, 1.0, 1.0, target=1.0)
+    # at or below alpha it is met with no effect at all (a black-box review)
+    with pytest.raises(ValueError, match=r"target: expected a power above alpha \(0.05\)"):
+        replicates_needed(design, 1.0, 1.0, target=0.02)
+    with pytest.raises(ValueError, match="replicates: 2 is given twice"):
+        factor_power(design, 1.0, 1.0, replicates=[2, 1, 2])
     with pytest.raises(ValueError, match="response-surface design"):
         factor_power(load_design("response_surface"), 1.0, 1.0)
-    with pytest.raises(ValueError, match="target: expected a power between 0 and 1"):
+    with pytest.raises(ValueError, match="target: expected a power above alpha"):
         replicates_needed(design, 1.0, 1.0, target="0.8")
     with pytest.raises(TypeError, match="design: expected a Design, a shipped design's name"):
         factor_power({"name": "paper"}, 1.0, 1.0)
