@@ -121,6 +121,9 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
         "target: lower 0.1, target 0.3, upper 0.6" in res.output
         and "minimize: target 0, upper 50" in res.output
     )
+    # a goal met everywhere: no 'the best setting may lie beyond' (nothing can beat 1)
+    met = " ".join(cli_ok("optimize", str(out), "-g", "MU:min:5:6").split())
+    assert "composite desirability: 1.000" in met and "at the edge of the region" not in met
     reduced = cli_ok("optimize", str(out), "--reduce", "0.5")
     assert "composite desirability: " in reduced
     bad = CliRunner().invoke(app, ["optimize", str(out), "-g", "MU:target:0.3:0.2"])
