@@ -285,24 +285,15 @@ def test_power_says_where_the_model_pools_its_interactions(tmp_path) -> None:
     from brakeca.cli import app
     from brakeca.power import pooling_note
 
-    spec = {
-        "name": "ff",
-        "base": "paper",
-        "root_seed": 1,
-        "factors": [
-            {"name": "WP", "levels": [1e-15, 1e-13]},
-            {"name": "A", "levels": [10, 20]},
-        ],
-    }
-    design = design_from_dict(spec)
-    assert "interactions pooled into the residual, main effects only" in pooling_note(design, 1)
-    assert pooling_note(design, 2) == ""
-    assert pooling_note(load_design("paper"), 1) == ""
     path = tmp_path / "ff.toml"
     path.write_text(
         'name = "ff"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "WP"\n'
         'levels = [1e-15, 1e-13]\n[[factors]]\nname = "A"\nlevels = [10, 20]\n'
     )
+    design = load_design(path)
+    assert "interactions pooled into the residual, main effects only" in pooling_note(design, 1)
+    assert pooling_note(design, 2) == ""
+    assert pooling_note(load_design("paper"), 1) == ""
     args = ["power", str(path), "--effect", "0.01", "--sigma", "0.0059", "--replicates", "1,2"]
     res = CliRunner().invoke(app, args)
     assert res.exit_code == 0, res.output
