@@ -1430,7 +1430,14 @@ def optimize(
 
 @app.command(short_help="how many replicates a design needs to find an effect")
 def power(
-    design: DesignArg,
+    design: Annotated[
+        str,
+        typer.Argument(
+            metavar="DESIGN",
+            help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}; "
+            "not a response-surface design (its report fits a quadratic, not this ANOVA)",
+        ),
+    ],
     effect: Annotated[
         float | None,
         typer.Option(
@@ -1497,6 +1504,12 @@ def power(
 
     try:
         loaded = load_design(design)
+        if loaded.is_response_surface:  # refused before anything is printed
+            raise ValueError(
+                f"{loaded.name} is a {loaded.kind}: power is computed for the factorial "
+                "ANOVA's factors, not for a response-surface design's quadratic terms (its "
+                "report fits the quadratic); brakeca design shows the terms its runs estimate"
+            )
         _check_combinations(loaded)  # every run's levels together, as brakeca run does
         if sigma is None and sigma_from is None:
             raise ValueError("give the response's scatter: --sigma S or --sigma-from FOLDER")

@@ -159,6 +159,10 @@ def test_the_power_command():
     assert res.exit_code == 0 and "fewest replicates for power 0.9" in res.output
     res = runner.invoke(app, ["power", "response_surface", "--effect", "1", "--sigma", "1"])
     assert res.exit_code != 0 and "response-surface design" in res.output
+    # refused before --sigma-from is read and its sigma printed (a black-box review)
+    res = runner.invoke(app, ["power", "response_surface", "--effect", "1", "--sigma-from", "."])
+    assert res.exit_code == 2 and "sigma:" not in res.output
+    assert "not for a response-surface design's quadratic terms" in " ".join(res.output.split())
     for args, message in [
         (["--effect", "0.01"], "give the response's scatter: --sigma S or --sigma-from"),
         (["--effect", "-1", "--sigma", "1"], "--effect: expected a finite number above 0"),
