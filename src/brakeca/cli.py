@@ -12,7 +12,7 @@ from __future__ import annotations
 import itertools
 import math
 import sys
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Annotated, Any, NoReturn
@@ -208,15 +208,15 @@ def _unused_levels_note(design: Any) -> None:
         )
 
 
-def _trace_notes(points: Sequence[Any]) -> None:
-    """The trace notes of :func:`_slow_events_note` and :func:`_wheel_load_note` for the
-    runs of a campaign (``points``: :class:`brakeca.design.RunPoint`), each text once: the
-    trace of ``--cycle``, of the design's base, or of a design factor on the cycle."""
+def _trace_notes(configs: Iterable[SimulationConfig]) -> None:
+    """The notes on the speed traces of ``configs`` (a run's, or a campaign's runs'), each
+    text once: events that look like speed noise (:func:`brakeca.traces.slow_events_warning`)
+    and a car whose front wheel load is not the brake's
+    (:func:`brakeca.traces.wheel_load_note`)."""
     from brakeca.traces import configured_cycle, slow_events_warning, wheel_load_note
 
     said: set[str] = set()
-    for point in points:
-        config = point.config
+    for config in configs:
         if not config.cycle.trace_file:
             continue
         texts = [
@@ -230,26 +230,6 @@ def _trace_notes(points: Sequence[Any]) -> None:
             if text is not None and text not in said:
                 said.add(text)
                 console.print(f"[yellow]{kind}:[/] {escape(text)}", highlight=False)
-
-
-def _slow_events_note(events: Sequence[Any], threshold: float) -> None:
-    """A warning for a trace whose events look like noise
-    (:func:`brakeca.traces.slow_events_warning`)."""
-    from brakeca.traces import slow_events_warning
-
-    text = slow_events_warning(events, threshold)
-    if text is not None:
-        console.print(f"[yellow]warning:[/] {escape(text)}", highlight=False)
-
-
-def _wheel_load_note(config: SimulationConfig) -> None:
-    """A note for a trace run whose brake load does not fit its car
-    (:func:`brakeca.traces.wheel_load_note`)."""
-    from brakeca.traces import wheel_load_note
-
-    text = wheel_load_note(config)
-    if text is not None:
-        console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
 
 
 def _design_percent_note(design: Any) -> None:
@@ -471,8 +451,7 @@ def simulate(
         f"{n_stops} stop{'' if n_stops == 1 else 's'} ({steps:,} time steps), seed {seed}"
         + (" (quick)" if config.quick else "")
     )
-    _slow_events_note(source.events, config.cycle.trace.threshold)
-    _wheel_load_note(config)
+    _trace_notes([config])
     asked = config.cycle.max_stops
     if asked is not None and asked > source.n_total:
         console.print(
@@ -892,21 +871,23 @@ def _run_and_report(
         loaded = load_design(design)
         _design_percent_note(loaded)
         _unused_levels_note(loaded)
-        points = loaded.points(overrides=updates, quick=quick, max_stops=stops)
-        _trace_notes(points)
+        # each test's configuration once (replicates share it), and each cycle once
+        configs = list(
+            dict.fromkeys(
+                p.config for p in loaded.points(overrides=updates, quick=quick, max_stops=stops)
+            )
+        )
+        _trace_notes(configs)
         if stops is not None:
             from brakeca.traces import configured_cycle
 
             # every run's cycle: a design factor on the cycle may give runs another one
-            n_total = max(configured_cycle(p.config).n_total for p in points)
+            cycles = {c.cycle: c for c in configs}
+            n_total = max(configured_cycle(c).n_total for c in cycles.values())
             if stops > n_total:
                 console.print(
                     f"[yellow]note:[/] --stops {stops}: the "
-                    + (
-                        "cycle has"
-                        if len({p.config.cycle for p in points}) == 1
-                        else "longest cycle of the runs has"
-                    )
+                    + ("cycle has" if len(cycles) == 1 else "longest cycle of the runs has")
                     + f" {n_total} stops, so every run goes its whole cycle",
                     highlight=False,
                 )
