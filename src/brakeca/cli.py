@@ -1481,16 +1481,17 @@ def power(
     from rich.table import Table
 
     from brakeca.design import GOAL_RESPONSES, load_design
-    from brakeca.power import factor_power, pure_error_sigma, replicates_needed, smallest_effect
+    from brakeca.power import (
+        check_factorial,
+        factor_power,
+        pure_error_sigma,
+        replicates_needed,
+        smallest_effect,
+    )
 
     try:
         loaded = load_design(design)
-        if loaded.is_response_surface:  # refused before anything is printed
-            raise ValueError(
-                f"{loaded.name} is a {loaded.kind}: power is computed for the factorial "
-                "ANOVA's factors, not for a response-surface design's quadratic terms (its "
-                "report fits the quadratic); brakeca design shows the terms its runs estimate"
-            )
+        check_factorial(loaded)  # refused before anything is printed
         _check_combinations(loaded)  # every run's levels together, as brakeca run does
         if sigma is None and sigma_from is None:
             raise ValueError("give the response's scatter: --sigma S or --sigma-from FOLDER")

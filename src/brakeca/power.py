@@ -42,6 +42,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "POWER_COLUMNS",
+    "check_factorial",
     "factor_power",
     "pooling_note",
     "pure_error_sigma",
@@ -93,12 +94,25 @@ def _check(
             f"design: expected a Design, a shipped design's name or a design file, got "
             f"{type(design).__name__}"
         )
+    check_factorial(design)
+    return design
+
+
+def check_factorial(design: Design) -> None:
+    """Refuse a response-surface design (ValueError naming it): power is computed for the
+    factorial ANOVA's factors, and such a design's report fits a quadratic instead.
+
+    Parameters
+    ----------
+    design
+        The design.
+    """
     if design.is_response_surface:
         raise ValueError(
-            "design: the power of a response-surface design's terms is not computed here (its "
-            "report fits a quadratic surface, not the factorial ANOVA)"
+            f"design: {design.name} is a {design.kind}: power is computed for the factorial "
+            "ANOVA's factors, not for a response-surface design's quadratic terms (its "
+            "report fits the quadratic); brakeca design shows the terms its runs estimate"
         )
-    return design
 
 
 def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[int]:
