@@ -1233,14 +1233,10 @@ def _nearest_limits(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) -> 
     total: Any = 0.0
     for g in goals:
         y = np.asarray(values[g.response], dtype=float)
-        span = g.upper - g.lower
-        if g.kind == "minimize":
-            miss = np.maximum(y - g.upper, 0.0)
-        elif g.kind == "maximize":
-            miss = np.maximum(g.lower - y, 0.0)
-        else:
-            miss = np.maximum(g.lower - y, 0.0) + np.maximum(y - g.upper, 0.0)
-        total = total - g.importance * miss / span
+        low = -math.inf if g.kind == "minimize" else g.lower  # a minimum has no lower limit
+        high = math.inf if g.kind == "maximize" else g.upper  # nor a maximum an upper one
+        miss = np.maximum(low - y, 0.0) + np.maximum(y - high, 0.0)
+        total = total - g.importance * miss / (g.upper - g.lower)
     return np.asarray(total, dtype=float)
 
 
@@ -1342,10 +1338,11 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     axes = [np.linspace(lo, hi, _GRID.get(k, 5) if hi > lo else 1) for lo, hi in bounds]
     mesh = np.meshgrid(*axes, indexing="ij")
     grid = {n: m.ravel() for n, m in zip(factors, mesh, strict=True)}
+    on_grid = values_at(grid)  # the surfaces' predictions over the grid, once
     score = _composite
     note = ""
-    if not np.any(_composite(goals, values_at(grid)) > 0):
-        if np.any(_mean_desirability(goals, values_at(grid)) > 0):
+    if not np.any(_composite(goals, on_grid) > 0):
+        if np.any(_mean_desirability(goals, on_grid) > 0):
             score = _mean_desirability  # some goal is missed everywhere: a compromise
             note = (
                 "no setting in the region meets every goal's limits (composite desirability 0 "
@@ -1358,7 +1355,7 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 "setting nearest the goals' limits (each goal's distance beyond its limit, in "
                 "spans of its limits): the fitted responses do not reach the limits asked for"
             )
-    scores = score(goals, values_at(grid))
+    scores = score(goals, on_grid)
     starts = np.argsort(-scores, kind="stable")[:10]
     best_x = np.array([grid[n][starts[0]] for n in factors])
     best_score = float(scores[starts[0]])
