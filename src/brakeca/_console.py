@@ -11,6 +11,7 @@ library caller may give).
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 from rich.console import Console
@@ -34,3 +35,12 @@ class LogConsole(Console):
         if soft_wrap is None and _unwrapped(self, objects):
             soft_wrap = True
         super().print(*objects, soft_wrap=soft_wrap, **kwargs)
+
+
+def tests_named(numbers: Iterable[int], most: int = 8) -> str:
+    """Test numbers in a message, each once and in order, at most ``most`` of them:
+    ``"test 3"``, ``"tests 1, 2, 4"``, ``"tests 1, 2, ... and others"``."""
+    shown = sorted(set(numbers))
+    return f"test{'s' if len(shown) > 1 else ''} {', '.join(map(str, shown[:most]))}" + (
+        " and others" if len(shown) > most else ""
+    )

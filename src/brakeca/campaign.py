@@ -328,7 +328,7 @@ def _run_locked(
     """The body of :func:`run_campaign`, run while the campaign directory is locked."""
     from rich.markup import escape
 
-    from brakeca._console import say
+    from brakeca._console import say, tests_named
 
     runs = out / "runs"
     runs.mkdir(parents=True, exist_ok=True)
@@ -370,13 +370,10 @@ def _run_locked(
         todo.append(point)
 
     if without_maps:
-        numbers = sorted({p.test for p in without_maps})
-        tests = ", ".join(map(str, numbers[:8]))
-        more = " and others" if len(numbers) > 8 else ""
         say(
             console,
-            f"[yellow]warning:[/] {len(without_maps)} finished run(s) (of test"
-            f"{'s' if len(numbers) > 1 else ''} {tests}{more}) "
+            f"[yellow]warning:[/] {len(without_maps)} finished run(s) (of "
+            f"{tests_named(p.test for p in without_maps)}) "
             f"ran without keeping maps after stops {', '.join(map(str, how.maps_at))}; they "
             "are reused as they are, without those maps. Delete their run files in "
             f"{escape(str(runs))} to run them again with the maps",

@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca import __version__
+from brakeca._console import tests_named
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
 from brakeca.results import RunResult
@@ -852,16 +853,12 @@ def write_study(
         "Modelling decisions: docs/model.md."
     )
     if len(filed) < len(ok):
-        tests = sorted({int(t) for t in ok.loc[~ok["run_id"].isin(filed["run_id"]), "test"]})
-        n_lost = len(ok) - len(filed)
+        lost = ok.loc[~ok["run_id"].isin(filed["run_id"]), "test"]
         which = (
             f"none of the {len(ok)} finished runs has its run file"
             if not len(filed)
-            else f"{n_lost} of the {len(ok)} finished runs have no run file (of test"
-            + ("s " if len(tests) > 1 else " ")
-            + ", ".join(map(str, tests[:8]))
-            + (" and others" if len(tests) > 8 else "")
-            + ")"
+            else f"{len(lost)} of the {len(ok)} finished runs have no run file (of "
+            f"{tests_named(int(t) for t in lost)})"
         )
         notes += (
             f"\n\nIn {runs_dir}, {which}: the tables and the per-stop figures come from "
