@@ -124,11 +124,10 @@ def _maps_for(maps_at: Iterable[int], points: Sequence[RunPoint]) -> list[int]:
         maps_at = list(maps_at)  # (a generator is read once)
         if not maps_at:
             return []
-    stops: dict[str, int] = {}
+    stops: dict[Any, int] = {}  # each cycle's stops, counted once
     for point in points:
-        key = point.config.cycle.model_dump_json()
-        if key not in stops:
-            stops[key] = len(cycle_events(point.config))
+        if point.config.cycle not in stops:
+            stops[point.config.cycle] = len(cycle_events(point.config))
     try:
         return map_stops(maps_at, min(stops.values(), default=0))
     except ValueError as exc:  # a ConfigError, as the design's and the overrides' are
