@@ -781,7 +781,9 @@ def backward_elimination(
     """A reduced response surface: from the full quadratic, drop the term with the largest p
     value above ``alpha``, refit, and go on until every term left has p <= ``alpha``, keeping
     the model hierarchical (a factor's linear term stays while a square or interaction of it
-    does), as Minitab's backward elimination ("alpha to remove", 0.1 by default).
+    does), as Minitab's backward elimination ("alpha to remove", 0.1 by default). A term
+    the full quadratic leaves out, since the runs cannot estimate it apart from the terms
+    before it, stays out: removing its alias partner does not bring it in.
 
     Parameters
     ----------
@@ -807,16 +809,20 @@ def backward_elimination(
     factors = list(factors)
     removed: list[str] = []
     fit = fit_response_surface(summary, factors, response)
+    # the terms the full model cannot estimate stay out, as in Minitab, which removes them
+    # once before the elimination: dropping an alias partner would otherwise let one in
+    aliased = [n for n in fit.notes if n.endswith(LEFT_OUT_NOTE)]
+    never = [n[: -len(LEFT_OUT_NOTE)] for n in aliased]
     while True:
         p = dict(zip(fit.coefficients["term"], fit.coefficients["p_value"], strict=True))
         worst = _next_to_remove({t: p[t] for t in _removable(fit.terms)}, alpha)
         if worst is None:
             break
         removed.append(worst)
-        fit = fit_response_surface(summary, factors, response, exclude=removed)
+        fit = fit_response_surface(summary, factors, response, exclude=[*never, *removed])
     if removed:
         note = f"removed by backward elimination (alpha to remove {alpha:g}): {', '.join(removed)}"
-        object.__setattr__(fit, "notes", (*fit.notes, note))
+        object.__setattr__(fit, "notes", (*fit.notes, *aliased, note))
     return fit
 
 

@@ -535,3 +535,28 @@ def test_goals_missed_everywhere_give_the_setting_nearest_their_limits() -> None
     both = optimize(fits, [Goal("y", "maximize", 10.0, 12.0), Goal("z", "maximize", 0.0, 2.0)])
     assert "this is the setting of the largest mean desirability instead" in both.note
     assert both.coded["q"] == pytest.approx(1.0)
+
+
+def test_backward_elimination_never_brings_back_an_aliased_term() -> None:
+    from brakeca.rsm import LEFT_OUT_NOTE, backward_elimination
+
+    # a 2^(4-1) design, d = abc, twice: a*b = c*d, a*c = b*d, a*d = b*c, so the full fit
+    # leaves out b*c, b*d and c*d; removing a*b must not let c*d in (Minitab removes the
+    # terms that cannot be estimated once, before the elimination)
+    rng = np.random.default_rng(5)
+    half = np.array([(a, b, c, a * b * c) for a, b, c in itertools.product((-1.0, 1.0), repeat=3)])
+    x = np.vstack([half, half])
+    frame = pd.DataFrame(x, columns=list("abcd"))
+    frame["y"] = 2.0 + x[:, 0] + 0.8 * x[:, 1] * x[:, 2] + 0.01 * rng.standard_normal(len(x))
+    codings = [Coding(n, -1.0, 1.0) for n in "abcd"]
+    full = fit_response_surface(frame, codings, "y")
+    aliased = {n[: -len(LEFT_OUT_NOTE)] for n in full.notes if n.endswith(LEFT_OUT_NOTE)}
+    assert aliased == {"b*c", "b*d", "c*d"}
+    fit = backward_elimination(frame, codings, "y", alpha=0.05)
+    removed = fit.notes[-1].split(": ", 1)[1].split(", ")
+    assert set(removed) <= set(full.terms)
+    assert set(removed) == {"a*b", "a*c", "b", "c"}
+    assert set(fit.terms) == {"a", "d", "a*d"}
+    assert not aliased & set(fit.terms)
+    # the notes still say which terms the runs cannot estimate
+    assert {f"{t}{LEFT_OUT_NOTE}" for t in aliased} <= set(fit.notes)
