@@ -397,6 +397,39 @@ def _runs_side_by_side(runs: Any, variable: str) -> Any:
     )
 
 
+def _campaign_factors(campaign: Any) -> list[Factor] | None:
+    """The design factors of a campaign: a :class:`~brakeca.campaign.CampaignResult`'s
+    design's, or those a campaign dataset (``campaign.nc``) names in its ``factors``
+    attribute, read from their coordinates' attributes (levels, labels, unit, long name);
+    None for anything else (a run, a mapping of runs)."""
+    if hasattr(campaign, "data_vars"):  # a Dataset: its attrs["design"] is the design's text
+        names = campaign.attrs.get("factors")
+        if isinstance(names, str):  # one factor: netCDF reads a one-item list back as text
+            names = [names]
+        if not names or any(n not in campaign.coords for n in names):
+            return None
+        return [
+            Factor(
+                name=str(n),
+                levels=tuple(np.atleast_1d(campaign[n].attrs["levels"]).tolist()),
+                unit=str(campaign[n].attrs.get("units", "")),
+                label=str(campaign[n].attrs.get("long_name", "")),
+                labels=_labels_attr(campaign[n].attrs.get("labels")),
+            )
+            for n in names
+            if "levels" in campaign[n].attrs
+        ] or None
+    design = getattr(campaign, "design", None)
+    return list(design.factors) if design is not None and hasattr(design, "factors") else None
+
+
+def _labels_attr(labels: Any) -> tuple[str, ...] | None:
+    """A factor's level labels as netCDF stores them (a list, or one text for one label)."""
+    if labels is None:
+        return None
+    return (str(labels),) if isinstance(labels, str) else tuple(str(x) for x in labels)
+
+
 def plot_mu_per_stop(
     campaign: Any,
     path: str | Path | None = None,
@@ -446,9 +479,8 @@ def plot_mu_per_stop(
         or (isinstance(campaign, Sequence) and not isinstance(campaign, str))
     ):
         campaign = _runs_side_by_side(campaign, variable)
-    design = getattr(campaign, "design", None)  # a CampaignResult: its design's factors
-    if factors is None and design is not None:
-        factors = design.factors
+    if factors is None:
+        factors = _campaign_factors(campaign)
     campaign = getattr(campaign, "dataset", campaign)  # a CampaignResult or a RunResult
     if not hasattr(campaign, "data_vars"):
         raise TypeError(
@@ -588,9 +620,8 @@ def plot_mu_per_stop_by_level(
     """
     import matplotlib as mpl
 
-    design = getattr(campaign, "design", None)
-    if factors is None and design is not None:
-        factors = design.factors
+    if factors is None:
+        factors = _campaign_factors(campaign)
     data = getattr(campaign, "dataset", campaign)
     factors = [as_factor(f) for f in (factors or ())]
     factors = [f for f in factors if f.name in getattr(data, "coords", {})]

@@ -643,3 +643,25 @@ def test_an_edited_value_of_the_summary_is_named(serial, tmp_path):
         with pytest.raises(ValueError, match=re.escape(problem)):
             load_campaign(out)
     pd.testing.assert_frame_equal(load_campaign(serial.out_dir).summary, serial.summary)
+
+
+def test_plots_of_a_campaign_dataset_read_its_factors(serial):
+    """``campaign.nc`` opened with xarray is drawn as the CampaignResult is, its factors read
+    from the factor coordinates' attributes; ``ds.design`` (the design's text) had raised
+    AttributeError in plot_mu_per_stop (an API review)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.text import Text
+
+    from brakeca.plotting import plot_mu_per_stop, plot_mu_per_stop_by_level
+
+    with xr.open_dataset(serial.out_dir / "campaign.nc") as ds:
+        assert isinstance(ds.attrs["design"], str)
+        for plot in (plot_mu_per_stop, plot_mu_per_stop_by_level):
+            texts = [
+                [t.get_text() for t in fig.findobj(Text) if t.get_text()]
+                for fig in (plot(ds.load()), plot(serial))
+            ]
+            assert texts[0] == texts[1]
+            assert any("S+" in t or t == "+" for t in texts[0])  # the factors' labels
