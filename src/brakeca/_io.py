@@ -38,12 +38,18 @@ CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
 
 
 def checkpoint_is_of(meta: dict[str, Any], config: Any, seed: int) -> bool:
-    """Whether a checkpoint's ``meta`` entry names this format, ``config`` and ``seed``."""
-    return bool(
-        meta.get("format") == CHECKPOINT_FORMAT
-        and meta.get("config") == config.to_toml()
-        and meta.get("seed") == seed
-    )
+    """Whether a checkpoint's ``meta`` entry names this format, ``config`` and ``seed``. A
+    checkpoint written by a version whose configuration lacked a field added since (at the
+    value :data:`brakeca.config.ID_NEUTRAL` gives it) is of the same run, as its run id is."""
+    if meta.get("format") != CHECKPOINT_FORMAT or meta.get("seed") != seed:
+        return False
+    text = meta.get("config")
+    if text == config.to_toml():
+        return True
+    try:
+        return bool(type(config).from_toml(str(text)).identity_toml() == config.identity_toml())
+    except ValueError:  # not a configuration this version reads (ConfigError)
+        return False
 
 
 def _checkpoint_meta(path: Path) -> Any:

@@ -646,8 +646,9 @@ def point_seed(root_seed: int, test: int, replicate: int) -> int:
 
 
 def run_id_for(config: SimulationConfig, seed: int) -> str:
-    """Stable 16-hex-digit identifier of (config, seed): sha256 of the config TOML and seed."""
-    text = config.to_toml() + f"\n# seed\n{int(seed)}\n"
+    """Stable 16-hex-digit identifier of (config, seed): sha256 of the config's TOML (its
+    :meth:`~brakeca.config.SimulationConfig.identity_toml`) and the seed."""
+    text = config.identity_toml() + f"\n# seed\n{int(seed)}\n"
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
 

@@ -17,7 +17,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
@@ -237,6 +237,7 @@ def end_of_stop(
     state: SimulationState,
     removal_fraction: float,
     rng: np.random.Generator,
+    rule: Literal["count", "draw"] = "count",
 ) -> tuple[float, int]:
     """Between stops: the particles in the contact leave it, and rule S removes secondaries.
 
@@ -246,9 +247,14 @@ def end_of_stop(
         Run state, changed in place.
     removal_fraction
         S [-]: 0 keeps every secondary plateau, 1 removes all; in between a random fraction
-        S of them (``round(S n)`` cells drawn without replacement from ``rng``).
+        S of them, as ``rule`` picks them.
     rng
-        The run's generator (drawn from only when 0 < S < 1).
+        The run's generator (drawn from only when 0 < S < 1 and there is a secondary
+        plateau).
+    rule
+        ``"count"``: ``round(S n)`` of the ``n`` secondary plateaus (Python's rounding, half
+        to even), drawn without replacement; ``"draw"``: each one with probability S, one
+        uniform number per plateau in cell order (``automaton.secondary_removal_rule``).
 
     Returns
     -------
@@ -264,6 +270,8 @@ def end_of_stop(
         chosen = secondary
     elif removal_fraction <= 0.0 or secondary.size == 0:
         chosen = secondary[:0]
+    elif rule == "draw":
+        chosen = secondary[rng.random(secondary.size) < removal_fraction]
     else:
         n_remove = round(removal_fraction * secondary.size)
         chosen = np.sort(rng.choice(secondary, size=n_remove, replace=False))
@@ -456,7 +464,12 @@ def simulate(
     start = sum(d.size for d in log.dts)  # steps done before the first stop to run
     for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
-        flush, n_removed = end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
+        flush, n_removed = end_of_stop(
+            state,
+            config.automaton.secondary_removal_fraction,
+            rng,
+            config.automaton.secondary_removal_rule,
+        )
         try:
             exposure = expose_fibres(state, config.pad, grid)
         except FibreFieldError as exc:

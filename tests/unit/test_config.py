@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from brakeca.config import ConfigError, SimulationConfig, item_path, parse_override
-from brakeca.design import design_from_dict
+from brakeca.design import design_from_dict, load_design
 from brakeca.presets import load_cycle, load_preset
 
 
@@ -325,3 +325,89 @@ def test_a_field_of_fixed_choices_is_commented_with_its_choices() -> None:
     text = load_preset("paper").with_updates({"numerics.kernel": "exact"}).to_commented_toml()
     assert "kernel = \"exact\"  # one of 'auto', 'lazy', 'exact'\n" in text
     assert "fibre_model = \"columns\"  # one of 'columns', 'layer', 'field'\n" in text
+
+
+#: The configuration's fields when run ids were first issued (0.1.0). A field added since
+#: must be in config.ID_NEUTRAL with the value that does what brakeca did before it, or
+#: every finished campaign's run ids change with it (and its runs are computed again).
+FIRST_ID_FIELDS = """
+vehicle.wheel_load_mass vehicle.wheel_radius vehicle.gravity brake.disc_outer_radius
+brake.disc_inner_radius brake.effective_radius brake.pad_area brake.piston_diameter
+brake.pads_per_brake mesh.angular_step_deg mesh.radial_step mesh.n_angular mesh.n_radial
+mesh.n_subdomains mesh.inner_radius pad.fibre_area_fraction pad.fibre_length_min
+pad.fibre_length_max pad.fibre_diameter_min pad.fibre_diameter_max pad.resin_roughness
+pad.fibre_model contact.elastic_modulus contact.bar_length friction.mu_0 friction.slope
+friction.mu_min wear.specific_wear_rate wear.resin_wear_depth
+automaton.secondary_removal_fraction automaton.rule6_max_gap automaton.creation_order
+cycle.name cycle.blocks[].name cycle.blocks[].initial_speed_kmh cycle.blocks[].final_speed_kmh
+cycle.blocks[].deceleration_g cycle.blocks[].stops cycle.trace_file cycle.trace_sha256
+cycle.trace_speed_unit cycle.trace.threshold cycle.trace.min_duration cycle.trace.smoothing
+cycle.trace.merge_gap cycle.trace.vehicle_mass cycle.trace.rolling_resistance
+cycle.trace.drag_area cycle.trace.air_density cycle.trace.gravity cycle.trace.friction_share
+cycle.trace.front_brake_share cycle.trace.front_load_share cycle.trace.min_brake_deceleration
+cycle.max_stops output.series_every output.ledger_tolerance output.ledger_every
+numerics.kernel quick
+""".split()
+
+
+def _field_paths(cls, prefix: str = "") -> list[str]:
+    import typing
+
+    from pydantic import BaseModel
+
+    paths = []
+    for name, field in cls.model_fields.items():
+        args = typing.get_args(field.annotation) or (field.annotation,)
+        models = [a for a in args if isinstance(a, type) and issubclass(a, BaseModel)]
+        if models:
+            many = typing.get_origin(field.annotation) is tuple
+            paths += _field_paths(models[0], f"{prefix}{name}{'[]' if many else ''}.")
+        else:
+            paths.append(prefix + name)
+    return paths
+
+
+def test_a_field_added_since_the_first_run_ids_is_neutral_in_them() -> None:
+    from brakeca.config import ID_NEUTRAL
+
+    paths = _field_paths(SimulationConfig)
+    added = [p for p in paths if p not in FIRST_ID_FIELDS]
+    assert not [p for p in added if p not in ID_NEUTRAL], (
+        "a configuration field added since the first run ids needs its neutral value (what "
+        "brakeca did before it) in brakeca.config.ID_NEUTRAL"
+    )
+    assert set(ID_NEUTRAL) == set(added)
+    assert set(FIRST_ID_FIELDS) <= set(paths)  # a field removed changes every run id
+    paper = load_preset("paper")
+    for key, neutral in ID_NEUTRAL.items():
+        section, name = key.split(".")
+        assert getattr(getattr(paper, section), name) == neutral  # the default is neutral
+
+
+def test_identity_toml_leaves_out_a_neutral_field_only_at_its_neutral_value() -> None:
+    from brakeca.design import run_id_for
+
+    paper = load_preset("paper")
+    assert "secondary_removal_rule" in paper.to_toml()
+    lines = [x for x in paper.to_toml().splitlines() if "secondary_removal_rule" not in x]
+    assert paper.identity_toml() == "\n".join(lines) + "\n"
+    # the paper study's first run keeps the id brakeca issued before the field existed
+    first = load_design("paper").points()[0]
+    assert run_id_for(first.config, first.seed) == "a4e48375a986b1fa"
+    draw = first.config.with_updates({"automaton.secondary_removal_rule": "draw"})
+    assert 'secondary_removal_rule = "draw"' in draw.identity_toml()
+    assert run_id_for(draw, first.seed) != "a4e48375a986b1fa"
+
+
+def test_a_checkpoint_of_an_earlier_version_is_of_the_same_run() -> None:
+    from brakeca._io import CHECKPOINT_FORMAT, checkpoint_is_of
+
+    paper = load_preset("paper")
+    earlier = {"format": CHECKPOINT_FORMAT, "config": paper.identity_toml(), "seed": 7}
+    assert checkpoint_is_of(earlier, paper, 7)
+    assert checkpoint_is_of({**earlier, "config": paper.to_toml()}, paper, 7)
+    assert not checkpoint_is_of(earlier, paper, 8)
+    assert not checkpoint_is_of(earlier, paper.with_updates({"S": 1}), 7)
+    draw = paper.with_updates({"automaton.secondary_removal_rule": "draw"})
+    assert not checkpoint_is_of(earlier, draw, 7)
+    assert not checkpoint_is_of({**earlier, "config": "not = [toml"}, paper, 7)

@@ -119,3 +119,47 @@ def test_each_rows_sliding_distance_is_its_radius_times_the_subdomain_angle():
     ratio = config.vehicle.wheel_radius / config.brake.effective_radius
     assert step_distance(config) == pytest.approx(grid.step_sliding_distance[100] * ratio)
     assert step_distance(config) == pytest.approx(0.02411, abs=5e-6)
+
+
+@pytest.mark.parametrize("rule", ["count", "draw"])
+def test_rule_s_removes_the_secondary_plateaus_its_rule_picks(rule):
+    """Rule S at S = 0.5: ``count`` removes round(S n) of the n secondary plateaus (half to
+    even), ``draw`` each one whose uniform number is below S, in cell order from the run's
+    generator; both emit the removed deposits with the streams. At S = 1 both remove all
+    and draw nothing. A run with either rule closes its ledger every step."""
+    from brakeca.design import quick_config
+    from brakeca.simulation import SimulationState, advance_stop, cycle_events, end_of_stop
+    from brakeca.surface import generate_surface
+
+    config = quick_config(load_preset("paper")).with_updates(
+        {"cycle.max_stops": 2, "WP": 1e-13, "A": 10}
+    )
+    grid = make_grid(config)
+    rng = np.random.default_rng(3)
+    state = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)
+    advance_stop(state, grid, config, cycle_events(config)[0])
+    secondary = np.flatnonzero(state.status == 2)
+    assert secondary.size > 100
+    deposit = (state.height - state.base) * state.cell_area
+    stream = float(state.inflow.sum())
+    expected_rng = np.random.default_rng(99)
+    if rule == "draw":
+        picked = secondary[expected_rng.random(secondary.size) < 0.5]
+    else:
+        n = round(0.5 * secondary.size)  # Python's rounding: half to even
+        assert secondary.size % 2 == 1 and n % 2 == 0  # a half here, rounded to even
+        picked = np.sort(expected_rng.choice(secondary, size=n, replace=False))
+    emitted, removed = end_of_stop(state, 0.5, np.random.default_rng(99), rule)
+    assert removed == picked.size and 0 < removed < secondary.size
+    assert np.array_equal(np.flatnonzero(state.status == 2), np.setdiff1d(secondary, picked))
+    assert emitted == pytest.approx(stream + float(deposit[picked].sum()), rel=1e-12)
+    # S = 1: every secondary plateau, no number drawn
+    advance_stop(state, grid, config, cycle_events(config)[1])
+    left = int((state.status == 2).sum())
+    untouched = np.random.default_rng(5)
+    assert end_of_stop(state, 1.0, untouched, rule)[1] == left > 0
+    assert untouched.random() == np.random.default_rng(5).random()
+    run = config.with_updates({"S": 0.5, "automaton.secondary_removal_rule": rule})
+    ds = simulate(run, seed=4).dataset
+    assert int(ds["secondary_removed_between_stops"].sum()) > 0
+    assert float(ds["max_ledger_residual"]) < 1e-11
