@@ -1090,12 +1090,27 @@ def parse_overrides(texts: Sequence[str] | None) -> dict[str, Any]:
     return updates
 
 
+def plain_number(value: Any) -> int | float | None:
+    """``value`` as a Python int or float when it is a real number (a numpy integer or float
+    too, as a notebook's ``np.arange`` gives), else None (text, booleans, arrays)."""
+    if isinstance(value, bool | np.bool_):
+        return None
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    return value if isinstance(value, int | float) else None
+
+
 def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
     if key not in FACTOR_ALIASES:
         return key, value
     field, scale, unit = FACTOR_ALIASES[key]
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        raise ConfigError(f"{key} (= {field}): expected a number in {unit}, got {value!r}")
+    number = plain_number(value)
+    if number is None:
+        what = "a number" + ("" if unit == "-" else f" in {unit}")
+        raise ConfigError(f"{key} (= {field}): expected {what}, got {value!r}")
+    value = number
     lo_hi = _ALIAS_RANGES.get(key)
     if lo_hi is not None and not lo_hi[0] <= value < lo_hi[1]:
         raise ConfigError(

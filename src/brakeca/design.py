@@ -118,6 +118,7 @@ from brakeca.config import (
     format_validation_error,
     item_path,
     load_config,
+    plain_number,
     read_csv_text,
 )
 
@@ -427,11 +428,16 @@ class Factor(_Frozen):
     @field_validator("levels", mode="before")
     @classmethod
     def _numbers(cls, value: Any) -> Any:
+        if isinstance(value, np.ndarray) and value.ndim == 1:
+            value = list(value)  # np.logspace(-15, -13, 3)
         if isinstance(value, str | bytes) or not isinstance(value, Sequence):
             raise ValueError(f"levels must be a list of numbers, got {value!r}")
-        for item in value:
-            if isinstance(item, bool) or not isinstance(item, int | float):
+        numbers = [plain_number(item) for item in value]
+        for item, number in zip(value, numbers, strict=True):
+            if number is None:
                 raise ValueError(f"levels must be numbers, got {item!r}")
+        value = numbers
+        for item in value:
             try:
                 finite = math.isfinite(item)
             except OverflowError:

@@ -411,3 +411,36 @@ def test_a_checkpoint_of_an_earlier_version_is_of_the_same_run() -> None:
     draw = paper.with_updates({"automaton.secondary_removal_rule": "draw"})
     assert not checkpoint_is_of(earlier, draw, 7)
     assert not checkpoint_is_of({**earlier, "config": "not = [toml"}, paper, 7)
+
+
+def test_numpy_numbers_are_numbers_to_the_aliases_and_the_levels() -> None:
+    """A notebook's ``np.arange`` gives numpy integers: the factor aliases and a design's
+    levels refused them ("expected a number in %, got np.int64(10)"), while the dotted fields
+    took them (an API review). Booleans, text and arrays stay refused."""
+    import numpy as np
+
+    paper = load_preset("paper")
+    fractions = [
+        paper.with_updates({"A": a}).pad.fibre_area_fraction for a in np.arange(10, 30, 10)
+    ]
+    assert fractions == [0.1, 0.2]
+    assert paper.with_updates({"S": np.int64(1)}).automaton.secondary_removal_fraction == 1.0
+    assert paper.with_updates({"WP": np.float32(1e-13)}).wear.specific_wear_rate == float(
+        np.float32(1e-13)
+    )
+    for bad in (True, np.bool_(True), "x", np.array([1.0])):
+        with pytest.raises(ConfigError, match=r"^S \(= automaton.secondary_removal_fraction\): "
+                           r"expected a number, got "):  # fmt: skip
+            paper.with_updates({"S": bad})
+    with pytest.raises(ConfigError, match=r"expected a number in %, got 'x'"):
+        paper.with_updates({"A": "x"})
+    table = {"name": "d", "base": "paper", "root_seed": 1}
+    factors = [
+        {"name": "WP", "levels": np.logspace(-15, -13, 3)},
+        {"name": "A", "levels": list(np.arange(10, 30, 10))},
+    ]
+    design = design_from_dict({**table, "factors": factors})
+    assert [f.levels for f in design.factors] == [(1e-15, 1e-14, 1e-13), (10, 20)]
+    assert {type(x) for f in design.factors for x in f.levels} <= {int, float}
+    with pytest.raises(ConfigError, match="levels must be a list of numbers"):
+        design_from_dict({**table, "factors": [{"name": "WP", "levels": np.ones((2, 2))}]})
