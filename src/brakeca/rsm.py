@@ -1010,9 +1010,10 @@ class Goal:
     response
         The response column, e.g. ``"MU"`` or ``"log10_V_mm3"``.
     kind
-        ``"minimize"``: desirability 1 at or below ``lower``, 0 at or above ``upper``;
-        ``"maximize"``: 0 at or below ``lower``, 1 at or above ``upper``; ``"target"``: 1 at
-        ``target``, 0 at or beyond ``lower`` and ``upper``.
+        ``"minimize"`` (or ``"min"``): desirability 1 at or below ``lower``, 0 at or above
+        ``upper``; ``"maximize"`` (or ``"max"``): 0 at or below ``lower``, 1 at or above
+        ``upper``; ``"target"``: 1 at ``target``, 0 at or beyond ``lower`` and ``upper``.
+        Given as ``min`` or ``max``, it is kept as ``minimize`` or ``maximize``.
     lower, upper
         The limits [response unit: the unit of the summary column the surface was fitted
         to, so **V in m³** (``Goal("V", "minimize", 0.1e-9, 5e-9)`` for 0.1 to 5 mm³); the
@@ -1029,7 +1030,7 @@ class Goal:
     """
 
     response: str
-    kind: Literal["minimize", "maximize", "target"]
+    kind: Literal["minimize", "maximize", "target", "min", "max"]
     lower: float
     upper: float
     target: float | None = None
@@ -1038,9 +1039,13 @@ class Goal:
 
     def __post_init__(self) -> None:
         where = f"goal of {self.response}"
+        # "min" and "max", as --goal and a design file's [[goals]] take them
+        kind = {"min": "minimize", "max": "maximize"}.get(self.kind, self.kind)
+        object.__setattr__(self, "kind", kind)
         if self.kind not in ("minimize", "maximize", "target"):
             raise ValueError(
-                f"{where}: kind must be 'minimize', 'maximize' or 'target', got {self.kind!r}"
+                f"{where}: kind must be 'minimize' ('min'), 'maximize' ('max') or 'target', "
+                f"got {self.kind!r}"
             )
         if not (math.isfinite(self.lower) and math.isfinite(self.upper)):
             raise ValueError(f"{where}: the limits must be finite numbers")
@@ -1057,9 +1062,17 @@ class Goal:
             )
         if self.kind == "target":
             if self.target is None or not self.lower < self.target < self.upper:
+                hint = ""
+                if self.target is not None and self.lower < self.upper < self.target:
+                    # Goal("MU", "target", 0.15, 0.2, 0.3) written as --goal's LOWER:TARGET:UPPER
+                    hint = (
+                        f" (the arguments are lower, upper, target: Goal({self.response!r}, "
+                        f"'target', {self.lower:g}, {self.target:g}, target={self.upper:g}) "
+                        f"for {self.upper:g} between {self.lower:g} and {self.target:g})"
+                    )
                 raise ValueError(
                     f"{where}: a target goal needs a target strictly between {self.lower:g} and "
-                    f"{self.upper:g}, got {self.target!r}"
+                    f"{self.upper:g}, got {self.target!r}{hint}"
                 )
         elif self.target is not None:
             raise ValueError(f"{where}: only a 'target' goal takes a target")

@@ -560,3 +560,22 @@ def test_backward_elimination_never_brings_back_an_aliased_term() -> None:
     assert not aliased & set(fit.terms)
     # the notes still say which terms the runs cannot estimate
     assert {f"{t}{LEFT_OUT_NOTE}" for t in aliased} <= set(fit.notes)
+
+
+def test_a_goal_takes_min_and_max_and_names_the_order_of_a_targets_numbers() -> None:
+    """``Goal`` took only ``minimize``/``maximize`` where --goal and [[goals]] take ``min``
+    and ``max``; a target written in --goal's LOWER:TARGET:UPPER order is named (an API
+    review)."""
+    from brakeca.rsm import Goal
+
+    assert Goal("MU", "min", 0.1, 0.2) == Goal("MU", "minimize", 0.1, 0.2)
+    assert Goal("MU", "max", 0.1, 0.2).kind == "maximize"
+    with pytest.raises(
+        ValueError, match=r"kind must be 'minimize' \('min'\), 'maximize' \('max'\)"
+    ):
+        Goal("MU", "mini", 0.1, 0.2)
+    with pytest.raises(ValueError, match=r"got 0.3 \(the arguments are lower, upper, target: "
+                       r"Goal\('MU', 'target', 0.15, 0.3, target=0.2\)"):  # fmt: skip
+        Goal("MU", "target", 0.15, 0.2, 0.3)
+    with pytest.raises(ValueError, match=r"strictly between 0.15 and 0.3, got 0.1$"):
+        Goal("MU", "target", 0.15, 0.3, 0.1)
