@@ -284,10 +284,26 @@ def ok_runs(summary: pd.DataFrame) -> pd.DataFrame:
 
 
 def _factors(factors: Iterable[Any]) -> list[Factor]:
-    if hasattr(factors, "factor_names"):  # a Design (iterating it gives its fields)
+    """The factors as :class:`Factor` objects: factor-likes (:func:`as_factor`), or a
+    :class:`brakeca.design.Design` or campaign result for its design's factors. Names alone
+    are refused: the levels come from the design, not from the runs' values (a centre
+    point's value is no level)."""
+    given: Any = factors
+    design = getattr(given, "design", None)  # a CampaignResult
+    if design is not None and hasattr(design, "factor_names"):
+        given = design
+    if hasattr(given, "factor_names"):  # a Design (iterating it gives its fields)
+        factors = given.factors
+    if isinstance(factors, str):
+        factors = [factors]
+    factors = list(factors)
+    names = [f for f in factors if isinstance(f, str)]
+    if names:
+        are = "is a name" if len(names) == 1 else "are names"
         raise TypeError(
-            f"factors: got the design {getattr(factors, 'name', '?')!r}, not its factors; "
-            "pass design.factors"
+            f"factors: {', '.join(map(repr, names))} {are}; "
+            "the analysis needs each factor's levels: pass the design (or design.factors), or "
+            "brakeca.analysis.Factor(name, levels)"
         )
     out = [as_factor(f) for f in factors]
     names = [f.name for f in out]
@@ -301,7 +317,13 @@ def _clean(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> pd.D
     (``factors``: anything with a ``name``, e.g. :class:`Factor` or
     :class:`brakeca.rsm.Coding`). Selected by position, so a repeated index label is fine."""
     if response not in summary.columns:
-        raise KeyError(f"response {response!r} is not a column of the summary")
+        hint = ""
+        if response == "log10_V_mm3" and "V_mm3" in summary.columns:
+            hint = "; brakeca.study.with_log_v(summary) adds it"
+        else:
+            near = [c for c in summary.columns if str(c).lower() == response.lower()]
+            hint = f"; did you mean {near[0]!r}?" if near else ""
+        raise KeyError(f"response {response!r} is not a column of the summary{hint}")
     missing = [f.name for f in factors if f.name not in summary.columns]
     if missing:
         raise KeyError(f"factor column(s) {missing} not in the summary")
@@ -2466,7 +2488,8 @@ def analyze(
     summary
         Campaign summary, one row per run.
     factors
-        The design's factors.
+        The design's factors, or the design itself (or a campaign result) for them; every
+        analysis function takes these alike.
     responses
         Response columns, by default ``("MU", "V")`` (mean COF [-], emitted volume per stop
         [m^3]).

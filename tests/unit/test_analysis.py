@@ -1026,15 +1026,34 @@ def test_type_ii_from_the_columns_equals_statsmodels_on_an_unbalanced_design() -
     assert list(ours["df"]) == list(theirs["df"])
 
 
-def test_a_design_given_for_its_factors_is_named() -> None:
+def test_a_design_stands_for_its_factors_and_names_alone_are_refused() -> None:
     """analyze(summary, design) had said "not a factor (needs 'name' and 'levels'): ('name',
-    'paper')", a field of the design (a helper's API review)."""
+    'paper')", a field of the design (a helper's API review), then asked for design.factors;
+    a design (or a campaign result) now gives its factors. Names alone are refused, saying
+    why: the levels come from the design (a centre point's value is no level)."""
+    import types
+
     from brakeca.design import load_design
 
     design = load_design("paper")
-    rows = pd.DataFrame({"S": [0.0, 1.0], "MU": [0.3, 0.4], "status": "ok"})
-    with pytest.raises(TypeError, match="factors: got the design 'paper', not its factors"):
-        main_effects(rows, design, "MU")
+    rows = pd.DataFrame(
+        {"S": [0.0, 1.0] * 6, "WP": np.repeat([1e-15, 1e-14, 1e-13], 4), "WR": 1e-7, "A": 10.0}
+    )
+    rows["MU"], rows["status"] = np.linspace(0.3, 0.4, 12), "ok"
+    expected = main_effects(rows, design.factors, "MU")
+    pd.testing.assert_frame_equal(main_effects(rows, design, "MU"), expected)
+    result = types.SimpleNamespace(design=design, summary=rows)  # as a CampaignResult
+    pd.testing.assert_frame_equal(main_effects(rows, result, "MU"), expected)
+    with pytest.raises(TypeError, match=r"^factors: 'S', 'WP' are names; the analysis needs each "
+                       r"factor's levels: pass the design"):  # fmt: skip
+        main_effects(rows, ["S", "WP"], "MU")
+    with pytest.raises(TypeError, match=r"^factors: 'S' is a name;"):
+        anova(rows, "S", "MU")
+    with pytest.raises(KeyError, match=r"'log10_V_mm3' is not a column of the summary; "
+                       r"brakeca.study.with_log_v\(summary\) adds it"):  # fmt: skip
+        anova(rows.assign(V_mm3=1.0), design, "log10_V_mm3")
+    with pytest.raises(KeyError, match=r"'mu' is not a column of the summary; did you mean 'MU'"):
+        anova(rows, design, "mu")
 
 
 def test_an_exact_fit_has_its_type_ii_sums_of_squares():
