@@ -2012,6 +2012,13 @@ def _root(
     if version:
         out.print(__version__)
         raise typer.Exit(0)
+    # the commands print their own notes for values that read like unit slips (A below 1 %),
+    # where the library warns (config.UnitWarning)
+    import warnings
+
+    from brakeca.config import UnitWarning
+
+    warnings.simplefilter("ignore", UnitWarning)
 
 
 def _register_subcommands() -> None:

@@ -47,6 +47,7 @@ __all__ = [
     "PadConfig",
     "SimulationConfig",
     "TraceCycleConfig",
+    "UnitWarning",
     "VehicleConfig",
     "WearConfig",
     "apply_overrides",
@@ -58,6 +59,13 @@ __all__ = [
 
 class ConfigError(ValueError):
     """A configuration value is missing, unknown or outside its allowed range."""
+
+
+class UnitWarning(UserWarning):
+    """A value that is allowed but reads like a slip of unit: a fibre fraction ``A`` below
+    1 % (``A`` is in %, so 0.1 is 0.1 %, not 10 %). The command line prints these as notes;
+    from Python they are warnings (``warnings.simplefilter("error", UnitWarning)`` makes
+    them errors)."""
 
 
 def _numeric(annotation: Any) -> bool:
@@ -1116,6 +1124,15 @@ def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
         raise ConfigError(
             f"{key} (= {field}): must be at least {lo_hi[0]:g} and below {lo_hi[1]:g} {unit}, "
             f"got {value}"
+        )
+    if key == "A" and 0.0 < value < 1.0:
+        import warnings
+
+        warnings.warn(
+            f"A is in %: A = {value:g} is {value:g} % fibres; for {100 * value:g} % give "
+            f"A = {100 * value:g}",
+            UnitWarning,
+            stacklevel=4,
         )
     return field, value * scale
 

@@ -444,3 +444,32 @@ def test_numpy_numbers_are_numbers_to_the_aliases_and_the_levels() -> None:
     assert {type(x) for f in design.factors for x in f.levels} <= {int, float}
     with pytest.raises(ConfigError, match="levels must be a list of numbers"):
         design_from_dict({**table, "factors": [{"name": "WP", "levels": np.ones((2, 2))}]})
+
+
+def test_a_below_one_percent_warns_from_python_and_is_a_note_on_the_command_line() -> None:
+    """``A`` is in %: from Python, 0.1 (meant as 10 %) ran a 0.1 % pad without a word, as
+    the command line's note was the only one (an API review). It is a UnitWarning now, at
+    the caller's line; the command line keeps its note and ignores the warning."""
+    import warnings
+
+    from brakeca.config import UnitWarning
+
+    paper = load_preset("paper")
+    with pytest.warns(
+        UnitWarning, match=r"^A is in %: A = 0.1 is 0.1 % fibres; for 10 % give A = 10$"
+    ) as seen:
+        config = paper.with_updates({"A": 0.1})
+    assert config.pad.fibre_area_fraction == pytest.approx(0.001)
+    assert seen[0].filename == __file__
+    table = {"name": "d", "base": "paper", "root_seed": 1}
+    with pytest.warns(UnitWarning) as seen:  # its levels are checked as it loads
+        design_from_dict({**table, "factors": [{"name": "A", "levels": [0.1, 0.2]}]})
+    assert {str(w.message).split(";")[0] for w in seen} == {
+        "A is in %: A = 0.1 is 0.1 % fibres",
+        "A is in %: A = 0.2 is 0.2 % fibres",
+    }
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        paper.with_updates({"A": 10})  # no warning at 1 % and above, nor at 0
+        paper.with_updates({"A": 1})
+        paper.with_updates({"A": 0})

@@ -197,7 +197,7 @@ def test_mixed_levels_3x2_first_factor_fastest():
 
 def test_an_alias_factor_takes_the_alias_unit_unless_given():
     def factor(**extra: Any) -> Any:
-        levels = [1e-14, 1e-13] if extra["field"] == "WP" else [0.4, 0.5]
+        levels = {"WP": [1e-14, 1e-13], "A": [40, 50]}.get(extra["field"], [0.4, 0.5])
         spec = {"name": "F", "levels": levels, **extra}
         return design_from_dict(
             {"name": "u", "base": "paper", "root_seed": 1, "factors": [spec]}
