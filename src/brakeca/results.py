@@ -165,6 +165,9 @@ def _paper_factors(config: SimulationConfig) -> str:
 
 #: Attributes of a run file's ``rule`` coordinate: the seven plateau rules of the paper's
 #: Section 2 (docs/model.md section 7 gives how each is read).
+#: The status maps' ``flag_values`` (CF: of the variable's type, int8).
+_FLAG_VALUES = np.array([0, 1, 2], dtype=np.int8)
+
 RULE_ATTRS: dict[str, str] = {
     "units": "1",
     "long_name": "plateau rule of the cellular automaton",
@@ -507,7 +510,7 @@ def build_dataset(
         {
             "long_name": "cell status before the first stop: 0 none (resin), 1 primary "
             "plateau (fibre), 2 secondary plateau",
-            "flag_values": "0 1 2",
+            "flag_values": _FLAG_VALUES,
             "flag_meanings": "none primary secondary",
         },
     )
@@ -517,7 +520,7 @@ def build_dataset(
         {
             "long_name": "cell status after the last stop: 0 none (resin), 1 primary plateau "
             "(fibre), 2 secondary plateau",
-            "flag_values": "0 1 2",
+            "flag_values": _FLAG_VALUES,
             "flag_meanings": "none primary secondary",
         },
     )
@@ -534,7 +537,7 @@ def build_dataset(
             {
                 "long_name": "cell status after the stop (after rule S): 0 none (resin), 1 "
                 "primary plateau (fibre), 2 secondary plateau",
-                "flag_values": "0 1 2",
+                "flag_values": _FLAG_VALUES,
                 "flag_meanings": "none primary secondary",
             },
         )
@@ -565,12 +568,27 @@ def build_dataset(
             {"long_name": "the drive cycle's block the stop belongs to"},
         ),
         "rule": ("rule", np.arange(1, 8), RULE_ATTRS),
-        "step": ("step", keep + 1),
-        "radius": ("radius", np.asarray(grid.radius), {"units": "m"}),
-        "angle": ("angle", np.asarray(grid.angle), {"units": "rad"}),
+        "step": (
+            "step",
+            keep + 1,
+            {"units": "1", "long_name": "time step of the run, from 1 (the kept steps)"},
+        ),
+        "radius": ("radius", np.asarray(grid.radius), {"units": "m", "long_name": "row radius"}),
+        "angle": (
+            "angle",
+            np.asarray(grid.angle),
+            {
+                "units": "rad",
+                "long_name": "column angle from the first column, in the sliding direction",
+            },
+        ),
     }
     if maps:
-        coords["map_stop"] = ("map_stop", np.array(sorted(maps), dtype=np.int64))
+        coords["map_stop"] = (
+            "map_stop",
+            np.array(sorted(maps), dtype=np.int64),
+            {"units": "1", "long_name": "stop after which the map was kept"},
+        )
     attrs = {
         "format": FORMAT,
         "paper_factors": _paper_factors(config),

@@ -448,3 +448,22 @@ def test_the_run_file_may_not_overwrite_an_input_or_another_kind_of_file(tmp_pat
     res = CliRunner().invoke(app, ["simulate", "-o", str(run), *tiny, "--seed", "2"])
     assert res.exit_code == 0, res.output
     assert RunResult.from_netcdf(run).seed == 2
+
+
+def test_run_files_carry_cf_metadata_on_every_coordinate(tmp_path) -> None:
+    """Every coordinate has units and a long name, and the status maps' flag_values are
+    numbers of the variable's type, as CF tools decode them (they were the text "0 1 2";
+    an API review)."""
+    import numpy as np
+
+    from brakeca.design import quick_config
+
+    config = quick_config(load_preset("paper")).with_updates({"cycle.max_stops": 1})
+    simulate(config, seed=1, maps_at=[1]).to_netcdf(tmp_path / "r.nc")
+    with xr.open_dataset(tmp_path / "r.nc") as ds:
+        for name in ("stop", "step", "rule", "radius", "angle", "map_stop"):
+            assert {"units", "long_name"} <= set(ds[name].attrs), name
+        for name in ("initial_status", "final_status", "map_status"):
+            flags = ds[name].attrs["flag_values"]
+            assert flags.dtype == ds[name].dtype == np.int8
+            assert list(flags) == [0, 1, 2]
