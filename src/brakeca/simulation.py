@@ -45,6 +45,8 @@ if TYPE_CHECKING:
     from brakeca.results import RunResult
 
 __all__ = [
+    "CheckpointError",
+    "CheckpointWarning",
     "LedgerError",
     "SimulationState",
     "advance_stop",
@@ -61,6 +63,11 @@ Progress = Callable[[int, int], None]
 class CheckpointError(ValueError):
     """A checkpoint file that cannot be used: unreadable, of another format, or of another
     run (configuration or seed)."""
+
+
+class CheckpointWarning(UserWarning):
+    """A checkpoint could not be written (a full or read-only disk): the run goes on, and a
+    resume starts from the last checkpoint that was written, or from the first stop."""
 
 
 class LedgerError(RuntimeError):
@@ -462,6 +469,7 @@ def simulate(
                 "checkpoint to run from the start"
             )
     start = sum(d.size for d in log.dts)  # steps done before the first stop to run
+    checkpoint_failed = False  # warned once, not at every checkpoint stop
     for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
         flush, n_removed = end_of_stop(
@@ -492,16 +500,30 @@ def simulate(
                 state.height.reshape(n_r, n_t).astype(np.float32),
             )
         if checkpoint and stop.index % checkpoint_every == 0 and stop.index < len(stops):
-            save_checkpoint(
-                checkpoint,
-                config,
-                seed,
-                state,
-                initial_status,
-                log,
-                rng,
-                elapsed_before + time.perf_counter() - t0,
-            )
+            try:
+                save_checkpoint(
+                    checkpoint,
+                    config,
+                    seed,
+                    state,
+                    initial_status,
+                    log,
+                    rng,
+                    elapsed_before + time.perf_counter() - t0,
+                )
+            except OSError as exc:  # the run itself need not fail for it
+                if not checkpoint_failed:
+                    import warnings
+
+                    warnings.warn(
+                        f"checkpoint {checkpoint}: cannot write it after stop {stop.index} "
+                        f"({exc.strerror or exc}); the run goes on, trying again at its next "
+                        "checkpoint, and an interruption before one is written resumes from "
+                        "the last one written (or from the first stop)",
+                        CheckpointWarning,
+                        stacklevel=2,
+                    )
+                checkpoint_failed = True
         if progress is not None:
             progress(stop.index, len(stops))
     final_ledger = _final_ledger(state)

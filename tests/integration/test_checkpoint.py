@@ -193,3 +193,47 @@ def test_maps_after_chosen_stops_survive_a_resume_and_change_nothing_else(tmp_pa
     )
     with pytest.raises(ValueError, match=r"maps_at: stop 6 is not a stop of this cycle"):
         simulate(config, seed=3, maps_at=[6])
+
+
+def test_a_checkpoint_that_cannot_be_written_does_not_fail_the_run(tmp_path, monkeypatch):
+    """A full disk failed the whole run over its optional checkpoint ("OSError: [Errno 28]
+    No space left on device", naming no file; a robustness review). The run now goes on with
+    one warning naming the file, and gives the same result; the checkpoint written before the
+    disk filled is still there to resume from."""
+    import errno
+
+    from conftest import resumable_config
+
+    import brakeca.simulation
+    from brakeca.simulation import CheckpointWarning
+
+    config = resumable_config(stops=5, removal=0.5)
+    whole = simulate(config, seed=3)
+    ckpt = tmp_path / "run.ckpt.npz"
+    real = brakeca.simulation.save_checkpoint
+    stops_saved = []
+
+    def full_after_two(path, config, seed, state, initial_status, log, *rest):
+        if len(log.dts) > 2:
+            raise OSError(errno.ENOSPC, "No space left on device", str(path))
+        stops_saved.append(len(log.dts))
+        return real(path, config, seed, state, initial_status, log, *rest)
+
+    monkeypatch.setattr(brakeca.simulation, "save_checkpoint", full_after_two)
+
+    def stop_at_four(done, total):
+        if done == 4:
+            raise Killed
+
+    with pytest.warns(CheckpointWarning) as seen:
+        with pytest.raises(Killed):
+            simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, progress=stop_at_four)
+    assert len(seen) == 1  # once, not at every checkpoint stop
+    assert str(seen[0].message).startswith(
+        f"checkpoint {ckpt}: cannot write it after stop 3 (No space left on device); the run "
+        "goes on"
+    )
+    assert stops_saved == [1, 2] and ckpt.exists()
+    monkeypatch.setattr(brakeca.simulation, "save_checkpoint", real)
+    resumed = simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1)  # from stop 2
+    xr.testing.assert_identical(_no_wall(resumed.dataset), _no_wall(whole.dataset))
