@@ -86,6 +86,8 @@ def output_problem(path: Path, *, folder: bool = False) -> str | None:
         with tempfile.TemporaryFile(dir=existing):
             pass
     except OSError as exc:
+        if folder and existing == path:  # the folder itself is there
+            return f"cannot write in it ({exc.strerror or exc})"
         return f"cannot {verb} it (cannot write in {existing}: {exc.strerror or exc})"
     return None
 
@@ -1154,16 +1156,26 @@ def analyze(
                 text = option + text.removeprefix(name)
                 break
         _fail(text)
+    problem = output_problem(folder, folder=True)  # before the summary is printed
+    if problem is not None:
+        _fail(
+            f"{folder}: {problem}; the analysis writes its tables, figures and report.html "
+            "there: copy the folder somewhere writable and analyse the copy"
+        )
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
-        path = write_study(
-            result,
-            run_maps=run_maps,
-            anova_type=anova_type,
-            alpha_to_remove=reduce,
-            max_order=order,
-            model_terms=terms,
-        )
+        try:
+            path = write_study(
+                result,
+                run_maps=run_maps,
+                anova_type=anova_type,
+                alpha_to_remove=reduce,
+                max_order=order,
+                model_terms=terms,
+            )
+        except OSError as exc:  # a full disk, a file the folder's owner made read-only
+            where = exc.filename or folder
+            _fail(f"{where}: cannot write it ({exc.strerror or exc}); the report is not complete")
     if chosen is not None or order is not None:
         model = f"the terms {', '.join(chosen)}" if chosen else f"terms up through order {order}"
         out.print(

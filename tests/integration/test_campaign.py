@@ -665,3 +665,38 @@ def test_plots_of_a_campaign_dataset_read_its_factors(serial):
             ]
             assert texts[0] == texts[1]
             assert any("S+" in t or t == "+" for t in texts[0])  # the factors' labels
+
+
+def test_analyze_in_a_folder_it_cannot_write_fails_cleanly(serial, tmp_path, monkeypatch):
+    """``brakeca analyze`` on a read-only folder ended in a traceback from the first table
+    it wrote (a robustness review; as root, permission bits do not refuse, so the read-only
+    file system is stood in for here). It is refused before the summary is printed, and a
+    write that fails later (a full disk) is one clean error."""
+    import errno
+    import tempfile
+
+    folder = tmp_path / "copy"
+    shutil.copytree(serial.out_dir, folder)
+    real = tempfile.TemporaryFile
+
+    def read_only(*args, dir=None, **kwargs):
+        if dir is not None and Path(dir) == folder:
+            raise OSError(errno.EROFS, "Read-only file system")
+        return real(*args, dir=dir, **kwargs)
+
+    with monkeypatch.context() as patch:
+        patch.setattr(tempfile, "TemporaryFile", read_only)
+        res = CliRunner().invoke(app, ["analyze", str(folder)])
+    assert res.exit_code == 2, res.output
+    text = " ".join(res.output.split())
+    assert f"error: {folder}: cannot write in it (Read-only file system); the analysis" in text
+    assert "Traceback" not in res.output and not (folder / "tables" / "x").exists()
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device", str(folder / "tables" / "a.csv"))
+
+    monkeypatch.setattr("brakeca.study.write_study", full)
+    res = CliRunner().invoke(app, ["analyze", str(folder)])
+    assert res.exit_code == 2, res.output
+    text = " ".join(res.output.split())
+    assert f"{folder / 'tables' / 'a.csv'}: cannot write it (No space left on device); the " in text
