@@ -96,6 +96,27 @@ def campaign_lock(out: Path) -> Iterator[None]:
             fcntl.flock(fh, fcntl.LOCK_UN)
 
 
+def lock_holder(out: Path) -> str | None:
+    """Who holds the campaign lock of ``out`` (``"pid 123 on host, since ..."``), or None
+    when no campaign is writing the folder (or it has no lock file, or the file system has
+    no ``flock``). Takes the lock shared for an instant, so it never blocks."""
+    path = out / LOCK_NAME
+    if fcntl is None or not path.is_file():  # pragma: no cover
+        return None
+    try:
+        with open(path, encoding="utf-8") as fh:
+            try:
+                fcntl.flock(fh, fcntl.LOCK_SH | fcntl.LOCK_NB)
+            except BlockingIOError:
+                return fh.read().strip() or "another process"
+            except OSError:
+                return None
+            fcntl.flock(fh, fcntl.LOCK_UN)
+    except OSError:
+        return None
+    return None
+
+
 # --- records and results -------------------------------------------------------------------
 
 
@@ -260,7 +281,9 @@ def _write_design(
     quick: bool,
     max_stops: int | None,
 ) -> Design:
-    """Write base_config.toml and design.toml; return the design they describe."""
+    """Write base_config.toml and design.toml; return the design they describe. A campaign
+    writes them with its summary, after its runs: until then the folder's files stay those
+    of the study it holds (a campaign stopped or failed before its summary leaves them)."""
     origin = f"preset {design.base!r}" if design.base is not None else repr(str(design.base_config))
     header = (
         f"# Resolved base configuration of campaign {design.name!r}, written by brakeca "

@@ -82,6 +82,7 @@ from brakeca.config import ConfigError, SimulationConfig
 from brakeca.design import Design, RunPoint, execution_order, load_design, run_id
 
 if TYPE_CHECKING:
+    import pandas as pd
     from rich.console import Console
 
     from brakeca.results import RunResult
@@ -336,8 +337,10 @@ def _run_locked(
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     if not replace:
         _refuse_to_replace(out, base, points)
-    campaign_design = _write_design(
-        out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
+    # written with the summary, after the runs: a campaign stopped or failed before then
+    # (a --replace whose cluster is unreachable, Ctrl-C) leaves the folder's study whole
+    campaign_design = design.model_copy(
+        update={"base": None, "base_config": (out / "base_config.toml").resolve()}
     )
 
     records: dict[str, _Record] = {}
@@ -411,8 +414,16 @@ def _run_locked(
 
     ordered = [records[run_id(p)] for p in points]
     summary = _summary_frame(design, ordered)
+    _write_design(out, design, base, overrides=overrides, quick=quick, max_stops=max_stops)
     dataset = _campaign_dataset(campaign_design, ordered, summary, base)
+    replaced = _stale_analysis(out, summary)
     atomic_write(out / "summary.csv", lambda tmp: summary.to_csv(tmp, index=False))
+    if replaced:
+        say(
+            console,
+            f"[dim]removed the earlier study's analysis ({', '.join(replaced)}): it was of "
+            "other runs[/]",
+        )
     atomic_write(out / "campaign.nc", lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
     if failed:
         say(
@@ -430,6 +441,36 @@ def _run_locked(
         failed=tuple(failed),
         recomputed=tuple(recomputed),
     )
+
+
+def _stale_analysis(out: Path, summary: pd.DataFrame) -> list[str]:
+    """Remove the analysis (report.html, tables/, figures/) of the study in ``out`` when the
+    summary about to be written has other runs (another study, more replicates): it would
+    describe runs that are no longer the folder's study, and a campaign run without its
+    report (``--no-report``) would leave it there. Returns what was removed."""
+    import shutil
+
+    path = out / "summary.csv"
+    if not path.is_file():
+        return []
+    try:
+        old = read_summary(path)
+        same = list(old["run_id"].astype(str)) == list(summary["run_id"].astype(str))
+    except (OSError, ValueError, KeyError):
+        same = False
+    if same:
+        return []
+    removed = []
+    for name in ("report.html", "tables", "figures"):
+        target = out / name
+        if target.is_dir() and not target.is_symlink():
+            shutil.rmtree(target)
+        elif target.exists() or target.is_symlink():
+            target.unlink()
+        else:
+            continue
+        removed.append(name + ("/" if name != "report.html" else ""))
+    return removed
 
 
 def _refuse_to_replace(out: Path, base: SimulationConfig, points: Sequence[RunPoint]) -> None:

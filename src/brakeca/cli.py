@@ -1156,6 +1156,15 @@ def analyze(
                 text = option + text.removeprefix(name)
                 break
         _fail(text)
+    from brakeca._runstore import lock_holder
+
+    holder = lock_holder(folder)
+    if holder is not None:
+        console.print(
+            f"[yellow]note:[/] a campaign is writing {escape(str(folder))} ({escape(holder)}): "
+            "this report is of the study as it stands; analyse again when the campaign ends",
+            highlight=False,
+        )
     problem = output_problem(folder, folder=True)  # before the summary is printed
     if problem is not None:
         _fail(

@@ -700,3 +700,54 @@ def test_analyze_in_a_folder_it_cannot_write_fails_cleanly(serial, tmp_path, mon
     assert res.exit_code == 2, res.output
     text = " ".join(res.output.split())
     assert f"{folder / 'tables' / 'a.csv'}: cannot write it (No space left on device); the " in text
+
+
+def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
+    serial, tmp_path, monkeypatch
+):
+    """A --replace campaign wrote its design.toml and base_config.toml before any run, so one
+    that failed or was stopped (an unreachable scheduler, Ctrl-C) left the folder's summary
+    under another design, which analyze reported as the new one and the first design could
+    not take back (a robustness review). They are written with the summary now; a study
+    that replaces the folder's removes the analysis of the old one, and analyze notes a
+    campaign writing the folder."""
+    from brakeca import _runstore
+
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    (out / "report.html").write_text("the old study's report", encoding="utf-8")
+    (out / "tables").mkdir(exist_ok=True)
+    (tmp_path / "other").mkdir()
+    other = write_design(tmp_path / "other", TINY, DESIGN_TEMPLATE.format(root_seed=12))
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and p.suffix != ".lock"}
+
+    def stopped(config, *, seed, progress=None, maps_at=()):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_campaign(
+            other, out, executor="serial", simulate_fn=stopped, progress=False,
+            console=quiet(), replace=True,
+        )  # fmt: skip
+    after = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and p.suffix != ".lock"}
+    assert after == before  # design.toml, base_config.toml, summary.csv, report.html
+    replaced = run_campaign(
+        other, out, executor="serial", progress=False, console=(console := quiet()), replace=True
+    )
+    assert replaced.ok and len(replaced.computed) == 4
+    assert "root_seed = 12" in (out / "design.toml").read_text(encoding="utf-8")
+    assert not (out / "report.html").exists() and not (out / "tables").exists()
+    said = " ".join(console_text(console).split())
+    assert "removed the earlier study's analysis (report.html, tables/" in said
+    # the same runs again: nothing of the analysis is removed
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
+    rerun_reusing(out, progress=False)
+    assert (out / "report.html").read_text(encoding="utf-8") == "this study's report"
+    # analyze while a campaign holds the folder says so
+    monkeypatch.setattr(_runstore, "lock_holder", lambda folder: "pid 1 on host, since then")
+    res = CliRunner().invoke(app, ["analyze", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "note: a campaign is writing" in res.output
+    assert "(pid 1 on host, since then): this report is of the study as it stands" in " ".join(
+        res.output.split()
+    )
