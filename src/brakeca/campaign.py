@@ -608,21 +608,28 @@ def _execute_points(
         disable=not how.progress,
         transient=False,
     )
-    if how.progress and not console.is_terminal:
-        resumed = (
-            0
-            if how.checkpoint_every is None
-            else sum(
-                checkpoint_resumes(_checkpoint_path(runs, p), p.config, p.seed, how.maps_at)
-                for p in todo
+    if how.progress:
+        resumed = unusable = 0
+        for p in todo if how.checkpoint_every is not None else ():
+            path = _checkpoint_path(runs, p)
+            if checkpoint_resumes(path, p.config, p.seed, how.maps_at):
+                resumed += 1
+            elif path.exists():  # damaged, another run's, or without a map asked for
+                unusable += 1
+        if not console.is_terminal or resumed or unusable:  # the bar shows no resumption
+            say(
+                console,
+                f"{len(todo)} of {n_total} run(s) to compute ({n_total - len(todo)} already done"
+                + (f"; {resumed} resumed from a checkpoint" if resumed else "")
+                + (
+                    f"; {unusable} with a checkpoint that cannot be used (damaged, of another "
+                    "run, or without a map asked for), started over"
+                    if unusable
+                    else ""
+                )
+                + ")",
+                highlight=False,
             )
-        )
-        say(
-            console,
-            f"{len(todo)} of {n_total} run(s) to compute ({n_total - len(todo)} already done"
-            + (f"; {resumed} resumed from a checkpoint)" if resumed else ")"),
-            highlight=False,
-        )
     queue = collections.deque(todo)
     pending: dict[cf.Future, RunPoint] = {}
     deaths: dict[str, int] = {}

@@ -72,7 +72,8 @@ def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path,
         return found
 
     monkeypatch.setattr(simulation, "load_checkpoint", spy)
-    log = Console(file=io.StringIO(), width=200)  # a log file: a line says what resumes
+    # a terminal too: its bar shows no resumption (a robustness review)
+    log = Console(file=io.StringIO(), width=200, force_terminal=True)
     result = run_campaign(design_file, out, executor="serial", progress=True, console=log)
     assert resumed == [2]
     assert "4 of 4 run(s) to compute (0 already done; 1 resumed from a checkpoint)" in (
@@ -91,8 +92,12 @@ def test_an_unusable_checkpoint_is_discarded(design_file, uninterrupted, tmp_pat
     log = Console(file=io.StringIO(), width=200)  # a log file: a line says what resumes
     result = run_campaign(design_file, out, executor="serial", progress=True, console=log)
     assert result.ok and not ckpt.exists()
-    # not counted as resumed (a robustness review: the line had said "1 resumed")
-    assert "4 of 4 run(s) to compute (0 already done)\n" in log.file.getvalue()  # type: ignore[attr-defined]
+    # not counted as resumed (a robustness review: the line had said "1 resumed"), and said
+    # (a later review: it had been dropped without a word)
+    assert (
+        "4 of 4 run(s) to compute (0 already done; 1 with a checkpoint that cannot be used "
+        "(damaged, of another run, or without a map asked for), started over)\n"
+    ) in log.file.getvalue()  # type: ignore[attr-defined]
     assert deterministic(result.summary).equals(deterministic(uninterrupted.summary))
 
 
