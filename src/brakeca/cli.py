@@ -210,6 +210,19 @@ def _unused_levels_note(design: Any) -> None:
         )
 
 
+def _config_notes(configs: Iterable[SimulationConfig]) -> None:
+    """The notes on values that read like slips of unit (:func:`brakeca.config.unit_notes`)
+    of ``configs`` (a run's, or a campaign's tests'), each text once."""
+    from brakeca.config import unit_notes
+
+    said: set[str] = set()
+    for config in configs:
+        for text in unit_notes(config):
+            if text not in said:
+                said.add(text)
+                console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
+
+
 def _trace_notes(configs: Iterable[SimulationConfig]) -> None:
     """The notes on the speed traces of ``configs`` (a run's, or a campaign's runs'), each
     text once: events that look like speed noise (:func:`brakeca.traces.slow_events_warning`)
@@ -236,7 +249,12 @@ def _trace_notes(configs: Iterable[SimulationConfig]) -> None:
 
 def _design_percent_note(design: Any) -> None:
     """A note for a design factor on A (the fibre fraction, in %) with levels below 1 %:
-    levels of 0.1 and 0.2 read like the fractions 10 % and 20 %."""
+    levels of 0.1 and 0.2 read like the fractions 10 % and 20 %; and one for a factor whose
+    unit is not its field's while its scale is 1 (:meth:`brakeca.design.Factor.unit_note`)."""
+    for factor in design.factors:
+        note = factor.unit_note()
+        if note is not None:
+            console.print(f"[yellow]note:[/] {escape(note)}", highlight=False)
     for factor in design.factors:
         if factor.choices is not None or factor.field != "A":  # the alias, in %
             continue
@@ -453,6 +471,7 @@ def simulate(
         f"{n_stops} stop{'' if n_stops == 1 else 's'} ({steps:,} time steps), seed {seed}"
         + (" (quick)" if config.quick else "")
     )
+    _config_notes([config])
     _trace_notes([config])
     asked = config.cycle.max_stops
     if asked is not None and asked > source.n_total:
@@ -879,6 +898,7 @@ def _run_and_report(
                 p.config for p in loaded.points(overrides=updates, quick=quick, max_stops=stops)
             )
         )
+        _config_notes(configs)
         _trace_notes(configs)
         if stops is not None:
             from brakeca.traces import configured_cycle

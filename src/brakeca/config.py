@@ -54,6 +54,7 @@ __all__ = [
     "load_config",
     "parse_override",
     "parse_overrides",
+    "unit_notes",
 ]
 
 
@@ -66,6 +67,14 @@ class UnitWarning(UserWarning):
     1 % (``A`` is in %, so 0.1 is 0.1 %, not 10 %). The command line prints these as notes;
     from Python they are warnings (``warnings.simplefilter("error", UnitWarning)`` makes
     them errors)."""
+
+
+def _warn_unit(note: str | None) -> None:
+    """Warn (:class:`UnitWarning`) with ``note``, unless it is None."""
+    if note is not None:
+        import warnings
+
+        warnings.warn(note, UnitWarning, stacklevel=2)
 
 
 def _numeric(annotation: Any) -> bool:
@@ -231,6 +240,21 @@ class ContactConfig(_Frozen):
         """Foundation stiffness K = E / L [Pa/m]."""
         return self.elastic_modulus / self.bar_length
 
+    def unit_note(self) -> str | None:
+        """A note for a modulus that reads like a slip of unit (under 1 MPa: ``1`` meant as
+        1 GPa), else None."""
+        if self.elastic_modulus < 1e6:
+            return (
+                f"contact.elastic_modulus = {self.elastic_modulus:g} Pa, a foundation under "
+                "1 MPa: the modulus is in Pa (the default 1 GPa is 1e9)"
+            )
+        return None
+
+    @model_validator(mode="after")
+    def _warn_unit(self) -> ContactConfig:
+        _warn_unit(self.unit_note())
+        return self
+
 
 class FrictionConfig(_Frozen):
     """Pressure-dependent local COF on plateaus, mu(p) = max(mu_min, mu_0 - c p) (Figure 4)."""
@@ -245,7 +269,21 @@ class FrictionConfig(_Frozen):
     def _floor(self) -> FrictionConfig:
         if self.mu_min > self.mu_0:
             raise ValueError(f"mu_min ({self.mu_min}) must not exceed mu_0 ({self.mu_0})")
+        _warn_unit(self.unit_note())
         return self
+
+    def unit_note(self) -> str | None:
+        """A note for a slope that reads like a slip of unit (the COF at its floor from
+        under 1 kPa: 0.03 meant per MPa given per Pa), else None."""
+        if self.slope > 0 and self.mu_0 > self.mu_min:
+            floor_at = (self.mu_0 - self.mu_min) / self.slope
+            if floor_at < 1e3:
+                return (
+                    f"friction.slope = {self.slope:g} 1/Pa: the COF falls to its floor "
+                    f"{self.mu_min:g} at {floor_at:.3g} Pa, so every plateau in contact is at "
+                    "the floor; the slope is per Pa (the paper's 0.03 per MPa is 3e-8)"
+                )
+        return None
 
 
 class WearConfig(_Frozen):
@@ -778,6 +816,14 @@ class SimulationConfig(_Frozen):
 ID_NEUTRAL: dict[str, Any] = {
     "automaton.secondary_removal_rule": "count",
 }
+
+
+def unit_notes(config: SimulationConfig) -> list[str]:
+    """The notes on values of ``config`` that read like slips of unit (the foundation's
+    modulus, the COF's slope); the command line prints them, Python warns
+    (:class:`UnitWarning`) as the configuration is made."""
+    notes = (config.contact.unit_note(), config.friction.unit_note())
+    return [n for n in notes if n is not None]
 
 
 def _drop_none(value: Any) -> Any:

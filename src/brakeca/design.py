@@ -579,6 +579,26 @@ class Factor(_Frozen):
         low, high = self.coding_range
         return _decode(low, high, self.coding, x)
 
+    def unit_note(self) -> str | None:
+        """A note when :attr:`unit` names another unit than the field's while :attr:`scale`
+        is 1 (``unit = "GPa"`` on ``contact.elastic_modulus``): the unit is a label, so the
+        levels are taken in the field's own unit; None otherwise (an alias, a categorical
+        factor, a scale given, a field without a stated unit)."""
+        if self.choices is not None or self.field == "cycle" or self.field in FACTOR_ALIASES:
+            return None
+        if self.scale != 1.0:
+            return None
+        own = _field_unit(self.field)
+        plain = {"", "-", "1"}
+        if own is None or self.unit == own or (self.unit in plain and own in plain):
+            return None
+        return (
+            f"factor {self.name!r}: its unit {self.unit!r} is a label; with scale 1 its "
+            f"levels are taken in the unit of {self.field}, {own}. If they are in "
+            f"{self.unit}, give scale, the size of one {self.unit} in {own} (1e9 for GPa "
+            "in Pa)"
+        )
+
     def apply(self, config: SimulationConfig, value: int | float) -> SimulationConfig:
         """``config`` with this factor set to level ``value`` [unit]."""
         if self.field == "cycle":
@@ -2857,6 +2877,14 @@ def design_from_dict(
             f"{source}: {field}: cannot load the base configuration: {detail}"
         ) from None
     design.check_levels(base, source=source)
+    for factor in design.factors:
+        note = factor.unit_note()
+        if note is not None:
+            import warnings
+
+            from brakeca.config import UnitWarning
+
+            warnings.warn(f"{source}: {note}", UnitWarning, stacklevel=2)
     return design
 
 

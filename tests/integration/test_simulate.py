@@ -105,10 +105,12 @@ def test_thinned_series_are_every_nth_step_across_stops(small):
 def test_unreachable_torque_is_a_clear_error(small):
     with pytest.raises(ContactError, match="no plateau cell can reach"):
         simulate(small.with_updates({"A": 0}), seed=1)
+    from brakeca.config import UnitWarning
+
+    with pytest.warns(UnitWarning, match="contact.elastic_modulus = 10000 Pa, a foundation"):
+        soft = small.with_updates({"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4})
     with pytest.raises(ContactError, match="bar_length"):
-        simulate(
-            small.with_updates({"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4}), seed=1
-        )
+        simulate(soft, seed=1)
 
 
 def test_a_torque_the_solve_cannot_resolve_fails_the_run(small):

@@ -155,8 +155,14 @@ _VALUES = st.one_of(
 @settings(max_examples=150, deadline=None)
 @given(st.dictionaries(_KEYS, _VALUES, max_size=3))
 def test_any_override_is_valid_or_a_config_error(updates):
+    import warnings
+
+    from brakeca.config import UnitWarning
+
     try:
-        c = load_preset().with_updates(updates)
+        with warnings.catch_warnings():  # a value that reads like a slip of unit is allowed
+            warnings.simplefilter("ignore", UnitWarning)
+            c = load_preset().with_updates(updates)
     except ConfigError as exc:
         assert str(exc)
     else:
@@ -473,3 +479,42 @@ def test_a_below_one_percent_warns_from_python_and_is_a_note_on_the_command_line
         paper.with_updates({"A": 10})  # no warning at 1 % and above, nor at 0
         paper.with_updates({"A": 1})
         paper.with_updates({"A": 0})
+
+
+def test_values_that_read_like_slips_of_unit_are_noted() -> None:
+    """A factor's ``unit`` is a label: ``unit = "GPa"`` on contact.elastic_modulus ran 1 Pa
+    and 2 Pa, and a slope of 0.03 meant per MPa pinned the COF at its floor, both without a
+    word (a robustness review). Each is a UnitWarning from Python and a note from the
+    command line; values of sensible size are not."""
+    import warnings
+
+    from brakeca.config import UnitWarning, unit_notes
+
+    paper = load_preset("paper")
+    floor = r"^friction.slope = 0.03 1/Pa: the COF falls to its floor 0.15 at 15 Pa, so every"
+    with pytest.warns(UnitWarning, match=floor):
+        slope = paper.with_updates({"friction.slope": 0.03})
+    with pytest.warns(UnitWarning, match=r"^contact.elastic_modulus = 2 Pa, a foundation under"):
+        soft = paper.with_updates({"contact.elastic_modulus": 2})
+    assert [n.split(" = ")[0] for n in unit_notes(slope) + unit_notes(soft)] == [
+        "friction.slope",
+        "contact.elastic_modulus",
+    ]
+    table = {"name": "d", "base": "paper", "root_seed": 1}
+    factor = {"name": "E", "field": "contact.elastic_modulus", "levels": [1, 2], "unit": "GPa"}
+    with pytest.warns(UnitWarning) as seen:
+        design = design_from_dict({**table, "factors": [factor]}, source="d.toml")
+    texts = [str(w.message) for w in seen]
+    assert (
+        "d.toml: factor 'E': its unit 'GPa' is a label; with scale 1 its levels are taken in "
+        "the unit of contact.elastic_modulus, Pa. If they are in GPa, give scale, the size of "
+        "one GPa in Pa (1e9 for GPa in Pa)"
+    ) in texts
+    assert design.factors[0].unit_note() is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert unit_notes(paper) == []
+        scaled = design_from_dict({**table, "factors": [{**factor, "scale": 1e9}]})
+        assert scaled.factors[0].unit_note() is None
+        plain = {"name": "mu0", "field": "friction.mu_0", "levels": [0.5, 0.6], "unit": "-"}
+        assert design_from_dict({**table, "factors": [plain]}).factors[0].unit_note() is None

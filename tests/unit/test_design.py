@@ -197,7 +197,11 @@ def test_mixed_levels_3x2_first_factor_fastest():
 
 def test_an_alias_factor_takes_the_alias_unit_unless_given():
     def factor(**extra: Any) -> Any:
-        levels = {"WP": [1e-14, 1e-13], "A": [40, 50]}.get(extra["field"], [0.4, 0.5])
+        levels = {"WP": [1e-14, 1e-13], "A": [40, 50], "friction.slope": [1e-8, 2e-8]}.get(
+            extra["field"], [0.4, 0.5]
+        )
+        if extra.get("scale"):
+            levels = [0.01, 0.02]
         spec = {"name": "F", "levels": levels, **extra}
         return design_from_dict(
             {"name": "u", "base": "paper", "root_seed": 1, "factors": [spec]}
