@@ -1014,6 +1014,24 @@ def format_validation_error(
                 msg += f", not {which}"
             elif interval is not None:
                 msg = f"must lie in {interval}"
+            elif err["type"] in _BOUND_ERRORS:  # one bound: pydantic's "Input should be..."
+                words = {
+                    "greater_than": ("above", "gt"),
+                    "greater_than_equal": ("at least", "ge"),
+                    "less_than": ("below", "lt"),
+                    "less_than_equal": ("at most", "le"),
+                }
+                word, key = words[err["type"]]
+                bound = (err.get("ctx") or {}).get(key)
+                msg = (
+                    f"must be {word} {bound:g}"
+                    if isinstance(bound, float)
+                    else (f"must be {word} {bound}")
+                )
+        elif err["type"] in ("float_type", "float_parsing", "int_type", "int_parsing"):
+            msg = "must be a " + ("whole number" if err["type"].startswith("int") else "number")
+        elif err["type"] == "int_from_float":
+            msg = "must be a whole number"
         got_text = (
             ""
             if err["type"] in ("missing",) or isinstance(got, dict) or "got " in msg or not_finite
@@ -1200,6 +1218,11 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
         Unknown key, a value outside its allowed range, or two keys for one field (a factor
         name and its dotted key); the message names the field.
     """
+    if not isinstance(updates, Mapping):
+        raise TypeError(
+            "updates: expected a mapping of field (or factor name) to value, e.g. "
+            f"{{'WP': 1e-13, 'friction.mu_0': 0.5}}, got {type(updates).__name__}"
+        )
     data = config.to_dict()
     given: dict[str, str] = {}  # field -> the key that set it
     for key, value in updates.items():

@@ -271,8 +271,11 @@ class RunResult:
 
     @classmethod
     def from_netcdf(cls, path: str | Path) -> RunResult:
-        """Load a run file; raises ``ValueError`` for a file that is not a brakeca run."""
+        """Load a run file; raises ``FileNotFoundError`` for a missing file and
+        ``ValueError`` for a file that is not a brakeca run."""
         path = Path(path)
+        if not path.exists():
+            raise FileNotFoundError(f"{path}: no such file")
         try:
             with xr.open_dataset(path, engine="h5netcdf") as ds:
                 ds = ds.load()

@@ -518,3 +518,25 @@ def test_values_that_read_like_slips_of_unit_are_noted() -> None:
         assert scaled.factors[0].unit_note() is None
         plain = {"name": "mu0", "field": "friction.mu_0", "levels": [0.5, 0.6], "unit": "-"}
         assert design_from_dict({**table, "factors": [plain]}).factors[0].unit_note() is None
+
+
+def test_one_sided_bounds_and_wrong_types_read_as_brakecas_messages(tmp_path) -> None:
+    """Some messages were pydantic's own ("Input should be greater than or equal to 1"), a
+    list of pairs given to with_updates raised AttributeError, and a missing run file a
+    ValueError (an API review)."""
+    from brakeca.results import RunResult
+
+    paper = load_preset("paper")
+    for updates, message in (
+        ({"cycle.max_stops": 0}, "override: cycle.max_stops: must be at least 1 (got 0)"),
+        ({"friction.slope": -1}, "override: friction.slope: must be at least 0 (got -1)"),
+        ({"friction.mu_0": None}, "override: friction.mu_0: must be a number (got None)"),
+        ({"mesh.n_radial": 1.5}, "override: mesh.n_radial: must be a whole number (got 1.5)"),
+    ):
+        with pytest.raises(ConfigError) as info:
+            paper.with_updates(updates)
+        assert str(info.value) == message
+    with pytest.raises(TypeError, match=r"^updates: expected a mapping of field .* got list$"):
+        paper.with_updates([("WP", 1e-13)])  # type: ignore[arg-type]
+    with pytest.raises(FileNotFoundError, match=r"missing\.nc: no such file"):
+        RunResult.from_netcdf(tmp_path / "missing.nc")
