@@ -620,6 +620,11 @@ def plot_mu_per_stop_by_level(
     """
     import matplotlib as mpl
 
+    if isinstance(factors, str | Path):  # plot_mu_per_stop_by_level(campaign, "x.png")
+        raise TypeError(
+            f"factors: got {str(factors)!r}, not factors; the file to write is path= "
+            "(plot_mu_per_stop_by_level(campaign, factors=None, path=...))"
+        )
     if factors is None:
         factors = _campaign_factors(campaign)
     data = getattr(campaign, "dataset", campaign)
@@ -1461,6 +1466,15 @@ def plot_surface_map(
     Wahlström (2016), Figure 5 (fibre maps) and Section 2 (plateau model),
     doi:10.1155/2016/8181260.
     """
+    if isinstance(title, Path) or (
+        path is None and str(title).lower().endswith((".png", ".pdf", ".svg", ".jpg", ".jpeg"))
+    ):
+        # plot_surface_map(status, radius, angle, "map.png") drew a figure titled "map.png"
+        # and wrote no file
+        raise TypeError(
+            f"title: {str(title)!r} reads like a file name; the file to write is path= "
+            "(plot_surface_map(status, radius, angle, title, path))"
+        )
     fig = _figure((10.0, 3.6))
     ax = fig.subplots()
     handles, fractions = _draw_map(ax, status, radius, angle, "")

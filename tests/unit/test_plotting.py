@@ -597,3 +597,21 @@ def test_mu_per_stop_by_level_draws_each_levels_mean_of_the_finished_runs() -> N
     assert [t.get_text() for t in a_ax.get_legend().get_texts()][1] == "A = 20, 2 runs"
     with pytest.raises(ValueError, match="no factor of the campaign"):
         plot_mu_per_stop_by_level(ds, [Factor("X", (0.0, 1.0))])
+
+
+def test_a_file_name_where_a_title_or_the_factors_go_is_named(campaign, tmp_path) -> None:
+    """``plot_surface_map(status, radius, angle, "map.png")`` drew a figure titled "map.png"
+    and wrote nothing; ``plot_mu_per_stop_by_level(campaign, "x.png")`` took the name's
+    letters for factors (an API review)."""
+    from brakeca.plotting import plot_mu_per_stop_by_level
+
+    status, radius, angle = _status_map(n_r=5, n_a=20)
+    with pytest.raises(TypeError, match=r"^title: 'map.png' reads like a file name; the file"):
+        plot_surface_map(status, radius, angle, "map.png")
+    with pytest.raises(TypeError, match=r"^title: .* reads like a file name"):
+        plot_surface_map(status, radius, angle, tmp_path / "map.png")
+    plot_surface_map(status, radius, angle, "Pad after stop 170", tmp_path / "map.png")
+    assert (tmp_path / "map.png").is_file()
+    with pytest.raises(TypeError, match=r"^factors: got 'x.png', not factors; the file to"):
+        plot_mu_per_stop_by_level(campaign, "x.png")
+    assert not (tmp_path / "x.png").exists()
