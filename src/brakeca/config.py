@@ -318,6 +318,14 @@ class AutomatonConfig(_Frozen):
         "west_to_east",
         description="order in which a row's candidates draw on the inflow (decision: west_to_east)",
     )
+    end_of_stop_streams: Literal["emit", "carry"] = Field(
+        "emit",
+        description=(
+            "the particles still in the streams when a stop ends: emit (they leave the "
+            "contact, counted in that stop's emissions) or carry (they stay for the next "
+            "stop) (decision: emit)"
+        ),
+    )
     secondary_removal_rule: Literal["count", "draw"] = Field(
         "count",
         description=(
@@ -815,6 +823,7 @@ class SimulationConfig(_Frozen):
 #: (a test lists the fields of the first run ids and fails on one that is in neither).
 ID_NEUTRAL: dict[str, Any] = {
     "automaton.secondary_removal_rule": "count",
+    "automaton.end_of_stop_streams": "emit",
 }
 
 

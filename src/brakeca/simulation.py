@@ -245,8 +245,10 @@ def end_of_stop(
     removal_fraction: float,
     rng: np.random.Generator,
     rule: Literal["count", "draw"] = "count",
+    streams: Literal["emit", "carry"] = "emit",
 ) -> tuple[float, int]:
-    """Between stops: the particles in the contact leave it, and rule S removes secondaries.
+    """Between stops: the particles in the contact leave it (unless ``streams`` carries
+    them into the next stop), and rule S removes secondaries.
 
     Parameters
     ----------
@@ -262,6 +264,10 @@ def end_of_stop(
         ``"count"``: ``round(S n)`` of the ``n`` secondary plateaus (Python's rounding, half
         to even), drawn without replacement; ``"draw"``: each one with probability S, one
         uniform number per plateau in cell order (``automaton.secondary_removal_rule``).
+    streams
+        ``"emit"``: the particles in the streams leave the contact and count as emitted;
+        ``"carry"``: they stay in the streams for the next stop
+        (``automaton.end_of_stop_streams``).
 
     Returns
     -------
@@ -270,8 +276,10 @@ def end_of_stop(
     removed : int
         Number of secondary plateaus removed [-].
     """
-    emitted = float(state.inflow.sum())
-    state.inflow[:] = 0.0
+    emitted = 0.0
+    if streams == "emit":
+        emitted = float(state.inflow.sum())
+        state.inflow[:] = 0.0
     secondary = np.flatnonzero(state.status == SECONDARY)
     if removal_fraction >= 1.0:
         chosen = secondary
@@ -477,6 +485,7 @@ def simulate(
             config.automaton.secondary_removal_fraction,
             rng,
             config.automaton.secondary_removal_rule,
+            config.automaton.end_of_stop_streams,
         )
         try:
             exposure = expose_fibres(state, config.pad, grid)

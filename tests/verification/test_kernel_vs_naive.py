@@ -79,6 +79,14 @@ CASES = {
         "wear.resin_wear_depth": 1e-6,
     },
     "east-to-west": {"automaton.creation_order": "east_to_west", "wear.specific_wear_rate": 1e-12},
+    # the streams carried from stop to stop: each stop after the first starts with particles
+    # in the contact, which both kernels must take from state.inflow as the twin does
+    "carry-draw-S": {
+        "wear.specific_wear_rate": 1e-12,
+        "automaton.secondary_removal_fraction": 0.5,
+        "automaton.secondary_removal_rule": "draw",
+        "automaton.end_of_stop_streams": "carry",
+    },
     "rule6": {"automaton.rule6_max_gap": 20e-6, "wear.specific_wear_rate": 1e-13},
     "layer-rule7": {"pad.fibre_model": "layer", "wear.specific_wear_rate": 1e-13},
     "field": {"pad.fibre_model": "field", "wear.specific_wear_rate": 1e-13},
@@ -138,6 +146,7 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
     totals = {"created": 0, "destroyed": 0, "exposed": 0}
     pmax = 0.0
     held_seen = 0.0  # the largest volume the secondary plateaus held [m^3]
+    carried = 0.0  # the largest volume a stop left in the streams, when they are carried [m^3]
     fired = np.zeros(8, dtype=np.int64)
     for stop in expand_stops(config):
         created_before, destroyed_before = totals["created"], totals["destroyed"]
@@ -185,20 +194,31 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
         # between stops: flush and rule S, applied to both sides
         from brakeca.simulation import end_of_stop, expose_fibres
 
-        end_of_stop(state, S, rng_fast)
+        rule, streams = (
+            config.automaton.secondary_removal_rule,
+            config.automaton.end_of_stop_streams,
+        )
+        end_of_stop(state, S, rng_fast, rule, streams)
         sec = np.flatnonzero(ref["S"].ravel() == 2)
         if S >= 1:
             chosen = sec
         elif S <= 0 or sec.size == 0:
             chosen = sec[:0]
+        elif rule == "draw":
+            chosen = sec[rng_ref.random(sec.size) < S]
         else:
             chosen = np.sort(rng_ref.choice(sec, size=round(S * sec.size), replace=False))
         H, B, St = ref["H"].ravel(), ref["B"].ravel(), ref["S"].ravel()
         area = np.broadcast_to(params["area_row"][:, None], grid.shape).ravel()
-        ref["emitted"] += ref["inflow"].sum() + float(
-            np.sum((H[chosen] - B[chosen]) * area[chosen])
+        ref["emitted"] += float(np.sum((H[chosen] - B[chosen]) * area[chosen]))
+        if streams == "emit":
+            ref["emitted"] += ref["inflow"].sum()
+            ref["inflow"][:] = 0.0
+        else:
+            carried = max(carried, float(ref["inflow"].sum()))
+        np.testing.assert_allclose(
+            state.inflow.reshape(ref["inflow"].shape), ref["inflow"], rtol=1e-9, atol=1e-30
         )
-        ref["inflow"][:] = 0.0
         H[chosen] = B[chosen]
         St[chosen] = 0
         if "field" in ref:  # the exposure after the stop (shared NumPy), on both sides
@@ -211,6 +231,8 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
             assert late == ref_late
             np.testing.assert_array_equal(state.fibres.next, fr["next"])
         np.testing.assert_array_equal(state.status.reshape(grid.shape), ref["S"])
+    if config.automaton.end_of_stop_streams == "carry":
+        assert carried > 0  # a stop started with particles in the contact
     # the case must actually exercise the automaton
     if not case.endswith("rule6"):  # there the disc stays far above the resin
         assert totals["created"] > 0
