@@ -219,6 +219,23 @@ class PadConfig(_Frozen):
             "plateau."
         ),
     )
+    fibre_centres: Literal["band", "beyond_edges"] = Field(
+        "band",
+        description=(
+            "where fibre centres are drawn: band (uniform over the band, fibres clipped at "
+            "its edges, so the fibre share thins towards them) or beyond_edges (over the band "
+            "widened by half the longest fibre and the thickest fibre's radius, so a cell near "
+            "an edge is covered as one inside it) (decision: band)"
+        ),
+    )
+
+    @property
+    def fibre_reach(self) -> float:
+        """How far beyond the band ``fibre_centres = "beyond_edges"`` draws centres: half
+        the longest fibre plus the thickest fibre's radius [m]; 0 for ``"band"``."""
+        if self.fibre_centres == "band":
+            return 0.0
+        return self.fibre_length_max / 2.0 + self.fibre_diameter_max / 2.0
 
     @model_validator(mode="after")
     def _ranges(self) -> PadConfig:
@@ -722,7 +739,12 @@ class SimulationConfig(_Frozen):
             return {}
         from brakeca.geometry import make_grid  # (geometry imports this module)
 
-        cover = -math.log1p(-pad.fibre_area_fraction) * make_grid(self).area
+        grid = make_grid(self)
+        cover = -math.log1p(-pad.fibre_area_fraction) * grid.area
+        if pad.fibre_reach > 0.0:  # centres drawn over a wider area: more fibres
+            from brakeca.surface import centre_area
+
+            cover *= float(centre_area(grid, pad.fibre_reach) / centre_area(grid, 0.0))
         length = (pad.fibre_length_min + pad.fibre_length_max) / 2.0
         d0, d1 = pad.fibre_diameter_min, pad.fibre_diameter_max
         counts = {"the surface": cover / (length * (d0 + d1) / 2.0)}
@@ -824,6 +846,7 @@ class SimulationConfig(_Frozen):
 ID_NEUTRAL: dict[str, Any] = {
     "automaton.secondary_removal_rule": "count",
     "automaton.end_of_stop_streams": "emit",
+    "pad.fibre_centres": "band",
 }
 
 

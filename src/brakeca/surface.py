@@ -156,22 +156,41 @@ class _Band:
     th_lo: float
     th_hi: float
 
+    reach: float = 0.0
+
     @classmethod
-    def of(cls, grid: Grid) -> _Band:
+    def of(cls, grid: Grid, reach: float = 0.0) -> _Band:
+        """The band of ``grid``; fibre centres are drawn up to ``reach`` [m] beyond its
+        edges (:attr:`brakeca.config.PadConfig.fibre_reach`)."""
         r, th = grid.radius, grid.angle
         dth = th[1] - th[0]  # a mesh has at least two columns
         # one row: the radial step from the row's cell area, A_j = r_j dtheta dr
         dr = r[1] - r[0] if r.size > 1 else grid.cell_area[0] / (r[0] * dth)
-        return cls(r, th, dr, dth, r[0] - dr / 2, r[-1] + dr / 2, th[0] - dth / 2, th[-1] + dth / 2)
+        return cls(
+            r, th, dr, dth, r[0] - dr / 2, r[-1] + dr / 2, th[0] - dth / 2, th[-1] + dth / 2, reach
+        )
+
+    def centre_bounds(self) -> tuple[float, float, float, float]:
+        """Where fibre centres are drawn: radii [m] and angles [rad], the band widened by
+        :attr:`reach` on every side (the angle by ``reach`` over the smallest radius)."""
+        r_lo = max(self.r_lo - self.reach, 1e-3 * self.r_lo)
+        wide = self.reach / r_lo
+        return r_lo, self.r_hi + self.reach, self.th_lo - wide, self.th_hi + wide
 
     def draw(self, pad: PadConfig, rng: np.random.Generator) -> tuple[float, ...]:
         """One fibre's length [m], diameter [m], orientation [rad] and centre (radius [m],
-        angle [rad]), uniform in area over the band, drawn in that order."""
+        angle [rad]), uniform in area over the band (widened by :attr:`reach`), drawn in
+        that order."""
         length = rng.uniform(pad.fibre_length_min, pad.fibre_length_max)
         diameter = rng.uniform(pad.fibre_diameter_min, pad.fibre_diameter_max)
         phi = rng.uniform(0.0, np.pi)
-        rc = np.sqrt(rng.uniform(self.r_lo * self.r_lo, self.r_hi * self.r_hi))
-        tc = rng.uniform(self.th_lo, self.th_hi)
+        if self.reach == 0.0:  # as before the option existed, bit for bit
+            rc = np.sqrt(rng.uniform(self.r_lo * self.r_lo, self.r_hi * self.r_hi))
+            tc = rng.uniform(self.th_lo, self.th_hi)
+        else:
+            r_lo, r_hi, th_lo, th_hi = self.centre_bounds()
+            rc = np.sqrt(rng.uniform(r_lo * r_lo, r_hi * r_hi))
+            tc = rng.uniform(th_lo, th_hi)
         return length, diameter, phi, rc, tc
 
     def footprint(
@@ -201,6 +220,13 @@ class _Band:
             return None
         chord = np.sqrt(np.maximum(radius_f * radius_f - across * across, 0.0))
         return slice(j0, j1), slice(i0, i1), inside, chord
+
+
+def centre_area(grid: Grid, reach: float) -> float:
+    """The area fibre centres are drawn over [m^2]: the band of ``grid`` widened by ``reach``
+    [m] (:meth:`_Band.centre_bounds`; the band's own area, to the cells' edges, at 0)."""
+    r_lo, r_hi, th_lo, th_hi = _Band.of(grid, reach).centre_bounds()
+    return 0.5 * (th_hi - th_lo) * (r_hi * r_hi - r_lo * r_lo)
 
 
 def generate_surface(pad: PadConfig, grid: Grid, rng: np.random.Generator) -> Surface:
@@ -235,7 +261,7 @@ def generate_surface(pad: PadConfig, grid: Grid, rng: np.random.Generator) -> Su
     floor = np.full((n_r, n_t), np.inf)
     is_fibre = np.zeros((n_r, n_t), dtype=bool)
 
-    band = _Band.of(grid)
+    band = _Band.of(grid, pad.fibre_reach)
     target = pad.fibre_area_fraction * grid.area
     covered = 0.0
     n_fibres = 0
@@ -362,7 +388,7 @@ def start_fibre_field(
     """
     if pad.fibre_area_fraction >= 1.0:
         raise ValueError("pad.fibre_area_fraction must be below 1 for fibre_model = 'field'")
-    band = band or _Band.of(grid)
+    band = band or _Band.of(grid, pad.fibre_reach)
     seed = int(rng.integers(0, 2**63 - 1))
     cells, tops, bottoms, n_fibres = _lay_slab(pad, grid, band, seed, 0)
     n_cells = grid.shape[0] * grid.shape[1]
@@ -430,7 +456,7 @@ def deepen_fibre_field(
             f"unlaid slab (below {-field.slabs * FIELD_SLAB * 1e3:.3f} mm): it came down more "
             f"than a slab of the field ({FIELD_SLAB * 1e3:g} mm, less a fibre radius) in one stop"
         )
-    band = _Band.of(grid)
+    band = _Band.of(grid, pad.fibre_reach)
     n_cells = status.size
     # the intervals still ahead of the wear: from each cell's next one on
     ahead = field.offsets[1:] - field.next

@@ -26,3 +26,48 @@ def test_fibres_are_laid_on_the_band_whatever_its_rows(n_radial) -> None:
     assert surface.n_fibres > 0
     covered = float(((surface.status == PRIMARY) * grid.cell_area_map()).sum())
     assert covered >= 0.10 * grid.area
+
+
+def test_centres_beyond_the_edges_keep_the_fibre_share_at_the_edges() -> None:
+    """Centres drawn over the band only (the spec's reading, the default) thin the fibres
+    towards the band's edges: on 8 full-resolution surfaces at A = 20 % the first and last 5
+    rows hold 13 % fibre against 20 % mid-band (a spec audit). ``pad.fibre_centres =
+    "beyond_edges"`` draws them over the band widened by a fibre's reach, and the edge rows
+    hold as much as the middle; A is met either way, and the default's draws are unchanged."""
+    from brakeca.surface import centre_area
+
+    shares = {}
+    for mode in ("band", "beyond_edges"):
+        config = load_preset("paper").with_updates({"A": 20, "pad.fibre_centres": mode})
+        grid = make_grid(config)
+        edge, middle, covered, laid = [], [], [], []
+        for seed in range(8):
+            surface = generate_surface(config.pad, grid, np.random.default_rng(seed))
+            fibre = surface.status == PRIMARY
+            edge.append(np.r_[fibre[:5], fibre[-5:]].mean())
+            middle.append(fibre[90:110].mean())
+            covered.append(float((fibre * grid.cell_area[:, None]).sum() / grid.area))
+            laid.append(surface.n_fibres)
+        shares[mode] = float(np.mean(edge)) / float(np.mean(middle))
+        assert min(covered) >= 0.2 and max(covered) < 0.21  # A, whichever the centres
+        expected = config.expected_fibres()["the surface"]
+        assert abs(np.mean(laid) / expected - 1) < 0.25, mode  # the MAX_FIBRES estimate
+    assert shares["band"] < 0.75 and 0.9 < shares["beyond_edges"] < 1.1
+    grid = make_grid(load_preset("paper"))
+    reach = load_preset("paper").with_updates({"pad.fibre_centres": "beyond_edges"}).pad
+    assert reach.fibre_reach == pytest.approx(5e-3 + 350e-6)
+    assert centre_area(grid, 0.0) == pytest.approx(grid.area, rel=1e-9)
+    # the default draws as before the option existed: the same surfaces to the bit (the
+    # hashes of the version before it, columns and the fibre field's first slab)
+    import hashlib
+
+    for update, digest in (
+        ({}, "27cedc9c1a1fa85e"),
+        ({"pad.fibre_model": "field"}, "0cb1f846fd0828dc"),
+    ):
+        config = load_preset("paper").with_updates(update)
+        s = generate_surface(config.pad, make_grid(config), np.random.default_rng(4))
+        h = hashlib.sha256(s.height.tobytes() + s.status.tobytes() + s.fibre_floor.tobytes())
+        if s.field is not None:
+            h.update(s.field.top.tobytes() + s.field.bottom.tobytes())
+        assert (h.hexdigest()[:16], s.n_fibres) == (digest, 177)
