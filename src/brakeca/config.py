@@ -767,6 +767,25 @@ class SimulationConfig(_Frozen):
         """Plain nested dict (None fields dropped, TOML has no null)."""
         return _drop_none(self.model_dump(mode="python"))
 
+    def __repr__(self) -> str:
+        """One line: grid, cycle, the paper's four factors, fibre model and kernel
+        (:meth:`to_toml` gives every field)."""
+        cycle = self.cycle
+        source = f"trace {Path(cycle.trace_file).name!r}" if cycle.trace_file else "blocks"
+        stops = "" if cycle.max_stops is None else f", first {cycle.max_stops} stops"
+        return (
+            f"SimulationConfig({self.mesh.n_radial} x {self.mesh.n_angular} cells"
+            f"{' (quick)' if self.quick else ''}, cycle {cycle.name!r} ({source}{stops}), "
+            f"S={self.automaton.secondary_removal_fraction:g}, "
+            f"WP={self.wear.specific_wear_rate:g} m^3/(N m), "
+            f"WR={self.wear.resin_wear_depth:g} m, A={100 * self.pad.fibre_area_fraction:g} %, "
+            f"fibres {self.pad.fibre_model}, kernel {self.numerics.kernel}; "
+            "to_toml() for every field)"
+        )
+
+    def __str__(self) -> str:
+        return repr(self)
+
     def to_toml(self) -> str:
         """The resolved configuration as TOML text."""
         return tomli_w.dumps(self.to_dict())

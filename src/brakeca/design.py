@@ -2362,6 +2362,22 @@ class Design(_Frozen):
             return min(lengths) if lengths else None  # none: a full factorial
         return _shortest_word(parsed, self.factor_names).mask.bit_count()
 
+    def __repr__(self) -> str:
+        """One line: name, kind, factors, tests and replicates, root seed (``to_toml()``
+        gives the whole design)."""
+        try:
+            tests = f"{self.n_tests} tests"
+        except ConfigError:  # a runs_file not yet read
+            tests = "tests from its runs_file"
+        return (
+            f"Design({self.name!r}: {self.kind}; factors {', '.join(self.factor_names)}; "
+            f"{tests} x {self.replicates} replicate{'' if self.replicates == 1 else 's'}; "
+            f"root_seed {self.root_seed})"
+        )
+
+    def __str__(self) -> str:
+        return repr(self)
+
     @property
     def kind(self) -> str:
         """The kind of design, for reports (:meth:`_cube_kind`), with its centre points:

@@ -543,3 +543,24 @@ def test_one_sided_bounds_and_wrong_types_read_as_brakecas_messages(tmp_path) ->
         paper.with_updates([("WP", 1e-13)])  # type: ignore[arg-type]
     with pytest.raises(FileNotFoundError, match=r"missing\.nc: no such file"):
         RunResult.from_netcdf(tmp_path / "missing.nc")
+
+
+def test_a_configuration_and_a_design_print_as_one_line() -> None:
+    """A configuration printed some 2,400 characters of pydantic's dump, and a design 2,000,
+    which flooded a notebook cell (an API review); each is one line now, and to_toml()
+    gives every field."""
+    from brakeca.design import quick_config
+
+    paper = load_preset("paper")
+    assert repr(paper) == (
+        "SimulationConfig(201 x 1000 cells, cycle 'paper' (blocks), S=0, WP=1e-14 m^3/(N m), "
+        "WR=1e-07 m, A=20 %, fibres columns, kernel auto; to_toml() for every field)"
+    )
+    quick = quick_config(paper).with_updates({"cycle.max_stops": 3, "A": 10})
+    assert str(quick).startswith("SimulationConfig(21 x 1000 cells (quick), cycle 'paper' "
+                                 "(blocks, first 3 stops), S=0, WP=1e-14")  # fmt: skip
+    assert "A=10 %" in repr(quick)
+    assert repr(load_design("paper")) == (
+        "Design('paper': full factorial; factors S, WP, WR, A; 24 tests x 1 replicate; "
+        "root_seed 2016)"
+    )
