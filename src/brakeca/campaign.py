@@ -337,8 +337,12 @@ def _run_locked(
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     if not replace:
         _refuse_to_replace(out, base, points)
-    # written with the summary, after the runs: a campaign stopped or failed before then
-    # (a --replace whose cluster is unreachable, Ctrl-C) leaves the folder's study whole
+    # a folder that holds a study gets the design and base with the summary, after the runs:
+    # a campaign stopped or failed before then (a --replace whose cluster is unreachable,
+    # Ctrl-C) leaves that study whole. A new folder gets them now, so that a first campaign
+    # stopped halfway resumes from FOLDER/design.toml, and its options are checked on resume
+    if not (out / "summary.csv").is_file():
+        _write_design(out, design, base, overrides=overrides, quick=quick, max_stops=max_stops)
     campaign_design = design.model_copy(
         update={"base": None, "base_config": (out / "base_config.toml").resolve()}
     )
@@ -445,18 +449,18 @@ def _run_locked(
 
 def _stale_analysis(out: Path, summary: pd.DataFrame) -> list[str]:
     """Remove the analysis (report.html, tables/, figures/) of the study in ``out`` when the
-    summary about to be written has other runs (another study, more replicates): it would
-    describe runs that are no longer the folder's study, and a campaign run without its
-    report (``--no-report``) would leave it there. Returns what was removed."""
+    summary about to be written differs from the one there (another study, more replicates,
+    failed runs computed again): it would describe runs that are no longer the folder's
+    study, and a campaign run without its report (``--no-report``) would leave it there.
+    Returns what was removed."""
     import shutil
 
     path = out / "summary.csv"
     if not path.is_file():
         return []
-    try:
-        old = read_summary(path)
-        same = list(old["run_id"].astype(str)) == list(summary["run_id"].astype(str))
-    except (OSError, ValueError, KeyError):
+    try:  # the text summary.csv gets: equal text is an equal study, failed runs and all
+        same = path.read_text(encoding="utf-8") == summary.to_csv(index=False)
+    except (OSError, UnicodeDecodeError):
         same = False
     if same:
         return []

@@ -731,6 +731,14 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
         )  # fmt: skip
     after = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file() and p.suffix != ".lock"}
     assert after == before  # design.toml, base_config.toml, summary.csv, report.html
+    # a first campaign in a new folder writes them at once: stopped, it resumes from them
+    fresh = tmp_path / "fresh"
+    with pytest.raises(KeyboardInterrupt):
+        run_campaign(
+            other, fresh, executor="serial", simulate_fn=stopped, progress=False, console=quiet()
+        )
+    assert "root_seed = 12" in (fresh / "design.toml").read_text(encoding="utf-8")
+    assert (fresh / "base_config.toml").is_file() and not (fresh / "summary.csv").exists()
     replaced = run_campaign(
         other, out, executor="serial", progress=False, console=(console := quiet()), replace=True
     )
