@@ -2043,22 +2043,26 @@ def show_config(
         config = resolve_config(preset, config_file, overrides, stops, quick)
     except ConfigError as exc:
         _fail(str(exc))
+    _config_notes([config])  # on standard error, as the A note
     out.print(config.to_commented_toml(), highlight=False, markup=False, end="")
 
 
 @app.callback(invoke_without_command=True)
 def _root(
+    ctx: typer.Context,
     version: Annotated[bool, typer.Option("--version", help="print the version")] = False,
 ) -> None:
     if version:
         out.print(__version__)
         raise typer.Exit(0)
     # the commands print their own notes for values that read like unit slips (A below 1 %),
-    # where the library warns (config.UnitWarning)
+    # where the library warns (config.UnitWarning); for this command only: the filters are
+    # restored when it ends (a command run in-process leaves the library's warnings on)
     import warnings
 
     from brakeca.config import UnitWarning
 
+    ctx.with_resource(warnings.catch_warnings())
     warnings.simplefilter("ignore", UnitWarning)
 
 

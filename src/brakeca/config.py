@@ -69,12 +69,24 @@ class UnitWarning(UserWarning):
     them errors)."""
 
 
-def _warn_unit(note: str | None) -> None:
-    """Warn (:class:`UnitWarning`) with ``note``, unless it is None."""
-    if note is not None:
-        import warnings
+def warn_unit(note: str | None) -> None:
+    """Warn (:class:`UnitWarning`) with ``note``, unless it is None, at the line of the code
+    that called into brakeca (the first frame outside the package and pydantic), whichever
+    way it came in (``with_updates``, ``apply_overrides``, a design's levels)."""
+    if note is None:
+        return
+    import sys
+    import warnings
 
-        warnings.warn(note, UnitWarning, stacklevel=2)
+    import pydantic
+
+    inside = (str(Path(__file__).parent), str(Path(pydantic.__file__).parent))
+    frame = sys._getframe(1)
+    level = 2  # stacklevel 2: the caller of this function
+    while frame.f_back is not None and frame.f_code.co_filename.startswith(inside):
+        frame = frame.f_back
+        level += 1
+    warnings.warn(note, UnitWarning, stacklevel=level)
 
 
 def _numeric(annotation: Any) -> bool:
@@ -267,11 +279,6 @@ class ContactConfig(_Frozen):
             )
         return None
 
-    @model_validator(mode="after")
-    def _warn_unit(self) -> ContactConfig:
-        _warn_unit(self.unit_note())
-        return self
-
 
 class FrictionConfig(_Frozen):
     """Pressure-dependent local COF on plateaus, mu(p) = max(mu_min, mu_0 - c p) (Figure 4)."""
@@ -286,7 +293,6 @@ class FrictionConfig(_Frozen):
     def _floor(self) -> FrictionConfig:
         if self.mu_min > self.mu_0:
             raise ValueError(f"mu_min ({self.mu_min}) must not exceed mu_0 ({self.mu_0})")
-        _warn_unit(self.unit_note())
         return self
 
     def unit_note(self) -> str | None:
@@ -797,12 +803,7 @@ class SimulationConfig(_Frozen):
         what brakeca did before changes no run id of a finished campaign."""
         data = self.to_dict()
         for key, neutral in ID_NEUTRAL.items():
-            *tables, name = key.split(".")
-            table = data
-            for part in tables:
-                table = table.get(part, {})
-            if name in table and table[name] == neutral:
-                del table[name]
+            _drop_neutral(data, key.split("."), neutral)
         return tomli_w.dumps(data)
 
     def to_commented_toml(self) -> str:
@@ -875,6 +876,24 @@ def unit_notes(config: SimulationConfig) -> list[str]:
     (:class:`UnitWarning`) as the configuration is made."""
     notes = (config.contact.unit_note(), config.friction.unit_note())
     return [n for n in notes if n is not None]
+
+
+def _drop_neutral(table: Any, parts: Sequence[str], neutral: Any) -> None:
+    """Delete the field at the dotted path ``parts`` from the nested dict ``table`` where it
+    holds ``neutral``; a part ending in ``[]`` (``blocks[]``) is a list of tables, each of
+    which is visited (:data:`ID_NEUTRAL`'s keys)."""
+    head, rest = parts[0], parts[1:]
+    if not isinstance(table, dict):
+        return
+    if not rest:
+        if head in table and table[head] == neutral:
+            del table[head]
+        return
+    if head.endswith("[]"):
+        for item in table.get(head[:-2]) or ():
+            _drop_neutral(item, rest, neutral)
+    else:
+        _drop_neutral(table.get(head), rest, neutral)
 
 
 def _drop_none(value: Any) -> Any:
@@ -1241,13 +1260,9 @@ def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
             f"got {value}"
         )
     if key == "A" and 0.0 < value < 1.0:
-        import warnings
-
-        warnings.warn(
+        warn_unit(
             f"A is in %: A = {value:g} is {value:g} % fibres; for {100 * value:g} % give "
-            f"A = {100 * value:g}",
-            UnitWarning,
-            stacklevel=4,
+            f"A = {100 * value:g}"
         )
     return field, value * scale
 
@@ -1308,7 +1323,12 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
         data.get("cycle", {}).pop("trace_sha256", None)
     # a factor's field named by the name it was given as
     heads = {path: f"override {key} (= {path})" for path, key in given.items() if key != path}
-    return SimulationConfig.from_dict(data, source="override", heads=heads)
+    updated = SimulationConfig.from_dict(data, source="override", heads=heads)
+    before = unit_notes(config)
+    for note in unit_notes(updated):  # a value this update set that reads like a unit slip
+        if note not in before:
+            warn_unit(note)
+    return updated
 
 
 def load_config(path: str | Path) -> SimulationConfig:
@@ -1348,6 +1368,8 @@ def load_config(path: str | Path) -> SimulationConfig:
             "preset: 'brakeca config > FILE' writes the paper's to edit ('--set KEY=VALUE' "
             "changes one field of a preset)"
         ) from None
+    for note in unit_notes(config):
+        warn_unit(f"{path}: {note}")
     return _anchored_trace(config, path)
 
 

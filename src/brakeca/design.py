@@ -120,6 +120,7 @@ from brakeca.config import (
     load_config,
     plain_number,
     read_csv_text,
+    warn_unit,
 )
 
 __all__ = [
@@ -290,6 +291,41 @@ def _field_unit(field: str) -> str | None:
     info = _leaf_field(field)[0]
     match = re.match(r"\s*\[([^\]]+)\]", (info.description or "") if info else "")
     return match.group(1) if match else None
+
+
+#: SI prefixes a factor's unit label may put before its field's unit.
+_SI_PREFIXES = {
+    "p": 1e-12,
+    "n": 1e-9,
+    "µ": 1e-6,
+    "u": 1e-6,
+    "m": 1e-3,
+    "k": 1e3,
+    "M": 1e6,
+    "G": 1e9,
+}
+
+
+def _short_number(x: float) -> str:
+    """``x`` as a short TOML number: ``0.01``, ``1e9``, ``1e-6``."""
+    if 1e-3 <= abs(x) < 1e4:
+        return f"{x:g}"
+    mantissa, exponent = f"{x:e}".split("e")
+    return f"{float(mantissa):g}e{int(exponent)}"
+
+
+def _prefixed_scale(unit: str, own: str) -> float | None:
+    """The scale that turns levels in ``unit`` into the field's ``own`` unit, when ``unit``
+    is ``own`` with an SI prefix (``GPa`` for ``Pa``: 1e9; ``1/MPa`` for ``1/Pa``: 1e-6) or
+    ``%`` for a dimensionless field (0.01); None for any other label."""
+    if unit.strip() == "%" and own in ("-", "", "1"):
+        return 0.01
+    for prefix, size in _SI_PREFIXES.items():
+        if unit == prefix + own:
+            return size
+        if own.startswith("1/") and unit == "1/" + prefix + own[2:]:
+            return 1.0 / size
+    return None
 
 
 class Factor(_Frozen):
@@ -580,23 +616,23 @@ class Factor(_Frozen):
         return _decode(low, high, self.coding, x)
 
     def unit_note(self) -> str | None:
-        """A note when :attr:`unit` names another unit than the field's while :attr:`scale`
-        is 1 (``unit = "GPa"`` on ``contact.elastic_modulus``): the unit is a label, so the
-        levels are taken in the field's own unit; None otherwise (an alias, a categorical
-        factor, a scale given, a field without a stated unit)."""
+        """A note when :attr:`unit` is the field's unit with an SI prefix (``GPa`` on
+        ``contact.elastic_modulus``, ``1/MPa`` on ``friction.slope``), or ``%`` on a
+        dimensionless field, while :attr:`scale` is 1: the unit is a label, so the levels
+        are taken in the field's own unit. None otherwise (another label, an alias, a
+        categorical factor, a scale given)."""
         if self.choices is not None or self.field == "cycle" or self.field in FACTOR_ALIASES:
             return None
-        if self.scale != 1.0:
-            return None
         own = _field_unit(self.field)
-        plain = {"", "-", "1"}
-        if own is None or self.unit == own or (self.unit in plain and own in plain):
+        if self.scale != 1.0 or own is None or self.unit == own:
+            return None
+        scale = _prefixed_scale(self.unit, own)
+        if scale is None:
             return None
         return (
             f"factor {self.name!r}: its unit {self.unit!r} is a label; with scale 1 its "
-            f"levels are taken in the unit of {self.field}, {own}. If they are in "
-            f"{self.unit}, give scale, the size of one {self.unit} in {own} (1e9 for GPa "
-            "in Pa)"
+            f"levels are taken in the unit of {self.field}, {own}. For levels in "
+            f"{self.unit}, give scale = {_short_number(scale)}"
         )
 
     def apply(self, config: SimulationConfig, value: int | float) -> SimulationConfig:
@@ -2751,6 +2787,18 @@ class Design(_Frozen):
         ConfigError
             A campaign-wide setting or a factor level does not validate.
         """
+        import warnings
+
+        from brakeca.config import UnitWarning
+
+        with warnings.catch_warnings():  # said once, as the design was loaded (check_levels)
+            warnings.simplefilter("ignore", UnitWarning)
+            return self._points(overrides, quick, max_stops)
+
+    def _points(
+        self, overrides: Mapping[str, Any] | None, quick: bool, max_stops: int | None
+    ) -> list[RunPoint]:
+        """:meth:`points`, its warnings on levels that read like slips of unit aside."""
         base = self.resolved_base(overrides=overrides, quick=quick, max_stops=max_stops)
         combos = self.combinations()
         n = len(combos) * self.replicates
@@ -2896,11 +2944,7 @@ def design_from_dict(
     for factor in design.factors:
         note = factor.unit_note()
         if note is not None:
-            import warnings
-
-            from brakeca.config import UnitWarning
-
-            warnings.warn(f"{source}: {note}", UnitWarning, stacklevel=2)
+            warn_unit(f"{source}: {note}")
     return design
 
 
