@@ -70,18 +70,24 @@ def campaign_lock(out: Path) -> Iterator[None]:
         return
     out.mkdir(parents=True, exist_ok=True)
     with open(out / LOCK_NAME, "a+", encoding="utf-8") as fh:
-        try:
-            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            locked = True
-        except BlockingIOError:
-            fh.seek(0)
-            holder = fh.read().strip() or "another process"
-            raise CampaignLockedError(
-                f"{out}: another campaign is writing this folder ({holder}); wait for it to "
-                "finish, or write to another output folder"
-            ) from None
-        except OSError:  # a file system without flock (some network mounts): run unlocked
-            locked = False
+        locked = False
+        for attempt in range(6):  # lock_holder (brakeca analyze) holds it for an instant
+            try:
+                fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                locked = True
+                break
+            except BlockingIOError:
+                if attempt < 5:
+                    time.sleep(0.05)
+                    continue
+                fh.seek(0)
+                holder = fh.read().strip() or "another process"
+                raise CampaignLockedError(
+                    f"{out}: another campaign is writing this folder ({holder}); wait for it "
+                    "to finish, or write to another output folder"
+                ) from None
+            except OSError:  # a file system without flock (some network mounts): unlocked
+                break
         if not locked:
             yield
             return

@@ -86,3 +86,23 @@ def test_a_file_system_without_flock_runs_unlocked(tmp_path, monkeypatch):
     monkeypatch.setattr(fcntl, "flock", no_flock)
     with campaign_lock(tmp_path / "campaign"):
         pass  # no error: the campaign goes on without a lock
+
+
+def test_lock_holder_names_a_campaign_and_does_not_keep_one_out(tmp_path):
+    """``brakeca analyze`` asks who holds the lock by taking it shared for an instant: a
+    campaign starting in that instant waits for it instead of failing (a diff review)."""
+    import fcntl
+    import threading
+
+    from brakeca._runstore import LOCK_NAME, campaign_lock, lock_holder
+
+    out = tmp_path / "campaign"
+    assert lock_holder(out) is None  # no folder, no lock file
+    with campaign_lock(out):
+        assert lock_holder(out).startswith(f"pid {os.getpid()} on ")
+    assert lock_holder(out) is None  # the file stays, unheld
+    with open(out / LOCK_NAME, encoding="utf-8") as fh:
+        fcntl.flock(fh, fcntl.LOCK_SH)  # as lock_holder holds it, for 0.1 s here
+        threading.Timer(0.1, fcntl.flock, (fh, fcntl.LOCK_UN)).start()
+        with campaign_lock(out):
+            pass

@@ -146,13 +146,20 @@ def test_rule_s_removes_the_secondary_plateaus_its_rule_picks(rule):
     if rule == "draw":
         picked = secondary[expected_rng.random(secondary.size) < 0.5]
     else:
-        n = round(0.5 * secondary.size)  # Python's rounding: half to even
-        assert secondary.size % 2 == 1 and n % 2 == 0  # a half here, rounded to even
-        picked = np.sort(expected_rng.choice(secondary, size=n, replace=False))
+        picked = np.sort(
+            expected_rng.choice(secondary, size=round(0.5 * secondary.size), replace=False)
+        )
     emitted, removed = end_of_stop(state, 0.5, np.random.default_rng(99), rule)
     assert removed == picked.size and 0 < removed < secondary.size
     assert np.array_equal(np.flatnonzero(state.status == 2), np.setdiff1d(secondary, picked))
     assert emitted == pytest.approx(stream + float(deposit[picked].sum()), rel=1e-12)
+    if rule == "count":  # half to even: of 5 secondary plateaus, S = 0.5 removes 2, not 3
+        few = SimulationState.from_surface(generate_surface(config.pad, grid, rng), grid)
+        cells = np.flatnonzero(few.status == 0)[:5]
+        few.status[cells] = 2  # resin cells made secondary plateaus with no deposit
+        few.base[cells] = few.height[cells]
+        assert end_of_stop(few, 0.5, np.random.default_rng(1), rule)[1] == 2
+        assert int((few.status == 2).sum()) == 3
     # S = 1: every secondary plateau, no number drawn
     advance_stop(state, grid, config, cycle_events(config)[1])
     left = int((state.status == 2).sum())
