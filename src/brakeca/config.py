@@ -785,9 +785,24 @@ class SimulationConfig(_Frozen):
             f"S={self.automaton.secondary_removal_fraction:g}, "
             f"WP={self.wear.specific_wear_rate:g} m^3/(N m), "
             f"WR={self.wear.resin_wear_depth:g} m, A={100 * self.pad.fibre_area_fraction:g} %, "
-            f"fibres {self.pad.fibre_model}, kernel {self.numerics.kernel}; "
-            "to_toml() for every field)"
+            f"fibres {self.pad.fibre_model}, kernel {self.numerics.kernel}"
+            + "".join(f", {key} {value}" for key, value in self._variants().items())
+            + "; to_toml() for every field)"
         )
+
+    def _variants(self) -> dict[str, Any]:
+        """The fields of :data:`ID_NEUTRAL` (the model's later variants) that are not at
+        their default, for :meth:`__repr__`."""
+        out = {}
+        for key, neutral in ID_NEUTRAL.items():
+            if "[]" in key:
+                continue
+            value: Any = self
+            for part in key.split("."):
+                value = getattr(value, part)
+            if value != neutral:
+                out[key.split(".")[-1]] = value
+        return out
 
     def __str__(self) -> str:
         return repr(self)

@@ -80,7 +80,10 @@ STOP_VARIABLES: dict[str, tuple[str, str]] = {
     "max_friction_residual": ("1", "max |F_friction / F_demanded - 1| over the steps"),
     "max_ledger_residual": ("1", "max relative volume-ledger residual over the steps"),
     "secondary_removed_between_stops": ("1", "secondary plateaus removed by rule S"),
-    "end_of_stop_emitted_volume": ("m3", "particles flushed and deposits removed by S"),
+    "end_of_stop_emitted_volume": (
+        "m3",
+        "particles flushed (none with the streams carried) and deposits removed by S",
+    ),
     "min_disc_position": ("m", "lowest disc surface position z in the stop"),
 }
 
@@ -163,11 +166,11 @@ def _paper_factors(config: SimulationConfig) -> str:
     return ", ".join(parts)
 
 
-#: Attributes of a run file's ``rule`` coordinate: the seven plateau rules of the paper's
-#: Section 2 (docs/model.md section 7 gives how each is read).
 #: The status maps' ``flag_values`` (CF: of the variable's type, int8).
 _FLAG_VALUES = np.array([0, 1, 2], dtype=np.int8)
 
+#: Attributes of a run file's ``rule`` coordinate: the seven plateau rules of the paper's
+#: Section 2 (docs/model.md section 7 gives how each is read).
 RULE_ATTRS: dict[str, str] = {
     "units": "1",
     "long_name": "plateau rule of the cellular automaton",

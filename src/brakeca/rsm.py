@@ -550,7 +550,7 @@ def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]
         A factor :func:`coding_of` refuses (categorical, fewer than two levels, log coding
         of a level that is not positive).
     """
-    codings = [f if isinstance(f, Coding) else coding_of(f) for f in factors]
+    codings = [f if isinstance(f, Coding) else coding_of(f) for f in _unwrap(factors)]
     points = pd.DataFrame({c.name: c.code(tests[c.name].to_numpy(float)) for c in codings})
     names = [c.name for c in codings]
     varying, kept, exog, notes = _model_matrix(points, names, True, True)
@@ -562,6 +562,17 @@ def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]
         "vif": _vif(exog)[1:],
         "notes": notes,
     }
+
+
+def _unwrap(factors: Any) -> list[Any]:
+    """The factors given: a design (or a campaign result) stands for its design's factors,
+    as in :mod:`brakeca.analysis`."""
+    design = getattr(factors, "design", None)  # a CampaignResult
+    if design is not None and hasattr(design, "factor_names"):
+        factors = design
+    if hasattr(factors, "factor_names"):  # a Design (iterating it gives its fields)
+        return list(factors.factors)
+    return list(factors)
 
 
 def fit_response_surface(
@@ -613,7 +624,7 @@ def fit_response_surface(
     signs of ``B``'s eigenvalues tell a maximum (all negative) from a minimum (all positive)
     and a saddle point (Montgomery 2013, section 11.3.1).
     """
-    codings = [f if isinstance(f, Coding) else coding_of(f) for f in factors]
+    codings = [f if isinstance(f, Coding) else coding_of(f) for f in _unwrap(factors)]
     names = [c.name for c in codings]
     if len(set(names)) != len(names):
         raise ValueError(f"factor names repeat: {names}")
@@ -806,7 +817,7 @@ def backward_elimination(
     problem = alpha_problem(alpha)
     if problem:
         raise ValueError(f"alpha: {problem}")
-    factors = list(factors)
+    factors = _unwrap(factors)
     removed: list[str] = []
     fit = fit_response_surface(summary, factors, response)
     # the terms the full model cannot estimate stay out, as in Minitab, which removes them
@@ -904,7 +915,7 @@ def response_surfaces(
         As :func:`fit_response_surface` and :func:`backward_elimination`, but for too few
         usable runs (that response is left out).
     """
-    factors = list(factors)
+    factors = _unwrap(factors)
     out = {}
     for response in responses:
         try:

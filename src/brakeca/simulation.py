@@ -1028,7 +1028,8 @@ def _run_lazy(state, grid, config, targets, fraction, rec, counts, scratch):
 
 
 def _final_ledger(state: SimulationState) -> float:
-    """Relative ledger residual after the last stop (streams flushed) [-]."""
+    """Relative ledger residual after the last stop (the streams flushed, or, carried,
+    counted as in the streams) [-]."""
     removed = state.acc[K.ACC_REMOVED]
     resid = removed - state.held_volume() - state.inflow.sum() - state.acc[K.ACC_EMITTED]
     return abs(resid) / removed if removed > 0 else abs(resid)

@@ -579,3 +579,32 @@ def test_a_goal_takes_min_and_max_and_names_the_order_of_a_targets_numbers() -> 
         Goal("MU", "target", 0.15, 0.2, 0.3)
     with pytest.raises(ValueError, match=r"strictly between 0.15 and 0.3, got 0.1$"):
         Goal("MU", "target", 0.15, 0.3, 0.1)
+
+
+def test_a_design_stands_for_its_factors_in_the_surface_fit() -> None:
+    """``fit_response_surface(summary, design, "MU")`` read the design's fields as factors
+    ("factor 'None': needs two different levels"), where the README says the analysis
+    functions take a design (a diff review)."""
+    import types
+
+    from brakeca.design import design_from_dict
+
+    design = design_from_dict(
+        {
+            "name": "ccd",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "mu0", "field": "friction.mu_0", "levels": [0.5, 0.7]},
+                {"name": "slope", "field": "friction.slope", "levels": [2e-8, 4e-8]},
+            ],
+            "composite": {"alpha": "face"},
+        }
+    )
+    tests = pd.DataFrame(design.combinations())
+    rng = np.random.default_rng(2)
+    summary = tests.assign(MU=0.3 + 0.1 * rng.standard_normal(len(tests)), status="ok")
+    expected = fit_response_surface(summary, design.factors, "MU")
+    for given in (design, types.SimpleNamespace(design=design)):
+        fit = fit_response_surface(summary, given, "MU")
+        assert fit.terms == expected.terms and np.array_equal(fit.coef, expected.coef)
