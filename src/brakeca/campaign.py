@@ -614,7 +614,7 @@ def _execute_points(
     )
     if how.progress:
         resumed = unusable = 0
-        for p in todo if how.checkpoint_every is not None else ():
+        for p in todo:  # with checkpoints off too: a run resumes from one written before
             path = _checkpoint_path(runs, p)
             if checkpoint_resumes(path, p.config, p.seed, how.maps_at):
                 resumed += 1
@@ -648,6 +648,11 @@ def _execute_points(
                     if how.checkpoint_every is not None:
                         options["checkpoint"] = _checkpoint_path(runs, point)
                         options["checkpoint_every"] = int(how.checkpoint_every)
+                    elif _checkpoint_path(runs, point).is_file():
+                        # checkpoints off: a run resumes from one written before, and
+                        # writes no more (no stop index reaches this)
+                        options["checkpoint"] = _checkpoint_path(runs, point)
+                        options["checkpoint_every"] = 2**62
                     if how.maps_at:
                         options["maps_at"] = how.maps_at
                     pending[backend.submit(how.simulate_fn, point, options)] = point
@@ -677,7 +682,7 @@ def _execute_points(
                         record = _Record(point, rid, "failed", error)
                     else:
                         record = _finish(future, point, runs)
-                        if record.status == "ok" and how.checkpoint_every is not None:
+                        if record.status == "ok":
                             # the run file is written: its checkpoint can go (the worker
                             # leaves it, so that a campaign killed before this resumes it)
                             _checkpoint_path(runs, point).unlink(missing_ok=True)

@@ -793,7 +793,7 @@ CheckpointOpt = Annotated[
         min=0,
         metavar="N",
         help="save each run in progress every N stops, so an interrupted campaign resumes it "
-        "from there (0: no checkpoints)",
+        "from there (0: no new checkpoints; a run still resumes from one written before)",
     ),
 ]
 

@@ -148,3 +148,43 @@ def test_a_worker_leaves_its_checkpoint_for_the_campaign_to_remove(
     assert resumed.reused == (run_id(point),)
     assert not list((out / "runs").glob(".*"))
     assert deterministic(resumed.summary).equals(deterministic(uninterrupted.summary))
+
+
+def test_checkpoints_off_still_resume_from_one_written_before(
+    design_file, uninterrupted, tmp_path, monkeypatch
+):
+    """A campaign resumed with checkpoints off (``--checkpoint-every 0``) started its
+    interrupted runs over and left their checkpoints on disk (a robustness review). It
+    resumes from them now, writes no more, and removes them once the run file is written."""
+    out = tmp_path / "campaign"
+    point = next(p for p in load_design(design_file).points() if p.test == 1)
+    ckpt = out / "runs" / f".{run_id(point)}.checkpoint.npz"
+    ckpt.parent.mkdir(parents=True)
+    with pytest.raises(Interrupted):
+        simulation.simulate(
+            point.config, seed=point.seed, checkpoint=ckpt, checkpoint_every=1,
+            progress=_stop_after(2),
+        )  # fmt: skip
+    resumed, saved = [], []
+    load, save = simulation.load_checkpoint, simulation.save_checkpoint
+
+    def spy_load(*args, **kwargs):
+        found = load(*args, **kwargs)
+        if found is not None:
+            resumed.append(len(found[2].dts))
+        return found
+
+    def spy_save(*args, **kwargs):
+        saved.append(args[0])
+        return save(*args, **kwargs)
+
+    monkeypatch.setattr(simulation, "load_checkpoint", spy_load)
+    monkeypatch.setattr(simulation, "save_checkpoint", spy_save)
+    log = Console(file=io.StringIO(), width=200)
+    result = run_campaign(
+        design_file, out, executor="serial", checkpoint_every=None, progress=True, console=log
+    )
+    assert resumed == [2] and saved == []
+    assert "1 resumed from a checkpoint" in log.file.getvalue()  # type: ignore[attr-defined]
+    assert not ckpt.exists()
+    assert deterministic(result.summary).equals(deterministic(uninterrupted.summary))
