@@ -2,8 +2,11 @@
 
 Every function builds its own :class:`matplotlib.figure.Figure` on an Agg canvas (no pyplot,
 no global backend switch, no figure registry to leak), returns it and, when ``path`` is
-given, saves it as PNG at 150 dpi. matplotlib is imported only inside the functions, so
-importing :mod:`brakeca.plotting` is cheap and works without a display.
+given, saves it as PNG at 150 dpi. The single-axes figures (:func:`plot_mu_per_stop`,
+:func:`plot_v_per_run`, :func:`plot_pareto`, :func:`plot_surface_map`) draw instead on an
+axes given as ``ax=``, in a figure of one's own (a notebook's subplot grid). matplotlib is
+imported only inside the functions, so importing :mod:`brakeca.plotting` is cheap and works
+without a display.
 
 References
 ----------
@@ -92,6 +95,17 @@ def _figure(figsize: tuple[float, float]) -> Figure:
     fig = Figure(figsize=figsize, layout="constrained")
     FigureCanvasAgg(fig)
     return fig
+
+
+def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
+    """A new figure of ``figsize`` [in] with one axes, or the figure of ``ax`` and ``ax``
+    itself, to draw into a figure of one's own (a subplot of a grid)."""
+    if ax is None:
+        fig = _figure(figsize)
+        return fig, fig.subplots()
+    if not hasattr(ax, "figure") or not hasattr(ax, "plot"):
+        raise TypeError(f"ax: expected a matplotlib Axes, got {type(ax).__name__}")
+    return ax.figure, ax  # type: ignore[return-value]
 
 
 def _suptitle(fig: Figure, text: str) -> None:
@@ -437,6 +451,7 @@ def plot_mu_per_stop(
     factors: Iterable[Any] | None = None,
     variable: str = "mean_cof",
     title: str | None = None,
+    ax: Axes | None = None,
 ) -> Figure:
     """Mean coefficient of friction per stop over the whole cycle, one line per run.
 
@@ -462,6 +477,9 @@ def plot_mu_per_stop(
         The axes' title; by default one for all the runs of a campaign. A single run gets
         no legend.
 
+    ax
+        An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
+        new figure. ``path`` then writes that whole figure.
     Returns
     -------
     matplotlib.figure.Figure
@@ -504,8 +522,8 @@ def plot_mu_per_stop(
             if name != "run" and tuple(coord.dims) == ("run",)
         ]
     n = len(runs)
-    fig = _figure((13.0, 6.0))
-    ax = fig.subplots()
+    given = ax is not None
+    fig, ax = _axes(ax, (13.0, 6.0))
 
     if "block" in campaign.coords:
         blocks = [str(b) for b in campaign["block"].to_numpy()]
@@ -570,7 +588,9 @@ def plot_mu_per_stop(
         pad += tallest * 72.0 / fig.dpi + 0.01 * ax.bbox.height * 72.0 / fig.dpi
     ax.set_title(title, pad=pad)
     ax.grid(True, alpha=0.3)
-    if n > 1:
+    if n > 1 and given:
+        ax.legend(fontsize=7, ncols=1 if n_tests <= 30 else 2)
+    elif n > 1:
         fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
     return save_figure(fig, path)
 
@@ -688,6 +708,7 @@ def plot_v_per_run(
     path: str | Path | None = None,
     *,
     log: bool | None = None,
+    ax: Axes | None = None,
 ) -> Figure:
     """Mean emitted wear volume per stop for every run (test), as bars in mm^3.
 
@@ -705,6 +726,9 @@ def plot_v_per_run(
         tests' V span more than two decades (where a linear axis shows the smallest as
         empty bars).
 
+    ax
+        An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
+        new figure. ``path`` then writes that whole figure.
     Returns
     -------
     matplotlib.figure.Figure
@@ -727,8 +751,7 @@ def plot_v_per_run(
     values = pd.to_numeric(data[column], errors="coerce") * scale
     grouped = values.groupby(data["test"]).agg(["mean", "std", "count"]).reindex(tests)
 
-    fig = _figure((max(6.0, 0.38 * len(tests) + 2.0), 4.0))
-    ax = fig.subplots()
+    fig, ax = _axes(ax, (max(6.0, 0.38 * len(tests) + 2.0), 4.0))
     x = np.asarray(tests, dtype=float)
     heights = grouped["mean"].to_numpy(dtype=float)
     err = grouped["std"].where(grouped["count"] > 1).to_numpy(dtype=float)
@@ -770,6 +793,8 @@ def plot_pareto(
     ranked: pd.DataFrame,
     response: str,
     path: str | Path | None = None,
+    *,
+    ax: Axes | None = None,
 ) -> Figure:
     """Pareto chart of the percent contribution of every model term.
 
@@ -783,6 +808,9 @@ def plot_pareto(
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
+    ax
+        An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
+        new figure. ``path`` then writes that whole figure.
     Returns
     -------
     matplotlib.figure.Figure
@@ -801,8 +829,7 @@ def plot_pareto(
         p = np.full(len(table), np.nan)
     significant = np.isfinite(p) & (p < 0.05)
 
-    fig = _figure((max(6.0, 0.55 * len(terms) + 2.5), 4.2))
-    ax = fig.subplots()
+    fig, ax = _axes(ax, (max(6.0, 0.55 * len(terms) + 2.5), 4.2))
     x = np.arange(len(terms))
     colours = np.where(significant, "#27496d", "#9fb3c8")
     ax.bar(x, pct, color=colours, zorder=2)
@@ -1438,6 +1465,8 @@ def plot_surface_map(
     angle: Any,
     title: str = "",
     path: str | Path | None = None,
+    *,
+    ax: Axes | None = None,
 ) -> Figure:
     """Map of the pad surface status on the polar band (angle on x, radius on y).
 
@@ -1456,6 +1485,9 @@ def plot_surface_map(
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
 
+    ax
+        An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
+        new figure. ``path`` then writes that whole figure.
     Returns
     -------
     matplotlib.figure.Figure
@@ -1475,14 +1507,19 @@ def plot_surface_map(
             f"title: {str(title)!r} reads like a file name; the file to write is path= "
             "(plot_surface_map(status, radius, angle, title, path))"
         )
-    fig = _figure((10.0, 3.6))
-    ax = fig.subplots()
+    given = ax is not None
+    fig, ax = _axes(ax, (10.0, 3.6))
     handles, fractions = _draw_map(ax, status, radius, angle, "")
     for h, f in zip(handles, fractions, strict=True):
         h.set_label(f"{h.get_label()}: {100 * f:.1f} %")
-    fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
-    if title:
-        _suptitle(fig, title)
+    if given:  # within a figure of one's own: the legend and title on these axes
+        ax.legend(handles=handles, loc="upper right", ncols=3, fontsize=7)
+        if title:
+            ax.set_title(title)
+    else:
+        fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
+        if title:
+            _suptitle(fig, title)
     return save_figure(fig, path)
 
 

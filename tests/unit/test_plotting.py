@@ -615,3 +615,36 @@ def test_a_file_name_where_a_title_or_the_factors_go_is_named(campaign, tmp_path
     with pytest.raises(TypeError, match=r"^factors: got 'x.png', not factors; the file to"):
         plot_mu_per_stop_by_level(campaign, "x.png")
     assert not (tmp_path / "x.png").exists()
+
+
+def test_single_axes_figures_draw_into_a_users_grid(campaign, summary, tmp_path) -> None:
+    """No figure took ``ax=``, so none could go into a notebook's subplot grid (an API
+    review). The four single-axes figures do now: they draw on the axes given, keep their
+    legend and title there, and ``path`` writes the user's whole figure."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 2, figsize=(12, 8))
+    status, radius, angle = _status_map(n_r=5, n_a=40)
+    ranked = pd.DataFrame(
+        {
+            "term": ["WP", "A", "S"],
+            "percent_contribution": [60.0, 30.0, 10.0],
+            "p_value": [0.001, 0.01, 0.4],
+        }
+    )
+    got = [
+        plot_mu_per_stop(campaign, factors=FACTORS, ax=axes[0, 0]),
+        plot_v_per_run(summary, ax=axes[0, 1]),
+        plot_pareto(ranked, "MU", ax=axes[1, 0]),
+        plot_surface_map(status, radius, angle, "Pad", tmp_path / "grid.png", ax=axes[1, 1]),
+    ]
+    assert all(g is fig for g in got)
+    assert len(fig.axes) >= 4 and (tmp_path / "grid.png").read_bytes().startswith(PNG)
+    assert axes[0, 0].get_legend() is not None and axes[1, 1].get_title() == "Pad"
+    assert axes[0, 1].patches or axes[0, 1].lines  # V's bars (or points) are on its axes
+    with pytest.raises(TypeError, match=r"^ax: expected a matplotlib Axes, got str$"):
+        plot_pareto(ranked, "MU", ax="left")  # type: ignore[arg-type]
+    plt.close(fig)
