@@ -37,6 +37,8 @@ _EXPORTS = {
     "simulate": "brakeca.simulation",
     "RunResult": "brakeca.results",
     "load_design": "brakeca.design",
+    "quick_config": "brakeca.design",
+    "UnitWarning": "brakeca.config",
     "run_campaign": "brakeca.campaign",
     "load_campaign": "brakeca.campaign",
     "finish_campaign": "brakeca.campaign",
@@ -50,6 +52,7 @@ __all__ = [  # __version__ and _EXPORTS's names, spelled out for linters
     "ConfigError",
     "RunResult",
     "SimulationConfig",
+    "UnitWarning",
     "__version__",
     "analyze",
     "finish_campaign",
@@ -60,6 +63,7 @@ __all__ = [  # __version__ and _EXPORTS's names, spelled out for linters
     "load_preset",
     "make_executor",
     "plot_run",
+    "quick_config",
     "run_campaign",
     "simulate",
     "write_study",
@@ -68,8 +72,8 @@ __all__ = [  # __version__ and _EXPORTS's names, spelled out for linters
 if TYPE_CHECKING:  # for type checkers and editors; at run time __getattr__ imports
     from brakeca.analysis import analyze
     from brakeca.campaign import finish_campaign, load_campaign, make_executor, run_campaign
-    from brakeca.config import ConfigError, SimulationConfig, load_config
-    from brakeca.design import load_design
+    from brakeca.config import ConfigError, SimulationConfig, UnitWarning, load_config
+    from brakeca.design import load_design, quick_config
     from brakeca.presets import load_cycle, load_preset
     from brakeca.results import RunResult
     from brakeca.simulation import simulate

@@ -2471,8 +2471,8 @@ def two_level_effects(
 
 
 def analyze(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | Any,
+    factors: Iterable[Any] | None = None,
     responses: Sequence[str] = ("MU", "V"),
     *,
     main_effects_only: bool = False,
@@ -2486,13 +2486,16 @@ def analyze(
     Parameters
     ----------
     summary
-        Campaign summary, one row per run.
+        Campaign summary, one row per run; or a campaign result
+        (:func:`brakeca.load_campaign`), its summary and, without ``factors``, its design's
+        factors: ``analyze(brakeca.load_campaign("study"))``.
     factors
         The design's factors, or the design itself (or a campaign result) for them; every
         analysis function takes these alike.
     responses
         Response columns, by default ``("MU", "V")`` (mean COF [-], emitted volume per stop
-        [m^3]).
+        [m^3]); ``"log10_V_mm3"`` [-] is computed from V where the summary has no such
+        column (:func:`brakeca.study.with_log_v`).
     main_effects_only
         The ANOVA and the effects table fit the main effects alone, as Minitab analyses a
         Plackett-Burman design (its interactions are partly confounded with the main
@@ -2534,9 +2537,22 @@ def analyze(
     ----------
     Wahlström (2016), Figures 6 to 9, doi:10.1155/2016/8181260.
     """
+    if not isinstance(summary, pd.DataFrame) and hasattr(summary, "summary"):
+        factors = summary if factors is None else factors  # a CampaignResult: its design
+        summary = summary.summary
+    if factors is None:
+        raise TypeError(
+            "factors: give the design's factors (or the design), or a campaign result as "
+            "the first argument"
+        )
     factors = _factors(factors)
     if isinstance(responses, str):
         responses = (responses,)
+    if "log10_V_mm3" in responses and "log10_V_mm3" not in summary.columns:
+        if "V" in summary.columns:
+            from brakeca.study import with_log_v
+
+            summary = with_log_v(summary)
     result: dict[str, dict[str, Any]] = {}
     default = 1 if main_effects_only else 2
     if max_order is not None:

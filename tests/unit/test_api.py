@@ -43,3 +43,27 @@ def test_simulate_says_what_a_config_is(config):
 
     with pytest.raises(TypeError, match=r"config must be a SimulationConfig \(e.g. brakeca"):
         simulate(config, seed=1)
+
+
+def test_analyze_takes_a_finished_campaign() -> None:
+    """``brakeca.analyze(campaign)`` had needed the summary and the design's factors apart,
+    and ``log10_V_mm3``, which the docs call the analysis's, was a KeyError (an API
+    review)."""
+    import numpy as np
+    import pandas as pd
+
+    from brakeca.design import load_design
+    from brakeca.study import with_log_v
+
+    design = load_design("paper")
+    rng = np.random.default_rng(1)
+    rows = pd.DataFrame(design.combinations())
+    rows = rows.assign(MU=0.3 + 0.01 * rng.standard_normal(24), V=1e-9 * (1 + rng.random(24)))
+    rows["status"] = "ok"
+    campaign = type("Campaign", (), {"summary": rows, "design": design})()
+    out = brakeca.analyze(campaign, responses=["MU", "log10_V_mm3"])
+    expected = brakeca.analyze(with_log_v(rows), design.factors, ["MU", "log10_V_mm3"])
+    for response in ("MU", "log10_V_mm3"):
+        pd.testing.assert_frame_equal(out[response]["anova"], expected[response]["anova"])
+    with pytest.raises(TypeError, match=r"^factors: give the design's factors"):
+        brakeca.analyze(rows)
