@@ -105,7 +105,10 @@ def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
         return fig, fig.subplots()
     if not hasattr(ax, "figure") or not hasattr(ax, "plot"):
         raise TypeError(f"ax: expected a matplotlib Axes, got {type(ax).__name__}")
-    return ax.figure, ax  # type: ignore[return-value]
+    root: Any = ax.figure
+    while root.figure is not root:  # an axes of a SubFigure: the figure that holds it all
+        root = root.figure
+    return root, ax
 
 
 def _suptitle(fig: Figure, text: str) -> None:
@@ -582,9 +585,8 @@ def plot_mu_per_stop(
             title += " (the replicates of a test share its colour)"
     # above the block names, which stand above the axes: pad by the tallest name [points]
     pad = 6.0
-    if ax.texts:
-        renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
-        tallest = max(t.get_window_extent(renderer).height for t in ax.texts)
+    if ax.texts:  # (the figure's own renderer: a figure of one's own may have no Agg canvas)
+        tallest = max(t.get_window_extent().height for t in ax.texts)
         pad += tallest * 72.0 / fig.dpi + 0.01 * ax.bbox.height * 72.0 / fig.dpi
     ax.set_title(title, pad=pad)
     ax.grid(True, alpha=0.3)

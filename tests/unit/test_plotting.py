@@ -648,3 +648,18 @@ def test_single_axes_figures_draw_into_a_users_grid(campaign, summary, tmp_path)
     with pytest.raises(TypeError, match=r"^ax: expected a matplotlib Axes, got str$"):
         plot_pareto(ranked, "MU", ax="left")  # type: ignore[arg-type]
     plt.close(fig)
+
+
+def test_ax_in_a_figure_without_a_canvas_or_in_a_subfigure(campaign, tmp_path) -> None:
+    """``plot_mu_per_stop(ax=...)`` asked the figure's canvas for its renderer, which a
+    Figure made without pyplot has not (AttributeError), and an axes of a SubFigure gave
+    back the SubFigure, which cannot be saved (a review of ax=)."""
+    from matplotlib.figure import Figure
+
+    plain = Figure()
+    assert plot_mu_per_stop(campaign, factors=FACTORS, ax=plain.subplots()) is plain
+    whole = Figure(figsize=(12, 4))
+    left = whole.subfigures(1, 2)[0]
+    path = tmp_path / "sub.png"
+    assert plot_mu_per_stop(campaign, path, factors=FACTORS, ax=left.subplots()) is whole
+    assert path.read_bytes().startswith(PNG)
