@@ -290,7 +290,13 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
                 f"{out / name}: missing; the campaign has not finished: "
                 f"'brakeca run {out / 'design.toml'} -o {out}' finishes it"
             )
-    design = load_design(out / "design.toml")
+    import warnings
+
+    from brakeca.config import UnitWarning
+
+    with warnings.catch_warnings():  # said when the campaign was made, not at every read
+        warnings.simplefilter("ignore", UnitWarning)
+        design = load_design(out / "design.toml")
     summary = read_summary(out / "summary.csv")
     try:
         dataset = xr.load_dataset(out / "campaign.nc", engine="h5netcdf")

@@ -213,13 +213,13 @@ def _unused_levels_note(design: Any) -> None:
 def _config_notes(configs: Iterable[SimulationConfig]) -> None:
     """The notes on values that read like slips of unit (:func:`brakeca.config.unit_notes`)
     of ``configs`` (a run's, or a campaign's tests'), each text once."""
-    from brakeca.config import unit_notes
+    from brakeca.config import unit_notes_by_field
 
-    said: set[str] = set()
+    said: set[tuple[str, Any]] = set()
     for config in configs:
-        for text in unit_notes(config):
-            if text not in said:
-                said.add(text)
+        for key, text in unit_notes_by_field(config).items():
+            if key not in said:  # one slip once, however the note is worded per test
+                said.add(key)
                 console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
 
 
@@ -1738,6 +1738,10 @@ def show_design(
         _fail(str(exc))
     _design_percent_note(loaded)
     _unused_levels_note(loaded)
+    try:  # the base's and the levels' values that read like slips of unit, as run notes them
+        _config_notes(dict.fromkeys(p.config for p in loaded.points()))
+    except ConfigError:  # a combination _check_combinations let through: run says why
+        pass
     combos = loaded.combinations()
     runs = loaded.n_tests * loaded.replicates
     out.print(f"{loaded.name}: {loaded.kind}", markup=False, highlight=False)

@@ -55,6 +55,7 @@ __all__ = [
     "parse_override",
     "parse_overrides",
     "unit_notes",
+    "unit_notes_by_field",
 ]
 
 
@@ -75,12 +76,15 @@ def warn_unit(note: str | None) -> None:
     way it came in (``with_updates``, ``apply_overrides``, a design's levels)."""
     if note is None:
         return
+    import os
     import sys
     import warnings
 
     import pydantic
 
-    inside = (str(Path(__file__).parent), str(Path(pydantic.__file__).parent))
+    inside = tuple(  # with the separator: not brakeca_tools nor pydantic_settings
+        os.path.join(os.path.dirname(path), "") for path in (__file__, str(pydantic.__file__))
+    )
     frame = sys._getframe(1)
     level = 2  # stacklevel 2: the caller of this function
     while frame.f_back is not None and frame.f_code.co_filename.startswith(inside):
@@ -889,8 +893,18 @@ def unit_notes(config: SimulationConfig) -> list[str]:
     """The notes on values of ``config`` that read like slips of unit (the foundation's
     modulus, the COF's slope); the command line prints them, Python warns
     (:class:`UnitWarning`) as the configuration is made."""
-    notes = (config.contact.unit_note(), config.friction.unit_note())
-    return [n for n in notes if n is not None]
+    return list(unit_notes_by_field(config).values())
+
+
+def unit_notes_by_field(config: SimulationConfig) -> dict[tuple[str, Any], str]:
+    """:func:`unit_notes` keyed by the field each is about and its value (the slope's note
+    also gives where the COF meets its floor, which ``mu_0`` and ``mu_min`` move; one slip
+    is one key however the note is worded)."""
+    notes = {
+        ("contact.elastic_modulus", config.contact.elastic_modulus): config.contact.unit_note(),
+        ("friction.slope", config.friction.slope): config.friction.unit_note(),
+    }
+    return {key: text for key, text in notes.items() if text is not None}
 
 
 def _drop_neutral(table: Any, parts: Sequence[str], neutral: Any) -> None:
@@ -901,7 +915,8 @@ def _drop_neutral(table: Any, parts: Sequence[str], neutral: Any) -> None:
     if not isinstance(table, dict):
         return
     if not rest:
-        if head in table and table[head] == neutral:
+        value = table.get(head)
+        if head in table and type(value) is type(neutral) and value == neutral:
             del table[head]
         return
     if head.endswith("[]"):
@@ -909,6 +924,8 @@ def _drop_neutral(table: Any, parts: Sequence[str], neutral: Any) -> None:
             _drop_neutral(item, rest, neutral)
     else:
         _drop_neutral(table.get(head), rest, neutral)
+        if table.get(head) == {}:  # a section of neutral fields only: as if it never was
+            del table[head]
 
 
 def _drop_none(value: Any) -> Any:
@@ -1339,9 +1356,8 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
     # a factor's field named by the name it was given as
     heads = {path: f"override {key} (= {path})" for path, key in given.items() if key != path}
     updated = SimulationConfig.from_dict(data, source="override", heads=heads)
-    before = unit_notes(config)
-    for note in unit_notes(updated):  # a value this update set that reads like a unit slip
-        if note not in before:
+    for (field, _), note in unit_notes_by_field(updated).items():
+        if field in given:  # a value this update set that reads like a slip of unit
             warn_unit(note)
     return updated
 

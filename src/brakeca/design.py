@@ -320,11 +320,15 @@ def _prefixed_scale(unit: str, own: str) -> float | None:
     ``%`` for a dimensionless field (0.01); None for any other label."""
     if unit.strip() == "%" and own in ("-", "", "1"):
         return 0.01
+    if own == "kg":  # a prefix of its own already
+        return None
     for prefix, size in _SI_PREFIXES.items():
-        if unit == prefix + own:
-            return size
-        if own.startswith("1/") and unit == "1/" + prefix + own[2:]:
-            return 1.0 / size
+        for head, sign in (("", 1), ("1/", -1)):
+            if not own.startswith(head) or unit != head + prefix + own[len(head) :]:
+                continue
+            # the prefix goes with the first symbol's power: mm^2 is 1e-6 m^2
+            power = re.match(r"[A-Za-z]+\^(\d+)", own[len(head) :])
+            return float(size ** (sign * (int(power.group(1)) if power else 1)))
     return None
 
 
@@ -2791,15 +2795,15 @@ class Design(_Frozen):
 
         from brakeca.config import UnitWarning
 
-        with warnings.catch_warnings():  # said once, as the design was loaded (check_levels)
-            warnings.simplefilter("ignore", UnitWarning)
-            return self._points(overrides, quick, max_stops)
-
-    def _points(
-        self, overrides: Mapping[str, Any] | None, quick: bool, max_stops: int | None
-    ) -> list[RunPoint]:
-        """:meth:`points`, its warnings on levels that read like slips of unit aside."""
+        # the overrides are the caller's: warned here; the levels were as the design loaded
         base = self.resolved_base(overrides=overrides, quick=quick, max_stops=max_stops)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnitWarning)
+            return self._points(base)
+
+    def _points(self, base: SimulationConfig) -> list[RunPoint]:
+        """:meth:`points` from the resolved ``base``, its warnings on levels that read like
+        slips of unit aside."""
         combos = self.combinations()
         n = len(combos) * self.replicates
         if self.randomize_order:
@@ -2940,7 +2944,18 @@ def design_from_dict(
         raise ConfigError(
             f"{source}: {field}: cannot load the base configuration: {detail}"
         ) from None
-    design.check_levels(base, source=source)
+    import warnings
+
+    from brakeca.config import UnitWarning
+
+    with warnings.catch_warnings(record=True) as seen:  # the levels' notes, named below
+        warnings.simplefilter("always", UnitWarning)
+        design.check_levels(base, source=source)
+    for text in dict.fromkeys(str(w.message) for w in seen if w.category is UnitWarning):
+        warn_unit(f"{source}: a level of the design: {text}")
+    for w in seen:
+        if w.category is not UnitWarning:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     for factor in design.factors:
         note = factor.unit_note()
         if note is not None:

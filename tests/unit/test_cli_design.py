@@ -318,3 +318,18 @@ def test_a_run_table_that_leaves_a_level_without_a_test_gets_a_note(tmp_path) ->
 
     assert load_design(design).levels_without_runs() == {"WP": [1e-14]}
     assert load_design("paper").levels_without_runs() == {}
+
+
+def test_brakeca_design_notes_the_levels_that_read_like_slips_of_unit(tmp_path) -> None:
+    """``brakeca design``, the command that checks a design before it runs, printed the
+    factor's unit note only; the levels' and the base's notes were the run's (a review).
+    One slip is one note, though the slope's wording follows the other factor's level."""
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "d"\nbase = "paper"\nroot_seed = 1\n'
+        '[[factors]]\nname = "slope"\nfield = "friction.slope"\nlevels = [0.03, 3e-8]\n'
+        '[[factors]]\nname = "mu0"\nfield = "friction.mu_0"\nlevels = [0.5, 0.6]\n'
+    )
+    text = " ".join(_design(str(design)).split())
+    assert text.count("note: friction.slope = 0.03 1/Pa: the COF falls to its floor") == 1
+    assert "friction.slope = 3e-08" not in text

@@ -499,8 +499,8 @@ def test_a_below_one_percent_warns_from_python_and_is_a_note_on_the_command_line
     with pytest.warns(UnitWarning) as seen:  # its levels are checked as it loads
         design_from_dict({**table, "factors": [{"name": "A", "levels": [0.1, 0.2]}]})
     assert {str(w.message).split(";")[0] for w in seen} == {
-        "A is in %: A = 0.1 is 0.1 % fibres",
-        "A is in %: A = 0.2 is 0.2 % fibres",
+        "design: a level of the design: A is in %: A = 0.1 is 0.1 % fibres",
+        "design: a level of the design: A is in %: A = 0.2 is 0.2 % fibres",
     }
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -630,10 +630,42 @@ def test_a_unit_warning_comes_once_where_the_value_is_set() -> None:
     units = [w for w in seen if issubclass(w.category, UnitWarning)]
     assert [str(w.message).split(":")[0] for w in units] == [
         "friction.slope = 0.03 1/Pa",
-        "A is in %",
+        "design",  # "design: a level of the design: A is in %: ..."
     ]
+    assert "a level of the design: A is in %: A = 0.5" in str(units[1].message)
     assert {w.filename for w in units} == {__file__}
     res = CliRunner().invoke(app, ["config", "--set", "A=0.5"])
     assert res.exit_code == 0
     with pytest.warns(UnitWarning, match="A is in %"):  # the library warns again after it
         paper.with_updates({"A": 0.5})
+
+
+def test_unit_notes_once_per_slip_and_a_power_in_the_unit() -> None:
+    """A review of the notes: the slope's note, whose wording follows mu_0, warned again
+    when mu_0 changed; a design's overrides were not warned in points(); mm^2 was given the
+    scale of mm (1e-3, not 1e-6); a finished campaign warned again as it was read."""
+    import warnings
+
+    from brakeca.config import UnitWarning
+    from brakeca.design import Factor
+
+    paper = load_preset("paper")
+    with pytest.warns(UnitWarning):
+        slope = paper.with_updates({"friction.slope": 0.03})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UnitWarning)
+        slope.with_updates({"friction.mu_0": 0.5})  # the slip was not set here
+    with pytest.warns(UnitWarning, match="friction.slope = 0.03"):
+        load_design("paper").points(overrides={"friction.slope": 0.03})
+    for unit, field, scale in (
+        ("mm^2", "brake.pad_area", "1e-6"),
+        ("mm^3/(N m)", "wear.specific_wear_rate", "1e-9"),
+        ("1/MPa", "friction.slope", "1e-6"),
+        ("GPa", "contact.elastic_modulus", "1e9"),
+    ):
+        note = Factor(name="x", field=field, levels=[1, 2], unit=unit).unit_note()
+        assert note is not None and note.endswith(f"give scale = {scale}"), (unit, note)
+    assert (
+        Factor(name="x", field="vehicle.wheel_load_mass", levels=[1, 2], unit="kkg").unit_note()
+        is None
+    )
