@@ -669,3 +669,17 @@ def test_unit_notes_once_per_slip_and_a_power_in_the_unit() -> None:
         Factor(name="x", field="vehicle.wheel_load_mass", levels=[1, 2], unit="kkg").unit_note()
         is None
     )
+
+
+def test_identity_toml_drops_a_section_of_neutral_fields_only(monkeypatch) -> None:
+    """A neutral field alone in its section left an empty ``[section]`` header in the text a
+    run id hashes, which would have changed every run id (a review); and True is not 1."""
+    import brakeca.config as config_module
+
+    paper = load_preset("paper")
+    monkeypatch.setattr(config_module, "ID_NEUTRAL", {"numerics.kernel": "auto"})
+    assert "[numerics]" not in paper.identity_toml() and "[numerics]" in paper.to_toml()
+    monkeypatch.setattr(config_module, "ID_NEUTRAL", {"brake.pads_per_brake": True})
+    assert "pads_per_brake = 2" in paper.identity_toml()
+    paper1 = paper.with_updates({"brake.pads_per_brake": 1})
+    assert "pads_per_brake = 1" in paper1.identity_toml()  # 1 == True, but not the neutral
