@@ -47,12 +47,11 @@ def uninterrupted(design_file, tmp_path_factory):
     return result
 
 
-def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path, monkeypatch):
-    out = tmp_path / "campaign"
+def _killed_after_two_stops(design_file, out):
+    """The checkpoint in ``out`` of test 1's run, killed after its second stop."""
     point = next(p for p in load_design(design_file).points() if p.test == 1)
     ckpt = out / "runs" / f".{run_id(point)}.checkpoint.npz"
     ckpt.parent.mkdir(parents=True)
-    # the run of test 1 was killed after its second stop
     with pytest.raises(Interrupted):
         simulation.simulate(
             point.config,
@@ -62,7 +61,12 @@ def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path,
             progress=_stop_after(2),
         )
     assert ckpt.exists()
-    resumed = []
+    return ckpt
+
+
+def _spy_on_resumes(monkeypatch) -> list[int]:
+    """The stops already done of each run resumed from a checkpoint, as they resume."""
+    resumed: list[int] = []
     load = simulation.load_checkpoint
 
     def spy(*args, **kwargs):
@@ -72,6 +76,13 @@ def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path,
         return found
 
     monkeypatch.setattr(simulation, "load_checkpoint", spy)
+    return resumed
+
+
+def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path, monkeypatch):
+    out = tmp_path / "campaign"
+    ckpt = _killed_after_two_stops(design_file, out)
+    resumed = _spy_on_resumes(monkeypatch)
     # a terminal too: its bar shows no resumption (a robustness review)
     log = Console(file=io.StringIO(), width=200, force_terminal=True)
     result = run_campaign(design_file, out, executor="serial", progress=True, console=log)
@@ -157,28 +168,15 @@ def test_checkpoints_off_still_resume_from_one_written_before(
     interrupted runs over and left their checkpoints on disk (a robustness review). It
     resumes from them now, writes no more, and removes them once the run file is written."""
     out = tmp_path / "campaign"
-    point = next(p for p in load_design(design_file).points() if p.test == 1)
-    ckpt = out / "runs" / f".{run_id(point)}.checkpoint.npz"
-    ckpt.parent.mkdir(parents=True)
-    with pytest.raises(Interrupted):
-        simulation.simulate(
-            point.config, seed=point.seed, checkpoint=ckpt, checkpoint_every=1,
-            progress=_stop_after(2),
-        )  # fmt: skip
-    resumed, saved = [], []
-    load, save = simulation.load_checkpoint, simulation.save_checkpoint
-
-    def spy_load(*args, **kwargs):
-        found = load(*args, **kwargs)
-        if found is not None:
-            resumed.append(len(found[2].dts))
-        return found
+    ckpt = _killed_after_two_stops(design_file, out)
+    resumed = _spy_on_resumes(monkeypatch)
+    saved = []
+    save = simulation.save_checkpoint
 
     def spy_save(*args, **kwargs):
         saved.append(args[0])
         return save(*args, **kwargs)
 
-    monkeypatch.setattr(simulation, "load_checkpoint", spy_load)
     monkeypatch.setattr(simulation, "save_checkpoint", spy_save)
     log = Console(file=io.StringIO(), width=200)
     result = run_campaign(
