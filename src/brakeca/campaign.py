@@ -612,14 +612,16 @@ def _execute_points(
         disable=not how.progress,
         transient=False,
     )
+    resuming: set[str] = set()  # the runs that go on from a checkpoint
     if how.progress:
-        resumed = unusable = 0
+        unusable = 0
         for p in todo:  # with checkpoints off too: a run resumes from one written before
             path = _checkpoint_path(runs, p)
             if checkpoint_resumes(path, p.config, p.seed, how.maps_at):
-                resumed += 1
+                resuming.add(run_id(p))
             elif path.exists():  # damaged, another run's, or without a map asked for
                 unusable += 1
+        resumed = len(resuming)
         if not console.is_terminal or resumed or unusable:  # the bar shows no resumption
             say(
                 console,
@@ -701,7 +703,9 @@ def _execute_points(
                             console,
                             f"run {n_total - len(todo) + len(computed) + len(failed)}/{n_total} "
                             f"done: test {point.test}, replicate "
-                            f"{point.replicate} ({rid}) in {_seconds(sc['wall_time'])} s: "
+                            f"{point.replicate} ({rid}) in {_seconds(sc['wall_time'])} s"
+                            + (" in all, resumed from a checkpoint" if rid in resuming else "")
+                            + ": "
                             f"MU {sc['MU']:.4f}, V {sc['V_mm3']:.4g} mm³/stop",
                             highlight=False,
                         )
