@@ -89,6 +89,7 @@ import math
 import numbers
 import re
 import tomllib
+import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -110,6 +111,7 @@ from brakeca.config import (
     QUICK_N_RADIAL,
     ConfigError,
     SimulationConfig,
+    UnitWarning,
     _Checked,
     csv_delimiter,
     csv_float,
@@ -472,19 +474,19 @@ class Factor(_Frozen):
             value = list(value)  # np.logspace(-15, -13, 3)
         if isinstance(value, str | bytes) or not isinstance(value, Sequence):
             raise ValueError(f"levels must be a list of numbers, got {value!r}")
-        numbers = [plain_number(item) for item in value]
-        for item, number in zip(value, numbers, strict=True):
+        numbers = []
+        for item in value:
+            number = plain_number(item)
             if number is None:
                 raise ValueError(f"levels must be numbers, got {item!r}")
-        value = numbers
-        for item in value:
             try:
-                finite = math.isfinite(item)
+                finite = math.isfinite(number)
             except OverflowError:
                 finite = False
             if not finite:
                 raise ValueError(f"levels must be finite numbers, got {item!r}")
-        return tuple(value)
+            numbers.append(number)
+        return tuple(numbers)
 
     @field_validator("levels")
     @classmethod
@@ -2791,10 +2793,6 @@ class Design(_Frozen):
         ConfigError
             A campaign-wide setting or a factor level does not validate.
         """
-        import warnings
-
-        from brakeca.config import UnitWarning
-
         # the overrides are the caller's: warned here; the levels were as the design loaded
         base = self.resolved_base(overrides=overrides, quick=quick, max_stops=max_stops)
         with warnings.catch_warnings():
@@ -2944,10 +2942,6 @@ def design_from_dict(
         raise ConfigError(
             f"{source}: {field}: cannot load the base configuration: {detail}"
         ) from None
-    import warnings
-
-    from brakeca.config import UnitWarning
-
     with warnings.catch_warnings(record=True) as seen:  # the levels' notes, named below
         warnings.simplefilter("always", UnitWarning)
         design.check_levels(base, source=source)
