@@ -288,8 +288,9 @@ def _write_design(
     max_stops: int | None,
 ) -> Design:
     """Write base_config.toml and design.toml; return the design they describe. A campaign
-    writes them with its summary, after its runs: until then the folder's files stay those
-    of the study it holds (a campaign stopped or failed before its summary leaves them)."""
+    writes them at its start into a new folder, and with its summary, after its runs, into
+    one that holds a study (a campaign stopped or failed before its summary leaves that
+    study's files)."""
     origin = f"preset {design.base!r}" if design.base is not None else repr(str(design.base_config))
     header = (
         f"# Resolved base configuration of campaign {design.name!r}, written by brakeca "

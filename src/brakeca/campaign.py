@@ -82,7 +82,6 @@ from brakeca.config import ConfigError, SimulationConfig
 from brakeca.design import Design, RunPoint, execution_order, load_design, run_id
 
 if TYPE_CHECKING:
-    import pandas as pd
     from rich.console import Console
 
     from brakeca.results import RunResult
@@ -341,10 +340,10 @@ def _run_locked(
     # a campaign stopped or failed before then (a --replace whose cluster is unreachable,
     # Ctrl-C) leaves that study whole. A new folder gets them now, so that a first campaign
     # stopped halfway resumes from FOLDER/design.toml, and its options are checked on resume
-    if not (out / "summary.csv").is_file():
-        _write_design(out, design, base, overrides=overrides, quick=quick, max_stops=max_stops)
-    campaign_design = design.model_copy(
-        update={"base": None, "base_config": (out / "base_config.toml").resolve()}
+    written = (
+        None
+        if (out / "summary.csv").is_file()
+        else _write_design(out, design, base, overrides=overrides, quick=quick, max_stops=max_stops)
     )
 
     records: dict[str, _Record] = {}
@@ -418,10 +417,13 @@ def _run_locked(
 
     ordered = [records[run_id(p)] for p in points]
     summary = _summary_frame(design, ordered)
-    _write_design(out, design, base, overrides=overrides, quick=quick, max_stops=max_stops)
+    campaign_design = written or _write_design(
+        out, design, base, overrides=overrides, quick=quick, max_stops=max_stops
+    )
     dataset = _campaign_dataset(campaign_design, ordered, summary, base)
-    replaced = _stale_analysis(out, summary)
-    atomic_write(out / "summary.csv", lambda tmp: summary.to_csv(tmp, index=False))
+    summary_text = summary.to_csv(index=False)
+    replaced = _stale_analysis(out, summary_text)
+    atomic_write(out / "summary.csv", lambda tmp: tmp.write_text(summary_text, encoding="utf-8"))
     if replaced:
         say(
             console,
@@ -447,19 +449,19 @@ def _run_locked(
     )
 
 
-def _stale_analysis(out: Path, summary: pd.DataFrame) -> list[str]:
+def _stale_analysis(out: Path, summary_text: str) -> list[str]:
     """Remove the analysis (report.html, tables/, figures/) of the study in ``out`` when the
-    summary about to be written differs from the one there (another study, more replicates,
-    failed runs computed again): it would describe runs that are no longer the folder's
-    study, and a campaign run without its report (``--no-report``) would leave it there.
-    Returns what was removed."""
+    summary about to be written (``summary_text``, summary.csv's text) differs from the one
+    there (another study, more replicates, failed runs computed again): it would describe
+    runs that are no longer the folder's study, and a campaign run without its report
+    (``--no-report``) would leave it there. Returns what was removed."""
     import shutil
 
     path = out / "summary.csv"
     if not path.is_file():
         return []
     try:  # the text summary.csv gets: equal text is an equal study, failed runs and all
-        same = path.read_text(encoding="utf-8") == summary.to_csv(index=False)
+        same = path.read_text(encoding="utf-8") == summary_text
     except (OSError, UnicodeDecodeError):
         same = False
     if same:
@@ -647,13 +649,14 @@ def _execute_points(
                 while queue and backend.free() > 0:
                     point = queue.popleft()
                     options: dict[str, Any] = {}
+                    checkpoint = _checkpoint_path(runs, point)
                     if how.checkpoint_every is not None:
-                        options["checkpoint"] = _checkpoint_path(runs, point)
+                        options["checkpoint"] = checkpoint
                         options["checkpoint_every"] = int(how.checkpoint_every)
-                    elif _checkpoint_path(runs, point).is_file():
+                    elif checkpoint.is_file():
                         # checkpoints off: a run resumes from one written before, and
                         # writes no more (no stop index reaches this)
-                        options["checkpoint"] = _checkpoint_path(runs, point)
+                        options["checkpoint"] = checkpoint
                         options["checkpoint_every"] = 2**62
                     if how.maps_at:
                         options["maps_at"] = how.maps_at
