@@ -247,7 +247,7 @@ def _trace_notes(configs: Iterable[SimulationConfig]) -> None:
                 console.print(f"[yellow]{kind}:[/] {escape(text)}", highlight=False)
 
 
-def _design_percent_note(design: Any) -> None:
+def _design_notes(design: Any) -> None:
     """A note for a design factor on A (the fibre fraction, in %) with levels below 1 %:
     levels of 0.1 and 0.2 read like the fractions 10 % and 20 %; and one for a factor whose
     unit is not its field's while its scale is 1 (:meth:`brakeca.design.Factor.unit_note`)."""
@@ -890,7 +890,7 @@ def _run_and_report(
 
     try:
         loaded = load_design(design)
-        _design_percent_note(loaded)
+        _design_notes(loaded)
         _unused_levels_note(loaded)
         # each test's configuration once (replicates share it), and each cycle once
         configs = list(
@@ -1266,19 +1266,19 @@ def _parse_goal(text: str) -> Any:
 _MOST_TESTS_CHECKED = 20_000
 
 
-def _check_combinations(design: Any) -> None:
-    """Check every test's levels together (:meth:`Design.apply_levels`, keeping nothing),
-    up to :data:`_MOST_TESTS_CHECKED` tests; beyond, say that ``brakeca run`` will."""
+def _check_combinations(design: Any) -> list[SimulationConfig]:
+    """Check every test's levels together (:meth:`Design.apply_levels`), up to
+    :data:`_MOST_TESTS_CHECKED` tests; beyond, say that ``brakeca run`` will. Returns the
+    tests' configurations (the base's alone beyond)."""
+    base = design.resolved_base()
     if design.n_tests > _MOST_TESTS_CHECKED:
         console.print(
             f"[yellow]note:[/] the levels of the {design.n_tests:,} tests are checked together "
             "by brakeca run, before it starts, not here",
             highlight=False,
         )
-        return
-    base = design.resolved_base()
-    for combo in design.combinations():
-        design.apply_levels(base, combo)
+        return [base]
+    return [design.apply_levels(base, combo) for combo in design.combinations()]
 
 
 def _anova_model_text(design: Any) -> str:
@@ -1733,15 +1733,12 @@ def show_design(
 
     try:
         loaded = load_design(design)
-        _check_combinations(loaded)  # a level valid alone may not be with the others
+        configs = _check_combinations(loaded)  # a level valid alone may not be with the others
     except ConfigError as exc:
         _fail(str(exc))
-    _design_percent_note(loaded)
+    _design_notes(loaded)
     _unused_levels_note(loaded)
-    try:  # the base's and the levels' values that read like slips of unit, as run notes them
-        _config_notes(dict.fromkeys(p.config for p in loaded.points()))
-    except ConfigError:  # a combination _check_combinations let through: run says why
-        pass
+    _config_notes(configs)  # the base's and the levels' values, as run notes them
     combos = loaded.combinations()
     runs = loaded.n_tests * loaded.replicates
     out.print(f"{loaded.name}: {loaded.kind}", markup=False, highlight=False)
