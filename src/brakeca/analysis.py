@@ -283,20 +283,24 @@ def ok_runs(summary: pd.DataFrame) -> pd.DataFrame:
     return summary.copy()
 
 
+def _design_factors(factors: Any) -> list[Any]:
+    """The factors given, as a list: a :class:`brakeca.design.Design` (or a campaign result)
+    stands for its design's factors (iterating a design gives its fields); shared with
+    :mod:`brakeca.rsm`."""
+    design = getattr(factors, "design", None)  # a CampaignResult
+    if design is not None and hasattr(design, "factor_names"):
+        factors = design
+    if hasattr(factors, "factor_names"):  # a Design
+        return list(factors.factors)
+    return list(factors)
+
+
 def _factors(factors: Iterable[Any]) -> list[Factor]:
     """The factors as :class:`Factor` objects: factor-likes (:func:`as_factor`), or a
     :class:`brakeca.design.Design` or campaign result for its design's factors. Names alone
     are refused: the levels come from the design, not from the runs' values (a centre
     point's value is no level)."""
-    given: Any = factors
-    design = getattr(given, "design", None)  # a CampaignResult
-    if design is not None and hasattr(design, "factor_names"):
-        given = design
-    if hasattr(given, "factor_names"):  # a Design (iterating it gives its fields)
-        factors = given.factors
-    if isinstance(factors, str):
-        factors = [factors]
-    factors = list(factors)
+    factors = [factors] if isinstance(factors, str) else _design_factors(factors)
     names = [f for f in factors if isinstance(f, str)]
     if names:
         are = "is a name" if len(names) == 1 else "are names"

@@ -52,6 +52,7 @@ import pandas as pd
 
 from brakeca.analysis import _clean as _usable_rows
 from brakeca.analysis import (
+    _design_factors,
     _fit_statistics,
     _is_constant,
     _next_to_remove,
@@ -550,7 +551,7 @@ def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]
         A factor :func:`coding_of` refuses (categorical, fewer than two levels, log coding
         of a level that is not positive).
     """
-    codings = [f if isinstance(f, Coding) else coding_of(f) for f in _unwrap(factors)]
+    codings = [f if isinstance(f, Coding) else coding_of(f) for f in _design_factors(factors)]
     points = pd.DataFrame({c.name: c.code(tests[c.name].to_numpy(float)) for c in codings})
     names = [c.name for c in codings]
     varying, kept, exog, notes = _model_matrix(points, names, True, True)
@@ -562,17 +563,6 @@ def surface_terms(tests: pd.DataFrame, factors: Iterable[Any]) -> dict[str, Any]
         "vif": _vif(exog)[1:],
         "notes": notes,
     }
-
-
-def _unwrap(factors: Any) -> list[Any]:
-    """The factors given: a design (or a campaign result) stands for its design's factors,
-    as in :mod:`brakeca.analysis`."""
-    design = getattr(factors, "design", None)  # a CampaignResult
-    if design is not None and hasattr(design, "factor_names"):
-        factors = design
-    if hasattr(factors, "factor_names"):  # a Design (iterating it gives its fields)
-        return list(factors.factors)
-    return list(factors)
 
 
 def fit_response_surface(
@@ -624,7 +614,7 @@ def fit_response_surface(
     signs of ``B``'s eigenvalues tell a maximum (all negative) from a minimum (all positive)
     and a saddle point (Montgomery 2013, section 11.3.1).
     """
-    codings = [f if isinstance(f, Coding) else coding_of(f) for f in _unwrap(factors)]
+    codings = [f if isinstance(f, Coding) else coding_of(f) for f in _design_factors(factors)]
     names = [c.name for c in codings]
     if len(set(names)) != len(names):
         raise ValueError(f"factor names repeat: {names}")
@@ -817,7 +807,7 @@ def backward_elimination(
     problem = alpha_problem(alpha)
     if problem:
         raise ValueError(f"alpha: {problem}")
-    factors = _unwrap(factors)
+    factors = _design_factors(factors)
     removed: list[str] = []
     fit = fit_response_surface(summary, factors, response)
     # the terms the full model cannot estimate stay out, as in Minitab, which removes them
@@ -915,7 +905,7 @@ def response_surfaces(
         As :func:`fit_response_surface` and :func:`backward_elimination`, but for too few
         usable runs (that response is left out).
     """
-    factors = _unwrap(factors)
+    factors = _design_factors(factors)
     out = {}
     for response in responses:
         try:
