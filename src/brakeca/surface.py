@@ -184,13 +184,9 @@ class _Band:
         length = rng.uniform(pad.fibre_length_min, pad.fibre_length_max)
         diameter = rng.uniform(pad.fibre_diameter_min, pad.fibre_diameter_max)
         phi = rng.uniform(0.0, np.pi)
-        if self.reach == 0.0:  # as before the option existed, bit for bit
-            rc = np.sqrt(rng.uniform(self.r_lo * self.r_lo, self.r_hi * self.r_hi))
-            tc = rng.uniform(self.th_lo, self.th_hi)
-        else:
-            r_lo, r_hi, th_lo, th_hi = self.centre_bounds()
-            rc = np.sqrt(rng.uniform(r_lo * r_lo, r_hi * r_hi))
-            tc = rng.uniform(th_lo, th_hi)
+        r_lo, r_hi, th_lo, th_hi = self.centre_bounds()  # at reach 0: the band's, to the bit
+        rc = np.sqrt(rng.uniform(r_lo * r_lo, r_hi * r_hi))
+        tc = rng.uniform(th_lo, th_hi)
         return length, diameter, phi, rc, tc
 
     def footprint(
