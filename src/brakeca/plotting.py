@@ -37,7 +37,7 @@ from brakeca.analysis import (
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure, SubFigure
 
 __all__ = [
     "DPI",
@@ -111,15 +111,34 @@ def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     return root, ax
 
 
-def _suptitle(fig: Figure, text: str) -> None:
+def _panels(
+    fig: Figure | SubFigure | None, figsize: tuple[float, float]
+) -> tuple[Figure, Figure | SubFigure]:
+    """A new figure of ``figsize`` [in] for a figure of several panels, or ``fig``, a Figure
+    or SubFigure of one's own to draw them into; with the figure that holds it all, which
+    is the one returned and saved."""
+    if fig is None:
+        new = _figure(figsize)
+        return new, new
+    if not hasattr(fig, "subplots") or not hasattr(fig, "subfigures"):
+        raise TypeError(
+            f"fig: expected a matplotlib Figure or SubFigure, got {type(fig).__name__} "
+            "(for an Axes, the figures of one panel take ax=)"
+        )
+    root: Any = fig
+    while root.figure is not root:  # a SubFigure: the figure that holds it all
+        root = root.figure
+    return root, fig
+
+
+def _suptitle(fig: Figure | SubFigure, text: str) -> None:
     """``fig.suptitle(text)``, broken after its first ": " when one line is wider than the
     figure (a one-panel interaction plot), and smaller if it is still too wide."""
     title = fig.suptitle(text)
-    renderer = fig.canvas.get_renderer()  # type: ignore[attr-defined]
     width = fig.bbox.width
 
-    def too_wide() -> bool:
-        return bool(title.get_window_extent(renderer).width > 0.98 * width)
+    def too_wide() -> bool:  # the extent from the figure's own renderer, any canvas
+        return bool(title.get_window_extent().width > 0.98 * width)
 
     if too_wide() and ": " in text:
         title.set_text(text.replace(": ", ":\n", 1))
@@ -203,6 +222,8 @@ def plot_main_effects(
     factors: Iterable[Any],
     response: str,
     path: str | Path | None = None,
+    *,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """Main-effects plot: level means of a response, one panel per factor.
 
@@ -216,6 +237,10 @@ def plot_main_effects(
         Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -237,7 +262,7 @@ def plot_main_effects(
     centre = table.attrs.get("center_mean", math.nan)
     centre = float(centre) if table.attrs.get("center_n") else None
 
-    fig = _figure((2.6 * len(factors) + 1.0, 3.6))
+    root, fig = _panels(fig, (2.6 * len(factors) + 1.0, 3.6))
     axes = fig.subplots(1, len(factors), sharey=True, squeeze=False)[0]
     for ax, factor in zip(axes, factors, strict=True):
         rows = table.loc[table["factor"] == factor.name]
@@ -256,7 +281,7 @@ def plot_main_effects(
     axes[0].set_ylabel(ylabel)
     axes[0].legend(loc="best", fontsize=8)
     _suptitle(fig, f"Main effects plot for {response}")
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 def plot_interactions(
@@ -266,6 +291,7 @@ def plot_interactions(
     path: str | Path | None = None,
     *,
     aliases: Mapping[tuple[str, str], str] | None = None,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """Interaction-plot matrix: cell means of a response for every pair of factors.
 
@@ -290,6 +316,10 @@ def plot_interactions(
     aliases
         ``(a, b)`` to the two-factor interactions aliased with ``a:b``
         (:func:`brakeca.analysis.interaction_aliases`); none for a full factorial.
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -308,7 +338,7 @@ def plot_interactions(
     means = main_effects(summary, factors, response).attrs
     centre = float(means["center_mean"]) if means.get("center_n") else None
     size = nf - 1
-    fig = _figure((3.0 * size + 1.2, 2.6 * size + 0.6))
+    root, fig = _panels(fig, (3.0 * size + 1.2, 2.6 * size + 0.6))
     grid = fig.subplots(size, size, sharey=True, squeeze=False)
     markers = ("o", "s", "^", "D", "v", "P")
     colours = ("#27496d", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#b07aa1")
@@ -343,7 +373,7 @@ def plot_interactions(
             ax.set_ylabel(f"{response} (mean)", fontsize=8)
             ax.legend(title=a.name, fontsize=7, title_fontsize=8, loc="best")
     _suptitle(fig, f"Interaction plot for {response}: {ylabel}")
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 # --- per-stop and per-run responses (Figures 10 and 11) --------------------------------------
@@ -603,6 +633,7 @@ def plot_mu_per_stop_by_level(
     path: str | Path | None = None,
     *,
     variable: str = "mean_cof",
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """The main effects over the cycle: the mean COF per stop of the runs at each level of
     each factor, one panel per factor.
@@ -627,6 +658,10 @@ def plot_mu_per_stop_by_level(
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     variable
         Data variable to average, ``"mean_cof"`` [-] by default.
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -663,7 +698,7 @@ def plot_mu_per_stop_by_level(
     stops = data["stop"].to_numpy()
     cols = 2 if len(factors) > 1 else 1
     rows = math.ceil(len(factors) / cols)
-    fig = _figure((12.0, 2.3 * rows + 1.0))
+    root, fig = _panels(fig, (12.0, 2.3 * rows + 1.0))
     axes = fig.subplots(rows, cols, sharex=True, sharey=True, squeeze=False).ravel()
     blocks = [str(b) for b in data["block"].to_numpy()] if "block" in data.coords else []
     for ax, factor in zip(axes, factors, strict=False):
@@ -702,7 +737,7 @@ def plot_mu_per_stop_by_level(
     for ax in axes[::cols]:
         ax.set_ylabel("Mean μ per stop [-]")
     _suptitle(fig, "Mean coefficient of friction per stop at each factor level (main effects)")
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 def plot_v_per_run(
@@ -853,6 +888,8 @@ def plot_effects(
     effects: pd.DataFrame,
     response: str,
     path: str | Path | None = None,
+    *,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """The effects of a two-level design, as Minitab draws them: a Pareto chart of the
     standardized effects ``|t|`` with the reference line of significance, and a half-normal
@@ -870,6 +907,10 @@ def plot_effects(
         unit of the other figures, mm^3 for ``V``).
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -890,13 +931,13 @@ def plot_effects(
     method = attrs.get("method") or "?"
     effects = effects.loc[effects["term"] != CENTER_TERM]  # no effect: not in the charts
     n = len(effects)
-    fig = _figure((11.0, max(4.6, 0.2 * n + 1.4)))  # a bar per effect, each readable
+    root, fig = _panels(fig, (11.0, max(4.6, 0.2 * n + 1.4)))  # a bar per effect, each readable
     ax_pareto, ax_half = fig.subplots(1, 2, width_ratios=(1.3, 1.0))
     _suptitle(fig, f"Effects on {response} ({method}, α = {alpha:g})")
     if n == 0:
         for ax in (ax_pareto, ax_half):
             ax.text(0.5, 0.5, "no effects", transform=ax.transAxes, ha="center")
-        return save_figure(fig, path)
+        return save_figure(root, path)
     order = np.argsort(-np.abs(effects["t"].to_numpy(dtype=float)), kind="stable")
     table = effects.iloc[order]
     t = np.abs(table["t"].to_numpy(dtype=float))
@@ -935,19 +976,21 @@ def plot_effects(
     ax_half.set_ylabel("Half-normal quantile [-]")
     ax_half.set_title("Half-normal plot")
     ax_half.grid(True, alpha=0.3)
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
-def _pair_panels(n_panels: int) -> tuple[Figure, np.ndarray]:
-    """A figure of ``n_panels`` axes, three to a row (those left over hidden), for the
-    panels of pairs of factors of a response surface."""
+def _pair_panels(
+    n_panels: int, fig: Figure | SubFigure | None
+) -> tuple[Figure, Figure | SubFigure, np.ndarray]:
+    """``n_panels`` axes, three to a row (those left over hidden), for the panels of pairs of
+    factors of a response surface, in a new figure or in ``fig`` (:func:`_panels`)."""
     ncols = min(n_panels, 3)
     nrows = math.ceil(n_panels / ncols)
-    fig = _figure((4.3 * ncols + 0.6, 3.8 * nrows + 0.6))
+    root, fig = _panels(fig, (4.3 * ncols + 0.6, 3.8 * nrows + 0.6))
     axes = np.atleast_1d(fig.subplots(nrows, ncols, squeeze=False).ravel())
     for ax in axes[n_panels:]:
         ax.set_visible(False)
-    return fig, axes
+    return root, fig, axes
 
 
 def plot_response_surface(
@@ -955,6 +998,7 @@ def plot_response_surface(
     path: str | Path | None = None,
     *,
     resolution: int = 81,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """Contour plots of a fitted response surface, as Minitab's contour plots: one panel per
     pair of factors, the other factors held at their centre (coded 0), over the coded box the
@@ -970,6 +1014,10 @@ def plot_response_surface(
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     resolution
         Grid points per axis [-].
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -982,7 +1030,7 @@ def plot_response_surface(
     codings = list(fit.codings)
     extent = fit.extent()
     pairs = list(itertools.combinations(range(len(codings)), 2))
-    fig, axes = _pair_panels(max(len(pairs), 1))
+    root, fig, axes = _pair_panels(max(len(pairs), 1), fig)
     _suptitle(fig, f"Fitted response surface of {fit.response} ({label})")
     st = fit.stationary
     if len(codings) == 1:
@@ -997,7 +1045,7 @@ def plot_response_surface(
         if c.log:
             ax.set_xscale("log")
         ax.grid(True, alpha=0.3)
-        return save_figure(fig, path)
+        return save_figure(root, path)
     for ax, (i, j) in zip(axes, pairs, strict=False):
         a, b = codings[i], codings[j]
         xa = np.linspace(extent[a.name][0], extent[a.name][1], resolution)
@@ -1035,7 +1083,7 @@ def plot_response_surface(
                 fontsize=8,
             )
     axes[0].legend(fontsize=7, loc="best")
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 def plot_profiler(
@@ -1044,6 +1092,7 @@ def plot_profiler(
     *,
     resolution: int = 81,
     level: float = 0.95,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """The fitted response surface along each factor with the others at their centre (coded
     0), with the confidence band of the fitted mean, as JMP's prediction profiler: the main
@@ -1061,6 +1110,10 @@ def plot_profiler(
         Points per factor [-].
     level
         Confidence level of the band [-] (none drawn without residual degrees of freedom).
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -1073,7 +1126,7 @@ def plot_profiler(
     codings = list(fit.codings)
     extent = fit.extent()
     n = max(len(codings), 1)
-    fig = _figure((3.0 * n + 0.8, 3.4))
+    root, fig = _panels(fig, (3.0 * n + 0.8, 3.4))
     axes = np.atleast_1d(fig.subplots(1, n, sharey=True, squeeze=False).ravel())
     _suptitle(
         fig,
@@ -1108,7 +1161,7 @@ def plot_profiler(
         ax.set_xlabel(c.axis_label)
         ax.grid(True, alpha=0.3)
     axes[0].set_ylabel(label)
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 def plot_overlaid_contours(
@@ -1118,6 +1171,7 @@ def plot_overlaid_contours(
     path: str | Path | None = None,
     *,
     resolution: int = 121,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """Minitab's overlaid contour plot: where every response meets its goal's limits, over
     each pair of factors with the others at the optimum's levels. White: every response
@@ -1137,6 +1191,10 @@ def plot_overlaid_contours(
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     resolution
         Grid points per axis [-].
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -1148,7 +1206,7 @@ def plot_overlaid_contours(
     codings = list(first.codings)
     extent = first.extent()
     pairs = list(itertools.combinations(range(len(codings)), 2)) or [(0, 0)]
-    fig, axes = _pair_panels(len(pairs))
+    root, fig, axes = _pair_panels(len(pairs), fig)
     _suptitle(
         fig,
         "Where every response meets its limits (white), the others at the optimum: "
@@ -1196,7 +1254,7 @@ def plot_overlaid_contours(
         ax.set_xlabel(a.axis_label)
         ax.set_ylabel(b.axis_label)
     axes[0].legend(fontsize=7, loc="lower left")
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 def _limits_text(goal: Any) -> str:
@@ -1213,6 +1271,8 @@ def plot_residuals(
     residuals: pd.DataFrame,
     response: str,
     path: str | Path | None = None,
+    *,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """Residual plots of the ANOVA model, four in one: normal probability plot, residuals
     against the fitted values, histogram, residuals against the run order.
@@ -1234,6 +1294,10 @@ def plot_residuals(
         the unit of the other figures, mm^3 for ``V``).
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -1255,13 +1319,13 @@ def plot_residuals(
     else:
         order, order_label = np.arange(1.0, r.size + 1.0), "Observation [-]"
 
-    fig = _figure((9.0, 6.5))
+    root, fig = _panels(fig, (9.0, 6.5))
     (ax_norm, ax_fit), (ax_hist, ax_order) = fig.subplots(2, 2)
     _suptitle(fig, f"Residual plots for {response}")
     if r.size == 0:
         for ax in (ax_norm, ax_fit, ax_hist, ax_order):
             ax.text(0.5, 0.5, "no usable runs", transform=ax.transAxes, ha="center")
-        return save_figure(fig, path)
+        return save_figure(root, path)
     n = r.size
     ranks = np.arange(1, n + 1)
     quantiles = stats.norm.ppf((ranks - 0.375) / (n + 0.25))  # Blom's plotting positions
@@ -1302,10 +1366,15 @@ def plot_residuals(
             va="top",
             fontsize=8,
         )
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
-def plot_box_cox(results: Mapping[str, Any], path: str | Path | None = None) -> Figure:
+def plot_box_cox(
+    results: Mapping[str, Any],
+    path: str | Path | None = None,
+    *,
+    fig: Figure | SubFigure | None = None,
+) -> Figure:
     """Box-Cox plots: the profile log-likelihood of λ for each response, as R's
     ``MASS::boxcox`` draws it.
 
@@ -1320,6 +1389,10 @@ def plot_box_cox(results: Mapping[str, Any], path: str | Path | None = None) -> 
         ``{response: BoxCox}`` from :mod:`brakeca.boxcox`.
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -1330,12 +1403,12 @@ def plot_box_cox(results: Mapping[str, Any], path: str | Path | None = None) -> 
 
     items = list(results.items())
     n = max(len(items), 1)
-    fig = _figure((4.2 * n, 3.6))
+    root, fig = _panels(fig, (4.2 * n, 3.6))
     axes = np.atleast_1d(fig.subplots(1, n))
     _suptitle(fig, "Box-Cox plots: which power of the response the model fits best")
     if not items:
         axes[0].text(0.5, 0.5, "no response", transform=axes[0].transAxes, ha="center")
-        return save_figure(fig, path)
+        return save_figure(root, path)
     for ax, (response, result) in zip(axes, items, strict=True):
         ax.set_title(str(response))
         ax.set_xlabel("λ [-]")
@@ -1383,7 +1456,7 @@ def plot_box_cox(results: Mapping[str, Any], path: str | Path | None = None) -> 
         ax.set_xlim(lam[0], lam[-1])
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, loc="best")
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 # --- surface maps (Figure 5 and final plateau maps) ------------------------------------------
@@ -1531,6 +1604,7 @@ def plot_fibre_maps(
     *,
     ncols: int | None = None,
     title: str = "Pad surface maps",
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """Several surface maps side by side, e.g. the fibre layouts of the A levels.
 
@@ -1545,6 +1619,10 @@ def plot_fibre_maps(
         per row beyond (five A levels side by side made a figure 4,200 pixels wide).
     title
         The figure's title.
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -1560,7 +1638,7 @@ def plot_fibre_maps(
     n = len(maps)
     ncols = (2 if n == 4 else min(n, 3)) if ncols is None else max(1, min(int(ncols), n))
     nrows = math.ceil(n / ncols)
-    fig = _figure((5.6 * ncols, 3.0 * nrows + 0.8))
+    root, fig = _panels(fig, (5.6 * ncols, 3.0 * nrows + 0.8))
     grid = fig.subplots(nrows, ncols, squeeze=False)
     handles: list[Any] = []
     for k, (ax, (name, (status, radius, angle))) in enumerate(
@@ -1578,7 +1656,7 @@ def plot_fibre_maps(
         fig.delaxes(ax)
     fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
     _suptitle(fig, title)
-    return save_figure(fig, path)
+    return save_figure(root, path)
 
 
 # --- per-step series -------------------------------------------------------------------------
@@ -1605,6 +1683,7 @@ def plot_cof_series(
     path: str | Path | None = None,
     *,
     max_points: int = 20000,
+    fig: Figure | SubFigure | None = None,
 ) -> Figure:
     """Per-step series of the coefficient of friction and normal force, thinned for plotting.
 
@@ -1620,6 +1699,10 @@ def plot_cof_series(
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     max_points
         At most this many points per series are drawn (regular stride).
+    fig
+        A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
+        to set this figure beside another); a new figure by default. The figure returned, and
+        written to ``path``, is the one that holds it all.
 
     Returns
     -------
@@ -1665,7 +1748,7 @@ def plot_cof_series(
         else (f"Per-step series ({of})")
     )
 
-    fig = _figure((10.0, 5.5 if force is not None else 3.4))
+    root, fig = _panels(fig, (10.0, 5.5 if force is not None else 3.4))
     axes = fig.subplots(2 if force is not None else 1, 1, sharex=True, squeeze=False)[:, 0]
     axes[0].plot(x[::stride], cof[1][::stride], lw=0.7, color="#27496d")
     axes[0].set_ylabel("Coefficient of friction μ [-]")
@@ -1676,4 +1759,4 @@ def plot_cof_series(
         axes[1].set_ylabel("Normal force [N]")
         axes[1].grid(True, alpha=0.3)
     axes[-1].set_xlabel(xlabel)
-    return save_figure(fig, path)
+    return save_figure(root, path)
