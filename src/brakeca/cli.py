@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import signal
 import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
@@ -174,16 +175,27 @@ def _announce_compiling(message: str) -> None:
 def _on_interrupt(message: str | Callable[[], str]) -> Iterator[None]:
     """Turn Ctrl-C inside the block into ``message`` (or what ``message()`` says then) and
     exit status 130 (typer would exit 130 without a word); SIGTERM and SIGHUP too, so that a
-    killed run keeps its checkpoint and stops its children instead of leaving them running."""
+    killed run keeps its checkpoint and stops its children instead of leaving them running.
+    Those exit with the shell's status for the signal, 128 + its number (143 for SIGTERM,
+    129 for SIGHUP), as a batch scheduler or a shell script expects of a terminated job."""
     from brakeca._executors import terminate_as_interrupt
 
     try:
         with terminate_as_interrupt():
             yield
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         text = message() if callable(message) else message
         console.print(f"[bold yellow]interrupted:[/] {escape(text)}", highlight=False)
-        raise typer.Exit(130) from None
+        raise typer.Exit(_interrupt_status(exc)) from None
+
+
+def _interrupt_status(exc: KeyboardInterrupt) -> int:
+    """The exit status for an interrupt: 128 + the signal's number where
+    :func:`brakeca._executors.terminate_as_interrupt` raised it for a signal (its name is the
+    exception's argument), 130 (128 + SIGINT) for Ctrl-C."""
+    name = exc.args[0] if len(exc.args) == 1 and isinstance(exc.args[0], str) else ""
+    number = getattr(signal, name, None) if name.startswith("SIG") else None
+    return 128 + int(number) if number is not None else 130
 
 
 def _percent_note(updates: dict[str, Any]) -> None:
@@ -1691,6 +1703,7 @@ def paper(
     stops: StopsOpt = None,
     replace: ReplaceOpt = False,
     maps_at: MapsAtOpt = None,
+    report: Annotated[bool, typer.Option(help="analyse and write the report at the end")] = True,
 ) -> None:
     """The paper's whole study: the 24-run factorial design, then the analysis and report.
     With --stops N and no -o, a folder of its own (results/paper_stopsN), so that a
@@ -1710,7 +1723,7 @@ def paper(
         quick=quick,
         stops=stops,
         overrides=None,
-        report=True,
+        report=report,
         replace=replace,
         maps_at=maps_at,
     )
@@ -2080,9 +2093,9 @@ def main() -> None:
     """Entry point of the ``brakeca`` command."""
     try:
         app()
-    except KeyboardInterrupt:  # pragma: no cover - interactive
+    except KeyboardInterrupt as exc:  # pragma: no cover - interactive
         console.print("interrupted")
-        sys.exit(130)
+        sys.exit(_interrupt_status(exc))
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -372,6 +372,7 @@ def test_bad_cycle_factor_names_the_problem(tmp_path, edit, needle):
         ([], "results/paper"),
         (["--quick"], "results/paper_quick"),
         (["--quick", "-o", "elsewhere"], "elsewhere"),
+        (["--quick", "--no-report"], "results/paper_quick"),
     ],
 )
 def test_paper_default_folder_keeps_quick_and_full_apart(monkeypatch, args, folder) -> None:
@@ -380,13 +381,14 @@ def test_paper_default_folder_keeps_quick_and_full_apart(monkeypatch, args, fold
     seen = {}
 
     def record(design, output, **kwargs):
-        seen.update(design=design, output=output, quick=kwargs["quick"])
+        seen.update(design=design, output=output, quick=kwargs["quick"], report=kwargs["report"])
 
     monkeypatch.setattr(cli, "_run_and_report", record)
     res = CliRunner().invoke(app, ["paper", *args])
     assert res.exit_code == 0, res.output
     assert seen["design"] == "paper" and str(seen["output"]) == folder
     assert seen["quick"] == ("--quick" in args)
+    assert seen["report"] == ("--no-report" not in args)
 
 
 def test_a_campaign_whose_runs_all_fail_still_gets_its_report(tmp_path):

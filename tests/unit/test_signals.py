@@ -136,6 +136,32 @@ def test_the_interrupt_message_is_worked_out_when_the_interrupt_comes(tmp_path) 
         assert expected in " ".join(captured.get().split())
 
 
+@pytest.mark.parametrize(("raised", "status"), [((), 130), (("SIGTERM",), 143), (("SIGHUP",), 129)])
+def test_a_terminated_command_exits_with_the_shells_status_for_its_signal(raised, status) -> None:
+    """Ctrl-C exits 130; SIGTERM and SIGHUP, which terminate_as_interrupt raises as
+    KeyboardInterrupt("SIGTERM") and so on, exit 128 + the signal's number (they exited 130)."""
+    import typer
+
+    from brakeca import cli
+
+    with cli.console.capture(), pytest.raises(typer.Exit) as stop:
+        with cli._on_interrupt("kept"):
+            raise KeyboardInterrupt(*raised)
+    assert stop.value.exit_code == status
+
+
+def test_sigterm_reaches_the_exit_status_through_the_block() -> None:
+    import typer
+
+    from brakeca import cli
+
+    with cli.console.capture(), pytest.raises(typer.Exit) as stop:
+        with cli._on_interrupt("kept"):
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(1.0)
+    assert stop.value.exit_code == 128 + signal.SIGTERM
+
+
 def test_a_local_worker_leaves_ctrl_c_to_the_campaign(tmp_path) -> None:
     """Ctrl-C reaches the whole process group: an idle worker printed a KeyboardInterrupt
     traceback (a helper's review). Workers ignore SIGINT; the campaign's process stops them.
