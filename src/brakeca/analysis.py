@@ -49,6 +49,7 @@ __all__ = [
     "ANOVA_TYPES",
     "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
+    "TREND_COLUMNS",
     "Factor",
     "Model",
     "alias_structure",
@@ -56,6 +57,7 @@ __all__ = [
     "anova",
     "as_factor",
     "canonical_terms",
+    "factor_trends",
     "interaction_aliases",
     "interaction_table",
     "interaction_tables",
@@ -2474,6 +2476,225 @@ def two_level_effects(
 # --- bundle and export -----------------------------------------------------------------------
 
 
+#: Columns of the table returned by :func:`factor_trends`, in order.
+TREND_COLUMNS: tuple[str, ...] = (
+    "factor",
+    "part",
+    "scale",
+    "df",
+    "sum_sq",
+    "F",
+    "p_value",
+    "percent_of_factor",
+    "percent_contribution",
+)
+
+#: The parts of a trend by degree (then "degree 5", ...).
+_TREND_PARTS = {1: "linear", 2: "quadratic", 3: "cubic", 4: "quartic"}
+
+
+def _evenly_spaced(values: np.ndarray) -> bool:
+    steps = np.diff(np.sort(values))
+    return bool(np.allclose(steps, steps[0], rtol=_LEVEL_RTOL, atol=0.0))
+
+
+def _trend_scale(factor: Factor, levels: np.ndarray) -> tuple[np.ndarray, str]:
+    """The scale a factor's trend is taken on: its levels' values where they are evenly
+    spaced (or not evenly spaced on the log either, and not log-coded), their log10 where
+    the levels are evenly spaced on the log or the factor is log-coded; with the scale's
+    name (``"WP"``, ``"log10 WP"``)."""
+    positive = bool(np.all(levels > 0))
+    if _evenly_spaced(levels) or not positive:
+        return levels, factor.name
+    logs = np.log10(levels)
+    if _evenly_spaced(logs) or factor.coding == "log":
+        return logs, f"log10 {factor.name}"
+    return levels, factor.name
+
+
+def _polynomials(scores: np.ndarray) -> np.ndarray:
+    """Orthogonal polynomials over the levels (equal weights), as R's ``poly``: column
+    ``d - 1`` of degree ``d`` in the scores, orthogonal to the constant and to the lower
+    degrees, of unit length, and rising with the score at its highest power."""
+    x = scores - scores.mean()
+    q, r = np.linalg.qr(np.vander(x, scores.size, increasing=True))
+    return (q * np.sign(np.diag(r)))[:, 1:]
+
+
+def factor_trends(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: Model = True,
+    typ: int = 2,
+    alpha_to_remove: float | None = None,
+) -> pd.DataFrame:
+    """The trend of each factor of three or more levels: its main effect split into a
+    linear, a quadratic (and higher) part by orthogonal polynomials, each part tested
+    against the residual of :func:`anova`'s model.
+
+    The ANOVA takes every factor as categorical: a factor of ``k`` levels has ``k - 1``
+    degrees of freedom whatever its levels' values, and its F test says only that the
+    levels differ. The parts here say how: a significant linear part and an insignificant
+    quadratic one mean the response moves evenly across the levels; a significant quadratic
+    part means it curves (or turns) between them. The polynomials are in the level values
+    where those are evenly spaced, in their log10 where they are evenly spaced on the log
+    (the paper's WP: 1e-15, 1e-14, 1e-13) or the factor is log-coded, else in the values
+    (column ``scale``). Each part's sum of squares is the rise in the residual sum of
+    squares when its column alone leaves the ANOVA's model, with the other factors in
+    sum-to-zero coding and the factor's interactions made of its polynomials (so it is the
+    adjusted, Type III, single-degree-of-freedom test: its F is the square of the part's
+    t); in a balanced design the parts add up to the factor's sum of squares in the ANOVA,
+    and each part's is the classical contrast sum of squares of the level means. F and p
+    are taken against the ANOVA's residual mean square and degrees of freedom (with centre
+    points, their pure error included; the centre points themselves, at no level of the
+    factor, are left out of the parts). Factors with ``choices`` (their levels only number
+    the choices) have no trend.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows with a finite
+        response are used).
+    factors
+        The design's factors, or the design (or a campaign result).
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions, typ, alpha_to_remove
+        The ANOVA's model, as :func:`anova` takes them (the parts are taken in its model and
+        against its residual).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per part of each factor of three or more levels in the data: ``factor``,
+        ``part`` (``"linear"``, ``"quadratic"``, ...), ``scale`` (the polynomials' variable,
+        e.g. ``"log10 WP"``), ``df`` (1), ``sum_sq`` [response unit^2], ``F``, ``p_value``
+        [-], ``percent_of_factor`` (the part's share of the factor's sum of squares in the
+        ANOVA) and ``percent_contribution`` (of the total sum of squares about the mean)
+        [%]. Empty where no factor has three levels; ``attrs["note"]`` names the factors
+        left out and why (not in the model, a rank-deficient design, no residual).
+
+    References
+    ----------
+    D. C. Montgomery, *Design and Analysis of Experiments*, 8th ed., Wiley, 2013, section
+    3.5.4 (orthogonal contrasts) and 5.5 (fitting response curves in a factorial).
+    """
+    raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
+    nominal = {
+        str(_field(f, "name"))
+        for f in raw
+        if not isinstance(f, str) and _field(f, "choices") is not None
+    }
+    table = anova(
+        summary,
+        factors,
+        response,
+        interactions=interactions,
+        typ=typ,
+        alpha_to_remove=alpha_to_remove,
+    )
+    factors = _factors(factors)
+    if _is_term_list(interactions):  # as anova() takes them
+        interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
+    out = pd.DataFrame({c: pd.Series(dtype=float) for c in TREND_COLUMNS})
+    out = out.astype({"factor": object, "part": object, "scale": object})
+    notes: list[str] = []
+    data = _clean(summary, factors, response)
+    if len(data) < 2 or "Residual" not in set(table["term"]):
+        out.attrs["note"] = "no ANOVA to split"
+        return out
+    centre = _center_mask(data, factors)
+    y = data[response].to_numpy(dtype=float)
+    # the ANOVA's model, as anova() makes it (the same pooling and elimination)
+    frame, term_names, terms, _ = _model(
+        data.loc[~centre],
+        factors,
+        y[~centre],
+        interactions,
+        y_center=y[centre],
+        alpha_to_remove=alpha_to_remove,
+    )
+    rows = table.set_index("term")
+    resid_df = float(rows.loc["Residual", "df"])
+    resid_ms = float(rows.loc["Residual", "mean_sq"]) if resid_df > 0.5 else math.nan
+    total_ss = float(table.attrs.get("total_sum_sq", math.nan))
+    column = {name: col for col, name in term_names.items() if ":" not in col}
+    rows_out = []
+    for factor in factors:
+        if factor.name in nominal or factor.name not in column:
+            continue
+        col = column[factor.name][2:-1]  # "C(f1)" -> "f1"
+        codes = np.array([int(c[1:]) for c in frame[col]])
+        present = np.unique(codes)
+        if present.size < 3:
+            continue
+        main = column[factor.name]
+        if main not in terms:
+            notes.append(f"{factor.name} is not in the model")
+            continue
+        scores, scale = _trend_scale(factor, np.array([factor.levels[c] for c in present]))
+        poly = _polynomials(scores)[np.searchsorted(present, codes)]
+        blocks = [np.ones((len(frame), 1))]
+        where = 0
+        for term in terms:
+            block = np.ones((len(frame), 1))
+            for part in term.split(":"):
+                name = part[2:-1]
+                contrasts = poly if name == col else _contrast_columns(frame[name])
+                block = (block[:, :, None] * contrasts[:, None, :]).reshape(len(frame), -1)
+            if term == main:
+                where = sum(b.shape[1] for b in blocks)
+            blocks.append(block)
+        exog = np.hstack(blocks)
+        if np.linalg.matrix_rank(exog) < exog.shape[1]:
+            notes.append(f"{factor.name}: the design is rank-deficient (empty cells)")
+            continue
+        inverse = np.linalg.inv(exog.T @ exog)
+        coef = inverse @ (exog.T @ frame["y"].to_numpy(dtype=float))
+        factor_ss = float(rows.loc[factor.name, "sum_sq"]) if factor.name in rows.index else 0.0
+        for degree in range(1, present.size):
+            j = where + degree - 1
+            ss = float(coef[j] ** 2 / inverse[j, j])
+            f_value = ss / resid_ms if resid_ms > 0 else math.nan
+            rows_out.append(
+                {
+                    "factor": factor.name,
+                    "part": _TREND_PARTS.get(degree, f"degree {degree}"),
+                    "scale": scale,
+                    "df": 1.0,
+                    "sum_sq": ss,
+                    "F": f_value,
+                    "p_value": _f_sf(f_value, resid_df),
+                    "percent_of_factor": 100.0 * ss / factor_ss if factor_ss > 0 else math.nan,
+                    "percent_contribution": 100.0 * ss / total_ss if total_ss > 0 else math.nan,
+                }
+            )
+    if math.isnan(resid_ms) and rows_out:
+        notes.append("no residual degrees of freedom: F and p cannot be computed")
+    if rows_out:
+        out = pd.DataFrame(rows_out, columns=list(TREND_COLUMNS))
+    out.attrs["note"] = "; ".join(notes)
+    return out
+
+
+def _f_sf(f_value: float, df_resid: float) -> float:
+    """p of an F of one degree of freedom against ``df_resid`` [-] (NaN where undefined)."""
+    from scipy import stats
+
+    if not math.isfinite(f_value) or df_resid < 0.5:
+        return math.nan
+    return float(stats.f.sf(f_value, 1.0, df_resid))
+
+
+def _field(obj: Any, key: str) -> Any:
+    """``obj[key]`` of a mapping, ``obj.key`` of another object; None where absent."""
+    if isinstance(obj, Mapping):
+        return obj.get(key)
+    return getattr(obj, key, None)
+
+
 def analyze(
     summary: pd.DataFrame | Any,
     factors: Iterable[Any] | None = None,
@@ -2534,8 +2755,9 @@ def analyze(
     dict
         ``{response: {"main_effects": DataFrame, "interactions": {(a, b): DataFrame},
         "interactions_long": DataFrame, "anova": DataFrame, "ranked_effects": DataFrame,
-        "residuals": DataFrame, "effects": DataFrame}}``; ``effects`` is
-        :func:`two_level_effects`, empty unless every factor has two levels.
+        "residuals": DataFrame, "effects": DataFrame, "trends": DataFrame}}``; ``effects``
+        is :func:`two_level_effects`, empty unless every factor has two levels; ``trends``
+        is :func:`factor_trends`, empty unless a factor has three levels or more.
 
     References
     ----------
@@ -2549,6 +2771,7 @@ def analyze(
             "factors: give the design's factors (or the design), or a campaign result as "
             "the first argument"
         )
+    design_factors = factors  # with a categorical factor's choices, for factor_trends
     factors = _factors(factors)
     if isinstance(responses, str):
         responses = (responses,)
@@ -2602,6 +2825,14 @@ def analyze(
                 response,
                 main_effects_only=main_effects_only,
                 model_terms=kept,
+            ),
+            "trends": factor_trends(
+                summary,
+                design_factors,
+                response,
+                interactions=model,
+                typ=anova_type,
+                alpha_to_remove=alpha_to_remove,
             ),
         }
     return result
@@ -2677,7 +2908,8 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         ``anova_<R>.csv``, ``model_summary_<R>.csv`` (one row: ``n``, ``df_resid``, ``s``,
         ``r_squared``, ``r_squared_adj``, ``r_squared_pred``, ``formula``; see
         :func:`anova`) and ``ranked_effects_<R>.csv`` for every response ``R``,
-        ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`), and
+        ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`),
+        ``trends_<R>.csv`` when it has a non-empty :func:`factor_trends` table, and
         ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table.
     """
     directory = Path(directory)
@@ -2696,6 +2928,11 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         }
         if bundle.get("residuals") is not None:
             tables["residuals"] = bundle["residuals"]
+        trends = bundle.get("trends")
+        if trends is not None and not trends.empty:
+            tables["trends"] = trends
+        else:  # as the effects table's, below
+            (directory / f"trends_{response}.csv").unlink(missing_ok=True)
         effects = bundle.get("effects")
         if effects is not None and not effects.empty:
             tables["effects"] = effects

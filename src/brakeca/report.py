@@ -185,6 +185,10 @@ term; what the table gives for the term is its effect plus theirs, each with the
 {%- if item.info %}<p class="note">{{ item.info }}</p>{% endif %}
 {{ render_table(item.table) }}
 {%- if item.note %}<p class="note">Note: {{ item.note }}</p>{% endif %}
+{%- if item.trends %}
+<p class="note">{{ item.trends_info }}</p>
+{{ render_table(item.trends) }}
+{%- endif %}
 {%- if item.effects %}
 <p class="note">{{ item.effects_info }}</p>
 {{ render_table(item.effects) }}
@@ -517,6 +521,55 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     if not notes and frame.attrs.get("note"):
         notes.append(str(frame.attrs["note"]))
     return _Table(columns, numeric, rows), "; ".join(notes)
+
+
+def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
+    """The trends of the factors of three or more levels
+    (:func:`brakeca.analysis.factor_trends`, sums of squares in the report's unit of
+    ``response``) and their caption."""
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
+    rows = []
+    for _, rec in frame.iterrows():
+        cells = [
+            _fmt(rec["factor"]),
+            _fmt(rec["part"]),
+            _fmt(rec["scale"]),
+            _fmt(float(rec["sum_sq"]) * factor**2, ".4g"),
+            _fmt(rec["F"], ".4g"),
+            format_p_value(rec["p_value"]),
+            _fmt(rec["percent_of_factor"], ".1f"),
+        ]
+        p = rec["p_value"]
+        sig = not _is_missing(p) and float(p) < 0.05
+        rows.append({"cells": cells, "cls": "sig" if sig else ""})
+    square = f" [({unit})²]" if unit else ""
+    columns = [
+        "Factor",
+        "Part",
+        "Polynomial in",
+        f"SS{square}",
+        "F",
+        "p",
+        "Share of the factor's SS [%]",
+    ]
+    names = " and ".join(dict.fromkeys(str(f) for f in frame["factor"]))
+    several = frame["factor"].nunique() > 1
+    caption = (
+        f"Trend of {response} over the levels of {names}. The ANOVA takes each factor as "
+        "categorical (a factor of k levels has k − 1 degrees of freedom, whatever the "
+        "levels' values), so its F says only that the levels differ. Here "
+        + ("each such" if several else "that")
+        + " main effect is split into orthogonal polynomials in the levels' values (or their "
+        "log10, where the levels are evenly spaced on the log), each part of 1 degree of "
+        "freedom tested against the ANOVA's residual: a significant quadratic part means the "
+        "response curves between the levels instead of moving evenly across them."
+        + (f" Sums of squares in ({unit})²." if unit else "")
+    )
+    note = frame.attrs.get("note")
+    if note:
+        caption += f" Note: {note}."
+    numeric = [False, False, False, True, True, True, True]
+    return _Table(columns, numeric, rows), caption
 
 
 def _model_terms_of(effects: pd.DataFrame) -> list[str]:
@@ -1135,6 +1188,7 @@ def render_report(
     level_means: Mapping[str, pd.DataFrame] | None = None,
     box_cox: Mapping[str, Any] | None = None,
     anova_info: str = "",
+    trend_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -1180,6 +1234,12 @@ def render_report(
             if effects is not None and not effects.empty
             else (None, "")
         )
+        trends = (trend_tables or {}).get(response)
+        trends_table, trends_info = (
+            _trends_table(str(response), trends)
+            if trends is not None and not trends.empty
+            else (None, "")
+        )
         anova_items.append(
             {
                 "response": str(response),
@@ -1189,6 +1249,8 @@ def render_report(
                 "info": info,
                 "effects": effects_table,
                 "effects_info": effects_info,
+                "trends": trends_table,
+                "trends_info": trends_info,
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
@@ -1305,6 +1367,7 @@ def write_report(
     box_cox: Mapping[str, Any] | None = None,
     anova_info: str = "",
     level_means: Mapping[str, pd.DataFrame] | None = None,
+    trend_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -1359,6 +1422,10 @@ def write_report(
     level_means
         ``{response: table}`` from :func:`brakeca.analysis.main_effects` (the same factors
         and runs for every response), shown as one table "Level means" before the ANOVA.
+    trend_tables
+        ``{response: table}`` from :func:`brakeca.analysis.factor_trends`, shown under the
+        response's ANOVA table when not empty: the linear and quadratic parts of each
+        factor of three or more levels.
 
     Returns
     -------
@@ -1394,6 +1461,7 @@ def write_report(
         box_cox=box_cox,
         anova_info=anova_info,
         level_means=level_means,
+        trend_tables=trend_tables,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

@@ -265,6 +265,9 @@ Files (R is the response: MU, V or log10_V_mm3):
 - `anova_R.csv`, `model_summary_R.csv`, `ranked_effects_R.csv`: the ANOVA of the categorical
   model, its summary (S, R²), its terms by contribution.
 - `residuals_R.csv`: observed, fitted, residual, leverage, standardized residual per run.
+- `trends_R.csv` (a factor of three or more levels): its main effect split into linear and
+  quadratic (and higher) parts, orthogonal polynomials in its levels (`scale`: their values,
+  or their log10 where evenly spaced on the log), each with its sum of squares, F and p.
 - `effects_R.csv` (two-level designs): effects, coefficients, `se` (the standard error of the
   effect, twice the coefficient's; on the Ct Pt row, which has no effect, twice its
   coefficient's, so t = coefficient / (se / 2) on every row; the report shows the
@@ -891,6 +894,7 @@ def write_study(
         box_cox=scales,
         anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
         level_means={resp: tables[resp]["main_effects"] for resp in RESPONSES},
+        trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
     )
 
 

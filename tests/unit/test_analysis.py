@@ -374,12 +374,15 @@ def test_analyze_and_save_tables(tmp_path) -> None:
             "ranked_effects",
             "residuals",
             "effects",
+            "trends",
         }
         assert bundle["effects"].empty  # WP has three levels: no two-level effects table
+        assert list(bundle["trends"]["factor"]) == ["WP", "WP"]  # but a trend
     written = save_tables(result, tmp_path / "tables")
     names = sorted(p.name for p in written)
     stems = ("main_effects", "interactions", "anova", "model_summary", "ranked_effects")
-    assert names == sorted(f"{stem}_{r}.csv" for stem in (*stems, "residuals") for r in ("MU", "V"))
+    stems = (*stems, "residuals", "trends")
+    assert names == sorted(f"{stem}_{r}.csv" for stem in stems for r in ("MU", "V"))
     summary_mu = pd.read_csv(tmp_path / "tables" / "model_summary_MU.csv")
     assert list(summary_mu.columns) == list(MODEL_SUMMARY_COLUMNS)
     assert summary_mu["r_squared"].item() == pytest.approx(result["MU"]["anova"].attrs["r_squared"])

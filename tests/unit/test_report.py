@@ -642,3 +642,21 @@ def test_in_short_names_the_significant_terms_by_contribution() -> None:
     )
     c = frame.assign(term=["C", "A", "S:A", "WR", "Residual"])
     assert "C (5.0 %: 2.000 at C = paper, 2.000 at C = trace [mm³])" in _finding("V", c, means)
+
+
+def test_the_trend_of_a_three_level_factor_is_shown_under_its_anova(tmp_path) -> None:
+    """A review found the report silent on how WP (three levels) enters the model: the
+    ANOVA's 2 df for it say only that its levels differ. The trends table under each ANOVA
+    gives its linear and quadratic parts, V's sums of squares in the report's (mm³)²."""
+    from brakeca.analysis import factor_trends
+
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"]
+    trends = {r: factor_trends(summary, FACTORS, r) for r in ("MU", "V")}
+    assert list(trends["V"]["part"]) == ["linear", "quadratic"]
+    html = render_report(**inputs, trend_tables=trends)
+    assert html.count("Trend of ") == 2 and "Trend of V over the levels of WP" in html
+    assert "SS [(mm³)²]" in html and "log10 WP" in html
+    shown = float(trends["V"]["sum_sq"].iloc[0]) * 1e18
+    assert f"{shown:.4g}" in html
+    assert "Trend of " not in render_report(**inputs)  # none given: none shown
