@@ -831,20 +831,47 @@ class SimulationConfig(_Frozen):
         nothing when the text is read back (:meth:`from_toml`)."""
         import re
 
-        lines = []
+        lines: list[str] = []
         table: list[str] = []
+        array = False
+
+        def unset() -> None:  # a table's unset fields, which TOML cannot hold, as comments
+            if array:
+                return
+            section: Any = self
+            for part in table:
+                section = getattr(section, part, None)
+            if not isinstance(section, BaseModel):
+                return
+            at = len(lines)
+            while at and not lines[at - 1].strip():  # before the blank line that ends it
+                at -= 1
+            for name in type(section).model_fields:
+                if getattr(section, name) is None:
+                    text = _field_description(type(self), [*table, name])
+                    comment = f"# {name} = ...  # unset by default"
+                    if text and len(comment) + len(text) + 2 <= 120:
+                        added = [f"{comment}; {text}"]
+                    else:  # a long description on a line of its own
+                        added = [comment, *([f"#   {text}"] if text else [])]
+                    lines[at:at] = added
+                    at += len(added)
+
         for line in self.to_toml().splitlines():
-            header = re.fullmatch(r"\[\[?([A-Za-z0-9_.]+)\]\]?", line.strip())
+            header = re.fullmatch(r"\[(\[?)([A-Za-z0-9_.]+)\]\]?", line.strip())
             if header:
-                table = header.group(1).split(".")
+                unset()
+                table, array = header.group(2).split("."), bool(header.group(1))
             match = re.match(r"([A-Za-z0-9_]+) = ", line)
             text = _field_description(type(self), [*table, match.group(1)]) if match else None
             if text and not line.rstrip().endswith(("[", "{")):  # not a value's first line
                 line = f"{line}  # {text}"
             lines.append(line)
+        unset()
         head = (
             "# brakeca configuration (brakeca config): SI units inside, each field's unit in "
-            "brackets;\n# docs/nomenclature.md names the symbols, docs/model.md the model.\n"
+            "brackets;\n# docs/nomenclature.md names the symbols, docs/model.md the model; "
+            "a field\n# commented out is unset by default: give it a value to set it.\n"
         )
         return head + "\n".join(lines) + "\n"
 

@@ -327,6 +327,31 @@ def test_brakeca_config_prints_each_fields_unit_and_reads_back_the_same(tmp_path
     assert again.stdout == res.stdout
 
 
+def test_brakeca_config_names_the_fields_unset_by_default() -> None:
+    """TOML holds no None, so ``brakeca config`` left out the fields unset by default
+    (rule 6's switch, a trace file, max_stops...), which the docs say it lists (a review):
+    each is now a comment in its table, and a value once set."""
+    config = load_preset("paper")
+    text = config.to_commented_toml()
+    unset = [
+        "inner_radius",
+        "rule6_max_gap",
+        "trace_file",
+        "trace_sha256",
+        "trace_speed_unit",
+        "max_stops",
+    ]
+    for name in unset:
+        assert f"\n# {name} = ...  # unset by default" in text
+    mesh = text.split("[mesh]\n")[1].split("\n\n")[0]
+    assert mesh.splitlines()[-1].startswith("# inner_radius = ...  # unset by default; [m] ")
+    assert "#   [m] rule 6: a primary plateau whose gap" in text  # its own line: too long
+    assert SimulationConfig.from_toml(text) == config
+    set_ = config.with_updates({"automaton.rule6_max_gap": 1e-5}).to_commented_toml()
+    assert "\nrule6_max_gap = 1e-05  # [m] rule 6" in set_ and "# rule6_max_gap" not in set_
+    assert max(len(line) for line in text.splitlines()) <= 130
+
+
 def test_a_field_of_fixed_choices_is_commented_with_its_choices() -> None:
     """Cut at its first aside, such a field's description named one choice: 'kernel =
     "exact"  # step kernel: 'lazy'' (a helper's review)."""
