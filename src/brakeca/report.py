@@ -153,8 +153,9 @@ ANOVA's notes say what its error holds.</p>
 V: mean emitted wear volume per stop [mm&sup3;]. Emitted and worn off: the volumes that left
 the band and that wear removed from it over the whole run; the difference is what the
 secondary plateaus still hold (the particles in the contact leave it at the end of every
-stop). Primary and secondary at end: the plateaus' shares of the band in the last stop,
-time-weighted over it. Ledger residual: the largest relative misclosure of the volume ledger
+stop). Primary and secondary, last stop: the plateaus' shares of the band in the last stop,
+time-weighted over it (before the S rule acts at its end; the final plateau maps are drawn
+after it). Ledger residual: the largest relative misclosure of the volume ledger
 in any step; friction residual: the largest relative miss of the demanded friction force.
 Wall time: the run's own computing time.</p>
 {{ render_table(runs) }}
@@ -185,6 +186,7 @@ term; what the table gives for the term is its effect plus theirs, each with the
 {%- if item.info %}<p class="note">{{ item.info }}</p>{% endif %}
 {{ render_table(item.table) }}
 {%- if item.note %}<p class="note">Note: {{ item.note }}</p>{% endif %}
+{%- if item.unusual %}<p class="note">{{ item.unusual }}</p>{% endif %}
 {%- if item.trends %}
 <p class="note">{{ item.trends_info }}</p>
 {{ render_table(item.trends) }}
@@ -381,8 +383,8 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "error": ("Error", "", 1.0),
     "total_emitted_mm3": ("Emitted [mm³]", "volume", 1.0),
     "total_generated_mm3": ("Worn off [mm³]", "volume", 1.0),
-    "final_primary_area_fraction": ("Primary at end [%]", ".1f", 100.0),
-    "final_secondary_area_fraction": ("Secondary at end [%]", ".1f", 100.0),
+    "final_primary_area_fraction": ("Primary, last stop [%]", ".1f", 100.0),
+    "final_secondary_area_fraction": ("Secondary, last stop [%]", ".1f", 100.0),
     "max_ledger_residual": ("Ledger residual [-]", ".1e", 1.0),
     "max_friction_residual": ("Friction residual [-]", ".1e", 1.0),
     "n_steps": ("Steps", ",d", 1.0),
@@ -523,6 +525,46 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     return _Table(columns, numeric, rows), "; ".join(notes)
 
 
+#: The standardized residual beyond which a run is named as unusual (Minitab's "R") [-].
+UNUSUAL_RESIDUAL = 2.0
+
+
+def _unusual_text(response: str, frame: pd.DataFrame) -> str:
+    """The runs whose standardized residual exceeds :data:`UNUSUAL_RESIDUAL` in size
+    (:func:`brakeca.analysis.residuals`), as Minitab lists its "unusual observations", with
+    their observed and fitted values in the report's unit; empty where there are none."""
+    if "std_residual" not in frame.columns or frame.empty:
+        return ""
+    z = pd.to_numeric(frame["std_residual"], errors="coerce")
+    large = frame.loc[z.abs() > UNUSUAL_RESIDUAL]
+    if large.empty:
+        return ""
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
+    replicated = "replicate" in frame.columns and frame["replicate"].nunique() > 1
+    items = []
+    for _, rec in large.iterrows():
+        who = (
+            f"test {int(rec['test'])}"
+            if "test" in rec and not _is_missing(rec["test"])
+            else "a run"
+        )
+        if replicated:
+            who += f", replicate {int(rec['replicate'])}"
+        items.append(
+            f"{who} ({response} {_fmt(float(rec['observed']) * factor, '.4g')}"
+            f"{' ' + unit if unit else ''}, fitted {_fmt(float(rec['fitted']) * factor, '.4g')}, "
+            f"standardized residual {float(rec['std_residual']):+.2f})"
+        )
+    n = len(frame)
+    return (
+        f"Unusual runs (standardized residual beyond ±{UNUSUAL_RESIDUAL:g}, Minitab's R): "
+        + "; ".join(items)
+        + f". About 1 run in 20 lies there by chance ({n} runs here); a run far beyond it "
+        "moves the fit, its F tests and the Box–Cox λ, and is worth a look (tables/"
+        f"residuals_{response}.csv)."
+    )
+
+
 def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     """The trends of the factors of three or more levels
     (:func:`brakeca.analysis.factor_trends`, sums of squares in the report's unit of
@@ -561,8 +603,10 @@ def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         + ("each such" if several else "that")
         + " main effect is split into orthogonal polynomials in the levels' values (or their "
         "log10, where the levels are evenly spaced on the log), each part of 1 degree of "
-        "freedom tested against the ANOVA's residual: a significant quadratic part means the "
-        "response curves between the levels instead of moving evenly across them."
+        "freedom tested against the ANOVA's residual. A significant quadratic part means "
+        "the response does not move evenly across the levels: its steps from one level to "
+        "the next differ (with three levels that is all it can say; the share of the "
+        "factor's sum of squares says how much)."
         + (f" Sums of squares in ({unit})²." if unit else "")
     )
     note = frame.attrs.get("note")
@@ -1189,6 +1233,7 @@ def render_report(
     box_cox: Mapping[str, Any] | None = None,
     anova_info: str = "",
     trend_tables: Mapping[str, pd.DataFrame] | None = None,
+    residual_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -1251,6 +1296,9 @@ def render_report(
                 "effects_info": effects_info,
                 "trends": trends_table,
                 "trends_info": trends_info,
+                "unusual": _unusual_text(
+                    str(response), (residual_tables or {}).get(response, pd.DataFrame())
+                ),
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
@@ -1368,6 +1416,7 @@ def write_report(
     anova_info: str = "",
     level_means: Mapping[str, pd.DataFrame] | None = None,
     trend_tables: Mapping[str, pd.DataFrame] | None = None,
+    residual_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -1426,6 +1475,10 @@ def write_report(
         ``{response: table}`` from :func:`brakeca.analysis.factor_trends`, shown under the
         response's ANOVA table when not empty: the linear and quadratic parts of each
         factor of three or more levels.
+    residual_tables
+        ``{response: table}`` from :func:`brakeca.analysis.residuals`: the runs whose
+        standardized residual exceeds :data:`UNUSUAL_RESIDUAL` in size are named under the
+        response's ANOVA table, as Minitab lists its unusual observations.
 
     Returns
     -------
@@ -1462,6 +1515,7 @@ def write_report(
         anova_info=anova_info,
         level_means=level_means,
         trend_tables=trend_tables,
+        residual_tables=residual_tables,
     )
     path = Path(path)
     atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))

@@ -681,7 +681,9 @@ def write_study(
             if resp not in surfaces:  # a response surface's terms are in its own section
                 add(
                     "Ranked effects",
-                    f"Pareto of the ANOVA terms of {label}",
+                    f"Pareto of the ANOVA terms of {label}: each term's share of the total sum "
+                    "of squares (a term of several degrees of freedom, such as a factor of "
+                    "three levels, tends to gather more than a term of one; dark: p < 0.05)",
                     f"pareto_{resp}.png",
                     plotting.plot_pareto,
                     tables[resp]["ranked_effects"],
@@ -757,8 +759,9 @@ def write_study(
         add(
             "Runs",
             f"MU per stop over {stops_run} at each level of each factor: the mean of the "
-            "finished runs at that level, stop by stop (the main effects over the cycle; "
-            "centre points left out), the cycle's blocks shaded as above",
+            "finished runs at that level, stop by stop (the main effects over the cycle"
+            + ("; centre points left out" if result.design.center_points else "")
+            + "), the cycle's blocks shaded as above",
             "mu_per_stop_by_level.png",
             plotting.plot_mu_per_stop_by_level,
             result.dataset,
@@ -780,12 +783,17 @@ def write_study(
     names = {f.name for f in factors}
     if "A" in names and len(filed):
         maps = {}
+        shown_tests = []
         for level in sorted(filed["A"].unique()):
             first = filed[filed["A"] == level].iloc[0]
             maps[f"A = {level:g} %"] = _map_of(runs_dir / f"{first['run_id']}.nc", "initial_status")
+            shown_tests.append(str(int(first["test"])))
         add(
             "Pad surfaces",
-            "Initial fibre maps of the A levels (paper Figure 5)",
+            "Initial fibre maps of the A levels (paper Figure 5): the pads of tests "
+            f"{', '.join(shown_tests[:-1])}{' and ' if len(shown_tests) > 1 else ''}"
+            f"{shown_tests[-1]}, the first run at each level (every run draws a pad of its "
+            "own from its seed)",
             "fibre_maps.png",
             plotting.plot_fibre_maps,
             maps,
@@ -811,6 +819,13 @@ def write_study(
             ds = run.dataset
             tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
             after = _cut_short(run.config) or "the whole cycle"
+            removal = run.config.automaton.secondary_removal_fraction
+            if removal > 0:  # the map is the state after the S rule of the last stop
+                after += (
+                    f", after the S rule (S = {removal:g}) removed secondary plateaus at the "
+                    "end of the last stop (the per-run table's secondary share is the last "
+                    "stop's own, before it)"
+                )
             add(
                 "Final plateau maps",
                 f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
@@ -849,8 +864,9 @@ def write_study(
         + ". MU is the mean over the stops of the time-weighted mean COF of each stop; V is the "
         "mean wear volume per stop that leaves the simulated band (not scaled to the pad); "
         "log10_V_mm3 is V on a log scale (log10 of V in mm³), where the factors' "
-        "multiplicative effects on V add, so an additive model of it needs fewer interactions "
-        "(compare the residual plots and R²(pred) of V and log10_V_mm3). "
+        "multiplicative effects on V add, so that the interactions carry less of its variation "
+        "(compare the interactions' shares in the two ANOVA tables, the residual plots and "
+        "R²(pred) of V and log10_V_mm3). "
         "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
         "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
@@ -895,6 +911,11 @@ def write_study(
         anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
         level_means={resp: tables[resp]["main_effects"] for resp in RESPONSES},
         trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
+        residual_tables={
+            resp: tables[resp]["residuals"]
+            for resp in RESPONSES
+            if tables[resp].get("residuals") is not None
+        },
     )
 
 

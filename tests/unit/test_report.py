@@ -228,7 +228,7 @@ def test_run_scalars_have_readable_headers_and_units(tmp_path) -> None:
     )
     summary.loc[3, "n_steps"] = np.nan  # a failed run: the column becomes floats
     html = render_report(**{**inputs, "summary": summary})
-    for header in ("Emitted [mm³]", "Primary at end [%]", "Ledger residual [-]", "Steps"):
+    for header in ("Emitted [mm³]", "Primary, last stop [%]", "Ledger residual [-]", "Steps"):
         assert f"<th>{header}</th>" in html
     assert "total_emitted_mm3" not in html and "wall_time" not in html
     for cell in ("1235", "26,402", "10.4", "6.2e-14", "491,160", "30"):
@@ -660,3 +660,27 @@ def test_the_trend_of_a_three_level_factor_is_shown_under_its_anova(tmp_path) ->
     shown = float(trends["V"]["sum_sq"].iloc[0]) * 1e18
     assert f"{shown:.4g}" in html
     assert "Trend of " not in render_report(**inputs)  # none given: none shown
+
+
+def test_runs_with_a_large_standardized_residual_are_named(tmp_path) -> None:
+    """A review found the MU Box–Cox reading resting on one run (standardized residual 2.7)
+    that nothing in the report pointed at; the runs beyond ±2 are named under the ANOVA, as
+    Minitab lists its unusual observations, V in the report's mm³."""
+    from brakeca.analysis import residuals
+
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"].copy()
+    ok = summary.index[summary["status"] == "ok"]
+    summary.loc[ok[0], "V"] *= 3.0  # one run far off the additive model
+    table = residuals(summary, FACTORS, "V")
+    far = table.loc[table["std_residual"].abs() > 2.0]
+    assert len(far) >= 1
+    html = render_report(**inputs, residual_tables={"V": table})
+    line = re.search(r"Unusual runs \(standardized residual beyond ±2[^<]*", html)
+    assert line is not None
+    first = far.iloc[0]
+    assert f"test {int(first['test'])}" in line.group(0)
+    assert f"V {float(first['observed']) * 1e9:.4g} mm³" in line.group(0)
+    assert f"standardized residual {float(first['std_residual']):+.2f}" in line.group(0)
+    calm = table.assign(std_residual=0.5)
+    assert "Unusual runs" not in render_report(**inputs, residual_tables={"V": calm})
