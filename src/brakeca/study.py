@@ -339,6 +339,50 @@ def _cut_short(base: Any) -> str | None:
     return None
 
 
+def _floor_note(result: CampaignResult, base: Any) -> str:
+    """A note on the stops whose mean COF is the floor ``friction.mu_min`` (every contact
+    at or above the pressure where the law reaches it): there MU is held at the floor and
+    cannot show an effect below it. Empty where no stop is, the campaign's dataset has no
+    ``mean_cof``, the base configuration is unknown or a factor sets the friction law."""
+    data = getattr(result, "dataset", None)
+    if base is None or data is None or "mean_cof" not in getattr(data, "data_vars", {}):
+        return ""
+    if any(str(f.field).startswith("friction.") for f in result.design.factors):
+        return ""
+    floor = float(base.friction.mu_min)
+    cof = data["mean_cof"].transpose("run", "stop").to_numpy().astype(float)
+    done = np.isfinite(cof).all(axis=1)
+    if floor <= 0 or not done.any():
+        return ""
+    at = np.abs(cof[done] - floor) <= 1e-9 * floor
+    share = at.mean(axis=1)
+    if not share.any():
+        return ""
+    tests = data["test" if "test" in data.coords else "run"].to_numpy()[done]
+    replicates = data["replicate"].to_numpy()[done] if "replicate" in data.coords else None
+    replicated = replicates is not None and len(set(replicates.tolist())) > 1
+
+    def who(k: int) -> str:
+        return f"test {int(tests[k])}" + (
+            f", replicate {int(replicates[k])}" if replicated and replicates is not None else ""
+        )
+
+    most = np.argsort(-share, kind="stable")[: min(3, int((share > 0).sum()))]
+    parts = [
+        f"{who(int(k))} ({100 * share[k]:.0f} %" + (" of its stops)" if i == 0 else ")")
+        for i, k in enumerate(most)
+    ]
+    named = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+    return (
+        f"The COF floor: {int((share > 0).sum())} of the {int(done.sum())} finished runs have "
+        f"stops whose mean COF is the floor friction.mu_min = {floor:g} (every plateau in "
+        "contact at a pressure where the friction law reaches it), the most in "
+        f"{named}. In those stops MU is held at the floor and cannot show an effect that "
+        "would take it lower, which compresses the effects on MU of the factors that press "
+        "the contact harder (tables/per_stop.csv, column mean_cof)."
+    )
+
+
 def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, list, str]:
     """The optimum of a response-surface design's goals (:func:`brakeca.rsm.optimize`),
     written to ``tables/optimum.csv``: (optimum, goals, note), or (None, [], why not) when
@@ -884,6 +928,9 @@ def write_study(
             "summary.csv and campaign.nc, but those runs' plateau maps (and PM10 on a speed "
             "trace) are not shown."
         )
+    floor_note = _floor_note(result, base)
+    if floor_note:
+        notes += "\n\n" + floor_note
     summary, pm10_note = _pm10_columns(result, summary)
     if pm10_note:
         notes = notes + "\n\n" + pm10_note

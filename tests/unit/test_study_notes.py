@@ -1,0 +1,50 @@
+"""The report's note on the COF floor (brakeca.study._floor_note): the stops whose mean COF
+is friction.mu_min, where MU cannot show an effect below it (a review of the report found
+two runs at the floor for 38 % of their stops, and the report silent on it)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import xarray as xr
+
+from brakeca.presets import load_preset
+from brakeca.study import _floor_note
+
+
+def _result(cof: np.ndarray, fields=("wear.specific_wear_rate",)) -> SimpleNamespace:
+    n_run, n_stop = cof.shape
+    data = xr.Dataset(
+        {"mean_cof": (("run", "stop"), cof)},
+        coords={
+            "run": np.arange(1, n_run + 1),
+            "stop": np.arange(1, n_stop + 1),
+            "test": ("run", np.arange(1, n_run + 1)),
+            "replicate": ("run", np.zeros(n_run, dtype=int)),
+        },
+    )
+    design = SimpleNamespace(factors=[SimpleNamespace(field=f) for f in fields])
+    return SimpleNamespace(dataset=data, design=design)
+
+
+def test_the_runs_at_the_floor_are_counted_and_the_most_named() -> None:
+    base = load_preset("paper")
+    floor = base.friction.mu_min
+    cof = np.full((4, 10), 0.3)
+    cof[1, :4] = floor  # test 2: 40 % of its stops at the floor
+    cof[3, :1] = floor  # test 4: 10 %
+    cof[2, 5] = floor * (1 + 1e-6)  # near it, not at it
+    cof[0, -1] = np.nan  # test 1 unfinished: not counted
+    note = _floor_note(_result(cof), base)
+    assert note.startswith("The COF floor: 2 of the 3 finished runs have stops whose mean COF")
+    assert "the most in test 2 (40 % of its stops) and test 4 (10 %)." in note
+
+
+def test_no_note_without_stops_at_the_floor_or_with_a_factor_on_the_friction_law() -> None:
+    base = load_preset("paper")
+    assert _floor_note(_result(np.full((3, 5), 0.3)), base) == ""
+    at_floor = np.full((3, 5), base.friction.mu_min)
+    assert _floor_note(_result(at_floor, ("friction.mu_min",)), base) == ""
+    assert _floor_note(_result(at_floor), None) == ""
+    assert "3 of the 3" in _floor_note(_result(at_floor), base)
