@@ -1452,7 +1452,7 @@ def optimize(
         )
     if best.note:
         out.print(f"note: {best.note}", markup=False, highlight=False)
-    if best.on_boundary and best.composite < 1.0:  # (at 1 nothing beyond could be better)
+    if best.edge_matters:  # (not at 1, nor on a plateau: something beyond could be better)
         out.print(
             "at the edge of the region the runs span: "
             + ", ".join(best.on_boundary)

@@ -1216,6 +1216,10 @@ class Optimum:
         Why the setting is a compromise, if it is (empty otherwise).
     units
         Each factor's unit, for labels.
+    tied_share
+        The share of the searched grid whose score equals the best [-]: above
+        :data:`_TIED_SHARE` the goals leave a plateau of equally good settings (the note says
+        so), and a factor at an edge says nothing of a better setting beyond it.
     """
 
     coded: dict[str, float]
@@ -1228,6 +1232,18 @@ class Optimum:
     on_boundary: tuple[str, ...]
     note: str = ""
     units: dict[str, str] = field(default_factory=dict)
+    tied_share: float = 0.0
+
+    @property
+    def edge_matters(self) -> bool:
+        """Whether a factor at an edge of the region may hide a better setting beyond it: at
+        the edge, below full desirability and not on a plateau of equal scores."""
+        return bool(self.on_boundary) and self.composite < 1.0 and self.tied_share <= _TIED_SHARE
+
+
+#: The share of the optimizer's grid tied at the best score above which the goals are said
+#: not to single out one setting [-].
+_TIED_SHARE = 0.01
 
 
 def _composite(goals: Sequence[Goal], values: Mapping[str, np.ndarray]) -> np.ndarray:
@@ -1376,7 +1392,19 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 "spans of its limits): the fitted responses do not reach the limits asked for"
             )
     scores = score(goals, on_grid)
-    starts = np.argsort(-scores, kind="stable")[:10]
+    # a score flat over part of the region (a goal met everywhere there, or one met nowhere
+    # with the mean desirability) ties many grid points: among them the setting nearest the
+    # limits of the goals it misses, not the first in index order (a review: the first was
+    # the lowest MU of the tied region, the goal missed by most)
+    top = float(np.max(scores))
+    tied = scores >= top - 1e-9 * max(abs(top), 1.0)
+    tied_share = float(np.mean(tied))
+    if score is not _nearest_limits and tied.sum() > 1:
+        nearer = _nearest_limits(goals, on_grid)
+        order = np.lexsort((-nearer, -scores))  # by score, then nearest the missed limits
+    else:
+        order = np.argsort(-scores, kind="stable")
+    starts = order[:10]
     best_x = np.array([grid[n][starts[0]] for n in factors])
     best_score = float(scores[starts[0]])
 
@@ -1400,6 +1428,16 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         prediction[r] = (float(lo), float(hi))
     span = {n: hi - lo for n, (lo, hi) in extent.items()}
     notes = [note] if note else []
+    if tied_share > _TIED_SHARE:
+        notes.append(
+            f"{100 * tied_share:.0f} % of the region searched reaches the same score, so the "
+            "goals do not single out one setting: this is one of them"
+            + (
+                ", the nearest to the limits of the goals missed"
+                if score is not _nearest_limits
+                else ""
+            )
+        )
     if idle:
         notes.append(
             f"{', '.join(idle)} {'is' if len(idle) == 1 else 'are'} in none of the fitted "
@@ -1446,6 +1484,7 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         ),
         note=note,
         units={c.name: c.unit for c in first.codings},
+        tied_share=tied_share,
     )
 
 

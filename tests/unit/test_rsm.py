@@ -321,6 +321,25 @@ def test_optimize_weighs_two_conflicting_responses() -> None:
     assert best.composite == pytest.approx((d["y"] * d["z"] ** 3) ** 0.25, rel=1e-9)
 
 
+def test_a_plateau_of_equal_scores_is_said_and_its_setting_nearest_the_missed_limits() -> None:
+    """A review's response-surface report: MU missed its target's limits everywhere, V met its
+    goal on 68 % of the region, so the mean desirability was 0.5 there; the first tied grid
+    point came back (the lowest MU of the plateau) with a note that the best setting may lie
+    beyond the region's edge. Now the tie is said, and among the tied settings the one
+    nearest the missed limits is taken."""
+    data = _bowl((0.0, 0.0))
+    data["mu"] = 0.2 + 0.02 * data["p"]  # below the target's lower limit 0.3 everywhere
+    data["v"] = 1.0 + 0.1 * data["q"]  # at most 1.1: a minimize goal fully met everywhere
+    fits = {r: fit_response_surface(data, _PQ, r) for r in ("mu", "v")}
+    goals = [Goal("mu", "target", 0.3, 0.45, target=0.35), Goal("v", "minimize", 2.0, 3.0)]
+    best = optimize(fits, goals)
+    assert best.composite == 0.0 and "largest mean desirability" in best.note
+    assert "100 % of the region searched reaches the same score" in best.note
+    assert best.coded["p"] == pytest.approx(1.0)  # the highest mu, nearest its limit 0.3
+    assert best.predicted["mu"] == pytest.approx(0.22, rel=1e-9)
+    assert best.tied_share == 1.0 and not best.edge_matters  # nothing better beyond an edge
+
+
 def test_optimize_reports_a_goal_missed_everywhere_and_bad_requests() -> None:
     fit = fit_response_surface(_bowl((0.3, -0.2)), _PQ, "y")
     best = optimize({"y": fit}, [Goal("y", "maximize", 10.0, 20.0)])
