@@ -199,9 +199,14 @@ class BoxCox:
         if self.contains(1.0):
             return f"λ = 1 lies within the {pct} interval: no transformation is called for"
         if self.contains(0.0):
+            rounded = (
+                f"; so does λ = {self.rounded:g}, the rounded λ̂"
+                if self.rounded not in (0.0, 1.0) and self.contains(self.rounded)
+                else ""
+            )
             return (
                 f"λ = 0 lies within the {pct} interval and λ = 1 does not: the log fits "
-                "better than the response as it is"
+                "better than the response as it is" + rounded
             )
         lo, hi = LAMBDA_RANGE
         inside = [k / 2 for k in range(int(2 * lo), int(2 * hi) + 1) if self.contains(k / 2)]
@@ -375,8 +380,7 @@ def box_cox_profile(
     # rises there (-1.9997 was seen for a rising profile; a helper's review)
     if lam_hat <= lo + 1e-3 or lam_hat >= hi - 1e-3:
         note = (
-            f"the optimum lies on the edge of the search range [{lo:g}, {hi:g}]: the best λ "
-            "may lie beyond it"
+            f"λ̂ lies on the edge of the search range [{lo:g}, {hi:g}]: the best λ may lie beyond it"
         )
     rounded = float(min(max(0.5 * round(2.0 * lam_hat), lo), hi))
     profile = pd.DataFrame({"lam": grid, "log_likelihood": ll})

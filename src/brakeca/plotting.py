@@ -736,6 +736,9 @@ def plot_mu_per_stop_by_level(
             axes[k].set_xlabel("Stop number [-]")
     for ax in axes[::cols]:
         ax.set_ylabel("Mean μ per stop [-]")
+    from matplotlib.ticker import MaxNLocator
+
+    axes[0].xaxis.set_major_locator(MaxNLocator(integer=True))  # shared: no stop 1.2
     _suptitle(fig, "Mean coefficient of friction per stop at each factor level (main effects)")
     return save_figure(root, path)
 

@@ -132,7 +132,9 @@ input.zoom:checked + label.zoom img { max-width: none; }
 the variation first (contribution: the term's sum of squares over the total), a main effect
 with the mean response at each of its levels (the table "Level means": plain means of the
 runs, which a design that is not balanced mixes with the other factors' effects); the
-ANOVA's notes say what its error holds.</p>
+ANOVA's notes say what its error holds. In a fraction a term is named with its aliases of one
+or two factors (S:mu0 = WP:slope + A:modulus): the share is the whole chain's, which the
+design cannot split among them.</p>
 <ul>
 {%- for line in findings %}
 <li>{{ line }}</li>
@@ -476,6 +478,9 @@ def _anova_in_report_units(response: str, frame: pd.DataFrame) -> tuple[pd.DataF
     shown.attrs = dict(frame.attrs)
     if "s" in shown.attrs and not _is_missing(shown.attrs["s"]):
         shown.attrs["s"] = float(shown.attrs["s"]) * factor
+    for key in ("pure_error_ss", "lack_of_fit_ss"):  # sums of squares, as the table's
+        if key in shown.attrs and not _is_missing(shown.attrs[key]):
+            shown.attrs[key] = float(shown.attrs[key]) * factor**2
     return shown, unit
 
 
@@ -973,7 +978,7 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
     )
     if optimum.note:
         info += f" Note: {optimum.note}."
-    if optimum.on_boundary:
+    if getattr(optimum, "edge_matters", bool(optimum.on_boundary)):
         info += (
             f" At the edge of that region: {', '.join(optimum.on_boundary)}; the best setting "
             "may lie beyond it, where the surface is not known."
@@ -1127,6 +1132,7 @@ def _curvature_text(frame: pd.DataFrame) -> str:
         )
         return what + f"; not tested ({why})."
     p_text = _p_relation(p)
+    pure = _pure_error_curvature(frame, rows)
     if float(p) < 0.05:
         return (
             what + f", p {p_text}: significant, so the response is not linear in the factors "
@@ -1134,9 +1140,37 @@ def _curvature_text(frame: pd.DataFrame) -> str:
             "so a response that is linear in log10 WP shows none), and the factorial model "
             "does not describe the middle of "
             "the region; a response-surface design (a central composite design adds axial "
-            "points to these tests) would fit the curvature and tell which factor makes it."
+            "points to these tests) would fit the curvature and tell which factor makes it." + pure
         )
-    return what + f", p {p_text}: no evidence of curvature between the levels at 0.05."
+    return what + f", p {p_text}: no evidence of curvature between the levels at 0.05." + pure
+
+
+def _pure_error_curvature(frame: pd.DataFrame, rows: pd.DataFrame) -> str:
+    """Where the ANOVA's residual holds a significant lack of fit, the curvature test
+    against the pure error alone, which the effects table's Ct Pt row takes (a review found
+    the two verdicts contradicting each other without a word); empty otherwise."""
+    from scipy import stats
+
+    attrs = frame.attrs
+    lof_p = attrs.get("lack_of_fit_p", math.nan)
+    pe_df = attrs.get("pure_error_df", math.nan)
+    pe_ss = attrs.get("pure_error_ss", math.nan)
+    if any(_is_missing(v) for v in (lof_p, pe_df, pe_ss)) or float(lof_p) >= 0.05:
+        return ""
+    if float(pe_df) < 0.5 or float(pe_ss) <= 0.0:
+        return ""
+    ss = float(rows["sum_sq"].iloc[0])
+    f_value = ss / (float(pe_ss) / float(pe_df))
+    p_pe = float(stats.f.sf(f_value, 1.0, float(pe_df)))
+    verdict = "significant" if p_pe < 0.05 else "not significant"
+    return (
+        f" The residual this F is taken against holds a significant lack of fit (p "
+        f"{_p_relation(lof_p)}: terms the model leaves out), which weakens its tests; against "
+        f"the pure error alone ({float(pe_df):.0f} df, the scatter of the repeated runs, as "
+        f"the effects table's Ct Pt row takes it) curvature has F = {f_value:.3g}, p "
+        f"{_p_relation(p_pe)}: {verdict}. The pure error of centre points is the seeds' "
+        "scatter at the centre, which may be smaller than at the corners."
+    )
 
 
 def _anchor(text: str) -> str:
@@ -1363,6 +1397,29 @@ def _level_run(response: str, factor: str, means: pd.DataFrame | None) -> str:
     return ", ".join(parts) + (f" [{unit}]" if unit else "")
 
 
+def _short_aliases(chain: Any) -> str:
+    """The terms of an alias chain (the ANOVA's ``aliases``, ``"WP:slope + A:modulus"``) of
+    one or two factors, with their signs: the aliases a screening design's reader weighs
+    (those of three factors and more are taken as negligible); empty where there are none."""
+    if _is_missing(chain) or not str(chain).strip():
+        return ""
+    kept: list[tuple[str, str]] = []
+    sign = "+"
+    for token in str(chain).split():
+        if token in ("+", "-"):
+            sign = token
+            continue
+        if token.startswith("-") and len(token) > 1:
+            sign, token = "-", token[1:]
+        if token.count(":") <= 1:
+            kept.append((sign, token))
+        sign = "+"
+    if not kept:
+        return ""
+    text = ("-" if kept[0][0] == "-" else "") + kept[0][1]
+    return text + "".join(f" {sign} {term}" for sign, term in kept[1:])
+
+
 def _finding(response: str, frame: pd.DataFrame, means: pd.DataFrame | None = None) -> str:
     """One line of the report's "In short": the terms of ``response``'s ANOVA with p < 0.05,
     largest contribution first, with their contributions [%] and R², and for a main effect
@@ -1386,9 +1443,12 @@ def _finding(response: str, frame: pd.DataFrame, means: pd.DataFrame | None = No
     if hits.empty:
         return f"{response}: no term has p < 0.05" + r2_text
     named = []
-    for t, c in zip(hits["term"], hits["percent_contribution"], strict=True):
+    chains = hits["aliases"] if "aliases" in hits.columns else pd.Series("", index=hits.index)
+    for t, c, chain in zip(hits["term"], hits["percent_contribution"], chains, strict=True):
         run = "" if ":" in str(t) else _level_run(response, str(t), means)
-        named.append(f"{t} ({float(c):.1f} %" + (f": {run}" if run else "") + ")")
+        short = _short_aliases(chain)
+        name = f"{t} = {short}" if short else str(t)  # its alias chain's share, not its own
+        named.append(f"{name} ({float(c):.1f} %" + (f": {run}" if run else "") + ")")
     more = len(named) - _MOST_FINDINGS
     text = ", ".join(named[:_MOST_FINDINGS]) + (f" and {more} more" if more > 0 else "")
     share = float(hits["percent_contribution"].sum())

@@ -792,6 +792,8 @@ def write_study(
                 goals,
                 optimum,
             )
+        coords = getattr(result.dataset, "coords", {})
+        n_blocks = len({str(b) for b in coords["block"].to_numpy()}) if "block" in coords else 0
         add(
             "Runs",
             f"MU per stop over {stops_run} for every run (paper Figure 10)",
@@ -805,7 +807,8 @@ def write_study(
             f"MU per stop over {stops_run} at each level of each factor: the mean of the "
             "finished runs at that level, stop by stop (the main effects over the cycle"
             + ("; centre points left out" if result.design.center_points else "")
-            + "), the cycle's blocks shaded as above",
+            + ")"
+            + (", the cycle's blocks shaded as above" if n_blocks > 1 else ""),
             "mu_per_stop_by_level.png",
             plotting.plot_mu_per_stop_by_level,
             result.dataset,
@@ -909,9 +912,13 @@ def write_study(
         "mean wear volume per stop that leaves the simulated band (not scaled to the pad); "
         "log10_V_mm3 is V on a log scale (log10 of V in mm³), where the factors' "
         "multiplicative effects on V add, so that the interactions carry less of its variation "
-        "(compare the interactions' shares in the two ANOVA tables, the residual plots and "
-        "R²(pred) of V and log10_V_mm3). "
-        "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
+        + (
+            "(compare the residual plots and R²(pred) of the two surfaces). "
+            if surfaces
+            else "(compare the interactions' shares in the two ANOVA tables, the residual "
+            "plots and R²(pred) of V and log10_V_mm3). "
+        )
+        + "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
         "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
     )

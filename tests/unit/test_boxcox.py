@@ -203,6 +203,22 @@ def test_the_reading_never_points_outside_the_interval() -> None:
     assert half.reading.endswith("the data point to λ ≈ 0.5")
 
 
+def test_the_log_reading_names_the_rounded_lambda_it_also_holds() -> None:
+    """A review of a response-surface report: "Rounded λ 0.5" stood beside the reading "the
+    log fits better" (λ̂ = 0.30, both 0 and 0.5 in the interval) without a word."""
+    import dataclasses
+
+    base = box_cox_profile(np.random.default_rng(1).lognormal(0.0, 0.5, 40))
+    base = dataclasses.replace(base, ci_low_df=math.nan, ci_high_df=math.nan)  # LR alone
+    both = dataclasses.replace(base, lambda_hat=0.3, ci_low=-0.1, ci_high=0.7, rounded=0.5)
+    assert both.reading == (
+        "λ = 0 lies within the 95 % interval and λ = 1 does not: the log fits better than "
+        "the response as it is; so does λ = 0.5, the rounded λ̂"
+    )
+    log = dataclasses.replace(base, lambda_hat=0.1, ci_low=-0.3, ci_high=0.4, rounded=0.0)
+    assert log.reading.endswith("the log fits better than the response as it is")
+
+
 def test_an_optimum_a_hair_inside_the_edge_is_flagged_too() -> None:
     """A campaign's MU whose profile still rises at -2: the bounded search stopped at
     -1.9997, and the note of the edge was missing (a helper's review of the command line).

@@ -644,6 +644,25 @@ def test_in_short_names_the_significant_terms_by_contribution() -> None:
     assert "C (5.0 %: 2.000 at C = paper, 2.000 at C = trace [mm³])" in _finding("V", c, means)
 
 
+def test_in_short_names_an_aliased_term_with_its_short_aliases() -> None:
+    """A review of a screening report: "In short" named S:mu0 (19.7 % of V) alone, where the
+    fold-over showed the share was its aliases' (WP:slope = A:modulus). A term is now named
+    with its aliases of one or two factors; those of three or more are left out."""
+    from brakeca.report import _finding
+
+    frame = pd.DataFrame(
+        {
+            "term": ["A", "S:mu0", "S:WP", "Residual"],
+            "p_value": [0.008, 0.009, 0.01, math.nan],
+            "percent_contribution": [20.4, 19.7, 7.3, 3.5],
+            "aliases": ["S:WR:slope + S:modulus:mu0", "WP:slope + A:modulus", "-WR:mu0", ""],
+        }
+    )
+    assert _finding("V", frame).startswith(
+        "V: A (20.4 %), S:mu0 = WP:slope + A:modulus (19.7 %), S:WP = -WR:mu0 (7.3 %); "
+    )
+
+
 def test_the_trend_of_a_three_level_factor_is_shown_under_its_anova(tmp_path) -> None:
     """A review found the report silent on how WP (three levels) enters the model: the
     ANOVA's 2 df for it say only that its levels differ. The trends table under each ANOVA
@@ -684,3 +703,34 @@ def test_runs_with_a_large_standardized_residual_are_named(tmp_path) -> None:
     assert f"standardized residual {float(first['std_residual']):+.2f}" in line.group(0)
     calm = table.assign(std_residual=0.5)
     assert "Unusual runs" not in render_report(**inputs, residual_tables={"V": calm})
+
+
+def test_curvature_against_the_pure_error_where_the_residual_lacks_fit() -> None:
+    """A screening review: the ANOVA said "no evidence of curvature" (p = 0.070, against a
+    residual holding a large lack of fit) while the effects table's Ct Pt row, against the
+    pure error, gave p < 0.001, with no word on why. The curvature text now gives the test
+    against the pure error too where the lack of fit is significant, and V's sums of squares
+    are converted with the pure error's (both in (mm³)²)."""
+    from brakeca.report import _anova_in_report_units, _curvature_text
+
+    frame = pd.DataFrame(
+        {
+            "term": ["A", "Curvature", "Residual"],
+            "df": [1.0, 1.0, 5.0],
+            "sum_sq": [4e-18, 2e-18, 5e-18],
+            "p_value": [0.01, 0.07, math.nan],
+            "aliases": ["", "", ""],
+        }
+    )
+    frame.attrs.update(center_points=4, lack_of_fit_p=1e-5, pure_error_df=3.0)
+    frame.attrs["pure_error_ss"] = 3e-21  # mean square 1e-21 m⁶: F = 2e-18 / 1e-21 = 2000
+    shown, unit = _anova_in_report_units("V", frame)
+    assert unit == "mm³" and shown.attrs["pure_error_ss"] == pytest.approx(3e-3)
+    text = _curvature_text(shown)
+    assert "p = 0.070: no evidence of curvature between the levels at 0.05." in text
+    assert "holds a significant lack of fit (p < 0.001" in text
+    assert "against the pure error alone (3 df" in text
+    assert "curvature has F = 2e+03, p < 0.001: significant." in text
+    fits = frame.copy()
+    fits.attrs.update(frame.attrs, lack_of_fit_p=0.4)  # no lack of fit: the ANOVA's alone
+    assert "pure error" not in _curvature_text(fits)
