@@ -682,6 +682,12 @@ def _effects_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
             f"standard errors from the pure error of the {of} "
             f"({_fmt(attrs.get('df'), '.0f')} degrees of freedom)"
         )
+        if of == "centre points":  # the seeds' scatter at one setting (a screening review)
+            how += (
+                ", the seeds' scatter at the centre alone, which may be smaller than at the "
+                "corners: where it is much smaller than the effects, every effect tests "
+                "significant, and the sizes of the effects say more than their p-values"
+            )
     else:
         how = (
             f"standard errors from the residual mean square of the fitted effects "

@@ -380,6 +380,8 @@ def test_report_wording_for_one_centre_point_and_for_pure_error_of_centre_points
 
     _, caption = _effects_table("y", analysis.two_level_effects(_runs(1, 3), FACTORS, "y"))
     assert "pure error of the centre points (2 degrees of freedom)" in caption
+    # a screening review: every effect bold against the seeds' scatter at the centre
+    assert "the seeds' scatter at the centre alone, which may be smaller than at the" in caption
     assert "Ct Pt, is the centre points' term: its coefficient is the 3 centre points' mean" in (
         caption
     )
