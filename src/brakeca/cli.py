@@ -1248,7 +1248,19 @@ def _parse_goal(text: str) -> Any:
 
     parts = [p.strip() for p in text.split(":")]
     kinds = {"min": "minimize", "max": "maximize", "target": "target"}
-    if len(parts) < 2 or parts[0] not in GOAL_RESPONSES or parts[1] not in kinds:
+    if len(parts) >= 2 and parts[0] not in GOAL_RESPONSES:
+        same = [r for r in GOAL_RESPONSES if r.lower() == parts[0].lower()]
+        hint = f" (did you mean {same[0]}?)" if same else ""
+        raise ValueError(
+            f"--goal {text!r}: unknown response {parts[0]!r}{hint}; the responses are "
+            f"{', '.join(GOAL_RESPONSES)}; expected {_GOAL_FORM}"
+        )
+    if len(parts) >= 2 and parts[1] not in kinds:
+        raise ValueError(
+            f"--goal {text!r}: unknown goal {parts[1]!r}; the goals are min, max and target; "
+            f"expected {_GOAL_FORM}"
+        )
+    if len(parts) < 2:
         raise ValueError(f"--goal {text!r}: expected {_GOAL_FORM}")
     response, kind = parts[0], kinds[parts[1]]
     need = 3 if kind == "target" else 2
@@ -1264,6 +1276,19 @@ def _parse_goal(text: str) -> Any:
             ) from None
     if kind == "target":
         limits = {"lower": numbers[0], "target": numbers[1], "upper": numbers[2]}
+        low, mid, high = numbers
+        if not low < mid < high:  # in the command's order, not rsm.Goal's arguments
+            ordered = sorted(numbers)
+            hint = (
+                f"; for a target of {ordered[1]:g} between {ordered[0]:g} and {ordered[2]:g}, "
+                f"give {response}:target:{ordered[0]:g}:{ordered[1]:g}:{ordered[2]:g}"
+                if len(set(numbers)) == 3
+                else ""
+            )
+            raise ValueError(
+                f"--goal {text!r}: a target goal is LOWER:TARGET:UPPER, the target strictly "
+                f"between the limits; got lower {low:g}, target {mid:g}, upper {high:g}{hint}"
+            )
     else:
         limits = {"lower": numbers[0], "upper": numbers[1]}
     try:
@@ -1446,7 +1471,8 @@ def optimize(
             "runs do not give every factor a square term (a factor at two levels has none; "
             "centre points give the curvature as one term, the first factor's square standing "
             "for all), so a setting inside the region rests on that pooled curvature. A "
-            "central composite or Box-Behnken design estimates each factor's",
+            "central composite or Box-Behnken design estimates each factor's square term "
+            "on its own.",
             markup=False,
             highlight=False,
         )

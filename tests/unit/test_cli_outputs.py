@@ -301,3 +301,18 @@ def test_messages_name_what_the_user_gave() -> None:
         cli._parse_goal("MU:min:a:b")
     with pytest.raises(ValueError, match="min takes 2 numbers"):
         cli._parse_goal("MU:min:1")
+    # a new user's review: the command's order explained by rsm.Goal's Python arguments, and
+    # an unknown response told only the general form
+    with pytest.raises(ValueError) as info:
+        cli._parse_goal("MU:target:0.3:0.6:0.5")
+    assert str(info.value) == (
+        "--goal 'MU:target:0.3:0.6:0.5': a target goal is LOWER:TARGET:UPPER, the target "
+        "strictly between the limits; got lower 0.3, target 0.6, upper 0.5; for a target of "
+        "0.5 between 0.3 and 0.6, give MU:target:0.3:0.5:0.6"
+    )
+    with pytest.raises(ValueError, match=r"^--goal 'mu:max:0.3:0.4': unknown response 'mu' "):
+        cli._parse_goal("mu:max:0.3:0.4")
+    with pytest.raises(ValueError, match=r"\(did you mean MU\?\); the responses are MU, V, "):
+        cli._parse_goal("mu:max:0.3:0.4")
+    with pytest.raises(ValueError, match="unknown goal 'maximum'; the goals are min, max and"):
+        cli._parse_goal("MU:maximum:0.3:0.4")
