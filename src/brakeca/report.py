@@ -134,7 +134,9 @@ with the mean response at each of its levels (the table "Level means": plain mea
 runs, which a design that is not balanced mixes with the other factors' effects); the
 ANOVA's notes say what its error holds. In a fraction a term is named with its aliases of one
 or two factors (S:mu0 = WP:slope + A:modulus): the share is the whole chain's, which the
-design cannot split among them.</p>
+design cannot split among them. The centre points' curvature is always said; where the
+ANOVA's residual lacks fit, the terms that the effects table, tested against the pure error of
+the repeated runs alone, finds besides are named too.</p>
 <ul>
 {%- for line in findings %}
 <li>{{ line }}</li>
@@ -1345,7 +1347,11 @@ def render_report(
     findings = [
         line
         for r, frame in anova_tables.items()
-        if (line := _finding(str(r), frame, (level_means or {}).get(r)))
+        if (
+            line := _finding(
+                str(r), frame, (level_means or {}).get(r), (effects_tables or {}).get(r)
+            )
+        )
     ]
     return template.render(
         title=title,
@@ -1426,15 +1432,71 @@ def _short_aliases(chain: Any) -> str:
     return text + "".join(f" {sign} {term}" for sign, term in kept[1:])
 
 
-def _finding(response: str, frame: pd.DataFrame, means: pd.DataFrame | None = None) -> str:
+def _finding(
+    response: str,
+    frame: pd.DataFrame,
+    means: pd.DataFrame | None = None,
+    effects: pd.DataFrame | None = None,
+) -> str:
     """One line of the report's "In short": the terms of ``response``'s ANOVA with p < 0.05,
     largest contribution first, with their contributions [%] and R², and for a main effect
     the mean response at each of its levels (``means``, :func:`brakeca.analysis.main_effects`);
     what stands in the way where there is no test (no residual degrees of freedom, a constant
-    response); empty for an empty table."""
+    response); empty for an empty table. The curvature of centre points is always said (it
+    is the question centre points ask), and where the ANOVA's residual lacks fit, the terms
+    the effects table (``effects``, tested against the pure error) finds besides."""
+    text = _finding_terms(response, frame, means)
+    if not text:
+        return text
+    return text + _curvature_finding(frame) + _pure_error_finding(frame, effects)
+
+
+def _curvature_finding(frame: pd.DataFrame) -> str:
+    """``"; curvature: p = 0.035 (significant)"`` where the ANOVA has centre points' row."""
+    rows = frame.loc[frame["term"] == "Curvature"] if "term" in frame.columns else frame
+    if rows.empty or "Curvature" not in set(frame.get("term", ())):
+        return ""
+    p = rows["p_value"].iloc[0]
+    if _is_missing(p):
+        return "; curvature not tested"
+    verdict = "significant" if float(p) < 0.05 else "none found at 0.05"
+    return f"; curvature between the levels: p {_p_relation(p)} ({verdict})"
+
+
+def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
+    """The terms the effects table finds with p < 0.05 against the pure error that the
+    ANOVA, whose residual holds a significant lack of fit, does not (a new user's review:
+    "no term has p < 0.05" above an effects table with seven); empty otherwise."""
+    if effects is None or effects.empty or effects.attrs.get("method") != "pure error":
+        return ""
+    lof_p = frame.attrs.get("lack_of_fit_p", math.nan)
+    if _is_missing(lof_p) or float(lof_p) >= 0.05 or "significant" not in effects.columns:
+        return ""
+    from brakeca.analysis import CENTER_TERM
+
+    named = set(frame.loc[frame["p_value"].astype(float) < 0.05, "term"].astype(str))
+    found = effects.loc[effects["significant"].astype(bool)]
+    extra = [
+        "curvature (Ct Pt)" if str(t) == CENTER_TERM else str(t)
+        for t in found["term"]
+        if str(t) not in named and not (str(t) == CENTER_TERM and "Curvature" in named)
+    ]
+    if not extra:
+        return ""
+    shown = ", ".join(extra[:_MOST_FINDINGS]) + (
+        f" and {len(extra) - _MOST_FINDINGS} more" if len(extra) > _MOST_FINDINGS else ""
+    )
+    return (
+        f"; the ANOVA's residual lacks fit (p {_p_relation(lof_p)}), and against the pure "
+        f"error of the repeated runs alone (the effects table) {shown} also have p < 0.05"
+    )
+
+
+def _finding_terms(response: str, frame: pd.DataFrame, means: pd.DataFrame | None) -> str:
+    """:func:`_finding` without its curvature and pure-error clauses."""
     if frame.empty or "p_value" not in frame.columns:
         return ""
-    terms = frame[~frame["term"].isin(["Residual"])]
+    terms = frame[~frame["term"].isin(["Residual", "Curvature"])]
     if terms.empty:
         return f"{response}: no term in the model"
     r2 = frame.attrs.get("r_squared", math.nan)
@@ -1447,7 +1509,8 @@ def _finding(response: str, frame: pd.DataFrame, means: pd.DataFrame | None = No
         )
     hits = terms[p < 0.05].sort_values("percent_contribution", ascending=False, kind="stable")
     if hits.empty:
-        return f"{response}: no term has p < 0.05" + r2_text
+        which = "factor or interaction" if "Curvature" in set(frame["term"]) else "term"
+        return f"{response}: no {which} has p < 0.05" + r2_text
     named = []
     chains = hits["aliases"] if "aliases" in hits.columns else pd.Series("", index=hits.index)
     for t, c, chain in zip(hits["term"], hits["percent_contribution"], chains, strict=True):

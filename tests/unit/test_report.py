@@ -663,6 +663,43 @@ def test_in_short_names_an_aliased_term_with_its_short_aliases() -> None:
     )
 
 
+def test_in_short_says_the_curvature_and_what_the_pure_error_finds_besides() -> None:
+    """A new user's review: "In short" hid a significant Curvature in "and 1 more", and said
+    "no term has p < 0.05" for MU above an effects table with seven terms significant
+    against the pure error (the ANOVA's residual held a large lack of fit)."""
+    from brakeca.report import _finding
+
+    frame = pd.DataFrame(
+        {
+            "term": ["A", "c", "A:c", "Curvature", "Residual"],
+            "p_value": [0.2, 0.3, 0.4, 1e-11, math.nan],
+            "percent_contribution": [30.0, 20.0, 5.0, 40.0, 5.0],
+        }
+    )
+    frame.attrs.update(r_squared=0.9, lack_of_fit_p=1e-4)
+    effects = pd.DataFrame(
+        {"term": ["A", "c", "A:c", "Ct Pt"], "significant": [True, True, False, True]}
+    )
+    effects.attrs["method"] = "pure error"
+    assert _finding("MU", frame, effects=effects) == (
+        "MU: no factor or interaction has p < 0.05; R² = 90.0 %; curvature between the "
+        "levels: p < 0.001 (significant); the ANOVA's residual lacks fit (p < 0.001), and "
+        "against the pure error of the repeated runs alone (the effects table) A, c also "
+        "have p < 0.05"
+    )
+    flat = frame.assign(p_value=[0.2, 0.3, 0.4, 0.07, math.nan])  # curvature only there
+    assert _finding("MU", flat, effects=effects).endswith(
+        "(the effects table) A, c, curvature (Ct Pt) also have p < 0.05"
+    )
+    fits = frame.copy()
+    fits.attrs.update(frame.attrs, lack_of_fit_p=0.5)
+    fits["p_value"] = [0.01, 0.3, 0.4, 0.2, math.nan]
+    assert _finding("MU", fits, effects=effects) == (
+        "MU: A (30.0 %); together 30.0 % of the variation; R² = 90.0 %; curvature between "
+        "the levels: p = 0.200 (none found at 0.05)"
+    )
+
+
 def test_the_trend_of_a_three_level_factor_is_shown_under_its_anova(tmp_path) -> None:
     """A review found the report silent on how WP (three levels) enters the model: the
     ANOVA's 2 df for it say only that its levels differ. The trends table under each ANOVA
