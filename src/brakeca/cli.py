@@ -227,12 +227,20 @@ def _config_notes(configs: Iterable[SimulationConfig]) -> None:
     of ``configs`` (a run's, or a campaign's tests'), each text once."""
     from brakeca.config import unit_notes_by_field
 
-    said: set[tuple[str, Any]] = set()
+    first: dict[str, str] = {}  # a field's note, once: a design's levels all slip alike
+    values: dict[str, list[Any]] = {}
     for config in configs:
-        for key, text in unit_notes_by_field(config).items():
-            if key not in said:  # one slip once, however the note is worded per test
-                said.add(key)
-                console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
+        for (field, value), text in unit_notes_by_field(config).items():
+            if field not in first:
+                first[field], values[field] = text, [value]
+            elif value not in values[field]:
+                values[field].append(value)
+    for field, text in first.items():
+        more = values[field][1:]
+        if more:  # a new user saw the same note three times, once per level
+            shown = ", ".join(f"{v:g}" for v in more)
+            text += f" (and so at {field} = {shown})"
+        console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
 
 
 def _trace_notes(configs: Iterable[SimulationConfig]) -> None:
@@ -267,6 +275,17 @@ def _design_notes(design: Any) -> None:
         note = factor.unit_note()
         if note is not None:
             console.print(f"[yellow]note:[/] {escape(note)}", highlight=False)
+    from brakeca.config import FACTOR_ALIASES
+
+    for factor in design.factors:  # a new user's S on friction.slope (a fraction's A is usual)
+        own = FACTOR_ALIASES.get(factor.name)
+        target = FACTOR_ALIASES[factor.field][0] if factor.field in FACTOR_ALIASES else factor.field
+        if own is not None and target != own[0]:
+            console.print(
+                f"[yellow]note:[/] factor {factor.name!r} sets {factor.field}; {factor.name} is "
+                f"also the paper's name for {own[0]}, which --set {factor.name}=... sets",
+                highlight=False,
+            )
     for factor in design.factors:
         if factor.choices is not None or factor.field != "A":  # the alias, in %
             continue

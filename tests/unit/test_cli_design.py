@@ -333,3 +333,24 @@ def test_brakeca_design_notes_the_levels_that_read_like_slips_of_unit(tmp_path) 
     text = " ".join(_design(str(design)).split())
     assert text.count("note: friction.slope = 0.03 1/Pa: the COF falls to its floor") == 1
     assert "friction.slope = 3e-08" not in text
+
+
+def test_a_fields_slips_at_several_levels_are_one_note_and_a_paper_name_is_noted(
+    tmp_path,
+) -> None:
+    """A new user's review: the modulus typed in MPa gave one note per level (three, with
+    the centre point), and a factor named S on friction.slope went without a word, though
+    --set S=... sets the paper's S."""
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "e"\nbase = "paper"\nroot_seed = 1\ncenter_points = 2\n'
+        '[[factors]]\nname = "E"\nfield = "contact.elastic_modulus"\nlevels = [500, 2000]\n'
+        '[[factors]]\nname = "S"\nfield = "friction.slope"\nlevels = [2e-8, 4e-8]\n'
+    )
+    text = " ".join(_design(str(design)).split())
+    assert text.count("note: contact.elastic_modulus = ") == 1
+    assert "(and so at contact.elastic_modulus = 2000, 1250)" in text
+    assert (
+        "note: factor 'S' sets friction.slope; S is also the paper's name for "
+        "automaton.secondary_removal_fraction, which --set S=... sets"
+    ) in text
