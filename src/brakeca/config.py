@@ -1122,6 +1122,14 @@ def format_validation_error(
             close = difflib.get_close_matches(str(err["loc"][-1]), keys or [], n=1, cutoff=0.6)
             if close:
                 msg += f" (did you mean {close[0]!r}?)"
+            elif str(err["loc"][-1]) in ("kind", "type", "design") and "box_behnken" in (
+                keys or []
+            ):  # a new user's kind = "composite"
+                msg += (
+                    "; a design's kind comes from its keys: generators or fraction_runs, runs "
+                    "or runs_file, plackett_burman, [composite], [box_behnken], or none of "
+                    "them for a full factorial"
+                )
         elif err["type"] == "missing":
             msg = "required field is missing"
         elif err["type"] == "value_error":

@@ -616,6 +616,20 @@ def test_the_designs_guide_example_loads_as_described():
     ]
 
 
+def test_a_kind_key_is_told_where_a_designs_kind_comes_from():
+    """A new user wrote kind = "composite": 'unknown key' alone did not say what does."""
+    with pytest.raises(ConfigError, match=r"^design: kind: unknown key; a design's kind comes "):
+        design_from_dict(
+            {
+                "name": "x",
+                "base": "paper",
+                "root_seed": 1,
+                "kind": "composite",
+                "factors": [{"name": "A", "levels": [10, 20]}],
+            }
+        )
+
+
 def test_a_categorical_factor_sets_a_text_field_by_its_choices():
     spec = {
         "name": "fibres",
