@@ -1067,7 +1067,8 @@ DesignArg = Annotated[
     str,
     typer.Argument(
         metavar="DESIGN",
-        help=f"a design file (TOML) or a shipped design: {', '.join(available_designs())}",
+        help="a design file (TOML), a campaign folder (its design.toml) or a shipped design: "
+        f"{', '.join(available_designs())}",
     ),
 ]
 

@@ -2963,8 +2963,9 @@ def load_design(path_or_name: str | Path) -> Design:
     Parameters
     ----------
     path_or_name
-        A shipped design's name (``brakeca.presets.available_designs()``) or a design file
-        (docs/designs.md: factors, levels in their units, seeds, options).
+        A shipped design's name (``brakeca.presets.available_designs()``), a design file
+        (docs/designs.md: factors, levels in their units, seeds, options) or a campaign
+        folder (its ``design.toml``).
 
     Returns
     -------
@@ -2983,6 +2984,14 @@ def load_design(path_or_name: str | Path) -> Design:
     shipped = isinstance(path_or_name, str) and path_or_name in available_designs()
     if shipped and not path.is_file():  # a folder of that name (a campaign's) is no design
         path = design_path(str(path_or_name))
+    elif path.is_dir() and (path / "design.toml").is_file():  # a campaign folder: its design
+        path = path / "design.toml"
+    elif path.is_dir():
+        raise ConfigError(
+            f"design {str(path_or_name)!r}: a folder without a design.toml (a campaign "
+            "folder holds one); give a design file or a shipped design "
+            f"({', '.join(available_designs())})"
+        )
     elif not path.is_file():
         raise ConfigError(
             f"design {str(path_or_name)!r}: no such file nor a shipped design "

@@ -470,6 +470,18 @@ def test_bad_toml_and_missing_file(tmp_path):
         load_design("not-a-design")
 
 
+def test_a_campaign_folder_stands_for_its_design(tmp_path):
+    """A new user's `brakeca power fact` (a campaign folder) was 'no such file'."""
+    folder = tmp_path / "fact"
+    folder.mkdir()
+    with pytest.raises(ConfigError, match=r"'.*fact': a folder without a design.toml"):
+        load_design(folder)
+    (folder / "design.toml").write_text(
+        'name = "f"\nbase = "paper"\nroot_seed = 3\n[[factors]]\nname = "A"\nlevels = [10, 20]\n'
+    )
+    assert load_design(folder).name == "f" and load_design(str(folder)).root_seed == 3
+
+
 def test_base_config_relative_to_design_file(tmp_path):
     sub = tmp_path / "sub"
     sub.mkdir()
