@@ -335,7 +335,7 @@ def _run_locked(
     if stale:
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     if not replace:
-        _refuse_to_replace(out, base, points)
+        _refuse_to_replace(out, base, points, design.root_seed)
     # a folder that holds a study gets the design and base with the summary, after the runs:
     # a campaign stopped or failed before then (a --replace whose cluster is unreachable,
     # Ctrl-C) leaves that study whole. A new folder gets them now, so that a first campaign
@@ -479,10 +479,12 @@ def _stale_analysis(out: Path, summary_text: str) -> list[str]:
     return removed
 
 
-def _refuse_to_replace(out: Path, base: SimulationConfig, points: Sequence[RunPoint]) -> None:
+def _refuse_to_replace(
+    out: Path, base: SimulationConfig, points: Sequence[RunPoint], root_seed: int | None = None
+) -> None:
     """Raise ConfigError if ``out`` holds a study that a campaign of ``base`` and the runs
     ``points`` would replace: one of another base configuration, or of a design whose runs
-    it leaves out."""
+    it leaves out (another ``root_seed``, the new design's, is named)."""
     changed = base_differences(out, base)
     if changed:
         shown = "; ".join(changed[:4]) + (
@@ -490,7 +492,7 @@ def _refuse_to_replace(out: Path, base: SimulationConfig, points: Sequence[RunPo
         )
         what, first, after = "a campaign of another base configuration", "campaign's command", ""
     else:
-        shown, renumbered = _runs_left_out(out, points)
+        shown, renumbered = _runs_left_out(out, points, root_seed)
         if not shown:
             return
         what, first = "the study of another design", "design"
@@ -506,15 +508,18 @@ def _refuse_to_replace(out: Path, base: SimulationConfig, points: Sequence[RunPo
                 "replicate), so those are other runs. A level added anywhere but after the "
                 "last level of the last factor, or a factor added, numbers the tests anew"
             )
+    replaced = "summary.csv and report.html" if (out / "report.html").is_file() else "summary.csv"
     raise ConfigError(
-        f"{out} holds {what} ({shown}): this one would replace its summary.csv and "
-        "report.html. Give another folder, or replace it on purpose (--replace; replace=True "
+        f"{out} holds {what} ({shown}): this one would replace its {replaced}. Give another "
+        "folder, or replace it on purpose (--replace; replace=True "
         f"from Python): the run files of both are kept, and the first {first}, run again, "
         f"brings its study back{after}"
     )
 
 
-def _runs_left_out(out: Path, points: Sequence[RunPoint]) -> tuple[str, int]:
+def _runs_left_out(
+    out: Path, points: Sequence[RunPoint], root_seed: int | None = None
+) -> tuple[str, int]:
     """What the study already in ``out`` has that a campaign of ``points`` would leave out of
     its summary: e.g. ``"design 'screen', 16 runs, 16 of them not in this one"`` (empty when
     there is no study there or every run of it is in ``points``), and how many of the runs
@@ -531,11 +536,12 @@ def _runs_left_out(out: Path, points: Sequence[RunPoint]) -> tuple[str, int]:
     missing = ids - {run_id(p) for p in points}
     if not missing:
         return "", 0
-    name = "?"
+    name, seed_there = "?", None
     try:
         import tomllib
 
-        name = str(tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))["name"])
+        there = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
+        name, seed_there = str(there["name"]), there.get("root_seed")
     except Exception:
         pass
     renumbered = 0  # left out, with levels this design runs under other test numbers
@@ -550,7 +556,13 @@ def _runs_left_out(out: Path, points: Sequence[RunPoint]) -> tuple[str, int]:
                 renumbered += bool(ours) and int(row["test"]) not in ours
             except (TypeError, ValueError):
                 pass
-    return f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one", renumbered
+    seeds = (
+        f"; its root_seed is {seed_there}, this design's {root_seed}: every run's seed differs"
+        if root_seed is not None and isinstance(seed_there, int) and seed_there != root_seed
+        else ""
+    )
+    shown = f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one{seeds}"
+    return shown, renumbered
 
 
 def _execute_points(

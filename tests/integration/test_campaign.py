@@ -337,7 +337,9 @@ def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, t
             progress=False,
             console=quiet(),
         )
-    assert "4 of them not in this one" in str(info.value)
+    assert "4 of them not in this one; its root_seed is 11, this design's 12: every run's" in (
+        str(info.value)
+    )  # a new user's review: the count alone did not say why
     assert "under other test numbers" not in str(info.value)
     after = write_design(tmp_path / "after", TINY, _levels_of_a("[10.0, 20.0, 30.0]"))
     bigger = run_campaign(after, out, executor="serial", progress=False, console=quiet())
