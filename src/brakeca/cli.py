@@ -1024,18 +1024,28 @@ def _print_summary(summary, design=None) -> None:
                 return factor.label_of(value)
         return f"{value:g}"
 
+    def shown(row: Any) -> bool:  # a finished run, or a test with a finished replicate
+        return bool(row.get("status", "ok") == "ok" or (averaged and pd.notna(row["MU"])))
+
     def rows(labelled: bool) -> list[list[str]]:
         return [
             [
                 str(int(row["test"])),
                 *(escape(level(c, row[c], labelled=labelled)) for c in factor_cols),
                 *([str(row.get("status", "ok"))] if with_status else []),
-                f"{row['MU']:.4f}" if row.get("status", "ok") == "ok" else "-",
-                f"{row['V_mm3']:.5g}" if row.get("status", "ok") == "ok" else "-",
+                f"{row['MU']:.4f}" if shown(row) else "-",
+                f"{row['V_mm3']:.5g}" if shown(row) else "-",
             ]
             for _, row in summary.iterrows()
         ]
 
+    averaged = ""
+    if (
+        "replicate" in summary.columns
+        and summary["replicate"].nunique() > 1
+        and len(summary) > _MOST_RUN_ROWS
+    ):  # a new user's 220 rows: a row per test, its replicates averaged
+        summary, averaged = _per_test(summary, factor_cols)
     statuses = summary["status"] if "status" in summary.columns else pd.Series(["ok"])
     with_status = bool((statuses.astype(str) != "ok").any())  # all ok: the column says nothing
     headers = ["test", *factor_cols, *(["status"] if with_status else []), "MU", "V [mm³/stop]"]
@@ -1044,13 +1054,14 @@ def _print_summary(summary, design=None) -> None:
         return [max([len(h), *(len(r[k]) for r in cells)]) for k, h in enumerate(headers)]
 
     cells = rows(labelled=False)
-    caption = None
+    caption = averaged or None
     if sum(widths(cells)) + 3 * len(headers) + 1 > out.width:
         cells = rows(labelled=True)
         caption = (
             "levels by their labels"
             + (", centre points 0" if centre else "")
             + "; summary.csv has the values"
+            + (f"; {averaged}" if averaged else "")
         )
     table = Table(title="runs", caption=caption, show_lines=False)
     for k, (col, width) in enumerate(zip(headers, widths(cells), strict=True)):
@@ -1061,6 +1072,31 @@ def _print_summary(summary, design=None) -> None:
     for row in cells:
         table.add_row(*row)
     out.print(table)
+
+
+#: The most runs :func:`_print_summary` shows a row each; a replicated design beyond it gets a
+#: row per test, its replicates averaged.
+_MOST_RUN_ROWS = 48
+
+
+def _per_test(summary: Any, factor_cols: Sequence[str]) -> tuple[Any, str]:
+    """``summary`` with a row per test: its levels, MU and V_mm3 averaged over the finished
+    replicates, status ``ok`` when all finished, else ``k/n ok``; and the table's caption."""
+    import pandas as pd
+
+    rows = []
+    for test, group in summary.groupby("test", sort=False):
+        ok = group[group.get("status", pd.Series("ok", index=group.index)).astype(str) == "ok"]
+        row = {"test": test, **{c: group[c].iloc[0] for c in factor_cols}}
+        row["status"] = "ok" if len(ok) == len(group) else f"{len(ok)}/{len(group)} ok"
+        row["MU"] = float(ok["MU"].mean()) if len(ok) else float("nan")
+        row["V_mm3"] = float(ok["V_mm3"].mean()) if len(ok) else float("nan")
+        if not len(ok):
+            row["status"] = "failed"
+        rows.append(row)
+    per_test = pd.DataFrame(rows)
+    n = summary["replicate"].nunique()
+    return per_test, f"a row per test: the mean of its {n} replicates; summary.csv has every run"
 
 
 DesignArg = Annotated[

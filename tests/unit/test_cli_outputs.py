@@ -4,9 +4,11 @@ folder of a truncated `brakeca paper`."""
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 
+import pandas as pd
 import pytest
 from typer.testing import CliRunner
 
@@ -316,3 +318,33 @@ def test_messages_name_what_the_user_gave() -> None:
         cli._parse_goal("mu:max:0.3:0.4")
     with pytest.raises(ValueError, match="unknown goal 'maximum'; the goals are min, max and"):
         cli._parse_goal("MU:maximum:0.3:0.4")
+
+
+def test_a_replicated_campaigns_table_has_a_row_per_test() -> None:
+    """A new user's 220-run campaign printed 220 rows at every run and analysis: beyond 48
+    runs, a replicated design's table has a row per test, the replicates averaged, with a
+    test whose replicate failed marked k/n ok and its mean over the others."""
+    rows = []
+    for rep in range(5):
+        for test in range(1, 13):
+            failed = (test, rep) == (3, 2)
+            rows.append(
+                {
+                    "test": test,
+                    "replicate": rep,
+                    "order": 1,
+                    "A": 10.0 * (1 + test % 2),
+                    "seed": 1,
+                    "run_id": "x",
+                    "MU": math.nan if failed else 0.2 + 0.01 * test + 0.001 * rep,
+                    "V_mm3": math.nan if failed else float(test),
+                    "status": "failed" if failed else "ok",
+                }
+            )
+    with cli.out.capture() as captured:
+        cli._print_summary(pd.DataFrame(rows))
+    text = captured.get()
+    lines = [line for line in text.splitlines() if line.startswith("│")]
+    assert len(lines) == 12
+    assert "│    3 │ 20 │ 4/5 ok │ 0.2320 │" in text  # (0.230 + 0.231 + 0.233 + 0.234) / 4
+    assert "the mean of its 5 replicates" in " ".join(text.split())
