@@ -50,8 +50,16 @@ _LABELS = {
     "log10_V_mm3": "log10 of V (V in mm³ per stop)",
 }
 #: the paper's figure of each response's main effects and interactions (analysis.py)
-_PAPER_MAIN = {"MU": " (paper Figure 6)", "V": " (paper Figure 8)", "log10_V_mm3": ""}
-_PAPER_INTERACTIONS = {"MU": " (paper Figure 7)", "V": " (paper Figure 9)", "log10_V_mm3": ""}
+_PAPER_MAIN = {
+    "MU": " (as the paper's Figure 6)",
+    "V": " (as the paper's Figure 8)",
+    "log10_V_mm3": "",
+}
+_PAPER_INTERACTIONS = {
+    "MU": " (as the paper's Figure 7)",
+    "V": " (as the paper's Figure 9)",
+    "log10_V_mm3": "",
+}
 
 
 def with_log_v(summary: pd.DataFrame) -> pd.DataFrame:
@@ -796,7 +804,7 @@ def write_study(
         n_blocks = len({str(b) for b in coords["block"].to_numpy()}) if "block" in coords else 0
         add(
             "Runs",
-            f"MU per stop over {stops_run} for every run (paper Figure 10)",
+            f"MU per stop over {stops_run} for every run (as the paper's Figure 10)",
             "mu_per_stop.png",
             plotting.plot_mu_per_stop,
             result.dataset,
@@ -816,7 +824,7 @@ def write_study(
         )
         add(
             "Runs",
-            "V for every run (paper Figure 11; on a log axis, a point per test, where the "
+            "V for every run (as the paper's Figure 11; on a log axis, a point per test, where the "
             "tests' V span more than two decades)",
             "v_per_run.png",
             plotting.plot_v_per_run,
@@ -837,7 +845,7 @@ def write_study(
             shown_tests.append(str(int(first["test"])))
         add(
             "Pad surfaces",
-            "Initial fibre maps of the A levels (paper Figure 5): the pads of tests "
+            "Initial fibre maps of the A levels (as the paper's Figure 5): the pads of tests "
             f"{', '.join(shown_tests[:-1])}{' and ' if len(shown_tests) > 1 else ''}"
             f"{shown_tests[-1]}, the first run at each level (every run draws a pad of its "
             "own from its seed)",
