@@ -227,6 +227,20 @@ def test_kmh_given_as_ms_is_refused(tmp_path):
     assert info.value.line == 3
 
 
+def test_a_unit_given_explicitly_lifts_the_top_speed_check_in_km_h_only(tmp_path):
+    """A review: km/h numbers given --speed-unit m/s ran a 432 km/h stop without a word, as
+    an explicit unit had lifted the check; it lifts it only for km/h now."""
+    p = _write(tmp_path, "time,speed\n0,0\n10,120\n20,120\n30,0\n", "hw.csv")
+    with pytest.raises(
+        TraceError, match=r"speed 120 m/s \(432 km/h\) is beyond any drive cycle"
+    ) as info:
+        load_trace(p, speed_unit="m/s")
+    assert "is the file in km/h? Give its unit as km/h" in str(info.value)
+    assert load_trace(p, speed_unit="km/h").speed.max() == pytest.approx(120 * KMH)
+    fast = _write(tmp_path, "time,speed\n0,0\n20,300\n40,300\n60,0\n", "fast.csv")
+    assert load_trace(fast, speed_unit="km/h").speed.max() == pytest.approx(300 * KMH)
+
+
 def test_glitch_acceleration_is_refused(tmp_path):
     text = "time_s,speed_kmh\n0,50\n1,50\n1.1,110\n2,110\n3,110\n"
     with pytest.raises(TraceError, match="beyond a car's grip") as info:
