@@ -4,33 +4,32 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 [m^3], ``generated_volume`` [m^3], ``primary_area_fraction`` and ``secondary_area_fraction``
 (time-weighted) [-], ``contact_area_fraction`` [-], ``normal_force`` (pad) [N],
 ``band_normal_force`` [N], ``line_pressure`` [Pa], ``duration`` [s], ``n_steps``,
-``max_friction_residual`` [-], ``max_ledger_residual`` [-], ``secondary_removed_between_stops``
-[-] (rule S), ``end_of_stop_emitted_volume`` [m^3] (the flush and the deposits S removes),
-``min_disc_position`` [m], ``rule_firings(stop, rule)`` [-]; with the fibre field
-(``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-], of those
-``fibre_cells_exposed_late`` [-] (only after the stop), ``fibre_exposure_lag`` [m] and
+``secondary_removed_between_stops`` [-] (cells, rule S), ``end_of_stop_emitted_volume`` [m^3]
+(the flush and the deposits S removes), ``min_disc_position`` [m], ``rule_firings(stop, rule)``
+[-]; with the fibre field (``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-], of
+those ``fibre_cells_exposed_late`` [-] (only after the stop), ``fibre_exposure_lag`` [m] and
 ``fibre_volume_cut_as_resin`` [m^3], ``fibre_intervals_skipped`` [-]. Every variable carries
 its ``units`` and ``long_name`` attributes.
 
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual`` [-],
 ``max_friction_residual`` [-] (:data:`RUN_SCALAR_UNITS`). A thinned per-step series on dim
-``step`` (every ``output.series_every``-th step): ``step_time`` [s] (braking time at the
-step's end), ``step_stop`` [-], ``step_cof`` [-], ``step_normal_force`` (pad) [N],
+``step`` (every ``output.series_every``-th step): ``step_time`` [s] (braking time at the step's
+end), ``step_stop`` [-], ``step_cof`` [-], ``step_normal_force`` (pad) [N],
 ``step_contact_area_fraction``, ``step_primary_area_fraction``,
 ``step_secondary_area_fraction`` [-], ``step_disc_position`` [m]. Maps on (``radius`` [m],
 ``angle`` [rad]): ``initial_status``, ``final_status`` (0 resin, 1 primary, 2 secondary
 plateau), ``final_height`` [m]; where the run was asked to keep them (``simulate(maps_at=)``,
 ``brakeca simulate --maps-at``), ``map_status`` [-] and ``map_height`` [m] after those stops,
-along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package version,
-wall time [s], the step kernel setting (``exact``, ``lazy``, or ``auto``: lazy where it
-applies, docs/model.md section 13), how many stops each kernel ran (``stops_lazy``,
-``stops_exact``) and how many of the lazy kernel's contact solves fell back to the exact scan,
-``paper_factors`` (the paper's S, WP, WR and A as the run has them, in their units) and a
-``comment`` that explains ``quick``, ``max_stops`` and ``n_steps_total``; a run on a speed
-trace also ``distance`` [m] (the trace's distance its events belong to) and ``pm10_mg_km``,
-``pm10_mg_km_low``, ``pm10_mg_km_high`` [mg/km] (:func:`brakeca.emissions.pm10_from_run`,
-the default factors); the ``rule`` coordinate's ``rule_meanings`` names the seven plateau
-rules (:data:`RULE_ATTRS`).
+along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package version, wall
+time [s], the simulated band's area ``band_area`` [m^2], the step kernel setting (``exact``,
+``lazy``, or ``auto``: lazy where it applies, docs/model.md section 13), how many stops each
+kernel ran (``stops_lazy``, ``stops_exact``) and how many of the lazy kernel's contact solves
+fell back to the exact scan, ``paper_factors`` (the paper's S, WP, WR and A as the run has
+them, in their units) and a ``comment`` that explains ``quick``, ``max_stops`` and
+``n_steps_total``; a run on a speed trace also ``distance`` [m] (the trace's distance its
+events belong to) and ``pm10_mg_km``, ``pm10_mg_km_low``, ``pm10_mg_km_high`` [mg/km]
+(:func:`brakeca.emissions.pm10_from_run`, the default factors); the ``rule`` coordinate's
+``rule_meanings`` names the seven plateau rules (:data:`RULE_ATTRS`).
 
 References
 ----------
@@ -79,7 +78,10 @@ STOP_VARIABLES: dict[str, tuple[str, str]] = {
     "n_steps": ("1", "time steps in the stop"),
     "max_friction_residual": ("1", "max |F_friction / F_demanded - 1| over the steps"),
     "max_ledger_residual": ("1", "max relative volume-ledger residual over the steps"),
-    "secondary_removed_between_stops": ("1", "secondary plateaus removed by rule S"),
+    "secondary_removed_between_stops": (
+        "1",
+        "secondary plateau cells removed by rule S after the stop",
+    ),
     "end_of_stop_emitted_volume": (
         "m3",
         "particles flushed (none with the streams carried) and deposits removed by S",
@@ -498,13 +500,25 @@ def build_dataset(
         "step_time": (time_end[keep], "s", "braking time at the end of the step"),
         "step_stop": (stop_of_step[keep], "1", "stop of the step"),
         "step_cof": (kept[:, R.R_COF], "1", "global COF of the step"),
-        "step_normal_force": (kept[:, R.R_NORMAL] * pad_scale, "N", "pad normal force"),
-        "step_contact_area_fraction": (kept[:, R.R_CONTACT_AREA] / area, "1", "contact area"),
-        "step_primary_area_fraction": (kept[:, R.R_PRIMARY_AREA] / area, "1", "primary area"),
+        "step_normal_force": (
+            kept[:, R.R_NORMAL] * pad_scale,
+            "N",
+            "pad normal force, band force * A_pad / A_sim",
+        ),
+        "step_contact_area_fraction": (
+            kept[:, R.R_CONTACT_AREA] / area,
+            "1",
+            "area in contact / band area",
+        ),
+        "step_primary_area_fraction": (
+            kept[:, R.R_PRIMARY_AREA] / area,
+            "1",
+            "primary plateau area / band area",
+        ),
         "step_secondary_area_fraction": (
             kept[:, R.R_SECONDARY_AREA] / area,
             "1",
-            "secondary area",
+            "secondary plateau area / band area",
         ),
         "step_disc_position": (kept[:, R.R_DISC], "m", "disc surface position z"),
     }
@@ -533,7 +547,7 @@ def build_dataset(
     data_vars["final_height"] = (
         ("radius", "angle"),
         final_height.astype(np.float32),
-        {"units": "m", "long_name": "cell height after the cycle"},
+        {"units": "m", "long_name": "cell height above the pad datum after the cycle"},
     )
     if maps:
         kept_stops = sorted(maps)
@@ -550,7 +564,7 @@ def build_dataset(
         data_vars["map_height"] = (
             ("map_stop", "radius", "angle"),
             np.stack([maps[k][1] for k in kept_stops]).astype(np.float32),
-            {"units": "m", "long_name": "cell height after the stop"},
+            {"units": "m", "long_name": "cell height above the pad datum after the stop"},
         )
     mu = float(np.mean(per_stop["mean_cof"]))
     v = float(np.mean(per_stop["emitted_volume"]))
@@ -604,7 +618,13 @@ def build_dataset(
             "step_* series keep every output.series_every-th; config: the run's whole "
             "configuration (TOML); paper_factors: the paper's four factors as the run has "
             "them (a design's other factors are in config); a campaign's summary.csv names "
-            "each run's test and levels by its run id (the file name)"
+            "each run's test and levels by its run id (the file name); band_area: the "
+            "simulated band's area A_sim [m2]; wall_time: the run's computing time [s]"
+            + (
+                "; distance: the trace's distance its events belong to [m]"
+                if config.cycle.trace_file
+                else ""
+            )
         ),
         "title": "brakeca run",
         "references": "J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260",
@@ -614,6 +634,7 @@ def build_dataset(
         "quick": int(config.quick),
         "max_stops": -1 if config.cycle.max_stops is None else int(config.cycle.max_stops),
         "n_steps_total": int(all_dt.size),
+        "band_area": float(area),
         "wall_time": float(wall_time),
         "kernel": kernel,
         "stops_lazy": int((kernel_stops or {}).get("lazy", 0)),

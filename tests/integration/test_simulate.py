@@ -469,3 +469,17 @@ def test_run_files_carry_cf_metadata_on_every_coordinate(tmp_path) -> None:
             flags = ds[name].attrs["flag_values"]
             assert flags.dtype == ds[name].dtype == np.int8
             assert list(flags) == [0, 1, 2]
+        # a single-run review: the band's area was not in the file, the per-step shares'
+        # long names did not say of what, the heights not from where
+        mesh = config.mesh  # A_sim = sum of r_j dtheta dr over the rows, times the columns
+        expected = (
+            float(ds["radius"].sum())
+            * np.radians(mesh.angular_step_deg)
+            * mesh.radial_step
+            * ds["angle"].size
+        )
+        assert ds.attrs["band_area"] == pytest.approx(expected, rel=1e-12)
+        assert ds["step_contact_area_fraction"].attrs["long_name"] == "area in contact / band area"
+        assert ds["final_height"].attrs["long_name"].startswith("cell height above the pad datum")
+        assert "cells" in ds["secondary_removed_between_stops"].attrs["long_name"]
+        assert "band_area: the simulated band's area A_sim [m2]" in ds.attrs["comment"]
