@@ -52,6 +52,42 @@ def checkpoint_is_of(meta: dict[str, Any], config: Any, seed: int) -> bool:
         return False
 
 
+def checkpoint_difference(meta: dict[str, Any], config: Any, seed: int) -> str:
+    """What differs between a checkpoint's ``meta`` and this run (for a checkpoint that is
+    not :func:`checkpoint_is_of` it): its format, its seed, or the first configuration fields
+    that differ (``"cycle.max_stops: 2 -> 3"``); a single-run review was told only "config,
+    seed or format differ"."""
+    if meta.get("format") != CHECKPOINT_FORMAT:
+        return f"its format is {meta.get('format')!r}, this version's {CHECKPOINT_FORMAT!r}"
+    if meta.get("seed") != seed:
+        return f"its seed is {meta.get('seed')}, this run's {seed}"
+    try:
+        theirs = type(config).from_toml(str(meta.get("config"))).to_dict()
+    except ValueError:  # not a configuration this version reads
+        return "its configuration is not one this version reads"
+
+    def flat(data: Any, prefix: str = "") -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for key, value in data.items():
+            if isinstance(value, dict):
+                out.update(flat(value, f"{prefix}{key}."))
+            else:
+                out[f"{prefix}{key}"] = value
+        return out
+
+    before, after = flat(theirs), flat(config.to_dict())
+    keys = list(before) + [k for k in after if k not in before]
+    changed = [
+        f"{k}: {before.get(k, 'unset')!r} -> {after.get(k, 'unset')!r}"
+        for k in keys
+        if before.get(k) != after.get(k)
+    ]
+    if not changed:
+        return "its configuration differs"
+    more = f"; and {len(changed) - 3} more" if len(changed) > 3 else ""
+    return "its configuration differs: " + "; ".join(changed[:3]) + more
+
+
 def _checkpoint_meta(path: Path) -> Any:
     """A checkpoint's small ``meta`` entry (JSON), read without its arrays; raises on a file
     that has none."""

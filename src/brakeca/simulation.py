@@ -24,7 +24,13 @@ import numpy as np
 from brakeca import _kernels as K
 from brakeca import _lazy
 from brakeca import _records as R
-from brakeca._io import CHECKPOINT_FORMAT, atomic_write, checkpoint_is_of, checkpoint_problem
+from brakeca._io import (
+    CHECKPOINT_FORMAT,
+    atomic_write,
+    checkpoint_difference,
+    checkpoint_is_of,
+    checkpoint_problem,
+)
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
@@ -777,9 +783,16 @@ def load_checkpoint(path, config, seed, grid):
             f"{path}: unreadable checkpoint ({exc}); delete it to start over"
         ) from None
     if not checkpoint_is_of(meta, config, seed):
+        why = checkpoint_difference(meta, config, seed)
+        hint = (
+            " (a run's number of stops is part of its configuration: a checkpoint of a shorter "
+            "run does not go on to more stops)"
+            if "cycle.max_stops" in why
+            else ""
+        )
         raise CheckpointError(
-            f"{path}: checkpoint of another run, or of another brakeca version (config, seed "
-            "or format differ); delete it, or give another checkpoint file, to start this run"
+            f"{path}: checkpoint of another run ({why}){hint}; delete it, or give another "
+            "checkpoint file, to start this run"
         )
     state = SimulationState.from_surface(
         Surface(

@@ -80,8 +80,17 @@ def test_foreign_checkpoint_is_refused(tmp_path):
 
     with pytest.raises(Killed):
         simulate(config, seed=1, checkpoint=ckpt, checkpoint_every=1, progress=die)
-    with pytest.raises(ValueError, match="checkpoint of another run"):
+    # what differs is named (a single-run review was told "config, seed or format differ")
+    with pytest.raises(
+        ValueError, match=r"checkpoint of another run \(its seed is 1, this run's 2\)"
+    ):
         simulate(config, seed=2, checkpoint=ckpt)
+    longer = config.with_updates({"cycle.max_stops": 4})
+    with pytest.raises(ValueError) as info:
+        simulate(longer, seed=1, checkpoint=ckpt)
+    assert "(its configuration differs: cycle.max_stops: 3 -> 4) (a run's number of stops" in str(
+        info.value
+    )
     ckpt.write_bytes(b"not a checkpoint")
     with pytest.raises(ValueError, match=r"not a brakeca checkpoint \(not an \.npz archive"):
         simulate(config, seed=1, checkpoint=ckpt)
