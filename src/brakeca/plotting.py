@@ -600,6 +600,8 @@ def plot_mu_per_stop(
             values[k],
             lw=1.0,
             ls=styles[(i // 10) % len(styles)],
+            marker="o" if stops.size <= 20 else None,  # a few stops: a point each
+            ms=3,
             color=palette(i % 10),
             label=_run_label(key, levels, by_name) if first else "_replicate",
         )
@@ -1753,13 +1755,29 @@ def plot_cof_series(
 
     root, fig = _panels(fig, (10.0, 5.5 if force is not None else 3.4))
     axes = fig.subplots(2 if force is not None else 1, 1, sharex=True, squeeze=False)[:, 0]
-    axes[0].plot(x[::stride], cof[1][::stride], lw=0.7, color="#27496d")
+    xs = x[::stride]
+    ys = [cof[1][::stride].astype(float)] + (
+        [force[1][::stride].astype(float)] if force is not None else []
+    )
+    stop = _column(steps_ds, ("step_stop",))
+    starts: np.ndarray = np.zeros(0)
+    if stop is not None and stop[1].size == n:  # a run's: no line across a stop's end
+        cut = np.flatnonzero(np.diff(stop[1][::stride]) != 0) + 1
+        starts = xs[cut]
+        xs = np.insert(xs.astype(float), cut, np.nan)
+        ys = [np.insert(y, cut, np.nan) for y in ys]
+    axes[0].plot(xs, ys[0], lw=0.7, color="#27496d")
     axes[0].set_ylabel("Coefficient of friction μ [-]")
     axes[0].set_title(title)
     axes[0].grid(True, alpha=0.3)
     if force is not None:
-        axes[1].plot(x[::stride], force[1][::stride], lw=0.7, color="#f28e2b")
-        axes[1].set_ylabel("Normal force [N]")
+        axes[1].plot(xs, ys[1], lw=0.7, color="#f28e2b")
+        pad = force[0] == "step_normal_force"  # a run's: the pad's force (results.py)
+        axes[1].set_ylabel("Pad normal force [N]" if pad else "Normal force [N]")
         axes[1].grid(True, alpha=0.3)
+    if 0 < starts.size <= 40:  # each stop's start, where they can still be told apart
+        for ax in axes:
+            for at in starts:
+                ax.axvline(at, color="0.8", lw=0.5, zorder=0)
     axes[-1].set_xlabel(xlabel)
     return save_figure(root, path)

@@ -703,3 +703,26 @@ def test_figures_of_several_panels_draw_into_a_figure_or_subfigure(
     assert plotting.plot_fibre_maps(maps, fig=plain) is plain and len(plain.axes) == 2
     with pytest.raises(TypeError, match=r"^fig: expected a matplotlib Figure or SubFigure, got "):
         plotting.plot_interactions(summary, FACTORS, "MU", fig=plain.axes[0])
+
+
+def test_a_runs_per_step_series_breaks_at_each_stop() -> None:
+    """A single-run review: steps.png joined its lines across the stops' ends (a short stop
+    merged into the next) and called the pad's force the normal force."""
+    steps = xr.Dataset(
+        {
+            "step_cof": ("step", [0.3, 0.31, 0.32, 0.4, 0.41, 0.5]),
+            "step_normal_force": ("step", [1e4, 1e4, 1e4, 2e4, 2e4, 3e4]),
+            "step_time": ("step", [0.1, 0.2, 0.3, 0.4, 0.5, 0.6]),
+            "step_stop": ("step", [1, 1, 1, 2, 2, 3]),
+        },
+        coords={"step": np.arange(1, 7)},
+    )
+    fig = plot_cof_series(steps)
+    cof, force = fig.axes
+    line = cof.lines[0].get_ydata()
+    assert np.isnan(line).sum() == 2 and list(np.flatnonzero(np.isnan(line))) == [3, 6]
+    assert force.get_ylabel() == "Pad normal force [N]"
+    starts = [ln.get_xdata()[0] for ln in cof.lines[1:]]
+    assert starts == [0.4, 0.6]  # a faint line at each new stop's first kept step
+    plain = plot_cof_series(pd.DataFrame({"mu": [0.4, 0.41], "normal_force": [1.0, 2.0]}))
+    assert plain.axes[1].get_ylabel() == "Normal force [N]"
