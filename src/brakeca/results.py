@@ -287,7 +287,16 @@ class RunResult:
         except Exception as exc:
             raise ValueError(f"{path}: not a readable netCDF file ({exc})") from None
         if ds.attrs.get("format") != FORMAT:
-            raise ValueError(f"{path}: not a brakeca run file (format {ds.attrs.get('format')!r})")
+            found = ds.attrs.get("format")
+            raise ValueError(
+                f"{path}: not a brakeca run file ("
+                + (
+                    f"format {found!r}, not {FORMAT!r}"
+                    if found is not None
+                    else f"a netCDF file without brakeca's format attribute {FORMAT!r}"
+                )
+                + ")"
+            )
         try:
             config = SimulationConfig.from_toml(ds.attrs["config"], source=f"{path} [config]")
             seed = int(ds.attrs["seed"])

@@ -607,6 +607,11 @@ def test_one_sided_bounds_and_wrong_types_read_as_brakecas_messages(tmp_path) ->
         paper.with_updates([("WP", 1e-13)])  # type: ignore[arg-type]
     with pytest.raises(FileNotFoundError, match=r"missing\.nc: no such file"):
         RunResult.from_netcdf(tmp_path / "missing.nc")
+    import xarray as xr  # a netCDF file of another program: "format None" had read oddly
+
+    xr.Dataset({"x": ("t", [1.0])}).to_netcdf(tmp_path / "foreign.nc")
+    with pytest.raises(ValueError, match=r"a netCDF file without brakeca's format attribute"):
+        RunResult.from_netcdf(tmp_path / "foreign.nc")
 
 
 def test_a_configuration_and_a_design_print_as_one_line() -> None:
