@@ -161,8 +161,11 @@ def _campaign_dataset(
 
     data_vars: dict[str, Any] = {}
     if longest is not None:
-        for name in longest.data_vars:
-            var = longest[name]
+        # every run's variables: runs of an earlier version (reused) may lack one a newer run
+        # has (held_volume, stream_volume), which is then NaN for them
+        names = list(dict.fromkeys(str(n) for ds in [longest, *ok] for n in ds.data_vars))
+        for name in names:
+            var = next(ds[name] for ds in [longest, *ok] if name in ds)
             extra_dims = tuple(d for d in var.dims if d != "stop")
             extra_shape = tuple(var.sizes[d] for d in extra_dims)
             full = all(

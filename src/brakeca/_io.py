@@ -34,7 +34,7 @@ def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
 #: Format tag of a run's checkpoint (:func:`brakeca.simulation.save_checkpoint`), here so
 #: that a campaign can read a checkpoint's tag without importing the kernels, and the
 #: simulation without importing the run files' modules (xarray).
-CHECKPOINT_FORMAT = "brakeca-checkpoint/7"
+CHECKPOINT_FORMAT = "brakeca-checkpoint/8"
 
 
 def checkpoint_is_of(meta: dict[str, Any], config: Any, seed: int) -> bool:

@@ -5,11 +5,14 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 (time-weighted) [-], ``contact_area_fraction`` [-], ``normal_force`` (pad) [N],
 ``band_normal_force`` [N], ``line_pressure`` [Pa], ``duration`` [s], ``n_steps``,
 ``secondary_removed_between_stops`` [-] (cells, rule S), ``end_of_stop_emitted_volume`` [m^3]
-(the flush and the deposits S removes), ``min_disc_position`` [m], ``rule_firings(stop, rule)``
-[-]; with the fibre field (``pad.fibre_model = "field"``) also ``fibre_cells_exposed`` [-], of
-those ``fibre_cells_exposed_late`` [-] (only after the stop), ``fibre_exposure_lag`` [m] and
-``fibre_volume_cut_as_resin`` [m^3], ``fibre_intervals_skipped`` [-]. Every variable carries
-its ``units`` and ``long_name`` attributes.
+(the flush and the deposits S removes), ``min_disc_position`` [m], ``held_volume`` and
+``stream_volume`` [m^3] (in the secondary plateaus and in the streams at the stop's last step:
+the sum of ``generated_volume`` up to a stop is its ``held_volume`` + ``stream_volume`` + the
+sum of ``emitted_volume`` less its own ``end_of_stop_emitted_volume``, the volume ledger),
+``rule_firings(stop, rule)`` [-]; with the fibre field (``pad.fibre_model = "field"``) also
+``fibre_cells_exposed`` [-], of those ``fibre_cells_exposed_late`` [-] (only after the stop),
+``fibre_exposure_lag`` [m] and ``fibre_volume_cut_as_resin`` [m^3], ``fibre_intervals_skipped``
+[-]. Every variable carries its ``units`` and ``long_name`` attributes.
 
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual`` [-],
 ``max_friction_residual`` [-] (:data:`RUN_SCALAR_UNITS`). A thinned per-step series on dim
@@ -87,6 +90,14 @@ STOP_VARIABLES: dict[str, tuple[str, str]] = {
         "particles flushed (none with the streams carried) and deposits removed by S",
     ),
     "min_disc_position": ("m", "lowest disc surface position z in the stop"),
+    "held_volume": (
+        "m3",
+        "volume held in secondary plateaus at the stop's last step, before rule S",
+    ),
+    "stream_volume": (
+        "m3",
+        "particle volume in the streams at the stop's last step, before the stop's end",
+    ),
 }
 
 #: The per-stop counters of a run with the fibre field: name -> (unit, description).
@@ -325,7 +336,9 @@ SUM_GENERATED = 6  # volume generated [m^3]
 SUM_LEDGER = 7  # largest relative ledger residual [-]
 SUM_DISC = 8  # lowest disc position [m]
 SUM_FRICTION_RESIDUAL = 9  # largest |F / F_demanded - 1| [-]
-N_SUM = 10
+SUM_HELD = 10  # volume held in secondary plateaus at the stop's last step [m^3]
+SUM_STREAM = 11  # volume in the particle streams at the stop's last step [m^3]
+N_SUM = 12
 
 
 def summarise_stop(
@@ -365,6 +378,8 @@ def summarise_stop(
     summary[SUM_LEDGER] = rec[:, R.R_LEDGER].max()
     summary[SUM_DISC] = rec[:, R.R_DISC].min()
     summary[SUM_FRICTION_RESIDUAL] = np.max(np.abs(rec[:, R.R_FRICTION] / rec[:, R.R_TARGET] - 1.0))
+    summary[SUM_HELD] = rec[-1, R.R_HELD]
+    summary[SUM_STREAM] = rec[-1, R.R_STREAM]
     first = -(-start // every) * every  # the first kept step at or after this stop's start
     kept = rec[np.arange(first - start, rec.shape[0], every)]
     return summary, kept
@@ -463,6 +478,8 @@ def build_dataset(
         "secondary_removed_between_stops": s_removed,
         "end_of_stop_emitted_volume": flush,
         "min_disc_position": col(SUM_DISC),
+        "held_volume": col(SUM_HELD),
+        "stream_volume": col(SUM_STREAM),
     }
     per_stop["normal_force"] = [f * pad_scale for f in per_stop["band_normal_force"]]
     per_stop["line_pressure"] = [f / piston for f in per_stop["normal_force"]]

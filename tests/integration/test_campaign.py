@@ -761,3 +761,24 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     assert "(pid 1 on host, since then): this report is of the study as it stands" in " ".join(
         res.output.split()
     )
+
+
+def test_a_run_file_of_an_earlier_version_is_reused_beside_new_ones(serial, tmp_path):
+    """Run files made before held_volume and stream_volume existed are reused (their run
+    ids are the same): campaign.nc takes every run's variables, NaN where a run lacks one,
+    whichever run comes first (it had taken the first longest run's variables alone)."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    first = out / "runs" / f"{serial.summary['run_id'].iloc[0]}.nc"
+    with xr.open_dataset(first) as ds:
+        old = ds.drop_vars(["held_volume", "stream_volume"]).load()
+    old.to_netcdf(first, engine="h5netcdf")
+    (out / "campaign.nc").unlink()
+    again = run_campaign(
+        out / "design.toml", out, executor="serial", progress=False, console=quiet()
+    )
+    assert len(again.reused) == 4 and not again.computed
+    with xr.open_dataset(out / "campaign.nc") as ds:
+        held = ds["held_volume"].to_numpy()
+        assert np.isnan(held[0]).all() and np.isfinite(held[1:]).all()
+        assert ds["held_volume"].attrs["units"] == "m3"
