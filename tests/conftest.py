@@ -38,13 +38,17 @@ def short_cycle(stops: int = 3, v0: float = 11.0, v1: float = 10.0, g: float = 0
 
 
 def resumable_config(stops: int, removal: float = 0.5):
-    """A 4 x 200 band at WP = 1e-13 with ``stops`` short stops (30 to 4 km/h at 0.3 g) and
-    S = ``removal``: a run that wears and builds plateaus in a second, to kill and resume."""
+    """A 4 x 200 band at WP = 1e-13 and A = 10 % with ``stops`` short stops (30 to 4 km/h
+    at 0.3 g) and S = ``removal``: a run that wears and builds secondary plateaus (some 150
+    at each stop's end) in a second, to kill and resume; rule S then draws from the run's
+    generator (at A = 20 % no secondary plateau formed, so a resume that lost the generator's
+    state went unnoticed: a test-suite audit)."""
     return load_preset().with_updates(
         {
             "mesh.n_radial": 4,
             "mesh.n_angular": 200,
             "WP": 1e-13,
+            "A": 10,
             "S": removal,
             "cycle": short_cycle(stops=stops, v0=30, v1=4, g=0.3),
         }

@@ -782,3 +782,32 @@ def test_a_run_file_of_an_earlier_version_is_reused_beside_new_ones(serial, tmp_
         held = ds["held_volume"].to_numpy()
         assert np.isnan(held[0]).all() and np.isfinite(held[1:]).all()
         assert ds["held_volume"].attrs["units"] == "m3"
+
+
+def test_a_run_file_of_another_seed_or_configuration_alone_is_recomputed(serial, tmp_path):
+    """A test-suite audit: the check of a reused run file's seed, or of its configuration,
+    could each be removed without a test failing (the foreign file differed in both). Here
+    one file differs in its seed alone and one in its configuration alone."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    ids = list(serial.summary["run_id"])
+    runs = out / "runs"
+    for rid, change in ((ids[0], "seed"), (ids[1], "config")):
+        path = runs / f"{rid}.nc"
+        with xr.open_dataset(path) as ds:
+            edited = ds.load()
+        if change == "seed":
+            edited.attrs["seed"] = int(edited.attrs["seed"]) + 1
+        else:
+            before = edited.attrs["config"]
+            edited.attrs["config"] = before.replace("mu_0 = 0.6", "mu_0 = 0.61")
+            assert edited.attrs["config"] != before
+        edited.to_netcdf(path, engine="h5netcdf")
+    console = quiet()
+    result = run_campaign(
+        out / "design.toml", out, executor="serial", progress=False, console=console
+    )
+    text = " ".join(console_text(console).split())
+    assert sorted(result.recomputed) == sorted(ids[:2])
+    assert "belongs to another run (the result has seed" in text
+    assert "belongs to another run (the result's configuration differs from the run's)" in text

@@ -730,6 +730,16 @@ def test_two_level_effects_reproduce_montgomerys_filtration_example() -> None:
     assert set(effects.loc[effects["significant"], "term"]) == {"A", "C", "D", "A:C", "A:D"}
     assert effects.attrs["pse"] == pytest.approx(2.625)
     assert effects.attrs["margin_of_error"] == pytest.approx(2.5706 * 2.625, rel=1e-4)
+    # Lenth's SME: t at gamma = (1 + 0.95^(1/15)) / 2 on 5 df, 5.22 in his Table (m = 15)
+    assert effects.attrs["simultaneous_margin"] == pytest.approx(5.22 * 2.625, rel=2e-3)
+    # significant means p below alpha itself (a test-suite audit: p <= 2 alpha passed, every
+    # effect being far from 0.05): B's p is about 0.29
+    p_b = float(effects.set_index("term").loc["B", "p_value"])
+    assert 0.25 < p_b < 0.3
+    wide = two_level_effects(pd.DataFrame(rows), _levels01("ABCD"), "rate", alpha=0.3)
+    narrow = two_level_effects(pd.DataFrame(rows), _levels01("ABCD"), "rate", alpha=0.2)
+    assert bool(wide.set_index("term").loc["B", "significant"])
+    assert not bool(narrow.set_index("term").loc["B", "significant"])
 
 
 def test_alias_structure_of_a_regular_fraction_and_of_a_plackett_burman_design() -> None:

@@ -219,6 +219,16 @@ def test_the_log_reading_names_the_rounded_lambda_it_also_holds() -> None:
     assert log.reading.endswith("the log fits better than the response as it is")
 
 
+def test_the_rounded_lambda_is_the_nearest_multiple_of_a_half() -> None:
+    """A test-suite audit: rounding lambda-hat down (floor) passed, every tested lambda-hat
+    sitting just above a multiple of 0.5. The 2.5th power of a normal sample is normal at
+    lambda = 0.4: its lambda-hat is below 0.5 and rounds up to it."""
+    z = np.random.default_rng(1).normal(10.0, 1.0, 400)
+    result = box_cox_profile(z**2.5)
+    assert 0.25 < result.lambda_hat < 0.5
+    assert result.rounded == 0.5
+
+
 def test_an_optimum_a_hair_inside_the_edge_is_flagged_too() -> None:
     """A campaign's MU whose profile still rises at -2: the bounded search stopped at
     -1.9997, and the note of the edge was missing (a helper's review of the command line).

@@ -103,6 +103,34 @@ def test_bad_values_name_the_field(updates, needle):
         load_preset().with_updates(updates)
 
 
+@pytest.mark.parametrize(
+    ("updates", "needle"),
+    [  # just past each limit (a test-suite audit: only values far beyond them were tried)
+        ({"brake.effective_radius": 0.13901}, r"need disc_inner_radius < effective_radius <"),
+        ({"brake.effective_radius": 0.07999}, r"need disc_inner_radius < effective_radius <"),
+        ({"brake.pad_area": 0.0406}, r"pad_area \(0\.0406 m²\) must be less than the disc face"),
+        ({"mesh.inner_radius": 0.1385}, r"the simulated band \[138\.500, 158\.500\] mm must lie"),
+        (
+            {
+                "cycle.blocks": [
+                    {
+                        "name": "b",
+                        "initial_speed_kmh": 50.0,
+                        "final_speed_kmh": 50.0,
+                        "deceleration_g": 0.25,
+                        "stops": 1,
+                    }
+                ]
+            },
+            r"final_speed_kmh \(50\.0\) must be lower than initial_speed_kmh \(50\.0\)",
+        ),
+    ],
+)
+def test_values_just_past_a_limit_are_refused(updates, needle):
+    with pytest.raises(ConfigError, match=needle):
+        load_preset("paper").with_updates(updates)
+
+
 def test_cycle_final_speed_above_initial(tmp_path):
     p = tmp_path / "c.csv"
     p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,50,60,0.3,2\n")

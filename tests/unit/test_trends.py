@@ -102,3 +102,21 @@ def test_a_factor_the_model_leaves_out_is_named() -> None:
     summary["y"] = 0.2 * summary["S"] + 0.01 * np.random.default_rng(1).standard_normal(24)
     trends = factor_trends(summary, [WP, S, A], "y", alpha_to_remove=0.1)
     assert trends.empty and "WP is not in the model" in trends.attrs["note"]
+
+
+def test_each_parts_share_is_of_the_total_and_a_saturated_model_has_no_test() -> None:
+    """A test-suite audit: percent_contribution over the factor's sum of squares, and the
+    note of a model without residual degrees of freedom, passed unchecked."""
+    summary = _runs()
+    trends = factor_trends(summary, [WP, S, A], "y")
+    total = anova(summary, [WP, S, A], "y").attrs["total_sum_sq"]
+    y = summary["y"].to_numpy()
+    assert total == pytest.approx(float(np.sum((y - y.mean()) ** 2)), rel=1e-12)
+    np.testing.assert_allclose(trends["percent_contribution"], 100 * trends["sum_sq"] / total)
+    one = _runs(replicates=1)  # 12 runs, and every term of the three factors: no residual
+    every = ["WP", "S", "A", "WP*S", "WP*A", "S*A", "WP*S*A"]
+    saturated = factor_trends(one, [WP, S, A], "y", interactions=every)
+    assert list(saturated["part"]) == ["linear", "quadratic"]
+    assert saturated["F"].isna().all() and saturated["p_value"].isna().all()
+    assert "no residual degrees of freedom" in saturated.attrs["note"]
+    assert (saturated["sum_sq"] > 0).all()
