@@ -157,6 +157,12 @@ def test_saddle_point_and_outside() -> None:
     st = fit.stationary
     assert st is not None and st["kind"] == "saddle point"
     assert st["coded"]["p"] == pytest.approx(2.0) and not st["inside"]
+    # just outside and just inside the runs' span (a test-suite audit: a margin of 0.5 in
+    # place of round-off passed, the point tested being at 2)
+    for centre, inside in ((1.1, False), (0.999, True)):
+        bowl = fit_response_surface(_bowl((centre, 0.0)), _PQ, "y").stationary
+        assert bowl is not None and bowl["coded"]["p"] == pytest.approx(centre)
+        assert bowl["inside"] is inside
 
 
 def test_two_level_factors_get_no_square_and_centre_points_one_curvature_term() -> None:
