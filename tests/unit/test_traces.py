@@ -864,3 +864,15 @@ def test_a_block_cycle_with_speeds_in_m_per_s_is_named_a_block_cycle(tmp_path) -
     extra = "time_s,speed_kmh,trip,deceleration_g\n0,0,a,0\n1,10,a,0\n2,20,a,0\n"
     assert cycle_file_kind(extra) == "trace"
     assert load_trace(_write(tmp_path, extra, "extra.csv")).speed.size == 3
+
+
+def test_a_merged_stretch_without_a_net_speed_drop_is_no_event():
+    """Two braking stretches half a second apart merge into one (merge_gap 1 s); where the
+    vehicle sped up between them back to where it started, the merged stretch ends at its
+    first speed: no event (a test-suite audit: the filter could be removed unseen). One
+    m/s less at the end and it is an event from the first brake-on to the last brake-off."""
+    t = [0.0, 1.0, 2.0, 3.0, 3.5, 4.5, 5.5]
+    level = [20.0, 20.0, 18.0, 16.0, 24.0, 22.0, 20.0]
+    assert detect_events(SpeedTrace(time=t, speed=level)) == []
+    lower = detect_events(SpeedTrace(time=t, speed=[*level[:-1], 19.0]))
+    assert [(e.time[0], e.time[-1]) for e in lower] == [(1.0, 5.5)]
