@@ -77,8 +77,12 @@ def checkpoint_difference(meta: dict[str, Any], config: Any, seed: int) -> str:
 
     before, after = flat(theirs), flat(config.to_dict())
     keys = list(before) + [k for k in after if k not in before]
+
+    def shown(table: dict[str, Any], key: str) -> str:
+        return repr(table[key]) if key in table else "unset"
+
     changed = [
-        f"{k}: {before.get(k, 'unset')!r} -> {after.get(k, 'unset')!r}"
+        f"{k}: {shown(before, k)} -> {shown(after, k)}"
         for k in keys
         if before.get(k) != after.get(k)
     ]

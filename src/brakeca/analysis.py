@@ -2572,8 +2572,10 @@ def factor_trends(
         ``part`` (``"linear"``, ``"quadratic"``, ...), ``scale`` (the polynomials' variable,
         e.g. ``"log10 WP"``), ``df`` (1), ``sum_sq`` [response unit^2], ``F``, ``p_value``
         [-], ``percent_of_factor`` (the part's share of the factor's sum of squares in the
-        ANOVA) and ``percent_contribution`` (of the total sum of squares about the mean)
-        [%]. Empty where no factor has three levels; ``attrs["note"]`` names the factors
+        ANOVA; the parts add up to 100 % in a balanced design only) and
+        ``percent_contribution`` (of the total sum of squares about the mean) [%]; on an
+        exact fit (no residual scatter) F is infinite and p 0, as in the ANOVA. Empty where
+        no factor has three levels; ``attrs["note"]`` names the factors
         left out and why (not in the model, a rank-deficient design, no residual).
 
     References
@@ -2657,7 +2659,12 @@ def factor_trends(
         for degree in range(1, present.size):
             j = where + degree - 1
             ss = float(coef[j] ** 2 / inverse[j, j])
-            f_value = ss / resid_ms if resid_ms > 0 else math.nan
+            if resid_ms > 0:
+                f_value = ss / resid_ms
+            elif resid_ms == 0.0 and resid_df > 0.5:  # an exact fit, as the ANOVA has it
+                f_value = math.inf if ss > 0 else math.nan
+            else:
+                f_value = math.nan
             rows_out.append(
                 {
                     "factor": factor.name,
@@ -2683,9 +2690,9 @@ def _f_sf(f_value: float, df_resid: float) -> float:
     """p of an F of one degree of freedom against ``df_resid`` [-] (NaN where undefined)."""
     from scipy import stats
 
-    if not math.isfinite(f_value) or df_resid < 0.5:
+    if df_resid < 0.5 or math.isnan(f_value):
         return math.nan
-    return float(stats.f.sf(f_value, 1.0, df_resid))
+    return 0.0 if math.isinf(f_value) else float(stats.f.sf(f_value, 1.0, df_resid))
 
 
 def _field(obj: Any, key: str) -> Any:
@@ -2771,8 +2778,10 @@ def analyze(
             "factors: give the design's factors (or the design), or a campaign result as "
             "the first argument"
         )
-    design_factors = factors  # with a categorical factor's choices, for factor_trends
-    factors = _factors(factors)
+    # the factors once (an iterator is read once), with a categorical factor's choices kept
+    # for factor_trends
+    design_factors = [factors] if isinstance(factors, str) else _design_factors(factors)
+    factors = _factors(design_factors)
     if isinstance(responses, str):
         responses = (responses,)
     if "log10_V_mm3" in responses and "log10_V_mm3" not in summary.columns:

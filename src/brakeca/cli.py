@@ -1534,7 +1534,7 @@ def optimize(
         )
     if best.note:
         out.print(f"note: {best.note}", markup=False, highlight=False)
-    if best.edge_matters:  # (not at 1, nor on a plateau: something beyond could be better)
+    if best.edge_matters:  # (not at 1: something beyond could be better)
         out.print(
             "at the edge of the region the runs span: "
             + ", ".join(best.on_boundary)

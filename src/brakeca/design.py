@@ -2965,7 +2965,9 @@ def load_design(path_or_name: str | Path) -> Design:
     path_or_name
         A shipped design's name (``brakeca.presets.available_designs()``), a design file
         (docs/designs.md: factors, levels in their units, seeds, options) or a campaign
-        folder (its ``design.toml``).
+        folder (its ``design.toml``). A shipped design's name means the shipped design even
+        where a folder of that name exists (``brakeca run paper -o paper`` twice runs the
+        paper's design both times); give ``paper/design.toml`` for the folder's.
 
     Returns
     -------

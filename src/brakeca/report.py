@@ -609,8 +609,9 @@ def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         "levels' values), so its F says only that the levels differ. Here "
         + ("each such" if several else "that")
         + " main effect is split into orthogonal polynomials in the levels' values (or their "
-        "log10, where the levels are evenly spaced on the log), each part of 1 degree of "
-        "freedom tested against the ANOVA's residual. A significant quadratic part means "
+        "log10, where the levels are evenly spaced on the log or the factor is coded 'log'), "
+        "each part of 1 degree of freedom tested against the ANOVA's residual; in a "
+        "balanced design the parts' shares add up to 100 %. A significant quadratic part means "
         "the response does not move evenly across the levels: its steps from one level to "
         "the next differ (with three levels that is all it can say; the share of the "
         "factor's sum of squares says how much)."
@@ -1174,8 +1175,8 @@ def _pure_error_curvature(frame: pd.DataFrame, rows: pd.DataFrame) -> str:
     return (
         f" The residual this F is taken against holds a significant lack of fit (p "
         f"{_p_relation(lof_p)}: terms the model leaves out), which weakens its tests; against "
-        f"the pure error alone ({float(pe_df):.0f} df, the scatter of the repeated runs, as "
-        f"the effects table's Ct Pt row takes it) curvature has F = {f_value:.3g}, p "
+        f"the pure error alone ({float(pe_df):.0f} df, the scatter of the repeated runs) "
+        f"curvature has F = {f_value:.3g}, p "
         f"{_p_relation(p_pe)}: {verdict}. The pure error of centre points is the seeds' "
         "scatter at the centre, which may be smaller than at the corners."
     )
@@ -1456,6 +1457,9 @@ def _curvature_finding(frame: pd.DataFrame) -> str:
     rows = frame.loc[frame["term"] == "Curvature"] if "term" in frame.columns else frame
     if rows.empty or "Curvature" not in set(frame.get("term", ())):
         return ""
+    aliases = rows["aliases"].iloc[0] if "aliases" in rows.columns else ""
+    if not _is_missing(aliases) and str(aliases).strip():  # as _curvature_text says
+        return f"; the centre points' term is no test of curvature (confounded with {aliases})"
     p = rows["p_value"].iloc[0]
     if _is_missing(p):
         return "; curvature not tested"

@@ -1219,7 +1219,7 @@ class Optimum:
     tied_share
         The share of the searched grid whose score equals the best [-]: above
         :data:`_TIED_SHARE` the goals leave a plateau of equally good settings (the note says
-        so), and a factor at an edge says nothing of a better setting beyond it.
+        so).
     """
 
     coded: dict[str, float]
@@ -1237,8 +1237,10 @@ class Optimum:
     @property
     def edge_matters(self) -> bool:
         """Whether a factor at an edge of the region may hide a better setting beyond it: at
-        the edge, below full desirability and not on a plateau of equal scores."""
-        return bool(self.on_boundary) and self.composite < 1.0 and self.tied_share <= _TIED_SHARE
+        the edge and below full desirability (at 1 nothing beyond can be better; on a plateau
+        of a goal missed everywhere, the setting nearest its limits is at the edge because
+        a better one may lie beyond)."""
+        return bool(self.on_boundary) and self.composite < 1.0
 
 
 #: The share of the optimizer's grid tied at the best score above which the goals are said
@@ -1434,7 +1436,7 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
             "goals do not single out one setting: this is one of them"
             + (
                 ", the nearest to the limits of the goals missed"
-                if score is not _nearest_limits
+                if score is _mean_desirability
                 else ""
             )
         )

@@ -785,8 +785,8 @@ def load_checkpoint(path, config, seed, grid):
     if not checkpoint_is_of(meta, config, seed):
         why = checkpoint_difference(meta, config, seed)
         hint = (
-            " (a run's number of stops is part of its configuration: a checkpoint of a shorter "
-            "run does not go on to more stops)"
+            " (a run's number of stops is part of its configuration: a checkpoint of a run "
+            "of other stops does not go on as this one)"
             if "cycle.max_stops" in why
             else ""
         )

@@ -359,11 +359,15 @@ def _floor_note(result: CampaignResult, base: Any) -> str:
         return ""
     floor = float(base.friction.mu_min)
     cof = data["mean_cof"].transpose("run", "stop").to_numpy().astype(float)
-    done = np.isfinite(cof).all(axis=1)
+    if "status" in data.coords:  # the finished runs (a shorter cycle's are padded with NaN)
+        done = np.asarray([str(v) == "ok" for v in data["status"].to_numpy()])
+    else:
+        done = np.isfinite(cof).any(axis=1)
     if floor <= 0 or not done.any():
         return ""
-    at = np.abs(cof[done] - floor) <= 1e-9 * floor
-    share = at.mean(axis=1)
+    stops = np.isfinite(cof[done])
+    at = (np.abs(cof[done] - floor) <= 1e-9 * floor) & stops
+    share = at.sum(axis=1) / np.maximum(stops.sum(axis=1), 1)
     if not share.any():
         return ""
     tests = data["test" if "test" in data.coords else "run"].to_numpy()[done]

@@ -93,6 +93,9 @@ def test_foreign_checkpoint_is_refused(tmp_path):
     assert "(its configuration differs: cycle.max_stops: 3 -> 4) (a run's number of stops" in str(
         info.value
     )
+    whole = config.with_updates({"cycle.max_stops": None})  # unset: not the text 'unset'
+    with pytest.raises(ValueError, match=r"cycle\.max_stops: 3 -> unset\) \(a run's number"):
+        simulate(whole, seed=1, checkpoint=ckpt)
     ckpt.write_bytes(b"not a checkpoint")
     with pytest.raises(ValueError, match=r"not a brakeca checkpoint \(not an \.npz archive"):
         simulate(config, seed=1, checkpoint=ckpt)

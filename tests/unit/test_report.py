@@ -766,7 +766,7 @@ def test_curvature_against_the_pure_error_where_the_residual_lacks_fit() -> None
     text = _curvature_text(shown)
     assert "p = 0.070: no evidence of curvature between the levels at 0.05." in text
     assert "holds a significant lack of fit (p < 0.001" in text
-    assert "against the pure error alone (3 df" in text
+    assert "against the pure error alone (3 df, the scatter of the repeated runs) curv" in text
     assert "curvature has F = 2e+03, p < 0.001: significant." in text
     fits = frame.copy()
     fits.attrs.update(frame.attrs, lack_of_fit_p=0.4)  # no lack of fit: the ANOVA's alone

@@ -343,7 +343,12 @@ def test_a_plateau_of_equal_scores_is_said_and_its_setting_nearest_the_missed_li
     assert "100 % of the region searched reaches the same score" in best.note
     assert best.coded["p"] == pytest.approx(1.0)  # the highest mu, nearest its limit 0.3
     assert best.predicted["mu"] == pytest.approx(0.22, rel=1e-9)
-    assert best.tied_share == 1.0 and not best.edge_matters  # nothing better beyond an edge
+    assert best.tied_share == 1.0
+    assert best.edge_matters  # at p's edge, with mu still below its limit: more p may help
+    # a plateau of every goal met (composite 1) names no goal missed, nor an edge
+    met = optimize({"v": fits["v"]}, [Goal("v", "minimize", 2.0, 3.0)])
+    assert met.composite == 1.0 and "100 % of the region searched reaches" in met.note
+    assert "goals missed" not in met.note and not met.edge_matters
 
 
 def test_optimize_reports_a_goal_missed_everywhere_and_bad_requests() -> None:

@@ -35,10 +35,27 @@ def test_the_runs_at_the_floor_are_counted_and_the_most_named() -> None:
     cof[1, :4] = floor  # test 2: 40 % of its stops at the floor
     cof[3, :1] = floor  # test 4: 10 %
     cof[2, 5] = floor * (1 + 1e-6)  # near it, not at it
-    cof[0, -1] = np.nan  # test 1 unfinished: not counted
+    cof[0, :] = np.nan  # test 1 failed (no stop): not counted
     note = _floor_note(_result(cof), base)
     assert note.startswith("The COF floor: 2 of the 3 finished runs have stops whose mean COF")
     assert "the most in test 2 (40 % of its stops) and test 4 (10 %)." in note
+
+
+def test_a_run_of_a_shorter_cycle_counts_over_its_own_stops() -> None:
+    """A diff review: campaign.nc pads a shorter run's stops with NaN, and such a run was
+    left out of the finished runs; with a status coordinate, the finished runs are those
+    'ok', each counted over its own stops."""
+    base = load_preset("paper")
+    floor = base.friction.mu_min
+    cof = np.full((3, 10), 0.3)
+    cof[0, 5:] = np.nan  # a run of 5 stops
+    cof[0, :2] = floor  # 40 % of its own stops at the floor
+    cof[2, :] = np.nan  # a failed run
+    result = _result(cof)
+    result.dataset = result.dataset.assign_coords(status=("run", ["ok", "ok", "failed"]))
+    note = _floor_note(result, base)
+    assert note.startswith("The COF floor: 1 of the 2 finished runs")
+    assert "the most in test 1 (40 % of its stops)." in note
 
 
 def test_no_note_without_stops_at_the_floor_or_with_a_factor_on_the_friction_law() -> None:

@@ -120,3 +120,25 @@ def test_each_parts_share_is_of_the_total_and_a_saturated_model_has_no_test() ->
     assert saturated["F"].isna().all() and saturated["p_value"].isna().all()
     assert "no residual degrees of freedom" in saturated.attrs["note"]
     assert (saturated["sum_sq"] > 0).all()
+
+
+def test_analyze_gives_the_trends_for_factors_given_as_an_iterator() -> None:
+    """A diff review: analyze() read a generator of factors twice, once empty, and gave an
+    ANOVA with no trends."""
+    from brakeca.analysis import analyze
+
+    summary = _runs()
+    listed = analyze(summary, [WP, S, A], responses=("y",))["y"]["trends"]
+    lazily = analyze(summary, (f for f in (WP, S, A)), responses=("y",))["y"]["trends"]
+    assert len(listed) == 2
+    pd.testing.assert_frame_equal(lazily, listed)
+
+
+def test_an_infinite_f_has_p_0_as_in_the_anova() -> None:
+    """An exact fit (residual sum of squares 0) gives each part an infinite F, whose p is 0,
+    as the ANOVA reports it; without residual degrees of freedom there is no p."""
+    from brakeca.analysis import _f_sf
+
+    assert _f_sf(math.inf, 9.0) == 0.0
+    assert math.isnan(_f_sf(math.nan, 9.0)) and math.isnan(_f_sf(4.0, 0.0))
+    assert _f_sf(4.0, 9.0) == pytest.approx(0.0765, abs=5e-4)
