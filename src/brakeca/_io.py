@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 import secrets
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -52,6 +52,17 @@ def checkpoint_is_of(meta: dict[str, Any], config: Any, seed: int) -> bool:
         return False
 
 
+def flat_keys(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    """A nested mapping as ``{"dotted.key": value}`` (a configuration's fields by name)."""
+    out: dict[str, Any] = {}
+    for key, value in data.items():
+        if isinstance(value, Mapping):
+            out.update(flat_keys(value, f"{prefix}{key}."))
+        else:
+            out[f"{prefix}{key}"] = value
+    return out
+
+
 def checkpoint_difference(meta: dict[str, Any], config: Any, seed: int) -> str:
     """What differs between a checkpoint's ``meta`` and this run (for a checkpoint that is
     not :func:`checkpoint_is_of` it): its format, its seed, or the first configuration fields
@@ -66,16 +77,7 @@ def checkpoint_difference(meta: dict[str, Any], config: Any, seed: int) -> str:
     except ValueError:  # not a configuration this version reads
         return "its configuration is not one this version reads"
 
-    def flat(data: Any, prefix: str = "") -> dict[str, Any]:
-        out: dict[str, Any] = {}
-        for key, value in data.items():
-            if isinstance(value, dict):
-                out.update(flat(value, f"{prefix}{key}."))
-            else:
-                out[f"{prefix}{key}"] = value
-        return out
-
-    before, after = flat(theirs), flat(config.to_dict())
+    before, after = flat_keys(theirs), flat_keys(config.to_dict())
     keys = list(before) + [k for k in after if k not in before]
 
     def shown(table: dict[str, Any], key: str) -> str:

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from brakeca import __version__
-from brakeca._io import atomic_write
+from brakeca._io import atomic_write, flat_keys
 from brakeca.design import Design, RunPoint, run_id
 
 if TYPE_CHECKING:
@@ -243,17 +243,6 @@ def _error_text(exc: BaseException) -> str:
     return " ".join(text.split())  # one line, for the CSV
 
 
-def _flat(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
-    """A nested mapping as ``{"dotted.key": value}``."""
-    out: dict[str, Any] = {}
-    for key, value in data.items():
-        if isinstance(value, Mapping):
-            out.update(_flat(value, f"{prefix}{key}."))
-        else:
-            out[f"{prefix}{key}"] = value
-    return out
-
-
 def base_differences(out: Path, base: SimulationConfig) -> list[str]:
     """How the base configuration of the campaign already in ``out`` differs from ``base``:
     one ``"key: old -> new"`` per differing field, in the order of the configuration; empty
@@ -269,7 +258,7 @@ def base_differences(out: Path, base: SimulationConfig) -> list[str]:
         return []
     if old == base:
         return []
-    before, after = _flat(old.to_dict()), _flat(base.to_dict())
+    before, after = flat_keys(old.to_dict()), flat_keys(base.to_dict())
     keys = list(before) + [k for k in after if k not in before]
     return [
         f"{k}: {before.get(k, 'unset')!r} -> {after.get(k, 'unset')!r}"
