@@ -1469,6 +1469,13 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 "positive: the quadratic does not keep the response's sign (a log scale "
                 "may fit it better)"
             )
+        elif math.isfinite(interval[r][0]) and fit.loses_sign(interval[r][0]):
+            # a review: V's interval of -4.2 to 4.3 mm³ went without a word
+            notes.append(
+                f"the confidence interval of {r} there reaches below 0, where no run's {r} "
+                "is: the quadratic's uncertainty is as large as the response (a log scale "
+                "may fit it better)"
+            )
     note = "; ".join(notes)
     return Optimum(
         coded=coded,

@@ -741,3 +741,14 @@ def test_identity_toml_drops_a_section_of_neutral_fields_only(monkeypatch) -> No
     assert "pads_per_brake = 2" in paper.identity_toml()
     paper1 = paper.with_updates({"brake.pads_per_brake": 1})
     assert "pads_per_brake = 1" in paper1.identity_toml()  # 1 == True, but not the neutral
+
+
+def test_a_block_cycle_row_with_an_empty_value_says_it_is_missing(tmp_path) -> None:
+    """A single-run review: an empty stops read "must be a whole number (got '')"."""
+    p = tmp_path / "c.csv"
+    p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,50,4,0.25,\n")
+    with pytest.raises(ConfigError, match=r"c\.csv line 2: stops: missing \(the row leaves it"):
+        load_cycle(p)
+    p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,,4,,3\n")
+    with pytest.raises(ConfigError, match=r"line 2: initial_speed_kmh, deceleration_g: missing"):
+        load_cycle(p)

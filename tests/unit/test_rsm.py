@@ -351,6 +351,21 @@ def test_a_plateau_of_equal_scores_is_said_and_its_setting_nearest_the_missed_li
     assert "goals missed" not in met.note and not met.edge_matters
 
 
+def test_an_interval_below_zero_of_a_positive_response_is_noted() -> None:
+    """A new user's review: V's 95 % interval of -4.2 to 4.3 mm³ at the optimum went without a
+    word. Every run positive, the fitted value positive, its interval reaching below 0."""
+    data = _bowl((0.0, 0.0))
+    scatter = [0.9, -0.85, 0.8, -0.8, 0.9, -0.85, 0.7, -0.7, 0.9, 0.0, 0.0]
+    data["y"] = 1.2 + 0.3 * data["p"] + np.array(scatter)
+    assert data["y"].min() > 0
+    best = optimize({"y": fit_response_surface(data, _PQ, "y")}, [Goal("y", "minimize", 0.0, 3.0)])
+    assert best.predicted["y"] > 0 > best.interval["y"][0]
+    assert "the confidence interval of y there reaches below 0, where no run's y is" in best.note
+    calm = _bowl((0.0, 0.0))  # an exact bowl: no such note
+    best = optimize({"y": fit_response_surface(calm, _PQ, "y")}, [Goal("y", "minimize", 0.0, 3.0)])
+    assert "reaches below 0" not in best.note
+
+
 def test_optimize_reports_a_goal_missed_everywhere_and_bad_requests() -> None:
     fit = fit_response_surface(_bowl((0.3, -0.2)), _PQ, "y")
     best = optimize({"y": fit}, [Goal("y", "maximize", 10.0, 20.0)])

@@ -99,6 +99,12 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
         values = {k: (row[k] or "").strip() for k in expected}
         if delimiter != ",":
             values = {k: v if k == "name" else decimal_point(v) for k, v in values.items()}
+        empty = [k for k in reader.fieldnames if k in expected and not values[k]]
+        if empty:  # a review: a missing stops read "must be a whole number (got '')"
+            raise ConfigError(
+                f"{source} line {lineno}: {', '.join(empty)}: missing (the row leaves "
+                f"{'it' if len(empty) == 1 else 'them'} empty)"
+            )
         grouped = [k for k in sorted(expected - {"name"}) if "_" in values[k]]
         if grouped:  # float() and pydantic read "5_0" as 50; no spreadsheet writes it
             k = grouped[0]
