@@ -1795,6 +1795,36 @@ def _exog(frame: pd.DataFrame, terms: Sequence[str], n: int) -> np.ndarray:
     return np.asarray(_fit_anova(frame, terms, check_only=True)[0].model.exog, dtype=float)
 
 
+def _fitted_model(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    interactions: Model,
+    alpha_to_remove: float | None,
+) -> tuple[list[Factor], pd.DataFrame, np.ndarray, np.ndarray, Any]:
+    """The model :func:`anova` fits, as it makes it: the factors, the usable rows of
+    ``summary``, their response [response unit], the centre points' mask and
+    :func:`_model`'s (frame, term names, terms, notes) of the other runs (None without
+    usable rows); shared by :func:`_model_arrays` and :func:`factor_trends`."""
+    factors = _factors(factors)
+    if _is_term_list(interactions):  # checked once, before any work
+        interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
+    data = _clean(summary, factors, response)
+    y = data[response].to_numpy(dtype=float)
+    if y.size == 0:
+        return factors, data, y, np.zeros(0, dtype=bool), None
+    centre = _center_mask(data, factors)
+    model = _model(
+        data.loc[~centre],
+        factors,
+        y[~centre],
+        interactions,
+        y_center=y[centre],
+        alpha_to_remove=alpha_to_remove,
+    )
+    return factors, data, y, centre, model
+
+
 def _model_arrays(
     summary: pd.DataFrame,
     factors: Iterable[Any],
@@ -1808,23 +1838,13 @@ def _model_arrays(
     (``"y ~ S + WP + S:WP"``; empty, and a one-column matrix, without usable rows)."""
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
-    factors = _factors(factors)
-    if _is_term_list(interactions):  # checked once, before any work
-        interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
-    data = _clean(summary, factors, response)
-    y = data[response].to_numpy(dtype=float)
-    if y.size == 0:
-        return data, y, np.ones((0, 1)), ""
-    centre = _center_mask(data, factors)
-    n_c = int(centre.sum())
-    frame, term_names, terms, _ = _model(
-        data.loc[~centre],
-        factors,
-        y[~centre],
-        interactions,
-        y_center=y[centre],
-        alpha_to_remove=alpha_to_remove,
+    _, data, y, centre, model = _fitted_model(
+        summary, factors, response, interactions, alpha_to_remove
     )
+    if model is None:
+        return data, y, np.ones((0, 1)), ""
+    n_c = int(centre.sum())
+    frame, term_names, terms, _ = model
     names = [term_names[t] for t in terms] + (["Ct Pt"] if n_c else [])
     formula = "y ~ " + (" + ".join(names) if names else "1")
     cube = _exog(frame, terms, y.size - n_c)
@@ -2591,33 +2611,23 @@ def factor_trends(
     }
     table = anova(
         summary,
-        factors,
+        raw,  # the factors once: an iterator given is read once, by _design_factors
         response,
         interactions=interactions,
         typ=typ,
         alpha_to_remove=alpha_to_remove,
     )
-    factors = _factors(factors)
-    if _is_term_list(interactions):  # as anova() takes them
-        interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
     out = pd.DataFrame({c: pd.Series(dtype=float) for c in TREND_COLUMNS})
     out = out.astype({"factor": object, "part": object, "scale": object})
     notes: list[str] = []
-    data = _clean(summary, factors, response)
-    if len(data) < 2 or "Residual" not in set(table["term"]):
+    # the ANOVA's model, as anova() makes it (the same pooling and elimination)
+    factors, data, _, _, model = _fitted_model(
+        summary, raw, response, interactions, alpha_to_remove
+    )
+    if model is None or len(data) < 2 or "Residual" not in set(table["term"]):
         out.attrs["note"] = "no ANOVA to split"
         return out
-    centre = _center_mask(data, factors)
-    y = data[response].to_numpy(dtype=float)
-    # the ANOVA's model, as anova() makes it (the same pooling and elimination)
-    frame, term_names, terms, _ = _model(
-        data.loc[~centre],
-        factors,
-        y[~centre],
-        interactions,
-        y_center=y[centre],
-        alpha_to_remove=alpha_to_remove,
-    )
+    frame, term_names, terms, _ = model
     rows = table.set_index("term")
     resid_df = float(rows.loc["Residual", "df"])
     resid_ms = float(rows.loc["Residual", "mean_sq"]) if resid_df > 0.5 else math.nan

@@ -132,6 +132,8 @@ def test_analyze_gives_the_trends_for_factors_given_as_an_iterator() -> None:
     lazily = analyze(summary, (f for f in (WP, S, A)), responses=("y",))["y"]["trends"]
     assert len(listed) == 2
     pd.testing.assert_frame_equal(lazily, listed)
+    direct = factor_trends(summary, (f for f in (WP, S, A)), "y")  # read once there too
+    pd.testing.assert_frame_equal(direct, listed)
 
 
 def test_an_infinite_f_has_p_0_as_in_the_anova() -> None:
