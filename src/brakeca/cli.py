@@ -276,11 +276,11 @@ def _design_notes(design: Any) -> None:
         if note is not None:
             console.print(f"[yellow]note:[/] {escape(note)}", highlight=False)
     from brakeca.config import FACTOR_ALIASES
+    from brakeca.design import _target
 
     for factor in design.factors:  # a new user's S on friction.slope (a fraction's A is usual)
         own = FACTOR_ALIASES.get(factor.name)
-        target = FACTOR_ALIASES[factor.field][0] if factor.field in FACTOR_ALIASES else factor.field
-        if own is not None and target != own[0]:
+        if own is not None and _target(factor.field) != own[0]:
             console.print(
                 f"[yellow]note:[/] factor {factor.name!r} sets {factor.field}; {factor.name} is "
                 f"also the paper's name for {own[0]}, which --set {factor.name}=... sets",
