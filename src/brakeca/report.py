@@ -1117,15 +1117,15 @@ def _centre_points_text(n: int) -> str:
 def _curvature_text(frame: pd.DataFrame) -> str:
     """ " Curvature: ..." for an ANOVA with centre points (its row ``Curvature``), or ""."""
     n_c = int(frame.attrs.get("center_points", 0) or 0)
-    rows = frame.loc[frame["term"] == "Curvature"] if "term" in frame.columns else frame.iloc[:0]
+    rows = _curvature_rows(frame)
     if not n_c or rows.empty:
         return ""
     what = (
         f" Curvature: {_centre_points_text(n_c)} against the other runs' (Minitab's Ct Pt, "
         "fitted by its own term so that the other terms are the factorial's)"
     )
-    aliases = rows["aliases"].iloc[0] if "aliases" in rows.columns else ""
-    if not _is_missing(aliases) and str(aliases).strip():
+    aliases = _confounded_with(rows)
+    if aliases:
         return (
             what + f"; not a test of curvature: {aliases} did not vary among the other runs, "
             f"so the centre points also differ from them in {aliases}, and the term cannot "
@@ -1154,17 +1154,34 @@ def _curvature_text(frame: pd.DataFrame) -> str:
     return what + f", p {p_text}: no evidence of curvature between the levels at 0.05." + pure
 
 
+def _curvature_rows(frame: pd.DataFrame) -> pd.DataFrame:
+    """The ANOVA's row ``Curvature`` (a design with centre points), or no row."""
+    return frame.loc[frame["term"] == "Curvature"] if "term" in frame.columns else frame.iloc[:0]
+
+
+def _confounded_with(rows: pd.DataFrame) -> str:
+    """The factors the Curvature row (:func:`_curvature_rows`) is confounded with (those
+    that did not vary among the other runs), or "" where it tests curvature."""
+    aliases = rows["aliases"].iloc[0] if "aliases" in rows.columns else ""
+    return "" if _is_missing(aliases) else str(aliases).strip()
+
+
+def _lack_of_fit_p(frame: pd.DataFrame) -> float | None:
+    """The ANOVA's lack-of-fit p where it is significant (below 0.05), else None."""
+    p = frame.attrs.get("lack_of_fit_p", math.nan)
+    return None if _is_missing(p) or float(p) >= 0.05 else float(p)
+
+
 def _pure_error_curvature(frame: pd.DataFrame, rows: pd.DataFrame) -> str:
     """Where the ANOVA's residual holds a significant lack of fit, the curvature test
-    against the pure error alone, which the effects table's Ct Pt row takes (a review found
-    the two verdicts contradicting each other without a word); empty otherwise."""
+    against the pure error alone (a review found the ANOVA's verdict and the effects
+    table's contradicting each other without a word); empty otherwise."""
     from scipy import stats
 
-    attrs = frame.attrs
-    lof_p = attrs.get("lack_of_fit_p", math.nan)
-    pe_df = attrs.get("pure_error_df", math.nan)
-    pe_ss = attrs.get("pure_error_ss", math.nan)
-    if any(_is_missing(v) for v in (lof_p, pe_df, pe_ss)) or float(lof_p) >= 0.05:
+    lof_p = _lack_of_fit_p(frame)
+    pe_df = frame.attrs.get("pure_error_df", math.nan)
+    pe_ss = frame.attrs.get("pure_error_ss", math.nan)
+    if lof_p is None or _is_missing(pe_df) or _is_missing(pe_ss):
         return ""
     if float(pe_df) < 0.5 or float(pe_ss) <= 0.0:
         return ""
@@ -1454,11 +1471,11 @@ def _finding(
 
 def _curvature_finding(frame: pd.DataFrame) -> str:
     """``"; curvature: p = 0.035 (significant)"`` where the ANOVA has centre points' row."""
-    rows = frame.loc[frame["term"] == "Curvature"] if "term" in frame.columns else frame
-    if rows.empty or "Curvature" not in set(frame.get("term", ())):
+    rows = _curvature_rows(frame)
+    if rows.empty:
         return ""
-    aliases = rows["aliases"].iloc[0] if "aliases" in rows.columns else ""
-    if not _is_missing(aliases) and str(aliases).strip():  # as _curvature_text says
+    aliases = _confounded_with(rows)
+    if aliases:  # as _curvature_text says
         return f"; the centre points' term is no test of curvature (confounded with {aliases})"
     p = rows["p_value"].iloc[0]
     if _is_missing(p):
@@ -1473,8 +1490,8 @@ def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> st
     "no term has p < 0.05" above an effects table with seven); empty otherwise."""
     if effects is None or effects.empty or effects.attrs.get("method") != "pure error":
         return ""
-    lof_p = frame.attrs.get("lack_of_fit_p", math.nan)
-    if _is_missing(lof_p) or float(lof_p) >= 0.05 or "significant" not in effects.columns:
+    lof_p = _lack_of_fit_p(frame)
+    if lof_p is None or "significant" not in effects.columns:
         return ""
     from brakeca.analysis import CENTER_TERM
 
