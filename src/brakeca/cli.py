@@ -1088,11 +1088,13 @@ def _per_test(summary: Any, factor_cols: Sequence[str]) -> tuple[Any, str]:
     for test, group in summary.groupby("test", sort=False):
         ok = group[group.get("status", pd.Series("ok", index=group.index)).astype(str) == "ok"]
         row = {"test": test, **{c: group[c].iloc[0] for c in factor_cols}}
-        row["status"] = "ok" if len(ok) == len(group) else f"{len(ok)}/{len(group)} ok"
-        row["MU"] = float(ok["MU"].mean()) if len(ok) else float("nan")
-        row["V_mm3"] = float(ok["V_mm3"].mean()) if len(ok) else float("nan")
-        if not len(ok):
-            row["status"] = "failed"
+        row["status"] = (
+            "ok"
+            if len(ok) == len(group)
+            else (f"{len(ok)}/{len(group)} ok" if len(ok) else "failed")
+        )
+        row["MU"] = float(ok["MU"].mean())  # NaN without a finished replicate
+        row["V_mm3"] = float(ok["V_mm3"].mean())
         rows.append(row)
     per_test = pd.DataFrame(rows)
     n = summary["replicate"].nunique()

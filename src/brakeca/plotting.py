@@ -105,10 +105,15 @@ def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
         return fig, fig.subplots()
     if not hasattr(ax, "figure") or not hasattr(ax, "plot"):
         raise TypeError(f"ax: expected a matplotlib Axes, got {type(ax).__name__}")
-    root: Any = ax.figure
-    while root.figure is not root:  # an axes of a SubFigure: the figure that holds it all
-        root = root.figure
-    return root, ax
+    return _root_figure(ax.figure), ax
+
+
+def _root_figure(fig: Any) -> Figure:
+    """The figure that holds ``fig`` (itself, or a SubFigure's parents up to the Figure):
+    the one a figure function returns and saves."""
+    while fig.figure is not fig:
+        fig = fig.figure
+    return fig
 
 
 def _panels(
@@ -125,10 +130,7 @@ def _panels(
             f"fig: expected a matplotlib Figure or SubFigure, got {type(fig).__name__} "
             "(for an Axes, the figures of one panel take ax=)"
         )
-    root: Any = fig
-    while root.figure is not root:  # a SubFigure: the figure that holds it all
-        root = root.figure
-    return root, fig
+    return _root_figure(fig), fig
 
 
 def _suptitle(fig: Figure | SubFigure, text: str) -> None:
