@@ -2604,11 +2604,6 @@ def factor_trends(
     3.5.4 (orthogonal contrasts) and 5.5 (fitting response curves in a factorial).
     """
     raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
-    nominal = {
-        str(_field(f, "name"))
-        for f in raw
-        if not isinstance(f, str) and _field(f, "choices") is not None
-    }
     table = anova(
         summary,
         raw,  # the factors once: an iterator given is read once, by _design_factors
@@ -2617,6 +2612,25 @@ def factor_trends(
         typ=typ,
         alpha_to_remove=alpha_to_remove,
     )
+    return _trends(summary, raw, response, table, interactions, alpha_to_remove)
+
+
+def _trends(
+    summary: pd.DataFrame,
+    raw: list[Any],
+    response: str,
+    table: pd.DataFrame,
+    interactions: Model,
+    alpha_to_remove: float | None,
+) -> pd.DataFrame:
+    """:func:`factor_trends` of the design's factors ``raw`` (a list: their ``choices``
+    kept) against ``table``, the :func:`anova` of the same model (which :func:`analyze`
+    has already)."""
+    nominal = {
+        str(_field(f, "name"))
+        for f in raw
+        if not isinstance(f, str) and _field(f, "choices") is not None
+    }
     out = pd.DataFrame({c: pd.Series(dtype=float) for c in TREND_COLUMNS})
     out = out.astype({"factor": object, "part": object, "scale": object})
     notes: list[str] = []
@@ -2845,14 +2859,7 @@ def analyze(
                 main_effects_only=main_effects_only,
                 model_terms=kept,
             ),
-            "trends": factor_trends(
-                summary,
-                design_factors,
-                response,
-                interactions=model,
-                typ=anova_type,
-                alpha_to_remove=alpha_to_remove,
-            ),
+            "trends": _trends(summary, design_factors, response, table, model, alpha_to_remove),
         }
     return result
 
