@@ -176,8 +176,9 @@ def test_a_local_worker_leaves_ctrl_c_to_the_campaign(tmp_path) -> None:
             pool = _local_pool(1)
             ignored = pool.submit(signal.getsignal, signal.SIGINT).result()
             assert ignored == signal.SIG_IGN, ignored
-            open({str(ready)!r}, "w").write("1")
-            try:
+            try:  # the marker inside the try, so the signal cannot land before it
+                with open({str(ready)!r}, "w") as marker:
+                    marker.write("1")
                 time.sleep(60)
             except KeyboardInterrupt:
                 pool.shutdown(cancel_futures=True)
@@ -201,9 +202,15 @@ def test_a_local_worker_leaves_ctrl_c_to_the_campaign(tmp_path) -> None:
             time.sleep(0.1)
         time.sleep(0.5)  # the worker back to waiting for its next call
         os.killpg(proc.pid, signal.SIGINT)
-        out, err = proc.communicate(timeout=30)
+        try:
+            out, err = proc.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            out, err = proc.communicate()
+            pytest.fail(f"the campaign process did not end within 60 s of Ctrl-C: {out!r} {err!r}")
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
-    assert proc.returncode == 0 and "parent interrupted" in out
+            proc.communicate()  # reaped, its pipes closed
+    assert proc.returncode == 0 and "parent interrupted" in out, (out, err)
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
