@@ -150,6 +150,36 @@ class DaskExecutor(cf.Executor):
                         self._held.__exit__(None, None, None)
 
 
+def brief_warnings() -> Callable[[], None]:
+    """Show brakeca's own warnings (:class:`brakeca.simulation.CheckpointWarning`,
+    :class:`brakeca.config.UnitWarning`) as one line, ``warning: MESSAGE``, where Python's
+    format names the library's file and line and quotes its source (``.../_executors.py:548:
+    CheckpointWarning: ...`` and ``return simulate(``), which says nothing to the command's
+    user; other warnings keep Python's format. For the command line and its worker
+    processes; returns the function that puts Python's format back."""
+    import warnings
+
+    default = warnings.formatwarning
+
+    def formatwarning(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        line: str | None = None,
+    ) -> str:
+        if category.__module__.split(".")[0] == "brakeca":
+            return f"warning: {message}\n"
+        return default(message, category, filename, lineno, line)
+
+    warnings.formatwarning = formatwarning
+
+    def restore() -> None:
+        warnings.formatwarning = default
+
+    return restore
+
+
 #: How often a local worker checks that the campaign's process still lives [s].
 PARENT_CHECK_EVERY = 1.0
 
@@ -187,6 +217,7 @@ def _init_worker() -> None:
     workers itself (:func:`_stop_pool`, which terminates them; a run in progress keeps its
     checkpoint) and says what is kept."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    brief_warnings()  # a checkpoint that cannot be written: one line, as the command's own
     os.environ.update(WORKER_ENV)
     numba = sys.modules.get("numba")
     if numba is not None:  # imported before the initializer ran (e.g. by the main module)

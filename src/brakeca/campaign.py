@@ -430,7 +430,9 @@ def _run_locked(
             f"[dim]removed the earlier study's analysis ({', '.join(replaced)}): it was of "
             "other runs[/]",
         )
-    atomic_write(out / "campaign.nc", lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
+    from brakeca.results import write_atomic  # made in memory: a full disk is an OSError
+
+    write_atomic(dataset, out / "campaign.nc")
     if failed:
         say(
             console,

@@ -320,8 +320,14 @@ class RunResult:
 
 
 def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
-    """Write a Dataset to netCDF atomically: a temporary file in the same folder, then rename."""
-    return atomic_write(path, lambda tmp: dataset.to_netcdf(tmp, engine="h5netcdf"))
+    """Write a Dataset to netCDF atomically: a temporary file in the same folder, then rename.
+
+    The file is made in memory and then written as bytes, so that a full disk is an
+    ``OSError`` the caller can report (writing through HDF5 to a full disk crashed the process
+    with a segmentation fault inside h5py, a robustness review found). A run file is a few MB
+    at full resolution.
+    """
+    return atomic_write(path, lambda tmp: tmp.write_bytes(dataset.to_netcdf(engine="h5netcdf")))
 
 
 # the per-stop reductions of a stop's per-step records that a run file needs (the columns of

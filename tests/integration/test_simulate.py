@@ -483,3 +483,40 @@ def test_run_files_carry_cf_metadata_on_every_coordinate(tmp_path) -> None:
         assert ds["final_height"].attrs["long_name"].startswith("cell height above the pad datum")
         assert "cells" in ds["secondary_removed_between_stops"].attrs["long_name"]
         assert "band_area: the simulated band's area A_sim [m2]" in ds.attrs["comment"]
+
+
+def test_a_full_disk_is_an_oserror_not_a_crash(tmp_path, run) -> None:
+    """Writing a run file (and ``campaign.nc``, written the same way) to a full disk crashed
+    the process in h5py with a segmentation fault, so no handler could say what happened and
+    how to go on (a robustness review; a small tmpfs reproduced it). The file is made in
+    memory now and written as bytes: a file-size limit, which fails the writes as a full disk
+    does, gives an OSError, and no temporary file is left."""
+    import subprocess
+    import sys
+    import textwrap
+
+    path = tmp_path / "run.nc"
+    run.to_netcdf(path)
+    size = path.stat().st_size
+    path.unlink()
+    script = tmp_path / "full.py"
+    script.write_text(
+        textwrap.dedent(
+            f"""
+            import resource, signal
+            from brakeca.results import RunResult
+            signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # EFBIG instead of the signal
+            result = RunResult.from_netcdf({str(tmp_path / "in.nc")!r})
+            resource.setrlimit(resource.RLIMIT_FSIZE, ({size // 2}, {size // 2}))
+            try:
+                result.to_netcdf({str(path)!r})
+            except OSError as exc:
+                print("OSError", exc.errno)
+            """
+        )
+    )
+    run.to_netcdf(tmp_path / "in.nc")
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True)
+    assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
+    assert done.stdout.split() == ["OSError", "27"], done.stdout  # EFBIG: File too large
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["full.py", "in.nc"]

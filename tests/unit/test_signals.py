@@ -214,3 +214,54 @@ def test_a_local_worker_leaves_ctrl_c_to_the_campaign(tmp_path) -> None:
             proc.communicate()  # reaped, its pipes closed
     assert proc.returncode == 0 and "parent interrupted" in out, (out, err)
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+
+
+def test_brakecas_warnings_are_one_line_in_a_worker_and_on_the_command_line(tmp_path) -> None:
+    """A checkpoint that cannot be written (a full disk) warned in Python's format, naming
+    ``_executors.py:548`` and quoting ``return simulate(`` (a robustness review). A local
+    worker and the command line show brakeca's warnings as ``warning: MESSAGE``; other
+    warnings keep Python's format, and the command's format is put back when it ends."""
+    script = tmp_path / "warn.py"
+    script.write_text(
+        textwrap.dedent(
+            """
+            import warnings
+            from brakeca._executors import _local_pool
+            from brakeca.simulation import CheckpointWarning
+
+            def warn():
+                warnings.warn("cannot write the checkpoint", CheckpointWarning, stacklevel=2)
+                warnings.warn("somebody else's", DeprecationWarning, stacklevel=2)
+
+            if __name__ == "__main__":
+                warnings.simplefilter("always")
+                with _local_pool(1) as pool:
+                    pool.submit(warn).result()
+            """
+        )
+    )
+    done = subprocess.run(
+        [sys.executable, "-W", "always", str(script)], capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 0, done.stderr
+    lines = done.stderr.splitlines()
+    assert "warning: cannot write the checkpoint" in lines, done.stderr
+    assert not any("CheckpointWarning" in line for line in lines), done.stderr
+    assert any("DeprecationWarning: somebody else's" in line for line in lines), done.stderr
+
+    import warnings
+
+    from brakeca._executors import brief_warnings
+
+    before = warnings.formatwarning
+    restore = brief_warnings()
+    try:
+        from brakeca.simulation import CheckpointWarning
+
+        text = warnings.formatwarning("full disk", CheckpointWarning, "x.py", 1, "line")
+        assert text == "warning: full disk\n"
+        other = warnings.formatwarning("old", DeprecationWarning, "x.py", 1, "line")
+        assert other == before("old", DeprecationWarning, "x.py", 1, "line")
+    finally:
+        restore()
+    assert warnings.formatwarning is before
