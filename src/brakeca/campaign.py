@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import collections
 import concurrent.futures as cf
+import csv
 import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
@@ -451,6 +452,19 @@ def _run_locked(
     )
 
 
+def _without_wall_time(summary_text: str) -> str:
+    """A summary.csv's text without its ``wall_time`` column: a run computed again (its file
+    deleted to keep maps, or damaged) gives the same results in another time, and the
+    analysis of them stands (a robustness review found it removed)."""
+    import io
+
+    rows = list(csv.reader(io.StringIO(summary_text)))
+    if not rows or "wall_time" not in rows[0]:
+        return summary_text
+    drop = rows[0].index("wall_time")
+    return "\n".join(",".join(row[:drop] + row[drop + 1 :]) for row in rows)
+
+
 def _stale_analysis(out: Path, summary_text: str) -> list[str]:
     """Remove the analysis (report.html, tables/, figures/) of the study in ``out`` when the
     summary about to be written (``summary_text``, summary.csv's text) differs from the one
@@ -463,8 +477,10 @@ def _stale_analysis(out: Path, summary_text: str) -> list[str]:
     if not path.is_file():
         return []
     try:  # the text summary.csv gets: equal text is an equal study, failed runs and all
-        same = path.read_text(encoding="utf-8") == summary_text
-    except (OSError, UnicodeDecodeError):
+        same = _without_wall_time(path.read_text(encoding="utf-8")) == _without_wall_time(
+            summary_text
+        )
+    except (OSError, UnicodeDecodeError, csv.Error):
         same = False
     if same:
         return []

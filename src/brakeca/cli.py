@@ -989,7 +989,7 @@ def _run_and_report(
         later = f"every run is in {output}; 'brakeca analyze {output}' writes the report"
         with _on_interrupt(later):
             try:
-                path = write_study(finish_campaign(output))
+                path = write_study(finish_campaign(output), note=_report_note)
             except OSError as exc:  # a full disk, say: the runs are done
                 _fail(f"-o {output}: cannot write the report ({exc}); {later}", code=1)
         out.print(f"report: {path}", markup=False)
@@ -1229,9 +1229,19 @@ def analyze(
         _fail(f"--anova-type: expected 2 (Type II) or 3 (Type III, adjusted), got {anova_type}")
     if order is not None and not 1 <= order <= 10:
         _fail(f"--order: expected the most factors in a model term, 1 to 10, got {order}")
+    from brakeca._runstore import lock_holder
+
+    holder = lock_holder(folder)
     try:
         result = finish_campaign(folder)
     except (ConfigError, FileNotFoundError, ValueError) as exc:
+        if holder is not None and isinstance(exc, FileNotFoundError):
+            # its first campaign has not written the summary yet ('brakeca run' would be
+            # refused by the lock, which the message of load_campaign says to use)
+            _fail(
+                f"a campaign is writing {folder} ({holder}) and has not written its "
+                "summary.csv and campaign.nc yet; analyse it when the campaign ends"
+            )
         _fail(str(exc))
     try:
         chosen = check_max_order(result.design, order, terms)  # before the summary is printed
@@ -1246,9 +1256,6 @@ def analyze(
                 text = option + text.removeprefix(name)
                 break
         _fail(text)
-    from brakeca._runstore import lock_holder
-
-    holder = lock_holder(folder)
     if holder is not None:
         console.print(
             f"[yellow]note:[/] a campaign is writing {escape(str(folder))} ({escape(holder)}): "
@@ -1271,6 +1278,7 @@ def analyze(
                 alpha_to_remove=reduce,
                 max_order=order,
                 model_terms=terms,
+                note=_report_note,
             )
         except OSError as exc:  # a full disk, a file the folder's owner made read-only
             where = exc.filename or folder
@@ -1286,6 +1294,11 @@ def analyze(
     out.print(
         f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
     )
+
+
+def _report_note(text: str) -> None:
+    """Print a note the report gives on the run files (:func:`brakeca.study.write_study`)."""
+    console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
 
 
 _GOAL_FORM = (

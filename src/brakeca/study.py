@@ -21,7 +21,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -465,10 +465,27 @@ def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return ds[variable].values, ds["radius"].values, ds["angle"].values
 
 
-def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.DataFrame, str]:
+def _unreadable_runs(runs_dir: Path, run_ids: Iterable[str]) -> dict[str, str]:
+    """The run files in ``runs_dir`` of ``run_ids`` that are there but cannot be read as
+    brakeca run files (damaged, cut short, another kind of netCDF file), each with what is
+    wrong with it; a missing file is not listed."""
+    unreadable = {}
+    for rid in run_ids:
+        path = runs_dir / f"{rid}.nc"
+        if path.is_file():
+            try:
+                RunResult.from_netcdf(path)
+            except (OSError, ValueError) as exc:
+                unreadable[rid] = str(exc)
+    return unreadable
+
+
+def _pm10_columns(
+    result: CampaignResult, summary: pd.DataFrame, filed: set[str]
+) -> tuple[pd.DataFrame, str]:
     """PM10 [mg/km] low/central/high of every run on a speed-trace cycle (NaN for runs on a
     block cycle, whose distance between stops is unknown, for failed runs and for runs whose
-    file is missing)."""
+    file is missing or unreadable: those not in ``filed``, the run ids of readable files)."""
     from brakeca.emissions import (
         EURO7_PM10_LIMIT,
         EURO7_PM10_LIMIT_PEV,
@@ -483,7 +500,7 @@ def _pm10_columns(result: CampaignResult, summary: pd.DataFrame) -> tuple[pd.Dat
     for _, row in summary.iterrows():
         values = [float("nan")] * 3
         path = Path(result.out_dir) / "runs" / f"{row['run_id']}.nc"
-        if row.get("status", "ok") == "ok" and path.is_file():  # (write_study notes a lost file)
+        if row.get("status", "ok") == "ok" and row["run_id"] in filed:  # (lost: write_study notes)
             run = RunResult.from_netcdf(path)
             if run.config.cycle.trace_file:
                 any_trace = True
@@ -553,6 +570,7 @@ def write_study(
     alpha_to_remove: float | None = None,
     max_order: int | None = None,
     model_terms: Sequence[str] | str | None = None,
+    note: Callable[[str], object] | None = None,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -580,6 +598,9 @@ def write_study(
         one string of them; :func:`brakeca.analysis.canonical_terms`), as Minitab's Terms
         dialog picks them; by default the design's ``model_terms`` where it has them and
         no ``max_order`` is given. Not with ``max_order``.
+    note
+        Called with the text of each note the report gives on the run files (one that cannot
+        be read, left out of the figures), for a command to print it as well.
 
     Returns
     -------
@@ -837,8 +858,13 @@ def write_study(
 
     runs_dir = out / "runs"
     # the figures of the runs' own files draw the runs whose file is there: a folder sent
-    # without runs/ (summary.csv and campaign.nc) still gives every table and the report
-    filed = ok[[(runs_dir / f"{rid}.nc").is_file() for rid in ok["run_id"]]]
+    # without runs/ (summary.csv and campaign.nc) still gives every table and the report;
+    # a damaged file is left out as a missing one is, and named (it raised half-way through
+    # the figures, leaving new tables beside the old report: a fuzz review)
+    unreadable = _unreadable_runs(runs_dir, ok["run_id"])
+    filed = ok[
+        [(runs_dir / f"{rid}.nc").is_file() and rid not in unreadable for rid in ok["run_id"]]
+    ]
     names = {f.name for f in factors}
     if "A" in names and len(filed):
         maps = {}
@@ -934,12 +960,28 @@ def write_study(
         "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
     )
-    if len(filed) < len(ok):
-        lost = ok.loc[~ok["run_id"].isin(filed["run_id"]), "test"]
+    if unreadable:
+        bad = ok.loc[ok["run_id"].isin(unreadable), "test"]
+        text = (
+            f"In {runs_dir}, the run file{'s' if len(bad) > 1 else ''} of "
+            f"{tests_named(int(t) for t in bad)} cannot be read ("
+            + "; ".join(unreadable.values())
+            + "): the report leaves "
+            + ("them" if len(bad) > 1 else "it")
+            + f" out; 'brakeca run {out / 'design.toml'} -o {out}' computes "
+            + ("those runs" if len(bad) > 1 else "the run")
+            + " again."
+        )
+        notes += "\n\n" + text
+        if note is not None:
+            note(text)
+    if len(filed) + len(unreadable) < len(ok):
+        lost = ok.loc[~ok["run_id"].isin([*filed["run_id"], *unreadable]), "test"]
         which = (
             f"none of the {len(ok)} finished runs has its run file"
             if not len(filed)
-            else f"{len(lost)} of the {len(ok)} finished runs have no run file (of "
+            else f"{len(lost)} of the {len(ok)} finished runs "
+            f"{'has' if len(lost) == 1 else 'have'} no run file (of "
             f"{tests_named(int(t) for t in lost)})"
         )
         notes += (
@@ -950,7 +992,7 @@ def write_study(
     floor_note = _floor_note(result, base)
     if floor_note:
         notes += "\n\n" + floor_note
-    summary, pm10_note = _pm10_columns(result, summary)
+    summary, pm10_note = _pm10_columns(result, summary, set(filed["run_id"]))
     if pm10_note:
         notes = notes + "\n\n" + pm10_note
         summary.to_csv(out / "tables" / "pm10.csv", index=False)

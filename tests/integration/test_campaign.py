@@ -753,6 +753,23 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     rerun_reusing(out, progress=False)
     assert (out / "report.html").read_text(encoding="utf-8") == "this study's report"
+    # a run computed again (its file deleted, or damaged) differs in its wall time alone: the
+    # analysis stands (a robustness review found it removed); another result removes it
+    from brakeca.campaign import _stale_analysis
+
+    (out / "tables").mkdir()
+    text = (out / "summary.csv").read_text(encoding="utf-8")
+    header, first, *rest = text.splitlines(keepends=True)
+    column = header.rstrip("\n").split(",").index("wall_time")
+    cells = first.rstrip("\n").split(",")
+    cells[column] = str(float(cells[column]) + 1.5)
+    assert _stale_analysis(out, "".join([header, ",".join(cells) + "\n", *rest])) == []
+    assert (out / "report.html").is_file() and (out / "tables").is_dir()
+    cells[header.split(",").index("MU")] = "0.5"
+    changed = "".join([header, ",".join(cells) + "\n", *rest])
+    assert _stale_analysis(out, changed) == ["report.html", "tables/"]
+    assert not (out / "report.html").exists()
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
     # analyze while a campaign holds the folder says so
     monkeypatch.setattr(_runstore, "lock_holder", lambda folder: "pid 1 on host, since then")
     res = CliRunner().invoke(app, ["analyze", str(out)])
@@ -761,6 +778,12 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     assert "(pid 1 on host, since then): this report is of the study as it stands" in " ".join(
         res.output.split()
     )
+    # the first campaign of a folder, still running, has no summary yet: analyze said to
+    # finish it with 'brakeca run', which the lock refuses (a robustness review)
+    res = CliRunner().invoke(app, ["analyze", str(fresh)])
+    said = " ".join(res.output.split())
+    assert res.exit_code == 2 and "(pid 1 on host, since then) and has not written" in said
+    assert "analyse it when the campaign ends" in said and "finishes it" not in said
 
 
 def test_a_run_file_of_an_earlier_version_is_reused_beside_new_ones(serial, tmp_path):

@@ -630,6 +630,27 @@ def test_a_folder_sent_without_its_run_files_is_analysed(campaign, tmp_path):
     assert [p.name for p in (sent / "figures").glob("final_map_*.png")] == [
         "final_map_test03_r0.png"
     ]
+    # damaged run files (cut short, not netCDF) are left out and named, in the report and
+    # on the terminal (the analysis stopped with a traceback, half its outputs rewritten)
+    for test, damage in ((1, "cut"), (2, "junk")):
+        rid = summary.loc[summary["test"] == test, "run_id"].item()
+        if damage == "cut":
+            data = (out / "runs" / f"{rid}.nc").read_bytes()
+            (sent / "runs" / f"{rid}.nc").write_bytes(data[: len(data) // 3])
+        else:
+            (sent / "runs" / f"{rid}.nc").write_text("junk", encoding="utf-8")
+    res = CliRunner().invoke(app, ["analyze", str(sent)])
+    assert res.exit_code == 0, res.output
+    said = " ".join(res.output.split())
+    assert "note: In " in said and "the run files of tests 1, 2 cannot be read (" in said
+    assert "computes those runs again" in said
+    html = " ".join((sent / "report.html").read_text(encoding="utf-8").split())
+    assert "the run files of tests 1, 2 cannot be read (" in html
+    assert "not a readable netCDF file" in html
+    assert "1 of the 4 finished runs has no run file (of test 4)" in html
+    assert [p.name for p in (sent / "figures").glob("final_map_*.png")] == [
+        "final_map_test03_r0.png"
+    ]
 
 
 def test_stops_beyond_the_cycle_get_a_note(tmp_path, monkeypatch):
