@@ -514,6 +514,8 @@ def _refuse_to_replace(
         if not shown:
             return
         what, first = "the study of another design", "design"
+        if not (out / "summary.csv").is_file():
+            what = "another design's runs"
         after = (
             ". A design that keeps every run of the study there and adds others (more "
             "replicates, centre points, a fold-over of a design without centre points, a "
@@ -527,6 +529,8 @@ def _refuse_to_replace(
                 "last level of the last factor, or a factor added, numbers the tests anew"
             )
     replaced = "summary.csv and report.html" if (out / "report.html").is_file() else "summary.csv"
+    if not (out / "summary.csv").is_file():
+        replaced = "design.toml and leave those runs out"
     raise ConfigError(
         f"{out} holds {what} ({shown}): this one would replace its {replaced}. Give another "
         "folder, or replace it on purpose (--replace; replace=True "
@@ -545,7 +549,7 @@ def _runs_left_out(
     number, so another seed)."""
     path = out / "summary.csv"
     if not path.is_file():
-        return "", 0
+        return _unfinished_left_out(out, points), 0
     try:
         old = read_summary(path)
         ids = set(old["run_id"].astype(str))
@@ -581,6 +585,35 @@ def _runs_left_out(
     )
     shown = f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one{seeds}"
     return shown, renumbered
+
+
+def _unfinished_left_out(out: Path, points: Sequence[RunPoint]) -> str:
+    """What a first campaign in ``out``, stopped before it wrote its summary, has done or
+    begun (run files, checkpoints in ``runs/``) that a campaign of ``points`` would leave
+    out, e.g. ``"the unfinished campaign of design 'tiny': 2 of its runs, done or begun,
+    not in this one"``; empty when there is none (a robustness review: such a folder took
+    another design without a word, its checkpoints left behind for good)."""
+    runs = out / "runs"
+    if not (out / "design.toml").is_file() or not runs.is_dir():
+        return ""
+    started = {f.stem for f in runs.glob("*.nc")} | {
+        f.name.removeprefix(".").removesuffix(".checkpoint.npz")
+        for f in runs.glob(".*.checkpoint.npz")
+    }
+    missing = started - {run_id(p) for p in points}
+    if not missing:
+        return ""
+    name = "?"
+    try:
+        import tomllib
+
+        name = str(tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))["name"])
+    except Exception:
+        pass
+    return (
+        f"the unfinished campaign of design {name!r}: {len(missing)} of its runs, done or "
+        "begun, not in this one"
+    )
 
 
 def _execute_points(

@@ -834,3 +834,47 @@ def test_a_run_file_of_another_seed_or_configuration_alone_is_recomputed(serial,
     assert sorted(result.recomputed) == sorted(ids[:2])
     assert "belongs to another run (the result has seed" in text
     assert "belongs to another run (the result's configuration differs from the run's)" in text
+
+
+def test_an_unfinished_first_campaign_is_not_taken_over_by_another_design(tmp_path):
+    """A first campaign stopped before its summary, resumed with another design (other
+    levels), took it without a word: its design.toml was overwritten and the checkpoint of
+    a run the new design leaves out stayed for good (a robustness review). It is refused now
+    as another study is, naming the runs it would leave out; --replace takes it on purpose,
+    and the same design resumes as before."""
+    design = write_design(tmp_path, TINY, DESIGN)
+    calls = []
+
+    def one_then_stop(config, *, seed, progress=None, maps_at=()):
+        if calls:
+            raise KeyboardInterrupt
+        calls.append(seed)
+        return simulate(config, seed=seed)
+
+    out = tmp_path / "c"
+    with pytest.raises(KeyboardInterrupt):
+        run_campaign(
+            design, out, executor="serial", simulate_fn=one_then_stop, progress=False,
+            console=quiet(),
+        )  # fmt: skip
+    assert len(list((out / "runs").glob("*.nc"))) == 1 and not (out / "summary.csv").exists()
+    other = tmp_path / "other.toml"
+    other.write_text(DESIGN.replace("levels = [10.0, 20.0]", "levels = [15.0, 20.0]"))
+    before = (out / "design.toml").read_text(encoding="utf-8")
+    with pytest.raises(ConfigError) as refused:
+        run_campaign(other, out, executor="serial", simulate_fn=must_not_run, console=quiet())
+    text = " ".join(str(refused.value).split())
+    assert "holds another design's runs (the unfinished campaign of design 'tiny': 1 of" in text
+    assert "would replace its design.toml and leave those runs out" in text and "--replace" in text
+    assert (out / "design.toml").read_text(encoding="utf-8") == before
+    shutil.copytree(out, tmp_path / "taken")
+    # the same design resumes it: the finished run is reused
+    done = run_campaign(design, out, executor="serial", progress=False, console=quiet())
+    assert done.ok and len(done.computed) == 3 and len(done.reused) == 1
+    # and the other design takes it on purpose
+    (tmp_path / "taken" / ".brakeca.lock").unlink(missing_ok=True)
+    taken = run_campaign(
+        other, tmp_path / "taken", executor="serial", progress=False, console=quiet(), replace=True
+    )
+    assert taken.ok and len(taken.computed) == 4  # the run of A = 10 % is not among them
+    assert len(list((tmp_path / "taken" / "runs").glob("*.nc"))) == 5  # and is kept
