@@ -115,6 +115,11 @@ def check_factorial(design: Design) -> None:
         )
 
 
+#: The most replicates :func:`factor_power` evaluates, as a design may have
+#: (:attr:`brakeca.design.Design.replicates`).
+MAX_REPLICATES = 10_000
+
+
 def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[int]:
     """The replicates to evaluate, checked: by default 1 to 5, and up to the design's own."""
     if replicates is not None and (
@@ -131,6 +136,10 @@ def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[
     for r in counts:
         if isinstance(r, bool) or not isinstance(r, int | np.integer) or r < 1:
             raise ValueError(f"replicates: expected whole numbers of 1 or more, got {r!r}")
+        if r > MAX_REPLICATES:  # a design's own limit; 10,000 take seconds and 0.5 GB
+            raise ValueError(
+                f"replicates: at most {MAX_REPLICATES:,} (a design's limit), got {int(r):,}"
+            )
     twice = sorted({int(r) for r in counts if counts.count(r) > 1})
     if twice:
         raise ValueError(f"replicates: {twice[0]} is given twice")
@@ -319,6 +328,8 @@ def _power_table(
                 critical = stats.f.isf(alpha, df_f, df_error)
                 # scipy's noncentral F gives nonsense at a noncentrality of exactly 0
                 power = float(stats.ncf.sf(critical, df_f, df_error, lam)) if lam > 0 else alpha
+                if math.isnan(power):  # scipy's NaN past a noncentrality of about 1e19,
+                    power = 1.0  # where the power has long reached its limit, 1 (a review)
             else:
                 power = math.nan
             rows.append(_row(design, f.name, r, df_f, df_error, lam, power))

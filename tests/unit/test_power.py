@@ -90,6 +90,8 @@ def test_bad_input_names_the_parameter():
         ({"effect": 1.0, "sigma": "0.0059"}, "sigma: expected a finite number above 0"),
         ({"effect": "1", "sigma": 1.0}, "effect: expected a finite number above 0"),
         ({"effect": 1.0, "sigma": 1.0, "replicates": [0]}, "replicates: expected whole numbers"),
+        # no limit ran out of memory (a fuzz review: 10**8 replicates, killed)
+        ({"effect": 1.0, "sigma": 1.0, "replicates": [10_001]}, "replicates: at most 10,000"),
     ]:
         with pytest.raises(ValueError, match=message):
             factor_power(design, **kwargs)
@@ -304,3 +306,16 @@ def test_power_says_where_the_model_pools_its_interactions(tmp_path) -> None:
     text = " ".join(res.output.split())
     assert "with 1 replicate: model with two-factor interactions is saturated" in text
     assert "with 2 replicates:" not in text
+
+
+def test_a_huge_noncentrality_has_power_1_not_no_error_df():
+    """scipy's noncentral F is NaN past a noncentrality of about 1e19, which the command
+    showed as "no error df" with 9 error df beside it (a fuzz review: sigma in m^3 for V's
+    mm^3, say). The power there is 1, its limit, as at a noncentrality a little below."""
+    design = load_design("paper")
+    huge = factor_power(design, 1.0, 1e-10, replicates=[1])
+    large = factor_power(design, 1.0, 1e-3, replicates=[1])
+    assert (huge["power"] == 1.0).all() and np.allclose(large["power"], 1.0, atol=1e-12)
+    assert (huge["df_error"] == 9).all()
+    res = CliRunner().invoke(app, ["power", "paper", "--effect", "1", "--sigma", "1e-10"])
+    assert res.exit_code == 0 and "no error df" not in res.output, res.output
