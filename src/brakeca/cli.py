@@ -93,6 +93,15 @@ def output_problem(path: Path, *, folder: bool = False) -> str | None:
     return None
 
 
+def _folder_path(text: str) -> Path:
+    """``-o``'s folder: an empty text is refused, where it would be the working folder
+    (``Path("")`` is ``.``: ``-o "$OUT"`` with OUT unset filled it with a campaign; a fuzz
+    review); what else cannot be written is refused before any work (:func:`_check_output`)."""
+    if not text.strip():
+        raise typer.BadParameter("an empty path; give the folder to write, e.g. -o results/mine")
+    return Path(text)
+
+
 def _check_output(path: Path, option: str | None = "-o", *, folder: bool = False) -> None:
     """Refuse (exit status 2) an output that cannot be written, before any work
     (:func:`output_problem`); ``option``: the option that gave it, None for a default."""
@@ -634,7 +643,7 @@ def plot(
             "-o",
             "--output",
             metavar="DIR",
-            file_okay=False,
+            parser=_folder_path,
             help="folder for the PNG files (default: beside the run file, RUN_figures; for a "
             "campaign, FOLDER/run_figures, one subfolder per run)",
         ),
@@ -1114,7 +1123,10 @@ DesignArg = Annotated[
 @app.command(short_help="run every point of a design (resumes finished runs)")
 def run(
     design: DesignArg,
-    output: Annotated[Path, typer.Option("-o", "--output", metavar="PATH", help="campaign folder")],
+    output: Annotated[
+        Path,
+        typer.Option("-o", "--output", metavar="PATH", parser=_folder_path, help="campaign folder"),
+    ],
     workers: WorkersOpt = None,
     executor: ExecutorOpt = "local",
     scheduler: SchedulerOpt = None,
@@ -1786,6 +1798,7 @@ def paper(
             "-o",
             "--output",
             metavar="PATH",
+            parser=_folder_path,
             help="campaign folder (default: results/paper; results/paper_quick with --quick; "
             "_stopsN added with --stops N)",
         ),

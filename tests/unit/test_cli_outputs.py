@@ -98,6 +98,14 @@ def test_campaign_outputs_are_checked_before_any_run(afile, monkeypatch) -> None
         assert line == "error: -o afile/c: cannot create it (afile is a file, not a folder)"
     line = _one_error_line(_invoke("run", str(design), "-o", "afile", "--quick"))
     assert "-o afile: cannot create it (a file of that name exists; give a folder)" in line
+    # an empty -o (OUT unset in -o "$OUT") was the working folder, which took the campaign
+    # (a fuzz review); plot's figures likewise
+    Path("r.nc").write_text("")
+    for args in (["run", str(design)], ["paper", "--quick"], ["plot", "r.nc"]):
+        res = _invoke(*args, "-o", "")
+        assert res.exit_code == 2, res.output
+        assert "'-o' / '--output': an empty path; give the folder" in " ".join(res.output.split())
+    assert sorted(p.name for p in Path().iterdir()) == ["afile", "d.toml", "r.nc"]
 
 
 def test_a_checkpoint_that_cannot_be_written_is_refused_before_the_run(afile, monkeypatch):
