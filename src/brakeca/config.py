@@ -190,6 +190,13 @@ class MeshConfig(_Frozen):
                 f"n_angular ({self.n_angular}) must be a multiple of n_subdomains "
                 f"({self.n_subdomains}): each subdomain holds n_angular / n_subdomains columns"
             )
+        span = self.n_angular * self.angular_step_deg
+        if span > 360.0:  # (a fuzz review: 440 and 100,000 degrees were taken)
+            raise ValueError(
+                f"n_angular x angular_step_deg = {self.n_angular} x {self.angular_step_deg:g} "
+                f"= {span:g} deg: the band is a sector of the pad, at most 360 deg (the "
+                "paper's 1000 x 0.044 deg = 44 deg)"
+            )
         return self
 
     @property
@@ -681,6 +688,22 @@ class SimulationConfig(_Frozen):
                 f"[{self.brake.disc_inner_radius * 1e3:.3f}, "
                 f"{self.brake.disc_outer_radius * 1e3:.3f}] mm (mesh.inner_radius, mesh.n_radial, "
                 "mesh.radial_step)"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _band_within_pad(self) -> SimulationConfig:
+        # the band carries the pad's force times A_sim / A_pad (cycle.brake_demand): a band
+        # larger than the pad would carry more than the pad does (a fuzz review)
+        from brakeca.geometry import make_grid  # (geometry imports this module)
+
+        area = make_grid(self).area
+        if area > self.brake.pad_area:
+            raise ValueError(
+                f"the simulated band's area, {area * 1e6:.5g} mm² (mesh.n_radial, "
+                "mesh.radial_step, mesh.n_angular, mesh.angular_step_deg), is larger than "
+                f"the pad's, brake.pad_area = {self.brake.pad_area * 1e6:.5g} mm²: the band is "
+                "a part of the pad, and carries the pad's force times their ratio"
             )
         return self
 

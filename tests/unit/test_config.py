@@ -110,6 +110,9 @@ def test_bad_values_name_the_field(updates, needle):
         ({"brake.effective_radius": 0.07999}, r"need disc_inner_radius < effective_radius <"),
         ({"brake.pad_area": 0.0406}, r"pad_area \(0\.0406 m²\) must be less than the disc face"),
         ({"mesh.inner_radius": 0.1385}, r"the simulated band \[138\.500, 158\.500\] mm must lie"),
+        # a band past 360 deg, or larger than the pad, was taken (a fuzz review)
+        ({"mesh.angular_step_deg": 0.361}, r"1000 x 0\.361 = 361 deg: the band is a sector"),
+        ({"brake.pad_area": 1.744e-3}, r"band's area, 1744\.2 mm² .* larger than the pad's"),
         (
             {
                 "cycle.blocks": [
@@ -129,6 +132,19 @@ def test_bad_values_name_the_field(updates, needle):
 def test_values_just_past_a_limit_are_refused(updates, needle):
     with pytest.raises(ConfigError, match=needle):
         load_preset("paper").with_updates(updates)
+
+
+def test_values_just_within_the_bands_limits_are_taken():
+    paper = load_preset("paper")
+    assert paper.with_updates({"brake.pad_area": 1.7443e-3}).brake.pad_area == 1.7443e-3
+    assert paper.with_updates(
+        {
+            "mesh.n_angular": 360,
+            "mesh.angular_step_deg": 1.0,
+            "mesh.n_radial": 3,
+            "brake.pad_area": 0.04,
+        }
+    )
 
 
 def test_cycle_final_speed_above_initial(tmp_path):
