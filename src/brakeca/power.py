@@ -116,8 +116,9 @@ def check_factorial(design: Design) -> None:
 
 
 #: The most replicates :func:`factor_power` evaluates, as a design may have
-#: (:attr:`brakeca.design.Design.replicates`).
-MAX_REPLICATES = 10_000
+#: (:attr:`brakeca.design.Design.replicates`); the search of :func:`replicates_needed` stops
+#: at :data:`MAX_REPLICATES`.
+MOST_REPLICATES = 10_000
 
 
 def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[int]:
@@ -136,9 +137,9 @@ def _replicate_counts(design: Design, replicates: Sequence[int] | None) -> list[
     for r in counts:
         if isinstance(r, bool) or not isinstance(r, int | np.integer) or r < 1:
             raise ValueError(f"replicates: expected whole numbers of 1 or more, got {r!r}")
-        if r > MAX_REPLICATES:  # a design's own limit; 10,000 take seconds and 0.5 GB
+        if r > MOST_REPLICATES:  # a design's own limit; 10,000 take seconds and 0.5 GB
             raise ValueError(
-                f"replicates: at most {MAX_REPLICATES:,} (a design's limit), got {int(r):,}"
+                f"replicates: at most {MOST_REPLICATES:,} (a design's limit), got {int(r):,}"
             )
     twice = sorted({int(r) for r in counts if counts.count(r) > 1})
     if twice:

@@ -861,10 +861,10 @@ def write_study(
     # without runs/ (summary.csv and campaign.nc) still gives every table and the report;
     # a damaged file is left out as a missing one is, and named (it raised half-way through
     # the figures, leaving new tables beside the old report: a fuzz review)
-    unreadable = _unreadable_runs(runs_dir, ok["run_id"])
-    filed = ok[
-        [(runs_dir / f"{rid}.nc").is_file() and rid not in unreadable for rid in ok["run_id"]]
-    ]
+    ids = list(ok["run_id"]) if "run_id" in ok.columns else []  # (no column: no run finished)
+    unreadable = _unreadable_runs(runs_dir, ids)
+    readable = {rid for rid in ids if (runs_dir / f"{rid}.nc").is_file()} - set(unreadable)
+    filed = ok[[rid in readable for rid in ids]]
     names = {f.name for f in factors}
     if "A" in names and len(filed):
         maps = {}
@@ -992,7 +992,7 @@ def write_study(
     floor_note = _floor_note(result, base)
     if floor_note:
         notes += "\n\n" + floor_note
-    summary, pm10_note = _pm10_columns(result, summary, set(filed["run_id"]))
+    summary, pm10_note = _pm10_columns(result, summary, readable)
     if pm10_note:
         notes = notes + "\n\n" + pm10_note
         summary.to_csv(out / "tables" / "pm10.csv", index=False)

@@ -173,6 +173,9 @@ def test_a_local_worker_leaves_ctrl_c_to_the_campaign(tmp_path) -> None:
         import os, signal, sys, time
         from brakeca._executors import _local_pool
         if __name__ == "__main__":
+            # as at a terminal: a shell's background job (the suite run with '&') starts
+            # with SIGINT ignored, and Python then installs no KeyboardInterrupt handler
+            signal.signal(signal.SIGINT, signal.default_int_handler)
             pool = _local_pool(1)
             ignored = pool.submit(signal.getsignal, signal.SIGINT).result()
             assert ignored == signal.SIG_IGN, ignored
