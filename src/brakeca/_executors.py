@@ -12,6 +12,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import importlib.machinery
 import multiprocessing
+import numbers
 import os
 import signal
 import sys
@@ -519,10 +520,8 @@ def make_executor(
     if kind not in EXECUTOR_KINDS:
         raise ValueError(f"unknown executor {kind!r}; choose 'serial', 'local' or 'dask'")
     _check_scheduler(kind, scheduler, scheduler_file)
-    if workers is not None and int(workers) < 1:
-        raise ValueError(f"workers must be at least 1, got {workers}")
-    if max_retries is not None and int(max_retries) < 0:
-        raise ValueError(f"max_retries must be at least 0, got {max_retries}")
+    _check_count("workers", workers, 1)
+    _check_count("max_retries", max_retries, 0)
     if kind == "serial":
         return SerialExecutor()
     if kind == "local":
@@ -548,6 +547,16 @@ def _check_scheduler(
             f"scheduler_file {str(scheduler_file)!r} does not exist; start the scheduler with "
             "'dask scheduler --scheduler-file FILE' first"
         )
+
+
+def _check_count(name: str, value: object, least: int) -> None:
+    """Raise ValueError, naming ``name``, unless ``value`` is None or a whole number of at
+    least ``least`` (workers=2.5 was taken as 2, and "a" got int()'s message: a fuzz
+    review)."""
+    if value is not None and (
+        isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least
+    ):
+        raise ValueError(f"{name}: expected a whole number at least {least}, got {value!r}")
 
 
 def _execute(

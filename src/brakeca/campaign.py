@@ -62,6 +62,7 @@ from brakeca._executors import (
     SerialExecutor,
     SimulateFn,
     _backend,
+    _check_count,
     _check_scheduler,
     _Execution,
     make_executor,
@@ -263,10 +264,8 @@ def run_campaign(
     if isinstance(executor, str) and executor not in EXECUTOR_KINDS:
         raise ValueError(f"unknown executor {executor!r}; choose 'serial', 'local' or 'dask'")
     _check_scheduler(executor, scheduler, scheduler_file)
-    if workers is not None and workers < 1:
-        raise ValueError(f"workers must be at least 1, got {workers}")
-    if isinstance(max_retries, bool) or int(max_retries) != max_retries or max_retries < 0:
-        raise ValueError(f"max_retries must be a whole number at least 0, got {max_retries!r}")
+    _check_count("workers", workers, 1)
+    _check_count("max_retries", max_retries, 0)
     if checkpoint_every is not None and (
         isinstance(checkpoint_every, bool)
         or int(checkpoint_every) != checkpoint_every

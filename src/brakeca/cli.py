@@ -905,6 +905,11 @@ def _run_and_report(
             f"--scheduler-file {scheduler_file}: no such file; start the scheduler with "
             "'dask scheduler --scheduler-file FILE' first"
         )
+    if workers is not None and executor == "serial":
+        _fail(
+            "--workers does not apply to --executor serial, which runs one run at a time in "
+            "this process; use --executor local for worker processes"
+        )
     if workers is not None and (scheduler is not None or scheduler_file is not None):
         _fail(
             "--workers does not apply to an existing Dask cluster (--scheduler, "

@@ -916,6 +916,11 @@ class SimulationConfig(_Frozen):
     @classmethod
     def from_toml(cls, text: str, *, source: str = "config") -> SimulationConfig:
         """Parse and validate TOML text."""
+        if not isinstance(text, str):  # (3 gave an AttributeError; bytes a TypeError)
+            raise TypeError(
+                f"{source}: expected TOML text (str), got {type(text).__name__}; "
+                "brakeca.load_config reads a file"
+            )
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
@@ -1382,6 +1387,11 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
     data = config.to_dict()
     given: dict[str, str] = {}  # field -> the key that set it
     for key, value in updates.items():
+        if not isinstance(key, str):  # ({1: 2} gave an AttributeError: a fuzz review)
+            raise TypeError(
+                "updates: expected field names (dotted, e.g. 'wear.specific_wear_rate') or "
+                f"factor names as keys, got {key!r}"
+            )
         path, value = _resolve_alias(key, value)
         if path in given:
             raise ConfigError(

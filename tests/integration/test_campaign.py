@@ -556,6 +556,15 @@ def test_bad_arguments_fail_before_anything_is_written(design_file, tmp_path):
         run_campaign(design_file, out, executor="cluster", progress=False)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="at least 1"):
         run_campaign(design_file, out, workers=0, progress=False)
+    # 2.5 was taken as 2, "a" got int()'s message (a fuzz review)
+    for workers in (2.5, "a", True):
+        expected = f"workers: expected a whole number at least 1, got {workers!r}"
+        with pytest.raises(ValueError, match=re.escape(expected)):
+            run_campaign(design_file, out, workers=workers, progress=False)  # type: ignore[arg-type]
+        with pytest.raises(ValueError, match="workers: expected a whole number"):
+            make_executor("local", workers=workers)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="max_retries: expected a whole number at least 0"):
+        run_campaign(design_file, out, max_retries="2", progress=False)  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match=r"mesh\.n_radial"):
         run_campaign(design_file, out, overrides={"mesh.n_radial": 0}, progress=False)
     with pytest.raises(ConfigError, match="max_stops"):

@@ -515,6 +515,10 @@ def test_local_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
         ),
         (["--executor", "dask", "--scheduler", "tcp://h:1", "--workers", "2"], "--workers"),
         (["--executor", "cluster"], "--executor"),
+        (  # taken without a word (a fuzz review)
+            ["--executor", "serial", "--workers", "4"],
+            "--workers does not apply to --executor serial",
+        ),
     ],
 )
 def test_cli_rejects_bad_executor_options(design_file, tmp_path, args, message):

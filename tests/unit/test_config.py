@@ -768,3 +768,13 @@ def test_a_block_cycle_row_with_an_empty_value_says_it_is_missing(tmp_path) -> N
     p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,,4,,3\n")
     with pytest.raises(ConfigError, match=r"line 2: initial_speed_kmh, deceleration_g: missing"):
         load_cycle(p)
+
+
+def test_the_python_api_names_a_wrong_type():
+    """A fuzz review: a key that is not text gave an AttributeError from inside the code,
+    and TOML given as a number or bytes an AttributeError or a confusing TypeError."""
+    with pytest.raises(TypeError, match=r"updates: expected field names .* got 1"):
+        load_preset("paper").with_updates({1: 2})
+    for text in (3, b"[mesh]"):
+        with pytest.raises(TypeError, match="config: expected TOML text"):
+            SimulationConfig.from_toml(text)
