@@ -723,6 +723,7 @@ def _execute_points(
                     if how.maps_at:
                         options["maps_at"] = how.maps_at
                     pending[backend.submit(how.simulate_fn, point, options)] = point
+                bar.update(task, description=f"runs ({len(pending)} running)")
                 done, _ = cf.wait(
                     list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
                 )
@@ -761,8 +762,10 @@ def _execute_points(
                             f"[red]run failed:[/] test {point.test}, replicate {point.replicate} "
                             f"({rid}): {escape(record.error)}",
                         )
-                    elif how.progress and not console.is_terminal:
-                        # no live bar in a log file: one line per run instead
+                    elif how.progress:
+                        # a line per run, in a log file (no live bar there) and above the
+                        # terminal's bar (which counted whole runs alone, for minutes on end
+                        # at full resolution: a robustness review)
                         sc = record.scalars
                         say(
                             console,
@@ -775,6 +778,7 @@ def _execute_points(
                             highlight=False,
                         )
                     bar.advance(task)
+            bar.update(task, description="runs")
         finished = True
     finally:
         if not finished:

@@ -87,9 +87,10 @@ def test_a_run_resumes_from_its_checkpoint(design_file, uninterrupted, tmp_path,
     log = Console(file=io.StringIO(), width=200, force_terminal=True)
     result = run_campaign(design_file, out, executor="serial", progress=True, console=log)
     assert resumed == [2]
-    assert "4 of 4 run(s) to compute (0 already done; 1 resumed from a checkpoint)" in (
-        log.file.getvalue()  # type: ignore[attr-defined]
-    )
+    said = log.file.getvalue()  # type: ignore[attr-defined]
+    assert "4 of 4 run(s) to compute (0 already done; 1 resumed from a checkpoint)" in said
+    # a line per run above the bar, which had counted whole runs alone (a robustness review)
+    assert said.count(" done: test ") == 4 and "resumed from a checkpoint: MU" in said
     assert not ckpt.exists()
     assert deterministic(result.summary).equals(deterministic(uninterrupted.summary))
 
