@@ -1169,6 +1169,17 @@ def format_validation_error(
             msg = f"needs {most} {bound} item{'' if bound == 1 else 's'}"
         elif err["type"] in ("list_type", "tuple_type"):
             msg = "should be a list, in brackets: [...]"
+        elif err["type"] in ("model_type", "model_attributes_type", "dict_type"):
+            # pydantic's "Input should be a valid dictionary or instance of NumericsConfig"
+            # (a fuzz review)
+            msg = "should be a table of fields: a [section], or {key = value, ...}"
+        elif err["type"] == "string_too_short":
+            least = (err.get("ctx") or {}).get("min_length", 1)
+            msg = "must not be empty" if least == 1 else f"needs at least {least} characters"
+        elif err["type"] == "string_type":
+            msg = 'should be text, in quotes: "..."'
+        elif err["type"] in ("bool_type", "bool_parsing"):
+            msg = "must be true or false"
         got = err.get("input")
         not_finite = isinstance(got, float) and not math.isfinite(got)
         if err["type"] in _BOUND_ERRORS or err["type"] == "finite_number" or not_finite:

@@ -643,10 +643,27 @@ def test_one_sided_bounds_and_wrong_types_read_as_brakecas_messages(tmp_path) ->
         ({"friction.slope": -1}, "override: friction.slope: must be at least 0 (got -1)"),
         ({"friction.mu_0": None}, "override: friction.mu_0: must be a number (got None)"),
         ({"mesh.n_radial": 1.5}, "override: mesh.n_radial: must be a whole number (got 1.5)"),
+        # a fuzz review: "Input should be a valid dictionary or instance of NumericsConfig"
+        (
+            {"numerics": 3},
+            "override: numerics: should be a table of fields: a [section], or "
+            "{key = value, ...} (got 3)",
+        ),
     ):
         with pytest.raises(ConfigError) as info:
             paper.with_updates(updates)
         assert str(info.value) == message
+    for table, message in (
+        ({"name": ""}, "design: name: must not be empty (got '')"),
+        ({"name": 5}, 'design: name: should be text, in quotes: "..." (got 5)'),
+        ({"randomize_order": "maybe"}, "design: randomize_order: must be true or false"),
+        ({"factors": [1]}, "design: factors #1: should be a table of fields"),
+    ):
+        design = {"name": "d", "base": "paper", "root_seed": 1}
+        design["factors"] = [{"name": "S", "levels": [0.0, 1.0]}]
+        with pytest.raises(ConfigError) as info:
+            design_from_dict({**design, **table})
+        assert str(info.value).startswith(message), str(info.value)
     with pytest.raises(TypeError, match=r"^updates: expected a mapping of field .* got list$"):
         paper.with_updates([("WP", 1e-13)])  # type: ignore[arg-type]
     with pytest.raises(FileNotFoundError, match=r"missing\.nc: no such file"):
