@@ -379,6 +379,8 @@ def _read_text(path_or_name: str | Path) -> tuple[str, str, str]:
     shipped = _SHIPPED.joinpath(f"{path_or_name}.csv")
     if shipped.is_file():
         return shipped.read_text(encoding="utf-8-sig"), f"cycle {path_or_name}", str(path_or_name)
+    if p.is_dir():  # (it was "no such file": a fuzz review)
+        raise TraceError(str(p), None, "a folder, not a cycle's CSV file")
     raise TraceError(
         str(path_or_name),
         None,

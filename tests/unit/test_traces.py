@@ -152,6 +152,15 @@ def test_empty_file(tmp_path):
 def test_missing_file_and_unknown_name(tmp_path):
     with pytest.raises(TraceError, match="no such file"):
         load_trace(tmp_path / "nope.csv")
+    # a folder is named as one, not as a missing file (a fuzz review)
+    with pytest.raises(TraceError, match="a folder, not a cycle's CSV file"):
+        load_trace(tmp_path)
+    from brakeca.presets import load_cycle
+
+    with pytest.raises(ConfigError, match="a folder, not a cycle's CSV file"):
+        load_cycle(tmp_path)
+    with pytest.raises(ConfigError, match=r"nor a shipped block cycle \(paper; a speed trace"):
+        load_cycle(tmp_path / "nope.csv")
 
 
 def test_spreadsheet_csv_with_decimal_commas_and_a_byte_order_mark(tmp_path):

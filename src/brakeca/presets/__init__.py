@@ -144,9 +144,12 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
             str(name_or_path),
             f"cycle {name_or_path}",
         )
+    elif p.is_dir():
+        raise ConfigError(f"cycle {str(name_or_path)!r}: a folder, not a cycle's CSV file")
     else:
         raise ConfigError(
-            f"unknown cycle {str(name_or_path)!r}: no such file nor a shipped cycle (paper)"
+            f"unknown cycle {str(name_or_path)!r}: no such file nor a shipped block cycle "
+            "(paper; a speed trace is read by brakeca.traces.load_trace)"
         )
     return CycleConfig(name=name, blocks=_read_cycle_csv(text, source))
 
