@@ -2168,8 +2168,13 @@ def show_config(
     quick: QuickOpt = False,
 ) -> None:
     """Print the resolved configuration as TOML (validate a config without running it)."""
+    from brakeca.traces import configured_cycle
+
     try:
         config = resolve_config(preset, config_file, overrides, stops, quick)
+        # a trace is read and checked as a run reads it (its file, unit and digest; a fuzz
+        # review found a missing trace_file and a unit of furlongs taken here)
+        configured_cycle(config)
     except ConfigError as exc:
         _fail(str(exc))
     _config_notes([config])  # on standard error, as the A note

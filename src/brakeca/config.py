@@ -568,7 +568,10 @@ class CycleConfig(_Frozen):
         None, description="a speed-trace CSV (time, speed) or a shipped trace name"
     )
     trace_sha256: str | None = Field(
-        None, description="SHA-256 of the trace file's content, checked before a run"
+        None,
+        pattern=r"^[0-9a-fA-F]{64}$",
+        description="SHA-256 of the trace file's content (64 hexadecimal digits), checked "
+        "before a run",
     )
     trace_speed_unit: str | None = Field(
         None, description="speed unit of a trace whose header states none (km/h, m/s, mph)"
@@ -1176,6 +1179,8 @@ def format_validation_error(
         elif err["type"] == "string_too_short":
             least = (err.get("ctx") or {}).get("min_length", 1)
             msg = "must not be empty" if least == 1 else f"needs at least {least} characters"
+        elif err["type"] == "string_pattern_mismatch" and path.endswith("sha256"):
+            msg = "must be a SHA-256 digest, 64 hexadecimal digits"
         elif err["type"] == "string_type":
             msg = 'should be text, in quotes: "..."'
         elif err["type"] in ("bool_type", "bool_parsing"):

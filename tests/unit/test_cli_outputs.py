@@ -297,6 +297,24 @@ def test_a_preset_and_a_config_file_are_not_given_together(tmp_path) -> None:
     assert CliRunner().invoke(app, ["config", "--preset", "paper"]).exit_code == 0
 
 
+def test_config_checks_a_trace_as_a_run_would() -> None:
+    """`brakeca config` validates a configuration without running it, but took a trace_file
+    that does not exist, a speed unit of furlongs and a digest of 'zz', which `simulate`
+    refused afterwards (the digest as 'its content changed'; a fuzz review)."""
+    trace = ["--set", "cycle.blocks=[]", "--set", "cycle.trace_file=example_trace"]
+    for extra, message in (
+        (["--set", "cycle.trace_file=nope.csv"], "nope.csv: no such file, nor a shipped cycle"),
+        (["--set", "cycle.trace_speed_unit=furlongs"], "unknown speed unit 'furlongs'"),
+        (
+            ["--set", "cycle.trace_sha256=zz"],
+            "cycle.trace_sha256: must be a SHA-256 digest, 64 hexadecimal digits (got 'zz')",
+        ),
+    ):
+        line = _one_error_line(_invoke("config", *trace, *extra))
+        assert message in line, line
+    assert _invoke("config", *trace).exit_code == 0
+
+
 def test_messages_name_what_the_user_gave() -> None:
     """A helper's review of the command line: --set S=2 named only the field S sets, a bad
     --threshold was 'options: threshold', and a goal with words for numbers was told it
