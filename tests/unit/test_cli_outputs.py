@@ -302,8 +302,9 @@ def test_config_checks_a_trace_as_a_run_would() -> None:
     that does not exist, a speed unit of furlongs and a digest of 'zz', which `simulate`
     refused afterwards (the digest as 'its content changed'; a fuzz review)."""
     trace = ["--set", "cycle.blocks=[]", "--set", "cycle.trace_file=example_trace"]
+    line = _one_error_line(_invoke("config", *trace[:2], "--set", "cycle.trace_file=nope.csv"))
+    assert "nope.csv: no such file, nor a shipped cycle" in line, line
     for extra, message in (
-        (["--set", "cycle.trace_file=nope.csv"], "nope.csv: no such file, nor a shipped cycle"),
         (["--set", "cycle.trace_speed_unit=furlongs"], "unknown speed unit 'furlongs'"),
         (
             ["--set", "cycle.trace_sha256=zz"],
