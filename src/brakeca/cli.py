@@ -609,9 +609,11 @@ def _percent_levels(text: str) -> list[float]:
 
     example = "give fibre area fractions in %, comma separated, e.g. --levels 10,20"
     values: list[float] = []
+    if not text.strip():
+        raise ConfigError(f"--levels {text!r}: no level; {example}")
     for item in (part.strip() for part in text.split(",")):
-        if not item:
-            continue
+        if not item:  # (10,,20 was taken, where --maps-at 1,,2 is refused: a fuzz review)
+            raise ConfigError(f"--levels {text!r}: an empty level between commas; {example}")
         try:
             value = float(item)
         except ValueError:
@@ -621,8 +623,6 @@ def _percent_levels(text: str) -> list[float]:
         if value in values:
             raise ConfigError(f"--levels {text!r}: {value:g} % is given twice")
         values.append(value)
-    if not values:
-        raise ConfigError(f"--levels {text!r}: no level; {example}")
     return values
 
 
@@ -758,7 +758,12 @@ def surface(
             )
         config = resolve_config(preset, config_file, overrides, None, quick)
         values = _percent_levels(levels)
-        configs = {f"A = {v:g} %": config.with_updates({"A": v}) for v in values}
+        configs = {}
+        for v in values:
+            try:
+                configs[f"A = {v:g} %"] = config.with_updates({"A": v})
+            except ConfigError as exc:  # named as the option the user gave
+                _fail(f"--levels {v:g}: " + str(exc).split(": ", 1)[-1])
     except (ConfigError, ValueError) as exc:
         _fail(str(exc))
     low = [f"{v:g}" for v in values if 0.0 < v < 1.0]

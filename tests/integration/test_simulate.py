@@ -286,7 +286,8 @@ def test_cli_surface_draws_the_levels_and_names_bad_ones(tmp_path):
         ("", "--levels '': no level"),
         ("10,10", "--levels '10,10': 10 % is given twice"),
         ("inf", "'inf' is not a finite number"),
-        ("150", "must be at least 0 and below 100 %"),
+        ("150", "--levels 150: must be at least 0 and below 100 %"),
+        ("10,,20", "--levels '10,,20': an empty level between commas"),  # (a fuzz review)
     ]:
         bad = tmp_path / "bad.png"
         res = runner.invoke(app, ["surface", "-o", str(bad), "--quick", "--levels", levels])
