@@ -235,12 +235,23 @@ def standard_generators(names: Sequence[str], runs: int) -> tuple[str, ...]:
     if runs == 2**k:
         return ()
     if (k, runs) not in STANDARD_FRACTIONS:
-        choices = [*sorted(n for kk, n in STANDARD_FRACTIONS if kk == k), 2**k]
-        listed = ", ".join(str(n) for n in choices) if k >= 3 else str(2**k)
-        raise ValueError(
-            f"fraction_runs: {runs} is not a standard fraction of {k} two-level factors; "
-            f"choose one of {listed} (the last: the full factorial), or write the generators"
-        )
+        fractions = sorted(n for kk, n in STANDARD_FRACTIONS if kk == k)
+        # the full factorial is a choice only within the runs a design may have (20 factors'
+        # 1,048,576 were offered: a fuzz review)
+        full = 2**k <= _MAX_RUNS
+        choices = [*fractions, 2**k] if full else fractions
+        head = f"fraction_runs: {runs} is not a standard fraction of {k} two-level factors"
+        if not choices:
+            raise ValueError(
+                f"{head}, none is listed for them, and their full factorial's {2**k:,} runs are "
+                f"more than a design may have ({_MAX_RUNS:,}); write the generators"
+            )
+        if len(choices) == 1:
+            listed = f"{choices[0]} (the full factorial)" if full else str(choices[0])
+        else:
+            listed = "one of " + ", ".join(str(n) for n in choices)
+            listed += " (the last: the full factorial)" if full else ""
+        raise ValueError(f"{head}; choose {listed}, or write the generators")
     letter = {c: names[i] for i, c in enumerate(_LETTERS[:k])}
     return tuple(
         f"{letter[g[0]]} = {'*'.join(letter[c] for c in g[2:])}"

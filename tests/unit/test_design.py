@@ -1450,6 +1450,21 @@ def test_bad_fraction_runs_are_refused(extra, fragment):
     assert "f.toml: fraction_runs: " in str(info.value) and fragment in str(info.value)
 
 
+def test_a_full_factorial_beyond_the_runs_a_design_may_have_is_not_offered():
+    """20 two-level factors were offered their full factorial's 1,048,576 runs, which a design
+    may not have (a fuzz review)."""
+    from brakeca.design import standard_generators
+
+    names = [f"F{i}" for i in range(20)]
+    with pytest.raises(ValueError) as info:
+        standard_generators(names, 16)
+    text = str(info.value)
+    assert "full factorial's 1,048,576 runs are more than a design may have" in text
+    assert "choose" not in text
+    with pytest.raises(ValueError, match=r"choose 2048 \(the full factorial\), or write"):
+        standard_generators(names[:11], 5)
+
+
 @pytest.mark.parametrize(
     ("extra", "factor", "message"),
     [
