@@ -1576,7 +1576,19 @@ class GoalSpec(_Frozen):
 
     @model_validator(mode="after")
     def _as_goal(self) -> GoalSpec:
-        self.to_goal(scale=1.0)  # rsm.Goal's checks and messages, in the design's units
+        try:
+            self.to_goal(scale=1.0)  # rsm.Goal's checks and messages, in the design's units
+        except ValueError as exc:
+            text = str(exc)
+            if " (the arguments are lower, upper, target: Goal(" in text:
+                # rsm.Goal's hint is in Python's argument order; a design file names its keys
+                # (a fuzz review)
+                text = text.split(" (the arguments are", 1)[0] + (
+                    f" (lower, upper and target are the keys: lower = {self.lower:g}, upper = "
+                    f"{self.target:g}, target = {self.upper:g} for {self.upper:g} between "
+                    f"{self.lower:g} and {self.target:g})"
+                )
+            raise ValueError(text) from None
         return self
 
     def to_goal(self, scale: float | None = None) -> Any:

@@ -624,6 +624,14 @@ def test_a_goal_takes_min_and_max_and_names_the_order_of_a_targets_numbers() -> 
         Goal("MU", "target", 0.15, 0.2, 0.3)
     with pytest.raises(ValueError, match=r"strictly between 0.15 and 0.3, got 0.1$"):
         Goal("MU", "target", 0.15, 0.3, 0.1)
+    # in a design file the hint names its keys, not Python's arguments (a fuzz review)
+    from brakeca.design import GoalSpec
+
+    with pytest.raises(ValueError) as info:
+        GoalSpec(response="MU", goal="target", lower=0.15, upper=0.2, target=0.3)
+    text = str(info.value)
+    assert "(lower, upper and target are the keys: lower = 0.15, upper = 0.3, target = 0.2" in text
+    assert "Goal(" not in text
 
 
 def test_a_design_stands_for_its_factors_in_the_surface_fit() -> None:
