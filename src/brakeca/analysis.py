@@ -35,6 +35,7 @@ from __future__ import annotations
 import itertools
 import math
 import numbers
+import os
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
@@ -2797,10 +2798,16 @@ def analyze(
     if not isinstance(summary, pd.DataFrame) and hasattr(summary, "summary"):
         factors = summary if factors is None else factors  # a CampaignResult: its design
         summary = summary.summary
+    if isinstance(summary, str | os.PathLike):  # a campaign folder (a fuzz review)
+        raise TypeError(
+            f"summary: a campaign's summary table or result, not a path ({str(summary)!r}): "
+            "brakeca.load_campaign(folder) reads a campaign folder, and analyze() takes what "
+            "it returns"
+        )
     if factors is None:
         raise TypeError(
             "factors: give the design's factors (or the design), or a campaign result as "
-            "the first argument"
+            "the first argument (brakeca.load_campaign(folder) reads one)"
         )
     # the factors once (an iterator is read once), with a categorical factor's choices kept
     # for factor_trends

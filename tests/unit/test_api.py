@@ -67,3 +67,6 @@ def test_analyze_takes_a_finished_campaign() -> None:
         pd.testing.assert_frame_equal(out[response]["anova"], expected[response]["anova"])
     with pytest.raises(TypeError, match=r"^factors: give the design's factors"):
         brakeca.analyze(rows)
+    # a campaign folder's path: say how to read it (a fuzz review)
+    with pytest.raises(TypeError, match=r"not a path \('camp'\): brakeca.load_campaign"):
+        brakeca.analyze("camp")
