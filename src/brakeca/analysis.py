@@ -2732,13 +2732,20 @@ def analyze(
     factors: Iterable[Any] | None = None,
     responses: Sequence[str] = ("MU", "V"),
     *,
-    main_effects_only: bool = False,
-    anova_type: int = 2,
+    main_effects_only: bool | None = None,
+    anova_type: int | None = None,
     alpha_to_remove: float | None = None,
     max_order: int | None = None,
     model_terms: Sequence[str] | str | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Run the whole analysis for several responses.
+
+    Given a design (a campaign result, or the design as ``factors``), each of
+    ``main_effects_only``, ``anova_type``, ``alpha_to_remove`` and the model
+    (``max_order``, ``model_terms``) left unset is the design's, as the report takes it
+    (:func:`brakeca.study.write_study`): ``analyze(brakeca.load_campaign("study"))`` gives
+    the report's tables. Without a design they default to the full model of main effects and
+    two-factor interactions, Type II, unreduced.
 
     Parameters
     ----------
@@ -2756,14 +2763,17 @@ def analyze(
     main_effects_only
         The ANOVA and the effects table fit the main effects alone, as Minitab analyses a
         Plackett-Burman design (its interactions are partly confounded with the main
-        effects); the interaction plots' cell means are still given.
+        effects); the interaction plots' cell means are still given. Unset: true for a
+        Plackett-Burman design, else false.
     anova_type
-        The ANOVA's sums of squares (:func:`anova`'s ``typ``): 2 (Type II, the default) or 3
-        (Type III, adjusted, as Minitab and JMP give them).
+        The ANOVA's sums of squares (:func:`anova`'s ``typ``): 2 (Type II, the default
+        without a design) or 3 (Type III, adjusted, as Minitab and JMP give them); unset, the
+        design's ``anova_type``.
     alpha_to_remove
         Reduce each response's model by backward elimination (:func:`anova`); the residuals
         and, for a two-level design, the effects table are then of the reduced model, as in
-        Minitab after a stepwise reduction.
+        Minitab after a stepwise reduction. Unset, the design's ``alpha_to_remove`` (not for
+        a response-surface design, whose report reduces its surfaces instead).
     max_order
         The model's terms up through this many factors (:func:`anova`'s ``interactions``),
         instead of main effects and two-factor interactions (main effects alone with
@@ -2795,9 +2805,33 @@ def analyze(
     ----------
     Wahlström (2016), Figures 6 to 9, doi:10.1155/2016/8181260.
     """
+    design = None
     if not isinstance(summary, pd.DataFrame) and hasattr(summary, "summary"):
+        design = getattr(summary, "design", None)
         factors = summary if factors is None else factors  # a CampaignResult: its design
         summary = summary.summary
+    if hasattr(factors, "anova_model"):  # the design itself
+        design = factors
+    elif hasattr(getattr(factors, "design", None), "anova_model"):  # a campaign result
+        design = getattr(factors, "design", None)
+    if design is not None and hasattr(design, "anova_model"):
+        # what the report takes from the design (study.write_study; an API review found
+        # analyze(load_campaign(...)) a Type II, unreduced fit beside a report's Type III,
+        # reduced one)
+        if main_effects_only is None:
+            main_effects_only = design.plackett_burman is not None
+        if anova_type is None:
+            anova_type = design.anova_type
+        if alpha_to_remove is None and not design.is_response_surface:
+            alpha_to_remove = design.alpha_to_remove
+        if max_order is None and model_terms is None:
+            chosen = design.anova_model
+            if isinstance(chosen, int):
+                max_order = chosen
+            else:
+                model_terms = chosen
+    main_effects_only = bool(main_effects_only)
+    anova_type = 2 if anova_type is None else anova_type
     if isinstance(summary, str | os.PathLike):  # a campaign folder (a fuzz review)
         raise TypeError(
             f"summary: a campaign's summary table or result, not a path ({str(summary)!r}): "

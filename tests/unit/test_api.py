@@ -70,3 +70,16 @@ def test_analyze_takes_a_finished_campaign() -> None:
     # a campaign folder's path: say how to read it (a fuzz review)
     with pytest.raises(TypeError, match=r"not a path \('camp'\): brakeca.load_campaign"):
         brakeca.analyze("camp")
+    # the design's analysis settings, as the report takes them: a Type III ANOVA reduced at
+    # 0.1 (analyze(campaign) had fitted Type II, unreduced: an API review); an argument given
+    # still wins
+    chosen = design.model_copy(update={"anova_type": 3, "alpha_to_remove": 0.1})
+    reduced = type("Campaign", (), {"summary": rows, "design": chosen})()
+    out = brakeca.analyze(reduced, responses=["MU"])["MU"]["anova"]
+    given = brakeca.analyze(rows, design.factors, ["MU"], anova_type=3, alpha_to_remove=0.1)
+    expected = given["MU"]["anova"]
+    pd.testing.assert_frame_equal(out, expected)
+    assert out.attrs["typ"] == "Type III (adjusted)" and len(out) < 11  # terms removed
+    assert brakeca.analyze(rows, chosen, ["MU"])["MU"]["anova"].equals(expected)
+    other = brakeca.analyze(reduced, responses=["MU"], anova_type=2)
+    assert other["MU"]["anova"].attrs["typ"] == "Type II"
