@@ -87,6 +87,24 @@ def _response_axis(response: str) -> tuple[str, float]:
     return _RESPONSES.get(response, (response, 1.0))
 
 
+def _variable_axis(data: Any, variable: str) -> tuple[str, str, float]:
+    """(axis label, what it is for a title, scale) of a per-stop variable of a run file or
+    campaign dataset: the mean COF as the paper names it, another variable by its
+    ``long_name`` and ``units``, a volume [m^3] in mm^3 as the other figures draw V (the
+    plots had named every variable the mean COF: an API review)."""
+    if variable == "mean_cof":
+        return "Mean coefficient of friction μ per stop [-]", "mean coefficient of friction", 1.0
+    attrs = getattr(data[variable], "attrs", {})
+    name = str(attrs.get("long_name") or variable)
+    units = str(attrs.get("units", "")).strip()
+    scale = 1.0
+    if units in ("m3", "m^3", "m³"):
+        units, scale = "mm³", 1e9
+    elif units in ("1", "-", ""):
+        units = "-"
+    return f"{name[:1].upper()}{name[1:]} [{units}]", name, scale
+
+
 def _figure(figsize: tuple[float, float]) -> Figure:
     """A new figure on an Agg canvas, with constrained (tight) layout."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -372,7 +390,8 @@ def plot_interactions(
         ax.grid(True, axis="y", alpha=0.3)
         ax.tick_params(axis="y", labelleft=True, labelsize=8)
         if j == i + 1:
-            ax.set_ylabel(f"{response} (mean)", fontsize=8)
+            unit = ylabel[ylabel.rfind("[") :] if ylabel.endswith("]") else ""
+            ax.set_ylabel(f"{response} (mean) {unit}".strip(), fontsize=8)
             ax.legend(title=a.name, fontsize=7, title_fontsize=8, loc="best")
     _suptitle(fig, f"Interaction plot for {response}: {ylabel}")
     return save_figure(root, path)
@@ -546,6 +565,7 @@ def plot_mu_per_stop(
         campaign = campaign[[variable]].expand_dims(run=[0])
     by_name = {f.name: f for f in (as_factor(f) for f in (factors or ()))}
     data = campaign[variable].transpose("run", "stop")
+    ylabel, what, scale = _variable_axis(campaign, variable)
     runs = campaign["run"].to_numpy()
     stops = campaign["stop"].to_numpy()
     if by_name:  # the factors name the runs; the other run coordinates are bookkeeping
@@ -584,7 +604,7 @@ def plot_mu_per_stop(
     # every ten: up to 40 tests told apart (a rainbow had made neighbours alike)
     palette = mpl.colormaps["tab10"]
     styles = ("-", "--", ":", "-.")
-    values = data.to_numpy()
+    values = data.to_numpy() * scale
     # A run is named by its test; the replicates of a test (several seeds) share its colour,
     # line style and legend entry.
     tests = campaign["test"].to_numpy() if "test" in campaign.coords else runs
@@ -612,9 +632,13 @@ def plot_mu_per_stop(
     from matplotlib.ticker import MaxNLocator
 
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # no stop 0.75 with a few stops
-    ax.set_ylabel("Mean coefficient of friction μ per stop [-]")
+    ax.set_ylabel(ylabel)
     if title is None:
-        title = "Mean coefficient of friction per stop over the cycle, all runs"
+        title = (
+            "Mean coefficient of friction per stop over the cycle, all runs"
+            if variable == "mean_cof"
+            else f"{what[:1].upper()}{what[1:]}: each stop over the cycle, all runs"
+        )
         if n_tests < n:
             title += " (the replicates of a test share its colour)"
     # above the block names, which stand above the axes: pad by the tallest name [points]
@@ -698,7 +722,8 @@ def plot_mu_per_stop_by_level(
     if "run" not in data[variable].dims:  # one run: its own levels
         data = data.expand_dims(run=[0])
         data = data.assign_coords({f.name: ("run", [data[f.name].item()]) for f in factors})
-    values = data[variable].transpose("run", "stop").to_numpy().astype(float)
+    ylabel, what, scale = _variable_axis(data, variable)
+    values = data[variable].transpose("run", "stop").to_numpy().astype(float) * scale
     stops = data["stop"].to_numpy()
     cols = 2 if len(factors) > 1 else 1
     rows = math.ceil(len(factors) / cols)
@@ -739,11 +764,16 @@ def plot_mu_per_stop_by_level(
             axes[k].xaxis.set_tick_params(labelbottom=True)
             axes[k].set_xlabel("Stop number [-]")
     for ax in axes[::cols]:
-        ax.set_ylabel("Mean μ per stop [-]")
+        ax.set_ylabel("Mean μ per stop [-]" if variable == "mean_cof" else ylabel)
     from matplotlib.ticker import MaxNLocator
 
     axes[0].xaxis.set_major_locator(MaxNLocator(integer=True))  # shared: no stop 1.2
-    _suptitle(fig, "Mean coefficient of friction per stop at each factor level (main effects)")
+    _suptitle(
+        fig,
+        "Mean coefficient of friction per stop at each factor level (main effects)"
+        if variable == "mean_cof"
+        else f"{what[:1].upper()}{what[1:]}: each stop, at each factor level (main effects)",
+    )
     return save_figure(root, path)
 
 

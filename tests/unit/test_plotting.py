@@ -726,3 +726,24 @@ def test_a_runs_per_step_series_breaks_at_each_stop() -> None:
     assert starts == [0.4, 0.6]  # a faint line at each new stop's first kept step
     plain = plot_cof_series(pd.DataFrame({"mu": [0.4, 0.41], "normal_force": [1.0, 2.0]}))
     assert plain.axes[1].get_ylabel() == "Normal force [N]"
+
+
+def test_per_stop_plots_label_the_variable_they_draw(campaign, summary) -> None:
+    """plot_mu_per_stop(variable="emitted_volume") drew the volumes [m^3] under the mean COF's
+    label and title, and the interaction plot's V axis had no unit (an API review). Another
+    variable is named by its long_name and units, a volume in mm^3 as V is drawn elsewhere."""
+    from brakeca.plotting import plot_interactions, plot_mu_per_stop, plot_mu_per_stop_by_level
+
+    data = campaign.copy()
+    data["emitted_volume"].attrs.update(long_name="wear volume emitted", units="m3")
+    fig = plot_mu_per_stop(data, variable="emitted_volume")
+    ax = fig.axes[0]
+    assert ax.get_ylabel() == "Wear volume emitted [mm³]"
+    assert ax.get_title().startswith("Wear volume emitted: each stop over the cycle")
+    assert np.allclose(ax.lines[-1].get_ydata(), 0.1)  # 1e-10 m^3 = 0.1 mm^3 (a run's line)
+    fig = plot_mu_per_stop(data)
+    assert fig.axes[0].get_ylabel() == "Mean coefficient of friction μ per stop [-]"
+    fig = plot_mu_per_stop_by_level(data, FACTORS, variable="emitted_volume")
+    assert fig.axes[0].get_ylabel() == "Wear volume emitted [mm³]"
+    labels = {a.get_ylabel() for a in plot_interactions(summary, FACTORS, "V").axes}
+    assert "V (mean) [mm³]" in labels
