@@ -50,8 +50,9 @@ class CampaignResult:
         ``units`` and ``long_name`` attributes (as a run file's, :mod:`brakeca.results`).
     computed, reused, failed, recomputed : tuple of str
         Run ids computed now, reused from existing files, failed, and recomputed because
-        their file was corrupt or foreign (also in ``computed`` or ``failed``). Empty for a
-        campaign read by :func:`load_campaign`.
+        their file was corrupt or foreign (also in ``computed`` or ``failed``). For a
+        campaign read by :func:`load_campaign`, ``failed`` holds the summary's failed runs
+        and the others are empty (what a campaign computed is not kept).
     """
 
     out_dir: Path
@@ -275,7 +276,8 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
     -------
     CampaignResult
         Design (from ``design.toml``), summary (``summary.csv``) and dataset
-        (``campaign.nc``, loaded into memory); the run-id tuples are empty.
+        (``campaign.nc``, loaded into memory); ``failed`` holds the failed runs' ids, the
+        other run-id tuples are empty.
 
     Raises
     ------
@@ -313,7 +315,12 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
             f"{out / 'summary.csv'}: {problem}: it was edited or damaged; 'brakeca run "
             f"{out / 'design.toml'} -o {out}' writes it again from the run files"
         )
-    return CampaignResult(out_dir=out, design=design, summary=summary, dataset=dataset)
+    # the failed runs are the summary's: ``if result.failed`` had read a loaded campaign with
+    # failed runs as none (an API review)
+    failed = tuple(str(r) for r in summary.loc[summary["status"] != "ok", "run_id"])
+    return CampaignResult(
+        out_dir=out, design=design, summary=summary, dataset=dataset, failed=failed
+    )
 
 
 def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design) -> str:
