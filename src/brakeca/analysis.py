@@ -388,6 +388,11 @@ def _codes(data: pd.DataFrame, factor: Factor) -> np.ndarray:
 
 
 def _factor_from_data(summary: pd.DataFrame, name: str) -> Factor:
+    if name not in summary.columns:  # (a bare KeyError: 'B', an API review)
+        raise KeyError(
+            f"factor {name!r} is not a column of the summary; its columns: "
+            + ", ".join(str(c) for c in summary.columns)
+        )
     values = pd.to_numeric(ok_runs(summary)[name], errors="coerce").dropna().unique()
     return Factor(name=name, levels=tuple(sorted(float(v) for v in values)))
 

@@ -894,7 +894,9 @@ def plot_pareto(
     ----------
     Wahlström (2016), Section 4, doi:10.1155/2016/8181260.
     """
-    table = ranked.sort_values("percent_contribution", ascending=False, kind="stable")
+    # the terms alone: given an ANOVA table, its residual is no term to rank (an API review)
+    table = ranked.loc[~ranked["term"].isin(["Residual", "Lack of fit", "Pure error"])]
+    table = table.sort_values("percent_contribution", ascending=False, kind="stable")
     terms = [str(t) for t in table["term"]]
     pct = table["percent_contribution"].to_numpy(dtype=float)
     if "p_value" in table.columns:
@@ -1343,6 +1345,12 @@ def plot_residuals(
     """
     from scipy import stats
 
+    missing = [c for c in ("fitted", "residual", "std_residual") if c not in residuals.columns]
+    if missing:  # an ANOVA table, say (a bare KeyError: 'fitted', an API review)
+        raise ValueError(
+            f"residuals: expected the table brakeca.analysis.residuals returns, with the "
+            f"columns fitted, residual and std_residual; this one lacks {', '.join(missing)}"
+        )
     label, scale = _response_axis(response)
     fitted = residuals["fitted"].to_numpy(dtype=float) * scale
     std = residuals["std_residual"].to_numpy(dtype=float)

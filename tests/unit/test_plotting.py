@@ -747,3 +747,19 @@ def test_per_stop_plots_label_the_variable_they_draw(campaign, summary) -> None:
     assert fig.axes[0].get_ylabel() == "Wear volume emitted [mm³]"
     labels = {a.get_ylabel() for a in plot_interactions(summary, FACTORS, "V").axes}
     assert "V (mean) [mm³]" in labels
+
+
+def test_an_anova_table_given_for_another_table_is_named_or_used_rightly(summary) -> None:
+    """A bare KeyError 'fitted' for an ANOVA table given to plot_residuals, a bare KeyError
+    for a factor the summary lacks, and the Residual drawn as a ranked term of plot_pareto
+    (an API review)."""
+    from brakeca.analysis import anova, interaction_table
+    from brakeca.plotting import plot_pareto, plot_residuals
+
+    table = anova(summary, FACTORS, "MU")
+    with pytest.raises(ValueError, match=r"expected the table brakeca\.analysis\.residuals"):
+        plot_residuals(table, "MU")
+    with pytest.raises(KeyError, match="factor 'B' is not a column of the summary"):
+        interaction_table(summary, FACTORS[0].name, "B", "MU")
+    ticks = [t.get_text() for t in plot_pareto(table, "MU").axes[0].get_xticklabels()]
+    assert "Residual" not in ticks and len(ticks) == len(table) - 1
