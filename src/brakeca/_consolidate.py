@@ -133,24 +133,55 @@ def _campaign_dataset(
     coords: dict[str, Any] = {
         "run": ("run", run, {"long_name": "run index in test order (the test when 1 replicate)"}),
         "test": ("run", summary["test"].to_numpy(np.int64), {"long_name": "test number"}),
-        "replicate": ("run", summary["replicate"].to_numpy(np.int64)),
+        # each with a long_name, as a run file's coordinates (an API review found them bare)
+        "replicate": (
+            "run",
+            summary["replicate"].to_numpy(np.int64),
+            {"long_name": "replicate of the test, from 0"},
+        ),
         "order": ("run", summary["order"].to_numpy(np.int64), {"long_name": "execution order"}),
-        "seed": ("run", summary["seed"].to_numpy(np.int64)),
-        "run_id": ("run", np.array([r.run_id for r in records], dtype=object)),
-        "status": ("run", np.array([r.status for r in records], dtype=object)),
-        "error": ("run", np.array([r.error for r in records], dtype=object)),
-        "stop": ("stop", np.arange(1, n_stop + 1)),
+        "seed": (
+            "run",
+            summary["seed"].to_numpy(np.int64),
+            {"long_name": "seed of the run's random generator"},
+        ),
+        "run_id": (
+            "run",
+            np.array([r.run_id for r in records], dtype=object),
+            {"long_name": "run id: the run file is runs/<run_id>.nc"},
+        ),
+        "status": (
+            "run",
+            np.array([r.status for r in records], dtype=object),
+            {"long_name": "ok, or failed (see error)"},
+        ),
+        "error": (
+            "run",
+            np.array([r.error for r in records], dtype=object),
+            {"long_name": "why the run failed (empty when it finished)"},
+        ),
+        "stop": (
+            "stop",
+            np.arange(1, n_stop + 1),
+            {"units": "1", "long_name": "stop of the drive cycle, from 1"},
+        ),
     }
     if longest is not None:
         if "block" in longest.coords:
-            coords["block"] = ("stop", np.asarray(longest["block"].values, dtype=object))
+            coords["block"] = (
+                "stop",
+                np.asarray(longest["block"].values, dtype=object),
+                dict(longest["block"].attrs),
+            )
+        if "stop" in longest.coords:
+            coords["stop"] = (*coords["stop"][:2], dict(longest["stop"].attrs))
         for name, coord in longest.coords.items():
             if str(name) not in coords and "stop" not in coord.dims:
                 coords[str(name)] = coord.variable
     for factor in design.factors:
         values = np.asarray([r.point.levels[factor.name] for r in records])
         attrs = {
-            "units": factor.unit,
+            "units": "1" if factor.unit in ("", "-") else factor.unit,  # UDUNITS' 1, not '-'
             "long_name": factor.label or factor.name,
             "field": factor.field,
             "scale": factor.scale,

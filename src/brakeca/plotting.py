@@ -87,6 +87,13 @@ def _response_axis(response: str) -> tuple[str, float]:
     return _RESPONSES.get(response, (response, 1.0))
 
 
+def _axis_unit(attrs: Any) -> str:
+    """A unit as the axes write it: a dimensionless one ``-``, where a file has UDUNITS'
+    ``1``."""
+    unit = str(attrs.get("units", ""))
+    return "-" if unit == "1" else unit
+
+
 def _variable_axis(data: Any, variable: str) -> tuple[str, str, float]:
     """(axis label, what it is for a title, scale) of a per-stop variable of a run file or
     campaign dataset: the mean COF as the paper names it, another variable by its
@@ -480,7 +487,7 @@ def _campaign_factors(campaign: Any) -> list[Factor] | None:
             Factor(
                 name=str(n),
                 levels=tuple(np.atleast_1d(campaign[n].attrs["levels"]).tolist()),
-                unit=str(campaign[n].attrs.get("units", "")),
+                unit=_axis_unit(campaign[n].attrs),
                 label=str(campaign[n].attrs.get("long_name", "")),
                 labels=_labels_attr(campaign[n].attrs.get("labels")),
             )

@@ -890,3 +890,18 @@ def test_an_unfinished_first_campaign_is_not_taken_over_by_another_design(tmp_pa
     )
     assert taken.ok and len(taken.computed) == 4  # the run of A = 10 % is not among them
     assert len(list((tmp_path / "taken" / "runs").glob("*.nc"))) == 5  # and is kept
+
+
+def test_campaign_nc_names_every_coordinate(serial) -> None:
+    """campaign.nc's stop, block, seed, replicate, run_id, status and error had no attributes,
+    though a run file gives stop and block theirs, and a dimensionless factor had the unit
+    '-' where the file's other variables have UDUNITS' '1' (an API review)."""
+    with xr.open_dataset(serial.out_dir / "campaign.nc", engine="h5netcdf") as ds:
+        for name in ds.coords:
+            assert "long_name" in ds[name].attrs, name
+        assert ds["stop"].attrs["units"] == "1"
+        assert ds["S"].attrs["units"] == "1" and ds["A"].attrs["units"] == "%"
+    from brakeca.plotting import _campaign_factors
+
+    factors = _campaign_factors(serial.dataset)  # as the axes write it
+    assert factors is not None and factors[0].axis_label == "S [-]"
