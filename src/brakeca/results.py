@@ -16,9 +16,9 @@ sum of ``emitted_volume`` less its own ``end_of_stop_emitted_volume``, the volum
 
 Scalars: ``MU`` [-], ``V`` [m^3 per stop], ``max_ledger_residual`` [-],
 ``max_friction_residual`` [-] (:data:`RUN_SCALAR_UNITS`). A thinned per-step series on dim
-``step`` (every ``output.series_every``-th step): ``step_time`` [s] (braking time at the step's
-end), ``step_stop`` [-], ``step_cof`` [-], ``step_normal_force`` (pad) [N],
-``step_contact_area_fraction``, ``step_primary_area_fraction``,
+``step`` (every ``output.series_every``-th step): ``step_time`` [s] (the run's braking time at
+the step's end, summed over its stops), ``step_stop`` [-], ``step_cof`` [-],
+``step_normal_force`` (pad) [N], ``step_contact_area_fraction``, ``step_primary_area_fraction``,
 ``step_secondary_area_fraction`` [-], ``step_disc_position`` [m]. Maps on (``radius`` [m],
 ``angle`` [rad]): ``initial_status``, ``final_status`` (0 resin, 1 primary, 2 secondary
 plateau), ``final_height`` [m]; where the run was asked to keep them (``simulate(maps_at=)``,
@@ -529,7 +529,11 @@ def build_dataset(
     if kept.shape != (keep.size, R.N_REC):
         raise ValueError(f"{kept.shape[0]} kept step records for {keep.size} kept steps")
     series = {
-        "step_time": (time_end[keep], "s", "braking time at the end of the step"),
+        "step_time": (  # (it read as the time within the stop: an API review)
+            time_end[keep],
+            "s",
+            "braking time of the run at the end of the step, summed over its stops",
+        ),
         "step_stop": (stop_of_step[keep], "1", "stop of the step"),
         "step_cof": (kept[:, R.R_COF], "1", "global COF of the step"),
         "step_normal_force": (
