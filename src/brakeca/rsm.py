@@ -1430,6 +1430,19 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
         prediction[r] = (float(lo), float(hi))
     span = {n: hi - lo for n, (lo, hi) in extent.items()}
     notes = [note] if note else []
+    for g in goals:  # limits a thousand times the response: a unit slip (an API review)
+        largest = float(np.nanmax(np.abs(on_grid[g.response])))
+        if largest > 0 and min(abs(g.lower), abs(g.upper)) > 1e3 * largest:
+            notes.append(
+                f"the limits of {g.response}'s goal ({g.lower:g} to {g.upper:g}) are over a "
+                f"thousand times the fitted {g.response} anywhere in the region (at most "
+                f"{largest:.3g})"
+                + (
+                    ": V is in m³ here (brakeca.rsm.Goal), in mm³ in a design file and --goal"
+                    if g.response == "V"
+                    else ""
+                )
+            )
     if tied_share > _TIED_SHARE:
         notes.append(
             f"{100 * tied_share:.0f} % of the region searched reaches the same score, so the "

@@ -308,6 +308,12 @@ def test_optimize_finds_the_minimum_of_a_bowl_inside_the_region() -> None:
     # a target above the minimum: a point of the contour y = 1.5, every one as good
     best = optimize({"y": fit}, [Goal("y", "target", 1.0, 3.0, target=1.5)])
     assert best.predicted["y"] == pytest.approx(1.5, abs=1e-5) and best.composite > 0.9999
+    # limits a thousand times the response anywhere (V's in mm³ given where m³ is meant):
+    # said, where a "100 % tied" note alone had hinted at it (an API review)
+    best = optimize({"y": fit}, [Goal("y", "minimize", 5e3, 1e4)])
+    assert "the limits of y's goal (5000 to 10000) are over a thousand times the fitted y" in (
+        best.note
+    )
 
 
 def test_optimize_weighs_two_conflicting_responses() -> None:
