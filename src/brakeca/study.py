@@ -21,7 +21,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -460,57 +460,42 @@ def _box_cox(
     }
 
 
-def _map_of(path: Path, variable: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    ds = RunResult.from_netcdf(path).dataset
-    return ds[variable].values, ds["radius"].values, ds["angle"].values
+def _pm10_of(run: RunResult) -> tuple[float, float, float] | None:
+    """PM10 [mg/km] low, central and high of a run on a speed-trace cycle; None for a run on
+    a block cycle, whose distance between stops is unknown."""
+    from brakeca.emissions import pm10_from_run
+    from brakeca.traces import configured_cycle
 
-
-def _unreadable_runs(runs_dir: Path, run_ids: Iterable[str]) -> dict[str, str]:
-    """The run files in ``runs_dir`` of ``run_ids`` that are there but cannot be read as
-    brakeca run files (damaged, cut short, another kind of netCDF file), each with what is
-    wrong with it; a missing file is not listed."""
-    unreadable = {}
-    for rid in run_ids:
-        path = runs_dir / f"{rid}.nc"
-        if path.is_file():
-            try:
-                RunResult.from_netcdf(path)
-            except (OSError, ValueError) as exc:
-                unreadable[rid] = str(exc)
-    return unreadable
+    if not run.config.cycle.trace_file:
+        return None
+    attrs = run.dataset.attrs
+    if "pm10_mg_km" in attrs:  # recorded by the run: its trace need not be here
+        low, central, high = (float(attrs[f"pm10_mg_km{k}"]) for k in ("_low", "", "_high"))
+        return low, central, high
+    est = pm10_from_run(run, configured_cycle(run.config).distance)  # an earlier version's
+    return est.low, est.central, est.high
 
 
 def _pm10_columns(
-    result: CampaignResult, summary: pd.DataFrame, filed: set[str]
+    summary: pd.DataFrame, pm10_of: Mapping[str, tuple[float, float, float] | None]
 ) -> tuple[pd.DataFrame, str]:
     """PM10 [mg/km] low/central/high of every run on a speed-trace cycle (NaN for runs on a
-    block cycle, whose distance between stops is unknown, for failed runs and for runs whose
-    file is missing or unreadable: those not in ``filed``, the run ids of readable files)."""
+    block cycle, for failed runs and for runs whose file is missing or unreadable: those
+    not in ``pm10_of``, each readable run's :func:`_pm10_of`)."""
     from brakeca.emissions import (
         EURO7_PM10_LIMIT,
         EURO7_PM10_LIMIT_PEV,
         EURO7_REFERENCE,
         PM10_COLUMNS,
-        pm10_from_run,
     )
-    from brakeca.traces import configured_cycle
 
     rows: dict[str, list[float]] = {name: [] for name in PM10_COLUMNS}
-    any_trace = False
+    any_trace = any(v is not None for v in pm10_of.values())
     for _, row in summary.iterrows():
-        values = [float("nan")] * 3
-        path = Path(result.out_dir) / "runs" / f"{row['run_id']}.nc"
-        if row.get("status", "ok") == "ok" and row["run_id"] in filed:  # (lost: write_study notes)
-            run = RunResult.from_netcdf(path)
-            if run.config.cycle.trace_file:
-                any_trace = True
-                attrs = run.dataset.attrs
-                if "pm10_mg_km" in attrs:  # recorded by the run: its trace need not be here
-                    values = [float(attrs[f"pm10_mg_km{k}"]) for k in ("_low", "", "_high")]
-                else:  # a run file of an earlier version
-                    est = pm10_from_run(run, configured_cycle(run.config).distance)
-                    values = [est.low, est.central, est.high]
-        for key, value in zip(rows, values, strict=True):
+        values = (
+            pm10_of.get(str(row.get("run_id", ""))) if row.get("status", "ok") == "ok" else None
+        )
+        for key, value in zip(rows, values or (float("nan"),) * 3, strict=True):
             rows[key].append(value)
     if not any_trace:
         return summary, ""
@@ -861,18 +846,85 @@ def write_study(
     # without runs/ (summary.csv and campaign.nc) still gives every table and the report;
     # a damaged file is left out as a missing one is, and named (it raised half-way through
     # the figures, leaving new tables beside the old report: a fuzz review)
-    ids = list(ok["run_id"]) if "run_id" in ok.columns else []  # (no column: no run finished)
-    unreadable = _unreadable_runs(runs_dir, ids)
-    readable = {rid for rid in ids if (runs_dir / f"{rid}.nc").is_file()} - set(unreadable)
-    filed = ok[[rid in readable for rid in ids]]
+    # each run file is read once (three reads of each had been a third of the analysis's
+    # time: a review): its final maps drawn, its PM10 and, for the first run at each A
+    # level, its initial fibre map kept; the figures are listed after the fibre maps
+    unreadable: dict[str, str] = {}
+    pm10_of: dict[str, tuple[float, float, float] | None] = {}  # None: not on a trace
+    first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
+    run_figures: list[tuple[str, str, Path]] = []
     names = {f.name for f in factors}
-    if "A" in names and len(filed):
-        maps = {}
-        shown_tests = []
-        for level in sorted(filed["A"].unique()):
-            first = filed[filed["A"] == level].iloc[0]
-            maps[f"A = {level:g} %"] = _map_of(runs_dir / f"{first['run_id']}.nc", "initial_status")
-            shown_tests.append(str(int(first["test"])))
+    replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
+
+    def draw(section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> None:
+        fig_fn(*args, path=fig_dir / name, **kwargs)
+        run_figures.append((section, caption, fig_dir / name))
+
+    if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
+        for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
+            stale.unlink()
+    for _, row in ok.iterrows() if "run_id" in ok.columns else ():  # (none: no run finished)
+        rid = str(row["run_id"])
+        path = runs_dir / f"{rid}.nc"
+        if not path.is_file():
+            continue
+        try:
+            run = RunResult.from_netcdf(path)
+        except (OSError, ValueError) as exc:
+            unreadable[rid] = str(exc)
+            continue
+        ds = run.dataset
+        pm10_of[rid] = _pm10_of(run)
+        if "A" in names and float(row["A"]) not in first_pad:
+            first_pad[float(row["A"])] = (
+                int(row["test"]),
+                (ds["initial_status"].to_numpy(), ds["radius"].to_numpy(), ds["angle"].to_numpy()),
+            )
+        if not run_maps:
+            continue
+        levels = ", ".join(
+            f"{f.name} = {f.label_of(row[f.name])}"
+            if f.choices is not None
+            else f"{f.name} = {row[f.name]:g}" + ("" if f.unit in ("", "-") else f" {f.unit}")
+            for f in factors
+        )
+        which = (
+            f", replicate {int(row['replicate'])} (seed {int(row['seed'])})" if replicated else ""
+        )
+        tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
+        after = _cut_short(run.config) or "the whole cycle"
+        removal = run.config.automaton.secondary_removal_fraction
+        if removal > 0:  # the map is the state after the S rule of the last stop
+            after += (
+                f", after the S rule (S = {removal:g}) removed secondary plateaus at the "
+                "end of the last stop (the per-run table's secondary share is the last "
+                "stop's own, before it)"
+            )
+        draw(
+            "Final plateau maps",
+            f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
+            f"final_map_{tag}.png",
+            plotting.plot_surface_map,
+            *(ds[name].to_numpy() for name in ("final_status", "radius", "angle")),
+            title=f"Test {int(row['test'])}: {levels}",
+        )
+        if "map_status" not in ds:
+            (fig_dir / f"maps_by_stop_{tag}.png").unlink(missing_ok=True)
+            continue
+        kept = ", ".join(str(int(k)) for k in ds["map_stop"].to_numpy())
+        draw(
+            "Plateau maps over the cycle",
+            f"Test {int(row['test'])} ({levels}){which}: plateaus before the first stop "
+            f"and after stop{'s' if ds.sizes['map_stop'] > 1 else ''} {kept} (brakeca run "
+            "--maps-at)",
+            f"maps_by_stop_{tag}.png",
+            plotting.plot_fibre_maps,
+            _maps_over_cycle(ds),
+            title=f"Test {int(row['test'])}: {levels}{which}",
+        )
+    filed = ok[[str(rid) in pm10_of for rid in ok["run_id"]]] if len(pm10_of) else ok.iloc[:0]
+    if first_pad:
+        shown_tests = [str(first_pad[level][0]) for level in sorted(first_pad)]
         add(
             "Pad surfaces",
             "Initial fibre maps of the A levels (as the paper's Figure 5): the pads of tests "
@@ -881,58 +933,9 @@ def write_study(
             "own from its seed)",
             "fibre_maps.png",
             plotting.plot_fibre_maps,
-            maps,
+            {f"A = {level:g} %": first_pad[level][1] for level in sorted(first_pad)},
         )
-    if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
-        for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
-            stale.unlink()
-    else:
-        replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
-        for _, row in filed.iterrows():
-            levels = ", ".join(
-                f"{f.name} = {f.label_of(row[f.name])}"
-                if f.choices is not None
-                else f"{f.name} = {row[f.name]:g}" + ("" if f.unit in ("", "-") else f" {f.unit}")
-                for f in factors
-            )
-            which = (
-                f", replicate {int(row['replicate'])} (seed {int(row['seed'])})"
-                if replicated
-                else ""
-            )
-            run = RunResult.from_netcdf(runs_dir / f"{row['run_id']}.nc")
-            ds = run.dataset
-            tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
-            after = _cut_short(run.config) or "the whole cycle"
-            removal = run.config.automaton.secondary_removal_fraction
-            if removal > 0:  # the map is the state after the S rule of the last stop
-                after += (
-                    f", after the S rule (S = {removal:g}) removed secondary plateaus at the "
-                    "end of the last stop (the per-run table's secondary share is the last "
-                    "stop's own, before it)"
-                )
-            add(
-                "Final plateau maps",
-                f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
-                f"final_map_{tag}.png",
-                plotting.plot_surface_map,
-                *(ds[name].to_numpy() for name in ("final_status", "radius", "angle")),
-                title=f"Test {int(row['test'])}: {levels}",
-            )
-            if "map_status" not in ds:
-                (fig_dir / f"maps_by_stop_{tag}.png").unlink(missing_ok=True)
-                continue
-            kept = ", ".join(str(int(k)) for k in ds["map_stop"].to_numpy())
-            add(
-                "Plateau maps over the cycle",
-                f"Test {int(row['test'])} ({levels}){which}: plateaus before the first stop "
-                f"and after stop{'s' if ds.sizes['map_stop'] > 1 else ''} {kept} (brakeca run "
-                "--maps-at)",
-                f"maps_by_stop_{tag}.png",
-                plotting.plot_fibre_maps,
-                _maps_over_cycle(ds),
-                title=f"Test {int(row['test'])}: {levels}{which}",
-            )
+    figures.extend(run_figures)
 
     config_text = (
         (out / "base_config.toml").read_text(encoding="utf-8")
@@ -992,7 +995,7 @@ def write_study(
     floor_note = _floor_note(result, base)
     if floor_note:
         notes += "\n\n" + floor_note
-    summary, pm10_note = _pm10_columns(result, summary, readable)
+    summary, pm10_note = _pm10_columns(summary, pm10_of)
     if pm10_note:
         notes = notes + "\n\n" + pm10_note
         summary.to_csv(out / "tables" / "pm10.csv", index=False)
