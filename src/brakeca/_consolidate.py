@@ -181,7 +181,7 @@ def _campaign_dataset(
     for factor in design.factors:
         values = np.asarray([r.point.levels[factor.name] for r in records])
         attrs = {
-            "units": "1" if factor.unit in ("", "-") else factor.unit,  # UDUNITS' 1, not '-'
+            "units": "1" if factor.unit == "-" else factor.unit,  # UDUNITS' 1 (none: none)
             "long_name": factor.label or factor.name,
             "field": factor.field,
             "scale": factor.scale,

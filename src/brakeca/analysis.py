@@ -2746,8 +2746,8 @@ def analyze(
     """Run the whole analysis for several responses.
 
     Given a design (a campaign result, or the design as ``factors``), each of
-    ``main_effects_only``, ``anova_type``, ``alpha_to_remove`` and the model
-    (``max_order``, ``model_terms``) left unset is the design's, as the report takes it
+    ``anova_type``, ``alpha_to_remove`` and the model (``main_effects_only``, ``max_order``,
+    ``model_terms``, all three unset) left unset is the design's, as the report takes it
     (:func:`brakeca.study.write_study`): ``analyze(brakeca.load_campaign("study"))`` gives
     the report's tables. Without a design they default to the full model of main effects and
     two-factor interactions, Type II, unreduced.
@@ -2823,13 +2823,14 @@ def analyze(
         # what the report takes from the design (study.write_study; an API review found
         # analyze(load_campaign(...)) a Type II, unreduced fit beside a report's Type III,
         # reduced one)
+        chosen_model = main_effects_only is not None  # the model's terms, by their flag
         if main_effects_only is None:
             main_effects_only = design.plackett_burman is not None
         if anova_type is None:
             anova_type = design.anova_type
         if alpha_to_remove is None and not design.is_response_surface:
             alpha_to_remove = design.alpha_to_remove
-        if max_order is None and model_terms is None:
+        if max_order is None and model_terms is None and not chosen_model:
             chosen = design.anova_model
             if isinstance(chosen, int):
                 max_order = chosen

@@ -422,14 +422,10 @@ def _run_locked(
     )
     dataset = _campaign_dataset(campaign_design, ordered, summary, base)
     summary_text = summary.to_csv(index=False)
-    replaced = _stale_analysis(out, summary_text)
+    replaced, why = _stale_analysis(out, summary_text)
     atomic_write(out / "summary.csv", lambda tmp: tmp.write_text(summary_text, encoding="utf-8"))
     if replaced:
-        say(
-            console,
-            f"[dim]removed the earlier study's analysis ({', '.join(replaced)}): it was of "
-            "other runs[/]",
-        )
+        say(console, f"[dim]removed the earlier study's analysis ({', '.join(replaced)}): {why}[/]")
     from brakeca.results import write_atomic  # made in memory: a full disk is an OSError
 
     write_atomic(dataset, out / "campaign.nc")
@@ -452,9 +448,8 @@ def _run_locked(
 
 
 def _without_wall_time(summary_text: str) -> str:
-    """A summary.csv's text without its ``wall_time`` column: a run computed again (its file
-    deleted to keep maps, or damaged) gives the same results in another time, and the
-    analysis of them stands (a robustness review found it removed)."""
+    """A summary.csv's text without its ``wall_time`` column, to tell a run computed again
+    with the same results (in another time) from another study."""
     import io
 
     rows = list(csv.reader(io.StringIO(summary_text)))
@@ -464,25 +459,32 @@ def _without_wall_time(summary_text: str) -> str:
     return "\n".join(",".join(row[:drop] + row[drop + 1 :]) for row in rows)
 
 
-def _stale_analysis(out: Path, summary_text: str) -> list[str]:
+def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
     """Remove the analysis (report.html, tables/, figures/) of the study in ``out`` when the
     summary about to be written (``summary_text``, summary.csv's text) differs from the one
     there (another study, more replicates, failed runs computed again): it would describe
     runs that are no longer the folder's study, and a campaign run without its report
-    (``--no-report``) would leave it there. Returns what was removed."""
+    (``--no-report``) would leave it there. Returns what was removed, and why."""
     import shutil
 
     path = out / "summary.csv"
     if not path.is_file():
-        return []
+        return [], ""
     try:  # the text summary.csv gets: equal text is an equal study, failed runs and all
-        same = _without_wall_time(path.read_text(encoding="utf-8")) == _without_wall_time(
-            summary_text
+        before = path.read_text(encoding="utf-8")
+        why = (
+            # a run computed again (its file deleted to keep maps, or damaged) with the same
+            # results: the analysis's maps and notes of that run's file may be out of date,
+            # so it goes too, said as it is (it was "of other runs": a robustness review)
+            "runs of it were computed again, with the same results; 'brakeca analyze "
+            f"{out}' writes it anew"
+            if _without_wall_time(before) == _without_wall_time(summary_text)
+            else "it was of other runs"
         )
     except (OSError, UnicodeDecodeError, csv.Error):
-        same = False
-    if same:
-        return []
+        before, why = "", "it was of other runs"
+    if before == summary_text:
+        return [], ""
     removed = []
     for name in ("report.html", "tables", "figures"):
         target = out / name
@@ -493,7 +495,7 @@ def _stale_analysis(out: Path, summary_text: str) -> list[str]:
         else:
             continue
         removed.append(name + ("/" if name != "report.html" else ""))
-    return removed
+    return removed, why
 
 
 def _refuse_to_replace(
@@ -528,13 +530,14 @@ def _refuse_to_replace(
                 "last level of the last factor, or a factor added, numbers the tests anew"
             )
     replaced = "summary.csv and report.html" if (out / "report.html").is_file() else "summary.csv"
+    back = "brings its study back"
     if not (out / "summary.csv").is_file():
-        replaced = "design.toml and leave those runs out"
+        replaced, back = "design.toml and leave those runs out", "resumes its campaign"
     raise ConfigError(
         f"{out} holds {what} ({shown}): this one would replace its {replaced}. Give another "
         "folder, or replace it on purpose (--replace; replace=True "
         f"from Python): the run files of both are kept, and the first {first}, run again, "
-        f"brings its study back{after}"
+        f"{back}{after}"
     )
 
 
@@ -595,20 +598,21 @@ def _unfinished_left_out(out: Path, points: Sequence[RunPoint]) -> str:
     runs = out / "runs"
     if not (out / "design.toml").is_file() or not runs.is_dir():
         return ""
+    try:  # the runs of the folder's own design (design.toml and base_config.toml): the files
+        # of a design an earlier --replace left behind are not its (a diff review found the
+        # folder's own design refused for them)
+        there = load_design(out / "design.toml")
+        theirs = {run_id(p) for p in there.points()}
+        name = there.name
+    except Exception:  # a design.toml this version cannot read: nothing to hold to
+        return ""
     started = {f.stem for f in runs.glob("*.nc")} | {
         f.name.removeprefix(".").removesuffix(".checkpoint.npz")
         for f in runs.glob(".*.checkpoint.npz")
     }
-    missing = started - {run_id(p) for p in points}
+    missing = (started & theirs) - {run_id(p) for p in points}
     if not missing:
         return ""
-    name = "?"
-    try:
-        import tomllib
-
-        name = str(tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))["name"])
-    except Exception:
-        pass
     return (
         f"the unfinished campaign of design {name!r}: {len(missing)} of its runs, done or "
         "begun, not in this one"

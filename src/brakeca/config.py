@@ -191,7 +191,8 @@ class MeshConfig(_Frozen):
                 f"({self.n_subdomains}): each subdomain holds n_angular / n_subdomains columns"
             )
         span = self.n_angular * self.angular_step_deg
-        if span > 360.0:  # (a fuzz review: 440 and 100,000 degrees were taken)
+        if span > 360.0 * (1.0 + 1e-12):  # (a fuzz review: 440 and 100,000 deg were taken;
+            # the tolerance lets 1430 x 360/1430 deg, 360.00000000000006, be 360)
             raise ValueError(
                 f"n_angular x angular_step_deg = {self.n_angular} x {self.angular_step_deg:g} "
                 f"= {span:g} deg: the band is a sector of the pad, at most 360 deg (the "
@@ -569,9 +570,9 @@ class CycleConfig(_Frozen):
     )
     trace_sha256: str | None = Field(
         None,
-        pattern=r"^[0-9a-fA-F]{64}$",
-        description="SHA-256 of the trace file's content (64 hexadecimal digits), checked "
-        "before a run",
+        pattern=r"^[0-9a-f]{64}$",  # as hashlib writes it, which the check compares with
+        description="SHA-256 of the trace file's content (64 lowercase hexadecimal digits), "
+        "checked before a run",
     )
     trace_speed_unit: str | None = Field(
         None, description="speed unit of a trace whose header states none (km/h, m/s, mph)"
@@ -1180,7 +1181,7 @@ def format_validation_error(
             least = (err.get("ctx") or {}).get("min_length", 1)
             msg = "must not be empty" if least == 1 else f"needs at least {least} characters"
         elif err["type"] == "string_pattern_mismatch" and path.endswith("sha256"):
-            msg = "must be a SHA-256 digest, 64 hexadecimal digits"
+            msg = "must be a SHA-256 digest, 64 lowercase hexadecimal digits"
         elif err["type"] == "string_type":
             msg = 'should be text, in quotes: "..."'
         elif err["type"] in ("bool_type", "bool_parsing"):

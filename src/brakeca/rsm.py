@@ -1433,12 +1433,14 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     for g in goals:  # limits a thousand times the response: a unit slip (an API review)
         largest = float(np.nanmax(np.abs(on_grid[g.response])))
         if largest > 0 and min(abs(g.lower), abs(g.upper)) > 1e3 * largest:
+            scale, unit = (1e9, " mm³") if g.response == "V" else (1.0, "")  # V as users give it
             notes.append(
-                f"the limits of {g.response}'s goal ({g.lower:g} to {g.upper:g}) are over a "
-                f"thousand times the fitted {g.response} anywhere in the region (at most "
-                f"{largest:.3g})"
+                f"the limits of {g.response}'s goal ({g.lower * scale:g} to "
+                f"{g.upper * scale:g}{unit}) are over a thousand times the fitted "
+                f"{g.response} anywhere in the region (at most {largest * scale:.3g}{unit})"
                 + (
-                    ": V is in m³ here (brakeca.rsm.Goal), in mm³ in a design file and --goal"
+                    ": from Python, brakeca.rsm.Goal takes V in m³ (a design file and --goal "
+                    "in mm³)"
                     if g.response == "V"
                     else ""
                 )

@@ -766,7 +766,8 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     rerun_reusing(out, progress=False)
     assert (out / "report.html").read_text(encoding="utf-8") == "this study's report"
     # a run computed again (its file deleted, or damaged) differs in its wall time alone: the
-    # analysis stands (a robustness review found it removed); another result removes it
+    # analysis (whose maps and notes of that file may be out of date) goes, said as it is (it
+    # was "of other runs": a robustness review); another result is another study
     from brakeca.campaign import _stale_analysis
 
     (out / "tables").mkdir()
@@ -775,12 +776,14 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     column = header.rstrip("\n").split(",").index("wall_time")
     cells = first.rstrip("\n").split(",")
     cells[column] = str(float(cells[column]) + 1.5)
-    assert _stale_analysis(out, "".join([header, ",".join(cells) + "\n", *rest])) == []
-    assert (out / "report.html").is_file() and (out / "tables").is_dir()
+    removed, why = _stale_analysis(out, "".join([header, ",".join(cells) + "\n", *rest]))
+    assert removed == ["report.html", "tables/"] and not (out / "report.html").exists()
+    assert why.startswith("runs of it were computed again, with the same results; 'brakeca")
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
     cells[header.split(",").index("MU")] = "0.5"
     changed = "".join([header, ",".join(cells) + "\n", *rest])
-    assert _stale_analysis(out, changed) == ["report.html", "tables/"]
-    assert not (out / "report.html").exists()
+    assert _stale_analysis(out, changed) == (["report.html"], "it was of other runs")
+    assert _stale_analysis(out, text) == ([], "")  # the same text: nothing to remove
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     # analyze while a campaign holds the folder says so
     monkeypatch.setattr(_runstore, "lock_holder", lambda folder: "pid 1 on host, since then")
@@ -890,6 +893,18 @@ def test_an_unfinished_first_campaign_is_not_taken_over_by_another_design(tmp_pa
     )
     assert taken.ok and len(taken.computed) == 4  # the run of A = 10 % is not among them
     assert len(list((tmp_path / "taken" / "runs").glob("*.nc"))) == 5  # and is kept
+    # a --replace stopped in its turn resumes from the folder's design.toml without
+    # --replace: the first design's run files are not its runs (a diff review found it
+    # refused, naming the design it resumed)
+    (tmp_path / "taken" / "summary.csv").unlink()
+    (tmp_path / "taken" / "campaign.nc").unlink()
+    again = run_campaign(
+        tmp_path / "taken" / "design.toml", tmp_path / "taken", executor="serial",
+        simulate_fn=must_not_run, progress=False, console=quiet(),
+    )  # fmt: skip
+    assert again.ok and len(again.reused) == 4
+    text = " ".join(str(refused.value).split())
+    assert "run again, resumes its campaign" in text
 
 
 def test_campaign_nc_names_every_coordinate(serial) -> None:

@@ -83,3 +83,7 @@ def test_analyze_takes_a_finished_campaign() -> None:
     assert brakeca.analyze(rows, chosen, ["MU"])["MU"]["anova"].equals(expected)
     other = brakeca.analyze(reduced, responses=["MU"], anova_type=2)
     assert other["MU"]["anova"].attrs["typ"] == "Type II"
+    # main_effects_only given chooses the model, as without a design (a diff review: the
+    # design's order had won over it)
+    alone = brakeca.analyze(campaign, responses=["MU"], main_effects_only=True)["MU"]["anova"]
+    assert list(alone["term"]) == ["S", "WP", "WR", "A", "Residual"]

@@ -308,7 +308,8 @@ def test_config_checks_a_trace_as_a_run_would() -> None:
         (["--set", "cycle.trace_speed_unit=furlongs"], "unknown speed unit 'furlongs'"),
         (
             ["--set", "cycle.trace_sha256=zz"],
-            "cycle.trace_sha256: must be a SHA-256 digest, 64 hexadecimal digits (got 'zz')",
+            "cycle.trace_sha256: must be a SHA-256 digest, 64 lowercase hexadecimal digits "
+            "(got 'zz')",
         ),
     ):
         line = _one_error_line(_invoke("config", *trace, *extra))

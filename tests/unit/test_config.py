@@ -136,6 +136,13 @@ def test_values_just_past_a_limit_are_refused(updates, needle):
 
 def test_values_just_within_the_bands_limits_are_taken():
     paper = load_preset("paper")
+    # 1430 x 360/1430 deg is 360.00000000000006 in floating point: a whole ring, taken (a diff
+    # review found it refused as more than 360 deg)
+    ring = {"mesh.n_angular": 1430, "mesh.angular_step_deg": 360 / 1430, "mesh.n_radial": 3}
+    assert paper.with_updates({**ring, "brake.pad_area": 0.04}).mesh.n_angular == 1430
+    # an upper-case digest would never match hashlib's lower-case one: refused up front
+    with pytest.raises(ConfigError, match="64 lowercase hexadecimal digits"):
+        paper.with_updates({"cycle.trace_sha256": "A" * 64})
     assert paper.with_updates({"brake.pad_area": 1.7443e-3}).brake.pad_area == 1.7443e-3
     assert paper.with_updates(
         {

@@ -268,3 +268,23 @@ def test_brakecas_warnings_are_one_line_in_a_worker_and_on_the_command_line(tmp_
     finally:
         restore()
     assert warnings.formatwarning is before
+    # the command line sets it for its command and puts Python's back when it ends
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    seen = []
+    import brakeca.cli
+
+    real = brakeca.cli.resolve_config
+
+    def spy(*args, **kwargs):  # runs inside the command
+        seen.append(warnings.formatwarning("x", CheckpointWarning, "f.py", 1))
+        return real(*args, **kwargs)
+
+    brakeca.cli.resolve_config = spy
+    try:
+        assert CliRunner().invoke(app, ["config"]).exit_code == 0
+    finally:
+        brakeca.cli.resolve_config = real
+    assert seen == ["warning: x\n"] and warnings.formatwarning is before
