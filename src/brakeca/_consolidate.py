@@ -21,7 +21,7 @@ from brakeca import __version__
 from brakeca._runstore import _Record
 from brakeca.config import SimulationConfig
 from brakeca.design import Design, load_design
-from brakeca.results import scalar_attrs
+from brakeca.results import RunResult, scalar_attrs
 
 CAMPAIGN_FORMAT = "brakeca-campaign/1"  #: format marker of campaign.nc
 
@@ -68,6 +68,35 @@ class CampaignResult:
     def ok(self) -> bool:
         """True when every run finished."""
         return bool((self.summary["status"] == "ok").all())
+
+    def run(self, test: int, replicate: int = 0) -> RunResult:
+        """The run file of a test (and replicate) of this campaign, read
+        (``runs/<run_id>.nc``; an API review had to build the path from the summary).
+
+        Raises
+        ------
+        KeyError
+            The campaign has no such test and replicate.
+        ValueError
+            The run failed (no run file), or its file cannot be read.
+        FileNotFoundError
+            Its run file is not in the folder (a folder sent without ``runs/``).
+        """
+        from brakeca.results import RunResult
+
+        rows = self.summary
+        chosen = rows[(rows["test"] == test) & (rows.get("replicate", 0) == replicate)]
+        if chosen.empty:
+            raise KeyError(
+                f"test {test}, replicate {replicate}: not a run of this campaign (tests "
+                f"{int(rows['test'].min())} to {int(rows['test'].max())})"
+                if len(rows)
+                else f"test {test}: this campaign has no runs"
+            )
+        row = chosen.iloc[0]
+        if row["status"] != "ok":
+            raise ValueError(f"test {test}, replicate {replicate} failed: {row['error']}")
+        return RunResult.from_netcdf(Path(self.out_dir) / "runs" / f"{row['run_id']}.nc")
 
     def __repr__(self) -> str:
         """One line: design, folder and run counts (the attributes hold the rest)."""

@@ -401,6 +401,12 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
     # a loaded campaign's failed runs are in failed (empty, `if loaded.failed` had said none
     # failed: an API review); what the campaign computed is not kept
     assert loaded.failed == result.failed and not loaded.computed and not loaded.ok
+    # a test's run file by its number (an API review built the path from the summary)
+    assert loaded.run(2).MU == summary.loc[1, "MU"]
+    with pytest.raises(ValueError, match="test 3, replicate 0 failed: RuntimeError: boom"):
+        loaded.run(3)
+    with pytest.raises(KeyError, match="test 9, replicate 0: not a run of this campaign"):
+        loaded.run(9)
     # a second pass computes only the failed run
     healed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
     assert healed.ok and healed.computed == (summary.loc[2, "run_id"],) and len(healed.reused) == 3
