@@ -992,6 +992,17 @@ def write_study(
             "summary.csv and campaign.nc, but those runs' plateau maps (and PM10 on a speed "
             "trace) are not shown."
         )
+    silent = ok.loc[pd.to_numeric(ok["V"], errors="coerce") <= 0, "test"] if "V" in ok else []
+    if len(silent):  # (left out of the log scale's analysis without a word: an API review)
+        notes += (
+            f"\n\n{tests_named(int(t) for t in silent).capitalize()} emitted nothing (V = 0): "
+            "log10_V_mm3 has no value there, so its analysis leaves "
+            + (
+                "that run out (the analysis of V keeps it)."
+                if len(silent) == 1
+                else "those runs out (the analysis of V keeps them)."
+            )
+        )
     floor_note = _floor_note(result, base)
     if floor_note:
         notes += "\n\n" + floor_note

@@ -738,3 +738,23 @@ def test_run_warns_of_a_noisy_trace_a_cycle_factor_chooses(tmp_path, monkeypatch
     assert res.exit_code == 2 and "stopped before any run" in res.output
     text = " ".join(res.output.split())
     assert text.count("braking events decelerate on average at less than half") == 1
+
+
+def test_a_run_without_emission_is_named_where_the_log_scale_leaves_it_out(campaign, tmp_path):
+    """A run with V = 0 has no log10_V_mm3 and left the log scale's analysis without a word
+    (an API review): the report names it."""
+    import shutil
+
+    from brakeca.campaign import load_campaign
+    from brakeca.study import write_study
+
+    out, _ = campaign
+    copy = tmp_path / "c"
+    shutil.copytree(out, copy)
+    (copy / ".brakeca.lock").unlink(missing_ok=True)
+    result = load_campaign(copy)
+    result.summary.loc[result.summary["test"] == 2, "V"] = 0.0
+    write_study(result, run_maps=False)
+    html = " ".join((copy / "report.html").read_text(encoding="utf-8").split())
+    assert "Test 2 emitted nothing (V = 0): log10_V_mm3 has no value there, so its" in html
+    assert "leaves that run out (the analysis of V keeps it)" in html
