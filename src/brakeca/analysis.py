@@ -799,7 +799,8 @@ def anova(
         order"). Where the model would leave no residual degrees of freedom, the highest
         order is pooled into the residual, order by order, with a note. Or the model's
         terms one by one, as Minitab's Terms dialog picks them: a list (or array) such as
-        ``["S", "WP", "A", "WP*A"]`` (:func:`canonical_terms`; a hierarchical model, each
+        ``["S", "WP", "A", "WP*A"]``, or one string of them, ``"S WP A WP*A"``
+        (:func:`canonical_terms`; a hierarchical model, each
         interaction with the lower-order terms of its factors), fitted as given: no
         pooling; a term of a factor with one level in the data, or aliased with the terms
         before it (in a fraction), is left out with a note.
@@ -843,7 +844,8 @@ def anova(
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
     factors = _factors(factors)
-    if _is_term_list(interactions):  # checked once, before any work
+    if isinstance(interactions, str) or _is_term_list(interactions):  # checked once, first
+        # (one string of terms too, as analyze's model_terms takes it: an API review)
         interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
     data = _clean(summary, factors, response)
     n = len(data)
@@ -1260,6 +1262,8 @@ def _model_order(interactions: Model, *, name: str = "interactions") -> int:
     two-factor interactions), False 1 (main effects), a whole number that number, a list of
     terms its longest term's (checked against the factors by :func:`canonical_terms`). ``name``
     is the argument the caller took it as: ``max_order`` takes a whole number only."""
+    if isinstance(interactions, str) and name == "interactions":  # one line of terms
+        interactions = split_terms(interactions)
     if isinstance(interactions, bool | np.bool_) and name == "interactions":
         return 2 if interactions else 1
     if name == "interactions" and _is_term_list(interactions):
@@ -1813,7 +1817,8 @@ def _fitted_model(
     :func:`_model`'s (frame, term names, terms, notes) of the other runs (None without
     usable rows); shared by :func:`_model_arrays` and :func:`factor_trends`."""
     factors = _factors(factors)
-    if _is_term_list(interactions):  # checked once, before any work
+    if isinstance(interactions, str) or _is_term_list(interactions):  # checked once, first
+        # (one string of terms too, as analyze's model_terms takes it: an API review)
         interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
     data = _clean(summary, factors, response)
     y = data[response].to_numpy(dtype=float)

@@ -108,9 +108,14 @@ def test_terms_may_come_as_an_array_or_series() -> None:
 
     rows = _design(replicates=2)
     listed = anova(rows, FACTORS, "MU", interactions=["S", "WP", "S*WP"])
-    for given in (np.array(["S", "WP", "S*WP"]), pd.Series(["S", "WP", "S*WP"])):
+    # or one string, as analyze's model_terms takes them (anova refused it: an API review)
+    for given in (np.array(["S", "WP", "S*WP"]), pd.Series(["S", "WP", "S*WP"]), "S WP S*WP"):
         table = anova(rows, FACTORS, "MU", interactions=given)
         assert table.drop(columns="note").equals(listed.drop(columns="note"))
+    from brakeca.analysis import residuals
+
+    listed_residuals = residuals(rows, FACTORS, "MU", interactions=["S", "WP", "S*WP"])
+    assert residuals(rows, FACTORS, "MU", interactions="S + WP + S:WP").equals(listed_residuals)
 
 
 def test_a_fraction_fitted_without_some_main_effects_names_every_alias() -> None:
