@@ -776,3 +776,4 @@ class _Execution:
     simulate_fn: SimulateFn | None
     progress: bool
     maps_at: tuple[int, ...] = ()
+    on_run: Callable[[int, int], object] | None = None  # called with (done, total) per run

@@ -162,7 +162,7 @@ def run_campaign(
     max_stops: int | None = None,
     overrides: Mapping[str, Any] | None = None,
     simulate_fn: SimulateFn | None = None,
-    progress: bool = True,
+    progress: bool | Callable[[int, int], object] = True,
     console: Console | None = None,
     replace: bool = False,
     maps_at: Iterable[int] = (),
@@ -213,7 +213,10 @@ def run_campaign(
         find it): a script that passes one must call this under
         ``if __name__ == "__main__":``; with None no guard is needed.
     progress
-        Show a progress bar over the runs, with an ETA.
+        Show a progress bar over the runs, with an ETA, and a line per finished run; or a
+        function ``progress(done, total)``, called as each run finishes (or fails) with the
+        runs done so far and all the design's runs, reused ones counted [-], with no bar and
+        no lines (as :func:`brakeca.simulation.simulate` takes one per stop).
     console
         Where messages and the progress bar go; None: a console on standard error.
     replace
@@ -290,8 +293,9 @@ def run_campaign(
         max_retries=int(max_retries),
         checkpoint_every=checkpoint_every,
         simulate_fn=simulate_fn,
-        progress=progress,
+        progress=progress is True or (not callable(progress) and bool(progress)),
         maps_at=tuple(kept_maps),
+        on_run=progress if callable(progress) else None,
     )
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
@@ -782,6 +786,8 @@ def _execute_points(
                             highlight=False,
                         )
                     bar.advance(task)
+                    if how.on_run is not None:  # (a notebook's own progress: an API review)
+                        how.on_run(n_total - len(todo) + len(computed) + len(failed), n_total)
             bar.update(task, description="runs")
         finished = True
     finally:

@@ -926,3 +926,23 @@ def test_campaign_nc_names_every_coordinate(serial) -> None:
 
     factors = _campaign_factors(serial.dataset)  # as the axes write it
     assert factors is not None and factors[0].axis_label == "S [-]"
+
+
+def test_a_progress_function_is_called_as_each_run_finishes(design_file, tmp_path) -> None:
+    """run_campaign took a progress bar or nothing; a notebook's own progress had no hook
+    (simulate takes a function per stop; an API review). A function gets (done, total) per
+    run, the reused runs counted, and the console no bar or run lines."""
+    out = tmp_path / "c"
+    calls: list[tuple[int, int]] = []
+    console = quiet()
+    run_campaign(
+        design_file, out, executor="serial", progress=lambda *a: calls.append(a),
+        console=console, max_stops=1,
+    )  # fmt: skip
+    assert calls == [(1, 4), (2, 4), (3, 4), (4, 4)]
+    assert " done: test " not in console_text(console)
+    (out / "runs" / f"{load_campaign(out).summary['run_id'][2]}.nc").unlink()
+    calls.clear()
+    run_campaign(design_file, out, executor="serial", progress=lambda *a: calls.append(a),
+                 console=quiet(), max_stops=1)  # fmt: skip
+    assert calls == [(4, 4)]  # three reused, the fourth computed
