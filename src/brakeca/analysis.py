@@ -2807,7 +2807,9 @@ def analyze(
     dict
         ``{response: {"main_effects": DataFrame, "interactions": {(a, b): DataFrame},
         "interactions_long": DataFrame, "anova": DataFrame, "ranked_effects": DataFrame,
-        "residuals": DataFrame, "effects": DataFrame, "trends": DataFrame}}``; ``effects``
+        "residuals": DataFrame, "effects": DataFrame, "trends": DataFrame,
+        "model_summary": DataFrame}}``; ``model_summary`` is :func:`model_summary` of the
+        ANOVA (S, R², adjusted and predicted R²); ``effects``
         is :func:`two_level_effects`, empty unless every factor has two levels; ``trends``
         is :func:`factor_trends`, empty unless a factor has three levels or more.
 
@@ -2912,6 +2914,9 @@ def analyze(
                 model_terms=kept,
             ),
             "trends": _trends(summary, design_factors, response, table, model, alpha_to_remove),
+            # S, R², adjusted and predicted R² as the CLI's model_summary table (they had
+            # been in the ANOVA's attrs alone, which concat and merge drop: an API review)
+            "model_summary": model_summary(table),
         }
     return result
 
@@ -3001,7 +3006,7 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             "main_effects": bundle["main_effects"],
             "interactions": long,
             "anova": bundle["anova"],
-            "model_summary": model_summary(bundle["anova"]),
+            "model_summary": bundle.get("model_summary", model_summary(bundle["anova"])),
             "ranked_effects": bundle["ranked_effects"],
         }
         if bundle.get("residuals") is not None:

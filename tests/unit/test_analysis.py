@@ -375,8 +375,10 @@ def test_analyze_and_save_tables(tmp_path) -> None:
             "residuals",
             "effects",
             "trends",
+            "model_summary",
         }
         assert bundle["effects"].empty  # WP has three levels: no two-level effects table
+        assert bundle["model_summary"].equals(model_summary(bundle["anova"]))
         assert list(bundle["trends"]["factor"]) == ["WP", "WP"]  # but a trend
     written = save_tables(result, tmp_path / "tables")
     names = sorted(p.name for p in written)
