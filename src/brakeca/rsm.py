@@ -315,7 +315,35 @@ class SurfaceFit:
         if missing:
             raise KeyError(f"levels missing for factor(s) {missing}")
         coded = {c.name: c.code(levels[c.name]) for c in self.codings}
+        self._warn_far(levels, coded)
         return self.predict_coded(coded)
+
+    def _warn_far(self, levels: Mapping[str, Any], coded: Mapping[str, Any]) -> None:
+        """Warn (:class:`brakeca.config.UnitWarning`) for a level farther outside the runs'
+        range than half that range: the surface is extrapolated there, and such a level often
+        is one in another unit (A = 0.15 for 15 %: an API review saw 0.108 come back without
+        a word)."""
+        import warnings
+
+        from brakeca.config import UnitWarning
+
+        extent = self.extent()
+        for c in self.codings:
+            lo, hi = extent[c.name]
+            margin = 0.5 * (hi - lo)
+            values = np.ravel(np.asarray(coded[c.name], dtype=float))
+            far = np.isnan(values) | (values < lo - margin) | (values > hi + margin)
+            if far.any():
+                given = float(np.ravel(np.asarray(levels[c.name], dtype=float))[np.argmax(far)])
+                span = c.decode(np.array([lo, hi]))
+                unit = f" {c.unit}" if c.unit and c.unit != "-" else ""
+                warnings.warn(
+                    f"{c.name} = {given:g}{unit} lies far outside the runs' levels "
+                    f"({span[0]:g} to {span[1]:g}{unit}): the surface is extrapolated there "
+                    "(is the level in the factor's unit?)",
+                    UnitWarning,
+                    stacklevel=3,
+                )
 
     def predict_coded(self, coded: Mapping[str, Any]) -> np.ndarray:
         """The fitted response [response unit] at coded factor values [-].

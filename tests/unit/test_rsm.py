@@ -667,3 +667,14 @@ def test_a_design_stands_for_its_factors_in_the_surface_fit() -> None:
     for given in (design, types.SimpleNamespace(design=design)):
         fit = fit_response_surface(summary, given, "MU")
         assert fit.terms == expected.terms and np.array_equal(fit.coef, expected.coef)
+
+
+def test_a_level_far_outside_the_runs_is_a_unit_warning() -> None:
+    """fit.predict({"A": 0.15, ...}) (a fraction for A's %) came back without a word (an API
+    review): a level farther outside the runs' range than half that range warns."""
+    from brakeca.config import UnitWarning
+
+    fit = fit_response_surface(_bowl((0.3, -0.2)), _PQ, "y")
+    assert fit.predict({"p": 1.4, "q": [-1.0, 1.0]}).shape == (2,)  # within half the range
+    with pytest.warns(UnitWarning, match=r"p = 5 lies far outside the runs' levels \(-1 to 1\)"):
+        fit.predict({"p": [0.0, 5.0], "q": 0.0})
