@@ -842,13 +842,13 @@ def write_study(
         )
 
     runs_dir = out / "runs"
-    # the figures of the runs' own files draw the runs whose file is there: a folder sent
-    # without runs/ (summary.csv and campaign.nc) still gives every table and the report;
+    # The figures of the runs' own files draw the runs whose file is there: a folder sent
+    # without runs/ (summary.csv and campaign.nc) still gives every table and the report, and
     # a damaged file is left out as a missing one is, and named (it raised half-way through
-    # the figures, leaving new tables beside the old report: a fuzz review)
-    # each run file is read once (three reads of each had been a third of the analysis's
-    # time: a review): its final maps drawn, its PM10 and, for the first run at each A
-    # level, its initial fibre map kept; the figures are listed after the fibre maps
+    # the figures, leaving new tables beside the old report: a fuzz review). Each file is
+    # read once (three reads had been a third of the analysis's time: a speed review): its
+    # final maps drawn, its PM10 and, for the first run at each A level, its initial fibre
+    # map kept; its figures are listed after the fibre maps, as before.
     unreadable: dict[str, str] = {}
     pm10_of: dict[str, tuple[float, float, float] | None] = {}  # None: not on a trace
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
