@@ -293,7 +293,7 @@ def run_campaign(
         max_retries=int(max_retries),
         checkpoint_every=checkpoint_every,
         simulate_fn=simulate_fn,
-        progress=progress is True or (not callable(progress) and bool(progress)),
+        progress=bool(progress) and not callable(progress),
         maps_at=tuple(kept_maps),
         on_run=progress if callable(progress) else None,
     )
