@@ -1262,8 +1262,8 @@ def _model_order(interactions: Model, *, name: str = "interactions") -> int:
     two-factor interactions), False 1 (main effects), a whole number that number, a list of
     terms its longest term's (checked against the factors by :func:`canonical_terms`). ``name``
     is the argument the caller took it as: ``max_order`` takes a whole number only."""
-    if isinstance(interactions, str) and name == "interactions":  # one line of terms
-        interactions = split_terms(interactions)
+    if isinstance(interactions, str) and name == "interactions" and not _is_number(interactions):
+        interactions = split_terms(interactions)  # one line of terms ("2" is refused below)
     if isinstance(interactions, bool | np.bool_) and name == "interactions":
         return 2 if interactions else 1
     if name == "interactions" and _is_term_list(interactions):
@@ -1284,6 +1284,15 @@ def _model_order(interactions: Model, *, name: str = "interactions") -> int:
             f"got {interactions!r}"
         )
     return int(interactions)
+
+
+def _is_number(text: str) -> bool:
+    """Whether ``text`` reads as a number (an order given as text, not a term)."""
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def _is_term_list(interactions: Any) -> TypeGuard[Sequence[str]]:
