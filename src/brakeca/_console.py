@@ -11,7 +11,7 @@ library caller may give).
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from typing import Any
 
 from rich.console import Console
@@ -35,6 +35,37 @@ class LogConsole(Console):
         if soft_wrap is None and _unwrapped(self, objects):
             soft_wrap = True
         super().print(*objects, soft_wrap=soft_wrap, **kwargs)
+
+
+def brief_warnings() -> Callable[[], None]:
+    """Show brakeca's own warnings (:class:`brakeca.simulation.CheckpointWarning`,
+    :class:`brakeca.config.UnitWarning`) as one line, ``warning: MESSAGE``, where Python's
+    format names the library's file and line and quotes its source (``.../_executors.py:548:
+    CheckpointWarning: ...`` and ``return simulate(``), which says nothing to the command's
+    user; other warnings keep Python's format. For the command line (here, where importing
+    it loads only rich: every command sets it) and its worker processes; returns the
+    function that puts Python's format back."""
+    import warnings
+
+    default = warnings.formatwarning
+
+    def formatwarning(
+        message: Warning | str,
+        category: type[Warning],
+        filename: str,
+        lineno: int,
+        line: str | None = None,
+    ) -> str:
+        if category.__module__.split(".")[0] == "brakeca":
+            return f"warning: {message}\n"
+        return default(message, category, filename, lineno, line)
+
+    warnings.formatwarning = formatwarning
+
+    def restore() -> None:
+        warnings.formatwarning = default
+
+    return restore
 
 
 def tests_named(numbers: Iterable[int], most: int = 8) -> str:

@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
+from brakeca._console import brief_warnings
 from brakeca._runstore import _error_text
 from brakeca.config import SimulationConfig
 from brakeca.design import RunPoint
@@ -149,36 +150,6 @@ class DaskExecutor(cf.Executor):
                 finally:
                     if self._held is not None:
                         self._held.__exit__(None, None, None)
-
-
-def brief_warnings() -> Callable[[], None]:
-    """Show brakeca's own warnings (:class:`brakeca.simulation.CheckpointWarning`,
-    :class:`brakeca.config.UnitWarning`) as one line, ``warning: MESSAGE``, where Python's
-    format names the library's file and line and quotes its source (``.../_executors.py:548:
-    CheckpointWarning: ...`` and ``return simulate(``), which says nothing to the command's
-    user; other warnings keep Python's format. For the command line and its worker
-    processes; returns the function that puts Python's format back."""
-    import warnings
-
-    default = warnings.formatwarning
-
-    def formatwarning(
-        message: Warning | str,
-        category: type[Warning],
-        filename: str,
-        lineno: int,
-        line: str | None = None,
-    ) -> str:
-        if category.__module__.split(".")[0] == "brakeca":
-            return f"warning: {message}\n"
-        return default(message, category, filename, lineno, line)
-
-    warnings.formatwarning = formatwarning
-
-    def restore() -> None:
-        warnings.formatwarning = default
-
-    return restore
 
 
 #: How often a local worker checks that the campaign's process still lives [s].

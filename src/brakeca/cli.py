@@ -2204,7 +2204,7 @@ def _root(
     ctx.with_resource(warnings.catch_warnings())
     warnings.simplefilter("ignore", UnitWarning)
     # the library's other warnings (a checkpoint that cannot be written) as one line
-    from brakeca._executors import brief_warnings
+    from brakeca._console import brief_warnings
 
     ctx.call_on_close(brief_warnings())
 

@@ -254,7 +254,7 @@ def test_brakecas_warnings_are_one_line_in_a_worker_and_on_the_command_line(tmp_
 
     import warnings
 
-    from brakeca._executors import brief_warnings
+    from brakeca._console import brief_warnings
 
     before = warnings.formatwarning
     restore = brief_warnings()
