@@ -844,8 +844,7 @@ def anova(
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
     factors = _factors(factors)
-    if isinstance(interactions, str) or _is_term_list(interactions):  # checked once, first
-        # (one string of terms too, as analyze's model_terms takes it: an API review)
+    if _is_term_list(interactions):  # checked once, before any work
         interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
     data = _clean(summary, factors, response)
     n = len(data)
@@ -1262,12 +1261,11 @@ def _model_order(interactions: Model, *, name: str = "interactions") -> int:
     two-factor interactions), False 1 (main effects), a whole number that number, a list of
     terms its longest term's (checked against the factors by :func:`canonical_terms`). ``name``
     is the argument the caller took it as: ``max_order`` takes a whole number only."""
-    if isinstance(interactions, str) and name == "interactions" and not _is_number(interactions):
-        interactions = split_terms(interactions)  # one line of terms ("2" is refused below)
     if isinstance(interactions, bool | np.bool_) and name == "interactions":
         return 2 if interactions else 1
     if name == "interactions" and _is_term_list(interactions):
-        return max((len(str(t).replace("*", ":").split(":")) for t in interactions), default=1)
+        terms = split_terms(interactions) if isinstance(interactions, str) else interactions
+        return max((len(str(t).replace("*", ":").split(":")) for t in terms), default=1)
     if (
         isinstance(interactions, bool | np.bool_)
         or not isinstance(interactions, numbers.Integral)
@@ -1296,8 +1294,11 @@ def _is_number(text: str) -> bool:
 
 
 def _is_term_list(interactions: Any) -> TypeGuard[Sequence[str]]:
-    """Whether ``interactions`` gives the model's terms (a list of them), not a flag or an
-    order."""
+    """Whether ``interactions`` gives the model's terms (a list of them, or one string of them
+    as analyze's ``model_terms`` takes it: anova refused it, an API review), not a flag or
+    an order (text that reads as a number, "2", is an order given as text, refused)."""
+    if isinstance(interactions, str):
+        return not _is_number(interactions)
     return isinstance(
         interactions, Sequence | np.ndarray | pd.Series | pd.Index | set | frozenset
     ) and not isinstance(interactions, str | bytes)
@@ -1826,8 +1827,7 @@ def _fitted_model(
     :func:`_model`'s (frame, term names, terms, notes) of the other runs (None without
     usable rows); shared by :func:`_model_arrays` and :func:`factor_trends`."""
     factors = _factors(factors)
-    if isinstance(interactions, str) or _is_term_list(interactions):  # checked once, first
-        # (one string of terms too, as analyze's model_terms takes it: an API review)
+    if _is_term_list(interactions):  # checked once, before any work
         interactions = canonical_terms(interactions, [f.name for f in factors], name="interactions")
     data = _clean(summary, factors, response)
     y = data[response].to_numpy(dtype=float)
@@ -3015,7 +3015,11 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             "main_effects": bundle["main_effects"],
             "interactions": long,
             "anova": bundle["anova"],
-            "model_summary": bundle.get("model_summary", model_summary(bundle["anova"])),
+            "model_summary": (  # (analyze's; computed for a bundle made without it)
+                bundle["model_summary"]
+                if "model_summary" in bundle
+                else model_summary(bundle["anova"])
+            ),
             "ranked_effects": bundle["ranked_effects"],
         }
         if bundle.get("residuals") is not None:
