@@ -63,6 +63,19 @@ def flat_keys(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
     return out
 
 
+def config_changes(before: Mapping[str, Any], after: Mapping[str, Any]) -> list[str]:
+    """How the configuration ``after`` differs from ``before`` (both as ``to_dict`` gives
+    them): one ``"key: old -> new"`` per differing field, in ``before``'s order and then
+    ``after``'s new fields, a field one of them lacks shown as ``unset``."""
+    old, new = flat_keys(before), flat_keys(after)
+
+    def shown(table: dict[str, Any], key: str) -> str:
+        return repr(table[key]) if key in table else "unset"
+
+    keys = list(old) + [k for k in new if k not in old]
+    return [f"{k}: {shown(old, k)} -> {shown(new, k)}" for k in keys if old.get(k) != new.get(k)]
+
+
 def checkpoint_difference(meta: dict[str, Any], config: Any, seed: int) -> str:
     """What differs between a checkpoint's ``meta`` and this run (for a checkpoint that is
     not :func:`checkpoint_is_of` it): its format, its seed, or the first configuration fields
@@ -77,17 +90,7 @@ def checkpoint_difference(meta: dict[str, Any], config: Any, seed: int) -> str:
     except ValueError:  # not a configuration this version reads
         return "its configuration is not one this version reads"
 
-    before, after = flat_keys(theirs), flat_keys(config.to_dict())
-    keys = list(before) + [k for k in after if k not in before]
-
-    def shown(table: dict[str, Any], key: str) -> str:
-        return repr(table[key]) if key in table else "unset"
-
-    changed = [
-        f"{k}: {shown(before, k)} -> {shown(after, k)}"
-        for k in keys
-        if before.get(k) != after.get(k)
-    ]
+    changed = config_changes(theirs, config.to_dict())
     if not changed:
         return "its configuration differs"
     more = f"; and {len(changed) - 3} more" if len(changed) > 3 else ""

@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from brakeca import __version__
-from brakeca._io import atomic_write, flat_keys
+from brakeca._io import atomic_write, config_changes
 from brakeca.design import Design, RunPoint, run_id
 
 if TYPE_CHECKING:
@@ -258,13 +258,7 @@ def base_differences(out: Path, base: SimulationConfig) -> list[str]:
         return []
     if old == base:
         return []
-    before, after = flat_keys(old.to_dict()), flat_keys(base.to_dict())
-    keys = list(before) + [k for k in after if k not in before]
-    return [
-        f"{k}: {before.get(k, 'unset')!r} -> {after.get(k, 'unset')!r}"
-        for k in keys
-        if before.get(k) != after.get(k)
-    ]
+    return config_changes(old.to_dict(), base.to_dict())
 
 
 def _write_design(
