@@ -82,8 +82,6 @@ class CampaignResult:
         FileNotFoundError
             Its run file is not in the folder (a folder sent without ``runs/``).
         """
-        from brakeca.results import RunResult
-
         rows = self.summary
         chosen = rows[(rows["test"] == test) & (rows.get("replicate", 0) == replicate)]
         if chosen.empty:

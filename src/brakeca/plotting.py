@@ -103,12 +103,10 @@ def _variable_axis(data: Any, variable: str) -> tuple[str, str, float]:
         return "Mean coefficient of friction μ per stop [-]", "mean coefficient of friction", 1.0
     attrs = getattr(data[variable], "attrs", {})
     name = str(attrs.get("long_name") or variable)
-    units = str(attrs.get("units", "")).strip()
+    units = _axis_unit(attrs).strip() or "-"
     scale = 1.0
     if units in ("m3", "m^3", "m³"):
         units, scale = "mm³", 1e9
-    elif units in ("1", "-", ""):
-        units = "-"
     return f"{name[:1].upper()}{name[1:]} [{units}]", name, scale
 
 

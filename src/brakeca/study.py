@@ -848,17 +848,13 @@ def write_study(
     # the figures, leaving new tables beside the old report: a fuzz review). Each file is
     # read once (three reads had been a third of the analysis's time: a speed review): its
     # final maps drawn, its PM10 and, for the first run at each A level, its initial fibre
-    # map kept; its figures are listed after the fibre maps, as before.
+    # map kept; the fibre maps are listed before the runs' maps, as before.
     unreadable: dict[str, str] = {}
     pm10_of: dict[str, tuple[float, float, float] | None] = {}  # None: not on a trace
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
-    run_figures: list[tuple[str, str, Path]] = []
     names = {f.name for f in factors}
     replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
-
-    def draw(section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> None:
-        fig_fn(*args, path=fig_dir / name, **kwargs)
-        run_figures.append((section, caption, fig_dir / name))
+    pads_at = len(figures)  # where the fibre maps go, before the runs' maps
 
     if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
         for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
@@ -900,7 +896,7 @@ def write_study(
                 "end of the last stop (the per-run table's secondary share is the last "
                 "stop's own, before it)"
             )
-        draw(
+        add(
             "Final plateau maps",
             f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
             f"final_map_{tag}.png",
@@ -912,7 +908,7 @@ def write_study(
             (fig_dir / f"maps_by_stop_{tag}.png").unlink(missing_ok=True)
             continue
         kept = ", ".join(str(int(k)) for k in ds["map_stop"].to_numpy())
-        draw(
+        add(
             "Plateau maps over the cycle",
             f"Test {int(row['test'])} ({levels}){which}: plateaus before the first stop "
             f"and after stop{'s' if ds.sizes['map_stop'] > 1 else ''} {kept} (brakeca run "
@@ -935,7 +931,7 @@ def write_study(
             plotting.plot_fibre_maps,
             {f"A = {level:g} %": first_pad[level][1] for level in sorted(first_pad)},
         )
-    figures.extend(run_figures)
+        figures.insert(pads_at, figures.pop())
 
     config_text = (
         (out / "base_config.toml").read_text(encoding="utf-8")
