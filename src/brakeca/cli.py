@@ -249,7 +249,7 @@ def _config_notes(configs: Iterable[SimulationConfig]) -> None:
         if more:  # a new user saw the same note three times, once per level
             shown = ", ".join(f"{v:g}" for v in more)
             text += f" (and so at {field} = {shown})"
-        console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
+        _note(text)
 
 
 def _trace_notes(configs: Iterable[SimulationConfig]) -> None:
@@ -283,7 +283,7 @@ def _design_notes(design: Any) -> None:
     for factor in design.factors:
         note = factor.unit_note()
         if note is not None:
-            console.print(f"[yellow]note:[/] {escape(note)}", highlight=False)
+            _note(note)
     from brakeca.config import FACTOR_ALIASES
     from brakeca.design import _target
 
@@ -1008,7 +1008,7 @@ def _run_and_report(
         later = f"every run is in {output}; 'brakeca analyze {output}' writes the report"
         with _on_interrupt(later):
             try:
-                path = write_study(finish_campaign(output), note=_report_note)
+                path = write_study(finish_campaign(output), note=_note)
             except OSError as exc:  # a full disk, say: the runs are done
                 _fail(f"-o {output}: cannot write the report ({exc}); {later}", code=1)
         out.print(f"report: {path}", markup=False)
@@ -1300,7 +1300,7 @@ def analyze(
                 alpha_to_remove=reduce,
                 max_order=order,
                 model_terms=terms,
-                note=_report_note,
+                note=_note,
             )
         except OSError as exc:  # a full disk, a file the folder's owner made read-only
             where = exc.filename or folder
@@ -1318,8 +1318,9 @@ def analyze(
     )
 
 
-def _report_note(text: str) -> None:
-    """Print a note the report gives on the run files (:func:`brakeca.study.write_study`)."""
+def _note(text: str) -> None:
+    """Print a note of plain text (escaped), as the commands print theirs: the config's unit
+    notes, a trace's, the report's on the run files (:func:`brakeca.study.write_study`)."""
     console.print(f"[yellow]note:[/] {escape(text)}", highlight=False)
 
 
