@@ -29,7 +29,21 @@ def say(console: Console, *objects: Any, **kwargs: Any) -> None:
 
 
 class LogConsole(Console):
-    """A :class:`rich.console.Console` whose text messages are not wrapped outside a terminal."""
+    """A :class:`rich.console.Console` whose text messages are not wrapped outside a terminal.
+
+    Without an explicit ``width`` it reads ``COLUMNS`` (or the terminal's size) each time it
+    lays something out, where rich fixes the width it finds in ``COLUMNS`` when the console is
+    made: the command line's consoles are made when :mod:`brakeca.cli` is imported, so a
+    caller that sets ``COLUMNS`` later (``CliRunner(env=...)``, a notebook) had been held to
+    the width of the import."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        if not self.is_jupyter:  # (a notebook's console keeps rich's own width)
+            if kwargs.get("width") is None:
+                self._width = None
+            if kwargs.get("height") is None:
+                self._height = None
 
     def print(self, *objects: Any, soft_wrap: bool | None = None, **kwargs: Any) -> None:
         if soft_wrap is None and _unwrapped(self, objects):

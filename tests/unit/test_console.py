@@ -37,3 +37,17 @@ def test_say_applies_the_rule_on_any_console() -> None:
     buffer = io.StringIO()
     say(Console(file=buffer, width=80), LONG)
     assert buffer.getvalue() == LONG + "\n"
+
+
+def test_the_width_follows_columns_set_after_the_console_is_made(monkeypatch) -> None:
+    """rich fixes the width COLUMNS gives when a console is made; the command line's are made
+    at import, so ``CliRunner(env={"COLUMNS": ...})`` had no effect where COLUMNS was set
+    then (as it is in a pytest-xdist worker)."""
+    monkeypatch.setenv("COLUMNS", "80")
+    console = LogConsole(file=io.StringIO())
+    assert Console(file=io.StringIO()).width == 80 and console.width == 80
+    monkeypatch.setenv("COLUMNS", "132")
+    assert Console(file=io.StringIO(), width=None).width == 132  # made now: rich reads it
+    assert console.width == 132
+    assert LogConsole(file=io.StringIO(), width=100).width == 100  # a width given is kept
+    assert LogConsole(file=io.StringIO(), width=100, height=10).size == (100, 10)
