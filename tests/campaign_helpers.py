@@ -3,8 +3,12 @@
 from __future__ import annotations
 
 import io
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
 
 import pandas as pd
+import xarray as xr
 from rich.console import Console
 
 DESIGN_TEMPLATE = """\
@@ -80,6 +84,49 @@ def console_text(console: Console) -> str:
 def deterministic(summary: pd.DataFrame) -> pd.DataFrame:
     """The summary without its timing columns."""
     return summary.drop(columns=[c for c in TIMING if c in summary.columns])
+
+
+def drawing(design_text: str) -> str:
+    """``design_text`` (:data:`DESIGN_TEMPLATE`'s) with S at 0.5 and 1: at S = 0 or 1 rule S
+    draws nothing, so runs at S = 0.5 are the ones that use the generator after the surface
+    is made (a test-suite review: executors compared on S = 0 and 1 alone would not see a
+    worker that re-seeds or shares a generator)."""
+    text = design_text.replace("levels = [0.0, 1.0]", "levels = [0.5, 1.0]", 1)
+    assert text != design_text
+    return text
+
+
+def run_dataset(out: Path, rid: str) -> xr.Dataset:
+    """A run file's dataset without its timing variables and attributes."""
+    from brakeca.results import RunResult
+
+    ds = RunResult.from_netcdf(out / "runs" / f"{rid}.nc").dataset
+    ds = ds.drop_vars([v for v in TIMING if v in ds.variables])
+    ds.attrs = {k: v for k, v in ds.attrs.items() if k not in TIMING}
+    return ds
+
+
+def assert_same_runs(result: Any, reference: Any, *, maps_at: Sequence[int] = ()) -> None:
+    """Bit-identical summaries, campaign datasets and run files (timing aside) of two
+    :class:`~brakeca.campaign.CampaignResult`; with ``maps_at``, the result's runs kept maps
+    after those stops, which the reference's did not (and which are all their files have
+    more)."""
+    pd.testing.assert_frame_equal(
+        deterministic(result.summary),
+        deterministic(reference.summary),
+        check_exact=True,
+        check_dtype=False,
+    )
+    xr.testing.assert_identical(
+        result.dataset.drop_vars(TIMING),
+        reference.dataset.drop_vars(TIMING).assign_attrs(result.dataset.attrs),
+    )
+    for rid in reference.summary["run_id"]:
+        run = run_dataset(result.out_dir, rid)
+        if maps_at:
+            assert list(run["map_stop"].to_numpy()) == list(maps_at)
+            run = run.drop_vars(["map_status", "map_height", "map_stop"])
+        xr.testing.assert_identical(run, run_dataset(reference.out_dir, rid))
 
 
 def write_design(folder, overrides: dict, design_text: str):

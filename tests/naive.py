@@ -1,8 +1,10 @@
 """Slow, obvious NumPy twins of the compiled kernels. The fast kernels must match them.
 
 Written independently of brakeca._kernels: 2-D arrays, direct evaluation of the friction force,
-plain Python loops for the rules. Only the between-stop steps are shared (rule S, and the fibre
-field's exposure after a stop; they are NumPy already).
+plain Python loops for the rules. The between-stop steps are here too: the fibre field's
+exposure after a stop (:func:`expose`, cell by cell, against brakeca.automaton's vectorised
+``expose_buried_fibres``); rule S is written out in tests/verification/test_kernel_vs_naive.py.
+Nothing is imported from brakeca.
 """
 
 from __future__ import annotations
@@ -166,3 +168,37 @@ def step(state, params, target, frac):
         "exposed": len(exposed),
         "destroyed": len(destroyed),
     }
+
+
+def expose(S, H, B, FF, area, top, bottom, end, nxt):
+    """The fibre field's exposure after a stop, one cell at a time (flat arrays, changed in
+    place): a resin or secondary cell whose pad surface (a resin cell's height, a secondary
+    plateau's height under its deposit) has come down to or below the top of its next buried
+    fibre becomes a primary plateau at that surface, with the fibre's underside as its
+    floor; a secondary plateau's deposit is released. Fibres the surface has passed wholly
+    are skipped. Returns (exposed, largest lag [m], lag volume [m^3], skipped, released
+    [m^3])."""
+    exposed = skipped = 0
+    max_lag = lag_volume = released = 0.0
+    for i in range(S.size):
+        if S[i] == 1:
+            continue
+        surface = B[i] if S[i] == 2 else H[i]
+        while nxt[i] < end[i]:
+            k = nxt[i]
+            if surface > top[k]:  # not reached yet
+                break
+            if surface > bottom[k]:  # within the fibre: exposed
+                if S[i] == 2:
+                    released += (H[i] - B[i]) * area[i]
+                H[i] = B[i] = surface
+                S[i] = 1
+                FF[i] = bottom[k]
+                nxt[i] = k + 1
+                exposed += 1
+                max_lag = max(max_lag, top[k] - surface)
+                lag_volume += (top[k] - surface) * area[i]
+                break
+            nxt[i] = k + 1  # passed wholly
+            skipped += 1
+    return exposed, max_lag, lag_volume, skipped, released

@@ -16,7 +16,6 @@ import socket
 import subprocess
 import sys
 import time
-from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -25,10 +24,12 @@ import pytest
 import xarray as xr
 from campaign_helpers import (
     DESIGN_TEMPLATE,
-    TIMING,
+    assert_same_runs,
     console_text,
     deterministic,
+    drawing,
     quiet,
+    run_dataset,
     tiny,
     write_design,
 )
@@ -53,39 +54,7 @@ dask = pytest.importorskip("dask")
 psutil = pytest.importorskip("psutil")
 
 TINY = tiny(2)
-DESIGN = DESIGN_TEMPLATE.format(root_seed=23)
-
-
-def _run_dataset(out: Path, rid: str) -> xr.Dataset:
-    """A run file's dataset without its timing variables and attributes."""
-    ds = RunResult.from_netcdf(out / "runs" / f"{rid}.nc").dataset
-    ds = ds.drop_vars([v for v in TIMING if v in ds.variables])
-    ds.attrs = {k: v for k, v in ds.attrs.items() if k not in TIMING}
-    return ds
-
-
-def _assert_same_runs(
-    result: CampaignResult, reference: CampaignResult, *, maps_at: Sequence[int] = ()
-) -> None:
-    """Bit-identical summaries, campaign datasets and run files (timing aside); with
-    ``maps_at``, the result's runs kept maps after those stops, which the reference's did not
-    (and which are all their files have more)."""
-    pd.testing.assert_frame_equal(
-        deterministic(result.summary),
-        deterministic(reference.summary),
-        check_exact=True,
-        check_dtype=False,
-    )
-    xr.testing.assert_identical(
-        result.dataset.drop_vars(TIMING),
-        reference.dataset.drop_vars(TIMING).assign_attrs(result.dataset.attrs),
-    )
-    for rid in reference.summary["run_id"]:
-        run = _run_dataset(result.out_dir, rid)
-        if maps_at:
-            assert list(run["map_stop"].to_numpy()) == list(maps_at)
-            run = run.drop_vars(["map_status", "map_height", "map_stop"])
-        xr.testing.assert_identical(run, _run_dataset(reference.out_dir, rid))
+DESIGN = drawing(DESIGN_TEMPLATE.format(root_seed=23))
 
 
 def _children() -> set[int]:
@@ -209,7 +178,7 @@ def test_dask_local_cluster_is_bit_identical_to_local_and_closed(local, design_f
         console=quiet(),
     )
     assert result.ok and len(result.computed) == 4 and not result.failed
-    _assert_same_runs(result, local)
+    assert_same_runs(result, local)
     assert list(result.summary["MU"]) == list(local.summary["MU"])  # bit for bit
     assert list(result.summary["V"]) == list(local.summary["V"])
     loaded = load_campaign(tmp_path / "dask")
@@ -238,7 +207,7 @@ def _check_chaos(result: CampaignResult, local: CampaignResult, markers: Path, t
     )
     for rid in summary.loc[ok, "run_id"]:
         xr.testing.assert_identical(
-            _run_dataset(result.out_dir, rid), _run_dataset(local.out_dir, rid)
+            run_dataset(result.out_dir, rid), run_dataset(local.out_dir, rid)
         )
     for rid in summary.loc[~ok, "run_id"]:
         assert not (result.out_dir / "runs" / f"{rid}.nc").exists()
@@ -466,7 +435,7 @@ def test_client_killed_on_dask_resumes_and_leaves_no_process(local, design_file,
     assert resumed.ok and sorted(resumed.reused) == finished
     assert len(resumed.computed) == 4 - len(finished)
     assert not list(out.rglob("*.tmp"))
-    _assert_same_runs(resumed, local)
+    assert_same_runs(resumed, local)
 
 
 # local executor ----------------------------------------------------------------------------
@@ -498,7 +467,7 @@ def test_local_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
     )
     assert healed.ok and sorted(healed.computed) == sorted(result.failed)
     assert len(healed.reused) == 2
-    _assert_same_runs(healed, local)
+    assert_same_runs(healed, local)
 
 
 # command line ------------------------------------------------------------------------------
@@ -561,7 +530,7 @@ def test_cli_runs_on_an_existing_cluster(cluster, local, design_file, tmp_path):
     )
     assert res.exit_code == 0, res.output
     assert "4 run(s) computed" in res.output
-    _assert_same_runs(load_campaign(out), local, maps_at=[2])
+    assert_same_runs(load_campaign(out), local, maps_at=[2])
     # the campaign did not close a cluster it did not start
     with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
         assert client.submit(pow, 2, 5).result() == 32
