@@ -957,7 +957,7 @@ def anova(
     out = out[list(ANOVA_COLUMNS)].reset_index(drop=True)
     out.attrs.update(
         typ=kind,
-        formula="y ~ "
+        formula=f"{response} ~ "
         + (
             " + ".join([term_names[t] for t in terms] + (["Ct Pt"] if y_center.size else [])) or "1"
         ),
@@ -1855,7 +1855,8 @@ def _model_arrays(
 ) -> tuple[pd.DataFrame, np.ndarray, np.ndarray, str]:
     """The model :func:`anova` fits, as arrays: the usable rows of ``summary``, their
     response [response unit], the model matrix [-] (:func:`model_matrix`) and the formula
-    (``"y ~ S + WP + S:WP"``; empty, and a one-column matrix, without usable rows)."""
+    (``"MU ~ S + WP + S:WP"``, named by the response; empty, and a one-column matrix,
+    without usable rows)."""
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
     _, data, y, centre, model = _fitted_model(
@@ -1866,7 +1867,7 @@ def _model_arrays(
     n_c = int(centre.sum())
     frame, term_names, terms, _ = model
     names = [term_names[t] for t in terms] + (["Ct Pt"] if n_c else [])
-    formula = "y ~ " + (" + ".join(names) if names else "1")
+    formula = f"{response} ~ " + (" + ".join(names) if names else "1")
     cube = _exog(frame, terms, y.size - n_c)
     if not n_c:
         return data, y, cube, formula

@@ -70,6 +70,10 @@ LAMBDA_RANGE: tuple[float, float] = (-2.0, 2.0)
 #: Points of the profile on :data:`LAMBDA_RANGE` (a step of 0.025) [-].
 _GRID_POINTS = 161
 
+#: The standardized residual beyond which a run is unusual (Minitab's "R"), as in the
+#: report's list of unusual runs [-].
+UNUSUAL_RESIDUAL = 2.0
+
 #: Columns of :func:`box_cox_table`, in order.
 BOX_COX_COLUMNS: tuple[str, ...] = (
     "response",
@@ -85,6 +89,7 @@ BOX_COX_COLUMNS: tuple[str, ...] = (
     "confidence",
     "reading",
     "note",
+    "without_unusual",
 )
 
 
@@ -130,6 +135,12 @@ class BoxCox:
         Montgomery's approximate interval of λ [-], which counts the residual degrees of
         freedom: the λ whose ``SSE(λ)`` lies below ``SSE(λ̂) (1 + t²(α/2, ν) / ν)``; wider than
         ``ci_low``, ``ci_high`` where ``ν`` is small. ``-inf``, ``inf`` and NaN as those.
+    without_unusual
+        What λ̂, its interval and the reading become without the unusual runs (standardized
+        residual beyond ``unusual`` in :func:`box_cox`), one sentence; empty where there are
+        none. One run can carry the whole reading: in the quick paper study MU's λ̂ is
+        -1.17 (interval up to -0.49), and without its one unusual run -0.09 (-1.81 to 1.37),
+        which holds both λ = 1 and λ = 0 (a DoE review).
     """
 
     response: str
@@ -145,6 +156,7 @@ class BoxCox:
     note: str = ""
     ci_low_df: float = math.nan
     ci_high_df: float = math.nan
+    without_unusual: str = ""
 
     @property
     def defined(self) -> bool:
@@ -237,6 +249,7 @@ class BoxCox:
             "confidence": self.confidence,
             "reading": self.reading,
             "note": self.note,
+            "without_unusual": self.without_unusual,
         }
 
 
@@ -409,11 +422,15 @@ def box_cox(
     interactions: Model = True,
     alpha_to_remove: float | None = None,
     confidence: float = 0.95,
+    unusual: float | None = UNUSUAL_RESIDUAL,
 ) -> BoxCox:
     """The Box-Cox profile of a campaign's response under the ANOVA model.
 
     The model is the one :func:`brakeca.analysis.anova` fits (categorical factors, with the
-    two-factor interactions unless they would saturate it), over the usable runs.
+    two-factor interactions unless they would saturate it), over the usable runs. Where runs
+    have a standardized residual beyond ``unusual`` under that model (the report's unusual
+    runs), the profile is computed again without them, and
+    :attr:`BoxCox.without_unusual` says what it reads then.
 
     Parameters
     ----------
@@ -431,6 +448,9 @@ def box_cox(
         reduces it (on the response as it is).
     confidence
         Level of the interval of λ [-].
+    unusual
+        The size of standardized residual [-] beyond which a run is left out of the second
+        profile (2, Minitab's "R"); None for no second profile.
 
     Returns
     -------
@@ -445,12 +465,69 @@ def box_cox(
     """
     from brakeca.analysis import _model_arrays
 
-    _, y, exog, formula = _model_arrays(
+    factors = list(factors)
+    data, y, exog, formula = _model_arrays(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
     )
-    formula = formula.replace("y ~", f"{response} ~", 1)
-    return box_cox_profile(
+    result = box_cox_profile(
         y, exog, response=response, model=f"ANOVA model: {formula}", confidence=confidence
+    )
+    if unusual is None or not result.defined:
+        return result
+    from dataclasses import replace
+
+    from brakeca.analysis import residuals
+
+    frame = residuals(
+        summary, factors, response, interactions=interactions, alpha_to_remove=alpha_to_remove
+    )
+    # the residuals' rows are the model's runs (``data``), in its order
+    z = pd.to_numeric(frame["std_residual"], errors="coerce").to_numpy(dtype=float)
+    large = np.abs(np.nan_to_num(z)) > unusual
+    if not large.any():
+        return result
+    rows, z = data.loc[large], z[large]
+    replicated = "replicate" in data.columns and data["replicate"].nunique() > 1
+    try:
+        _, y2, exog2, _ = _model_arrays(
+            summary.drop(index=rows.index),
+            factors,
+            response,
+            interactions,
+            alpha_to_remove=alpha_to_remove,
+        )
+        other = box_cox_profile(y2, exog2, response=response, confidence=confidence)
+    except ValueError as exc:  # too few runs left for the model
+        who = _runs_named(rows, z, replicated)
+        return replace(result, without_unusual=f"without {who}: {exc}")
+    who = _runs_named(rows, z, replicated)
+    return replace(result, without_unusual=_without_text(result, other, who, len(rows)))
+
+
+def _runs_named(rows: pd.DataFrame, z: np.ndarray, replicated: bool) -> str:
+    """The unusual runs ``rows`` by test (and replicate, in a ``replicated`` campaign, as the
+    report's list of unusual runs names them), with their standardized residuals ``z``."""
+    names = []
+    for (_, rec), zi in zip(rows.iterrows(), z, strict=True):
+        who = f"test {int(rec['test'])}" if "test" in rec and pd.notna(rec["test"]) else "a run"
+        if replicated and pd.notna(rec.get("replicate")):
+            who += f", replicate {int(rec['replicate'])}"
+        names.append(f"{who} (standardized residual {zi:+.2f})")
+    return " and ".join(names) if len(names) < 3 else ", ".join(names)
+
+
+def _without_text(result: BoxCox, other: BoxCox, who: str, n: int) -> str:
+    """:attr:`BoxCox.without_unusual`: the second profile's λ̂, interval and reading, and
+    whether the first reading holds without the ``n`` runs ``who``."""
+    if not other.defined:
+        return f"without {who}, λ is not defined ({other.note})"
+    same = all(other.contains(lam) == result.contains(lam) for lam in (1.0, 0.0))
+    them = "that run" if n == 1 else "those runs"
+    verdict = "the reading holds" if same else f"so the reading above rests on {them}"
+    return (
+        f"without {who}: λ̂ = {other.lambda_hat:.2f}, "
+        f"{100 * other.confidence:g} % interval {interval_text(other.ci_low, other.ci_high)}; "
+        f"{other._likelihood_reading()}; {verdict}"
     )
 
 

@@ -32,6 +32,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca._io import atomic_write
+from brakeca.boxcox import UNUSUAL_RESIDUAL as _BOX_COX_UNUSUAL
 
 __all__ = ["REPORT_TEMPLATE", "format_p_value", "render_report", "write_report"]
 
@@ -177,8 +178,10 @@ Wall time: the run's own computing time.</p>
 <h2>ANOVA</h2>
 {%- if anova_info %}<p class="note">{{ anova_info }}</p>{% endif %}
 {%- if anova %}
-<p class="note">Terms with p &lt; 0.05 in bold. Contribution: sum of squares over the total sum
-of squares about the mean.
+<p class="note">Terms with p &lt; 0.05 in bold. Contribution: the term's sum of squares in
+this table over the total sum of squares about the mean (in a balanced design the same as
+sequential sums of squares would give; in an unbalanced one Minitab's "Contribution", from
+sequential sums of squares, differs).
 {%- if anova_aliases %} Aliases (designs that do not separate every effect, such as a
 fractional factorial): the terms of up to three factors the design cannot tell apart from the
 term; what the table gives for the term is its effect plus theirs, each with the sign shown
@@ -532,8 +535,9 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
     return _Table(columns, numeric, rows), "; ".join(notes)
 
 
-#: The standardized residual beyond which a run is named as unusual (Minitab's "R") [-].
-UNUSUAL_RESIDUAL = 2.0
+#: The standardized residual beyond which a run is named as unusual (Minitab's "R") [-]; the
+#: Box-Cox check leaves the same runs out of its second profile (brakeca.boxcox).
+UNUSUAL_RESIDUAL = _BOX_COX_UNUSUAL
 
 
 def _unusual_text(response: str, frame: pd.DataFrame) -> str:
@@ -823,6 +827,8 @@ def _box_cox_table(results: Mapping[str, Any]) -> _Table:
     for response, r in results.items():
         if r.defined:
             reading = r.reading + (f" ({r.note})" if r.note else "")
+            if r.without_unusual:
+                reading += ". " + r.without_unusual[0].upper() + r.without_unusual[1:]
             cells = [
                 _fmt(r.lambda_hat, ".2f"),
                 interval_text(r.ci_low, r.ci_high),

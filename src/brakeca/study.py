@@ -271,8 +271,18 @@ Files (R is the response: MU, V or log10_V_mm3):
   plateau and contact area fractions, normal force (N), line pressure (MPa), duration (s).
 - `main_effects_R.csv`, `interactions_R.csv`: the mean response per level, per pair of levels.
 - `anova_R.csv`, `model_summary_R.csv`, `ranked_effects_R.csv`: the ANOVA of the categorical
-  model, its summary (S, R²), its terms by contribution.
-- `residuals_R.csv`: observed, fitted, residual, leverage, standardized residual per run.
+  model, its summary (S, R², adjusted and predicted R², the model's formula), its terms by
+  contribution. A term's contribution is its sum of squares in the ANOVA table (Type II or
+  III, as the table's note says) over the total about the mean; in a balanced design these
+  are Minitab's sequential sums of squares too, in an unbalanced one they differ from them.
+  `ranked_effects_R.csv`'s `effect`, for a term of two-level factors only: mean at the high
+  level minus mean at the low (twice the coefficient in ±1 coding, as Minitab's "Effect");
+  for an interaction of q such factors, the signed sum of the 2^q cell means over 2^(q-1);
+  empty for a term with a factor of three or more levels, whose per-level means are in
+  `main_effects_R.csv` and `interactions_R.csv`.
+- `residuals_R.csv`: observed, fitted, residual, leverage, standardized residual per run
+  (the residual over S·sqrt(1 − leverage), Minitab's "standardized residual"; the normal
+  probability plot puts them at Blom's positions, (i − 3/8)/(n + 1/4)).
 - `trends_R.csv` (a factor of three or more levels): its main effect split into linear and
   quadratic (and higher) parts, orthogonal polynomials in its levels (`scale`: their values,
   or their log10 where evenly spaced on the log), each with its sum of squares, F and p.
@@ -280,7 +290,9 @@ Files (R is the response: MU, V or log10_V_mm3):
   effect, twice the coefficient's; on the Ct Pt row, which has no effect, twice its
   coefficient's, so t = coefficient / (se / 2) on every row; the report shows the
   coefficient's), t, p.
-- `box_cox.csv`: the Box–Cox check of MU's and V's scale.
+- `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual`: λ̂, its interval
+  and the reading without the runs whose standardized residual is beyond ±2 (the report's
+  unusual runs), and whether the reading holds without them.
 - `surface_*_R.csv` (response-surface designs): coded coefficients, ANOVA by source, summary
   (its equation in the response's SI unit), residuals of the quadratic.
 - `optimum.csv`: the optimum of the design's goals (V and its limits in m³).
@@ -780,7 +792,7 @@ def write_study(
             # a response surface's residuals are its quadratic's, the others the ANOVA's
             residuals = surface_residuals.get(resp, tables[resp]["residuals"])
             model = "quadratic surface" if resp in surfaces else "ANOVA model"
-            formula = str(residuals.attrs.get("formula", "")).replace("y ~", resp + " ~", 1)
+            formula = str(residuals.attrs.get("formula", ""))
             add(
                 "Residuals",
                 f"Residual plots of the {model} of {label}; model: {formula}",

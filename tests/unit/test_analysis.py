@@ -388,6 +388,9 @@ def test_analyze_and_save_tables(tmp_path) -> None:
     summary_mu = pd.read_csv(tmp_path / "tables" / "model_summary_MU.csv")
     assert list(summary_mu.columns) == list(MODEL_SUMMARY_COLUMNS)
     assert summary_mu["r_squared"].item() == pytest.approx(result["MU"]["anova"].attrs["r_squared"])
+    # the model is written with its response, as the report writes it (it had read "y ~ ...")
+    assert summary_mu["formula"].item().startswith("MU ~ S + WP + ")
+    assert result["V"]["residuals"].attrs["formula"].startswith("V ~ S + WP + ")
     for path in written:
         assert path.stat().st_size > 0
     anova_v = pd.read_csv(tmp_path / "tables" / "anova_V.csv", keep_default_na=False)

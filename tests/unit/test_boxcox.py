@@ -293,3 +293,43 @@ def test_montgomerys_interval_counts_the_residual_degrees_of_freedom() -> None:
     )
     same = dataclasses.replace(only_df, ci_low_df=0.1, ci_high_df=0.9)
     assert "Montgomery" not in same.reading
+
+
+def test_the_profile_without_the_unusual_runs_says_whether_the_reading_holds() -> None:
+    """One run can carry the reading (the quick paper study's MU: λ̂ -1.17, and -0.09 with
+    both 1 and 0 in the interval without its one unusual run; a DoE review): the runs whose
+    standardized residual is beyond 2 under the model are left out of a second profile,
+    named with their residuals, and the result says whether the reading holds without
+    them."""
+    summary, factors = _factorial_summary()
+    summary["test"] = np.arange(1, len(summary) + 1)
+    # V with the same spread in every cell (-d, 0, +d over its replicates): every
+    # standardized residual is 1.22, none beyond 2, so there is no second profile
+    v = 3e-9 * (summary["WP"] / 1e-15) ** 0.9 * np.where(summary["A"] == 20.0, 0.5, 1.0)
+    even = summary.assign(V=v + 1e-10 * (summary["replicate"] - 1))
+    z = analysis.residuals(even, factors, "V")["std_residual"].abs()
+    assert (z < 2).all() and box_cox(even, factors, "V").without_unusual == ""
+    planted = even.copy()
+    planted.loc[4, "V"] += 1e-9  # one run far off its cell
+    planted.loc[0, "status"] = "failed"  # and one failed: the residuals' rows are the others
+    usable = planted[planted["status"] == "ok"]
+    z = analysis.residuals(planted, factors, "V")["std_residual"].to_numpy()
+    large = np.abs(z) > 2
+    tests = list(usable.loc[large, "test"])
+    assert 5 in tests and 1 not in tests
+    result = box_cox(planted, factors, "V")
+    alone = box_cox(planted[~planted["test"].isin(tests)], factors, "V", unusual=None)
+    assert alone.n == len(planted) - 1 - len(tests)
+    assert box_cox(planted, factors, "V", unusual=None).without_unusual == ""
+    text = result.without_unusual
+    reps = list(usable.loc[large, "replicate"])  # named too: the summary has replicates
+    named = [
+        f"test {t}, replicate {r} (standardized residual {zi:+.2f})"
+        for t, r, zi in zip(tests, reps, z[large], strict=True)
+    ]
+    assert text.startswith("without " + " and ".join(named) + ": ")
+    assert f"λ̂ = {alone.lambda_hat:.2f}" in text and alone.reading.split(";")[0] in text
+    same = all(alone.contains(lam) == result.contains(lam) for lam in (1.0, 0.0))
+    them = "that run" if len(tests) == 1 else "those runs"
+    assert text.endswith("the reading holds" if same else f"so the reading above rests on {them}")
+    assert box_cox_table({"V": result})["without_unusual"].item() == text

@@ -78,7 +78,7 @@ def test_an_anova_of_chosen_terms_is_statsmodels_fit_of_those_terms() -> None:
     np.testing.assert_allclose(table["F"].iloc[:-1], expected["F"].iloc[:-1], rtol=1e-9)
     assert table.attrs["model_terms"] == ["S", "WP", "WR", "A", "WP:A"]
     assert table.attrs["order"] == 2
-    assert table.attrs["formula"] == "y ~ S + WP + WR + A + WP:A"
+    assert table.attrs["formula"] == "MU ~ S + WP + WR + A + WP:A"
     assert table.attrs["df_resid"] == pytest.approx(fit.df_resid)
     assert table.attrs["note"] == ""  # hierarchical, estimable: nothing to say
     same = anova(rows, FACTORS, "MU", interactions=["S", "WP", "WR", "A", "WP:A"])
@@ -193,7 +193,7 @@ def test_residuals_of_chosen_terms_are_those_of_the_least_squares_fit() -> None:
     res = residuals(rows, FACTORS, "MU", interactions=["S", "WP", "S*WP"])
     fit = smf.ols("MU ~ C(S) * C(WP)", rows).fit()
     np.testing.assert_allclose(res["fitted"], fit.fittedvalues, rtol=1e-12)
-    assert res.attrs["formula"] == "y ~ S + WP + S:WP"
+    assert res.attrs["formula"] == "MU ~ S + WP + S:WP"
 
 
 def test_a_design_carries_its_model_terms_as_the_tables_write_them() -> None:
