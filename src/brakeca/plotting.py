@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import textwrap
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -538,7 +539,10 @@ def plot_mu_per_stop(
 
     ax
         An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
-        new figure. ``path`` then writes that whole figure.
+        new figure. ``path`` then writes that whole figure. In a panel the default title and
+        the axis label are wrapped, and the legend of more than six tests stands beside the
+        panel (a constrained layout, ``layout="constrained"``, makes room for it).
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -646,6 +650,9 @@ def plot_mu_per_stop(
         )
         if n_tests < n:
             title += " (the replicates of a test share its colour)"
+        if given:  # a panel of a grid: the title and the axis label wrapped to its width
+            title = textwrap.fill(title, 55)
+            ax.set_ylabel(textwrap.fill(ylabel, 40))
     # above the block names, which stand above the axes: pad by the tallest name [points]
     pad = 6.0
     if ax.texts:  # (the figure's own renderer: a figure of one's own may have no Agg canvas)
@@ -653,8 +660,16 @@ def plot_mu_per_stop(
         pad += tallest * 72.0 / fig.dpi + 0.01 * ax.bbox.height * 72.0 / fig.dpi
     ax.set_title(title, pad=pad)
     ax.grid(True, alpha=0.3)
-    if n > 1 and given:
-        ax.legend(fontsize=7, ncols=1 if n_tests <= 30 else 2)
+    if n > 1 and given and n_tests <= 6:
+        ax.legend(fontsize=7)
+    elif n > 1 and given:  # beside the panel, where a constrained layout makes room for it
+        ax.legend(
+            fontsize=6,
+            loc="upper left",
+            bbox_to_anchor=(1.01, 1.0),
+            borderaxespad=0.0,
+            ncols=1 if n_tests <= 16 else 2,  # (a panel is shorter than 24 entries)
+        )
     elif n > 1:
         fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
     return save_figure(fig, path)
@@ -807,7 +822,10 @@ def plot_v_per_run(
 
     ax
         An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
-        new figure. ``path`` then writes that whole figure.
+        new figure. ``path`` then writes that whole figure. In a panel the default title and
+        the axis label are wrapped, and the legend of more than six tests stands beside the
+        panel (a constrained layout, ``layout="constrained"``, makes room for it).
+
     Returns
     -------
     matplotlib.figure.Figure

@@ -763,3 +763,30 @@ def test_an_anova_table_given_for_another_table_is_named_or_used_rightly(summary
         interaction_table(summary, FACTORS[0].name, "B", "MU")
     ticks = [t.get_text() for t in plot_pareto(table, "MU").axes[0].get_xticklabels()]
     assert "Residual" not in ticks and len(ticks) == len(table) - 1
+
+
+def test_a_panel_of_a_grid_keeps_its_legend_and_title_to_itself(campaign) -> None:
+    """In a 2 x 2 grid of one's own, the 24 runs' legend had lain over the panel's lines and
+    its neighbour's, and the long title and axis label over the next panel (noticed in the
+    thirty-seventh session): a panel's legend stands beside it, its title and label are
+    wrapped, and nothing of one panel reaches into another's axes or out of the figure."""
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 2, figsize=(14, 9), layout="constrained")
+    for ax in axes.flat:
+        plot_mu_per_stop(campaign, factors=FACTORS, ax=ax)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    page = fig.bbox
+    for ax in axes.flat:
+        legend = ax.get_legend().get_window_extent(renderer)
+        title = ax.title.get_window_extent(renderer)
+        assert legend.x0 >= ax.bbox.x1  # beside the panel, not over its lines
+        assert "\n" in ax.title.get_text()
+        for box in (legend, title):
+            assert page.x0 <= box.x0 <= box.x1 <= page.x1
+            assert page.y0 <= box.y0 <= box.y1 <= page.y1
+            for other in axes.flat:
+                if other is not ax:
+                    assert not box.overlaps(other.bbox), (box, other.bbox)
+    plt.close(fig)
