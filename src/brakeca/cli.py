@@ -577,14 +577,20 @@ def simulate(
     _write_or_keep(output, result.to_netcdf, "run")
     if checkpoint is not None:
         checkpoint.unlink(missing_ok=True)
-    out.print(f"MU = {result.MU:.4f}")
-    out.print(f"V  = {result.V * 1e9:.6g} mm³ per stop")
-    ds = result.dataset
     from brakeca.geometry import make_grid
 
+    band = make_grid(config).area  # [m^2]
+    share = band / config.brake.pad_area
+    out.print(f"MU = {result.MU:.4f}")
+    out.print(
+        f"V  = {result.V * 1e9:.6g} mm³ per stop, from the band of {config.mesh.n_radial} rows "
+        f"({band * 1e6:.4g} mm², {100 * share:.3g} % of the pad; a whole pad: V / {share:.4g})",
+        highlight=False,
+    )
+    ds = result.dataset
     worn = float(ds["generated_volume"].sum())  # [m^3] of pad material: fibre and resin
-    depth = worn / make_grid(config).area  # [m]
-    out.print(f"pad worn: {worn * 1e9:.6g} mm³, a mean depth of {depth * 1e3:.4g} mm over the band")
+    depth = worn / band  # [m]
+    out.print(f"band worn: {worn * 1e9:.6g} mm³, a mean depth of {depth * 1e3:.4g} mm")
     if depth > PAD_DEPTH_NOTE:
         out.print(
             "[yellow]note:[/] more than a new car pad's friction material (typically 10-12 "
@@ -1050,6 +1056,7 @@ def _print_summary(summary, design=None) -> None:
         return [
             [
                 str(int(row["test"])),
+                *([str(int(row["replicate"]))] if with_replicate else []),
                 *(escape(level(c, row[c], labelled=labelled)) for c in factor_cols),
                 *([str(row.get("status", "ok"))] if with_status else []),
                 f"{row['MU']:.4f}" if shown(row) else "-",
@@ -1065,9 +1072,21 @@ def _print_summary(summary, design=None) -> None:
         and len(summary) > _MOST_RUN_ROWS
     ):  # a new user's 220 rows: a row per test, its replicates averaged
         summary, averaged = _per_test(summary, factor_cols)
+    # a row per run of a replicated design: its replicate beside its test, which the rows of
+    # a test share (a docs walkthrough: two rows 'test 1' and nothing to tell them apart)
+    with_replicate = (
+        not averaged and "replicate" in summary.columns and summary["replicate"].nunique() > 1
+    )
     statuses = summary["status"] if "status" in summary.columns else pd.Series(["ok"])
     with_status = bool((statuses.astype(str) != "ok").any())  # all ok: the column says nothing
-    headers = ["test", *factor_cols, *(["status"] if with_status else []), "MU", "V [mm³/stop]"]
+    headers = [
+        "test",
+        *(["rep"] if with_replicate else []),
+        *factor_cols,
+        *(["status"] if with_status else []),
+        "MU",
+        "V [mm³/stop]",
+    ]
 
     def widths(cells: list[list[str]]) -> list[int]:
         return [max([len(h), *(len(r[k]) for r in cells)]) for k, h in enumerate(headers)]
@@ -1084,7 +1103,8 @@ def _print_summary(summary, design=None) -> None:
         )
     table = Table(title="runs", caption=caption, show_lines=False)
     for k, (col, width) in enumerate(zip(headers, widths(cells), strict=True)):
-        whole = k == 0 or k >= len(headers) - 2  # the test number and the responses
+        # the test number (and replicate) and the responses
+        whole = k <= int(with_replicate) or k >= len(headers) - 2
         table.add_column(
             escape(col), justify="right", no_wrap=whole, min_width=width if whole else None
         )

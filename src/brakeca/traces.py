@@ -523,7 +523,10 @@ def _read_header(
             source,
             line,
             f"expected a header naming a time and a speed column, e.g. 'time_s,speed_kmh' or "
-            f"'time [s],speed [km/h]'; got the columns {', '.join(map(repr, header))}",
+            f"'time [s],speed [km/h]'; got the columns {', '.join(map(repr, header))}. (A "
+            "block cycle's header is 'name,initial_speed_kmh,final_speed_kmh,deceleration_g,"
+            "stops': a column whose name begins 'initial_speed' makes the file one; "
+            "docs/cycles.md)",
         )
     t_unit = units["time"] or "s"
     if _norm_unit(t_unit) not in TIME_UNITS:

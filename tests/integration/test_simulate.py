@@ -393,9 +393,18 @@ def test_cli_simulate_says_how_much_pad_wore(tmp_path):
     path = tmp_path / "r.nc"
     res = CliRunner().invoke(app, ["simulate", "-o", str(path), *tiny])
     assert res.exit_code == 0, res.output
-    match = re.search(r"pad worn: (\S+) mm³, a mean depth of (\S+) mm over the band", res.output)
+    match = re.search(r"band worn: (\S+) mm³, a mean depth of (\S+) mm", res.output)
     assert match is not None, res.output
     run = RunResult.from_netcdf(path)
+    # V is the band's, and the line says how much of the pad that is (a docs walkthrough: a
+    # new user read it as the pad's)
+    band = make_grid(run.config).area
+    share = band / run.config.brake.pad_area
+    text = " ".join(res.output.split())
+    assert (
+        f"V = {run.V * 1e9:.6g} mm³ per stop, from the band of 5 rows ({band * 1e6:.4g} mm², "
+        f"{100 * share:.3g} % of the pad; a whole pad: V / {share:.4g})"
+    ) in text
     worn = float(run.dataset["generated_volume"].sum())
     assert float(match[1]) == pytest.approx(worn * 1e9, rel=1e-5)
     depth = worn / make_grid(run.config).area

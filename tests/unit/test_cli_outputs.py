@@ -376,3 +376,23 @@ def test_a_replicated_campaigns_table_has_a_row_per_test() -> None:
     assert len(lines) == 12
     assert "│    3 │ 20 │ 4/5 ok │ 0.2320 │" in text  # (0.230 + 0.231 + 0.233 + 0.234) / 4
     assert "the mean of its 5 replicates" in " ".join(text.split())
+
+
+def test_a_replicated_campaigns_runs_name_their_replicate() -> None:
+    """Up to 48 runs a replicated design's table has a row per run: each names its replicate
+    beside its test (a docs walkthrough: two rows 'test 1' with different MU and nothing to
+    tell them apart); an unreplicated design's table has no such column."""
+    rows = [
+        {"test": t, "replicate": r, "order": 1, "A": 10.0 * t, "seed": 1, "run_id": "x",
+         "MU": 0.2 + 0.01 * t + 0.001 * r, "V_mm3": float(t), "status": "ok"}
+        for t in (1, 2)
+        for r in (0, 1, 2)
+    ]  # fmt: skip
+    with cli.out.capture() as captured:
+        cli._print_summary(pd.DataFrame(rows))
+    text = captured.get()
+    assert [c.strip() for c in text.splitlines()[2].split("┃")[1:3]] == ["test", "rep"]
+    assert "│    1 │   2 │ 10 │ 0.2120 │" in text
+    with cli.out.capture() as captured:
+        cli._print_summary(pd.DataFrame([r for r in rows if r["replicate"] == 0]))
+    assert "rep" not in captured.get()

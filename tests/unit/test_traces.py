@@ -126,6 +126,13 @@ GOOD = "time_s,speed_kmh\n0,0\n1,10\n2,20\n3,40\n4,60\n5,70\n"
         ("time,speed\n0,0\n1,10\n", 1, "states no unit"),
         ("time_s,speed [furlong/fortnight]\n0,0\n", 1, "unknown speed unit"),
         ("time_s,rpm\n0,0\n1,10\n", 1, "naming a time and a speed column"),
+        # a block cycle with other column names: told the block cycle's header too (a docs
+        # walkthrough: only the trace's had been named)
+        (
+            "name,v0,v1,decel,stops\nA,80,0,0.2,3\n",
+            1,
+            "A block cycle's header is 'name,initial_speed_kmh,final_speed_kmh,deceleration_g,",
+        ),
         # the columns as the file has them, not joined with commas (a black-box review)
         ("Zeit [s];Geschw. [km/h]\n0;0\n", 1, "got the columns 'Zeit [s]', 'Geschw. [km/h]'"),
         ("time [d],speed [km/h]\n0,0\n", 1, "unknown time unit"),
