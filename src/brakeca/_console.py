@@ -34,8 +34,8 @@ class LogConsole(Console):
     Without an explicit ``width`` it reads ``COLUMNS`` (or the terminal's size) each time it
     lays something out, where rich fixes the width it finds in ``COLUMNS`` when the console is
     made: the command line's consoles are made when :mod:`brakeca.cli` is imported, so a
-    caller that sets ``COLUMNS`` later (``CliRunner(env=...)``, a notebook) had been held to
-    the width of the import."""
+    caller that sets ``COLUMNS`` later (``CliRunner(env=...)``, a test run in a pytest-xdist
+    worker) had been held to the width of the import. In Jupyter rich's own width stands."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         super().__init__(*args, **kwargs)

@@ -137,8 +137,11 @@ class BoxCox:
         ``ci_low``, ``ci_high`` where ``ν`` is small. ``-inf``, ``inf`` and NaN as those.
     without_unusual
         What λ̂, its interval and the reading become without the unusual runs (standardized
-        residual beyond ``unusual`` in :func:`box_cox`), one sentence; empty where there are
-        none. One run can carry the whole reading: in the quick paper study MU's λ̂ is
+        residual beyond ``unusual`` in :func:`box_cox`), under the same model terms, one
+        sentence, or why there is no second profile (the runs left cannot estimate the same
+        model); empty where no run is unusual, and always under a response surface's
+        quadratic (:func:`surface_box_cox` makes no second profile). One run can carry the
+        whole reading: in the quick paper study MU's λ̂ is
         -1.17 (interval up to -0.49), and without its one unusual run -0.09 (-1.81 to 1.37),
         which holds both λ = 1 and λ = 0 (a DoE review).
     """
@@ -200,6 +203,23 @@ class BoxCox:
             )
         return sentence
 
+    def _pointed(self) -> float:
+        """Where neither λ = 1 nor λ = 0 lies within the interval, the power the reading
+        points to: the multiple of 0.5 within it nearest λ̂, else λ̂ itself [-]."""
+        lo, hi = LAMBDA_RANGE
+        inside = [k / 2 for k in range(int(2 * lo), int(2 * hi) + 1) if self.contains(k / 2)]
+        if inside:
+            return min(inside, key=lambda lam: abs(lam - self.lambda_hat))
+        return self.lambda_hat
+
+    def _points_to(self) -> tuple[bool, bool, float | None]:
+        """What the likelihood-ratio reading says: whether λ = 1 and λ = 0 lie within the
+        interval, and where neither does, the power it points to (rounded as the reading
+        shows it)."""
+        one, zero = self.contains(1.0), self.contains(0.0)
+        pointed = None if one or zero else float(f"{self._pointed():.2g}")
+        return one, zero, pointed
+
     def _likelihood_reading(self) -> str:
         """:attr:`reading` from the likelihood-ratio interval alone."""
         pct = f"{100 * self.confidence:g} %"
@@ -223,10 +243,9 @@ class BoxCox:
         lo, hi = LAMBDA_RANGE
         inside = [k / 2 for k in range(int(2 * lo), int(2 * hi) + 1) if self.contains(k / 2)]
         if inside:  # the simple power nearest the optimum that the interval holds
-            simple = min(inside, key=lambda lam: abs(lam - self.lambda_hat))
             return (
                 f"neither λ = 1 nor λ = 0 lies within the {pct} interval: the data point to "
-                f"λ ≈ {simple:g}"
+                f"λ ≈ {self._pointed():g}"
             )
         return (
             f"neither λ = 1 nor λ = 0, nor any multiple of 0.5, lies within the {pct} "
@@ -429,8 +448,9 @@ def box_cox(
     The model is the one :func:`brakeca.analysis.anova` fits (categorical factors, with the
     two-factor interactions unless they would saturate it), over the usable runs. Where runs
     have a standardized residual beyond ``unusual`` under that model (the report's unusual
-    runs), the profile is computed again without them, and
-    :attr:`BoxCox.without_unusual` says what it reads then.
+    runs), the profile is computed again without them under the same terms (a reduced model
+    is not reduced again), and :attr:`BoxCox.without_unusual` says what it reads then, or
+    that the runs left cannot estimate that model.
 
     Parameters
     ----------
@@ -466,6 +486,7 @@ def box_cox(
     from brakeca.analysis import _model_arrays
 
     factors = list(factors)
+    summary = summary.reset_index(drop=True)  # runs by position: its labels may repeat
     data, y, exog, formula = _model_arrays(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
     )
@@ -488,19 +509,29 @@ def box_cox(
         return result
     rows, z = data.loc[large], z[large]
     replicated = "replicate" in data.columns and data["replicate"].nunique() > 1
+    who = _runs_named(rows, z, replicated)
+    # the same model without those runs: its terms as the first fit took them (a reduced
+    # model is not reduced again, so that only the runs change)
+    terms = [t.strip() for t in formula.split("~", 1)[1].split("+")]
+    terms = [t for t in terms if t not in ("1", "Ct Pt")]
+    if not terms:
+        return result
+    kept = summary.drop(index=rows.index)
     try:
-        _, y2, exog2, _ = _model_arrays(
-            summary.drop(index=rows.index),
-            factors,
-            response,
-            interactions,
-            alpha_to_remove=alpha_to_remove,
-        )
+        _, y2, exog2, formula2 = _model_arrays(kept, factors, response, terms)
         other = box_cox_profile(y2, exog2, response=response, confidence=confidence)
     except ValueError as exc:  # too few runs left for the model
-        who = _runs_named(rows, z, replicated)
         return replace(result, without_unusual=f"without {who}: {exc}")
-    who = _runs_named(rows, z, replicated)
+    # a term lost its runs: a level gone (the term left out), a cell emptied (the same terms,
+    # fewer estimable)
+    if formula2 != formula or np.linalg.matrix_rank(exog2) < np.linalg.matrix_rank(exog):
+        return replace(
+            result,
+            without_unusual=(
+                f"without {who}, the runs left cannot estimate the same model "
+                f"({formula.split('~', 1)[1].strip()}): no second profile"
+            ),
+        )
     return replace(result, without_unusual=_without_text(result, other, who, len(rows)))
 
 
@@ -518,14 +549,20 @@ def _runs_named(rows: pd.DataFrame, z: np.ndarray, replicated: bool) -> str:
 
 def _without_text(result: BoxCox, other: BoxCox, who: str, n: int) -> str:
     """:attr:`BoxCox.without_unusual`: the second profile's λ̂, interval and reading, and
-    whether the first reading holds without the ``n`` runs ``who``."""
+    whether the first (likelihood-ratio) reading holds without the ``n`` runs ``who``: the
+    same of λ = 1 and λ = 0 inside the interval and, where neither is, the same power
+    pointed to."""
     if not other.defined:
         return f"without {who}, λ is not defined ({other.note})"
-    same = all(other.contains(lam) == result.contains(lam) for lam in (1.0, 0.0))
     them = "that run" if n == 1 else "those runs"
-    verdict = "the reading holds" if same else f"so the reading above rests on {them}"
+    verdict = (
+        "the reading holds"
+        if other._points_to() == result._points_to()
+        else f"so the reading above rests on {them}"
+    )
+    note = f" ({other.note})" if other.note else ""
     return (
-        f"without {who}: λ̂ = {other.lambda_hat:.2f}, "
+        f"without {who}: λ̂ = {other.lambda_hat:.2f}{note}, "
         f"{100 * other.confidence:g} % interval {interval_text(other.ci_low, other.ci_high)}; "
         f"{other._likelihood_reading()}; {verdict}"
     )

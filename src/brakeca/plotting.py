@@ -540,8 +540,10 @@ def plot_mu_per_stop(
     ax
         An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
         new figure. ``path`` then writes that whole figure. In a panel the default title and
-        the axis label are wrapped, and the legend of more than six tests stands beside the
-        panel (a constrained layout, ``layout="constrained"``, makes room for it).
+        the axis label are wrapped, and in a figure with a layout engine
+        (``layout="constrained"`` or ``"tight"``, which make room for it) the legend of more
+        than six tests stands beside the panel; without one it stays inside, as a figure
+        without a layout cannot make room.
 
     Returns
     -------
@@ -660,9 +662,9 @@ def plot_mu_per_stop(
         pad += tallest * 72.0 / fig.dpi + 0.01 * ax.bbox.height * 72.0 / fig.dpi
     ax.set_title(title, pad=pad)
     ax.grid(True, alpha=0.3)
-    if n > 1 and given and n_tests <= 6:
-        ax.legend(fontsize=7)
-    elif n > 1 and given:  # beside the panel, where a constrained layout makes room for it
+    if n > 1 and given and (n_tests <= 6 or fig.get_layout_engine() is None):
+        ax.legend(fontsize=7, ncols=1 if n_tests <= 30 else 2)  # (no room made beside it)
+    elif n > 1 and given:  # beside the panel, where the figure's layout makes room for it
         ax.legend(
             fontsize=6,
             loc="upper left",
@@ -822,9 +824,7 @@ def plot_v_per_run(
 
     ax
         An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
-        new figure. ``path`` then writes that whole figure. In a panel the default title and
-        the axis label are wrapped, and the legend of more than six tests stands beside the
-        panel (a constrained layout, ``layout="constrained"``, makes room for it).
+        new figure. ``path`` then writes that whole figure.
 
     Returns
     -------

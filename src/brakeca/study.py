@@ -273,7 +273,8 @@ Files (R is the response: MU, V or log10_V_mm3):
 - `anova_R.csv`, `model_summary_R.csv`, `ranked_effects_R.csv`: the ANOVA of the categorical
   model, its summary (S, R², adjusted and predicted R², the model's formula), its terms by
   contribution. A term's contribution is its sum of squares in the ANOVA table (Type II or
-  III, as the table's note says) over the total about the mean; in a balanced design these
+  III, or Type I where the design is rank-deficient, as the table's note says) over the
+  total about the mean; in a balanced design these
   are Minitab's sequential sums of squares too, in an unbalanced one they differ from them.
   `ranked_effects_R.csv`'s `effect`, for a term of two-level factors only: mean at the high
   level minus mean at the low (twice the coefficient in ±1 coding, as Minitab's "Effect");
@@ -290,9 +291,10 @@ Files (R is the response: MU, V or log10_V_mm3):
   effect, twice the coefficient's; on the Ct Pt row, which has no effect, twice its
   coefficient's, so t = coefficient / (se / 2) on every row; the report shows the
   coefficient's), t, p.
-- `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual`: λ̂, its interval
-  and the reading without the runs whose standardized residual is beyond ±2 (the report's
-  unusual runs), and whether the reading holds without them.
+- `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual` (under the ANOVA
+  model, not a response surface's quadratic): λ̂, its interval and the reading without the
+  runs whose standardized residual is beyond ±2 (the report's unusual runs), under the same
+  terms, and whether the reading holds without them.
 - `surface_*_R.csv` (response-surface designs): coded coefficients, ANOVA by source, summary
   (its equation in the response's SI unit), residuals of the quadratic.
 - `optimum.csv`: the optimum of the design's goals (V and its limits in m³).

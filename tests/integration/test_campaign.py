@@ -14,7 +14,6 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -415,53 +414,48 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
     )
 
 
-SLOW_AFTER_THE_FIRST_RUN = """\
-import sys, time
+KILLED_WHILE_WRITING_THE_SECOND_RUN = """\
+import os, pathlib, signal, sys
 from brakeca.campaign import run_campaign
-from brakeca.simulation import simulate
 
-calls = 0
+write_bytes = pathlib.Path.write_bytes
+run_files = 0
 
-def slow_after_the_first(config, *, seed, progress=None):
-    global calls
-    calls += 1
-    if calls > 1:  # the test kills the process here: it need not race a campaign of 0.5 s
-        time.sleep(300)
-    return simulate(config, seed=seed, progress=progress)
+def dies_in_the_second_run_file(self, data):
+    global run_files
+    if self.parent.name == "runs" and self.name.endswith(".tmp"):
+        run_files += 1
+        if run_files == 2:  # half the file on disk, then the process is gone
+            write_bytes(self, data[: len(data) // 2])
+            os.kill(os.getpid(), signal.SIGKILL)
+    return write_bytes(self, data)
 
-run_campaign(sys.argv[1], sys.argv[2], executor="serial", simulate_fn=slow_after_the_first,
-             progress=False)
+pathlib.Path.write_bytes = dies_in_the_second_run_file
+run_campaign(sys.argv[1], sys.argv[2], executor="serial", progress=False)
 """
 
 
 def test_sigkill_halfway_then_resume(serial, design_file, tmp_path):
-    """A campaign killed after its first run keeps that run's complete file, and no partial
-    one; the next campaign reuses it and computes the rest, bit-identical to one that ran
-    through. (The child waits after its first run: the test had raced a campaign of tiny
-    runs, which a busy machine could let finish before the kill.)"""
+    """A campaign SIGKILLed while it writes its second run file keeps the first run's
+    complete file, and no part of the second under a run file's name; the next campaign
+    removes the half-written temporary file, reuses the first run and computes the rest,
+    bit-identical to a campaign that ran through. (The child kills itself inside the write:
+    the test had raced a campaign of tiny runs with a kill from outside, which could come
+    after the campaign had finished, and did not reach the write.)"""
     out = tmp_path / "campaign"
-    env = dict(os.environ, PYTHONUNBUFFERED="1")
-    script = tmp_path / "slow_after_the_first.py"
-    script.write_text(SLOW_AFTER_THE_FIRST_RUN, encoding="utf-8")
+    script = tmp_path / "killed_while_writing.py"
+    script.write_text(KILLED_WHILE_WRITING_THE_SECOND_RUN, encoding="utf-8")
     cmd = [sys.executable, str(script), str(design_file), str(out)]
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    deadline = time.monotonic() + 60
-    try:
-        while not list((out / "runs").glob("*.nc")):
-            assert proc.poll() is None, proc.stderr.read().decode() if proc.stderr else ""
-            assert time.monotonic() < deadline, "no run file appeared within 60 s"
-            time.sleep(0.01)
-        proc.send_signal(signal.SIGKILL)
-    finally:
-        proc.wait(timeout=30)
-        if proc.stderr:
-            proc.stderr.close()
-    assert proc.returncode == -signal.SIGKILL
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == -signal.SIGKILL, done.stderr
     assert not (out / "summary.csv").exists()
     finished = _mtimes(out / "runs")
     assert len(finished) == 1
     for name in finished:
         RunResult.from_netcdf(out / "runs" / name)  # complete files only, never a partial one
+    (half,) = (out / "runs").glob(".*.tmp")  # the second run's, cut off
+    with pytest.raises(ValueError, match="not a readable netCDF file"):
+        RunResult.from_netcdf(half)
 
     resumed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
     assert resumed.ok

@@ -333,3 +333,40 @@ def test_the_profile_without_the_unusual_runs_says_whether_the_reading_holds() -
     them = "that run" if len(tests) == 1 else "those runs"
     assert text.endswith("the reading holds" if same else f"so the reading above rests on {them}")
     assert box_cox_table({"V": result})["without_unusual"].item() == text
+
+
+def test_the_second_profile_keeps_the_model_and_the_rows_by_position() -> None:
+    """A review of the check: the second profile is the same model's (a reduced model is not
+    reduced again, and a model the runs left cannot estimate gets no second profile, where a
+    factor had been dropped without a word); runs are left out by position (a summary's
+    index labels may repeat: all runs of a label had been dropped); and the reading holds
+    only where it points to the same power."""
+    from brakeca.boxcox import BoxCox, _without_text
+
+    summary, factors = _factorial_summary()
+    summary["test"] = np.arange(1, len(summary) + 1)
+    v = 3e-9 * (summary["WP"] / 1e-15) ** 0.9 * np.where(summary["A"] == 20.0, 0.5, 1.0)
+    planted = summary.assign(V=v + 1e-10 * (summary["replicate"] - 1))
+    planted.loc[4, "V"] += 1e-9  # unusual runs in test 5's cell
+    first = box_cox(planted, factors, "V")
+    assert "test 5, replicate 1" in first.without_unusual
+    assert "λ̂ = " in first.without_unusual  # a second profile
+    repeated = planted.set_axis([0, 1] * (len(planted) // 2))  # labels that repeat
+    assert box_cox(repeated, factors, "V").without_unusual == first.without_unusual
+    # two replicates a cell: a cell's two runs are flagged together, and without them the
+    # cell is empty: the same model cannot be fitted
+    pairs = planted[planted["replicate"] < 2].reset_index(drop=True)
+    z = analysis.residuals(pairs, factors, "V")["std_residual"].abs()
+    assert z.nlargest(2).iloc[1] == pytest.approx(z.max())  # the pair of test 5's cell
+    text = box_cox(pairs, factors, "V", unusual=float(z.max()) * 0.999).without_unusual
+    assert "the runs left cannot estimate the same model" in text, text
+    # the verdict: the same inside-or-not of 1 and 0, and the same power pointed to
+
+    def made(lam: float, low: float, high: float) -> BoxCox:
+        return BoxCox("V", 24, 9.0, "m", lam, low, high, round(2 * lam) / 2, 0.95, pd.DataFrame())
+
+    minus_one = made(-1.1, -1.6, -0.6)
+    assert _without_text(minus_one, made(-0.9, -1.3, -0.6), "t", 1).endswith("the reading holds")
+    assert _without_text(minus_one, made(1.6, 1.3, 1.9), "t", 1).endswith(
+        "so the reading above rests on that run"
+    )

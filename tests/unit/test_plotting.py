@@ -790,3 +790,17 @@ def test_a_panel_of_a_grid_keeps_its_legend_and_title_to_itself(campaign) -> Non
                 if other is not ax:
                     assert not box.overlaps(other.bbox), (box, other.bbox)
     plt.close(fig)
+
+
+def test_a_panel_without_a_layout_keeps_its_legend_inside(campaign, tmp_path) -> None:
+    """Without a layout engine nothing makes room beside a panel: a legend put there had
+    lain over the next panel or off the figure (a review: 22 % of it on the canvas of
+    ``plt.subplots()``), so it stays inside the axes there."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    plot_mu_per_stop(campaign, tmp_path / "one.png", factors=FACTORS, ax=ax)
+    fig.canvas.draw()
+    legend = ax.get_legend().get_window_extent(fig.canvas.get_renderer())
+    assert legend.x1 <= ax.bbox.x1 + 1 and legend.x0 >= ax.bbox.x0 - 1
+    plt.close(fig)
