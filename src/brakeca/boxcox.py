@@ -558,7 +558,7 @@ def _without_text(result: BoxCox, other: BoxCox, who: str, n: int) -> str:
     verdict = (
         "the reading holds"
         if other._points_to() == result._points_to()
-        else f"so the reading above rests on {them}"
+        else f"so the reading of all the runs rests on {them}"
     )
     note = f" ({other.note})" if other.note else ""
     return (

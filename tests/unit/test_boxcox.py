@@ -329,9 +329,10 @@ def test_the_profile_without_the_unusual_runs_says_whether_the_reading_holds() -
     ]
     assert text.startswith("without " + " and ".join(named) + ": ")
     assert f"λ̂ = {alone.lambda_hat:.2f}" in text and alone.reading.split(";")[0] in text
-    same = all(alone.contains(lam) == result.contains(lam) for lam in (1.0, 0.0))
+    # the planted run moved λ off 1 (the data point to 1.5); without it λ = 1 is back inside
+    assert not result.contains(1.0) and alone.contains(1.0)
     them = "that run" if len(tests) == 1 else "those runs"
-    assert text.endswith("the reading holds" if same else f"so the reading above rests on {them}")
+    assert text.endswith(f"so the reading of all the runs rests on {them}")
     assert box_cox_table({"V": result})["without_unusual"].item() == text
 
 
@@ -368,5 +369,5 @@ def test_the_second_profile_keeps_the_model_and_the_rows_by_position() -> None:
     minus_one = made(-1.1, -1.6, -0.6)
     assert _without_text(minus_one, made(-0.9, -1.3, -0.6), "t", 1).endswith("the reading holds")
     assert _without_text(minus_one, made(1.6, 1.3, 1.9), "t", 1).endswith(
-        "so the reading above rests on that run"
+        "so the reading of all the runs rests on that run"
     )
