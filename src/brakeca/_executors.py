@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import importlib.machinery
+import logging
 import multiprocessing
 import numbers
 import os
@@ -106,6 +107,9 @@ class DaskExecutor(cf.Executor):
         A context entered for the cluster's lifetime, exited on shutdown after the cluster
         closes (:func:`main_module_not_rerun` for a LocalCluster, whose nannies also spawn a
         worker that replaces a dead one).
+    deaths
+        For a LocalCluster started here: the filter that counts its worker processes' deaths
+        in place of dask's log lines (:class:`WorkerDeaths`); removed on shutdown.
     """
 
     def __init__(
@@ -115,11 +119,13 @@ class DaskExecutor(cf.Executor):
         *,
         own_client: bool = True,
         held: AbstractContextManager[Any] | None = None,
+        deaths: WorkerDeaths | None = None,
     ) -> None:
         self.client = client
         self.cluster = cluster
         self._own_client = own_client
         self._held = held
+        self.deaths = deaths
         self._executor = client.get_executor(pure=False)
         self._closed = False
 
@@ -148,8 +154,47 @@ class DaskExecutor(cf.Executor):
                     if self.cluster is not None:
                         self.cluster.close()
                 finally:
+                    if self.deaths is not None:
+                        self.deaths.detach()
                     if self._held is not None:
                         self._held.__exit__(None, None, None)
+
+
+class WorkerDeaths(logging.Filter):
+    """Counts the deaths of a LocalCluster's worker processes in place of dask's log lines.
+
+    When a worker process dies, dask's nanny logs "Restarting worker" and the scheduler
+    "Removing worker 'tcp://...' caused the cluster to lose already computed task(s), which
+    will be recomputed elsewhere: {...}", with a time stamp and a logger name, on the
+    campaign's terminal and in the middle of its progress bar. Both loggers live in the
+    campaign's process for a cluster it started; this filter drops those two lines and counts
+    the deaths, which the campaign reports in its own words (:meth:`_DaskBackend.news`).
+    Every other line of dask's passes."""
+
+    #: The loggers it filters.
+    LOGGERS = ("distributed.nanny", "distributed.scheduler")
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.count = 0  # (written by the cluster's event-loop thread, read by the campaign's)
+        for name in self.LOGGERS:
+            logging.getLogger(name).addFilter(self)
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        text = record.getMessage()
+        if record.name == "distributed.nanny" and text.startswith("Restarting worker"):
+            self.count += 1
+            return False
+        return not (
+            record.name == "distributed.scheduler"
+            and text.startswith("Removing worker")
+            and "caused the cluster to lose" in text
+        )
+
+    def detach(self) -> None:
+        """Stop filtering."""
+        for name in self.LOGGERS:
+            logging.getLogger(name).removeFilter(self)
 
 
 #: How often a local worker checks that the campaign's process still lives [s].
@@ -323,6 +368,7 @@ def _dask_executor(
     # function reaches a dask worker by value, cloudpickled, not from the module)
     held = main_module_not_rerun()
     held.__enter__()
+    deaths = WorkerDeaths()
     try:
         with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
             cluster = distributed.LocalCluster(
@@ -340,9 +386,10 @@ def _dask_executor(
             cluster.close()
             raise
     except BaseException:
+        deaths.detach()
         held.__exit__(None, None, None)
         raise
-    return DaskExecutor(client, cluster, held=held)
+    return DaskExecutor(client, cluster, held=held, deaths=deaths)
 
 
 def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path | None) -> str:
@@ -619,6 +666,12 @@ class _Backend:
         self.in_flight -= 1
         return None
 
+    def news(self) -> int:
+        """Worker processes that died since the last call and whose runs the executor
+        itself gives to a worker again (a LocalCluster of dask's); 0 for the others, whose
+        deaths :meth:`release` reports run by run [-]."""
+        return 0
+
     def close(self, *, cancel: bool) -> None:
         """Shut the executor down when this campaign made it."""
         if self.own:
@@ -639,6 +692,15 @@ class _DaskBackend(_Backend):
     def __init__(self, executor: DaskExecutor) -> None:
         super().__init__(executor, 1, own=True)
         self.client = executor.client
+        self.deaths = executor.deaths
+        self.told = 0
+
+    def news(self) -> int:
+        if self.deaths is None:
+            return 0
+        count = self.deaths.count
+        new, self.told = count - self.told, count
+        return new
 
     def free(self) -> int:
         try:

@@ -735,6 +735,7 @@ def _execute_points(
                 done, _ = cf.wait(
                     list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
                 )
+                _say_deaths(console, backend.news(), max_retries)
                 for future in sorted(done, key=lambda f: pending[f].order):
                     point = pending.pop(future)
                     rid = run_id(point)
@@ -788,6 +789,7 @@ def _execute_points(
                     bar.advance(task)
                     if how.on_run is not None:  # (a notebook's own progress: an API review)
                         how.on_run(n_total - len(todo) + len(computed) + len(failed), n_total)
+            _say_deaths(console, backend.news(), max_retries)  # (a death logged last)
             bar.update(task, description="runs")
         finished = True
     finally:
@@ -795,6 +797,27 @@ def _execute_points(
             for future in pending:
                 future.cancel()
         backend.close(cancel=not finished)
+
+
+def _say_deaths(console: Console, died: int, max_retries: int) -> None:
+    """Say that ``died`` worker processes of a dask LocalCluster died, which dask replaces
+    and whose runs it retries itself (which run a worker held, dask does not say; its own
+    log lines are dropped, :class:`brakeca._executors.WorkerDeaths`)."""
+    if not died:
+        return
+    from brakeca._console import say
+
+    say(
+        console,
+        "[yellow]worker died:[/] "
+        + (
+            "a dask worker process died; dask starts another and gives its run to a worker again"
+            if died == 1
+            else f"{died} dask worker processes died; dask starts others and gives their runs "
+            "to a worker again"
+        )
+        + f" (a run at most {max_retries} time(s), then it fails)",
+    )
 
 
 # --- reading back --------------------------------------------------------------------------

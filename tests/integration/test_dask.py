@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 import io
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -218,9 +219,13 @@ def _check_chaos(result: CampaignResult, local: CampaignResult, markers: Path, t
     assert list(loaded.summary["error"]) == list(summary["error"])
 
 
-def test_dask_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
+def test_dask_worker_deaths_cost_only_their_run(local, design_file, tmp_path, capfd):
     """A LocalCluster started by the campaign, workers SIGKILLed mid-campaign: max_retries is
-    the scheduler's allowed-failures; a run that raises is failed at once; the rest finish."""
+    the scheduler's allowed-failures; a run that raises is failed at once; the rest finish.
+    The deaths are the campaign's lines, not dask's raw log lines ("... - distributed.nanny -
+    WARNING - Restarting worker", in the middle of the progress bar)."""
+    import logging
+
     markers = tmp_path / "markers"
     markers.mkdir()
     console = quiet()
@@ -234,8 +239,21 @@ def test_dask_worker_deaths_cost_only_their_run(local, design_file, tmp_path):
         progress=False,
         console=console,
     )
-    _check_chaos(result, local, markers, console_text(console))
+    text = console_text(console)
+    _check_chaos(result, local, markers, text)
     assert "KilledWorker" in result.summary.loc[3, "error"]
+    # three kills (test 2 once, test 4 twice): each death told once, in the campaign's words
+    # (the last may come after the campaign's end, when no nanny restarts a worker any more)
+    told = sum(
+        1 if m[1] == "a" else int(m[1])
+        for m in re.finditer(r"worker died: (a|\d+) dask worker process", text)
+    )
+    assert 1 <= told <= 3, text
+    assert "(a run at most 1 time(s), then it fails)" in text
+    err = capfd.readouterr().err
+    assert "Restarting worker" not in err and "caused the cluster to lose" not in err, err
+    for name in ("distributed.nanny", "distributed.scheduler"):  # the filter is gone again
+        assert not logging.getLogger(name).filters
 
 
 class _Boom(io.StringIO):
