@@ -681,7 +681,9 @@ def _execute_points(
         TextColumn("ETA"),
         TimeRemainingColumn(),
         console=console,
-        disable=not how.progress,
+        # in a log file (not a terminal, nor a notebook) the runs' lines alone: the bar's
+        # last state had come out as one more line at the end
+        disable=not how.progress or not (console.is_terminal or console.is_jupyter),
         transient=False,
     )
     resuming: set[str] = set()  # the runs that go on from a checkpoint

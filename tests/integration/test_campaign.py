@@ -199,6 +199,7 @@ def test_progress_in_a_log_file_is_one_line_per_run(serial, design_file, tmp_pat
     mu = serial.summary.MU[0]
     done = [line for line in lines if line.startswith("run 4/4 done: test 1, replicate 0")]
     assert len(done) == 1 and f"MU {mu:.4f}" in done[0] and done[0].endswith("mm³/stop")
+    assert not [line for line in lines if "━" in line or "ETA" in line]  # no bar at the end
 
 
 def test_rerun_skips_every_run(serial, tmp_path):
