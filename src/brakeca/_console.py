@@ -82,6 +82,26 @@ def brief_warnings() -> Callable[[], None]:
     return restore
 
 
+def run_named(row: Any, replicated: bool) -> str:
+    """A run in a message: ``"test 3"``, with ``", replicate 1"`` in a ``replicated``
+    campaign (and a replicate given), ``"a run"`` without a test number; ``row`` is a
+    summary or residuals row (a mapping or a pandas Series)."""
+
+    def given(value: Any) -> bool:  # not None, NaN or pandas' NA
+        if value is None:
+            return False
+        try:
+            return not bool(value != value)
+        except TypeError:  # pandas.NA
+            return False
+
+    test, replicate = row.get("test"), row.get("replicate")
+    who = f"test {int(test)}" if given(test) else "a run"
+    if replicated and given(replicate):
+        who += f", replicate {int(replicate)}"
+    return who
+
+
 def tests_named(numbers: Iterable[int], most: int = 8) -> str:
     """Test numbers in a message, each once and in order, at most ``most`` of them:
     ``"test 3"``, ``"tests 1, 2, 4"``, ``"tests 1, 2, ... and others"``."""

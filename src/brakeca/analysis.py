@@ -1767,6 +1767,13 @@ def residuals(
     data, y, exog, formula = _model_arrays(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
     )
+    return _residuals_of(data, y, exog, formula, response)
+
+
+def _residuals_of(
+    data: pd.DataFrame, y: np.ndarray, exog: np.ndarray, formula: str, response: str
+) -> pd.DataFrame:
+    """:func:`residuals` of a model already made (:func:`_model_arrays`' results)."""
     if y.size == 0:
         out = _run_columns(data)
         for c in ("observed", "fitted", "residual", "leverage", "std_residual"):

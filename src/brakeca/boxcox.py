@@ -203,11 +203,15 @@ class BoxCox:
             )
         return sentence
 
+    def _halves_inside(self) -> list[float]:
+        """The multiples of 0.5 in :data:`LAMBDA_RANGE` that the interval holds [-]."""
+        lo, hi = LAMBDA_RANGE
+        return [k / 2 for k in range(int(2 * lo), int(2 * hi) + 1) if self.contains(k / 2)]
+
     def _pointed(self) -> float:
         """Where neither λ = 1 nor λ = 0 lies within the interval, the power the reading
         points to: the multiple of 0.5 within it nearest λ̂, else λ̂ itself [-]."""
-        lo, hi = LAMBDA_RANGE
-        inside = [k / 2 for k in range(int(2 * lo), int(2 * hi) + 1) if self.contains(k / 2)]
+        inside = self._halves_inside()
         if inside:
             return min(inside, key=lambda lam: abs(lam - self.lambda_hat))
         return self.lambda_hat
@@ -240,9 +244,7 @@ class BoxCox:
                 f"λ = 0 lies within the {pct} interval and λ = 1 does not: the log fits "
                 "better than the response as it is" + rounded
             )
-        lo, hi = LAMBDA_RANGE
-        inside = [k / 2 for k in range(int(2 * lo), int(2 * hi) + 1) if self.contains(k / 2)]
-        if inside:  # the simple power nearest the optimum that the interval holds
+        if self._halves_inside():  # the simple power nearest the optimum that the interval holds
             return (
                 f"neither λ = 1 nor λ = 0 lies within the {pct} interval: the data point to "
                 f"λ ≈ {self._pointed():g}"
@@ -497,11 +499,9 @@ def box_cox(
         return result
     from dataclasses import replace
 
-    from brakeca.analysis import residuals
+    from brakeca.analysis import _residuals_of
 
-    frame = residuals(
-        summary, factors, response, interactions=interactions, alpha_to_remove=alpha_to_remove
-    )
+    frame = _residuals_of(data, y, exog, formula, response)  # (the model fitted once)
     # the residuals' rows are the model's runs (``data``), in its order
     z = pd.to_numeric(frame["std_residual"], errors="coerce").to_numpy(dtype=float)
     large = np.abs(np.nan_to_num(z)) > unusual
@@ -538,12 +538,12 @@ def box_cox(
 def _runs_named(rows: pd.DataFrame, z: np.ndarray, replicated: bool) -> str:
     """The unusual runs ``rows`` by test (and replicate, in a ``replicated`` campaign, as the
     report's list of unusual runs names them), with their standardized residuals ``z``."""
-    names = []
-    for (_, rec), zi in zip(rows.iterrows(), z, strict=True):
-        who = f"test {int(rec['test'])}" if "test" in rec and pd.notna(rec["test"]) else "a run"
-        if replicated and pd.notna(rec.get("replicate")):
-            who += f", replicate {int(rec['replicate'])}"
-        names.append(f"{who} (standardized residual {zi:+.2f})")
+    from brakeca._console import run_named
+
+    names = [
+        f"{run_named(rec, replicated)} (standardized residual {zi:+.2f})"
+        for (_, rec), zi in zip(rows.iterrows(), z, strict=True)
+    ]
     return " and ".join(names) if len(names) < 3 else ", ".join(names)
 
 

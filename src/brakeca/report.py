@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from brakeca._console import run_named
 from brakeca._io import atomic_write
 from brakeca.boxcox import UNUSUAL_RESIDUAL as _BOX_COX_UNUSUAL
 
@@ -554,13 +555,7 @@ def _unusual_text(response: str, frame: pd.DataFrame) -> str:
     replicated = "replicate" in frame.columns and frame["replicate"].nunique() > 1
     items = []
     for _, rec in large.iterrows():
-        who = (
-            f"test {int(rec['test'])}"
-            if "test" in rec and not _is_missing(rec["test"])
-            else "a run"
-        )
-        if replicated:
-            who += f", replicate {int(rec['replicate'])}"
+        who = run_named(rec, replicated)
         items.append(
             f"{who} ({response} {_fmt(float(rec['observed']) * factor, '.4g')}"
             f"{' ' + unit if unit else ''}, fitted {_fmt(float(rec['fitted']) * factor, '.4g')}, "
