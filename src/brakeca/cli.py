@@ -1259,6 +1259,18 @@ def analyze(
             "(none unless set)",
         ),
     ] = None,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o",
+            "--output",
+            metavar="DIR",
+            parser=_folder_path,
+            help="folder for the tables, figures and report.html (default: the campaign "
+            "folder itself); the campaign's files are only read, so a campaign that cannot "
+            "be written to, or a second analysis of it, goes there",
+        ),
+    ] = None,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
     from brakeca.analysis import alpha_problem
@@ -1304,11 +1316,14 @@ def analyze(
             "this report is of the study as it stands; analyse again when the campaign ends",
             highlight=False,
         )
-    problem = output_problem(folder, folder=True)  # before the summary is printed
+    dest = folder if output is None else output
+    problem = output_problem(dest, folder=True)  # before the summary is printed
     if problem is not None:
         _fail(
             f"{folder}: {problem}; the analysis writes its tables, figures and report.html "
-            "there: copy the folder somewhere writable and analyse the copy"
+            "there: give another folder for them with -o"
+            if output is None
+            else f"-o {output}: {problem}"
         )
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
@@ -1321,9 +1336,10 @@ def analyze(
                 max_order=order,
                 model_terms=terms,
                 note=_note,
+                output=output,
             )
         except OSError as exc:  # a full disk, a file the folder's owner made read-only
-            where = exc.filename or folder
+            where = exc.filename or dest
             _fail(f"{where}: cannot write it ({exc.strerror or exc}); the report is not complete")
     if chosen is not None or order is not None:
         model = f"the terms {', '.join(chosen)}" if chosen else f"terms up through order {order}"
@@ -1334,7 +1350,7 @@ def analyze(
             highlight=False,
         )
     out.print(
-        f"tables: {folder / 'tables'}\nfigures: {folder / 'figures'}\nreport: {path}", markup=False
+        f"tables: {dest / 'tables'}\nfigures: {dest / 'figures'}\nreport: {path}", markup=False
     )
 
 

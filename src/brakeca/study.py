@@ -22,6 +22,7 @@ doi:10.1155/2016/8181260
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -570,6 +571,7 @@ def write_study(
     max_order: int | None = None,
     model_terms: Sequence[str] | str | None = None,
     note: Callable[[str], object] | None = None,
+    output: str | Path | None = None,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -600,21 +602,146 @@ def write_study(
     note
         Called with the text of each note the report gives on the run files (one that cannot
         be read, left out of the figures), for a command to print it as well.
+    output
+        The folder the tables, figures and report go to (created); by default the
+        campaign's own folder. The campaign's files are only read, so another folder
+        analyses a campaign that cannot be written to, or keeps two analyses of one
+        campaign (e.g. of two models) side by side.
 
     Returns
     -------
     Path
         The report file.
     """
-    from brakeca import analysis, boxcox, plotting, report
+    from brakeca import report
 
-    out = Path(result.out_dir)
+    source = Path(result.out_dir)
+    out = source if output is None else Path(output)
     tables_dir = out / "tables"
-    fig_dir = out / "figures"
-    fig_dir.mkdir(parents=True, exist_ok=True)
+    figures = _Figures(out / "figures")
+    base = _base_config(source)
+    scope = _scope(base)
+    found = _analyse(
+        result,
+        tables_dir,
+        scope=scope,
+        anova_type=anova_type,
+        alpha_to_remove=alpha_to_remove,
+        max_order=max_order,
+        model_terms=model_terms,
+    )
+    surfaces = found.surfaces
+    if len(found.ok):  # with no finished run there is nothing to plot; the report says why
+        _response_figures(figures, result, found)
+        _cycle_figures(figures, result, _stops_run(result, base))
+    runs_dir = source / "runs"
+    files = _run_file_figures(figures, found.ok, result.design, runs_dir, run_maps=run_maps)
+    notes = _study_notes(result, found, files, base, source, note=note)
+    summary, pm10_note = _pm10_columns(result.summary, files.pm10_of)
+    if pm10_note:
+        notes = notes + "\n\n" + pm10_note
+        summary.to_csv(tables_dir / "pm10.csv", index=False)
+    shown = summary.copy()
+    for f in result.design.factors:
+        if f.choices is not None and f.name in shown.columns:  # 'paper', not its level 1
+            shown[f.name] = [f.label_of(v) if pd.notna(v) else v for v in shown[f.name]]
+    config_text = (
+        (source / "base_config.toml").read_text(encoding="utf-8")
+        if (source / "base_config.toml").exists()
+        else ""
+    )
+    design_text = (
+        (source / "design.toml").read_text(encoding="utf-8")
+        if (source / "design.toml").exists()
+        else ""
+    )
+    tables = found.tables
+    return report.write_report(
+        out / "report.html",
+        title=f"brakeca study: {result.design.name}",
+        design_table=_design_table(result),
+        summary=shown,
+        anova_tables={resp: tables[resp]["anova"] for resp in RESPONSES if resp not in surfaces},
+        figures=figures.listed,
+        config_text=design_text + "\n# --- base configuration ---\n" + config_text,
+        version=__version__,
+        notes=notes,
+        effects_tables={resp: tables[resp]["effects"] for resp in RESPONSES},
+        design_info=" ".join(t for t in (scope, _design_info(result.design)) if t),
+        surface_fits=surfaces,
+        optimum=None if found.optimum is None else (found.goals, found.optimum),
+        optimum_note=found.optimum_note,
+        box_cox=found.scales,
+        anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
+        level_means={resp: tables[resp]["main_effects"] for resp in RESPONSES},
+        trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
+        residual_tables={
+            resp: tables[resp]["residuals"]
+            for resp in RESPONSES
+            if tables[resp].get("residuals") is not None
+        },
+    )
+
+
+@dataclass
+class _Figures:
+    """The report's figures as they are drawn: each PNG in ``folder``, listed as (section,
+    caption, path)."""
+
+    folder: Path
+    listed: list[tuple[str, str, Path]] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        self.folder.mkdir(parents=True, exist_ok=True)
+
+    def add(self, section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> None:
+        """Draw ``fig_fn(*args, path=..., **kwargs)`` into ``name`` and list it."""
+        path = self.folder / name
+        fig_fn(*args, path=path, **kwargs)
+        self.listed.append((section, caption, path))
+
+    def drop(self, *names: str) -> None:
+        """Remove figures an earlier analysis drew that this one does not (they would
+        outlive the report's list)."""
+        for name in names:
+            (self.folder / name).unlink(missing_ok=True)
+
+
+@dataclass(frozen=True)
+class _Found:
+    """What :func:`_analyse` computed: the finished runs (``ok``), the analysed summary
+    (``data``, with log10_V_mm3), the ANOVA model, each response's tables, a
+    response-surface design's surfaces and their residuals, the optimum of its goals (with
+    the goals and a note) and the Box-Cox profiles."""
+
+    ok: pd.DataFrame
+    data: pd.DataFrame
+    model: int | Sequence[str]
+    tables: dict[str, Any]
+    surfaces: dict[str, Any]
+    surface_residuals: dict[str, pd.DataFrame]
+    optimum: Any
+    goals: list
+    optimum_note: str
+    scales: dict[str, Any]
+
+
+def _analyse(
+    result: CampaignResult,
+    tables_dir: Path,
+    *,
+    scope: str,
+    anova_type: int | None,
+    alpha_to_remove: float | None,
+    max_order: int | None,
+    model_terms: Sequence[str] | str | None,
+) -> _Found:
+    """The numbers of :func:`write_study` (its parameters of the same names), written to
+    ``tables_dir``: every table of ``tables/``."""
+    from brakeca import analysis, boxcox
+
     summary = result.summary
     factors = list(result.design.factors)
-    ok = analysis.ok_runs(summary)
     data = with_log_v(summary)
     typ = result.design.anova_type if anova_type is None else anova_type
     alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
@@ -640,7 +767,7 @@ def write_study(
     analysis.save_tables(tables, tables_dir)
     surfaces: dict[str, Any] = {}
     surface_residuals: dict[str, pd.DataFrame] = {}
-    if result.design.is_response_surface:  # a response-surface design
+    if surface_design:
         from brakeca import rsm
 
         surfaces = rsm.response_surfaces(data, factors, RESPONSES, alpha_to_remove=alpha)
@@ -651,24 +778,6 @@ def write_study(
                 tables_dir / f"surface_residuals_{resp}.csv", index=False
             )
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
-    base = _base_config(out)
-    scope = _scope(base)
-    # for the captions; a factor on the cycle (its file, its stops) gives each run its own
-    on_cycle = [f.name for f in factors if _target(f.field).split(".")[0] == "cycle"]
-    cut = (  # --stops, unless a factor sets the stops (each run's own then)
-        base.cycle.max_stops
-        if base is not None
-        and on_cycle
-        and not any(_target(f.field) == "cycle.max_stops" for f in factors)
-        else None
-    )
-    stops_run = (
-        (f"the first {cut} stops of " if cut is not None else "")
-        + f"each run's cycle (the design's factor{'s' if len(on_cycle) > 1 else ''} "
-        + f"{', '.join(on_cycle)} set{'' if len(on_cycle) > 1 else 's'} it)"
-        if on_cycle
-        else _cut_short(base) or "the whole cycle"
-    )
     if scope and any(g.response != "MU" for g in goals):
         optimum_note = " ".join(
             t
@@ -691,171 +800,238 @@ def write_study(
     (tables_dir / "README.md").write_text(
         _TABLES_README.format(version=__version__), encoding="utf-8"
     )
+    return _Found(
+        ok=analysis.ok_runs(summary),
+        data=data,
+        model=model,
+        tables=tables,
+        surfaces=surfaces,
+        surface_residuals=surface_residuals,
+        optimum=optimum,
+        goals=goals,
+        optimum_note=optimum_note,
+        scales=scales,
+    )
 
-    figures: list[tuple[str, str, Path]] = []
 
-    def add(section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> None:
-        path = fig_dir / name
-        fig_fn(*args, path=path, **kwargs)
-        figures.append((section, caption, path))
+def _stops_run(result: CampaignResult, base: Any) -> str:
+    """What stops the per-stop figures' captions say each run ran: the whole cycle, its
+    first stops (--stops), or each run's own cycle where a factor sets it."""
+    factors = result.design.factors
+    # a factor on the cycle (its file, its stops) gives each run its own
+    on_cycle = [f.name for f in factors if _target(f.field).split(".")[0] == "cycle"]
+    cut = (  # --stops, unless a factor sets the stops (each run's own then)
+        base.cycle.max_stops
+        if base is not None
+        and on_cycle
+        and not any(_target(f.field) == "cycle.max_stops" for f in factors)
+        else None
+    )
+    if not on_cycle:
+        return _cut_short(base) or "the whole cycle"
+    return (
+        (f"the first {cut} stops of " if cut is not None else "")
+        + f"each run's cycle (the design's factor{'s' if len(on_cycle) > 1 else ''} "
+        + f"{', '.join(on_cycle)} set{'' if len(on_cycle) > 1 else 's'} it)"
+    )
 
+
+def _response_figures(figures: _Figures, result: CampaignResult, found: _Found) -> None:
+    """Each response's figures (main effects or a surface's profile, interactions, ranked
+    effects, contour plots, residuals), the Box-Cox plots and a response-surface design's
+    overlaid contours."""
+    from brakeca import analysis, plotting
+
+    factors = list(result.design.factors)
+    data, tables, surfaces = found.data, found.tables, found.surfaces
+    optimum, goals, scales = found.optimum, found.goals, found.scales
+    surface_residuals = found.surface_residuals
     aliases = analysis.interaction_aliases(pd.DataFrame(result.design.combinations()), factors)
-    if len(ok):  # with no finished run there is nothing to plot; the report says why
-        for resp in RESPONSES:
-            label = _LABELS[resp]
-            if resp in surfaces:
-                # a composite design's level means are not balanced against the other
-                # factors, so its raw main-effects and interaction plots mix in their effects
-                # (and can contradict the fit): the fitted surface's profile instead, and the
-                # contour plots for the pairs
-                for name in (
-                    f"main_effects_{resp}.png",
-                    f"interactions_{resp}.png",
-                    f"pareto_{resp}.png",  # the categorical ANOVA's, which is not shown
-                ):
-                    (fig_dir / name).unlink(missing_ok=True)
-                add(
-                    "Main effects",
-                    f"Main effects on {label}, from the fitted quadratic surface: the response "
-                    "along each factor with the others at their centre, with the 95 % "
-                    "confidence band of the fitted mean (JMP's prediction profiler). The "
-                    "runs' level means (the table 'Level means') are not balanced against "
-                    "the other factors in a response-surface design, so they mix in the others' "
-                    "effects",
-                    f"profile_{resp}.png",
-                    plotting.plot_profiler,
-                    surfaces[resp],
-                )
-            else:
-                add(
-                    "Main effects",
-                    f"Main effects on {label}" + _PAPER_MAIN[resp],
-                    f"main_effects_{resp}.png",
-                    plotting.plot_main_effects,
-                    data,
-                    factors,
-                    resp,
-                )
-            if len(factors) >= 2 and resp not in surfaces:  # interactions need two factors
-                add(
-                    "Interactions",
-                    f"Two-factor interactions on {label}"
-                    + _PAPER_INTERACTIONS[resp]
-                    + (
-                        "; a panel titled '= ...' shows its pair's interaction together with "
-                        "the interactions aliased with it"
-                        if aliases
-                        else ""
-                    ),
-                    f"interactions_{resp}.png",
-                    plotting.plot_interactions,
-                    data,
-                    factors,
-                    resp,
-                    aliases=aliases,
-                )
-            if resp not in surfaces:  # a response surface's terms are in its own section
-                add(
-                    "Ranked effects",
-                    f"Pareto of the ANOVA terms of {label}: each term's share of the total sum "
-                    "of squares (a term of several degrees of freedom, such as a factor of "
-                    "three levels, tends to gather more than a term of one; dark: p < 0.05)",
-                    f"pareto_{resp}.png",
-                    plotting.plot_pareto,
-                    tables[resp]["ranked_effects"],
-                    resp,
-                )
-            effects = tables[resp]["effects"]
-            if not effects.empty:  # every factor has two levels
-                add(
-                    "Ranked effects",
-                    f"Effects on {label}: Pareto chart of the standardized effects, with the "
-                    "line a significant effect crosses, and half-normal plot of the effects "
-                    f"({_EFFECTS_METHOD.get(str(effects.attrs.get('method')), '')})",
-                    f"effects_{resp}.png",
-                    plotting.plot_effects,
-                    effects,
-                    resp,
-                )
-            else:  # an earlier analysis's (e.g. of another reduced model) would outlive it
-                (fig_dir / f"effects_{resp}.png").unlink(missing_ok=True)
-            if resp in surfaces:
-                fit = surfaces[resp]
-                add(
-                    "Contour plots",
-                    f"Contour plots of the fitted quadratic surface of {label} (coded model "
-                    "in the section 'Response surface'), each pair of factors with the others "
-                    "at their centre; the runs projected onto the pair; the star: the "
-                    "stationary point, projected, when it lies inside the region the runs span",
-                    f"surface_{resp}.png",
-                    plotting.plot_response_surface,
-                    fit,
-                )
-            # a response surface's residuals are its quadratic's, the others the ANOVA's
-            residuals = surface_residuals.get(resp, tables[resp]["residuals"])
-            model = "quadratic surface" if resp in surfaces else "ANOVA model"
-            formula = str(residuals.attrs.get("formula", ""))
-            add(
-                "Residuals",
-                f"Residual plots of the {model} of {label}; model: {formula}",
-                f"residuals_{resp}.png",
-                plotting.plot_residuals,
-                residuals,
+    for resp in RESPONSES:
+        label = _LABELS[resp]
+        if resp in surfaces:
+            # a composite design's level means are not balanced against the other
+            # factors, so its raw main-effects and interaction plots mix in their effects
+            # (and can contradict the fit): the fitted surface's profile instead, and the
+            # contour plots for the pairs
+            for name in (
+                f"main_effects_{resp}.png",
+                f"interactions_{resp}.png",
+                f"pareto_{resp}.png",  # the categorical ANOVA's, which is not shown
+            ):
+                figures.drop(name)
+            figures.add(
+                "Main effects",
+                f"Main effects on {label}, from the fitted quadratic surface: the response "
+                "along each factor with the others at their centre, with the 95 % "
+                "confidence band of the fitted mean (JMP's prediction profiler). The "
+                "runs' level means (the table 'Level means') are not balanced against "
+                "the other factors in a response-surface design, so they mix in the others' "
+                "effects",
+                f"profile_{resp}.png",
+                plotting.plot_profiler,
+                surfaces[resp],
+            )
+        else:
+            figures.add(
+                "Main effects",
+                f"Main effects on {label}" + _PAPER_MAIN[resp],
+                f"main_effects_{resp}.png",
+                plotting.plot_main_effects,
+                data,
+                factors,
                 resp,
             )
-        add(
-            "Residuals",
-            "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "
-            "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
-            "of λ shaded; λ = 0 is the log (section 'Scale of the responses')",
-            "box_cox.png",
-            plotting.plot_box_cox,
-            scales,
-        )
-        if optimum is not None:
-            add(
-                "Contour plots",
-                "Overlaid contour plot: where every response meets its goal's limits (white), "
-                "each pair of factors with the others at the optimum's levels; the star: the "
-                "optimum",
-                "overlaid_contours.png",
-                plotting.plot_overlaid_contours,
-                surfaces,
-                goals,
-                optimum,
+        if len(factors) >= 2 and resp not in surfaces:  # interactions need two factors
+            figures.add(
+                "Interactions",
+                f"Two-factor interactions on {label}"
+                + _PAPER_INTERACTIONS[resp]
+                + (
+                    "; a panel titled '= ...' shows its pair's interaction together with "
+                    "the interactions aliased with it"
+                    if aliases
+                    else ""
+                ),
+                f"interactions_{resp}.png",
+                plotting.plot_interactions,
+                data,
+                factors,
+                resp,
+                aliases=aliases,
             )
-        coords = getattr(result.dataset, "coords", {})
-        n_blocks = len({str(b) for b in coords["block"].to_numpy()}) if "block" in coords else 0
-        add(
-            "Runs",
-            f"MU per stop over {stops_run} for every run (as the paper's Figure 10)",
-            "mu_per_stop.png",
-            plotting.plot_mu_per_stop,
-            result.dataset,
-            factors=factors,
+        if resp not in surfaces:  # a response surface's terms are in its own section
+            figures.add(
+                "Ranked effects",
+                f"Pareto of the ANOVA terms of {label}: each term's share of the total sum "
+                "of squares (a term of several degrees of freedom, such as a factor of "
+                "three levels, tends to gather more than a term of one; dark: p < 0.05)",
+                f"pareto_{resp}.png",
+                plotting.plot_pareto,
+                tables[resp]["ranked_effects"],
+                resp,
+            )
+        effects = tables[resp]["effects"]
+        if not effects.empty:  # every factor has two levels
+            figures.add(
+                "Ranked effects",
+                f"Effects on {label}: Pareto chart of the standardized effects, with the "
+                "line a significant effect crosses, and half-normal plot of the effects "
+                f"({_EFFECTS_METHOD.get(str(effects.attrs.get('method')), '')})",
+                f"effects_{resp}.png",
+                plotting.plot_effects,
+                effects,
+                resp,
+            )
+        else:  # an earlier analysis's (e.g. of another reduced model) would outlive it
+            figures.drop(f"effects_{resp}.png")
+        if resp in surfaces:
+            fit = surfaces[resp]
+            figures.add(
+                "Contour plots",
+                f"Contour plots of the fitted quadratic surface of {label} (coded model "
+                "in the section 'Response surface'), each pair of factors with the others "
+                "at their centre; the runs projected onto the pair; the star: the "
+                "stationary point, projected, when it lies inside the region the runs span",
+                f"surface_{resp}.png",
+                plotting.plot_response_surface,
+                fit,
+            )
+        # a response surface's residuals are its quadratic's, the others the ANOVA's
+        residuals = surface_residuals.get(resp, tables[resp]["residuals"])
+        model = "quadratic surface" if resp in surfaces else "ANOVA model"
+        formula = str(residuals.attrs.get("formula", ""))
+        figures.add(
+            "Residuals",
+            f"Residual plots of the {model} of {label}; model: {formula}",
+            f"residuals_{resp}.png",
+            plotting.plot_residuals,
+            residuals,
+            resp,
         )
-        add(
-            "Runs",
-            f"MU per stop over {stops_run} at each level of each factor: the mean of the "
-            "finished runs at that level, stop by stop (the main effects over the cycle"
-            + ("; centre points left out" if result.design.center_points else "")
-            + ")"
-            + (", the cycle's blocks shaded as above" if n_blocks > 1 else ""),
-            "mu_per_stop_by_level.png",
-            plotting.plot_mu_per_stop_by_level,
-            result.dataset,
-            factors,
-        )
-        add(
-            "Runs",
-            "V for every run (as the paper's Figure 11; on a log axis, a point per test, where the "
-            "tests' V span more than two decades)",
-            "v_per_run.png",
-            plotting.plot_v_per_run,
-            summary,
+    figures.add(
+        "Residuals",
+        "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "
+        "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
+        "of λ shaded; λ = 0 is the log (section 'Scale of the responses')",
+        "box_cox.png",
+        plotting.plot_box_cox,
+        scales,
+    )
+    if optimum is not None:
+        figures.add(
+            "Contour plots",
+            "Overlaid contour plot: where every response meets its goal's limits (white), "
+            "each pair of factors with the others at the optimum's levels; the star: the "
+            "optimum",
+            "overlaid_contours.png",
+            plotting.plot_overlaid_contours,
+            surfaces,
+            goals,
+            optimum,
         )
 
-    runs_dir = out / "runs"
+
+def _cycle_figures(figures: _Figures, result: CampaignResult, stops_run: str) -> None:
+    """The figures over the cycle and over the runs: MU per stop (every run's, and by
+    level), and V per run; ``stops_run`` says in the captions what stops the runs ran."""
+    from brakeca import plotting
+
+    factors = list(result.design.factors)
+    summary = result.summary
+    coords = getattr(result.dataset, "coords", {})
+    n_blocks = len({str(b) for b in coords["block"].to_numpy()}) if "block" in coords else 0
+    figures.add(
+        "Runs",
+        f"MU per stop over {stops_run} for every run (as the paper's Figure 10)",
+        "mu_per_stop.png",
+        plotting.plot_mu_per_stop,
+        result.dataset,
+        factors=factors,
+    )
+    figures.add(
+        "Runs",
+        f"MU per stop over {stops_run} at each level of each factor: the mean of the "
+        "finished runs at that level, stop by stop (the main effects over the cycle"
+        + ("; centre points left out" if result.design.center_points else "")
+        + ")"
+        + (", the cycle's blocks shaded as above" if n_blocks > 1 else ""),
+        "mu_per_stop_by_level.png",
+        plotting.plot_mu_per_stop_by_level,
+        result.dataset,
+        factors,
+    )
+    figures.add(
+        "Runs",
+        "V for every run (as the paper's Figure 11; on a log axis, a point per test, where the "
+        "tests' V span more than two decades)",
+        "v_per_run.png",
+        plotting.plot_v_per_run,
+        summary,
+    )
+
+
+@dataclass(frozen=True)
+class _RunFiles:
+    """What :func:`_run_file_figures` read from the run files: the message of each file
+    that cannot be read (by run id), each readable run's PM10 (by run id; None: not on a
+    trace) and the finished runs whose file was read."""
+
+    unreadable: dict[str, str]
+    pm10_of: dict[str, tuple[float, float, float] | None]
+    filed: pd.DataFrame
+
+
+def _run_file_figures(
+    figures: _Figures, ok: pd.DataFrame, design: Design, runs_dir: Path, *, run_maps: bool
+) -> _RunFiles:
+    """The figures drawn from the runs' own files in ``runs_dir``: the initial fibre map of
+    each A level and, with ``run_maps``, every run's final plateau map and its maps over the
+    cycle."""
+    from brakeca import plotting
+
+    factors = list(design.factors)
+    fig_dir = figures.folder
     # The figures of the runs' own files draw the runs whose file is there: a folder sent
     # without runs/ (summary.csv and campaign.nc) still gives every table and the report, and
     # a damaged file is left out as a missing one is, and named (it raised half-way through
@@ -868,7 +1044,7 @@ def write_study(
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
     names = {f.name for f in factors}
     replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
-    pads_at = len(figures)  # where the fibre maps go, before the runs' maps
+    pads_at = len(figures.listed)  # where the fibre maps go, before the runs' maps
 
     if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
         for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
@@ -910,7 +1086,7 @@ def write_study(
                 "end of the last stop (the per-run table's secondary share is the last "
                 "stop's own, before it)"
             )
-        add(
+        figures.add(
             "Final plateau maps",
             f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
             f"final_map_{tag}.png",
@@ -919,10 +1095,10 @@ def write_study(
             title=f"Test {int(row['test'])}: {levels}",
         )
         if "map_status" not in ds:
-            (fig_dir / f"maps_by_stop_{tag}.png").unlink(missing_ok=True)
+            figures.drop(f"maps_by_stop_{tag}.png")
             continue
         kept = ", ".join(str(int(k)) for k in ds["map_stop"].to_numpy())
-        add(
+        figures.add(
             "Plateau maps over the cycle",
             f"Test {int(row['test'])} ({levels}){which}: plateaus before the first stop "
             f"and after stop{'s' if ds.sizes['map_stop'] > 1 else ''} {kept} (brakeca run "
@@ -935,7 +1111,7 @@ def write_study(
     filed = ok[[str(rid) in pm10_of for rid in ok["run_id"]]] if len(pm10_of) else ok.iloc[:0]
     if first_pad:
         shown_tests = [str(first_pad[level][0]) for level in sorted(first_pad)]
-        add(
+        figures.add(
             "Pad surfaces",
             "Initial fibre maps of the A levels (as the paper's Figure 5): the pads of tests "
             f"{', '.join(shown_tests[:-1])}{' and ' if len(shown_tests) > 1 else ''}"
@@ -945,16 +1121,25 @@ def write_study(
             plotting.plot_fibre_maps,
             {f"A = {level:g} %": first_pad[level][1] for level in sorted(first_pad)},
         )
-        figures.insert(pads_at, figures.pop())
+        figures.listed.insert(pads_at, figures.listed.pop())
+    return _RunFiles(unreadable, pm10_of, filed)
 
-    config_text = (
-        (out / "base_config.toml").read_text(encoding="utf-8")
-        if (out / "base_config.toml").exists()
-        else ""
-    )
-    design_text = (
-        (out / "design.toml").read_text(encoding="utf-8") if (out / "design.toml").exists() else ""
-    )
+
+def _study_notes(
+    result: CampaignResult,
+    found: _Found,
+    files: _RunFiles,
+    base: Any,
+    source: Path,
+    *,
+    note: Callable[[str], object] | None,
+) -> str:
+    """The report's notes: the runs finished, what MU and V are, the run files that cannot
+    be read or are missing, the runs that emitted nothing and the stops at the COF's floor
+    (:func:`_floor_note`); the note on unreadable files also goes to ``note``."""
+    summary, ok, surfaces = result.summary, found.ok, found.surfaces
+    unreadable, filed = files.unreadable, files.filed
+    runs_dir = source / "runs"
     n_failed = int((summary.get("status", pd.Series(dtype=str)) != "ok").sum())
     notes = (
         f"{len(ok)} of {len(summary)} runs finished"
@@ -981,7 +1166,7 @@ def write_study(
             + "; ".join(unreadable.values())
             + "): the report leaves "
             + ("them" if len(bad) > 1 else "it")
-            + f" out; 'brakeca run {out / 'design.toml'} -o {out}' computes "
+            + f" out; 'brakeca run {source / 'design.toml'} -o {source}' computes "
             + ("those runs" if len(bad) > 1 else "the run")
             + " again."
         )
@@ -1016,39 +1201,7 @@ def write_study(
     floor_note = _floor_note(result, base)
     if floor_note:
         notes += "\n\n" + floor_note
-    summary, pm10_note = _pm10_columns(summary, pm10_of)
-    if pm10_note:
-        notes = notes + "\n\n" + pm10_note
-        summary.to_csv(out / "tables" / "pm10.csv", index=False)
-    shown = summary.copy()
-    for f in factors:
-        if f.choices is not None and f.name in shown.columns:  # 'paper', not its level 1
-            shown[f.name] = [f.label_of(v) if pd.notna(v) else v for v in shown[f.name]]
-    return report.write_report(
-        out / "report.html",
-        title=f"brakeca study: {result.design.name}",
-        design_table=_design_table(result),
-        summary=shown,
-        anova_tables={resp: tables[resp]["anova"] for resp in RESPONSES if resp not in surfaces},
-        figures=figures,
-        config_text=design_text + "\n# --- base configuration ---\n" + config_text,
-        version=__version__,
-        notes=notes,
-        effects_tables={resp: tables[resp]["effects"] for resp in RESPONSES},
-        design_info=" ".join(t for t in (scope, _design_info(result.design)) if t),
-        surface_fits=surfaces,
-        optimum=None if optimum is None else (goals, optimum),
-        optimum_note=optimum_note,
-        box_cox=scales,
-        anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
-        level_means={resp: tables[resp]["main_effects"] for resp in RESPONSES},
-        trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
-        residual_tables={
-            resp: tables[resp]["residuals"]
-            for resp in RESPONSES
-            if tables[resp].get("residuals") is not None
-        },
-    )
+    return notes
 
 
 def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> list[Path]:

@@ -596,6 +596,58 @@ def test_analyze_fits_the_terms_chosen(campaign, tmp_path):
         assert res.exit_code == 2 and message in res.output, res.output
 
 
+def test_analyze_writes_into_another_folder_and_leaves_the_campaign_as_it_was(campaign, tmp_path):
+    """``analyze -o DIR`` writes its tables, figures and report there and only reads the
+    campaign: the same tables as the analysis in the campaign folder, a model of chosen terms
+    beside it, and an -o that cannot be a folder refused before any work."""
+    import hashlib
+    import shutil
+
+    src = tmp_path / "c"
+    shutil.copytree(campaign[0], src)  # (other tests analyse the fixture's folder their way)
+    res = CliRunner().invoke(app, ["analyze", str(src), "--no-run-maps"])
+    assert res.exit_code == 0, res.output
+
+    def files(folder: Path) -> dict[str, tuple[str, int]]:
+        return {
+            str(p.relative_to(folder)): (
+                hashlib.sha256(p.read_bytes()).hexdigest(),
+                p.stat().st_mtime_ns,
+            )
+            for p in sorted(folder.rglob("*"))
+            if p.is_file()
+        }
+
+    before = files(src)
+    dest = tmp_path / "elsewhere" / "reduced"
+    res = CliRunner().invoke(
+        app, ["analyze", str(src), "--no-run-maps", "--terms", "A S", "-o", str(dest)]
+    )
+    assert res.exit_code == 0, res.output
+    assert files(src) == before  # not a file of the campaign written, nor touched
+    said = " ".join(res.output.split())
+    assert f"report: {dest / 'report.html'}" in said and f"tables: {dest / 'tables'}" in said
+    assert list(pd.read_csv(dest / "tables" / "anova_MU.csv")["term"]) == ["S", "A", "Residual"]
+    assert "ANOVA of MU, of the terms chosen: S, A." in (dest / "report.html").read_text("utf-8")
+    # the design's own model, written elsewhere, is the campaign folder's analysis table by table
+    same = tmp_path / "same"
+    res = CliRunner().invoke(app, ["analyze", str(src), "--no-run-maps", "-o", str(same)])
+    assert res.exit_code == 0, res.output
+    assert sorted(p.name for p in (same / "tables").iterdir()) == sorted(
+        p.name for p in (src / "tables").iterdir()
+    )
+    for table in (same / "tables").iterdir():
+        assert table.read_bytes() == (src / "tables" / table.name).read_bytes(), table.name
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x", encoding="utf-8")
+    res = CliRunner().invoke(app, ["analyze", str(src), "-o", str(blocker)])
+    assert res.exit_code == 2, res.output
+    assert f"error: -o {blocker}: cannot create it (a file of that name exists" in " ".join(
+        res.output.split()
+    )
+    assert files(src) == before
+
+
 def test_a_folder_sent_without_its_run_files_is_analysed(campaign, tmp_path):
     """A helper's review: `brakeca analyze` on a folder of summary.csv, campaign.nc and the
     design (sent without runs/) stopped with a traceback in the fibre-map figure, even with
