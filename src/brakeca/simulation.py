@@ -17,7 +17,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Literal, NamedTuple
 
 import numpy as np
 
@@ -55,6 +55,7 @@ __all__ = [
     "CheckpointWarning",
     "LedgerError",
     "SimulationState",
+    "StopSteps",
     "advance_stop",
     "end_of_stop",
     "expose_fibres",
@@ -850,23 +851,38 @@ def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     )
 
 
+class StopSteps(NamedTuple):
+    """The steps of one stop, as :func:`advance_stop` ran them (a named tuple: ``dt, rec,
+    counts = advance_stop(...)`` unpacks it).
+
+    Attributes
+    ----------
+    dt : ndarray
+        Step durations [s].
+    rec : ndarray (n_steps, N_REC)
+        Per-step record (see :mod:`brakeca._kernels`).
+    counts : ndarray of int64, length 8
+        Firings of rules 1..7 (index = rule number) [-].
+    """
+
+    dt: np.ndarray
+    rec: np.ndarray
+    counts: np.ndarray
+
+
 def advance_stop(
     state: SimulationState,
     grid: Grid,
     config: SimulationConfig,
     stop: Stop,
     scratch: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> StopSteps:
     """Run every time step of one stop on ``state`` (in place) with the compiled kernel.
 
     Returns
     -------
-    dt : ndarray
-        Step durations [s].
-    rec : ndarray (n_steps, N_REC)
-        Per-step record (see :mod:`brakeca._kernels`).
-    counts : ndarray of int64, length 8
-        Firings of rules 1..7 (index = rule number).
+    StopSteps
+        The step durations [s], the per-step record and the rule firings.
 
     Raises
     ------
@@ -890,7 +906,7 @@ def advance_stop(
         )
         if code != K.OK:
             _raise_kernel_error(code, done, stop, targets, rec, config, state)
-        return dt, rec, counts
+        return StopSteps(dt, rec, counts)
     if state.packed_stale:
         state.resync()
     code, done = K.run_stop(
@@ -942,7 +958,7 @@ def advance_stop(
     )
     if code != K.OK:
         _raise_kernel_error(code, done, stop, targets, rec, config, state)
-    return dt, rec, counts
+    return StopSteps(dt, rec, counts)
 
 
 _NO_FIELD = (False, np.zeros(0), np.zeros(0), np.zeros(0, np.int64), np.zeros(0, np.int64))
