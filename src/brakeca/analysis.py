@@ -430,6 +430,28 @@ def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -
     References
     ----------
     Wahlström (2016), Figures 6 (MU) and 8 (V), doi:10.1155/2016/8181260.
+
+    Examples
+    --------
+    A replicated 2² design (8 runs) whose MU has known effects: S +0.05, A +0.11 and their
+    interaction +0.02 (effects as Minitab gives them: the change from the low to the high level):
+
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor
+    >>> factors = [Factor("S", (0.0, 1.0)), Factor("A", (10.0, 20.0), unit="%")]
+    >>> runs = pd.DataFrame({
+    ...     "S": [0.0, 1.0] * 4,
+    ...     "A": [10.0, 10.0, 20.0, 20.0] * 2,
+    ...     "MU": [0.30, 0.34, 0.40, 0.46, 0.32, 0.34, 0.40, 0.48],
+    ... })
+    >>> from brakeca.analysis import main_effects
+    >>> table = main_effects(runs, factors, "MU")
+    >>> print(table[["factor", "level", "mean", "n"]].round(4).to_string(index=False))
+    factor  level  mean  n
+         S    0.0 0.355  4
+         S    1.0 0.405  4
+         A   10.0 0.325  4
+         A   20.0 0.435  4
     """
     factors = _factors(factors)
     data = _clean(summary, factors, response)
@@ -839,6 +861,28 @@ def anova(
     ----------
     Wahlström (2016), Section 4 (factorial design) and Figures 6 to 9,
     doi:10.1155/2016/8181260.
+
+    Examples
+    --------
+    A replicated 2² design (8 runs) whose MU has known effects: S +0.05, A +0.11 and their
+    interaction +0.02 (effects as Minitab gives them: the change from the low to the high level):
+
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor
+    >>> factors = [Factor("S", (0.0, 1.0)), Factor("A", (10.0, 20.0), unit="%")]
+    >>> runs = pd.DataFrame({
+    ...     "S": [0.0, 1.0] * 4,
+    ...     "A": [10.0, 10.0, 20.0, 20.0] * 2,
+    ...     "MU": [0.30, 0.34, 0.40, 0.46, 0.32, 0.34, 0.40, 0.48],
+    ... })
+    >>> from brakeca.analysis import anova
+    >>> table = anova(runs, factors, "MU")  # main effects and the two-factor interaction
+    >>> print(table[["term", "df", "sum_sq", "F", "p_value"]].round(4).to_string(index=False))
+        term  df  sum_sq     F  p_value
+           S 1.0  0.0050  50.0   0.0021
+           A 1.0  0.0242 242.0   0.0001
+         S:A 1.0  0.0008   8.0   0.0474
+    Residual 4.0  0.0004   NaN      NaN
     """
     _check_anova_type(typ)
     _check_alpha_to_remove(alpha_to_remove)
@@ -2310,6 +2354,27 @@ def two_level_effects(
     ----------
     R. V. Lenth, "Quick and easy analysis of unreplicated factorials", Technometrics 31(4),
     469-473, 1989. doi:10.1080/00401706.1989.10488595
+
+    Examples
+    --------
+    A replicated 2² design (8 runs) whose MU has known effects: S +0.05, A +0.11 and their
+    interaction +0.02 (effects as Minitab gives them: the change from the low to the high level):
+
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor
+    >>> factors = [Factor("S", (0.0, 1.0)), Factor("A", (10.0, 20.0), unit="%")]
+    >>> runs = pd.DataFrame({
+    ...     "S": [0.0, 1.0] * 4,
+    ...     "A": [10.0, 10.0, 20.0, 20.0] * 2,
+    ...     "MU": [0.30, 0.34, 0.40, 0.46, 0.32, 0.34, 0.40, 0.48],
+    ... })
+    >>> from brakeca.analysis import two_level_effects
+    >>> table = two_level_effects(runs, factors, "MU")  # largest first
+    >>> print(table[["term", "effect", "t", "p_value"]].round(4).to_string(index=False))
+    term  effect       t  p_value
+       A    0.11 15.5563   0.0001
+       S    0.05  7.0711   0.0021
+     S:A    0.02  2.8284   0.0474
     """
     from scipy import stats
 

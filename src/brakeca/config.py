@@ -932,7 +932,39 @@ class SimulationConfig(_Frozen):
         return cls.from_dict(data, source=source)
 
     def with_updates(self, updates: Mapping[str, Any]) -> SimulationConfig:
-        """A copy with dotted-key updates (``{"wear.specific_wear_rate": 1e-13}``) validated."""
+        """A copy with dotted-key updates, validated: variants are copies, never mutations.
+
+        Parameters
+        ----------
+        updates
+            Dotted field names (``"wear.specific_wear_rate"``) or the paper's factor names
+            (``"WP"``, ``"A"``: :data:`FACTOR_ALIASES`, in their design units) to values.
+
+        Returns
+        -------
+        SimulationConfig
+            The new configuration; this one is unchanged.
+
+        Raises
+        ------
+        ConfigError
+            An unknown field, or a value out of its range; the message names the field and
+            the range.
+
+        Examples
+        --------
+        >>> from brakeca.config import ConfigError
+        >>> from brakeca.presets import load_preset
+        >>> paper = load_preset()
+        >>> harder = paper.with_updates({"WP": 1e-13, "mesh.n_radial": 21})
+        >>> harder.wear.specific_wear_rate, paper.wear.specific_wear_rate  # [m²/N]
+        (1e-13, 1e-14)
+        >>> try:  # a bad value is refused, with the field and its range
+        ...     paper.with_updates({"A": 150})
+        ... except ConfigError as exc:
+        ...     print(exc)
+        A (= pad.fibre_area_fraction): must be at least 0 and below 100 %, got 150
+        """
         return apply_overrides(self, updates)
 
 
@@ -1315,7 +1347,14 @@ def excel_separator(line: str) -> str | None:
 
 
 def parse_override(text: str) -> tuple[str, Any]:
-    """Split ``KEY=VALUE`` and parse the value as a TOML value (bare words become strings)."""
+    """Split ``KEY=VALUE`` and parse the value as a TOML value (bare words become strings).
+
+    Examples
+    --------
+    >>> from brakeca.config import parse_override
+    >>> parse_override("WP=1e-13"), parse_override("numerics.kernel = exact")
+    (('WP', 1e-13), ('numerics.kernel', 'exact'))
+    """
     if "=" not in text:
         raise ConfigError(f"--set {text!r}: expected KEY=VALUE, e.g. --set WP=1e-13")
     key, raw = text.split("=", 1)

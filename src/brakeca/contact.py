@@ -217,6 +217,12 @@ def contact_pressure(height, disc_position: float, stiffness: float):
     -------
     float64 array
         Contact pressure of each cell [Pa], of the shape of ``height``; 0 where ``h <= z``.
+
+    Examples
+    --------
+    >>> from brakeca.contact import contact_pressure
+    >>> contact_pressure([12e-6, 10e-6, 9e-6], 10e-6, 1e11)  # K = E / L = 1 GPa / 10 mm [Pa]
+    array([200000.,      0.,      0.])
     """
     return stiffness * np.maximum(np.asarray(height, dtype=float) - disc_position, 0.0)
 
@@ -243,6 +249,15 @@ def friction_force(height, area, disc_position, stiffness, mu_0, slope, mu_min) 
     -------
     float
         Friction force [N].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from brakeca.contact import friction_force
+    >>> height = np.array([12e-6, 11e-6, 9e-6])  # the third cell is off the disc
+    >>> # (0.6 - 3e-8 * 0.2 MPa) * 0.2 MPa * 1 mm² + (0.6 - 3e-8 * 0.1 MPa) * 0.1 MPa * 1 mm²
+    >>> round(friction_force(height, 1e-6, 10e-6, 1e11, 0.6, 3e-8, 0.15), 9)  # [N]
+    0.1785
     """
     p = contact_pressure(height, disc_position, stiffness)
     mu = np.maximum(mu_min, mu_0 - slope * p)
@@ -277,6 +292,22 @@ def solve_disc_position(
     ContactError
         If there is no plateau cell, the target is not positive, or no position reaches it
         (with ``mu_min = 0`` the friction force has a maximum).
+
+    Examples
+    --------
+    The flat punch: four cells of 25 mm² at one height carry 100 N of friction at the
+    pressure of :func:`brakeca.reference.flat_punch_pressure`:
+
+    >>> import numpy as np
+    >>> from brakeca.contact import solve_disc_position
+    >>> from brakeca.reference import flat_punch_pressure
+    >>> height, area = np.full(4, 20e-6), np.full(4, 25e-6)
+    >>> z = solve_disc_position(
+    ...     height, area, stiffness=1e11, mu_0=0.6, slope=3e-8, mu_min=0.15, target=100.0
+    ... )
+    >>> pressure = 1e11 * (20e-6 - z)  # K (h - z) [Pa]
+    >>> bool(np.isclose(pressure, flat_punch_pressure(100.0, 1e-4, 0.6, 3e-8, 0.15), rtol=1e-12))
+    True
     """
     h = np.ascontiguousarray(np.ravel(height), dtype=np.float64)
     ar = np.ascontiguousarray(np.broadcast_to(area, np.shape(height)).ravel(), dtype=np.float64)

@@ -109,6 +109,18 @@ def expand_stops(config: SimulationConfig) -> list[Stop]:
     list of Stop
         One per stop, numbered from 1, in SI units: initial and final speed [m/s],
         deceleration [m/s^2].
+
+    Examples
+    --------
+    The paper's cycle: 170 stops in nine blocks, from burnish to hill descent:
+
+    >>> from brakeca.cycle import expand_stops
+    >>> from brakeca.presets import load_preset
+    >>> stops = expand_stops(load_preset())
+    >>> len(stops), stops[0].block, stops[-1].block
+    (170, 'Burnish', 'Hill descent')
+    >>> round(stops[0].initial_speed * 3.6, 6), round(stops[0].deceleration / 9.81, 6)  # km/h, g
+    (50.0, 0.25)
     """
     stops: list[Stop] = []
     g = config.vehicle.gravity
@@ -141,6 +153,13 @@ def step_distance(config: SimulationConfig) -> float:
     -------
     float
         s [m].
+
+    Examples
+    --------
+    >>> from brakeca.cycle import step_distance
+    >>> from brakeca.presets import load_preset
+    >>> round(step_distance(load_preset()) * 1e3, 2)  # [mm]
+    24.11
     """
     return (
         config.vehicle.wheel_radius * config.mesh.columns_per_subdomain * config.mesh.angular_step
@@ -174,6 +193,19 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     Notes
     -----
     ``v_{n+1}^2 = v_n^2 - 2 a s``; the stop ends when the speed reaches its final speed.
+
+    Examples
+    --------
+    The first stop of the paper's cycle, 50 to 4 km/h at 0.25 g:
+
+    >>> from brakeca.cycle import expand_stops, step_distance, stop_steps
+    >>> from brakeca.presets import load_preset
+    >>> config = load_preset()
+    >>> dt, fraction = stop_steps(expand_stops(config)[0], step_distance(config))
+    >>> dt.size, round(float(dt.sum()), 3)  # steps, braking time [s]
+    (1621, 5.21)
+    >>> float(fraction[0]), round(float(fraction[-1]), 3)  # the last step is a partial one
+    (1.0, 0.496)
     """
     a = stop.deceleration
     v0, v1 = stop.initial_speed, stop.final_speed
@@ -240,6 +272,18 @@ def brake_demand(config: SimulationConfig, deceleration: float, band_area: float
     BrakeDemand
         The brake torque [N m], each pad's friction force [N] and the band's share of it
         [N] (uniform nominal pressure: the pad's times A_sim / A_pad).
+
+    Examples
+    --------
+    >>> from brakeca.cycle import brake_demand
+    >>> from brakeca.geometry import make_grid
+    >>> from brakeca.presets import load_preset
+    >>> config = load_preset()
+    >>> demand = brake_demand(config, 0.3 * 9.81, make_grid(config).area)  # 0.3 g
+    >>> round(demand.brake_torque, 1), round(demand.pad_friction_force, 1)  # [N m], [N]
+    (637.6, 2821.4)
+    >>> round(demand.band_friction_force, 1)  # the band's share [N]
+    968.7
     """
     torque = config.vehicle.wheel_load_mass * deceleration * config.vehicle.wheel_radius
     pad = torque / (config.brake.pads_per_brake * config.brake.effective_radius)

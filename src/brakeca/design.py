@@ -719,6 +719,12 @@ def point_seed(root_seed: int, test: int, replicate: int) -> int:
 
     ``SeedSequence([root_seed, test, replicate]).generate_state(1, dtype=uint32)[0]``: a
     32-bit integer that depends only on these three numbers.
+
+    Examples
+    --------
+    >>> from brakeca.design import point_seed
+    >>> point_seed(2016, 5, 0)  # the paper design's root seed, test 5
+    1456000950
     """
     state = np.random.SeedSequence([root_seed, test, replicate]).generate_state(1, dtype=np.uint32)
     return int(state[0])
@@ -778,6 +784,14 @@ def quick_config(config: SimulationConfig) -> SimulationConfig:
     ------
     ConfigError
         The narrowed band does not fit the disc (only with an unusual radial step).
+
+    Examples
+    --------
+    >>> from brakeca.design import quick_config
+    >>> from brakeca.presets import load_preset
+    >>> quick = quick_config(load_preset())
+    >>> quick.mesh.n_radial, quick.mesh.n_angular, quick.quick  # 2 mm of the 20 mm band
+    (21, 1000, True)
     """
     return config.with_updates(
         {"mesh.n_radial": QUICK_N_RADIAL, "mesh.inner_radius": None, "quick": True}
@@ -3002,6 +3016,18 @@ def load_design(path_or_name: str | Path) -> Design:
     ------
     ConfigError
         Unknown name, unreadable or invalid file; the message names the file and the field.
+
+    Examples
+    --------
+    The paper's design: 2 × 3 × 2 × 2 levels, 24 tests, each with its own seed:
+
+    >>> from brakeca.design import load_design
+    >>> design = load_design("paper")
+    >>> design.kind, design.n_tests, [f.name for f in design.factors]
+    ('full factorial', 24, ['S', 'WP', 'WR', 'A'])
+    >>> test5 = design.points()[4]
+    >>> test5.test, test5.levels, test5.seed
+    (5, {'S': 0.0, 'WP': 1e-13, 'WR': 1e-07, 'A': 10.0}, 1456000950)
     """
     from brakeca.presets import available_designs, design_path
 

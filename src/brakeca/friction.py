@@ -40,6 +40,14 @@ def local_cof(pressure: float, mu_0: float, slope: float, mu_min: float) -> floa
     -------
     float
         mu(p) = max(mu_min, mu_0 - c p) [-].
+
+    Examples
+    --------
+    >>> from brakeca.friction import local_cof
+    >>> round(local_cof(5e6, 0.6, 3e-8, 0.15), 12)  # 5 MPa on the paper's law: 0.6 - 0.15
+    0.45
+    >>> local_cof(40e6, 0.6, 3e-8, 0.15)  # past (0.6 - 0.15) / 3e-8 = 15 MPa: the floor
+    0.15
     """
     mu = mu_0 - slope * pressure
     return mu if mu > mu_min else mu_min
@@ -88,6 +96,17 @@ def friction_stress_peak(mu_0: float, slope: float, mu_min: float) -> tuple[floa
     -----
     ``d(mu p)/dp = mu_0 - 2 c p = 0`` gives ``p* = mu_0 / (2c)`` and ``mu(p*) p* = mu_0^2/(4c)``,
     valid when ``mu(p*) >= mu_min``; otherwise ``mu p`` is monotone and there is no peak (inf).
+
+    Examples
+    --------
+    >>> from brakeca.friction import friction_stress_peak
+    >>> p, stress = friction_stress_peak(0.6, 3e-8, 0.0)  # p* = 0.6 / (2 * 3e-8)
+    >>> round(p / 1e6, 6), round(stress / 1e6, 6)  # [MPa]
+    (10.0, 3.0)
+    >>> friction_stress_peak(0.6, 3e-8, 0.15)  # mu(p*) = 0.3 >= 0.15: the same peak
+    (10000000.0, 3000000.0)
+    >>> friction_stress_peak(0.6, 3e-8, 0.35)  # mu(p*) = 0.3 below the floor: mu p keeps rising
+    (inf, inf)
     """
     if slope <= 0.0:
         return float("inf"), float("inf")

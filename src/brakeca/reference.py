@@ -44,6 +44,17 @@ def flat_punch_pressure(
         ``area`` not above 0, or no pressure gives ``F``: with ``mu_min = 0`` the friction
         force has the maximum ``mu_0^2 A / (4 c)`` (the simulation's ContactError, model.md
         §5).
+
+    Examples
+    --------
+    >>> from brakeca.reference import flat_punch_pressure
+    >>> p = flat_punch_pressure(100.0, 1e-4, 0.6, 3e-8, 0.15)  # 100 N on 1 cm², paper's law
+    >>> round(p / 1e6, 6)  # [MPa]
+    1.835034
+    >>> round((0.6 - 3e-8 * p) * p * 1e-4, 9)  # mu(p) p A = F [N]
+    100.0
+    >>> round(flat_punch_pressure(100.0, 1e-4, 0.6, 0.0, 0.15), 3)  # a constant COF: F / (mu_0 A)
+    1666666.667
     """
     if not area > 0.0:
         raise ValueError(f"area must be above 0 m^2, got {area!r}")
@@ -84,5 +95,11 @@ def archard_wear_depth_constant_pressure(
     -------
     float
         Wear depth h [m] (not clipped at any gap, unlike the simulation's Archard step).
+
+    Examples
+    --------
+    >>> from brakeca.reference import archard_wear_depth_constant_pressure
+    >>> archard_wear_depth_constant_pressure(1e-14, 2e6, 1000.0)  # 1 km at 2 MPa: 20 µm [m]
+    2e-05
     """
     return specific_wear_rate * pressure * sliding_distance

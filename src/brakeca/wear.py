@@ -38,6 +38,14 @@ def archard_wear_depth(
     float
         ``min(WP p s, h - z)`` [m]: a cell cannot wear below the disc surface in one step (a
         bound that is never active at the paper's parameters, where WP K s ~ 1e-4).
+
+    Examples
+    --------
+    >>> from brakeca.wear import archard_wear_depth
+    >>> archard_wear_depth(1e-14, 2e6, 0.01, 1e-5)  # WP p s: 1e-14 m²/N, 2 MPa, 10 mm slid
+    2e-10
+    >>> archard_wear_depth(1e-13, 2e6, 0.01, 1e-9)  # clipped: the cell stood 1 nm into the disc
+    1e-09
     """
     dh = specific_wear_rate * pressure * sliding_distance
     return dh if dh < interference else interference
@@ -60,6 +68,14 @@ def resin_cut_depth(height: float, disc_position: float, resin_wear_depth: float
     -------
     float
         ``h - (z - WR)`` if ``h > z`` else 0 [m].
+
+    Examples
+    --------
+    >>> from brakeca.wear import resin_cut_depth
+    >>> round(resin_cut_depth(12e-6, 10e-6, 1e-7) * 1e6, 9)  # 2 µm above z: cut to z - WR [µm]
+    2.1
+    >>> resin_cut_depth(9e-6, 10e-6, 1e-7)  # below the disc surface: not cut
+    0.0
     """
     if height > disc_position:
         return height - (disc_position - resin_wear_depth)
