@@ -290,6 +290,17 @@ def read_summary(path: str | Path) -> pd.DataFrame:
     """Read a ``summary.csv``, numbers bit-exact (Python's float parser, whatever pandas).
 
     Text columns (``run_id``, ``status``, ``error``) stay text, empty errors are ``""``.
+
+    Parameters
+    ----------
+    path
+        The ``summary.csv`` file.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per run, every value as the campaign wrote it (the file holds each float's
+        shortest round-trip text, so the values are the campaign's to the bit).
     """
     frame = pd.read_csv(path, dtype=str, keep_default_na=False)
     for name in frame.columns:

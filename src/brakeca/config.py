@@ -1349,6 +1349,21 @@ def excel_separator(line: str) -> str | None:
 def parse_override(text: str) -> tuple[str, Any]:
     """Split ``KEY=VALUE`` and parse the value as a TOML value (bare words become strings).
 
+    Parameters
+    ----------
+    text
+        One ``--set`` option's text, ``KEY=VALUE``.
+
+    Returns
+    -------
+    tuple
+        The key (stripped) and the value (a TOML number, boolean, array or string).
+
+    Raises
+    ------
+    ConfigError
+        No ``=``, or an empty key.
+
     Examples
     --------
     >>> from brakeca.config import parse_override
@@ -1371,7 +1386,23 @@ def parse_override(text: str) -> tuple[str, Any]:
 
 def parse_overrides(texts: Sequence[str] | None) -> dict[str, Any]:
     """``--set KEY=VALUE`` options as a mapping (:func:`parse_override` each); a key given
-    twice is refused, where the last would silently have won."""
+    twice is refused, where the last would silently have won.
+
+    Parameters
+    ----------
+    texts
+        The ``--set`` options' texts, ``KEY=VALUE`` each; None for none.
+
+    Returns
+    -------
+    dict
+        Each key to its value, in the order given.
+
+    Raises
+    ------
+    ConfigError
+        As :func:`parse_override`, or a key given twice.
+    """
     updates: dict[str, Any] = {}
     for text in texts or ():
         key, value = parse_override(text)
@@ -1434,6 +1465,11 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
     ConfigError
         Unknown key, a value outside its allowed range, or two keys for one field (a factor
         name and its dotted key); the message names the field.
+
+    Returns
+    -------
+    SimulationConfig
+        The validated copy; ``config`` is unchanged.
     """
     if not isinstance(updates, Mapping):
         raise TypeError(

@@ -225,6 +225,18 @@ def standard_generators(names: Sequence[str], runs: int) -> tuple[str, ...]:
     ``names`` (in design order: the first are the base factors, the last the generated ones),
     written with the factors' names: ``("E = A*B*C", ...)``; none for the full factorial.
 
+    Parameters
+    ----------
+    names
+        The two-level factors' names, in design order.
+    runs
+        The fraction's tests [-]: 2**(k - p) for k factors.
+
+    Returns
+    -------
+    tuple of str
+        The generators, one for each generated factor.
+
     Raises
     ------
     ValueError
@@ -720,6 +732,20 @@ def point_seed(root_seed: int, test: int, replicate: int) -> int:
     ``SeedSequence([root_seed, test, replicate]).generate_state(1, dtype=uint32)[0]``: a
     32-bit integer that depends only on these three numbers.
 
+    Parameters
+    ----------
+    root_seed
+        The design's root seed [-].
+    test
+        The test number, from 1 [-].
+    replicate
+        The replicate, from 0 [-].
+
+    Returns
+    -------
+    int
+        The run's seed, 0 to 2**32 - 1 [-].
+
     Examples
     --------
     >>> from brakeca.design import point_seed
@@ -732,7 +758,20 @@ def point_seed(root_seed: int, test: int, replicate: int) -> int:
 
 def run_id_for(config: SimulationConfig, seed: int) -> str:
     """Stable 16-hex-digit identifier of (config, seed): sha256 of the config's TOML (its
-    :meth:`~brakeca.config.SimulationConfig.identity_toml`) and the seed."""
+    :meth:`~brakeca.config.SimulationConfig.identity_toml`) and the seed.
+
+    Parameters
+    ----------
+    config
+        The run's resolved configuration.
+    seed
+        The run's seed [-].
+
+    Returns
+    -------
+    str
+        16 lowercase hex digits.
+    """
     text = config.identity_toml() + f"\n# seed\n{int(seed)}\n"
     return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
 
@@ -742,12 +781,33 @@ def run_id(point: RunPoint) -> str:
 
     The first 16 hex digits of the sha256 of the resolved configuration's TOML followed by the
     seed; it does not depend on the test number, the design or the package version.
+
+    Parameters
+    ----------
+    point
+        A run point of a design.
+
+    Returns
+    -------
+    str
+        16 lowercase hex digits (:func:`run_id_for` of its configuration and seed).
     """
     return run_id_for(point.config, point.seed)
 
 
 def execution_order(points: Sequence[RunPoint]) -> list[RunPoint]:
-    """``points`` sorted into execution order (by :attr:`RunPoint.order`)."""
+    """``points`` sorted into execution order (by :attr:`RunPoint.order`).
+
+    Parameters
+    ----------
+    points
+        Run points, as :meth:`Design.points` gives them (in test order).
+
+    Returns
+    -------
+    list of RunPoint
+        The same points, in the order a campaign runs them.
+    """
     return sorted(points, key=lambda p: p.order)
 
 
@@ -779,6 +839,16 @@ def quick_config(config: SimulationConfig) -> SimulationConfig:
     Keeps the cell size, the angular extent and the drive cycle; sets ``mesh.n_radial = 21``
     (2 mm at the paper's 0.1 mm radial step), unsets ``mesh.inner_radius`` and sets
     ``quick = True``.
+
+    Parameters
+    ----------
+    config
+        The configuration to narrow.
+
+    Returns
+    -------
+    SimulationConfig
+        The narrowed copy; ``config`` is unchanged.
 
     Raises
     ------

@@ -313,7 +313,24 @@ def expose_fibres(state: SimulationState, pad: PadConfig, grid: Grid) -> Exposur
     buried fibre become primary plateaus (:func:`brakeca.automaton.expose_buried_fibres`),
     the deposits of the secondary plateaus among them are emitted (added to the emitted volume
     in ``state.acc``), and the kernel's structures are rebuilt if any cell changed. Nothing
-    happens without a field."""
+    happens without a field.
+
+    Parameters
+    ----------
+    state
+        The run's state after a stop, changed in place.
+    pad
+        The pad's parameters (the fibres' sizes [m] and area fraction [-]).
+    grid
+        The polar grid.
+
+    Returns
+    -------
+    Exposure
+        The cells exposed [-], the depth and volume of fibre worn before exposure [m],
+        [m^3], the fibre intervals passed within the stop [-] and the deposit volume
+        released [m^3]; all zero without a field.
+    """
     if state.fibres is None:
         return Exposure(0, 0.0, 0.0, 0, 0.0)
     lowest = float(pad_surface(state.status, state.height, state.base).min())
@@ -897,6 +914,20 @@ def advance_stop(
     scratch: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> StopSteps:
     """Run every time step of one stop on ``state`` (in place) with the compiled kernel.
+
+    Parameters
+    ----------
+    state
+        The run's state, advanced in place.
+    grid
+        The polar grid.
+    config
+        The run's configuration.
+    stop
+        The stop to run (speeds [m/s], deceleration [m/s^2]).
+    scratch
+        The kernel's three int64 scratch lists of one entry per cell (:func:`scratch_lists`),
+        to reuse from stop to stop; made afresh when None.
 
     Returns
     -------

@@ -70,6 +70,16 @@ def with_log_v(summary: pd.DataFrame) -> pd.DataFrame:
     of V itself fits effects that are products as interactions and can predict negative
     volumes; on the log scale they add. The study analyses both scales. Runs with V <= 0 (no
     emission) get NaN and are left out of the log analysis.
+
+    Parameters
+    ----------
+    summary
+        A campaign's summary, one row per run, with its column ``V`` [m^3 per stop].
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy with the column ``log10_V_mm3`` [-] added.
     """
     v_mm3 = pd.to_numeric(summary["V"], errors="coerce").to_numpy(dtype=float) * 1e9
     with np.errstate(divide="ignore", invalid="ignore"):

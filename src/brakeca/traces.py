@@ -1197,7 +1197,15 @@ def block_trace(
 
 
 def available_cycles() -> list[str]:
-    """Names of the shipped cycles (block cycles and traces)."""
+    """Names of the shipped cycles (block cycles and traces).
+
+    Returns
+    -------
+    list of str
+        The names, sorted (``"paper"``, the paper's block cycle, and ``"example_trace"``),
+        each usable in place of a cycle file (``brakeca simulate --cycle NAME``,
+        :func:`load_cycle_source`).
+    """
     return sorted(p.name[:-4] for p in _SHIPPED.iterdir() if p.name.endswith(".csv"))
 
 
