@@ -16,6 +16,11 @@ contact at ``z = h_k``, a cell reaching the COF floor at ``z = h_k - u_f``, with
 ``F`` is a quadratic in the approach ``w``: ``F = F_0 + D w - Q w^2``. Walk the breakpoints
 from the top, updating ``F``, ``D`` and ``Q``, and solve the quadratic in each interval; the
 first root is exact to round-off. Cost: O(number of cells in contact) once heights are sorted.
+
+References
+----------
+J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Section 2.2.
+E. Winkler, Die Lehre von der Elasticität und Festigkeit, Prag, 1867 (the elastic foundation).
 """
 
 from __future__ import annotations
