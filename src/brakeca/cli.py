@@ -1275,7 +1275,7 @@ def analyze(
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
     from brakeca.analysis import alpha_problem
     from brakeca.campaign import finish_campaign
-    from brakeca.study import check_max_order, write_study
+    from brakeca.study import check_max_order, destination_problem, write_study
 
     if reduce is not None and (problem := alpha_problem(reduce)):
         _fail(f"--reduce: {problem}")
@@ -1316,15 +1316,20 @@ def analyze(
             "this report is of the study as it stands; analyse again when the campaign ends",
             highlight=False,
         )
-    dest = folder if output is None else output
-    problem = output_problem(dest, folder=True)  # before the summary is printed
-    if problem is not None:
-        _fail(
-            f"{folder}: {problem}; the analysis writes its tables, figures and report.html "
-            "there: give another folder for them with -o"
-            if output is None
-            else f"-o {output}: {problem}"
-        )
+    # before the summary is printed
+    if output is None:
+        dest = folder
+        problem = output_problem(dest, folder=True)
+        if problem is not None:
+            _fail(
+                f"{folder}: {problem}; the analysis writes its tables, figures and report.html "
+                "there: give another folder for them with -o"
+            )
+    else:
+        dest = output
+        _check_output(dest, folder=True)
+        if (problem := destination_problem(folder, dest)) is not None:
+            _fail(f"-o {dest}: {problem}")
     _print_summary(result.summary, result.design)
     with _on_interrupt("the report is not complete; run the same command again"):
         try:
@@ -1345,7 +1350,9 @@ def analyze(
         model = f"the terms {', '.join(chosen)}" if chosen else f"terms up through order {order}"
         out.print(
             f"the report's ANOVA model: {model} (the design's own model: brakeca analyze "
-            f"{folder} without {'--terms' if chosen else '--order'})",
+            f"{folder} without {'--terms' if chosen else '--order'}"
+            + ("" if output is None else ", into a folder of its own")
+            + ")",
             markup=False,
             highlight=False,
         )

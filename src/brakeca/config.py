@@ -948,16 +948,18 @@ class SimulationConfig(_Frozen):
         Raises
         ------
         ConfigError
-            An unknown field, or a value out of its range; the message names the field and
-            the range.
+            An unknown field, a value out of its range, or two keys for one field (a factor
+            name and its dotted key); the message names the field and the range.
+        TypeError
+            ``updates`` is not a mapping, or a key is not text.
 
         Examples
         --------
         >>> from brakeca.config import ConfigError
         >>> from brakeca.presets import load_preset
         >>> paper = load_preset()
-        >>> harder = paper.with_updates({"WP": 1e-13, "mesh.n_radial": 21})
-        >>> harder.wear.specific_wear_rate, paper.wear.specific_wear_rate  # [m²/N]
+        >>> wears_faster = paper.with_updates({"WP": 1e-13, "mesh.n_radial": 21})
+        >>> wears_faster.wear.specific_wear_rate, paper.wear.specific_wear_rate  # [m²/N]
         (1e-13, 1e-14)
         >>> try:  # a bad value is refused, with the field and its range
         ...     paper.with_updates({"A": 150})
@@ -1465,6 +1467,8 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
     ConfigError
         Unknown key, a value outside its allowed range, or two keys for one field (a factor
         name and its dotted key); the message names the field.
+    TypeError
+        ``updates`` is not a mapping, or a key is not text.
 
     Returns
     -------

@@ -83,7 +83,8 @@ def make_grid(config: SimulationConfig) -> Grid:
 
     Examples
     --------
-    The paper's mesh (Table 5): 201 rows of 0.1 mm from r_i = 103 mm, 1000 columns of 0.044°:
+    The paper's mesh (Table 5): 201 rows of 0.1 mm, 1000 columns of 0.044°, the band from
+    r_i = 103 mm (centred on the effective radius: a decision, docs/model.md):
 
     >>> from brakeca.geometry import make_grid
     >>> from brakeca.presets import load_preset

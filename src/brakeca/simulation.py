@@ -327,8 +327,8 @@ def expose_fibres(state: SimulationState, pad: PadConfig, grid: Grid) -> Exposur
     Returns
     -------
     Exposure
-        The cells exposed [-], the depth and volume of fibre worn before exposure [m],
-        [m^3], the fibre intervals passed within the stop [-] and the deposit volume
+        The cells exposed [-], the largest depth of fibre worn before exposure [m] and the
+        volume worn so [m^3], the fibre intervals passed within the stop [-] and the deposit volume
         released [m^3]; all zero without a field.
     """
     if state.fibres is None:
@@ -447,8 +447,8 @@ def simulate(
 
     Examples
     --------
-    The first three stops of the paper's cycle on the quick band (21 rows, 2 mm), test 15's
-    pad (the preset's levels):
+    The first three stops of the paper's cycle on the quick band (21 rows, 2 mm), at the
+    preset's levels (test 15's) with a pad of seed 2016:
 
     >>> from brakeca.presets import load_preset
     >>> from brakeca.simulation import simulate

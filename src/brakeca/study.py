@@ -40,7 +40,14 @@ if TYPE_CHECKING:
 
     from brakeca.analysis import Model
 
-__all__ = ["RESPONSES", "per_stop_table", "plot_run", "with_log_v", "write_study"]
+__all__ = [
+    "RESPONSES",
+    "destination_problem",
+    "per_stop_table",
+    "plot_run",
+    "with_log_v",
+    "write_study",
+]
 
 #: The responses a study analyses: ``MU`` [-], ``V`` [m^3 per stop] (shown in mm^3) and
 #: ``log10_V_mm3`` [-] (log10 of V in mm^3 per stop).
@@ -264,8 +271,8 @@ def _design_info(design: Design) -> str:
 _TABLES_README = """\
 # The campaign's tables
 
-Written by brakeca {version} (`brakeca analyze` writes them again). Comma-separated, one header
-row, numbers in full precision.
+Written by brakeca {version} ({again}). Comma-separated, one header row,
+numbers in full precision.
 
 **Units.** The tables keep the SI units of the analysis: **V in m³ per stop** (1e-9 of the
 mm³ the report, the terminal and the figures show), so V's sums of squares and mean squares
@@ -277,7 +284,7 @@ the design's units (WP in m³/(N·m), WR in m, A in %, S in -).
 
 Files (R is the response: MU, V or log10_V_mm3):
 
-- `../summary.csv`: one row per run: levels, seed, MU, V (m³) and V_mm3, the run's scalars.
+- `{summary}`: one row per run: levels, seed, MU, V (m³) and V_mm3, the run's scalars.
 - `per_stop.csv`: one row per run and stop: mean COF, emitted and generated volume (mm³),
   plateau and contact area fractions, normal force (N), line pressure (MPa), duration (s).
 - `main_effects_R.csv`, `interactions_R.csv`: the mean response per level, per pair of levels.
@@ -616,17 +623,26 @@ def write_study(
         The folder the tables, figures and report go to (created); by default the
         campaign's own folder. The campaign's files are only read, so another folder
         analyses a campaign that cannot be written to, or keeps two analyses of one
-        campaign (e.g. of two models) side by side.
+        campaign (e.g. of two models) side by side. Not another campaign's folder, nor a
+        folder inside this campaign's (:func:`destination_problem`).
 
     Returns
     -------
     Path
         The report file.
+
+    Raises
+    ------
+    ValueError
+        ``output`` is a folder the analysis must not write (:func:`destination_problem`).
     """
     from brakeca import report
 
     source = Path(result.out_dir)
     out = source if output is None else Path(output)
+    problem = destination_problem(source, out)
+    if problem is not None:
+        raise ValueError(f"output {out}: {problem}")
     tables_dir = out / "tables"
     figures = _Figures(out / "figures")
     base = _base_config(source)
@@ -634,6 +650,14 @@ def write_study(
     found = _analyse(
         result,
         tables_dir,
+        readme=_TABLES_README.format(
+            version=__version__,
+            summary="../summary.csv" if out == source else str(source / "summary.csv"),
+            again="`brakeca analyze` writes them again"
+            if out == source
+            else f"of the campaign in {source}; `brakeca analyze {source} -o {out}` writes "
+            "them again",
+        ),
         scope=scope,
         anova_type=anova_type,
         alpha_to_remove=alpha_to_remove,
@@ -644,8 +668,7 @@ def write_study(
     if len(found.ok):  # with no finished run there is nothing to plot; the report says why
         _response_figures(figures, result, found)
         _cycle_figures(figures, result, _stops_run(result, base))
-    runs_dir = source / "runs"
-    files = _run_file_figures(figures, found.ok, result.design, runs_dir, run_maps=run_maps)
+    files = _run_file_figures(figures, found.ok, result.design, source / "runs", run_maps=run_maps)
     notes = _study_notes(result, found, files, base, source, note=note)
     summary, pm10_note = _pm10_columns(result.summary, files.pm10_of)
     if pm10_note:
@@ -693,6 +716,43 @@ def write_study(
     )
 
 
+def destination_problem(campaign_dir: str | Path, output: str | Path) -> str | None:
+    """Why the analysis of the campaign in ``campaign_dir`` must not go to the folder
+    ``output``, or None where it may (the campaign's own folder, or a folder elsewhere).
+
+    Parameters
+    ----------
+    campaign_dir
+        The campaign's folder.
+    output
+        Where the tables, figures and report would go.
+
+    Returns
+    -------
+    str or None
+        The reason, worded to follow ``output PATH: ``: ``output`` is another campaign's
+        folder (its report and tables would be replaced by this campaign's), or lies inside
+        this campaign's folder (a campaign run there again would remove the campaign's own
+        analysis, as out of date, and leave that one describing the old runs).
+    """
+    source, out = Path(campaign_dir).resolve(), Path(output).resolve()
+    if out == source:
+        return None
+    if source in out.parents:
+        return (
+            f"inside the campaign's folder {campaign_dir}, where a campaign run there again "
+            "would leave it describing the old runs; give a folder outside it (or none, for "
+            "the campaign's own analysis)"
+        )
+    marks = [name for name in ("design.toml", "summary.csv", "runs") if (out / name).exists()]
+    if marks:
+        return (
+            f"another campaign's folder (it has {', '.join(marks)}): its report and tables "
+            "would be replaced by this campaign's; give a folder of its own"
+        )
+    return None
+
+
 @dataclass
 class _Figures:
     """The report's figures as they are drawn: each PNG in ``folder``, listed as (section,
@@ -720,13 +780,12 @@ class _Figures:
 @dataclass(frozen=True)
 class _Found:
     """What :func:`_analyse` computed: the finished runs (``ok``), the analysed summary
-    (``data``, with log10_V_mm3), the ANOVA model, each response's tables, a
+    (``data``, with log10_V_mm3), each response's tables, a
     response-surface design's surfaces and their residuals, the optimum of its goals (with
     the goals and a note) and the Box-Cox profiles."""
 
     ok: pd.DataFrame
     data: pd.DataFrame
-    model: int | Sequence[str]
     tables: dict[str, Any]
     surfaces: dict[str, Any]
     surface_residuals: dict[str, pd.DataFrame]
@@ -740,6 +799,7 @@ def _analyse(
     result: CampaignResult,
     tables_dir: Path,
     *,
+    readme: str,
     scope: str,
     anova_type: int | None,
     alpha_to_remove: float | None,
@@ -747,7 +807,8 @@ def _analyse(
     model_terms: Sequence[str] | str | None,
 ) -> _Found:
     """The numbers of :func:`write_study` (its parameters of the same names), written to
-    ``tables_dir``: every table of ``tables/``."""
+    ``tables_dir``: every table of ``tables/`` but ``pm10.csv`` (:func:`write_study`, from
+    the run files), and ``readme`` as its README.md."""
     from brakeca import analysis, boxcox
 
     summary = result.summary
@@ -807,13 +868,10 @@ def _analyse(
     )
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
     per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
-    (tables_dir / "README.md").write_text(
-        _TABLES_README.format(version=__version__), encoding="utf-8"
-    )
+    (tables_dir / "README.md").write_text(readme, encoding="utf-8")
     return _Found(
         ok=analysis.ok_runs(summary),
         data=data,
-        model=model,
         tables=tables,
         surfaces=surfaces,
         surface_residuals=surface_residuals,

@@ -598,14 +598,16 @@ def test_analyze_fits_the_terms_chosen(campaign, tmp_path):
 
 def test_analyze_writes_into_another_folder_and_leaves_the_campaign_as_it_was(campaign, tmp_path):
     """``analyze -o DIR`` writes its tables, figures and report there and only reads the
-    campaign: the same tables as the analysis in the campaign folder, a model of chosen terms
-    beside it, and an -o that cannot be a folder refused before any work."""
+    campaign: the same analysis as in the campaign folder (what it reads from there too:
+    the run files' maps, the configuration, the notes), a model of chosen terms beside it,
+    and a DIR that cannot be a folder, is another campaign's or lies inside this one
+    refused before any work."""
     import hashlib
     import shutil
 
     src = tmp_path / "c"
     shutil.copytree(campaign[0], src)  # (other tests analyse the fixture's folder their way)
-    res = CliRunner().invoke(app, ["analyze", str(src), "--no-run-maps"])
+    res = CliRunner().invoke(app, ["analyze", str(src)])  # with every run's maps
     assert res.exit_code == 0, res.output
 
     def files(folder: Path) -> dict[str, tuple[str, int]]:
@@ -618,34 +620,50 @@ def test_analyze_writes_into_another_folder_and_leaves_the_campaign_as_it_was(ca
             if p.is_file()
         }
 
+    def undated(report: Path) -> str:
+        return re.sub(r"\d{4}-\d\d-\d\dT[\d:+]+", "", report.read_text(encoding="utf-8"))
+
     before = files(src)
-    dest = tmp_path / "elsewhere" / "reduced"
-    res = CliRunner().invoke(
-        app, ["analyze", str(src), "--no-run-maps", "--terms", "A S", "-o", str(dest)]
-    )
+    same = tmp_path / "elsewhere" / "same"
+    res = CliRunner().invoke(app, ["analyze", str(src), "-o", str(same)])
     assert res.exit_code == 0, res.output
     assert files(src) == before  # not a file of the campaign written, nor touched
     said = " ".join(res.output.split())
-    assert f"report: {dest / 'report.html'}" in said and f"tables: {dest / 'tables'}" in said
-    assert list(pd.read_csv(dest / "tables" / "anova_MU.csv")["term"]) == ["S", "A", "Residual"]
-    assert "ANOVA of MU, of the terms chosen: S, A." in (dest / "report.html").read_text("utf-8")
-    # the design's own model, written elsewhere, is the campaign folder's analysis table by table
-    same = tmp_path / "same"
-    res = CliRunner().invoke(app, ["analyze", str(src), "--no-run-maps", "-o", str(same)])
-    assert res.exit_code == 0, res.output
-    assert sorted(p.name for p in (same / "tables").iterdir()) == sorted(
-        p.name for p in (src / "tables").iterdir()
+    assert f"report: {same / 'report.html'}" in said and f"tables: {same / 'tables'}" in said
+    for part in ("tables", "figures"):
+        names = sorted(p.name for p in (src / part).iterdir())
+        assert sorted(p.name for p in (same / part).iterdir()) == names
+        assert any(n.startswith("final_map_") for n in names) or part == "tables"
+        for name in set(names) - {"README.md"}:  # (the README: below)
+            assert (same / part / name).read_bytes() == (src / part / name).read_bytes(), name
+    # the same report: figures in the same order, the configuration and notes read from the
+    # campaign folder; only the tables' README says where the campaign is
+    assert undated(same / "report.html") == undated(src / "report.html")
+    readme = (same / "tables" / "README.md").read_text(encoding="utf-8")
+    assert f"`{src / 'summary.csv'}`: one row per run" in readme
+    assert f"brakeca analyze {src} -o {same}" in readme
+    assert "`../summary.csv`" in (src / "tables" / "README.md").read_text(encoding="utf-8")
+    reduced = tmp_path / "reduced"
+    res = CliRunner().invoke(
+        app, ["analyze", str(src), "--no-run-maps", "--terms", "A S", "-o", str(reduced)]
     )
-    for table in (same / "tables").iterdir():
-        assert table.read_bytes() == (src / "tables" / table.name).read_bytes(), table.name
+    assert res.exit_code == 0, res.output
+    assert "without --terms, into a folder of its own)" in " ".join(res.output.split())
+    assert list(pd.read_csv(reduced / "tables" / "anova_MU.csv")["term"]) == ["S", "A", "Residual"]
+    assert "ANOVA of MU, of the terms chosen: S, A." in (reduced / "report.html").read_text("utf-8")
     blocker = tmp_path / "a_file"
     blocker.write_text("x", encoding="utf-8")
-    res = CliRunner().invoke(app, ["analyze", str(src), "-o", str(blocker)])
-    assert res.exit_code == 2, res.output
-    assert f"error: -o {blocker}: cannot create it (a file of that name exists" in " ".join(
-        res.output.split()
-    )
-    assert files(src) == before
+    for dest, message in (
+        (blocker, "cannot create it (a file of that name exists"),
+        (src / "mine", f"inside the campaign's folder {src}, where a campaign run there again"),
+        (campaign[0], "another campaign's folder (it has design.toml, summary.csv, runs)"),
+    ):
+        kept = files(campaign[0])
+        res = CliRunner().invoke(app, ["analyze", str(src), "-o", str(dest)])
+        assert res.exit_code == 2, res.output
+        assert f"error: -o {dest}: {message}" in " ".join(res.output.split()), res.output
+        assert files(src) == before and files(campaign[0]) == kept
+    assert not (src / "mine").exists()
 
 
 def test_a_folder_sent_without_its_run_files_is_analysed(campaign, tmp_path):

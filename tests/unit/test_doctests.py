@@ -1,18 +1,23 @@
 """The Examples sections of brakeca's docstrings run, and show what they say they show.
 
-Each module listed here has examples (a module whose examples were all removed fails too);
-they run as doctests with the module's namespace, as ``python -m doctest`` would.
+Every module of the package is searched, so an example added anywhere runs; the modules
+listed in :data:`WITH_EXAMPLES` must keep at least that many docstrings with examples (a test
+fails where they go missing). They run as doctests with the module's namespace, as
+``python -m doctest`` would.
 """
 
 from __future__ import annotations
 
 import doctest
 import importlib
+import pkgutil
 
 import pytest
 
-#: The modules with examples, and the fewest examples each holds.
-MODULES = {
+import brakeca
+
+#: The modules whose docstrings hold examples, and the fewest such docstrings each has.
+WITH_EXAMPLES = {
     "brakeca.friction": 3,
     "brakeca.wear": 2,
     "brakeca.reference": 2,
@@ -27,8 +32,20 @@ MODULES = {
     "brakeca.simulation": 1,
 }
 
+#: Every module of the package but the command line's entry point (``python -m brakeca``).
+MODULES = sorted(
+    info.name
+    for info in pkgutil.walk_packages(brakeca.__path__, "brakeca.")
+    if info.name != "brakeca.__main__"
+)
 
-@pytest.mark.parametrize("name", list(MODULES))
+
+def test_the_listed_modules_are_the_packages() -> None:
+    assert set(WITH_EXAMPLES) <= set(MODULES)
+    assert len(MODULES) > 30  # the package's modules were found
+
+
+@pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples_run(name: str) -> None:
     module = importlib.import_module(name)
     finder = doctest.DocTestFinder(exclude_empty=True)
@@ -42,4 +59,4 @@ def test_docstring_examples_run(name: str) -> None:
     result = runner.summarize(verbose=False)
     assert result.failed == 0, "".join(report)
     with_examples = sorted(t.name for t in tests)
-    assert len(with_examples) >= MODULES[name], with_examples
+    assert len(with_examples) >= WITH_EXAMPLES.get(name, 0), with_examples
