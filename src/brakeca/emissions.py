@@ -31,9 +31,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import Field, ValidationError, model_validator
 
-from brakeca.config import ConfigError, format_validation_error
+from brakeca.config import ConfigError, _Frozen, format_validation_error
 
 if TYPE_CHECKING:  # pragma: no cover
     from brakeca.results import RunResult
@@ -78,13 +78,13 @@ _DIRECTION: dict[str, int] = {
 }
 
 
-class EmissionParameters(BaseModel):
+class EmissionParameters(_Frozen):
     """The factors from emitted band volume to vehicle PM10, each with a (low, high) range.
 
     Ranges are approximate literature spans, not confidence intervals; see ``docs/cycles.md``.
+    Validated as the configuration is (frozen, no unknown field, no ``true`` for a number,
+    no infinity).
     """
-
-    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
 
     debris_density: float = Field(
         2600.0,

@@ -95,6 +95,10 @@ def test_describe_shows_band_and_limits_not_pass_fail():
         ({"airborne_fraction": 1.5}, "airborne_fraction"),
         ({"pm10_share_range": (0.9, 0.6)}, "must not exceed"),
         ({"bogus": 1}, "unknown key"),
+        # validated as the configuration is: no true for a count, no infinity (an audit
+        # against the style guide: it had been a plain model, which took true for 1)
+        ({"pads_per_brake": True}, "pads_per_brake.*must be a number, not true"),
+        ({"debris_density": float("inf")}, "debris_density"),
     ],
 )
 def test_bad_parameters_name_the_field(data, needle):
