@@ -35,6 +35,7 @@ from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
+from brakeca.friction import friction_stress_peak
 from brakeca.geometry import Grid, make_grid
 from brakeca.surface import (
     NONE,
@@ -1159,10 +1160,12 @@ def _friction_maximum(config: SimulationConfig, plateau_area: float) -> tuple[st
     fr = config.friction
     if fr.mu_min != 0.0 or fr.slope <= 0.0 or plateau_area <= 0.0:
         return None
-    peak = fr.mu_0 * fr.mu_0 / (4.0 * fr.slope)  # [Pa], the most mu(p) p can be
+    # (with mu_min > 0, mu(p) p has a peak on the linear branch too, but grows past the
+    # floor: no maximum of the force)
+    p_star, peak = friction_stress_peak(fr.mu_0, fr.slope, 0.0)  # [Pa]: the most mu(p) p can be
     law = (
         f"with friction.mu_min = 0 the friction law mu(p) p peaks at {peak / 1e6:.3g} MPa "
-        f"(p = mu_0 / 2c = {fr.mu_0 / (2.0 * fr.slope) / 1e6:.3g} MPa) and falls to 0 beyond "
+        f"(p = mu_0 / 2c = {p_star / 1e6:.3g} MPa) and falls to 0 beyond "
         f"mu_0 / c, so the friction force has a maximum over the disc position"
     )
     return law, peak * plateau_area
