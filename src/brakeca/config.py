@@ -116,8 +116,14 @@ class _Checked(BaseModel):
 
 
 class _Frozen(_Checked):
+    # protected_namespaces=(): fields named model_* (a design's model_order and model_terms)
+    # are ours; pydantic before 2.10 warned of them
     model_config = ConfigDict(
-        frozen=True, extra="forbid", validate_default=True, allow_inf_nan=False
+        frozen=True,
+        extra="forbid",
+        validate_default=True,
+        allow_inf_nan=False,
+        protected_namespaces=(),
     )
 
 

@@ -272,7 +272,11 @@ def standard_generators(names: Sequence[str], runs: int) -> tuple[str, ...]:
 
 
 class _Frozen(_Checked):  # a number field refuses true and false
-    model_config = ConfigDict(frozen=True, extra="forbid", validate_default=True)
+    # protected_namespaces=(): model_order and model_terms are ours (pydantic before 2.10
+    # warned of fields named model_*)
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", validate_default=True, protected_namespaces=()
+    )
 
 
 def _target(field: str) -> str:
