@@ -8,7 +8,6 @@ formats and the detection parameters are described in ``docs/cycles.md``.
 from __future__ import annotations
 
 import itertools
-from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -19,7 +18,6 @@ from brakeca.config import ConfigError
 from brakeca.cycle import KMH, Stop
 from brakeca.traces import (
     BrakingEvent,
-    SpeedTrace,
     TraceCycleConfig,
     block_trace,
     brake_work,
@@ -34,7 +32,8 @@ from brakeca.traces import (
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["cycle_app", "inspect_cycle", "load_cycle_events", "plot_trace"]
+__all__ = ["cycle_app", "inspect_cycle", "load_cycle_events"]
+
 
 cycle_app = typer.Typer(
     add_completion=False,
@@ -60,77 +59,6 @@ def _fail(message: str, code: int = 2) -> None:
 
 def _energy(joules: float) -> str:
     return f"{joules / 1e6:.4g} MJ" if abs(joules) >= 1e6 else f"{joules / 1e3:.4g} kJ"
-
-
-def plot_trace(
-    trace: SpeedTrace,
-    events: Sequence[BrakingEvent],
-    *,
-    path: str | Path | None = None,
-    title: str | None = None,
-) -> Figure:
-    """Speed over time with the braking events shaded and numbered; PNG at 150 dpi if ``path``.
-
-    Parameters
-    ----------
-    trace
-        The speed trace.
-    events
-        Its braking events (:func:`brakeca.traces.detect_events`).
-    path
-        PNG file to write, or None.
-    title
-        Figure title (default: the trace name and the number of events).
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.collections import PolyCollection
-    from matplotlib.figure import Figure
-
-    minutes = trace.duration > 3600.0
-    scale = 60.0 if minutes else 1.0
-    fig = Figure(figsize=(10.0, 3.8), layout="constrained")
-    FigureCanvasAgg(fig)
-    ax = fig.add_subplot()
-    ax.plot(trace.time / scale, trace.speed / KMH, color="#27496d", lw=1.0, label="speed")
-    top = float(trace.speed.max() / KMH) if trace.speed.size else 0.0
-    if events:  # one collection of spans, the axes' height each: a long cycle's 200,000
-        # events as separate patches took minutes and gigabytes to draw
-        spans = [
-            [(x0, 0.0), (x0, 1.0), (x1, 1.0), (x1, 0.0)]
-            for x0, x1 in ((e.start_time / scale, e.end_time / scale) for e in events)
-        ]
-        ax.add_collection(
-            PolyCollection(
-                spans,
-                transform=ax.get_xaxis_transform(),
-                facecolors="#f28e2b",
-                alpha=0.35,
-                linewidths=0,
-                label="braking event",
-            ),
-            autolim=False,
-        )
-    for e in events if len(events) <= 40 else ():  # numbered while they can be read
-        ax.annotate(
-            str(e.index),
-            ((e.start_time + e.end_time) / 2.0 / scale, e.initial_speed / KMH),
-            xytext=(0, 4),
-            textcoords="offset points",
-            ha="center",
-            fontsize=7,
-        )
-    ax.set_xlabel("time [min]" if minutes else "time [s]")
-    ax.set_ylabel("speed [km/h]")
-    ax.set_ylim(0.0, max(top * 1.12, 1.0))
-    ax.set_xlim(trace.time[0] / scale, trace.time[-1] / scale)
-    ax.grid(alpha=0.3)
-    ax.legend(loc="upper left", fontsize=8)
-    ax.set_title(title or f"{trace.name}: {len(events)} braking events", fontsize=10)
-    if path is not None:
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=150, format="png")
-    return fig
 
 
 def _write_plot(figure: Figure, path: Path) -> None:
@@ -230,6 +158,8 @@ def inspect_cycle(
             highlight=False,
         )
         if plot is not None:
+            from brakeca.plotting import plot_trace
+
             _write_plot(plot_trace(trace, events), plot)  # type: ignore[arg-type]
         return
     out.print(f"{source.name}: block cycle, {source.n_total} stops", highlight=False)
@@ -273,6 +203,8 @@ def inspect_cycle(
                 threshold=0.5 * slowest, min_duration=0.0, merge_gap=0.0
             ),
         )
+        from brakeca.plotting import plot_trace
+
         figure = plot_trace(
             trace,
             shown,

@@ -40,6 +40,8 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure, SubFigure
 
+    from brakeca.traces import BrakingEvent, SpeedTrace
+
 __all__ = [
     "DPI",
     "STATUS_COLOURS",
@@ -58,6 +60,7 @@ __all__ = [
     "plot_residuals",
     "plot_response_surface",
     "plot_surface_map",
+    "plot_trace",
     "plot_v_per_run",
     "save_figure",
 ]
@@ -1844,3 +1847,75 @@ def plot_cof_series(
                 ax.axvline(at, color="0.8", lw=0.5, zorder=0)
     axes[-1].set_xlabel(xlabel)
     return save_figure(root, path)
+
+
+def plot_trace(
+    trace: SpeedTrace,
+    events: Sequence[BrakingEvent],
+    *,
+    path: str | Path | None = None,
+    title: str | None = None,
+) -> Figure:
+    """Speed over time with the braking events shaded and numbered (``brakeca cycle inspect``).
+
+    Parameters
+    ----------
+    trace
+        The speed trace.
+    events
+        Its braking events (:func:`brakeca.traces.detect_events`).
+    path
+        File to write (:func:`save_figure`: PNG at :data:`DPI`, or the format of its
+        suffix), or None.
+    title
+        Figure title (default: the trace name and the number of events).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure: time [s], or [min] for a trace over an hour, against speed [km/h].
+    """
+    from matplotlib.collections import PolyCollection
+
+    from brakeca.cycle import KMH
+
+    minutes = trace.duration > 3600.0
+    scale = 60.0 if minutes else 1.0
+    fig = _figure((10.0, 3.8))
+    ax = fig.add_subplot()
+    ax.plot(trace.time / scale, trace.speed / KMH, color="#27496d", lw=1.0, label="speed")
+    top = float(trace.speed.max() / KMH) if trace.speed.size else 0.0
+    if events:  # one collection of spans, the axes' height each: a long cycle's 200,000
+        # events as separate patches took minutes and gigabytes to draw
+        spans = [
+            [(x0, 0.0), (x0, 1.0), (x1, 1.0), (x1, 0.0)]
+            for x0, x1 in ((e.start_time / scale, e.end_time / scale) for e in events)
+        ]
+        ax.add_collection(
+            PolyCollection(
+                spans,
+                transform=ax.get_xaxis_transform(),
+                facecolors="#f28e2b",
+                alpha=0.35,
+                linewidths=0,
+                label="braking event",
+            ),
+            autolim=False,
+        )
+    for e in events if len(events) <= 40 else ():  # numbered while they can be read
+        ax.annotate(
+            str(e.index),
+            ((e.start_time + e.end_time) / 2.0 / scale, e.initial_speed / KMH),
+            xytext=(0, 4),
+            textcoords="offset points",
+            ha="center",
+            fontsize=7,
+        )
+    ax.set_xlabel("time [min]" if minutes else "time [s]")
+    ax.set_ylabel("speed [km/h]")
+    ax.set_ylim(0.0, max(top * 1.12, 1.0))
+    ax.set_xlim(trace.time[0] / scale, trace.time[-1] / scale)
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8)
+    ax.set_title(title or f"{trace.name}: {len(events)} braking events", fontsize=10)
+    return save_figure(fig, path)

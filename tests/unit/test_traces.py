@@ -526,7 +526,7 @@ def test_the_events_plot_shades_every_event_with_one_artist():
     legend's one entry, spanning each event's times over the axes' height."""
     from matplotlib.collections import PolyCollection
 
-    from brakeca.cli_cycle import plot_trace
+    from brakeca.plotting import plot_trace
     from brakeca.traces import block_trace, detect_events
 
     stops = expand_stops(load_preset("paper").with_updates({"cycle.max_stops": 50}))
