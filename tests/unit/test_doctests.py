@@ -30,6 +30,7 @@ WITH_EXAMPLES = {
     "brakeca.design": 3,
     "brakeca.analysis": 3,
     "brakeca.simulation": 1,
+    "brakeca.presets": 2,
 }
 
 #: Every module of the package but the command line's entry point (``python -m brakeca``).

@@ -132,6 +132,31 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
     The CSV has columns ``name, initial_speed_kmh, final_speed_kmh, deceleration_g, stops``;
     lines starting with ``#`` are comments. Comma, semicolon or tab separated; a semicolon or
     tab separated file may write decimal commas.
+
+    Parameters
+    ----------
+    name_or_path
+        A shipped block cycle's name (``"paper"``, Table 3 of the paper) or a CSV file.
+
+    Returns
+    -------
+    CycleConfig
+        The cycle's blocks, validated: speeds [km/h], deceleration [g] and stops [-] of each.
+
+    Raises
+    ------
+    ConfigError
+        No such file nor shipped cycle, a folder, or a line that is not a valid block; the
+        message names the file and the line.
+
+    Examples
+    --------
+    >>> from brakeca.presets import load_cycle
+    >>> cycle = load_cycle("paper")
+    >>> [(b.name, b.stops) for b in cycle.blocks][:3]
+    [('Burnish', 50), ('Town #1', 20), ('Highway #1', 10)]
+    >>> sum(b.stops for b in cycle.blocks)
+    170
     """
     text: str
     p = Path(name_or_path)
@@ -155,7 +180,32 @@ def load_cycle(name_or_path: str | Path) -> CycleConfig:
 
 
 def load_preset(name: str = "paper") -> SimulationConfig:
-    """The shipped parameter preset ``name`` with its drive cycle, validated."""
+    """The shipped parameter preset ``name`` with its drive cycle, validated.
+
+    Parameters
+    ----------
+    name
+        The preset's name (:func:`available_presets`); ``"paper"``, Wahlström (2016)'s
+        parameters (Tables 1, 3, 4 and 5) with this project's decisions where the paper is
+        silent (docs/model.md).
+
+    Returns
+    -------
+    SimulationConfig
+        The configuration, SI units inside.
+
+    Raises
+    ------
+    ConfigError
+        An unknown name.
+
+    Examples
+    --------
+    >>> from brakeca.presets import load_preset
+    >>> paper = load_preset()
+    >>> paper.mesh.n_radial, paper.mesh.n_angular, paper.friction.mu_0
+    (201, 1000, 0.6)
+    """
     data = tomllib.loads(preset_text(name))
     cycle = data.pop("cycle", {"file": name})
     cyc = load_cycle(cycle.get("file", name)) if "blocks" not in cycle else CycleConfig(**cycle)
