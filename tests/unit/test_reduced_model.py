@@ -129,6 +129,7 @@ def _drop_one_by_hand(runs: pd.DataFrame, names: list[str], alpha: float) -> lis
     """Backward elimination with statsmodels' least squares, each term's p from the F test
     of dropping it alone (valid with empty cells, where the ANOVA is sequential)."""
     from scipy import stats
+    from statsmodels.tools.sm_exceptions import SingularMatrixWarning
 
     token = {n: f"C({n}, Sum)" for n in names}
     terms = names + [f"{a}:{b}" for a, b in itertools.combinations(names, 2)]
@@ -136,7 +137,7 @@ def _drop_one_by_hand(runs: pd.DataFrame, names: list[str], alpha: float) -> lis
     def fit(ts):
         rhs = " + ".join(":".join(token[p] for p in t.split(":")) for t in ts) if ts else "1"
         with warnings.catch_warnings():  # an empty cell: rank-deficient, by design
-            warnings.simplefilter("ignore")
+            warnings.simplefilter("ignore", SingularMatrixWarning)
             return ols("y ~ " + rhs, runs).fit()
 
     while terms:
