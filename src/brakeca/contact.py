@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 from numba import njit
+from numpy.typing import ArrayLike
 
 from brakeca import _cachedir
 from brakeca._jit import njit_noalloc
@@ -204,7 +205,7 @@ def first_root_binned(
         z_hi = z_next
 
 
-def contact_pressure(height, disc_position: float, stiffness: float):
+def contact_pressure(height: ArrayLike, disc_position: float, stiffness: float) -> np.ndarray:
     """Winkler contact pressure ``p = K max(h - z, 0)`` [Pa] of cells of undeformed heights
     ``height`` [m] against the disc surface at ``disc_position`` z [m], on a foundation of
     stiffness ``stiffness`` K = E / L [Pa/m].
@@ -232,7 +233,15 @@ def contact_pressure(height, disc_position: float, stiffness: float):
     return stiffness * np.maximum(np.asarray(height, dtype=float) - disc_position, 0.0)
 
 
-def friction_force(height, area, disc_position, stiffness, mu_0, slope, mu_min) -> float:
+def friction_force(
+    height: ArrayLike,
+    area: ArrayLike,
+    disc_position: float,
+    stiffness: float,
+    mu_0: float,
+    slope: float,
+    mu_min: float,
+) -> float:
     """Friction force ``sum mu(p) p A`` [N] of plateau cells of heights ``height`` [m] and
     areas ``area`` [m^2], the disc at ``disc_position`` [m], the foundation's ``stiffness``
     [Pa/m], and the friction law ``mu_0`` [-], ``slope`` c [1/Pa], ``mu_min`` [-].
@@ -270,7 +279,14 @@ def friction_force(height, area, disc_position, stiffness, mu_0, slope, mu_min) 
 
 
 def solve_disc_position(
-    height, area, *, stiffness: float, mu_0: float, slope: float, mu_min: float, target: float
+    height: ArrayLike,
+    area: ArrayLike,
+    *,
+    stiffness: float,
+    mu_0: float,
+    slope: float,
+    mu_min: float,
+    target: float,
 ) -> float:
     """Torque-controlled contact of a set of plateau cells: the first z with F(z) = target.
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+from numpy.typing import ArrayLike
 
 from brakeca import _cachedir
 
@@ -53,7 +54,9 @@ def local_cof(pressure: float, mu_0: float, slope: float, mu_min: float) -> floa
     return mu if mu > mu_min else mu_min
 
 
-def coefficient_of_friction(pressure, mu_0: float = 0.6, slope: float = 3e-8, mu_min: float = 0.15):
+def coefficient_of_friction(
+    pressure: ArrayLike, mu_0: float = 0.6, slope: float = 3e-8, mu_min: float = 0.15
+) -> np.ndarray:
     """Vectorised ``mu(p) = max(mu_min, mu_0 - c p)`` for an array of pressures.
 
     Parameters

@@ -17,7 +17,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from itertools import pairwise
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal, NamedTuple
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 
 import numpy as np
 
@@ -52,6 +52,7 @@ if TYPE_CHECKING:
     from brakeca.results import RunResult
 
 __all__ = [
+    "Checkpoint",
     "CheckpointError",
     "CheckpointWarning",
     "LedgerError",
@@ -711,7 +712,16 @@ _STATE_ARRAYS = (
 _FIELD_ARRAYS = ("offsets", "top", "bottom", "next")
 
 
-def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed) -> Path:
+def save_checkpoint(
+    path: str | Path,
+    config: SimulationConfig,
+    seed: int,
+    state: SimulationState,
+    initial_status: np.ndarray,
+    log: _StopLog,
+    rng: np.random.Generator,
+    elapsed: float,
+) -> Path:
     """Write the complete state of a run between stops to ``path`` atomically (.npz).
 
     Everything the next stop reads is saved, the kernel's bookkeeping included (plateau order
@@ -741,7 +751,7 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
     """
     lengths = np.array([d.size for d in log.dts], dtype=np.int64)
     map_keys = sorted(log.maps)
-    arrays = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
+    arrays: dict[str, Any] = {f"state_{name}": state.array(name) for name in _STATE_ARRAYS}
     if state.fibres is not None:
         f = state.fibres
         arrays.update({f"field_{name}": getattr(f, name) for name in _FIELD_ARRAYS})
@@ -781,7 +791,34 @@ def save_checkpoint(path, config, seed, state, initial_status, log, rng, elapsed
     return atomic_write(path, write)
 
 
-def load_checkpoint(path, config, seed, grid):
+class Checkpoint(NamedTuple):
+    """A run's state between stops, as :func:`load_checkpoint` reads it back (a named
+    tuple: it unpacks in this order).
+
+    Attributes
+    ----------
+    state : SimulationState
+        The state after the last stop done.
+    initial_status : ndarray
+        The cells' statuses before the first stop [-].
+    log
+        The per-stop log so far.
+    rng_state : dict
+        The random generator's saved state (``bit_generator.state``).
+    elapsed : float
+        The run's wall time so far [s].
+    """
+
+    state: SimulationState
+    initial_status: np.ndarray
+    log: _StopLog
+    rng_state: dict
+    elapsed: float
+
+
+def load_checkpoint(
+    path: str | Path, config: SimulationConfig, seed: int, grid: Grid
+) -> Checkpoint | None:
     """Read a checkpoint written by :func:`save_checkpoint` for this config and seed.
 
     Parameters
@@ -795,10 +832,10 @@ def load_checkpoint(path, config, seed, grid):
 
     Returns
     -------
-    tuple or None
-        ``(state, initial_status, log, rng_state, elapsed)``: the :class:`SimulationState`,
-        the statuses before the first stop [-], the per-stop log, the random generator's
-        saved state and the run's wall time so far [s]; None when there is no file.
+    Checkpoint or None
+        The :class:`SimulationState`, the statuses before the first stop [-], the per-stop
+        log, the random generator's saved state and the run's wall time so far [s]; None
+        when there is no file.
 
     Raises
     ------
@@ -866,7 +903,7 @@ def load_checkpoint(path, config, seed, grid):
             for i, k in enumerate(arrays.get("log_map_stops", ()))
         },
     )
-    return state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"])
+    return Checkpoint(state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"]))
 
 
 def cycle_events(config: SimulationConfig) -> list:
