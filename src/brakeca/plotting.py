@@ -1855,6 +1855,7 @@ def plot_trace(
     *,
     path: str | Path | None = None,
     title: str | None = None,
+    ax: Axes | None = None,
 ) -> Figure:
     """Speed over time with the braking events shaded and numbered (``brakeca cycle inspect``).
 
@@ -1869,11 +1870,15 @@ def plot_trace(
         suffix), or None.
     title
         Figure title (default: the trace name and the number of events).
+    ax
+        Axes to draw on, in a figure of one's own (a subplot of a grid); by default a new
+        figure.
 
     Returns
     -------
     matplotlib.figure.Figure
-        The figure: time [s], or [min] for a trace over an hour, against speed [km/h].
+        The figure (``ax``'s, when given): time [s], or [min] for a trace over an hour,
+        against speed [km/h].
     """
     from matplotlib.collections import PolyCollection
 
@@ -1881,8 +1886,7 @@ def plot_trace(
 
     minutes = trace.duration > 3600.0
     scale = 60.0 if minutes else 1.0
-    fig = _figure((10.0, 3.8))
-    ax = fig.add_subplot()
+    fig, ax = _axes(ax, (10.0, 3.8))
     ax.plot(trace.time / scale, trace.speed / KMH, color="#27496d", lw=1.0, label="speed")
     top = float(trace.speed.max() / KMH) if trace.speed.size else 0.0
     if events:  # one collection of spans, the axes' height each: a long cycle's 200,000

@@ -9,7 +9,7 @@ from rich.table import Table
 
 from brakeca._console import LogConsole, say
 
-LONG = "error: " + "/a/long/path/to/a/design/file/named/in/the/message " * 4
+LONG = "error: " + " ".join(["/a/long/path/to/a/design/file/named/in/the/message"] * 4)
 
 
 def _printed(console_type: type[Console], *objects: object, terminal: bool = False) -> str:

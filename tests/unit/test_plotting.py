@@ -684,7 +684,13 @@ def test_figures_of_several_panels_draw_into_a_figure_or_subfigure(
         if name.startswith("plot_") and callable(function)
         if "fig" in inspect.signature(function).parameters
     }
-    one_panel = {"plot_mu_per_stop", "plot_v_per_run", "plot_pareto", "plot_surface_map"}
+    one_panel = {
+        "plot_mu_per_stop",
+        "plot_v_per_run",
+        "plot_pareto",
+        "plot_surface_map",
+        "plot_trace",
+    }
     public = {name for name in plotting.__all__ if name.startswith("plot_")}
     assert several == public - one_panel  # every figure takes fig= or (one panel) ax=
 

@@ -542,6 +542,13 @@ def test_the_events_plot_shades_every_event_with_one_artist():
     assert corners[:, 0].max() == pytest.approx(events[7].end_time)
     assert (corners[:, 1].min(), corners[:, 1].max()) == (0.0, 1.0)  # the axes' height
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["speed", "braking event"]
+    # as the other one-panel figures, it draws into an axes of one's own figure
+    from matplotlib.figure import Figure
+
+    grid = Figure()
+    left, right = grid.subplots(1, 2)
+    assert plot_trace(trace, events, ax=right) is grid
+    assert not left.collections and len(right.collections[0].get_paths()) == 50
 
 
 def test_round_numbers():
