@@ -643,6 +643,7 @@ def write_study(
     problem = destination_problem(source, out)
     if problem is not None:
         raise ValueError(f"output {out}: {problem}")
+    in_place = out.resolve() == source.resolve()  # (-o given as the campaign's folder too)
     tables_dir = out / "tables"
     figures = _Figures(out / "figures")
     base = _base_config(source)
@@ -652,9 +653,9 @@ def write_study(
         tables_dir,
         readme=_TABLES_README.format(
             version=__version__,
-            summary="../summary.csv" if out == source else str(source / "summary.csv"),
+            summary="../summary.csv" if in_place else str(source / "summary.csv"),
             again="`brakeca analyze` writes them again"
-            if out == source
+            if in_place
             else f"of the campaign in {source}; `brakeca analyze {source} -o {out}` writes "
             "them again",
         ),

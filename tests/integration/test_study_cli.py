@@ -603,6 +603,7 @@ def test_analyze_writes_into_another_folder_and_leaves_the_campaign_as_it_was(ca
     and a DIR that cannot be a folder, is another campaign's or lies inside this one
     refused before any work."""
     import hashlib
+    import os
     import shutil
 
     src = tmp_path / "c"
@@ -643,6 +644,12 @@ def test_analyze_writes_into_another_folder_and_leaves_the_campaign_as_it_was(ca
     assert f"`{src / 'summary.csv'}`: one row per run" in readme
     assert f"brakeca analyze {src} -o {same}" in readme
     assert "`../summary.csv`" in (src / "tables" / "README.md").read_text(encoding="utf-8")
+    # -o naming the campaign's own folder (spelled otherwise) is the analysis in place
+    relative = os.path.relpath(src)  # (the same folder, a path that is not equal as text)
+    res = CliRunner().invoke(app, ["analyze", str(src), "--no-run-maps", "-o", relative])
+    assert res.exit_code == 0, res.output
+    assert "`../summary.csv`" in (src / "tables" / "README.md").read_text(encoding="utf-8")
+    before = files(src)
     reduced = tmp_path / "reduced"
     res = CliRunner().invoke(
         app, ["analyze", str(src), "--no-run-maps", "--terms", "A S", "-o", str(reduced)]
