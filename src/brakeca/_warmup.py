@@ -109,14 +109,12 @@ def cold_kernels(configs: Iterable[SimulationConfig]) -> list[str] | None:
 def tiny_config(config: SimulationConfig) -> SimulationConfig:
     """``config`` on a two-row band for one stop, with its kernel pinned: the same compiled
     code paths (argument types and model options) at a cost of well under a second."""
-    from brakeca.simulation import kernel_for
-
     return config.with_updates(
         {
             "mesh.n_radial": 2,
             "quick": False,  # a quick configuration's band is 21 rows: this one is not
             "cycle.max_stops": 1,
-            "numerics.kernel": kernel_for(config),
+            "numerics.kernel": config.resolved_kernel(),
         }
     )
 
@@ -124,10 +122,8 @@ def tiny_config(config: SimulationConfig) -> SimulationConfig:
 def _key(config: SimulationConfig) -> tuple:
     """What selects the compiled code a run calls: the kernel and the model options it
     branches on in Python."""
-    from brakeca.simulation import kernel_for
-
     return (
-        kernel_for(config),
+        config.resolved_kernel(),
         config.pad.fibre_model,
         config.automaton.rule6_max_gap is None,
         config.automaton.creation_order,

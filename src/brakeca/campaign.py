@@ -81,6 +81,7 @@ from brakeca._runstore import (
     campaign_lock,
 )
 from brakeca.config import ConfigError, SimulationConfig
+from brakeca.cycle import cycle_events, map_stops
 from brakeca.design import Design, RunPoint, execution_order, load_design, run_id
 
 if TYPE_CHECKING:
@@ -120,8 +121,6 @@ def _seconds(t: float) -> str:
 def _maps_for(maps_at: Iterable[int], points: Sequence[RunPoint]) -> list[int]:
     """``maps_at`` checked against the cycle of every run, before any work: the stops, in
     order (ConfigError names ``maps_at`` and the stops of the shortest cycle)."""
-    from brakeca.simulation import cycle_events, map_stops
-
     if isinstance(maps_at, Iterable) and not isinstance(maps_at, str | bytes):
         maps_at = list(maps_at)  # (a generator is read once)
         if not maps_at:

@@ -13,6 +13,7 @@ J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Se
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,7 +25,9 @@ __all__ = [
     "Stop",
     "StopProfile",
     "brake_demand",
+    "cycle_events",
     "expand_stops",
+    "map_stops",
     "step_distance",
     "stop_steps",
 ]
@@ -288,3 +291,49 @@ def brake_demand(config: SimulationConfig, deceleration: float, band_area: float
     torque = config.vehicle.wheel_load_mass * deceleration * config.vehicle.wheel_radius
     pad = torque / (config.brake.pads_per_brake * config.brake.effective_radius)
     return BrakeDemand(torque, pad, pad * band_area / config.brake.pad_area)
+
+
+def cycle_events(config: SimulationConfig) -> list:
+    """The stops of a block cycle, or the braking events of a trace cycle, to simulate."""
+    if not config.cycle.trace_file:
+        return expand_stops(config)
+    from brakeca.traces import configured_cycle
+
+    return list(configured_cycle(config).events)
+
+
+def map_stops(maps_at: Iterable[int], n_stops: int, *, name: str = "maps_at") -> list[int]:
+    """``maps_at`` (:func:`simulate`) checked against a cycle of ``n_stops`` stops.
+
+    Parameters
+    ----------
+    maps_at
+        Stop numbers [-], from 1.
+    n_stops
+        The cycle's stops [-].
+    name
+        What the errors call ``maps_at`` (``--maps-at`` on the command line).
+
+    Returns
+    -------
+    list of int
+        The stops, in order.
+
+    Raises
+    ------
+    ValueError
+        Not whole numbers from 1 to ``n_stops``, or a stop given twice.
+    """
+    if isinstance(maps_at, str | bytes) or not isinstance(maps_at, Iterable):
+        raise ValueError(f"{name}: expected stop numbers, e.g. [1, 50, 170], got {maps_at!r}")
+    stops = list(maps_at)
+    for k in stops:
+        if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k <= n_stops:
+            shown = int(k) if isinstance(k, np.integer) else repr(k)  # not np.int64(9)
+            raise ValueError(
+                f"{name}: stop {shown} is not a stop of this cycle (whole numbers from 1 to "
+                f"{n_stops})"
+            )
+    if len(set(stops)) < len(stops):
+        raise ValueError(f"{name}: a stop is given twice ({stops})")
+    return sorted(int(k) for k in stops)

@@ -34,7 +34,13 @@ from brakeca._io import (
 from brakeca.automaton import Exposure, expose_buried_fibres, pad_surface
 from brakeca.config import MAX_SEED, PadConfig, SimulationConfig
 from brakeca.contact import ContactError
-from brakeca.cycle import Stop, brake_demand, expand_stops, step_distance
+from brakeca.cycle import (
+    Stop,
+    brake_demand,
+    cycle_events,
+    map_stops,
+    step_distance,
+)
 from brakeca.friction import friction_stress_peak
 from brakeca.geometry import Grid, make_grid
 from brakeca.surface import (
@@ -642,43 +648,6 @@ def _record_pm10(result: RunResult, distance: float) -> None:
     )
 
 
-def map_stops(maps_at: Iterable[int], n_stops: int, *, name: str = "maps_at") -> list[int]:
-    """``maps_at`` (:func:`simulate`) checked against a cycle of ``n_stops`` stops.
-
-    Parameters
-    ----------
-    maps_at
-        Stop numbers [-], from 1.
-    n_stops
-        The cycle's stops [-].
-    name
-        What the errors call ``maps_at`` (``--maps-at`` on the command line).
-
-    Returns
-    -------
-    list of int
-        The stops, in order.
-
-    Raises
-    ------
-    ValueError
-        Not whole numbers from 1 to ``n_stops``, or a stop given twice.
-    """
-    if isinstance(maps_at, str | bytes) or not isinstance(maps_at, Iterable):
-        raise ValueError(f"{name}: expected stop numbers, e.g. [1, 50, 170], got {maps_at!r}")
-    stops = list(maps_at)
-    for k in stops:
-        if isinstance(k, bool) or not isinstance(k, int | np.integer) or not 1 <= k <= n_stops:
-            shown = int(k) if isinstance(k, np.integer) else repr(k)  # not np.int64(9)
-            raise ValueError(
-                f"{name}: stop {shown} is not a stop of this cycle (whole numbers from 1 to "
-                f"{n_stops})"
-            )
-    if len(set(stops)) < len(stops):
-        raise ValueError(f"{name}: a stop is given twice ({stops})")
-    return sorted(int(k) for k in stops)
-
-
 # --- checkpoints -------------------------------------------------------------------------
 _PACKED_FIELDS = {
     "pk_h": K.P_H,
@@ -904,15 +873,6 @@ def load_checkpoint(
         },
     )
     return Checkpoint(state, arrays["initial_status"], log, meta["rng"], float(meta["elapsed"]))
-
-
-def cycle_events(config: SimulationConfig) -> list:
-    """The stops of a block cycle, or the braking events of a trace cycle, to simulate."""
-    if not config.cycle.trace_file:
-        return expand_stops(config)
-    from brakeca.traces import configured_cycle
-
-    return list(configured_cycle(config).events)
 
 
 def scratch_lists(n_cells: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -68,6 +68,44 @@ def test_the_coordinating_process_does_not_load_numba():
     assert out.stdout.strip().splitlines()[-1] == "True []"
 
 
+_CAMPAIGN_PROBE = """
+import sys
+from pathlib import Path
+sys.path.insert(0, sys.argv[1])  # the tests' folder: campaign_helpers
+from campaign_helpers import DESIGN_TEMPLATE, quiet, tiny, write_design
+from brakeca.campaign import run_campaign
+from brakeca.study import write_study
+if __name__ == "__main__":
+    folder = Path(sys.argv[2])
+    design = write_design(folder, tiny(2), DESIGN_TEMPLATE.format(root_seed=3))
+    result = run_campaign(
+        design, folder / "campaign", executor="local", workers=2, maps_at=(1, 2),
+        progress=False, console=quiet(),
+    )
+    write_study(result)
+    print(result.ok, sorted(m for m in ("numba", "brakeca._kernels", "brakeca._lazy",
+        "brakeca.simulation") if m in sys.modules))
+"""
+
+
+def test_a_whole_campaign_with_maps_leaves_numba_out_of_the_main_process(tmp_path):
+    """The same for a campaign that runs on worker processes, keeps maps (whose stops are
+    checked against the cycle before any work) and is analysed: the main process never
+    imports the kernels (the thirty-ninth session found ``maps_at``'s check importing
+    ``brakeca.simulation``, 60 MB, in every study)."""
+    script = tmp_path / "probe.py"
+    script.write_text(_CAMPAIGN_PROBE, encoding="utf-8")
+    tests = Path(__file__).resolve().parents[1]
+    out = subprocess.run(
+        [sys.executable, str(script), str(tests), str(tmp_path)],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=300,
+    )
+    assert out.stdout.strip().splitlines()[-1] == "True []"
+
+
 _PROBE = """
 import json, sys
 from brakeca import _kernels, _lazy, automaton, contact, friction, wear

@@ -464,7 +464,7 @@ def test_block_trace_simulates_like_the_block_cycle(paper_stops, monkeypatch):
     events = detect_events(block_trace(picked), config=NO_CORR)
     runs = {}
     for name, stops in (("blocks", picked), ("trace", events)):
-        monkeypatch.setattr(simulation, "expand_stops", lambda _c, stops=stops: list(stops))
+        monkeypatch.setattr(simulation, "cycle_events", lambda _c, stops=stops: list(stops))
         runs[name] = simulation.simulate(config, seed=5).dataset
     a, b = runs["blocks"], runs["trace"]
     np.testing.assert_array_equal(a["n_steps"], b["n_steps"])
