@@ -1,5 +1,5 @@
 """Atomic file writes, shared by every writer of the package (run files, campaign files,
-checkpoints, the report)."""
+checkpoints, the tables, figures and report)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["atomic_write"]
+__all__ = ["atomic_write", "write_table", "write_text"]
 
 
 def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
@@ -29,6 +29,19 @@ def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write ``text`` to ``path`` as UTF-8 with ``\\n`` line ends, atomically
+    (:func:`atomic_write`)."""
+    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8", newline="\n"))
+
+
+def write_table(table: Any, path: str | Path) -> Path:
+    """Write a pandas DataFrame ``table`` to ``path`` as CSV without its index, atomically
+    (:func:`atomic_write`): an analysis stopped halfway leaves each table whole, the old one
+    or the new one, never a truncated file."""
+    return atomic_write(path, lambda tmp: table.to_csv(tmp, index=False))
 
 
 #: Format tag of a run's checkpoint (:func:`brakeca.simulation.save_checkpoint`), here so

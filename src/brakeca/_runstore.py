@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 from brakeca import __version__
-from brakeca._io import atomic_write, config_changes
+from brakeca._io import config_changes, write_text
 from brakeca.design import Design, RunPoint, run_id
 
 if TYPE_CHECKING:
@@ -139,10 +139,6 @@ class _Record:
 
 
 # --- file helpers --------------------------------------------------------------------------
-
-
-def _write_text(path: Path, text: str) -> Path:
-    return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def _remove_stale_temporaries(folder: Path) -> list[Path]:
@@ -280,8 +276,8 @@ def _write_design(
         f"{__version__}.\n# From {origin}; overrides {dict(overrides or {})!r}, "
         f"max_stops {max_stops!r}, quick {quick!r}.\n"
     )
-    _write_text(out / "base_config.toml", header + base.to_toml())
-    _write_text(
+    write_text(out / "base_config.toml", header + base.to_toml())
+    write_text(
         out / "design.toml",
         f"# Design of campaign {design.name!r} (base: base_config.toml beside this file).\n"
         + design.to_toml(base_config="base_config.toml"),

@@ -45,6 +45,8 @@ from typing import Any, TypeGuard
 import numpy as np
 import pandas as pd
 
+from brakeca._io import write_table
+
 __all__ = [
     "ANOVA_COLUMNS",
     "ANOVA_TYPES",
@@ -3109,6 +3111,6 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             (directory / f"effects_{response}.csv").unlink(missing_ok=True)
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
-            table.to_csv(path, index=False)
+            write_table(table, path)
             written.append(path)
     return written

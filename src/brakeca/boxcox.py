@@ -52,6 +52,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
+from brakeca._io import write_table
+
 if TYPE_CHECKING:
     from brakeca.analysis import Model
 
@@ -639,5 +641,5 @@ def save_box_cox_table(results: Mapping[str, BoxCox], path: str | Path) -> Path:
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    box_cox_table(results).to_csv(path, index=False)
+    write_table(box_cox_table(results), path)
     return path

@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pandas as pd
 
+from brakeca._io import atomic_write
 from brakeca.analysis import (
     CENTER_TERM,
     Factor,
@@ -214,7 +215,7 @@ def save_figure(fig: Figure, path: str | Path | None) -> Figure:
         path = Path(path)
         kind = figure_format(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path, dpi=DPI, format=kind)
+        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=DPI, format=kind))
     return fig
 
 

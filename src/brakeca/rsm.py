@@ -50,6 +50,7 @@ from typing import Any, Literal
 import numpy as np
 import pandas as pd
 
+from brakeca._io import write_table
 from brakeca.analysis import _clean as _usable_rows
 from brakeca.analysis import (
     _design_factors,
@@ -1017,7 +1018,7 @@ def save_surface_tables(fits: Mapping[str, SurfaceFit], directory: str | Path) -
         }
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
-            table.to_csv(path, index=False)
+            write_table(table, path)
             written.append(path)
     return written
 

@@ -31,6 +31,7 @@ import pandas as pd
 
 from brakeca import __version__
 from brakeca._console import tests_named
+from brakeca._io import write_table, write_text
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
 from brakeca.results import RunResult
@@ -440,7 +441,7 @@ def _optimize(design: Design, surfaces: dict, tables_dir: Path) -> tuple[Any, li
         optimum = rsm.optimize(surfaces, goals)
     except ValueError as exc:
         return None, goals, f"The goals could not be optimized: {exc}."
-    rsm.optimum_table(optimum, goals).to_csv(tables_dir / "optimum.csv", index=False)
+    write_table(rsm.optimum_table(optimum, goals), tables_dir / "optimum.csv")
     return optimum, goals, ""
 
 
@@ -674,7 +675,7 @@ def write_study(
     summary, pm10_note = _pm10_columns(result.summary, files.pm10_of)
     if pm10_note:
         notes = notes + "\n\n" + pm10_note
-        summary.to_csv(tables_dir / "pm10.csv", index=False)
+        write_table(summary, tables_dir / "pm10.csv")
     shown = summary.copy()
     for f in result.design.factors:
         if f.choices is not None and f.name in shown.columns:  # 'paper', not its level 1
@@ -846,9 +847,7 @@ def _analyse(
         rsm.save_surface_tables(surfaces, tables_dir)
         for resp, fit in surfaces.items():
             surface_residuals[resp] = rsm.surface_residuals(fit, data)
-            surface_residuals[resp].to_csv(
-                tables_dir / f"surface_residuals_{resp}.csv", index=False
-            )
+            write_table(surface_residuals[resp], tables_dir / f"surface_residuals_{resp}.csv")
     optimum, goals, optimum_note = _optimize(result.design, surfaces, tables_dir)
     if scope and any(g.response != "MU" for g in goals):
         optimum_note = " ".join(
@@ -868,8 +867,8 @@ def _analyse(
         alpha_to_remove=None if surface_design else alpha,
     )
     boxcox.save_box_cox_table(scales, tables_dir / "box_cox.csv")
-    per_stop_table(result).to_csv(tables_dir / "per_stop.csv", index=False)
-    (tables_dir / "README.md").write_text(readme, encoding="utf-8")
+    write_table(per_stop_table(result), tables_dir / "per_stop.csv")
+    write_text(tables_dir / "README.md", readme)
     return _Found(
         ok=analysis.ok_runs(summary),
         data=data,

@@ -36,6 +36,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from brakeca._io import write_text
 from brakeca.config import (
     ConfigError,
     SimulationConfig,
@@ -635,8 +636,7 @@ def write_trace(trace: SpeedTrace, path: str | Path, *, comment: str = "") -> Pa
         if trace.trip is not None:
             row += f",{trace.trip[k]}"
         out.append(row)
-    path.write_text("\n".join(out) + "\n", encoding="utf-8")
-    return path
+    return write_text(path, "\n".join(out) + "\n")
 
 
 # --- events -----------------------------------------------------------------------------------
