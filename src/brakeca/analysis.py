@@ -37,8 +37,8 @@ import math
 import numbers
 import os
 import warnings
-from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, TypeGuard
 
@@ -55,6 +55,7 @@ __all__ = [
     "TREND_COLUMNS",
     "Factor",
     "Model",
+    "ResponseAnalysis",
     "alias_structure",
     "analyze",
     "anova",
@@ -81,6 +82,75 @@ __all__ = [
 #: terms up through that many factors) or a list of terms (``["S", "WP", "S*WP"]``, as
 #: Minitab's Terms dialog picks them one by one).
 Model = bool | int | Sequence[str]
+
+
+@dataclass(frozen=True, eq=False)
+class ResponseAnalysis(Mapping[str, Any]):
+    """The analysis of one response (:func:`analyze`), table by table.
+
+    Each table is an attribute, and also an item by its name (a mapping, as :func:`analyze`
+    returned before this class: ``result["MU"]["anova"]`` is ``result["MU"].anova``, and
+    :func:`save_tables` takes either). The tables' values are in the response's units (MU
+    [-], V [m^3 per stop], log10_V_mm3 [-]), the factors' levels in their design units.
+
+    Attributes
+    ----------
+    main_effects : DataFrame
+        Mean response at each level of each factor (:func:`main_effects`).
+    interactions : dict of (str, str) to DataFrame
+        Cell-mean table of each pair of factors (:func:`interaction_tables`).
+    interactions_long : DataFrame
+        The same cell means, one row per cell (:func:`interactions_long`).
+    anova : DataFrame
+        ANOVA table (:func:`anova`); its ``attrs`` hold the formula and the fit statistics.
+    ranked_effects : DataFrame
+        The ANOVA's terms ranked by sum of squares, for a Pareto chart (:func:`ranked_effects`).
+    residuals : DataFrame
+        Fitted values and residuals of each run (:func:`residuals`).
+    effects : DataFrame
+        Effects and coefficients of a two-level design (:func:`two_level_effects`); empty
+        unless every factor has two levels.
+    trends : DataFrame
+        Linear and quadratic trends (:func:`factor_trends`); empty unless a factor has three
+        levels or more.
+    model_summary : DataFrame
+        One row: S, R², adjusted and predicted R² of the ANOVA's fit (:func:`model_summary`).
+    """
+
+    main_effects: pd.DataFrame
+    interactions: dict[tuple[str, str], pd.DataFrame]
+    interactions_long: pd.DataFrame
+    anova: pd.DataFrame
+    ranked_effects: pd.DataFrame
+    residuals: pd.DataFrame
+    effects: pd.DataFrame
+    trends: pd.DataFrame
+    model_summary: pd.DataFrame
+
+    def __getitem__(self, name: str) -> Any:
+        if not isinstance(name, str) or name not in self._names():
+            raise KeyError(name)
+        return getattr(self, name)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._names())
+
+    def __len__(self) -> int:
+        return len(self._names())
+
+    @classmethod
+    def _names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+    def __repr__(self) -> str:
+        formula = self.anova.attrs.get("formula", "")
+        shapes = ", ".join(
+            f"{name}={len(value)} table{'' if len(value) == 1 else 's'}"
+            if isinstance(value, dict)
+            else f"{name}={value.shape[0]}x{value.shape[1]}"
+            for name, value in ((n, getattr(self, n)) for n in self._names())
+        )
+        return f"ResponseAnalysis({formula!r}; {shapes})"
 
 
 #: Columns of the table returned by :func:`anova`, in order.
@@ -2831,7 +2901,7 @@ def analyze(
     alpha_to_remove: float | None = None,
     max_order: int | None = None,
     model_terms: Sequence[str] | str | None = None,
-) -> dict[str, dict[str, Any]]:
+) -> dict[str, ResponseAnalysis]:
     """Run the whole analysis for several responses.
 
     Given a design (a campaign result, or the design as ``factors``), each of
@@ -2888,18 +2958,40 @@ def analyze(
 
     Returns
     -------
-    dict
-        ``{response: {"main_effects": DataFrame, "interactions": {(a, b): DataFrame},
-        "interactions_long": DataFrame, "anova": DataFrame, "ranked_effects": DataFrame,
-        "residuals": DataFrame, "effects": DataFrame, "trends": DataFrame,
-        "model_summary": DataFrame}}``; ``model_summary`` is :func:`model_summary` of the
-        ANOVA (S, R², adjusted and predicted R²); ``effects``
-        is :func:`two_level_effects`, empty unless every factor has two levels; ``trends``
-        is :func:`factor_trends`, empty unless a factor has three levels or more.
+    dict of str to ResponseAnalysis
+        ``{response: ResponseAnalysis}``: each response's tables (main effects,
+        interactions, ANOVA, ranked effects, residuals, two-level effects, trends, model
+        summary) as attributes, or as items by name (``result["MU"]["anova"]``).
 
     References
     ----------
     Wahlström (2016), Figures 6 to 9, doi:10.1155/2016/8181260.
+
+    Examples
+    --------
+    The replicated 2² design of :func:`anova`'s example (MU's effects: S +0.05, A +0.11, S×A
+    +0.02):
+
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor, analyze
+    >>> factors = [Factor("S", (0.0, 1.0)), Factor("A", (10.0, 20.0), unit="%")]
+    >>> runs = pd.DataFrame({
+    ...     "S": [0.0, 1.0] * 4,
+    ...     "A": [10.0, 10.0, 20.0, 20.0] * 2,
+    ...     "MU": [0.30, 0.34, 0.40, 0.46, 0.32, 0.34, 0.40, 0.48],
+    ... })
+    >>> result = analyze(runs, factors, ["MU"])
+    >>> mu = result["MU"]
+    >>> print(mu.effects[["term", "effect", "coefficient"]].round(4).to_string(index=False))
+    term  effect  coefficient
+       A    0.11        0.055
+       S    0.05        0.025
+     S:A    0.02        0.010
+    >>> print(mu.model_summary[["n", "s", "r_squared"]].round(4).to_string(index=False))
+     n    s  r_squared
+     8 0.01     0.9868
+    >>> mu["anova"] is mu.anova  # a table by its name too
+    True
     """
     design = None
     if not isinstance(summary, pd.DataFrame) and hasattr(summary, "summary"):
@@ -2951,7 +3043,7 @@ def analyze(
             from brakeca.study import with_log_v
 
             summary = with_log_v(summary)
-    result: dict[str, dict[str, Any]] = {}
+    result: dict[str, ResponseAnalysis] = {}
     default = 1 if main_effects_only else 2
     if max_order is not None:
         _model_order(max_order, name="max_order")  # checked before any work
@@ -2977,31 +3069,31 @@ def analyze(
             alpha_to_remove=alpha_to_remove,
         )
         kept = [t for t in table["term"] if t not in ("Residual", CURVATURE)] if follow else None
-        result[response] = {
-            "main_effects": main_effects(summary, factors, response),
-            "interactions": interaction_tables(summary, factors, response),
-            "interactions_long": interactions_long(summary, factors, response),
-            "anova": table,
-            "ranked_effects": _rank_terms(table, summary, factors, response),
-            "residuals": residuals(
+        result[response] = ResponseAnalysis(
+            main_effects=main_effects(summary, factors, response),
+            interactions=interaction_tables(summary, factors, response),
+            interactions_long=interactions_long(summary, factors, response),
+            anova=table,
+            ranked_effects=_rank_terms(table, summary, factors, response),
+            residuals=residuals(
                 summary,
                 factors,
                 response,
                 interactions=model,
                 alpha_to_remove=alpha_to_remove,
             ),
-            "effects": two_level_effects(
+            effects=two_level_effects(
                 summary,
                 factors,
                 response,
                 main_effects_only=main_effects_only,
                 model_terms=kept,
             ),
-            "trends": _trends(summary, design_factors, response, table, model, alpha_to_remove),
+            trends=_trends(summary, design_factors, response, table, model, alpha_to_remove),
             # S, R², adjusted and predicted R² as the CLI's model_summary table (they had
             # been in the ANOVA's attrs alone, which concat and merge drop: an API review)
-            "model_summary": model_summary(table),
-        }
+            model_summary=model_summary(table),
+        )
     return result
 
 

@@ -21,6 +21,7 @@ from brakeca.analysis import (
     ANOVA_COLUMNS,
     MODEL_SUMMARY_COLUMNS,
     Factor,
+    ResponseAnalysis,
     alias_structure,
     analyze,
     anova,
@@ -359,6 +360,38 @@ def test_ranked_effects_order_and_classical_effects() -> None:
     kinds = dict(zip(ranked["term"], ranked["kind"], strict=True))
     assert kinds["S"] == "main" and kinds["S:WP"] == "interaction"
     assert ranked["term"].iloc[0] == "A"  # the largest known effect (0.03 on half the runs)
+
+
+def test_each_response_s_analysis_is_a_dataclass_and_a_mapping_of_its_tables() -> None:
+    """analyze() returns a ResponseAnalysis per response (the style guide's result
+    dataclass); each table is an attribute and an item by the same name (the dict it
+    returned before), so code written against the dict reads it unchanged."""
+    bundle = analyze(_design(replicates=2), FACTORS, ["MU"])["MU"]
+    assert isinstance(bundle, ResponseAnalysis)
+    assert list(bundle) == [
+        "main_effects",
+        "interactions",
+        "interactions_long",
+        "anova",
+        "ranked_effects",
+        "residuals",
+        "effects",
+        "trends",
+        "model_summary",
+    ]
+    assert len(bundle) == 9
+    for name in bundle:
+        assert bundle[name] is getattr(bundle, name)
+    assert bundle.get("anova") is bundle.anova and bundle.get("fit") is None
+    assert "anova" in bundle and "fit" not in bundle and 0 not in bundle
+    with pytest.raises(KeyError, match="fit"):
+        bundle["fit"]
+    assert dict(bundle)["trends"] is bundle.trends
+    with pytest.raises(AttributeError):  # frozen, as a result should be
+        bundle.anova = bundle.effects  # type: ignore[misc]
+    shown = repr(bundle)
+    assert shown.startswith("ResponseAnalysis('MU ~ S + WP + ")
+    assert "anova=11x9" in shown and "interactions=6 tables" in shown
 
 
 def test_analyze_and_save_tables(tmp_path) -> None:

@@ -28,7 +28,7 @@ WITH_EXAMPLES = {
     "brakeca.emissions": 2,
     "brakeca.config": 2,
     "brakeca.design": 3,
-    "brakeca.analysis": 3,
+    "brakeca.analysis": 4,
     "brakeca.simulation": 1,
     "brakeca.presets": 2,
 }
