@@ -2,7 +2,7 @@
 
     PYTHONPATH=/path/to/checkout/src python benchmarks/fingerprint.py [--stops 60]
 
-Each case drives :func:`brakeca.simulation.advance_stop` and :func:`end_of_stop` directly and
+Each case drives :func:`brakeca.stop.advance_stop` and :func:`end_of_stop` directly and
 hashes (SHA-256) every per-step record, the rule counts and, after every stop, the grid state
 (heights, deposit bases, statuses, streams, accumulators). Two versions of the kernel give
 bit-identical results when every line printed is the same. The cases fire every rule: high

@@ -52,7 +52,7 @@ class LogConsole(Console):
 
 
 def brief_warnings() -> Callable[[], None]:
-    """Show brakeca's own warnings (:class:`brakeca.simulation.CheckpointWarning`,
+    """Show brakeca's own warnings (:class:`brakeca.checkpoint.CheckpointWarning`,
     :class:`brakeca.config.UnitWarning`) as one line, ``warning: MESSAGE``, where Python's
     format names the library's file and line and quotes its source (``.../_executors.py:548:
     CheckpointWarning: ...`` and ``return simulate(``), which says nothing to the command's

@@ -44,7 +44,7 @@ def write_table(table: Any, path: str | Path) -> Path:
     return atomic_write(path, lambda tmp: table.to_csv(tmp, index=False))
 
 
-#: Format tag of a run's checkpoint (:func:`brakeca.simulation.save_checkpoint`), here so
+#: Format tag of a run's checkpoint (:func:`brakeca.checkpoint.save_checkpoint`), here so
 #: that a campaign can read a checkpoint's tag without importing the kernels, and the
 #: simulation without importing the run files' modules (xarray).
 CHECKPOINT_FORMAT = "brakeca-checkpoint/8"
@@ -125,7 +125,7 @@ def checkpoint_problem(path: str | Path) -> str | None:
     """Why the existing file ``path`` is not a brakeca checkpoint, with what to do, or None
     when it is one (an ``.npz`` archive with brakeca's ``meta`` entry; of which run, not
     asked) or there is no file. Only the archive's directory and its ``meta`` are read; the
-    command line and :func:`brakeca.simulation.load_checkpoint` both ask it."""
+    command line and :func:`brakeca.checkpoint.load_checkpoint` both ask it."""
     import zipfile
 
     path = Path(path)
@@ -163,7 +163,7 @@ def checkpoint_resumes(path: Path, config: Any, seed: int, maps_at: Sequence[int
     ``maps_at`` the stops it ran and kept maps of). False for a missing, unreadable or
     foreign file, and for one that ran a stop of ``maps_at`` without keeping its map (a
     campaign's worker discards those and starts the run over; :func:`brakeca.simulation.simulate`
-    refuses the last with a :class:`~brakeca.simulation.CheckpointError`)."""
+    refuses the last with a :class:`~brakeca.checkpoint.CheckpointError`)."""
     try:
         meta = _checkpoint_meta(path)
         if not checkpoint_is_of(meta, config, seed):

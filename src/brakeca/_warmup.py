@@ -151,14 +151,10 @@ def _child(configs: list[SimulationConfig]) -> int:
     """
     import numpy as np
 
+    from brakeca.cycle import cycle_events
     from brakeca.geometry import make_grid
-    from brakeca.simulation import (
-        SimulationState,
-        advance_stop,
-        cycle_events,
-        end_of_stop,
-        scratch_lists,
-    )
+    from brakeca.state import SimulationState
+    from brakeca.stop import advance_stop, end_of_stop, scratch_lists
     from brakeca.surface import generate_surface
 
     seen: set[tuple] = set()

@@ -174,10 +174,11 @@ def test_a_campaign_on_this_machine_warms_up_with_the_configs_it_runs(tmp_path, 
 
 
 def test_the_simulation_module_does_not_load_xarray():
-    """The warm-up child imports brakeca.simulation while it holds the compiler's memory; the
+    """The warm-up child imports the stop's modules while it holds the compiler's memory; the
     run-file module (xarray, pandas: about 50 MB) is imported only when simulate builds one."""
     probe = (
-        "import sys, brakeca.simulation; print('xarray' in sys.modules, 'pandas' in sys.modules)"
+        "import sys, brakeca.simulation, brakeca.stop, brakeca.state, brakeca.checkpoint; "
+        "print('xarray' in sys.modules, 'pandas' in sys.modules)"
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert out.stdout.strip().splitlines()[-1] == "False False"
