@@ -226,6 +226,7 @@ class EmissionParameters(_Frozen):
 
 def pm10_mg_per_km(
     emitted_volume_band: float,
+    *,
     band_area: float,
     pad_area: float,
     distance: float,
@@ -264,7 +265,8 @@ def pm10_mg_per_km(
     on the front axle, which emits 70 % of the vehicle's:
 
     >>> from brakeca.emissions import pm10_mg_per_km
-    >>> round(pm10_mg_per_km(1e-9, 1.7442e-3, 5.08e-3, 100e3), 4)  # [mg/km]
+    >>> pm10 = pm10_mg_per_km(1e-9, band_area=1.7442e-3, pad_area=5.08e-3, distance=100e3)
+    >>> round(pm10, 4)  # [mg/km]
     0.1731
     """
     p = params or EmissionParameters()
@@ -353,6 +355,7 @@ SHORT_DISTANCE = 10_000.0
 
 def pm10_band(
     emitted_volume_band: float,
+    *,
     band_area: float,
     pad_area: float,
     distance: float,
@@ -388,16 +391,16 @@ def pm10_band(
     Examples
     --------
     >>> from brakeca.emissions import pm10_band
-    >>> estimate = pm10_band(1e-9, 1.7442e-3, 5.08e-3, 100e3)
+    >>> estimate = pm10_band(1e-9, band_area=1.7442e-3, pad_area=5.08e-3, distance=100e3)
     >>> [round(v, 3) for v in (estimate.low, estimate.central, estimate.high)]  # [mg/km]
     [0.052, 0.173, 1.258]
     """
     p = params or EmissionParameters()
-    args = (emitted_volume_band, band_area, pad_area, distance)
+    areas = {"band_area": band_area, "pad_area": pad_area, "distance": distance}
     return PM10Estimate(
-        low=pm10_mg_per_km(*args, p.at("low")),
-        central=pm10_mg_per_km(*args, p),
-        high=pm10_mg_per_km(*args, p.at("high")),
+        low=pm10_mg_per_km(emitted_volume_band, **areas, params=p.at("low")),
+        central=pm10_mg_per_km(emitted_volume_band, **areas, params=p),
+        high=pm10_mg_per_km(emitted_volume_band, **areas, params=p.at("high")),
         distance=float(distance),
         params=p,
     )
@@ -456,4 +459,10 @@ def pm10_from_run(
             }
         params = EmissionParameters(pads_per_brake=config.brake.pads_per_brake, **share)
     volume = float(result.dataset["emitted_volume"].sum())
-    return pm10_band(volume, make_grid(config).area, config.brake.pad_area, distance, params)
+    return pm10_band(
+        volume,
+        band_area=make_grid(config).area,
+        pad_area=config.brake.pad_area,
+        distance=distance,
+        params=params,
+    )

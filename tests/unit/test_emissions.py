@@ -108,9 +108,17 @@ def test_bad_parameters_name_the_field(data, needle):
 
 def test_bad_inputs():
     with pytest.raises(ValueError, match="positive"):
-        pm10_mg_per_km(1e-9, 1e-3, 5e-3, 0.0)
+        pm10_mg_per_km(1e-9, band_area=1e-3, pad_area=5e-3, distance=0.0)
     with pytest.raises(ValueError, match="negative"):
-        pm10_mg_per_km(-1e-9, 1e-3, 5e-3, 1e3)
+        pm10_mg_per_km(-1e-9, band_area=1e-3, pad_area=5e-3, distance=1e3)
+
+
+def test_the_areas_and_distance_are_named():
+    """Band and pad area are both m^2, side by side: swapped positionally they would invert
+    the scale-up silently, so they (and the distance) are keyword-only."""
+    for fn in (pm10_mg_per_km, pm10_band):
+        with pytest.raises(TypeError, match="positional"):
+            fn(1e-9, 1e-3, 5e-3, 1e3)  # type: ignore[misc]
 
 
 def test_from_a_run():
@@ -121,7 +129,9 @@ def test_from_a_run():
     volume = float(run.dataset["emitted_volume"].sum())
     assert volume > 0
     est = pm10_from_run(run, 5e3)
-    expected = pm10_mg_per_km(volume, make_grid(config).area, config.brake.pad_area, 5e3)
+    expected = pm10_mg_per_km(
+        volume, band_area=make_grid(config).area, pad_area=config.brake.pad_area, distance=5e3
+    )
     assert est.central == pytest.approx(expected, rel=1e-12)
     assert est.params.pads_per_brake == config.brake.pads_per_brake
 
