@@ -41,6 +41,7 @@ J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Se
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -225,7 +226,8 @@ class RunResult:
     config : SimulationConfig
         The resolved configuration.
     seed : int
-        Seed of the run's generator (-1 if a generator was passed in).
+        Seed of the run's generator (-1 if a generator was passed in; its starting state is
+        then the dataset's ``rng_state`` attribute, and :meth:`generator` rebuilds it).
     dataset : xarray.Dataset
         Everything the run produced (see the module docstring).
     """
@@ -244,6 +246,38 @@ class RunResult:
             f"RunResult(seed={self.seed}, {stops} stop{'' if stops == 1 else 's'}, {grid}{quick}, "
             f"MU={self.MU:.4f}, V={self.V * M3_TO_MM3:.4g} mm³ per stop)"
         )
+
+    def generator(self) -> np.random.Generator:
+        """A new generator in the state this run drew its first number from: of its seed,
+        or for a run given a generator (seed -1), of the state it recorded (``rng_state``).
+
+        Raises
+        ------
+        ValueError
+            A run of seed -1 without ``rng_state`` (a run file of an earlier version).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from brakeca.presets import load_preset
+        >>> from brakeca.simulation import simulate
+        >>> config = load_preset().with_updates({"mesh.n_radial": 3, "cycle.max_stops": 1})
+        >>> run = simulate(config, rng=np.random.default_rng(7))
+        >>> run.seed, simulate(config, rng=run.generator()).MU == run.MU
+        (-1, True)
+        """
+        if self.seed >= 0:
+            return np.random.default_rng(self.seed)
+        state = self.dataset.attrs.get("rng_state")
+        if state is None:
+            raise ValueError(
+                "this run was given a generator (seed -1) and its file does not record the "
+                "generator's state (rng_state): it was written by an earlier brakeca"
+            )
+        state = json.loads(state)
+        bit_generator = getattr(np.random, state["bit_generator"])()
+        bit_generator.state = state
+        return np.random.Generator(bit_generator)
 
     @property
     def MU(self) -> float:

@@ -9,6 +9,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
+import json
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -84,8 +85,11 @@ def simulate(
         Seed of the run's random generator (recorded in the result), a whole number from 0
         to :data:`MAX_SEED` (2**64 - 1, the largest a run file holds). Default 0.
     rng
-        A generator to use instead of ``seed`` (its seed is then recorded as -1); not with
-        ``seed``.
+        A generator to use instead of ``seed``; not with ``seed``, nor with ``checkpoint``
+        (a checkpoint tells runs apart by their seed). The run then records the seed -1
+        and the generator's state before its first draw, as JSON in the run file's
+        ``rng_state`` attribute (:meth:`brakeca.results.RunResult.generator` makes a
+        generator in that state).
     progress
         Called as ``progress(stops_done, stops_total)`` after every stop.
     checkpoint
@@ -171,8 +175,14 @@ def simulate(
         rng = np.random.default_rng(seed)
     elif seed is not None:
         raise ValueError("give seed or rng, not both (a run records the seed it ran with)")
+    elif checkpoint:
+        raise ValueError(
+            "checkpoint: a checkpointed run needs a seed, not rng (a checkpoint tells one run "
+            "from another by its configuration and seed)"
+        )
     else:
         seed = -1
+        rng_start = json.dumps(rng.bit_generator.state)
     if checkpoint_every < 1:
         raise ValueError(f"checkpoint_every must be >= 1, got {checkpoint_every}")
     grid = make_grid(config)
@@ -288,6 +298,12 @@ def simulate(
     result = RunResult(config=config, seed=seed, dataset=dataset)
     if distance is not None:
         _record_pm10(result, distance)
+    if seed == -1:
+        result.dataset.attrs["rng_state"] = rng_start
+        result.dataset.attrs["comment"] += (
+            "; seed -1: the run drew from a generator it was given, whose state before the "
+            "first draw is rng_state (JSON of numpy's bit_generator.state)"
+        )
     return result
 
 

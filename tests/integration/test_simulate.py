@@ -154,6 +154,32 @@ def test_seeds_are_checked_before_any_work_and_the_largest_round_trips(small, tm
     assert res.exit_code == 2 and "--seed" in res.output
 
 
+def test_a_run_given_a_generator_records_its_state_and_rebuilds_it(small, tmp_path):
+    """simulate(rng=) records seed -1, and the generator's state before the first draw in the
+    run file (it had recorded -1 alone: such a run could not be repeated); the generator
+    rebuilt from the file repeats the run to the bit. A seeded run's generator is its seed's."""
+    config = small.with_updates({"cycle.max_stops": 2, "S": 0.5})  # rule S draws
+    rng = np.random.default_rng(11)
+    rng.random(3)  # a generator already used: its state, not a seed, is what repeats the run
+    run = simulate(config, rng=rng)
+    assert run.seed == -1 and "rng_state" in run.dataset.attrs
+    back = RunResult.from_netcdf(run.to_netcdf(tmp_path / "rng.nc"))
+    again = simulate(config, rng=back.generator())
+    timing = ["wall_time"]
+    xr.testing.assert_identical(
+        again.dataset.drop_vars(timing, errors="ignore").assign_attrs(wall_time=0.0),
+        run.dataset.drop_vars(timing, errors="ignore").assign_attrs(wall_time=0.0),
+    )
+    seeded = simulate(config.with_updates({"cycle.max_stops": 1}), seed=5)
+    assert seeded.generator().random() == np.random.default_rng(5).random()
+    old = RunResult(config=run.config, seed=-1, dataset=run.dataset.copy())
+    del old.dataset.attrs["rng_state"]
+    with pytest.raises(ValueError, match="earlier brakeca"):
+        old.generator()
+    with pytest.raises(ValueError, match="checkpoint: a checkpointed run needs a seed"):
+        simulate(config, rng=np.random.default_rng(1), checkpoint=tmp_path / "c.npz")
+
+
 def test_cli_simulate(tmp_path):
     runner = CliRunner()
     out = tmp_path / "r.nc"

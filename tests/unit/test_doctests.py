@@ -30,6 +30,7 @@ WITH_EXAMPLES = {
     "brakeca.design": 3,
     "brakeca.analysis": 4,
     "brakeca.simulation": 1,
+    "brakeca.results": 1,
     "brakeca.presets": 2,
 }
 
