@@ -85,12 +85,21 @@ class CampaignResult:
         rows = self.summary
         chosen = rows[(rows["test"] == test) & (rows.get("replicate", 0) == replicate)]
         if chosen.empty:
-            raise KeyError(
-                f"test {test}, replicate {replicate}: not a run of this campaign (tests "
-                f"{int(rows['test'].min())} to {int(rows['test'].max())})"
-                if len(rows)
-                else f"test {test}: this campaign has no runs"
-            )
+            of_test = rows[rows["test"] == test]
+            if not len(rows):
+                why = f"test {test}: this campaign has no runs"
+            elif len(of_test):  # the test is there, not that replicate (an API review)
+                reps = sorted(int(r) for r in of_test.get("replicate", pd.Series([0])))
+                why = (
+                    f"test {test}, replicate {replicate}: not a run of this campaign (test "
+                    f"{test}'s replicates: {', '.join(map(str, reps))})"
+                )
+            else:
+                why = (
+                    f"test {test}, replicate {replicate}: not a run of this campaign (tests "
+                    f"{int(rows['test'].min())} to {int(rows['test'].max())})"
+                )
+            raise KeyError(why)
         row = chosen.iloc[0]
         if row["status"] != "ok":
             raise ValueError(f"test {test}, replicate {replicate} failed: {row['error']}")

@@ -381,8 +381,8 @@ def _factors(factors: Iterable[Any]) -> list[Factor]:
         are = "is a name" if len(names) == 1 else "are names"
         raise TypeError(
             f"factors: {', '.join(map(repr, names))} {are}; "
-            "the analysis needs each factor's levels: pass the design (or design.factors), or "
-            "brakeca.analysis.Factor(name, levels)"
+            "the analysis needs each factor's levels: pass the design (or a campaign result), "
+            "or brakeca.analysis.Factor(name, levels) for each"
         )
     out = [as_factor(f) for f in factors]
     names = [f.name for f in out]
@@ -1248,7 +1248,8 @@ def _coded_frame(
 def split_terms(text: str) -> list[str]:
     """The terms of a model written on one line, as ``brakeca analyze --terms`` and a
     design's ``model_terms`` take them: separated by spaces, commas or ``+`` (``"S WP WR A
-    S*WP"``, ``"S + WP + S:WP"``); a term's factors joined by ``*`` or ``:``.
+    S*WP"``, ``"S + WP + S:WP"``); a term's factors joined by ``*`` or ``:``, or by ``|``
+    for every term of those factors (Minitab's bar: :func:`canonical_terms` expands it).
 
     Parameters
     ----------
@@ -1258,7 +1259,7 @@ def split_terms(text: str) -> list[str]:
     Returns
     -------
     list of str
-        The terms as written (``"S*WP"``), spaces around ``*`` and ``:`` removed; empty for
+        The terms as written (``"S*WP"``), spaces around ``*``, ``:`` and ``|`` removed; empty for
         a blank line. :func:`canonical_terms` checks them against the factors.
 
     Raises
@@ -1268,7 +1269,7 @@ def split_terms(text: str) -> list[str]:
     """
     import re
 
-    joined = re.sub(r"\s*([*:])\s*", r"\1", text.strip())  # "WP * A" is one term
+    joined = re.sub(r"\s*([*:|])\s*", r"\1", text.strip())  # "WP * A" is one term
     if not joined:
         return []
     terms = re.split(r"\s*[,+]\s*|\s+", joined)
@@ -1286,7 +1287,10 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
     ----------
     terms
         A list of terms, each a factor name or factor names joined by ``*`` or ``:``
-        (``"S*WP"``, ``"S:WP:A"``); a string is split by :func:`split_terms`.
+        (``"S*WP"``, ``"S:WP:A"``), or by ``|`` for all the terms of those factors, as
+        Minitab writes a full factorial model (``"S|WP|A"``: S, WP, A, their three
+        two-factor interactions and the three-factor one); a string is split by
+        :func:`split_terms`.
     factors
         The design's factor names.
     name
@@ -1320,6 +1324,7 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
         )
     if not terms:
         raise ValueError(f"{name}: no term given; name at least one factor")
+    terms = _expand_bars(terms, name)
     index = {f: i for i, f in enumerate(factors)}
     seen: dict[tuple[int, ...], str] = {}
     for term in terms:
@@ -1351,6 +1356,27 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
             "needs every lower-order term of its factors in the model, as in 'WP A WP*A'; "
             "add them (a term without them would take over their effects)"
         )
+    return out
+
+
+def _expand_bars(terms: list[str], name: str) -> list[str]:
+    """``terms`` with each ``"A|B|C"`` replaced by every term of its factors (``A``, ``B``,
+    ``C``, ``A:B``, ``A:C``, ``B:C``, ``A:B:C``), each made once over all the bars; the other
+    terms as given (checked by :func:`canonical_terms`)."""
+    out: list[str] = []
+    made: set[frozenset[str]] = set()
+    for term in terms:
+        if "|" not in term:
+            out.append(term)
+            continue
+        parts = [p.strip() for p in term.split("|")]
+        if len(set(parts)) < len(parts):
+            raise ValueError(f"{name}: term {term!r} names a factor twice")
+        for k in range(1, len(parts) + 1):
+            for combo in itertools.combinations(parts, k):
+                if frozenset(combo) not in made:
+                    made.add(frozenset(combo))
+                    out.append(":".join(combo))
     return out
 
 
@@ -3156,9 +3182,17 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
     Parameters
     ----------
     result
-        Output of :func:`analyze`.
+        Output of :func:`analyze`, ``{response: ResponseAnalysis}`` (or mappings of the same
+        tables by name).
     directory
         Target directory; created if missing.
+
+    Raises
+    ------
+    TypeError
+        ``result`` is one response's :class:`ResponseAnalysis`, not a mapping of them.
+    NotADirectoryError
+        ``directory`` is a file.
 
     Returns
     -------
@@ -3171,7 +3205,14 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         ``trends_<R>.csv`` when it has a non-empty :func:`factor_trends` table, and
         ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table.
     """
+    if isinstance(result, ResponseAnalysis):  # a KeyError: 'main_effects' (an API review)
+        raise TypeError(
+            "result: one response's analysis; save_tables takes analyze()'s whole result, "
+            "{response: ResponseAnalysis}, e.g. save_tables({'MU': result['MU']}, directory)"
+        )
     directory = Path(directory)
+    if directory.exists() and not directory.is_dir():
+        raise NotADirectoryError(f"directory: {directory} exists and is not a folder")
     directory.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
     for response, bundle in result.items():

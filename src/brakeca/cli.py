@@ -1244,7 +1244,8 @@ def analyze(
             metavar="TERMS",
             help="the ANOVA model's terms one by one instead, as Minitab's Terms dialog "
             "picks them: factor names, an interaction's joined by '*', separated by spaces, "
-            "commas or '+' (e.g. \"S WP WR A WP*A\"); its residuals, Box-Cox check and effects "
+            'commas or \'+\' (e.g. "S WP WR A WP*A"; "S|WP|A" for every term of S, WP and A); '
+            "its residuals, Box-Cox check and effects "
             "table follow it; by default the design's model_terms (if set)",
         ),
     ] = None,

@@ -856,6 +856,8 @@ def quick_config(config: SimulationConfig) -> SimulationConfig:
 
     Raises
     ------
+    TypeError
+        ``config`` is not a :class:`~brakeca.config.SimulationConfig` (a preset's name, say).
     ConfigError
         The narrowed band does not fit the disc (only with an unusual radial step).
 
@@ -867,6 +869,11 @@ def quick_config(config: SimulationConfig) -> SimulationConfig:
     >>> quick.mesh.n_radial, quick.mesh.n_angular, quick.quick  # 2 mm of the 20 mm band
     (21, 1000, True)
     """
+    if not isinstance(config, SimulationConfig):  # a preset's name, say (an API review)
+        raise TypeError(
+            f"config: a SimulationConfig (brakeca.load_preset(name) gives one), not "
+            f"{type(config).__name__}" + (f" ({config!r})" if isinstance(config, str) else "")
+        )
     return config.with_updates(
         {"mesh.n_radial": QUICK_N_RADIAL, "mesh.inner_radius": None, "quick": True}
     )

@@ -31,7 +31,8 @@ from brakeca._io import atomic_write
 from brakeca.analysis import (
     CENTER_TERM,
     Factor,
-    as_factor,
+    ResponseAnalysis,
+    _factors,
     interaction_table,
     main_effects,
     ok_runs,
@@ -262,7 +263,8 @@ def plot_main_effects(
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows are used).
     factors
-        The design's factors (:class:`brakeca.analysis.Factor` or factor-like).
+        The design's factors (:class:`brakeca.analysis.Factor` or factor-like), or the
+        design (or a campaign result) for its factors.
     response
         Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
     path
@@ -282,7 +284,7 @@ def plot_main_effects(
     ----------
     Wahlström (2016), Figures 6 (MU) and 8 (V), doi:10.1155/2016/8181260.
     """
-    factors = [as_factor(f) for f in factors]
+    factors = _factors(factors)  # factor-likes, or a design or campaign result for its own
     if not factors:
         raise ValueError("no factors to plot")
     table = main_effects(summary, factors, response)
@@ -338,7 +340,8 @@ def plot_interactions(
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows are used).
     factors
-        The design's factors, at least two.
+        The design's factors, at least two, or the design (or a campaign result) for its
+        factors.
     response
         Response column: ``"MU"`` [-] or ``"V"`` [m^3], the latter plotted in mm^3.
     path
@@ -359,7 +362,7 @@ def plot_interactions(
     ----------
     Wahlström (2016), Figures 7 (MU) and 9 (V), doi:10.1155/2016/8181260.
     """
-    factors = [as_factor(f) for f in factors]
+    factors = _factors(factors)  # factor-likes, or a design or campaign result for its own
     aliases = aliases or {}
     nf = len(factors)
     if nf < 2:
@@ -578,7 +581,7 @@ def plot_mu_per_stop(
         raise KeyError(f"campaign has no variable {variable!r}")
     if "run" not in campaign[variable].dims:  # one run
         campaign = campaign[[variable]].expand_dims(run=[0])
-    by_name = {f.name: f for f in (as_factor(f) for f in (factors or ()))}
+    by_name = {f.name: f for f in _factors(factors if factors is not None else ())}
     data = campaign[variable].transpose("run", "stop")
     ylabel, what, scale = _variable_axis(campaign, variable)
     runs = campaign["run"].to_numpy()
@@ -739,7 +742,7 @@ def plot_mu_per_stop_by_level(
     if factors is None:
         factors = _campaign_factors(campaign)
     data = getattr(campaign, "dataset", campaign)
-    factors = [as_factor(f) for f in (factors or ())]
+    factors = _factors(factors if factors is not None else ())
     factors = [f for f in factors if f.name in getattr(data, "coords", {})]
     if not factors:
         raise ValueError("no factor of the campaign to plot by (its levels along 'run')")
@@ -890,6 +893,22 @@ def plot_v_per_run(
     return save_figure(fig, path)
 
 
+def _table_of(given: Any, table: str, response: str) -> Any:
+    """``given`` itself, or the ``table`` of an analysis it holds: of a
+    :class:`~brakeca.analysis.ResponseAnalysis`, or of ``response``'s in :func:`analyze`'s
+    whole result (a mapping of them), so that ``plot_pareto(result["MU"], "MU")`` and
+    ``plot_pareto(result, "MU")`` draw ``result["MU"].ranked_effects``."""
+    if isinstance(given, Mapping) and not isinstance(given, ResponseAnalysis):
+        if given and all(isinstance(v, ResponseAnalysis) for v in given.values()):
+            if response not in given:
+                raise KeyError(
+                    f"response: {response!r} is not one of the analysis' responses "
+                    f"({', '.join(map(repr, given))})"
+                )
+            given = given[response]
+    return given[table] if isinstance(given, ResponseAnalysis) else given
+
+
 def plot_pareto(
     ranked: pd.DataFrame,
     response: str,
@@ -903,7 +922,9 @@ def plot_pareto(
     ----------
     ranked
         Output of :func:`brakeca.analysis.ranked_effects` (``term``,
-        ``percent_contribution`` [%], optionally ``p_value``), largest first.
+        ``percent_contribution`` [%], optionally ``p_value``), largest first; or a
+        :class:`~brakeca.analysis.ResponseAnalysis` (or :func:`~brakeca.analysis.analyze`'s
+        whole result) for its ``ranked_effects``.
     response
         Response name, for the title.
     path
@@ -921,6 +942,7 @@ def plot_pareto(
     ----------
     Wahlström (2016), Section 4, doi:10.1155/2016/8181260.
     """
+    ranked = _table_of(ranked, "ranked_effects", response)
     # the terms alone: given an ANOVA table, its residual is no term to rank (an API review)
     table = ranked.loc[~ranked["term"].isin(["Residual", "Lack of fit", "Pure error"])]
     table = table.sort_values("percent_contribution", ascending=False, kind="stable")
@@ -967,7 +989,9 @@ def plot_effects(
     effects
         Output of :func:`brakeca.analysis.two_level_effects` (``term``, ``effect``, ``t``,
         ``significant``; its ``attrs`` ``method``, ``df``, ``alpha``, ``pse``); a row ``Ct
-        Pt`` (centre points), which has no effect, is left out, as Minitab leaves it out.
+        Pt`` (centre points), which has no effect, is left out, as Minitab leaves it out. Or
+        a :class:`~brakeca.analysis.ResponseAnalysis` (or :func:`~brakeca.analysis.analyze`'s
+        whole result) for its ``effects``.
     response
         Response column the effects are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in the
         unit of the other figures, mm^3 for ``V``).
@@ -990,6 +1014,7 @@ def plot_effects(
     """
     from scipy import stats
 
+    effects = _table_of(effects, "effects", response)
     label, scale = _response_axis(response)
     attrs = effects.attrs
     alpha = float(attrs.get("alpha", 0.05))
@@ -1354,7 +1379,9 @@ def plot_residuals(
     ----------
     residuals
         Output of :func:`brakeca.analysis.residuals` (``fitted``, ``residual``,
-        ``std_residual``, optionally ``order`` or ``test``).
+        ``std_residual``, optionally ``order`` or ``test``); or a
+        :class:`~brakeca.analysis.ResponseAnalysis` (or :func:`~brakeca.analysis.analyze`'s
+        whole result) for its ``residuals``.
     response
         Response column the residuals are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in
         the unit of the other figures, mm^3 for ``V``).
@@ -1372,6 +1399,7 @@ def plot_residuals(
     """
     from scipy import stats
 
+    residuals = _table_of(residuals, "residuals", response)
     missing = [c for c in ("fitted", "residual", "std_residual") if c not in residuals.columns]
     if missing:  # an ANOVA table, say (a bare KeyError: 'fitted', an API review)
         raise ValueError(

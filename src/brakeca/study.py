@@ -634,11 +634,22 @@ def write_study(
 
     Raises
     ------
+    TypeError
+        ``result`` is not a campaign result (a folder's path, say).
     ValueError
         ``output`` is a folder the analysis must not write (:func:`destination_problem`).
     """
     from brakeca import report
 
+    if not hasattr(result, "out_dir"):  # a folder, say: 'str' object has no attribute ...
+        raise TypeError(
+            f"result: a campaign result, not {type(result).__name__}"
+            + (
+                f" ({str(result)!r}): brakeca.load_campaign(folder) reads a campaign folder"
+                if isinstance(result, str | Path)
+                else ""
+            )
+        )
     source = Path(result.out_dir)
     out = source if output is None else Path(output)
     problem = destination_problem(source, out)
@@ -1296,6 +1307,15 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
     """
     from brakeca.plotting import plot_cof_series, plot_fibre_maps, plot_mu_per_stop
 
+    if not isinstance(result, RunResult):  # a run file's path, say (an API review)
+        raise TypeError(
+            f"result: a RunResult, not {type(result).__name__}"
+            + (
+                f" ({str(result)!r}): brakeca.RunResult.from_netcdf(path) reads a run file"
+                if isinstance(result, str | Path)
+                else ""
+            )
+        )
     ds = result.dataset
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)

@@ -407,6 +407,8 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
         loaded.run(3)
     with pytest.raises(KeyError, match="test 9, replicate 0: not a run of this campaign"):
         loaded.run(9)
+    with pytest.raises(KeyError, match=r"test 2, replicate 5: .* \(test 2's replicates: 0\)"):
+        loaded.run(2, replicate=5)
     # a second pass computes only the failed run
     healed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
     assert healed.ok and healed.computed == (summary.loc[2, "run_id"],) and len(healed.reused) == 3

@@ -394,6 +394,19 @@ def test_each_response_s_analysis_is_a_dataclass_and_a_mapping_of_its_tables() -
     assert "anova=11x9" in shown and "interactions=6 tables" in shown
 
 
+def test_save_tables_names_what_it_takes(tmp_path) -> None:
+    """One response's analysis had given "KeyError: 'main_effects'", which it has; a file
+    where the folder goes, a bare FileExistsError (an API review)."""
+    result = analyze(_design(replicates=2), FACTORS, ["MU"])
+    with pytest.raises(TypeError, match=r"one response's analysis; save_tables takes analyze"):
+        save_tables(result["MU"], tmp_path)
+    a_file = tmp_path / "run.nc"
+    a_file.write_bytes(b"")
+    with pytest.raises(NotADirectoryError, match=r"directory: .*run.nc exists and is not a"):
+        save_tables(result, a_file)
+    assert len(save_tables({"MU": result["MU"]}, tmp_path / "tables")) == 7
+
+
 def test_analyze_and_save_tables(tmp_path) -> None:
     rows = _design(replicates=2)
     result = analyze(rows, FACTORS)

@@ -45,6 +45,19 @@ def test_simulate_says_what_a_config_is(config):
         simulate(config, seed=1)
 
 
+def test_a_path_or_a_name_where_an_object_goes_is_named(tmp_path):
+    """write_study, plot_run and quick_config had said "'str' object has no attribute
+    'out_dir'" (or 'dataset', 'with_updates') for a folder, a run file or a preset's name
+    (an API review); each now names the argument and the call that reads it."""
+    with pytest.raises(TypeError, match=r"result: a campaign result, not str \('camp'\): "
+                       r"brakeca.load_campaign\(folder\)"):  # fmt: skip
+        brakeca.write_study("camp")
+    with pytest.raises(TypeError, match=r"result: a RunResult, not PosixPath .*from_netcdf"):
+        brakeca.plot_run(tmp_path / "run.nc", tmp_path)
+    with pytest.raises(TypeError, match=r"config: a SimulationConfig \(brakeca.load_preset"):
+        brakeca.quick_config("paper")
+
+
 def test_analyze_takes_a_finished_campaign() -> None:
     """``brakeca.analyze(campaign)`` had needed the summary and the design's factors apart,
     and ``log10_V_mm3``, which the docs call the analysis's, was a KeyError (an API

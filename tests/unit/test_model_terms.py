@@ -51,6 +51,8 @@ def test_terms_are_written_in_design_order_and_sorted_by_order() -> None:
         ("S WP A S*WP*A WP*A", "(S:WP:A without S:WP, S:A)"),
         (["WP*WP"], "term 'WP*WP' names a factor twice"),
         (["S", "WP", "WP:S", "S*WP"], "term 'S*WP' is given twice (as 'WP:S')"),
+        ("S|WP|S", "model_terms: term 'S|WP|S' names a factor twice"),
+        ("S|X", "term 'X': 'X' is not a factor of the design"),
         ([1, 2], "model_terms: expected a list of terms"),
         (3, "model_terms: expected a list of terms"),
     ],
@@ -93,6 +95,18 @@ def test_a_model_of_all_terms_up_through_an_order_equals_that_order() -> None:
     assert list(by_terms["term"]) == list(by_order["term"])
     np.testing.assert_array_equal(by_terms["sum_sq"], by_order["sum_sq"])
     assert by_order.attrs["model_terms"] is None
+
+
+def test_minitab_s_bar_stands_for_every_term_of_its_factors() -> None:
+    """``S|WP|A`` (Minitab's full-factorial bar; an API review had it refused as "'S|WP|A'
+    is not a factor") is S, WP, A, their three two-factor interactions and the three-factor
+    one; terms two bars share are made once, and the bar mixes with plain terms."""
+    assert canonical_terms("S|WP|A", NAMES) == ["S", "WP", "A", "S:WP", "S:A", "WP:A", "S:WP:A"]
+    assert canonical_terms("S | WP  WP|A WR", NAMES) == ["S", "WP", "WR", "A", "S:WP", "WP:A"]
+    assert split_terms("S | WP|A, WR") == ["S|WP|A", "WR"]
+    rows = _design(replicates=2)
+    by_bar = anova(rows, FACTORS, "MU", interactions="S|WP|WR|A")
+    assert list(by_bar["term"]) == list(anova(rows, FACTORS, "MU", interactions=4)["term"])
 
 
 def test_a_model_that_is_not_hierarchical_is_refused() -> None:

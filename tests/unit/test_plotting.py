@@ -810,3 +810,59 @@ def test_a_panel_without_a_layout_keeps_its_legend_inside(campaign, tmp_path) ->
     legend = ax.get_legend().get_window_extent(fig.canvas.get_renderer())
     assert legend.x1 <= ax.bbox.x1 + 1 and legend.x0 >= ax.bbox.x0 - 1
     plt.close(fig)
+
+
+def test_the_figures_take_a_design_or_an_analysis_as_the_analysis_functions_do(
+    summary, tmp_path
+) -> None:
+    """An API review: plot_main_effects(summary, design, ...) failed with "not a factor ...
+    ('name', 'paper')" (iterating a design gives its fields) though every analysis function
+    takes a design; and plot_pareto, plot_residuals and plot_effects refused the
+    ResponseAnalysis analyze() returns. Each now takes them and draws the same figure."""
+    import types
+
+    from brakeca.analysis import analyze
+    from brakeca.design import design_from_dict
+    from brakeca.plotting import plot_effects
+
+    design = design_from_dict(
+        {
+            "name": "plots",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": f.name, "field": field, "levels": list(f.levels)}
+                | ({"scale": 0.01, "unit": "%"} if f.name == "A" else {})
+                for f, field in zip(
+                    FACTORS,
+                    (
+                        "automaton.secondary_removal_fraction",
+                        "wear.specific_wear_rate",
+                        "wear.resin_wear_depth",
+                        "pad.fibre_area_fraction",
+                    ),
+                    strict=True,
+                )
+            ],
+        }
+    )
+    by_factors = plot_main_effects(summary, FACTORS, "MU")
+    campaign = types.SimpleNamespace(design=design, summary=summary)  # as a CampaignResult
+    for given in (design, campaign):
+        fig = plot_main_effects(summary, given, "MU")
+        for ours, theirs in zip(fig.axes, by_factors.axes, strict=True):
+            np.testing.assert_array_equal(ours.lines[0].get_ydata(), theirs.lines[0].get_ydata())
+        assert len(plot_interactions(summary, given, "MU").axes) == 6
+    two = [f for f in FACTORS if len(f.levels) == 2]
+    result = analyze(summary, two, ["MU"])
+    for plot, table in ((plot_pareto, "ranked_effects"), (plot_residuals, "residuals")):
+        expected = plot(result["MU"][table], "MU")
+        for given in (result["MU"], result):
+            fig = plot(given, "MU")
+            assert len(fig.axes) == len(expected.axes)
+            assert [t.get_text() for t in fig.axes[0].get_xticklabels()] == [
+                t.get_text() for t in expected.axes[0].get_xticklabels()
+            ]
+    assert len(plot_effects(result["MU"], "MU").axes) == 2
+    with pytest.raises(KeyError, match=r"response: 'V' is not one of the analysis' responses"):
+        plot_pareto(result, "V")
