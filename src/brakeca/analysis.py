@@ -414,6 +414,29 @@ def _clean(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> pd.D
     return data
 
 
+def _not_finite(summary: pd.DataFrame, response: str) -> str:
+    """A note naming the finished runs :func:`_clean` leaves out because ``response`` is not
+    a finite number (a NaN, or ``log10_V_mm3`` of a run that emitted nothing), by test
+    (and replicate) where the summary has them, by row otherwise; "" for none."""
+    data = ok_runs(summary)
+    if response not in data.columns:
+        return ""
+    y = pd.to_numeric(data[response], errors="coerce").to_numpy(dtype=float)
+    bad = data.loc[~np.isfinite(y)]
+    if bad.empty:
+        return ""
+    if "test" in bad.columns:
+        replicated = "replicate" in data.columns and data["replicate"].nunique() > 1
+        names = [
+            f"test {row.test}" + (f" replicate {row.replicate}" if replicated else "")
+            for row in bad.itertuples()
+        ]
+    else:
+        names = [f"row {i}" for i in bad.index]
+    shown = ", ".join(names[:10]) + (f" and {len(names) - 10} more" if len(names) > 10 else "")
+    return f"{len(names)} finished run(s) left out, {response} not a finite number: {shown}"
+
+
 def _center_mask(data: pd.DataFrame, factors: Sequence[Factor]) -> np.ndarray:
     """Which rows of ``data`` are centre points: every factor at its :attr:`Factor.center`
     (none unless every factor has two levels)."""
@@ -980,6 +1003,9 @@ def anova(
         y_center=y_center,
         alpha_to_remove=alpha_to_remove,
     )
+    dropped = _not_finite(summary, response)
+    if dropped:  # not silently (an API review: only "unbalanced design" said anything)
+        notes.insert(0, dropped)
     if not term_names:
         out = pd.DataFrame(
             [

@@ -394,6 +394,28 @@ def test_each_response_s_analysis_is_a_dataclass_and_a_mapping_of_its_tables() -
     assert "anova=11x9" in shown and "interactions=6 tables" in shown
 
 
+def test_a_finished_run_without_a_finite_response_is_named_not_dropped_silently() -> None:
+    """A run of status ok whose response is NaN (or log10 of a V of 0) is left out of the
+    fit; the ANOVA's note had said only "unbalanced design" (an API review)."""
+    rows = _design(replicates=2)
+    rows.loc[[4, 31], "MU"] = [np.nan, np.inf]
+    table = anova(rows, FACTORS, "MU")
+    assert table.attrs["note"].startswith(
+        "2 finished run(s) left out, MU not a finite number: test 3, test 16; unbalanced design"
+    )
+    assert table.attrs["n"] == len(rows) - 2
+    assert anova(_design(replicates=2), FACTORS, "MU").attrs["note"] == ""
+    rows["replicate"] = rows.groupby("test").cumcount()  # replicates are named where they differ
+    assert (
+        anova(rows, FACTORS, "MU")
+        .attrs["note"]
+        .startswith(
+            "2 finished run(s) left out, MU not a finite number: test 3 replicate 0, test 16 "
+            "replicate 1;"
+        )
+    )
+
+
 def test_save_tables_names_what_it_takes(tmp_path) -> None:
     """One response's analysis had given "KeyError: 'main_effects'", which it has; a file
     where the folder goes, a bare FileExistsError (an API review)."""
