@@ -816,6 +816,9 @@ class SimulationConfig(_Frozen):
         cycle = self.cycle
         source = f"trace {Path(cycle.trace_file).name!r}" if cycle.trace_file else "blocks"
         stops = "" if cycle.max_stops is None else f", first {cycle.max_stops} stops"
+        if cycle.blocks and cycle.n_stops != cycle.max_stops and cycle.max_stops is not None:
+            # more than the cycle has: every stop runs (it had said "first 1000 stops")
+            stops = f", max_stops {cycle.max_stops}: all {cycle.n_stops} stops"
         return (
             f"SimulationConfig({self.mesh.n_radial} x {self.mesh.n_angular} cells"
             f"{' (quick)' if self.quick else ''}, cycle {cycle.name!r} ({source}{stops}), "

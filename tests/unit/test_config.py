@@ -697,6 +697,11 @@ def test_a_configuration_and_a_design_print_as_one_line() -> None:
     assert str(quick).startswith("SimulationConfig(21 x 1000 cells (quick), cycle 'paper' "
                                  "(blocks, first 3 stops), S=0, WP=1e-14")  # fmt: skip
     assert "A=10 %" in repr(quick)
+    # more stops than the cycle has: every stop runs, which the repr says (it had said "first
+    # 1000 stops" of a 170-stop cycle: an API review)
+    assert "(blocks, max_stops 1000: all 170 stops)" in repr(
+        paper.with_updates({"cycle.max_stops": 1000})
+    )
     assert repr(load_design("paper")) == (
         "Design('paper': full factorial; factors S, WP, WR, A; 24 tests x 1 replicate; "
         "root_seed 2016)"
