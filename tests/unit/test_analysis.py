@@ -45,6 +45,19 @@ WR = Factor("WR", (1e-7, 1e-6), "m", "Resin wear depth", ("-", "+"))
 A = Factor("A", (10.0, 20.0), "%", "Metal fibre area fraction", ("-", "+"))
 FACTORS = (S, WP, WR, A)
 
+#: The tables of one response's analysis (analyze), in order.
+TABLES = (
+    "main_effects",
+    "interactions",
+    "interactions_long",
+    "anova",
+    "ranked_effects",
+    "residuals",
+    "effects",
+    "trends",
+    "model_summary",
+)
+
 # Known additive effects per level index and a known S x WP interaction.
 EFFECT = {"S": (0.0, 0.02), "WP": (-0.01, 0.0, 0.015), "WR": (0.0, 0.003), "A": (0.0, 0.03)}
 S_WP = ((0.0, 0.0, 0.0), (0.0, 0.004, 0.012))
@@ -368,17 +381,7 @@ def test_each_response_s_analysis_is_a_dataclass_and_a_mapping_of_its_tables() -
     returned before), so code written against the dict reads it unchanged."""
     bundle = analyze(_design(replicates=2), FACTORS, ["MU"])["MU"]
     assert isinstance(bundle, ResponseAnalysis)
-    assert list(bundle) == [
-        "main_effects",
-        "interactions",
-        "interactions_long",
-        "anova",
-        "ranked_effects",
-        "residuals",
-        "effects",
-        "trends",
-        "model_summary",
-    ]
+    assert list(bundle) == list(TABLES)
     assert len(bundle) == 9
     for name in bundle:
         assert bundle[name] is getattr(bundle, name)
@@ -434,17 +437,7 @@ def test_analyze_and_save_tables(tmp_path) -> None:
     result = analyze(rows, FACTORS)
     assert set(result) == {"MU", "V"}
     for bundle in result.values():
-        assert set(bundle) == {
-            "main_effects",
-            "interactions",
-            "interactions_long",
-            "anova",
-            "ranked_effects",
-            "residuals",
-            "effects",
-            "trends",
-            "model_summary",
-        }
+        assert set(bundle) == set(TABLES)
         assert bundle["effects"].empty  # WP has three levels: no two-level effects table
         assert bundle["model_summary"].equals(model_summary(bundle["anova"]))
         assert list(bundle["trends"]["factor"]) == ["WP", "WP"]  # but a trend
