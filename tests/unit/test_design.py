@@ -1702,3 +1702,16 @@ def test_a_combination_that_cannot_run_names_its_choices() -> None:
     assert "factor 'fibres' (field pad.fibre_model): level 'field' with kernel = 'lazy' is not" in (
         str(info.value)
     )
+
+
+def test_the_guide_s_table_of_standard_fractions_is_the_code_s() -> None:
+    """docs/designs.md lists every standard fraction ``fraction_runs`` picks, with its
+    generators (a docs review found the 7-factor, 64-run one missing)."""
+    import re
+
+    guide = (Path(__file__).parents[2] / "docs" / "designs.md").read_text(encoding="utf-8")
+    rows = re.findall(r"^\| (\d+) \| (\d+) \| [IVX]+ \| ([A-Z =,]+) \|$", guide, re.M)
+    listed = {
+        (int(k), int(n)): tuple(g.replace(" ", "") for g in gens.split(", ")) for k, n, gens in rows
+    }
+    assert listed == {key: tuple(STANDARD_FRACTIONS[key]) for key in STANDARD_FRACTIONS}
