@@ -966,7 +966,7 @@ def plot_pareto(
     twin = ax.twinx()
     twin.plot(x, np.nancumsum(pct), "o-", color="#f28e2b", ms=4, lw=1.2)
     twin.set_ylim(0, 105)
-    twin.set_ylabel("Cumulative contribution [%]")
+    twin.set_ylabel("Cumulative contribution [%] (the rest: residual)")
     if not terms:
         ax.text(0.5, 0.5, "no model terms", transform=ax.transAxes, ha="center")
     return save_figure(fig, path)

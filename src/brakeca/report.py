@@ -134,11 +134,14 @@ input.zoom:checked + label.zoom img { max-width: none; }
 the variation first (contribution: the term's sum of squares over the total), a main effect
 with the mean response at each of its levels (the table "Level means": plain means of the
 runs, which a design that is not balanced mixes with the other factors' effects); the
-ANOVA's notes say what its error holds. In a fraction a term is named with its aliases of one
-or two factors (S:mu0 = WP:slope + A:modulus): the share is the whole chain's, which the
-design cannot split among them. The centre points' curvature is always said; where the
-ANOVA's residual lacks fit, the terms that the effects table, tested against the pure error of
-the repeated runs alone, finds besides are named too.</p>
+ANOVA's notes say what its error holds.
+{%- if anova_aliases %} A term is named with its aliases of one or two factors (as
+<code>A:B = C:D</code>): the share is the whole chain's, which the design cannot split among
+them.{% endif %}
+{%- if findings_centre %} The centre points' curvature is always said.{% endif %}
+{%- if findings_pure_error %} Where the ANOVA's residual lacks fit, the terms that the effects
+table, tested against the pure error of the repeated runs alone, finds besides are named
+too.{% endif %}</p>
 <ul>
 {%- for line in findings %}
 <li>{{ line }}</li>
@@ -1305,6 +1308,8 @@ def render_report(
     """
     import jinja2
 
+    from brakeca.analysis import CENTER_TERM, CURVATURE
+
     env = jinja2.Environment(
         autoescape=True,
         undefined=jinja2.StrictUndefined,
@@ -1403,6 +1408,16 @@ def render_report(
         box_cox_info=_BOX_COX_INFO,
         anova_info=anova_info,
         findings=findings,
+        # what the findings' note explains only where the design has it (a review read
+        # aliases, centre points and pure error in a report of a full factorial without them)
+        findings_centre=any(
+            CENTER_TERM in set(t["term"]) or CURVATURE in set(t["term"])
+            for t in anova_tables.values()
+            if "term" in t.columns
+        ),
+        findings_pure_error=any(
+            float(t.attrs.get("pure_error_df", 0) or 0) > 0 for t in anova_tables.values()
+        ),
     )
 
 

@@ -291,8 +291,9 @@ Files (R is the response: MU, V or log10_V_mm3):
 - `main_effects_R.csv`, `interactions_R.csv`: the mean response per level, per pair of levels.
 - `anova_R.csv`, `model_summary_R.csv`, `ranked_effects_R.csv`: the ANOVA of the categorical
   model, its summary (S, R², adjusted and predicted R², the model's formula), its terms by
-  contribution. A term's contribution is its sum of squares in the ANOVA table (Type II or
-  III, or Type I where the design is rank-deficient, as the table's note says) over the
+  contribution. A term's contribution is its sum of squares in the ANOVA table (Type II, or
+  Type III with the design's `anova_type = 3`: the report's ANOVA section names which; Type I
+  where the design is rank-deficient, which the table's `note` column then says) over the
   total about the mean; in a balanced design these
   are Minitab's sequential sums of squares too, in an unbalanced one they differ from them.
   `ranked_effects_R.csv`'s `effect`, for a term of two-level factors only: mean at the high
@@ -1171,7 +1172,11 @@ def _run_file_figures(
             f"final_map_{tag}.png",
             plotting.plot_surface_map,
             *(ds[name].to_numpy() for name in ("final_status", "radius", "angle")),
-            title=f"Test {int(row['test'])}: {levels}",
+            # what the map is after, in the figure too (a review compared its secondary
+            # share of 0 with the summary's last-stop share, which is before rule S)
+            title=f"Test {int(row['test'])}: {levels}; after "
+            + (_cut_short(run.config) or "the whole cycle")
+            + (" and rule S" if removal > 0 else ""),
         )
         if "map_status" not in ds:
             figures.drop(f"maps_by_stop_{tag}.png")
@@ -1199,6 +1204,8 @@ def _run_file_figures(
             "fibre_maps.png",
             plotting.plot_fibre_maps,
             {f"A = {level:g} %": first_pad[level][1] for level in sorted(first_pad)},
+            title="Initial pad surfaces: tests "
+            + " and ".join(str(first_pad[level][0]) for level in sorted(first_pad)),
         )
         figures.listed.insert(pads_at, figures.listed.pop())
     return _RunFiles(unreadable, pm10_of, filed)

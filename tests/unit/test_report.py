@@ -771,3 +771,16 @@ def test_curvature_against_the_pure_error_where_the_residual_lacks_fit() -> None
     fits = frame.copy()
     fits.attrs.update(frame.attrs, lack_of_fit_p=0.4)  # no lack of fit: the ANOVA's alone
     assert "pure error" not in _curvature_text(fits)
+
+
+def test_in_short_explains_only_what_the_design_has(tmp_path) -> None:
+    """A figures-and-report review read aliases (with factors of another study), centre
+    points and pure error in the "In short" note of a full factorial without them: the note
+    now explains each only where the design has it. make_inputs: a replicated full
+    factorial without centre points."""
+    html = render_report(**make_inputs(tmp_path))
+    intro = html[html.index("<h2>In short</h2>") : html.index("</p>", html.index("In short"))]
+    assert "error holds." in intro
+    assert "aliases" not in intro and "S:mu0" not in intro
+    assert "centre points" not in intro
+    assert "pure error of the repeated runs alone" in intro  # two seeds a test: pure error
