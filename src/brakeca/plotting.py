@@ -377,8 +377,11 @@ def plot_interactions(
     colours = ("#27496d", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#b07aa1")
     for i, j in itertools.product(range(size), range(1, nf)):
         ax = grid[i, j - 1]
-        if j <= i:
+        if j < i:
             fig.delaxes(ax)
+            continue
+        if j == i:  # the empty cell left of the row: its legend, as Minitab sets it
+            ax.axis("off")
             continue
         a, b = factors[i], factors[j]
         table = interaction_table(summary, a, b, response)
@@ -405,7 +408,17 @@ def plot_interactions(
         if j == i + 1:
             unit = ylabel[ylabel.rfind("[") :] if ylabel.endswith("]") else ""
             ax.set_ylabel(f"{response} (mean) {unit}".strip(), fontsize=8)
-            ax.legend(title=a.name, fontsize=7, title_fontsize=8, loc="best")
+            # the row's lines are a's levels in every panel of the row: its legend beside
+            # the row where there is room (a review: a legend in the first panel alone, over
+            # its lines, left the colours of the others' unnamed)
+            holder = grid[i, i - 1] if i else ax
+            holder.legend(
+                *ax.get_legend_handles_labels(),
+                title=f"lines: {a.name}",
+                fontsize=7 if not i else 8,
+                title_fontsize=8 if not i else 9,
+                loc="best" if not i else "center right",
+            )
     _suptitle(fig, f"Interaction plot for {response}: {ylabel}")
     return save_figure(root, path)
 
