@@ -1370,6 +1370,11 @@ def render_report(
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
     findings = [
         line
+        + (
+            _v_scale(box_cox, residual_tables, "log10_V_mm3" in anova_tables)
+            if str(r) == "V" and line
+            else ""
+        )
         for r, frame in anova_tables.items()
         if (
             line := _finding(
@@ -1483,6 +1488,37 @@ def _finding(
     if not text:
         return text
     return text + _curvature_finding(frame) + _pure_error_finding(frame, effects)
+
+
+def _v_scale(
+    box_cox: Mapping[str, Any] | None,
+    residual_tables: Mapping[str, pd.DataFrame] | None,
+    log_line: bool,
+) -> str:
+    """The clause of V's "In short" line that says which of its two analyses to read: where
+    the Box-Cox interval of V leaves out λ = 1 and holds λ = 0, that the log10_V_mm3 line is
+    the scale to read, and the runs whose fitted V the linear model makes negative (a
+    figures-and-report review: the two lines disagreed on WR, and nothing said which held);
+    empty where neither applies."""
+    clauses = []
+    bc = (box_cox or {}).get("V")
+    if bc is not None and getattr(bc, "defined", False) and not bc.contains(1.0):
+        if bc.contains(0.0):
+            clauses.append(
+                f"Box-Cox puts V's λ at {bc.lambda_hat:.2f} ({100 * bc.confidence:g} % "
+                f"interval {bc.ci_low:.2f} to {bc.ci_high:.2f}), which holds the log and not "
+                "V as it is" + (": read the log10_V_mm3 line" if log_line else "")
+            )
+    residuals = (residual_tables or {}).get("V")
+    if residuals is not None and {"fitted", "test"} <= set(residuals.columns):
+        negative = residuals.loc[residuals["fitted"] < 0, "test"]
+        if len(negative):
+            tests = ", ".join(str(int(t)) for t in sorted(set(negative)))
+            clauses.append(
+                f"the linear model of V fits a negative volume for test"
+                f"{'s' if negative.nunique() > 1 else ''} {tests}"
+            )
+    return "".join(f"; {c}" for c in clauses)
 
 
 def _curvature_finding(frame: pd.DataFrame) -> str:

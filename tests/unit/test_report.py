@@ -784,3 +784,32 @@ def test_in_short_explains_only_what_the_design_has(tmp_path) -> None:
     assert "aliases" not in intro and "S:mu0" not in intro
     assert "centre points" not in intro
     assert "pure error of the repeated runs alone" in intro  # two seeds a test: pure error
+
+
+def test_in_short_says_which_scale_of_v_to_read() -> None:
+    """A figures-and-report review: V's and log10 V's lines disagreed (WR significant on one
+    scale only) and nothing said which held, while Box-Cox held the log and not V, and the
+    linear model fitted negative volumes. V's line now says both."""
+    import types
+
+    from brakeca.report import _v_scale
+
+    def profile(lam, low, high):
+        return types.SimpleNamespace(
+            defined=True,
+            lambda_hat=lam,
+            ci_low=low,
+            ci_high=high,
+            confidence=0.95,
+            contains=lambda x: low <= x <= high,
+        )
+
+    residuals = pd.DataFrame({"test": [7, 14, 19, 3], "fitted": [-1e-10, -2e-10, -3e-10, 1e-9]})
+    assert _v_scale({"V": profile(0.06, -0.02, 0.14)}, {"V": residuals}, True) == (
+        "; Box-Cox puts V's λ at 0.06 (95 % interval -0.02 to 0.14), which holds the log and "
+        "not V as it is: read the log10_V_mm3 line; the linear model of V fits a negative "
+        "volume for tests 7, 14, 19"
+    )
+    assert _v_scale({"V": profile(0.06, -0.02, 0.14)}, None, False).endswith("not V as it is")
+    assert _v_scale({"V": profile(0.9, 0.6, 1.2)}, {"V": residuals.iloc[3:]}, True) == ""
+    assert _v_scale({"V": profile(0.5, 0.3, 0.7)}, None, True) == ""  # neither 1 nor 0
