@@ -336,6 +336,24 @@ def _base_config(out: Path) -> Any:
         return None
 
 
+def _band_caption(base: Any) -> str:
+    """What a V figure's caption adds for a band narrower than the paper's (the quick band):
+    that its volumes are that band's, a fraction of the full band's, so the paper's figures
+    compare by their shape; empty for the paper's band or an unknown base configuration."""
+    if base is None:
+        return ""
+    from brakeca.presets import load_preset
+
+    rows = load_preset("paper").mesh.n_radial
+    if base.mesh.n_radial >= rows:
+        return ""
+    return (
+        f"; V here leaves the simulated band of {base.mesh.n_radial} rows "
+        f"({base.mesh.band_width * 1e3:g} mm), about {base.mesh.n_radial / rows:.2g} times "
+        "the full band's, so compare its shape with the paper's, not its values"
+    )
+
+
 def _scope(base: Any) -> str:
     """What a campaign left out of the paper's study, for the top of the report: the quick
     band and a cycle cut short (``--stops``); empty for the whole band and cycle."""
@@ -680,8 +698,8 @@ def write_study(
     )
     surfaces = found.surfaces
     if len(found.ok):  # with no finished run there is nothing to plot; the report says why
-        _response_figures(figures, result, found)
-        _cycle_figures(figures, result, _stops_run(result, base))
+        _response_figures(figures, result, found, _band_caption(base))
+        _cycle_figures(figures, result, _stops_run(result, base), _band_caption(base))
     files = _run_file_figures(figures, found.ok, result.design, source / "runs", run_maps=run_maps)
     notes = _study_notes(result, found, files, base, source, note=note)
     summary, pm10_note = _pm10_columns(result.summary, files.pm10_of)
@@ -916,10 +934,13 @@ def _stops_run(result: CampaignResult, base: Any) -> str:
     )
 
 
-def _response_figures(figures: _Figures, result: CampaignResult, found: _Found) -> None:
+def _response_figures(
+    figures: _Figures, result: CampaignResult, found: _Found, band: str = ""
+) -> None:
     """Each response's figures (main effects or a surface's profile, interactions, ranked
     effects, contour plots, residuals), the Box-Cox plots and a response-surface design's
-    overlaid contours."""
+    overlaid contours; ``band`` (:func:`_band_caption`) ends the captions of V's main
+    effects and interactions."""
     from brakeca import analysis, plotting
 
     factors = list(result.design.factors)
@@ -955,7 +976,7 @@ def _response_figures(figures: _Figures, result: CampaignResult, found: _Found) 
         else:
             figures.add(
                 "Main effects",
-                f"Main effects on {label}" + _PAPER_MAIN[resp],
+                f"Main effects on {label}" + _PAPER_MAIN[resp] + (band if resp == "V" else ""),
                 f"main_effects_{resp}.png",
                 plotting.plot_main_effects,
                 data,
@@ -967,6 +988,7 @@ def _response_figures(figures: _Figures, result: CampaignResult, found: _Found) 
                 "Interactions",
                 f"Two-factor interactions on {label}"
                 + _PAPER_INTERACTIONS[resp]
+                + (band if resp == "V" else "")
                 + (
                     "; a panel titled '= ...' shows its pair's interaction together with "
                     "the interactions aliased with it"
@@ -1052,9 +1074,12 @@ def _response_figures(figures: _Figures, result: CampaignResult, found: _Found) 
         )
 
 
-def _cycle_figures(figures: _Figures, result: CampaignResult, stops_run: str) -> None:
+def _cycle_figures(
+    figures: _Figures, result: CampaignResult, stops_run: str, band: str = ""
+) -> None:
     """The figures over the cycle and over the runs: MU per stop (every run's, and by
-    level), and V per run; ``stops_run`` says in the captions what stops the runs ran."""
+    level), and V per run; ``stops_run`` says in the captions what stops the runs ran, and
+    ``band`` (:func:`_band_caption`) ends V's."""
     from brakeca import plotting
 
     factors = list(result.design.factors)
@@ -1084,7 +1109,7 @@ def _cycle_figures(figures: _Figures, result: CampaignResult, stops_run: str) ->
     figures.add(
         "Runs",
         "V for every run (as the paper's Figure 11; on a log axis, a point per test, where the "
-        "tests' V span more than two decades)",
+        "tests' V span more than two decades)" + band,
         "v_per_run.png",
         plotting.plot_v_per_run,
         summary,

@@ -65,3 +65,18 @@ def test_no_note_without_stops_at_the_floor_or_with_a_factor_on_the_friction_law
     assert _floor_note(_result(at_floor, ("friction.mu_min",)), base) == ""
     assert _floor_note(_result(at_floor), None) == ""
     assert "3 of the 3" in _floor_note(_result(at_floor), base)
+
+
+def test_v_captions_of_the_quick_band_say_its_volumes_are_a_fraction_of_the_full_band_s():
+    """A figures review: the quick study's V figures said "as the paper's Figure 8" with
+    volumes a tenth of the paper's band's, and only one sentence at the top said why."""
+    from brakeca.design import quick_config
+    from brakeca.presets import load_preset
+    from brakeca.study import _band_caption
+
+    paper = load_preset("paper")
+    assert _band_caption(paper) == "" and _band_caption(None) == ""
+    assert _band_caption(quick_config(paper)) == (
+        "; V here leaves the simulated band of 21 rows (2 mm), about 0.1 times the full "
+        "band's, so compare its shape with the paper's, not its values"
+    )
