@@ -93,6 +93,12 @@ def _response_axis(response: str) -> tuple[str, float]:
     return _RESPONSES.get(response, (response, 1.0))
 
 
+def _shown(response: str) -> str:
+    """A response as titles name it: ``log10 V`` for the column ``log10_V_mm3`` (a figures
+    review read the column's name as a label), others as they are."""
+    return {"log10_V_mm3": "log10 V"}.get(response, response)
+
+
 def _axis_unit(attrs: Any) -> str:
     """A unit as the axes write it: a dimensionless one ``-``, where a file has UDUNITS'
     ``1``."""
@@ -312,7 +318,7 @@ def plot_main_effects(
         ax.grid(True, axis="y", alpha=0.3)
     axes[0].set_ylabel(ylabel)
     axes[0].legend(loc="best", fontsize=8)
-    _suptitle(fig, f"Main effects plot for {response}")
+    _suptitle(fig, f"Main effects plot for {_shown(response)}")
     return save_figure(root, path)
 
 
@@ -407,7 +413,7 @@ def plot_interactions(
         ax.tick_params(axis="y", labelleft=True, labelsize=8)
         if j == i + 1:
             unit = ylabel[ylabel.rfind("[") :] if ylabel.endswith("]") else ""
-            ax.set_ylabel(f"{response} (mean) {unit}".strip(), fontsize=8)
+            ax.set_ylabel(f"{_shown(response)} (mean) {unit}".strip(), fontsize=8)
             # the row's lines are a's levels in every panel of the row: its legend beside
             # the row where there is room (a review: a legend in the first panel alone, over
             # its lines, left the colours of the others' unnamed)
@@ -419,7 +425,7 @@ def plot_interactions(
                 title_fontsize=8 if not i else 9,
                 loc="best" if not i else "center right",
             )
-    _suptitle(fig, f"Interaction plot for {response}: {ylabel}")
+    _suptitle(fig, f"Interaction plot for {_shown(response)}: {ylabel}")
     return save_figure(root, path)
 
 
@@ -974,7 +980,7 @@ def plot_pareto(
     ax.set_xticks(x, terms, rotation=45, ha="right")
     ax.set_xlabel("Model term")
     ax.set_ylabel("Contribution to total sum of squares [%]")
-    ax.set_title(f"Contribution of the ANOVA terms to {response} (dark: p < 0.05)")
+    ax.set_title(f"Contribution of the ANOVA terms to {_shown(response)} (dark: p < 0.05)")
     ax.grid(True, axis="y", alpha=0.3, zorder=0)
     twin = ax.twinx()
     twin.plot(x, np.nancumsum(pct), "o-", color="#f28e2b", ms=4, lw=1.2)
@@ -1037,7 +1043,7 @@ def plot_effects(
     n = len(effects)
     root, fig = _panels(fig, (11.0, max(4.6, 0.2 * n + 1.4)))  # a bar per effect, each readable
     ax_pareto, ax_half = fig.subplots(1, 2, width_ratios=(1.3, 1.0))
-    _suptitle(fig, f"Effects on {response} ({method}, α = {alpha:g})")
+    _suptitle(fig, f"Effects on {_shown(response)} ({method}, α = {alpha:g})")
     if n == 0:
         for ax in (ax_pareto, ax_half):
             ax.text(0.5, 0.5, "no effects", transform=ax.transAxes, ha="center")
@@ -1434,7 +1440,7 @@ def plot_residuals(
 
     root, fig = _panels(fig, (9.0, 6.5))
     (ax_norm, ax_fit), (ax_hist, ax_order) = fig.subplots(2, 2)
-    _suptitle(fig, f"Residual plots for {response}")
+    _suptitle(fig, f"Residual plots for {_shown(response)}")
     if r.size == 0:
         for ax in (ax_norm, ax_fit, ax_hist, ax_order):
             ax.text(0.5, 0.5, "no usable runs", transform=ax.transAxes, ha="center")

@@ -877,3 +877,14 @@ def test_the_figures_take_a_design_or_an_analysis_as_the_analysis_functions_do(
     assert len(plot_effects(result["MU"], "MU").axes) == 2
     with pytest.raises(KeyError, match=r"response: 'V' is not one of the analysis' responses"):
         plot_pareto(result, "V")
+
+
+def test_titles_name_log10_v_as_a_quantity_not_a_column(summary) -> None:
+    """A figures review read the column name log10_V_mm3 in titles and axes; they say
+    log10 V (its axis label says mm³)."""
+    data = summary.assign(log10_V_mm3=np.log10(summary["V_mm3"]))
+    fig = plot_interactions(data, FACTORS[:2], "log10_V_mm3")
+    title = " ".join(fig.texts[0].get_text().split())  # (wrapped to fit)
+    assert title.startswith("Interaction plot for log10 V: log10 of V in mm³")
+    assert fig.axes[0].get_ylabel() == "log10 V (mean) [-]"
+    assert "log10_V_mm3" not in plot_main_effects(data, FACTORS, "log10_V_mm3").texts[0].get_text()
