@@ -9,7 +9,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["atomic_write", "write_table", "write_text"]
+__all__ = ["atomic_write", "rng_state_from_json", "rng_state_json", "write_table", "write_text"]
 
 
 def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
@@ -37,11 +37,50 @@ def write_text(path: str | Path, text: str) -> Path:
     return atomic_write(path, lambda tmp: tmp.write_text(text, encoding="utf-8", newline="\n"))
 
 
+#: Compression pandas infers from a file's suffix, which the temporary name of
+#: :func:`write_table` does not carry.
+_COMPRESSION = {".gz": "gzip", ".bz2": "bz2", ".zip": "zip", ".xz": "xz", ".zst": "zstd"}
+
+
 def write_table(table: Any, path: str | Path) -> Path:
     """Write a pandas DataFrame ``table`` to ``path`` as CSV without its index, atomically
     (:func:`atomic_write`): an analysis stopped halfway leaves each table whole, the old one
-    or the new one, never a truncated file."""
-    return atomic_write(path, lambda tmp: table.to_csv(tmp, index=False))
+    or the new one, never a truncated file. Compressed by the suffix as pandas does it
+    (``.csv.gz``: gzip)."""
+    compression = _COMPRESSION.get(Path(path).suffix.lower())
+    return atomic_write(path, lambda tmp: table.to_csv(tmp, index=False, compression=compression))
+
+
+def rng_state_json(state: Mapping[str, Any]) -> str:
+    """A numpy bit generator's ``state`` as JSON text; the arrays some generators keep
+    (MT19937's key, Philox's counter, SFC64's state) as ``{"ndarray": [...], "dtype": ...}``
+    (:func:`rng_state_from_json` reads it back)."""
+    import json
+
+    import numpy as np
+
+    def encode(value: Any) -> Any:
+        if isinstance(value, np.ndarray):
+            return {"ndarray": value.tolist(), "dtype": str(value.dtype)}
+        if isinstance(value, np.integer):
+            return int(value)
+        raise TypeError(f"not JSON: {type(value).__name__}")
+
+    return json.dumps(state, default=encode)
+
+
+def rng_state_from_json(text: str) -> dict[str, Any]:
+    """The bit generator state :func:`rng_state_json` wrote, its arrays numpy arrays again."""
+    import json
+
+    import numpy as np
+
+    def decode(obj: dict[str, Any]) -> Any:
+        if set(obj) == {"ndarray", "dtype"}:
+            return np.array(obj["ndarray"], dtype=obj["dtype"])
+        return obj
+
+    return dict(json.loads(text, object_hook=decode))
 
 
 #: Format tag of a run's checkpoint (:func:`brakeca.checkpoint.save_checkpoint`), here so

@@ -88,9 +88,11 @@ Model = bool | int | Sequence[str]
 class ResponseAnalysis(Mapping[str, Any]):
     """The analysis of one response (:func:`analyze`), table by table.
 
-    Each table is an attribute, and also an item by its name (a mapping, as :func:`analyze`
-    returned before this class: ``result["MU"]["anova"]`` is ``result["MU"].anova``, and
-    :func:`save_tables` takes either). The tables' values are in the response's units (MU
+    Each table is an attribute, and also an item by its name (a read-only mapping, as
+    :func:`analyze` returned a dict before this class: ``result["MU"]["anova"]`` is
+    ``result["MU"].anova``, and :func:`save_tables` takes either). Code that changed that
+    dict in place (``bundle["x"] = ...``, ``bundle.copy()``) makes its own,
+    ``dict(bundle)``. The tables' values are in the response's units (MU
     [-], V [m^3 per stop], log10_V_mm3 [-]), the factors' levels in their design units.
 
     Attributes
@@ -988,8 +990,12 @@ def anova(
     data = _clean(summary, factors, response)
     n = len(data)
     y = data[response].to_numpy(dtype=float)
+    dropped = _not_finite(summary, response)
     if n < 2:
-        return _empty_anova(f"only {n} usable run(s) for {response}; no ANOVA possible")
+        return _empty_anova(
+            f"only {n} usable run(s) for {response}; no ANOVA possible"
+            + (f" ({dropped})" if dropped else "")
+        )
     constant = _is_constant(y)
     total_ss = 0.0 if constant else float(np.sum((y - y.mean()) ** 2))
 
@@ -1003,7 +1009,6 @@ def anova(
         y_center=y_center,
         alpha_to_remove=alpha_to_remove,
     )
-    dropped = _not_finite(summary, response)
     if dropped:  # not silently (an API review: only "unbalanced design" said anything)
         notes.insert(0, dropped)
     if not term_names:
@@ -1387,21 +1392,28 @@ def canonical_terms(terms: Any, factors: Sequence[str], *, name: str = "model_te
 
 def _expand_bars(terms: list[str], name: str) -> list[str]:
     """``terms`` with each ``"A|B|C"`` replaced by every term of its factors (``A``, ``B``,
-    ``C``, ``A:B``, ``A:C``, ``B:C``, ``A:B:C``), each made once over all the bars; the other
-    terms as given (checked by :func:`canonical_terms`)."""
+    ``C``, ``A:B``, ``A:C``, ``B:C``, ``A:B:C``), each made once over all the bars and the
+    terms named besides; the other terms as given (checked by :func:`canonical_terms`)."""
+
+    def factors_of(term: str) -> frozenset[str]:
+        return frozenset(p.strip() for p in term.replace("*", ":").split(":"))
+
+    plain = {factors_of(t) for t in terms if "|" not in t}
     out: list[str] = []
     made: set[frozenset[str]] = set()
     for term in terms:
         if "|" not in term:
-            out.append(term)
+            if factors_of(term) not in made:  # a bar's term named again: once
+                out.append(term)
             continue
         parts = [p.strip() for p in term.split("|")]
         if len(set(parts)) < len(parts):
             raise ValueError(f"{name}: term {term!r} names a factor twice")
         for k in range(1, len(parts) + 1):
             for combo in itertools.combinations(parts, k):
-                if frozenset(combo) not in made:
-                    made.add(frozenset(combo))
+                key = frozenset(combo)
+                if key not in made and key not in plain:  # (a review: "S + S|WP" had
+                    made.add(key)  # said S was given twice)
                     out.append(":".join(combo))
     return out
 

@@ -929,7 +929,7 @@ def _table_of(given: Any, table: str, response: str) -> Any:
 
 
 def plot_pareto(
-    ranked: pd.DataFrame,
+    ranked: pd.DataFrame | ResponseAnalysis | Mapping[str, ResponseAnalysis],
     response: str,
     path: str | Path | None = None,
     *,
@@ -992,7 +992,7 @@ def plot_pareto(
 
 
 def plot_effects(
-    effects: pd.DataFrame,
+    effects: pd.DataFrame | ResponseAnalysis | Mapping[str, ResponseAnalysis],
     response: str,
     path: str | Path | None = None,
     *,
@@ -1378,7 +1378,7 @@ def _limits_text(goal: Any) -> str:
 
 
 def plot_residuals(
-    residuals: pd.DataFrame,
+    residuals: pd.DataFrame | ResponseAnalysis | Mapping[str, ResponseAnalysis],
     response: str,
     path: str | Path | None = None,
     *,

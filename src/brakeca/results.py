@@ -41,7 +41,6 @@ J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Se
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -51,7 +50,7 @@ import xarray as xr
 
 from brakeca import __version__
 from brakeca import _records as R  # the record columns (without numba)
-from brakeca._io import atomic_write
+from brakeca._io import atomic_write, rng_state_from_json
 from brakeca.config import SimulationConfig
 
 __all__ = [
@@ -274,7 +273,7 @@ class RunResult:
                 "this run was given a generator (seed -1) and its file does not record the "
                 "generator's state (rng_state): it was written by an earlier brakeca"
             )
-        state = json.loads(state)
+        state = rng_state_from_json(state)
         bit_generator = getattr(np.random, state["bit_generator"])()
         bit_generator.state = state
         return np.random.Generator(bit_generator)

@@ -9,7 +9,6 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
-import json
 import time
 from collections.abc import Callable, Iterable
 from pathlib import Path
@@ -18,6 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from brakeca import _records as R
+from brakeca._io import rng_state_json
+from brakeca.automaton import Exposure  # noqa: F401 (importable from here, as before)
 from brakeca.checkpoint import (
     Checkpoint,
     CheckpointError,
@@ -26,10 +27,11 @@ from brakeca.checkpoint import (
     save_checkpoint,
 )
 from brakeca.config import MAX_SEED, SimulationConfig
-from brakeca.cycle import cycle_events, map_stops
+from brakeca.cycle import Stop, cycle_events, map_stops  # noqa: F401 (Stop: as before)
 from brakeca.geometry import make_grid
 from brakeca.state import SimulationState, StopLog
-from brakeca.stop import (
+from brakeca.stop import (  # noqa: F401 (FRICTION_TOLERANCE: importable from here, as before)
+    FRICTION_TOLERANCE,
     LedgerError,
     StopSteps,
     _check_friction,
@@ -62,6 +64,9 @@ __all__ = [
 ]
 
 Progress = Callable[[int, int], None]
+
+#: (the name :class:`~brakeca.state.StopLog` had here before the fortieth session)
+_StopLog = StopLog
 
 
 def simulate(
@@ -182,7 +187,7 @@ def simulate(
         )
     else:
         seed = -1
-        rng_start = json.dumps(rng.bit_generator.state)
+        rng_start = rng_state_json(rng.bit_generator.state)
     if checkpoint_every < 1:
         raise ValueError(f"checkpoint_every must be >= 1, got {checkpoint_every}")
     grid = make_grid(config)

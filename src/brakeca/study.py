@@ -344,13 +344,14 @@ def _band_caption(base: Any) -> str:
         return ""
     from brakeca.presets import load_preset
 
-    rows = load_preset("paper").mesh.n_radial
-    if base.mesh.n_radial >= rows:
+    full = load_preset("paper").mesh.band_width  # [m]
+    width = base.mesh.band_width
+    if width >= full * (1 - 1e-9):  # by the width, not the rows (a review: 101 rows of 0.2 mm)
         return ""
     return (
         f"; V here leaves the simulated band of {base.mesh.n_radial} rows "
-        f"({base.mesh.band_width * 1e3:g} mm), about {base.mesh.n_radial / rows:.2g} times "
-        "the full band's, so compare its shape with the paper's, not its values"
+        f"({width * 1e3:g} mm), about {width / full:.2g} times the full band's, so compare "
+        "its shape with the paper's, not its values"
     )
 
 

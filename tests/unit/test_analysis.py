@@ -408,6 +408,11 @@ def test_a_finished_run_without_a_finite_response_is_named_not_dropped_silently(
     )
     assert table.attrs["n"] == len(rows) - 2
     assert anova(_design(replicates=2), FACTORS, "MU").attrs["note"] == ""
+    few = _design(replicates=1).iloc[:3].assign(MU=[0.3, np.nan, np.nan])
+    assert anova(few, FACTORS, "MU").attrs["note"] == (
+        "only 1 usable run(s) for MU; no ANOVA possible (2 finished run(s) left out, MU not a "
+        "finite number: test 2, test 3)"
+    )
     rows["replicate"] = rows.groupby("test").cumcount()  # replicates are named where they differ
     assert (
         anova(rows, FACTORS, "MU")

@@ -104,6 +104,9 @@ def test_minitab_s_bar_stands_for_every_term_of_its_factors() -> None:
     assert canonical_terms("S|WP|A", NAMES) == ["S", "WP", "A", "S:WP", "S:A", "WP:A", "S:WP:A"]
     assert canonical_terms("S | WP  WP|A WR", NAMES) == ["S", "WP", "WR", "A", "S:WP", "WP:A"]
     assert split_terms("S | WP|A, WR") == ["S|WP|A", "WR"]
+    # a term a bar makes, also named on its own, is one term (a review: "given twice")
+    assert canonical_terms("S + S|WP", NAMES) == ["S", "WP", "S:WP"]
+    assert canonical_terms("S|WP S*WP", NAMES) == ["S", "WP", "S:WP"]
     rows = _design(replicates=2)
     by_bar = anova(rows, FACTORS, "MU", interactions="S|WP|WR|A")
     assert list(by_bar["term"]) == list(anova(rows, FACTORS, "MU", interactions=4)["term"])

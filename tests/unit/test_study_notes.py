@@ -76,6 +76,8 @@ def test_v_captions_of_the_quick_band_say_its_volumes_are_a_fraction_of_the_full
 
     paper = load_preset("paper")
     assert _band_caption(paper) == "" and _band_caption(None) == ""
+    wide = paper.with_updates({"mesh.n_radial": 101, "mesh.radial_step": 200e-6})
+    assert _band_caption(wide) == ""  # the full 20 mm in fewer, wider rows
     assert _band_caption(quick_config(paper)) == (
         "; V here leaves the simulated band of 21 rows (2 mm), about 0.1 times the full "
         "band's, so compare its shape with the paper's, not its values"
