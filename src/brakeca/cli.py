@@ -597,6 +597,7 @@ def simulate(
             "mm): the model sets no pad thickness and wears on (docs/model.md section 6)",
             highlight=False,
         )
+    _fibre_share_note(out, config, ds)
     out.print(
         f"ledger residual (max, relative) = {float(ds['max_ledger_residual']):.2e}; "
         f"friction residual (max) = {float(ds['max_friction_residual']):.2e}"
@@ -607,6 +608,31 @@ def simulate(
         for line in pm10_from_run(result, source.distance).describe():
             out.print(line, highlight=False)
     out.print(f"wrote {output}", markup=False)
+
+
+def _fibre_share_note(out: Any, config: Any, ds: Any) -> None:
+    """A note where the pad's fibres cover a share of the band at the start far from A (more
+    than a quarter of A, or 2 points, off): a band too small against the fibres' size
+    (pad.fibre_length_max, pad.fibre_diameter_max) draws too few of them to reach A (an API
+    review: 3 x 100 cells at A = 10 % began with 33 % primary, without a word). Columns
+    only: a fibre field buries fibres on purpose."""
+    import numpy as np
+
+    from brakeca.geometry import make_grid
+
+    wanted = float(config.pad.fibre_area_fraction)
+    if config.pad.fibre_model != "columns" or wanted <= 0:
+        return
+    weights = np.broadcast_to(make_grid(config).cell_area[:, None], ds["initial_status"].shape)
+    share = float((weights * (ds["initial_status"].to_numpy() == 1)).sum() / weights.sum())
+    if abs(share - wanted) > max(0.25 * wanted, 0.02):
+        out.print(
+            f"[yellow]note:[/] the fibres cover {100 * share:.3g} % of the band at the start, "
+            f"not A = {100 * wanted:g} %: the band ({config.mesh.n_radial} x "
+            f"{config.mesh.n_angular} cells) is too small against the fibres' size to hold "
+            "A's share of them, and its results do not stand for A",
+            highlight=False,
+        )
 
 
 def _percent_levels(text: str) -> list[float]:

@@ -556,3 +556,25 @@ def test_a_full_disk_is_an_oserror_not_a_crash(tmp_path, run) -> None:
     assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
     assert done.stdout.split() == ["OSError", "27"], done.stdout  # EFBIG: File too large
     assert sorted(p.name for p in tmp_path.iterdir()) == ["full.py", "in.nc"]
+
+
+def test_a_band_too_small_for_its_fibres_gets_a_note():
+    """An API review: 3 x 100 cells at A = 10 % began with a third of the band primary, and
+    nothing said so; the command line now notes a start far from A (and not on the quick
+    band, whose share is near A)."""
+    import io
+
+    from rich.console import Console
+
+    from brakeca.cli import _fibre_share_note
+
+    config = load_preset().with_updates({"mesh.n_radial": 3, "mesh.n_angular": 100, "A": 10})
+    status = np.zeros((3, 100), dtype=np.int8)
+    for share, noted in ((0.33, True), (0.11, False)):
+        status[:] = 0
+        status[:, : round(100 * share)] = 1
+        out = Console(file=io.StringIO(), width=300)
+        _fibre_share_note(out, config, xr.Dataset({"initial_status": (("r", "a"), status)}))
+        text = out.file.getvalue()
+        assert ("the fibres cover 33 % of the band at the start, not A = 10 %" in text) is noted
+        assert bool(text) is noted
