@@ -68,7 +68,7 @@ from brakeca._executors import (
     make_executor,
     terminate_as_interrupt,
 )
-from brakeca._io import atomic_write, checkpoint_resumes
+from brakeca._io import checkpoint_resumes, write_text
 from brakeca._runstore import (
     CampaignLockedError,
     _finish,
@@ -426,7 +426,7 @@ def _run_locked(
     dataset = _campaign_dataset(campaign_design, ordered, summary, base)
     summary_text = summary.to_csv(index=False)
     replaced, why = _stale_analysis(out, summary_text)
-    atomic_write(out / "summary.csv", lambda tmp: tmp.write_text(summary_text, encoding="utf-8"))
+    write_text(out / "summary.csv", summary_text)
     if replaced:
         say(console, f"[dim]removed the earlier study's analysis ({', '.join(replaced)}): {why}[/]")
     from brakeca.results import write_atomic  # made in memory: a full disk is an OSError

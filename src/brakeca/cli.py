@@ -616,15 +616,13 @@ def _fibre_share_note(out: Any, config: Any, ds: Any) -> None:
     (pad.fibre_length_max, pad.fibre_diameter_max) draws too few of them to reach A (an API
     review: 3 x 100 cells at A = 10 % began with 33 % primary, without a word). Columns
     only: a fibre field buries fibres on purpose."""
-    import numpy as np
-
-    from brakeca.geometry import make_grid
+    from brakeca.geometry import status_area_fractions
 
     wanted = float(config.pad.fibre_area_fraction)
     if config.pad.fibre_model != "columns" or wanted <= 0:
         return
-    weights = np.broadcast_to(make_grid(config).cell_area[:, None], ds["initial_status"].shape)
-    share = float((weights * (ds["initial_status"].to_numpy() == 1)).sum() / weights.sum())
+    status = ds["initial_status"].to_numpy()
+    share = float(status_area_fractions(status, ds["radius"].to_numpy())[1])
     if abs(share - wanted) > max(0.25 * wanted, 0.02):
         out.print(
             f"[yellow]note:[/] the fibres cover {100 * share:.3g} % of the band at the start, "

@@ -303,7 +303,8 @@ def cycle_events(config: SimulationConfig) -> list:
 
 
 def map_stops(maps_at: Iterable[int], n_stops: int, *, name: str = "maps_at") -> list[int]:
-    """``maps_at`` (:func:`simulate`) checked against a cycle of ``n_stops`` stops.
+    """``maps_at`` (:func:`brakeca.simulation.simulate`) checked against a cycle of
+    ``n_stops`` stops.
 
     Parameters
     ----------

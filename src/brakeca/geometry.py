@@ -17,7 +17,7 @@ import numpy as np
 
 from brakeca.config import SimulationConfig
 
-__all__ = ["Grid", "make_grid"]
+__all__ = ["Grid", "make_grid", "status_area_fractions"]
 
 
 @dataclass(frozen=True)
@@ -114,3 +114,26 @@ def make_grid(config: SimulationConfig) -> Grid:
         columns_per_subdomain=mesh.columns_per_subdomain,
         n_subdomains=mesh.n_subdomains,
     )
+
+
+def status_area_fractions(status: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    """The share of the band's area [-] each cell status covers: resin (0), primary (1) and
+    secondary plateaus (2), a cell's area proportional to its row's radius.
+
+    Parameters
+    ----------
+    status : ndarray, shape (n_radial, n_angular)
+        Cell statuses [-].
+    radius : ndarray, shape (n_radial,)
+        Row radii [m] (any unit: only their ratios count).
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        The fractions of status 0, 1 and 2 [-]; zeros for an empty band.
+    """
+    weights = np.broadcast_to(np.asarray(radius, dtype=float)[:, None], status.shape)
+    total = weights.sum()
+    if total <= 0:
+        return np.zeros(3)
+    return np.array([weights[status == k].sum() / total for k in range(3)])

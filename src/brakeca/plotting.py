@@ -37,6 +37,7 @@ from brakeca.analysis import (
     main_effects,
     ok_runs,
 )
+from brakeca.geometry import status_area_fractions
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -1607,15 +1608,6 @@ def _check_map(status: Any, radius: Any, angle: Any) -> tuple[np.ndarray, np.nda
     return s.astype(np.int8), r, a
 
 
-def _area_fractions(status: np.ndarray, radius: np.ndarray) -> np.ndarray:
-    """Area fraction of each status code; a cell's area is proportional to its radius."""
-    weights = np.broadcast_to(radius[:, None], status.shape)
-    total = weights.sum()
-    if total <= 0:
-        return np.zeros(3)
-    return np.array([weights[status == k].sum() / total for k in range(3)])
-
-
 def _draw_map(
     ax: Axes, status: Any, radius: Any, angle: Any, title: str
 ) -> tuple[list[Any], np.ndarray]:
@@ -1650,7 +1642,7 @@ def _draw_map(
     handles = [
         Patch(facecolor=STATUS_COLOURS[k], edgecolor="0.4", label=STATUS_NAMES[k]) for k in range(3)
     ]
-    return handles, _area_fractions(s, r)
+    return handles, status_area_fractions(s, r)
 
 
 def plot_surface_map(

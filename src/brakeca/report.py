@@ -32,7 +32,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca._console import run_named
-from brakeca._io import atomic_write
+from brakeca._io import write_text
 from brakeca.boxcox import UNUSUAL_RESIDUAL as _BOX_COX_UNUSUAL
 
 __all__ = ["REPORT_TEMPLATE", "format_p_value", "render_report", "write_report"]
@@ -1719,6 +1719,4 @@ def write_report(
         trend_tables=trend_tables,
         residual_tables=residual_tables,
     )
-    path = Path(path)
-    atomic_write(path, lambda tmp: tmp.write_text(html, encoding="utf-8", newline="\n"))
-    return path
+    return write_text(path, html)

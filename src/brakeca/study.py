@@ -662,13 +662,8 @@ def write_study(
     from brakeca import report
 
     if not hasattr(result, "out_dir"):  # a folder, say: 'str' object has no attribute ...
-        raise TypeError(
-            f"result: a campaign result, not {type(result).__name__}"
-            + (
-                f" ({str(result)!r}): brakeca.load_campaign(folder) reads a campaign folder"
-                if isinstance(result, str | Path)
-                else ""
-            )
+        raise _not_a(
+            "a campaign result", result, "brakeca.load_campaign(folder) reads a campaign folder"
         )
     source = Path(result.out_dir)
     out = source if output is None else Path(output)
@@ -699,8 +694,9 @@ def write_study(
     )
     surfaces = found.surfaces
     if len(found.ok):  # with no finished run there is nothing to plot; the report says why
-        _response_figures(figures, result, found, _band_caption(base))
-        _cycle_figures(figures, result, _stops_run(result, base), _band_caption(base))
+        band = _band_caption(base)
+        _response_figures(figures, result, found, band)
+        _cycle_figures(figures, result, _stops_run(result, base), band)
     files = _run_file_figures(figures, found.ok, result.design, source / "runs", run_maps=run_maps)
     notes = _study_notes(result, found, files, base, source, note=note)
     summary, pm10_note = _pm10_columns(result.summary, files.pm10_of)
@@ -747,6 +743,13 @@ def write_study(
             if tables[resp].get("residuals") is not None
         },
     )
+
+
+def _not_a(what: str, given: Any, reader: str) -> TypeError:
+    """The error for ``result`` that is not ``what``; for a path, with the call that reads
+    the file (``reader``)."""
+    path = f" ({str(given)!r}): {reader}" if isinstance(given, str | Path) else ""
+    return TypeError(f"result: {what}, not {type(given).__name__}{path}")
 
 
 def destination_problem(campaign_dir: str | Path, output: str | Path) -> str | None:
@@ -1184,8 +1187,9 @@ def _run_file_figures(
             f", replicate {int(row['replicate'])} (seed {int(row['seed'])})" if replicated else ""
         )
         tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
-        after = _cut_short(run.config) or "the whole cycle"
+        span = _cut_short(run.config) or "the whole cycle"
         removal = run.config.automaton.secondary_removal_fraction
+        after = span
         if removal > 0:  # the map is the state after the S rule of the last stop
             after += (
                 f", after the S rule (S = {removal:g}) removed secondary plateaus at the "
@@ -1200,8 +1204,7 @@ def _run_file_figures(
             *(ds[name].to_numpy() for name in ("final_status", "radius", "angle")),
             # what the map is after, in the figure too (a review compared its secondary
             # share of 0 with the summary's last-stop share, which is before rule S)
-            title=f"Test {int(row['test'])}: {levels}; after "
-            + (_cut_short(run.config) or "the whole cycle")
+            title=f"Test {int(row['test'])}: {levels}; after {span}"
             + (" and rule S" if removal > 0 else ""),
         )
         if "map_status" not in ds:
@@ -1341,14 +1344,7 @@ def plot_run(result: RunResult, folder: str | Path, name: str | None = None) -> 
     from brakeca.plotting import plot_cof_series, plot_fibre_maps, plot_mu_per_stop
 
     if not isinstance(result, RunResult):  # a run file's path, say (an API review)
-        raise TypeError(
-            f"result: a RunResult, not {type(result).__name__}"
-            + (
-                f" ({str(result)!r}): brakeca.RunResult.from_netcdf(path) reads a run file"
-                if isinstance(result, str | Path)
-                else ""
-            )
-        )
+        raise _not_a("a RunResult", result, "brakeca.RunResult.from_netcdf(path) reads a run file")
     ds = result.dataset
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)

@@ -576,7 +576,11 @@ def test_a_band_too_small_for_its_fibres_gets_a_note():
         status[:] = 0
         status[:, : round(100 * share)] = 1
         out = Console(file=io.StringIO(), width=300)
-        _fibre_share_note(out, config, xr.Dataset({"initial_status": (("r", "a"), status)}))
+        ds = xr.Dataset(
+            {"initial_status": (("radius", "angle"), status)},
+            coords={"radius": [0.112, 0.1121, 0.1122]},  # [m]
+        )
+        _fibre_share_note(out, config, ds)
         text = out.file.getvalue()
         assert ("the fibres cover 33 % of the band at the start, not A = 10 %" in text) is noted
         assert bool(text) is noted
