@@ -50,6 +50,8 @@ from brakeca._io import write_table
 __all__ = [
     "ANOVA_COLUMNS",
     "ANOVA_TYPES",
+    "COEFFICIENT_COLUMNS",
+    "CONSTANT_TERM",
     "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
     "TREND_COLUMNS",
@@ -66,6 +68,7 @@ __all__ = [
     "interaction_table",
     "interaction_tables",
     "interactions_long",
+    "level_coefficients",
     "main_effects",
     "model_matrix",
     "model_summary",
@@ -117,6 +120,10 @@ class ResponseAnalysis(Mapping[str, Any]):
         levels or more.
     model_summary : DataFrame
         One row: S, R², adjusted and predicted R² of the ANOVA's fit (:func:`model_summary`).
+    coefficients : DataFrame
+        The model's coefficient at every level of its terms, with the regression equation
+        in its ``attrs["equation"]`` (:func:`level_coefficients`): Minitab's table for a
+        general factorial (a factor of three levels, the paper's WP).
     """
 
     main_effects: pd.DataFrame
@@ -128,6 +135,7 @@ class ResponseAnalysis(Mapping[str, Any]):
     effects: pd.DataFrame
     trends: pd.DataFrame
     model_summary: pd.DataFrame
+    coefficients: pd.DataFrame
 
     def __getitem__(self, name: str) -> Any:
         if not isinstance(name, str) or name not in self._names():
@@ -2939,6 +2947,279 @@ def _trends(
     return out
 
 
+#: Columns of the table returned by :func:`level_coefficients`, in order.
+COEFFICIENT_COLUMNS: tuple[str, ...] = (
+    "term",
+    "level",
+    "coefficient",
+    "se",
+    "t",
+    "p_value",
+    "vif",
+    "derived",
+    "significant",
+)
+
+#: The constant's row in :func:`level_coefficients` (Minitab's name for it).
+CONSTANT_TERM = "Constant"
+
+
+def level_coefficients(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: Model = True,
+    typ: int = 2,
+    alpha_to_remove: float | None = None,
+    alpha: float = 0.05,
+) -> pd.DataFrame:
+    """The coefficients of the ANOVA's model at every level of its factors, as Minitab's
+    "Coefficients" table and regression equation give them for a general full factorial.
+
+    Every factor is categorical and coded by effects (sum-to-zero) coding, as Minitab codes a
+    general factorial's factors: a factor of ``k`` levels has ``k - 1`` columns, column
+    ``j`` being 1 at level ``j``, -1 at the last level and 0 elsewhere, and an interaction's
+    columns are the products of its factors'. The coefficient of a level is then the
+    deviation of the model's mean at that level from the constant (in a balanced design, the
+    level's mean response less the grand mean); a factor's coefficients add up to zero over
+    its levels, and an interaction's over each of its factors' levels. Minitab prints every
+    level but each factor's last, which the others fix; here that level is given too
+    (``derived``, as JMP's "Expanded Estimates" give it), with its standard error from the
+    coefficients' covariance. This is the table a design with a factor of three levels or
+    more has in place of :func:`two_level_effects` (the paper's WP); for a two-level factor
+    the coefficient of its second level is half its effect.
+
+    The model is :func:`anova`'s (the same terms, pooling and elimination), fitted to the
+    runs at the factors' levels; standard errors, t and p come from the ANOVA's residual
+    mean square and degrees of freedom (with centre points, their pure error included, and a
+    last row :data:`CENTER_TERM`, the centre points' mean less the constant, as Minitab's
+    "Ct Pt").
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
+        are used).
+    factors
+        The design's factors, or the design (or a campaign result).
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions, typ, alpha_to_remove
+        The ANOVA's model, as :func:`anova` takes them.
+    alpha
+        Significance level of ``significant`` [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`COEFFICIENT_COLUMNS`, one row per level of each term, in the model's order
+        after :data:`CONSTANT_TERM`: ``term`` (``"WP"``, ``"S:WP"``), ``level`` (the level's
+        label, ``"+"``, or its value; an interaction's levels joined by ``", "`` in the
+        term's order), ``coefficient`` and ``se`` [response unit], ``t``, ``p_value`` and
+        ``vif`` (of the coefficient's column; NaN for a derived level) [-], ``derived``
+        (the level Minitab leaves out: a factor's last level, or an interaction cell at the
+        last level of one of its factors) and ``significant`` (``p_value < alpha``). Without
+        residual degrees of freedom ``se``, ``t`` and ``p_value`` are NaN, as Minitab prints
+        "*". Empty where no factor varies or the model matrix is rank-deficient (empty
+        cells); ``attrs["note"]`` says why. ``attrs`` also carries ``equation``, the
+        regression equation with every level (``"MU = 0.4 + 0.01 S[-] - 0.01 S[+] + ..."``,
+        the level in brackets standing for 1 at that level and 0 elsewhere, as Minitab
+        writes its general factorial's equation), ``df_resid``, ``alpha`` and ``formula``
+        (the ANOVA's).
+
+    References
+    ----------
+    D. C. Montgomery, *Design and Analysis of Experiments*, 8th ed., Wiley, 2013, section
+    5.3 (the effects model of a factorial) and 3.9.2.
+
+    Examples
+    --------
+    A 3 x 2 design, replicated, whose level means of WP are 0.30, 0.40 and 0.50 (and A adds
+    0.02 at its second level):
+
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor, level_coefficients
+    >>> factors = [Factor("WP", (1.0, 2.0, 3.0), labels=("-", "0", "+")), Factor("A", (10.0, 20.0))]
+    >>> runs = pd.DataFrame({
+    ...     "WP": [1.0, 2.0, 3.0] * 4,
+    ...     "A": [10.0] * 6 + [20.0] * 6,
+    ...     "MU": [0.30, 0.39, 0.50, 0.28, 0.39, 0.48, 0.31, 0.42, 0.51, 0.31, 0.40, 0.51],
+    ... })
+    >>> table = level_coefficients(runs, factors, "MU", interactions=False)
+    >>> columns = ["term", "level", "coefficient", "se", "p_value", "derived"]
+    >>> print(table[columns].round(4).to_string(index=False))
+        term level  coefficient     se  p_value  derived
+    Constant               0.40 0.0025   0.0000    False
+          WP     -        -0.10 0.0035   0.0000    False
+          WP     0         0.00 0.0035   1.0000    False
+          WP     +         0.10 0.0035   0.0000     True
+           A    10        -0.01 0.0025   0.0039    False
+           A    20         0.01 0.0025   0.0039     True
+    >>> print(table.attrs["equation"])
+    MU = 0.4 - 0.1 WP[-] + 0 WP[0] + 0.1 WP[+] - 0.01 A[10] + 0.01 A[20]
+    """
+    problem = alpha_problem(alpha, usual="0.05 is usual")
+    if problem:
+        raise ValueError(f"alpha: {problem}")
+    raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
+    table = anova(
+        summary, raw, response, interactions=interactions, typ=typ, alpha_to_remove=alpha_to_remove
+    )
+    return _coefficients(summary, raw, response, table, interactions, alpha_to_remove, alpha)
+
+
+def _coefficients(
+    summary: pd.DataFrame,
+    raw: list[Any],
+    response: str,
+    table: pd.DataFrame,
+    interactions: Model,
+    alpha_to_remove: float | None,
+    alpha: float = 0.05,
+) -> pd.DataFrame:
+    """:func:`level_coefficients` of the design's factors ``raw`` against ``table``, the
+    :func:`anova` of the same model (which :func:`analyze` has already)."""
+    from scipy import stats
+
+    out = pd.DataFrame({c: pd.Series(dtype=float) for c in COEFFICIENT_COLUMNS})
+    out = out.astype({"term": object, "level": object, "derived": bool, "significant": bool})
+    out.attrs.update(note="", equation="", df_resid=math.nan, alpha=alpha)
+    out.attrs["formula"] = table.attrs.get("formula", "")
+    factors_, data, _, centre, model = _fitted_model(
+        summary, raw, response, interactions, alpha_to_remove
+    )
+    if model is None or "Residual" not in set(table["term"]):
+        out.attrs["note"] = "no model to fit"
+        return out
+    frame, term_names, terms, _ = model
+    by_name = {f.name: f for f in factors_}
+    column_of = {col: name for col, name in term_names.items() if ":" not in col}
+    y = frame["y"].to_numpy(dtype=float)
+    # each factor's levels in the data (design order), its labels and its effects coding,
+    # L (k x (k - 1)): the full set of level coefficients is L times the estimated ones
+    levels: dict[str, list[str]] = {}
+    coding: dict[str, np.ndarray] = {}
+    columns: dict[str, np.ndarray] = {}
+    for col in column_of:
+        name = col[2:-1]  # "C(f1)" -> "f1"
+        factor = by_name[column_of[col]]
+        codes = np.array([int(c[1:]) for c in frame[name]])
+        present = np.unique(codes)
+        levels[col] = [factor.level_label(factor.levels[c]) for c in present]
+        k = present.size
+        coding[col] = np.vstack([np.eye(k - 1), -np.ones((1, k - 1))])
+        columns[col] = coding[col][np.searchsorted(present, codes)]
+    blocks = [np.ones((y.size, 1))]
+    spans = []
+    for term in terms:
+        parts = [f"C({p[2:-1]})" for p in term.split(":")]
+        block = np.ones((y.size, 1))
+        expand = np.ones((1, 1))
+        labels = [""]
+        for part in parts:
+            block = (block[:, :, None] * columns[part][:, None, :]).reshape(y.size, -1)
+            expand = np.kron(expand, coding[part])
+            labels = [f"{a}, {b}" if a else b for a in labels for b in levels[part]]
+        # the cells (levels' indices) in the order of kron's rows; a cell at the last level
+        # of one of its factors is derived, any other is the estimated column it names
+        sizes = [len(levels[part]) for part in parts]
+        cells = list(itertools.product(*(range(k) for k in sizes)))
+        column = [
+            -1
+            if any(i == k - 1 for i, k in zip(cell, sizes, strict=True))
+            else int(np.ravel_multi_index(cell, [k - 1 for k in sizes]))
+            for cell in cells
+        ]
+        spans.append((term, sum(b.shape[1] for b in blocks), expand, labels, column))
+        blocks.append(block)
+    exog = np.hstack(blocks)
+    if np.linalg.matrix_rank(exog) < exog.shape[1]:
+        out.attrs["note"] = "the design is rank-deficient (empty cells): no coefficients"
+        return out
+    inverse = np.linalg.inv(exog.T @ exog)
+    coef = inverse @ (exog.T @ y)
+    vif = _vif(exog)
+    rows = table.set_index("term")
+    df_resid = float(rows.loc["Residual", "df"])
+    mse = float(rows.loc["Residual", "mean_sq"]) if df_resid > 0.5 else math.nan
+    out.attrs["df_resid"] = df_resid
+    if math.isnan(mse):
+        out.attrs["note"] = "no residual degrees of freedom: no standard errors, t or p"
+
+    def row(term: str, level: str, b: float, var: float, v: float, derived: bool) -> dict:
+        se = math.sqrt(mse * var) if not math.isnan(mse) else math.nan
+        if se > 0:
+            t = b / se
+        elif se == 0.0:  # an exact fit, as the ANOVA has it
+            t = math.copysign(math.inf, b) if b != 0 else math.nan
+        else:
+            t = math.nan
+        p = float(2.0 * stats.t.sf(abs(t), df_resid)) if not math.isnan(t) else math.nan
+        significant = bool(p < alpha) if not math.isnan(p) else False
+        return dict(
+            term=term,
+            level=level,
+            coefficient=b,
+            se=se,
+            t=t,
+            p_value=p,
+            vif=v,
+            derived=derived,
+            significant=significant,
+        )
+
+    records = [row(CONSTANT_TERM, "", float(coef[0]), float(inverse[0, 0]), math.nan, False)]
+    for term, start, expand, labels, column in spans:
+        estimated = slice(start, start + expand.shape[1])
+        full = expand @ coef[estimated]
+        variance = np.einsum("ij,jk,ik->i", expand, inverse[estimated, estimated], expand)
+        name = term_names[term]
+        for i, label in enumerate(labels):
+            j = column[i]
+            records.append(
+                row(
+                    name,
+                    label,
+                    float(full[i]),
+                    float(variance[i]),
+                    float(vif[start + j]) if j >= 0 else math.nan,
+                    j < 0,
+                )
+            )
+    n_c = int(np.sum(centre))
+    if n_c:
+        y_c = data.loc[centre, response].to_numpy(dtype=float)
+        b = float(y_c.mean()) - float(coef[0])
+        records.append(row(CENTER_TERM, "", b, 1.0 / n_c + float(inverse[0, 0]), math.nan, False))
+    attrs = dict(out.attrs)
+    out = pd.DataFrame(records, columns=list(COEFFICIENT_COLUMNS))
+    out.attrs.update(attrs)
+    out.attrs["equation"] = _equation(out, response)
+    return out
+
+
+def _equation(table: pd.DataFrame, response: str, *, scale: float = 1.0) -> str:
+    """The regression equation of a :func:`level_coefficients` table, ``"MU = 0.4 - 0.1
+    WP[-] + ..."``: its rows' coefficients times ``scale`` (e.g. 1e9 for V in mm^3), each to
+    4 significant digits (one within 1e-12 of the largest in size is written 0, not
+    -1.388e-17), named ``term[level]`` (the constant unnamed; ``Ct Pt`` as it is)."""
+    values = table["coefficient"].to_numpy(dtype=float) * scale
+    largest = float(np.max(np.abs(values))) if values.size else 0.0
+    text = f"{response} ="
+    for k, (term, level, value) in enumerate(
+        zip(table["term"], table["level"], values, strict=True)
+    ):
+        if abs(value) <= 1e-12 * largest:
+            value = 0.0
+        name = "" if term == CONSTANT_TERM else (term if not level else f"{term}[{level}]")
+        if k == 0:
+            text += f" {value:.4g}" + (f" {name}" if name else "")
+        else:
+            text += f" {'-' if value < 0 else '+'} {abs(value):.4g}" + (f" {name}" if name else "")
+    return text
+
+
 def _f_sf(f_value: float, df_resid: float) -> float:
     """p of an F of one degree of freedom against ``df_resid`` [-] (NaN where undefined)."""
     from scipy import stats
@@ -3025,7 +3306,7 @@ def analyze(
     dict of str to ResponseAnalysis
         ``{response: ResponseAnalysis}``: each response's tables (main effects,
         interactions, ANOVA, ranked effects, residuals, two-level effects, trends, model
-        summary) as attributes, or as items by name (``result["MU"]["anova"]``).
+        summary, level coefficients) as attributes, or as items by name (``result["MU"]["anova"]``).
 
     References
     ----------
@@ -3157,6 +3438,9 @@ def analyze(
             # S, R², adjusted and predicted R² as the CLI's model_summary table (they had
             # been in the ANOVA's attrs alone, which concat and merge drop: an API review)
             model_summary=model_summary(table),
+            coefficients=_coefficients(
+                summary, design_factors, response, table, model, alpha_to_remove
+            ),
         )
     return result
 
@@ -3240,8 +3524,11 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         ``r_squared``, ``r_squared_adj``, ``r_squared_pred``, ``formula``; see
         :func:`anova`) and ``ranked_effects_<R>.csv`` for every response ``R``,
         ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`),
-        ``trends_<R>.csv`` when it has a non-empty :func:`factor_trends` table, and
-        ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table.
+        ``trends_<R>.csv`` when it has a non-empty :func:`factor_trends` table,
+        ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table, and
+        ``coefficients_<R>.csv`` when it has a non-empty :func:`level_coefficients` table
+        and no effects table (a design with a factor of three levels or more: a two-level
+        design's coded coefficients are in its effects table).
     """
     if isinstance(result, ResponseAnalysis):  # a KeyError: 'main_effects' (an API review)
         raise TypeError(
@@ -3280,6 +3567,15 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             tables["effects"] = effects
         else:  # an earlier analysis's (e.g. of another reduced model) would outlive it
             (directory / f"effects_{response}.csv").unlink(missing_ok=True)
+        coefficients = bundle.get("coefficients")
+        if (
+            (effects is None or effects.empty)
+            and coefficients is not None
+            and not coefficients.empty
+        ):
+            tables["coefficients"] = coefficients
+        else:
+            (directory / f"coefficients_{response}.csv").unlink(missing_ok=True)
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             write_table(table, path)

@@ -76,6 +76,7 @@ td.num { text-align: right; font-variant-numeric: tabular-nums; }
 tr.sig td { font-weight: 600; }
 tr.failed td { color: #a61b1b; }
 tr:nth-child(even) td { background: #fafbfc; }
+p.equation { font-family: ui-monospace, monospace; font-size: .85rem; }
 pre { background: #f6f8fa; border: 1px solid var(--line); padding: .8rem; overflow-x: auto;
   font: 12px/1.4 ui-monospace, SFMono-Regular, Menlo, Consolas, monospace; }
 figure { margin: 1.2rem 0 2rem; overflow-x: auto; }
@@ -205,6 +206,16 @@ term; what the table gives for the term is its effect plus theirs, each with the
 {%- if item.effects %}
 <p class="note">{{ item.effects_info }}</p>
 {{ render_table(item.effects) }}
+{%- endif %}
+{%- if item.coefficients %}
+<details>
+<summary>Coefficients of {{ item.response }} at every level, and the regression equation</summary>
+<p class="note">{{ item.coefficients_info }}</p>
+{{ render_table(item.coefficients) }}
+<p class="note">Regression equation{{ item.equation_unit }}, X[l] being 1 in a run at level l
+of X and 0 elsewhere (X:Y[l, m]: at level l of X and m of Y):</p>
+<p class="equation">{{ item.equation }}</p>
+</details>
 {%- endif %}
 {%- else %}
 {%- if not anova_info %}<p class="note">No ANOVA tables.</p>{% endif %}
@@ -624,6 +635,48 @@ def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
         caption += f" Note: {note}."
     numeric = [False, False, False, True, True, True, True]
     return _Table(columns, numeric, rows), caption
+
+
+def _coefficients_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str, str, str]:
+    """The coefficients at every level (:func:`brakeca.analysis.level_coefficients`, in the
+    report's unit of ``response``), their caption, the regression equation in that unit and
+    the unit's words for its heading (``" (V in mm³)"``; empty without a unit)."""
+    from brakeca.analysis import _equation
+
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
+    rows = []
+    for _, rec in frame.iterrows():
+        level = str(rec["level"]) + (" †" if bool(rec["derived"]) else "")
+        cells = [
+            _fmt(rec["term"]),
+            level if str(rec["level"]) else "",
+            _fmt(float(rec["coefficient"]) * factor, ".4g"),
+            _fmt(float(rec["se"]) * factor, ".4g"),
+            _fmt(rec["t"], ".3g"),
+            format_p_value(rec["p_value"]),
+            _fmt(rec["vif"], ".3g"),
+        ]
+        rows.append({"cells": cells, "cls": "sig" if bool(rec["significant"]) else ""})
+    in_unit = f" [{unit}]" if unit else ""
+    columns = ["Term", "Level", f"Coef{in_unit}", f"SE Coef{in_unit}", "T", "p", "VIF"]
+    alpha = float(frame.attrs.get("alpha", 0.05))
+    caption = (
+        f"The ANOVA model of {response} as coefficients, as Minitab gives them for a general "
+        "factorial: each factor coded by effects (sum-to-zero) coding, so a level's "
+        "coefficient is the model's mean at that level less the constant (in a balanced "
+        "design, the level's mean less the grand mean) and a term's coefficients add up to "
+        "zero over each of its factors' levels. Standard errors, T and p against the ANOVA's "
+        f"residual ({_fmt(frame.attrs.get('df_resid'), '.0f')} degrees of freedom); "
+        f"p < {alpha:g} in bold. † The levels Minitab leaves out (a factor's last level, "
+        "fixed by the others), given here with their standard errors, as JMP's expanded "
+        f"estimates; they have no VIF. The table is tables/coefficients_{response}.csv."
+    )
+    note = frame.attrs.get("note")
+    if note:
+        caption += f" Note: {note}."
+    numeric = [False, False, True, True, True, True, True]
+    words = f" ({response} in {unit})" if unit else ""
+    return _Table(columns, numeric, rows), caption, _equation(frame, response, scale=factor), words
 
 
 def _model_terms_of(effects: pd.DataFrame) -> list[str]:
@@ -1298,6 +1351,7 @@ def render_report(
     anova_info: str = "",
     trend_tables: Mapping[str, pd.DataFrame] | None = None,
     residual_tables: Mapping[str, pd.DataFrame] | None = None,
+    coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -1351,9 +1405,19 @@ def render_report(
             if trends is not None and not trends.empty
             else (None, "")
         )
+        coefficients = (coefficient_tables or {}).get(response)
+        coefficients_table, coefficients_info, equation, equation_unit = (
+            _coefficients_table(str(response), coefficients)
+            if effects_table is None and coefficients is not None and not coefficients.empty
+            else (None, "", "", "")
+        )
         anova_items.append(
             {
                 "response": str(response),
+                "coefficients": coefficients_table,
+                "coefficients_info": coefficients_info,
+                "equation": equation,
+                "equation_unit": equation_unit,
                 "anchor": _anchor(response),
                 "table": table,
                 "note": note,
@@ -1619,6 +1683,7 @@ def write_report(
     level_means: Mapping[str, pd.DataFrame] | None = None,
     trend_tables: Mapping[str, pd.DataFrame] | None = None,
     residual_tables: Mapping[str, pd.DataFrame] | None = None,
+    coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -1681,6 +1746,10 @@ def write_report(
         ``{response: table}`` from :func:`brakeca.analysis.residuals`: the runs whose
         standardized residual exceeds :data:`UNUSUAL_RESIDUAL` in size are named under the
         response's ANOVA table, as Minitab lists its unusual observations.
+    coefficient_tables
+        ``{response: table}`` from :func:`brakeca.analysis.level_coefficients`, shown (folded,
+        with the regression equation) under the response's ANOVA table where the response
+        has no two-level effects table: a design with a factor of three levels or more.
 
     Returns
     -------
@@ -1718,5 +1787,6 @@ def write_report(
         level_means=level_means,
         trend_tables=trend_tables,
         residual_tables=residual_tables,
+        coefficient_tables=coefficient_tables,
     )
     return write_text(path, html)

@@ -311,6 +311,12 @@ Files (R is the response: MU, V or log10_V_mm3):
   effect, twice the coefficient's; on the Ct Pt row, which has no effect, twice its
   coefficient's, so t = coefficient / (se / 2) on every row; the report shows the
   coefficient's), t, p.
+- `coefficients_R.csv` (a design with a factor of three or more levels, such as the paper's
+  WP, in place of `effects_R.csv`): the ANOVA model's coefficient at every level of each
+  term, in effects (sum-to-zero) coding as Minitab codes a general factorial, with `se`, t,
+  p and VIF; `derived` marks the levels Minitab leaves out (a factor's last level, fixed by
+  the others). The regression equation is the constant plus, for each term, the
+  coefficient of the run's level(s): the report writes it out.
 - `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual` (under the ANOVA
   model, not a response surface's quadratic): λ̂, its interval and the reading without the
   runs whose standardized residual is beyond ±2 (the report's unusual runs), under the same
@@ -737,6 +743,7 @@ def write_study(
         anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
         level_means={resp: tables[resp]["main_effects"] for resp in RESPONSES},
         trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
+        coefficient_tables={resp: tables[resp]["coefficients"] for resp in RESPONSES},
         residual_tables={
             resp: tables[resp]["residuals"]
             for resp in RESPONSES

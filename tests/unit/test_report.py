@@ -813,3 +813,27 @@ def test_in_short_says_which_scale_of_v_to_read() -> None:
     assert _v_scale({"V": profile(0.06, -0.02, 0.14)}, None, False).endswith("not V as it is")
     assert _v_scale({"V": profile(0.9, 0.6, 1.2)}, {"V": residuals.iloc[3:]}, True) == ""
     assert _v_scale({"V": profile(0.5, 0.3, 0.7)}, None, True) == ""  # neither 1 nor 0
+
+
+def test_a_general_factorial_s_coefficients_are_folded_under_its_anova(tmp_path) -> None:
+    """Minitab gives a general factorial (the paper's WP has three levels) a coefficients
+    table and a regression equation, which the report had not: they are shown folded under
+    each ANOVA, V's in mm³, and only where the response has no two-level effects table."""
+    from brakeca.analysis import level_coefficients
+
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"]
+    tables = {r: level_coefficients(summary, FACTORS, r) for r in ("MU", "V")}
+    html = render_report(**inputs, coefficient_tables=tables)
+    assert html.count("at every level, and the regression equation</summary>") == 2
+    assert "Coef [mm³]" in html and "Regression equation (V in mm³)" in html
+    v = tables["V"].set_index(["term", "level"])
+    shown = float(v.loc[("WP", "+"), "coefficient"]) * 1e9
+    assert f"{shown:.4g}" in html  # in the table, in mm³
+    assert f"{shown:.4g} WP[+]" in html  # and in the equation
+    assert "+ †" in html  # the level Minitab leaves out, marked
+    assert "regression equation</summary>" not in render_report(**inputs)
+    # a response with a two-level effects table shows that instead
+    effects = {"MU": pd.DataFrame({"term": ["S"], "effect": [0.1], "significant": [True]})}
+    html = render_report(**inputs, coefficient_tables=tables, effects_tables=effects)
+    assert html.count("at every level, and the regression equation</summary>") == 1

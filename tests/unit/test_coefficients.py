@@ -1,0 +1,251 @@
+"""Tests of brakeca.analysis.level_coefficients: the coefficients of a general factorial at
+every level (Minitab's "Coefficients" table and regression equation), against statsmodels'
+sum-to-zero coding, hand-computed level means and the ANOVA's fitted values.
+
+References
+----------
+Wahlström (2016), doi:10.1155/2016/8181260, Tables 1-2 (the 2 x 3 x 2 x 2 design).
+D. C. Montgomery, Design and Analysis of Experiments, 8th ed., section 5.3.
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from brakeca.analysis import (
+    CENTER_TERM,
+    COEFFICIENT_COLUMNS,
+    CONSTANT_TERM,
+    Factor,
+    analyze,
+    anova,
+    level_coefficients,
+    residuals,
+    save_tables,
+)
+
+S = Factor("S", (0.0, 1.0), "-", "Secondary plateaus removed", ("-", "+"))
+WP = Factor("WP", (1e-15, 1e-14, 1e-13), "m^3/(N m)", "Specific wear rate", ("-", "0", "+"))
+A = Factor("A", (10.0, 20.0), "%", "Metal fibre area fraction", ("-", "+"))
+FACTORS = (S, WP, A)
+
+
+def _runs(replicates: int = 2, seed: int = 3) -> pd.DataFrame:
+    """A 2 x 3 x 2 design with a response of main effects, an S x WP interaction and noise."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for test, (a, wp, s) in enumerate(itertools.product(range(2), range(3), range(2)), start=1):
+        for r in range(replicates):
+            mu = 0.4 + 0.02 * s + (-0.01, 0.0, 0.03)[wp] + 0.015 * a + 0.01 * s * (wp == 2)
+            rows.append(
+                {
+                    "test": test,
+                    "replicate": r,
+                    "S": S.levels[s],
+                    "WP": WP.levels[wp],
+                    "A": A.levels[a],
+                    "MU": mu + 0.004 * rng.standard_normal(),
+                    "status": "ok",
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def _statsmodels_fit(runs: pd.DataFrame, formula: str):
+    from statsmodels.formula.api import ols
+
+    return ols(formula, data=runs).fit()
+
+
+def test_the_estimated_levels_are_statsmodels_sum_coded_coefficients() -> None:
+    """Every level but each factor's last is a column of sum-to-zero coding (statsmodels'
+    ``Sum`` contrast, Minitab's coding of a general factorial): the coefficients, their
+    standard errors, t and p agree with statsmodels' fit of the same model."""
+    runs = _runs()
+    table = level_coefficients(runs, FACTORS, "MU")
+    assert list(table.columns) == list(COEFFICIENT_COLUMNS)
+    terms = "C(S, Sum) + C(WP, Sum) + C(A, Sum)"
+    pairs = "C(S, Sum):C(WP, Sum) + C(S, Sum):C(A, Sum) + C(WP, Sum):C(A, Sum)"
+    fit = _statsmodels_fit(runs, f"MU ~ {terms} + {pairs}")
+    estimated = table[~table["derived"]]
+    assert len(estimated) == len(fit.params)  # 1 + 1 + 2 + 1 + 2 + 1 + 2 columns
+    # statsmodels orders its columns as the model's terms and, in an interaction, the first
+    # factor's levels slowest: the order of the table's estimated rows
+    np.testing.assert_allclose(estimated["coefficient"], fit.params.to_numpy(), rtol=1e-10)
+    np.testing.assert_allclose(estimated["se"], fit.bse.to_numpy(), rtol=1e-10)
+    np.testing.assert_allclose(estimated["t"], fit.tvalues.to_numpy(), rtol=1e-10)
+    np.testing.assert_allclose(estimated["p_value"], fit.pvalues.to_numpy(), rtol=1e-8)
+    assert table.attrs["df_resid"] == fit.df_resid
+    assert table.attrs["formula"] == "MU ~ S + WP + A + S:WP + S:A + WP:A"
+
+
+def test_a_derived_level_is_minus_the_sum_of_the_others_with_its_own_error() -> None:
+    """The level Minitab leaves out is fixed by the others (the coefficients of a term add
+    up to zero over each of its factors' levels); its standard error is that of the linear
+    combination, as statsmodels' t test of it gives."""
+    runs = _runs()
+    table = level_coefficients(runs, FACTORS, "MU")
+    wp = table[table["term"] == "WP"]
+    assert list(wp["level"]) == ["-", "0", "+"] and list(wp["derived"]) == [False, False, True]
+    assert wp["coefficient"].sum() == pytest.approx(0.0, abs=1e-14)
+    fit = _statsmodels_fit(
+        runs, "MU ~ C(S, Sum) * C(WP, Sum) + C(S, Sum):C(A, Sum) + C(WP, Sum):C(A, Sum) + C(A, Sum)"
+    )
+    names = list(fit.params.index)
+    contrast = np.zeros(len(names))
+    for name in names:
+        if name.startswith("C(WP, Sum)[S.") and ":" not in name:
+            contrast[names.index(name)] = -1.0
+    test = fit.t_test(contrast)
+    last = wp.iloc[2]
+    assert last["coefficient"] == pytest.approx(float(test.effect[0]), rel=1e-10)
+    assert last["se"] == pytest.approx(float(test.sd[0, 0]), rel=1e-10)
+    assert np.isnan(last["vif"]) and not np.isnan(wp.iloc[0]["vif"])
+    # an interaction's cells add up to zero along each factor
+    cells = table[table["term"] == "S:WP"]
+    grid = cells["coefficient"].to_numpy().reshape(2, 3)
+    np.testing.assert_allclose(grid.sum(axis=0), 0.0, atol=1e-14)
+    np.testing.assert_allclose(grid.sum(axis=1), 0.0, atol=1e-14)
+    assert list(cells["level"]) == ["-, -", "-, 0", "-, +", "+, -", "+, 0", "+, +"]
+    assert list(cells["derived"]) == [False, False, True, True, True, True]
+
+
+def test_in_a_balanced_design_a_level_s_coefficient_is_its_mean_less_the_grand_mean() -> None:
+    runs = _runs()
+    table = level_coefficients(runs, FACTORS, "MU").set_index(["term", "level"])
+    grand = runs["MU"].mean()
+    assert table.loc[(CONSTANT_TERM, ""), "coefficient"] == pytest.approx(grand, rel=1e-12)
+    for factor in FACTORS:
+        for value, label in zip(factor.levels, factor.labels or (), strict=True):
+            mean = runs.loc[np.isclose(runs[factor.name], value, rtol=1e-9, atol=0.0), "MU"].mean()
+            got = table.loc[(factor.name, label), "coefficient"]
+            assert got == pytest.approx(mean - grand, abs=1e-13)
+
+
+def test_the_regression_equation_gives_the_anova_s_fitted_values() -> None:
+    """The constant plus each term's coefficient at a run's levels is the model's fitted
+    value of the run (residuals()' of the same model); the equation's text lists every
+    level, each to 4 significant digits."""
+    runs = _runs()
+    table = level_coefficients(runs, FACTORS, "MU")
+    rows = zip(table["term"], table["level"], table["coefficient"], strict=True)
+    coef = {(t, lv): c for t, lv, c in rows}
+    labels = {f.name: dict(zip(f.levels, f.labels or (), strict=True)) for f in FACTORS}
+    fitted = []
+    for _, run in runs.iterrows():
+        value = coef[(CONSTANT_TERM, "")]
+        for term in ("S", "WP", "A", "S:WP", "S:A", "WP:A"):
+            level = ", ".join(labels[name][run[name]] for name in term.split(":"))
+            value += coef[(term, level)]
+        fitted.append(value)
+    expected = residuals(runs, FACTORS, "MU")["fitted"].to_numpy()
+    np.testing.assert_allclose(fitted, expected, rtol=1e-12)
+    equation = table.attrs["equation"]
+    assert equation.startswith(f"MU = {coef[(CONSTANT_TERM, '')]:.4g} ")
+    assert equation.count("[") == len(table) - 1  # every level of every term, named once
+    first = re.search(r" ([+-]) (\S+) S\[-\]", equation)
+    assert first is not None
+    assert float(first.group(1) + first.group(2)) == pytest.approx(coef[("S", "-")], rel=1e-3)
+
+
+def test_p_values_match_the_anova_for_one_degree_of_freedom_terms() -> None:
+    """A two-level factor's coefficient has one column: its t squared is the ANOVA's F of
+    the factor, and its p the same (a balanced design, where Type II is Type III)."""
+    runs = _runs()
+    table = level_coefficients(runs, FACTORS, "MU").set_index(["term", "level"])
+    rows = anova(runs, FACTORS, "MU").set_index("term")
+    for term, level in (("S", "-"), ("A", "-"), ("S:A", "-, -")):
+        assert table.loc[(term, level), "t"] ** 2 == pytest.approx(rows.loc[term, "F"], rel=1e-9)
+        assert table.loc[(term, level), "p_value"] == pytest.approx(
+            rows.loc[term, "p_value"], rel=1e-7
+        )
+    assert table["significant"].equals(table["p_value"] < 0.05)
+
+
+def test_the_model_is_the_anova_s_also_reduced_or_chosen() -> None:
+    runs = _runs()
+    reduced = level_coefficients(runs, FACTORS, "MU", alpha_to_remove=0.1)
+    kept = [t for t in anova(runs, FACTORS, "MU", alpha_to_remove=0.1)["term"] if t != "Residual"]
+    assert list(dict.fromkeys(reduced["term"]))[1:] == kept
+    mains = level_coefficients(runs, FACTORS, "MU", interactions=False)
+    assert list(dict.fromkeys(mains["term"])) == [CONSTANT_TERM, "S", "WP", "A"]
+    chosen = level_coefficients(runs, FACTORS, "MU", interactions=["S", "WP", "S*WP"])
+    assert list(dict.fromkeys(chosen["term"])) == [CONSTANT_TERM, "S", "WP", "S:WP"]
+
+
+def test_a_saturated_model_has_coefficients_without_errors() -> None:
+    """One run per cell and every interaction: no residual, as Minitab's '*'."""
+    runs = _runs(replicates=1)
+    every = ["S", "WP", "A", "S*WP", "S*A", "WP*A", "S*WP*A"]
+    table = level_coefficients(runs, FACTORS, "MU", interactions=every)
+    assert len(table) == 1 + 2 + 3 + 2 + 6 + 4 + 6 + 12
+    assert table["coefficient"].notna().all()
+    assert table["se"].isna().all() and table["p_value"].isna().all()
+    assert not table["significant"].any()
+    assert "no residual degrees of freedom" in table.attrs["note"]
+
+
+def test_an_empty_cell_gives_an_empty_table_that_says_why() -> None:
+    runs = _runs()
+    runs = runs[~(np.isclose(runs["S"], 1.0) & np.isclose(runs["WP"], 1e-13, rtol=1e-9, atol=0.0))]
+    table = level_coefficients(runs, FACTORS, "MU")
+    assert table.empty and list(table.columns) == list(COEFFICIENT_COLUMNS)
+    assert "rank-deficient" in table.attrs["note"]
+
+
+def test_centre_points_add_minitab_s_ct_pt_row() -> None:
+    """Centre points of a two-level design: their mean less the constant, with the pure
+    error of the centre points in the residual."""
+    s2 = Factor("S", (0.0, 1.0))
+    a2 = Factor("A", (10.0, 20.0))
+    rows = [
+        {"S": s, "A": a, "MU": 0.4 + 0.02 * (s > 0) + 0.03 * (a > 10) + e, "status": "ok"}
+        for (s, a), e in zip(
+            itertools.product((0.0, 1.0), (10.0, 20.0)),
+            (0.001, -0.002, 0.0015, -0.0005),
+            strict=True,
+        )
+    ]
+    rows += [{"S": 0.5, "A": 15.0, "MU": m, "status": "ok"} for m in (0.43, 0.431, 0.428)]
+    runs = pd.DataFrame(rows)
+    table = level_coefficients(runs, [s2, a2], "MU").set_index("term")
+    constant = table.loc[CONSTANT_TERM, "coefficient"]
+    assert table.loc[CENTER_TERM, "coefficient"] == pytest.approx(
+        np.mean([0.43, 0.431, 0.428]) - constant, rel=1e-12
+    )
+    assert (
+        table.attrs["df_resid"]
+        == anova(runs, [s2, a2], "MU").set_index("term").loc["Residual", "df"]
+    )
+
+
+def test_bad_alpha_is_named() -> None:
+    with pytest.raises(ValueError, match="alpha"):
+        level_coefficients(_runs(), FACTORS, "MU", alpha=1.5)
+
+
+def test_analyze_gives_them_and_save_tables_writes_them_for_a_general_factorial(tmp_path) -> None:
+    """The paper's kind of design (a factor of three levels) has no two-level effects
+    table: its coefficients are written instead; a two-level design's coefficients are in
+    its effects table, so no coefficients file is written (an earlier one is removed)."""
+    runs = _runs()
+    result = analyze(runs, FACTORS, ["MU"])
+    pd.testing.assert_frame_equal(
+        result["MU"].coefficients, level_coefficients(runs, FACTORS, "MU")
+    )
+    written = {p.name for p in save_tables(result, tmp_path)}
+    assert "coefficients_MU.csv" in written and "effects_MU.csv" not in written
+    back = pd.read_csv(tmp_path / "coefficients_MU.csv", keep_default_na=False)
+    assert list(back.columns) == list(COEFFICIENT_COLUMNS)
+    two_level = runs[~np.isclose(runs["WP"], 1e-14, rtol=1e-9, atol=0.0)]
+    factors = (S, Factor("WP", (1e-15, 1e-13)), A)
+    result = analyze(two_level, factors, ["MU"])
+    assert not result["MU"].effects.empty
+    written = {p.name for p in save_tables(result, tmp_path)}
+    assert "coefficients_MU.csv" not in written and "effects_MU.csv" in written
+    assert not (tmp_path / "coefficients_MU.csv").exists()
