@@ -2980,15 +2980,19 @@ def level_coefficients(
     Every factor is categorical and coded by effects (sum-to-zero) coding, as Minitab codes a
     general factorial's factors: a factor of ``k`` levels has ``k - 1`` columns, column
     ``j`` being 1 at level ``j``, -1 at the last level and 0 elsewhere, and an interaction's
-    columns are the products of its factors'. The coefficient of a level is then the
-    deviation of the model's mean at that level from the constant (in a balanced design, the
-    level's mean response less the grand mean); a factor's coefficients add up to zero over
-    its levels, and an interaction's over each of its factors' levels. Minitab prints every
-    level but each factor's last, which the others fix; here that level is given too
-    (``derived``, as JMP's "Expanded Estimates" give it), with its standard error from the
-    coefficients' covariance. This is the table a design with a factor of three levels or
-    more has in place of :func:`two_level_effects` (the paper's WP); for a two-level factor
-    the coefficient of its second level is half its effect.
+    columns are the products of its factors'. The coefficient of a level is then its
+    least-squares mean (the unweighted mean of the model's cell means at that level) less
+    the constant (the unweighted mean of all cells); in a balanced design, the level's mean
+    response less the grand mean. A factor's coefficients add up to zero over its levels,
+    and an interaction's over each of its factors' levels. Minitab prints every level but
+    each factor's last, which the others fix (and an interaction's cells at the last level
+    of any of its factors); here those are given too (``derived``, as JMP's "Expanded
+    Estimates" give them), with their standard errors from the coefficients' covariance. The
+    last level is the last as the design lists them, which is Minitab's (the last in value
+    order) for levels given low first. This is the table a design with a factor of three
+    levels or more has in place of :func:`two_level_effects` (the paper's WP); for a
+    two-level factor the coefficient of its second level is half its effect (the first
+    level's, the row Minitab prints, is minus that).
 
     The model is :func:`anova`'s (the same terms, pooling and elimination), fitted to the
     runs at the factors' levels; standard errors, t and p come from the ANOVA's residual
@@ -3021,12 +3025,15 @@ def level_coefficients(
         (the level Minitab leaves out: a factor's last level, or an interaction cell at the
         last level of one of its factors) and ``significant`` (``p_value < alpha``). Without
         residual degrees of freedom ``se``, ``t`` and ``p_value`` are NaN, as Minitab prints
-        "*". Empty where no factor varies or the model matrix is rank-deficient (empty
-        cells); ``attrs["note"]`` says why. ``attrs`` also carries ``equation``, the
-        regression equation with every level (``"MU = 0.4 + 0.01 S[-] - 0.01 S[+] + ..."``,
-        the level in brackets standing for 1 at that level and 0 elsewhere, as Minitab
-        writes its general factorial's equation), ``df_resid``, ``alpha`` and ``formula``
-        (the ANOVA's).
+        "*". Only the constant's row where no factor varies; empty where the model matrix is
+        rank-deficient (empty cells) or no run is usable; ``attrs["note"]`` says why.
+        ``attrs`` also carries ``equation``, the regression equation with every level
+        (``"MU = 0.4 + 0.01 S[-] - 0.01 S[+] + ..."``, the level in brackets standing for 1
+        at that level and 0 elsewhere, as Minitab writes its general factorial's equation),
+        ``df_resid``, ``alpha`` and ``formula`` (the ANOVA's). A constant response (or one
+        the model fits exactly) has no t or p for a coefficient that is zero to round-off
+        (within 1e-12 of the largest in size). With centre points the VIFs are of the model
+        matrix with their rows and the Ct Pt column, as Minitab's.
 
     References
     ----------
@@ -3139,20 +3146,31 @@ def _coefficients(
         return out
     inverse = np.linalg.inv(exog.T @ exog)
     coef = inverse @ (exog.T @ y)
-    vif = _vif(exog)
+    n_c = int(np.sum(centre))
+    # Minitab's VIFs, with centre points, are of the matrix with their rows and Ct Pt
+    vif = _vif(_with_centre_rows(exog, n_c) if n_c else exog)
     rows = table.set_index("term")
     df_resid = float(rows.loc["Residual", "df"])
     mse = float(rows.loc["Residual", "mean_sq"]) if df_resid > 0.5 else math.nan
     out.attrs["df_resid"] = df_resid
     if math.isnan(mse):
         out.attrs["note"] = "no residual degrees of freedom: no standard errors, t or p"
+    elif mse == 0.0:
+        out.attrs["note"] = (
+            "response is constant: no t or p"
+            if "response is constant" in str(table.attrs.get("note", ""))
+            else "exact fit (no residual scatter): t is infinite and p 0 for every "
+            "coefficient that is not zero"
+        )
+    # the coefficients zero to round-off (a constant response's, say: 4.6e-18) have no t
+    round_off = 1e-12 * float(np.max(np.abs(coef)))
 
     def row(term: str, level: str, b: float, var: float, v: float, derived: bool) -> dict:
         se = math.sqrt(mse * var) if not math.isnan(mse) else math.nan
         if se > 0:
             t = b / se
-        elif se == 0.0:  # an exact fit, as the ANOVA has it
-            t = math.copysign(math.inf, b) if b != 0 else math.nan
+        elif se == 0.0 and abs(b) > round_off:  # an exact fit, as the ANOVA has it
+            t = math.copysign(math.inf, b)
         else:
             t = math.nan
         p = float(2.0 * stats.t.sf(abs(t), df_resid)) if not math.isnan(t) else math.nan
@@ -3187,11 +3205,11 @@ def _coefficients(
                     j < 0,
                 )
             )
-    n_c = int(np.sum(centre))
     if n_c:
         y_c = data.loc[centre, response].to_numpy(dtype=float)
         b = float(y_c.mean()) - float(coef[0])
-        records.append(row(CENTER_TERM, "", b, 1.0 / n_c + float(inverse[0, 0]), math.nan, False))
+        var = 1.0 / n_c + float(inverse[0, 0])
+        records.append(row(CENTER_TERM, "", b, var, float(vif[-1]), False))
     attrs = dict(out.attrs)
     out = pd.DataFrame(records, columns=list(COEFFICIENT_COLUMNS))
     out.attrs.update(attrs)

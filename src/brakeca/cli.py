@@ -1036,11 +1036,13 @@ def _run_and_report(
     _print_summary(result.summary, result.design)
     if report:
         later = f"every run is in {output}; 'brakeca analyze {output}' writes the report"
+        lines: list[str] = []
         with _on_interrupt(later):
             try:
-                path = write_study(finish_campaign(output), note=_note)
+                path = write_study(finish_campaign(output), note=_note, in_short=lines.append)
             except OSError as exc:  # a full disk, say: the runs are done
                 _fail(f"-o {output}: cannot write the report ({exc}); {later}", code=1)
+        _print_in_short(lines)
         out.print(f"report: {path}", markup=False)
     out.print(f"summary: {Path(output) / 'summary.csv'}", markup=False)
     if result.failed:
@@ -1356,6 +1358,7 @@ def analyze(
         if (problem := destination_problem(folder, dest)) is not None:
             _fail(f"-o {dest}: {problem}")
     _print_summary(result.summary, result.design)
+    lines: list[str] = []
     with _on_interrupt("the report is not complete; run the same command again"):
         try:
             path = write_study(
@@ -1367,6 +1370,7 @@ def analyze(
                 model_terms=terms,
                 note=_note,
                 output=output,
+                in_short=lines.append,
             )
         except OSError as exc:  # a full disk, a file the folder's owner made read-only
             where = exc.filename or dest
@@ -1381,9 +1385,19 @@ def analyze(
             markup=False,
             highlight=False,
         )
+    _print_in_short(lines)
     out.print(
         f"tables: {dest / 'tables'}\nfigures: {dest / 'figures'}\nreport: {path}", markup=False
     )
+
+
+def _print_in_short(lines: Sequence[str]) -> None:
+    """Print the report's "In short" (:func:`brakeca.report.in_short`): each response's
+    terms with p < 0.05 and R², under a heading; nothing without lines."""
+    if lines:
+        out.print("in short (the ANOVA's terms with p < 0.05, largest share first):", markup=False)
+        for line in lines:
+            out.print(f"  {line}", markup=False, highlight=False, emoji=False)
 
 
 def _note(text: str) -> None:

@@ -35,7 +35,7 @@ from brakeca._console import run_named
 from brakeca._io import write_text
 from brakeca.boxcox import UNUSUAL_RESIDUAL as _BOX_COX_UNUSUAL
 
-__all__ = ["REPORT_TEMPLATE", "format_p_value", "render_report", "write_report"]
+__all__ = ["REPORT_TEMPLATE", "format_p_value", "in_short", "render_report", "write_report"]
 
 PAPER_REFERENCE = (
     'J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad '
@@ -663,13 +663,15 @@ def _coefficients_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str
     caption = (
         f"The ANOVA model of {response} as coefficients, as Minitab gives them for a general "
         "factorial: each factor coded by effects (sum-to-zero) coding, so a level's "
-        "coefficient is the model's mean at that level less the constant (in a balanced "
-        "design, the level's mean less the grand mean) and a term's coefficients add up to "
-        "zero over each of its factors' levels. Standard errors, T and p against the ANOVA's "
+        "coefficient is its least-squares mean less the constant (in a balanced design, the "
+        "level's mean less the grand mean) and a term's coefficients add up to zero over "
+        "each of its factors' levels; for a two-level factor, minus and plus half its effect. "
+        "Standard errors, T and p against the ANOVA's "
         f"residual ({_fmt(frame.attrs.get('df_resid'), '.0f')} degrees of freedom); "
-        f"p < {alpha:g} in bold. † The levels Minitab leaves out (a factor's last level, "
-        "fixed by the others), given here with their standard errors, as JMP's expanded "
-        f"estimates; they have no VIF. The table is tables/coefficients_{response}.csv."
+        f"p < {alpha:g} in bold. † The rows Minitab leaves out (a factor's last level, and an "
+        "interaction's cells at the last level of any of its factors: the other rows fix "
+        "them), given here with their standard errors, as JMP's expanded estimates; they have "
+        f"no VIF. The table is tables/coefficients_{response}.csv."
     )
     note = frame.attrs.get("note")
     if note:
@@ -1330,6 +1332,45 @@ def _figure_sections(
 # --- rendering -------------------------------------------------------------------------------
 
 
+def in_short(
+    anova_tables: Mapping[str, pd.DataFrame],
+    *,
+    level_means: Mapping[str, pd.DataFrame] | None = None,
+    effects_tables: Mapping[str, pd.DataFrame] | None = None,
+    box_cox: Mapping[str, Any] | None = None,
+    residual_tables: Mapping[str, pd.DataFrame] | None = None,
+) -> list[str]:
+    """The lines of the report's "In short": for each response, its ANOVA's terms with
+    p < 0.05, the largest share of the variation first, a main effect with the mean response
+    at each level, and R² (V's with what its Box–Cox check says of its scale).
+
+    Parameters
+    ----------
+    anova_tables, level_means, effects_tables, box_cox, residual_tables
+        As :func:`write_report` takes them.
+
+    Returns
+    -------
+    list of str
+        One line per response that has one (none for a response without an ANOVA), V in
+        mm³, as the report shows them.
+    """
+    return [
+        line
+        + (
+            _v_scale(box_cox, residual_tables, "log10_V_mm3" in anova_tables)
+            if str(r) == "V" and line
+            else ""
+        )
+        for r, frame in anova_tables.items()
+        if (
+            line := _finding(
+                str(r), frame, (level_means or {}).get(r), (effects_tables or {}).get(r)
+            )
+        )
+    ]
+
+
 def render_report(
     *,
     title: str,
@@ -1432,20 +1473,13 @@ def render_report(
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
-    findings = [
-        line
-        + (
-            _v_scale(box_cox, residual_tables, "log10_V_mm3" in anova_tables)
-            if str(r) == "V" and line
-            else ""
-        )
-        for r, frame in anova_tables.items()
-        if (
-            line := _finding(
-                str(r), frame, (level_means or {}).get(r), (effects_tables or {}).get(r)
-            )
-        )
-    ]
+    findings = in_short(
+        anova_tables,
+        level_means=level_means,
+        effects_tables=effects_tables,
+        box_cox=box_cox,
+        residual_tables=residual_tables,
+    )
     return template.render(
         title=title,
         version=version,

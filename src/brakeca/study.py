@@ -314,9 +314,11 @@ Files (R is the response: MU, V or log10_V_mm3):
 - `coefficients_R.csv` (a design with a factor of three or more levels, such as the paper's
   WP, in place of `effects_R.csv`): the ANOVA model's coefficient at every level of each
   term, in effects (sum-to-zero) coding as Minitab codes a general factorial, with `se`, t,
-  p and VIF; `derived` marks the levels Minitab leaves out (a factor's last level, fixed by
-  the others). The regression equation is the constant plus, for each term, the
-  coefficient of the run's level(s): the report writes it out.
+  p and VIF; `derived` marks the rows Minitab leaves out (a factor's last level, and an
+  interaction's cells at the last level of any of its factors: the other rows fix them).
+  A level's coefficient is its least-squares mean less the constant. The regression
+  equation is the constant plus, for each term, the coefficient of the run's level(s): the
+  report writes it out.
 - `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual` (under the ANOVA
   model, not a response surface's quadratic): λ̂, its interval and the reading without the
   runs whose standardized residual is beyond ±2 (the report's unusual runs), under the same
@@ -616,6 +618,7 @@ def write_study(
     model_terms: Sequence[str] | str | None = None,
     note: Callable[[str], object] | None = None,
     output: str | Path | None = None,
+    in_short: Callable[[str], object] | None = None,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -652,6 +655,10 @@ def write_study(
         analyses a campaign that cannot be written to, or keeps two analyses of one
         campaign (e.g. of two models) side by side. Not another campaign's folder, nor a
         folder inside this campaign's (:func:`destination_problem`).
+    in_short
+        Called, once the report is written, with each line of its "In short" (each
+        response's significant terms with their shares and R²;
+        :func:`brakeca.report.in_short`), for a command to print them as well.
 
     Returns
     -------
@@ -724,32 +731,46 @@ def write_study(
         else ""
     )
     tables = found.tables
-    return report.write_report(
+    anova_tables = {resp: tables[resp]["anova"] for resp in RESPONSES if resp not in surfaces}
+    effects_tables = {resp: tables[resp]["effects"] for resp in RESPONSES}
+    level_means = {resp: tables[resp]["main_effects"] for resp in RESPONSES}
+    residual_tables = {
+        resp: tables[resp]["residuals"]
+        for resp in RESPONSES
+        if tables[resp].get("residuals") is not None
+    }
+    path = report.write_report(
         out / "report.html",
         title=f"brakeca study: {result.design.name}",
         design_table=_design_table(result),
         summary=shown,
-        anova_tables={resp: tables[resp]["anova"] for resp in RESPONSES if resp not in surfaces},
+        anova_tables=anova_tables,
         figures=figures.listed,
         config_text=design_text + "\n# --- base configuration ---\n" + config_text,
         version=__version__,
         notes=notes,
-        effects_tables={resp: tables[resp]["effects"] for resp in RESPONSES},
+        effects_tables=effects_tables,
         design_info=" ".join(t for t in (scope, _design_info(result.design)) if t),
         surface_fits=surfaces,
         optimum=None if found.optimum is None else (found.goals, found.optimum),
         optimum_note=found.optimum_note,
         box_cox=found.scales,
         anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
-        level_means={resp: tables[resp]["main_effects"] for resp in RESPONSES},
+        level_means=level_means,
         trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
         coefficient_tables={resp: tables[resp]["coefficients"] for resp in RESPONSES},
-        residual_tables={
-            resp: tables[resp]["residuals"]
-            for resp in RESPONSES
-            if tables[resp].get("residuals") is not None
-        },
+        residual_tables=residual_tables,
     )
+    if in_short is not None:
+        for line in report.in_short(
+            anova_tables,
+            level_means=level_means,
+            effects_tables=effects_tables,
+            box_cox=found.scales,
+            residual_tables=residual_tables,
+        ):
+            in_short(line)
+    return path
 
 
 def _not_a(what: str, given: Any, reader: str) -> TypeError:

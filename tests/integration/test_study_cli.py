@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import re
 from pathlib import Path
 
@@ -131,6 +132,28 @@ def test_outputs_present_and_consistent(campaign):
     assert "**V in m³ per stop**" in readme and "`per_stop.csv`" in readme
     assert "The CSV tables in tables/ keep SI units: V in m³ there" in html
     assert "report:" in res.stdout and "summary:" in res.stdout
+
+
+def test_the_report_s_in_short_is_printed_too(campaign, tmp_path):
+    """The main job ends with the report's "In short" on the terminal, line for line as the
+    report has it, and so does brakeca analyze (a user had to open the report for it)."""
+    from html import escape
+
+    out, res = campaign
+    html = (out / "report.html").read_text(encoding="utf-8")
+    for output in (
+        res.output,
+        CliRunner()
+        .invoke(app, ["analyze", str(out), "--no-run-maps", "-o", str(tmp_path / "a")])
+        .output,
+    ):
+        assert "in short (the ANOVA's terms with p < 0.05, largest share first):" in output
+        after = output[output.index("largest share first):") :].splitlines()[1:]
+        lines = [line.strip() for line in itertools.takewhile(lambda x: x.startswith("  "), after)]
+        assert [line.split(":")[0] for line in lines] == ["MU", "V", "log10_V_mm3"]
+        for line in lines:
+            assert escape(line, quote=False) in html.replace("&#39;", "'")
+        assert output.index("in short") < output.index("report: ")
 
 
 def test_main_effects_table_matches_summary(campaign):

@@ -74,8 +74,9 @@ def test_the_estimated_levels_are_statsmodels_sum_coded_coefficients() -> None:
     fit = _statsmodels_fit(runs, f"MU ~ {terms} + {pairs}")
     estimated = table[~table["derived"]]
     assert len(estimated) == len(fit.params)  # 1 + 1 + 2 + 1 + 2 + 1 + 2 columns
-    # statsmodels orders its columns as the model's terms and, in an interaction, the first
-    # factor's levels slowest: the order of the table's estimated rows
+    # statsmodels orders its columns as the model's terms; in this design's interactions
+    # (each with a two-level factor) its order of the cells is the table's (a 3 x 3
+    # interaction's cells are matched by name in the next test)
     np.testing.assert_allclose(estimated["coefficient"], fit.params.to_numpy(), rtol=1e-10)
     np.testing.assert_allclose(estimated["se"], fit.bse.to_numpy(), rtol=1e-10)
     np.testing.assert_allclose(estimated["t"], fit.tvalues.to_numpy(), rtol=1e-10)
@@ -222,6 +223,21 @@ def test_centre_points_add_minitab_s_ct_pt_row() -> None:
         table.attrs["df_resid"]
         == anova(runs, [s2, a2], "MU").set_index("term").loc["Residual", "df"]
     )
+    # Minitab's VIFs with centre points: of the model matrix with their rows and Ct Pt,
+    # here of an unbalanced cube (its first run twice), where they differ from the cube's
+    from statsmodels.stats.outliers_influence import variance_inflation_factor
+
+    runs = pd.concat([runs.iloc[[0]].assign(MU=0.402), runs], ignore_index=True)
+    table = level_coefficients(runs, [s2, a2], "MU").set_index("term")
+    assert list(table.index) == [CONSTANT_TERM, *"SSAA", *["S:A"] * 4, CENTER_TERM]
+    s_code = np.where(runs["S"] == 0.0, 1.0, np.where(runs["S"] == 1.0, -1.0, 0.0))
+    a_code = np.where(runs["A"] == 10.0, 1.0, np.where(runs["A"] == 20.0, -1.0, 0.0))
+    centre = (runs["S"] == 0.5).to_numpy(dtype=float)
+    exog = np.column_stack([np.ones(len(runs)), s_code, a_code, s_code * a_code, centre])
+    expected = [variance_inflation_factor(exog, j) for j in range(1, 5)]
+    got = [table["vif"].iloc[k] for k in (1, 3, 5)] + [table.loc[CENTER_TERM, "vif"]]
+    np.testing.assert_allclose(got, expected, rtol=1e-10)
+    assert not np.allclose(expected, 1.0)
 
 
 def test_bad_alpha_is_named() -> None:
@@ -249,3 +265,57 @@ def test_analyze_gives_them_and_save_tables_writes_them_for_a_general_factorial(
     written = {p.name for p in save_tables(result, tmp_path)}
     assert "coefficients_MU.csv" not in written and "effects_MU.csv" in written
     assert not (tmp_path / "coefficients_MU.csv").exists()
+
+
+def test_a_three_by_three_interaction_matches_statsmodels_cell_by_cell() -> None:
+    """patsy varies an interaction's first factor fastest, the table its last: the cells
+    are matched by their levels' names, estimated and derived alike (the derived ones by
+    statsmodels' t test of minus the sum of the others)."""
+    b = Factor("P", (1.0, 2.0, 3.0), labels=("b1", "b2", "b3"))
+    c = Factor("Q", (1.0, 2.0, 3.0), labels=("c1", "c2", "c3"))
+    rng = np.random.default_rng(11)
+    runs = pd.DataFrame(
+        [
+            {"P": float(i), "Q": float(j), "y": 0.1 * i * j + rng.normal(0, 0.01), "status": "ok"}
+            for i, j in itertools.product((1, 2, 3), (1, 2, 3))
+            for _ in range(2)
+        ]
+    )
+    runs = runs.drop(index=[0, 7]).reset_index(drop=True)  # unbalanced too
+    table = level_coefficients(runs, [b, c], "y")
+    fit = _statsmodels_fit(runs, "y ~ C(P, Sum) * C(Q, Sum)")
+    names = list(fit.params.index)
+
+    def contrast(i: int, j: int) -> np.ndarray:
+        """The cell (P level i, Q level j) as a combination of patsy's columns."""
+        out = np.zeros(len(names))
+        for ii in range(2):
+            for jj in range(2):
+                weight = (1.0 if i == ii else -1.0 if i == 2 else 0.0) * (
+                    1.0 if j == jj else -1.0 if j == 2 else 0.0
+                )
+                name = f"C(P, Sum)[S.{ii + 1}.0]:C(Q, Sum)[S.{jj + 1}.0]"
+                out[names.index(name)] += weight
+        return out
+
+    cells = table[table["term"] == "P:Q"].set_index("level")
+    assert len(cells) == 9
+    for i, j in itertools.product(range(3), range(3)):
+        test = fit.t_test(contrast(i, j))
+        row = cells.loc[f"b{i + 1}, c{j + 1}"]
+        assert row["derived"] == (i == 2 or j == 2)
+        assert row["coefficient"] == pytest.approx(float(test.effect[0]), rel=1e-9, abs=1e-14)
+        assert row["se"] == pytest.approx(float(test.sd[0, 0]), rel=1e-9)
+
+
+def test_a_constant_response_has_no_t_or_p() -> None:
+    """Its coefficients but the constant are zero to round-off (4.6e-18 had been called
+    significant, t infinite: a review); a varying response the model fits to round-off keeps
+    its large t, as the ANOVA its large F."""
+    runs = _runs().assign(MU=0.3)
+    table = level_coefficients(runs, FACTORS, "MU")
+    assert table["t"].iloc[1:].isna().all() and not table["significant"].iloc[1:].any()
+    assert table.attrs["note"] == "response is constant: no t or p"
+    exact = _runs().assign(MU=lambda d: 0.3 + 0.1 * d["A"] / 20.0)  # fitted to round-off
+    table = level_coefficients(exact, FACTORS, "MU", interactions=False).set_index("term")
+    assert (table.loc["A", "t"].abs() > 1e10).all() and table.loc["A", "significant"].all()
