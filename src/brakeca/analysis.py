@@ -51,6 +51,7 @@ __all__ = [
     "ANOVA_COLUMNS",
     "ANOVA_TYPES",
     "COEFFICIENT_COLUMNS",
+    "COMPARISON_COLUMNS",
     "CONSTANT_TERM",
     "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
@@ -69,6 +70,7 @@ __all__ = [
     "interaction_tables",
     "interactions_long",
     "level_coefficients",
+    "level_comparisons",
     "main_effects",
     "model_matrix",
     "model_summary",
@@ -124,6 +126,9 @@ class ResponseAnalysis(Mapping[str, Any]):
         The model's coefficient at every level of its terms, with the regression equation
         in its ``attrs["equation"]`` (:func:`level_coefficients`): Minitab's table for a
         general factorial (a factor of three levels, the paper's WP).
+    comparisons : DataFrame
+        Tukey's pairwise comparisons of the levels of each factor of three levels or more
+        (:func:`level_comparisons`); empty where there is none.
     """
 
     main_effects: pd.DataFrame
@@ -136,6 +141,7 @@ class ResponseAnalysis(Mapping[str, Any]):
     trends: pd.DataFrame
     model_summary: pd.DataFrame
     coefficients: pd.DataFrame
+    comparisons: pd.DataFrame
 
     def __getitem__(self, name: str) -> Any:
         if not isinstance(name, str) or name not in self._names():
@@ -3076,29 +3082,53 @@ def level_coefficients(
     return _coefficients(summary, raw, response, table, interactions, alpha_to_remove, alpha)
 
 
-def _coefficients(
+@dataclass(frozen=True)
+class _Span:
+    """One term of an :class:`_EffectsFit`: its display name, its first column in the model
+    matrix, ``expand`` (the matrix taking its estimated coefficients to every cell's, the
+    Kronecker product of its factors' codings), its cells' level labels and, for each cell,
+    the estimated column it is (its index in the term) or -1 (a derived cell)."""
+
+    name: str
+    start: int
+    expand: np.ndarray
+    labels: list[str]
+    column: list[int]
+
+
+@dataclass(frozen=True)
+class _EffectsFit:
+    """:func:`anova`'s model fitted with every factor in effects (sum-to-zero) coding, the
+    last level as reference: the coefficients [response unit], the inverse of X'X [-], the
+    residual mean square [response unit^2] and degrees of freedom of the ANOVA, the VIFs,
+    the terms (:class:`_Span`), the centre points' responses and the ANOVA's note."""
+
+    coef: np.ndarray
+    inverse: np.ndarray
+    mse: float
+    df_resid: float
+    vif: np.ndarray
+    spans: list[_Span]
+    y_center: np.ndarray
+    anova_note: str
+
+
+def _effects_fit(
     summary: pd.DataFrame,
     raw: list[Any],
     response: str,
     table: pd.DataFrame,
     interactions: Model,
     alpha_to_remove: float | None,
-    alpha: float = 0.05,
-) -> pd.DataFrame:
-    """:func:`level_coefficients` of the design's factors ``raw`` against ``table``, the
-    :func:`anova` of the same model (which :func:`analyze` has already)."""
-    from scipy import stats
-
-    out = pd.DataFrame({c: pd.Series(dtype=float) for c in COEFFICIENT_COLUMNS})
-    out = out.astype({"term": object, "level": object, "derived": bool, "significant": bool})
-    out.attrs.update(note="", equation="", df_resid=math.nan, alpha=alpha)
-    out.attrs["formula"] = table.attrs.get("formula", "")
+) -> _EffectsFit | str:
+    """The model of ``table`` (:func:`anova`'s, as it makes it) in effects coding
+    (:class:`_EffectsFit`), or why there is none; shared by :func:`level_coefficients` and
+    :func:`level_comparisons`."""
     factors_, data, _, centre, model = _fitted_model(
         summary, raw, response, interactions, alpha_to_remove
     )
     if model is None or "Residual" not in set(table["term"]):
-        out.attrs["note"] = "no model to fit"
-        return out
+        return "no model to fit"
     frame, term_names, terms, _ = model
     by_name = {f.name: f for f in factors_}
     column_of = {col: name for col, name in term_names.items() if ":" not in col}
@@ -3138,12 +3168,12 @@ def _coefficients(
             else int(np.ravel_multi_index(cell, [k - 1 for k in sizes]))
             for cell in cells
         ]
-        spans.append((term, sum(b.shape[1] for b in blocks), expand, labels, column))
+        start = sum(b.shape[1] for b in blocks)
+        spans.append(_Span(term_names[term], start, expand, labels, column))
         blocks.append(block)
     exog = np.hstack(blocks)
     if np.linalg.matrix_rank(exog) < exog.shape[1]:
-        out.attrs["note"] = "the design is rank-deficient (empty cells): no coefficients"
-        return out
+        return "the design is rank-deficient (empty cells)"
     inverse = np.linalg.inv(exog.T @ exog)
     coef = inverse @ (exog.T @ y)
     n_c = int(np.sum(centre))
@@ -3152,13 +3182,47 @@ def _coefficients(
     rows = table.set_index("term")
     df_resid = float(rows.loc["Residual", "df"])
     mse = float(rows.loc["Residual", "mean_sq"]) if df_resid > 0.5 else math.nan
+    return _EffectsFit(
+        coef=coef,
+        inverse=inverse,
+        mse=mse,
+        df_resid=df_resid,
+        vif=vif,
+        spans=spans,
+        y_center=data.loc[centre, response].to_numpy(dtype=float),
+        anova_note=str(table.attrs.get("note", "")),
+    )
+
+
+def _coefficients(
+    summary: pd.DataFrame,
+    raw: list[Any],
+    response: str,
+    table: pd.DataFrame,
+    interactions: Model,
+    alpha_to_remove: float | None,
+    alpha: float = 0.05,
+) -> pd.DataFrame:
+    """:func:`level_coefficients` of the design's factors ``raw`` against ``table``, the
+    :func:`anova` of the same model (which :func:`analyze` has already)."""
+    from scipy import stats
+
+    out = pd.DataFrame({c: pd.Series(dtype=float) for c in COEFFICIENT_COLUMNS})
+    out = out.astype({"term": object, "level": object, "derived": bool, "significant": bool})
+    out.attrs.update(note="", equation="", df_resid=math.nan, alpha=alpha)
+    out.attrs["formula"] = table.attrs.get("formula", "")
+    fit = _effects_fit(summary, raw, response, table, interactions, alpha_to_remove)
+    if isinstance(fit, str):
+        out.attrs["note"] = fit + (": no coefficients" if "rank" in fit else "")
+        return out
+    coef, inverse, mse, df_resid = fit.coef, fit.inverse, fit.mse, fit.df_resid
     out.attrs["df_resid"] = df_resid
     if math.isnan(mse):
         out.attrs["note"] = "no residual degrees of freedom: no standard errors, t or p"
     elif mse == 0.0:
         out.attrs["note"] = (
             "response is constant: no t or p"
-            if "response is constant" in str(table.attrs.get("note", ""))
+            if "response is constant" in fit.anova_note
             else "exact fit (no residual scatter): t is infinite and p 0 for every "
             "coefficient that is not zero"
         )
@@ -3188,32 +3252,256 @@ def _coefficients(
         )
 
     records = [row(CONSTANT_TERM, "", float(coef[0]), float(inverse[0, 0]), math.nan, False)]
-    for term, start, expand, labels, column in spans:
-        estimated = slice(start, start + expand.shape[1])
-        full = expand @ coef[estimated]
-        variance = np.einsum("ij,jk,ik->i", expand, inverse[estimated, estimated], expand)
-        name = term_names[term]
-        for i, label in enumerate(labels):
-            j = column[i]
+    for span in fit.spans:
+        estimated = slice(span.start, span.start + span.expand.shape[1])
+        full = span.expand @ coef[estimated]
+        variance = np.einsum("ij,jk,ik->i", span.expand, inverse[estimated, estimated], span.expand)
+        for i, label in enumerate(span.labels):
+            j = span.column[i]
             records.append(
                 row(
-                    name,
+                    span.name,
                     label,
                     float(full[i]),
                     float(variance[i]),
-                    float(vif[start + j]) if j >= 0 else math.nan,
+                    float(fit.vif[span.start + j]) if j >= 0 else math.nan,
                     j < 0,
                 )
             )
-    if n_c:
-        y_c = data.loc[centre, response].to_numpy(dtype=float)
-        b = float(y_c.mean()) - float(coef[0])
-        var = 1.0 / n_c + float(inverse[0, 0])
-        records.append(row(CENTER_TERM, "", b, var, float(vif[-1]), False))
+    if fit.y_center.size:
+        b = float(fit.y_center.mean()) - float(coef[0])
+        var = 1.0 / fit.y_center.size + float(inverse[0, 0])
+        records.append(row(CENTER_TERM, "", b, var, float(fit.vif[-1]), False))
     attrs = dict(out.attrs)
     out = pd.DataFrame(records, columns=list(COEFFICIENT_COLUMNS))
     out.attrs.update(attrs)
     out.attrs["equation"] = _equation(out, response)
+    return out
+
+
+#: Columns of the table returned by :func:`level_comparisons`, in order.
+COMPARISON_COLUMNS: tuple[str, ...] = (
+    "factor",
+    "level_a",
+    "level_b",
+    "mean_a",
+    "mean_b",
+    "difference",
+    "se",
+    "q",
+    "p_adjusted",
+    "ci_low",
+    "ci_high",
+    "significant",
+)
+
+
+def level_comparisons(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: Model = True,
+    typ: int = 2,
+    alpha_to_remove: float | None = None,
+    confidence: float = 0.95,
+) -> pd.DataFrame:
+    """Tukey's pairwise comparisons of the levels of each factor of three levels or more, as
+    Minitab's "Comparisons" of a general linear model give them: which of the paper's three
+    WP levels differ from which.
+
+    The ANOVA's F for such a factor says only that its levels are not all alike. Here each
+    pair of its levels is compared by the difference of their least-squares means in the
+    ANOVA's model (a level's mean with the other factors' levels weighted alike, as
+    :func:`level_coefficients` gives it: the constant plus the level's coefficient; in a
+    balanced design the level's mean response), its standard error from the model's
+    residual mean square and the coefficients' covariance, and Tukey's studentized range
+    ``q = |difference| / se * sqrt(2)`` over the factor's ``k`` levels with the residual's
+    degrees of freedom: the p values and the simultaneous intervals hold for all the
+    factor's pairs at once (Tukey-Kramer where the design is not balanced). Where the factor
+    takes part in a significant interaction, its differences change with the other factor's
+    level and these, averaged over it, say less: ``attrs["note"]`` names such interactions
+    (their interaction plot shows the differences level by level).
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
+        are used).
+    factors
+        The design's factors, or the design (or a campaign result).
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions, typ, alpha_to_remove
+        The ANOVA's model, as :func:`anova` takes them.
+    confidence
+        Simultaneous confidence of the intervals; ``significant`` is ``p_adjusted < 1 -
+        confidence`` [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        :data:`COMPARISON_COLUMNS`, one row per pair of levels of each factor of three levels
+        or more in the model, in the design's order of the levels: ``factor``, ``level_a``
+        and ``level_b`` (labels, ``level_a`` the earlier), ``mean_a`` and ``mean_b`` (the
+        levels' least-squares means), ``difference`` (``mean_b - mean_a``, Minitab's
+        "Difference of Levels") and ``se`` [response unit], ``q`` (the studentized range)
+        and ``p_adjusted`` (Tukey's) [-], ``ci_low`` and ``ci_high`` (the simultaneous
+        interval of the difference) [response unit] and ``significant``. Empty where no
+        such factor is in the model, the model matrix is rank-deficient or no run is
+        usable; without residual degrees of freedom (or scatter) only the means and
+        differences. ``attrs``: ``confidence``, ``df_resid``, ``method`` (``"Tukey"``) and
+        ``note``.
+
+    References
+    ----------
+    J. W. Tukey, "Comparing individual means in the analysis of variance", Biometrics 5(2),
+    99-114, 1949; C. Y. Kramer, "Extension of multiple range tests to group means with
+    unequal numbers of replications", Biometrics 12(3), 307-310, 1956; D. C. Montgomery,
+    *Design and Analysis of Experiments*, 8th ed., Wiley, 2013, section 3.5.7.
+
+    Examples
+    --------
+    The 3 x 2 design of :func:`level_coefficients` (WP's level means 0.30, 0.40, 0.50):
+
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor, level_comparisons
+    >>> factors = [Factor("WP", (1.0, 2.0, 3.0), labels=("-", "0", "+")), Factor("A", (10.0, 20.0))]
+    >>> runs = pd.DataFrame({
+    ...     "WP": [1.0, 2.0, 3.0] * 4,
+    ...     "A": [10.0] * 6 + [20.0] * 6,
+    ...     "MU": [0.30, 0.39, 0.50, 0.28, 0.39, 0.48, 0.31, 0.42, 0.51, 0.31, 0.40, 0.51],
+    ... })
+    >>> table = level_comparisons(runs, factors, "MU", interactions=False)
+    >>> columns = ["level_a", "level_b", "difference", "ci_low", "ci_high", "significant"]
+    >>> print(table[columns].round(3).to_string(index=False))
+    level_a level_b  difference  ci_low  ci_high  significant
+          -       0         0.1   0.083    0.117         True
+          -       +         0.2   0.183    0.217         True
+          0       +         0.1   0.083    0.117         True
+    """
+    if (
+        isinstance(confidence, bool)
+        or not isinstance(confidence, numbers.Real)
+        or not 0.0 < float(confidence) < 1.0
+    ):
+        raise ValueError(f"confidence: expected a number above 0 and below 1, got {confidence!r}")
+    raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
+    table = anova(
+        summary, raw, response, interactions=interactions, typ=typ, alpha_to_remove=alpha_to_remove
+    )
+    return _comparisons(summary, raw, response, table, interactions, alpha_to_remove, confidence)
+
+
+def _comparisons(
+    summary: pd.DataFrame,
+    raw: list[Any],
+    response: str,
+    table: pd.DataFrame,
+    interactions: Model,
+    alpha_to_remove: float | None,
+    confidence: float = 0.95,
+) -> pd.DataFrame:
+    """:func:`level_comparisons` of the design's factors ``raw`` against ``table``, the
+    :func:`anova` of the same model (which :func:`analyze` has already)."""
+    from scipy import stats
+
+    out = pd.DataFrame({c: pd.Series(dtype=float) for c in COMPARISON_COLUMNS})
+    out = out.astype({"factor": object, "level_a": object, "level_b": object, "significant": bool})
+    out.attrs.update(confidence=float(confidence), df_resid=math.nan, method="Tukey", note="")
+    fit = _effects_fit(summary, raw, response, table, interactions, alpha_to_remove)
+    if isinstance(fit, str):
+        out.attrs["note"] = fit
+        return out
+    out.attrs["df_resid"] = fit.df_resid
+    mse, df = fit.mse, fit.df_resid
+    alpha = 1.0 - float(confidence)
+    p_of = dict(zip(table["term"], table["p_value"], strict=True))
+    records: list[dict[str, Any]] = []
+    notes: list[str] = []
+    # a factor of three levels or more in the data that the model left out (eliminated)
+    data = _clean(summary, _factors(raw), response)
+    in_model = {span.name for span in fit.spans}
+    for factor in _factors(raw):
+        present = {factor.level_index(v) for v in data[factor.name]} - {None}
+        if len(present) >= 3 and factor.name not in in_model:
+            notes.append(f"{factor.name} is not in the model")
+    # an exact fit (the residual 0): every difference not zero to round-off is significant,
+    # as the ANOVA's F is infinite; a constant response has none
+    round_off = 1e-12 * float(np.max(np.abs(fit.coef)))
+    for span in fit.spans:
+        k = len(span.labels)
+        if ":" in span.name or k < 3:
+            continue
+        estimated = slice(span.start, span.start + span.expand.shape[1])
+        effects = span.expand @ fit.coef[estimated]
+        covariance = fit.inverse[estimated, estimated]
+        means = float(fit.coef[0]) + effects
+        usable = not math.isnan(mse)
+        q_crit = float(stats.studentized_range.ppf(confidence, k, df)) if usable else math.nan
+        for i, j in itertools.combinations(range(k), 2):
+            d = span.expand[j] - span.expand[i]
+            difference = float(means[j] - means[i])
+            se = math.sqrt(mse * float(d @ covariance @ d)) if usable else math.nan
+            if se > 0:
+                q = abs(difference) / se * math.sqrt(2.0)
+            elif se == 0.0 and abs(difference) > round_off:
+                q = math.inf
+            else:
+                q = math.nan
+            if math.isnan(q):
+                p = math.nan
+            else:
+                p = 0.0 if math.isinf(q) else float(stats.studentized_range.sf(q, k, df))
+            half = q_crit / math.sqrt(2.0) * se
+            records.append(
+                {
+                    "factor": span.name,
+                    "level_a": span.labels[i],
+                    "level_b": span.labels[j],
+                    "mean_a": float(means[i]),
+                    "mean_b": float(means[j]),
+                    "difference": difference,
+                    "se": se,
+                    "q": q,
+                    "p_adjusted": p,
+                    "ci_low": difference - half,
+                    "ci_high": difference + half,
+                    "significant": bool(p < alpha) if not math.isnan(p) else False,
+                }
+            )
+        crossing = [
+            str(term)
+            for term, p in p_of.items()
+            if ":" in str(term)
+            and span.name in str(term).split(":")
+            and not pd.isna(p)
+            and float(p) < alpha
+        ]
+        if crossing:
+            which = (
+                "a significant interaction" if len(crossing) == 1 else "significant interactions"
+            )
+            others = (
+                "the other factor's level" if len(crossing) == 1 else "the other factors' levels"
+            )
+            notes.append(
+                f"{span.name} is in {which} ({', '.join(crossing)}): its differences change "
+                f"with {others}, and these average over {'it' if len(crossing) == 1 else 'them'}"
+            )
+    if records and math.isnan(mse):
+        notes.append("no residual degrees of freedom: no standard errors, intervals or p")
+    elif records and mse == 0.0:
+        notes.append(
+            "response is constant: no q or p"
+            if "response is constant" in fit.anova_note
+            else "exact fit (no residual scatter): q is infinite and p 0 for every difference "
+            "that is not zero"
+        )
+    if records:
+        out = pd.DataFrame(records, columns=list(COMPARISON_COLUMNS))
+        out.attrs.update(confidence=float(confidence), df_resid=df, method="Tukey")
+    out.attrs["note"] = "; ".join(notes)
     return out
 
 
@@ -3324,7 +3612,8 @@ def analyze(
     dict of str to ResponseAnalysis
         ``{response: ResponseAnalysis}``: each response's tables (main effects,
         interactions, ANOVA, ranked effects, residuals, two-level effects, trends, model
-        summary, level coefficients) as attributes, or as items by name (``result["MU"]["anova"]``).
+        summary, level coefficients, pairwise comparisons) as attributes, or as items by
+        name (``result["MU"]["anova"]``).
 
     References
     ----------
@@ -3459,6 +3748,9 @@ def analyze(
             coefficients=_coefficients(
                 summary, design_factors, response, table, model, alpha_to_remove
             ),
+            comparisons=_comparisons(
+                summary, design_factors, response, table, model, alpha_to_remove
+            ),
         )
     return result
 
@@ -3543,10 +3835,11 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         :func:`anova`) and ``ranked_effects_<R>.csv`` for every response ``R``,
         ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`),
         ``trends_<R>.csv`` when it has a non-empty :func:`factor_trends` table,
-        ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table, and
+        ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table,
         ``coefficients_<R>.csv`` when it has a non-empty :func:`level_coefficients` table
         and no effects table (a design with a factor of three levels or more: a two-level
-        design's coded coefficients are in its effects table).
+        design's coded coefficients are in its effects table), and ``comparisons_<R>.csv``
+        when it has a non-empty :func:`level_comparisons` table.
     """
     if isinstance(result, ResponseAnalysis):  # a KeyError: 'main_effects' (an API review)
         raise TypeError(
@@ -3594,6 +3887,11 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             tables["coefficients"] = coefficients
         else:
             (directory / f"coefficients_{response}.csv").unlink(missing_ok=True)
+        comparisons = bundle.get("comparisons")
+        if comparisons is not None and not comparisons.empty:
+            tables["comparisons"] = comparisons
+        else:
+            (directory / f"comparisons_{response}.csv").unlink(missing_ok=True)
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             write_table(table, path)

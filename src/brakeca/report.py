@@ -207,6 +207,10 @@ term; what the table gives for the term is its effect plus theirs, each with the
 <p class="note">{{ item.effects_info }}</p>
 {{ render_table(item.effects) }}
 {%- endif %}
+{%- if item.comparisons %}
+<p class="note">{{ item.comparisons_info }}</p>
+{{ render_table(item.comparisons) }}
+{%- endif %}
 {%- if item.coefficients %}
 <details>
 <summary>Coefficients of {{ item.response }} at every level, and the regression equation</summary>
@@ -634,6 +638,54 @@ def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     if note:
         caption += f" Note: {note}."
     numeric = [False, False, False, True, True, True, True]
+    return _Table(columns, numeric, rows), caption
+
+
+def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
+    """Tukey's pairwise comparisons (:func:`brakeca.analysis.level_comparisons`, in the
+    report's unit of ``response``) and their caption."""
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
+    confidence = float(frame.attrs.get("confidence", 0.95))
+
+    def level(label: Any) -> str:  # a negative one bracketed, as Minitab writes it
+        text = str(label)
+        return f"({text})" if text.startswith("-") else text
+
+    rows = []
+    for _, rec in frame.iterrows():
+        low, high = float(rec["ci_low"]) * factor, float(rec["ci_high"]) * factor
+        cells = [
+            _fmt(rec["factor"]),
+            f"{level(rec['level_b'])} − {level(rec['level_a'])}",
+            _fmt(float(rec["difference"]) * factor, ".4g"),
+            _fmt(float(rec["se"]) * factor, ".4g"),
+            "–" if _is_missing(low) else f"{_fmt(low, '.4g')} to {_fmt(high, '.4g')}",
+            format_p_value(rec["p_adjusted"]),
+        ]
+        rows.append({"cells": cells, "cls": "sig" if bool(rec["significant"]) else ""})
+    in_unit = f" [{unit}]" if unit else ""
+    columns = [
+        "Factor",
+        "Levels (later − earlier)",
+        f"Difference of their means{in_unit}",
+        f"SE{in_unit}",
+        f"{100 * confidence:g} % interval{in_unit}",
+        "Adjusted p",
+    ]
+    names = " and ".join(dict.fromkeys(str(f) for f in frame["factor"]))
+    caption = (
+        f"Which levels of {names} differ in {response}: Tukey's pairwise comparisons of the "
+        "levels' least-squares means in the ANOVA's model (in a balanced design, the levels' "
+        "mean responses), each difference the later "
+        "level's mean less the earlier's, with "
+        f"simultaneous {100 * confidence:g} % intervals and p values adjusted for all the pairs of "
+        f"the factor (Minitab's comparisons of a general linear model); p < {1 - confidence:.2g} "
+        f"in bold. The table is tables/comparisons_{response}.csv."
+    )
+    note = frame.attrs.get("note")
+    if note:
+        caption += f" Note: {note}."
+    numeric = [False, False, True, True, False, True]
     return _Table(columns, numeric, rows), caption
 
 
@@ -1393,6 +1445,7 @@ def render_report(
     trend_tables: Mapping[str, pd.DataFrame] | None = None,
     residual_tables: Mapping[str, pd.DataFrame] | None = None,
     coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
+    comparison_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -1452,9 +1505,17 @@ def render_report(
             if effects_table is None and coefficients is not None and not coefficients.empty
             else (None, "", "", "")
         )
+        comparisons = (comparison_tables or {}).get(response)
+        comparisons_table, comparisons_info = (
+            _comparisons_table(str(response), comparisons)
+            if comparisons is not None and not comparisons.empty
+            else (None, "")
+        )
         anova_items.append(
             {
                 "response": str(response),
+                "comparisons": comparisons_table,
+                "comparisons_info": comparisons_info,
                 "coefficients": coefficients_table,
                 "coefficients_info": coefficients_info,
                 "equation": equation,
@@ -1718,6 +1779,7 @@ def write_report(
     trend_tables: Mapping[str, pd.DataFrame] | None = None,
     residual_tables: Mapping[str, pd.DataFrame] | None = None,
     coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
+    comparison_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -1784,6 +1846,10 @@ def write_report(
         ``{response: table}`` from :func:`brakeca.analysis.level_coefficients`, shown (folded,
         with the regression equation) under the response's ANOVA table where the response
         has no two-level effects table: a design with a factor of three levels or more.
+    comparison_tables
+        ``{response: table}`` from :func:`brakeca.analysis.level_comparisons`, shown under
+        the response's ANOVA table when not empty: Tukey's pairwise comparisons of the levels
+        of each factor of three levels or more.
 
     Returns
     -------
@@ -1822,5 +1888,6 @@ def write_report(
         trend_tables=trend_tables,
         residual_tables=residual_tables,
         coefficient_tables=coefficient_tables,
+        comparison_tables=comparison_tables,
     )
     return write_text(path, html)

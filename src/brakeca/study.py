@@ -319,6 +319,11 @@ Files (R is the response: MU, V or log10_V_mm3):
   A level's coefficient is its least-squares mean less the constant. The regression
   equation is the constant plus, for each term, the coefficient of the run's level(s): the
   report writes it out.
+- `comparisons_R.csv` (a factor of three or more levels): Tukey's pairwise comparisons of
+  its levels' least-squares means (`mean_a`, `mean_b`; in a balanced design the level means)
+  in the ANOVA model: `difference` (`mean_b - mean_a`, the later level less the earlier), its
+  `se`, the studentized range `q` (Minitab prints T = q / √2), `p_adjusted` (Tukey's), the
+  simultaneous 95 % interval (`ci_low`, `ci_high`) and `significant` (p below 0.05).
 - `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual` (under the ANOVA
   model, not a response surface's quadratic): λ̂, its interval and the reading without the
   runs whose standardized residual is beyond ±2 (the report's unusual runs), under the same
@@ -759,6 +764,7 @@ def write_study(
         level_means=level_means,
         trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
         coefficient_tables={resp: tables[resp]["coefficients"] for resp in RESPONSES},
+        comparison_tables={resp: tables[resp]["comparisons"] for resp in RESPONSES},
         residual_tables=residual_tables,
     )
     if in_short is not None:

@@ -319,3 +319,130 @@ def test_a_constant_response_has_no_t_or_p() -> None:
     exact = _runs().assign(MU=lambda d: 0.3 + 0.1 * d["A"] / 20.0)  # fitted to round-off
     table = level_coefficients(exact, FACTORS, "MU", interactions=False).set_index("term")
     assert (table.loc["A", "t"].abs() > 1e10).all() and table.loc["A", "significant"].all()
+
+
+# --- Tukey's pairwise comparisons ------------------------------------------------------------
+
+
+def test_one_factor_s_comparisons_are_statsmodels_tukey_hsd() -> None:
+    """With WP alone in the model the least-squares means are the level means and the
+    residual the one-way ANOVA's: the comparisons equal statsmodels' pairwise_tukeyhsd
+    (differences, standard errors, adjusted p and simultaneous intervals), unbalanced too."""
+    from statsmodels.stats.multicomp import pairwise_tukeyhsd
+
+    from brakeca.analysis import COMPARISON_COLUMNS, level_comparisons
+
+    runs = _runs().drop(index=[0, 5, 13]).reset_index(drop=True)
+    table = level_comparisons(runs, [WP], "MU", interactions=False)
+    assert list(table.columns) == list(COMPARISON_COLUMNS)
+    groups = runs["WP"].map(dict(zip(WP.levels, "abc", strict=True)))
+    hsd = pairwise_tukeyhsd(runs["MU"], groups, alpha=0.05)
+    assert [(a, b) for a, b in zip(table["level_a"], table["level_b"], strict=True)] == [
+        ("-", "0"),
+        ("-", "+"),
+        ("0", "+"),
+    ]
+    np.testing.assert_allclose(table["difference"], hsd.meandiffs, rtol=1e-10)
+    np.testing.assert_allclose(table["se"] * np.sqrt(2.0), hsd.std_pairs * 2.0, rtol=1e-10)
+    np.testing.assert_allclose(table["p_adjusted"], hsd.pvalues, rtol=1e-4, atol=1e-12)
+    np.testing.assert_allclose(table[["ci_low", "ci_high"]], hsd.confint, rtol=1e-6)
+    assert list(table["significant"]) == list(hsd.reject)
+    assert table.attrs["method"] == "Tukey" and table.attrs["df_resid"] == len(runs) - 3
+
+
+def test_in_a_factorial_model_the_comparisons_are_of_least_squares_means() -> None:
+    """In the whole model the means are the constant plus the level's coefficient (the
+    level means in a balanced design), the standard error of a difference from the model's
+    residual, sqrt(2 MSE / n per level) when balanced; q is the studentized range and p its
+    tail over the factor's three levels; a significant interaction is named."""
+    from scipy import stats
+
+    from brakeca.analysis import level_comparisons
+
+    runs = _runs()
+    # a clear S x WP interaction: 0.03 more at S+ and WP+
+    both = np.isclose(runs["S"], 1.0) & np.isclose(runs["WP"], 1e-13, rtol=1e-9, atol=0.0)
+    runs.loc[both, "MU"] += 0.03
+    table = level_comparisons(runs, FACTORS, "MU")
+    coefficients = level_coefficients(runs, FACTORS, "MU").set_index(["term", "level"])
+    constant = coefficients.loc[(CONSTANT_TERM, ""), "coefficient"]
+    for _, row in table.iterrows():
+        for side in ("a", "b"):
+            level = row[f"level_{side}"]
+            assert row[f"mean_{side}"] == pytest.approx(
+                constant + coefficients.loc[("WP", level), "coefficient"], rel=1e-12
+            )
+            value = WP.levels[WP.labels.index(level)]  # type: ignore[union-attr]
+            at = np.isclose(runs["WP"], value, rtol=1e-9, atol=0.0)
+            assert row[f"mean_{side}"] == pytest.approx(runs.loc[at, "MU"].mean(), rel=1e-12)
+    residual = anova(runs, FACTORS, "MU").set_index("term").loc["Residual"]
+    se = np.sqrt(2.0 * residual["mean_sq"] / (len(runs) / 3))
+    np.testing.assert_allclose(table["se"], se, rtol=1e-10)
+    q = np.abs(table["difference"]) / table["se"] * np.sqrt(2.0)
+    np.testing.assert_allclose(table["q"], q, rtol=1e-12)
+    p = stats.studentized_range.sf(q, 3, residual["df"])
+    np.testing.assert_allclose(table["p_adjusted"], p, rtol=1e-12)
+    half = stats.studentized_range.ppf(0.95, 3, residual["df"]) / np.sqrt(2.0) * se
+    np.testing.assert_allclose(table["ci_high"] - table["difference"], half, rtol=1e-10)
+    assert "WP is in a significant interaction (S:WP)" in table.attrs["note"]
+    assert level_comparisons(runs, FACTORS, "MU", interactions=False).attrs["note"] == ""
+
+
+def test_comparisons_are_given_for_factors_of_three_levels_or_more_only() -> None:
+    from brakeca.analysis import level_comparisons
+
+    runs = _runs()
+    two_level = runs[~np.isclose(runs["WP"], 1e-14, rtol=1e-9, atol=0.0)]
+    table = level_comparisons(two_level, (S, Factor("WP", (1e-15, 1e-13)), A), "MU")
+    assert table.empty and table.attrs["note"] == ""
+    with pytest.raises(ValueError, match="confidence: expected a number above 0 and below 1"):
+        level_comparisons(runs, FACTORS, "MU", confidence=95)
+    saturated = level_comparisons(
+        _runs(replicates=1), FACTORS, "MU", interactions=["S", "WP", "A", "S|WP|A"]
+    )
+    assert saturated["difference"].notna().all() and saturated["p_adjusted"].isna().all()
+    assert "no residual degrees of freedom" in saturated.attrs["note"]
+
+
+def test_analyze_and_save_tables_give_the_comparisons(tmp_path) -> None:
+    from brakeca.analysis import level_comparisons
+
+    runs = _runs()
+    result = analyze(runs, FACTORS, ["MU"])
+    pd.testing.assert_frame_equal(result["MU"].comparisons, level_comparisons(runs, FACTORS, "MU"))
+    written = {p.name for p in save_tables(result, tmp_path)}
+    assert "comparisons_MU.csv" in written
+    two_level = runs[~np.isclose(runs["WP"], 1e-14, rtol=1e-9, atol=0.0)]
+    result = analyze(two_level, (S, Factor("WP", (1e-15, 1e-13)), A), ["MU"])
+    assert result["MU"].comparisons.empty
+    save_tables(result, tmp_path)
+    assert not (tmp_path / "comparisons_MU.csv").exists()  # the earlier analysis's, removed
+
+
+def test_comparisons_say_what_the_model_leaves_out_and_agree_with_the_anova_on_exact_fits() -> None:
+    """A factor eliminated from the model is named, not silently dropped; a fit exact to
+    round-off calls its differences significant, as its F (a constant response has no q or
+    p); two interactions are both named (a review)."""
+    from brakeca.analysis import level_comparisons
+
+    runs = _runs()
+    flat = runs.assign(MU=lambda d: 0.4 + 0.02 * d["S"] + 0.01 * d["A"] / 10.0)
+    flat["MU"] += 1e-3 * np.random.default_rng(5).standard_normal(len(flat))
+    reduced = level_comparisons(flat, FACTORS, "MU", alpha_to_remove=0.05)
+    assert reduced.empty and reduced.attrs["note"] == "WP is not in the model"
+    exact = runs.copy()
+    exact["MU"] = 0.1 * np.searchsorted(WP.levels, exact["WP"].to_numpy()) + 0.05 * exact["S"]
+    table = level_comparisons(exact, FACTORS, "MU", interactions=False)  # to round-off
+    assert (table["q"] > 1e10).all() and table["significant"].all()
+    constant = level_comparisons(runs.assign(MU=0.3), FACTORS, "MU")
+    assert constant["p_adjusted"].isna().all() and not constant["significant"].any()
+    assert constant.attrs["note"] == "response is constant: no q or p"
+    both = runs.copy()
+    at = np.isclose(both["WP"], 1e-13, rtol=1e-9, atol=0.0)
+    both.loc[at & np.isclose(both["S"], 1.0), "MU"] += 0.03
+    both.loc[at & np.isclose(both["A"], 20.0), "MU"] += 0.03
+    note = level_comparisons(both, FACTORS, "MU").attrs["note"]
+    assert note == (
+        "WP is in significant interactions (S:WP, WP:A): its differences change with the "
+        "other factors' levels, and these average over them"
+    )

@@ -837,3 +837,23 @@ def test_a_general_factorial_s_coefficients_are_folded_under_its_anova(tmp_path)
     effects = {"MU": pd.DataFrame({"term": ["S"], "effect": [0.1], "significant": [True]})}
     html = render_report(**inputs, coefficient_tables=tables, effects_tables=effects)
     assert html.count("at every level, and the regression equation</summary>") == 1
+
+
+def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(tmp_path) -> None:
+    """Which of WP's levels differ: the comparisons' table under each ANOVA, V's in mm³,
+    each row the second level less the first, with its simultaneous interval."""
+    from brakeca.analysis import level_comparisons
+
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"]
+    tables = {r: level_comparisons(summary, FACTORS, r) for r in ("MU", "V")}
+    assert len(tables["V"]) == 3
+    html = render_report(**inputs, comparison_tables=tables)
+    assert html.count("Which levels of WP differ in ") == 2
+    assert "Difference of their means [mm³]" in html and "95 % interval [mm³]" in html
+    first = tables["V"].iloc[0]
+    assert (first["level_a"], first["level_b"]) == ("-", "0")
+    assert "<td>0 − (-)</td>" in html and "<td>+ − 0</td>" in html  # Minitab's brackets
+    assert f"{float(first['difference']) * 1e9:.4g}" in html
+    assert f"{float(first['ci_low']) * 1e9:.4g} to {float(first['ci_high']) * 1e9:.4g}" in html
+    assert "Which levels of" not in render_report(**inputs)
