@@ -3194,6 +3194,18 @@ def _effects_fit(
     )
 
 
+def _zero_residual_note(fit: _EffectsFit, statistic: str, of: str) -> str:
+    """What a table of ``fit`` says where its residual is 0: a constant response has no
+    ``statistic`` (t, q) or p; an exact fit's is infinite, p 0, for every ``of`` (coefficient,
+    difference) not zero to round-off, as the ANOVA's F."""
+    if "response is constant" in fit.anova_note:
+        return f"response is constant: no {statistic} or p"
+    return (
+        f"exact fit (no residual scatter): {statistic} is infinite and p 0 for every {of} "
+        "that is not zero"
+    )
+
+
 def _coefficients(
     summary: pd.DataFrame,
     raw: list[Any],
@@ -3220,12 +3232,7 @@ def _coefficients(
     if math.isnan(mse):
         out.attrs["note"] = "no residual degrees of freedom: no standard errors, t or p"
     elif mse == 0.0:
-        out.attrs["note"] = (
-            "response is constant: no t or p"
-            if "response is constant" in fit.anova_note
-            else "exact fit (no residual scatter): t is infinite and p 0 for every "
-            "coefficient that is not zero"
-        )
+        out.attrs["note"] = _zero_residual_note(fit, "t", "coefficient")
     # the coefficients zero to round-off (a constant response's, say: 4.6e-18) have no t
     round_off = 1e-12 * float(np.max(np.abs(coef)))
 
@@ -3492,12 +3499,7 @@ def _comparisons(
     if records and math.isnan(mse):
         notes.append("no residual degrees of freedom: no standard errors, intervals or p")
     elif records and mse == 0.0:
-        notes.append(
-            "response is constant: no q or p"
-            if "response is constant" in fit.anova_note
-            else "exact fit (no residual scatter): q is infinite and p 0 for every difference "
-            "that is not zero"
-        )
+        notes.append(_zero_residual_note(fit, "q", "difference"))
     if records:
         out = pd.DataFrame(records, columns=list(COMPARISON_COLUMNS))
         out.attrs.update(confidence=float(confidence), df_resid=df, method="Tukey")
