@@ -1205,9 +1205,10 @@ def alpha_problem(alpha: Any, *, usual: str = "0.1 in Minitab") -> str | None:
     """What is wrong with ``alpha`` as a significance level [-] (a number above 0 and below 1,
     not text or a bool), or None when nothing is: the one rule of every place that takes one
     (a design's ``alpha_to_remove``, ``brakeca analyze --reduce``, :func:`anova`,
-    :func:`brakeca.rsm.backward_elimination`, :func:`two_level_effects`, the power
-    functions), which each prefix with their own name. ``usual`` is the value the message
-    gives as usual (an alpha to remove's by default)."""
+    :func:`brakeca.rsm.backward_elimination`, :func:`two_level_effects`,
+    :func:`level_coefficients`, the power functions; and :func:`level_comparisons`'
+    ``confidence``, of the same range), which each prefix with their own name. ``usual`` is
+    the value the message gives as usual (an alpha to remove's by default)."""
     if (
         isinstance(alpha, bool | np.bool_ | str)
         or not isinstance(alpha, numbers.Real)
@@ -3214,16 +3215,19 @@ def _coefficients(
     interactions: Model,
     alpha_to_remove: float | None,
     alpha: float = 0.05,
+    fit: _EffectsFit | str | None = None,
 ) -> pd.DataFrame:
     """:func:`level_coefficients` of the design's factors ``raw`` against ``table``, the
-    :func:`anova` of the same model (which :func:`analyze` has already)."""
+    :func:`anova` of the same model (which :func:`analyze` has already), and of ``fit``, its
+    :func:`_effects_fit` where that is made already."""
     from scipy import stats
 
     out = pd.DataFrame({c: pd.Series(dtype=float) for c in COEFFICIENT_COLUMNS})
     out = out.astype({"term": object, "level": object, "derived": bool, "significant": bool})
     out.attrs.update(note="", equation="", df_resid=math.nan, alpha=alpha)
     out.attrs["formula"] = table.attrs.get("formula", "")
-    fit = _effects_fit(summary, raw, response, table, interactions, alpha_to_remove)
+    if fit is None:
+        fit = _effects_fit(summary, raw, response, table, interactions, alpha_to_remove)
     if isinstance(fit, str):
         out.attrs["note"] = fit + (": no coefficients" if "rank" in fit else "")
         return out
@@ -3233,14 +3237,16 @@ def _coefficients(
         out.attrs["note"] = "no residual degrees of freedom: no standard errors, t or p"
     elif mse == 0.0:
         out.attrs["note"] = _zero_residual_note(fit, "t", "coefficient")
-    # the coefficients zero to round-off (a constant response's, say: 4.6e-18) have no t
+    # the coefficients zero to round-off (a constant response's, say: 4.6e-18) have no t,
+    # and a constant response none at all (its constant's too: nothing is tested)
     round_off = 1e-12 * float(np.max(np.abs(coef)))
+    constant = "response is constant" in fit.anova_note
 
     def row(term: str, level: str, b: float, var: float, v: float, derived: bool) -> dict:
         se = math.sqrt(mse * var) if not math.isnan(mse) else math.nan
         if se > 0:
             t = b / se
-        elif se == 0.0 and abs(b) > round_off:  # an exact fit, as the ANOVA has it
+        elif se == 0.0 and abs(b) > round_off and not constant:  # an exact fit, as the ANOVA
             t = math.copysign(math.inf, b)
         else:
             t = math.nan
@@ -3357,8 +3363,10 @@ def level_comparisons(
         interval of the difference) [response unit] and ``significant``. Empty where no
         such factor is in the model, the model matrix is rank-deficient or no run is
         usable; without residual degrees of freedom (or scatter) only the means and
-        differences. ``attrs``: ``confidence``, ``df_resid``, ``method`` (``"Tukey"``) and
-        ``note``.
+        differences. ``attrs``: ``confidence``, ``df_resid``, ``method`` (``"Tukey"``),
+        ``formula`` (the ANOVA's) and ``note`` (the interactions of the factor with an ANOVA
+        p below ``1 - confidence``, a factor left out of the model, levels without usable
+        runs).
 
     References
     ----------
@@ -3387,12 +3395,9 @@ def level_comparisons(
           -       +         0.2   0.183    0.217         True
           0       +         0.1   0.083    0.117         True
     """
-    if (
-        isinstance(confidence, bool)
-        or not isinstance(confidence, numbers.Real)
-        or not 0.0 < float(confidence) < 1.0
-    ):
-        raise ValueError(f"confidence: expected a number above 0 and below 1, got {confidence!r}")
+    problem = alpha_problem(confidence, usual="0.95 is usual")  # the same range as alpha's
+    if problem:
+        raise ValueError(f"confidence: {problem}")
     raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
     table = anova(
         summary, raw, response, interactions=interactions, typ=typ, alpha_to_remove=alpha_to_remove
@@ -3408,15 +3413,19 @@ def _comparisons(
     interactions: Model,
     alpha_to_remove: float | None,
     confidence: float = 0.95,
+    fit: _EffectsFit | str | None = None,
 ) -> pd.DataFrame:
     """:func:`level_comparisons` of the design's factors ``raw`` against ``table``, the
-    :func:`anova` of the same model (which :func:`analyze` has already)."""
+    :func:`anova` of the same model (which :func:`analyze` has already), and of ``fit``, its
+    :func:`_effects_fit` where that is made already."""
     from scipy import stats
 
     out = pd.DataFrame({c: pd.Series(dtype=float) for c in COMPARISON_COLUMNS})
     out = out.astype({"factor": object, "level_a": object, "level_b": object, "significant": bool})
     out.attrs.update(confidence=float(confidence), df_resid=math.nan, method="Tukey", note="")
-    fit = _effects_fit(summary, raw, response, table, interactions, alpha_to_remove)
+    out.attrs["formula"] = table.attrs.get("formula", "")
+    if fit is None:
+        fit = _effects_fit(summary, raw, response, table, interactions, alpha_to_remove)
     if isinstance(fit, str):
         out.attrs["note"] = fit
         return out
@@ -3431,6 +3440,11 @@ def _comparisons(
     in_model = {span.name for span in fit.spans}
     for factor in _factors(raw):
         present = {factor.level_index(v) for v in data[factor.name]} - {None}
+        if len(factor.levels) >= 3 and 0 < len(present) < len(factor.levels):
+            notes.append(
+                f"{factor.name}: {len(present)} of its {len(factor.levels)} levels have usable "
+                "runs" + ("" if len(present) >= 3 else ", too few to compare")
+            )
         if len(present) >= 3 and factor.name not in in_model:
             notes.append(f"{factor.name} is not in the model")
     # an exact fit (the residual 0): every difference not zero to round-off is significant,
@@ -3501,8 +3515,9 @@ def _comparisons(
     elif records and mse == 0.0:
         notes.append(_zero_residual_note(fit, "q", "difference"))
     if records:
+        attrs = dict(out.attrs)
         out = pd.DataFrame(records, columns=list(COMPARISON_COLUMNS))
-        out.attrs.update(confidence=float(confidence), df_resid=df, method="Tukey")
+        out.attrs.update(attrs)
     out.attrs["note"] = "; ".join(notes)
     return out
 
@@ -3723,6 +3738,8 @@ def analyze(
             alpha_to_remove=alpha_to_remove,
         )
         kept = [t for t in table["term"] if t not in ("Residual", CURVATURE)] if follow else None
+        # the effects-coded fit the coefficients and the comparisons share
+        fit = _effects_fit(summary, design_factors, response, table, model, alpha_to_remove)
         result[response] = ResponseAnalysis(
             main_effects=main_effects(summary, factors, response),
             interactions=interaction_tables(summary, factors, response),
@@ -3748,10 +3765,10 @@ def analyze(
             # been in the ANOVA's attrs alone, which concat and merge drop: an API review)
             model_summary=model_summary(table),
             coefficients=_coefficients(
-                summary, design_factors, response, table, model, alpha_to_remove
+                summary, design_factors, response, table, model, alpha_to_remove, fit=fit
             ),
             comparisons=_comparisons(
-                summary, design_factors, response, table, model, alpha_to_remove
+                summary, design_factors, response, table, model, alpha_to_remove, fit=fit
             ),
         )
     return result

@@ -314,7 +314,7 @@ def test_a_constant_response_has_no_t_or_p() -> None:
     its large t, as the ANOVA its large F."""
     runs = _runs().assign(MU=0.3)
     table = level_coefficients(runs, FACTORS, "MU")
-    assert table["t"].iloc[1:].isna().all() and not table["significant"].iloc[1:].any()
+    assert table["t"].isna().all() and not table["significant"].any()  # the constant's too
     assert table.attrs["note"] == "response is constant: no t or p"
     exact = _runs().assign(MU=lambda d: 0.3 + 0.1 * d["A"] / 20.0)  # fitted to round-off
     table = level_coefficients(exact, FACTORS, "MU", interactions=False).set_index("term")
@@ -395,7 +395,9 @@ def test_comparisons_are_given_for_factors_of_three_levels_or_more_only() -> Non
     two_level = runs[~np.isclose(runs["WP"], 1e-14, rtol=1e-9, atol=0.0)]
     table = level_comparisons(two_level, (S, Factor("WP", (1e-15, 1e-13)), A), "MU")
     assert table.empty and table.attrs["note"] == ""
-    with pytest.raises(ValueError, match="confidence: expected a number above 0 and below 1"):
+    with pytest.raises(
+        ValueError, match=r"confidence: expected a level above 0 and below 1 \(0.95"
+    ):
         level_comparisons(runs, FACTORS, "MU", confidence=95)
     saturated = level_comparisons(
         _runs(replicates=1), FACTORS, "MU", interactions=["S", "WP", "A", "S|WP|A"]
@@ -446,3 +448,48 @@ def test_comparisons_say_what_the_model_leaves_out_and_agree_with_the_anova_on_e
         "WP is in significant interactions (S:WP, WP:A): its differences change with the "
         "other factors' levels, and these average over them"
     )
+
+
+def test_unbalanced_comparisons_are_statsmodels_contrasts_of_least_squares_means() -> None:
+    """Tukey-Kramer: in an unbalanced factorial model each difference and its standard error
+    are those of the contrast of the two levels' least-squares means in statsmodels' fit of
+    the same model (Sum coding), q and p Tukey's of them."""
+    from scipy import stats
+
+    from brakeca.analysis import level_comparisons
+
+    runs = _runs().drop(index=[0, 3, 4, 9, 17]).reset_index(drop=True)
+    table = level_comparisons(runs, FACTORS, "MU")
+    fit = _statsmodels_fit(
+        runs,
+        "MU ~ C(S, Sum) + C(WP, Sum) + C(A, Sum) + C(S, Sum):C(WP, Sum) + C(S, Sum):C(A, Sum)"
+        " + C(WP, Sum):C(A, Sum)",
+    )
+    names = list(fit.params.index)
+
+    def level_effect(i: int) -> np.ndarray:
+        """WP's level i as a combination of the columns: its own, or minus both (the last)."""
+        out = np.zeros(len(names))
+        for j in range(2):
+            column = names.index(f"C(WP, Sum)[S.{WP.levels[j]!r}]")
+            out[column] = 1.0 if i == j else -1.0 if i == 2 else 0.0
+        return out
+
+    assert len(table) == 3
+    for _, row in table.iterrows():
+        i = WP.labels.index(row["level_a"])  # type: ignore[union-attr]
+        j = WP.labels.index(row["level_b"])  # type: ignore[union-attr]
+        test = fit.t_test(level_effect(j) - level_effect(i))
+        assert row["difference"] == pytest.approx(float(test.effect[0]), rel=1e-9)
+        assert row["se"] == pytest.approx(float(test.sd[0, 0]), rel=1e-9)
+        q = abs(float(test.tvalue[0, 0])) * np.sqrt(2.0)
+        assert row["q"] == pytest.approx(q, rel=1e-9)
+        assert row["p_adjusted"] == pytest.approx(
+            stats.studentized_range.sf(q, 3, fit.df_resid), rel=1e-9
+        )
+    # a level without usable runs is said
+    failed = runs.copy()
+    failed.loc[np.isclose(failed["WP"], 1e-14, rtol=1e-9, atol=0.0), "status"] = "failed"
+    table = level_comparisons(failed, FACTORS, "MU")
+    assert table.empty
+    assert table.attrs["note"] == "WP: 2 of its 3 levels have usable runs, too few to compare"
