@@ -79,6 +79,7 @@ __all__ = [
     "residuals",
     "save_tables",
     "split_terms",
+    "tukey_grouping",
     "two_level_effects",
 ]
 
@@ -3193,6 +3194,77 @@ def _effects_fit(
         y_center=data.loc[centre, response].to_numpy(dtype=float),
         anova_note=str(table.attrs.get("note", "")),
     )
+
+
+def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
+    """Minitab's "Grouping Information Using the Tukey Method": the levels of each factor of
+    a :func:`level_comparisons` table, largest mean first, each with letters; levels that
+    share a letter do not differ significantly, levels with no letter in common do.
+
+    The letters are the compact letter display of the table's ``significant`` pairs by the
+    insert-and-absorb algorithm: starting from one group of every level, each significant
+    pair splits every group that holds both into one without either of them, groups inside
+    another are dropped, and the groups are lettered A, B, ... in the order of their
+    largest mean.
+
+    Parameters
+    ----------
+    comparisons
+        A table of :func:`level_comparisons`.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per level of each factor: ``factor``, ``level`` (its label), ``mean`` (its
+        least-squares mean) [response unit] and ``grouping`` (its letters, e.g. ``"AB"``);
+        empty for a factor whose pairs have no p value (no residual).
+
+    References
+    ----------
+    H.-P. Piepho, "An algorithm for a letter-based representation of all-pairwise
+    comparisons", Journal of Computational and Graphical Statistics 13(2), 456-466, 2004.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from brakeca.analysis import tukey_grouping
+    >>> table = pd.DataFrame({
+    ...     "factor": ["WP"] * 3, "level_a": ["-", "-", "0"], "level_b": ["0", "+", "+"],
+    ...     "mean_a": [0.30, 0.30, 0.32], "mean_b": [0.32, 0.50, 0.50],
+    ...     "p_adjusted": [0.4, 0.001, 0.002], "significant": [False, True, True],
+    ... })
+    >>> print(tukey_grouping(table).to_string(index=False))
+    factor level  mean grouping
+        WP     +  0.50        A
+        WP     0  0.32        B
+        WP     -  0.30        B
+    """
+    rows: list[dict[str, Any]] = []
+    for factor, pairs in comparisons.groupby("factor", sort=False):
+        if pairs["p_adjusted"].isna().any():
+            continue
+        means: dict[str, float] = {}
+        for _, rec in pairs.iterrows():
+            means.setdefault(str(rec["level_a"]), float(rec["mean_a"]))
+            means.setdefault(str(rec["level_b"]), float(rec["mean_b"]))
+        order = sorted(means, key=lambda level: -means[level])  # largest mean first
+        groups: list[frozenset[str]] = [frozenset(order)]
+        for _, rec in pairs[pairs["significant"].astype(bool)].iterrows():
+            a, b = str(rec["level_a"]), str(rec["level_b"])
+            split: list[frozenset[str]] = []
+            for group in groups:
+                if a in group and b in group:
+                    split += [group - {a}, group - {b}]
+                else:
+                    split.append(group)
+            groups = [g for g in dict.fromkeys(split) if not any(g < h for h in split)]
+        groups.sort(key=lambda g: min(order.index(level) for level in g))
+        for level in order:
+            letters = "".join(chr(ord("A") + i) for i, group in enumerate(groups) if level in group)
+            rows.append(
+                {"factor": factor, "level": level, "mean": means[level], "grouping": letters}
+            )
+    return pd.DataFrame(rows, columns=["factor", "level", "mean", "grouping"])
 
 
 def _zero_residual_note(fit: _EffectsFit, statistic: str, of: str) -> str:

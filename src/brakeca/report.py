@@ -682,6 +682,20 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
         f"the factor (Minitab's comparisons of a general linear model); p < {1 - confidence:.2g} "
         f"in bold. The table is tables/comparisons_{response}.csv."
     )
+    from brakeca.analysis import tukey_grouping
+
+    grouping = tukey_grouping(frame)
+    if not grouping.empty:
+        caption += (
+            " Grouping (Minitab's, by Tukey's method; levels that share a letter do not differ, "
+            "largest mean first): "
+            + "; ".join(
+                f"{name}: "
+                + ", ".join(f"{level(r.level)} {r.grouping}" for r in rows_.itertuples())
+                for name, rows_ in grouping.groupby("factor", sort=False)
+            )
+            + "."
+        )
     note = frame.attrs.get("note")
     if note:
         caption += f" Note: {note}."

@@ -323,7 +323,8 @@ Files (R is the response: MU, V or log10_V_mm3):
   its levels' least-squares means (`mean_a`, `mean_b`; in a balanced design the level means)
   in the ANOVA model: `difference` (`mean_b - mean_a`, the later level less the earlier), its
   `se`, the studentized range `q` (Minitab prints T = q / √2), `p_adjusted` (Tukey's), the
-  simultaneous 95 % interval (`ci_low`, `ci_high`) and `significant` (p below 0.05).
+  simultaneous 95 % interval (`ci_low`, `ci_high`) and `significant` (p below 0.05). The
+  report's caption gives Minitab's grouping letters (`brakeca.analysis.tukey_grouping`).
 - `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual` (under the ANOVA
   model, not a response surface's quadratic): λ̂, its interval and the reading without the
   runs whose standardized residual is beyond ±2 (the report's unusual runs), under the same

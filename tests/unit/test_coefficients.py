@@ -493,3 +493,46 @@ def test_unbalanced_comparisons_are_statsmodels_contrasts_of_least_squares_means
     table = level_comparisons(failed, FACTORS, "MU")
     assert table.empty
     assert table.attrs["note"] == "WP: 2 of its 3 levels have usable runs, too few to compare"
+
+
+def _pairs(means: dict[str, float], significant: set[tuple[str, str]]) -> pd.DataFrame:
+    """A comparisons table of one factor "F" with these level means and significant pairs."""
+    levels = list(means)
+    rows = [
+        {
+            "factor": "F",
+            "level_a": a,
+            "level_b": b,
+            "mean_a": means[a],
+            "mean_b": means[b],
+            "p_adjusted": 0.01 if (a, b) in significant or (b, a) in significant else 0.5,
+            "significant": (a, b) in significant or (b, a) in significant,
+        }
+        for a, b in itertools.combinations(levels, 2)
+    ]
+    return pd.DataFrame(rows)
+
+
+def test_tukey_grouping_letters_are_piepho_s_compact_letter_display() -> None:
+    """Levels that share a letter do not differ; an overlapping chain of four levels (a
+    differs from c and d, b from d) gives A, AB, BC, C, largest mean first; no difference
+    gives one letter; none without p values."""
+    from brakeca.analysis import tukey_grouping
+
+    means = {"d": 1.0, "c": 2.0, "b": 3.0, "a": 4.0}  # in design order d, c, b, a
+    table = tukey_grouping(_pairs(means, {("a", "c"), ("a", "d"), ("b", "d")}))
+    assert list(table["level"]) == ["a", "b", "c", "d"]
+    assert list(table["grouping"]) == ["A", "AB", "BC", "C"]
+    assert list(table["mean"]) == [4.0, 3.0, 2.0, 1.0]
+    assert list(tukey_grouping(_pairs(means, set()))["grouping"]) == ["A"] * 4
+    every = set(itertools.combinations("abcd", 2))
+    assert list(tukey_grouping(_pairs(means, every))["grouping"]) == ["A", "B", "C", "D"]
+    # the letters hold what they say: two levels share one exactly when they do not differ
+    for pairs in ({("a", "b"), ("c", "d")}, {("a", "d")}, {("a", "c"), ("b", "c")}):
+        grouped = tukey_grouping(_pairs(means, pairs))
+        letters = dict(zip(grouped["level"], grouped["grouping"], strict=True))
+        for x, y in itertools.combinations("abcd", 2):
+            share = bool(set(letters[x]) & set(letters[y]))
+            assert share == ((x, y) not in pairs and (y, x) not in pairs), (pairs, x, y)
+    nan = _pairs(means, set()).assign(p_adjusted=np.nan)
+    assert tukey_grouping(nan).empty

@@ -857,3 +857,13 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
     assert f"{float(first['difference']) * 1e9:.4g}" in html
     assert f"{float(first['ci_low']) * 1e9:.4g} to {float(first['ci_high']) * 1e9:.4g}" in html
     assert "Which levels of" not in render_report(**inputs)
+    # Minitab's grouping letters in the caption, largest mean first
+    from brakeca.analysis import tukey_grouping
+
+    letters = tukey_grouping(tables["V"])
+    assert len(letters) == 3
+    shown = ", ".join(
+        f"{'(' + r.level + ')' if r.level.startswith('-') else r.level} {r.grouping}"
+        for r in letters.itertuples()
+    )
+    assert f"largest mean first): WP: {shown}." in html
