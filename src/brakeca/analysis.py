@@ -3201,11 +3201,13 @@ def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
     a :func:`level_comparisons` table, largest mean first, each with letters; levels that
     share a letter do not differ significantly, levels with no letter in common do.
 
-    The letters are the compact letter display of the table's ``significant`` pairs by the
-    insert-and-absorb algorithm: starting from one group of every level, each significant
-    pair splits every group that holds both into one without either of them, groups inside
-    another are dropped, and the groups are lettered A, B, ... in the order of their
-    largest mean.
+    The letters are the compact letter display of the table's ``significant`` pairs by
+    Piepho's insert, absorb and sweep: starting from one group of every level, each
+    significant pair splits every group that holds both into one without either of them,
+    groups inside another are dropped, a level leaves a group whose pairs with it other
+    groups cover, and the groups are lettered A, B, ... from the largest mean (by their
+    members' ranks). A pair without a p value (two levels of equal means in an exact fit)
+    counts as not significant.
 
     Parameters
     ----------
@@ -3217,7 +3219,7 @@ def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
     pandas.DataFrame
         One row per level of each factor: ``factor``, ``level`` (its label), ``mean`` (its
         least-squares mean) [response unit] and ``grouping`` (its letters, e.g. ``"AB"``);
-        empty for a factor whose pairs have no p value (no residual).
+        none for a factor whose pairs have no p value (no residual).
 
     References
     ----------
@@ -3241,7 +3243,7 @@ def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
     """
     rows: list[dict[str, Any]] = []
     for factor, pairs in comparisons.groupby("factor", sort=False):
-        if pairs["p_adjusted"].isna().any():
+        if pairs["p_adjusted"].isna().all():  # no residual: nothing was tested
             continue
         means: dict[str, float] = {}
         for _, rec in pairs.iterrows():
@@ -3258,7 +3260,21 @@ def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
                 else:
                     split.append(group)
             groups = [g for g in dict.fromkeys(split) if not any(g < h for h in split)]
-        groups.sort(key=lambda g: min(order.index(level) for level in g))
+        # sweep: a level keeps a letter only where it needs it (a pair of the letter's that
+        # no other letter of both covers), and a letter left on no level goes
+        swept = [set(g) for g in sorted(groups, key=lambda g: sorted(map(order.index, g)))]
+        for members in swept:
+            for level in sorted(members, key=order.index):
+                others = [h for h in swept if h is not members]
+                if any(level in h for h in others) and all(
+                    any(level in h and other in h for h in others)
+                    for other in members
+                    if other != level
+                ):
+                    members.discard(level)
+        groups = [frozenset(g) for g in swept if g]
+        # lettered A, B, ... from the largest mean: by their members' ranks, then the next
+        groups.sort(key=lambda g: sorted(map(order.index, g)))
         for level in order:
             letters = "".join(chr(ord("A") + i) for i, group in enumerate(groups) if level in group)
             rows.append(

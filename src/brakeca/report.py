@@ -687,8 +687,9 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
     grouping = tukey_grouping(frame)
     if not grouping.empty:
         caption += (
-            " Grouping (Minitab's, by Tukey's method; levels that share a letter do not differ, "
-            "largest mean first): "
+            f" Grouping by Tukey's method at {100 * confidence:g} % (Minitab's letters, the "
+            "levels from the largest mean; the means of levels that share no letter are "
+            "significantly different): "
             + "; ".join(
                 f"{name}: "
                 + ", ".join(f"{level(r.level)} {r.grouping}" for r in rows_.itertuples())

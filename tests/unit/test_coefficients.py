@@ -536,3 +536,22 @@ def test_tukey_grouping_letters_are_piepho_s_compact_letter_display() -> None:
             assert share == ((x, y) not in pairs and (y, x) not in pairs), (pairs, x, y)
     nan = _pairs(means, set()).assign(p_adjusted=np.nan)
     assert tukey_grouping(nan).empty
+
+
+def test_tukey_grouping_sweeps_letters_a_level_does_not_need_and_orders_ties() -> None:
+    """A review's cases: five levels where insert-and-absorb alone gave L1 the letters ABC
+    though AB say all (Piepho's sweep); groups whose largest means tie are lettered by
+    their next members (b A, c B, not the order they were made in); a pair without a p
+    value (equal means in an exact fit) is not significant, not a reason for no letters."""
+    from brakeca.analysis import tukey_grouping
+
+    means = {"L0": 1.0, "L1": 2.0, "L3": 3.0, "L2": 4.0, "L4": 5.0}
+    table = tukey_grouping(_pairs(means, {("L0", "L3"), ("L2", "L4"), ("L3", "L4")}))
+    letters = dict(zip(table["level"], table["grouping"], strict=True))
+    assert letters == {"L4": "A", "L2": "BC", "L3": "B", "L1": "AB", "L0": "AC"}
+    means = {"a": 4.0, "b": 3.0, "c": 2.0, "d": 1.0}
+    table = tukey_grouping(_pairs(means, {("b", "c"), ("c", "d")}))
+    assert list(table["grouping"]) == ["AB", "A", "B", "A"]
+    pairs = _pairs(means, {("a", "d")})
+    pairs.loc[(pairs["level_a"] == "b") & (pairs["level_b"] == "c"), "p_adjusted"] = np.nan
+    assert list(tukey_grouping(pairs)["grouping"]) == ["A", "AB", "AB", "B"]

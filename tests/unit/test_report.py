@@ -866,4 +866,5 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
         f"{'(' + r.level + ')' if r.level.startswith('-') else r.level} {r.grouping}"
         for r in letters.itertuples()
     )
-    assert f"largest mean first): WP: {shown}." in html
+    assert f"share no letter are significantly different): WP: {shown}." in html
+    assert "Grouping by Tukey&#39;s method at 95 % (Minitab&#39;s letters" in html
