@@ -194,7 +194,7 @@ term; what the table gives for the term is its effect plus theirs, each with the
 {%- endif %}</p>
 {%- endif %}
 {%- for item in anova %}
-<h3 id="anova-{{ item.anchor }}">Response {{ item.response }}</h3>
+<h3 id="anova-{{ item.anchor }}">Response {{ item.heading }}</h3>
 {%- if item.info %}<p class="note">{{ item.info }}</p>{% endif %}
 {{ render_table(item.table) }}
 {%- if item.note %}<p class="note">Note: {{ item.note }}</p>{% endif %}
@@ -236,7 +236,7 @@ of X and 0 elsewhere (X:Y[l, m]: at level l of X and m of Y):</p>
 <h2>Response surface</h2>
 <p class="note">{{ surface_intro if surfaces else surface_none }}</p>
 {%- for item in surfaces %}
-<h3 id="surface-{{ item.anchor }}">Response {{ item.response }}</h3>
+<h3 id="surface-{{ item.anchor }}">Response {{ item.heading }}</h3>
 <p class="note">{{ item.info }}</p>
 {{ render_table(item.coefficients) }}
 {{ render_table(item.anova) }}
@@ -641,6 +641,15 @@ def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     return _Table(columns, numeric, rows), caption
 
 
+def _heading(response: str) -> str:
+    """A response as a section heading names it: ``log10 V (column log10_V_mm3, V in mm³)``
+    for the column ``log10_V_mm3`` (a review read the column's name as a heading), others
+    as they are."""
+    if response == "log10_V_mm3":
+        return "log10 V (column log10_V_mm3, V in mm³)"
+    return response
+
+
 def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     """Tukey's pairwise comparisons (:func:`brakeca.analysis.level_comparisons`, in the
     report's unit of ``response``) and their caption."""
@@ -1036,6 +1045,7 @@ def _surface_item(response: str, fit: Any) -> dict[str, Any]:
     return {
         "response": response,
         "anchor": _anchor(response),
+        "heading": _heading(str(response)),
         "info": info,
         "coefficients": coefficients,
         "anova": anova,
@@ -1536,6 +1546,7 @@ def render_report(
                 "equation": equation,
                 "equation_unit": equation_unit,
                 "anchor": _anchor(response),
+                "heading": _heading(str(response)),
                 "table": table,
                 "note": note,
                 "info": info,

@@ -868,3 +868,16 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
     )
     assert f"share no letter are significantly different): WP: {shown}." in html
     assert "Grouping by Tukey&#39;s method at 95 % (Minitab&#39;s letters" in html
+
+
+def test_the_log_response_s_heading_says_what_it_is(tmp_path) -> None:
+    """The section of log10_V_mm3 had been headed by the column's name alone (a figures
+    review); its heading now says it is log10 of V in mm³, the anchor unchanged."""
+    from brakeca.analysis import anova
+
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"].assign(log10_V_mm3=lambda d: np.log10(d["V"] * 1e9))
+    tables = {**inputs["anova_tables"], "log10_V_mm3": anova(summary, FACTORS, "log10_V_mm3")}
+    html = render_report(**{**inputs, "summary": summary, "anova_tables": tables})
+    assert '<h3 id="anova-log10_v_mm3">Response log10 V (column log10_V_mm3, V in mm³)</h3>' in html
+    assert '<h3 id="anova-mu">Response MU</h3>' in html
