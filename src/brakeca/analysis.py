@@ -1733,13 +1733,20 @@ def _contrast_columns(labels: pd.Series) -> np.ndarray:
     return np.column_stack([(values == level).astype(float) - first for level in levels[1:]])
 
 
+def _row_kron(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The row-wise Kronecker product of two column blocks [-]: an interaction's columns
+    from its factors' (row i: every product of a column of ``a`` and one of ``b``, ``a``'s
+    slowest)."""
+    return (a[:, :, None] * b[:, None, :]).reshape(len(a), -1)
+
+
 def _term_columns(frame: pd.DataFrame, term: str) -> np.ndarray:
     """The contrast columns of a model term (``"C(f0)"``, ``"C(f0):C(f1)"``, ...): the
     products of its factors' :func:`_contrast_columns`."""
     out = np.ones((len(frame), 1))
     for part in term.split(":"):
         contrasts = _contrast_columns(frame[part[2:-1]])
-        out = (out[:, :, None] * contrasts[:, None, :]).reshape(len(frame), -1)
+        out = _row_kron(out, contrasts)
     return out
 
 
@@ -2914,7 +2921,7 @@ def _trends(
             for part in term.split(":"):
                 name = part[2:-1]
                 contrasts = poly if name == col else _contrast_columns(frame[name])
-                block = (block[:, :, None] * contrasts[:, None, :]).reshape(len(frame), -1)
+                block = _row_kron(block, contrasts)
             if term == main:
                 where = sum(b.shape[1] for b in blocks)
             blocks.append(block)
@@ -3103,7 +3110,8 @@ class _EffectsFit:
     """:func:`anova`'s model fitted with every factor in effects (sum-to-zero) coding, the
     last level as reference: the coefficients [response unit], the inverse of X'X [-], the
     residual mean square [response unit^2] and degrees of freedom of the ANOVA, the VIFs,
-    the terms (:class:`_Span`), the centre points' responses and the ANOVA's note."""
+    the terms (:class:`_Span`), the centre points' responses, the ANOVA's note and, for
+    each factor, how many of its levels the usable runs hold and how many it has."""
 
     coef: np.ndarray
     inverse: np.ndarray
@@ -3113,6 +3121,28 @@ class _EffectsFit:
     spans: list[_Span]
     y_center: np.ndarray
     anova_note: str
+    levels_present: dict[str, tuple[int, int]]
+
+    @property
+    def constant(self) -> bool:
+        """Whether the response is constant (nothing is tested then)."""
+        return "response is constant" in self.anova_note
+
+    @property
+    def round_off(self) -> float:
+        """A value within this of zero is zero to round-off [response unit]: 1e-12 of the
+        largest coefficient in size (a constant response's other coefficients: 4.6e-18)."""
+        return 1e-12 * float(np.max(np.abs(self.coef)))
+
+    def standardized(self, value: float, se: float) -> float:
+        """``value / se`` [-]; where the residual is 0 (an exact fit, as the ANOVA has it)
+        infinite for a value not zero to round-off, unless the response is constant; NaN
+        where there is no standard error."""
+        if se > 0:
+            return value / se
+        if se == 0.0 and abs(value) > self.round_off and not self.constant:
+            return math.copysign(math.inf, value)
+        return math.nan
 
 
 def _effects_fit(
@@ -3157,7 +3187,7 @@ def _effects_fit(
         expand = np.ones((1, 1))
         labels = [""]
         for part in parts:
-            block = (block[:, :, None] * columns[part][:, None, :]).reshape(y.size, -1)
+            block = _row_kron(block, columns[part])
             expand = np.kron(expand, coding[part])
             labels = [f"{a}, {b}" if a else b for a in labels for b in levels[part]]
         # the cells (levels' indices) in the order of kron's rows; a cell at the last level
@@ -3193,6 +3223,10 @@ def _effects_fit(
         spans=spans,
         y_center=data.loc[centre, response].to_numpy(dtype=float),
         anova_note=str(table.attrs.get("note", "")),
+        levels_present={
+            f.name: (len({f.level_index(v) for v in data[f.name]} - {None}), len(f.levels))
+            for f in factors_
+        },
     )
 
 
@@ -3287,7 +3321,7 @@ def _zero_residual_note(fit: _EffectsFit, statistic: str, of: str) -> str:
     """What a table of ``fit`` says where its residual is 0: a constant response has no
     ``statistic`` (t, q) or p; an exact fit's is infinite, p 0, for every ``of`` (coefficient,
     difference) not zero to round-off, as the ANOVA's F."""
-    if "response is constant" in fit.anova_note:
+    if fit.constant:
         return f"response is constant: no {statistic} or p"
     return (
         f"exact fit (no residual scatter): {statistic} is infinite and p 0 for every {of} "
@@ -3325,19 +3359,10 @@ def _coefficients(
         out.attrs["note"] = "no residual degrees of freedom: no standard errors, t or p"
     elif mse == 0.0:
         out.attrs["note"] = _zero_residual_note(fit, "t", "coefficient")
-    # the coefficients zero to round-off (a constant response's, say: 4.6e-18) have no t,
-    # and a constant response none at all (its constant's too: nothing is tested)
-    round_off = 1e-12 * float(np.max(np.abs(coef)))
-    constant = "response is constant" in fit.anova_note
 
     def row(term: str, level: str, b: float, var: float, v: float, derived: bool) -> dict:
         se = math.sqrt(mse * var) if not math.isnan(mse) else math.nan
-        if se > 0:
-            t = b / se
-        elif se == 0.0 and abs(b) > round_off and not constant:  # an exact fit, as the ANOVA
-            t = math.copysign(math.inf, b)
-        else:
-            t = math.nan
+        t = fit.standardized(b, se)
         p = float(2.0 * stats.t.sf(abs(t), df_resid)) if not math.isnan(t) else math.nan
         significant = bool(p < alpha) if not math.isnan(p) else False
         return dict(
@@ -3524,20 +3549,15 @@ def _comparisons(
     records: list[dict[str, Any]] = []
     notes: list[str] = []
     # a factor of three levels or more in the data that the model left out (eliminated)
-    data = _clean(summary, _factors(raw), response)
     in_model = {span.name for span in fit.spans}
-    for factor in _factors(raw):
-        present = {factor.level_index(v) for v in data[factor.name]} - {None}
-        if len(factor.levels) >= 3 and 0 < len(present) < len(factor.levels):
+    for name, (present, total) in fit.levels_present.items():
+        if total >= 3 and 0 < present < total:
             notes.append(
-                f"{factor.name}: {len(present)} of its {len(factor.levels)} levels have usable "
-                "runs" + ("" if len(present) >= 3 else ", too few to compare")
+                f"{name}: {present} of its {total} levels have usable runs"
+                + ("" if present >= 3 else ", too few to compare")
             )
-        if len(present) >= 3 and factor.name not in in_model:
-            notes.append(f"{factor.name} is not in the model")
-    # an exact fit (the residual 0): every difference not zero to round-off is significant,
-    # as the ANOVA's F is infinite; a constant response has none
-    round_off = 1e-12 * float(np.max(np.abs(fit.coef)))
+        if present >= 3 and name not in in_model:
+            notes.append(f"{name} is not in the model")
     for span in fit.spans:
         k = len(span.labels)
         if ":" in span.name or k < 3:
@@ -3552,12 +3572,9 @@ def _comparisons(
             d = span.expand[j] - span.expand[i]
             difference = float(means[j] - means[i])
             se = math.sqrt(mse * float(d @ covariance @ d)) if usable else math.nan
-            if se > 0:
-                q = abs(difference) / se * math.sqrt(2.0)
-            elif se == 0.0 and abs(difference) > round_off:
-                q = math.inf
-            else:
-                q = math.nan
+            # an exact fit (the residual 0): every difference not zero to round-off is
+            # significant, as the ANOVA's F is infinite; a constant response has none
+            q = abs(fit.standardized(difference, se)) * math.sqrt(2.0)
             if math.isnan(q):
                 p = math.nan
             else:

@@ -653,6 +653,8 @@ def _heading(response: str) -> str:
 def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     """Tukey's pairwise comparisons (:func:`brakeca.analysis.level_comparisons`, in the
     report's unit of ``response``) and their caption."""
+    from brakeca.analysis import tukey_grouping
+
     factor, unit = _REPORT_UNITS.get(response, (1.0, None))
     confidence = float(frame.attrs.get("confidence", 0.95))
 
@@ -691,8 +693,6 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
         f"the factor (Minitab's comparisons of a general linear model); p < {1 - confidence:.2g} "
         f"in bold. The table is tables/comparisons_{response}.csv."
     )
-    from brakeca.analysis import tukey_grouping
-
     grouping = tukey_grouping(frame)
     if not grouping.empty:
         caption += (
