@@ -3095,14 +3095,16 @@ def level_coefficients(
 class _Span:
     """One term of an :class:`_EffectsFit`: its display name, its first column in the model
     matrix, ``expand`` (the matrix taking its estimated coefficients to every cell's, the
-    Kronecker product of its factors' codings), its cells' level labels and, for each cell,
-    the estimated column it is (its index in the term) or -1 (a derived cell)."""
+    Kronecker product of its factors' codings), its cells' level labels, for each cell the
+    estimated column it is (its index in the term) or -1 (a derived cell), and each cell's
+    number of runs in the fit (centre points apart)."""
 
     name: str
     start: int
     expand: np.ndarray
     labels: list[str]
     column: list[int]
+    counts: list[int]
 
 
 @dataclass(frozen=True)
@@ -3170,6 +3172,7 @@ def _effects_fit(
     levels: dict[str, list[str]] = {}
     coding: dict[str, np.ndarray] = {}
     columns: dict[str, np.ndarray] = {}
+    index: dict[str, np.ndarray] = {}  # each run's level, as its index in levels[col]
     for col in column_of:
         name = col[2:-1]  # "C(f1)" -> "f1"
         factor = by_name[column_of[col]]
@@ -3178,7 +3181,8 @@ def _effects_fit(
         levels[col] = [factor.level_label(factor.levels[c]) for c in present]
         k = present.size
         coding[col] = np.vstack([np.eye(k - 1), -np.ones((1, k - 1))])
-        columns[col] = coding[col][np.searchsorted(present, codes)]
+        index[col] = np.searchsorted(present, codes)
+        columns[col] = coding[col][index[col]]
     blocks = [np.ones((y.size, 1))]
     spans = []
     for term in terms:
@@ -3200,8 +3204,10 @@ def _effects_fit(
             else int(np.ravel_multi_index(cell, [k - 1 for k in sizes]))
             for cell in cells
         ]
+        cell_of_run = np.ravel_multi_index([index[part] for part in parts], sizes)
+        counts = np.bincount(cell_of_run, minlength=len(cells)).tolist()
         start = sum(b.shape[1] for b in blocks)
-        spans.append(_Span(term_names[term], start, expand, labels, column))
+        spans.append(_Span(term_names[term], start, expand, labels, column, counts))
         blocks.append(block)
     exog = np.hstack(blocks)
     if np.linalg.matrix_rank(exog) < exog.shape[1]:
@@ -3251,9 +3257,12 @@ def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
     Returns
     -------
     pandas.DataFrame
-        One row per level of each factor: ``factor``, ``level`` (its label), ``mean`` (its
-        least-squares mean) [response unit] and ``grouping`` (its letters, e.g. ``"AB"``);
-        none for a factor whose pairs have no p value (no residual).
+        One row per level of each factor: ``factor``, ``level`` (its label), ``n`` (its
+        number of usable runs, centre points apart; missing for a table without ``n_a`` and
+        ``n_b``, such as one written before they were added), ``mean`` (its least-squares
+        mean) [response unit] and ``grouping`` (its letters, e.g. ``"AB"``); none for a
+        factor whose pairs have no p value (no residual). :func:`save_tables` writes it as
+        ``grouping_<R>.csv``.
 
     References
     ----------
@@ -3266,23 +3275,28 @@ def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
     >>> from brakeca.analysis import tukey_grouping
     >>> table = pd.DataFrame({
     ...     "factor": ["WP"] * 3, "level_a": ["-", "-", "0"], "level_b": ["0", "+", "+"],
+    ...     "n_a": [8, 8, 8], "n_b": [8, 8, 8],
     ...     "mean_a": [0.30, 0.30, 0.32], "mean_b": [0.32, 0.50, 0.50],
     ...     "p_adjusted": [0.4, 0.001, 0.002], "significant": [False, True, True],
     ... })
     >>> print(tukey_grouping(table).to_string(index=False))
-    factor level  mean grouping
-        WP     +  0.50        A
-        WP     0  0.32        B
-        WP     -  0.30        B
+    factor level  n  mean grouping
+        WP     +  8  0.50        A
+        WP     0  8  0.32        B
+        WP     -  8  0.30        B
     """
     rows: list[dict[str, Any]] = []
     for factor, pairs in comparisons.groupby("factor", sort=False):
         if pairs["p_adjusted"].isna().all():  # no residual: nothing was tested
             continue
         means: dict[str, float] = {}
+        counts: dict[str, Any] = {}
         for _, rec in pairs.iterrows():
-            means.setdefault(str(rec["level_a"]), float(rec["mean_a"]))
-            means.setdefault(str(rec["level_b"]), float(rec["mean_b"]))
+            for side in "ab":
+                level = str(rec[f"level_{side}"])
+                means.setdefault(level, float(rec[f"mean_{side}"]))
+                n = rec.get(f"n_{side}")
+                counts.setdefault(level, pd.NA if n is None or pd.isna(n) else int(n))
         order = sorted(means, key=lambda level: -means[level])  # largest mean first
         groups: list[frozenset[str]] = [frozenset(order)]
         for _, rec in pairs[pairs["significant"].astype(bool)].iterrows():
@@ -3312,9 +3326,16 @@ def tukey_grouping(comparisons: pd.DataFrame) -> pd.DataFrame:
         for level in order:
             letters = "".join(chr(ord("A") + i) for i, group in enumerate(groups) if level in group)
             rows.append(
-                {"factor": factor, "level": level, "mean": means[level], "grouping": letters}
+                {
+                    "factor": factor,
+                    "level": level,
+                    "n": counts[level],
+                    "mean": means[level],
+                    "grouping": letters,
+                }
             )
-    return pd.DataFrame(rows, columns=["factor", "level", "mean", "grouping"])
+    out = pd.DataFrame(rows, columns=["factor", "level", "n", "mean", "grouping"])
+    return out.astype({"n": "Int64"})
 
 
 def _zero_residual_note(fit: _EffectsFit, statistic: str, of: str) -> str:
@@ -3410,6 +3431,8 @@ COMPARISON_COLUMNS: tuple[str, ...] = (
     "factor",
     "level_a",
     "level_b",
+    "n_a",
+    "n_b",
     "mean_a",
     "mean_b",
     "difference",
@@ -3469,7 +3492,8 @@ def level_comparisons(
     pandas.DataFrame
         :data:`COMPARISON_COLUMNS`, one row per pair of levels of each factor of three levels
         or more in the model, in the design's order of the levels: ``factor``, ``level_a``
-        and ``level_b`` (labels, ``level_a`` the earlier), ``mean_a`` and ``mean_b`` (the
+        and ``level_b`` (labels, ``level_a`` the earlier), ``n_a`` and ``n_b`` (their
+        numbers of usable runs, centre points apart), ``mean_a`` and ``mean_b`` (the
         levels' least-squares means), ``difference`` (``mean_b - mean_a``, Minitab's
         "Difference of Levels") and ``se`` [response unit], ``q`` (the studentized range)
         and ``p_adjusted`` (Tukey's) [-], ``ci_low`` and ``ci_high`` (the simultaneous
@@ -3534,7 +3558,10 @@ def _comparisons(
     from scipy import stats
 
     out = pd.DataFrame({c: pd.Series(dtype=float) for c in COMPARISON_COLUMNS})
-    out = out.astype({"factor": object, "level_a": object, "level_b": object, "significant": bool})
+    out = out.astype(
+        {"factor": object, "level_a": object, "level_b": object, "n_a": int, "n_b": int}
+        | {"significant": bool}
+    )
     out.attrs.update(confidence=float(confidence), df_resid=math.nan, method="Tukey", note="")
     out.attrs["formula"] = table.attrs.get("formula", "")
     if fit is None:
@@ -3585,6 +3612,8 @@ def _comparisons(
                     "factor": span.name,
                     "level_a": span.labels[i],
                     "level_b": span.labels[j],
+                    "n_a": span.counts[i],
+                    "n_b": span.counts[j],
                     "mean_a": float(means[i]),
                     "mean_b": float(means[j]),
                     "difference": difference,
@@ -3962,8 +3991,9 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table,
         ``coefficients_<R>.csv`` when it has a non-empty :func:`level_coefficients` table
         and no effects table (a design with a factor of three levels or more: a two-level
-        design's coded coefficients are in its effects table), and ``comparisons_<R>.csv``
-        when it has a non-empty :func:`level_comparisons` table.
+        design's coded coefficients are in its effects table), ``comparisons_<R>.csv``
+        when it has a non-empty :func:`level_comparisons` table, and ``grouping_<R>.csv``,
+        its levels' :func:`tukey_grouping` letters, when the comparisons have p values.
     """
     if isinstance(result, ResponseAnalysis):  # a KeyError: 'main_effects' (an API review)
         raise TypeError(
@@ -4014,8 +4044,14 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         comparisons = bundle.get("comparisons")
         if comparisons is not None and not comparisons.empty:
             tables["comparisons"] = comparisons
+            grouping = tukey_grouping(comparisons)
         else:
             (directory / f"comparisons_{response}.csv").unlink(missing_ok=True)
+            grouping = None
+        if grouping is not None and not grouping.empty:
+            tables["grouping"] = grouping
+        else:
+            (directory / f"grouping_{response}.csv").unlink(missing_ok=True)
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             write_table(table, path)

@@ -704,7 +704,7 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
                 + ", ".join(f"{level(r.level)} {r.grouping}" for r in rows_.itertuples())
                 for name, rows_ in grouping.groupby("factor", sort=False)
             )
-            + "."
+            + f" (tables/grouping_{response}.csv)."
         )
     note = frame.attrs.get("note")
     if note:

@@ -323,8 +323,12 @@ Files (R is the response: MU, V or log10_V_mm3):
   its levels' least-squares means (`mean_a`, `mean_b`; in a balanced design the level means)
   in the ANOVA model: `difference` (`mean_b - mean_a`, the later level less the earlier), its
   `se`, the studentized range `q` (Minitab prints T = q / √2), `p_adjusted` (Tukey's), the
-  simultaneous 95 % interval (`ci_low`, `ci_high`) and `significant` (p below 0.05). The
-  report's caption gives Minitab's grouping letters (`brakeca.analysis.tukey_grouping`).
+  simultaneous 95 % interval (`ci_low`, `ci_high`) and `significant` (p below 0.05), with
+  each level's number of usable runs (`n_a`, `n_b`).
+- `grouping_R.csv` (with `comparisons_R.csv`, where it has p values): Minitab's "Grouping
+  Information Using the Tukey Method", each level of the factor with its `n`, least-squares
+  `mean` and `grouping` letters, the largest mean first; levels that share no letter differ
+  significantly (`brakeca.analysis.tukey_grouping`). The report's caption lists the letters.
 - `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual` (under the ANOVA
   model, not a response surface's quadratic): λ̂, its interval and the reading without the
   runs whose standardized residual is beyond ±2 (the report's unusual runs), under the same

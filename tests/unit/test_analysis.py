@@ -436,7 +436,7 @@ def test_save_tables_names_what_it_takes(tmp_path) -> None:
     a_file.write_bytes(b"")
     with pytest.raises(NotADirectoryError, match=r"directory: .*run.nc exists and is not a"):
         save_tables(result, a_file)
-    assert len(save_tables({"MU": result["MU"]}, tmp_path / "tables")) == 9
+    assert len(save_tables({"MU": result["MU"]}, tmp_path / "tables")) == 10
 
 
 def test_analyze_and_save_tables(tmp_path) -> None:
@@ -451,7 +451,7 @@ def test_analyze_and_save_tables(tmp_path) -> None:
     written = save_tables(result, tmp_path / "tables")
     names = sorted(p.name for p in written)
     stems = ("main_effects", "interactions", "anova", "model_summary", "ranked_effects")
-    stems = (*stems, "residuals", "trends", "coefficients", "comparisons")
+    stems = (*stems, "residuals", "trends", "coefficients", "comparisons", "grouping")
     assert names == sorted(f"{stem}_{r}.csv" for stem in stems for r in ("MU", "V"))
     summary_mu = pd.read_csv(tmp_path / "tables" / "model_summary_MU.csv")
     assert list(summary_mu.columns) == list(MODEL_SUMMARY_COLUMNS)

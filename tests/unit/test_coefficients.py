@@ -27,6 +27,7 @@ from brakeca.analysis import (
     level_coefficients,
     residuals,
     save_tables,
+    tukey_grouping,
 )
 
 S = Factor("S", (0.0, 1.0), "-", "Secondary plateaus removed", ("-", "+"))
@@ -348,6 +349,10 @@ def test_one_factor_s_comparisons_are_statsmodels_tukey_hsd() -> None:
     np.testing.assert_allclose(table[["ci_low", "ci_high"]], hsd.confint, rtol=1e-6)
     assert list(table["significant"]) == list(hsd.reject)
     assert table.attrs["method"] == "Tukey" and table.attrs["df_resid"] == len(runs) - 3
+    # each level's usable runs: 8 at every level less the three rows dropped (WP 0, -, -)
+    labels = dict(zip(WP.levels, WP.labels, strict=True))  # type: ignore[arg-type]
+    assert dict(runs["WP"].map(labels).value_counts()) == {"-": 6, "0": 7, "+": 8}
+    assert list(table["n_a"]) == [6, 6, 7] and list(table["n_b"]) == [7, 8, 8]
 
 
 def test_in_a_factorial_model_the_comparisons_are_of_least_squares_means() -> None:
@@ -413,12 +418,21 @@ def test_analyze_and_save_tables_give_the_comparisons(tmp_path) -> None:
     result = analyze(runs, FACTORS, ["MU"])
     pd.testing.assert_frame_equal(result["MU"].comparisons, level_comparisons(runs, FACTORS, "MU"))
     written = {p.name for p in save_tables(result, tmp_path)}
-    assert "comparisons_MU.csv" in written
+    assert {"comparisons_MU.csv", "grouping_MU.csv"} <= written
+    # the grouping table: each level's usable runs, least-squares mean and letters
+    grouping = pd.read_csv(tmp_path / "grouping_MU.csv", keep_default_na=False)
+    assert list(grouping.columns) == ["factor", "level", "n", "mean", "grouping"]
+    assert list(grouping["n"]) == [8, 8, 8]
+    expected = tukey_grouping(result["MU"].comparisons)
+    assert list(grouping["level"]) == list(expected["level"]) == ["+", "0", "-"]
+    assert list(grouping["grouping"]) == list(expected["grouping"])
+    np.testing.assert_allclose(grouping["mean"], expected["mean"], rtol=1e-15)
     two_level = runs[~np.isclose(runs["WP"], 1e-14, rtol=1e-9, atol=0.0)]
     result = analyze(two_level, (S, Factor("WP", (1e-15, 1e-13)), A), ["MU"])
     assert result["MU"].comparisons.empty
     save_tables(result, tmp_path)
-    assert not (tmp_path / "comparisons_MU.csv").exists()  # the earlier analysis's, removed
+    for stem in ("comparisons", "grouping"):  # the earlier analysis's, removed
+        assert not (tmp_path / f"{stem}_MU.csv").exists()
 
 
 def test_comparisons_say_what_the_model_leaves_out_and_agree_with_the_anova_on_exact_fits() -> None:
@@ -511,6 +525,21 @@ def _pairs(means: dict[str, float], significant: set[tuple[str, str]]) -> pd.Dat
         for a, b in itertools.combinations(levels, 2)
     ]
     return pd.DataFrame(rows)
+
+
+def test_tukey_grouping_gives_each_level_s_runs_where_the_table_has_them() -> None:
+    """``n`` comes from ``n_a`` and ``n_b``; a table without them (one written before they
+    were added) gives the letters with ``n`` missing."""
+    from brakeca.analysis import tukey_grouping
+
+    pairs = _pairs({"a": 3.0, "b": 2.0, "c": 1.0}, {("a", "c")})
+    old = tukey_grouping(pairs)
+    assert list(old["grouping"]) == ["A", "AB", "B"] and old["n"].isna().all()
+    pairs["n_a"] = [4, 4, 5]  # a-b, a-c, b-c
+    pairs["n_b"] = [5, 6, 6]
+    table = tukey_grouping(pairs)
+    assert list(table["n"]) == [4, 5, 6]
+    assert list(table["grouping"]) == list(old["grouping"])
 
 
 def test_tukey_grouping_letters_are_piepho_s_compact_letter_display() -> None:

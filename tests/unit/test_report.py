@@ -866,7 +866,8 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
         f"{'(' + r.level + ')' if r.level.startswith('-') else r.level} {r.grouping}"
         for r in letters.itertuples()
     )
-    assert f"share no letter are significantly different): WP: {shown}." in html
+    caption = f"share no letter are significantly different): WP: {shown}"
+    assert f"{caption} (tables/grouping_V.csv)." in html
     assert "Grouping by Tukey&#39;s method at 95 % (Minitab&#39;s letters" in html
 
 
