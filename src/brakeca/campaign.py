@@ -854,62 +854,67 @@ def finish_campaign(
 # --- python -m brakeca.campaign -----------------------------------------------------------
 
 
+#: the minimal command line's options that ``brakeca run`` names otherwise, and those it
+#: drops (``brakeca run`` shows its progress bar, or its lines where output is not a terminal)
+_RENAMED = {"--max-stops": "--stops"}
+_DROPPED = {"--no-progress"}
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Minimal command line: ``python -m brakeca.campaign DESIGN OUT_DIR [options]``.
+    """``python -m brakeca.campaign DESIGN OUT_DIR [options]``: ``brakeca run DESIGN -o
+    OUT_DIR --no-report [options]``, kept for scripts written against it.
 
-    Returns the exit status: 0 when every run finished, 1 when some failed, 2 on a
-    configuration or executor error.
+    The options are ``brakeca run``'s (``brakeca run --help``), with ``--max-stops N`` for
+    ``--stops N``; ``--no-progress`` is accepted and ignored. The checks, messages and exit
+    statuses are ``brakeca run``'s: 0 when every run finished, 1 when some failed, 2 for a
+    bad option, design or executor (nothing run then).
     """
-    import argparse
+    import typer
 
-    from brakeca.config import parse_overrides
+    from brakeca.cli import app
 
-    parser = argparse.ArgumentParser(prog="python -m brakeca.campaign", description=main.__doc__)
-    parser.add_argument("design", help="shipped design name or design TOML file")
-    parser.add_argument("out_dir", help="campaign directory")
-    parser.add_argument("--executor", choices=list(EXECUTOR_KINDS), default="local")
-    parser.add_argument("--workers", type=int, default=None)
-    parser.add_argument("--scheduler", default=None, metavar="ADDRESS")
-    parser.add_argument("--scheduler-file", default=None, metavar="PATH")
-    parser.add_argument("--max-retries", type=int, default=DEFAULT_MAX_RETRIES)
-    parser.add_argument("--quick", action="store_true")
-    parser.add_argument("--max-stops", type=int, default=None)
-    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
-    parser.add_argument(
-        "--maps-at",
-        type=lambda text: [int(k) for k in text.split(",")],
-        default=[],
-        metavar="STOPS",
-        help="every run keeps its plateau maps after these stops, e.g. 1,85,170",
-    )
-    parser.add_argument("--no-progress", action="store_true")
-    parser.add_argument(
-        "--replace",
-        action="store_true",
-        help="write over a folder's campaign of another base configuration or design",
-    )
-    args = parser.parse_args(argv)
-    try:
-        overrides = parse_overrides(args.set)
-        result = run_campaign(
-            args.design,
-            args.out_dir,
-            workers=args.workers,
-            executor=args.executor,
-            scheduler=args.scheduler,
-            scheduler_file=args.scheduler_file,
-            max_retries=args.max_retries,
-            quick=args.quick,
-            max_stops=args.max_stops,
-            overrides=overrides,
-            progress=not args.no_progress,
-            replace=args.replace,
-            maps_at=args.maps_at,
+    args = list(sys.argv[1:] if argv is None else argv)
+    if "-h" in args or "--help" in args:
+        print(
+            "usage: python -m brakeca.campaign DESIGN OUT_DIR [options]\n\n"
+            "Runs 'brakeca run DESIGN -o OUT_DIR --no-report [options]' (its options: brakeca "
+            "run --help), with --max-stops N for --stops N; --no-progress is ignored."
         )
-    except (ConfigError, ExecutorError, CampaignLockedError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        return 0
+    positional: list[str] = []
+    options: list[str] = []
+    takes_value = {"--executor", "--workers", "--scheduler", "--scheduler-file"}
+    takes_value |= {"--max-retries", "--max-stops", "--set", "--maps-at", "--checkpoint-every"}
+    takes_value |= {"--cycle", "--speed-unit"}
+    items = iter(args)
+    for item in items:
+        name = item.split("=", 1)[0]
+        if name in _DROPPED:
+            continue
+        if item.startswith("--"):
+            options.append(_RENAMED.get(name, name) + item[len(name) :])
+            if "=" not in item and name in takes_value:
+                options.append(next(items, ""))
+        else:
+            positional.append(item)
+    if len(positional) != 2:
+        print(
+            "usage: python -m brakeca.campaign DESIGN OUT_DIR [options of brakeca run]; "
+            f"expected a design and a folder, got {len(positional)} argument(s)",
+            file=sys.stderr,
+        )
         return 2
-    return 0 if result.ok else 1
+    design, out_dir = positional
+    command = typer.main.get_command(app)
+    try:  # click's standalone mode prints a bad option's message and exits with a status
+        command.main(
+            ["run", design, "-o", out_dir, "--no-report", *options],
+            prog_name="python -m brakeca.campaign",
+        )
+    except SystemExit as exc:
+        code = exc.code
+        return code if isinstance(code, int) else (0 if code is None else 1)
+    return 0
 
 
 if __name__ == "__main__":

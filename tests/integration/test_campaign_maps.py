@@ -181,5 +181,22 @@ def test_the_minimal_command_line_takes_maps_at(design_file, mapped, tmp_path):
     for rid in mapped.summary["run_id"]:
         ds = RunResult.from_netcdf(out / "runs" / f"{rid}.nc").dataset
         assert list(ds["map_stop"].to_numpy()) == [1, 3]
-    with pytest.raises(SystemExit):
-        main([*common, "--maps-at", "x"])
+    assert main([*common, "--maps-at", "x"]) == 2  # brakeca run's check and message
+
+
+def test_the_minimal_command_line_is_brakeca_run(design_file, tmp_path, capsys):
+    """`python -m brakeca.campaign` forwards to `brakeca run --no-report`: its checks and
+    exit statuses (2, nothing run), `--max-stops` read as `--stops`, `--no-progress` taken."""
+    from brakeca.campaign import main
+
+    out = tmp_path / "campaign"
+    common = [str(design_file), str(out), "--executor", "serial", "--no-progress"]
+    assert main([*common, "--max-stops", "0"]) == 2 and not out.exists()
+    assert "--stops" in capsys.readouterr().err
+    assert main([*common, "--workers=0"]) == 2 and not out.exists()
+    assert "--workers" in capsys.readouterr().err
+    assert main([*common, "--no-such-option"]) == 2 and not out.exists()
+    assert "No such option: --no-such-option" in capsys.readouterr().err
+    assert main([str(design_file)]) == 2 and not out.exists()
+    assert "expected a design and a folder, got 1 argument(s)" in capsys.readouterr().err
+    assert main(["--help"]) == 0 and "brakeca run" in capsys.readouterr().out
