@@ -9,7 +9,6 @@ kept with the tests.
 
 from __future__ import annotations
 
-import itertools
 import math
 import signal
 import sys
@@ -278,12 +277,14 @@ def _trace_notes(configs: Iterable[SimulationConfig]) -> None:
 
 def _design_notes(design: Any) -> None:
     """A note for a design factor on A (the fibre fraction, in %) with levels below 1 %:
-    levels of 0.1 and 0.2 read like the fractions 10 % and 20 %; and one for a factor whose
-    unit is not its field's while its scale is 1 (:meth:`brakeca.design.Factor.unit_note`)."""
+    levels of 0.1 and 0.2 read like the fractions 10 % and 20 %; one for a factor whose
+    unit is not its field's while its scale is 1 (:meth:`brakeca.design.Factor.unit_note`);
+    and one for a factor whose levels are not given low first
+    (:meth:`brakeca.design.Factor.order_note`)."""
     for factor in design.factors:
-        note = factor.unit_note()
-        if note is not None:
-            _note(note)
+        for note in (factor.unit_note(), factor.order_note()):
+            if note is not None:
+                _note(note)
     from brakeca.config import FACTOR_ALIASES
     from brakeca.design import _target
 
@@ -2005,16 +2006,6 @@ def show_design(
     if not loaded.is_response_surface:  # a response surface's model is the quadratic,
         # printed above, not the categorical one whose alias structure this is
         _print_aliases(alias_structure(pd.DataFrame(combos), loaded.factors))
-    for f in loaded.factors:
-        if not f.categorical and any(b <= a for a, b in itertools.pairwise(f.levels)):
-            out.print(
-                f"note: factor {f.name}'s levels are not given low first "
-                f"({', '.join(f'{v:g}' for v in f.levels)}): tables and plots take them in "
-                "this order, and a two-level effect is the second level's mean less the "
-                "first's",
-                markup=False,
-                highlight=False,
-            )
     if loaded.anova_type == 3:
         out.print(
             "ANOVA: Type III (adjusted) sums of squares (anova_type = 3)",

@@ -648,6 +648,20 @@ class Factor(_Frozen):
         low, high = self.coding_range
         return _decode(low, high, self.coding, x)
 
+    def order_note(self) -> str | None:
+        """A note when a numeric factor's levels are not given low first (``levels = [20,
+        10]``): the analysis takes them in the order given, where Minitab and JMP take the
+        value order. None for levels in increasing order and for a categorical factor."""
+        if self.categorical or all(a < b for a, b in itertools.pairwise(self.levels)):
+            return None
+        return (
+            f"factor {self.name}'s levels are not given low first "
+            f"({', '.join(f'{v:g}' for v in self.levels)}): tables and plots take them in "
+            "this order, so a two-level effect is the second level's mean less the first's "
+            "and a general factorial's derived coefficient is the last level's (Minitab and "
+            "JMP take the levels in value order); give them low first for the usual signs"
+        )
+
     def unit_note(self) -> str | None:
         """A note when :attr:`unit` is the field's unit with an SI prefix (``GPa`` on
         ``contact.elastic_modulus``, ``1/MPa`` on ``friction.slope``), or ``%`` on a

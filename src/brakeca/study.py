@@ -1288,9 +1288,10 @@ def _study_notes(
     *,
     note: Callable[[str], object] | None,
 ) -> str:
-    """The report's notes: the runs finished, what MU and V are, the run files that cannot
-    be read or are missing, the runs that emitted nothing and the stops at the COF's floor
-    (:func:`_floor_note`); the note on unreadable files also goes to ``note``."""
+    """The report's notes: the runs finished, what MU and V are, the factors whose levels are
+    not given low first, the run files that cannot be read or are missing, the runs that
+    emitted nothing and the stops at the COF's floor (:func:`_floor_note`); the note on
+    unreadable files also goes to ``note``."""
     summary, ok, surfaces = result.summary, found.ok, found.surfaces
     unreadable, filed = files.unreadable, files.filed
     runs_dir = source / "runs"
@@ -1312,6 +1313,10 @@ def _study_notes(
         "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
     )
+    for factor in result.design.factors:  # levels given high first: the effects' signs
+        order = factor.order_note()
+        if order is not None:
+            notes += "\n\n" + order[:1].upper() + order[1:] + "."
     if unreadable:
         bad = ok.loc[ok["run_id"].isin(unreadable), "test"]
         text = (

@@ -858,3 +858,21 @@ def test_a_run_without_emission_is_named_where_the_log_scale_leaves_it_out(campa
     html = " ".join((copy / "report.html").read_text(encoding="utf-8").split())
     assert "Test 2 emitted nothing (V = 0): log10_V_mm3 has no value there, so its" in html
     assert "leaves that run out (the analysis of V keeps it)" in html
+
+
+def test_levels_given_high_first_are_noted_by_run_and_in_the_report(tmp_path):
+    """`brakeca design` had the note alone: `brakeca run` and the report now say it too, as
+    the effects' signs and the derived coefficient follow the order given."""
+    from html import unescape
+
+    design = tmp_path / "high_first.toml"
+    design.write_text(DESIGN.replace("levels = [10.0, 20.0]", "levels = [20.0, 10.0]"))
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(tmp_path / "c"), *TINY])
+    assert res.exit_code == 0, res.output
+    said = "factor A's levels are not given low first (20, 10)"
+    assert " ".join(res.output.split()).count(said) == 1
+    html = unescape((tmp_path / "c" / "report.html").read_text(encoding="utf-8"))
+    assert f"{said[0].upper()}{said[1:]}: tables and plots take them in this order" in html
+    assert "(Minitab and JMP take the levels in value order)" in " ".join(html.split())
+    shown = CliRunner().invoke(app, ["design", str(design), "--no-tests"])
+    assert " ".join(shown.output.split()).count(said) == 1
