@@ -881,20 +881,28 @@ def main(argv: Sequence[str] | None = None) -> int:
             "run --help), with --max-stops N for --stops N; --no-progress is ignored."
         )
         return 0
+    command = typer.main.get_command(app)
+    run = command.commands["run"]  # type: ignore[attr-defined]
+    # the options that take a value, brakeca run's own and --max-stops
+    takes_value = {"--max-stops"} | {
+        opt
+        for param in run.params
+        if param.param_type_name == "option" and not getattr(param, "is_flag", False)
+        for opt in param.opts
+    }
     positional: list[str] = []
     options: list[str] = []
-    takes_value = {"--executor", "--workers", "--scheduler", "--scheduler-file"}
-    takes_value |= {"--max-retries", "--max-stops", "--set", "--maps-at", "--checkpoint-every"}
-    takes_value |= {"--cycle", "--speed-unit"}
     items = iter(args)
     for item in items:
         name = item.split("=", 1)[0]
         if name in _DROPPED:
             continue
-        if item.startswith("--"):
+        if item.startswith("-") and item != "-":
             options.append(_RENAMED.get(name, name) + item[len(name) :])
             if "=" not in item and name in takes_value:
-                options.append(next(items, ""))
+                value = next(items, None)
+                if value is not None:  # (none: brakeca run says the option needs one)
+                    options.append(value)
         else:
             positional.append(item)
     if len(positional) != 2:
@@ -905,12 +913,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         )
         return 2
     design, out_dir = positional
-    command = typer.main.get_command(app)
     try:  # click's standalone mode prints a bad option's message and exits with a status
-        command.main(
-            ["run", design, "-o", out_dir, "--no-report", *options],
-            prog_name="python -m brakeca.campaign",
-        )
+        command.main(["run", design, "-o", out_dir, "--no-report", *options], prog_name="brakeca")
     except SystemExit as exc:
         code = exc.code
         return code if isinstance(code, int) else (0 if code is None else 1)

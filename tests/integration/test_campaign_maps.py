@@ -191,8 +191,9 @@ def test_the_minimal_command_line_is_brakeca_run(design_file, tmp_path, capsys):
 
     out = tmp_path / "campaign"
     common = [str(design_file), str(out), "--executor", "serial", "--no-progress"]
-    assert main([*common, "--max-stops", "0"]) == 2 and not out.exists()
-    assert "--stops" in capsys.readouterr().err
+    for stops in ("--max-stops", "--stops"):  # each option of brakeca run's takes its value
+        assert main([*common, stops, "0"]) == 2 and not out.exists()
+        assert "Invalid value for '--stops'" in capsys.readouterr().err
     assert main([*common, "--workers=0"]) == 2 and not out.exists()
     assert "--workers" in capsys.readouterr().err
     assert main([*common, "--no-such-option"]) == 2 and not out.exists()
