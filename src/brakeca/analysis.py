@@ -55,7 +55,10 @@ __all__ = [
     "CONSTANT_TERM",
     "EFFECTS_COLUMNS",
     "MODEL_SUMMARY_COLUMNS",
+    "RESIDUAL_COLUMNS",
     "TREND_COLUMNS",
+    "UNUSUAL_COLUMNS",
+    "UNUSUAL_RESIDUAL",
     "Factor",
     "Model",
     "ResponseAnalysis",
@@ -81,6 +84,7 @@ __all__ = [
     "split_terms",
     "tukey_grouping",
     "two_level_effects",
+    "unusual_runs",
 ]
 
 #: A model's terms, as :func:`anova` and the functions beside it take them (``interactions``):
@@ -130,6 +134,10 @@ class ResponseAnalysis(Mapping[str, Any]):
     comparisons : DataFrame
         Tukey's pairwise comparisons of the levels of each factor of three levels or more
         (:func:`level_comparisons`); empty where there is none.
+    unusual : DataFrame
+        The runs the model fits badly, with their deleted residuals, outlier test and
+        Cook's distances, and the ANOVA without them in its ``attrs["without"]``
+        (:func:`unusual_runs`); empty where there is none.
     """
 
     main_effects: pd.DataFrame
@@ -143,6 +151,7 @@ class ResponseAnalysis(Mapping[str, Any]):
     model_summary: pd.DataFrame
     coefficients: pd.DataFrame
     comparisons: pd.DataFrame
+    unusual: pd.DataFrame
 
     def __getitem__(self, name: str) -> Any:
         if not isinstance(name, str) or name not in self._names():
@@ -1928,6 +1937,20 @@ def _fit_statistics(
     return out
 
 
+#: Columns of the table returned by :func:`residuals`, after the runs' own (``test``,
+#: ``replicate``, ``order``: those present), in order.
+RESIDUAL_COLUMNS: tuple[str, ...] = (
+    "observed",
+    "fitted",
+    "residual",
+    "leverage",
+    "std_residual",
+    "deleted_residual",
+    "cooks_distance",
+    "dfits",
+)
+
+
 def residuals(
     summary: pd.DataFrame,
     factors: Iterable[Any],
@@ -1961,11 +1984,19 @@ def residuals(
     -------
     pandas.DataFrame
         The summary's ``test``, ``replicate`` and ``order`` columns (those present), then
-        ``observed``, ``fitted`` and ``residual`` [response unit], ``leverage`` [-] (diagonal
-        of the hat matrix) and ``std_residual`` [-] (the residual over ``s sqrt(1 -
-        leverage)``, NaN without residual degrees of freedom, at leverage 1 or for a
-        constant response, whose residuals are round-off). ``attrs``
-        carries ``response``, ``formula``, ``df_resid`` and ``s``.
+        :data:`RESIDUAL_COLUMNS`: ``observed``, ``fitted`` and ``residual`` [response unit],
+        ``leverage`` [-] (diagonal of the hat matrix), ``std_residual`` [-] (the residual
+        over ``s sqrt(1 - leverage)``, Minitab's SRES), ``deleted_residual`` [-] (the
+        residual against the model fitted without the run, in that fit's standard errors:
+        ``std_residual * sqrt((df - 1) / (df - std_residual^2))`` with ``df`` the residual's
+        degrees of freedom; Minitab's TRES, statsmodels' externally studentized residual),
+        ``cooks_distance`` [-] (``std_residual^2 / p * leverage / (1 - leverage)`` with
+        ``p`` the model's parameters: how far the run moves the fitted values; Minitab's
+        COOK) and ``dfits`` [-] (``deleted_residual * sqrt(leverage / (1 - leverage))``;
+        Minitab's DFIT). Each NaN without residual degrees of freedom (the deleted residual
+        also with one), at leverage 1 or for a constant response, whose residuals are
+        round-off. ``attrs`` carries ``response``, ``formula``, ``df_resid`` and ``s``.
+        :func:`unusual_runs` lists the runs the model fits badly.
     """
     data, y, exog, formula = _model_arrays(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
@@ -1979,13 +2010,13 @@ def _residuals_of(
     """:func:`residuals` of a model already made (:func:`_model_arrays`' results)."""
     if y.size == 0:
         out = _run_columns(data)
-        for c in ("observed", "fitted", "residual", "leverage", "std_residual"):
+        for c in RESIDUAL_COLUMNS:
             out[c] = pd.Series(dtype=float)
         out.attrs.update(response=response, formula="", df_resid=math.nan, s=math.nan)
         return out
     fitted, leverage, df_resid = _least_squares(exog, y)
     stats = _fit_statistics(y, fitted, leverage, df_resid, float(np.sum((y - y.mean()) ** 2)))
-    out = _residual_frame(data, y, fitted, leverage, stats["s"])
+    out = _residual_frame(data, y, fitted, leverage, stats["s"], df_resid)
     out.attrs.update(response=response, formula=formula, df_resid=stats["df_resid"], s=stats["s"])
     return out
 
@@ -1998,13 +2029,20 @@ def _run_columns(data: pd.DataFrame) -> pd.DataFrame:
 
 
 def _residual_frame(
-    data: pd.DataFrame, y: np.ndarray, fitted: np.ndarray, leverage: np.ndarray, s: float
+    data: pd.DataFrame,
+    y: np.ndarray,
+    fitted: np.ndarray,
+    leverage: np.ndarray,
+    s: float,
+    df_resid: float,
 ) -> pd.DataFrame:
     """A residuals table (:func:`residuals`; also :func:`brakeca.rsm.surface_residuals`):
     the runs' columns of ``data``, then ``observed``, ``fitted``, ``residual`` [response
-    unit], ``leverage`` [-] and ``std_residual`` [-], the residual over ``s sqrt(1 -
-    leverage)`` with ``s`` the fit's residual standard deviation [response unit]; NaN where it
-    is not finite (no residual degrees of freedom), at leverage 1 and for a constant
+    unit], ``leverage`` [-], ``std_residual`` [-], the residual over ``s sqrt(1 -
+    leverage)`` with ``s`` the fit's residual standard deviation [response unit] and
+    ``df_resid`` its degrees of freedom, and from it ``deleted_residual`` (Minitab's TRES),
+    ``cooks_distance`` and ``dfits`` [-]; NaN where they are not finite (no residual degrees
+    of freedom, or one for the deleted residual), at leverage 1 and for a constant
     response."""
     out = _run_columns(data)
     out["observed"] = y
@@ -2014,7 +2052,172 @@ def _residual_frame(
     with np.errstate(divide="ignore", invalid="ignore"):
         std = (y - fitted) / (s * np.sqrt(1.0 - leverage))
     usable = (leverage < 1.0 - 1e-9) & np.isfinite(std) & (not _is_constant(y))
-    out["std_residual"] = np.where(usable, std, np.nan)
+    r = np.where(usable, std, np.nan)
+    out["std_residual"] = r
+    # the deleted residual: the run's residual against the fit without it, in that fit's
+    # standard errors, from r alone (r^2 <= df_resid; infinite where they are equal)
+    params = float(y.size - df_resid)  # the model's parameters (its rank)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = (df_resid - 1.0) / (df_resid - r**2)
+        deleted = r * np.sqrt(np.where(ratio < 0, np.nan, ratio)) if df_resid > 1.5 else r * np.nan
+        odds = leverage / (1.0 - leverage)
+        out["deleted_residual"] = deleted
+        out["cooks_distance"] = r**2 / params * odds
+        out["dfits"] = deleted * np.sqrt(odds)
+    return out
+
+
+#: Columns of the table returned by :func:`unusual_runs`, after the runs' own (``test``,
+#: ``replicate``, ``order``: those present), in order.
+UNUSUAL_COLUMNS: tuple[str, ...] = (
+    "observed",
+    "fitted",
+    "residual",
+    "std_residual",
+    "deleted_residual",
+    "outlier_p",
+    "leverage",
+    "cooks_distance",
+)
+
+#: The standardized residual beyond which a run is unusual (Minitab's "R" flag) [-].
+UNUSUAL_RESIDUAL = 2.0
+
+
+def unusual_runs(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    *,
+    interactions: Model = True,
+    typ: int = 2,
+    alpha_to_remove: float | None = None,
+    alpha: float = 0.05,
+) -> pd.DataFrame:
+    """The runs the model fits badly, with how much each moves the fit and what the ANOVA
+    says without them: Minitab's "Fits and Diagnostics for Unusual Observations" (its R
+    flag), with the deleted residuals, Cook's distances and the outlier test JMP and
+    statsmodels give, and the ANOVA refitted without those runs.
+
+    A run is unusual where its standardized residual exceeds :data:`UNUSUAL_RESIDUAL` in
+    size; about 1 run in 20 does by chance. The standardized residual cannot exceed the
+    square root of the residual's degrees of freedom, so in a small model it understates a
+    run the model does not describe; the deleted residual (the run's residual against the
+    model fitted without it, in that fit's standard errors; Minitab's TRES) does not, and
+    follows Student's t with ``df_resid - 1`` degrees of freedom where the run belongs to
+    the model: ``outlier_p`` is that tail, two-sided, times the number of runs (Bonferroni),
+    at most 1 (statsmodels' ``outlier_test``). Cook's distance measures how far the run
+    moves the fitted values (Minitab's COOK): about 1 and more is much.
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
+        are used).
+    factors
+        The design's factors.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    interactions, typ, alpha_to_remove
+        The ANOVA's model, as :func:`anova` takes them; the refit keeps its terms (a reduced
+        model is not reduced again, so that only the runs change).
+    alpha
+        Significance level of the refit's comparison [-].
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per unusual run, largest standardized residual in size first: the runs'
+        columns of :func:`residuals`, then :data:`UNUSUAL_COLUMNS`: ``observed``,
+        ``fitted`` and ``residual`` [response unit], ``std_residual``,
+        ``deleted_residual``, ``outlier_p`` (Bonferroni-adjusted), ``leverage`` and
+        ``cooks_distance`` [-]. Empty where no run is unusual or there is no residual.
+        ``attrs``: ``response``, ``formula``, ``threshold``, ``alpha``, ``n`` (the runs
+        fitted), ``df_resid`` (the model's), ``largest_other_cooks`` (the largest Cook's
+        distance of the other runs), ``without`` (the ANOVA of the same terms without the
+        unusual runs, :func:`anova`'s table, or None) and ``without_note`` (why there is
+        none: too few runs left, a term no longer estimable; empty otherwise).
+
+    Examples
+    --------
+    A 2 x 3 design, twice, whose test 6 lies about 0.02 above a model of main effects: its
+    standardized residual looks mild, its deleted residual does not, and without it S is
+    significant:
+
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor, anova, unusual_runs
+    >>> factors = [Factor("S", (0.0, 1.0)), Factor("WP", (1.0, 2.0, 3.0))]
+    >>> runs = pd.DataFrame({
+    ...     "test": range(1, 13), "S": [0.0, 1.0] * 6, "WP": [1.0, 1.0, 2.0, 2.0, 3.0, 3.0] * 2,
+    ...     "MU": [0.301, 0.304, 0.348, 0.357, 0.401, 0.425, 0.3, 0.306, 0.352, 0.351, 0.4, 0.406],
+    ... })
+    >>> table = unusual_runs(runs, factors, "MU", interactions=False)
+    >>> columns = ["test", "std_residual", "deleted_residual", "outlier_p", "cooks_distance"]
+    >>> print(table[columns].round(3).to_string(index=False))
+     test  std_residual  deleted_residual  outlier_p  cooks_distance
+        6         2.677             7.752      0.001           0.896
+    >>> with_it = anova(runs, factors, "MU", interactions=False).set_index("term")
+    >>> without = table.attrs["without"].set_index("term")
+    >>> p, q = with_it.loc["S", "p_value"], without.loc["S", "p_value"]
+    >>> print(f"S: p = {p:.3f}, {q:.3f} without")
+    S: p = 0.053, 0.009 without
+    """
+    from scipy import stats
+
+    problem = alpha_problem(alpha, usual="0.05 is usual")
+    if problem:
+        raise ValueError(f"alpha: {problem}")
+    factors = list(factors) if not isinstance(factors, str) else [factors]
+    summary = summary.reset_index(drop=True)  # labels are positions: the runs dropped below
+    data, y, exog, formula = _model_arrays(
+        summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
+    )
+    frame = _residuals_of(data, y, exog, formula, response)
+    out = frame.iloc[0:0].copy()
+    out.attrs.update(
+        response=response,
+        formula=formula,
+        threshold=UNUSUAL_RESIDUAL,
+        alpha=float(alpha),
+        n=int(y.size),
+        df_resid=float(frame.attrs.get("df_resid", math.nan)),
+        largest_other_cooks=math.nan,
+        without=None,
+        without_note="",
+    )
+    z = pd.to_numeric(frame.get("std_residual"), errors="coerce").to_numpy(dtype=float)
+    large = np.abs(np.nan_to_num(z)) > UNUSUAL_RESIDUAL
+    if not large.any():
+        return out
+    df = float(frame.attrs["df_resid"])
+    t = frame["deleted_residual"].to_numpy(dtype=float)
+    with np.errstate(invalid="ignore"):
+        p = np.minimum(1.0, y.size * 2.0 * stats.t.sf(np.abs(t), df - 1.0))
+    order = np.argsort(-np.abs(z[large]), kind="stable")
+    rows = frame.loc[large].assign(outlier_p=p[large]).iloc[order]
+    attrs = dict(out.attrs)
+    out = rows[[*_run_columns(data).columns, *UNUSUAL_COLUMNS]].reset_index(drop=True)
+    out.attrs.update(attrs)
+    cooks = frame["cooks_distance"].to_numpy(dtype=float)
+    if (~large).any() and np.isfinite(cooks[~large]).any():
+        out.attrs["largest_other_cooks"] = float(np.nanmax(cooks[~large]))
+    # the same terms without those runs
+    terms = [t.strip() for t in formula.split("~", 1)[1].split("+")]
+    terms = [t for t in terms if t not in ("1", "Ct Pt")]
+    if not terms:
+        out.attrs["without_note"] = "the model has no terms"
+        return out
+    kept = summary.drop(index=data.index[large])
+    try:
+        _, _, exog2, formula2 = _model_arrays(kept, factors, response, terms)
+        table = anova(kept, factors, response, interactions=terms, typ=typ)
+    except ValueError as exc:  # too few runs left for the model
+        out.attrs["without_note"] = str(exc)
+        return out
+    if formula2 != formula or np.linalg.matrix_rank(exog2) < np.linalg.matrix_rank(exog):
+        out.attrs["without_note"] = "the runs left cannot estimate the same model"
+        return out
+    out.attrs["without"] = table
     return out
 
 
@@ -3763,8 +3966,8 @@ def analyze(
     dict of str to ResponseAnalysis
         ``{response: ResponseAnalysis}``: each response's tables (main effects,
         interactions, ANOVA, ranked effects, residuals, two-level effects, trends, model
-        summary, level coefficients, pairwise comparisons) as attributes, or as items by
-        name (``result["MU"]["anova"]``).
+        summary, level coefficients, pairwise comparisons, unusual runs) as attributes, or
+        as items by name (``result["MU"]["anova"]``).
 
     References
     ----------
@@ -3904,6 +4107,14 @@ def analyze(
             comparisons=_comparisons(
                 summary, design_factors, response, table, model, alpha_to_remove, fit=fit
             ),
+            unusual=unusual_runs(
+                summary,
+                factors,
+                response,
+                interactions=model,
+                typ=anova_type,
+                alpha_to_remove=alpha_to_remove,
+            ),
         )
     return result
 
@@ -3993,7 +4204,8 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
         and no effects table (a design with a factor of three levels or more: a two-level
         design's coded coefficients are in its effects table), ``comparisons_<R>.csv``
         when it has a non-empty :func:`level_comparisons` table, and ``grouping_<R>.csv``,
-        its levels' :func:`tukey_grouping` letters, when the comparisons have p values.
+        its levels' :func:`tukey_grouping` letters, when the comparisons have p values, and
+        ``unusual_<R>.csv`` when :func:`unusual_runs` names a run.
     """
     if isinstance(result, ResponseAnalysis):  # a KeyError: 'main_effects' (an API review)
         raise TypeError(
@@ -4052,6 +4264,11 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             tables["grouping"] = grouping
         else:
             (directory / f"grouping_{response}.csv").unlink(missing_ok=True)
+        unusual = bundle.get("unusual")
+        if unusual is not None and not unusual.empty:
+            tables["unusual"] = unusual
+        else:
+            (directory / f"unusual_{response}.csv").unlink(missing_ok=True)
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             write_table(table, path)

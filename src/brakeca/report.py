@@ -559,10 +559,84 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
 UNUSUAL_RESIDUAL = _BOX_COX_UNUSUAL
 
 
-def _unusual_text(response: str, frame: pd.DataFrame) -> str:
+def _p_text(p: float) -> str:
+    """A p value in running text: two significant digits, ``< 0.0001`` below that."""
+    return "< 0.0001" if p < 1e-4 else f"{p:.2g}"
+
+
+def _verdicts_without(
+    anova: pd.DataFrame | None, unusual: pd.DataFrame | None, alpha: float = 0.05
+) -> str:
+    """What the ANOVA says without the unusual runs (:func:`brakeca.analysis.unusual_runs`'
+    ``attrs["without"]``) against ``anova``: the terms whose p crosses ``alpha``, each with
+    both p values, or that none does; empty without such a refit."""
+    if anova is None or unusual is None or unusual.empty:
+        return ""
+    without = unusual.attrs.get("without")
+    if without is None:
+        why = unusual.attrs.get("without_note", "")
+        them = "it" if len(unusual) == 1 else "them"
+        return f"without {them} the model cannot be refitted ({why})" if why else ""
+    before = anova.set_index("term")["p_value"]
+    after = without.set_index("term")["p_value"]
+    changed = []
+    for term, p in before.items():
+        if term == "Residual" or term not in after.index or _is_missing(p):
+            continue
+        q = after[term]
+        if _is_missing(q) or (float(p) < alpha) == (float(q) < alpha):
+            continue
+        changed.append(f"{term} {_p_text(float(p))} → {_p_text(float(q))}")
+    them = "it" if len(unusual) == 1 else "them"
+    if not changed:
+        return f"every term keeps its verdict at p < {alpha:g} without {them}"
+    return f"without {them} the ANOVA's verdicts at p < {alpha:g} change: " + ", ".join(changed)
+
+
+def _outlier_clause(
+    anova: pd.DataFrame,
+    unusual: pd.DataFrame | None,
+    residual_tables: Mapping[str, pd.DataFrame] | None,
+    response: Any,
+) -> str:
+    """The "In short" clause on the runs the Bonferroni outlier test calls outliers of the
+    model (:func:`brakeca.analysis.unusual_runs`), with the ANOVA's verdicts that change
+    without the unusual runs; empty where there is none."""
+    if unusual is None or unusual.empty or "outlier_p" not in unusual.columns:
+        return ""
+    alpha = float(unusual.attrs.get("alpha", 0.05))
+    outliers = unusual.loc[pd.to_numeric(unusual["outlier_p"], errors="coerce") < alpha]
+    if outliers.empty:
+        return ""
+    residuals = (residual_tables or {}).get(response)
+    replicated = (
+        residuals is not None
+        and "replicate" in residuals.columns
+        and residuals["replicate"].nunique() > 1
+    )
+    named = " and ".join(run_named(rec, replicated) for _, rec in outliers.iterrows())
+    verb = "is an outlier" if len(outliers) == 1 else "are outliers"
+    clause = (
+        f"; {named} {verb} of the model (Bonferroni p "
+        + ", ".join(_p_text(float(v)) for v in outliers["outlier_p"])
+        + ")"
+    )
+    verdicts = _verdicts_without(anova, unusual, alpha)
+    return clause + (f": {verdicts}" if verdicts else "")
+
+
+def _unusual_text(
+    response: str,
+    frame: pd.DataFrame,
+    unusual: pd.DataFrame | None = None,
+    anova: pd.DataFrame | None = None,
+) -> str:
     """The runs whose standardized residual exceeds :data:`UNUSUAL_RESIDUAL` in size
     (:func:`brakeca.analysis.residuals`), as Minitab lists its "unusual observations", with
-    their observed and fitted values in the report's unit; empty where there are none."""
+    their observed and fitted values in the report's unit, their deleted residuals and
+    Cook's distances; from :func:`brakeca.analysis.unusual_runs`' table ``unusual`` (when
+    given) the outliers of the model by the Bonferroni test and what the ANOVA ``anova``
+    says without those runs. Empty where there are none."""
     if "std_residual" not in frame.columns or frame.empty:
         return ""
     z = pd.to_numeric(frame["std_residual"], errors="coerce")
@@ -574,19 +648,63 @@ def _unusual_text(response: str, frame: pd.DataFrame) -> str:
     items = []
     for _, rec in large.iterrows():
         who = run_named(rec, replicated)
+        extra = ""
+        if not _is_missing(rec.get("deleted_residual", math.nan)):
+            extra += f", deleted residual {float(rec['deleted_residual']):+.3g}"
+        if not _is_missing(rec.get("cooks_distance", math.nan)):
+            extra += f", Cook's distance {float(rec['cooks_distance']):.2g}"
         items.append(
             f"{who} ({response} {_fmt(float(rec['observed']) * factor, '.4g')}"
             f"{' ' + unit if unit else ''}, fitted {_fmt(float(rec['fitted']) * factor, '.4g')}, "
-            f"standardized residual {float(rec['std_residual']):+.2f})"
+            f"standardized residual {float(rec['std_residual']):+.2f}{extra})"
         )
     n = len(frame)
-    return (
+    text = (
         f"Unusual runs (standardized residual beyond ±{UNUSUAL_RESIDUAL:g}, Minitab's R): "
         + "; ".join(items)
         + f". About 1 run in 20 lies there by chance ({n} runs here); a run far beyond it "
-        "moves the fit, its F tests and the Box–Cox λ, and is worth a look (tables/"
-        f"residuals_{response}.csv)."
+        "moves the fit, its F tests and the Box–Cox λ, and is worth a look."
     )
+    if unusual is not None and not unusual.empty and "outlier_p" in unusual.columns:
+        alpha = float(unusual.attrs.get("alpha", 0.05))
+        p = pd.to_numeric(unusual["outlier_p"], errors="coerce")
+        outliers = unusual.loc[p < alpha]
+        if not outliers.empty:
+            names = [run_named(rec, replicated) for _, rec in outliers.iterrows()]
+            named = " and ".join(names)
+            df = frame.attrs.get("df_resid", unusual.attrs.get("df_resid", math.nan))
+            ceiling = (
+                f" (with {_fmt(float(df), '.0f')} residual degrees of freedom a standardized "
+                f"residual cannot exceed √{_fmt(float(df), '.0f')} = {math.sqrt(float(df)):.2f},"
+                " which is why it can look mild)"
+                if not _is_missing(df) and float(df) > 0
+                else ""
+            )
+            verb = "is an outlier" if len(names) == 1 else "are outliers"
+            text += (
+                f" {named[:1].upper()}{named[1:]} {verb} of this model: the deleted "
+                "residual, the run's residual against the model fitted without it in that "
+                "fit's standard errors, has p "
+                + ", ".join(_p_text(float(v)) for v in outliers["outlier_p"])
+                + f" after Bonferroni's correction over the {n} runs{ceiling}, so the model "
+                "does not describe "
+                + (
+                    "it, and its residual weighs"
+                    if len(names) == 1
+                    else "them, and their residuals weigh"
+                )
+                + " on every F test."
+            )
+            other = unusual.attrs.get("largest_other_cooks", math.nan)
+            if not _is_missing(other):
+                text += f" The largest Cook's distance of the other runs: {float(other):.2g}."
+        verdicts = _verdicts_without(anova, unusual)
+        if verdicts:
+            text += f" {verdicts[:1].upper()}{verdicts[1:]}."
+    files = f"tables/residuals_{response}.csv" + (
+        f" and tables/unusual_{response}.csv" if unusual is not None and not unusual.empty else ""
+    )
+    return text + f" The runs' diagnostics: {files}."
 
 
 def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
@@ -1416,14 +1534,17 @@ def in_short(
     effects_tables: Mapping[str, pd.DataFrame] | None = None,
     box_cox: Mapping[str, Any] | None = None,
     residual_tables: Mapping[str, pd.DataFrame] | None = None,
+    unusual_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> list[str]:
     """The lines of the report's "In short": for each response, its ANOVA's terms with
     p < 0.05, the largest share of the variation first, a main effect with the mean response
-    at each level, and R² (V's with what its Box–Cox check says of its scale).
+    at each level, and R² (V's with what its Box–Cox check says of its scale), and the runs
+    the Bonferroni outlier test calls outliers of the model, with the verdicts that change
+    without them.
 
     Parameters
     ----------
-    anova_tables, level_means, effects_tables, box_cox, residual_tables
+    anova_tables, level_means, effects_tables, box_cox, residual_tables, unusual_tables
         As :func:`write_report` takes them.
 
     Returns
@@ -1439,6 +1560,7 @@ def in_short(
             if str(r) == "V" and line
             else ""
         )
+        + _outlier_clause(frame, (unusual_tables or {}).get(r), residual_tables, r)
         for r, frame in anova_tables.items()
         if (
             line := _finding(
@@ -1471,6 +1593,7 @@ def render_report(
     residual_tables: Mapping[str, pd.DataFrame] | None = None,
     coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
     comparison_tables: Mapping[str, pd.DataFrame] | None = None,
+    unusual_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -1555,7 +1678,10 @@ def render_report(
                 "trends": trends_table,
                 "trends_info": trends_info,
                 "unusual": _unusual_text(
-                    str(response), (residual_tables or {}).get(response, pd.DataFrame())
+                    str(response),
+                    (residual_tables or {}).get(response, pd.DataFrame()),
+                    (unusual_tables or {}).get(response),
+                    anova_tables[response],
                 ),
             }
         )
@@ -1566,6 +1692,7 @@ def render_report(
         effects_tables=effects_tables,
         box_cox=box_cox,
         residual_tables=residual_tables,
+        unusual_tables=unusual_tables,
     )
     return template.render(
         title=title,
@@ -1806,6 +1933,7 @@ def write_report(
     residual_tables: Mapping[str, pd.DataFrame] | None = None,
     coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
     comparison_tables: Mapping[str, pd.DataFrame] | None = None,
+    unusual_tables: Mapping[str, pd.DataFrame] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -1876,6 +2004,11 @@ def write_report(
         ``{response: table}`` from :func:`brakeca.analysis.level_comparisons`, shown under
         the response's ANOVA table when not empty: Tukey's pairwise comparisons of the levels
         of each factor of three levels or more.
+    unusual_tables
+        ``{response: table}`` from :func:`brakeca.analysis.unusual_runs`: with the unusual
+        runs, the report names those the Bonferroni outlier test calls outliers of the
+        model and says which of the ANOVA's verdicts change without them (the same runs
+        its "In short" names).
 
     Returns
     -------
@@ -1915,5 +2048,6 @@ def write_report(
         residual_tables=residual_tables,
         coefficient_tables=coefficient_tables,
         comparison_tables=comparison_tables,
+        unusual_tables=unusual_tables,
     )
     return write_text(path, html)

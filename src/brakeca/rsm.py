@@ -871,9 +871,10 @@ def surface_residuals(fit: SurfaceFit, summary: pd.DataFrame) -> pd.DataFrame:
     pandas.DataFrame
         The columns of :func:`brakeca.analysis.residuals`: the summary's ``test``,
         ``replicate`` and ``order`` (those present), ``observed``, ``fitted`` and ``residual``
-        [response unit], ``leverage`` [-] and ``std_residual`` [-] (NaN without residual
-        degrees of freedom, at leverage 1 or for a constant response); ``attrs`` carries
-        ``response``, ``formula``, ``df_resid`` and ``s``.
+        [response unit], ``leverage``, ``std_residual``, ``deleted_residual``,
+        ``cooks_distance`` and ``dfits`` [-] (NaN without residual degrees of freedom, at
+        leverage 1 or for a constant response); ``attrs`` carries ``response``, ``formula``,
+        ``df_resid`` and ``s``.
 
     Raises
     ------
@@ -891,7 +892,9 @@ def surface_residuals(fit: SurfaceFit, summary: pd.DataFrame) -> pd.DataFrame:
     xtx_inv = fit.xtx_inv if fit.xtx_inv is not None else np.linalg.pinv(exog.T @ exog)
     leverage = np.einsum("ij,jk,ik->i", exog, xtx_inv, exog)
     s = fit.statistics.get("s", math.nan)
-    out = _residual_frame(data, y, exog @ fit.coef, leverage, s)
+    out = _residual_frame(
+        data, y, exog @ fit.coef, leverage, s, fit.statistics.get("df_resid", math.nan)
+    )
     terms = " + ".join(fit.terms) if fit.terms else "1"
     out.attrs.update(
         response=fit.response,

@@ -303,7 +303,12 @@ Files (R is the response: MU, V or log10_V_mm3):
   `main_effects_R.csv` and `interactions_R.csv`.
 - `residuals_R.csv`: observed, fitted, residual, leverage, standardized residual per run
   (the residual over S·sqrt(1 − leverage), Minitab's "standardized residual"; the normal
-  probability plot puts them at Blom's positions, (i − 3/8)/(n + 1/4)).
+  probability plot puts them at Blom's positions, (i − 3/8)/(n + 1/4)), deleted residual
+  (the residual against the model fitted without the run, in that fit's standard errors;
+  Minitab's TRES), Cook's distance (how far the run moves the fitted values) and DFITS.
+- `unusual_R.csv` (where a run's standardized residual is beyond ±2): those runs, with
+  `outlier_p`, the deleted residual's two-sided p times the number of runs (Bonferroni's
+  outlier test); the report says which of the ANOVA's verdicts change without them.
 - `trends_R.csv` (a factor of three or more levels): its main effect split into linear and
   quadratic (and higher) parts, orthogonal polynomials in its levels (`scale`: their values,
   or their log10 where evenly spaced on the log), each with its sum of squares, F and p.
@@ -749,6 +754,11 @@ def write_study(
         for resp in RESPONSES
         if tables[resp].get("residuals") is not None
     }
+    unusual_tables = {
+        resp: tables[resp]["unusual"]
+        for resp in RESPONSES
+        if tables[resp].get("unusual") is not None
+    }
     path = report.write_report(
         out / "report.html",
         title=f"brakeca study: {result.design.name}",
@@ -771,6 +781,7 @@ def write_study(
         coefficient_tables={resp: tables[resp]["coefficients"] for resp in RESPONSES},
         comparison_tables={resp: tables[resp]["comparisons"] for resp in RESPONSES},
         residual_tables=residual_tables,
+        unusual_tables=unusual_tables,
     )
     if in_short is not None:
         for line in report.in_short(
@@ -779,6 +790,7 @@ def write_study(
             effects_tables=effects_tables,
             box_cox=found.scales,
             residual_tables=residual_tables,
+            unusual_tables=unusual_tables,
         ):
             in_short(line)
     return path

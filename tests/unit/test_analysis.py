@@ -58,6 +58,7 @@ TABLES = (
     "model_summary",
     "coefficients",
     "comparisons",
+    "unusual",
 )
 
 # Known additive effects per level index and a known S x WP interaction.
@@ -384,7 +385,7 @@ def test_each_response_s_analysis_is_a_dataclass_and_a_mapping_of_its_tables() -
     bundle = analyze(_design(replicates=2), FACTORS, ["MU"])["MU"]
     assert isinstance(bundle, ResponseAnalysis)
     assert list(bundle) == list(TABLES)
-    assert len(bundle) == 11
+    assert len(bundle) == 12
     for name in bundle:
         assert bundle[name] is getattr(bundle, name)
     assert bundle.get("anova") is bundle.anova and bundle.get("fit") is None
@@ -436,7 +437,8 @@ def test_save_tables_names_what_it_takes(tmp_path) -> None:
     a_file.write_bytes(b"")
     with pytest.raises(NotADirectoryError, match=r"directory: .*run.nc exists and is not a"):
         save_tables(result, a_file)
-    assert len(save_tables({"MU": result["MU"]}, tmp_path / "tables")) == 10
+    assert not result["MU"].unusual.empty  # this seed's noise has one run beyond ±2
+    assert len(save_tables({"MU": result["MU"]}, tmp_path / "tables")) == 11
 
 
 def test_analyze_and_save_tables(tmp_path) -> None:
@@ -452,7 +454,9 @@ def test_analyze_and_save_tables(tmp_path) -> None:
     names = sorted(p.name for p in written)
     stems = ("main_effects", "interactions", "anova", "model_summary", "ranked_effects")
     stems = (*stems, "residuals", "trends", "coefficients", "comparisons", "grouping")
-    assert names == sorted(f"{stem}_{r}.csv" for stem in stems for r in ("MU", "V"))
+    unusual = [f"unusual_{r}.csv" for r in ("MU", "V") if not result[r].unusual.empty]
+    expected = [f"{stem}_{r}.csv" for stem in stems for r in ("MU", "V")]
+    assert names == sorted(expected + unusual)
     summary_mu = pd.read_csv(tmp_path / "tables" / "model_summary_MU.csv")
     assert list(summary_mu.columns) == list(MODEL_SUMMARY_COLUMNS)
     assert summary_mu["r_squared"].item() == pytest.approx(result["MU"]["anova"].attrs["r_squared"])

@@ -1,0 +1,178 @@
+"""The runs a model fits badly (brakeca.analysis.unusual_runs) and the residual table's
+influence measures: deleted residuals, Cook's distances and DFITS as statsmodels gives them,
+Bonferroni's outlier test, and the ANOVA refitted without the unusual runs. A helper's
+review of the paper's study found test 23 an outlier of MU's model (deleted residual 11.0,
+Bonferroni p 1e-4) that the report had called a mild flag (standardized residual 2.91, which
+cannot exceed sqrt(9) with 9 residual degrees of freedom)."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from brakeca.analysis import (
+    RESIDUAL_COLUMNS,
+    UNUSUAL_COLUMNS,
+    Factor,
+    analyze,
+    anova,
+    residuals,
+    save_tables,
+    unusual_runs,
+)
+from brakeca.report import _unusual_text, in_short
+
+S = Factor("S", (0.0, 1.0), labels=("-", "+"))
+WP = Factor("WP", (1e-15, 1e-14, 1e-13), labels=("-", "0", "+"))
+A = Factor("A", (10.0, 20.0), labels=("-", "+"))
+FACTORS = (S, WP, A)
+
+
+def _runs(replicates: int = 2, bump: float = 0.0, seed: int = 9) -> pd.DataFrame:
+    """A 2 x 3 x 2 design with additive effects, noise, and ``bump`` added to test 5's
+    first replicate (with seed 9 and no bump, no run's standardized residual under the
+    main effects is beyond +-2)."""
+    rng = np.random.default_rng(seed)
+    rows = []
+    for test, (a, wp, s) in enumerate(itertools.product(range(2), range(3), range(2)), start=1):
+        for r in range(replicates):
+            mu = 0.3 + 0.02 * s + (0.0, 0.01, 0.03)[wp] + 0.015 * a
+            mu += 0.002 * rng.standard_normal() + (bump if (test, r) == (5, 0) else 0.0)
+            rows.append(
+                {
+                    "test": test,
+                    "replicate": r,
+                    "S": S.levels[s],
+                    "WP": WP.levels[wp],
+                    "A": A.levels[a],
+                    "MU": mu,
+                    "status": "ok",
+                }
+            )
+    return pd.DataFrame(rows)
+
+
+def _influence(runs: pd.DataFrame, formula: str):
+    from statsmodels.formula.api import ols
+
+    return ols(formula, data=runs).fit()
+
+
+def test_the_influence_measures_are_statsmodels_s() -> None:
+    """Deleted (externally studentized) residuals, Cook's distances and DFITS equal
+    statsmodels' OLSInfluence of the same model, unbalanced too."""
+    runs = _runs().drop(index=[3, 16]).reset_index(drop=True)
+    table = residuals(runs, FACTORS, "MU")
+    assert list(table.columns) == ["test", "replicate", *RESIDUAL_COLUMNS]
+    fit = _influence(runs, "MU ~ (C(S) + C(WP) + C(A))**2")
+    influence = fit.get_influence()
+    np.testing.assert_allclose(table["std_residual"], influence.resid_studentized_internal)
+    np.testing.assert_allclose(
+        table["deleted_residual"], influence.resid_studentized_external, rtol=1e-9
+    )
+    np.testing.assert_allclose(table["cooks_distance"], influence.cooks_distance[0], rtol=1e-9)
+    np.testing.assert_allclose(table["dfits"], influence.dffits[0], rtol=1e-9)
+
+
+def test_without_residual_degrees_of_freedom_there_are_no_influence_measures() -> None:
+    """A saturated model (one run per cell, every interaction) leaves no residual: the
+    measures are NaN, not round-off; one degree of freedom leaves no deleted residual."""
+    runs = _runs(replicates=1)
+    every = ["S", "WP", "A", "S|WP|A"]
+    saturated = residuals(runs, FACTORS, "MU", interactions=every)
+    assert saturated.attrs["df_resid"] == 0
+    assert saturated[["std_residual", "deleted_residual", "cooks_distance"]].isna().all().all()
+    assert unusual_runs(runs, FACTORS, "MU", interactions=every).empty
+    one = residuals(runs.iloc[:6], [S, WP], "MU", interactions=False)  # 6 runs, 4 parameters
+    assert one.attrs["df_resid"] == 2
+    two = residuals(runs.iloc[:5], [S, WP], "MU", interactions=False)
+    assert two.attrs["df_resid"] == 1
+    assert two["deleted_residual"].isna().all()
+    assert two["std_residual"].notna().sum() > 0
+
+
+def test_an_outlier_is_named_with_bonferroni_s_test_and_the_anova_without_it() -> None:
+    """Test 5's first replicate 0.03 off: the only unusual run, its outlier_p statsmodels'
+    Bonferroni p, the largest other Cook's distance given, and the refit the ANOVA of the
+    runs without it; a design without such a run gives an empty table with the same
+    attrs."""
+    runs = _runs(bump=0.03)
+    table = unusual_runs(runs, FACTORS, "MU", interactions=False)
+    assert list(table.columns) == ["test", "replicate", *UNUSUAL_COLUMNS]
+    assert list(table["test"]) == [5] and list(table["replicate"]) == [0]
+    fit = _influence(runs, "MU ~ C(S) + C(WP) + C(A)")
+    outliers = fit.outlier_test()  # student_resid, unadj_p, bonf(p), in the runs' order
+    row = outliers.iloc[8]  # test 5, replicate 0
+    assert table["deleted_residual"].item() == pytest.approx(row["student_resid"], rel=1e-9)
+    assert table["outlier_p"].item() == pytest.approx(row["bonf(p)"], rel=1e-6)
+    assert table["outlier_p"].item() < 0.05
+    cooks = fit.get_influence().cooks_distance[0]
+    assert table.attrs["largest_other_cooks"] == pytest.approx(np.delete(cooks, 8).max())
+    assert table.attrs["df_resid"] == len(runs) - 5 and table.attrs["n"] == len(runs)
+    without = table.attrs["without"]
+    expected = anova(runs.drop(index=8), FACTORS, "MU", interactions=["S", "WP", "A"])
+    pd.testing.assert_frame_equal(without, expected, check_exact=False, rtol=1e-12)
+    assert table.attrs["without_note"] == ""
+    calm = unusual_runs(_runs(), FACTORS, "MU", interactions=False)
+    assert calm.empty and calm.attrs["without"] is None
+    with pytest.raises(ValueError, match=r"alpha: "):
+        unusual_runs(runs, FACTORS, "MU", alpha=5)
+
+
+def test_the_refit_keeps_a_reduced_model_s_terms() -> None:
+    """A reduced model is refitted with its terms, not reduced again, so only the runs
+    change."""
+    runs = _runs(bump=0.03)
+    reduced = anova(runs, FACTORS, "MU", alpha_to_remove=0.1)
+    table = unusual_runs(runs, FACTORS, "MU", alpha_to_remove=0.1)
+    assert not table.empty
+    kept = [t for t in reduced["term"] if t != "Residual"]
+    assert kept != list(anova(runs, FACTORS, "MU")["term"][:-1])  # reduced indeed
+    assert [t for t in table.attrs["without"]["term"] if t != "Residual"] == kept
+
+
+def test_analyze_and_save_tables_give_the_unusual_runs(tmp_path) -> None:
+    runs = _runs(bump=0.03)
+    result = analyze(runs, FACTORS, ["MU"], max_order=1)
+    expected = unusual_runs(runs, FACTORS, "MU", interactions=1)
+    pd.testing.assert_frame_equal(result["MU"].unusual, expected)
+    save_tables(result, tmp_path)
+    written = pd.read_csv(tmp_path / "unusual_MU.csv")
+    assert list(written["test"]) == [5]
+    save_tables(analyze(_runs(), FACTORS, ["MU"], max_order=1), tmp_path)
+    assert not (tmp_path / "unusual_MU.csv").exists()  # the earlier analysis's, removed
+
+
+def test_the_report_names_the_outlier_and_the_verdicts_that_change() -> None:
+    """The report's text under the ANOVA and its "In short": the outlier with its
+    Bonferroni p and the residual's ceiling, the largest other Cook's distance, and each
+    term whose verdict at 5 % changes without it, with both p values."""
+    runs = _runs(bump=0.03)
+    frame = residuals(runs, FACTORS, "MU", interactions=False)
+    table = unusual_runs(runs, FACTORS, "MU", interactions=False)
+    full = anova(runs, FACTORS, "MU", interactions=False)
+    text = _unusual_text("MU", frame, table, full)
+    assert "test 5, replicate 0 (MU " in text  # (the summary's replicate number)
+    assert "is an outlier of this model" in text
+    assert "a standardized residual cannot exceed √19 = 4.36" in text
+    assert "The largest Cook's distance of the other runs: " in text
+    before = full.set_index("term")["p_value"]
+    after = table.attrs["without"].set_index("term")["p_value"]
+    flips = [t for t in before.index[:-1] if (before[t] < 0.05) != (after[t] < 0.05)]
+    if flips:
+        assert "Without it the ANOVA's verdicts at p < 0.05 change: " in text
+        for term in flips:
+            assert f"{term} " in text.split("change: ")[1]
+    else:
+        assert "Every term keeps its verdict at p < 0.05 without it." in text
+    assert text.endswith("tables/residuals_MU.csv and tables/unusual_MU.csv.")
+    (line,) = in_short({"MU": full}, residual_tables={"MU": frame}, unusual_tables={"MU": table})
+    assert "is an outlier of the model (Bonferroni p " in line
+    # without an outlier (a run beyond +-2 by chance): named, not called an outlier
+    mild = table.assign(outlier_p=0.5)
+    assert "outlier" not in _unusual_text("MU", frame, mild, full).split("Minitab's R")[1]
+    (plain,) = in_short({"MU": full}, unusual_tables={"MU": mild})
+    assert "outlier" not in plain
