@@ -768,6 +768,12 @@ def _heading(response: str) -> str:
     return response
 
 
+def _t_text(t: float) -> str:
+    """A T value in a table: two decimals, as Minitab prints it, and three significant digits
+    from 10,000 in size (a residual at round-off makes T huge)."""
+    return f"{t:.2f}" if abs(t) < 1e4 else f"{t:.3g}"
+
+
 def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     """Tukey's pairwise comparisons (:func:`brakeca.analysis.level_comparisons`, in the
     report's unit of ``response``) and their caption."""
@@ -783,12 +789,16 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
     rows = []
     for _, rec in frame.iterrows():
         low, high = float(rec["ci_low"]) * factor, float(rec["ci_high"]) * factor
+        t_value = math.nan  # Minitab's T: the difference over its SE, q / sqrt(2) signed
+        if not _is_missing(rec["q"]):
+            t_value = math.copysign(float(rec["q"]) / math.sqrt(2.0), float(rec["difference"]))
         cells = [
             _fmt(rec["factor"]),
             f"{level(rec['level_b'])} − {level(rec['level_a'])}",
             _fmt(float(rec["difference"]) * factor, ".4g"),
             _fmt(float(rec["se"]) * factor, ".4g"),
             "–" if _is_missing(low) else f"{_fmt(low, '.4g')} to {_fmt(high, '.4g')}",
+            "–" if _is_missing(t_value) else _t_text(t_value),
             format_p_value(rec["p_adjusted"]),
         ]
         rows.append({"cells": cells, "cls": "sig" if bool(rec["significant"]) else ""})
@@ -797,8 +807,9 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
         "Factor",
         "Levels (later − earlier)",
         f"Difference of their means{in_unit}",
-        f"SE{in_unit}",
-        f"{100 * confidence:g} % interval{in_unit}",
+        f"SE of difference{in_unit}",
+        f"Simultaneous {100 * confidence:g} % interval{in_unit}",
+        "T (q / √2)",
         "Adjusted p",
     ]
     names = " and ".join(dict.fromkeys(str(f) for f in frame["factor"]))
@@ -814,12 +825,16 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
     grouping = tukey_grouping(frame)
     if not grouping.empty:
         caption += (
-            f" Grouping by Tukey's method at {100 * confidence:g} % (Minitab's letters, the "
-            "levels from the largest mean; the means of levels that share no letter are "
-            "significantly different): "
+            f" Grouping by Tukey's method at {100 * confidence:g} % (Minitab's grouping "
+            "letters, the levels from the largest mean; the means of levels that share no "
+            "letter are significantly different): "
             + "; ".join(
                 f"{name}: "
-                + ", ".join(f"{level(r.level)} {r.grouping}" for r in rows_.itertuples())
+                + ", ".join(
+                    f"{level(r.level)} in group{'s' if len(r.grouping) > 1 else ''} "
+                    + " and ".join(r.grouping)
+                    for r in rows_.itertuples()
+                )
                 for name, rows_ in grouping.groupby("factor", sort=False)
             )
             + f" (tables/grouping_{response}.csv)."
@@ -827,7 +842,7 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
     note = frame.attrs.get("note")
     if note:
         caption += f" Note: {note}."
-    numeric = [False, False, True, True, False, True]
+    numeric = [False, False, True, True, False, True, True]
     return _Table(columns, numeric, rows), caption
 
 

@@ -1098,9 +1098,16 @@ def _response_figures(
         residuals = surface_residuals.get(resp, tables[resp]["residuals"])
         model = "quadratic surface" if resp in surfaces else "ANOVA model"
         formula = str(residuals.attrs.get("formula", ""))
+        order_note = (
+            ""
+            if result.design.randomize_order
+            else "; the runs are in the design's standard order (randomize_order is off), so "
+            "the order panel sorts them by their levels, not by time: a pattern there is a "
+            "factor's effect left in the residual, not a drift (a simulated run has none)"
+        )
         figures.add(
             "Residuals",
-            f"Residual plots of the {model} of {label}; model: {formula}",
+            f"Residual plots of the {model} of {label}; model: {formula}{order_note}",
             f"residuals_{resp}.png",
             plotting.plot_residuals,
             residuals,

@@ -876,3 +876,14 @@ def test_levels_given_high_first_are_noted_by_run_and_in_the_report(tmp_path):
     assert "(Minitab and JMP take the levels in value order)" in " ".join(html.split())
     shown = CliRunner().invoke(app, ["design", str(design), "--no-tests"])
     assert " ".join(shown.output.split()).count(said) == 1
+
+
+def test_the_residual_plots_say_a_standard_order_is_not_time(campaign):
+    """A design not randomized runs in standard order, so the residuals' order panel sorts
+    the runs by their levels (a helper's review: runs 13-24 of the paper's study are exactly
+    its A = 20 % runs); the caption says so."""
+    from html import unescape
+
+    out, _ = campaign
+    html = " ".join(unescape((out / "report.html").read_text(encoding="utf-8")).split())
+    assert "randomize_order is off), so the order panel sorts them by their levels" in html

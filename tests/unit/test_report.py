@@ -863,12 +863,19 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
     letters = tukey_grouping(tables["V"])
     assert len(letters) == 3
     shown = ", ".join(
-        f"{'(' + r.level + ')' if r.level.startswith('-') else r.level} {r.grouping}"
+        f"{'(' + r.level + ')' if r.level.startswith('-') else r.level} in group"
+        + ("s " if len(r.grouping) > 1 else " ")
+        + " and ".join(r.grouping)
         for r in letters.itertuples()
     )
     caption = f"share no letter are significantly different): WP: {shown}"
     assert f"{caption} (tables/grouping_V.csv)." in html
-    assert "Grouping by Tukey&#39;s method at 95 % (Minitab&#39;s letters" in html
+    assert "Grouping by Tukey&#39;s method at 95 % (Minitab&#39;s grouping letters" in html
+    # Minitab's columns: SE of difference, T = q / sqrt(2) with the difference's sign
+    assert "SE of difference [mm³]" in html and "T (q / √2)" in html
+    t = float(first["q"]) / np.sqrt(2.0) * np.sign(float(first["difference"]))
+    shown_t = f"{t:.2f}" if abs(t) < 1e4 else f"{t:.3g}"
+    assert f'<td class="num">{shown_t}</td>' in html
 
 
 def test_the_log_response_s_heading_says_what_it_is(tmp_path) -> None:
