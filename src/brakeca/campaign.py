@@ -299,6 +299,9 @@ def run_campaign(
     out = Path(out_dir)
     if out.exists() and not out.is_dir():
         raise ConfigError(f"{out}: exists and is not a folder; name a campaign folder")
+    theirs = _foreign_design(out)
+    if theirs is not None:
+        raise ConfigError(theirs)
     with campaign_lock(out):
         return _run_locked(
             design,
@@ -312,6 +315,35 @@ def run_campaign(
             console=console,
             replace=replace,
         )
+
+
+def _foreign_design(out: Path) -> str | None:
+    """Why a campaign must not start in ``out``: its ``design.toml`` is a file brakeca did
+    not write (a user's design kept there), which the campaign would write over with its
+    own; None otherwise. A campaign's own design.toml starts with brakeca's header, and a
+    folder with brakeca's base_config.toml holds a campaign whatever its design.toml says
+    (one edited by hand)."""
+    design, base = out / "design.toml", out / "base_config.toml"
+    if not design.is_file():
+        return None
+
+    def first_line(path: Path) -> str:
+        try:
+            with path.open(encoding="utf-8") as handle:
+                return handle.readline()
+        except (OSError, UnicodeDecodeError):
+            return ""
+
+    if first_line(design).startswith("# Design of campaign") or first_line(base).startswith(
+        "# Resolved base configuration of campaign"
+    ):
+        return None
+    return (
+        f"{design}: a design file brakeca did not write; a campaign writes its own "
+        f"design.toml into its folder {out} and would replace this one. Keep your design "
+        f"outside the folder (e.g. {out.parent / (out.name + '_design.toml')}) or name "
+        "another folder with -o"
+    )
 
 
 def _run_locked(

@@ -887,3 +887,25 @@ def test_the_residual_plots_say_a_standard_order_is_not_time(campaign):
     out, _ = campaign
     html = " ".join(unescape((out / "report.html").read_text(encoding="utf-8")).split())
     assert "randomize_order is off), so the order panel sorts them by their levels" in html
+
+
+def test_a_design_file_of_the_user_s_in_the_folder_is_not_written_over(tmp_path):
+    """A user's own design.toml kept in the campaign folder had been replaced by the
+    campaign's (its comments lost: a helper's review); it is refused before anything is
+    written, and a campaign's own design.toml still resumes."""
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    text = "# my notes on this design\n" + DESIGN
+    (folder / "design.toml").write_text(text)
+    for design in (folder / "design.toml", folder):
+        res = CliRunner().invoke(app, ["run", str(design), "-o", str(folder), *TINY])
+        assert res.exit_code == 2, res.output
+        said = " ".join(res.output.split())
+        assert "design.toml: a design file brakeca did not write" in said
+        assert (folder / "design.toml").read_text() == text
+        assert sorted(p.name for p in folder.iterdir()) == ["design.toml"]
+    res = CliRunner().invoke(app, ["run", str(folder), "-o", str(tmp_path / "c"), *TINY])
+    assert res.exit_code == 0, res.output  # the user's design, run into another folder
+    # the campaign's own folder: its design.toml (brakeca's) is taken to resume
+    again = CliRunner().invoke(app, ["run", str(tmp_path / "c"), "-o", str(tmp_path / "c"), *TINY])
+    assert again.exit_code == 0, again.output
