@@ -1824,18 +1824,30 @@ def _v_scale(
 ) -> str:
     """The clause of V's "In short" line that says which of its two analyses to read: where
     the Box-Cox interval of V leaves out λ = 1 and holds λ = 0, that the log10_V_mm3 line is
-    the scale to read, and the runs whose fitted V the linear model makes negative (a
-    figures-and-report review: the two lines disagreed on WR, and nothing said which held);
-    empty where neither applies."""
+    the scale to read (unless Montgomery's interval, which counts the residual degrees of
+    freedom, holds λ = 1: then that the data do not settle the scale), and the runs whose
+    fitted V the linear model makes negative (a figures-and-report review: the two lines
+    disagreed on WR, and nothing said which held); empty where neither applies."""
     clauses = []
     bc = (box_cox or {}).get("V")
     if bc is not None and getattr(bc, "defined", False) and not bc.contains(1.0):
         if bc.contains(0.0):
-            clauses.append(
+            text = (
                 f"Box-Cox puts V's λ at {bc.lambda_hat:.2f} ({100 * bc.confidence:g} % "
                 f"interval {bc.ci_low:.2f} to {bc.ci_high:.2f}), which holds the log and not "
-                "V as it is" + (": read the log10_V_mm3 line" if log_line else "")
+                "V as it is"
             )
+            low, high = getattr(bc, "ci_low_df", math.nan), getattr(bc, "ci_high_df", math.nan)
+            if low <= 1.0 <= high:  # as the Box-Cox section's reading says (a user's review)
+                text += (
+                    f", but with {bc.df_resid:g} residual degree"
+                    f"{'' if bc.df_resid == 1 else 's'} of freedom Montgomery's "
+                    f"wider interval ({low:.2f} to {high:.2f}) holds λ = 1 too: the data do "
+                    "not settle V's scale"
+                )
+            elif log_line:
+                text += ": read the log10_V_mm3 line"
+            clauses.append(text)
     residuals = (residual_tables or {}).get("V")
     if residuals is not None and {"fitted", "test"} <= set(residuals.columns):
         negative = residuals.loc[residuals["fitted"] < 0, "test"]

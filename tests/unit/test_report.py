@@ -813,6 +813,16 @@ def test_in_short_says_which_scale_of_v_to_read() -> None:
     assert _v_scale({"V": profile(0.06, -0.02, 0.14)}, None, False).endswith("not V as it is")
     assert _v_scale({"V": profile(0.9, 0.6, 1.2)}, {"V": residuals.iloc[3:]}, True) == ""
     assert _v_scale({"V": profile(0.5, 0.3, 0.7)}, None, True) == ""  # neither 1 nor 0
+    # few residual degrees of freedom: Montgomery's wider interval holds 1 as well, and the
+    # line says the scale is not settled instead of sending the reader to the log's (a
+    # user's review of a screening design with 1 residual df)
+    few = profile(0.06, -0.02, 0.14)
+    few.ci_low_df, few.ci_high_df, few.df_resid = -1.13, 1.08, 1.0
+    assert _v_scale({"V": few}, None, True) == (
+        "; Box-Cox puts V's λ at 0.06 (95 % interval -0.02 to 0.14), which holds the log and "
+        "not V as it is, but with 1 residual degree of freedom Montgomery's wider interval "
+        "(-1.13 to 1.08) holds λ = 1 too: the data do not settle V's scale"
+    )
 
 
 def test_a_general_factorial_s_coefficients_are_folded_under_its_anova(tmp_path) -> None:
