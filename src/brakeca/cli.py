@@ -1643,13 +1643,29 @@ def optimize(
     for note in said:
         out.print(f"note: {note}", markup=False, highlight=False, emoji=False)
     if not result.design.is_response_surface:
+        several = [f.name for f in result.design.factors if len(f.levels) >= 3]
+        if result.design.center_points:
+            curvature = (
+                "centre points give the curvature as one term, the first factor's square "
+                "standing for all), so a setting inside the region rests on that pooled "
+                "curvature"
+            )
+        elif several:
+            curvature = (
+                f"without centre points only {', '.join(several)}, of three levels or more, "
+                "has one), so the surface is planar in the other factors"
+            )
+        else:
+            curvature = (
+                "without centre points nothing estimates a curvature), so the surface is "
+                "planar in every factor (with its interactions) and a setting inside the "
+                "region is known no better than its corners"
+            )
         out.print(
             f"note: {folder} holds a {result.design.kind}, not a response-surface design: its "
-            "runs do not give every factor a square term (a factor at two levels has none; "
-            "centre points give the curvature as one term, the first factor's square standing "
-            "for all), so a setting inside the region rests on that pooled curvature. A "
-            "central composite or Box-Behnken design estimates each factor's square term "
-            "on its own.",
+            f"runs do not give every factor a square term (a factor at two levels has none; "
+            f"{curvature}. A central composite or Box-Behnken design estimates each factor's "
+            "square term on its own.",
             markup=False,
             highlight=False,
         )

@@ -66,6 +66,11 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     assert "folded over on S, a full factorial of its two-level factors" in (
         out / "report.html"
     ).read_text(encoding="utf-8")
+    # optimize without centre points: nothing estimates a curvature, and the note says so
+    # (it had spoken of the centre points' pooled curvature: a user's review)
+    planar = " ".join(cli_ok("optimize", str(out), "-g", "MU:max:0.1:0.5").split())
+    assert "without centre points nothing estimates a curvature), so the surface is" in planar
+    assert "pooled curvature" not in planar
     # three centre points added to the finished campaign: only they are computed
     centred = tmp_path / "centred.toml"
     centred.write_text(
@@ -90,6 +95,7 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     text = " ".join(cli_ok("optimize", str(out), "-g", "MU:max:0.1:0.5").split())
     assert "not a response-surface design: its runs do not give every factor a square" in text
     assert "design estimates each factor's square term on its own." in text  # (was cut short)
+    assert "rests on that pooled curvature" in text
     assert text.count("note: left out of the quadratic, since the runs cannot estimate") == 1
     assert "A*A" in text and "WR*WR" in text
 
