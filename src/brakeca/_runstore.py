@@ -52,9 +52,10 @@ def campaign_lock(out: Path) -> Iterator[None]:
     """Hold an exclusive lock on the campaign directory ``out`` while a campaign writes it.
 
     The lock is an advisory ``fcntl.flock`` on ``out/.brakeca.lock``, which also names the
-    holder. The operating system releases it when the process ends, however it ends, so a
-    killed campaign never leaves a stale lock; the file itself stays (removing it would race
-    with a campaign starting at that moment).
+    holder, and when the campaign ends, that it is not held. The operating system releases
+    it when the process ends, however it ends, so a killed campaign never leaves a stale lock
+    (its file still names it); the file itself stays (removing it would race with a campaign
+    starting at that moment).
 
     On a file system that does not support ``flock`` (some network mounts) the campaign runs
     unlocked, as it did before locks existed.
@@ -94,11 +95,22 @@ def campaign_lock(out: Path) -> Iterator[None]:
         fh.seek(0)
         fh.truncate()
         stamp = time.strftime("%Y-%m-%d %H:%M:%S")
-        fh.write(f"pid {os.getpid()} on {socket.gethostname()}, since {stamp}\n")
+        holder = f"pid {os.getpid()} on {socket.gethostname()}"
+        fh.write(f"{holder}, since {stamp}\n")
         fh.flush()
         try:
             yield
         finally:
+            # the file stays: it says, while still held, that it is free now (it had kept
+            # naming the finished campaign as if it were running: a user's review)
+            try:
+                fh.seek(0)
+                fh.truncate()
+                ended = time.strftime("%Y-%m-%d %H:%M:%S")
+                fh.write(f"not held; last held by {holder}, from {stamp} to {ended}\n")
+                fh.flush()
+            except OSError:  # a full disk: the lock is released all the same
+                pass
             fcntl.flock(fh, fcntl.LOCK_UN)
 
 

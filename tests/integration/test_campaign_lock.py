@@ -72,7 +72,8 @@ def test_a_killed_holder_releases_the_lock(holder, design):
     proc.wait()
     result = run_campaign(design, out, executor="serial", progress=False, console=quiet())
     assert len(result.computed) == 4
-    assert Path(out / ".brakeca.lock").read_text().startswith(f"pid {os.getpid()} ")
+    said = Path(out / ".brakeca.lock").read_text()  # ended: it says so, naming the holder
+    assert said.startswith(f"not held; last held by pid {os.getpid()} on ")
 
 
 def test_a_file_system_without_flock_runs_unlocked(tmp_path, monkeypatch):
@@ -100,7 +101,9 @@ def test_lock_holder_names_a_campaign_and_does_not_keep_one_out(tmp_path):
     assert lock_holder(out) is None  # no folder, no lock file
     with campaign_lock(out):
         assert lock_holder(out).startswith(f"pid {os.getpid()} on ")
-    assert lock_holder(out) is None  # the file stays, unheld
+        assert (out / LOCK_NAME).read_text().startswith(f"pid {os.getpid()} on ")
+    assert lock_holder(out) is None  # the file stays, unheld, and says so
+    assert (out / LOCK_NAME).read_text().startswith("not held; last held by pid ")
     with open(out / LOCK_NAME, encoding="utf-8") as fh:
         fcntl.flock(fh, fcntl.LOCK_SH)  # as lock_holder holds it, for 0.1 s here
         threading.Timer(0.1, fcntl.flock, (fh, fcntl.LOCK_UN)).start()
