@@ -2830,9 +2830,17 @@ class Design(_Frozen):
             shown += " with " + ", ".join(
                 f"{name} = {self._level_text(self.factor(name), v)}" for name, v in applied.items()
             )
+        # a categorical factor's level refused alone is its choice: the mistake is in choices
+        # (a user's review: the message had pointed at levels); a combination stays levels
+        key = (
+            "choices"
+            if factor.choices is not None and value in factor.levels and not applied
+            else "levels"
+        )
         return ConfigError(
-            f"{where}: {item_path(('factors', index, 'levels'))}: factor {factor.name!r} "
-            f"(field {factor.field}): level {shown} is not valid: {detail}"
+            f"{where}: {item_path(('factors', index, key))}: factor {factor.name!r} "
+            f"(field {factor.field}): {'choice' if key == 'choices' else 'level'} {shown} is "
+            f"not valid: {detail}"
         )
 
     @staticmethod

@@ -1704,6 +1704,26 @@ def test_a_combination_that_cannot_run_names_its_choices() -> None:
     )
 
 
+def test_a_choice_the_field_refuses_is_named_as_a_choice() -> None:
+    """A misspelt choice had been reported as "factors #1.levels: ... level 'feild'"; the
+    mistake is in choices, and the message says so."""
+    with pytest.raises(ConfigError) as info:
+        design_from_dict(
+            {
+                "name": "c",
+                "base": "paper",
+                "root_seed": 1,
+                "factors": [
+                    {"name": "fibres", "field": "pad.fibre_model", "levels": [0, 1],
+                     "choices": ["columns", "feild"]},
+                ],
+            }
+        )  # fmt: skip
+    said = str(info.value)
+    assert "factors #1.choices: factor 'fibres' (field pad.fibre_model): choice 'feild' is" in said
+    assert "'columns', 'layer' or 'field'" in said
+
+
 def test_the_guide_s_table_of_standard_fractions_is_the_code_s() -> None:
     """docs/designs.md lists every standard fraction ``fraction_runs`` picks, with its
     generators (a docs review found the 7-factor, 64-run one missing)."""
