@@ -1756,7 +1756,7 @@ def power(
     from brakeca.power import (
         check_factorial,
         factor_power,
-        pure_error_sigma,
+        pure_error,
         replicates_needed,
         smallest_effect,
     )
@@ -1779,12 +1779,17 @@ def power(
             from brakeca.study import with_log_v
 
             result = load_campaign(sigma_from)
-            sigma = scale * pure_error_sigma(
+            found, df, (low, high) = pure_error(
                 with_log_v(result.summary), result.design.factors, response
             )
+            sigma = scale * found
             shown = "" if unit == "-" else f" {unit}"
             out.print(
-                f"sigma: {sigma:.4g}{shown}, the pure error of {response} in {sigma_from}",
+                f"sigma: {sigma:.4g}{shown}, the pure error of {response} in {sigma_from}, "
+                f"with {df:g} degree{'' if df == 1 else 's'} of freedom (95 % interval "
+                f"{scale * low:.3g} to {scale * high:.3g}{shown})"
+                + (": a rough figure, and the power below inherits it" if df < 10 else "")
+                + "; it holds for the runs of that campaign, at its resolution and cycle",
                 markup=False,
                 highlight=False,
             )

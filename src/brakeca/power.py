@@ -45,6 +45,7 @@ __all__ = [
     "check_factorial",
     "factor_power",
     "pooling_note",
+    "pure_error",
     "pure_error_sigma",
     "replicates_needed",
     "smallest_effect",
@@ -525,6 +526,37 @@ def pure_error_sigma(summary: pd.DataFrame, factors: Sequence[Any], response: st
     ValueError
         No test with two usable runs (an unreplicated campaign has no pure error).
     """
+    return pure_error(summary, factors, response)[0]
+
+
+def pure_error(
+    summary: pd.DataFrame, factors: Sequence[Any], response: str, confidence: float = 0.95
+) -> tuple[float, float, tuple[float, float]]:
+    """:func:`pure_error_sigma` with its degrees of freedom and confidence interval: how
+    well the campaign knows the scatter (a few degrees of freedom know it roughly, and the
+    power computed from it inherits that).
+
+    Parameters
+    ----------
+    summary, factors, response
+        As :func:`pure_error_sigma` takes them.
+    confidence
+        Of the interval [-].
+
+    Returns
+    -------
+    tuple
+        ``(sigma, df, (low, high))``: sigma [response unit], its degrees of freedom [-] and
+        the chi-square interval of sigma, ``sigma sqrt(df / chi2(1 - a/2, df))`` to ``sigma
+        sqrt(df / chi2(a/2, df))`` [response unit].
+
+    Raises
+    ------
+    ValueError
+        No test with two usable runs.
+    """
+    from scipy import stats
+
     from brakeca.analysis import anova
 
     attrs = anova(summary, factors, response).attrs
@@ -534,4 +566,8 @@ def pure_error_sigma(summary: pd.DataFrame, factors: Sequence[Any], response: st
             f"{response}: the campaign has no pure error (no test with two usable runs): "
             "sigma needs a replicated campaign, or give it yourself"
         )
-    return math.sqrt(float(attrs["pure_error_ss"]) / df)
+    sigma = math.sqrt(float(attrs["pure_error_ss"]) / df)
+    tail = (1.0 - confidence) / 2.0
+    low = sigma * math.sqrt(df / float(stats.chi2.ppf(1.0 - tail, df)))
+    high = sigma * math.sqrt(df / float(stats.chi2.ppf(tail, df)))
+    return sigma, df, (low, high)

@@ -294,7 +294,14 @@ def test_a_design_that_leaves_out_the_folders_runs_is_not_run_there_unless_asked
         app, ["power", str(more), "--effect", "0.01", "--sigma-from", str(out)]
     )
     assert res.exit_code == 0, res.output
-    assert f"sigma: {pooled:.4g}, the pure error of MU in {out}" in " ".join(res.output.split())
+    said = " ".join(res.output.split())
+    assert f"sigma: {pooled:.4g}, the pure error of MU in {out}, with 4 degrees of" in said
+    # how well 4 df know it: the chi-square interval, and that it is rough (a user's review)
+    from scipy import stats
+
+    low = pooled * math.sqrt(4 / stats.chi2.ppf(0.975, 4))
+    high = pooled * math.sqrt(4 / stats.chi2.ppf(0.025, 4))
+    assert f"(95 % interval {low:.3g} to {high:.3g}): a rough figure, and the power" in said
     replaced = run_campaign(
         other, out, executor="serial", progress=False, console=quiet(), replace=True
     )
