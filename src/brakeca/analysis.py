@@ -3248,7 +3248,10 @@ def level_coefficients(
         ``attrs`` also carries ``equation``, the regression equation with every level
         (``"MU = 0.4 + 0.01 S[-] - 0.01 S[+] + ..."``, the level in brackets standing for 1
         at that level and 0 elsewhere, as Minitab writes its general factorial's equation),
-        ``df_resid``, ``alpha`` and ``formula`` (the ANOVA's). A constant response (or one
+        ``df_resid``, ``alpha``, ``formula`` (the ANOVA's) and ``levels`` (each factor's
+        ``{label: value}`` where its labels are not its values, e.g. ``{"WP": {"-": 1e-15,
+        ...}}``, the values in the design's unit, which ``units`` gives by factor). A
+        constant response (or one
         the model fits exactly) has no t or p for a coefficient that is zero to round-off
         (within 1e-12 of the largest in size). With centre points the VIFs are of the model
         matrix with their rows and the Ct Pt column, as Minitab's.
@@ -3572,6 +3575,11 @@ def _coefficients(
     out = out.astype({"term": object, "level": object, "derived": bool, "significant": bool})
     out.attrs.update(note="", equation="", df_resid=math.nan, alpha=alpha)
     out.attrs["formula"] = table.attrs.get("formula", "")
+    # what each label stands for, where the labels are not the values (a Minitab user's
+    # review: "-", "0", "+" without their values are easy to misread)
+    labelled = [f for f in _factors(raw) if any(f.level_label(v) != f"{v:g}" for v in f.levels)]
+    out.attrs["levels"] = {f.name: {f.level_label(v): v for v in f.levels} for f in labelled}
+    out.attrs["units"] = {f.name: f.unit for f in labelled}
     if fit is None:
         fit = _effects_fit(summary, raw, response, table, interactions, alpha_to_remove)
     if isinstance(fit, str):

@@ -882,6 +882,19 @@ def _coefficients_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str
         "them), given here with their standard errors, as JMP's expanded estimates; they have "
         f"no VIF. The table is tables/coefficients_{response}.csv."
     )
+    legend = frame.attrs.get("levels") or {}
+    units = frame.attrs.get("units") or {}
+    if legend:
+        caption += (
+            " The levels: "
+            + "; ".join(
+                f"{name} "
+                + ", ".join(f"{label} = {float(value):g}" for label, value in labels.items())
+                + (f" [{units[name]}]" if units.get(name) and units[name] not in ("-", "") else "")
+                for name, labels in legend.items()
+            )
+            + "."
+        )
     note = frame.attrs.get("note")
     if note:
         caption += f" Note: {note}."

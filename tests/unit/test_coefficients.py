@@ -584,3 +584,20 @@ def test_tukey_grouping_sweeps_letters_a_level_does_not_need_and_orders_ties() -
     pairs = _pairs(means, {("a", "d")})
     pairs.loc[(pairs["level_a"] == "b") & (pairs["level_b"] == "c"), "p_adjusted"] = np.nan
     assert list(tukey_grouping(pairs)["grouping"]) == ["A", "AB", "AB", "B"]
+
+
+def test_the_levels_labels_stand_for_are_given_and_the_report_lists_them(tmp_path) -> None:
+    """The rows are labelled "-", "0", "+" as Minitab's are by level; what each stands for
+    (a Minitab user's review: S's "-" is 0, no removal) is in ``attrs["levels"]`` with the
+    units, and the report's caption lists it; a factor without labels is left out."""
+    from brakeca.report import _coefficients_table
+
+    bare = Factor("A", (10.0, 20.0), "%")
+    table = level_coefficients(_runs(), (S, WP, bare), "MU")
+    assert table.attrs["levels"] == {
+        "S": {"-": 0.0, "+": 1.0},
+        "WP": {"-": 1e-15, "0": 1e-14, "+": 1e-13},
+    }
+    assert table.attrs["units"] == {"S": "-", "WP": "m^3/(N m)"}
+    _, caption, _, _ = _coefficients_table("MU", table)
+    assert "The levels: S - = 0, + = 1; WP - = 1e-15, 0 = 1e-14, + = 1e-13 [m^3/(N m)]." in caption
