@@ -1550,8 +1550,10 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
     "response": ``value`` the fitted value, ``low`` and ``high`` the 95 % confidence interval
     of the mean and ``pi_low`` and ``pi_high`` the 95 % prediction interval of one new run
     [response unit], the goal's ``goal``, ``lower``, ``target`` and ``upper``
-    [response unit] and ``desirability`` [-]), then one row "composite" with the composite
-    desirability [-] and the note.
+    [response unit] as Minitab's table gives them (a minimize goal's target, where its
+    desirability reaches 1, and upper limit; a maximize goal's lower limit and target; a
+    target goal's three) and ``desirability`` [-]), then one row "composite" with the
+    composite desirability [-] and the note.
 
     Parameters
     ----------
@@ -1571,6 +1573,13 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
         {"kind": "factor", "name": n, "value": v, "coded": optimum.coded[n]}
         for n, v in optimum.levels.items()
     ]
+
+    def minimizing(goal: Goal) -> bool:
+        return goal.kind in ("minimize", "min")
+
+    def maximizing(goal: Goal) -> bool:
+        return goal.kind in ("maximize", "max")
+
     for g in goals:
         low, high = optimum.interval[g.response]
         pi_low, pi_high = optimum.prediction[g.response]
@@ -1584,9 +1593,12 @@ def optimum_table(optimum: Optimum, goals: Sequence[Goal]) -> pd.DataFrame:
                 "pi_low": pi_low,
                 "pi_high": pi_high,
                 "goal": g.kind,
-                "lower": g.lower,
-                "target": g.target,
-                "upper": g.upper,
+                # as Minitab's table has them (and the command line prints them): a
+                # minimize goal's target and upper limit, a maximize goal's lower limit and
+                # target; the limit where its desirability reaches 1 is its target
+                "lower": math.nan if minimizing(g) else g.lower,
+                "target": g.lower if minimizing(g) else g.upper if maximizing(g) else g.target,
+                "upper": math.nan if maximizing(g) else g.upper,
                 "desirability": optimum.desirability[g.response],
             }
         )

@@ -340,7 +340,9 @@ Files (R is the response: MU, V or log10_V_mm3):
   terms, and whether the reading holds without them.
 - `surface_*_R.csv` (response-surface designs): coded coefficients, ANOVA by source, summary
   (its equation in the response's SI unit), residuals of the quadratic.
-- `optimum.csv`: the optimum of the design's goals (V and its limits in m³).
+- `optimum.csv`: the optimum of the design's goals (V and its limits in m³); each goal's
+  `lower`, `target` and `upper` as Minitab gives them: a minimize goal's target (where it
+  is fully met) and upper limit, a maximize goal's lower limit and target.
 - `pm10.csv` (runs on a speed trace): the summary with PM10 in mg/km.
 """
 

@@ -103,6 +103,9 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     optimum = pd.read_csv(out / "tables" / "optimum.csv")
     v_row = optimum[optimum["name"] == "V"].iloc[0]
     assert v_row["goal"] == "minimize" and v_row["upper"] == pytest.approx(50e-9, rel=1e-15)
+    # Minitab's columns: a minimize goal has a target (where it is fully met) and an upper
+    # limit, no lower (its target had been in lower: a user's review)
+    assert v_row["target"] == 0.0 and np.isnan(v_row["lower"])
     assert (out / "figures" / "overlaid_contours.png").is_file()
     assert '<h3 id="surface-optimum">Response optimization</h3>' in html
     assert "minimize: target 0, upper 50" in html
