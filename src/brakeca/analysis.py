@@ -2059,7 +2059,10 @@ def _residual_frame(
     params = float(y.size - df_resid)  # the model's parameters (its rank)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = (df_resid - 1.0) / (df_resid - r**2)
-        deleted = r * np.sqrt(np.where(ratio < 0, np.nan, ratio)) if df_resid > 1.5 else r * np.nan
+        # r^2 = df_resid (to round-off, which can make the ratio negative): the run is the
+        # residual's only departure, and the fit without it is exact (a review)
+        ratio = np.where(df_resid - r**2 <= 1e-9 * df_resid, np.inf, ratio)
+        deleted = r * np.sqrt(ratio) if df_resid > 1.5 else r * np.nan
         odds = leverage / (1.0 - leverage)
         out["deleted_residual"] = deleted
         out["cooks_distance"] = r**2 / params * odds
@@ -3577,7 +3580,16 @@ def _coefficients(
     out.attrs["formula"] = table.attrs.get("formula", "")
     # what each label stands for, where the labels are not the values (a Minitab user's
     # review: "-", "0", "+" without their values are easy to misread)
-    labelled = [f for f in _factors(raw) if any(f.level_label(v) != f"{v:g}" for v in f.levels)]
+    nominal = {  # a categorical factor's levels only number its choices: left out
+        str(_field(f, "name"))
+        for f in raw
+        if not isinstance(f, str) and _field(f, "choices") is not None
+    }
+    labelled = [
+        f
+        for f in _factors(raw)
+        if f.name not in nominal and any(f.level_label(v) != f"{v:g}" for v in f.levels)
+    ]
     out.attrs["levels"] = {f.name: {f.level_label(v): v for v in f.levels} for f in labelled}
     out.attrs["units"] = {f.name: f.unit for f in labelled}
     if fit is None:

@@ -915,13 +915,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     command = typer.main.get_command(app)
     run = command.commands["run"]  # type: ignore[attr-defined]
-    # the options that take a value, brakeca run's own and --max-stops
+    # the options that take a value, brakeca run's own and --max-stops, and those known
+    options_of = [p for p in run.params if p.param_type_name == "option"]
     takes_value = {"--max-stops"} | {
-        opt
-        for param in run.params
-        if param.param_type_name == "option" and not getattr(param, "is_flag", False)
-        for opt in param.opts
+        opt for p in options_of if not getattr(p, "is_flag", False) for opt in p.opts
     }
+    known = (
+        takes_value
+        | _DROPPED
+        | {opt for p in options_of for opt in (*p.opts, *getattr(p, "secondary_opts", ()))}
+    )
     positional: list[str] = []
     options: list[str] = []
     items = iter(args)
@@ -937,6 +940,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                     options.append(value)
         else:
             positional.append(item)
+    unknown = [o for o in options if o.startswith("-") and o.split("=", 1)[0] not in known]
+    if len(positional) > 2 and unknown:  # (an unknown option's value read as an argument)
+        positional, options = positional[:2], [*options, *positional[2:]]
     if len(positional) != 2:
         print(
             "usage: python -m brakeca.campaign DESIGN OUT_DIR [options of brakeca run]; "

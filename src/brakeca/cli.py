@@ -1642,7 +1642,8 @@ def optimize(
         )
     for note in said:
         out.print(f"note: {note}", markup=False, highlight=False, emoji=False)
-    if not result.design.is_response_surface:
+    two_level = [f.name for f in result.design.factors if len(f.levels) < 3]
+    if not result.design.is_response_surface and two_level:  # (each factor else has a square)
         several = [f.name for f in result.design.factors if len(f.levels) >= 3]
         if result.design.center_points:
             curvature = (
@@ -1652,8 +1653,9 @@ def optimize(
             )
         elif several:
             curvature = (
-                f"without centre points only {', '.join(several)}, of three levels or more, "
-                "has one), so the surface is planar in the other factors"
+                f"without centre points only {' and '.join(several)}, of three levels or "
+                f"more, {'has' if len(several) == 1 else 'have'} one), so the surface is "
+                f"planar in {', '.join(two_level)}"
             )
         else:
             curvature = (
@@ -1789,7 +1791,7 @@ def power(
                 f"with {df:g} degree{'' if df == 1 else 's'} of freedom (95 % interval "
                 f"{scale * low:.3g} to {scale * high:.3g}{shown})"
                 + (": a rough figure, and the power below inherits it" if df < 10 else "")
-                + "; it holds for the runs of that campaign, at its resolution and cycle",
+                + "; it holds for the runs of that campaign, at its band and cycle",
                 markup=False,
                 highlight=False,
             )

@@ -622,6 +622,9 @@ def _outlier_clause(
         + ")"
     )
     verdicts = _verdicts_without(anova, unusual, alpha)
+    if verdicts and len(unusual) > len(outliers):  # the refit leaves out every unusual run
+        every = " and ".join(run_named(rec, replicated) for _, rec in unusual.iterrows())
+        verdicts = verdicts.replace("without them", f"without the unusual runs ({every})", 1)
     return clause + (f": {verdicts}" if verdicts else "")
 
 
@@ -673,11 +676,12 @@ def _unusual_text(
             names = [run_named(rec, replicated) for _, rec in outliers.iterrows()]
             named = " and ".join(names)
             df = frame.attrs.get("df_resid", unusual.attrs.get("df_resid", math.nan))
-            ceiling = (
+            largest = float(pd.to_numeric(outliers["std_residual"], errors="coerce").abs().max())
+            ceiling = (  # where the standardized residual is near its ceiling
                 f" (with {_fmt(float(df), '.0f')} residual degrees of freedom a standardized "
                 f"residual cannot exceed √{_fmt(float(df), '.0f')} = {math.sqrt(float(df)):.2f},"
                 " which is why it can look mild)"
-                if not _is_missing(df) and float(df) > 0
+                if not _is_missing(df) and float(df) > 0 and largest > 0.75 * math.sqrt(float(df))
                 else ""
             )
             verb = "is an outlier" if len(names) == 1 else "are outliers"
@@ -771,6 +775,8 @@ def _heading(response: str) -> str:
 def _t_text(t: float) -> str:
     """A T value in a table: two decimals, as Minitab prints it, and three significant digits
     from 10,000 in size (a residual at round-off makes T huge)."""
+    if math.isinf(t):  # an exact fit: the difference is certain
+        return "∞" if t > 0 else "−∞"
     return f"{t:.2f}" if abs(t) < 1e4 else f"{t:.3g}"
 
 

@@ -198,6 +198,8 @@ def test_the_minimal_command_line_is_brakeca_run(design_file, tmp_path, capsys):
     assert "--workers" in capsys.readouterr().err
     assert main([*common, "--no-such-option"]) == 2 and not out.exists()
     assert "No such option: --no-such-option" in capsys.readouterr().err
+    assert main([*common, "--bogus", "3"]) == 2 and not out.exists()  # not "3 arguments"
+    assert "No such option: --bogus" in capsys.readouterr().err
     assert main([str(design_file)]) == 2 and not out.exists()
     assert "expected a design and a folder, got 1 argument(s)" in capsys.readouterr().err
     assert main(["--help"]) == 0 and "brakeca run" in capsys.readouterr().out

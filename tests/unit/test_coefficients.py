@@ -601,3 +601,15 @@ def test_the_levels_labels_stand_for_are_given_and_the_report_lists_them(tmp_pat
     assert table.attrs["units"] == {"S": "-", "WP": "m^3/(N m)"}
     _, caption, _, _ = _coefficients_table("MU", table)
     assert "The levels: S - = 0, + = 1; WP - = 1e-15, 0 = 1e-14, + = 1e-13 [m^3/(N m)]." in caption
+
+
+def test_a_categorical_factor_has_no_level_legend() -> None:
+    """A review: a factor with choices had its choices' codes listed as its values."""
+    from brakeca.design import Factor as DesignFactor
+
+    fibres = DesignFactor(
+        name="A", field="pad.fibre_model", levels=(0, 1), choices=("columns", "field")
+    )
+    runs = _runs().assign(A=lambda d: (d["A"] > 15).astype(int))
+    table = level_coefficients(runs, (S, WP, fibres), "MU")
+    assert set(table.attrs["levels"]) == {"S", "WP"}

@@ -176,3 +176,35 @@ def test_the_report_names_the_outlier_and_the_verdicts_that_change() -> None:
     assert "outlier" not in _unusual_text("MU", frame, mild, full).split("Minitab's R")[1]
     (plain,) = in_short({"MU": full}, unusual_tables={"MU": mild})
     assert "outlier" not in plain
+
+
+def test_a_run_that_is_the_only_departure_from_an_exact_fit_is_an_outlier() -> None:
+    """A review: one run 0.01 off a response the model fits exactly otherwise has r^2 =
+    df_resid to round-off, which had made its deleted residual NaN (never an outlier); it
+    is infinite now, its Bonferroni p 0."""
+    rows = [
+        {"S": s, "WP": wp, "A": a, "MU": 0.3 + 0.02 * s + 0.01 * i + 0.015 * a}
+        for s, (i, wp), a in itertools.product((0.0, 1.0), enumerate(WP.levels), (10.0, 20.0))
+    ]
+    runs = pd.DataFrame(rows).assign(test=range(1, 13))
+    runs.loc[4, "MU"] += 0.01
+    table = unusual_runs(runs, FACTORS, "MU", interactions=False)
+    assert list(table["test"]) == [5]
+    assert np.isinf(table["deleted_residual"].item()) and table["outlier_p"].item() == 0.0
+
+
+def test_in_short_names_every_run_the_refit_leaves_out() -> None:
+    """A review: the refit leaves out every run beyond +-2, and "In short" had named only
+    the outlier among them, crediting it with what the others changed."""
+    runs = _runs(bump=0.03)
+    frame = residuals(runs, FACTORS, "MU", interactions=False)
+    table = unusual_runs(runs, FACTORS, "MU", interactions=False)
+    first = pd.DataFrame(table)  # (without attrs: concat compares them, the refit a table)
+    first.attrs = {}
+    second = first.assign(test=9, replicate=1, outlier_p=0.7, std_residual=-2.1)
+    both = pd.concat([first, second], ignore_index=True)
+    both.attrs = dict(table.attrs)
+    full = anova(runs, FACTORS, "MU", interactions=False)
+    (line,) = in_short({"MU": full}, residual_tables={"MU": frame}, unusual_tables={"MU": both})
+    assert "test 5, replicate 0 is an outlier of the model (Bonferroni p " in line
+    assert "without the unusual runs (test 5, replicate 0 and test 9, replicate 1)" in line
