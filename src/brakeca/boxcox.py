@@ -53,6 +53,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca._io import write_table
+from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
 
 if TYPE_CHECKING:
     from brakeca.analysis import Model
@@ -72,9 +73,9 @@ LAMBDA_RANGE: tuple[float, float] = (-2.0, 2.0)
 #: Points of the profile on :data:`LAMBDA_RANGE` (a step of 0.025) [-].
 _GRID_POINTS = 161
 
-#: The standardized residual beyond which a run is unusual (Minitab's "R"), as in the
-#: report's list of unusual runs [-].
-UNUSUAL_RESIDUAL = 2.0
+#: The standardized residual beyond which a run is unusual (Minitab's "R") [-]: the one of
+#: :func:`brakeca.analysis.unusual_runs` and the report's list of unusual runs.
+UNUSUAL_RESIDUAL = _UNUSUAL_RESIDUAL
 
 #: Columns of :func:`box_cox_table`, in order.
 BOX_COX_COLUMNS: tuple[str, ...] = (

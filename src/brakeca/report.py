@@ -33,7 +33,7 @@ import pandas as pd
 
 from brakeca._console import run_named
 from brakeca._io import write_text
-from brakeca.boxcox import UNUSUAL_RESIDUAL as _BOX_COX_UNUSUAL
+from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
 
 __all__ = ["REPORT_TEMPLATE", "format_p_value", "in_short", "render_report", "write_report"]
 
@@ -556,7 +556,7 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
 
 #: The standardized residual beyond which a run is named as unusual (Minitab's "R") [-]; the
 #: Box-Cox check leaves the same runs out of its second profile (brakeca.boxcox).
-UNUSUAL_RESIDUAL = _BOX_COX_UNUSUAL
+UNUSUAL_RESIDUAL = _UNUSUAL_RESIDUAL
 
 
 def _p_text(p: float) -> str:
