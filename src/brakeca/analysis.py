@@ -3863,9 +3863,17 @@ def _comparisons(
             others = (
                 "the other factor's level" if len(crossing) == 1 else "the other factors' levels"
             )
+            partners = list(
+                dict.fromkeys(
+                    part for term in crossing for part in term.split(":") if part != span.name
+                )
+            )
+            named = " and ".join(partners)
             notes.append(
                 f"{span.name} is in {which} ({', '.join(crossing)}): its differences change "
-                f"with {others}, and these average over {'it' if len(crossing) == 1 else 'them'}"
+                f"with {others} ({named}), and these comparisons average them over "
+                + (f"{named}'s levels" if len(partners) == 1 else f"the levels of {named}")
+                + " (the interaction plot shows them level by level)"
             )
     if records and math.isnan(mse):
         notes.append("no residual degrees of freedom: no standard errors, intervals or p")

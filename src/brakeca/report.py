@@ -568,29 +568,53 @@ def _verdicts_without(
     anova: pd.DataFrame | None, unusual: pd.DataFrame | None, alpha: float = 0.05
 ) -> str:
     """What the ANOVA says without the unusual runs (:func:`brakeca.analysis.unusual_runs`'
-    ``attrs["without"]``) against ``anova``: the terms whose p crosses ``alpha``, each with
-    both p values, or that none does; empty without such a refit."""
+    ``attrs["without"]``) against ``anova``: the terms that become significant at ``alpha``
+    and those that stop being so, each with both p values, or that every term keeps its
+    verdict; empty without such a refit."""
     if anova is None or unusual is None or unusual.empty:
         return ""
+    them = "it" if len(unusual) == 1 else "them"
     without = unusual.attrs.get("without")
     if without is None:
         why = unusual.attrs.get("without_note", "")
-        them = "it" if len(unusual) == 1 else "them"
         return f"without {them} the model cannot be refitted ({why})" if why else ""
     before = anova.set_index("term")["p_value"]
     after = without.set_index("term")["p_value"]
-    changed = []
+    gained: list[str] = []
+    lost: list[str] = []
     for term, p in before.items():
         if term == "Residual" or term not in after.index or _is_missing(p):
             continue
         q = after[term]
         if _is_missing(q) or (float(p) < alpha) == (float(q) < alpha):
             continue
-        changed.append(f"{term} {_p_text(float(p))} → {_p_text(float(q))}")
-    them = "it" if len(unusual) == 1 else "them"
-    if not changed:
+        (gained if float(q) < alpha else lost).append(
+            f"{term} (p {_p_text(float(p))} → {_p_text(float(q))})"
+        )
+    if not gained and not lost:
         return f"every term keeps its verdict at p < {alpha:g} without {them}"
-    return f"without {them} the ANOVA's verdicts at p < {alpha:g} change: " + ", ".join(changed)
+    parts = []
+    if gained:
+        parts.append(f"{_listed(gained)} {'becomes' if len(gained) == 1 else 'become'} significant")
+    if lost:
+        parts.append(f"{_listed(lost)} {'stops' if len(lost) == 1 else 'stop'} being so")
+    return (
+        f"without {them}, at p < {alpha:g}, "
+        + " and ".join(parts)
+        + "; the other terms keep their verdicts"
+    )
+
+
+def _residual_ss(table: pd.DataFrame) -> float:
+    """The residual sum of squares of an :func:`brakeca.analysis.anova` table [response
+    unit^2]; NaN without its row."""
+    rows = table.loc[table["term"] == "Residual", "sum_sq"]
+    return float(rows.iloc[0]) if len(rows) else math.nan
+
+
+def _listed(items: Sequence[str]) -> str:
+    """``"a"``, ``"a and b"``, ``"a, b and c"``."""
+    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
 
 
 def _outlier_clause(
@@ -625,7 +649,7 @@ def _outlier_clause(
     if verdicts and len(unusual) > len(outliers):  # the refit leaves out every unusual run
         every = " and ".join(run_named(rec, replicated) for _, rec in unusual.iterrows())
         verdicts = verdicts.replace("without them", f"without the unusual runs ({every})", 1)
-    return clause + (f": {verdicts}" if verdicts else "")
+    return clause + (f", and {verdicts}" if verdicts else "")
 
 
 def _unusual_text(
@@ -653,7 +677,10 @@ def _unusual_text(
         who = run_named(rec, replicated)
         extra = ""
         if not _is_missing(rec.get("deleted_residual", math.nan)):
-            extra += f", deleted residual {float(rec['deleted_residual']):+.3g}"
+            deleted = float(rec["deleted_residual"])
+            extra += ", deleted residual " + (
+                f"{deleted:+.1f}" if abs(deleted) < 1e3 else f"{deleted:+.3g}"
+            )
         if not _is_missing(rec.get("cooks_distance", math.nan)):
             extra += f", Cook's distance {float(rec['cooks_distance']):.2g}"
         items.append(
@@ -665,8 +692,15 @@ def _unusual_text(
     text = (
         f"Unusual runs (standardized residual beyond ±{UNUSUAL_RESIDUAL:g}, Minitab's R): "
         + "; ".join(items)
-        + f". About 1 run in 20 lies there by chance ({n} runs here); a run far beyond it "
-        "moves the fit, its F tests and the Box–Cox λ, and is worth a look."
+        + f". By chance about 1 run in 20 lies beyond ±{UNUSUAL_RESIDUAL:g} ({n} runs "
+        "here); such a run matters where it fails the outlier test or has a large Cook's "
+        "distance (about 1 or more)"
+        # (the Box-Cox check is of MU and V, not of a response already on a log scale)
+        + (
+            "."
+            if response == "log10_V_mm3"
+            else ", and the Box–Cox check is read again without it."
+        )
     )
     if unusual is not None and not unusual.empty and "outlier_p" in unusual.columns:
         alpha = float(unusual.attrs.get("alpha", 0.05))
@@ -677,31 +711,49 @@ def _unusual_text(
             named = " and ".join(names)
             df = frame.attrs.get("df_resid", unusual.attrs.get("df_resid", math.nan))
             largest = float(pd.to_numeric(outliers["std_residual"], errors="coerce").abs().max())
-            ceiling = (  # where the standardized residual is near its ceiling
+            ceiling = (  # where the standardized residual looks mild, near its ceiling
                 f" (with {_fmt(float(df), '.0f')} residual degrees of freedom a standardized "
                 f"residual cannot exceed √{_fmt(float(df), '.0f')} = {math.sqrt(float(df)):.2f},"
                 " which is why it can look mild)"
-                if not _is_missing(df) and float(df) > 0 and largest > 0.75 * math.sqrt(float(df))
+                if not _is_missing(df)
+                and float(df) > 0
+                and 0.75 * math.sqrt(float(df)) < largest < 3.0
                 else ""
             )
             verb = "is an outlier" if len(names) == 1 else "are outliers"
+            share = ""  # how much of the F tests' error is theirs: the refit's residual
+            without = unusual.attrs.get("without")
+            if anova is not None and without is not None:
+                ssr = _residual_ss(anova)
+                fall = 1.0 - _residual_ss(without) / ssr if ssr > 0 else math.nan
+                who = (
+                    ("it" if len(names) == 1 else "them")
+                    if len(unusual) == len(outliers)
+                    else "the unusual runs"
+                )
+                if math.isfinite(fall):
+                    share = (
+                        f": without {who} the residual sum of squares, the error every F "
+                        f"test is against, falls by {100 * fall:.0f} %"
+                    )
             text += (
                 f" {named[:1].upper()}{named[1:]} {verb} of this model: the deleted "
                 "residual, the run's residual against the model fitted without it in that "
                 "fit's standard errors, has p "
                 + ", ".join(_p_text(float(v)) for v in outliers["outlier_p"])
                 + f" after Bonferroni's correction over the {n} runs{ceiling}, so the model "
-                "does not describe "
-                + (
-                    "it, and its residual weighs"
-                    if len(names) == 1
-                    else "them, and their residuals weigh"
-                )
-                + " on every F test."
+                "does not describe " + ("it" if len(names) == 1 else "them") + share + "."
             )
-            other = unusual.attrs.get("largest_other_cooks", math.nan)
-            if not _is_missing(other):
-                text += f" The largest Cook's distance of the other runs: {float(other):.2g}."
+        elif p.notna().any():
+            text += (
+                (" It is not" if len(unusual) == 1 else " None is")
+                + f" an outlier of this model: Bonferroni's outlier test over the {n} runs "
+                + f"gives p {_p_text(float(p.min()))}"
+                + ("." if len(unusual) == 1 else " at the smallest.")
+            )
+        other = unusual.attrs.get("largest_other_cooks", math.nan)
+        if not _is_missing(other):
+            text += f" The largest Cook's distance of the other runs: {float(other):.2g}."
         verdicts = _verdicts_without(anova, unusual)
         if verdicts:
             text += f" {verdicts[:1].upper()}{verdicts[1:]}."
@@ -837,7 +889,7 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
             + "; ".join(
                 f"{name}: "
                 + ", ".join(
-                    f"{level(r.level)} in group{'s' if len(r.grouping) > 1 else ''} "
+                    f"{name} {level(r.level)} in group{'s' if len(r.grouping) > 1 else ''} "
                     + " and ".join(r.grouping)
                     for r in rows_.itertuples()
                 )
@@ -883,10 +935,12 @@ def _coefficients_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str
         "each of its factors' levels; for a two-level factor, minus and plus half its effect. "
         "Standard errors, T and p against the ANOVA's "
         f"residual ({_fmt(frame.attrs.get('df_resid'), '.0f')} degrees of freedom); "
-        f"p < {alpha:g} in bold. † The rows Minitab leaves out (a factor's last level, and an "
-        "interaction's cells at the last level of any of its factors: the other rows fix "
-        "them), given here with their standard errors, as JMP's expanded estimates; they have "
-        f"no VIF. The table is tables/coefficients_{response}.csv."
+        f"p < {alpha:g} in bold. A level's p tests its coefficient against 0 (its "
+        "least-squares mean against the constant), not against the other levels: Tukey's "
+        "comparisons compare the levels. † Rows Minitab omits (a factor's last level, "
+        "and an interaction's cells at the last level of any of its factors: the other rows "
+        "fix them) are shown with their standard errors, as in JMP's expanded estimates; they "
+        f"have no VIF. The table is tables/coefficients_{response}.csv."
     )
     legend = frame.attrs.get("levels") or {}
     units = frame.attrs.get("units") or {}
@@ -894,7 +948,7 @@ def _coefficients_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str
         caption += (
             " The levels: "
             + "; ".join(
-                f"{name} "
+                f"{name}: "
                 + ", ".join(f"{label} = {float(value):g}" for label, value in labels.items())
                 + (f" [{units[name]}]" if units.get(name) and units[name] not in ("-", "") else "")
                 for name, labels in legend.items()

@@ -1104,8 +1104,9 @@ def _response_figures(
             ""
             if result.design.randomize_order
             else "; the runs are in the design's standard order (randomize_order is off), so "
-            "the order panel sorts them by their levels, not by time: a pattern there is a "
-            "factor's effect left in the residual, not a drift (a simulated run has none)"
+            "the order panel sorts them by their levels, not by time: a pattern there shows "
+            "what the model leaves out (higher-order interactions) or a spread that changes "
+            "with the levels, not a drift (the runs are independent simulations)"
         )
         figures.add(
             "Residuals",

@@ -460,7 +460,8 @@ def test_comparisons_say_what_the_model_leaves_out_and_agree_with_the_anova_on_e
     note = level_comparisons(both, FACTORS, "MU").attrs["note"]
     assert note == (
         "WP is in significant interactions (S:WP, WP:A): its differences change with the "
-        "other factors' levels, and these average over them"
+        "other factors' levels (S and A), and these comparisons average them over the levels "
+        "of S and A (the interaction plot shows them level by level)"
     )
 
 
@@ -600,7 +601,10 @@ def test_the_levels_labels_stand_for_are_given_and_the_report_lists_them(tmp_pat
     }
     assert table.attrs["units"] == {"S": "-", "WP": "m^3/(N m)"}
     _, caption, _, _ = _coefficients_table("MU", table)
-    assert "The levels: S - = 0, + = 1; WP - = 1e-15, 0 = 1e-14, + = 1e-13 [m^3/(N m)]." in caption
+    assert "The levels: S: - = 0, + = 1; WP: - = 1e-15, 0 = 1e-14, + = 1e-13 [m^3/(N m)]." in (
+        caption
+    )
+    assert "A level's p tests its coefficient against 0 (its least-squares mean" in caption
 
 
 def test_a_categorical_factor_has_no_level_legend() -> None:

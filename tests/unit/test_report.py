@@ -873,7 +873,7 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
     letters = tukey_grouping(tables["V"])
     assert len(letters) == 3
     shown = ", ".join(
-        f"{'(' + r.level + ')' if r.level.startswith('-') else r.level} in group"
+        f"WP {'(' + r.level + ')' if r.level.startswith('-') else r.level} in group"
         + ("s " if len(r.grouping) > 1 else " ")
         + " and ".join(r.grouping)
         for r in letters.itertuples()
