@@ -132,10 +132,10 @@ input.zoom:checked + label.zoom img { max-width: none; }
 <section id="findings">
 <h2>In short</h2>
 <p class="note">The terms of each response's ANOVA (below) with p &lt; 0.05, largest share of
-the variation first (contribution: the term's sum of squares over the total), a main effect
-with the mean response at each of its levels (the table "Level means": plain means of the
-runs, which a design that is not balanced mixes with the other factors' effects); the
-ANOVA's notes say what its error holds.
+the variation first (contribution: the term's sum of squares over the total). A main effect
+among the first six comes with the mean response at each of its levels (plain means of the
+runs, as in the table "Level means"; a design that is not balanced mixes the other factors'
+effects into them). The ANOVA's notes say what its error holds.
 {%- if anova_aliases %} A term is named with its aliases of one or two factors (as
 <code>A:B = C:D</code>): the share is the whole chain's, which the design cannot split among
 them.{% endif %}
@@ -1998,13 +1998,16 @@ def _finding_terms(response: str, frame: pd.DataFrame, means: pd.DataFrame | Non
         return f"{response}: no {which} has p < 0.05" + r2_text
     named = []
     chains = hits["aliases"] if "aliases" in hits.columns else pd.Series("", index=hits.index)
-    for t, c, chain in zip(hits["term"], hits["percent_contribution"], chains, strict=True):
-        run = "" if ":" in str(t) else _level_run(response, str(t), means)
+    for i, (t, c, chain) in enumerate(
+        zip(hits["term"], hits["percent_contribution"], chains, strict=True)
+    ):
+        # the first few with their level means; the rest named, with their shares (a
+        # review: "and 1 more" had hidden WR, a main effect, to save a few words)
+        run = "" if ":" in str(t) or i >= _MOST_FINDINGS else _level_run(response, str(t), means)
         short = _short_aliases(chain)
         name = f"{t} = {short}" if short else str(t)  # its alias chain's share, not its own
         named.append(f"{name} ({float(c):.1f} %" + (f": {run}" if run else "") + ")")
-    more = len(named) - _MOST_FINDINGS
-    text = ", ".join(named[:_MOST_FINDINGS]) + (f" and {more} more" if more > 0 else "")
+    text = ", ".join(named)
     share = float(hits["percent_contribution"].sum())
     return f"{response}: {text}; together {share:.1f} % of the variation" + r2_text
 

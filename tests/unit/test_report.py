@@ -622,7 +622,8 @@ def test_in_short_names_the_significant_terms_by_contribution() -> None:
             "percent_contribution": [10.0] * 8 + [20.0],
         }
     )
-    assert "T5 (10.0 %) and 2 more; together 80.0 %" in _finding("y", many)
+    # every term is named (a review: "and 1 more" had hidden a main effect)
+    assert "T5 (10.0 %), T6 (10.0 %), T7 (10.0 %); together 80.0 %" in _finding("y", many)
     # a main effect with its level means, in the report's unit (mm³ for V), labels that are
     # names rather than signs; an interaction without
     means = pd.DataFrame(
