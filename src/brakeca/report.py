@@ -663,15 +663,22 @@ def _unusual_text(
     their observed and fitted values in the report's unit, their deleted residuals and
     Cook's distances; from :func:`brakeca.analysis.unusual_runs`' table ``unusual`` (when
     given) the outliers of the model by the Bonferroni test and what the ANOVA ``anova``
-    says without those runs. Empty where there are none."""
+    says without those runs. Where no run is unusual, that none is, with the largest; empty
+    without standardized residuals."""
     if "std_residual" not in frame.columns or frame.empty:
         return ""
     z = pd.to_numeric(frame["std_residual"], errors="coerce")
     large = frame.loc[z.abs() > UNUSUAL_RESIDUAL]
-    if large.empty:
-        return ""
-    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
     replicated = "replicate" in frame.columns and frame["replicate"].nunique() > 1
+    if large.empty:
+        if z.isna().all():
+            return ""
+        top = frame.loc[z.abs().idxmax()]  # (a review: the section had been silent)
+        return (
+            f"No run's standardized residual is beyond ±{UNUSUAL_RESIDUAL:g} (the largest: "
+            f"{float(top['std_residual']):+.2f}, {run_named(top, replicated)})."
+        )
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
     items = []
     for _, rec in large.iterrows():
         who = run_named(rec, replicated)

@@ -232,3 +232,15 @@ def test_in_short_names_every_run_the_refit_leaves_out() -> None:
     (line,) = in_short({"MU": full}, residual_tables={"MU": frame}, unusual_tables={"MU": both})
     assert "test 5, replicate 0 is an outlier of the model (Bonferroni p " in line
     assert "without the unusual runs (test 5, replicate 0 and test 9, replicate 1)" in line
+
+
+def test_the_report_says_when_no_run_is_unusual() -> None:
+    """A review: a response without unusual runs had no word on them; it now says none is
+    beyond +-2 and names the largest."""
+    frame = residuals(_runs(), FACTORS, "MU", interactions=False)
+    top = frame.loc[frame["std_residual"].abs().idxmax()]
+    text = _unusual_text("MU", frame)
+    assert text == (
+        f"No run's standardized residual is beyond ±2 (the largest: "
+        f"{top['std_residual']:+.2f}, test {int(top['test'])}, replicate {int(top['replicate'])})."
+    )
