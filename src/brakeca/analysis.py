@@ -3253,10 +3253,10 @@ def level_coefficients(
         at that level and 0 elsewhere, as Minitab writes its general factorial's equation),
         ``df_resid``, ``alpha``, ``formula`` (the ANOVA's) and ``levels`` (each factor's
         ``{label: value}`` where its labels are not its values, e.g. ``{"WP": {"-": 1e-15,
-        ...}}``, the values in the design's unit, which ``units`` gives by factor). A
-        constant response (or one
-        the model fits exactly) has no t or p for a coefficient that is zero to round-off
-        (within 1e-12 of the largest in size). With centre points the VIFs are of the model
+        ...}}``, the values in the design's unit, which ``units`` gives by factor; a
+        categorical factor has none). A constant response (or one the model fits exactly)
+        has no t or p for a coefficient that is zero to round-off (within 1e-12 of the
+        largest in size). With centre points the VIFs are of the model
         matrix with their rows and the Ct Pt column, as Minitab's.
 
     References

@@ -597,7 +597,7 @@ def _verdicts_without(
     if gained:
         parts.append(f"{_listed(gained)} {'becomes' if len(gained) == 1 else 'become'} significant")
     if lost:
-        parts.append(f"{_listed(lost)} {'stops' if len(lost) == 1 else 'stop'} being so")
+        parts.append(f"{_listed(lost)} {'stops' if len(lost) == 1 else 'stop'} being significant")
     return (
         f"without {them}, at p < {alpha:g}, "
         + " and ".join(parts)
