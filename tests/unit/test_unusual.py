@@ -244,3 +244,22 @@ def test_the_report_says_when_no_run_is_unusual() -> None:
         f"No run's standardized residual is beyond ±2 (the largest: "
         f"{top['std_residual']:+.2f}, test {int(top['test'])}, replicate {int(top['replicate'])})."
     )
+
+
+def test_the_verdicts_without_name_terms_that_gain_and_lose_significance() -> None:
+    from brakeca.report import _verdicts_without
+
+    before = pd.DataFrame(
+        {"term": ["A", "B", "C", "Residual"], "p_value": [0.2, 0.01, 0.03, np.nan]}
+    )
+    after = before.assign(p_value=[0.004, 0.3, 0.02, np.nan])
+    unusual = pd.DataFrame({"test": [3, 7]})
+    unusual.attrs["without"] = after
+    assert _verdicts_without(before, unusual) == (
+        "without them, at p < 0.05, A (p 0.2 → 0.004) becomes significant and B (p 0.01 → 0.3) "
+        "stops being significant; the other terms keep their verdicts"
+    )
+    unusual.attrs["without"], unusual.attrs["without_note"] = None, "too few runs"
+    assert _verdicts_without(before, unusual) == (
+        "without them the model cannot be refitted (too few runs)"
+    )
