@@ -4222,9 +4222,10 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
     -------
     list of pathlib.Path
         The files written: ``main_effects_<R>.csv``, ``interactions_<R>.csv`` (long form),
-        ``anova_<R>.csv``, ``model_summary_<R>.csv`` (one row: ``n``, ``df_resid``, ``s``,
-        ``r_squared``, ``r_squared_adj``, ``r_squared_pred``, ``formula``; see
-        :func:`anova`) and ``ranked_effects_<R>.csv`` for every response ``R``,
+        ``anova_<R>.csv`` (the table's note on its first row only),
+        ``model_summary_<R>.csv`` (one row: ``n``, ``df_resid``, ``s``, ``r_squared``,
+        ``r_squared_adj``, ``r_squared_pred``, ``formula``; see :func:`anova`) and
+        ``ranked_effects_<R>.csv`` for every response ``R``,
         ``residuals_<R>.csv`` when the bundle has them (:func:`residuals`),
         ``trends_<R>.csv`` when it has a non-empty :func:`factor_trends` table,
         ``effects_<R>.csv`` when it has a non-empty :func:`two_level_effects` table,
@@ -4297,6 +4298,13 @@ def save_tables(result: Mapping[str, Mapping[str, Any]], directory: str | Path) 
             tables["unusual"] = unusual
         else:
             (directory / f"unusual_{response}.csv").unlink(missing_ok=True)
+        # the ANOVA's note is the table's: once, on its first row, not on every row (a
+        # user's review: a screening design's 538 characters, fifteen times)
+        table = tables["anova"]
+        if "note" in table.columns and len(table) > 1 and table["note"].nunique() == 1:
+            table = table.copy()
+            table.loc[table.index[1:], "note"] = ""
+            tables["anova"] = table
         for stem, table in tables.items():
             path = directory / f"{stem}_{response}.csv"
             write_table(table, path)

@@ -293,7 +293,8 @@ Files (R is the response: MU, V or log10_V_mm3):
   model, its summary (S, R², adjusted and predicted R², the model's formula), its terms by
   contribution. A term's contribution is its sum of squares in the ANOVA table (Type II, or
   Type III with the design's `anova_type = 3`: the report's ANOVA section names which; Type I
-  where the design is rank-deficient, which the table's `note` column then says) over the
+  where the design is rank-deficient, which the table's `note` column, on its first row,
+  then says) over the
   total about the mean; in a balanced design these
   are Minitab's sequential sums of squares too, in an unbalanced one they differ from them.
   `ranked_effects_R.csv`'s `effect`, for a term of two-level factors only: mean at the high

@@ -1160,3 +1160,16 @@ def test_an_exact_fit_has_its_type_ii_sums_of_squares():
         assert out.loc["Residual", "sum_sq"] == 0.0 and out.loc["Residual", "df"] == 2.0
         assert out.attrs["note"].startswith("exact fit: the model leaves no residual scatter")
         assert "statsmodels" not in out.attrs["note"] and "unbalanced" not in out.attrs["note"]
+
+
+def test_the_anova_csv_gives_the_table_s_note_once(tmp_path) -> None:
+    """A user's review: a screening design's 538-character note was on each of its 15 rows;
+    the CSV has it on the first row, and the table in memory keeps it on every row."""
+    rows = _design(replicates=1)
+    result = analyze(rows, FACTORS, ["MU"], max_order=4)  # saturated: its highest pooled
+    note = result["MU"].anova["note"]
+    assert note.iloc[0].startswith("model with four-factor interactions is saturated")
+    assert note.nunique() == 1 and len(note) > 2
+    save_tables(result, tmp_path)
+    written = pd.read_csv(tmp_path / "anova_MU.csv", keep_default_na=False)["note"]
+    assert written.iloc[0] == note.iloc[0] and (written.iloc[1:] == "").all()
