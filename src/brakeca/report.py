@@ -770,10 +770,13 @@ def _unusual_text(
     return text + f" The runs' diagnostics: {files}."
 
 
-def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
+def _trends_table(
+    response: str, frame: pd.DataFrame, explained_under: str | None = None
+) -> tuple[_Table, str]:
     """The trends of the factors of three or more levels
     (:func:`brakeca.analysis.factor_trends`, sums of squares in the report's unit of
-    ``response``) and their caption."""
+    ``response``) and their caption; shorter where ``explained_under`` names the response
+    whose caption explained the table."""
     factor, unit = _REPORT_UNITS.get(response, (1.0, None))
     rows = []
     for _, rec in frame.iterrows():
@@ -801,20 +804,29 @@ def _trends_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
     ]
     names = " and ".join(dict.fromkeys(str(f) for f in frame["factor"]))
     several = frame["factor"].nunique() > 1
-    caption = (
-        f"Trend of {response} over the levels of {names}. The ANOVA takes each factor as "
-        "categorical (a factor of k levels has k − 1 degrees of freedom, whatever the "
-        "levels' values), so its F says only that the levels differ. Here "
-        + ("each such" if several else "that")
-        + " main effect is split into orthogonal polynomials in the levels' values (or their "
-        "log10, where the levels are evenly spaced on the log or the factor is coded 'log'), "
-        "each part of 1 degree of freedom tested against the ANOVA's residual; in a "
-        "balanced design the parts' shares add up to 100 %. A significant quadratic part means "
-        "the response does not move evenly across the levels: its steps from one level to "
-        "the next differ (with three levels that is all it can say; the share of the "
-        "factor's sum of squares says how much)."
-        + (f" Sums of squares in ({unit})²." if unit else "")
-    )
+    if explained_under:
+        caption = (
+            f"Trend of {response} over the levels of {names}: "
+            + ("each such" if several else "its")
+            + " main effect split into orthogonal polynomials in the levels' values, each part "
+            f"tested against the ANOVA's residual, as explained under {explained_under} above."
+            + (f" Sums of squares in ({unit})²." if unit else "")
+        )
+    else:
+        caption = (
+            f"Trend of {response} over the levels of {names}. The ANOVA takes each factor as "
+            "categorical (a factor of k levels has k − 1 degrees of freedom, whatever the "
+            "levels' values), so its F says only that the levels differ. Here "
+            + ("each such" if several else "that")
+            + " main effect is split into orthogonal polynomials in the levels' values (or their "
+            "log10, where the levels are evenly spaced on the log or the factor is coded 'log'), "
+            "each part of 1 degree of freedom tested against the ANOVA's residual; in a "
+            "balanced design the parts' shares add up to 100 %. A significant quadratic part means "
+            "the response does not move evenly across the levels: its steps from one level to "
+            "the next differ (with three levels that is all it can say; the share of the "
+            "factor's sum of squares says how much)."
+            + (f" Sums of squares in ({unit})²." if unit else "")
+        )
     note = frame.attrs.get("note")
     if note:
         caption += f" Note: {note}."
@@ -839,9 +851,12 @@ def _t_text(t: float) -> str:
     return f"{t:.2f}" if abs(t) < 1e4 else f"{t:.3g}"
 
 
-def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]:
+def _comparisons_table(
+    response: str, frame: pd.DataFrame, explained_under: str | None = None
+) -> tuple[_Table, str]:
     """Tukey's pairwise comparisons (:func:`brakeca.analysis.level_comparisons`, in the
-    report's unit of ``response``) and their caption."""
+    report's unit of ``response``) and their caption; shorter where ``explained_under``
+    names the response whose caption explained the table."""
     from brakeca.analysis import tukey_grouping
 
     factor, unit = _REPORT_UNITS.get(response, (1.0, None))
@@ -878,15 +893,22 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
         "Adjusted p",
     ]
     names = " and ".join(dict.fromkeys(str(f) for f in frame["factor"]))
-    caption = (
-        f"Which levels of {names} differ in {response}: Tukey's pairwise comparisons of the "
-        "levels' least-squares means in the ANOVA's model (in a balanced design, the levels' "
-        "mean responses), each difference the later "
-        "level's mean less the earlier's, with "
-        f"simultaneous {100 * confidence:g} % intervals and p values adjusted for all the pairs of "
-        f"the factor (Minitab's comparisons of a general linear model); p < {1 - confidence:.2g} "
-        f"in bold. The table is tables/comparisons_{response}.csv."
-    )
+    if explained_under:
+        caption = (
+            f"Which levels of {names} differ in {response}: Tukey's pairwise comparisons of "
+            f"the levels' least-squares means, as explained under {explained_under} above; "
+            f"p < {1 - confidence:.2g} in bold. The table is tables/comparisons_{response}.csv."
+        )
+    else:
+        caption = (
+            f"Which levels of {names} differ in {response}: Tukey's pairwise comparisons of the "
+            "levels' least-squares means in the ANOVA's model (in a balanced design, the levels' "
+            "mean responses), each difference the later "
+            "level's mean less the earlier's, with "
+            f"simultaneous {100 * confidence:g} % intervals and p values adjusted for all the "
+            "pairs of the factor (Minitab's comparisons of a general linear model); "
+            f"p < {1 - confidence:.2g} in bold. The table is tables/comparisons_{response}.csv."
+        )
     grouping = tukey_grouping(frame)
     if not grouping.empty:
         caption += (
@@ -911,10 +933,13 @@ def _comparisons_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str]
     return _Table(columns, numeric, rows), caption
 
 
-def _coefficients_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str, str, str]:
+def _coefficients_table(
+    response: str, frame: pd.DataFrame, explained_under: str | None = None
+) -> tuple[_Table, str, str, str]:
     """The coefficients at every level (:func:`brakeca.analysis.level_coefficients`, in the
-    report's unit of ``response``), their caption, the regression equation in that unit and
-    the unit's words for its heading (``" (V in mm³)"``; empty without a unit)."""
+    report's unit of ``response``), their caption (shorter where ``explained_under`` names
+    the response whose caption explained the table), the regression equation in that unit
+    and the unit's words for its heading (``" (V in mm³)"``; empty without a unit)."""
     from brakeca.analysis import _equation
 
     factor, unit = _REPORT_UNITS.get(response, (1.0, None))
@@ -934,23 +959,34 @@ def _coefficients_table(response: str, frame: pd.DataFrame) -> tuple[_Table, str
     in_unit = f" [{unit}]" if unit else ""
     columns = ["Term", "Level", f"Coef{in_unit}", f"SE Coef{in_unit}", "T", "p", "VIF"]
     alpha = float(frame.attrs.get("alpha", 0.05))
-    caption = (
-        f"The ANOVA model of {response} as coefficients, as Minitab gives them for a general "
-        "factorial: each factor coded by effects (sum-to-zero) coding, so a level's "
-        "coefficient is its least-squares mean less the constant (in a balanced design, the "
-        "level's mean less the grand mean) and a term's coefficients add up to zero over "
-        "each of its factors' levels; for a two-level factor, minus and plus half its effect. "
-        "Standard errors, T and p against the ANOVA's "
-        f"residual ({_fmt(frame.attrs.get('df_resid'), '.0f')} degrees of freedom); "
-        f"p < {alpha:g} in bold. A level's p tests its coefficient against 0 (its "
-        "least-squares mean against the constant), not against the other levels: Tukey's "
-        "comparisons compare the levels. † Rows Minitab omits (a factor's last level, "
-        "and an interaction's cells at the last level of any of its factors: the other rows "
-        "fix them) are shown with their standard errors, as in JMP's expanded estimates; they "
-        f"have no VIF. The table is tables/coefficients_{response}.csv."
-    )
     legend = frame.attrs.get("levels") or {}
     units = frame.attrs.get("units") or {}
+    if explained_under:
+        caption = (
+            f"The ANOVA model of {response} as coefficients, coded as explained under "
+            f"{explained_under} above (a level's coefficient is its least-squares mean less "
+            "the constant, and its p tests it against 0, not against the other levels). "
+            "Standard errors, T and p against the ANOVA's residual "
+            f"({_fmt(frame.attrs.get('df_resid'), '.0f')} degrees of freedom); p < {alpha:g} "
+            f"in bold; † rows Minitab omits. The table is tables/coefficients_{response}.csv."
+        )
+        legend = {}  # (given there)
+    else:
+        caption = (
+            f"The ANOVA model of {response} as coefficients, as Minitab gives them for a general "
+            "factorial: each factor coded by effects (sum-to-zero) coding, so a level's "
+            "coefficient is its least-squares mean less the constant (in a balanced design, the "
+            "level's mean less the grand mean) and a term's coefficients add up to zero over "
+            "each of its factors' levels; for a two-level factor, minus and plus half its effect. "
+            "Standard errors, T and p against the ANOVA's "
+            f"residual ({_fmt(frame.attrs.get('df_resid'), '.0f')} degrees of freedom); "
+            f"p < {alpha:g} in bold. A level's p tests its coefficient against 0 (its "
+            "least-squares mean against the constant), not against the other levels: Tukey's "
+            "comparisons compare the levels. † Rows Minitab omits (a factor's last level, "
+            "and an interaction's cells at the last level of any of its factors: the other rows "
+            "fix them) are shown with their standard errors, as in JMP's expanded estimates; they "
+            f"have no VIF. The table is tables/coefficients_{response}.csv."
+        )
     if legend:
         caption += (
             " The levels: "
@@ -1711,6 +1747,9 @@ def render_report(
     template = env.from_string(REPORT_TEMPLATE)
     when = generated or datetime.now(UTC)
     anova_items = []
+    # each long caption once, under the first response that has its table; the later ones
+    # refer to it (a review: three captions of 130-150 words, word for word, three times)
+    explained: dict[str, str] = {}
     for response, frame in anova_tables.items():
         frame, unit = _anova_in_report_units(str(response), frame)
         table, note = _anova_table(frame)
@@ -1738,22 +1777,29 @@ def render_report(
         )
         trends = (trend_tables or {}).get(response)
         trends_table, trends_info = (
-            _trends_table(str(response), trends)
+            _trends_table(str(response), trends, explained.get("trends"))
             if trends is not None and not trends.empty
             else (None, "")
         )
         coefficients = (coefficient_tables or {}).get(response)
         coefficients_table, coefficients_info, equation, equation_unit = (
-            _coefficients_table(str(response), coefficients)
+            _coefficients_table(str(response), coefficients, explained.get("coefficients"))
             if effects_table is None and coefficients is not None and not coefficients.empty
             else (None, "", "", "")
         )
         comparisons = (comparison_tables or {}).get(response)
         comparisons_table, comparisons_info = (
-            _comparisons_table(str(response), comparisons)
+            _comparisons_table(str(response), comparisons, explained.get("comparisons"))
             if comparisons is not None and not comparisons.empty
             else (None, "")
         )
+        for kind, shown in (
+            ("trends", trends_table),
+            ("coefficients", coefficients_table),
+            ("comparisons", comparisons_table),
+        ):
+            if shown is not None:
+                explained.setdefault(kind, str(response))
         anova_items.append(
             {
                 "response": str(response),

@@ -900,3 +900,38 @@ def test_the_log_response_s_heading_says_what_it_is(tmp_path) -> None:
     html = render_report(**{**inputs, "summary": summary, "anova_tables": tables})
     assert '<h3 id="anova-log10_v_mm3">Response log10 V (column log10_V_mm3, V in mm³)</h3>' in html
     assert '<h3 id="anova-mu">Response MU</h3>' in html
+
+
+def test_the_long_captions_are_given_once_and_referred_to_after(tmp_path) -> None:
+    """A review: the comparisons', coefficients' and trends' captions (130-150 words each)
+    were repeated word for word under every response; the first response's explains them,
+    the later ones refer to it and keep their own files, notes and letters."""
+    from html import unescape
+
+    from brakeca.analysis import factor_trends, level_coefficients, level_comparisons
+
+    inputs = make_inputs(tmp_path)
+    summary = inputs["summary"]
+    responses = ("MU", "V")
+    html = unescape(
+        render_report(
+            **inputs,
+            comparison_tables={r: level_comparisons(summary, FACTORS, r) for r in responses},
+            coefficient_tables={r: level_coefficients(summary, FACTORS, r) for r in responses},
+            trend_tables={r: factor_trends(summary, FACTORS, r) for r in responses},
+        )
+    )
+    text = " ".join(html.split())
+    for whole in (
+        "(Minitab's comparisons of a general linear model)",
+        "as Minitab gives them for a general factorial",
+        "so its F says only that the levels differ",
+    ):
+        assert text.count(whole) == 1, whole
+    assert "Which levels of WP differ in V: Tukey's pairwise comparisons of the levels' " in text
+    assert "as explained under MU above; p < 0.05 in bold." in text
+    assert "The table is tables/comparisons_V.csv." in text
+    assert "The ANOVA model of V as coefficients, coded as explained under MU above" in text
+    assert "The table is tables/coefficients_V.csv." in text
+    assert "Trend of V over the levels of WP: its main effect split into orthogonal" in text
+    assert text.count("The levels: ") == 1  # the legend with the first caption
