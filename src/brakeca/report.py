@@ -652,6 +652,30 @@ def _outlier_clause(
     return clause + (f", and {verdicts}" if verdicts else "")
 
 
+def _negative_fits(response: str, frame: pd.DataFrame | None, log_section: bool = True) -> str:
+    """For V, the runs its ANOVA model fits a negative volume, with the fitted and observed
+    values in mm³ (a review: "In short" had named them, V's section not), and, with
+    ``log_section``, that log10 V's section reads the effects as ratios; empty otherwise."""
+    if response != "V" or frame is None or not {"fitted", "observed"} <= set(frame.columns):
+        return ""
+    negative = frame.loc[pd.to_numeric(frame["fitted"], errors="coerce") < 0]
+    if negative.empty:
+        return ""
+    factor, unit = _REPORT_UNITS.get(response, (1.0, None))
+    replicated = "replicate" in frame.columns and frame["replicate"].nunique() > 1
+    runs = "; ".join(
+        f"{run_named(rec, replicated)}: fitted {_fmt(float(rec['fitted']) * factor, '.3g')}, "
+        f"observed {_fmt(float(rec['observed']) * factor, '.3g')}"
+        for _, rec in negative.iterrows()
+    )
+    return (
+        f" The ANOVA model fits a negative volume to {len(negative)} "
+        f"run{'' if len(negative) == 1 else 's'} ({runs}{' ' + unit if unit else ''}): an "
+        "additive model cannot follow effects that multiply V"
+        + ("; log10 V's section reads them as ratios." if log_section else ".")
+    )
+
+
 def _unusual_text(
     response: str,
     frame: pd.DataFrame,
@@ -1823,6 +1847,11 @@ def render_report(
                     (residual_tables or {}).get(response, pd.DataFrame()),
                     (unusual_tables or {}).get(response),
                     anova_tables[response],
+                )
+                + _negative_fits(
+                    str(response),
+                    (residual_tables or {}).get(response),
+                    "log10_V_mm3" in anova_tables,
                 ),
             }
         )

@@ -935,3 +935,23 @@ def test_the_long_captions_are_given_once_and_referred_to_after(tmp_path) -> Non
     assert "The table is tables/coefficients_V.csv." in text
     assert "Trend of V over the levels of WP: its main effect split into orthogonal" in text
     assert text.count("The levels: ") == 1  # the legend with the first caption
+
+
+def test_v_s_section_names_the_runs_fitted_a_negative_volume() -> None:
+    """A review: only "In short" had named them; V's section gives each with its fitted and
+    observed volume in mm³."""
+    from brakeca.report import _negative_fits
+
+    frame = pd.DataFrame(
+        {
+            "test": [7, 14, 3],
+            "fitted": [-2.21e-9, -3.38e-9, 5e-9],
+            "observed": [2.08e-9, 1.12e-9, 4e-9],
+        }
+    )
+    assert _negative_fits("V", frame) == (
+        " The ANOVA model fits a negative volume to 2 runs (test 7: fitted -2.21, observed "
+        "2.08; test 14: fitted -3.38, observed 1.12 mm³): an additive model cannot follow "
+        "effects that multiply V; log10 V's section reads them as ratios."
+    )
+    assert _negative_fits("MU", frame) == "" and _negative_fits("V", frame.iloc[2:]) == ""
