@@ -40,7 +40,7 @@ import warnings
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any, TypeGuard
+from typing import Any, NamedTuple, TypeGuard
 
 import numpy as np
 import pandas as pd
@@ -2204,24 +2204,62 @@ def unusual_runs(
     cooks = frame["cooks_distance"].to_numpy(dtype=float)
     if (~large).any() and np.isfinite(cooks[~large]).any():
         out.attrs["largest_other_cooks"] = float(np.nanmax(cooks[~large]))
-    # the same terms without those runs
-    terms = [t.strip() for t in formula.split("~", 1)[1].split("+")]
-    terms = [t for t in terms if t not in ("1", "Ct Pt")]
-    if not terms:
-        out.attrs["without_note"] = "the model has no terms"
-        return out
-    kept = summary.drop(index=data.index[large])
     try:
-        _, _, exog2, formula2 = _model_arrays(kept, factors, response, terms)
-        table = anova(kept, factors, response, interactions=terms, typ=typ)
+        refit = _refit_without(summary, factors, response, formula, exog, data.index[large])
+        if refit is None:
+            out.attrs["without_note"] = "the model has no terms"
+            return out
+        table = anova(refit.kept, factors, response, interactions=refit.terms, typ=typ)
     except ValueError as exc:  # too few runs left for the model
         out.attrs["without_note"] = str(exc)
         return out
-    if formula2 != formula or np.linalg.matrix_rank(exog2) < np.linalg.matrix_rank(exog):
+    if not refit.same:
         out.attrs["without_note"] = "the runs left cannot estimate the same model"
         return out
     out.attrs["without"] = table
     return out
+
+
+class _Refit(NamedTuple):
+    """A model fitted again without some runs (:func:`_refit_without`): the summary's rows
+    left, their response [response unit] and model matrix [-], the model's terms, and
+    whether those runs estimate the same model."""
+
+    kept: pd.DataFrame
+    y: np.ndarray
+    exog: np.ndarray
+    terms: list[str]
+    same: bool
+
+
+def _refit_without(
+    summary: pd.DataFrame,
+    factors: Sequence[Any],
+    response: str,
+    formula: str,
+    exog: np.ndarray,
+    drop: Iterable[Any],
+) -> _Refit | None:
+    """The model of ``formula`` and ``exog`` (:func:`_model_arrays`') fitted again to
+    ``summary`` without its rows ``drop`` (labels): its terms as the first fit took them (a
+    reduced model is not reduced again, so that only the runs change), shared by
+    :func:`unusual_runs` and :func:`brakeca.boxcox.box_cox`. ``same`` is False where a term
+    lost its runs: a level gone (the term left out), a cell emptied (the same terms, fewer
+    estimable). None where the model has no terms.
+
+    Raises
+    ------
+    ValueError
+        Too few runs are left for the model (as :func:`_model_arrays`).
+    """
+    terms = [t.strip() for t in formula.split("~", 1)[1].split("+")]
+    terms = [t for t in terms if t not in ("1", "Ct Pt")]
+    if not terms:
+        return None
+    kept = summary.drop(index=drop)
+    _, y, exog2, formula2 = _model_arrays(kept, factors, response, terms)
+    same = formula2 == formula and np.linalg.matrix_rank(exog2) >= np.linalg.matrix_rank(exog)
+    return _Refit(kept, y, exog2, terms, same)
 
 
 def _exog(frame: pd.DataFrame, terms: Sequence[str], n: int) -> np.ndarray:

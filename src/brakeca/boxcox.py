@@ -502,7 +502,7 @@ def box_cox(
         return result
     from dataclasses import replace
 
-    from brakeca.analysis import _residuals_of
+    from brakeca.analysis import _refit_without, _residuals_of
 
     frame = _residuals_of(data, y, exog, formula, response)  # (the model fitted once)
     # the residuals' rows are the model's runs (``data``), in its order
@@ -513,21 +513,15 @@ def box_cox(
     rows, z = data.loc[large], z[large]
     replicated = "replicate" in data.columns and data["replicate"].nunique() > 1
     who = _runs_named(rows, z, replicated)
-    # the same model without those runs: its terms as the first fit took them (a reduced
-    # model is not reduced again, so that only the runs change)
-    terms = [t.strip() for t in formula.split("~", 1)[1].split("+")]
-    terms = [t for t in terms if t not in ("1", "Ct Pt")]
-    if not terms:
-        return result
-    kept = summary.drop(index=rows.index)
+    # the same model without those runs (its terms as the first fit took them)
     try:
-        _, y2, exog2, formula2 = _model_arrays(kept, factors, response, terms)
-        other = box_cox_profile(y2, exog2, response=response, confidence=confidence)
+        refit = _refit_without(summary, factors, response, formula, exog, rows.index)
+        if refit is None:  # no terms
+            return result
+        other = box_cox_profile(refit.y, refit.exog, response=response, confidence=confidence)
     except ValueError as exc:  # too few runs left for the model
         return replace(result, without_unusual=f"without {who}: {exc}")
-    # a term lost its runs: a level gone (the term left out), a cell emptied (the same terms,
-    # fewer estimable)
-    if formula2 != formula or np.linalg.matrix_rank(exog2) < np.linalg.matrix_rank(exog):
+    if not refit.same:
         return replace(
             result,
             without_unusual=(
