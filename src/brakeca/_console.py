@@ -82,6 +82,12 @@ def brief_warnings() -> Callable[[], None]:
     return restore
 
 
+def is_replicated(frame: Any) -> bool:
+    """Whether a summary or residuals table holds more than one replicate of a test, so that
+    :func:`run_named` names the replicate too."""
+    return "replicate" in frame.columns and frame["replicate"].nunique() > 1
+
+
 def run_named(row: Any, replicated: bool) -> str:
     """A run in a message: ``"test 3"``, with ``", replicate 1"`` in a ``replicated``
     campaign (and a replicate given), ``"a run"`` without a test number; ``row`` is a

@@ -452,7 +452,9 @@ def _not_finite(summary: pd.DataFrame, response: str) -> str:
     if bad.empty:
         return ""
     if "test" in bad.columns:
-        replicated = "replicate" in data.columns and data["replicate"].nunique() > 1
+        from brakeca._console import is_replicated  # (rich, kept out of this module's import)
+
+        replicated = is_replicated(data)
         names = [
             f"test {row.test}" + (f" replicate {row.replicate}" if replicated else "")
             for row in bad.itertuples()

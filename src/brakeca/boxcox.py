@@ -511,7 +511,9 @@ def box_cox(
     if not large.any():
         return result
     rows, z = data.loc[large], z[large]
-    replicated = "replicate" in data.columns and data["replicate"].nunique() > 1
+    from brakeca._console import is_replicated
+
+    replicated = is_replicated(data)
     who = _runs_named(rows, z, replicated)
     # the same model without those runs (its terms as the first fit took them)
     try:

@@ -21,7 +21,7 @@ import typer
 from rich.markup import escape
 
 from brakeca import __version__
-from brakeca._console import LogConsole
+from brakeca._console import LogConsole, is_replicated
 from brakeca.config import MAX_SEED, ConfigError, SimulationConfig, load_config, parse_overrides
 from brakeca.presets import available_designs
 
@@ -717,7 +717,7 @@ def plot(
         _fail(str(exc))
     base = output if output is not None else path / "run_figures"
     _check_output(base, "-o" if output is not None else None, folder=True)
-    replicated = "replicate" in rows.columns and rows["replicate"].nunique() > 1
+    replicated = is_replicated(rows)
     drawn = 0
     with _on_interrupt(f"the figures written so far are in {base}"):
         for k, row in enumerate(rows.itertuples(index=False), start=1):
@@ -1094,16 +1094,12 @@ def _print_summary(summary, design=None) -> None:
 
     averaged = ""
     if (
-        "replicate" in summary.columns
-        and summary["replicate"].nunique() > 1
-        and len(summary) > _MOST_RUN_ROWS
+        is_replicated(summary) and len(summary) > _MOST_RUN_ROWS
     ):  # a new user's 220 rows: a row per test, its replicates averaged
         summary, averaged = _per_test(summary, factor_cols)
     # a row per run of a replicated design: its replicate beside its test, which the rows of
     # a test share (a docs walkthrough: two rows 'test 1' and nothing to tell them apart)
-    with_replicate = (
-        not averaged and "replicate" in summary.columns and summary["replicate"].nunique() > 1
-    )
+    with_replicate = not averaged and is_replicated(summary)
     statuses = summary["status"] if "status" in summary.columns else pd.Series(["ok"])
     with_status = bool((statuses.astype(str) != "ok").any())  # all ok: the column says nothing
     headers = [

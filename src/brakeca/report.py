@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from brakeca._console import run_named
+from brakeca._console import is_replicated, run_named
 from brakeca._io import write_text
 from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
 
@@ -565,15 +565,19 @@ def _p_text(p: float) -> str:
 
 
 def _verdicts_without(
-    anova: pd.DataFrame | None, unusual: pd.DataFrame | None, alpha: float = 0.05
+    anova: pd.DataFrame | None,
+    unusual: pd.DataFrame | None,
+    alpha: float = 0.05,
+    who: str | None = None,
 ) -> str:
     """What the ANOVA says without the unusual runs (:func:`brakeca.analysis.unusual_runs`'
     ``attrs["without"]``) against ``anova``: the terms that become significant at ``alpha``
     and those that stop being so, each with both p values, or that every term keeps its
-    verdict; empty without such a refit."""
+    verdict; empty without such a refit. ``who`` names the runs left out (``"it"`` or
+    ``"them"`` by default)."""
     if anova is None or unusual is None or unusual.empty:
         return ""
-    them = "it" if len(unusual) == 1 else "them"
+    them = who or ("it" if len(unusual) == 1 else "them")
     without = unusual.attrs.get("without")
     if without is None:
         why = unusual.attrs.get("without_note", "")
@@ -626,18 +630,12 @@ def _outlier_clause(
     """The "In short" clause on the runs the Bonferroni outlier test calls outliers of the
     model (:func:`brakeca.analysis.unusual_runs`), with the ANOVA's verdicts that change
     without the unusual runs; empty where there is none."""
-    if unusual is None or unusual.empty or "outlier_p" not in unusual.columns:
+    outliers = _outliers(unusual)
+    if unusual is None or outliers.empty:
         return ""
     alpha = float(unusual.attrs.get("alpha", 0.05))
-    outliers = unusual.loc[pd.to_numeric(unusual["outlier_p"], errors="coerce") < alpha]
-    if outliers.empty:
-        return ""
     residuals = (residual_tables or {}).get(response)
-    replicated = (
-        residuals is not None
-        and "replicate" in residuals.columns
-        and residuals["replicate"].nunique() > 1
-    )
+    replicated = residuals is not None and is_replicated(residuals)
     named = " and ".join(run_named(rec, replicated) for _, rec in outliers.iterrows())
     verb = "is an outlier" if len(outliers) == 1 else "are outliers"
     clause = (
@@ -645,11 +643,21 @@ def _outlier_clause(
         + ", ".join(_p_text(float(v)) for v in outliers["outlier_p"])
         + ")"
     )
-    verdicts = _verdicts_without(anova, unusual, alpha)
-    if verdicts and len(unusual) > len(outliers):  # the refit leaves out every unusual run
+    who = None  # the refit leaves out every unusual run: named where they are more
+    if len(unusual) > len(outliers):
         every = " and ".join(run_named(rec, replicated) for _, rec in unusual.iterrows())
-        verdicts = verdicts.replace("without them", f"without the unusual runs ({every})", 1)
+        who = f"the unusual runs ({every})"
+    verdicts = _verdicts_without(anova, unusual, alpha, who)
     return clause + (f", and {verdicts}" if verdicts else "")
+
+
+def _outliers(unusual: pd.DataFrame | None) -> pd.DataFrame:
+    """The rows of an :func:`brakeca.analysis.unusual_runs` table that its Bonferroni outlier
+    test calls outliers (``outlier_p`` below its ``alpha``); empty where there is none."""
+    if unusual is None or unusual.empty or "outlier_p" not in unusual.columns:
+        return pd.DataFrame()
+    alpha = float(unusual.attrs.get("alpha", 0.05))
+    return unusual.loc[pd.to_numeric(unusual["outlier_p"], errors="coerce") < alpha]
 
 
 def _negative_fits(response: str, frame: pd.DataFrame | None, log_section: bool = True) -> str:
@@ -662,7 +670,7 @@ def _negative_fits(response: str, frame: pd.DataFrame | None, log_section: bool 
     if negative.empty:
         return ""
     factor, unit = _REPORT_UNITS.get(response, (1.0, None))
-    replicated = "replicate" in frame.columns and frame["replicate"].nunique() > 1
+    replicated = is_replicated(frame)
     runs = "; ".join(
         f"{run_named(rec, replicated)}: fitted {_fmt(float(rec['fitted']) * factor, '.3g')}, "
         f"observed {_fmt(float(rec['observed']) * factor, '.3g')}"
@@ -693,7 +701,7 @@ def _unusual_text(
         return ""
     z = pd.to_numeric(frame["std_residual"], errors="coerce")
     large = frame.loc[z.abs() > UNUSUAL_RESIDUAL]
-    replicated = "replicate" in frame.columns and frame["replicate"].nunique() > 1
+    replicated = is_replicated(frame)
     if large.empty:
         if z.isna().all():
             return ""
@@ -734,9 +742,8 @@ def _unusual_text(
         )
     )
     if unusual is not None and not unusual.empty and "outlier_p" in unusual.columns:
-        alpha = float(unusual.attrs.get("alpha", 0.05))
         p = pd.to_numeric(unusual["outlier_p"], errors="coerce")
-        outliers = unusual.loc[p < alpha]
+        outliers = _outliers(unusual)
         if not outliers.empty:
             names = [run_named(rec, replicated) for _, rec in outliers.iterrows()]
             named = " and ".join(names)

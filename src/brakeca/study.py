@@ -30,7 +30,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca import __version__
-from brakeca._console import tests_named
+from brakeca._console import is_replicated, tests_named
 from brakeca._io import write_table, write_text
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
@@ -1214,7 +1214,7 @@ def _run_file_figures(
     pm10_of: dict[str, tuple[float, float, float] | None] = {}  # None: not on a trace
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
     names = {f.name for f in factors}
-    replicated = "replicate" in ok.columns and ok["replicate"].nunique() > 1
+    replicated = is_replicated(ok)
     pads_at = len(figures.listed)  # where the fibre maps go, before the runs' maps
 
     if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
