@@ -269,6 +269,12 @@ def base_differences(out: Path, base: SimulationConfig) -> list[str]:
     return config_changes(old.to_dict(), base.to_dict())
 
 
+#: How a campaign's own design.toml and base_config.toml begin (:func:`_write_design`), by
+#: which a campaign tells them from a user's files (``campaign._foreign_design``).
+DESIGN_HEADER = "# Design of campaign"
+BASE_HEADER = "# Resolved base configuration of campaign"
+
+
 def _write_design(
     out: Path,
     design: Design,
@@ -284,14 +290,14 @@ def _write_design(
     study's files)."""
     origin = f"preset {design.base!r}" if design.base is not None else repr(str(design.base_config))
     header = (
-        f"# Resolved base configuration of campaign {design.name!r}, written by brakeca "
+        f"{BASE_HEADER} {design.name!r}, written by brakeca "
         f"{__version__}.\n# From {origin}; overrides {dict(overrides or {})!r}, "
         f"max_stops {max_stops!r}, quick {quick!r}.\n"
     )
     write_text(out / "base_config.toml", header + base.to_toml())
     write_text(
         out / "design.toml",
-        f"# Design of campaign {design.name!r} (base: base_config.toml beside this file).\n"
+        f"{DESIGN_HEADER} {design.name!r} (base: base_config.toml beside this file).\n"
         + design.to_toml(base_config="base_config.toml"),
     )
     return design.model_copy(

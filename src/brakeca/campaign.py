@@ -70,6 +70,8 @@ from brakeca._executors import (
 )
 from brakeca._io import checkpoint_resumes, write_text
 from brakeca._runstore import (
+    BASE_HEADER,
+    DESIGN_HEADER,
     CampaignLockedError,
     _finish,
     _load_existing,
@@ -334,9 +336,7 @@ def _foreign_design(out: Path) -> str | None:
         except (OSError, UnicodeDecodeError):
             return ""
 
-    if first_line(design).startswith("# Design of campaign") or first_line(base).startswith(
-        "# Resolved base configuration of campaign"
-    ):
+    if first_line(design).startswith(DESIGN_HEADER) or first_line(base).startswith(BASE_HEADER):
         return None
     return (
         f"{design}: a design file brakeca did not write; a campaign writes its own "
