@@ -36,6 +36,7 @@ import itertools
 import math
 import numbers
 import os
+import re
 import warnings
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, fields
@@ -67,6 +68,7 @@ __all__ = [
     "anova",
     "as_factor",
     "canonical_terms",
+    "display_unit",
     "factor_trends",
     "interaction_aliases",
     "interaction_table",
@@ -196,6 +198,38 @@ ANOVA_COLUMNS: tuple[str, ...] = (
 _LEVEL_RTOL = 1e-6  # brakeca.design.LEVEL_RTOL (a test checks they agree)
 
 
+_SUPERSCRIPTS = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def display_unit(unit: str) -> str:
+    """A unit as text for people: powers as superscripts and, in a unit made of symbols,
+    a product's space as a middle dot. The files keep the ASCII form (``m^3/(N m)``, as
+    the configuration's field descriptions write it); the report and the plots show this.
+
+    Parameters
+    ----------
+    unit
+        A unit in brakeca's ASCII form, e.g. ``"m^3/(N m)"``, ``"1/MPa"``, ``"%"``.
+
+    Returns
+    -------
+    str
+        The same unit for display [-]. A unit with a word of more than three letters
+        (``"per cent"``) keeps its spaces.
+
+    Examples
+    --------
+    >>> display_unit("m^3/(N m)")
+    'm³/(N·m)'
+    >>> display_unit("m^-1"), display_unit("%"), display_unit("mm^3 per stop")
+    ('m⁻¹', '%', 'mm³ per stop')
+    """
+    text = re.sub(r"(?<=[A-Za-zµ)])\^(-?\d+)", lambda m: m.group(1).translate(_SUPERSCRIPTS), unit)
+    if not re.search(r"[A-Za-z]{4,}", text):
+        text = re.sub(r"(?<=[A-Za-zµ⁰¹²³⁴⁵⁶⁷⁸⁹)]) +(?=[A-Za-zµ(])", "·", text)
+    return text
+
+
 @dataclass(frozen=True)
 class Factor:
     """One factor of a factorial design, with its levels in the design's user unit.
@@ -320,8 +354,8 @@ class Factor:
 
     @property
     def axis_label(self) -> str:
-        """Name with unit for plot axes, e.g. ``"WP [m^3/(N m)]"``."""
-        return f"{self.name} [{self.unit}]" if self.unit else self.name
+        """Name with unit for plot axes, e.g. ``"WP [m³/(N·m)]"`` (:func:`display_unit`)."""
+        return f"{self.name} [{display_unit(self.unit)}]" if self.unit else self.name
 
 
 def as_factor(obj: Any) -> Factor:

@@ -34,6 +34,7 @@ import pandas as pd
 from brakeca._console import is_replicated, run_named
 from brakeca._io import write_text
 from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
+from brakeca.analysis import display_unit
 
 __all__ = ["REPORT_TEMPLATE", "format_p_value", "in_short", "render_report", "write_report"]
 
@@ -1024,7 +1025,11 @@ def _coefficients_table(
             + "; ".join(
                 f"{name}: "
                 + ", ".join(f"{label} = {float(value):g}" for label, value in labels.items())
-                + (f" [{units[name]}]" if units.get(name) and units[name] not in ("-", "") else "")
+                + (
+                    f" [{display_unit(units[name])}]"
+                    if units.get(name) and units[name] not in ("-", "")
+                    else ""
+                )
                 for name, labels in legend.items()
             )
             + "."
@@ -1311,7 +1316,7 @@ def _surface_item(response: str, fit: Any) -> dict[str, Any]:
     stats["s"] = float(stats.get("s", math.nan)) * factor
     codings = ", ".join(
         f"{c.name} {'log10 ' if c.log else ''}{_fmt(c.low, '.4g')} to {_fmt(c.high, '.4g')}"
-        + (f" {c.unit}" if c.unit and c.unit != "-" else "")
+        + (f" {display_unit(c.unit)}" if c.unit and c.unit != "-" else "")
         for c in fit.codings
     )
     info = (
@@ -1350,7 +1355,7 @@ def _optimum_item(goals: Sequence[Any], optimum: Any) -> dict[str, Any]:
     factor_rows = []
     for name, level in optimum.levels.items():
         unit = optimum.units.get(name, "")
-        setting = _fmt(level, ".4g") + ("" if unit in ("", "-") else f" {unit}")
+        setting = _fmt(level, ".4g") + ("" if unit in ("", "-") else f" {display_unit(unit)}")
         factor_rows.append({"cells": [name, setting, f"{optimum.coded[name]:+.3f}"], "cls": ""})
     factors = _Table(["Factor", "Setting", "Coded"], [False, True, True], factor_rows)
     rows = []
@@ -1421,7 +1426,7 @@ def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
         )
     levels = ", ".join(
         f"{c.name} = {_fmt(st['levels'][c.name], '.4g')}"
-        + (f" {c.unit}" if c.unit and c.unit != "-" else "")
+        + (f" {display_unit(c.unit)}" if c.unit and c.unit != "-" else "")
         + f" (coded {st['coded'][c.name]:+.2f})"
         for c in fit.codings
     )

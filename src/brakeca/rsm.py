@@ -60,6 +60,7 @@ from brakeca.analysis import (
     _sse,
     _vif,
     alpha_problem,
+    display_unit,
 )
 
 __all__ = [
@@ -184,8 +185,12 @@ class Coding:
 
     @property
     def axis_label(self) -> str:
-        """Name with unit, e.g. ``"WP [m^3/(N m)]"``."""
-        return f"{self.name} [{self.unit}]" if self.unit and self.unit != "-" else self.name
+        """Name with unit, e.g. ``"WP [m³/(N·m)]"`` (:func:`brakeca.analysis.display_unit`)."""
+        return (
+            f"{self.name} [{display_unit(self.unit)}]"
+            if self.unit and self.unit != "-"
+            else self.name
+        )
 
 
 def coding_of(factor: Any) -> Coding:

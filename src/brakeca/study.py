@@ -32,6 +32,7 @@ import pandas as pd
 from brakeca import __version__
 from brakeca._console import is_replicated, tests_named
 from brakeca._io import write_table, write_text
+from brakeca.analysis import display_unit
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
 from brakeca.results import RunResult
@@ -190,7 +191,7 @@ def _design_table(result: CampaignResult) -> pd.DataFrame:
             "factor": f.name,
             "meaning": f.label,
             "field": _target(f.field),  # a factor alias ("WP") as the field it sets
-            "unit": f.unit,
+            "unit": display_unit(f.unit),
             "levels": ", ".join(
                 f"{lev:g}" if f.labels is None else f"{lab} = {lev:g}"
                 for lab, lev in zip(f.labels or f.levels, f.levels, strict=True)
@@ -1242,7 +1243,8 @@ def _run_file_figures(
         levels = ", ".join(
             f"{f.name} = {f.label_of(row[f.name])}"
             if f.choices is not None
-            else f"{f.name} = {row[f.name]:g}" + ("" if f.unit in ("", "-") else f" {f.unit}")
+            else f"{f.name} = {row[f.name]:g}"
+            + ("" if f.unit in ("", "-") else f" {display_unit(f.unit)}")
             for f in factors
         )
         which = (

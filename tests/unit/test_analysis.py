@@ -158,7 +158,7 @@ def test_factor_level_label_and_validation() -> None:
     assert Factor("X", (1.0, 2.5)).level_label(2.5) == "2.5"
     assert WP.level_label(3e-14) == "3e-14"  # no matching level: the value itself
     assert WP.level_index(5.0) is None
-    assert WP.axis_label == "WP [m^3/(N m)]"
+    assert WP.axis_label == "WP [m³/(N·m)]"
     assert isinstance(Factor("X", [1, 2]).levels, tuple)
     with pytest.raises(ValueError, match="labels"):
         Factor("X", (1.0, 2.0), labels=("-",))

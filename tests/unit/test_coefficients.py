@@ -601,7 +601,7 @@ def test_the_levels_labels_stand_for_are_given_and_the_report_lists_them(tmp_pat
     }
     assert table.attrs["units"] == {"S": "-", "WP": "m^3/(N m)"}
     _, caption, _, _ = _coefficients_table("MU", table)
-    assert "The levels: S: - = 0, + = 1; WP: - = 1e-15, 0 = 1e-14, + = 1e-13 [m^3/(N m)]." in (
+    assert "The levels: S: - = 0, + = 1; WP: - = 1e-15, 0 = 1e-14, + = 1e-13 [m³/(N·m)]." in (
         caption
     )
     assert "A level's p tests its coefficient against 0 (its least-squares mean" in caption

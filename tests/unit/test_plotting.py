@@ -380,8 +380,8 @@ def test_response_surface_contours(tmp_path) -> None:
     assert (tmp_path / "surface.png").read_bytes().startswith(PNG)
     panels = [ax for ax in fig.axes if ax.get_xlabel() and ax.get_visible()]
     assert [(ax.get_xlabel(), ax.get_ylabel()) for ax in panels] == [
-        ("WP [m^3/(N m)]", "A [%]"),
-        ("WP [m^3/(N m)]", "WR [m]"),
+        ("WP [m³/(N·m)]", "A [%]"),
+        ("WP [m³/(N·m)]", "WR [m]"),
         ("A [%]", "WR [m]"),
     ]
     assert panels[0].get_xscale() == "log" and panels[2].get_yscale() == "log"

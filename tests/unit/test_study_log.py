@@ -65,7 +65,7 @@ def test_design_table_lists_levels_with_their_labels_or_alone() -> None:
     )
     table = _design_table(SimpleNamespace(design=design))  # type: ignore[arg-type]
     assert list(table["levels"]) == ["0, 10", "- = 1e-14, + = 1e-13"]
-    assert list(table["unit"]) == ["%", "m^3/(N m)"]
+    assert list(table["unit"]) == ["%", "m³/(N·m)"]
 
 
 def test_a_fold_over_report_gives_the_generators_the_fold_over_broke_as_before_it() -> None:
