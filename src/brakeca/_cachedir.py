@@ -15,8 +15,12 @@ own files: ``import brakeca`` sets no environment variable and changes no numba 
 the numba functions of other packages and of the user's code are cached where numba puts them.
 Worker and warm-up processes compute the same folder from the same sources. If
 ``NUMBA_CACHE_DIR`` is set (``scripts/paper`` and ``scripts/test`` set their own, keyed the
-same way), numba's own locator puts everything there instead. If the folder cannot be created,
-numba's default (``__pycache__`` beside the sources) is left in place; if numba's caching
+same way), numba's own locator puts everything there instead. If the folder cannot be created
+(a read-only home), a private folder of the user's in the system's temporary folder is used
+(``brakeca-<uid>/numba/<key>``, mode 0700, refused unless the user owns it); if neither can,
+numba's default (``__pycache__`` beside the sources) is left in place where the sources are
+writable, and otherwise :func:`install` stops with a message that names ``NUMBA_CACHE_DIR``
+(numba's own error named a locator and the source file). If numba's caching
 internals are not the ones this module knows, it falls back to setting ``NUMBA_CACHE_DIR``
 for the process. The first compiling module of a process touches its version's folder; the
 folders of other versions are removed once unused: an empty one after a day, any other after
@@ -31,7 +35,14 @@ import os
 from pathlib import Path
 from typing import Any
 
-__all__ = ["cache_folder", "install", "kernel_cache_dir", "prune", "source_key"]
+__all__ = [
+    "KernelCacheError",
+    "cache_folder",
+    "install",
+    "kernel_cache_dir",
+    "prune",
+    "source_key",
+]
 
 _PACKAGE = Path(__file__).resolve().parent
 
@@ -40,6 +51,10 @@ KEEP_UNUSED = 30 * 86400.0
 #: [s] another version's empty cache folder (a version imported, nothing compiled) is removed
 #: after this long: not at once, since a process of that version may be just starting
 KEEP_EMPTY = 86400.0
+
+
+class KernelCacheError(RuntimeError):
+    """No folder brakeca's compiled kernels could be cached in (see :func:`install`)."""
 
 
 #: The package's files that numba's compiled code comes from: every module that defines a
@@ -72,19 +87,56 @@ def source_key(package: Path = _PACKAGE) -> str:
     return digest.hexdigest()[:16]
 
 
-@functools.cache
-def cache_folder() -> Path | None:
-    """This version's cache folder, created and touched (and the other versions' pruned) on
-    the first call of the process; None when it cannot be created or written."""
-    root = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    folder = Path(root) / "brakeca" / "numba" / source_key()
+def _private_temp_root() -> Path | None:
+    """The user's own folder in the system's temporary folder, ``brakeca-<uid>``, made with
+    mode 0700; None when it cannot be made, or when it is a link, is not the user's or lets
+    others write or read it (numba's cache files are pickles: loading another user's would
+    run their code)."""
+    import stat
+    import tempfile
+
+    uid = os.getuid() if hasattr(os, "getuid") else None
+    root = Path(tempfile.gettempdir()) / f"brakeca-{uid if uid is not None else 'user'}"
+    try:
+        root.mkdir(mode=0o700, exist_ok=True)
+        info = root.lstat()
+    except OSError:
+        return None
+    if not stat.S_ISDIR(info.st_mode):
+        return None
+    if uid is not None and (info.st_uid != uid or info.st_mode & 0o077):
+        return None
+    return root
+
+
+def _usable(folder: Path) -> bool:
+    """Whether ``folder`` could be created (with its parents) and written; touches it."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
         if not os.access(folder, os.W_OK):
-            return None
+            return False
         os.utime(folder)  # in use: loading cached kernels writes nothing numba would date
     except OSError:
-        return None
+        return False
+    return True
+
+
+@functools.cache
+def cache_folder() -> Path | None:
+    """This version's cache folder, created and touched (and the other versions' pruned) on
+    the first call of the process: ``$XDG_CACHE_HOME/brakeca/numba/<key>`` (``~/.cache``
+    when the variable is unset), else, when that cannot be created or written, the same key
+    in the user's private temporary folder (``<tmp>/brakeca-<uid>/numba/<key>``); None when
+    neither can."""
+    home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    folder = Path(home) / "brakeca" / "numba" / source_key()
+    if not _usable(folder):
+        temp = _private_temp_root()
+        if temp is None:
+            return None
+        folder = temp / "numba" / source_key()
+        if not _usable(folder):
+            return None
     prune(folder)
     return folder
 
@@ -115,7 +167,15 @@ def install() -> None:
         return  # numba's own locator honours it, for every function
     folder = cache_folder()
     if folder is None:
-        return
+        if os.access(_PACKAGE, os.W_OK):
+            return  # numba's default: __pycache__ beside the sources
+        home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+        raise KernelCacheError(
+            "brakeca cannot cache its compiled kernels: neither its cache folder under "
+            f"{home} nor a private folder in the temporary folder can be written, and its "
+            f"sources ({_PACKAGE}) are read-only. Set NUMBA_CACHE_DIR to a folder you can "
+            "write (or XDG_CACHE_HOME) and run again"
+        )
     from numba.core import caching
 
     impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)

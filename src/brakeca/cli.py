@@ -2313,8 +2313,13 @@ _register_subcommands()
 
 def main() -> None:
     """Entry point of the ``brakeca`` command."""
+    from brakeca._cachedir import KernelCacheError
+
     try:
         app()
+    except KernelCacheError as exc:  # the environment, not a bug: no traceback
+        console.print(f"[bold red]error:[/] {escape(str(exc))}", highlight=False)
+        sys.exit(1)
     except KeyboardInterrupt as exc:  # pragma: no cover - interactive
         console.print("interrupted")
         sys.exit(_interrupt_status(exc))

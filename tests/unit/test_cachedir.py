@@ -11,6 +11,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 import brakeca
 from brakeca._cachedir import KERNEL_SOURCES, prune, source_key
 
@@ -86,12 +88,46 @@ def test_a_set_cache_dir_is_kept(tmp_path) -> None:
     assert Path(str(seen["users"])).parent == mine  # numba's own rule, for everyone
 
 
-def test_an_unwritable_cache_home_leaves_numbas_default(tmp_path) -> None:
+def test_an_unwritable_cache_home_falls_back_to_a_private_temporary_folder(tmp_path) -> None:
+    """A read-only home (a container, a locked-down account): the kernels are cached in the
+    user's own folder in the temporary folder, made private (a review: with the package
+    installed read-only too, numba stopped every run with 'no locator available')."""
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    seen = _probe(tmp_path, _env(XDG_CACHE_HOME=str(blocker)))
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    seen = _probe(tmp_path, _env(XDG_CACHE_HOME=str(blocker), TMPDIR=str(temp)))
     assert seen["env_after"] is None and seen["config_after"] == ""
+    private = temp / f"brakeca-{os.getuid()}"
+    assert Path(str(seen["brakeca"])).parent == private / "numba" / source_key()
+    assert private.stat().st_mode & 0o777 == 0o700
+
+
+def test_a_temporary_folder_others_can_write_is_refused(tmp_path) -> None:
+    """Another user's (or a world-writable) ``brakeca-<uid>`` in the temporary folder is not
+    used, since numba's cache files are pickles; numba's default beside the sources (here
+    writable) is left in place."""
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    temp = tmp_path / "tmp"
+    (temp / f"brakeca-{os.getuid()}").mkdir(parents=True)
+    (temp / f"brakeca-{os.getuid()}").chmod(0o777)
+    seen = _probe(tmp_path, _env(XDG_CACHE_HOME=str(blocker), TMPDIR=str(temp)))
     assert Path(str(seen["brakeca"])) == PACKAGE / "__pycache__"  # beside the sources
+    assert not (temp / f"brakeca-{os.getuid()}" / "numba").exists()
+
+
+def test_no_writable_cache_anywhere_is_a_clear_error(monkeypatch, tmp_path) -> None:
+    """No cache folder and read-only sources: install() says what to set, before numba
+    would fail on the first kernel with 'cannot cache function ...: no locator available'."""
+    from brakeca import _cachedir
+
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
+    monkeypatch.setattr(_cachedir, "cache_folder", lambda: None)
+    monkeypatch.setattr(_cachedir, "_PACKAGE", tmp_path / "read-only sources (missing)")
+    message = r"cannot cache its compiled kernels.*NUMBA_CACHE_DIR"
+    with pytest.raises(_cachedir.KernelCacheError, match=message):
+        _cachedir.install.__wrapped__()
 
 
 def test_a_change_to_compiled_code_changes_the_key_and_no_other_does(tmp_path) -> None:
@@ -203,3 +239,19 @@ print(seen)
     )
     assert out.returncode == 0, out.stderr
     assert int(out.stdout.strip()) > 50  # the kernels and their helpers
+
+
+def test_the_command_line_reports_no_cache_folder_in_a_line(monkeypatch, capsys) -> None:
+    """``brakeca`` prints the message and exits with status 1, without a traceback."""
+    from brakeca import _cachedir, cli
+
+    def no_cache() -> None:
+        raise _cachedir.KernelCacheError("brakeca cannot cache its compiled kernels: (test)")
+
+    monkeypatch.setattr(cli, "app", no_cache)
+    with pytest.raises(SystemExit) as stop:
+        cli.main()
+    assert stop.value.code == 1
+    err = capsys.readouterr().err
+    assert "error: brakeca cannot cache its compiled kernels: (test)" in err
+    assert "Traceback" not in err
