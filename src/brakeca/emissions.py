@@ -421,13 +421,16 @@ def pm10_from_run(
         Distance the simulated stops belong to [m], e.g.
         :attr:`brakeca.traces.CycleSource.distance`.
     params
-        Emission factors; by default :class:`EmissionParameters` with ``pads_per_brake``
-        taken from the run's ``brake.pads_per_brake`` and, on a speed trace, the front axle's
-        share of the emissions ``front_emission_share`` from the run's front brake force
-        share ``cycle.trace.front_brake_share`` (emissions following friction work; its range
-        the default's spread about it, 0.1 either side, within (0, 1]): the run's front
-        brake was loaded with that share, so a fixed 0.7 would scale a front brake given 0.9
-        of the braking up to a vehicle that brakes more than it does.
+        Emission factors (default :class:`EmissionParameters`). The fields they do not set
+        (``model_fields_set``: those given to the constructor or to
+        :meth:`EmissionParameters.from_dict`) take the run's values where the run has them:
+        ``pads_per_brake`` the run's ``brake.pads_per_brake`` and, on a speed trace, the
+        front axle's share of the emissions ``front_emission_share`` the run's front brake
+        force share ``cycle.trace.front_brake_share`` (emissions following friction work;
+        its range the default's spread about it, 0.1 either side, within (0, 1]; unless the
+        share or its range is given): the run's front brake was loaded with that share, so a
+        fixed 0.7 would scale a front brake given 0.9 of the braking up to a vehicle that
+        brakes more than it does.
 
     Returns
     -------
@@ -443,21 +446,25 @@ def pm10_from_run(
     from brakeca.geometry import make_grid
 
     config = result.config
-    if params is None:
-        share: dict[str, Any] = {}
-        if config.cycle.trace_file:
-            phi = config.cycle.trace.front_brake_share
-            lo, hi = EmissionParameters.model_fields["front_emission_share_range"].default
-            default = EmissionParameters.model_fields["front_emission_share"].default
-            # the default's spread (0.6 to 0.8 about 0.7) moved to the run's share, within (0, 1]
-            share = {
-                "front_emission_share": phi,
-                "front_emission_share_range": (
-                    max(lo + (phi - default), 0.5 * phi),  # lo itself at the default share
-                    min(hi + (phi - default), 1.0),
-                ),
-            }
-        params = EmissionParameters(pads_per_brake=config.brake.pads_per_brake, **share)
+    given = params or EmissionParameters()
+    mine = given.model_fields_set if params is not None else set()
+    runs: dict[str, Any] = {}  # the run's values of the fields the caller left unset
+    if "pads_per_brake" not in mine:
+        runs["pads_per_brake"] = config.brake.pads_per_brake
+    if config.cycle.trace_file and not mine & {
+        "front_emission_share",
+        "front_emission_share_range",
+    }:
+        phi = config.cycle.trace.front_brake_share
+        lo, hi = EmissionParameters.model_fields["front_emission_share_range"].default
+        default = EmissionParameters.model_fields["front_emission_share"].default
+        # the default's spread (0.6 to 0.8 about 0.7) moved to the run's share, within (0, 1]
+        runs["front_emission_share"] = phi
+        runs["front_emission_share_range"] = (
+            max(lo + (phi - default), 0.5 * phi),  # lo itself at the default share
+            min(hi + (phi - default), 1.0),
+        )
+    params = EmissionParameters.model_validate({**given.model_dump(), **runs})
     volume = float(result.dataset["emitted_volume"].sum())
     return pm10_band(
         volume,
