@@ -383,6 +383,33 @@ ReplaceOpt = Annotated[
         "without it that is refused, and the run files of both are kept either way",
     ),
 ]
+EmissionsOpt = Annotated[
+    Path | None,
+    typer.Option(
+        "--emissions",
+        metavar="FILE",
+        dir_okay=False,
+        help="TOML of the factors from emitted volume to PM10 in mg/km on a speed trace "
+        "(brakeca.emissions.EmissionParameters' fields, e.g. airborne_fraction = 0.4 and "
+        "airborne_fraction_range = [0.3, 0.5]); those left out keep their defaults and the "
+        "run's pads per brake and front brake share (docs/cycles.md)",
+    ),
+]
+
+
+def _emissions(path: Path | None) -> Any:
+    """The :class:`brakeca.emissions.EmissionParameters` of ``--emissions`` (None without
+    it); a file that cannot be read or a bad field stops the command first (exit 2)."""
+    if path is None:
+        return None
+    from brakeca.emissions import load_emissions
+
+    try:
+        return load_emissions(path)
+    except ConfigError as exc:
+        _fail(f"--emissions {exc}")
+
+
 SpeedUnitOpt = Annotated[
     str | None,
     typer.Option(
@@ -444,6 +471,7 @@ def simulate(
             "('brakeca plot' draws them)",
         ),
     ] = None,
+    emissions: EmissionsOpt = None,
 ) -> None:
     """Simulate one pad over the drive cycle and write a netCDF run file."""
     from rich.progress import (
@@ -463,6 +491,7 @@ def simulate(
 
     if speed_unit is not None and cycle is None:
         _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
+    factors = _emissions(emissions)
     try:
         config = resolve_config(preset, config_file, overrides, stops, quick)
         if cycle is not None:
@@ -575,6 +604,26 @@ def simulate(
             failure = (f"--checkpoint {checkpoint}: cannot write it ({exc}); nothing written", 1)
     if failure is not None:  # after the bar's last line, so that the error is the last word
         _fail(*failure)
+    estimate = None
+    if source.kind == "trace":
+        from brakeca.emissions import pm10_from_run
+
+        estimate = pm10_from_run(result, source.distance, factors)
+        if factors is not None:  # the run file records the figures printed
+            result.dataset.attrs.update(
+                {
+                    "pm10_mg_km": float(estimate.central),
+                    "pm10_mg_km_low": float(estimate.low),
+                    "pm10_mg_km_high": float(estimate.high),
+                    "pm10_factors": f"--emissions {emissions}: {estimate.params.factors_text()}",
+                }
+            )
+    elif factors is not None:
+        console.print(
+            f"[yellow]note:[/] --emissions {escape(str(emissions))}: PM10 in mg/km is given "
+            "on a speed trace only (--cycle TRACE.csv): a block cycle has no distance",
+            highlight=False,
+        )
     _write_or_keep(output, result.to_netcdf, "run")
     if checkpoint is not None:
         checkpoint.unlink(missing_ok=True)
@@ -603,10 +652,8 @@ def simulate(
         f"ledger residual (max, relative) = {float(ds['max_ledger_residual']):.2e}; "
         f"friction residual (max) = {float(ds['max_friction_residual']):.2e}"
     )
-    if source.kind == "trace":
-        from brakeca.emissions import pm10_from_run
-
-        for line in pm10_from_run(result, source.distance).describe():
+    if estimate is not None:
+        for line in estimate.describe():
             out.print(line, highlight=False)
     out.print(f"wrote {output}", markup=False)
 
@@ -912,6 +959,7 @@ def _run_and_report(
     speed_unit: str | None = None,
     replace: bool = False,
     maps_at: str | None = None,
+    emissions: Path | None = None,
 ) -> None:
     import time
 
@@ -926,6 +974,12 @@ def _run_and_report(
     from brakeca.study import write_study
 
     # option combinations that do not go together: refused before anything runs (exit 2)
+    factors = _emissions(emissions)
+    if factors is not None and not report:
+        _fail(
+            f"--emissions {emissions} sets the report's PM10; with --no-report 'brakeca analyze "
+            f"{output} --emissions {emissions}' takes it once the runs are done"
+        )
     if executor not in EXECUTOR_KINDS:
         _fail(f"--executor {executor!r}: choose one of {', '.join(EXECUTOR_KINDS)}")
     if executor != "dask":
@@ -1040,7 +1094,12 @@ def _run_and_report(
         lines: list[str] = []
         with _on_interrupt(later):
             try:
-                path = write_study(finish_campaign(output), note=_note, in_short=lines.append)
+                path = write_study(
+                    finish_campaign(output),
+                    note=_note,
+                    in_short=lines.append,
+                    emissions=factors,
+                )
             except OSError as exc:  # a full disk, say: the runs are done
                 _fail(f"-o {output}: cannot write the report ({exc}); {later}", code=1)
         _print_in_short(lines)
@@ -1202,6 +1261,7 @@ def run(
     speed_unit: SpeedUnitOpt = None,
     replace: ReplaceOpt = False,
     maps_at: MapsAtOpt = None,
+    emissions: EmissionsOpt = None,
 ) -> None:
     """Run every point of a design into a campaign folder (resumes finished runs)."""
     _run_and_report(
@@ -1221,6 +1281,7 @@ def run(
         speed_unit=speed_unit,
         replace=replace,
         maps_at=maps_at,
+        emissions=emissions,
     )
 
 
@@ -1295,12 +1356,14 @@ def analyze(
             "be written to, or a second analysis of it, goes there",
         ),
     ] = None,
+    emissions: EmissionsOpt = None,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
     from brakeca.analysis import alpha_problem
     from brakeca.campaign import finish_campaign
     from brakeca.study import check_max_order, destination_problem, write_study
 
+    factors = _emissions(emissions)
     if reduce is not None and (problem := alpha_problem(reduce)):
         _fail(f"--reduce: {problem}")
     if anova_type is not None and anova_type not in (2, 3):
@@ -1368,6 +1431,7 @@ def analyze(
                 note=_note,
                 output=output,
                 in_short=lines.append,
+                emissions=factors,
             )
         except OSError as exc:  # a full disk, a file the folder's owner made read-only
             where = exc.filename or dest
@@ -1392,7 +1456,13 @@ def _print_in_short(lines: Sequence[str]) -> None:
     """Print the report's "In short" (:func:`brakeca.report.in_short`): each response's
     terms with p < 0.05 and R², under a heading; nothing without lines."""
     if lines:
-        out.print("in short (the ANOVA's terms with p < 0.05, largest share first):", markup=False)
+        pm10 = lines[-1].startswith("Brake PM10 ")
+        out.print(
+            "in short (the ANOVA's terms with p < 0.05, largest share first"
+            + ("; last, PM10 against the Euro 7 limits" if pm10 else "")
+            + "):",
+            markup=False,
+        )
         for line in lines:
             out.print(f"  {line}", markup=False, highlight=False, emoji=False)
 

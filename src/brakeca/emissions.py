@@ -28,7 +28,9 @@ dynamometer and vehicle tests", Environ. Sci. Technol. 37 (2003) 4060-4069.
 
 from __future__ import annotations
 
+import tomllib
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field, ValidationError, model_validator
@@ -46,6 +48,7 @@ __all__ = [
     "PM10_COLUMNS",
     "EmissionParameters",
     "PM10Estimate",
+    "load_emissions",
     "pm10_band",
     "pm10_from_run",
     "pm10_mg_per_km",
@@ -195,6 +198,24 @@ class EmissionParameters(_Frozen):
         except ValidationError as exc:
             raise ConfigError(format_validation_error(exc, source)) from None
 
+    def factors_text(self) -> str:
+        """The chain's factors as a sentence for a report, each with its range, e.g.
+        ``"debris density 2600 kg/m³ (2000 to 4000), ..."``."""
+        ranged = [
+            ("debris density", "debris_density", " kg/m³"),
+            ("airborne share", "airborne_fraction", ""),
+            ("PM10 share of the airborne", "pm10_share", ""),
+            ("disc-to-pad wear mass ratio", "disc_to_pad_mass_ratio", ""),
+            ("front axle's share of the emissions", "front_emission_share", ""),
+        ]
+        parts = [
+            f"{label} {getattr(self, name):.4g}{unit} "
+            f"({getattr(self, name + '_range')[0]:.4g} to {getattr(self, name + '_range')[1]:.4g})"
+            for label, name, unit in ranged
+        ]
+        parts.append(f"{self.pads_per_brake} pads a brake, {self.brakes_per_axle} front brakes")
+        return ", ".join(parts)
+
     @property
     def pm10_fraction(self) -> float:
         """Share of the wear mass emitted as airborne PM10, f_air f_PM10 [-]."""
@@ -326,11 +347,18 @@ class PM10Estimate:
         return "straddles"
 
     def describe(self) -> list[str]:
-        """Lines for a report: the estimate, its band, and where the band lies against each
-        Euro 7 limit (no bare pass/fail)."""
+        """Lines for a report: the estimate for the whole vehicle, its band, the factors,
+        and where the band lies against each Euro 7 limit (no bare pass/fail)."""
+        p = self.params
+        pads = p.pads_per_brake * p.brakes_per_axle
         lines = [
-            f"brake PM10 ~ {self.central:.3g} mg/km (band {self.low:.3g} to {self.high:.3g} mg/km "
-            f"from the parameter ranges) over {self.distance / 1000.0:.4g} km",
+            f"vehicle brake PM10 ~ {self.central:.3g} mg/km (band {self.low:.3g} to "
+            f"{self.high:.3g} mg/km from the parameter ranges) over "
+            f"{self.distance / 1000.0:.4g} km: the simulated band's emission scaled to its "
+            f"pad, to the front axle's {pads} pads and by the front axle's share "
+            f"{p.front_emission_share:.3g} to the vehicle",
+            f"factors: {p.factors_text()} (brakeca.emissions.EmissionParameters; change them "
+            "with --emissions FILE, docs/cycles.md)",
         ]
         words = {
             "below": "the whole band lies below",
@@ -473,3 +501,51 @@ def pm10_from_run(
         distance=distance,
         params=params,
     )
+
+
+def load_emissions(path: str | Path) -> EmissionParameters:
+    """Read emission factors from a TOML file: :class:`EmissionParameters`' fields, at the
+    top level or in an ``[emissions]`` table; a field left out keeps its default (or, for
+    ``pads_per_brake`` and the front axle's share, the run's: :func:`pm10_from_run`).
+
+    Parameters
+    ----------
+    path
+        The file, UTF-8 TOML, e.g. ``airborne_fraction = 0.4`` and
+        ``airborne_fraction_range = [0.3, 0.5]`` (densities [kg/m^3], shares and ratios [-]).
+
+    Returns
+    -------
+    EmissionParameters
+        The validated factors.
+
+    Raises
+    ------
+    ConfigError
+        The file cannot be read or is not TOML, or a field is unknown or out of its range
+        (a factor outside its own range included); the message names the file and the field.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from brakeca.emissions import load_emissions
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     path = pathlib.Path(tmp) / "emissions.toml"
+    ...     _ = path.write_text("[emissions]\\nairborne_fraction = 0.4\\n")
+    ...     load_emissions(path).airborne_fraction
+    0.4
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{path}: cannot read: {exc} (a TOML file is UTF-8 text)") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from None
+    if set(data) == {"emissions"} and isinstance(data["emissions"], dict):
+        data = data["emissions"]
+    return EmissionParameters.from_dict(data, source=str(path))

@@ -99,6 +99,9 @@ input.zoom:checked + label.zoom img { max-width: none; }
 {%- endif %}
 <li><a href="#design">Design</a></li>
 <li><a href="#runs">Per-run results</a></li>
+{%- if pm10 %}
+<li><a href="#pm10">Brake PM10</a></li>
+{%- endif %}
 {%- if level_means %}
 <li><a href="#level-means">Level means</a></li>
 {%- endif %}
@@ -143,7 +146,9 @@ them.{% endif %}
 {%- if findings_centre %} The centre points' curvature is always said.{% endif %}
 {%- if findings_pure_error %} Where the ANOVA's residual lacks fit, the terms that the effects
 table, tested against the pure error of the repeated runs alone, finds besides are named
-too.{% endif %}</p>
+too.{% endif %}
+{%- if pm10 %} The last line gives the runs' brake PM10 against the Euro 7 limits (section
+"Brake PM10").{% endif %}</p>
 <ul>
 {%- for line in findings %}
 <li>{{ line }}</li>
@@ -171,6 +176,14 @@ in any step; friction residual: the largest relative miss of the demanded fricti
 Wall time: the run's own computing time.</p>
 {{ render_table(runs) }}
 </section>
+
+{%- if pm10 %}
+<section id="pm10">
+<h2>Brake PM10 against the Euro 7 limits</h2>
+<p class="note">{{ pm10_info }}</p>
+{{ render_table(pm10) }}
+</section>
+{%- endif %}
 
 {%- if level_means %}
 <section id="level-means">
@@ -1761,6 +1774,7 @@ def render_report(
     coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
     comparison_tables: Mapping[str, pd.DataFrame] | None = None,
     unusual_tables: Mapping[str, pd.DataFrame] | None = None,
+    pm10: tuple[pd.DataFrame, str, str] | None = None,
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -1876,6 +1890,8 @@ def render_report(
         residual_tables=residual_tables,
         unusual_tables=unusual_tables,
     )
+    if pm10 is not None:
+        findings.append(pm10[2])
     return template.render(
         title=title,
         version=version,
@@ -1907,6 +1923,8 @@ def render_report(
         box_cox_info=_BOX_COX_INFO,
         anova_info=anova_info,
         findings=findings,
+        pm10=None if pm10 is None else _generic_table(pm10[0]),
+        pm10_info="" if pm10 is None else pm10[1],
         # what the findings' note explains only where the design has it (a review read
         # aliases, centre points and pure error in a report of a full factorial without them)
         findings_centre=any(
@@ -2131,6 +2149,7 @@ def write_report(
     coefficient_tables: Mapping[str, pd.DataFrame] | None = None,
     comparison_tables: Mapping[str, pd.DataFrame] | None = None,
     unusual_tables: Mapping[str, pd.DataFrame] | None = None,
+    pm10: tuple[pd.DataFrame, str, str] | None = None,
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -2206,6 +2225,10 @@ def write_report(
         runs, the report names those the Bonferroni outlier test calls outliers of the
         model and says which of the ANOVA's verdicts change without them (the same runs
         its "In short" names).
+    pm10
+        The runs' brake PM10 on a speed trace: a table (one row per run: its levels, PM10
+        and band [mg/km], where the band lies against each Euro 7 limit), the paragraph
+        above it, and the line "In short" ends with.
 
     Returns
     -------
@@ -2246,5 +2269,6 @@ def write_report(
         coefficient_tables=coefficient_tables,
         comparison_tables=comparison_tables,
         unusual_tables=unusual_tables,
+        pm10=pm10,
     )
     return write_text(path, html)

@@ -31,7 +31,8 @@ fell back to the exact scan, ``paper_factors`` (the paper's S, WP, WR and A as t
 them, in their units) and a ``comment`` that explains ``quick``, ``max_stops`` and
 ``n_steps_total``; a run on a speed trace also ``distance`` [m] (the trace's distance its
 events belong to) and ``pm10_mg_km``, ``pm10_mg_km_low``, ``pm10_mg_km_high`` [mg/km]
-(:func:`brakeca.emissions.pm10_from_run`, the default factors); the ``rule`` coordinate's
+(:func:`brakeca.emissions.pm10_from_run`, the default factors; ``brakeca simulate
+--emissions FILE`` records its own, named in ``pm10_factors``); the ``rule`` coordinate's
 ``rule_meanings`` names the seven plateau rules (:data:`RULE_ATTRS`).
 
 References

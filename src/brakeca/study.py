@@ -21,6 +21,7 @@ doi:10.1155/2016/8181260
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,6 +42,7 @@ if TYPE_CHECKING:
     import xarray as xr
 
     from brakeca.analysis import Model
+    from brakeca.emissions import EmissionParameters, PM10Estimate
 
 __all__ = [
     "RESPONSES",
@@ -345,7 +347,8 @@ Files (R is the response: MU, V or log10_V_mm3):
 - `optimum.csv`: the optimum of the design's goals (V and its limits in m³); each goal's
   `lower`, `target` and `upper` as Minitab gives them: a minimize goal's target (where it
   is fully met) and upper limit, a maximize goal's lower limit and target.
-- `pm10.csv` (runs on a speed trace): the summary with PM10 in mg/km.
+- `pm10.csv` (runs on a speed trace): the summary with PM10 in mg/km (low, central, high)
+  and where each band lies against the Euro 7 limits (`vs_7_mg_km`, `vs_3_mg_km`).
 """
 
 
@@ -540,54 +543,138 @@ def _box_cox(
     }
 
 
-def _pm10_of(run: RunResult) -> tuple[float, float, float] | None:
-    """PM10 [mg/km] low, central and high of a run on a speed-trace cycle; None for a run on
-    a block cycle, whose distance between stops is unknown."""
+def _pm10_of(run: RunResult, emissions: EmissionParameters | None = None) -> PM10Estimate | None:
+    """PM10 [mg/km] of a run on a speed-trace cycle with ``emissions`` (the defaults and
+    the run's own pads and front share for what it does not set); None for a run on a block
+    cycle, whose distance between stops is unknown. The distance is the one the run
+    recorded (its trace need not be here), else its trace's (an earlier version's run)."""
     from brakeca.emissions import pm10_from_run
     from brakeca.traces import configured_cycle
 
     if not run.config.cycle.trace_file:
         return None
     attrs = run.dataset.attrs
-    if "pm10_mg_km" in attrs:  # recorded by the run: its trace need not be here
-        low, central, high = (float(attrs[f"pm10_mg_km{k}"]) for k in ("_low", "", "_high"))
-        return low, central, high
-    est = pm10_from_run(run, configured_cycle(run.config).distance)  # an earlier version's
-    return est.low, est.central, est.high
-
-
-def _pm10_columns(
-    summary: pd.DataFrame, pm10_of: Mapping[str, tuple[float, float, float] | None]
-) -> tuple[pd.DataFrame, str]:
-    """PM10 [mg/km] low/central/high of every run on a speed-trace cycle (NaN for runs on a
-    block cycle, for failed runs and for runs whose file is missing or unreadable: those
-    not in ``pm10_of``, each readable run's :func:`_pm10_of`)."""
-    from brakeca.emissions import (
-        EURO7_PM10_LIMIT,
-        EURO7_PM10_LIMIT_PEV,
-        EURO7_REFERENCE,
-        PM10_COLUMNS,
+    distance = (
+        float(attrs["distance"]) if "distance" in attrs else configured_cycle(run.config).distance
     )
+    return pm10_from_run(run, distance, emissions)
 
-    rows: dict[str, list[float]] = {name: [] for name in PM10_COLUMNS}
-    any_trace = any(v is not None for v in pm10_of.values())
+
+def _sig3(x: float) -> str:
+    """``x`` to three significant digits without an exponent below a million: 1270, 0.0524."""
+    return f"{float(f'{x:.3g}'):g}" if abs(x) < 1e6 else f"{x:.3g}"
+
+
+#: The columns of ``tables/pm10.csv`` after the PM10 band: where the band lies against each
+#: Euro 7 limit (``below``, ``straddles``, ``above``; :meth:`PM10Estimate.position`).
+PM10_POSITION_COLUMNS: dict[str, float] = {"vs_7_mg_km": 7.0, "vs_3_mg_km": 3.0}
+
+
+@dataclass(frozen=True)
+class _Pm10:
+    """A campaign's PM10 for the report: the summary with the PM10 columns (``pm10.csv``),
+    the report's table and its paragraph, and the "In short" line."""
+
+    summary: pd.DataFrame
+    table: pd.DataFrame
+    info: str
+    line: str
+
+
+def _pm10_report(
+    summary: pd.DataFrame, pm10_of: Mapping[str, PM10Estimate | None], design: Design
+) -> _Pm10 | None:
+    """PM10 [mg/km] low/central/high of every run on a speed-trace cycle and where its band
+    lies against each Euro 7 limit (NaN and empty for runs on a block cycle, failed runs and
+    runs whose file is missing or unreadable: those not in ``pm10_of``); None when no run is
+    on a trace."""
+    from brakeca.emissions import EURO7_LIMITS, EURO7_REFERENCE, PM10_COLUMNS, SHORT_DISTANCE
+
+    estimates = {rid: est for rid, est in pm10_of.items() if est is not None}
+    if not estimates:
+        return None
+    assert tuple(EURO7_LIMITS.values()) == tuple(PM10_POSITION_COLUMNS.values())
+    values: dict[str, list[Any]] = {name: [] for name in (*PM10_COLUMNS, *PM10_POSITION_COLUMNS)}
+    shown: list[dict[str, Any]] = []
+    replicated = is_replicated(summary)
     for _, row in summary.iterrows():
-        values = (
-            pm10_of.get(str(row.get("run_id", ""))) if row.get("status", "ok") == "ok" else None
+        est = estimates.get(str(row.get("run_id", ""))) if row.get("status", "ok") == "ok" else None
+        triple = (math.nan,) * 3 if est is None else (est.low, est.central, est.high)
+        for key, value in zip(PM10_COLUMNS, triple, strict=True):
+            values[key].append(value)
+        for key, limit in PM10_POSITION_COLUMNS.items():
+            values[key].append("" if est is None else est.position(limit))
+        if est is None:
+            continue
+        levels = {
+            f.name: f.label_of(row[f.name]) if f.choices is not None else f"{row[f.name]:g}"
+            for f in design.factors
+        }
+        shown.append(
+            {
+                "Test": int(row["test"]),
+                **({"Replicate": int(row["replicate"])} if replicated else {}),
+                **levels,
+                "PM10 [mg/km]": _sig3(est.central),
+                "Band [mg/km]": f"{_sig3(est.low)} to {_sig3(est.high)}",
+                **{
+                    f"{limit:g} mg/km ({who})": est.position(limit)
+                    for who, limit in EURO7_LIMITS.items()
+                },
+            }
         )
-        for key, value in zip(rows, values or (float("nan"),) * 3, strict=True):
-            rows[key].append(value)
-    if not any_trace:
-        return summary, ""
-    note = (
-        "PM10 [mg/km] (runs on a speed trace): emitted volume -> mass (debris density) -> "
-        "airborne PM10, scaled from the band to the pad, wheel and vehicle over the trace's "
-        "distance; low/high use the ends of every parameter's literature range "
-        "(docs/cycles.md). Compare with the Euro 7 limits of "
-        f"{EURO7_PM10_LIMIT:g} mg/km (most cars) and {EURO7_PM10_LIMIT_PEV:g} mg/km (pure "
-        f"battery-electric), {EURO7_REFERENCE}; a band across a limit is not a pass or a fail."
+    runs = list(estimates.values())
+    distances = sorted({est.distance for est in runs})
+    km = (
+        f"{distances[0] / 1000.0:.4g} km"
+        if len(distances) == 1
+        else f"{distances[0] / 1000.0:.4g} to {distances[-1] / 1000.0:.4g} km"
     )
-    return summary.assign(**rows), note
+    factors = sorted({est.params.factors_text() for est in runs})
+    factor_text = (
+        f"The factors: {factors[0]}."
+        if len(factors) == 1
+        else "The factors differ between runs (each run's pads per brake and front brake "
+        "share): " + "; ".join(factors) + "."
+    )
+    short = (
+        f" Over {km} only: the limits hold for the WLTP-Brake cycle's 192 km of mixed "
+        "driving (UN GTR No. 24), whose mix of stops a short trace does not have."
+        if distances[0] < SHORT_DISTANCE
+        else ""
+    )
+    info = (
+        f"The vehicle's brake PM10 over the speed trace ({km}), from each run's emitted "
+        "volume: the simulated band's emission scaled to its pad, to the front axle's pads "
+        "and by the front axle's share of the emissions to the vehicle, then to mass (debris "
+        "density, plus the disc's wear at the disc-to-pad mass ratio) and to airborne PM10 "
+        "(airborne share, PM10 share); the band takes every factor at the end of its "
+        "literature range that lowers or raises the figure at once (docs/cycles.md): an "
+        f"envelope, not a statistical interval. {factor_text} 'brakeca analyze FOLDER "
+        "--emissions FILE' takes others. Where each run's band lies against the Euro 7 "
+        f"limits ({EURO7_REFERENCE}): below, straddles or above it; a band across a limit is "
+        f"not a pass or a fail.{short} tables/pm10.csv has every run's figures."
+    )
+    centrals = [est.central for est in runs]
+    counts = "; ".join(
+        f"against {limit:g} mg/km, "
+        + ", ".join(
+            f"{n} {word}"
+            for word, n in (
+                (w, sum(est.position(limit) == w for est in runs))
+                for w in ("below", "straddles", "above")
+            )
+            if n
+        )
+        for limit in EURO7_LIMITS.values()
+    )
+    line = (
+        f"Brake PM10 over {km}: {_sig3(min(centrals))} to {_sig3(max(centrals))} mg/km over the "
+        f"{len(runs)} runs on the trace; bands {counts}"
+        + (" (a short trace: the limits hold for WLTP-Brake's 192 km)" if short else "")
+        + "."
+    )
+    return _Pm10(summary.assign(**values), pd.DataFrame(shown), info, line)
 
 
 def check_max_order(
@@ -638,6 +725,7 @@ def write_study(
     note: Callable[[str], object] | None = None,
     output: str | Path | None = None,
     in_short: Callable[[str], object] | None = None,
+    emissions: EmissionParameters | None = None,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -677,7 +765,14 @@ def write_study(
     in_short
         Called, once the report is written, with each line of its "In short" (each
         response's significant terms with their shares and R²;
-        :func:`brakeca.report.in_short`), for a command to print them as well.
+        :func:`brakeca.report.in_short`), for a command to print them as well; on a speed
+        trace, last, a line on the runs' PM10 against the Euro 7 limits.
+    emissions
+        The factors from a run's emitted volume to the vehicle's PM10 [mg/km] of the runs
+        on a speed trace (:func:`brakeca.emissions.load_emissions`); the fields it does not
+        set keep their defaults and the run's pads per brake and front brake share
+        (:func:`brakeca.emissions.pm10_from_run`). By default those of the runs' own
+        files.
 
     Returns
     -------
@@ -729,12 +824,16 @@ def write_study(
         band = _band_caption(base)
         _response_figures(figures, result, found, band)
         _cycle_figures(figures, result, _stops_run(result, base), band)
-    files = _run_file_figures(figures, found.ok, result.design, source / "runs", run_maps=run_maps)
+    files = _run_file_figures(
+        figures, found.ok, result.design, source / "runs", run_maps=run_maps, emissions=emissions
+    )
     notes = _study_notes(result, found, files, base, source, note=note)
-    summary, pm10_note = _pm10_columns(result.summary, files.pm10_of)
-    if pm10_note:
-        notes = notes + "\n\n" + pm10_note
+    pm10 = _pm10_report(result.summary, files.pm10_of, result.design)
+    summary = result.summary if pm10 is None else pm10.summary
+    if pm10 is not None:
         write_table(summary, tables_dir / "pm10.csv")
+    else:
+        (tables_dir / "pm10.csv").unlink(missing_ok=True)  # an earlier analysis's
     shown = summary.copy()
     for f in result.design.factors:
         if f.choices is not None and f.name in shown.columns:  # 'paper', not its level 1
@@ -786,6 +885,7 @@ def write_study(
         comparison_tables={resp: tables[resp]["comparisons"] for resp in RESPONSES},
         residual_tables=residual_tables,
         unusual_tables=unusual_tables,
+        pm10=None if pm10 is None else (pm10.table, pm10.info, pm10.line),
     )
     if in_short is not None:
         for line in report.in_short(
@@ -797,6 +897,8 @@ def write_study(
             unusual_tables=unusual_tables,
         ):
             in_short(line)
+        if pm10 is not None:
+            in_short(pm10.line)
     return path
 
 
@@ -1190,12 +1292,18 @@ class _RunFiles:
     trace) and the finished runs whose file was read."""
 
     unreadable: dict[str, str]
-    pm10_of: dict[str, tuple[float, float, float] | None]
+    pm10_of: dict[str, PM10Estimate | None]
     filed: pd.DataFrame
 
 
 def _run_file_figures(
-    figures: _Figures, ok: pd.DataFrame, design: Design, runs_dir: Path, *, run_maps: bool
+    figures: _Figures,
+    ok: pd.DataFrame,
+    design: Design,
+    runs_dir: Path,
+    *,
+    run_maps: bool,
+    emissions: EmissionParameters | None = None,
 ) -> _RunFiles:
     """The figures drawn from the runs' own files in ``runs_dir``: the initial fibre map of
     each A level and, with ``run_maps``, every run's final plateau map and its maps over the
@@ -1212,7 +1320,7 @@ def _run_file_figures(
     # final maps drawn, its PM10 and, for the first run at each A level, its initial fibre
     # map kept; the fibre maps are listed before the runs' maps, as before.
     unreadable: dict[str, str] = {}
-    pm10_of: dict[str, tuple[float, float, float] | None] = {}  # None: not on a trace
+    pm10_of: dict[str, PM10Estimate | None] = {}  # None: not on a trace
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
     names = {f.name for f in factors}
     replicated = is_replicated(ok)
@@ -1232,7 +1340,7 @@ def _run_file_figures(
             unreadable[rid] = str(exc)
             continue
         ds = run.dataset
-        pm10_of[rid] = _pm10_of(run)
+        pm10_of[rid] = _pm10_of(run, emissions)
         if "A" in names and float(row["A"]) not in first_pad:
             first_pad[float(row["A"])] = (
                 int(row["test"]),

@@ -287,6 +287,31 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     run = RunResult.from_netcdf(out)
     assert run.config.cycle.trace_file == "example_trace" and run.dataset.sizes["stop"] == 5
     assert f"5 stops ({int(run.dataset.n_steps.sum()):,} time steps)" in res.output
+    # the user's emission factors: printed and recorded (a review: only Python took them)
+    factors = tmp_path / "emissions.toml"
+    factors.write_text("airborne_fraction = 0.4\n")
+    mine = tmp_path / "mine.nc"
+    res = runner.invoke(
+        app,
+        [
+            "simulate",
+            "--set",
+            "mesh.n_radial=3",
+            "--set",
+            "mesh.n_angular=100",
+            "--cycle",
+            "example_trace",
+            "--emissions",
+            str(factors),
+            "-o",
+            str(mine),
+        ],
+    )
+    assert res.exit_code == 0, res.output
+    assert "airborne share 0.4 (0.3 to 0.6)" in " ".join(res.stdout.split())
+    attrs = RunResult.from_netcdf(mine).dataset.attrs
+    assert attrs["pm10_mg_km"] == pytest.approx(0.8 * run.dataset.attrs["pm10_mg_km"], rel=1e-12)
+    assert "airborne share 0.4" in attrs["pm10_factors"]
     # a trace file that changes after the configuration was made is refused
     trace = tmp_path / "trace.csv"
     trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n27,0\n30,0\n")

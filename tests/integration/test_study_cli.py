@@ -295,6 +295,37 @@ def test_one_factor_trace_campaign_reports_pm10(tmp_path):
     assert np.all(pm10["PM10_mg_km"] < pm10["PM10_high_mg_km"])
     html = (out / "report.html").read_text()
     assert "7 mg/km" in html and "3 mg/km" in html and "<th>PM10 [mg/km]</th>" in html
+    # each band against each limit, in the table, its own section and "In short" (a review:
+    # the report gave the figures and a note, no verdict, and not the factors used)
+    for column, limit in (("vs_7_mg_km", 7.0), ("vs_3_mg_km", 3.0)):
+        expected = np.where(
+            pm10["PM10_high_mg_km"] < limit,
+            "below",
+            np.where(pm10["PM10_low_mg_km"] > limit, "above", "straddles"),
+        )
+        assert list(pm10[column]) == list(expected)
+    section = html[html.index('<section id="pm10">') :]
+    section = section[: section.index("</section>")]
+    assert "airborne share 0.5 (0.3 to 0.6)" in section
+    assert "the limits hold for the WLTP-Brake cycle" in section
+    assert "Brake PM10 over " in " ".join(res.output.split())
+    # the same campaign with the user's factors: nothing run again, PM10 scaled
+    factors = tmp_path / "emissions.toml"
+    factors.write_text("[emissions]\nairborne_fraction = 0.4\n")
+    again = CliRunner().invoke(
+        app, ["analyze", str(out), "-o", str(tmp_path / "a"), "--emissions", str(factors)]
+    )
+    assert again.exit_code == 0, again.output
+    mine = pd.read_csv(tmp_path / "a" / "tables" / "pm10.csv")
+    assert np.allclose(mine["PM10_mg_km"], 0.8 * pm10["PM10_mg_km"], rtol=1e-12, atol=0)
+    assert "airborne share 0.4 (0.3 to 0.6)" in (tmp_path / "a" / "report.html").read_text()
+    factors.write_text("airborne_fraction = 0.9\n")
+    bad = CliRunner().invoke(
+        app, ["analyze", str(out), "-o", str(tmp_path / "b"), "--emissions", str(factors)]
+    )
+    assert bad.exit_code == 2
+    assert "--emissions" in bad.output and "airborne_fraction" in bad.output
+    assert not (tmp_path / "b").exists()  # refused before anything was written
 
 
 CYCLE_DESIGN = """

@@ -210,3 +210,36 @@ def test_a_trace_changed_during_its_run_loses_nothing(tmp_path):
     run = simulate(config, seed=1, progress=edit)
     assert run.dataset.attrs["distance"] == distance
     assert run.dataset.attrs["pm10_mg_km"] == pm10_from_run(run, distance).central
+
+
+def test_load_emissions_reads_a_table_or_top_level_fields(tmp_path):
+    from brakeca.config import ConfigError
+    from brakeca.emissions import load_emissions
+
+    path = tmp_path / "e.toml"
+    path.write_text("[emissions]\nairborne_fraction = 0.4\n")
+    assert load_emissions(path).airborne_fraction == 0.4
+    assert load_emissions(path).model_fields_set == {"airborne_fraction"}
+    path.write_text("debris_density = 3000.0\n")
+    assert load_emissions(path).debris_density == 3000.0
+    for text, needle in (
+        ("airborne_fraction = 0.7\n", "airborne_fraction = 0.7 lies outside its range"),
+        ("airbone_fraction = 0.4\n", "airbone_fraction"),
+        ("airborne_fraction = \n", "not valid TOML"),
+        ("debris_density = -1.0\n", "debris_density"),
+    ):
+        path.write_text(text)
+        with pytest.raises(ConfigError, match=needle) as info:
+            load_emissions(path)
+        assert str(path) in str(info.value)
+    with pytest.raises(ConfigError, match="cannot read"):
+        load_emissions(tmp_path / "missing.toml")
+
+
+def test_describe_says_it_is_the_vehicles_figure_and_names_the_factors():
+    estimate = pm10_band(1e-9, band_area=1.7442e-3, pad_area=5.08e-3, distance=100e3)
+    first, factors = estimate.describe()[:2]
+    assert first.startswith("vehicle brake PM10 ~ 0.173 mg/km")
+    assert "the front axle's 4 pads" in first and "share 0.7" in first
+    assert factors.startswith("factors: debris density 2600 kg/m³ (2000 to 4000), ")
+    assert "--emissions FILE" in factors
