@@ -1076,7 +1076,12 @@ def _run_and_report(
                 maps_at=asked_maps,
             )
     except (ConfigError, ExecutorError, CampaignLockedError) as exc:
-        _fail(str(exc).replace("maps_at: ", "--maps-at: ", 1))
+        text = str(exc).replace("maps_at: ", "--maps-at: ", 1)
+        if isinstance(exc, ConfigError) and overrides and " is not valid: " in text:
+            # a level refused on a base the --set options changed (a review: the message
+            # named the design and another factor's level, never the --set)
+            text += " (the runs' base configuration has --set " + ", --set ".join(overrides) + ")"
+        _fail(text)
     except OSError as exc:  # the folder passed the check: a full disk, say
         _fail(
             f"-o {output}: cannot write in it ({exc}); {kept} are kept there, and the same "

@@ -153,7 +153,9 @@ class BrakeConfig(_Frozen):
     pad_area: float = Field(
         5.080e-3, gt=0, description="[m^2] pad area (less than the disc face it rubs on)"
     )
-    piston_diameter: float = Field(0.057, gt=0, description="[m] calliper cylinder diameter")
+    piston_diameter: float = Field(
+        0.057, gt=0, le=0.3, description="[m] calliper cylinder diameter (at most 0.3 m)"
+    )
     pads_per_brake: int = Field(
         2, ge=1, le=8, description="[-] sliding interfaces sharing the torque (decision: 2)"
     )
@@ -231,10 +233,18 @@ class PadConfig(_Frozen):
         lt=1.0,
         description="[-] area fraction covered by metal fibres (factor A), below 1",
     )
-    fibre_length_min: float = Field(1e-3, gt=0, description="[m] shortest fibre")
-    fibre_length_max: float = Field(10e-3, gt=0, description="[m] longest fibre")
-    fibre_diameter_min: float = Field(200e-6, gt=0, description="[m] thinnest fibre")
-    fibre_diameter_max: float = Field(700e-6, gt=0, description="[m] thickest fibre")
+    fibre_length_min: float = Field(
+        1e-3, gt=0, le=0.1, description="[m] shortest fibre (at most 0.1 m)"
+    )
+    fibre_length_max: float = Field(
+        10e-3, gt=0, le=0.1, description="[m] longest fibre (at most 0.1 m)"
+    )
+    fibre_diameter_min: float = Field(
+        200e-6, gt=0, le=0.01, description="[m] thinnest fibre (at most 0.01 m)"
+    )
+    fibre_diameter_max: float = Field(
+        700e-6, gt=0, le=0.01, description="[m] thickest fibre (at most 0.01 m)"
+    )
     resin_roughness: float = Field(
         100e-6, ge=0, description="[m] resin heights are uniform in [0, resin_roughness]"
     )
@@ -1257,6 +1267,9 @@ def format_validation_error(
             msg = "must be a " + ("whole number" if err["type"].startswith("int") else "number")
         elif err["type"] == "int_from_float":
             msg = "must be a whole number"
+        elif err["type"] == "int_parsing_size":  # 1e300: pydantic's "exceeded maximum size"
+            interval = _allowed_range(model, err["loc"]) if model is not None else None
+            msg = "must be a whole number" + (f" in {interval}" if interval else "")
         got_text = (
             ""
             if err["type"] in ("missing",) or isinstance(got, dict) or "got " in msg or not_finite

@@ -141,6 +141,12 @@ def expand_stops(config: SimulationConfig) -> list[Stop]:
     return stops[: config.cycle.n_stops]
 
 
+#: The most time steps one stop may take [-]: the paper's longest stop takes 8,481 at Table 5's
+#: mesh, and 1e7 allocates 160 MB for its time steps alone (a review: an angular step of
+#: 1e-9 degree asked for 531 GiB before a word was said).
+MAX_STOP_STEPS = 10_000_000
+
+
 def step_distance(config: SimulationConfig) -> float:
     """Vehicle travel per full time step, s = R_wheel N_m dtheta [m]: the wheel turns, as the
     disc, by one subdomain (N_m columns of dtheta [rad]) a step; 24.11 mm at Table 5's mesh
@@ -218,6 +224,16 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     if rest < 1e-9:  # the stop ends on a full step (to round-off)
         rest = 0.0
     n = n_full + (1 if rest > 0.0 else 0)
+    if n > MAX_STOP_STEPS:
+        from brakeca.config import ConfigError
+
+        raise ConfigError(
+            f"stop {stop.index} ({stop.block}) brakes over {total * distance:.4g} m in time "
+            f"steps of s = R_wheel N_m dtheta = {distance:.3g} m: {n:.3g} steps, more than "
+            f"the {MAX_STOP_STEPS:,} a stop may take (the paper's longest takes 8,481). Check "
+            "vehicle.wheel_radius [m], mesh.angular_step_deg [deg] and mesh.n_angular / "
+            "mesh.n_subdomains (N_m), and the stop's speeds and deceleration"
+        )
     if n == 0:
         from brakeca.config import ConfigError
 

@@ -499,7 +499,10 @@ def _raise_kernel_error(code, done, stop: Stop, targets, rec, config, state) -> 
         raise ContactError(
             f"{where}: reaching the demanded friction force {target:.4g} N would compress the "
             f"foundation beyond its length contact.bar_length = {config.contact.bar_length} m; "
-            f"the torque cannot be reached{note}"
+            f"the torque cannot be reached{note}. The demand comes from "
+            f"vehicle.wheel_load_mass = {config.vehicle.wheel_load_mass:g} kg braked at the "
+            "cycle's deceleration: a lighter wheel load or a gentler stop lowers it, a longer "
+            "bar or a stiffer contact.elastic_modulus carries more"
         )
     if code == K.ERR_LEDGER:
         raise LedgerError(

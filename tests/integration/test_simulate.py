@@ -109,8 +109,11 @@ def test_unreachable_torque_is_a_clear_error(small):
 
     with pytest.warns(UnitWarning, match="contact.elastic_modulus = 10000 Pa, a foundation"):
         soft = small.with_updates({"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4})
-    with pytest.raises(ContactError, match="bar_length"):
+    with pytest.raises(ContactError, match="bar_length") as info:
         simulate(soft, seed=1)
+    # and names what sets the demand (a review: a wheel load typed 1000 times too large was
+    # blamed on the bar's length alone)
+    assert "vehicle.wheel_load_mass = " in str(info.value)
 
 
 def test_a_torque_the_solve_cannot_resolve_fails_the_run(small):

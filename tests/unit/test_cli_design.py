@@ -354,3 +354,21 @@ def test_a_fields_slips_at_several_levels_are_one_note_and_a_paper_name_is_noted
         "note: factor 'S' sets friction.slope; S is also the paper's name for "
         "automaton.secondary_removal_fraction, which --set S=... sets"
     ) in text
+
+
+def test_a_level_refused_on_a_base_changed_by_set_names_the_set(tmp_path) -> None:
+    """A level valid on the preset but not with a --set: the message names the --set (a
+    review: it named the design, and another factor's level, never the option)."""
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "t"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "mu0"\n'
+        'field = "friction.mu_0"\nlevels = [0.5, 0.6]\n'
+    )
+    out = tmp_path / "c"
+    args = ["run", str(design), "-o", str(out), "--quick", "--set", "friction.mu_min=0.55"]
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 2
+    text = " ".join(res.output.split())
+    assert "mu_min (0.55) must not exceed mu_0 (0.5)" in text
+    assert "(the runs' base configuration has --set friction.mu_min=0.55)" in text
+    assert not out.exists()

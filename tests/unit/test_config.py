@@ -807,3 +807,34 @@ def test_the_python_api_names_a_wrong_type():
     for text in (3, b"[mesh]"):
         with pytest.raises(TypeError, match="config: expected TOML text"):
             SimulationConfig.from_toml(text)
+
+
+@pytest.mark.parametrize(
+    ("key", "value", "message"),
+    [
+        # a millimetre figure typed as metres ran with a line pressure 1e6 too low, and 1e200
+        # overflowed after the whole run (a bad-input review)
+        ("brake.piston_diameter", "57", "brake.piston_diameter: must lie in (0, 0.3]"),
+        ("pad.fibre_diameter_max", "0.7", "pad.fibre_diameter_max: must lie in (0, 0.01]"),
+        ("pad.fibre_length_max", "10", "pad.fibre_length_max: must lie in (0, 0.1]"),
+        # pydantic's "exceeded maximum size", without the range
+        ("mesh.n_radial", "1e300", "mesh.n_radial: must be a whole number in [1, 100000]"),
+    ],
+)
+def test_values_far_out_of_scale_are_refused_with_the_range(key, value, message) -> None:
+    with pytest.raises(ConfigError) as info:
+        load_preset("paper").with_updates(dict([parse_override(f"{key}={value}")]))
+    assert message in str(info.value)
+
+
+def test_a_stop_of_too_many_time_steps_is_refused_before_it_allocates() -> None:
+    """An angular step of 1e-9 degree asked numpy for 531 GiB of time steps (a review)."""
+    from brakeca.cycle import MAX_STOP_STEPS, expand_stops, step_distance, stop_steps
+
+    config = load_preset("paper").with_updates({"mesh.angular_step_deg": 1e-9})
+    with pytest.raises(ConfigError, match=r"more than the 10,000,000 a stop may take") as info:
+        stop_steps(expand_stops(config)[0], step_distance(config))
+    assert "mesh.angular_step_deg" in str(info.value) and "vehicle.wheel_radius" in str(info.value)
+    paper = load_preset("paper")
+    longest = max(stop_steps(stop, step_distance(paper))[0].size for stop in expand_stops(paper))
+    assert longest == 8481 < MAX_STOP_STEPS  # the message quotes it
