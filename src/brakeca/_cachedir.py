@@ -87,11 +87,11 @@ def source_key(package: Path = _PACKAGE) -> str:
     return digest.hexdigest()[:16]
 
 
-def _private_temp_root() -> Path | None:
+def _private_temp_root() -> tuple[Path, str | None]:
     """The user's own folder in the system's temporary folder, ``brakeca-<uid>``, made with
-    mode 0700; None when it cannot be made, or when it is a link, is not the user's or lets
-    others write or read it (numba's cache files are pickles: loading another user's would
-    run their code)."""
+    mode 0700, and why it cannot be used (None when it can): it cannot be made, or it is a
+    link, is not the user's or lets others write or read it (numba's cache files are
+    pickles: loading another user's would run their code)."""
     import stat
     import tempfile
 
@@ -100,13 +100,15 @@ def _private_temp_root() -> Path | None:
     try:
         root.mkdir(mode=0o700, exist_ok=True)
         info = root.lstat()
-    except OSError:
-        return None
+    except OSError as exc:
+        return root, f"cannot be made ({exc.strerror or exc})"
     if not stat.S_ISDIR(info.st_mode):
-        return None
-    if uid is not None and (info.st_uid != uid or info.st_mode & 0o077):
-        return None
-    return root
+        return root, "is not a folder (a link or a file)"
+    if uid is not None and info.st_uid != uid:
+        return root, f"belongs to user {info.st_uid}, not to you"
+    if uid is not None and info.st_mode & 0o077:
+        return root, f"is open to others (mode {stat.S_IMODE(info.st_mode):o}, not 700)"
+    return root, None
 
 
 def _usable(folder: Path) -> bool:
@@ -131,8 +133,8 @@ def cache_folder() -> Path | None:
     home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     folder = Path(home) / "brakeca" / "numba" / source_key()
     if not _usable(folder):
-        temp = _private_temp_root()
-        if temp is None:
+        temp, problem = _private_temp_root()
+        if problem is not None:
             return None
         folder = temp / "numba" / source_key()
         if not _usable(folder):
@@ -170,11 +172,12 @@ def install() -> None:
         if os.access(_PACKAGE, os.W_OK):
             return  # numba's default: __pycache__ beside the sources
         home = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+        temp, problem = _private_temp_root()
         raise KernelCacheError(
-            "brakeca cannot cache its compiled kernels: neither its cache folder under "
-            f"{home} nor a private folder in the temporary folder can be written, and its "
-            f"sources ({_PACKAGE}) are read-only. Set NUMBA_CACHE_DIR to a folder you can "
-            "write (or XDG_CACHE_HOME) and run again"
+            "brakeca cannot cache its compiled kernels: its cache folder under "
+            f"{home} cannot be written, the private folder {temp} "
+            f"{problem or 'cannot be written'}, and its sources ({_PACKAGE}) are read-only. "
+            "Set NUMBA_CACHE_DIR to a folder you can write (or XDG_CACHE_HOME) and run again"
         )
     from numba.core import caching
 

@@ -214,8 +214,8 @@ def display_unit(unit: str) -> str:
     Returns
     -------
     str
-        The same unit for display [-]. A unit with a word of more than three letters
-        (``"per cent"``) keeps its spaces.
+        The same unit for display. A unit with a word (``per``, or four letters or more:
+        ``"per cent"``) keeps its spaces, and a power that is not a whole number its caret.
 
     Examples
     --------
@@ -223,9 +223,13 @@ def display_unit(unit: str) -> str:
     'm³/(N·m)'
     >>> display_unit("m^-1"), display_unit("%"), display_unit("mm^3 per stop")
     ('m⁻¹', '%', 'mm³ per stop')
+    >>> display_unit("g per km"), display_unit("Pa m^0.5")
+    ('g per km', 'Pa·m^0.5')
     """
-    text = re.sub(r"(?<=[A-Za-zµ)])\^(-?\d+)", lambda m: m.group(1).translate(_SUPERSCRIPTS), unit)
-    if not re.search(r"[A-Za-z]{4,}", text):
+    text = re.sub(
+        r"(?<=[A-Za-zµ)])\^(-?\d+)(?![.\d])", lambda m: m.group(1).translate(_SUPERSCRIPTS), unit
+    )
+    if not re.search(r"[A-Za-z]{4,}|\bper\b", text):
         text = re.sub(r"(?<=[A-Za-zµ⁰¹²³⁴⁵⁶⁷⁸⁹)]) +(?=[A-Za-zµ(])", "·", text)
     return text
 

@@ -392,7 +392,8 @@ EmissionsOpt = Annotated[
         help="TOML of the factors from emitted volume to PM10 in mg/km on a speed trace "
         "(brakeca.emissions.EmissionParameters' fields, e.g. airborne_fraction = 0.4 and "
         "airborne_fraction_range = [0.3, 0.5]); those left out keep their defaults and the "
-        "run's pads per brake and front brake share (docs/cycles.md)",
+        "run's pads per brake and front brake share; not kept with a campaign: give it to "
+        "analyze again (docs/cycles.md)",
     ),
 ]
 
@@ -617,6 +618,10 @@ def simulate(
                     "pm10_mg_km_high": float(estimate.high),
                     "pm10_factors": f"--emissions {emissions}: {estimate.params.factors_text()}",
                 }
+            )
+            result.dataset.attrs["comment"] += (
+                "; here pm10_mg_km (_low, _high) are of the factors in pm10_factors "
+                "(brakeca simulate --emissions), not the defaults"
             )
     elif factors is not None:
         console.print(

@@ -74,7 +74,8 @@ class Stop:
         Raises
         ------
         ConfigError
-            As :func:`stop_steps`: the stop would have no time step.
+            As :func:`stop_steps`: the stop would have no time step, or more than
+            :data:`MAX_STOP_STEPS`.
         """
         dt, fraction = stop_steps(self, distance)
         return StopProfile(dt, fraction, np.full(dt.size, self.deceleration))
@@ -147,6 +148,38 @@ def expand_stops(config: SimulationConfig) -> list[Stop]:
 MAX_STOP_STEPS = 10_000_000
 
 
+def check_step_count(total: float, distance: float, where: str) -> None:
+    """Refuse a stop of more than :data:`MAX_STOP_STEPS` time steps before its arrays are
+    made.
+
+    Parameters
+    ----------
+    total
+        The stop's braking distance in full steps [-] (fractional; may be infinite).
+    distance
+        Vehicle travel of one full step, s [m].
+    where
+        The stop, for the message (``"stop 3 (Burnish)"``).
+
+    Raises
+    ------
+    ConfigError
+        ``total`` exceeds :data:`MAX_STOP_STEPS` (or is not finite); the message names the
+        fields that set the step.
+    """
+    if total <= MAX_STOP_STEPS:
+        return
+    from brakeca.config import ConfigError
+
+    raise ConfigError(
+        f"{where} brakes over {total * distance:.4g} m in time steps of s = R_wheel N_m "
+        f"dtheta = {distance:.3g} m: {total:.3g} steps, more than the {MAX_STOP_STEPS:,} a "
+        "stop may take (the paper's longest takes 8,481). Check vehicle.wheel_radius [m], "
+        "mesh.angular_step_deg [deg] and mesh.n_angular / mesh.n_subdomains (N_m), and the "
+        "stop's speeds and deceleration"
+    )
+
+
 def step_distance(config: SimulationConfig) -> float:
     """Vehicle travel per full time step, s = R_wheel N_m dtheta [m]: the wheel turns, as the
     disc, by one subdomain (N_m columns of dtheta [rad]) a step; 24.11 mm at Table 5's mesh
@@ -197,7 +230,8 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     ConfigError
         If the stop would have no time step: it brakes over less than 1e-9 of a step's
         travel ``s`` (a stop shorter than one step but longer than that takes one partial
-        step); the message names the stop and the fields to check.
+        step), or more than :data:`MAX_STOP_STEPS` (:func:`check_step_count`); the message
+        names the stop and the fields to check.
 
     Notes
     -----
@@ -219,21 +253,12 @@ def stop_steps(stop: Stop, distance: float) -> tuple[np.ndarray, np.ndarray]:
     a = stop.deceleration
     v0, v1 = stop.initial_speed, stop.final_speed
     total = (v0 * v0 - v1 * v1) / (2.0 * a * distance)  # full steps, fractional
+    check_step_count(total, distance, f"stop {stop.index} ({stop.block})")
     n_full = math.floor(total)
     rest = total - n_full
     if rest < 1e-9:  # the stop ends on a full step (to round-off)
         rest = 0.0
     n = n_full + (1 if rest > 0.0 else 0)
-    if n > MAX_STOP_STEPS:
-        from brakeca.config import ConfigError
-
-        raise ConfigError(
-            f"stop {stop.index} ({stop.block}) brakes over {total * distance:.4g} m in time "
-            f"steps of s = R_wheel N_m dtheta = {distance:.3g} m: {n:.3g} steps, more than "
-            f"the {MAX_STOP_STEPS:,} a stop may take (the paper's longest takes 8,481). Check "
-            "vehicle.wheel_radius [m], mesh.angular_step_deg [deg] and mesh.n_angular / "
-            "mesh.n_subdomains (N_m), and the stop's speeds and deceleration"
-        )
     if n == 0:
         from brakeca.config import ConfigError
 

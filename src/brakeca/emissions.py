@@ -28,6 +28,7 @@ dynamometer and vehicle tests", Environ. Sci. Technol. 37 (2003) 4060-4069.
 
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass
 from pathlib import Path
@@ -78,6 +79,17 @@ _DIRECTION: dict[str, int] = {
     "pm10_share": 1,
     "disc_to_pad_mass_ratio": 1,
     "front_emission_share": -1,
+}
+
+
+#: Where each ranged factor's values and range ends may lie: (low, low itself allowed, high,
+#: the interval as text).
+_RANGE_BOUNDS: dict[str, tuple[float, bool, float, str]] = {
+    "debris_density": (0.0, False, math.inf, "(0, inf) kg/m^3"),
+    "airborne_fraction": (0.0, False, 1.0, "(0, 1]"),
+    "pm10_share": (0.0, False, 1.0, "(0, 1]"),
+    "disc_to_pad_mass_ratio": (0.0, True, math.inf, "[0, inf)"),
+    "front_emission_share": (0.0, False, 1.0, "(0, 1]"),
 }
 
 
@@ -160,12 +172,20 @@ class EmissionParameters(_Frozen):
         for name in _DIRECTION:
             value = getattr(self, name)
             lo, hi = getattr(self, f"{name}_range")
+            low, low_allowed, high, text = _RANGE_BOUNDS[name]
+            for end in (lo, hi):
+                above = end > low or (low_allowed and end == low)
+                if not (math.isfinite(end) and above and end <= high):
+                    raise ValueError(f"{name}_range: its ends must lie in {text}, got [{lo}, {hi}]")
             if not lo <= hi:
                 raise ValueError(f"{name}_range: low {lo} must not exceed high {hi}")
             if not lo <= value <= hi:
-                raise ValueError(f"{name} = {value} lies outside its range [{lo}, {hi}]")
-        if not 0 < self.front_emission_share_range[0]:
-            raise ValueError("front_emission_share_range must be above 0")
+                default = name not in self.model_fields_set
+                raise ValueError(
+                    f"{name} = {value}{' (its default)' if default else ''} lies outside its "
+                    f"range [{lo}, {hi}]"
+                    + (f": give {name} within the range too" if default else "")
+                )
         return self
 
     @classmethod
@@ -458,7 +478,8 @@ def pm10_from_run(
         its range the default's spread about it, 0.1 either side, within (0, 1]; unless the
         share or its range is given): the run's front brake was loaded with that share, so a
         fixed 0.7 would scale a front brake given 0.9 of the braking up to a vehicle that
-        brakes more than it does.
+        brakes more than it does. Parameters whose every field is set (another estimate's
+        ``params``, say) keep theirs, so pass the factors you mean, not another run's.
 
     Returns
     -------
@@ -546,6 +567,12 @@ def load_emissions(path: str | Path) -> EmissionParameters:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML: {exc}") from None
-    if set(data) == {"emissions"} and isinstance(data["emissions"], dict):
+    if isinstance(data.get("emissions"), dict):
+        others = sorted(set(data) - {"emissions"})
+        if others:
+            raise ConfigError(
+                f"{path}: the factors go in one [emissions] table or at the top level, not "
+                f"both (also: {', '.join(others)})"
+            )
         data = data["emissions"]
     return EmissionParameters.from_dict(data, source=str(path))

@@ -36,6 +36,7 @@ from brakeca._io import write_table, write_text
 from brakeca.analysis import display_unit
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
+from brakeca.emissions import EURO7_LIMITS
 from brakeca.results import RunResult
 
 if TYPE_CHECKING:
@@ -561,13 +562,17 @@ def _pm10_of(run: RunResult, emissions: EmissionParameters | None = None) -> PM1
 
 
 def _sig3(x: float) -> str:
-    """``x`` to three significant digits without an exponent below a million: 1270, 0.0524."""
+    """``x`` to three significant digits, without an exponent from 1e-4 to below a million:
+    1270, 0.0524."""
     return f"{float(f'{x:.3g}'):g}" if abs(x) < 1e6 else f"{x:.3g}"
 
 
 #: The columns of ``tables/pm10.csv`` after the PM10 band: where the band lies against each
-#: Euro 7 limit (``below``, ``straddles``, ``above``; :meth:`PM10Estimate.position`).
-PM10_POSITION_COLUMNS: dict[str, float] = {"vs_7_mg_km": 7.0, "vs_3_mg_km": 3.0}
+#: Euro 7 limit (``below``, ``straddles``, ``above``; :meth:`PM10Estimate.position`), by
+#: limit [mg/km]: ``vs_7_mg_km``, ``vs_3_mg_km``.
+PM10_POSITION_COLUMNS: dict[str, float] = {
+    f"vs_{limit:g}_mg_km": limit for limit in EURO7_LIMITS.values()
+}
 
 
 @dataclass(frozen=True)
@@ -588,12 +593,11 @@ def _pm10_report(
     lies against each Euro 7 limit (NaN and empty for runs on a block cycle, failed runs and
     runs whose file is missing or unreadable: those not in ``pm10_of``); None when no run is
     on a trace."""
-    from brakeca.emissions import EURO7_LIMITS, EURO7_REFERENCE, PM10_COLUMNS, SHORT_DISTANCE
+    from brakeca.emissions import EURO7_REFERENCE, PM10_COLUMNS, SHORT_DISTANCE
 
     estimates = {rid: est for rid, est in pm10_of.items() if est is not None}
     if not estimates:
         return None
-    assert tuple(EURO7_LIMITS.values()) == tuple(PM10_POSITION_COLUMNS.values())
     values: dict[str, list[Any]] = {name: [] for name in (*PM10_COLUMNS, *PM10_POSITION_COLUMNS)}
     shown: list[dict[str, Any]] = []
     replicated = is_replicated(summary)
@@ -638,8 +642,13 @@ def _pm10_report(
         "share): " + "; ".join(factors) + "."
     )
     short = (
-        f" Over {km} only: the limits hold for the WLTP-Brake cycle's 192 km of mixed "
-        "driving (UN GTR No. 24), whose mix of stops a short trace does not have."
+        (
+            f" Over {km} only"
+            if len(distances) == 1
+            else f" Runs over less than {SHORT_DISTANCE / 1000.0:g} km"
+        )
+        + ": the limits hold for the WLTP-Brake cycle's 192 km of mixed driving (UN GTR "
+        "No. 24), whose mix of stops a short trace does not have."
         if distances[0] < SHORT_DISTANCE
         else ""
     )
@@ -771,8 +780,8 @@ def write_study(
         The factors from a run's emitted volume to the vehicle's PM10 [mg/km] of the runs
         on a speed trace (:func:`brakeca.emissions.load_emissions`); the fields it does not
         set keep their defaults and the run's pads per brake and front brake share
-        (:func:`brakeca.emissions.pm10_from_run`). By default those of the runs' own
-        files.
+        (:func:`brakeca.emissions.pm10_from_run`). By default the defaults, with each
+        run's own pads per brake and front brake share: the figures its run file records.
 
     Returns
     -------
@@ -834,7 +843,12 @@ def write_study(
         write_table(summary, tables_dir / "pm10.csv")
     else:
         (tables_dir / "pm10.csv").unlink(missing_ok=True)  # an earlier analysis's
-    shown = summary.copy()
+        if emissions is not None and note is not None:
+            note(
+                "the emission factors given apply to runs on a speed trace, and no finished "
+                "run is on one: there is no PM10 in mg/km to give"
+            )
+    shown = summary.drop(columns=list(PM10_POSITION_COLUMNS), errors="ignore")  # in its section
     for f in result.design.factors:
         if f.choices is not None and f.name in shown.columns:  # 'paper', not its level 1
             shown[f.name] = [f.label_of(v) if pd.notna(v) else v for v in shown[f.name]]

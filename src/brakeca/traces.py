@@ -47,7 +47,7 @@ from brakeca.config import (
     excel_separator,
     read_csv_text,
 )
-from brakeca.cycle import KMH, Stop, StopProfile, expand_stops
+from brakeca.cycle import KMH, Stop, StopProfile, check_step_count, expand_stops
 
 __all__ = [
     "MPH",
@@ -765,7 +765,8 @@ class BrakingEvent:
         ------
         ValueError
             If ``distance`` is not positive, or a step comes out with no duration (a bad
-            trace).
+            trace); a :class:`~brakeca.config.ConfigError` (a ``ValueError``) if the event
+            would take more than :data:`brakeca.cycle.MAX_STOP_STEPS` steps.
         """
         if not distance > 0.0:
             raise ValueError(f"step distance must be positive, got {distance}")
@@ -775,6 +776,7 @@ class BrakingEvent:
         xs = np.concatenate(([0.0], np.cumsum(0.5 * (v[:-1] + v[1:]) * dts)))
         total_x = float(xs[-1])
         total = total_x / distance  # full steps, fractional
+        check_step_count(total, distance, f"event {self.index} ({self.block})")
         n_full = math.floor(total)
         rest = total - n_full
         if rest < 1e-9 and n_full > 0:  # ends on a full step (to round-off), as stop_steps

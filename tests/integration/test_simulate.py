@@ -315,6 +315,13 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     attrs = RunResult.from_netcdf(mine).dataset.attrs
     assert attrs["pm10_mg_km"] == pytest.approx(0.8 * run.dataset.attrs["pm10_mg_km"], rel=1e-12)
     assert "airborne share 0.4" in attrs["pm10_factors"]
+    assert "of the factors in pm10_factors" in attrs["comment"]
+    tiny = ["--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100", "--stops", "1"]
+    block = runner.invoke(
+        app, ["simulate", *tiny, "--emissions", str(factors), "-o", str(tmp_path / "block.nc")]
+    )
+    assert block.exit_code == 0, block.output
+    assert "PM10 in mg/km is given on a speed trace only" in " ".join(block.output.split())
     # a trace file that changes after the configuration was made is refused
     trace = tmp_path / "trace.csv"
     trace.write_text("time_s,speed_kmh\n0,0\n10,50\n20,50\n27,0\n30,0\n")

@@ -350,23 +350,14 @@ def test_design_factor_selects_the_cycle(tmp_path):
     design = tmp_path / "d.toml"
     design.write_text(CYCLE_DESIGN)
     out = tmp_path / "c"
-    res = CliRunner().invoke(
-        app,
-        [
-            "run",
-            str(design),
-            "-o",
-            str(out),
-            "--stops",
-            "2",
-            "--set",
-            "mesh.n_radial=3",
-            "--set",
-            "mesh.n_angular=100",
-            "--executor",
-            "serial",
-        ],
-    )
+    factors = tmp_path / "emissions.toml"
+    factors.write_text("airborne_fraction = 0.4\n")
+    args = ["run", str(design), "-o", str(out), "--stops", "2", "--set", "mesh.n_radial=3"]
+    args += ["--set", "mesh.n_angular=100", "--executor", "serial", "--emissions", str(factors)]
+    refused = CliRunner().invoke(app, [*args, "--no-report"])
+    assert refused.exit_code == 2 and "with --no-report 'brakeca analyze" in refused.output
+    assert not out.exists()
+    res = CliRunner().invoke(app, args)
     assert res.exit_code == 0, res.output
     # the runs table names a categorical factor's levels by their labels
     rows = [line for line in res.output.splitlines() if re.match(r"│\s+\d+ │", line)]
@@ -395,6 +386,16 @@ def test_design_factor_selects_the_cycle(tmp_path):
     pm10 = pd.read_csv(out / "tables" / "pm10.csv")
     assert pm10.loc[pm10["C"] == 1, "PM10_mg_km"].isna().all()
     assert (pm10.loc[pm10["C"] == 2, "PM10_mg_km"] > 0).all()
+    # the positions only for the trace's runs; run's --emissions reached the report
+    assert pm10.loc[pm10["C"] == 1, ["vs_7_mg_km", "vs_3_mg_km"]].isna().all().all()
+    assert pm10.loc[pm10["C"] == 2, "vs_7_mg_km"].isin(["below", "straddles", "above"]).all()
+    for _, row in pm10[pm10["C"] == 2].iterrows():
+        recorded = RunResult.from_netcdf(out / "runs" / f"{row['run_id']}.nc").dataset.attrs
+        assert row["PM10_mg_km"] == pytest.approx(0.8 * recorded["pm10_mg_km"], rel=1e-12)
+    section = report[report.index('<section id="pm10">') :]
+    section = section[: section.index("</section>")]
+    assert section.count("<tr><td") == 2 and "airborne share 0.4" in section
+    assert "vs_7_mg_km" not in runs  # in the PM10 section, not the per-run table
 
 
 @pytest.mark.parametrize(

@@ -120,14 +120,36 @@ def test_a_temporary_folder_others_can_write_is_refused(tmp_path) -> None:
 def test_no_writable_cache_anywhere_is_a_clear_error(monkeypatch, tmp_path) -> None:
     """No cache folder and read-only sources: install() says what to set, before numba
     would fail on the first kernel with 'cannot cache function ...: no locator available'."""
+    import tempfile
+
     from brakeca import _cachedir
 
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
     monkeypatch.setattr(_cachedir, "cache_folder", lambda: None)
     monkeypatch.setattr(_cachedir, "_PACKAGE", tmp_path / "read-only sources (missing)")
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    private = tmp_path / f"brakeca-{os.getuid()}"
+    private.mkdir()
+    private.chmod(0o755)
     message = r"cannot cache its compiled kernels.*NUMBA_CACHE_DIR"
-    with pytest.raises(_cachedir.KernelCacheError, match=message):
+    with pytest.raises(_cachedir.KernelCacheError, match=message) as info:
         _cachedir.install.__wrapped__()
+    # it names the private folder and why it was refused (a review: "cannot be written")
+    assert f"the private folder {private} is open to others (mode 755, not 700)" in str(info.value)
+
+
+def test_a_linked_temporary_folder_is_refused(tmp_path) -> None:
+    """``brakeca-<uid>`` as a link (to the user's own folder, even) is not followed."""
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    temp = tmp_path / "tmp"
+    temp.mkdir()
+    target = tmp_path / "elsewhere"
+    target.mkdir(mode=0o700)
+    (temp / f"brakeca-{os.getuid()}").symlink_to(target)
+    seen = _probe(tmp_path, _env(XDG_CACHE_HOME=str(blocker), TMPDIR=str(temp)))
+    assert Path(str(seen["brakeca"])) == PACKAGE / "__pycache__"  # beside the sources
+    assert not (target / "numba").exists()
 
 
 def test_a_change_to_compiled_code_changes_the_key_and_no_other_does(tmp_path) -> None:

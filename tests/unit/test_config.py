@@ -838,3 +838,10 @@ def test_a_stop_of_too_many_time_steps_is_refused_before_it_allocates() -> None:
     paper = load_preset("paper")
     longest = max(stop_steps(stop, step_distance(paper))[0].size for stop in expand_stops(paper))
     assert longest == 8481 < MAX_STOP_STEPS  # the message quotes it
+    # a speed trace's events too (its kinematics had no check: a review)
+    from brakeca.traces import configured_cycle, with_cycle
+
+    traced = with_cycle(config, "example_trace")
+    event = configured_cycle(traced).events[0]
+    with pytest.raises(ConfigError, match=r"^event 1 \(\w+\) brakes over .* more than the"):
+        event.profile(step_distance(traced))

@@ -243,3 +243,35 @@ def test_describe_says_it_is_the_vehicles_figure_and_names_the_factors():
     assert "the front axle's 4 pads" in first and "share 0.7" in first
     assert factors.startswith("factors: debris density 2600 kg/m³ (2000 to 4000), ")
     assert "--emissions FILE" in factors
+
+
+@pytest.mark.parametrize(
+    ("data", "needle"),
+    [
+        # the ranges a user now writes are bounded as the factors are (a review: a share's
+        # range up to 1.5, a negative density, were taken into the band)
+        ({"airborne_fraction_range": [0.3, 1.5]}, "airborne_fraction_range: its ends must lie"),
+        ({"debris_density_range": [-5.0, 4000.0]}, "debris_density_range: its ends must lie"),
+        ({"disc_to_pad_mass_ratio_range": [-1.0, 2.0]}, "must lie in [0, inf)"),
+        ({"front_emission_share_range": [0.6, 1.4]}, "front_emission_share_range: its ends"),
+        # a range without its factor: the default is named as such
+        (
+            {"airborne_fraction_range": [0.1, 0.2]},
+            "airborne_fraction = 0.5 (its default) lies outside its range [0.1, 0.2]: give "
+            "airborne_fraction within the range too",
+        ),
+    ],
+)
+def test_emission_ranges_are_bounded_as_their_factors(data, needle):
+    with pytest.raises(ConfigError) as info:
+        EmissionParameters.from_dict(data)
+    assert needle in str(info.value)
+
+
+def test_load_emissions_refuses_a_table_and_top_level_fields_at_once(tmp_path):
+    from brakeca.emissions import load_emissions
+
+    path = tmp_path / "e.toml"
+    path.write_text("pm10_share = 0.7\n[emissions]\nairborne_fraction = 0.4\n")
+    with pytest.raises(ConfigError, match=r"one \[emissions\] table or at the top level, not both"):
+        load_emissions(path)
