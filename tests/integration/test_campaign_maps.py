@@ -73,9 +73,20 @@ def test_the_report_shows_each_runs_maps_over_the_cycle(mapped, tmp_path):
     assert "plateaus before the first stop and after stops 1, 3 (brakeca run --maps-at)" in html
     figures = sorted(p.name for p in (out / "figures").glob("maps_by_stop_*.png"))
     assert figures == [f"maps_by_stop_test{t:02d}_r0.png" for t in (1, 2, 3, 4)]
-    # analysed without the run maps, the report drops them and their files
-    write_study(finish_campaign(out), run_maps=False)
+    # analysed without the run maps, the report drops them and their files; emission
+    # factors given for runs on a block cycle are said to have nothing to apply to
+    from brakeca.emissions import EmissionParameters
+
+    notes: list[str] = []
+    write_study(
+        finish_campaign(out),
+        run_maps=False,
+        note=notes.append,
+        emissions=EmissionParameters(airborne_fraction=0.4),
+    )
     assert not list((out / "figures").glob("maps_by_stop_*.png"))
+    assert any("no finished run is on one: there is no PM10" in n for n in notes), notes
+    assert not (out / "tables" / "pm10.csv").exists()
 
 
 def test_a_campaign_without_maps_draws_no_maps_over_the_cycle(plain, tmp_path):
