@@ -271,20 +271,9 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
 
     runner = CliRunner()
     out = tmp_path / "t.nc"
-    res = runner.invoke(
-        app,
-        [
-            "simulate",
-            "--set",
-            "mesh.n_radial=3",
-            "--set",
-            "mesh.n_angular=100",
-            "--cycle",
-            "example_trace",
-            "-o",
-            str(out),
-        ],
-    )
+    traced = ["simulate", "--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100"]
+    traced += ["--cycle", "example_trace"]
+    res = runner.invoke(app, [*traced, "-o", str(out)])
     assert res.exit_code == 0, res.output
     assert "mg/km" in res.stdout and "Euro 7" in res.stdout and "pass" not in res.stdout.lower()
     run = RunResult.from_netcdf(out)
@@ -294,22 +283,7 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     factors = tmp_path / "emissions.toml"
     factors.write_text("airborne_fraction = 0.4\n")
     mine = tmp_path / "mine.nc"
-    res = runner.invoke(
-        app,
-        [
-            "simulate",
-            "--set",
-            "mesh.n_radial=3",
-            "--set",
-            "mesh.n_angular=100",
-            "--cycle",
-            "example_trace",
-            "--emissions",
-            str(factors),
-            "-o",
-            str(mine),
-        ],
-    )
+    res = runner.invoke(app, [*traced, "--emissions", str(factors), "-o", str(mine)])
     assert res.exit_code == 0, res.output
     assert "airborne share 0.4 (0.3 to 0.6)" in " ".join(res.stdout.split())
     attrs = RunResult.from_netcdf(mine).dataset.attrs
