@@ -679,7 +679,7 @@ def _pm10_report(
     )
     line = (
         f"Brake PM10 over {km}: {_sig3(min(centrals))} to {_sig3(max(centrals))} mg/km over the "
-        f"{len(runs)} runs on the trace; bands {counts}"
+        f"{len(runs)} runs on a speed trace; bands {counts}"
         + (" (a short trace: the limits hold for WLTP-Brake's 192 km)" if short else "")
         + "."
     )
