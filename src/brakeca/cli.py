@@ -660,6 +660,13 @@ def simulate(
     if estimate is not None:
         for line in estimate.describe():
             out.print(line, highlight=False)
+        if config.cycle.trace.friction_share == 1.0:
+            out.print(
+                "[yellow]note:[/] the 3 mg/km limit is for pure battery-electric cars, which "
+                "brake partly by regeneration; here the friction brakes do all the braking "
+                "(cycle.trace.friction_share = 1; GTR No. 24 gives an electric car's share)",
+                highlight=False,
+            )
     out.print(f"wrote {output}", markup=False)
 
 

@@ -202,7 +202,7 @@ class SpeedTrace:
             elif not math.isfinite(v[k]):
                 problem = f"speed is {v[k]}"
             elif v[k] < 0.0:
-                problem = f"negative speed {v[k]:g} m/s"
+                problem = f"negative speed {v[k]:g} m/s (speeds are 0 or more)"
             else:
                 problem = (
                     f"time {t[k]:g} s is not after the previous sample's {t[k - 1]:g} s "
@@ -352,9 +352,11 @@ def _parse_number(
     except ValueError:
         raise TraceError(source, line, f"{what} {text!r} is not a number") from None
     if math.isnan(value):
-        raise TraceError(source, line, f"{what} is NaN")
+        raise TraceError(source, line, f"{what} is NaN (every sample needs a finite number)")
     if math.isinf(value):
-        raise TraceError(source, line, f"{what} is infinite ({text})")
+        raise TraceError(
+            source, line, f"{what} is infinite ({text}; every sample needs a finite number)"
+        )
     return value
 
 
@@ -463,7 +465,12 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
         t = _parse_number(fields[cols["time"]], "time", source, lineno, decimal_comma=comma)
         v = _parse_number(fields[cols["speed"]], "speed", source, lineno, decimal_comma=comma)
         if v < 0.0:
-            raise TraceError(source, lineno, f"negative speed {fields[cols['speed']]} {unit_label}")
+            raise TraceError(
+                source,
+                lineno,
+                f"negative speed {fields[cols['speed']]} {unit_label} (speeds are 0 or more: "
+                "clip a logger's noise about 0 before reading the trace)",
+            )
         if times and t * t_factor <= times[-1]:
             raise TraceError(
                 source,

@@ -276,6 +276,8 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     res = runner.invoke(app, [*traced, "-o", str(out)])
     assert res.exit_code == 0, res.output
     assert "mg/km" in res.stdout and "Euro 7" in res.stdout and "pass" not in res.stdout.lower()
+    # the battery-electric limit beside a run braked by friction alone is explained (a review)
+    assert "here the friction brakes do all the braking" in " ".join(res.stdout.split())
     run = RunResult.from_netcdf(out)
     assert run.config.cycle.trace_file == "example_trace" and run.dataset.sizes["stop"] == 5
     assert f"5 stops ({int(run.dataset.n_steps.sum()):,} time steps)" in res.output
@@ -286,6 +288,11 @@ def test_cli_simulate_trace_cycle_and_changed_trace(tmp_path):
     res = runner.invoke(app, [*traced, "--emissions", str(factors), "-o", str(mine)])
     assert res.exit_code == 0, res.output
     assert "airborne share 0.4 (0.3 to 0.6)" in " ".join(res.stdout.split())
+    regenerating = runner.invoke(
+        app, [*traced, "--set", "cycle.trace.friction_share=0.5", "-o", str(tmp_path / "r.nc")]
+    )
+    assert regenerating.exit_code == 0, regenerating.output
+    assert "friction brakes do all the braking" not in regenerating.stdout
     attrs = RunResult.from_netcdf(mine).dataset.attrs
     assert attrs["pm10_mg_km"] == pytest.approx(0.8 * run.dataset.attrs["pm10_mg_km"], rel=1e-12)
     assert "airborne share 0.4" in attrs["pm10_factors"]

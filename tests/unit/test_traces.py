@@ -113,8 +113,8 @@ GOOD = "time_s,speed_kmh\n0,0\n1,10\n2,20\n3,40\n4,60\n5,70\n"
     [
         ("time_s,speed_kmh\n0,0\n1,10\n1,20\n", 4, "time must increase"),
         ("time_s,speed_kmh\n0,0\n2,10\n# note\n1.5,20\n", 5, "time must increase"),
-        ("time_s,speed_kmh\n0,0\n1,-3\n", 3, "negative speed -3 km/h"),
-        ("time_s,speed_kmh\n0,0\n1,nan\n", 3, "speed is NaN"),
+        ("time_s,speed_kmh\n0,0\n1,-3\n", 3, "negative speed -3 km/h (speeds are 0 or more"),
+        ("time_s,speed_kmh\n0,0\n1,nan\n", 3, "speed is NaN (every sample needs a finite number)"),
         ("time_s,speed_kmh\n0,0\nNaN,3\n", 3, "time is NaN"),
         ("time_s,speed_kmh\n0,0\n1,inf\n", 3, "speed is infinite"),
         ("time_s,speed_kmh\n0,0\n1,fast\n", 3, "speed 'fast' is not a number"),
