@@ -616,7 +616,10 @@ def simulate(
                     "pm10_mg_km": float(estimate.central),
                     "pm10_mg_km_low": float(estimate.low),
                     "pm10_mg_km_high": float(estimate.high),
-                    "pm10_factors": f"--emissions {emissions}: {estimate.params.factors_text()}",
+                    "pm10_factors": (
+                        f"--emissions {Path(str(emissions)).resolve()}: "
+                        f"{estimate.params.factors_text()}"
+                    ),
                 }
             )
             result.dataset.attrs["comment"] += (
@@ -658,7 +661,7 @@ def simulate(
         f"friction residual (max) = {float(ds['max_friction_residual']):.2e}"
     )
     if estimate is not None:
-        for line in estimate.describe():
+        for line in estimate.describe(None if emissions is None else str(emissions)):
             out.print(line, highlight=False)
         if config.cycle.trace.friction_share == 1.0:
             out.print(

@@ -181,10 +181,17 @@ class EmissionParameters(_Frozen):
                 raise ValueError(f"{name}_range: low {lo} must not exceed high {hi}")
             if not lo <= value <= hi:
                 default = name not in self.model_fields_set
+                default_range = f"{name}_range" not in self.model_fields_set
                 raise ValueError(
                     f"{name} = {value}{' (its default)' if default else ''} lies outside its "
-                    f"range [{lo}, {hi}]"
-                    + (f": give {name} within the range too" if default else "")
+                    f"range{' (the default)' if default_range else ''} [{lo}, {hi}]"
+                    + (
+                        f": give {name} within the range too"
+                        if default
+                        else f": give {name}_range too, as [low, high] about it"
+                        if default_range
+                        else ""
+                    )
                 )
         return self
 
@@ -366,9 +373,22 @@ class PM10Estimate:
             return "above"
         return "straddles"
 
-    def describe(self) -> list[str]:
+    def describe(self, source: str | None = None) -> list[str]:
         """Lines for a report: the estimate for the whole vehicle, its band, the factors,
-        and where the band lies against each Euro 7 limit (no bare pass/fail)."""
+        and where the band lies against each Euro 7 limit (no bare pass/fail).
+
+        Parameters
+        ----------
+        source
+            Where the factors came from (a file's path), named in the factors' line; None:
+            the defaults (with the run's pads and front share), and the line says how to
+            give others.
+
+        Returns
+        -------
+        list of str
+            The lines.
+        """
         p = self.params
         pads = p.pads_per_brake * p.brakes_per_axle
         lines = [
@@ -377,8 +397,13 @@ class PM10Estimate:
             f"{self.distance / 1000.0:.4g} km: the simulated band's emission scaled to its "
             f"pad, to the front axle's {pads} pads and by the front axle's share "
             f"{p.front_emission_share:.3g} to the vehicle",
-            f"factors: {p.factors_text()} (brakeca.emissions.EmissionParameters; change them "
-            "with --emissions FILE, docs/cycles.md)",
+            f"factors: {p.factors_text()} "
+            + (
+                f"(from {source})"
+                if source is not None
+                else "(brakeca.emissions.EmissionParameters; change them with --emissions FILE, "
+                "docs/cycles.md)"
+            ),
         ]
         words = {
             "below": "the whole band lies below",

@@ -337,7 +337,6 @@ def _record_pm10(result: RunResult, distance: float) -> None:
         }
     )
     result.dataset.attrs["comment"] += (
-        "; distance: the trace's distance the simulated events belong to [m]; pm10_mg_km "
-        "(_low, _high): the vehicle's brake PM10 over it [mg/km] with brakeca.emissions' "
-        "default factors and their ranges (docs/cycles.md section 5)"
+        "; pm10_mg_km (_low, _high): the vehicle's brake PM10 over that distance [mg/km] "
+        "with brakeca.emissions' default factors and their ranges (docs/cycles.md section 5)"
     )

@@ -544,7 +544,16 @@ def _box_cox(
     }
 
 
-def _pm10_of(run: RunResult, emissions: EmissionParameters | None = None) -> PM10Estimate | None:
+@dataclass(frozen=True)
+class _RunPm10:
+    """A run's PM10 [mg/km] and whether its friction brakes did all its braking
+    (``cycle.trace.friction_share = 1``: no regeneration)."""
+
+    estimate: PM10Estimate
+    friction_only: bool
+
+
+def _pm10_of(run: RunResult, emissions: EmissionParameters | None = None) -> _RunPm10 | None:
     """PM10 [mg/km] of a run on a speed-trace cycle with ``emissions`` (the defaults and
     the run's own pads and front share for what it does not set); None for a run on a block
     cycle, whose distance between stops is unknown. The distance is the one the run
@@ -558,7 +567,9 @@ def _pm10_of(run: RunResult, emissions: EmissionParameters | None = None) -> PM1
     distance = (
         float(attrs["distance"]) if "distance" in attrs else configured_cycle(run.config).distance
     )
-    return pm10_from_run(run, distance, emissions)
+    return _RunPm10(
+        pm10_from_run(run, distance, emissions), run.config.cycle.trace.friction_share == 1.0
+    )
 
 
 def _sig3(x: float) -> str:
@@ -587,15 +598,25 @@ class _Pm10:
 
 
 def _pm10_report(
-    summary: pd.DataFrame, pm10_of: Mapping[str, PM10Estimate | None], design: Design
+    summary: pd.DataFrame,
+    pm10_of: Mapping[str, _RunPm10 | None],
+    design: Design,
+    *,
+    given: bool = False,
 ) -> _Pm10 | None:
     """PM10 [mg/km] low/central/high of every run on a speed-trace cycle and where its band
     lies against each Euro 7 limit (NaN and empty for runs on a block cycle, failed runs and
     runs whose file is missing or unreadable: those not in ``pm10_of``); None when no run is
-    on a trace."""
-    from brakeca.emissions import EURO7_REFERENCE, PM10_COLUMNS, SHORT_DISTANCE
+    on a trace. ``given``: the factors are the user's (``--emissions``), not the defaults."""
+    from brakeca.emissions import (
+        EURO7_PM10_LIMIT_PEV,
+        EURO7_REFERENCE,
+        PM10_COLUMNS,
+        SHORT_DISTANCE,
+    )
 
-    estimates = {rid: est for rid, est in pm10_of.items() if est is not None}
+    ok = {rid: run for rid, run in pm10_of.items() if run is not None}
+    estimates = {rid: run.estimate for rid, run in ok.items()}
     if not estimates:
         return None
     values: dict[str, list[Any]] = {name: [] for name in (*PM10_COLUMNS, *PM10_POSITION_COLUMNS)}
@@ -635,11 +656,24 @@ def _pm10_report(
         else f"{distances[0] / 1000.0:.4g} to {distances[-1] / 1000.0:.4g} km"
     )
     factors = sorted({est.params.factors_text() for est in runs})
+    whose = (
+        "given with --emissions"
+        if given
+        else "brakeca's defaults, with each run's pads per brake and front brake share"
+    )
     factor_text = (
-        f"The factors: {factors[0]}."
+        f"The factors ({whose}): {factors[0]}."
         if len(factors) == 1
-        else "The factors differ between runs (each run's pads per brake and front brake "
-        "share): " + "; ".join(factors) + "."
+        else f"The factors ({whose}) differ between runs: " + "; ".join(factors) + "."
+    )
+    friction_only = sum(run.friction_only for run in ok.values())
+    regen = (
+        f" {friction_only} of the {len(ok)} runs brake by friction alone "
+        "(cycle.trace.friction_share = 1): the "
+        f"{EURO7_PM10_LIMIT_PEV:g} mg/km limit is for pure battery-electric "
+        "cars, which brake partly by regeneration (GTR No. 24 gives their share)."
+        if friction_only
+        else ""
     )
     short = (
         (
@@ -653,7 +687,8 @@ def _pm10_report(
         else ""
     )
     info = (
-        f"The vehicle's brake PM10 over the speed trace ({km}), from each run's emitted "
+        f"The vehicle's brake PM10 over the {km} of trace the runs simulate, from each run's "
+        "emitted "
         "volume: the simulated band's emission scaled to its pad, to the front axle's pads "
         "and by the front axle's share of the emissions to the vehicle, then to mass (debris "
         "density, plus the disc's wear at the disc-to-pad mass ratio) and to airborne PM10 "
@@ -662,7 +697,7 @@ def _pm10_report(
         f"envelope, not a statistical interval. {factor_text} 'brakeca analyze FOLDER "
         "--emissions FILE' takes others. Where each run's band lies against the Euro 7 "
         f"limits ({EURO7_REFERENCE}): below, straddles or above it; a band across a limit is "
-        f"not a pass or a fail.{short} tables/pm10.csv has every run's figures."
+        f"not a pass or a fail.{short}{regen} tables/pm10.csv has every run's figures."
     )
     centrals = [est.central for est in runs]
     counts = "; ".join(
@@ -678,9 +713,16 @@ def _pm10_report(
         for limit in EURO7_LIMITS.values()
     )
     line = (
-        f"Brake PM10 over {km}: {_sig3(min(centrals))} to {_sig3(max(centrals))} mg/km over the "
-        f"{len(runs)} runs on a speed trace; bands {counts}"
+        f"Brake PM10 over {km}: central figures {_sig3(min(centrals))} to "
+        f"{_sig3(max(centrals))} mg/km over the {len(runs)} runs on a speed trace; bands "
+        f"{counts}"
         + (" (a short trace: the limits hold for WLTP-Brake's 192 km)" if short else "")
+        + (
+            f"; {friction_only} run(s) brake by friction alone, while the "
+            f"{EURO7_PM10_LIMIT_PEV:g} mg/km limit is for battery-electric cars"
+            if friction_only
+            else ""
+        )
         + "."
     )
     return _Pm10(summary.assign(**values), pd.DataFrame(shown), info, line)
@@ -837,7 +879,7 @@ def write_study(
         figures, found.ok, result.design, source / "runs", run_maps=run_maps, emissions=emissions
     )
     notes = _study_notes(result, found, files, base, source, note=note)
-    pm10 = _pm10_report(result.summary, files.pm10_of, result.design)
+    pm10 = _pm10_report(result.summary, files.pm10_of, result.design, given=emissions is not None)
     summary = result.summary if pm10 is None else pm10.summary
     if pm10 is not None:
         write_table(summary, tables_dir / "pm10.csv")
@@ -1306,7 +1348,7 @@ class _RunFiles:
     trace) and the finished runs whose file was read."""
 
     unreadable: dict[str, str]
-    pm10_of: dict[str, PM10Estimate | None]
+    pm10_of: dict[str, _RunPm10 | None]
     filed: pd.DataFrame
 
 
@@ -1334,7 +1376,7 @@ def _run_file_figures(
     # final maps drawn, its PM10 and, for the first run at each A level, its initial fibre
     # map kept; the fibre maps are listed before the runs' maps, as before.
     unreadable: dict[str, str] = {}
-    pm10_of: dict[str, PM10Estimate | None] = {}  # None: not on a trace
+    pm10_of: dict[str, _RunPm10 | None] = {}  # None: not on a trace
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
     names = {f.name for f in factors}
     replicated = is_replicated(ok)

@@ -308,6 +308,9 @@ def test_one_factor_trace_campaign_reports_pm10(tmp_path):
     section = section[: section.index("</section>")]
     assert "airborne share 0.5 (0.3 to 0.6)" in section
     assert "the limits hold for the WLTP-Brake cycle" in section
+    assert "The factors (brakeca&#39;s defaults, with each run&#39;s pads" in section
+    # friction alone against the battery-electric limit is said (a review: simulate said it)
+    assert "2 of the 2 runs brake by friction alone (cycle.trace.friction_share = 1)" in section
     assert "Brake PM10 over " in " ".join(res.output.split())
     # the same campaign with the user's factors: nothing run again, PM10 scaled
     factors = tmp_path / "emissions.toml"
@@ -395,6 +398,7 @@ def test_design_factor_selects_the_cycle(tmp_path):
     section = report[report.index('<section id="pm10">') :]
     section = section[: section.index("</section>")]
     assert section.count("<tr><td") == 2 and "airborne share 0.4" in section
+    assert "The factors (given with --emissions)" in section
     assert "vs_7_mg_km" not in runs  # in the PM10 section, not the per-run table
 
 

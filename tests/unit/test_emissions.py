@@ -243,6 +243,8 @@ def test_describe_says_it_is_the_vehicles_figure_and_names_the_factors():
     assert "the front axle's 4 pads" in first and "share 0.7" in first
     assert factors.startswith("factors: debris density 2600 kg/m³ (2000 to 4000), ")
     assert "--emissions FILE" in factors
+    given = estimate.describe("my.toml")[1]
+    assert given.endswith("(from my.toml)") and "--emissions FILE" not in given
 
 
 @pytest.mark.parametrize(
@@ -259,6 +261,12 @@ def test_describe_says_it_is_the_vehicles_figure_and_names_the_factors():
             {"airborne_fraction_range": [0.1, 0.2]},
             "airborne_fraction = 0.5 (its default) lies outside its range [0.1, 0.2]: give "
             "airborne_fraction within the range too",
+        ),
+        # a factor outside the default range: the range may be given too (a review)
+        (
+            {"airborne_fraction": 0.7},
+            "airborne_fraction = 0.7 lies outside its range (the default) [0.3, 0.6]: give "
+            "airborne_fraction_range too, as [low, high] about it",
         ),
     ],
 )
