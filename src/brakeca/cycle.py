@@ -21,10 +21,12 @@ import numpy as np
 from brakeca.config import SimulationConfig
 
 __all__ = [
+    "MAX_STOP_STEPS",
     "BrakeDemand",
     "Stop",
     "StopProfile",
     "brake_demand",
+    "check_step_count",
     "cycle_events",
     "expand_stops",
     "map_stops",
