@@ -269,6 +269,31 @@ def base_differences(out: Path, base: SimulationConfig) -> list[str]:
     return config_changes(old.to_dict(), base.to_dict())
 
 
+def moved_trace(out: Path, base: SimulationConfig) -> str | None:
+    """The trace path of the campaign already in ``out`` when ``base`` names the same trace
+    content (the same ``cycle.trace_sha256``) at another path, else None: a run's id and a
+    campaign's base keep the trace's path, so a moved trace makes other runs."""
+    from brakeca.config import ConfigError, load_config
+
+    path = out / "base_config.toml"
+    if not path.is_file():
+        return None
+    try:
+        old = load_config(path).cycle
+    except (ConfigError, OSError):
+        return None
+    new = base.cycle
+    if (
+        old.trace_file
+        and new.trace_file
+        and old.trace_file != new.trace_file
+        and old.trace_sha256 is not None
+        and old.trace_sha256 == new.trace_sha256
+    ):
+        return str(old.trace_file)
+    return None
+
+
 #: How a campaign's own design.toml and base_config.toml begin (:func:`_write_design`), by
 #: which a campaign tells them from a user's files (``campaign._foreign_design``).
 DESIGN_HEADER = "# Design of campaign"

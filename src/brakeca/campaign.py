@@ -81,6 +81,7 @@ from brakeca._runstore import (
     _write_design,
     base_differences,
     campaign_lock,
+    moved_trace,
 )
 from brakeca.config import ConfigError, SimulationConfig
 from brakeca.cycle import cycle_events, map_stops
@@ -545,6 +546,13 @@ def _refuse_to_replace(
             f"; and {len(changed) - 4} more" if len(changed) > 4 else ""
         )
         what, first, after = "a campaign of another base configuration", "campaign's command", ""
+        moved = moved_trace(out, base)
+        if moved is not None:  # (a determinism review: the same trace, copied elsewhere)
+            after = (
+                ". Its trace has the same content (SHA-256) at another path, but a run "
+                "records its trace by its path, so these would be other runs: give the trace "
+                f"at its first path ({moved}) to resume them"
+            )
     else:
         shown, renumbered = _runs_left_out(out, points, root_seed)
         if not shown:

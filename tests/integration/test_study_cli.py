@@ -945,3 +945,29 @@ def test_a_design_file_of_the_user_s_in_the_folder_is_not_written_over(tmp_path)
     # the campaign's own folder: its design.toml (brakeca's) is taken to resume
     again = CliRunner().invoke(app, ["run", str(tmp_path / "c"), "-o", str(tmp_path / "c"), *TINY])
     assert again.exit_code == 0, again.output
+
+
+def test_a_trace_at_another_path_is_named_as_the_same_content(tmp_path):
+    """The same trace copied elsewhere: the refusal says that its content is the same and
+    where the runs' trace was (a determinism review: a run records its trace by path)."""
+    import shutil
+
+    from brakeca.presets import __file__ as presets_init
+
+    shipped = Path(presets_init).parent / "cycles" / "example_trace.csv"
+    first, second = tmp_path / "a" / "tr.csv", tmp_path / "b" / "tr.csv"
+    for path in (first, second):
+        path.parent.mkdir()
+        shutil.copy(shipped, path)
+    design = tmp_path / "d.toml"
+    design.write_text('name = "m"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "A"\n')
+    design.write_text(design.read_text() + "levels = [10, 20]\n")
+    out = tmp_path / "c"
+    tiny = ["--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100", "--stops", "1"]
+    args = ["run", str(design), "-o", str(out), *tiny, "--no-report", "--executor", "serial"]
+    assert CliRunner().invoke(app, [*args, "--cycle", str(first)]).exit_code == 0
+    moved = CliRunner().invoke(app, [*args, "--cycle", str(second)])
+    assert moved.exit_code == 2
+    text = " ".join(moved.output.split())
+    assert "Its trace has the same content (SHA-256) at another path" in text
+    assert f"give the trace at its first path ({first}) to resume them" in text
