@@ -282,7 +282,7 @@ def test_a_run_table_has_the_power_of_the_same_full_factorial():
         smallest_effect(table, sigma=0.01, replicates=2)  # type: ignore[arg-type]
 
 
-def test_power_says_where_the_model_pools_its_interactions(tmp_path) -> None:
+def test_power_says_where_the_model_pools_its_interactions(tmp_path, monkeypatch) -> None:
     """A black-box review: an unreplicated 2 x 2 leaves its interaction no error, so the
     model pools it (error df 1), yet power's footer read 'main effects and two-factor
     interactions'. It now says at which replicates the model pools what."""
@@ -300,6 +300,18 @@ def test_power_says_where_the_model_pools_its_interactions(tmp_path) -> None:
     assert "interactions pooled into the residual, main effects only" in pooling_note(design, 1)
     assert pooling_note(design, 2) == ""
     assert pooling_note(load_design("paper"), 1) == ""
+    # many replicates are fitted as two (a review: 10,000 fitted 240,000 runs for nothing)
+    from brakeca import power
+
+    asked: list[int] = []
+    runs = power._runs
+
+    def counted(d, r):
+        asked.append(r)
+        return runs(d, r)
+
+    monkeypatch.setattr(power, "_runs", counted)
+    assert pooling_note(design, 10_000) == "" and asked == [2]
     args = ["power", str(path), "--effect", "0.01", "--sigma", "0.0059", "--replicates", "1,2"]
     res = CliRunner().invoke(app, args)
     assert res.exit_code == 0, res.output
