@@ -82,15 +82,33 @@ _DIRECTION: dict[str, int] = {
 }
 
 
-#: Where each ranged factor's values and range ends may lie: (low, low itself allowed, high,
-#: the interval as text).
-_RANGE_BOUNDS: dict[str, tuple[float, bool, float, str]] = {
-    "debris_density": (0.0, False, math.inf, "(0, inf) kg/m^3"),
-    "airborne_fraction": (0.0, False, 1.0, "(0, 1]"),
-    "pm10_share": (0.0, False, 1.0, "(0, 1]"),
-    "disc_to_pad_mass_ratio": (0.0, True, math.inf, "[0, inf)"),
-    "front_emission_share": (0.0, False, 1.0, "(0, 1]"),
-}
+def _end_problem(field: Any, end: float) -> str | None:
+    """The interval the field ``field`` (a pydantic ``FieldInfo``) allows, with its unit, when
+    ``end`` is not finite or lies outside it (a range's end must be a value its factor may
+    take: the factor's own ``Field`` bounds, so that the two cannot drift apart); None when
+    ``end`` lies within it."""
+    import annotated_types as at
+
+    low: Any = -math.inf
+    high: Any = math.inf
+    low_in = high_in = False
+    for bound in field.metadata:
+        if isinstance(bound, at.Ge):
+            low, low_in = bound.ge, True
+        elif isinstance(bound, at.Gt):
+            low, low_in = bound.gt, False
+        elif isinstance(bound, at.Le):
+            high, high_in = bound.le, True
+        elif isinstance(bound, at.Lt):
+            high, high_in = bound.lt, False
+    above = end > low or (low_in and end == low)
+    below = end < high or (high_in and end == high)
+    if math.isfinite(end) and above and below:
+        return None
+    unit = (field.description or "").split("]", 1)[0].lstrip("[")
+    return f"{'[' if low_in else '('}{low:g}, {high:g}{']' if high_in else ')'}" + (
+        "" if unit in ("", "-") else f" {unit}"
+    )
 
 
 class EmissionParameters(_Frozen):
@@ -172,10 +190,8 @@ class EmissionParameters(_Frozen):
         for name in _DIRECTION:
             value = getattr(self, name)
             lo, hi = getattr(self, f"{name}_range")
-            low, low_allowed, high, text = _RANGE_BOUNDS[name]
             for end in (lo, hi):
-                above = end > low or (low_allowed and end == low)
-                if not (math.isfinite(end) and above and end <= high):
+                if (text := _end_problem(type(self).model_fields[name], end)) is not None:
                     raise ValueError(f"{name}_range: its ends must lie in {text}, got [{lo}, {hi}]")
             if not lo <= hi:
                 raise ValueError(f"{name}_range: low {lo} must not exceed high {hi}")
@@ -521,7 +537,7 @@ def pm10_from_run(
 
     config = result.config
     given = params or EmissionParameters()
-    mine = given.model_fields_set if params is not None else set()
+    mine = given.model_fields_set  # (none for the default)
     runs: dict[str, Any] = {}  # the run's values of the fields the caller left unset
     if "pads_per_brake" not in mine:
         runs["pads_per_brake"] = config.brake.pads_per_brake
