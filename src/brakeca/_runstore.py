@@ -251,46 +251,45 @@ def _error_text(exc: BaseException) -> str:
     return " ".join(text.split())  # one line, for the CSV
 
 
-def base_differences(out: Path, base: SimulationConfig) -> list[str]:
-    """How the base configuration of the campaign already in ``out`` differs from ``base``:
-    one ``"key: old -> new"`` per differing field, in the order of the configuration; empty
-    when the folder holds no campaign, the same base, or a base this version cannot read."""
+def existing_base(out: Path) -> SimulationConfig | None:
+    """The base configuration of the campaign already in ``out`` (its base_config.toml);
+    None when the folder holds no campaign or a base this version cannot read."""
     from brakeca.config import ConfigError, load_config
 
     path = out / "base_config.toml"
     if not path.is_file():
-        return []
+        return None
     try:
-        old = load_config(path)
+        return load_config(path)
     except (ConfigError, OSError):
-        return []
-    if old == base:
+        return None
+
+
+def base_differences(old: SimulationConfig | None, base: SimulationConfig) -> list[str]:
+    """How a campaign's base configuration ``old`` (:func:`existing_base`) differs from
+    ``base``: one ``"key: old -> new"`` per differing field, in the order of the
+    configuration; empty when there is none or it is the same."""
+    if old is None or old == base:
         return []
     return config_changes(old.to_dict(), base.to_dict())
 
 
-def moved_trace(out: Path, base: SimulationConfig) -> str | None:
-    """The trace path of the campaign already in ``out`` when ``base`` names the same trace
-    content (the same ``cycle.trace_sha256``) at another path, else None: a run's id and a
-    campaign's base keep the trace's path, so a moved trace makes other runs."""
-    from brakeca.config import ConfigError, load_config
-
-    path = out / "base_config.toml"
-    if not path.is_file():
+def moved_trace(old: SimulationConfig | None, base: SimulationConfig) -> str | None:
+    """The trace path of a campaign's base ``old`` (:func:`existing_base`) when ``base``
+    names the same trace content (the same ``cycle.trace_sha256``) at another path, else
+    None: a run's id and a campaign's base keep the trace's path, so a moved trace makes
+    other runs."""
+    if old is None:
         return None
-    try:
-        old = load_config(path).cycle
-    except (ConfigError, OSError):
-        return None
-    new = base.cycle
+    was, new = old.cycle, base.cycle
     if (
-        old.trace_file
+        was.trace_file
         and new.trace_file
-        and old.trace_file != new.trace_file
-        and old.trace_sha256 is not None
-        and old.trace_sha256 == new.trace_sha256
+        and was.trace_file != new.trace_file
+        and was.trace_sha256 is not None
+        and was.trace_sha256 == new.trace_sha256
     ):
-        return str(old.trace_file)
+        return str(was.trace_file)
     return None
 
 

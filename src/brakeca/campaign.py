@@ -81,6 +81,7 @@ from brakeca._runstore import (
     _write_design,
     base_differences,
     campaign_lock,
+    existing_base,
     moved_trace,
 )
 from brakeca.config import ConfigError, SimulationConfig
@@ -540,13 +541,14 @@ def _refuse_to_replace(
     """Raise ConfigError if ``out`` holds a study that a campaign of ``base`` and the runs
     ``points`` would replace: one of another base configuration, or of a design whose runs
     it leaves out (another ``root_seed``, the new design's, is named)."""
-    changed = base_differences(out, base)
+    old = existing_base(out)
+    changed = base_differences(old, base)
     if changed:
         shown = "; ".join(changed[:4]) + (
             f"; and {len(changed) - 4} more" if len(changed) > 4 else ""
         )
         what, first, after = "a campaign of another base configuration", "campaign's command", ""
-        moved = moved_trace(out, base)
+        moved = moved_trace(old, base)
         if moved is not None:  # (a determinism review: the same trace, copied elsewhere)
             after = (
                 ". Its trace has the same content (SHA-256) at another path, but a run "
