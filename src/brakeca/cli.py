@@ -1476,7 +1476,9 @@ def _print_in_short(lines: Sequence[str]) -> None:
     """Print the report's "In short" (:func:`brakeca.report.in_short`): each response's
     terms with p < 0.05 and R², under a heading; nothing without lines."""
     if lines:
-        pm10 = lines[-1].startswith("Brake PM10 ")
+        from brakeca.study import PM10_LINE_START
+
+        pm10 = lines[-1].startswith(PM10_LINE_START)
         out.print(
             "in short (the ANOVA's terms with p < 0.05, largest share first"
             + ("; last, PM10 against the Euro 7 limits" if pm10 else "")

@@ -586,6 +586,11 @@ PM10_POSITION_COLUMNS: dict[str, float] = {
 }
 
 
+#: How the "In short" line on the runs' PM10 begins (the last line write_study's
+#: ``in_short`` is given on a speed trace), by which a command tells it from the ANOVA's.
+PM10_LINE_START = "Brake PM10 over "
+
+
 @dataclass(frozen=True)
 class _Pm10:
     """A campaign's PM10 for the report: the summary with the PM10 columns (``pm10.csv``),
@@ -713,7 +718,7 @@ def _pm10_report(
         for limit in EURO7_LIMITS.values()
     )
     line = (
-        f"Brake PM10 over {km}: central figures {_sig3(min(centrals))} to "
+        f"{PM10_LINE_START}{km}: central figures {_sig3(min(centrals))} to "
         f"{_sig3(max(centrals))} mg/km over the {len(runs)} runs on a speed trace; bands "
         f"{counts}"
         + (" (a short trace: the limits hold for WLTP-Brake's 192 km)" if short else "")
