@@ -1005,7 +1005,9 @@ def anova(
         ``percent_contribution`` (``sum_sq`` / total sum of squares about the mean * 100 [%])
         and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
         ``formula``, ``note``, ``n``, ``total_sum_sq``, ``center_points`` (their number),
-        ``order`` (the most factors in a term asked for), ``model_terms`` (the terms given,
+        ``order`` (the most factors in a term asked for), ``fitted_order`` (the most in a
+        term fitted: fewer where interactions were pooled or aliased, 0 with no term),
+        ``model_terms`` (the terms given,
         as the table names them, or None) and ``alpha_to_remove``, and the
         model summary that Minitab
         and JMP print beside the table: ``s`` (residual standard deviation, sqrt of the
@@ -1177,6 +1179,9 @@ def anova(
         total_sum_sq=total_ss,
         center_points=int(y_center.size),
         order=_model_order(interactions),
+        # the most factors in a term fitted: below order where a saturated model's
+        # interactions were pooled or the design aliases them with lower-order terms
+        fitted_order=max((t.count(":") + 1 for t in terms), default=0),
         model_terms=list(interactions) if _is_term_list(interactions) else None,
         alpha_to_remove=alpha_to_remove,
     )
@@ -2628,15 +2633,39 @@ EFFECTS_COLUMNS: tuple[str, ...] = (
 #: 12-run Plackett-Burman design; a failed run of a 16-run fraction gives 1/15) [-].
 _MAX_EFFECT_CORRELATION = 0.2
 
+def _planned_frame(
+    summary: pd.DataFrame, factors: Sequence[Factor], columns: Sequence[str]
+) -> pd.DataFrame:
+    """The coded ``columns`` (:func:`_coded_frame`'s) of every run of ``summary`` at the
+    factors' levels, whatever its status or response: the design as planned, less its
+    centre points and any row whose factor values match no level."""
+    known = np.ones(len(summary), dtype=bool)
+    for f in factors:
+        known &= np.array([f.level_index(v) is not None for v in summary[f.name].to_list()])
+    rows = summary.loc[known]
+    rows = rows.loc[~_center_mask(rows, factors)]
+    frame, _, _ = _coded_frame(rows, factors)
+    return frame[list(columns)]
+
+
 #: Fewest effects Lenth's method is applied to [-].
 _MIN_LENTH_EFFECTS = 3
 
 
 def _effect_terms(
-    frame: pd.DataFrame, candidates: Sequence[str]
-) -> tuple[list[str], list[str], bool]:
+    frame: pd.DataFrame, candidates: Sequence[str], planned: pd.DataFrame | None = None
+) -> tuple[list[str], list[str], bool, list[str]]:
     """The terms :func:`two_level_effects` fits, the interactions it leaves out as partly
-    confounded, and whether the design is non-regular.
+    confounded, whether the design is non-regular, and the interactions the runs that
+    finished cannot estimate although the design could.
+
+    ``frame`` holds the runs that finished; ``planned`` (the same columns) every run of the
+    design, failed ones too (``frame`` when None): the design's structure, its alias chains
+    and whether it is regular, is read from the runs planned, so that runs lost from a
+    full factorial or a regular fraction do not make it "non-regular" (a DoE review: five
+    failed runs of a replicated 2^3 correlated WP:A with WP by 0.27, and the effects table
+    fell to the main effects, its error holding an interaction the ANOVA found with
+    p = 1e-6).
 
     Main effects are kept when estimable (:func:`_estimable_terms`). A design in which an
     interaction's contrast column correlates with a main effect's by
@@ -2644,14 +2673,18 @@ def _effect_terms(
     (partial confounding, as in every Plackett-Burman design), is non-regular: its main
     effects alone are fitted, as Minitab fits a Plackett-Burman design, since filling its
     spare degrees of freedom with the first interactions found would bias them. Otherwise an
-    interaction is kept when estimable and its column's correlation with every column kept so
-    far is below :data:`_MAX_EFFECT_CORRELATION`: a full factorial or a regular fraction keeps
-    one term per alias chain, all orthogonal.
+    interaction is kept when the runs that finished estimate it and its column's correlation
+    with every column kept so far is below :data:`_MAX_EFFECT_CORRELATION` in the design: a
+    full factorial or a regular fraction keeps one term per alias chain, all orthogonal as
+    planned.
     """
+    planned = frame if planned is None else planned
     mains = [t for t in candidates if ":" not in t]
     kept, _ = _estimable_terms(frame, mains)
-    columns = [_term_columns(frame, t)[:, 0] for t in kept]
+    columns = [_term_columns(planned, t)[:, 0] for t in kept]
     rank = _rank(*(c[:, None] for c in columns)) if columns else 1
+    fitted = [_term_columns(frame, t)[:, 0] for t in kept]
+    fitted_rank = _rank(*(c[:, None] for c in fitted)) if fitted else 1
 
     def correlation(column: np.ndarray, others: Sequence[np.ndarray]) -> float:
         return max(
@@ -2660,15 +2693,16 @@ def _effect_terms(
         )
 
     interactions = [t for t in candidates if ":" in t]
-    column_of = {t: _term_columns(frame, t)[:, 0] for t in interactions}
+    column_of = {t: _term_columns(planned, t)[:, 0] for t in interactions}
     main_columns = list(columns)
     for term in interactions:
         column = column_of[term]
         if _rank(*(c[:, None] for c in main_columns), column[:, None]) == rank:
             continue  # aliased with a main effect (or a combination of them)
         if correlation(column, main_columns) >= _MAX_EFFECT_CORRELATION:
-            return kept, interactions, True
+            return kept, interactions, True, []
     partial: list[str] = []
+    lost: list[str] = []
     for term in interactions:
         column = column_of[term]
         new_rank = _rank(*(c[:, None] for c in columns), column[:, None])
@@ -2677,10 +2711,16 @@ def _effect_terms(
         if correlation(column, columns) >= _MAX_EFFECT_CORRELATION:
             partial.append(term)
             continue
+        fitted_column = _term_columns(frame, term)[:, 0]
+        new_fitted_rank = _rank(*(c[:, None] for c in fitted), fitted_column[:, None])
+        if new_fitted_rank == fitted_rank:
+            lost.append(term)  # the runs lost leave it aliased with the terms kept
+            continue
         kept.append(term)
         columns.append(column)
-        rank = new_rank
-    return kept, partial, False
+        fitted.append(fitted_column)
+        rank, fitted_rank = new_rank, new_fitted_rank
+    return kept, partial, False, lost
 
 
 #: Lenth's PSE below this fraction of the largest effect [-] is round-off: the data have no
@@ -2854,6 +2894,7 @@ def two_level_effects(
     cells = list(names)
     n_points = int(frame.groupby(cells, sort=False).ngroups) + (1 if n_c else 0)
     partial: list[str] = []
+    lost: list[str] = []
     nonregular = False
     if model_terms is not None:
         column = {name: c for c, name in names.items()}
@@ -2866,7 +2907,10 @@ def two_level_effects(
     elif main_effects_only:
         terms = _estimable_terms(frame, _candidate_terms(cells, 1))[0]
     else:
-        terms, partial, nonregular = _effect_terms(frame, _candidate_terms(cells, len(cells)))
+        planned = _planned_frame(summary, factors, list(names))
+        terms, partial, nonregular, lost = _effect_terms(
+            frame, _candidate_terms(cells, len(cells)), planned
+        )
     df_pe = float(y.size + n_c - n_points)
     # the terms kept are estimable in turn; centre points add their indicator ("Ct Pt")
     df_resid = float(y.size + n_c - 1 - len(terms) - (1 if n_c else 0))
@@ -2991,11 +3035,17 @@ def two_level_effects(
             f"{_MAX_EFFECT_CORRELATION:g} or more) are left out: "
             + ", ".join(_display_term(t, names) for t in partial)
         )
+    if lost:
+        notes.append(
+            "the runs that finished cannot tell these interactions from the terms before "
+            "them, as the whole design could, so they are left out: "
+            + ", ".join(_display_term(t, names) for t in lost)
+        )
     if method == "residual":
         notes.append(
             f"the error is the residual of the fitted effects ({df_resid:g} degrees of freedom"
             + (f", {df_pe:g} of them pure error" if df_pe else "")
-            + "), as in the ANOVA"
+            + ")"
         )
     if n_c:
         notes.append(

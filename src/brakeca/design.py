@@ -2885,18 +2885,23 @@ class Design(_Frozen):
         Raises
         ------
         ConfigError
-            For the first level that does not validate; the message names ``source`` (the
-            design file), the factor, its field and the level.
+            Where levels do not validate: one line for each such level (a DoE review: a
+            design with two bad factors had shown the second only once the first was
+            mended), naming ``source`` (the design file), the factor, its field and the
+            level.
         """
         base = self.load_base() if base is None else base
         centre = self.center_levels() if self.center_points else {}
+        problems: list[str] = []
         for factor in self.factors:
             values = [*factor.levels, *([centre[factor.name]] if centre else [])]
             for value in values:
                 try:
                     factor.apply(base, value)
                 except ConfigError as exc:
-                    raise self._level_error(factor, value, exc, source) from None
+                    problems.append(str(self._level_error(factor, value, exc, source)))
+        if problems:
+            raise ConfigError("\n".join(problems))
 
     def points(
         self,

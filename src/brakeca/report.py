@@ -652,10 +652,23 @@ def _outlier_clause(
     replicated = residuals is not None and is_replicated(residuals)
     named = " and ".join(run_named(rec, replicated) for _, rec in outliers.iterrows())
     verb = "is an outlier" if len(outliers) == 1 else "are outliers"
+    setting = _within_settings(outliers, residuals, anova)
+    if setting:
+        reading = (
+            f": the runs of {setting}, which scatter more than the other settings' runs (the "
+            "model fits each setting's mean)"
+        )
+    elif setting is not None:
+        reading = (
+            ": far from the other runs at their setting (the model fits each setting's mean)"
+        )
+    else:
+        reading = ""
     clause = (
         f"; {named} {verb} of the model (Bonferroni p "
         + ", ".join(_p_text(float(v)) for v in outliers["outlier_p"])
         + ")"
+        + reading
     )
     who = None  # the refit leaves out every unusual run: named where they are more
     if len(unusual) > len(outliers):
@@ -663,6 +676,32 @@ def _outlier_clause(
         who = f"the unusual runs ({every})"
     verdicts = _verdicts_without(anova, unusual, alpha, who)
     return clause + (f", and {verdicts}" if verdicts else "")
+
+
+def _within_settings(
+    outliers: pd.DataFrame, residuals: pd.DataFrame | None, anova: pd.DataFrame | None
+) -> str | None:
+    """Where the ANOVA's model leaves no lack of fit (its residual is pure error: it fits
+    every setting's mean), what the outlier test finds is runs far from the other runs at
+    their setting, not a misfit of the model (a DoE review: both replicates of a test had
+    been called outliers the model "does not describe"): ``"test 4"`` where the
+    ``outliers`` are every run of that one test, ``""`` otherwise; None where the model
+    leaves a lack of fit (or there is no pure error)."""
+    if anova is None or outliers.empty:
+        return None
+    pure, df = anova.attrs.get("pure_error_df", math.nan), anova.attrs.get("df_resid", math.nan)
+    if _is_missing(pure) or _is_missing(df) or float(pure) < 0.5:
+        return None
+    if abs(float(pure) - float(df)) > 0.5:
+        return None
+    if residuals is None or "test" not in outliers.columns or "test" not in residuals.columns:
+        return ""
+    tests = set(pd.to_numeric(outliers["test"], errors="coerce"))
+    if len(tests) != 1 or len(outliers) < 2:
+        return ""
+    (test,) = tests
+    runs = int((pd.to_numeric(residuals["test"], errors="coerce") == test).sum())
+    return f"test {int(test)}" if runs == len(outliers) else ""
 
 
 def _outliers(unusual: pd.DataFrame | None) -> pd.DataFrame:
@@ -788,13 +827,32 @@ def _unusual_text(
                         f": without {who} the residual sum of squares, the error every F "
                         f"test is against, falls by {100 * fall:.0f} %"
                     )
+            setting = _within_settings(outliers, frame, anova)
+            them = "it" if len(names) == 1 else "them"
+            if setting:
+                reading = (
+                    f"; they are every run of {setting}, and the model fits each setting's "
+                    "mean (it leaves no lack of fit), so it is not the model they depart from "
+                    "but each other: the runs at this setting scatter more than those at the "
+                    "others, which the one error of the F tests does not allow for"
+                )
+            elif setting is not None:
+                reading = (
+                    "; the model fits each setting's mean (it leaves no lack of fit), so what "
+                    f"sets {them} apart is {'its' if len(names) == 1 else 'their'} distance "
+                    "from the other runs at the same setting, not a misfit of the model"
+                )
+            else:
+                reading = f", so the model does not describe {them}"
             text += (
                 f" {named[:1].upper()}{named[1:]} {verb} of this model: the deleted "
                 "residual, the run's residual against the model fitted without it in that "
                 "fit's standard errors, has p "
                 + ", ".join(_p_text(float(v)) for v in outliers["outlier_p"])
-                + f" after Bonferroni's correction over the {n} runs{ceiling}, so the model "
-                "does not describe " + ("it" if len(names) == 1 else "them") + share + "."
+                + f" after Bonferroni's correction over the {n} runs{ceiling}"
+                + reading
+                + share
+                + "."
             )
         elif p.notna().any():
             text += (
@@ -1505,12 +1563,17 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     resid_df = attrs.get("df_resid", math.nan)
     if not _is_missing(pure_df) and float(pure_df) < 0.5 and not _is_missing(resid_df):
         if float(resid_df) > 0.5:
-            order = int(attrs.get("order") or 2)
-            left = (
-                "every term not among those chosen"
-                if attrs.get("model_terms")
-                else f"interactions of more than {order} factor{'s' if order > 1 else ''}"
-            )
+            # the order fitted, not the one asked for: a saturated model's interactions are
+            # pooled (a DoE review: "more than 2 factors" above the residual of a 2^2's A:B)
+            order = int(attrs.get("fitted_order", attrs.get("order")) or 2)
+            if attrs.get("model_terms"):
+                left = "every term not among those chosen"
+            elif order == 1:
+                left = "the interactions"
+            else:
+                left = f"interactions of more than {order} factors"
+            if not attrs.get("model_terms") and _POOLED in str(attrs.get("note", "")):
+                left += ", pooled because the model with them left no degrees of freedom"
             if attrs.get("alpha_to_remove") is not None:
                 left += " and the terms backward elimination removed"
             text += (
@@ -1999,7 +2062,12 @@ def _finding(
     text = _finding_terms(response, frame, means)
     if not text:
         return text
-    return text + _curvature_finding(frame) + _pure_error_finding(frame, effects)
+    return (
+        text
+        + _curvature_finding(frame)
+        + _pure_error_finding(frame, effects)
+        + _pooled_finding(frame, effects)
+    )
 
 
 def _v_scale(
@@ -2069,23 +2137,64 @@ def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> st
     lof_p = _lack_of_fit_p(frame)
     if lof_p is None or "significant" not in effects.columns:
         return ""
+    shown = _effects_beyond(frame, effects)
+    if not shown:
+        return ""
+    return (
+        f"; the ANOVA's residual lacks fit (p {_p_relation(lof_p)}), and against the pure "
+        f"error of the repeated runs alone (the effects table) {shown} also have p < 0.05"
+    )
+
+
+#: The words of :func:`brakeca.analysis.anova`'s note where a saturated model's interactions
+#: were pooled into its residual.
+_POOLED = "pooled into the residual"
+
+
+def _pooled_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
+    """The terms the effects table finds with p < 0.05 by Lenth's method that the ANOVA,
+    whose residual is the interactions it pooled because its model was saturated, does not
+    (a DoE review: a 2^(5-2) fraction's "In short" said no term of MU had p < 0.05, its
+    error holding an alias chain of 30 % of the variation that the effects table found with
+    p = 0.004); empty otherwise."""
+    if effects is None or effects.empty or effects.attrs.get("method") != "Lenth":
+        return ""
+    if _POOLED not in str(frame.attrs.get("note", "")):
+        return ""
+    shown = _effects_beyond(frame, effects)
+    if not shown:
+        return ""
+    return (
+        "; the ANOVA's error is the interactions it pooled (its model with them left no "
+        f"degrees of freedom), and by Lenth's method (the effects table) {shown} also have "
+        "p < 0.05"
+    )
+
+
+def _effects_beyond(frame: pd.DataFrame, effects: pd.DataFrame) -> str:
+    """The terms significant in the effects table (``"WP:WR = A:mu0"`` for an alias chain,
+    ``"curvature (Ct Pt)"``) that the ANOVA ``frame`` does not find with p < 0.05, at most
+    :data:`_MOST_FINDINGS` named; empty for none."""
+    if "significant" not in effects.columns:
+        return ""
     from brakeca.analysis import CENTER_TERM
 
     named = set(frame.loc[frame["p_value"].astype(float) < 0.05, "term"].astype(str))
     found = effects.loc[effects["significant"].astype(bool)]
-    extra = [
-        "curvature (Ct Pt)" if str(t) == CENTER_TERM else str(t)
-        for t in found["term"]
-        if str(t) not in named and not (str(t) == CENTER_TERM and "Curvature" in named)
-    ]
+    chains = found["aliases"] if "aliases" in found.columns else pd.Series("", index=found.index)
+    extra = []
+    for term, chain in zip(found["term"], chains, strict=True):
+        if str(term) in named or (str(term) == CENTER_TERM and "Curvature" in named):
+            continue
+        if str(term) == CENTER_TERM:
+            extra.append("curvature (Ct Pt)")
+            continue
+        short = _short_aliases(chain)
+        extra.append(f"{term} = {short}" if short else str(term))
     if not extra:
         return ""
-    shown = ", ".join(extra[:_MOST_FINDINGS]) + (
+    return ", ".join(extra[:_MOST_FINDINGS]) + (
         f" and {len(extra) - _MOST_FINDINGS} more" if len(extra) > _MOST_FINDINGS else ""
-    )
-    return (
-        f"; the ANOVA's residual lacks fit (p {_p_relation(lof_p)}), and against the pure "
-        f"error of the repeated runs alone (the effects table) {shown} also have p < 0.05"
     )
 
 

@@ -957,6 +957,38 @@ def test_a_failed_run_makes_the_effects_adjusted_with_their_own_standard_errors(
     assert np.allclose(by_term["t"], by_term["effect"] / by_term["se"])
 
 
+def test_failed_runs_of_a_regular_design_keep_its_interactions_in_the_effects() -> None:
+    """A DoE review: five failed runs of a replicated 2^3 correlated the A:B column with A's
+    by 0.27 in the runs left, and the effects table called the design non-regular and fitted
+    the main effects alone, its error holding an interaction the ANOVA found with p = 1e-6.
+    Regularity and alias chains are read from the runs planned (the summary's failed rows);
+    an interaction the runs left cannot estimate is named."""
+    rows = _two_level("ABC", {}, {"A": 1.0, "A:B": 0.8}, replicates=2, noise=0.05)
+    rows["status"] = "ok"
+    lost = (rows["B"] == 0) & (rows["C"] == 0)  # both runs of two settings
+    lost.loc[rows.index[(rows["A"] == 1) & (rows["B"] == 1) & (rows["C"] == 1)][0]] = True
+    rows.loc[lost, "status"] = "failed"
+    rows.loc[lost, "y"] = np.nan
+    ok = rows.loc[~lost]
+    a, b = (2 * ok[c].to_numpy() - 1 for c in "AB")
+    assert abs(np.corrcoef(a * b, a)[0, 1]) > 0.2  # what had made it "non-regular"
+    effects = two_level_effects(rows, _levels01("ABC"), "y")
+    note = effects.attrs["note"]
+    assert "non-regular" not in note
+    assert "cannot tell these interactions from the terms before them" in note
+    assert note.endswith("so they are left out: B:C, A:B:C")
+    assert set(effects["term"]) == {"A", "B", "C", "A:B", "A:C"}
+    table = anova(rows, _levels01("ABC"), "y").set_index("term")
+    assert set(table.index) - {"Residual"} == set(effects["term"])  # the ANOVA's terms
+    by_term = effects.set_index("term")
+    for term in ("A:B", "A:C"):  # the highest terms: Type II's test of each is the t test
+        assert by_term.loc[term, "p_value"] == pytest.approx(table.loc[term, "p_value"], rel=1e-6)
+    assert by_term.loc["A:B", "effect"] == pytest.approx(1.6, abs=0.1)
+    # the runs as a table of their own, without the failed rows: the design is what they are
+    alone = two_level_effects(ok, _levels01("ABC"), "y")
+    assert "non-regular" in alone.attrs["note"]
+
+
 def test_a_constant_response_has_no_effects() -> None:
     rows = _two_level("ABC", {}, {}, noise=0.0).assign(y=0.3)
     rows["y"] += 1e-17 * np.arange(len(rows))

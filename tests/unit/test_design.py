@@ -462,6 +462,25 @@ def test_bad_design_file_names_file_and_field(tmp_path, case):
         assert fragment in message, f"{fragment!r} not in {message!r}"
 
 
+def test_every_bad_level_is_named_at_once(tmp_path):
+    """A DoE review: with A = [10, 150] and S = [0, 2], S's error showed only once A's was
+    mended. Each bad level now has its own line, in the design's order."""
+    path = tmp_path / "bad.toml"
+    path.write_text(
+        'name = "bad"\nbase = "paper"\nroot_seed = 1\n'
+        '[[factors]]\nname = "A"\nlevels = [10, 150]\n'
+        '[[factors]]\nname = "S"\nlevels = [-1, 2]\n'
+    )
+    with pytest.raises(ConfigError) as info:
+        load_design(path)
+    lines = str(info.value).splitlines()
+    assert len(lines) == 3, lines
+    assert all(line.startswith(f"{path}: factors #") for line in lines)
+    assert "factor 'A' (field A): level 150 [%] is not valid" in lines[0]
+    assert "factor 'S' (field S): level -1 [-] is not valid" in lines[1]
+    assert "factor 'S' (field S): level 2 [-] is not valid" in lines[2]
+
+
 def test_bad_toml_and_missing_file(tmp_path):
     path = tmp_path / "broken.toml"
     path.write_text("name = 'x'\nfactors = [", encoding="utf-8")

@@ -415,7 +415,20 @@ def test_the_model_summary_says_what_an_unreplicated_residual_is() -> None:
     assert "The residual (9 df) is the terms the model leaves out (interactions of more " in text
     assert "than 2 factors): no two runs share their levels" in text
     one = _model_summary_text({**base, "df_resid": 4.0, "pure_error_df": 0.0, "order": 1}, None)
-    assert "(interactions of more than 1 factor)" in one
+    assert "(the interactions)" in one
+    # the order fitted, where a saturated model's interactions were pooled (a DoE review:
+    # "more than 2 factors" above the residual of a 2^2 design's A:B)
+    pooled = {
+        **base,
+        "df_resid": 1.0,
+        "pure_error_df": 0.0,
+        "order": 2,
+        "fitted_order": 1,
+        "note": "model with two-factor interactions is saturated (0 residual df): "
+        "interactions pooled into the residual, main effects only",
+    }
+    said = "(the interactions, pooled because the model with them left no degrees of freedom)"
+    assert said in _model_summary_text(pooled, None)
     reduced = {**base, "df_resid": 5.0, "pure_error_df": 0.0, "alpha_to_remove": 0.1}
     assert "and the terms backward elimination removed" in _model_summary_text(reduced, None)
     for attrs in (
@@ -955,3 +968,38 @@ def test_v_s_section_names_the_runs_fitted_a_negative_volume() -> None:
         "effects that multiply V; log10 V's section reads them as ratios."
     )
     assert _negative_fits("MU", frame) == "" and _negative_fits("V", frame.iloc[2:]) == ""
+
+
+def test_in_short_names_what_lenth_finds_in_the_interactions_a_saturated_anova_pooled() -> None:
+    """A DoE review: a 2^(5-2) fraction's "In short" said no term of MU had p < 0.05, the
+    ANOVA's error holding the two-factor chains it pooled (one of them 30 % of the variation),
+    while the effects table found three terms by Lenth's method. The line names them."""
+    import itertools
+
+    from brakeca.analysis import two_level_effects
+    from brakeca.report import _finding
+
+    rng = np.random.default_rng(3)
+    rows = []
+    for c, b, a in itertools.product((-1, 1), repeat=3):  # D = ABC, standard order
+        y = 10.0 + 1.0 * a + 1.2 * a * b + 0.05 * rng.standard_normal()
+        rows.append({"A": a, "B": b, "C": c, "D": a * b * c, "y": y})
+    frame = pd.DataFrame(rows)
+    factors = [Factor(n, (-1.0, 1.0)) for n in "ABCD"]
+    table = anova(frame, factors, "y")
+    assert "pooled into the residual" in table.attrs["note"]
+    assert table.attrs["fitted_order"] == 1 and table.attrs["order"] == 2
+    assert (table["p_value"].dropna() > 0.05).all()  # the pooled chain hides A as well
+    effects = two_level_effects(frame, factors, "y")
+    assert effects.attrs["method"] == "Lenth"
+    line = _finding("y", table, None, effects)
+    assert line.startswith("y: no term has p < 0.05; R² = ")
+    assert line.endswith(
+        "; the ANOVA's error is the interactions it pooled (its model with them left no "
+        "degrees of freedom), and by Lenth's method (the effects table) A:B = C:D, A also have "
+        "p < 0.05"
+    )
+    # with an error of its own (replicates) nothing was pooled: no such clause
+    twice = pd.concat([frame, frame.assign(y=frame["y"] + 0.01)], ignore_index=True)
+    plain = _finding("y", anova(twice, factors, "y"), None, two_level_effects(twice, factors, "y"))
+    assert "pooled" not in plain

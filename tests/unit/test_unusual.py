@@ -263,3 +263,39 @@ def test_the_verdicts_without_name_terms_that_gain_and_lose_significance() -> No
     assert _verdicts_without(before, unusual) == (
         "without them the model cannot be refitted (too few runs)"
     )
+
+
+def test_outliers_of_a_model_that_fits_every_setting_are_said_to_scatter_at_it() -> None:
+    """A DoE review: both replicates of one test were called outliers the model "does not
+    describe", where the model fits every setting's mean (no lack of fit is left) and the two
+    runs are simply far apart. The report says so; with a lack of fit it keeps the old
+    reading."""
+    runs = _runs(replicates=2)
+    runs.loc[runs["test"] == 5, "MU"] += np.array([0.02, -0.02])
+    full = anova(runs, FACTORS, "MU", interactions=3)  # every setting's mean: no lack of fit
+    assert full.attrs["pure_error_df"] == full.attrs["df_resid"] == 12
+    frame = residuals(runs, FACTORS, "MU", interactions=3)
+    table = unusual_runs(runs, FACTORS, "MU", interactions=3)
+    outliers = table.loc[table["outlier_p"] < 0.05]
+    assert sorted(outliers["test"]) == [5, 5]
+    text = _unusual_text("MU", frame, table, full)
+    assert "they are every run of test 5, and the model fits each setting's mean" in text
+    assert "does not describe" not in text
+    (line,) = in_short({"MU": full}, residual_tables={"MU": frame}, unusual_tables={"MU": table})
+    assert ": the runs of test 5, which scatter more than the other settings' runs" in line
+    # one run of three far from the others at its setting: not "every run", still no misfit
+    three = _runs(replicates=3)
+    three.loc[(three["test"] == 5) & (three["replicate"] == 0), "MU"] += 0.03
+    full = anova(three, FACTORS, "MU", interactions=3)
+    frame = residuals(three, FACTORS, "MU", interactions=3)
+    table = unusual_runs(three, FACTORS, "MU", interactions=3)
+    assert list(table.loc[table["outlier_p"] < 0.05, "test"]) == [5]
+    text = _unusual_text("MU", frame, table, full)
+    assert "distance from the other runs at the same setting, not a misfit" in text
+    # a model that leaves a lack of fit: the outlier departs from the model
+    main = anova(runs, FACTORS, "MU", interactions=False)
+    assert main.attrs["lack_of_fit_df"] > 0
+    frame = residuals(runs, FACTORS, "MU", interactions=False)
+    table = unusual_runs(runs, FACTORS, "MU", interactions=False)
+    assert (table["outlier_p"] < 0.05).all()
+    assert "so the model does not describe them" in _unusual_text("MU", frame, table, main)
