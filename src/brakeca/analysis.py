@@ -2633,6 +2633,7 @@ EFFECTS_COLUMNS: tuple[str, ...] = (
 #: 12-run Plackett-Burman design; a failed run of a 16-run fraction gives 1/15) [-].
 _MAX_EFFECT_CORRELATION = 0.2
 
+
 def _planned_frame(
     summary: pd.DataFrame, factors: Sequence[Factor], columns: Sequence[str]
 ) -> pd.DataFrame:

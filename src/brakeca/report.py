@@ -659,9 +659,7 @@ def _outlier_clause(
             "model fits each setting's mean)"
         )
     elif setting is not None:
-        reading = (
-            ": far from the other runs at their setting (the model fits each setting's mean)"
-        )
+        reading = ": far from the other runs at their setting (the model fits each setting's mean)"
     else:
         reading = ""
     clause = (
