@@ -42,6 +42,8 @@ J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260, Se
 
 from __future__ import annotations
 
+import contextlib
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -361,7 +363,21 @@ def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
     with a segmentation fault inside h5py, a robustness review found). A run file is a few MB
     at full resolution.
     """
-    return atomic_write(path, lambda tmp: tmp.write_bytes(dataset.to_netcdf(engine="h5netcdf")))
+    with _without_a_dask_client():
+        data = dataset.to_netcdf(engine="h5netcdf")
+    return atomic_write(path, lambda tmp: tmp.write_bytes(data))
+
+
+def _without_a_dask_client() -> contextlib.AbstractContextManager[Any]:
+    """A context in which xarray writes with a thread lock even where a
+    ``dask.distributed.Client`` is the process's default (a notebook or a SLURM script that
+    opened one): xarray then asked the scheduler for a lock named after the in-memory file,
+    which failed, so every run of a campaign was computed and then recorded as failed (a
+    cluster review). Nothing to do where dask was never imported."""
+    dask = sys.modules.get("dask")
+    if dask is None or not hasattr(dask, "config"):
+        return contextlib.nullcontext()
+    return dask.config.set(scheduler="synchronous")  # type: ignore[no-any-return]
 
 
 # the per-stop reductions of a stop's per-step records that a run file needs (the columns of

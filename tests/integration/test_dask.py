@@ -552,3 +552,29 @@ def test_cli_runs_on_an_existing_cluster(cluster, local, design_file, tmp_path):
     # the campaign did not close a cluster it did not start
     with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
         assert client.submit(pow, 2, 5).result() == 32
+
+
+def test_a_default_client_in_the_process_loses_no_run(cluster, local, design_file, tmp_path):
+    """A cluster review: with a dask.distributed Client open as the process's default (a
+    notebook, or the script docs/cluster.md shows with client.get_executor), xarray asked the
+    scheduler for a lock named after the in-memory run file; every run was computed, then
+    recorded as failed ("Semaphore or Lock ... not known"), and campaign.nc raised. The runs
+    are written with a thread lock, whatever the default Client."""
+    with distributed.Client(cluster.scheduler_address) as client:  # the default
+        n = sum(client.nthreads().values())
+        result = run_campaign(
+            design_file,
+            tmp_path / "campaign",
+            executor=client.get_executor(pure=False),
+            workers=n,
+            progress=False,
+            console=quiet(),
+        )
+        assert result.ok and len(result.computed) == 4, result.summary[["status", "error"]]
+        assert_same_runs(result, local)
+        served = run_campaign(
+            design_file, tmp_path / "serial", executor="serial", progress=False, console=quiet()
+        )
+        assert served.ok and len(served.computed) == 4
+    assert (tmp_path / "campaign" / "campaign.nc").is_file()
+    assert_same_runs(load_campaign(tmp_path / "campaign"), local)
