@@ -377,7 +377,7 @@ def _without_a_dask_client() -> contextlib.AbstractContextManager[Any]:
     dask = sys.modules.get("dask")
     if dask is None or not hasattr(dask, "config"):
         return contextlib.nullcontext()
-    return dask.config.set(scheduler="synchronous")  # type: ignore[no-any-return]
+    return dask.config.set(scheduler="synchronous")
 
 
 # the per-stop reductions of a stop's per-step records that a run file needs (the columns of
