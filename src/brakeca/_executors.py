@@ -139,10 +139,20 @@ class DaskExecutor(cf.Executor):
         return self._executor.submit(fn, *args, **kwargs)
 
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
-        """Wait for (or cancel) the submitted calls, then close the client and own cluster."""
+        """Wait for (or cancel) the submitted calls, then close the client and own cluster.
+
+        With ``cancel_futures`` (Ctrl-C), the own cluster's worker processes are killed first
+        and dask's log lines are held back while it closes: a worker in a compiled stop does
+        not answer its nanny, which waited 4 s, and dask logged a page of warnings and
+        tracebacks meanwhile (a cluster review). A run in progress keeps its checkpoint, as
+        with the local executor."""
         if self._closed:
             return
         self._closed = True
+        quiet = _dask_logs_held() if cancel_futures and self.cluster is not None else None
+        if quiet is not None:
+            quiet.__enter__()
+            self._kill_workers()
         try:
             self._executor.shutdown(wait=wait and not cancel_futures)
         finally:
@@ -158,6 +168,35 @@ class DaskExecutor(cf.Executor):
                         self.deaths.detach()
                     if self._held is not None:
                         self._held.__exit__(None, None, None)
+                    if quiet is not None:
+                        quiet.__exit__(None, None, None)
+
+    def _kill_workers(self) -> None:
+        """Kill the own cluster's worker processes now, each nanny told first not to start
+        another (its close then finds the process gone)."""
+        for nanny in list((getattr(self.cluster, "workers", None) or {}).values()):
+            try:
+                nanny.close_gracefully(reason="brakeca: the campaign was interrupted")
+                pid = nanny.pid
+                if pid:
+                    os.kill(pid, signal.SIGKILL)
+            except Exception:  # a nanny without a process, or one that is gone: closed below
+                pass
+
+
+@contextmanager
+def _dask_logs_held() -> Iterator[None]:
+    """While in this block, dask's loggers in this process say nothing (a cluster being shut
+    down on Ctrl-C: its workers' deaths, the cancelled tasks and comms are expected)."""
+    names = ("distributed", "distributed.client", "distributed.nanny", "distributed.scheduler")
+    saved = {name: logging.getLogger(name).level for name in names}
+    for name in names:
+        logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        for name, level in saved.items():
+            logging.getLogger(name).setLevel(level)
 
 
 class WorkerDeaths(logging.Filter):
@@ -169,7 +208,9 @@ class WorkerDeaths(logging.Filter):
     campaign's terminal and in the middle of its progress bar. Both loggers live in the
     campaign's process for a cluster it started; this filter drops those two lines and counts
     the deaths, which the campaign reports in its own words (:meth:`_DaskBackend.news`).
-    Every other line of dask's passes."""
+    It also drops the scheduler's "Task ... marked as failed because N workers died while
+    trying to run it": the campaign names that run as failed, with dask's reason. Every
+    other line of dask's passes."""
 
     #: The loggers it filters.
     LOGGERS = ("distributed.nanny", "distributed.scheduler")
@@ -185,11 +226,11 @@ class WorkerDeaths(logging.Filter):
         if record.name == "distributed.nanny" and text.startswith("Restarting worker"):
             self.count += 1
             return False
-        return not (
-            record.name == "distributed.scheduler"
-            and text.startswith("Removing worker")
-            and "caused the cluster to lose" in text
-        )
+        if record.name != "distributed.scheduler":
+            return True
+        lost = text.startswith("Removing worker") and "caused the cluster to lose" in text
+        failed = text.startswith("Task ") and "marked as failed because" in text
+        return not (lost or (failed and "workers died" in text))
 
     def detach(self) -> None:
         """Stop filtering."""
@@ -370,7 +411,10 @@ def _dask_executor(
     held.__enter__()
     deaths = WorkerDeaths()
     try:
-        with dask.config.set({"distributed.scheduler.worker-saturation": 1.0}):
+        with (
+            dask.config.set({"distributed.scheduler.worker-saturation": 1.0}),
+            _ctrl_c_left_to_this_process(),
+        ):
             cluster = distributed.LocalCluster(
                 n_workers=n,
                 threads_per_worker=1,
@@ -390,6 +434,23 @@ def _dask_executor(
         held.__exit__(None, None, None)
         raise
     return DaskExecutor(client, cluster, held=held, deaths=deaths)
+
+
+@contextmanager
+def _ctrl_c_left_to_this_process() -> Iterator[None]:
+    """While in this block (in the main thread), Ctrl-C is ignored, so that the processes
+    started in it ignore it too (Python leaves an ignored SIGINT ignored): a LocalCluster's
+    workers, which printed KeyboardInterrupt tracebacks on Ctrl-C though the campaign's
+    process stops them itself (:meth:`DaskExecutor.shutdown`; a cluster review). A worker a
+    nanny starts later, in place of a dead one, takes Ctrl-C as usual."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, saved)
 
 
 def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path | None) -> str:
@@ -414,12 +475,31 @@ def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path
         get_backend(scheme)
     except (ValueError, TypeError) as exc:
         return f"{type(exc).__name__}: {exc}"
+    if scheme == "tls" and not _tls_configured():
+        # a Client without TLS settings failed, then hung 60 s at exit (a cluster review)
+        return (
+            "a tls:// scheduler needs dask's TLS settings in this process: "
+            "distributed.comm.tls.ca-file and distributed.comm.tls.client.cert (and .key) in "
+            "dask's configuration (a YAML file in ~/.config/dask, or the environment "
+            "variables DASK_DISTRIBUTED__COMM__TLS__CA_FILE and so on), and none is set"
+        )
     if scheme in ("tcp", "tls"):
         problem = _nothing_listens(location)
         if problem or scheme == "tls":  # a TLS handshake needs the cluster's security
             return problem
         return _not_a_scheduler(f"{scheme}://{location}")
     return ""
+
+
+def _tls_configured() -> bool:
+    """Whether dask's configuration gives a client a TLS context (a CA file and a
+    certificate), as a tls:// address needs."""
+    from distributed.security import Security
+
+    try:
+        return Security().get_connection_args("client").get("ssl_context") is not None
+    except Exception:  # settings that do not load: let the Client say what is wrong
+        return True
 
 
 def _connect_timeout() -> float:

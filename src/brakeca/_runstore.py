@@ -299,6 +299,53 @@ DESIGN_HEADER = "# Design of campaign"
 BASE_HEADER = "# Resolved base configuration of campaign"
 
 
+def design_text(design: Design) -> str:
+    """The text of a campaign's design.toml for ``design`` (its base is base_config.toml)."""
+    return (
+        f"{DESIGN_HEADER} {design.name!r} (base: base_config.toml beside this file).\n"
+        + design.to_toml(base_config="base_config.toml")
+    )
+
+
+def design_changes(out: Path, design: Design) -> str:
+    """How ``design`` differs from the design.toml a campaign left in ``out``, e.g.
+    ``"A's levels [10, 20] -> [10, 25]"`` or ``"replicates 2 -> 3"`` (a cluster review: a
+    level changed between a campaign's kill and its resume replaced design.toml without a
+    word); empty where there is none, or nothing it can read."""
+    import tomllib
+
+    path = out / "design.toml"
+    try:
+        old_text = path.read_text(encoding="utf-8")
+    except OSError:
+        return ""
+    new_text = design_text(design)
+    if old_text == new_text:
+        return ""
+    try:
+        old, new = tomllib.loads(old_text), tomllib.loads(new_text)
+    except tomllib.TOMLDecodeError:
+        return "design.toml is replaced by this design"
+    said = []
+    for key in sorted(set(old) | set(new) - {"factors"}):
+        if old.get(key) != new.get(key):
+            said.append(f"{key} {old.get(key, '(unset)')} -> {new.get(key, '(unset)')}")
+    old_factors = {f.get("name"): f for f in old.get("factors", [])}
+    new_factors = {f.get("name"): f for f in new.get("factors", [])}
+    for name, factor in new_factors.items():
+        was = old_factors.get(name)
+        if was is None:
+            said.append(f"factor {name} added")
+            continue
+        for key in sorted(set(was) | set(factor) - {"name"}):
+            if was.get(key) != factor.get(key):
+                said.append(
+                    f"{name}'s {key} {was.get(key, '(unset)')} -> {factor.get(key, '(unset)')}"
+                )
+    said += [f"factor {name} removed" for name in old_factors if name not in new_factors]
+    return "; ".join(said) if said else "design.toml is replaced by this design"
+
+
 def _write_design(
     out: Path,
     design: Design,
@@ -319,11 +366,7 @@ def _write_design(
         f"max_stops {max_stops!r}, quick {quick!r}.\n"
     )
     write_text(out / "base_config.toml", header + base.to_toml())
-    write_text(
-        out / "design.toml",
-        f"{DESIGN_HEADER} {design.name!r} (base: base_config.toml beside this file).\n"
-        + design.to_toml(base_config="base_config.toml"),
-    )
+    write_text(out / "design.toml", design_text(design))
     return design.model_copy(
         update={"base": None, "base_config": (out / "base_config.toml").resolve()}
     )

@@ -81,6 +81,7 @@ from brakeca._runstore import (
     _write_design,
     base_differences,
     campaign_lock,
+    design_changes,
     existing_base,
     moved_trace,
 )
@@ -373,6 +374,13 @@ def _run_locked(
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     if not replace:
         _refuse_to_replace(out, base, points, design.root_seed)
+        changes = design_changes(out, design)
+        if changes:
+            say(
+                console,
+                f"[dim]design.toml: this design replaces the folder's ({escape(changes)}); "
+                "the runs of the folder's design done so far are all among its runs[/]",
+            )
     # a folder that holds a study gets the design and base with the summary, after the runs:
     # a campaign stopped or failed before then (a --replace whose cluster is unreachable,
     # Ctrl-C) leaves that study whole. A new folder gets them now, so that a first campaign
@@ -850,17 +858,23 @@ def _say_deaths(console: Console, died: int, max_retries: int) -> None:
         return
     from brakeca._console import say
 
-    say(
-        console,
-        "[yellow]worker died:[/] "
-        + (
+    if max_retries == 0:  # its run failed with it (a cluster review: "gives its run to a
+        # worker again" had followed the run's failure)
+        text = (
+            "a dask worker process died; dask starts another, and its run is not tried again "
+            "(--max-retries 0)"
+            if died == 1
+            else f"{died} dask worker processes died; dask starts others, and their runs are "
+            "not tried again (--max-retries 0)"
+        )
+    else:
+        text = (
             "a dask worker process died; dask starts another and gives its run to a worker again"
             if died == 1
             else f"{died} dask worker processes died; dask starts others and gives their runs "
             "to a worker again"
-        )
-        + f" (a run at most {max_retries} time(s), then it fails)",
-    )
+        ) + f" (a run at most {max_retries} time(s), then it fails)"
+    say(console, "[yellow]worker died:[/] " + text)
 
 
 # --- reading back --------------------------------------------------------------------------

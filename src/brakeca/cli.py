@@ -913,13 +913,15 @@ SchedulerFileOpt = Annotated[
     ),
 ]
 MaxRetriesOpt = Annotated[
-    int,
+    int | None,
     typer.Option(
         "--max-retries",
         min=0,
         metavar="N",
+        show_default=False,
         help="times a run whose worker process died (killed, out of memory) is tried again "
-        "before it is recorded as failed; a run that raises is not retried",
+        "before it is recorded as failed; a run that raises is not retried [default: 2; an "
+        "existing Dask cluster: its scheduler's allowed-failures, docs/cluster.md]",
     ),
 ]
 
@@ -1019,6 +1021,14 @@ def _run_and_report(
         _fail(
             "--workers does not apply to an existing Dask cluster (--scheduler, "
             "--scheduler-file): its workers are started with it"
+        )
+    if max_retries is not None and (scheduler is not None or scheduler_file is not None):
+        # (a cluster review: it was ignored without a word)
+        _fail(
+            "--max-retries does not apply to an existing Dask cluster (--scheduler, "
+            "--scheduler-file): its scheduler's distributed.scheduler.allowed-failures counts "
+            "the tries; set it when starting the scheduler, e.g. "
+            "DASK_DISTRIBUTED__SCHEDULER__ALLOWED_FAILURES=2 dask scheduler ..."
         )
     if speed_unit is not None and cycle is None:
         _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
@@ -1263,7 +1273,7 @@ def run(
     executor: ExecutorOpt = "local",
     scheduler: SchedulerOpt = None,
     scheduler_file: SchedulerFileOpt = None,
-    max_retries: MaxRetriesOpt = 2,
+    max_retries: MaxRetriesOpt = None,
     checkpoint_every: CheckpointOpt = 10,
     quick: QuickOpt = False,
     stops: StopsOpt = None,
@@ -2012,7 +2022,7 @@ def paper(
     executor: ExecutorOpt = "local",
     scheduler: SchedulerOpt = None,
     scheduler_file: SchedulerFileOpt = None,
-    max_retries: MaxRetriesOpt = 2,
+    max_retries: MaxRetriesOpt = None,
     checkpoint_every: CheckpointOpt = 10,
     quick: QuickOpt = False,
     stops: StopsOpt = None,

@@ -216,6 +216,7 @@ def test_rerun_skips_every_run(serial, tmp_path):
     assert _mtimes(out / "runs") == before
     assert "nothing to compute" in text
     assert "belong to no run of this design" not in text
+    assert "design.toml:" not in text  # its own design: nothing replaced
     pd.testing.assert_frame_equal(again.summary, serial.summary, check_exact=True)
     # A run file of an earlier design in the folder is left alone, not analysed, and said.
     old = out / "runs" / "00000000deadbeef.nc"
@@ -224,6 +225,24 @@ def test_rerun_skips_every_run(serial, tmp_path):
     assert "1 run file(s) in" in text and "belong to no run of this design" in text
     assert old.exists()
     pd.testing.assert_frame_equal(third.summary, serial.summary, check_exact=True)
+
+
+def test_a_design_that_replaces_the_folders_design_says_how(serial, tmp_path):
+    """A cluster review: a level changed, between a campaign's kill and its resume, for runs
+    not yet begun was taken and design.toml replaced without a word. A design that keeps
+    every run of the folder's is still taken, and the campaign says what changed."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    more = out / "more.toml"  # beside base_config.toml, which it names
+    text = (out / "design.toml").read_text(encoding="utf-8")
+    assert "\nreplicates = 1\n" in text
+    more.write_text(text.replace("\nreplicates = 1\n", "\nreplicates = 2\n"))
+    console = quiet()
+    result = run_campaign(more, out, executor="serial", progress=False, console=console)
+    assert result.ok and len(result.reused) == 4 and len(result.computed) == 4
+    said = " ".join(console_text(console).split())
+    assert "design.toml: this design replaces the folder's (replicates 1 -> 2)" in said
+    assert "replicates = 2" in (out / "design.toml").read_text(encoding="utf-8")
 
 
 def test_a_folder_of_other_options_is_not_replaced_unless_asked(serial, tmp_path):

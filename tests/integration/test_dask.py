@@ -318,12 +318,14 @@ def test_a_listener_that_is_no_scheduler_is_refused(cluster):
 
 def test_an_address_dask_cannot_use_is_refused_at_once(tmp_path):
     """A robustness review: 'garbage://x', or a scheduler file without an address, gave the
-    error and then a 60 s hang and a traceback at exit (the half-made Client closing). Both
-    are refused before a Client exists, in a child interpreter that must end quickly."""
+    error and then a 60 s hang and a traceback at exit (the half-made Client closing); so did
+    a tls:// address without dask's TLS settings (a cluster review). All are refused before
+    a Client exists, in a child interpreter that must end quickly."""
     (tmp_path / "empty.json").write_text("{}")
     for args, message in (
         ({"scheduler": "garbage://x"}, "unknown address scheme 'garbage'"),
         ({"scheduler_file": str(tmp_path / "empty.json")}, "holds no scheduler address"),
+        ({"scheduler": "tls://127.0.0.1:8786"}, "a tls:// scheduler needs dask's TLS"),
     ):
         code = (
             "from brakeca._executors import make_executor, ExecutorError\n"
@@ -519,6 +521,18 @@ def test_cli_rejects_bad_executor_options(design_file, tmp_path, args, message):
     assert not out.exists()
 
 
+def test_cli_max_retries_is_refused_for_an_existing_cluster(design_file, tmp_path):
+    """A cluster review: --max-retries with --scheduler-file was ignored without a word (the
+    existing scheduler's allowed-failures counts the tries), while --workers was refused."""
+    for where in (["--scheduler", "tcp://127.0.0.1:8786"], ["--scheduler-file", __file__]):
+        args = ["run", str(design_file), "-o", str(tmp_path / "c"), "--executor", "dask"]
+        res = CliRunner().invoke(app, [*args, *where, "--max-retries", "1"])
+        assert res.exit_code == 2, res.output
+        assert "--max-retries does not apply to an existing Dask cluster" in res.output
+        assert "ALLOWED_FAILURES" in res.output
+    assert not (tmp_path / "c").exists()
+
+
 def test_cli_max_retries_must_not_be_negative(design_file, tmp_path):
     res = CliRunner().invoke(
         app, ["run", str(design_file), "-o", str(tmp_path / "c"), "--max-retries", "-1"]
@@ -539,8 +553,6 @@ def test_cli_runs_on_an_existing_cluster(cluster, local, design_file, tmp_path):
             "dask",
             "--scheduler",
             cluster.scheduler_address,
-            "--max-retries",
-            "1",
             "--no-report",
             "--maps-at",
             "2",  # passed to the cluster's workers with the run
@@ -578,3 +590,97 @@ def test_a_default_client_in_the_process_loses_no_run(cluster, local, design_fil
         assert served.ok and len(served.computed) == 4
     assert (tmp_path / "campaign" / "campaign.nc").is_file()
     assert_same_runs(load_campaign(tmp_path / "campaign"), local)
+
+
+def test_a_worker_death_without_retries_is_said_once_and_consistently():
+    """A cluster review, with --max-retries 0: dask's "Task ... marked as failed because 1
+    workers died" line came through, and after the run's failure the campaign said dask
+    "gives its run to a worker again". The line is dropped (the campaign names the failed
+    run), and the death is said as it is."""
+    import logging
+
+    from brakeca._executors import WorkerDeaths
+    from brakeca.campaign import _say_deaths
+
+    deaths = WorkerDeaths()
+    try:
+
+        def kept(name: str, text: str) -> bool:
+            record = logging.LogRecord(name, logging.ERROR, __file__, 1, text, None, None)
+            return deaths.filter(record)
+
+        died = "Task ('x', 0) marked as failed because 1 workers died while trying to run it"
+        assert not kept("distributed.scheduler", died)
+        assert kept("distributed.scheduler", "Task x marked as failed because it timed out")
+        assert kept("distributed.worker", died)  # another logger's: not ours to drop
+    finally:
+        deaths.detach()
+    for retries, said in (
+        (0, "dask starts another, and its run is not tried again (--max-retries 0)"),
+        (2, "gives its run to a worker again (a run at most 2 time(s), then it fails)"),
+    ):
+        console = Console(file=io.StringIO(), width=200)
+        _say_deaths(console, 1, retries)
+        assert said in console.file.getvalue()  # type: ignore[attr-defined]
+
+
+def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path):
+    """A cluster review: Ctrl-C (SIGINT to the process group, as a terminal sends it) on a
+    campaign's own LocalCluster printed 4 s of dask warnings and KeyboardInterrupt tracebacks
+    of its workers before the campaign's line. The workers now ignore Ctrl-C and the
+    campaign kills them itself, with dask's loggers held back while the cluster closes."""
+    script = tmp_path / "interrupted.py"
+    script.write_text(
+        "import signal, sys, time\n"
+        # SIGINT as at a terminal, even where this test runs with it ignored
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "from brakeca.campaign import run_campaign\n"
+        "def slow(config, *, seed, progress=None, maps_at=()):\n"
+        "    time.sleep(120)\n"
+        "if __name__ == '__main__':\n"
+        "    print('started', flush=True)\n"
+        "    try:\n"
+        f"        run_campaign({str(design_file)!r}, {str(tmp_path / 'c')!r}, executor='dask',\n"
+        "                     workers=2, simulate_fn=slow, progress=False)\n"
+        "    except KeyboardInterrupt:\n"
+        "        print('interrupted', flush=True)\n"
+    )
+    proc = subprocess.Popen(
+        [sys.executable, str(script)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    assert proc.stdout is not None
+    assert proc.stdout.readline().strip() == "started"
+    deadline = time.monotonic() + 120.0
+    workers: list[psutil.Process] = []
+    while time.monotonic() < deadline and len(workers) < 2:
+        workers = [
+            p
+            for p in psutil.Process(proc.pid).children()
+            if "spawn_main" in " ".join(p.cmdline()) and _ignores_sigint(p.pid)
+        ]
+        time.sleep(0.2)
+    assert len(workers) == 2, "the cluster's two workers should run, ignoring Ctrl-C"
+    time.sleep(3.0)  # the runs are sent to them
+    os.killpg(proc.pid, signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert out.strip() == "interrupted", (out, err)
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert "distributed." not in err, err
+    _, alive = psutil.wait_procs(workers, timeout=10)
+    assert not alive
+
+
+def _ignores_sigint(pid: int) -> bool:
+    """Whether process ``pid`` ignores SIGINT (its SigIgn mask in /proc holds signal 2)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    for line in status.splitlines():
+        if line.startswith("SigIgn:"):
+            return bool(int(line.split()[1], 16) >> (signal.SIGINT - 1) & 1)
+    return False
