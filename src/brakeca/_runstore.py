@@ -327,7 +327,7 @@ def design_changes(out: Path, design: Design) -> str:
     except tomllib.TOMLDecodeError:
         return "design.toml is replaced by this design"
     said = []
-    for key in sorted(set(old) | set(new) - {"factors"}):
+    for key in sorted((set(old) | set(new)) - {"factors"}):
         if old.get(key) != new.get(key):
             said.append(f"{key} {old.get(key, '(unset)')} -> {new.get(key, '(unset)')}")
     old_factors = {f.get("name"): f for f in old.get("factors", [])}
@@ -337,7 +337,7 @@ def design_changes(out: Path, design: Design) -> str:
         if was is None:
             said.append(f"factor {name} added")
             continue
-        for key in sorted(set(was) | set(factor) - {"name"}):
+        for key in sorted((set(was) | set(factor)) - {"name"}):
             if was.get(key) != factor.get(key):
                 said.append(
                     f"{name}'s {key} {was.get(key, '(unset)')} -> {factor.get(key, '(unset)')}"

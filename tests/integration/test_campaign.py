@@ -243,6 +243,18 @@ def test_a_design_that_replaces_the_folders_design_says_how(serial, tmp_path):
     said = " ".join(console_text(console).split())
     assert "design.toml: this design replaces the folder's (replicates 1 -> 2)" in said
     assert "replicates = 2" in (out / "design.toml").read_text(encoding="utf-8")
+    # a level changed (as for runs not yet begun), and a factor's key added
+    from brakeca._runstore import design_changes
+    from brakeca.design import load_design
+
+    assert "levels = [10.0, 20.0]\n" in text
+    other = out / "other.toml"
+    other.write_text(
+        text.replace("levels = [10.0, 20.0]\n", 'levels = [10.0, 25.0]\nlabel = "fibres"\n')
+    )
+    assert design_changes(out, load_design(other)) == (
+        "replicates 2 -> 1; A's label (unset) -> fibres; A's levels [10.0, 20.0] -> [10.0, 25.0]"
+    )
 
 
 def test_a_folder_of_other_options_is_not_replaced_unless_asked(serial, tmp_path):
