@@ -326,10 +326,15 @@ def design_changes(out: Path, design: Design) -> str:
         old, new = tomllib.loads(old_text), tomllib.loads(new_text)
     except tomllib.TOMLDecodeError:
         return "design.toml is replaced by this design"
+
+    def shown(table: dict[str, Any], key: str) -> str:
+        value = table.get(key, "(unset)")
+        return repr(value) if isinstance(value, str) and key in table else str(value)
+
     said = []
     for key in sorted((set(old) | set(new)) - {"factors"}):
         if old.get(key) != new.get(key):
-            said.append(f"{key} {old.get(key, '(unset)')} -> {new.get(key, '(unset)')}")
+            said.append(f"{key} {shown(old, key)} -> {shown(new, key)}")
     old_factors = {f.get("name"): f for f in old.get("factors", [])}
     new_factors = {f.get("name"): f for f in new.get("factors", [])}
     for name, factor in new_factors.items():
@@ -339,9 +344,7 @@ def design_changes(out: Path, design: Design) -> str:
             continue
         for key in sorted((set(was) | set(factor)) - {"name"}):
             if was.get(key) != factor.get(key):
-                said.append(
-                    f"{name}'s {key} {was.get(key, '(unset)')} -> {factor.get(key, '(unset)')}"
-                )
+                said.append(f"{name}'s {key} {shown(was, key)} -> {shown(factor, key)}")
     said += [f"factor {name} removed" for name in old_factors if name not in new_factors]
     return "; ".join(said) if said else "design.toml is replaced by this design"
 

@@ -247,13 +247,14 @@ def test_a_design_that_replaces_the_folders_design_says_how(serial, tmp_path):
     from brakeca._runstore import design_changes
     from brakeca.design import load_design
 
-    assert "levels = [10.0, 20.0]\n" in text
-    other = out / "other.toml"
-    other.write_text(
-        text.replace("levels = [10.0, 20.0]\n", 'levels = [10.0, 25.0]\nlabel = "fibres"\n')
+    a_factor = (
+        '    20.0,\n]\nscale = 0.01\nlabels = [\n    "-",\n    "+",\n]\nunit = "%"\nlabel = ""'
     )
+    assert a_factor in text
+    other = out / "other.toml"
+    other.write_text(text.replace(a_factor, a_factor.replace("20.0", "25.0") + '\ncoding = "log"'))
     assert design_changes(out, load_design(other)) == (
-        "replicates 2 -> 1; A's label (unset) -> fibres; A's levels [10.0, 20.0] -> [10.0, 25.0]"
+        "replicates 2 -> 1; A's coding (unset) -> 'log'; A's levels [10.0, 20.0] -> [10.0, 25.0]"
     )
 
 
