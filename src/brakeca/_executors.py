@@ -311,6 +311,25 @@ def terminate_as_interrupt() -> Iterator[None]:
             signal.signal(number, handler)
 
 
+def _tracker_outlives_a_hangup() -> None:
+    """Start multiprocessing's resource tracker, if it does not run yet, with SIGHUP ignored.
+
+    A closed terminal sends SIGHUP to the whole process group: the tracker (which ignores
+    only SIGINT and SIGTERM) died with it, and the campaign, stopping its workers as for
+    Ctrl-C, printed "resource_tracker: process died unexpectedly" and a KeyError traceback
+    for every semaphore of its pools (a cluster review). It ends as usual when this process
+    does. Only from the main thread, where signals can be set."""
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "SIGHUP"):
+        return
+    from multiprocessing import resource_tracker
+
+    saved = signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        signal.signal(signal.SIGHUP, saved)
+
+
 def _stop_pool(pool: cf.ProcessPoolExecutor) -> None:
     """Shut ``pool`` down now: its worker processes are terminated (a run in progress keeps
     its checkpoint) and its queued runs cancelled. A plain ``shutdown(wait=False)`` would not
@@ -865,7 +884,10 @@ def _backend(
     if executor == "serial":
         return _Backend(SerialExecutor(), 1, own=True)
     if executor == "local":
+        _tracker_outlives_a_hangup()
         return _LocalSlots(max(1, min(n_workers, n_todo)))
+    if scheduler is None and scheduler_file is None:
+        _tracker_outlives_a_hangup()  # the LocalCluster's nannies use it too
     dask_executor = make_executor(
         "dask",
         max(1, min(n_workers, n_todo)),

@@ -1002,3 +1002,52 @@ def test_a_progress_function_is_called_as_each_run_finishes(design_file, tmp_pat
     run_campaign(design_file, out, executor="serial", progress=lambda *a: calls.append(a),
                  console=quiet(), max_stops=1)  # fmt: skip
     assert calls == [(4, 4)]  # three reused, the fourth computed
+
+
+def test_a_closed_terminal_stops_a_local_campaign_without_tracebacks(design_file, tmp_path):
+    """A cluster review: SIGHUP to the process group (a closed terminal) killed
+    multiprocessing's resource tracker too, and the campaign, stopping its workers, printed
+    "resource_tracker: process died unexpectedly" and a KeyError traceback per semaphore.
+    The tracker is started with SIGHUP ignored; the campaign stops as for Ctrl-C."""
+    import time
+
+    (tmp_path / "slowsim.py").write_text(
+        "import time\ndef slow(config, *, seed, progress=None, maps_at=()):\n    time.sleep(120)\n"
+    )
+    script = tmp_path / "hung_up.py"
+    script.write_text(
+        "from brakeca.campaign import run_campaign\n"
+        "from slowsim import slow\n"
+        "if __name__ == '__main__':\n"
+        "    print('started', flush=True)\n"
+        "    try:\n"
+        f"        run_campaign({str(design_file)!r}, {str(tmp_path / 'c')!r}, executor='local',\n"
+        "                     workers=2, simulate_fn=slow, progress=False)\n"
+        "    except KeyboardInterrupt as exc:\n"
+        "        print('interrupted', exc, flush=True)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), *sys.path]))
+    proc = subprocess.Popen(
+        [sys.executable, str(script)],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    assert proc.stdout is not None
+    assert proc.stdout.readline().strip() == "started"
+
+    def children() -> list[str]:
+        path = Path(f"/proc/{proc.pid}/task/{proc.pid}/children")
+        return path.read_text().split() if path.exists() else []
+
+    deadline = time.monotonic() + 120.0
+    while time.monotonic() < deadline and len(children()) < 3:
+        time.sleep(0.2)  # the tracker and the two workers
+    assert len(children()) >= 3, children()
+    time.sleep(3.0)  # the workers take their runs
+    os.killpg(proc.pid, signal.SIGHUP)
+    out, err = proc.communicate(timeout=60)
+    assert out.strip() == "interrupted SIGHUP", (out, err)
+    assert "Traceback" not in err and "resource_tracker" not in err, err
