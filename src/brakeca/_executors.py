@@ -20,7 +20,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator, Mapping
-from contextlib import AbstractContextManager, contextmanager, nullcontext
+from contextlib import AbstractContextManager, ExitStack, contextmanager, nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -149,11 +149,11 @@ class DaskExecutor(cf.Executor):
         if self._closed:
             return
         self._closed = True
-        quiet = _dask_logs_held() if cancel_futures and self.cluster is not None else None
-        if quiet is not None:
-            quiet.__enter__()
-            self._kill_workers()
+        quiet = ExitStack()
         try:
+            if cancel_futures and self.cluster is not None:
+                quiet.enter_context(_dask_logs_held())
+                self._kill_workers()
             self._executor.shutdown(wait=wait and not cancel_futures)
         finally:
             try:
@@ -168,8 +168,7 @@ class DaskExecutor(cf.Executor):
                         self.deaths.detach()
                     if self._held is not None:
                         self._held.__exit__(None, None, None)
-                    if quiet is not None:
-                        quiet.__exit__(None, None, None)
+                    quiet.close()
 
     def _kill_workers(self) -> None:
         """Kill the own cluster's worker processes now, each nanny told first not to start
@@ -500,7 +499,7 @@ def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path
             "a tls:// scheduler needs dask's TLS settings in this process: "
             "distributed.comm.tls.ca-file and distributed.comm.tls.client.cert (and .key) in "
             "dask's configuration (a YAML file in ~/.config/dask, or the environment "
-            "variables DASK_DISTRIBUTED__COMM__TLS__CA_FILE and so on), and none is set"
+            "variables DASK_DISTRIBUTED__COMM__TLS__CA_FILE and so on), which are not both set"
         )
     if scheme in ("tcp", "tls"):
         problem = _nothing_listens(location)

@@ -241,11 +241,17 @@ def _error_text(exc: BaseException) -> str:
     if type(exc).__name__ == "KilledWorker":
         tries = getattr(exc, "allowed_failures", None)
         worker = getattr(getattr(exc, "last_worker", None), "address", "?")
-        times = "repeatedly" if tries is None else f"{int(tries) + 1} times"
-        text = (
-            f"KilledWorker: the worker process died {times} while running it (dask retried "
-            f"it on other workers; last worker {worker}); not retried again"
-        )
+        if tries is not None and int(tries) == 0:  # as the campaign says of such a death
+            text = (
+                "KilledWorker: the worker process died while running it (last worker "
+                f"{worker}); not tried again (no retries allowed)"
+            )
+        else:
+            times = "repeatedly" if tries is None else f"{int(tries) + 1} times"
+            text = (
+                f"KilledWorker: the worker process died {times} while running it (dask "
+                f"retried it on other workers; last worker {worker}); not retried again"
+            )
     else:
         text = f"{type(exc).__name__}: {exc}".strip()
     return " ".join(text.split())  # one line, for the CSV
@@ -317,15 +323,17 @@ def design_changes(out: Path, design: Design) -> str:
     path = out / "design.toml"
     try:
         old_text = path.read_text(encoding="utf-8")
-    except OSError:
+        new_text = design_text(design)
+        if old_text == new_text:
+            return ""
+        return _table_changes(tomllib.loads(old_text), tomllib.loads(new_text))
+    except (OSError, ValueError, TypeError, AttributeError):  # nothing it can read
         return ""
-    new_text = design_text(design)
-    if old_text == new_text:
-        return ""
-    try:
-        old, new = tomllib.loads(old_text), tomllib.loads(new_text)
-    except tomllib.TOMLDecodeError:
-        return "design.toml is replaced by this design"
+
+
+def _table_changes(old: dict[str, Any], new: dict[str, Any]) -> str:
+    """:func:`design_changes` of two designs' tables (``factors`` compared factor by factor,
+    by name); empty where they hold the same values."""
 
     def shown(table: dict[str, Any], key: str) -> str:
         value = table.get(key, "(unset)")
@@ -346,7 +354,7 @@ def design_changes(out: Path, design: Design) -> str:
             if was.get(key) != factor.get(key):
                 said.append(f"{name}'s {key} {shown(was, key)} -> {shown(factor, key)}")
     said += [f"factor {name} removed" for name in old_factors if name not in new_factors]
-    return "; ".join(said) if said else "design.toml is replaced by this design"
+    return "; ".join(said)
 
 
 def _write_design(

@@ -969,7 +969,8 @@ def anova(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are used).
+        are fitted; every row at the factors' levels, failed ones too, is the design as
+        planned, whose regularity and alias chains the effects follow).
     factors
         The design's factors (:class:`Factor` or factor-like objects); their columns hold the
         level values and are treated as categorical.
@@ -1006,7 +1007,8 @@ def anova(
         and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
         ``formula``, ``note``, ``n``, ``total_sum_sq``, ``center_points`` (their number),
         ``order`` (the most factors in a term asked for), ``fitted_order`` (the most in a
-        term fitted: fewer where interactions were pooled or aliased, 0 with no term),
+        term of the model before backward elimination: fewer where interactions were pooled
+        or aliased, 0 with no term),
         ``model_terms`` (the terms given,
         as the table names them, or None) and ``alpha_to_remove``, and the
         model summary that Minitab
@@ -1179,9 +1181,7 @@ def anova(
         total_sum_sq=total_ss,
         center_points=int(y_center.size),
         order=_model_order(interactions),
-        # the most factors in a term fitted: below order where a saturated model's
-        # interactions were pooled or the design aliases them with lower-order terms
-        fitted_order=max((t.count(":") + 1 for t in terms), default=0),
+        fitted_order=frame.attrs.get("fitted_order", 0),
         model_terms=list(interactions) if _is_term_list(interactions) else None,
         alpha_to_remove=alpha_to_remove,
     )
@@ -1598,6 +1598,9 @@ def _model(
         terms, term_names = _terms_up_through(names, order)
         terms = _estimable(frame, terms, term_names, notes)
         terms = _pooled_while_saturated(frame, terms, y_center, notes)
+    # the most factors in a term of the model before any elimination: below the order asked
+    # for where a saturated model's interactions were pooled or the design aliases them
+    frame.attrs["fitted_order"] = max((t.count(":") + 1 for t in terms), default=0)
     if alpha_to_remove is not None:
         terms, removed = _eliminate(frame, terms, alpha_to_remove, y_center=y_center)
         notes.append(
@@ -2161,7 +2164,8 @@ def unusual_runs(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are used).
+        are fitted; every row at the factors' levels, failed ones too, is the design as
+        planned, whose regularity and alias chains the effects follow).
     factors
         The design's factors.
     response
@@ -2704,14 +2708,17 @@ def _effect_terms(
             return kept, interactions, True, []
     partial: list[str] = []
     lost: list[str] = []
+    chains = list(columns)  # the planned columns of the terms kept and lost: one per chain
     for term in interactions:
         column = column_of[term]
-        new_rank = _rank(*(c[:, None] for c in columns), column[:, None])
+        new_rank = _rank(*(c[:, None] for c in chains), column[:, None])
         if new_rank == rank:
-            continue  # aliased with the terms kept: its chain is named by one of them
+            continue  # aliased with a term kept or lost: its chain is named by that one
         if correlation(column, columns) >= _MAX_EFFECT_CORRELATION:
             partial.append(term)
             continue
+        chains.append(column)
+        rank = new_rank
         fitted_column = _term_columns(frame, term)[:, 0]
         new_fitted_rank = _rank(*(c[:, None] for c in fitted), fitted_column[:, None])
         if new_fitted_rank == fitted_rank:
@@ -2720,7 +2727,7 @@ def _effect_terms(
         kept.append(term)
         columns.append(column)
         fitted.append(fitted_column)
-        rank, fitted_rank = new_rank, new_fitted_rank
+        fitted_rank = new_fitted_rank
     return kept, partial, False, lost
 
 
@@ -2784,7 +2791,8 @@ def two_level_effects(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are used).
+        are fitted; every row at the factors' levels, failed ones too, is the design as
+        planned, whose regularity and alias chains the effects follow).
     factors
         The design's factors.
     response
@@ -2831,7 +2839,8 @@ def two_level_effects(
         other runs), ``terms_given`` (whether ``model_terms`` chose the terms),
         ``model_terms`` (those terms as given, in the model's order, or None) and ``note``
         (what the reader must know: a design that is not orthogonal, a non-regular design
-        fitted with its main effects alone, interactions left out as partly confounded, an
+        fitted with its main effects alone, interactions left out as partly confounded or
+        as not estimable from the runs analysed though the design could estimate them, an
         error that is not pure error alone, a PSE of zero; empty otherwise).
 
     References
@@ -2896,6 +2905,7 @@ def two_level_effects(
     n_points = int(frame.groupby(cells, sort=False).ngroups) + (1 if n_c else 0)
     partial: list[str] = []
     lost: list[str] = []
+    planned: pd.DataFrame | None = None
     nonregular = False
     if model_terms is not None:
         column = {name: c for c, name in names.items()}
@@ -2975,7 +2985,8 @@ def two_level_effects(
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(np.isfinite(se) & (se > 0), effect / se, np.nan)
     p = 2.0 * stats.t.sf(np.abs(t), df)
-    chains = _alias_chains(frame, terms)
+    # the design's alias chains, as planned (runs lost may part a chain in the data)
+    chains = _alias_chains(frame if planned is None else planned, terms)
     out = pd.DataFrame(
         {
             "term": [_display_term(term, names) for term in terms],
@@ -3037,10 +3048,16 @@ def two_level_effects(
             + ", ".join(_display_term(t, names) for t in partial)
         )
     if lost:
+        planned_chains = _alias_chains(planned, lost) if planned is not None else {}
         notes.append(
-            "the runs that finished cannot tell these interactions from the terms before "
-            "them, as the whole design could, so they are left out: "
-            + ", ".join(_display_term(t, names) for t in lost)
+            "the runs analysed (those that finished with a value of the response) cannot tell "
+            "these interactions from the terms before them, as the whole design could, so "
+            "they are left out: "
+            + ", ".join(
+                _display_term(t, names)
+                + (f" (= {_chain_text(planned_chains[t], names)})" if planned_chains.get(t) else "")
+                for t in lost
+            )
         )
     if method == "residual":
         notes.append(
@@ -3354,7 +3371,8 @@ def level_coefficients(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are used).
+        are fitted; every row at the factors' levels, failed ones too, is the design as
+        planned, whose regularity and alias chains the effects follow).
     factors
         The design's factors, or the design (or a campaign result).
     response
@@ -3828,7 +3846,8 @@ def level_comparisons(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are used).
+        are fitted; every row at the factors' levels, failed ones too, is the design as
+        planned, whose regularity and alias chains the effects follow).
     factors
         The design's factors, or the design (or a campaign result).
     response

@@ -862,10 +862,10 @@ def _say_deaths(console: Console, died: int, max_retries: int) -> None:
         # worker again" had followed the run's failure)
         text = (
             "a dask worker process died; dask starts another, and its run is not tried again "
-            "(--max-retries 0)"
+            "(no retries allowed)"
             if died == 1
             else f"{died} dask worker processes died; dask starts others, and their runs are "
-            "not tried again (--max-retries 0)"
+            "not tried again (no retries allowed)"
         )
     else:
         text = (

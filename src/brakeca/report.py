@@ -1563,17 +1563,19 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
         if float(resid_df) > 0.5:
             # the order fitted, not the one asked for: a saturated model's interactions are
             # pooled (a DoE review: "more than 2 factors" above the residual of a 2^2's A:B)
-            order = int(attrs.get("fitted_order", attrs.get("order")) or 2)
+            fitted = attrs.get("fitted_order")
+            order = int(fitted if fitted else attrs.get("order") or 2)
             if attrs.get("model_terms"):
                 left = "every term not among those chosen"
             elif order == 1:
                 left = "the interactions"
             else:
                 left = f"interactions of more than {order} factors"
-            if not attrs.get("model_terms") and _POOLED in str(attrs.get("note", "")):
+            pooled = not attrs.get("model_terms") and _POOLED in str(attrs.get("note", ""))
+            if pooled:
                 left += ", pooled because the model with them left no degrees of freedom"
             if attrs.get("alpha_to_remove") is not None:
-                left += " and the terms backward elimination removed"
+                left += f"{',' if pooled else ''} and the terms backward elimination removed"
             text += (
                 f" The residual ({float(resid_df):.0f} df) is the terms the model leaves out "
                 f"({left}): no two runs share their levels, so there is no pure error to "

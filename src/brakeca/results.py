@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import contextlib
 import sys
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -373,11 +374,26 @@ def _without_a_dask_client() -> contextlib.AbstractContextManager[Any]:
     ``dask.distributed.Client`` is the process's default (a notebook or a SLURM script that
     opened one): xarray then asked the scheduler for a lock named after the in-memory file,
     which failed, so every run of a campaign was computed and then recorded as failed (a
-    cluster review). Nothing to do where dask was never imported."""
+    cluster review). Nothing to do where dask was never imported.
+
+    dask's configuration is the process's, so for the write's duration (milliseconds to a
+    second) another thread's dask work runs in that thread; the writes of several threads
+    take turns (:data:`_DASK_CONFIG_LOCK`), so that none restores another's setting."""
     dask = sys.modules.get("dask")
     if dask is None or not hasattr(dask, "config"):
         return contextlib.nullcontext()
-    return dask.config.set(scheduler="synchronous")
+    stack = contextlib.ExitStack()
+    stack.enter_context(_DASK_CONFIG_LOCK)
+    try:
+        stack.enter_context(dask.config.set(scheduler="synchronous"))
+    except BaseException:
+        stack.close()
+        raise
+    return stack
+
+
+#: Held while a write sets dask's scheduler (:func:`_without_a_dask_client`).
+_DASK_CONFIG_LOCK = threading.Lock()
 
 
 # the per-stop reductions of a stop's per-step records that a run file needs (the columns of

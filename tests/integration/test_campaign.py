@@ -256,6 +256,14 @@ def test_a_design_that_replaces_the_folders_design_says_how(serial, tmp_path):
     assert design_changes(out, load_design(other)) == (
         "replicates 2 -> 1; A's coding (unset) -> 'log'; A's levels [10.0, 20.0] -> [10.0, 25.0]"
     )
+    # a design.toml it cannot read, or one that differs in layout alone: nothing to say
+    odd = tmp_path / "odd"
+    odd.mkdir()
+    for content in (b"factors = 1\n", b"factors = ['A']\n", b"\xff\xfe", b"name = \n"):
+        (odd / "design.toml").write_bytes(content)
+        assert design_changes(odd, load_design(other)) == ""
+    (odd / "design.toml").write_text("# another comment\n" + other.read_text())
+    assert design_changes(odd, load_design(other)) == ""
 
 
 def test_a_folder_of_other_options_is_not_replaced_unless_asked(serial, tmp_path):

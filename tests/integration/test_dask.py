@@ -616,7 +616,7 @@ def test_a_worker_death_without_retries_is_said_once_and_consistently():
     finally:
         deaths.detach()
     for retries, said in (
-        (0, "dask starts another, and its run is not tried again (--max-retries 0)"),
+        (0, "dask starts another, and its run is not tried again (no retries allowed)"),
         (2, "gives its run to a worker again (a run at most 2 time(s), then it fails)"),
     ):
         console = Console(file=io.StringIO(), width=200)

@@ -987,6 +987,14 @@ def test_failed_runs_of_a_regular_design_keep_its_interactions_in_the_effects() 
     # the runs as a table of their own, without the failed rows: the design is what they are
     alone = two_level_effects(ok, _levels01("ABC"), "y")
     assert "non-regular" in alone.attrs["note"]
+    # a chain of a fraction the runs left cannot estimate is named once, as the chain (a diff
+    # review: A:D and B:C, one chain of D = ABC, had been named as two interactions)
+    half = _two_level("ABCD", {"D": "ABC"}, {"A": 1.0, "A:B": 1.2}, noise=0.05, replicates=2)
+    half["status"] = "ok"
+    half.loc[[0, 8], ["status", "y"]] = ["failed", np.nan]  # both runs of one setting
+    effects = two_level_effects(half, _levels01("ABCD"), "y")
+    assert effects.attrs["note"].endswith("so they are left out: A:D (= B:C)")
+    assert dict(zip(effects["term"], effects["aliases"], strict=True))["A:B"] == "C:D"
 
 
 def test_a_constant_response_has_no_effects() -> None:

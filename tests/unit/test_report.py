@@ -429,6 +429,23 @@ def test_the_model_summary_says_what_an_unreplicated_residual_is() -> None:
     }
     said = "(the interactions, pooled because the model with them left no degrees of freedom)"
     assert said in _model_summary_text(pooled, None)
+    # backward elimination that removes every term: the order of the model it started from
+    # (a diff review: "more than 2 factors" after a main-effects model lost all its terms)
+    import itertools
+
+    rng = np.random.default_rng(5)
+    runs = pd.DataFrame(
+        [
+            {"A": a, "B": b, "C": c, "y": rng.standard_normal()}
+            for a, b, c in itertools.product((0.0, 1.0), repeat=3)
+        ]
+    )
+    factors = [Factor(n, (0.0, 1.0)) for n in "ABC"]
+    table = anova(runs, factors, "y", interactions=False, alpha_to_remove=0.1)
+    assert table.attrs["note"].endswith("no term is left")
+    assert table.attrs["fitted_order"] == 1
+    text = _model_summary_text(table.attrs, None)
+    assert "(the interactions and the terms backward elimination removed)" in text
     reduced = {**base, "df_resid": 5.0, "pure_error_df": 0.0, "alpha_to_remove": 0.1}
     assert "and the terms backward elimination removed" in _model_summary_text(reduced, None)
     for attrs in (
