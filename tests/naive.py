@@ -99,16 +99,25 @@ def step(state, params, target, frac):
                 H[j, i] = new
                 out[j, i // nm] += vol
                 removed += vol
+    fired = np.zeros(8, dtype=np.int64)  # by rule: [0] fibres exposed, [1..7] the rules
     destroyed = []
     for j in range(nr):
         for i in range(nt):
             if S0[j, i] == 2:
                 east = S0[j, i + 1] if i + 1 < nt else 0
-                if H[j, i] <= B[j, i] or east == 0:  # rules 5 and 4
+                if H[j, i] <= B[j, i]:  # rule 5 (worn through, whatever its east neighbour)
                     destroyed.append((j, i))
+                    fired[5] += 1
+                elif east == 0:  # rule 4
+                    destroyed.append((j, i))
+                    fired[4] += 1
             elif S0[j, i] == 1:
-                if H[j, i] <= FF[j, i] or z - H[j, i] > params["rule6_gap"]:  # rules 7 and 6
+                if H[j, i] <= FF[j, i]:  # rule 7
                     destroyed.append((j, i))
+                    fired[7] += 1
+                elif z - H[j, i] > params["rule6_gap"]:  # rule 6
+                    destroyed.append((j, i))
+                    fired[6] += 1
     created = []
     exposed_now = set(exposed)
     for j in range(nr):
@@ -126,6 +135,10 @@ def step(state, params, target, frac):
                         if cost <= rest:
                             rest -= cost
                             created.append((j, i))
+                            # rules 1, 2, 3: the east plateau and none, one or both diagonals
+                            ne = j + 1 < nr and S0[j + 1, i + 1] != 0
+                            se = j >= 1 and S0[j - 1, i + 1] != 0
+                            fired[1 + int(ne) + int(se)] += 1
             out[j, k] += rest
     for j, i in destroyed:
         if S0[j, i] == 2:
@@ -167,6 +180,7 @@ def step(state, params, target, frac):
         "created": len(created),
         "exposed": len(exposed),
         "destroyed": len(destroyed),
+        "fired": fired + np.eye(8, dtype=np.int64)[0] * len(exposed),
     }
 
 

@@ -274,3 +274,39 @@ def test_a_constant_cof_law_runs_on_both_kernels():
     for kernel in ("exact", "lazy"):
         assert runs[kernel, 0.0].V == runs[kernel, 0.15].V
     assert runs["lazy", 0.0].V == pytest.approx(runs["exact", 0.0].V, rel=1e-9)
+
+
+@pytest.mark.parametrize("kernel", ["exact", "lazy"])
+def test_a_secondary_worn_through_without_support_counts_as_rule_5_alone(tiny_config, kernel):
+    """By hand, on a flat punch of one row: a secondary plateau with resin east of it and a
+    deposit thinner than one step's wear is destroyed by rule 5 alone, though rule 4 holds
+    for it too (model.md §7: a cell worn through its deposit counts as rule 5); one with a
+    thick deposit and resin east of it by rule 4. A mutation review found that counting such
+    a cell under both rules went unseen: the twin's cases never reach it."""
+    from conftest import short_cycle
+
+    config = tiny_config.with_updates(
+        {
+            "cycle": short_cycle(stops=1),
+            "cycle.max_stops": 1,
+            "wear.specific_wear_rate": 1e-13,
+            "mesh.n_radial": 1,
+            "numerics.kernel": kernel,
+        }
+    )
+    grid = make_grid(config)
+    state = flat_plateau_state(grid)
+    h0 = state.height[0]
+    thin, thick = 10, 30  # secondary plateaus, each with a resin cell east of it, far down
+    for cell, deposit in ((thin, 1e-15), (thick, 10e-6)):
+        state.status[cell] = 2
+        state.base[cell] = h0 - deposit
+        state.status[cell + 1] = 0
+        state.height[cell + 1] = state.base[cell + 1] = 0.0
+    state.resync()
+    state.acc[K.ACC_REMOVED] = state.acc[K.ACC_HELD]  # the deposits were pad worn before
+    stop = expand_stops(config)[0]
+    _, rec, counts = advance_stop(state, grid, config, stop)
+    assert rec[0, K.R_DISC] < h0 - 1e-15  # the first step wears the thin deposit through
+    np.testing.assert_array_equal(counts, [0, 0, 0, 0, 1, 1, 0, 0])
+    assert state.status[thin] == state.status[thick] == 0

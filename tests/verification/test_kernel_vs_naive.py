@@ -152,6 +152,7 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
     fired = np.zeros(8, dtype=np.int64)
     for stop in expand_stops(config):
         created_before, destroyed_before = totals["created"], totals["destroyed"]
+        twin_fired = np.zeros(8, dtype=np.int64)  # the twin's firings of the stop, by rule
         _, rec, counts = advance_stop(state, grid, config, stop)
         fired += counts
         _, fraction = stop_steps(stop, step_distance(config))
@@ -187,8 +188,12 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
             totals["created"] += out["created"]
             totals["destroyed"] += out["destroyed"]
             totals["exposed"] += out["exposed"]
+            twin_fired += out["fired"]
         assert counts[1:4].sum() == totals["created"] - created_before
         assert counts[4:8].sum() == totals["destroyed"] - destroyed_before
+        # rule by rule, not only the sums (a mutation review: the twin missed a rule-1 cell
+        # counted as rule 2, and a worn-through secondary counted as rules 4 and 5 both)
+        np.testing.assert_array_equal(counts, twin_fired, err_msg=f"stop {stop.index}")
         np.testing.assert_array_equal(state.status.reshape(grid.shape), ref["S"])
         np.testing.assert_allclose(
             state.height.reshape(grid.shape), ref["H"], rtol=1e-10, atol=1e-18
