@@ -1,8 +1,12 @@
-"""Shared pieces of the campaign tests: a 2 x 2 design (S x A) on a tiny band, quiet consoles."""
+"""Shared pieces of the campaign tests: a 2 x 2 design (S x A) on a tiny band, quiet consoles,
+and a process started as a terminal's job, for the tests that send it signals."""
 
 from __future__ import annotations
 
 import io
+import signal
+import subprocess
+import sys
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -162,3 +166,34 @@ def rerun_reusing(out, **kwargs):
         **kwargs,
     )
     return result, console_text(console)
+
+
+def started_as_a_job(
+    args: Sequence[str], first_line: str, env: dict[str, str] | None = None
+) -> subprocess.Popen[str]:
+    """``python ARGS`` in a session of its own (its own process group, to which a test sends
+    the signals a terminal sends), its output and errors piped, once it has printed
+    ``first_line``."""
+    proc = subprocess.Popen(
+        [sys.executable, *args],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    assert proc.stdout is not None
+    assert proc.stdout.readline().strip() == first_line
+    return proc
+
+
+def ignores_sigint(pid: int) -> bool:
+    """Whether process ``pid`` ignores SIGINT (its SigIgn mask in /proc holds signal 2)."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    for line in status.splitlines():
+        if line.startswith("SigIgn:"):
+            return bool(int(line.split()[1], 16) >> (signal.SIGINT - 1) & 1)
+    return False

@@ -29,6 +29,7 @@ from campaign_helpers import (
     must_not_run,
     quiet,
     rerun_reusing,
+    started_as_a_job,
     tiny,
     write_design,
 )
@@ -1035,16 +1036,7 @@ def test_a_closed_terminal_stops_a_local_campaign_without_tracebacks(design_file
         "        print('interrupted', exc, flush=True)\n"
     )
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), *sys.path]))
-    proc = subprocess.Popen(
-        [sys.executable, str(script)],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    assert proc.stdout is not None
-    assert proc.stdout.readline().strip() == "started"
+    proc = started_as_a_job([str(script)], "started", env=env)
 
     def children() -> list[str]:
         path = Path(f"/proc/{proc.pid}/task/{proc.pid}/children")

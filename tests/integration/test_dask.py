@@ -29,8 +29,10 @@ from campaign_helpers import (
     console_text,
     deterministic,
     drawing,
+    ignores_sigint,
     quiet,
     run_dataset,
+    started_as_a_job,
     tiny,
     write_design,
 )
@@ -645,22 +647,14 @@ def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path)
         "    except KeyboardInterrupt:\n"
         "        print('interrupted', flush=True)\n"
     )
-    proc = subprocess.Popen(
-        [sys.executable, str(script)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    assert proc.stdout is not None
-    assert proc.stdout.readline().strip() == "started"
+    proc = started_as_a_job([str(script)], "started")
     deadline = time.monotonic() + 120.0
     workers: list[psutil.Process] = []
     while time.monotonic() < deadline and len(workers) < 2:
         workers = [
             p
             for p in psutil.Process(proc.pid).children()
-            if "spawn_main" in " ".join(p.cmdline()) and _ignores_sigint(p.pid)
+            if "spawn_main" in " ".join(p.cmdline()) and ignores_sigint(p.pid)
         ]
         time.sleep(0.2)
     assert len(workers) == 2, "the cluster's two workers should run, ignoring Ctrl-C"
@@ -672,15 +666,3 @@ def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path)
     assert "distributed." not in err, err
     _, alive = psutil.wait_procs(workers, timeout=10)
     assert not alive
-
-
-def _ignores_sigint(pid: int) -> bool:
-    """Whether process ``pid`` ignores SIGINT (its SigIgn mask in /proc holds signal 2)."""
-    try:
-        status = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    for line in status.splitlines():
-        if line.startswith("SigIgn:"):
-            return bool(int(line.split()[1], 16) >> (signal.SIGINT - 1) & 1)
-    return False

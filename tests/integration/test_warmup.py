@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from campaign_helpers import ignores_sigint, started_as_a_job
 
 from brakeca._warmup import _child, tiny_config, warm_up
 from brakeca.contact import ContactError
@@ -205,27 +206,18 @@ def test_ctrl_c_during_the_warm_up_gives_no_child_traceback(tmp_path):
         "except KeyboardInterrupt:\n"
         "    print('interrupted', flush=True)\n"
     )
-    proc = subprocess.Popen(
-        [sys.executable, "-c", script],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    assert proc.stdout is not None
-    assert proc.stdout.readline().strip() == "warming"
+    proc = started_as_a_job(["-c", script], "warming", env=env)
     # wait until the child runs and ignores SIGINT (on a loaded machine its start takes
     # seconds; a signal before that would hit it, or the parent still inside Popen)
     deadline = time.monotonic() + 120.0
     children: list[int] = []
     while time.monotonic() < deadline:
         children = _children(proc.pid)
-        if children and all(_ignores_sigint(pid) for pid in children):
+        if children and all(ignores_sigint(pid) for pid in children):
             break
         time.sleep(0.2)
     assert children, "the warm-up child should be running"
-    assert all(_ignores_sigint(pid) for pid in children), "the child should ignore SIGINT"
+    assert all(ignores_sigint(pid) for pid in children), "the child should ignore SIGINT"
     time.sleep(1.0)  # the child is compiling
     os.killpg(proc.pid, signal.SIGINT)
     out, err = proc.communicate(timeout=60)
@@ -233,18 +225,6 @@ def test_ctrl_c_during_the_warm_up_gives_no_child_traceback(tmp_path):
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     for pid in children:
         assert not _alive(pid)
-
-
-def _ignores_sigint(pid: int) -> bool:
-    """Whether process ``pid`` ignores SIGINT (its SigIgn mask in /proc holds signal 2)."""
-    try:
-        status = Path(f"/proc/{pid}/status").read_text()
-    except OSError:
-        return False
-    for line in status.splitlines():
-        if line.startswith("SigIgn:"):
-            return bool(int(line.split()[1], 16) >> (signal.SIGINT - 1) & 1)
-    return False
 
 
 def _children(pid: int) -> list[int]:

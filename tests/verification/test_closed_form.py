@@ -67,6 +67,22 @@ def test_no_plateau_is_a_clear_error():
         solve_disc_position(np.array([]), np.array([]), stiffness=1e11, target=1.0, **LAW)
 
 
+def _one_row_one_stop(tiny_config, kernel: str, g: float = 0.3):
+    """``tiny_config`` on one row (every cell slides the same distance), one short stop at
+    ``g``, WP = 1e-13, with ``kernel``."""
+    from conftest import short_cycle
+
+    return tiny_config.with_updates(
+        {
+            "cycle": short_cycle(stops=1, g=g),
+            "cycle.max_stops": 1,
+            "wear.specific_wear_rate": 1e-13,
+            "mesh.n_radial": 1,
+            "numerics.kernel": kernel,
+        }
+    )
+
+
 @pytest.mark.parametrize("kernel", ["exact", "lazy"])
 @pytest.mark.parametrize("g", [0.3, 2.0])  # friction stress 0.56 MPa (rising), 3.7 MPa (floor)
 def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config, kernel, g):
@@ -75,17 +91,7 @@ def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config, kernel, g):
     cell slides the same distance and the punch stays flat (with several rows the outer rows
     wear more and the pressure redistributes, by ~1e-6 relative here). Both kernels, on the
     rising branch of mu(p) p and on the floor (2 g: above the 3 MPa peak friction stress)."""
-    from conftest import short_cycle
-
-    config = tiny_config.with_updates(
-        {
-            "cycle": short_cycle(g=g),
-            "cycle.max_stops": 1,
-            "wear.specific_wear_rate": 1e-13,
-            "mesh.n_radial": 1,
-            "numerics.kernel": kernel,
-        }
-    )
+    config = _one_row_one_stop(tiny_config, kernel, g=g)
     grid = make_grid(config)
     state = flat_plateau_state(grid)
     stop = expand_stops(config)[0]
@@ -283,17 +289,7 @@ def test_a_secondary_worn_through_without_support_counts_as_rule_5_alone(tiny_co
     for it too (model.md §7: a cell worn through its deposit counts as rule 5); one with a
     thick deposit and resin east of it by rule 4. A mutation review found that counting such
     a cell under both rules went unseen: the twin's cases never reach it."""
-    from conftest import short_cycle
-
-    config = tiny_config.with_updates(
-        {
-            "cycle": short_cycle(stops=1),
-            "cycle.max_stops": 1,
-            "wear.specific_wear_rate": 1e-13,
-            "mesh.n_radial": 1,
-            "numerics.kernel": kernel,
-        }
-    )
+    config = _one_row_one_stop(tiny_config, kernel)
     grid = make_grid(config)
     state = flat_plateau_state(grid)
     h0 = state.height[0]
