@@ -21,7 +21,9 @@ the step's end, summed over its stops), ``step_stop`` [-], ``step_cof`` [-],
 ``step_normal_force`` (pad) [N], ``step_contact_area_fraction``, ``step_primary_area_fraction``,
 ``step_secondary_area_fraction`` [-], ``step_disc_position`` [m]. Maps on (``radius`` [m],
 ``angle`` [rad]): ``initial_status``, ``final_status`` (0 resin, 1 primary, 2 secondary
-plateau), ``final_height`` [m]; where the run was asked to keep them (``simulate(maps_at=)``,
+plateau), ``final_height`` [m], and where rule S removed secondary plateaus after the last
+stop ``final_status_before_s`` (the statuses at the end of the last stop, before it);
+where the run was asked to keep them (``simulate(maps_at=)``,
 ``brakeca simulate --maps-at``), ``map_status`` [-] and ``map_height`` [m] after those stops,
 along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package version, wall
 time [s], the simulated band's area ``band_area`` [m^2], the step kernel setting (``exact``,
@@ -479,6 +481,7 @@ def build_dataset(
     contact_fallbacks: int = 0,
     fibre_exposure: list | None = None,
     maps: dict[int, tuple[np.ndarray, np.ndarray]] | None = None,
+    final_status_before_s: np.ndarray | None = None,
 ) -> xr.Dataset:
     """Assemble the run Dataset (see the module docstring for its variables and units).
 
@@ -506,6 +509,9 @@ def build_dataset(
         Each stop's rule firings [-].
     initial_status, final_status
         The cells' statuses before the first and after the last stop [-].
+    final_status_before_s
+        The cells' statuses at the end of the last stop, before rule S removed secondary
+        plateaus [-]; None where it removed none (the map is then ``final_status``).
     final_height
         The cells' heights after the last stop [m].
     final_ledger
@@ -646,6 +652,18 @@ def build_dataset(
             "flag_meanings": "none primary secondary",
         },
     )
+    if final_status_before_s is not None:
+        data_vars["final_status_before_s"] = (
+            ("radius", "angle"),
+            final_status_before_s.astype(np.int8),
+            {
+                "long_name": "cell status at the end of the last stop, before rule S removed "
+                "secondary plateaus: 0 none (resin), 1 primary plateau (fibre), 2 secondary "
+                "plateau",
+                "flag_values": _FLAG_VALUES,
+                "flag_meanings": "none primary secondary",
+            },
+        )
     data_vars["final_height"] = (
         ("radius", "angle"),
         final_height.astype(np.float32),

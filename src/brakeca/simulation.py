@@ -218,8 +218,11 @@ def simulate(
             )
     start = sum(d.size for d in log.dts)  # steps done before the first stop to run
     checkpoint_failed = False  # warned once, not at every checkpoint stop
+    before_s = None  # the last stop's statuses before rule S, where it removes plateaus
     for stop in stops[len(log.dts) :]:
         dt, rec, counts = advance_stop(state, grid, config, stop, lists)
+        if stop.index == len(stops):
+            before_s = state.status.reshape(n_r, n_t).astype(np.int8)
         flush, n_removed = end_of_stop(
             state,
             config.automaton.secondary_removal_fraction,
@@ -297,6 +300,8 @@ def simulate(
         contact_fallbacks=int(state.lazy_walk[6]),
         fibre_exposure=log.exposures if state.fibres is not None else None,
         maps={k: log.maps[k] for k in kept_maps},
+        # (a figures review: the final maps of S = 1 runs showed no secondary plateau)
+        final_status_before_s=before_s if log.s_removed and log.s_removed[-1] else None,
     )
     if checkpoint and not keep_checkpoint:
         Path(checkpoint).unlink(missing_ok=True)

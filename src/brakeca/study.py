@@ -1422,23 +1422,32 @@ def _run_file_figures(
         tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
         span = _cut_short(run.config) or "the whole cycle"
         removal = run.config.automaton.secondary_removal_fraction
-        after = span
-        if removal > 0:  # the map is the state after the S rule of the last stop
+        status, after, title = "final_status", span, f"after {span}"
+        if "final_status_before_s" in ds:  # the last stop's plateaus, before rule S
+            # (a figures review: the maps of S = 1 runs, after rule S, showed none of the
+            # secondary plateaus that had carried their last stop)
+            status = "final_status_before_s"
+            after += (
+                f", at the end of the last stop, before the S rule (S = {removal:g}) removed "
+                "secondary plateaus"
+            )
+            title += ", before rule S"
+        elif removal > 0:  # the map is the state after the S rule of the last stop
             after += (
                 f", after the S rule (S = {removal:g}) removed secondary plateaus at the "
                 "end of the last stop (the per-run table's secondary share is the last "
                 "stop's own, before it)"
             )
+            title += " and rule S"
         figures.add(
             "Final plateau maps",
             f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
             f"final_map_{tag}.png",
             plotting.plot_surface_map,
-            *(ds[name].to_numpy() for name in ("final_status", "radius", "angle")),
+            *(ds[name].to_numpy() for name in (status, "radius", "angle")),
             # what the map is after, in the figure too (a review compared its secondary
             # share of 0 with the summary's last-stop share, which is before rule S)
-            title=f"Test {int(row['test'])}: {levels}; after {span}"
-            + (" and rule S" if removal > 0 else ""),
+            title=f"Test {int(row['test'])}: {levels}; {title}",
         )
         if "map_status" not in ds:
             figures.drop(f"maps_by_stop_{tag}.png")

@@ -600,3 +600,19 @@ def test_a_band_too_small_for_its_fibres_gets_a_note():
         text = out.file.getvalue()
         assert ("the fibres cover 33 % of the band at the start, not A = 10 %" in text) is noted
         assert bool(text) is noted
+
+
+def test_a_run_keeps_its_last_stops_plateaus_from_before_rule_s():
+    """A figures review: the final maps of the S = 1 runs showed no secondary plateau (rule S
+    had removed them all after the last stop), so half the study's maps said nothing of
+    the plateaus that carried their runs. A run whose rule S removes plateaus after its
+    last stop keeps the statuses from before it; one whose rule S removes none does not."""
+    from conftest import resumable_config
+
+    ds = simulate(resumable_config(stops=2, removal=1.0), seed=1).dataset
+    before, after = ds["final_status_before_s"].to_numpy(), ds["final_status"].to_numpy()
+    assert (before == 2).sum() == int(ds["secondary_removed_between_stops"][-1]) > 0
+    assert not (after == 2).any()
+    np.testing.assert_array_equal(np.where(before == 2, 0, before), after)
+    kept = simulate(resumable_config(stops=2, removal=0.0), seed=1).dataset
+    assert "final_status_before_s" not in kept and (kept["final_status"] == 2).any()
