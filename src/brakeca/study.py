@@ -1432,7 +1432,16 @@ def _run_file_figures(
                 "secondary plateaus"
             )
             title += ", before rule S"
-        elif removal > 0:  # the map is the state after the S rule of the last stop
+        elif (
+            removal > 0
+            and "secondary_removed_between_stops" in ds
+            and not int(ds["secondary_removed_between_stops"][-1])
+        ):
+            after += (
+                f"; the S rule (S = {removal:g}) found no secondary plateau to remove after "
+                "the last stop"
+            )
+        elif removal > 0:  # a run file of an earlier version: the state after rule S
             after += (
                 f", after the S rule (S = {removal:g}) removed secondary plateaus at the "
                 "end of the last stop (the per-run table's secondary share is the last "
