@@ -30,6 +30,7 @@ import pandas as pd
 from brakeca._io import atomic_write
 from brakeca.analysis import (
     CENTER_TERM,
+    UNUSUAL_RESIDUAL,
     Factor,
     ResponseAnalysis,
     _factors,
@@ -1477,6 +1478,20 @@ def plot_residuals(
         ax.grid(True, alpha=0.3)
     for ax in (ax_fit, ax_order):
         ax.axhline(0.0, color="0.3", lw=0.8)
+    if standardized:  # the unusual runs named, as Minitab marks them (a figures review:
+        # an outlier of the paper study's MU model was an unnamed point among the others)
+        names = _run_labels(residuals)
+        for k in np.flatnonzero(np.abs(r) > UNUSUAL_RESIDUAL):
+            for ax, x in ((ax_fit, fitted[k]), (ax_order, order[k])):
+                ax.annotate(
+                    names[k],
+                    (x, r[k]),
+                    xytext=(4, 0),
+                    textcoords="offset points",
+                    va="center",
+                    fontsize=8,
+                    color="#c0392b",
+                )
     if not standardized:
         ax_norm.text(
             0.02,
@@ -1487,6 +1502,18 @@ def plot_residuals(
             fontsize=8,
         )
     return save_figure(root, path)
+
+
+def _run_labels(residuals: pd.DataFrame) -> list[str]:
+    """Each row's run as a short label: ``"test 23"``, ``"test 5/1"`` (test/replicate) where
+    the table holds replicates, the row number where it has no test column."""
+    if "test" not in residuals.columns:
+        return [f"run {k + 1}" for k in range(len(residuals))]
+    tests = residuals["test"].to_numpy()
+    if "replicate" in residuals.columns and residuals["replicate"].nunique() > 1:
+        reps = residuals["replicate"].to_numpy()
+        return [f"test {int(a)}/{int(b)}" for a, b in zip(tests, reps, strict=True)]
+    return [f"test {int(a)}" for a in tests]
 
 
 def plot_box_cox(
