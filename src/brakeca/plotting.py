@@ -979,10 +979,23 @@ def plot_pareto(
     x = np.arange(len(terms))
     colours = np.where(significant, "#27496d", "#9fb3c8")
     ax.bar(x, pct, color=colours, zorder=2)
+    # each bar's share, starred where p < 0.05: a significant term of a fraction of a per
+    # cent is a bar too low to show its colour (a figures review)
+    for xi, value, sig in zip(x, pct, significant, strict=True):
+        if np.isfinite(value):
+            ax.annotate(
+                f"{value:.2g}" + ("*" if sig else ""),
+                (xi, value),
+                xytext=(0, 2),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize=7,
+            )
     ax.set_xticks(x, terms, rotation=45, ha="right")
     ax.set_xlabel("Model term")
     ax.set_ylabel("Contribution to total sum of squares [%]")
-    ax.set_title(f"Contribution of the ANOVA terms to {_shown(response)} (dark: p < 0.05)")
+    ax.set_title(f"Contribution of the ANOVA terms to {_shown(response)} (dark and *: p < 0.05)")
     ax.grid(True, axis="y", alpha=0.3, zorder=0)
     twin = ax.twinx()
     twin.plot(x, np.nancumsum(pct), "o-", color="#f28e2b", ms=4, lw=1.2)

@@ -1229,7 +1229,8 @@ def _response_figures(
                 "Ranked effects",
                 f"Pareto of the ANOVA terms of {label}: each term's share of the total sum "
                 "of squares (a term of several degrees of freedom, such as a factor of "
-                "three levels, tends to gather more than a term of one; dark: p < 0.05)",
+                "three levels, tends to gather more than a term of one; dark and starred: "
+                "p < 0.05; the number over each bar is its share in %)",
                 f"pareto_{resp}.png",
                 plotting.plot_pareto,
                 tables[resp]["ranked_effects"],
