@@ -540,6 +540,7 @@ def plot_mu_per_stop(
     variable: str = "mean_cof",
     title: str | None = None,
     ax: Axes | None = None,
+    log: bool | None = False,
 ) -> Figure:
     """Mean coefficient of friction per stop over the whole cycle, one line per run.
 
@@ -572,6 +573,10 @@ def plot_mu_per_stop(
         (``layout="constrained"`` or ``"tight"``, which make room for it) the legend of more
         than six tests stands beside the panel; without one it stays inside, as a figure
         without a layout cannot make room.
+    log
+        Draw the values on a log axis; None: where their positive values span more than two
+        decades (a stop whose value is 0 then has no point), e.g. the emitted volume per
+        stop, ``variable="emitted_volume"`` [mm³].
 
     Returns
     -------
@@ -671,6 +676,12 @@ def plot_mu_per_stop(
     from matplotlib.ticker import MaxNLocator
 
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # no stop 0.75 with a few stops
+    positive = values[np.isfinite(values) & (values > 0)]
+    if log is None:
+        log = positive.size > 0 and float(positive.max()) > 100.0 * float(positive.min())
+    if log and positive.size:
+        ax.set_yscale("log")
+        ylabel += " (log scale)"
     ax.set_ylabel(ylabel)
     if title is None:
         title = (

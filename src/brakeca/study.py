@@ -1337,6 +1337,21 @@ def _cycle_figures(
         result.dataset,
         factors,
     )
+    if "emitted_volume" in getattr(result.dataset, "data_vars", {}):
+        # where in the cycle each run's V comes from (a figures review: V is the mean of
+        # 170 stops whose volumes span decades, most of it from a few blocks)
+        figures.add(
+            "Runs",
+            f"Emitted wear volume per stop over {stops_run} for every run (V is their mean; "
+            "on a log axis where the stops' volumes span more than two decades, a stop that "
+            "emitted nothing without a point)",
+            "v_per_stop.png",
+            plotting.plot_mu_per_stop,
+            result.dataset,
+            factors=factors,
+            variable="emitted_volume",
+            log=None,
+        )
     figures.add(
         "Runs",
         "V for every run (as the paper's Figure 11; on a log axis, a point per test, where the "

@@ -783,6 +783,16 @@ def test_per_stop_plots_label_the_variable_they_draw(campaign, summary) -> None:
     assert np.allclose(ax.lines[-1].get_ydata(), 0.1)  # 1e-10 m^3 = 0.1 mm^3 (a run's line)
     fig = plot_mu_per_stop(data)
     assert fig.axes[0].get_ylabel() == "Mean coefficient of friction μ per stop [-]"
+    # a log axis where asked, or (log=None) where the values span more than two decades,
+    # as the study's figure of the emitted volume per stop draws them
+    assert plot_mu_per_stop(data, variable="emitted_volume", log=None).axes[0].get_yscale() == (
+        "linear"
+    )
+    assert ax.get_yscale() == "linear"  # (log=False by default)
+    spread = data.copy(deep=True)
+    spread["emitted_volume"][0, 0] = 1e-6  # 1000 mm^3 beside 0.1 mm^3
+    ax = plot_mu_per_stop(spread, variable="emitted_volume", log=None).axes[0]
+    assert ax.get_yscale() == "log" and ax.get_ylabel().endswith("(log scale)")
     fig = plot_mu_per_stop_by_level(data, FACTORS, variable="emitted_volume")
     assert fig.axes[0].get_ylabel() == "Wear volume emitted [mm³]"
     labels = {a.get_ylabel() for a in plot_interactions(summary, FACTORS, "V").axes}
