@@ -1464,9 +1464,19 @@ def _run_file_figures(
                 "stop's own, before it)"
             )
             title += " and rule S"
+        n_sub = run.config.mesh.n_subdomains
+        if n_sub > 1 and (ds[status].to_numpy() == 2).any():
+            # (a figures review took the empty first subdomain for an artefact)
+            after += (
+                f". The first of the band's {n_sub} subdomains (the left 1/{n_sub} of the "
+                "map, where the disc enters the pad) holds no secondary plateau: no particle "
+                "stream reaches it (docs/model.md §7)"
+            )
         figures.add(
             "Final plateau maps",
-            f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}",
+            f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}. The "
+            "legend's shares are the map's own; the per-run table's are the last stop's "
+            "time averages",
             f"final_map_{tag}.png",
             plotting.plot_surface_map,
             *(ds[name].to_numpy() for name in (status, "radius", "angle")),
