@@ -969,8 +969,7 @@ def anova(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are fitted; every row at the factors' levels, failed ones too, is the design as
-        planned, whose regularity and alias chains the effects follow).
+        are used).
     factors
         The design's factors (:class:`Factor` or factor-like objects); their columns hold the
         level values and are treated as categorical.
@@ -1008,7 +1007,8 @@ def anova(
         ``formula``, ``note``, ``n``, ``total_sum_sq``, ``center_points`` (their number),
         ``order`` (the most factors in a term asked for), ``fitted_order`` (the most in a
         term of the model before backward elimination: fewer where interactions were pooled
-        or aliased, 0 with no term),
+        or aliased, 0 with no term), ``pooled`` (whether interactions were pooled into the
+        residual because the model with them was saturated),
         ``model_terms`` (the terms given,
         as the table names them, or None) and ``alpha_to_remove``, and the
         model summary that Minitab
@@ -1182,6 +1182,7 @@ def anova(
         center_points=int(y_center.size),
         order=_model_order(interactions),
         fitted_order=frame.attrs.get("fitted_order", 0),
+        pooled=bool(frame.attrs.get("pooled", False)),
         model_terms=list(interactions) if _is_term_list(interactions) else None,
         alpha_to_remove=alpha_to_remove,
     )
@@ -1596,8 +1597,9 @@ def _model(
         terms = _estimable(frame, terms, term_names, notes)
     else:
         terms, term_names = _terms_up_through(names, order)
-        terms = _estimable(frame, terms, term_names, notes)
-        terms = _pooled_while_saturated(frame, terms, y_center, notes)
+        estimable = _estimable(frame, terms, term_names, notes)
+        terms = _pooled_while_saturated(frame, estimable, y_center, notes)
+        frame.attrs["pooled"] = len(terms) < len(estimable)
     # the most factors in a term of the model before any elimination: below the order asked
     # for where a saturated model's interactions were pooled or the design aliases them
     frame.attrs["fitted_order"] = max((t.count(":") + 1 for t in terms), default=0)
@@ -2164,8 +2166,7 @@ def unusual_runs(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are fitted; every row at the factors' levels, failed ones too, is the design as
-        planned, whose regularity and alias chains the effects follow).
+        are used).
     factors
         The design's factors.
     response
@@ -3371,8 +3372,7 @@ def level_coefficients(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are fitted; every row at the factors' levels, failed ones too, is the design as
-        planned, whose regularity and alias chains the effects follow).
+        are used).
     factors
         The design's factors, or the design (or a campaign result).
     response
@@ -3846,8 +3846,7 @@ def level_comparisons(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
-        are fitted; every row at the factors' levels, failed ones too, is the design as
-        planned, whose regularity and alias chains the effects follow).
+        are used).
     factors
         The design's factors, or the design (or a campaign result).
     response

@@ -1571,7 +1571,7 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
                 left = "the interactions"
             else:
                 left = f"interactions of more than {order} factors"
-            pooled = not attrs.get("model_terms") and _POOLED in str(attrs.get("note", ""))
+            pooled = bool(attrs.get("pooled"))
             if pooled:
                 left += ", pooled because the model with them left no degrees of freedom"
             if attrs.get("alpha_to_remove") is not None:
@@ -2146,11 +2146,6 @@ def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> st
     )
 
 
-#: The words of :func:`brakeca.analysis.anova`'s note where a saturated model's interactions
-#: were pooled into its residual.
-_POOLED = "pooled into the residual"
-
-
 def _pooled_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
     """The terms the effects table finds with p < 0.05 by Lenth's method that the ANOVA,
     whose residual is the interactions it pooled because its model was saturated, does not
@@ -2159,7 +2154,7 @@ def _pooled_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
     p = 0.004); empty otherwise."""
     if effects is None or effects.empty or effects.attrs.get("method") != "Lenth":
         return ""
-    if _POOLED not in str(frame.attrs.get("note", "")):
+    if not frame.attrs.get("pooled"):
         return ""
     shown = _effects_beyond(frame, effects)
     if not shown:
