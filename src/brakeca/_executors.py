@@ -317,16 +317,29 @@ def _tracker_outlives_a_hangup() -> None:
     only SIGINT and SIGTERM) died with it, and the campaign, stopping its workers as for
     Ctrl-C, printed "resource_tracker: process died unexpectedly" and a KeyError traceback
     for every semaphore of its pools (a cluster review). It ends as usual when this process
-    does. Only from the main thread, where signals can be set."""
-    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "SIGHUP"):
-        return
+    does. Outside the main thread, where signals cannot be set, it starts as it would
+    anyway, taking SIGHUP as usual."""
     from multiprocessing import resource_tracker
 
-    saved = signal.signal(signal.SIGHUP, signal.SIG_IGN)
-    try:
+    with _ignoring("SIGHUP"):
         resource_tracker.ensure_running()
+
+
+@contextmanager
+def _ignoring(name: str) -> Iterator[None]:
+    """While in this block, the signal ``name`` (``"SIGINT"``, ``"SIGHUP"``) is ignored in
+    this process, and so in the processes started in it, which inherit an ignored signal
+    (Python leaves an ignored SIGINT ignored too); only in the main thread, where signals
+    can be set, and where the platform has the signal."""
+    number = getattr(signal, name, None)
+    if number is None or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    saved = signal.signal(number, signal.SIG_IGN)
+    try:
+        yield
     finally:
-        signal.signal(signal.SIGHUP, saved)
+        signal.signal(number, saved)
 
 
 def _stop_pool(pool: cf.ProcessPoolExecutor) -> None:
@@ -429,9 +442,13 @@ def _dask_executor(
     held.__enter__()
     deaths = WorkerDeaths()
     try:
+        # Ctrl-C ignored while the workers start, so that they ignore it: they printed
+        # KeyboardInterrupt tracebacks on Ctrl-C, though the campaign's process stops them
+        # itself (DaskExecutor.shutdown; a cluster review). A worker a nanny starts later,
+        # in place of a dead one, takes Ctrl-C as usual
         with (
             dask.config.set({"distributed.scheduler.worker-saturation": 1.0}),
-            _ctrl_c_left_to_this_process(),
+            _ignoring("SIGINT"),
         ):
             cluster = distributed.LocalCluster(
                 n_workers=n,
@@ -452,23 +469,6 @@ def _dask_executor(
         held.__exit__(None, None, None)
         raise
     return DaskExecutor(client, cluster, held=held, deaths=deaths)
-
-
-@contextmanager
-def _ctrl_c_left_to_this_process() -> Iterator[None]:
-    """While in this block (in the main thread), Ctrl-C is ignored, so that the processes
-    started in it ignore it too (Python leaves an ignored SIGINT ignored): a LocalCluster's
-    workers, which printed KeyboardInterrupt tracebacks on Ctrl-C though the campaign's
-    process stops them itself (:meth:`DaskExecutor.shutdown`; a cluster review). A worker a
-    nanny starts later, in place of a dead one, takes Ctrl-C as usual."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    saved = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, saved)
 
 
 def _scheduler_address_problem(scheduler: str | None, scheduler_file: str | Path | None) -> str:

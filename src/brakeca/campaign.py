@@ -858,22 +858,21 @@ def _say_deaths(console: Console, died: int, max_retries: int) -> None:
         return
     from brakeca._console import say
 
+    one = died == 1
+    text = (
+        "a dask worker process died; dask starts another"
+        if one
+        else f"{died} dask worker processes died; dask starts others"
+    )
+    runs = "its run" if one else "their runs"
     if max_retries == 0:  # its run failed with it (a cluster review: "gives its run to a
         # worker again" had followed the run's failure)
-        text = (
-            "a dask worker process died; dask starts another, and its run is not tried again "
-            "(no retries allowed)"
-            if died == 1
-            else f"{died} dask worker processes died; dask starts others, and their runs are "
-            "not tried again (no retries allowed)"
-        )
+        text += f", and {runs} {'is' if one else 'are'} not tried again (no retries allowed)"
     else:
-        text = (
-            "a dask worker process died; dask starts another and gives its run to a worker again"
-            if died == 1
-            else f"{died} dask worker processes died; dask starts others and gives their runs "
-            "to a worker again"
-        ) + f" (a run at most {max_retries} time(s), then it fails)"
+        text += (
+            f" and gives {runs} to a worker again (a run at most {max_retries} time(s), then "
+            "it fails)"
+        )
     say(console, "[yellow]worker died:[/] " + text)
 
 

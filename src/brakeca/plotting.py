@@ -1533,8 +1533,10 @@ def _run_labels(residuals: pd.DataFrame) -> list[str]:
     the table holds replicates, the row number where it has no test column."""
     if "test" not in residuals.columns:
         return [f"run {k + 1}" for k in range(len(residuals))]
+    from brakeca._console import is_replicated
+
     tests = residuals["test"].to_numpy()
-    if "replicate" in residuals.columns and residuals["replicate"].nunique() > 1:
+    if is_replicated(residuals):
         reps = residuals["replicate"].to_numpy()
         return [f"test {int(a)}/{int(b)}" for a, b in zip(tests, reps, strict=True)]
     return [f"test {int(a)}" for a in tests]

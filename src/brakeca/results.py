@@ -47,6 +47,7 @@ from __future__ import annotations
 import contextlib
 import sys
 import threading
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -371,7 +372,8 @@ def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
     return atomic_write(path, lambda tmp: tmp.write_bytes(data))
 
 
-def _without_a_dask_client() -> contextlib.AbstractContextManager[Any]:
+@contextlib.contextmanager
+def _without_a_dask_client() -> Iterator[None]:
     """A context in which xarray writes with a thread lock even where a
     ``dask.distributed.Client`` is the process's default (a notebook or a SLURM script that
     opened one): xarray then asked the scheduler for a lock named after the in-memory file,
@@ -383,15 +385,10 @@ def _without_a_dask_client() -> contextlib.AbstractContextManager[Any]:
     take turns (:data:`_DASK_CONFIG_LOCK`), so that none restores another's setting."""
     dask = sys.modules.get("dask")
     if dask is None or not hasattr(dask, "config"):
-        return contextlib.nullcontext()
-    stack = contextlib.ExitStack()
-    stack.enter_context(_DASK_CONFIG_LOCK)
-    try:
-        stack.enter_context(dask.config.set(scheduler="synchronous"))
-    except BaseException:
-        stack.close()
-        raise
-    return stack
+        yield
+        return
+    with _DASK_CONFIG_LOCK, dask.config.set(scheduler="synchronous"):
+        yield
 
 
 #: Held while a write sets dask's scheduler (:func:`_without_a_dask_client`).
