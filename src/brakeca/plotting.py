@@ -108,13 +108,27 @@ def _axis_unit(attrs: Any) -> str:
     return "-" if unit == "1" else unit
 
 
+#: Axis label, title words and scale of the per-stop area fractions [-] of a run file,
+#: drawn in per cent of the band (their ``long_name``, e.g. "time-weighted area in contact /
+#: band area", is a formula, too long for an axis).
+_AREA_AXES: dict[str, tuple[str, str]] = {
+    "primary_area_fraction": ("Primary plateau area", "primary plateau area"),
+    "secondary_area_fraction": ("Secondary plateau area", "secondary plateau area"),
+    "contact_area_fraction": ("Area in contact", "area in contact"),
+}
+
+
 def _variable_axis(data: Any, variable: str) -> tuple[str, str, float]:
     """(axis label, what it is for a title, scale) of a per-stop variable of a run file or
-    campaign dataset: the mean COF as the paper names it, another variable by its
-    ``long_name`` and ``units``, a volume [m^3] in mm^3 as the other figures draw V (the
-    plots had named every variable the mean COF: an API review)."""
+    campaign dataset: the mean COF as the paper names it, an area fraction [-] in per cent
+    of the band (time-weighted over the stop), another variable by its ``long_name`` and
+    ``units``, a volume [m^3] in mm^3 as the other figures draw V (the plots had named every
+    variable the mean COF: an API review)."""
     if variable == "mean_cof":
         return "Mean coefficient of friction μ per stop [-]", "mean coefficient of friction", 1.0
+    if variable in _AREA_AXES:
+        label, what = _AREA_AXES[variable]
+        return f"{label} per stop [% of band]", f"{what} (time-weighted, % of the band)", 100.0
     attrs = getattr(data[variable], "attrs", {})
     name = str(attrs.get("long_name") or variable)
     units = _axis_unit(attrs).strip() or "-"
@@ -824,8 +838,10 @@ def plot_mu_per_stop_by_level(
         if k + cols >= len(factors):
             axes[k].xaxis.set_tick_params(labelbottom=True)
             axes[k].set_xlabel("Stop number [-]")
-    for ax in axes[::cols]:
-        ax.set_ylabel("Mean μ per stop [-]" if variable == "mean_cof" else ylabel)
+    for ax in axes[::cols]:  # wrapped to the panel's height (2.3 in), or they overlap
+        ax.set_ylabel(
+            "Mean μ per stop [-]" if variable == "mean_cof" else textwrap.fill(ylabel, 30)
+        )
     from matplotlib.ticker import MaxNLocator
 
     axes[0].xaxis.set_major_locator(MaxNLocator(integer=True))  # shared: no stop 1.2

@@ -1337,6 +1337,26 @@ def _cycle_figures(
         result.dataset,
         factors,
     )
+    for variable, what, name in (
+        ("secondary_area_fraction", "Secondary plateau area", "secondary_area_by_level.png"),
+        ("contact_area_fraction", "Area in contact", "contact_area_by_level.png"),
+    ):
+        # what carries MU and V over the cycle (the paper's reading of its effects; a
+        # figures review found no figure of the plateaus' or the contact's area over it)
+        if variable in getattr(result.dataset, "data_vars", {}):
+            figures.add(
+                "Runs",
+                f"{what} per stop over {stops_run} at each level of each factor, in per cent "
+                "of the band and time-weighted over each stop: the mean of the finished runs "
+                "at that level, stop by stop"
+                + ("; centre points left out" if result.design.center_points else "")
+                + (" (the cycle's blocks shaded as above)" if n_blocks > 1 else ""),
+                name,
+                plotting.plot_mu_per_stop_by_level,
+                result.dataset,
+                factors,
+                variable=variable,
+            )
     if "emitted_volume" in getattr(result.dataset, "data_vars", {}):
         # where in the cycle each run's V comes from (a figures review: V is the mean of
         # 170 stops whose volumes span decades, most of it from a few blocks)

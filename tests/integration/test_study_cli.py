@@ -67,6 +67,8 @@ def test_outputs_present_and_consistent(campaign):
         "interactions_V",
         "mu_per_stop",
         "v_per_stop",
+        "secondary_area_by_level",
+        "contact_area_by_level",
         "v_per_run",
         "fibre_maps",
         "pareto_MU",
@@ -105,8 +107,9 @@ def test_outputs_present_and_consistent(campaign):
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
     # per response (MU, V, log10 V: main effects, interactions, Pareto, residuals and, both
     # factors having two levels, the effects), per campaign (MU per stop, by run and by
-    # level, V per stop, V per run, fibre maps, Box-Cox plots), maps
-    assert n_img == 5 * 3 + 6 + 4
+    # level, the secondary plateau and contact areas by level, V per stop, V per run, fibre
+    # maps, Box-Cox plots), maps
+    assert n_img == 5 * 3 + 8 + 4
     # the Box-Cox check of MU's and V's scale, under the ANOVA model (main effects: the
     # model with the interaction would leave 4 runs no residual degree of freedom)
     scales = pd.read_csv(out / "tables" / "box_cox.csv")

@@ -799,6 +799,35 @@ def test_per_stop_plots_label_the_variable_they_draw(campaign, summary) -> None:
     assert "V (mean) [mm³]" in labels
 
 
+def test_area_fractions_per_stop_are_drawn_in_per_cent_of_the_band(campaign) -> None:
+    """The study's figures of the secondary plateaus' area and the area in contact by level
+    draw the run file's fractions [-] in per cent under a short label (their long_name is a
+    formula), wrapped to the panels' height, where the long label had run into the panel
+    below."""
+    from brakeca.plotting import plot_mu_per_stop, plot_mu_per_stop_by_level
+
+    data = campaign.copy()
+    data["contact_area_fraction"] = xr.full_like(data["mean_cof"], 0.25)
+    data["contact_area_fraction"].attrs.update(
+        long_name="time-weighted area in contact / band area", units="1"
+    )
+    data["contact_area_fraction"][0, :] = 0.5  # one run of the first factor's low level
+    fig = plot_mu_per_stop_by_level(data, FACTORS, variable="contact_area_fraction")
+    label = fig.axes[0].get_ylabel()
+    assert label.replace("\n", " ") == "Area in contact per stop [% of band]"
+    assert "\n" in label
+    assert fig.texts[0].get_text().startswith("Area in contact (time-weighted, % of the band)")
+    low = FACTORS[0].levels[0]
+    assert data[FACTORS[0].name][0] == low
+    n_low = int((data[FACTORS[0].name] == low).sum())  # the low level's line: their mean
+    np.testing.assert_allclose(
+        fig.axes[0].lines[0].get_ydata(), 100 * (0.5 + 0.25 * (n_low - 1)) / n_low
+    )
+    ax = plot_mu_per_stop(data, variable="contact_area_fraction").axes[0]
+    assert ax.get_ylabel() == "Area in contact per stop [% of band]"
+    np.testing.assert_allclose(ax.lines[-1].get_ydata(), 25.0)
+
+
 def test_an_anova_table_given_for_another_table_is_named_or_used_rightly(summary) -> None:
     """A bare KeyError 'fitted' for an ANOVA table given to plot_residuals, a bare KeyError
     for a factor the summary lacks, and the Residual drawn as a ranked term of plot_pareto
