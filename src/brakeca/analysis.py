@@ -455,6 +455,39 @@ def _factors(factors: Iterable[Any]) -> list[Factor]:
     return out
 
 
+def _design_of(factors: Any) -> Any | None:
+    """The design behind ``factors`` where it is a :class:`brakeca.design.Design` or a
+    campaign result, else None."""
+    if hasattr(factors, "anova_model"):
+        return factors
+    design = getattr(factors, "design", None)
+    return design if hasattr(design, "anova_model") else None
+
+
+def _model_settings(
+    factors: Any, interactions: Model | None, typ: int | None, alpha_to_remove: float | None
+) -> tuple[Model, int, float | None]:
+    """The model, the ANOVA's type and the level of backward elimination a table fits: each
+    left unset (None) is the design's where ``factors`` is a design or a campaign result, as
+    :func:`analyze` and the report take them (an API review found ``anova(summary, design,
+    "MU")`` a Type II, unreduced fit beside the report's Type III, reduced one); otherwise
+    all two-factor interactions, Type II and the whole model."""
+    design = _design_of(factors)
+    if design is not None:
+        if interactions is None:
+            chosen = design.anova_model
+            interactions = chosen if isinstance(chosen, int) else list(chosen)
+        if typ is None:
+            typ = design.anova_type
+        if alpha_to_remove is None and not design.is_response_surface:
+            alpha_to_remove = design.alpha_to_remove
+    return (
+        (True if interactions is None else interactions),
+        (2 if typ is None else typ),
+        (alpha_to_remove),
+    )
+
+
 def _clean(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> pd.DataFrame:
     """Rows usable for ``response``: status ok, response finite, factor columns present
     (``factors``: anything with a ``name``, e.g. :class:`Factor` or
@@ -913,8 +946,8 @@ def anova(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: Model = True,
-    typ: int = 2,
+    interactions: Model | None = None,
+    typ: int | None = None,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """Analysis of variance of a response over categorical factors.
@@ -972,7 +1005,11 @@ def anova(
         are used).
     factors
         The design's factors (:class:`Factor` or factor-like objects); their columns hold the
-        level values and are treated as categorical.
+        level values and are treated as categorical. Or the design itself, or a campaign
+        result (:func:`brakeca.load_campaign`): then ``interactions``, ``typ`` and
+        ``alpha_to_remove`` left unset are the design's (its ``model_order`` or
+        ``model_terms``, ``anova_type`` and ``alpha_to_remove``), as :func:`analyze` and the
+        report take them; pass ``design.factors`` for the defaults below.
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
@@ -1049,6 +1086,9 @@ def anova(
          S:A 1.0  0.0008   8.0   0.0474
     Residual 4.0  0.0004   NaN      NaN
     """
+    interactions, typ, alpha_to_remove = _model_settings(
+        factors, interactions, typ, alpha_to_remove
+    )
     _check_anova_type(typ)
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
@@ -2006,7 +2046,7 @@ def residuals(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: Model = True,
+    interactions: Model | None = None,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """Fitted values and residuals of the model :func:`anova` fits, one row per usable run.
@@ -2048,6 +2088,7 @@ def residuals(
         round-off. ``attrs`` carries ``response``, ``formula``, ``df_resid`` and ``s``.
         :func:`unusual_runs` lists the runs the model fits badly.
     """
+    interactions, _, alpha_to_remove = _model_settings(factors, interactions, 2, alpha_to_remove)
     data, y, exog, formula = _model_arrays(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
     )
@@ -2142,8 +2183,8 @@ def unusual_runs(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: Model = True,
-    typ: int = 2,
+    interactions: Model | None = None,
+    typ: int | None = None,
     alpha_to_remove: float | None = None,
     alpha: float = 0.05,
 ) -> pd.DataFrame:
@@ -2220,7 +2261,10 @@ def unusual_runs(
     problem = alpha_problem(alpha, usual="0.05 is usual")
     if problem:
         raise ValueError(f"alpha: {problem}")
-    factors = list(factors) if not isinstance(factors, str) else [factors]
+    interactions, typ, alpha_to_remove = _model_settings(
+        factors, interactions, typ, alpha_to_remove
+    )
+    factors = _factors(factors)
     summary = summary.reset_index(drop=True)  # labels are positions: the runs dropped below
     data, y, exog, formula = _model_arrays(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
@@ -2422,7 +2466,7 @@ def ranked_effects(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: Model = True,
+    interactions: Model | None = None,
 ) -> pd.DataFrame:
     """Model terms ranked by sum of squares, for a Pareto chart.
 
@@ -2457,8 +2501,16 @@ def ranked_effects(
     ----------
     Wahlström (2016), Section 4, doi:10.1155/2016/8181260.
     """
+    interactions, typ, alpha_to_remove = _model_settings(factors, interactions, None, None)
     factors = _factors(factors)
-    table = anova(summary, factors, response, interactions=interactions)
+    table = anova(
+        summary,
+        factors,
+        response,
+        interactions=interactions,
+        typ=typ,
+        alpha_to_remove=alpha_to_remove,
+    )
     return _rank_terms(table, summary, factors, response)
 
 
@@ -3151,8 +3203,8 @@ def factor_trends(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: Model = True,
-    typ: int = 2,
+    interactions: Model | None = None,
+    typ: int | None = None,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """The trend of each factor of three or more levels: its main effect split into a
@@ -3208,6 +3260,9 @@ def factor_trends(
     D. C. Montgomery, *Design and Analysis of Experiments*, 8th ed., Wiley, 2013, section
     3.5.4 (orthogonal contrasts) and 5.5 (fitting response curves in a factorial).
     """
+    interactions, typ, alpha_to_remove = _model_settings(
+        factors, interactions, typ, alpha_to_remove
+    )
     raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
     table = anova(
         summary,
@@ -3337,8 +3392,8 @@ def level_coefficients(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: Model = True,
-    typ: int = 2,
+    interactions: Model | None = None,
+    typ: int | None = None,
     alpha_to_remove: float | None = None,
     alpha: float = 0.05,
 ) -> pd.DataFrame:
@@ -3440,6 +3495,9 @@ def level_coefficients(
     problem = alpha_problem(alpha, usual="0.05 is usual")
     if problem:
         raise ValueError(f"alpha: {problem}")
+    interactions, typ, alpha_to_remove = _model_settings(
+        factors, interactions, typ, alpha_to_remove
+    )
     raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
     table = anova(
         summary, raw, response, interactions=interactions, typ=typ, alpha_to_remove=alpha_to_remove
@@ -3820,8 +3878,8 @@ def level_comparisons(
     factors: Iterable[Any],
     response: str,
     *,
-    interactions: Model = True,
-    typ: int = 2,
+    interactions: Model | None = None,
+    typ: int | None = None,
     alpha_to_remove: float | None = None,
     confidence: float = 0.95,
 ) -> pd.DataFrame:
@@ -3905,6 +3963,9 @@ def level_comparisons(
     problem = alpha_problem(confidence, usual="0.95 is usual")  # the same range as alpha's
     if problem:
         raise ValueError(f"confidence: {problem}")
+    interactions, typ, alpha_to_remove = _model_settings(
+        factors, interactions, typ, alpha_to_remove
+    )
     raw = _design_factors(factors) if not isinstance(factors, str) else [factors]
     table = anova(
         summary, raw, response, interactions=interactions, typ=typ, alpha_to_remove=alpha_to_remove

@@ -100,3 +100,44 @@ def test_analyze_takes_a_finished_campaign() -> None:
     # design's order had won over it)
     alone = brakeca.analyze(campaign, responses=["MU"], main_effects_only=True)["MU"]["anova"]
     assert list(alone["term"]) == ["S", "WP", "WR", "A", "Residual"]
+
+
+def test_each_table_takes_the_designs_settings_as_analyze_does() -> None:
+    """Given the design or a campaign, anova, residuals, unusual_runs, the level tables and
+    the ranked effects fit the design's model, ANOVA type and elimination, as analyze and the
+    report do (an API review: anova(summary, design, "MU") was a Type II, unreduced fit
+    beside the report's Type III, reduced one; unusual_runs took neither a design nor a
+    campaign, whose fields it iterated)."""
+    import numpy as np
+    import pandas as pd
+
+    from brakeca import analysis
+    from brakeca.design import load_design
+
+    design = load_design("paper").model_copy(
+        update={"anova_type": 3, "alpha_to_remove": 0.1, "model_order": 1}
+    )
+    rng = np.random.default_rng(1)
+    rows = pd.DataFrame(design.combinations())
+    rows = rows.assign(MU=0.3 + 0.01 * rng.standard_normal(24) + 0.02 * (rows["A"] == 20))
+    rows["status"] = "ok"
+    campaign = type("Campaign", (), {"summary": rows, "design": design})()
+    report = brakeca.analyze(campaign, responses=["MU"])["MU"]
+    for given in (design, campaign):
+        table = analysis.anova(rows, given, "MU")
+        pd.testing.assert_frame_equal(table, report.anova)
+        assert table.attrs["typ"] == "Type III (adjusted)"
+        assert ":" not in "".join(table["term"]) and len(table) < 6  # order 1, reduced
+        pd.testing.assert_frame_equal(analysis.residuals(rows, given, "MU"), report.residuals)
+        unusual = analysis.unusual_runs(rows, given, "MU")
+        pd.testing.assert_frame_equal(unusual, report.unusual)
+        coefficients = analysis.level_coefficients(rows, given, "MU")
+        pd.testing.assert_frame_equal(coefficients, report.coefficients)
+        ranked = analysis.ranked_effects(rows, given, "MU")
+        assert list(ranked["term"]) == list(report.ranked_effects["term"])
+    # the factors alone: the defaults (two-factor interactions, Type II, the whole model)
+    plain = analysis.anova(rows, design.factors, "MU")
+    assert plain.attrs["typ"] == "Type II" and "WP:A" in set(plain["term"])
+    # an argument given wins over the design's
+    two = analysis.anova(rows, design, "MU", typ=2)
+    assert two.attrs["typ"] == "Type II" and len(two) == len(report.anova)
