@@ -694,7 +694,8 @@ class SimulationConfig(_Frozen):
                 f"on the effective radius (mesh.n_radial = {QUICK_N_RADIAL}, mesh.inner_radius "
                 f"unset), but this configuration has mesh.n_radial = {self.mesh.n_radial}"
                 f"{inner}: use --quick (brakeca.design.quick_config from Python) instead of "
-                "setting quick"
+                "setting quick; to change the band of a quick configuration, set quick = "
+                "false with it (with_updates({'quick': False, ...}))"
             )
         return self
 
@@ -1052,11 +1053,9 @@ def _drop_none(value: Any) -> Any:
 _BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
 
 
-def _allowed_range(model: Any, loc: Sequence[Any]) -> str | None:
-    """The interval a numeric field of ``model`` at ``loc`` allows, e.g. ``"[0, 2]"`` or
-    ``"(0, 1)"``, when it has a bound on both sides; None otherwise (one bound, or ``loc``
-    not a field of nested models)."""
-    import annotated_types as at
+def _field_info(model: Any, loc: Sequence[Any]) -> Any | None:
+    """The pydantic FieldInfo of the field of ``model`` at ``loc``; None where ``loc`` is not
+    a field of nested models."""
     from pydantic import BaseModel
 
     info = None
@@ -1068,6 +1067,24 @@ def _allowed_range(model: Any, loc: Sequence[Any]) -> str | None:
             return None
         info = cls.model_fields[part]
         cls = info.annotation
+    return info
+
+
+def _field_unit(model: Any, loc: Sequence[Any]) -> str:
+    """The unit of the field of ``model`` at ``loc``, as its description begins (``"[m] ..."``
+    gives ``"m"``), empty for a dimensionless field ``[-]`` or one without a unit."""
+    info = _field_info(model, loc)
+    found = re.match(r"\[([^\]]+)\]", (info.description or "") if info is not None else "")
+    return "" if found is None or found.group(1) == "-" else found.group(1)
+
+
+def _allowed_range(model: Any, loc: Sequence[Any]) -> str | None:
+    """The interval a numeric field of ``model`` at ``loc`` allows, e.g. ``"[0, 2]"`` or
+    ``"(0, 1)"``, when it has a bound on both sides; None otherwise (one bound, or ``loc``
+    not a field of nested models)."""
+    import annotated_types as at
+
+    info = _field_info(model, loc)
     if info is None:
         return None
     low: Any = None
@@ -1243,6 +1260,11 @@ def format_validation_error(
         not_finite = isinstance(got, float) and not math.isfinite(got)
         if err["type"] in _BOUND_ERRORS or err["type"] == "finite_number" or not_finite:
             interval = _allowed_range(model, err["loc"]) if model is not None else None
+            # the field's unit after its range (an API review: "(0, 0.3] (got 57)" did not
+            # say the piston's diameter is in metres, not millimetres)
+            unit = _field_unit(model, err["loc"]) if model is not None else ""
+            if interval is not None and unit:
+                interval += f" {unit}"
             if not_finite:
                 which = "NaN" if math.isnan(got) else "infinite"
                 msg = "must be a finite number" + (f" in {interval}" if interval else "")
@@ -1263,6 +1285,10 @@ def format_validation_error(
                     if isinstance(bound, float)
                     else (f"must be {word} {bound}")
                 )
+                if unit:
+                    msg += f" {unit}"
+            if path == "pad.fibre_area_fraction" and isinstance(got, int | float) and got >= 1:
+                msg += " (a fraction; A is the same in per cent)"
         elif err["type"] in ("float_type", "float_parsing", "int_type", "int_parsing"):
             msg = "must be a " + ("whole number" if err["type"].startswith("int") else "number")
         elif err["type"] == "int_from_float":

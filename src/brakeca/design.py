@@ -3102,8 +3102,8 @@ def design_from_dict(
     return design
 
 
-def load_design(path_or_name: str | Path) -> Design:
-    """Load and validate a design: a shipped name (``"paper"``) or a TOML file.
+def load_design(path_or_name: str | Path | Mapping[str, Any]) -> Design:
+    """Load and validate a design: a shipped name (``"paper"``), a TOML file or a mapping.
 
     Parameters
     ----------
@@ -3112,7 +3112,9 @@ def load_design(path_or_name: str | Path) -> Design:
         (docs/designs.md: factors, levels in their units, seeds, options) or a campaign
         folder (its ``design.toml``). A shipped design's name means the shipped design even
         where a folder of that name exists (``brakeca run paper -o paper`` twice runs the
-        paper's design both times); give ``paper/design.toml`` for the folder's.
+        paper's design both times); give ``paper/design.toml`` for the folder's. Or the
+        design file's contents as a mapping (:func:`design_from_dict`; a relative
+        ``base_config`` or cycle file is then read from the current folder).
 
     Returns
     -------
@@ -3139,6 +3141,8 @@ def load_design(path_or_name: str | Path) -> Design:
     """
     from brakeca.presets import available_designs, design_path
 
+    if isinstance(path_or_name, Mapping):  # a design written in Python (an API review)
+        return design_from_dict(path_or_name)
     path = Path(path_or_name)
     shipped = isinstance(path_or_name, str) and path_or_name in available_designs()
     if shipped and not path.is_file():  # a folder of that name (a campaign's) is no design

@@ -53,6 +53,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
 from brakeca import __version__
@@ -223,9 +224,13 @@ def result_names() -> frozenset[str]:
     )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RunResult:
     """The result of one simulated run.
+
+    Two results are equal only where they are the same object (``==`` is ``is``): a
+    dataclass's ``==`` would compare the datasets' truth values, true for any with a
+    variable (an API review); compare runs with ``a.dataset.identical(b.dataset)``.
 
     Attributes
     ----------
@@ -320,6 +325,23 @@ class RunResult:
             "n_steps": int(ds["n_steps"].sum()),
             "wall_time": float(ds.attrs["wall_time"]),
         }
+
+    def per_stop(self) -> pd.DataFrame:
+        """The run's per-stop results as a table, one row per stop, in friendly units:
+        :func:`brakeca.study.per_stop_table` of this run (``dataset.to_dataframe()`` would
+        broadcast the per-stop variables over every cell of the band).
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``seed``, ``stop``, ``block`` (when the cycle names its blocks), ``mean_cof``
+            [-], ``emitted_mm3`` and ``generated_mm3`` [mm³], the time-weighted area
+            fractions [-], ``normal_force_N`` [N], ``line_pressure_MPa`` [MPa],
+            ``duration_s`` [s] and ``n_steps`` [-].
+        """
+        from brakeca.study import per_stop_table
+
+        return per_stop_table(self)
 
     def to_netcdf(self, path: str | Path) -> Path:
         """Write the result to ``path`` atomically (temporary file, then rename)."""

@@ -73,7 +73,7 @@ def simulate(
     config: SimulationConfig,
     *,
     seed: int | None = None,
-    rng: np.random.Generator | None = None,
+    rng: np.random.Generator | int | None = None,
     progress: Progress | None = None,
     checkpoint: str | Path | None = None,
     checkpoint_every: int = 10,
@@ -90,7 +90,8 @@ def simulate(
         Seed of the run's random generator (recorded in the result), a whole number from 0
         to :data:`MAX_SEED` (2**64 - 1, the largest a run file holds). Default 0.
     rng
-        A generator to use instead of ``seed``; not with ``seed``, nor with ``checkpoint``
+        A :class:`numpy.random.Generator` to use instead of ``seed`` (a whole number is taken
+        as the seed, as SPEC 7 has it); not with ``seed``, nor with ``checkpoint``
         (a checkpoint tells runs apart by their seed). The run then records the seed -1
         and the generator's state before its first draw, as JSON in the run file's
         ``rng_state`` attribute (:meth:`brakeca.results.RunResult.generator` makes a
@@ -124,7 +125,9 @@ def simulate(
     Raises
     ------
     TypeError
-        ``config`` is not a :class:`~brakeca.config.SimulationConfig` (a dict, a preset name).
+        ``config`` is not a :class:`~brakeca.config.SimulationConfig` (a dict, a preset name);
+        ``rng`` is not a :class:`numpy.random.Generator` nor a whole number; ``seed`` is a
+        generator.
     ValueError
         A seed that is not a whole number in range, or both ``seed`` and ``rng``; a stop of
         ``maps_at`` that the cycle does not have.
@@ -166,6 +169,17 @@ def simulate(
             f"changed with .with_updates({{'WP': 1e-13}})), not {type(config).__name__}"
         )
     t0 = time.perf_counter()
+    if isinstance(rng, int | np.integer) and not isinstance(rng, bool):
+        if seed is not None:  # SPEC 7: rng=<int> seeds a new generator, as seed= does
+            raise ValueError("give seed or rng, not both (a run records the seed it ran with)")
+        seed, rng = int(rng), None
+    if rng is not None and not isinstance(rng, np.random.Generator):
+        raise TypeError(
+            f"rng must be a numpy.random.Generator (numpy.random.default_rng(...)) or a "
+            f"seed, not {type(rng).__name__}"
+        )
+    if isinstance(seed, np.random.Generator):
+        raise TypeError("seed: got a numpy Generator; pass it as rng=, or a whole number as seed")
     if rng is None:
         seed = 0 if seed is None else seed
         if (

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 from typer.testing import CliRunner
@@ -149,10 +150,22 @@ def test_seeds_are_checked_before_any_work_and_the_largest_round_trips(small, tm
             simulate(small, seed=bad)  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="give seed or rng, not both"):
         simulate(small, seed=1, rng=np.random.default_rng(1))
+    with pytest.raises(ValueError, match="give seed or rng, not both"):
+        simulate(small, seed=1, rng=3)
+    # a generator passed as the seed, or another kind of generator, is named (an API review:
+    # a ValueError about whole numbers, and an AttributeError 'bit_generator')
+    with pytest.raises(TypeError, match="seed: got a numpy Generator; pass it as rng="):
+        simulate(small, seed=np.random.default_rng(1))  # type: ignore[arg-type]
+    for other in (np.random.RandomState(3), "3", 1.5):
+        with pytest.raises(TypeError, match=r"rng must be a numpy\.random\.Generator"):
+            simulate(small, rng=other)  # type: ignore[arg-type]
     one_stop = small.with_updates({"cycle.max_stops": 1})
     path = simulate(one_stop, seed=MAX_SEED).to_netcdf(tmp_path / "max.nc")
     assert RunResult.from_netcdf(path).seed == MAX_SEED
     assert simulate(one_stop, seed=np.uint64(7)).seed == 7
+    # rng=<whole number> is that seed (SPEC 7), recorded as the run's seed
+    by_rng = simulate(one_stop, rng=7)
+    assert by_rng.seed == 7 and by_rng.MU == simulate(one_stop, seed=7).MU
     res = CliRunner().invoke(app, ["simulate", "-o", str(tmp_path / "x.nc"), "--seed", str(2**64)])
     assert res.exit_code == 2 and "--seed" in res.output
 
@@ -616,3 +629,21 @@ def test_a_run_keeps_its_last_stops_plateaus_from_before_rule_s():
     np.testing.assert_array_equal(np.where(before == 2, 0, before), after)
     kept = simulate(resumable_config(stops=2, removal=0.0), seed=1).dataset
     assert "final_status_before_s" not in kept and (kept["final_status"] == 2).any()
+
+
+def test_a_runs_per_stop_table_and_its_equality(small) -> None:
+    """RunResult.per_stop() is the run's per-stop table (the obvious dataset.to_dataframe()
+    broadcasts every cell of the band), and two results are equal only where they are one
+    (a dataclass's == had compared the datasets' truth values: any two runs of one config and
+    seed were equal, whatever their datasets; an API review)."""
+    from brakeca.study import per_stop_table
+
+    config = small.with_updates({"cycle.max_stops": 2})
+    run, other = simulate(config, seed=1), simulate(config, seed=2)
+    table = run.per_stop()
+    pd.testing.assert_frame_equal(table, per_stop_table(run))
+    assert list(table["stop"]) == [1, 2] and set(table["seed"]) == {1}
+    assert table["mean_cof"].mean() == pytest.approx(run.MU, rel=1e-15)
+    assert table["emitted_mm3"].mean() == pytest.approx(run.V * 1e9, rel=1e-15)
+    mixed = RunResult(config=run.config, seed=run.seed, dataset=other.dataset)
+    assert mixed != run and run == run and len({run, mixed}) == 2

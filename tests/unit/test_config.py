@@ -67,9 +67,16 @@ def test_factor_aliases():
         ({"brake.pad_area": 5080.0}, r"pad_area \(5080 m²\) must be less than the disc face"),
         (
             {"vehicle.wheel_radius": 300.0},
-            r"vehicle.wheel_radius: must lie in \(0, 2\] \(got 300",
+            r"vehicle.wheel_radius: must lie in \(0, 2\] m \(got 300",
         ),
         ({"brake.disc_outer_radius": 139.0}, r"brake.disc_outer_radius: must lie in \(0, 1\]"),
+        # the range's unit, and A beside the fraction (an API review: 57 for a diameter in
+        # mm, 20 for a fraction in per cent)
+        ({"brake.piston_diameter": 57}, r"piston_diameter: must lie in \(0, 0.3\] m \(got 57\)"),
+        (
+            {"pad.fibre_area_fraction": 20},
+            r"fibre_area_fraction: must lie in \[0, 1\) \(a fraction; A is the same in per cent\)",
+        ),
         # with the values, the one not given too (a black-box review)
         (
             {"pad.fibre_length_max": 5e-4},
@@ -283,6 +290,10 @@ def test_quick_labels_only_the_quick_band():
     with pytest.raises(ConfigError, match=r"mesh.n_radial = 201: use --quick"):
         paper.with_updates({"quick": True})
     with pytest.raises(ConfigError, match=r"mesh.n_radial = 41"):
+        quick.with_updates({"mesh.n_radial": 41})
+    # the message says how to change a quick configuration's band (an API review: it told a
+    # user who had not set quick to stop setting it)
+    with pytest.raises(ConfigError, match=r"set quick = false with it \(with_updates\("):
         quick.with_updates({"mesh.n_radial": 41})
     with pytest.raises(ConfigError, match=r"mesh.inner_radius = 0.1 m"):
         quick.with_updates({"mesh.inner_radius": 0.1})
@@ -647,7 +658,7 @@ def test_one_sided_bounds_and_wrong_types_read_as_brakecas_messages(tmp_path) ->
     paper = load_preset("paper")
     for updates, message in (
         ({"cycle.max_stops": 0}, "override: cycle.max_stops: must be at least 1 (got 0)"),
-        ({"friction.slope": -1}, "override: friction.slope: must be at least 0 (got -1)"),
+        ({"friction.slope": -1}, "override: friction.slope: must be at least 0 1/Pa (got -1)"),
         ({"friction.mu_0": None}, "override: friction.mu_0: must be a number (got None)"),
         ({"mesh.n_radial": 1.5}, "override: mesh.n_radial: must be a whole number (got 1.5)"),
         # a fuzz review: "Input should be a valid dictionary or instance of NumericsConfig"

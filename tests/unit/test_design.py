@@ -1580,6 +1580,15 @@ def test_a_scale_on_a_paper_factor_is_refused() -> None:
     assert [p.config.pad.fibre_area_fraction for p in design.points()] == pytest.approx([0.1, 0.2])
 
 
+def test_load_design_takes_a_mapping():
+    """load_design({...}) had been a TypeError about paths (an API review): a design written
+    in Python is validated as a file's is."""
+    data = _paper_dict()
+    assert load_design(data) == design_from_dict(data)
+    with pytest.raises(ConfigError, match=r"anova_type: .*2 or 3"):
+        load_design({**data, "anova_type": 4})
+
+
 def test_anova_type_is_2_or_3_and_written_only_when_3(tmp_path):
     data = _paper_dict()
     assert load_design("paper").anova_type == 2
