@@ -1499,6 +1499,25 @@ def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
     return field, value * scale
 
 
+def _check_cycle_name(config: SimulationConfig, given: Mapping[str, str], data: Any) -> None:
+    """Refuse ``cycle.name`` set alone to a shipped cycle's name other than the cycle's: the
+    name labels the cycle the configuration holds, it does not load one (an API review:
+    ``{"cycle.name": "example_trace"}`` ran the paper's 170 stops under the trace's name)."""
+    name = data.get("cycle", {}).get("name") if "cycle.name" in given else None
+    loads = {"cycle.blocks", "cycle.trace_file"} & set(given)
+    if not isinstance(name, str) or name == config.cycle.name or loads:
+        return
+    from brakeca.traces import available_cycles
+
+    if name in available_cycles():
+        raise ConfigError(
+            f"override {given['cycle.name']}: {name!r} is a shipped cycle, but cycle.name only "
+            f"labels the cycle this configuration holds ({config.cycle.name!r}); to run "
+            f"{name!r}, use --cycle {name} (brakeca.traces.with_cycle(config, {name!r}) from "
+            "Python)"
+        )
+
+
 def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> SimulationConfig:
     """Return a validated copy of ``config`` with dotted-key (or factor-name) updates applied.
 
@@ -1561,6 +1580,7 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
                     raise ConfigError(f"override {key}: {part!r} is not a section")
                 ann = known[part].annotation if known is not None else None
                 known = getattr(ann, "model_fields", None)
+    _check_cycle_name(config, given, data)
     if "cycle.trace_file" in given and "cycle.trace_sha256" not in given:
         # the digest was the old file's: a new trace would be refused as 'changed' (a
         # review: --set cycle.trace_file on a configuration file that records its trace)

@@ -856,3 +856,19 @@ def test_a_stop_of_too_many_time_steps_is_refused_before_it_allocates() -> None:
     event = configured_cycle(traced).events[0]
     with pytest.raises(ConfigError, match=r"^event 1 \(\w+\) brakes over .* more than the"):
         event.profile(step_distance(traced))
+
+
+def test_a_shipped_cycles_name_alone_does_not_load_it() -> None:
+    """cycle.name labels the cycle a configuration holds: set alone to a shipped cycle's name
+    it had run the paper's 170 stops under the trace's name (an API review). Another label,
+    or the name with the cycle it names, is taken."""
+    from brakeca.traces import with_cycle
+
+    paper = load_preset("paper")
+    with pytest.raises(ConfigError, match=r"'example_trace' is a shipped cycle, .*--cycle"):
+        paper.with_updates({"cycle.name": "example_trace"})
+    assert paper.with_updates({"cycle.name": "town loop"}).cycle.name == "town loop"
+    trace = with_cycle(paper, "example_trace")
+    assert trace.with_updates({"cycle.name": "example_trace"}).cycle == trace.cycle
+    with pytest.raises(ConfigError, match=r"'paper' is a shipped cycle"):
+        trace.with_updates({"cycle.name": "paper"})
