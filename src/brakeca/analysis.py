@@ -455,6 +455,32 @@ def _factors(factors: Iterable[Any]) -> list[Factor]:
     return out
 
 
+def _is_campaign(obj: Any) -> bool:
+    """Whether ``obj`` is a campaign result (:func:`brakeca.load_campaign`): a summary
+    and a design."""
+    return (
+        not isinstance(obj, pd.DataFrame)
+        and hasattr(obj, "summary")
+        and hasattr(getattr(obj, "design", None), "factor_names")
+    )
+
+
+def _campaign_parts(summary: Any, factors: Any = ()) -> tuple[pd.DataFrame, Any]:
+    """(summary table, factors) of a table function's first two arguments: a campaign result
+    given as the summary stands for its summary and, where ``factors`` is None, for its
+    design's factors (an API review: only :func:`analyze` took a campaign, the others
+    failed with "'NoneType' object is not iterable"). ``factors`` None beside a table is
+    refused, naming what to give."""
+    if _is_campaign(summary):
+        return summary.summary, (summary if factors is None else factors)
+    if factors is None:
+        raise TypeError(
+            "factors: give the design's factors (or the design), or a campaign result as "
+            "the first argument (brakeca.load_campaign(folder) reads one)"
+        )
+    return summary, factors
+
+
 def _design_of(factors: Any) -> Any | None:
     """The design behind ``factors`` where it is a :class:`brakeca.design.Design` or a
     campaign result, else None."""
@@ -607,6 +633,8 @@ def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors (:class:`Factor` or factor-like objects).
     response
@@ -647,6 +675,7 @@ def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -
          A   10.0 0.325  4
          A   20.0 0.435  4
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     factors = _factors(factors)
     data = _clean(summary, factors, response)
     centre = _center_mask(data, factors)
@@ -700,6 +729,7 @@ def interaction_table(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary.
     factor_a, factor_b
         The two factors (:class:`Factor`, factor-like object, or a column name, in which case
         the levels are the sorted distinct values found in the summary: a design's centre
@@ -717,6 +747,7 @@ def interaction_table(
     ----------
     Wahlström (2016), Figures 7 (MU) and 9 (V), doi:10.1155/2016/8181260.
     """
+    summary = _campaign_parts(summary)[0]  # a campaign result: its summary
     a = _resolve(summary, factor_a)
     b = _resolve(summary, factor_b)
     if a.name == b.name:
@@ -739,6 +770,8 @@ def interaction_tables(
     ----------
     summary
         Campaign summary, one row per run.
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors; pairs are taken in design order.
     response
@@ -749,6 +782,7 @@ def interaction_tables(
     dict
         ``{(name_a, name_b): table}`` for every pair ``a`` before ``b`` in ``factors``.
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     factors = _factors(factors)
     return {
         (a.name, b.name): interaction_table(summary, a, b, response)
@@ -763,6 +797,8 @@ def interactions_long(summary: pd.DataFrame, factors: Iterable[Any], response: s
     ----------
     summary
         Campaign summary, one row per run.
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors.
     response
@@ -774,6 +810,7 @@ def interactions_long(summary: pd.DataFrame, factors: Iterable[Any], response: s
         Columns ``factor_a``, ``level_a``, ``label_a``, ``factor_b``, ``level_b``,
         ``label_b``, ``mean`` [response unit], ``n``.
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     factors = _factors(factors)
     data = _cube(_clean(summary, factors, response), factors)
     rows = []
@@ -1003,6 +1040,8 @@ def anova(
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
         are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors (:class:`Factor` or factor-like objects); their columns hold the
         level values and are treated as categorical. Or the design itself, or a campaign
@@ -1086,6 +1125,7 @@ def anova(
          S:A 1.0  0.0008   8.0   0.0474
     Residual 4.0  0.0004   NaN      NaN
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     interactions, typ, alpha_to_remove = _model_settings(
         factors, interactions, typ, alpha_to_remove
     )
@@ -2059,6 +2099,8 @@ def residuals(
     ----------
     summary
         Campaign summary, one row per run.
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors.
     response
@@ -2088,6 +2130,7 @@ def residuals(
         round-off. ``attrs`` carries ``response``, ``formula``, ``df_resid`` and ``s``.
         :func:`unusual_runs` lists the runs the model fits badly.
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     interactions, _, alpha_to_remove = _model_settings(factors, interactions, 2, alpha_to_remove)
     data, y, exog, formula = _model_arrays(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
@@ -2208,6 +2251,8 @@ def unusual_runs(
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
         are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors.
     response
@@ -2256,6 +2301,7 @@ def unusual_runs(
     >>> print(f"S: p = {p:.3f}, {q:.3f} without")
     S: p = 0.053, 0.009 without
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     from scipy import stats
 
     problem = alpha_problem(alpha, usual="0.05 is usual")
@@ -2474,6 +2520,8 @@ def ranked_effects(
     ----------
     summary
         Campaign summary, one row per run.
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors.
     response
@@ -2501,6 +2549,7 @@ def ranked_effects(
     ----------
     Wahlström (2016), Section 4, doi:10.1155/2016/8181260.
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     interactions, typ, alpha_to_remove = _model_settings(factors, interactions, None, None)
     factors = _factors(factors)
     table = anova(
@@ -2846,6 +2895,8 @@ def two_level_effects(
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
         are fitted; every row at the factors' levels, failed ones too, is the design as
         planned, whose regularity and alias chains the effects follow).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors.
     response
@@ -2922,6 +2973,7 @@ def two_level_effects(
        S    0.05  7.0711   0.0021
      S:A    0.02  2.8284   0.0474
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     from scipy import stats
 
     from brakeca.design import _points  # "1 centre point", "3 centre points"
@@ -3234,6 +3286,8 @@ def factor_trends(
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite
         response are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors, or the design (or a campaign result).
     response
@@ -3260,6 +3314,7 @@ def factor_trends(
     D. C. Montgomery, *Design and Analysis of Experiments*, 8th ed., Wiley, 2013, section
     3.5.4 (orthogonal contrasts) and 5.5 (fitting response curves in a factorial).
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     interactions, typ, alpha_to_remove = _model_settings(
         factors, interactions, typ, alpha_to_remove
     )
@@ -3428,6 +3483,8 @@ def level_coefficients(
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
         are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors, or the design (or a campaign result).
     response
@@ -3492,6 +3549,7 @@ def level_coefficients(
     >>> print(table.attrs["equation"])
     MU = 0.4 - 0.1 WP[-] + 0 WP[0] + 0.1 WP[+] - 0.01 A[10] + 0.01 A[20]
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     problem = alpha_problem(alpha, usual="0.05 is usual")
     if problem:
         raise ValueError(f"alpha: {problem}")
@@ -3905,6 +3963,8 @@ def level_comparisons(
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows with a finite response
         are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors, or the design (or a campaign result).
     response
@@ -3960,6 +4020,7 @@ def level_comparisons(
           -       +         0.2   0.183    0.217         True
           0       +         0.1   0.083    0.117         True
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     problem = alpha_problem(confidence, usual="0.95 is usual")  # the same range as alpha's
     if problem:
         raise ValueError(f"confidence: {problem}")

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 import textwrap
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
@@ -33,6 +34,7 @@ from brakeca.analysis import (
     UNUSUAL_RESIDUAL,
     Factor,
     ResponseAnalysis,
+    _campaign_parts,
     _factors,
     interaction_table,
     main_effects,
@@ -235,6 +237,11 @@ def save_figure(fig: Figure, path: str | Path | None) -> Figure:
         ``fig``, for chaining.
     """
     if path is not None:
+        if not isinstance(path, str | os.PathLike):  # plot_mu_per_stop(campaign, design)
+            raise TypeError(
+                f"path: a file to write (str or Path), not {type(path).__name__}; a figure's "
+                "factors, where it takes them, are given as factors="
+            )
         path = Path(path)
         kind = figure_format(path)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -284,6 +291,8 @@ def plot_main_effects(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors (:class:`brakeca.analysis.Factor` or factor-like), or the
         design (or a campaign result) for its factors.
@@ -306,6 +315,7 @@ def plot_main_effects(
     ----------
     Wahlström (2016), Figures 6 (MU) and 8 (V), doi:10.1155/2016/8181260.
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     factors = _factors(factors)  # factor-likes, or a design or campaign result for its own
     if not factors:
         raise ValueError("no factors to plot")
@@ -361,6 +371,8 @@ def plot_interactions(
     ----------
     summary
         Campaign summary, one row per run (only ``status == "ok"`` rows are used).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary, and its
+        design where ``factors`` is None.
     factors
         The design's factors, at least two, or the design (or a campaign result) for its
         factors.
@@ -384,6 +396,7 @@ def plot_interactions(
     ----------
     Wahlström (2016), Figures 7 (MU) and 9 (V), doi:10.1155/2016/8181260.
     """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     factors = _factors(factors)  # factor-likes, or a design or campaign result for its own
     aliases = aliases or {}
     nf = len(factors)
@@ -870,6 +883,7 @@ def plot_v_per_run(
     ----------
     summary
         Campaign summary with ``test`` and ``V`` [m^3] (or ``V_mm3`` [mm^3]).
+        Or a campaign result (:func:`brakeca.load_campaign`): its summary.
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     log
@@ -890,6 +904,7 @@ def plot_v_per_run(
     ----------
     Wahlström (2016), Figure 11, doi:10.1155/2016/8181260.
     """
+    summary = _campaign_parts(summary)[0]  # a campaign result: its summary
     if "V" in summary.columns:
         column, scale = "V", 1e9
     elif "V_mm3" in summary.columns:

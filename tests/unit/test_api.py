@@ -141,3 +141,53 @@ def test_each_table_takes_the_designs_settings_as_analyze_does() -> None:
     # an argument given wins over the design's
     two = analysis.anova(rows, design, "MU", typ=2)
     assert two.attrs["typ"] == "Type II" and len(two) == len(report.anova)
+
+
+def test_a_campaign_result_stands_for_its_summary_and_design_in_every_table() -> None:
+    """Only analyze took a campaign result; the table and plot functions failed with
+    "'NoneType' object is not iterable" or "no attribute 'columns'" (an API review). A
+    campaign given as the summary is its summary, and, with factors None, its design."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import numpy as np
+    import pandas as pd
+
+    from brakeca import analysis, plotting
+    from brakeca.design import load_design
+
+    design = load_design("paper")
+    rng = np.random.default_rng(2)
+    rows = pd.DataFrame(design.combinations())
+    rows = rows.assign(MU=0.3 + 0.01 * rng.standard_normal(24), V=1e-9 * (1 + rng.random(24)))
+    rows["status"] = "ok"
+    rows["test"] = range(1, 25)
+    campaign = type("Campaign", (), {"summary": rows, "design": design})()
+    for table in (
+        analysis.main_effects,
+        analysis.interactions_long,
+        analysis.anova,
+        analysis.residuals,
+        analysis.unusual_runs,
+        analysis.ranked_effects,
+        analysis.factor_trends,
+        analysis.level_coefficients,
+        analysis.level_comparisons,
+    ):
+        pd.testing.assert_frame_equal(table(campaign, None, "MU"), table(rows, design, "MU"))
+    effects = analysis.two_level_effects(campaign, None, "MU")  # (not every factor has 2 levels)
+    pd.testing.assert_frame_equal(effects, analysis.two_level_effects(rows, design, "MU"))
+    pairs = analysis.interaction_tables(campaign, None, "MU")
+    assert pairs.keys() == analysis.interaction_tables(rows, design, "MU").keys()
+    pd.testing.assert_frame_equal(
+        analysis.interaction_table(campaign, "WP", "A", "MU"),
+        analysis.interaction_table(rows, "WP", "A", "MU"),
+    )
+    assert len(plotting.plot_main_effects(campaign, None, "MU").axes) == 4
+    assert len(plotting.plot_interactions(campaign, None, "MU").axes) >= 6
+    assert len(plotting.plot_v_per_run(campaign).axes) == 1
+    # factors None beside a table, or a design where a figure takes its file, are named
+    with pytest.raises(TypeError, match=r"^factors: give the design's factors"):
+        analysis.anova(rows, None, "MU")
+    with pytest.raises(TypeError, match=r"^path: a file to write \(str or Path\), not Design"):
+        plotting.plot_v_per_run(rows, design)  # type: ignore[arg-type]
