@@ -498,6 +498,8 @@ def _model_settings(
     :func:`analyze` and the report take them (an API review found ``anova(summary, design,
     "MU")`` a Type II, unreduced fit beside the report's Type III, reduced one); otherwise
     all two-factor interactions, Type II and the whole model."""
+    if isinstance(typ, str) and typ in ("II", "III"):  # statsmodels' anova_lm spells them so
+        typ = len(typ)
     design = _design_of(factors)
     if design is not None:
         if interactions is None:
@@ -1064,7 +1066,8 @@ def anova(
         pooling; a term of a factor with one level in the data, or aliased with the terms
         before it (in a fraction), is left out with a note.
     typ
-        The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted).
+        The sums of squares: 2 (Type II, the default) or 3 (Type III, adjusted); ``"II"``
+        and ``"III"`` as :func:`statsmodels.stats.anova.anova_lm` takes them.
     alpha_to_remove
         Reduce the model by backward elimination, as Minitab's stepwise "backward" for a
         factorial design: drop the term with the largest p value above this level [-] among
@@ -1363,7 +1366,8 @@ def _check_alpha_to_remove(alpha: Any) -> None:
 def _check_anova_type(typ: Any) -> None:
     if type(typ) is not int or typ not in ANOVA_TYPES:
         raise ValueError(
-            f"typ: the ANOVA's sums of squares are of Type 2 or 3 (Type III, adjusted), got {typ!r}"
+            f"typ: the ANOVA's sums of squares are of Type 2 or 3 (Type III, adjusted; 'II' "
+            f"and 'III' as statsmodels spells them), got {typ!r}"
         )
 
 

@@ -1099,6 +1099,15 @@ def test_anova_type_must_be_2_or_3(typ: object) -> None:
         analyze(_design(), FACTORS, anova_type=typ)  # type: ignore[arg-type]
 
 
+def test_anova_type_takes_statsmodels_spelling() -> None:
+    """typ="III", which statsmodels' anova_lm takes, had been refused (an API review)."""
+    for spelt, typ in (("II", 2), ("III", 3)):
+        pd.testing.assert_frame_equal(
+            anova(_design(), FACTORS, "MU", typ=spelt),  # type: ignore[arg-type]
+            anova(_design(), FACTORS, "MU", typ=typ),
+        )
+
+
 def test_type_iii_falls_back_to_sequential_when_rank_deficient() -> None:
     rows = _design(replicates=2)
     rows.loc[rows["test"] == 1, "status"] = "failed"  # the cell S-, WP- left empty
