@@ -1693,9 +1693,11 @@ def _check_map(status: Any, radius: Any, angle: Any) -> tuple[np.ndarray, np.nda
 
 
 def _draw_map(
-    ax: Axes, status: Any, radius: Any, angle: Any, title: str
+    ax: Axes, status: Any, radius: Any, angle: Any, title: str, *, true_scale: bool = False
 ) -> tuple[list[Any], np.ndarray]:
-    """Draw one status map on ``ax``; return legend handles and area fractions."""
+    """Draw one status map on ``ax``; return legend handles and area fractions.
+    ``true_scale``: a millimetre of radius as long as a millimetre of arc at the band's mean
+    radius (the axes' aspect; otherwise the map fills the axes)."""
     from matplotlib.colors import BoundaryNorm, ListedColormap
     from matplotlib.patches import Patch
 
@@ -1719,6 +1721,8 @@ def _draw_map(
         )
     else:
         ax.pcolormesh(x_edges, y_edges, s, cmap=cmap, norm=norm, rasterized=True)
+    if true_scale:  # a degree of angle is r pi / 180 mm of arc at the mean radius r [mm]
+        ax.set_aspect(180.0 / (np.pi * float(np.mean(r)) * 1e3))
     ax.set_xlabel("Angle [°] (sliding direction →)")
     ax.set_ylabel("Radius [mm]")
     if title:
@@ -1800,6 +1804,7 @@ def plot_fibre_maps(
     ncols: int | None = None,
     title: str = "Pad surface maps",
     fig: Figure | SubFigure | None = None,
+    true_scale: bool = False,
 ) -> Figure:
     """Several surface maps side by side, e.g. the fibre layouts of the A levels.
 
@@ -1811,9 +1816,15 @@ def plot_fibre_maps(
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     ncols
         Panels per row; by default all in one row up to three maps, two by two for four, three
-        per row beyond (five A levels side by side made a figure 4,200 pixels wide).
+        per row beyond (five A levels side by side made a figure 4,200 pixels wide); one per
+        row with ``true_scale``.
     title
         The figure's title.
+    true_scale
+        Draw each map to scale: a millimetre of radius as long as a millimetre of arc at the
+        band's mean radius, so that a fibre lies at its angle (the paper's band, 20 mm by
+        87 mm of arc, fills the axes only with the radius stretched about 2.2 times, which
+        makes fibres look more radial than they lie).
     fig
         A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
         to set this figure beside another); a new figure by default. The figure returned, and
@@ -1831,15 +1842,22 @@ def plot_fibre_maps(
     if not maps:
         raise ValueError("no maps to plot")
     n = len(maps)
-    ncols = (2 if n == 4 else min(n, 3)) if ncols is None else max(1, min(int(ncols), n))
+    default = 1 if true_scale else (2 if n == 4 else min(n, 3))
+    ncols = default if ncols is None else max(1, min(int(ncols), n))
     nrows = math.ceil(n / ncols)
-    root, fig = _panels(fig, (5.6 * ncols, 3.0 * nrows + 0.8))
+    height = 3.0
+    if true_scale:  # the panels' height as the first map's shape gives it, within 1.5-6 in
+        _, r0, a0 = _check_map(*next(iter(maps.values())))
+        span_r = float(np.ptp(r0)) + (float(r0[1] - r0[0]) if r0.size > 1 else 0.0)
+        arc = float(np.ptp(a0)) * float(np.mean(r0))
+        height = min(6.0, max(1.5, 0.75 * (11.2 / ncols) * span_r / max(arc, 1e-12) + 0.9))
+    root, fig = _panels(fig, (5.6 * ncols if not true_scale else 12.0, height * nrows + 0.8))
     grid = fig.subplots(nrows, ncols, squeeze=False)
     handles: list[Any] = []
     for k, (ax, (name, (status, radius, angle))) in enumerate(
         zip(grid.ravel(), maps.items(), strict=False)
     ):
-        handles, fractions = _draw_map(ax, status, radius, angle, "")
+        handles, fractions = _draw_map(ax, status, radius, angle, "", true_scale=true_scale)
         # the area fractions in the title, not in a box over the map's corner
         ax.set_title(
             f"{name} (primary {100 * fractions[1]:.1f} %, secondary {100 * fractions[2]:.1f} %)",

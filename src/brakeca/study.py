@@ -1526,12 +1526,14 @@ def _run_file_figures(
             "Initial fibre maps of the A levels (as the paper's Figure 5): the pads of tests "
             f"{', '.join(shown_tests[:-1])}{' and ' if len(shown_tests) > 1 else ''}"
             f"{shown_tests[-1]}, the first run at each level (every run draws a pad of its "
-            "own from its seed)",
+            "own from its seed), drawn to scale: a millimetre of radius as long as one of arc "
+            "at the band's mean radius",
             "fibre_maps.png",
             plotting.plot_fibre_maps,
             {f"A = {level:g} %": first_pad[level][1] for level in sorted(first_pad)},
             title="Initial pad surfaces: tests "
             + " and ".join(str(first_pad[level][0]) for level in sorted(first_pad)),
+            true_scale=True,
         )
         figures.listed.insert(pads_at, figures.listed.pop())
     return _RunFiles(unreadable, pm10_of, filed)

@@ -318,6 +318,18 @@ def test_surface_maps(tmp_path) -> None:
     assert len(fig.axes) == 4 and len(rows) == 2
     assert len({round(ax.get_position().x0, 3) for ax in fig.axes}) == 2
     assert fig.get_suptitle() == "Test 5: S = 0"
+    # to scale (the study's figure): a millimetre of radius as long on the page as one of arc
+    # at the mean radius; filling the axes had stretched the paper's band's radius about 2.2
+    # times (a figures review)
+    fig = plot_fibre_maps(maps, true_scale=True)
+    fig.canvas.draw()
+    status, radius, angle = maps["A- (10 %)"]
+    for ax in fig.axes:
+        box = ax.get_window_extent()
+        span_r = (radius[-1] - radius[0]) * len(radius) / (len(radius) - 1)
+        span_arc = (angle[-1] - angle[0]) * len(angle) / (len(angle) - 1) * radius.mean()
+        assert box.height / box.width == pytest.approx(span_r / span_arc, rel=0.02)
+    assert len({round(ax.get_position().x0, 3) for ax in fig.axes}) == 1  # one per row
 
 
 def test_cof_series(tmp_path) -> None:
