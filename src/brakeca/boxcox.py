@@ -147,6 +147,10 @@ class BoxCox:
         whole reading: in the quick paper study MU's λ̂ is
         -1.17 (interval up to -0.49), and without its one unusual run -0.09 (-1.81 to 1.37),
         which holds both λ = 1 and λ = 0 (a DoE review).
+    without
+        The second profile itself, without the unusual runs (None where there is none), and
+        ``without_runs`` those runs by name (``"test 23"``), as :func:`brakeca.plotting.
+        plot_box_cox` draws it beside the first.
     """
 
     response: str
@@ -163,6 +167,8 @@ class BoxCox:
     ci_low_df: float = math.nan
     ci_high_df: float = math.nan
     without_unusual: str = ""
+    without: BoxCox | None = None
+    without_runs: str = ""
 
     @property
     def defined(self) -> bool:
@@ -531,7 +537,14 @@ def box_cox(
                 f"({formula.split('~', 1)[1].strip()}): no second profile"
             ),
         )
-    return replace(result, without_unusual=_without_text(result, other, who, len(rows)))
+    from brakeca._console import run_named
+
+    return replace(
+        result,
+        without_unusual=_without_text(result, other, who, len(rows)),
+        without=other,
+        without_runs=", ".join(run_named(rec, replicated) for _, rec in rows.iterrows()),
+    )
 
 
 def _runs_named(rows: pd.DataFrame, z: np.ndarray, replicated: bool) -> str:

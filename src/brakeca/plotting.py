@@ -1584,8 +1584,11 @@ def plot_box_cox(
 
     Each panel shows ``L(λ)`` over [-2, 2], the line ``L(λ̂) - χ²(1, 0.95) / 2`` whose
     crossings bound the 95 % interval of λ (shaded), λ̂ and the two usual scales, λ = 1 (the
-    response as it is) and λ = 0 (its log). A response for which λ is not defined (a value
-    not positive, no residual degrees of freedom) gets a panel saying why.
+    response as it is) and λ = 0 (its log). Where the analysis had unusual runs
+    (:attr:`brakeca.boxcox.BoxCox.without`), the profile without them is drawn dashed,
+    shifted to the same maximum, so that the dotted line bounds its interval too. A
+    response for which λ is not defined (a value not positive, no residual degrees of
+    freedom) gets a panel saying why.
 
     Parameters
     ----------
@@ -1634,6 +1637,20 @@ def plot_box_cox(
         cut = float(np.max(ll)) - 0.5 * float(stats.chi2.ppf(result.confidence, 1))
         cut = max(cut, float(ll.min()))
         ax.plot(lam, ll, "-", color="#27496d", lw=1.5)
+        other = getattr(result, "without", None)
+        if other is not None and other.defined and len(other.profile):
+            # the profile without the unusual runs, shifted to the same maximum, so that the
+            # dotted line bounds its interval too (a figures review: MU's reading rests on
+            # one run, which the figure did not show)
+            ll_other = other.profile["log_likelihood"].to_numpy(dtype=float)
+            ax.plot(
+                other.profile["lam"].to_numpy(dtype=float),
+                ll_other + (float(np.max(ll)) - float(np.max(ll_other))),
+                "--",
+                color="#b2182b",
+                lw=1.2,
+                label=f"without {result.without_runs} (shifted; λ̂ = {other.lambda_hat:.2f})",
+            )
         low = max(result.ci_low, lam[0])
         high = min(result.ci_high, lam[-1])
         ax.axvspan(

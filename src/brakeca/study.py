@@ -1286,7 +1286,13 @@ def _response_figures(
         "Residuals",
         "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "
         "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
-        "of λ shaded; λ = 0 is the log (section 'Scale of the responses')",
+        "of λ shaded; λ = 0 is the log (section 'Scale of the responses')"
+        + (
+            "; dashed, the profile without the unusual runs, shifted to the same maximum: "
+            "where its λ̂ lies far from the solid one's, the reading rests on those runs"
+            if any(getattr(b, "without", None) is not None for b in scales.values())
+            else ""
+        ),
         "box_cox.png",
         plotting.plot_box_cox,
         scales,

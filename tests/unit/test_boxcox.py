@@ -334,6 +334,26 @@ def test_the_profile_without_the_unusual_runs_says_whether_the_reading_holds() -
     them = "that run" if len(tests) == 1 else "those runs"
     assert text.endswith(f"so the reading of all the runs rests on {them}")
     assert box_cox_table({"V": result})["without_unusual"].item() == text
+    # the second profile itself, which the Box-Cox figure draws dashed beside the first,
+    # shifted to its maximum (a figures review: the figure had not shown that the reading
+    # rests on a run)
+    assert result.without is not None
+    pd.testing.assert_frame_equal(result.without.profile, alone.profile)
+    assert result.without_runs == ", ".join(
+        f"test {t}, replicate {r}" for t, r in zip(tests, reps, strict=True)
+    )
+    from brakeca.plotting import plot_box_cox
+
+    ax = plot_box_cox({"V": result}).axes[0]
+    dashed = [
+        line for line in ax.lines if line.get_linestyle() == "--" and line.get_label()[0] != "_"
+    ]
+    assert len(dashed) == 1 and dashed[0].get_label().startswith(f"without {result.without_runs}")
+    solid = ax.lines[0].get_ydata()
+    assert np.max(dashed[0].get_ydata()) == pytest.approx(np.max(solid), rel=1e-12)
+    np.testing.assert_allclose(
+        np.diff(dashed[0].get_ydata()), np.diff(alone.profile["log_likelihood"]), rtol=1e-9
+    )
 
 
 def test_the_second_profile_keeps_the_model_and_the_rows_by_position() -> None:
