@@ -170,10 +170,15 @@ def test_main_effects_table_matches_summary(campaign):
             assert float(row["mean"].iloc[0]) == pytest.approx(group["MU"].mean(), rel=1e-12)
 
 
-def test_rerun_reuses_and_analyze_rewrites(campaign):
-    out, _ = campaign
+def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
+    """(On a copy of the module's campaign: it removes the report, the maps and tables the
+    other tests read, which had made them pass in file order only; a tests review.)"""
+    import shutil
+
+    out = tmp_path / "c"
+    shutil.copytree(campaign[0], out)
     mtimes = {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.nc")}
-    design = out.parent / "design_in.toml"
+    design = campaign[0].parent / "design_in.toml"
     res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *TINY, "--no-report"])
     assert res.exit_code == 0, res.output
     assert "0 run(s) computed, 4 reused" in res.output
