@@ -3,11 +3,14 @@ and a process started as a terminal's job, for the tests that send it signals.""
 
 from __future__ import annotations
 
+import contextlib
 import io
+import os
+import select
 import signal
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -168,12 +171,14 @@ def rerun_reusing(out, **kwargs):
     return result, console_text(console)
 
 
+@contextlib.contextmanager
 def started_as_a_job(
     args: Sequence[str], first_line: str, env: dict[str, str] | None = None
-) -> subprocess.Popen[str]:
+) -> Iterator[subprocess.Popen[str]]:
     """``python ARGS`` in a session of its own (its own process group, to which a test sends
     the signals a terminal sends), its output and errors piped, once it has printed
-    ``first_line``."""
+    ``first_line`` (within 120 s). On leaving, whatever is left of its group (the job, its
+    workers) is killed, so that a failed test leaves no process behind (a tests review)."""
     proc = subprocess.Popen(
         [sys.executable, *args],
         env=env,
@@ -182,9 +187,19 @@ def started_as_a_job(
         text=True,
         start_new_session=True,
     )
-    assert proc.stdout is not None
-    assert proc.stdout.readline().strip() == first_line
-    return proc
+    try:
+        assert proc.stdout is not None
+        ready, _, _ = select.select([proc.stdout], [], [], 120.0)
+        assert ready, f"the job did not print {first_line!r} within 120 s"
+        assert proc.stdout.readline().strip() == first_line
+        yield proc
+    finally:
+        with contextlib.suppress(ProcessLookupError, PermissionError):
+            os.killpg(proc.pid, signal.SIGKILL)  # its group: the job and its workers
+        proc.wait(timeout=30)
+        for pipe in (proc.stdout, proc.stderr):
+            if pipe is not None:
+                pipe.close()
 
 
 def ignores_sigint(pid: int) -> bool:

@@ -1036,18 +1036,18 @@ def test_a_closed_terminal_stops_a_local_campaign_without_tracebacks(design_file
         "        print('interrupted', exc, flush=True)\n"
     )
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(tmp_path), *sys.path]))
-    proc = started_as_a_job([str(script)], "started", env=env)
+    with started_as_a_job([str(script)], "started", env=env) as proc:
 
-    def children() -> list[str]:
-        path = Path(f"/proc/{proc.pid}/task/{proc.pid}/children")
-        return path.read_text().split() if path.exists() else []
+        def children() -> list[str]:
+            path = Path(f"/proc/{proc.pid}/task/{proc.pid}/children")
+            return path.read_text().split() if path.exists() else []
 
-    deadline = time.monotonic() + 120.0
-    while time.monotonic() < deadline and len(children()) < 3:
-        time.sleep(0.2)  # the tracker and the two workers
-    assert len(children()) >= 3, children()
-    time.sleep(3.0)  # the workers take their runs
-    os.killpg(proc.pid, signal.SIGHUP)
-    out, err = proc.communicate(timeout=60)
-    assert out.strip() == "interrupted SIGHUP", (out, err)
-    assert "Traceback" not in err and "resource_tracker" not in err, err
+        deadline = time.monotonic() + 120.0
+        while time.monotonic() < deadline and len(children()) < 3:
+            time.sleep(0.2)  # the tracker and the two workers
+        assert len(children()) >= 3, children()
+        time.sleep(3.0)  # the workers take their runs
+        os.killpg(proc.pid, signal.SIGHUP)
+        out, err = proc.communicate(timeout=60)
+        assert out.strip() == "interrupted SIGHUP", (out, err)
+        assert "Traceback" not in err and "resource_tracker" not in err, err

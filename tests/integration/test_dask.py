@@ -8,6 +8,7 @@ count the attempts of each run across processes.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import io
 import os
@@ -428,6 +429,7 @@ def _allowed_failures(dask_scheduler) -> int:
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(1800)
 def test_client_killed_on_dask_resumes_and_leaves_no_process(local, design_file, tmp_path):
     """SIGKILL a ``python -m brakeca.campaign --executor dask`` halfway: its cluster's
     processes go with it, the finished run files are complete, and a resume reuses them."""
@@ -445,6 +447,11 @@ def test_client_killed_on_dask_resumes_and_leaves_no_process(local, design_file,
         orphans = psutil.Process(proc.pid).children(recursive=True)
         proc.send_signal(signal.SIGKILL)
     finally:
+        if proc.poll() is None:  # a failed wait above: leave no campaign (and cluster) behind
+            with contextlib.suppress(psutil.NoSuchProcess):
+                for child in psutil.Process(proc.pid).children(recursive=True):
+                    child.kill()
+            proc.kill()
         proc.wait(timeout=30)
     assert proc.returncode == -signal.SIGKILL
     _, alive = psutil.wait_procs(orphans, timeout=30)
@@ -647,22 +654,22 @@ def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path)
         "    except KeyboardInterrupt:\n"
         "        print('interrupted', flush=True)\n"
     )
-    proc = started_as_a_job([str(script)], "started")
-    deadline = time.monotonic() + 120.0
-    workers: list[psutil.Process] = []
-    while time.monotonic() < deadline and len(workers) < 2:
-        workers = [
-            p
-            for p in psutil.Process(proc.pid).children()
-            if "spawn_main" in " ".join(p.cmdline()) and ignores_sigint(p.pid)
-        ]
-        time.sleep(0.2)
-    assert len(workers) == 2, "the cluster's two workers should run, ignoring Ctrl-C"
-    time.sleep(3.0)  # the runs are sent to them
-    os.killpg(proc.pid, signal.SIGINT)
-    out, err = proc.communicate(timeout=60)
-    assert out.strip() == "interrupted", (out, err)
-    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
-    assert "distributed." not in err, err
-    _, alive = psutil.wait_procs(workers, timeout=10)
-    assert not alive
+    with started_as_a_job([str(script)], "started") as proc:
+        deadline = time.monotonic() + 120.0
+        workers: list[psutil.Process] = []
+        while time.monotonic() < deadline and len(workers) < 2:
+            workers = [
+                p
+                for p in psutil.Process(proc.pid).children()
+                if "spawn_main" in " ".join(p.cmdline()) and ignores_sigint(p.pid)
+            ]
+            time.sleep(0.2)
+        assert len(workers) == 2, "the cluster's two workers should run, ignoring Ctrl-C"
+        time.sleep(3.0)  # the runs are sent to them
+        os.killpg(proc.pid, signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+        assert out.strip() == "interrupted", (out, err)
+        assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+        assert "distributed." not in err, err
+        _, alive = psutil.wait_procs(workers, timeout=10)
+        assert not alive

@@ -9,7 +9,7 @@ from brakeca.design import quick_config
 from brakeca.presets import load_preset
 from brakeca.simulation import simulate
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.timeout(7200)]  # full-resolution runs
 
 
 def _plausible(result, n_stops):

@@ -127,6 +127,7 @@ print(json.dumps({"hits": sum(hits.values()), "compiled": misses}))
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(1800)
 def test_warm_up_fills_an_empty_cache_for_the_next_process(tmp_path):
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
     warm = (
@@ -206,25 +207,25 @@ def test_ctrl_c_during_the_warm_up_gives_no_child_traceback(tmp_path):
         "except KeyboardInterrupt:\n"
         "    print('interrupted', flush=True)\n"
     )
-    proc = started_as_a_job(["-c", script], "warming", env=env)
-    # wait until the child runs and ignores SIGINT (on a loaded machine its start takes
-    # seconds; a signal before that would hit it, or the parent still inside Popen)
-    deadline = time.monotonic() + 120.0
-    children: list[int] = []
-    while time.monotonic() < deadline:
-        children = _children(proc.pid)
-        if children and all(ignores_sigint(pid) for pid in children):
-            break
-        time.sleep(0.2)
-    assert children, "the warm-up child should be running"
-    assert all(ignores_sigint(pid) for pid in children), "the child should ignore SIGINT"
-    time.sleep(1.0)  # the child is compiling
-    os.killpg(proc.pid, signal.SIGINT)
-    out, err = proc.communicate(timeout=60)
-    assert out.strip() == "interrupted"
-    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
-    for pid in children:
-        assert not _alive(pid)
+    with started_as_a_job(["-c", script], "warming", env=env) as proc:
+        # wait until the child runs and ignores SIGINT (on a loaded machine its start takes
+        # seconds; a signal before that would hit it, or the parent still inside Popen)
+        deadline = time.monotonic() + 120.0
+        children: list[int] = []
+        while time.monotonic() < deadline:
+            children = _children(proc.pid)
+            if children and all(ignores_sigint(pid) for pid in children):
+                break
+            time.sleep(0.2)
+        assert children, "the warm-up child should be running"
+        assert all(ignores_sigint(pid) for pid in children), "the child should ignore SIGINT"
+        time.sleep(1.0)  # the child is compiling
+        os.killpg(proc.pid, signal.SIGINT)
+        out, err = proc.communicate(timeout=60)
+        assert out.strip() == "interrupted"
+        assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+        for pid in children:
+            assert not _alive(pid)
 
 
 def _children(pid: int) -> list[int]:
