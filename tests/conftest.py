@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import os
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 sys.path.insert(0, str(Path(__file__).parent))  # for tests/naive.py
 
@@ -27,6 +30,17 @@ def _approx(expected, rel=None, abs=None, nan_ok=False):
 
 
 pytest.approx = _approx
+
+# Hypothesis: the same examples on every run, and no example database in the repository (a
+# tests review: .hypothesis/ grew in the checkout, and a run's examples were its own). Set
+# HYPOTHESIS_PROFILE=explore for fresh random examples each run. Its other files (caches)
+# go to the temporary folder, not the checkout.
+os.environ.setdefault(
+    "HYPOTHESIS_STORAGE_DIRECTORY", os.path.join(tempfile.gettempdir(), "brakeca-hypothesis")
+)
+settings.register_profile("brakeca", derandomize=True, database=None)
+settings.register_profile("explore", database=None)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "brakeca"))
 
 
 def short_cycle(stops: int = 3, v0: float = 11.0, v1: float = 10.0, g: float = 0.3) -> dict:

@@ -81,20 +81,26 @@ def test_a_file_system_without_flock_runs_unlocked(tmp_path, monkeypatch):
 
     from brakeca._runstore import campaign_lock
 
+    calls = []
+
     def no_flock(fd, op):
+        calls.append(op)
         raise OSError(95, "Operation not supported")
 
     monkeypatch.setattr(fcntl, "flock", no_flock)
     with campaign_lock(tmp_path / "campaign"):
         pass  # no error: the campaign goes on without a lock
+    assert calls == [fcntl.LOCK_EX | fcntl.LOCK_NB]  # it did ask (a tests review: no assert)
 
 
-def test_lock_holder_names_a_campaign_and_does_not_keep_one_out(tmp_path):
+def test_lock_holder_names_a_campaign_and_does_not_keep_one_out(tmp_path, monkeypatch):
     """``brakeca analyze`` asks who holds the lock by taking it shared for an instant: a
     campaign starting in that instant waits for it instead of failing (a diff review)."""
     import fcntl
-    import threading
+    import time
+    import types
 
+    from brakeca import _runstore
     from brakeca._runstore import LOCK_NAME, campaign_lock, lock_holder
 
     out = tmp_path / "campaign"
@@ -105,7 +111,16 @@ def test_lock_holder_names_a_campaign_and_does_not_keep_one_out(tmp_path):
     assert lock_holder(out) is None  # the file stays, unheld, and says so
     assert (out / LOCK_NAME).read_text().startswith("not held; last held by pid ")
     with open(out / LOCK_NAME, encoding="utf-8") as fh:
-        fcntl.flock(fh, fcntl.LOCK_SH)  # as lock_holder holds it, for 0.1 s here
-        threading.Timer(0.1, fcntl.flock, (fh, fcntl.LOCK_UN)).start()
+        fcntl.flock(fh, fcntl.LOCK_SH)  # as lock_holder holds it for an instant
+        waits: list[float] = []
+
+        def wait(seconds: float) -> None:  # its first wait ends that instant (not a timer:
+            waits.append(seconds)  # a tests review found 150 ms of margin on a busy machine)
+            if len(waits) == 1:
+                fcntl.flock(fh, fcntl.LOCK_UN)
+
+        clock = {n: getattr(time, n) for n in dir(time) if not n.startswith("_")}
+        monkeypatch.setattr(_runstore, "time", types.SimpleNamespace(**{**clock, "sleep": wait}))
         with campaign_lock(out):
             pass
+        assert waits == [0.05]  # it waited once, then took the lock
