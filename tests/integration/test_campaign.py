@@ -1020,8 +1020,12 @@ def test_a_closed_terminal_stops_a_local_campaign_without_tracebacks(design_file
     The tracker is started with SIGHUP ignored; the campaign stops as for Ctrl-C."""
     import time
 
+    started = tmp_path / "started"  # a file per run a worker has begun
+    started.mkdir()
     (tmp_path / "slowsim.py").write_text(
-        "import time\ndef slow(config, *, seed, progress=None, maps_at=()):\n    time.sleep(120)\n"
+        "import time\ndef slow(config, *, seed, progress=None, maps_at=()):\n"
+        f"    open({str(started)!r} + '/' + str(seed), 'w').close()\n"
+        "    time.sleep(120)\n"
     )
     script = tmp_path / "hung_up.py"
     script.write_text(
@@ -1046,7 +1050,9 @@ def test_a_closed_terminal_stops_a_local_campaign_without_tracebacks(design_file
         while time.monotonic() < deadline and len(children()) < 3:
             time.sleep(0.2)  # the tracker and the two workers
         assert len(children()) >= 3, children()
-        time.sleep(3.0)  # the workers take their runs
+        while time.monotonic() < deadline and len(list(started.iterdir())) < 2:
+            time.sleep(0.1)  # the workers take their runs (a tests review: not a 3 s sleep)
+        assert len(list(started.iterdir())) == 2
         os.killpg(proc.pid, signal.SIGHUP)
         out, err = proc.communicate(timeout=60)
         assert out.strip() == "interrupted SIGHUP", (out, err)

@@ -638,6 +638,8 @@ def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path)
     campaign's own LocalCluster printed 4 s of dask warnings and KeyboardInterrupt tracebacks
     of its workers before the campaign's line. The workers now ignore Ctrl-C and the
     campaign kills them itself, with dask's loggers held back while the cluster closes."""
+    started = tmp_path / "started"  # a file per run a worker has begun
+    started.mkdir()
     script = tmp_path / "interrupted.py"
     script.write_text(
         "import signal, sys, time\n"
@@ -645,6 +647,7 @@ def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path)
         "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "from brakeca.campaign import run_campaign\n"
         "def slow(config, *, seed, progress=None, maps_at=()):\n"
+        f"    open({str(started)!r} + '/' + str(seed), 'w').close()\n"
         "    time.sleep(120)\n"
         "if __name__ == '__main__':\n"
         "    print('started', flush=True)\n"
@@ -665,7 +668,9 @@ def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path)
             ]
             time.sleep(0.2)
         assert len(workers) == 2, "the cluster's two workers should run, ignoring Ctrl-C"
-        time.sleep(3.0)  # the runs are sent to them
+        while time.monotonic() < deadline and len(list(started.iterdir())) < 2:
+            time.sleep(0.1)  # the runs are sent to them (a tests review: not a 3 s sleep)
+        assert len(list(started.iterdir())) == 2
         os.killpg(proc.pid, signal.SIGINT)
         out, err = proc.communicate(timeout=60)
         assert out.strip() == "interrupted", (out, err)
