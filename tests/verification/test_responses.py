@@ -237,3 +237,26 @@ def test_the_volume_ledger_closes_from_the_run_file_stop_by_stop(kernel, updates
     ends = ds["end_of_stop_emitted_volume"].to_numpy()
     if np.any(ends > 1e-3 * generated):
         assert not np.allclose(held + left + ends, generated, rtol=1e-12, atol=0.0)
+
+
+def test_rule_s_draws_from_the_runs_generator(tiny_config, monkeypatch):
+    """On one pad, two seeds with S = 0.5 remove other secondary plateaus between stops, and
+    the runs part from the second stop on: rule S draws from the run's generator (the seed
+    tests had compared only the surfaces, which a rule S of its own generator would pass; a
+    tests review)."""
+    import brakeca.simulation
+
+    def one_pad(pad, grid, rng):  # the same pad whatever the seed; the run's draws after it
+        rng.random()
+        return _hand_surface(pad, grid, np.random.default_rng(0))
+
+    monkeypatch.setattr(brakeca.simulation, "generate_surface", one_pad)
+    config = tiny_config.with_updates({"WP": 1e-12, "S": 0.5})
+    a, b = (simulate(config, seed=seed).dataset for seed in (5, 6))
+    np.testing.assert_array_equal(a["initial_status"], b["initial_status"])
+    assert int(a["secondary_removed_between_stops"][0]) > 0
+    np.testing.assert_array_equal(a["mean_cof"][0], b["mean_cof"][0])  # the first stop: alike
+    assert not np.array_equal(a["final_status"], b["final_status"])
+    assert not np.array_equal(a["mean_cof"][1:], b["mean_cof"][1:])
+    again = simulate(config, seed=5).dataset
+    np.testing.assert_array_equal(again["mean_cof"], a["mean_cof"])
