@@ -899,3 +899,31 @@ def test_a_merged_stretch_without_a_net_speed_drop_is_no_event():
     assert detect_events(SpeedTrace(time=t, speed=level)) == []
     lower = detect_events(SpeedTrace(time=t, speed=[*level[:-1], 19.0]))
     assert [(e.time[0], e.time[-1]) for e in lower] == [(1.0, 5.5)]
+
+
+def test_cycle_inspect_passes_its_detection_options_on():
+    """--min-duration, --merge-gap and --smoothing reach the event detection (a tests review:
+    detect_events was tested, the command's wiring of them not): each option's count of
+    events is detect_events' with that setting, and the summary line states it."""
+    from brakeca.config import TraceCycleConfig
+    from brakeca.traces import detect_events, load_trace
+
+    trace = load_trace("example_trace")
+    runner = CliRunner()
+    for option, value, field in (
+        ("--min-duration", "5", "min_duration"),
+        ("--merge-gap", "10", "merge_gap"),
+        ("--smoothing", "10", "smoothing"),
+    ):
+        settings = TraceCycleConfig(**{field: float(value)})
+        expected = len(detect_events(trace, config=settings))
+        assert expected != 5  # the default finds 5: each option changes the count
+        res = runner.invoke(cycle_app, ["inspect", "example_trace", option, value])
+        assert res.exit_code == 0, res.output
+        assert f"events found: {expected} (" in res.output
+        said = {
+            "min_duration": "for at least 5 s;",
+            "merge_gap": "merge gap 10 s)",
+            "smoothing": "smoothing 10 s,",
+        }[field]
+        assert said in res.output
