@@ -64,6 +64,7 @@ __all__ = [
     "plot_pareto",
     "plot_profiler",
     "plot_residuals",
+    "plot_residuals_by_level",
     "plot_response_surface",
     "plot_surface_map",
     "plot_trace",
@@ -1556,6 +1557,125 @@ def plot_residuals(
             va="top",
             fontsize=8,
         )
+    return save_figure(root, path)
+
+
+def plot_residuals_by_level(
+    residuals: pd.DataFrame | ResponseAnalysis | Mapping[str, ResponseAnalysis],
+    summary: Any,
+    factors: Iterable[Any] | None,
+    response: str,
+    path: str | Path | None = None,
+    *,
+    fig: Figure | SubFigure | None = None,
+) -> Figure:
+    """Residuals against each factor's levels, one panel per factor: Minitab's "residuals
+    versus the variables".
+
+    The F tests assume one variance at every level; a level whose runs scatter more than
+    the others' (a spread that grows with the level, as a volume's often does) shows here,
+    where the four-in-one plot (:func:`plot_residuals`) mixes the levels. The runs beyond
+    ±2 standardized residuals are named, as there.
+
+    Parameters
+    ----------
+    residuals
+        Output of :func:`brakeca.analysis.residuals` (``test``, optionally ``replicate``,
+        ``residual``, ``std_residual``); or a :class:`~brakeca.analysis.ResponseAnalysis`
+        (or :func:`~brakeca.analysis.analyze`'s whole result) for its ``residuals``.
+    summary
+        The campaign summary the residuals are of (its runs' levels, by ``test`` and
+        ``replicate``); or a campaign result, its summary and, where ``factors`` is None,
+        its design.
+    factors
+        The design's factors, or the design (or a campaign result) for them.
+    response
+        Response column the residuals are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    path
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    fig
+        A Figure or SubFigure to draw the panels into; a new figure by default. The figure
+        returned, and written to ``path``, is the one that holds it all.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per factor (up to four a row), sharing the residual axis.
+
+    Raises
+    ------
+    ValueError
+        The residuals lack ``test`` or the residual columns, or the summary a factor.
+    """
+    summary, factors = _campaign_parts(summary, factors)
+    factors = _factors(factors)
+    residuals = _table_of(residuals, "residuals", response)
+    missing = [c for c in ("test", "residual", "std_residual") if c not in residuals.columns]
+    if missing:
+        raise ValueError(
+            f"residuals: expected the table brakeca.analysis.residuals returns; this one "
+            f"lacks {', '.join(missing)}"
+        )
+    absent = [f.name for f in factors if f.name not in summary.columns]
+    if absent or "test" not in summary.columns:
+        raise ValueError(
+            f"summary: no column {', '.join(absent or ['test'])}: the levels of the runs come "
+            "from the campaign's summary"
+        )
+    keys = ["test", "replicate"] if "replicate" in residuals.columns else ["test"]
+    keys = [k for k in keys if k in summary.columns]
+    levels = summary[[*keys, *[f.name for f in factors]]].drop_duplicates(keys)
+    runs = residuals.merge(levels, on=keys, how="left", validate="many_to_one")
+    std = runs["std_residual"].to_numpy(dtype=float)
+    standardized = std.size > 0 and bool(np.all(np.isfinite(std)))
+    label, scale = _response_axis(response)
+    r = std if standardized else runs["residual"].to_numpy(dtype=float) * scale
+    r_label = "Standardized residual [-]" if standardized else f"Residual ({label})"
+    names = _run_labels(runs)
+    cols = min(len(factors), 4) or 1
+    rows = math.ceil(max(len(factors), 1) / cols)
+    root, fig = _panels(fig, (3.0 * cols + 1.0, 2.8 * rows + 0.8))
+    axes = fig.subplots(rows, cols, sharey=True, squeeze=False).ravel()
+    _suptitle(fig, f"Residuals of {_shown(response)} against the factors' levels")
+    for ax, factor in zip(axes, factors, strict=False):
+        values = runs[factor.name].to_numpy(dtype=float)
+        shown = np.unique(values[np.isfinite(values)])  # the levels the runs have (centre too)
+        x = np.searchsorted(shown, values).astype(float)
+        # the runs of a level side by side, in test order, not on one another
+        offset = np.zeros_like(x)
+        for k in range(shown.size):
+            at = np.flatnonzero(x == k)
+            if at.size > 1:
+                offset[at] = np.linspace(-0.18, 0.18, at.size)
+        ax.plot(x + offset, r, "o", color="#27496d", ms=4)
+        ax.axhline(0.0, color="0.3", lw=0.8)
+        if standardized:
+            for bound in (-UNUSUAL_RESIDUAL, UNUSUAL_RESIDUAL):
+                ax.axhline(bound, color="0.5", lw=0.8, ls=":")
+            for far in np.flatnonzero(np.abs(r) > UNUSUAL_RESIDUAL):
+                ax.annotate(
+                    names[far],
+                    (x[far] + offset[far], r[far]),
+                    xytext=(4, 0),
+                    textcoords="offset points",
+                    va="center",
+                    fontsize=8,
+                    color="#c0392b",
+                )
+        ax.set_xticks(
+            range(shown.size),
+            [
+                _tick_label(factor, float(v)) if float(v) in factor.levels else f"{v:g}"
+                for v in shown
+            ],
+        )
+        ax.set_xlim(-0.5, shown.size - 0.5)
+        ax.set_xlabel(factor.label or factor.name)
+        ax.grid(True, axis="y", alpha=0.3)
+    for ax in axes[len(factors) :]:
+        ax.set_visible(False)
+    for ax in axes[::cols]:
+        ax.set_ylabel(r_label)
     return save_figure(root, path)
 
 

@@ -1282,6 +1282,23 @@ def _response_figures(
             residuals,
             resp,
         )
+        if len(residuals) and "test" in residuals.columns:
+            # one variance at every level, as the F tests assume (Minitab's residuals
+            # versus the variables; the four-in-one plot mixes the levels)
+            figures.add(
+                "Residuals",
+                f"Residuals of the {model} of {label} against each factor's levels (the runs "
+                "of a level side by side in test order): a level whose runs scatter more "
+                "than the others' breaks the one variance the F tests assume",
+                f"residuals_by_level_{resp}.png",
+                plotting.plot_residuals_by_level,
+                residuals,
+                data,
+                factors,
+                resp,
+            )
+        else:
+            figures.drop(f"residuals_by_level_{resp}.png")
     figures.add(
         "Residuals",
         "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "

@@ -77,6 +77,8 @@ def test_outputs_present_and_consistent(campaign):
         "residuals_V",
         "main_effects_log10_V_mm3",
         "residuals_log10_V_mm3",
+        "residuals_by_level_MU",
+        "residuals_by_level_log10_V_mm3",
         "box_cox",
     ):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
@@ -106,10 +108,10 @@ def test_outputs_present_and_consistent(campaign):
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
     # per response (MU, V, log10 V: main effects, interactions, Pareto, residuals and, both
-    # factors having two levels, the effects), per campaign (MU per stop, by run and by
-    # level, the secondary plateau and contact areas by level, V per stop, V per run, fibre
-    # maps, Box-Cox plots), maps
-    assert n_img == 5 * 3 + 8 + 4
+    # factors having two levels, the effects, the residuals by level), per campaign (MU per
+    # stop, by run and by level, the secondary plateau and contact areas by level, V per
+    # stop, V per run, fibre maps, Box-Cox plots), maps
+    assert n_img == 6 * 3 + 8 + 4
     # the Box-Cox check of MU's and V's scale, under the ANOVA model (main effects: the
     # model with the interaction would leave 4 runs no residual degree of freedom)
     scales = pd.read_csv(out / "tables" / "box_cox.csv")

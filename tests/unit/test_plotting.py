@@ -962,3 +962,37 @@ def test_titles_name_log10_v_as_a_quantity_not_a_column(summary) -> None:
     assert title.startswith("Interaction plot for log10 V: log10 of V in mm³")
     assert fig.axes[0].get_ylabel() == "log10 V (mean) [-]"
     assert "log10_V_mm3" not in plot_main_effects(data, FACTORS, "log10_V_mm3").texts[0].get_text()
+
+
+def test_residuals_by_level_draw_each_runs_residual_at_its_level(summary) -> None:
+    """Residuals against each factor's levels (Minitab's residuals versus the variables, new
+    with a figures review's list of what the report lacked): a panel per factor, each
+    usable run's standardized residual at its level, the runs of a level side by side, a
+    run beyond ±2 named."""
+    from brakeca.analysis import residuals
+    from brakeca.plotting import plot_residuals_by_level
+
+    table = residuals(summary, FACTORS, "MU")
+    fig = plot_residuals_by_level(table, summary, FACTORS, "MU")
+    assert len(fig.axes) == len(FACTORS)
+    ok = summary[summary["status"] == "ok"].set_index("test")
+    for ax, factor in zip(fig.axes, FACTORS, strict=True):
+        points = ax.lines[0]
+        x, y = points.get_xdata(), points.get_ydata()
+        np.testing.assert_array_equal(y, table["std_residual"])
+        at = [factor.levels.index(ok.loc[t, factor.name]) for t in table["test"]]
+        np.testing.assert_array_equal(np.round(x), at)  # at its level, within ±0.18
+        assert np.abs(x - at).max() <= 0.18 + 1e-12
+        assert [t.get_text() for t in ax.get_xticklabels()] == [
+            f"{factor.level_label(v)}\n{v:g}" for v in factor.levels
+        ]
+        assert ax.get_xlabel() == factor.label
+    assert fig.axes[0].get_ylabel() == "Standardized residual [-]"
+    far = summary.copy()
+    far.loc[0, "MU"] += 0.2  # test 1 far off the model
+    table = residuals(far, FACTORS, "MU")
+    assert table["std_residual"].abs().max() > 2
+    fig = plot_residuals_by_level(table, far, FACTORS, "MU")
+    assert all("test 1" in [t.get_text() for t in ax.texts] for ax in fig.axes)
+    with pytest.raises(ValueError, match="summary: no column WP"):
+        plot_residuals_by_level(table, summary.drop(columns="WP"), FACTORS, "MU")
