@@ -57,6 +57,7 @@ __all__ = [
     "plot_effects",
     "plot_fibre_maps",
     "plot_interactions",
+    "plot_level_comparisons",
     "plot_main_effects",
     "plot_mu_per_stop",
     "plot_mu_per_stop_by_level",
@@ -1676,6 +1677,89 @@ def plot_residuals_by_level(
         ax.set_visible(False)
     for ax in axes[::cols]:
         ax.set_ylabel(r_label)
+    return save_figure(root, path)
+
+
+def plot_level_comparisons(
+    comparisons: pd.DataFrame | ResponseAnalysis | Mapping[str, ResponseAnalysis],
+    response: str,
+    path: str | Path | None = None,
+    *,
+    fig: Figure | SubFigure | None = None,
+) -> Figure:
+    """Tukey's simultaneous intervals of the differences of a factor's level means, one panel
+    per factor of three levels or more, as Minitab draws them.
+
+    Each pair of levels is a row: its difference of means (``mean_b - mean_a``) and its
+    interval; an interval that does not hold zero (the pair differs, drawn red) is
+    significant at the table's confidence for all the factor's pairs at once.
+
+    Parameters
+    ----------
+    comparisons
+        Output of :func:`brakeca.analysis.level_comparisons`; or a
+        :class:`~brakeca.analysis.ResponseAnalysis` (or :func:`~brakeca.analysis.analyze`'s
+        whole result) for its ``comparisons``.
+    response
+        Response column they are of, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (drawn in the unit
+        of the other figures, mm^3 for ``V``).
+    path
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    fig
+        A Figure or SubFigure to draw the panels into; a new figure by default. The figure
+        returned, and written to ``path``, is the one that holds it all.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per factor compared.
+
+    Raises
+    ------
+    ValueError
+        The table has no comparison (no factor of three levels or more), or lacks the
+        columns of :func:`brakeca.analysis.level_comparisons`.
+    """
+    table = _table_of(comparisons, "comparisons", response)
+    needed = ("factor", "level_a", "level_b", "difference", "ci_low", "ci_high")
+    missing = [c for c in needed if c not in table.columns]
+    if missing:
+        raise ValueError(
+            "comparisons: expected the table brakeca.analysis.level_comparisons returns; this "
+            f"one lacks {', '.join(missing)}"
+        )
+    if table.empty:
+        raise ValueError("comparisons: no pair of levels to draw (no factor of 3 levels or more)")
+    label, scale = _response_axis(response)
+    confidence = float(table.attrs.get("confidence", 0.95))
+    names = list(dict.fromkeys(table["factor"]))
+    most = int(table["factor"].value_counts().max())
+    root, fig = _panels(fig, (5.5 * len(names), 1.8 + 0.45 * most))
+    axes = np.atleast_1d(fig.subplots(1, len(names), squeeze=False).ravel())
+    _suptitle(
+        fig,
+        f"Tukey simultaneous {100 * confidence:g} % intervals: differences of the level means "
+        f"of {_shown(response)}",
+    )
+    for ax, name in zip(axes, names, strict=True):
+        rows = table[table["factor"] == name].reset_index(drop=True)
+        y = np.arange(len(rows))[::-1]
+        diff = rows["difference"].to_numpy(dtype=float) * scale
+        low = rows["ci_low"].to_numpy(dtype=float) * scale
+        high = rows["ci_high"].to_numpy(dtype=float) * scale
+        differs = (low > 0) | (high < 0)
+        for k in range(len(rows)):
+            colour = "#b2182b" if differs[k] else "#27496d"
+            if np.isfinite(low[k]) and np.isfinite(high[k]):
+                ax.plot([low[k], high[k]], [y[k], y[k]], "-", color=colour, lw=1.6)
+            ax.plot([diff[k]], [y[k]], "o", color=colour, ms=5)
+        ax.axvline(0.0, color="0.3", lw=0.8, ls="--")
+        pairs = zip(rows["level_a"], rows["level_b"], strict=True)
+        ax.set_yticks(y, [f"{name}{b} − {name}{a}" for a, b in pairs])  # "WP0 − WP-"
+        ax.set_ylim(-0.6, len(rows) - 0.4)
+        ax.set_title(f"{name}", fontsize=10)
+        ax.set_xlabel(f"Difference of means ({label})")
+        ax.grid(True, axis="x", alpha=0.3)
     return save_figure(root, path)
 
 

@@ -1282,6 +1282,25 @@ def _response_figures(
             residuals,
             resp,
         )
+        comparisons = tables[resp]["comparisons"]
+        if (
+            resp not in surfaces
+            and len(comparisons)
+            and comparisons[["ci_low", "ci_high"]].notna().all(axis=None)
+        ):
+            figures.add(
+                "Ranked effects",
+                f"Tukey's simultaneous {100 * float(comparisons.attrs.get('confidence', 0.95)):g} "
+                f"% intervals of the differences of {label}'s level means, for each factor of "
+                "three levels or more (the table 'Pairwise comparisons'); red, an interval "
+                "that does not hold zero: those levels differ",
+                f"comparisons_{resp}.png",
+                plotting.plot_level_comparisons,
+                comparisons,
+                resp,
+            )
+        else:
+            figures.drop(f"comparisons_{resp}.png")
         if len(residuals) and "test" in residuals.columns:
             # one variance at every level, as the F tests assume (Minitab's residuals
             # versus the variables; the four-in-one plot mixes the levels)

@@ -996,3 +996,28 @@ def test_residuals_by_level_draw_each_runs_residual_at_its_level(summary) -> Non
     assert all("test 1" in [t.get_text() for t in ax.texts] for ax in fig.axes)
     with pytest.raises(ValueError, match="summary: no column WP"):
         plot_residuals_by_level(table, summary.drop(columns="WP"), FACTORS, "MU")
+
+
+def test_level_comparisons_draw_each_pairs_interval(summary) -> None:
+    """Tukey's simultaneous intervals as Minitab draws them (a figures review's list of what
+    the report lacked): a row per pair of a factor's levels, the difference at its point and
+    the interval about it, red where it does not hold zero."""
+    from brakeca.analysis import level_comparisons
+    from brakeca.plotting import plot_level_comparisons
+
+    table = level_comparisons(summary, FACTORS, "V")
+    assert list(table["factor"]) == ["WP"] * 3
+    fig = plot_level_comparisons(table, "V")
+    (ax,) = fig.axes
+    assert [t.get_text() for t in ax.get_yticklabels()] == ["WP0 − WP-", "WP+ − WP-", "WP+ − WP0"]
+    points = [line for line in ax.lines if line.get_marker() == "o"]
+    spans = [line for line in ax.lines if line.get_linestyle() == "-" and line.get_marker() != "o"]
+    np.testing.assert_allclose([p.get_xdata()[0] for p in points], table["difference"] * 1e9)
+    np.testing.assert_allclose(
+        [s.get_xdata() for s in spans], table[["ci_low", "ci_high"]].to_numpy() * 1e9
+    )
+    red = [p.get_color() == "#b2182b" for p in points]
+    assert red == list((table["ci_low"] > 0) | (table["ci_high"] < 0))
+    assert ax.get_xlabel() == "Difference of means (Emitted wear volume per stop V [mm³])"
+    with pytest.raises(ValueError, match="no pair of levels"):
+        plot_level_comparisons(table.iloc[0:0], "V")
