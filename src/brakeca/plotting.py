@@ -36,6 +36,7 @@ from brakeca.analysis import (
     ResponseAnalysis,
     _campaign_parts,
     _factors,
+    _is_campaign,
     interaction_table,
     main_effects,
     ok_runs,
@@ -875,6 +876,7 @@ def plot_v_per_run(
     *,
     log: bool | None = None,
     ax: Axes | None = None,
+    factors: Iterable[Any] | None = None,
 ) -> Figure:
     """Mean emitted wear volume per stop for every run (test), as bars in mm^3.
 
@@ -896,6 +898,11 @@ def plot_v_per_run(
     ax
         An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
         new figure. ``path`` then writes that whole figure.
+    factors
+        The design's factors (or the design): each test's levels are written under its
+        number, one line per factor (its level label, ``+``, ``-``, or its value), as the
+        paper's Table 4 gives them; by default a campaign result's design, else the test
+        numbers alone.
 
     Returns
     -------
@@ -906,7 +913,9 @@ def plot_v_per_run(
     ----------
     Wahlström (2016), Figure 11, doi:10.1155/2016/8181260.
     """
-    summary = _campaign_parts(summary)[0]  # a campaign result: its summary
+    if _is_campaign(summary):  # a campaign result: its summary, and its design's factors
+        summary, factors = summary.summary, (summary if factors is None else factors)
+    shown_factors = [f for f in _factors(factors) if f.name in summary.columns] if factors else []
     if "V" in summary.columns:
         column, scale = "V", 1e9
     elif "V_mm3" in summary.columns:
@@ -920,7 +929,8 @@ def plot_v_per_run(
     values = pd.to_numeric(data[column], errors="coerce") * scale
     grouped = values.groupby(data["test"]).agg(["mean", "std", "count"]).reindex(tests)
 
-    fig, ax = _axes(ax, (max(6.0, 0.38 * len(tests) + 2.0), 4.0))
+    height = 4.0 + 0.16 * len(shown_factors)  # the levels' lines under the axis
+    fig, ax = _axes(ax, (max(6.0, 0.38 * len(tests) + 2.0), height))
     x = np.asarray(tests, dtype=float)
     heights = grouped["mean"].to_numpy(dtype=float)
     err = grouped["std"].where(grouped["count"] > 1).to_numpy(dtype=float)
@@ -947,8 +957,24 @@ def plot_v_per_run(
                 color="r",
                 transform=ax.get_xaxis_transform(),  # at the axes' bottom, on either scale
             )
-    ax.set_xticks(x, [str(t) for t in tests], fontsize=8)
-    ax.set_xlabel("Test number [-]")
+    labels = [str(t) for t in tests]
+    if shown_factors:  # each test's levels under its number (a figures review: the axis
+        # named the tests alone, so reading the figure took the design's table beside it)
+        first = summary.drop_duplicates("test").set_index("test")
+        for k, t in enumerate(tests):
+            for f in shown_factors:
+                v = float(first.loc[t, f.name])
+                named = f.labels is not None and v in f.levels
+                labels[k] += "\n" + (f.level_label(v) if named else f"{v:g}")
+    ax.set_xticks(x, labels, fontsize=8)
+    ax.set_xlabel(
+        "Test number [-]"
+        + (
+            f", its levels below it: {', '.join(f.name for f in shown_factors)} from the top"
+            if shown_factors
+            else ""
+        )
+    )
     ax.set_ylabel("Emitted wear volume per stop V [mm³]" + (", log scale" if log else ""))
     title = "Mean emitted wear volume per stop, per test"
     if np.isfinite(err).any():

@@ -1421,6 +1421,7 @@ def _cycle_figures(
         "v_per_run.png",
         plotting.plot_v_per_run,
         summary,
+        factors=factors,
     )
 
 

@@ -1021,3 +1021,24 @@ def test_level_comparisons_draw_each_pairs_interval(summary) -> None:
     assert ax.get_xlabel() == "Difference of means (Emitted wear volume per stop V [mm³])"
     with pytest.raises(ValueError, match="no pair of levels"):
         plot_level_comparisons(table.iloc[0:0], "V")
+
+
+def test_v_per_run_writes_each_tests_levels_under_it(summary) -> None:
+    """The axis had named the tests alone (a figures review): given the factors, or a
+    campaign, each test's levels stand under its number, one line a factor, and the axis
+    label names their order."""
+    from brakeca.plotting import plot_v_per_run
+
+    ax = plot_v_per_run(summary, factors=FACTORS).axes[0]
+    ticks = [t.get_text() for t in ax.get_xticklabels()]
+    first = summary.set_index("test")
+    for tick, test in zip(ticks, sorted(summary["test"]), strict=True):
+        expected = [str(test)] + [f.level_label(first.loc[test, f.name]) for f in FACTORS]
+        assert tick.split("\n") == expected
+    assert ax.get_xlabel() == "Test number [-], its levels below it: S, WP, WR, A from the top"
+    design = type("Design", (), {"factor_names": [f.name for f in FACTORS], "factors": FACTORS})
+    campaign = type("Campaign", (), {"summary": summary, "design": design()})()
+    assert [t.get_text() for t in plot_v_per_run(campaign).axes[0].get_xticklabels()] == ticks
+    plain = plot_v_per_run(summary).axes[0]  # the test numbers alone
+    numbers = [str(t) for t in sorted(summary["test"])]
+    assert [t.get_text() for t in plain.get_xticklabels()] == numbers
