@@ -1222,3 +1222,26 @@ def test_the_anova_csv_gives_the_table_s_note_once(tmp_path) -> None:
     save_tables(result, tmp_path)
     written = pd.read_csv(tmp_path / "anova_MU.csv", keep_default_na=False)["note"]
     assert written.iloc[0] == note.iloc[0] and (written.iloc[1:] == "").all()
+
+
+def test_lenths_pse_trims_the_effects_beyond_2_5_s0() -> None:
+    """Lenth (1989): s0 = 1.5 median |c|, PSE = 1.5 median of the |c| <= 2.5 s0. An
+    unreplicated 2^3 built from known effects (A 20, B 4.0, C 1.4, AB -1.2, AC 1.0, BC -0.8,
+    ABC 0.5) puts B between 2 s0 and 2.5 s0: median |c| = 1.2, s0 = 1.8, 2.5 s0 = 4.5 keeps
+    B and trims A, so PSE = 1.5 median(0.5, 0.8, 1.0, 1.2, 1.4, 4.0) = 1.65 (a trim at 2 s0
+    gives 1.5; a mutation review found no fixture with an effect in that band)."""
+    from scipy import stats
+
+    effects = {"A": 20.0, "B": 4.0, "C": 1.4, "A:B": -1.2, "A:C": 1.0, "B:C": -0.8}
+    effects["A:B:C"] = 0.5
+    rows = []
+    for c, b, a in itertools.product((-1, 1), repeat=3):
+        x = {"A": a, "B": b, "C": c}
+        y = 50.0 + sum(e / 2 * math.prod(x[f] for f in t.split(":")) for t, e in effects.items())
+        rows.append({"A": (a + 1) / 2, "B": (b + 1) / 2, "C": (c + 1) / 2, "y": y})
+    table = two_level_effects(pd.DataFrame(rows), _levels01("ABC"), "y").set_index("term")
+    assert table.attrs["pse"] == pytest.approx(1.65, rel=1e-12)
+    assert table.attrs["df"] == pytest.approx(7 / 3, rel=1e-12)
+    assert table.loc["B", "effect"] == pytest.approx(4.0, rel=1e-12)
+    assert table.loc["B", "t"] == pytest.approx(4.0 / 1.65, rel=1e-12)
+    assert table.loc["B", "p_value"] == pytest.approx(2 * stats.t.sf(4.0 / 1.65, 7 / 3), rel=1e-9)

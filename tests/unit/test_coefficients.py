@@ -617,3 +617,24 @@ def test_a_categorical_factor_has_no_level_legend() -> None:
     runs = _runs().assign(A=lambda d: (d["A"] > 15).astype(int))
     table = level_coefficients(runs, (S, WP, fibres), "MU")
     assert set(table.attrs["levels"]) == {"S", "WP"}
+
+
+def test_four_level_comparisons_are_statsmodels_tukey_hsd() -> None:
+    """Tukey's critical value takes the factor's k level means: with four levels (six pairs)
+    the intervals equal statsmodels' pairwise_tukeyhsd, unbalanced too (every other test
+    had three levels, where k and the number of pairs are both 3: a mutation review)."""
+    from statsmodels.stats.multicomp import pairwise_tukeyhsd
+
+    from brakeca.analysis import level_comparisons
+
+    rng = np.random.default_rng(7)
+    levels = (1.0, 2.0, 3.0, 4.0)
+    x = np.repeat(levels, [5, 6, 6, 7])
+    runs = pd.DataFrame({"X": x, "MU": 0.30 + 0.02 * x + 0.01 * rng.standard_normal(x.size)})
+    runs["status"] = "ok"
+    table = level_comparisons(runs, [Factor("X", levels)], "MU", interactions=False)
+    hsd = pairwise_tukeyhsd(runs["MU"], runs["X"].astype(str), alpha=0.05)
+    assert len(table) == 6
+    np.testing.assert_allclose(table["difference"], hsd.meandiffs, rtol=1e-10)
+    np.testing.assert_allclose(table[["ci_low", "ci_high"]], hsd.confint, rtol=1e-6)
+    np.testing.assert_allclose(table["p_adjusted"], hsd.pvalues, rtol=1e-4, atol=1e-12)

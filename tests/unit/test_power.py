@@ -150,6 +150,28 @@ def test_pure_error_sigma_is_the_pooled_scatter_within_tests():
         pure_error_sigma(summary.iloc[[0, 3]], [factor], "MU")
 
 
+def test_pure_error_interval_is_the_two_sided_chi_square_one():
+    """sigma's interval from the pure error's SS on nu degrees of freedom: sigma sqrt(nu /
+    chi2(0.975, nu)) to sigma sqrt(nu / chi2(0.025, nu)), two-sided (a mutation review: only
+    an integration test's printed text checked it)."""
+    from scipy import stats
+
+    from brakeca.power import pure_error
+
+    factor = Factor("S", (0.0, 1.0))
+    summary = pd.DataFrame(
+        {"test": [1, 1, 1, 2, 2], "S": [0.0, 0.0, 0.0, 1.0, 1.0], "status": "ok"}
+    ).assign(MU=[0.40, 0.42, 0.47, 0.50, 0.53])
+    ss = (0.40 - 0.43) ** 2 + (0.42 - 0.43) ** 2 + (0.47 - 0.43) ** 2 + 2 * 0.015**2
+    sigma = math.sqrt(ss / 3)
+    low = sigma * math.sqrt(3 / stats.chi2.ppf(0.975, 3))
+    high = sigma * math.sqrt(3 / stats.chi2.ppf(0.025, 3))
+    got_sigma, df, (got_low, got_high) = pure_error(summary, [factor], "MU")
+    assert (got_sigma, df) == (pytest.approx(sigma, rel=1e-12), 3.0)
+    assert (got_low, got_high) == (pytest.approx(low, rel=1e-9), pytest.approx(high, rel=1e-9))
+    assert (low, high) == (pytest.approx(0.0180626386), pytest.approx(0.1188855158))
+
+
 def test_the_power_command():
     runner = CliRunner()
     res = runner.invoke(app, ["power", "paper", "--effect", "0.01", "--sigma", "0.01"])
