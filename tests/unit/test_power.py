@@ -176,7 +176,13 @@ def test_the_power_command():
     runner = CliRunner()
     res = runner.invoke(app, ["power", "paper", "--effect", "0.01", "--sigma", "0.01"])
     assert res.exit_code == 0, res.output
-    assert "power by replicates" in res.output and "0.589" in res.output
+    # S, WR and A with one replicate: 12 runs at each level, half the difference from the
+    # mean at each, so the noncentrality is 24 (0.005 / 0.01)^2 = 6 on 1 and 9 df (the
+    # residual of the paper's 2-factor model)
+    from scipy import stats
+
+    power = stats.ncf.sf(stats.f.ppf(0.95, 1, 9), 1, 9, 6.0)
+    assert "power by replicates" in res.output and f"{power:.3f}" in res.output  # 0.589
     res = runner.invoke(
         app, ["power", "paper", "--effect", "0.01", "--sigma", "0.01", "--target", "0.9"]
     )
@@ -275,7 +281,15 @@ def test_the_smallest_effect_is_found_with_the_target_power():
         smallest_effect(paper, 0.0)  # it had said "effect:", checking sigma as the effect
     res = CliRunner().invoke(app, ["power", "paper", "--sigma", "0.0059", "--target", "0.8"])
     assert res.exit_code == 0 and "smallest difference in MU found with power 0.8" in res.output
-    assert "0.007586" in res.output  # S, WR and A with one replicate
+    # S, WR and A with one replicate: the difference d whose noncentrality 24 (d / 2)^2 /
+    # 0.0059^2 on 1 and 9 df gives power 0.8, solved here with scipy (0.007586)
+    from scipy import optimize, stats
+
+    critical = stats.f.ppf(0.95, 1, 9)
+    d = optimize.brentq(
+        lambda d: stats.ncf.sf(critical, 1, 9, 24 * (d / 2) ** 2 / 0.0059**2) - 0.8, 1e-4, 0.1
+    )
+    assert f"{d:.4g}" in res.output
     # V's figures carry their unit (a helper's review: the table had none)
     args = ["power", "paper", "--sigma", "0.01", "--target", "0.8", "--response", "V"]
     res = CliRunner().invoke(app, args, env={"COLUMNS": "200"})
