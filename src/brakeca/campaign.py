@@ -220,7 +220,8 @@ def run_campaign(
         Show a progress bar over the runs, with an ETA, and a line per finished run; or a
         function ``progress(done, total)``, called as each run finishes (or fails) with the
         runs done so far and all the design's runs, reused ones counted [-], with no bar and
-        no lines (as :func:`brakeca.simulation.simulate` takes one per stop).
+        no lines (as :func:`brakeca.simulation.simulate` takes one per stop); once, with
+        ``done == total``, where every run is reused.
     console
         Where messages and the progress bar go; None: a console on standard error.
     replace
@@ -454,11 +455,14 @@ def _run_locked(
             _execute_points(
                 todo, runs, records, computed, failed, how, n_total=len(points), console=console
             )
-    elif how.progress:
-        say(
-            console,
-            f"all {len(points)} runs of {escape(str(out))} already done; nothing to compute",
-        )
+    else:
+        if how.progress:
+            say(
+                console,
+                f"all {len(points)} runs of {escape(str(out))} already done; nothing to compute",
+            )
+        if how.on_run is not None:  # a notebook's bar completes (an API review: never called)
+            how.on_run(len(points), len(points))
 
     ordered = [records[run_id(p)] for p in points]
     summary = _summary_frame(design, ordered)

@@ -1011,6 +1011,10 @@ def test_a_progress_function_is_called_as_each_run_finishes(design_file, tmp_pat
     run_campaign(design_file, out, executor="serial", progress=lambda *a: calls.append(a),
                  console=quiet(), max_stops=1)  # fmt: skip
     assert calls == [(4, 4)]  # three reused, the fourth computed
+    calls.clear()
+    run_campaign(design_file, out, executor="serial", progress=lambda *a: calls.append(a),
+                 console=quiet(), max_stops=1)  # fmt: skip
+    assert calls == [(4, 4)]  # every run reused: once, done (it had never been called)
 
 
 def test_a_closed_terminal_stops_a_local_campaign_without_tracebacks(design_file, tmp_path):
