@@ -1838,6 +1838,7 @@ def render_report(
     comparison_tables: Mapping[str, pd.DataFrame] | None = None,
     unusual_tables: Mapping[str, pd.DataFrame] | None = None,
     pm10: tuple[pd.DataFrame, str, str] | None = None,
+    more_findings: Sequence[str] = (),
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -1953,6 +1954,7 @@ def render_report(
         residual_tables=residual_tables,
         unusual_tables=unusual_tables,
     )
+    findings.extend(line for line in more_findings if line)
     if pm10 is not None:
         findings.append(pm10[2])
     return template.render(
@@ -2020,7 +2022,17 @@ def _level_run(response: str, factor: str, means: pd.DataFrame | None) -> str:
         value = _fmt(rec["level"], ".4g")
         shown = label if label and label not in ("-", "+", "0") and label != value else value
         parts.append(f"{_fmt(float(rec['mean']) * scale, 'sig4')} at {factor} = {shown}")
-    return ", ".join(parts) + (f" [{unit}]" if unit else "")
+    text = ", ".join(parts) + (f" [{unit}]" if unit else "")
+    if response == "log10_V_mm3":  # the means of log10 V back in mm³: V's geometric means,
+        # and their ratio from the first level to the last (a report review: "0.2214 at WP =
+        # 1e-15" is in log units nobody can use)
+        geometric = [10.0 ** float(m) for m in rows["mean"]]
+        text += (
+            "; geometric means of V "
+            + ", ".join(_fmt(g, "sig4") for g in geometric)
+            + f" mm³, ×{geometric[-1] / geometric[0]:.3g}"
+        )
+    return text
 
 
 def _short_aliases(chain: Any) -> str:
@@ -2225,7 +2237,34 @@ def _finding_terms(response: str, frame: pd.DataFrame, means: pd.DataFrame | Non
         named.append(f"{name} ({float(c):.1f} %" + (f": {run}" if run else "") + ")")
     text = ", ".join(named)
     share = float(hits["percent_contribution"].sum())
-    return f"{response}: {text}; together {share:.1f} % of the variation" + r2_text
+    return (
+        f"{response}: {text}; together {share:.1f} % of the variation"
+        + r2_text
+        + _averaged_over(hits, means)
+    )
+
+
+def _averaged_over(hits: pd.DataFrame, means: pd.DataFrame | None) -> str:
+    """A caution where a main effect given with its level means is in a significant
+    interaction: its means average over the other factor's levels, between which its effect
+    differs (a report review: A's mean effect on MU was given alone while it was 0.033 at
+    WP- and 0.158 at WP+); empty otherwise."""
+    if means is None:
+        return ""
+    terms = [str(t) for t in hits["term"]]
+    pairs = [t for t in terms if t.count(":") == 1]
+    shown = [t for t in terms[:_MOST_FINDINGS] if ":" not in t]
+    caught = [f for f in shown if any(f in t.split(":") for t in pairs)]
+    if not caught:
+        return ""
+    within = [t for t in pairs if set(t.split(":")) & set(caught)]
+    names = caught[0] if len(caught) == 1 else ", ".join(caught[:-1]) + " and " + caught[-1]
+    each = "is" if len(caught) == 1 else "are each"
+    return (
+        f"; {names} {each} in a significant interaction ({', '.join(within)}): "
+        f"{'its' if len(caught) == 1 else 'their'} level means average over the other "
+        "factor's levels, between which the effect differs (the interaction plots)"
+    )
 
 
 def write_report(
@@ -2254,6 +2293,7 @@ def write_report(
     comparison_tables: Mapping[str, pd.DataFrame] | None = None,
     unusual_tables: Mapping[str, pd.DataFrame] | None = None,
     pm10: tuple[pd.DataFrame, str, str] | None = None,
+    more_findings: Sequence[str] = (),
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -2333,6 +2373,9 @@ def write_report(
         The runs' brake PM10 on a speed trace: a table (one row per run: its levels, PM10
         and band [mg/km], where the band lies against each Euro 7 limit), the paragraph
         above it, and the line "In short" ends with.
+    more_findings
+        Further lines of "In short", after the responses' (and before PM10's): e.g. the
+        runs held at the COF floor (:func:`brakeca.study.write_study`).
 
     Returns
     -------
@@ -2374,5 +2417,6 @@ def write_report(
         comparison_tables=comparison_tables,
         unusual_tables=unusual_tables,
         pm10=pm10,
+        more_findings=more_findings,
     )
     return write_text(path, html)

@@ -431,16 +431,32 @@ def _cut_short(base: Any) -> str | None:
     return None
 
 
-def _floor_note(result: CampaignResult, base: Any) -> str:
-    """A note on the stops whose mean COF is the floor ``friction.mu_min`` (every contact
-    at or above the pressure where the law reaches it): there MU is held at the floor and
-    cannot show an effect below it. Empty where no stop is, the campaign's dataset has no
-    ``mean_cof``, the base configuration is unknown or a factor sets the friction law."""
+#: A stop is "at the COF floor" where its mean COF lies within this share of
+#: ``friction.mu_min`` above it [-] (a report review: equality to 1e-9 had counted 38 % of the
+#: stops of a run whose every stop lay within 0.3 % of the floor).
+FLOOR_TOLERANCE = 0.01
+
+
+@dataclass(frozen=True)
+class _Floor:
+    """The finished runs' shares of stops at the COF floor (:func:`_floor_shares`)."""
+
+    floor: float
+    share: np.ndarray
+    names: list[str]
+
+
+def _floor_shares(result: CampaignResult, base: Any) -> _Floor | None:
+    """Each finished run's share of stops whose mean COF lies within
+    :data:`FLOOR_TOLERANCE` of the floor ``friction.mu_min`` (every contact at or above the
+    pressure where the law reaches it), with the runs' names; None where no stop is, the
+    campaign's dataset has no ``mean_cof``, the base configuration is unknown or a factor
+    sets the friction law."""
     data = getattr(result, "dataset", None)
     if base is None or data is None or "mean_cof" not in getattr(data, "data_vars", {}):
-        return ""
+        return None
     if any(str(f.field).startswith("friction.") for f in result.design.factors):
-        return ""
+        return None
     floor = float(base.friction.mu_min)
     cof = data["mean_cof"].transpose("run", "stop").to_numpy().astype(float)
     if "status" in data.coords:  # the finished runs (a shorter cycle's are padded with NaN)
@@ -448,34 +464,65 @@ def _floor_note(result: CampaignResult, base: Any) -> str:
     else:
         done = np.isfinite(cof).any(axis=1)
     if floor <= 0 or not done.any():
-        return ""
+        return None
     stops = np.isfinite(cof[done])
-    at = (np.abs(cof[done] - floor) <= 1e-9 * floor) & stops
+    at = (cof[done] - floor <= FLOOR_TOLERANCE * floor) & stops
     share = at.sum(axis=1) / np.maximum(stops.sum(axis=1), 1)
     if not share.any():
-        return ""
+        return None
     tests = data["test" if "test" in data.coords else "run"].to_numpy()[done]
     replicates = data["replicate"].to_numpy()[done] if "replicate" in data.coords else None
     replicated = replicates is not None and len(set(replicates.tolist())) > 1
+    names = [
+        f"test {int(t)}"
+        + (f", replicate {int(replicates[k])}" if replicated and replicates is not None else "")
+        for k, t in enumerate(tests)
+    ]
+    return _Floor(floor, share, names)
 
-    def who(k: int) -> str:
-        return f"test {int(tests[k])}" + (
-            f", replicate {int(replicates[k])}" if replicated and replicates is not None else ""
-        )
 
+def _floor_note(result: CampaignResult, base: Any) -> str:
+    """A note on the stops whose mean COF is at the floor ``friction.mu_min``
+    (:func:`_floor_shares`): there MU is held at the floor and cannot show an effect below
+    it. Empty where no stop is."""
+    found = _floor_shares(result, base)
+    if found is None:
+        return ""
+    share = found.share
     most = np.argsort(-share, kind="stable")[: min(3, int((share > 0).sum()))]
     parts = [
-        f"{who(int(k))} ({100 * share[k]:.0f} %" + (" of its stops)" if i == 0 else ")")
+        f"{found.names[int(k)]} ({100 * share[k]:.0f} %" + (" of its stops)" if i == 0 else ")")
         for i, k in enumerate(most)
     ]
     named = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
     return (
-        f"The COF floor: {int((share > 0).sum())} of the {int(done.sum())} finished runs have "
-        f"stops whose mean COF is the floor friction.mu_min = {floor:g} (every plateau in "
-        "contact at a pressure where the friction law reaches it), the most in "
-        f"{named}. In those stops MU is held at the floor and cannot show an effect that "
-        "would take it lower, which compresses the effects on MU of the factors that press "
-        "the contact harder (tables/per_stop.csv, column mean_cof)."
+        f"The COF floor: {int((share > 0).sum())} of the {share.size} finished runs have "
+        f"stops whose mean COF lies within {100 * FLOOR_TOLERANCE:g} % of the floor "
+        f"friction.mu_min = {found.floor:g} (every plateau in contact at a pressure where "
+        f"the friction law reaches it, or nearly), the most in {named}. In those stops MU is "
+        "held at the floor and cannot show an effect that would take it lower, which "
+        "compresses the effects on MU of the factors that press the contact harder "
+        "(tables/per_stop.csv, column mean_cof)."
+    )
+
+
+def _floor_line(result: CampaignResult, base: Any) -> str:
+    """The "In short" line on the runs held at the COF floor for most of their stops (half
+    or more), where MU cannot fall further (a report review: the note alone, at the end,
+    left MU's effects read as if unbounded); empty where no run is."""
+    found = _floor_shares(result, base)
+    if found is None:
+        return ""
+    held = [k for k in np.argsort(-found.share, kind="stable") if found.share[k] >= 0.5]
+    if not held:
+        return ""
+    named = [f"{found.names[int(k)]} ({100 * found.share[k]:.0f} %)" for k in held]
+    runs = named[0] if len(named) == 1 else ", ".join(named[:-1]) + " and " + named[-1]
+    return (
+        f"MU at the COF floor: {runs} spend{'s' if len(named) == 1 else ''} half their stops "
+        f"or more within {100 * FLOOR_TOLERANCE:g} % of friction.mu_min = {found.floor:g}, "
+        "where MU cannot fall further: the effects on MU of what lowers it are compressed "
+        "there (Notes)"
     )
 
 
@@ -884,6 +931,7 @@ def write_study(
         figures, found.ok, result.design, source / "runs", run_maps=run_maps, emissions=emissions
     )
     notes = _study_notes(result, found, files, base, source, note=note)
+    floor_line = _floor_line(result, base)
     pm10 = _pm10_report(result.summary, files.pm10_of, result.design, given=emissions is not None)
     summary = result.summary if pm10 is None else pm10.summary
     if pm10 is not None:
@@ -947,6 +995,7 @@ def write_study(
         residual_tables=residual_tables,
         unusual_tables=unusual_tables,
         pm10=None if pm10 is None else (pm10.table, pm10.info, pm10.line),
+        more_findings=[floor_line],
     )
     if in_short is not None:
         for line in report.in_short(
@@ -958,6 +1007,8 @@ def write_study(
             unusual_tables=unusual_tables,
         ):
             in_short(line)
+        if floor_line:
+            in_short(floor_line)
         if pm10 is not None:
             in_short(pm10.line)
     return path

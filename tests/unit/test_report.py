@@ -674,6 +674,45 @@ def test_in_short_names_the_significant_terms_by_contribution() -> None:
     assert "C (5.0 %: 2.000 at C = paper, 2.000 at C = trace [mm³])" in _finding("V", c, means)
 
 
+def test_in_short_cautions_a_main_effect_in_an_interaction_and_gives_log_v_in_mm3() -> None:
+    """A report review: A's mean effect was given alone while WP:A made it differ fourfold
+    from level to level of WP, and log10 V's level means were in log units nobody can use.
+    A main effect in a significant interaction is said to be so, and log10 V's means come
+    with V's geometric means in mm³ and their ratio from the first level to the last."""
+    from brakeca.report import _finding
+
+    frame = pd.DataFrame(
+        {
+            "term": ["WP", "A", "WP:A", "S", "Residual"],
+            "p_value": [1e-6, 1e-4, 0.01, 0.3, math.nan],
+            "percent_contribution": [70.0, 20.0, 5.0, 1.0, 4.0],
+        }
+    )
+    means = pd.DataFrame(
+        {
+            "factor": ["A", "A", "WP", "WP"],
+            "level": [10.0, 20.0, 1e-15, 1e-13],
+            "label": ["-", "+", "-", "+"],
+            "mean": [1.0, 0.5, 0.0, 2.0],
+            "n": [2] * 4,
+        }
+    )
+    text = _finding("log10_V_mm3", frame, means)
+    assert "A (20.0 %: 1.000 at A = 10, 0.5000 at A = 20; geometric means of V 10.00, 3.162 " in (
+        text
+    )
+    assert "mm³, ×0.316)" in text  # 10^0.5 / 10^1
+    assert "geometric means of V 1.000, 100.0 mm³, ×100)" in text
+    assert text.endswith(
+        "; WP and A are each in a significant interaction (WP:A): their level means average "
+        "over the other factor's levels, between which the effect differs (the interaction "
+        "plots)"
+    )
+    alone = frame.assign(p_value=[1e-6, 1e-4, 0.2, 0.3, math.nan])  # WP:A not significant
+    assert "interaction" not in _finding("log10_V_mm3", alone, means)
+    assert "geometric" not in _finding("MU", frame, means)
+
+
 def test_in_short_names_an_aliased_term_with_its_short_aliases() -> None:
     """A review of a screening report: "In short" named S:mu0 (19.7 % of V) alone, where the
     fold-over showed the share was its aliases' (WP:slope = A:modulus). A term is now named

@@ -34,11 +34,37 @@ def test_the_runs_at_the_floor_are_counted_and_the_most_named() -> None:
     cof = np.full((4, 10), 0.3)
     cof[1, :4] = floor  # test 2: 40 % of its stops at the floor
     cof[3, :1] = floor  # test 4: 10 %
-    cof[2, 5] = floor * (1 + 1e-6)  # near it, not at it
+    cof[2, 5] = floor * 1.011  # 1.1 % above it: not at it
     cof[0, :] = np.nan  # test 1 failed (no stop): not counted
     note = _floor_note(_result(cof), base)
     assert note.startswith("The COF floor: 2 of the 3 finished runs have stops whose mean COF")
+    assert "lies within 1 % of the floor friction.mu_min = 0.15" in note
     assert "the most in test 2 (40 % of its stops) and test 4 (10 %)." in note
+    # within 1 % of it is at it (a report review: a run whose every stop lay within 0.3 %
+    # of the floor had been counted at it in 38 % of its stops, by equality to 1e-9)
+    cof[2, 5:] = floor * 1.009
+    note = _floor_note(_result(cof), base)
+    assert "the most in test 3 (50 % of its stops), test 2 (40 %) and test 4 (10 %)." in note
+
+
+def test_the_runs_held_at_the_floor_are_an_in_short_line() -> None:
+    """Runs held at the floor half their stops or more are named in "In short" (a report
+    review: the note alone, at the end, left MU's effects read as if unbounded)."""
+    from brakeca.study import _floor_line
+
+    base = load_preset("paper")
+    floor = base.friction.mu_min
+    cof = np.full((3, 10), 0.3)
+    cof[0, :] = floor * 1.003  # test 1: every stop
+    cof[1, :5] = floor  # test 2: half
+    cof[2, :4] = floor  # test 3: 40 %, not named
+    line = _floor_line(_result(cof), base)
+    assert line.startswith(
+        "MU at the COF floor: test 1 (100 %) and test 2 (50 %) spend half their stops or more "
+        "within 1 % of friction.mu_min = 0.15"
+    )
+    cof[:2, :] = 0.3
+    assert _floor_line(_result(cof), base) == ""  # test 3 alone, under half
 
 
 def test_a_run_of_a_shorter_cycle_counts_over_its_own_stops() -> None:
