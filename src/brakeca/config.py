@@ -1665,6 +1665,8 @@ def _anchored_trace(config: SimulationConfig, path: Path) -> SimulationConfig:
         recorded = with_cycle(config, chosen, speed_unit=cyc.trace_speed_unit)
     except ConfigError as exc:
         raise ConfigError(f"{path}: cycle.trace_file {trace}: {exc}") from None
-    if cyc.name not in ("paper", "custom"):
-        recorded = recorded.with_updates({"cycle.name": cyc.name})
+    if cyc.name not in ("paper", "custom"):  # the file's own name for its trace (not an
+        # override: a name that is a shipped cycle's is the file's to give)
+        named = recorded.cycle.model_copy(update={"name": cyc.name})
+        recorded = recorded.model_copy(update={"cycle": named})
     return recorded

@@ -804,6 +804,12 @@ def test_a_trace_in_a_configuration_file_is_read_next_to_it_and_recorded(tmp_pat
     undigested = config.with_updates({"cycle.name": "urban_loop"})
     (folder / "undigested.toml").write_text(undigested.to_toml(), encoding="utf-8")
     assert load_config(folder / "undigested.toml").cycle.name == "urban_loop"
+    # a file may name its trace as a shipped cycle is named: no override (a diff review: the
+    # refusal of cycle.name alone set to a shipped cycle's name had refused this file)
+    text = undigested.to_toml().replace('name = "urban_loop"', 'name = "example_trace"')
+    assert 'name = "example_trace"' in text
+    (folder / "shipped_name.toml").write_text(text, encoding="utf-8")
+    assert load_config(folder / "shipped_name.toml").cycle.name == "example_trace"
     # another trace set over a recorded one drops the old digest (it was refused as
     # 'changed since the configuration was made')
     other = folder / "traces" / "other.csv"
