@@ -2857,7 +2857,7 @@ def two_level_effects(
     response: str,
     *,
     alpha: float = 0.05,
-    main_effects_only: bool = False,
+    main_effects_only: bool | None = None,
     model_terms: Sequence[str] | None = None,
 ) -> pd.DataFrame:
     """Effects of a design whose factors all have two levels, with their significance, as
@@ -2913,7 +2913,12 @@ def two_level_effects(
     model_terms
         Fit these terms alone (display names, ``"S"``, ``"S:WR"``; e.g. those of an ANOVA
         reduced by backward elimination, which :func:`analyze` passes); terms of a factor
-        that does not vary in the data are skipped.
+        that does not vary in the data are skipped. With both this and
+        ``main_effects_only`` unset and ``factors`` a design (or a campaign result), the
+        design's analysis decides them as :func:`analyze` does: a Plackett-Burman design's
+        main effects alone, and where the design reduces its ANOVA (``alpha_to_remove``) or
+        sets its model (``model_order``, ``model_terms``), that ANOVA's terms; otherwise
+        every effect the data can estimate.
 
     Returns
     -------
@@ -2977,10 +2982,33 @@ def two_level_effects(
        S    0.05  7.0711   0.0021
      S:A    0.02  2.8284   0.0474
     """
-    summary, factors = _campaign_parts(summary, factors)  # a campaign result
     from scipy import stats
 
     from brakeca.design import _points  # "1 centre point", "3 centre points"
+
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
+    design = _design_of(factors)
+    if design is not None and main_effects_only is None and model_terms is None:
+        # the design's analysis, as analyze() takes it (a diff review: given a design or a
+        # campaign this table fitted every effect beside the report's reduced one)
+        main_effects_only = design.plackett_burman is not None
+        interactions, typ, alpha_to_remove = _model_settings(factors, None, None, None)
+        chosen = design.anova_model
+        if (
+            alpha_to_remove is not None
+            or not isinstance(chosen, int)
+            or chosen != (1 if main_effects_only else 2)
+        ):
+            table = anova(
+                summary,
+                factors,
+                response,
+                interactions=interactions,
+                typ=typ,
+                alpha_to_remove=alpha_to_remove,
+            )
+            model_terms = [t for t in table["term"] if t not in ("Residual", CURVATURE)]
+    main_effects_only = bool(main_effects_only)
 
     problem = alpha_problem(alpha, usual="0.05 is usual")
     if problem:

@@ -543,7 +543,8 @@ def box_cox(
         result,
         without_unusual=_without_text(result, other, who, len(rows)),
         without=other,
-        without_runs=", ".join(run_named(rec, replicated) for _, rec in rows.iterrows()),
+        # "; " between runs: a replicated campaign's names hold commas (a diff review)
+        without_runs="; ".join(run_named(rec, replicated) for _, rec in rows.iterrows()),
     )
 
 

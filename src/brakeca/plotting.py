@@ -962,11 +962,24 @@ def plot_v_per_run(
         # named the tests alone, so reading the figure took the design's table beside it)
         first = summary.drop_duplicates("test").set_index("test")
         for k, t in enumerate(tests):
-            for f in shown_factors:
-                v = float(first.loc[t, f.name])
-                named = f.labels is not None and v in f.levels
-                labels[k] += "\n" + (f.level_label(v) if named else f"{v:g}")
+            for f in shown_factors:  # "+", "-", "0" (a centre point) or the value
+                labels[k] += "\n" + f.level_label(float(first.loc[t, f.name]))
     ax.set_xticks(x, labels, fontsize=8)
+    if shown_factors:  # the rows named at their left, aligned as the tick labels are
+        import matplotlib as mpl
+
+        pad = float(mpl.rcParams["xtick.major.size"]) + float(mpl.rcParams["xtick.major.pad"])
+        trans, va, _ = ax.get_xaxis_text1_transform(pad)
+        ax.text(
+            float(x.min()) - 0.6,
+            0.0,
+            "test\n" + "\n".join(f.name for f in shown_factors),
+            transform=trans,
+            va=va,
+            ha="right",
+            fontsize=8,
+            color="0.3",
+        )
     ax.set_xlabel(
         "Test number [-]"
         + (
@@ -1703,6 +1716,15 @@ def plot_residuals_by_level(
         ax.set_visible(False)
     for ax in axes[::cols]:
         ax.set_ylabel(r_label)
+    if not standardized and len(factors):  # as plot_residuals says it (a diff review)
+        axes[0].text(
+            0.02,
+            0.98,
+            "standardized residuals undefined\n(no residual df or leverage 1):\nraw residuals",
+            transform=axes[0].transAxes,
+            va="top",
+            fontsize=8,
+        )
     return save_figure(root, path)
 
 
@@ -1781,7 +1803,11 @@ def plot_level_comparisons(
             ax.plot([diff[k]], [y[k]], "o", color=colour, ms=5)
         ax.axvline(0.0, color="0.3", lw=0.8, ls="--")
         pairs = zip(rows["level_a"], rows["level_b"], strict=True)
-        ax.set_yticks(y, [f"{name}{b} − {name}{a}" for a, b in pairs])  # "WP0 − WP-"
+
+        def level(label: Any, name: str = name) -> str:  # "WP+", or "mu0 = 0.6" for a value
+            return f"{name}{label}" if str(label) in ("-", "0", "+") else f"{name} = {label}"
+
+        ax.set_yticks(y, [f"{level(b)} − {level(a)}" for a, b in pairs])
         ax.set_ylim(-0.6, len(rows) - 0.4)
         ax.set_title(f"{name}", fontsize=10)
         ax.set_xlabel(f"Difference of means ({label})")
@@ -1881,6 +1907,11 @@ def plot_box_cox(
                 lw=1.2,
                 label=f"without {result.without_runs} (shifted; λ̂ = {other.lambda_hat:.2f})",
             )
+            # its interval, on the dotted line its shifted profile crosses there
+            ends = (max(other.ci_low, lam[0]), min(other.ci_high, lam[-1]))
+            ax.plot(
+                ends, (cut, cut), "-", color="#b2182b", lw=3.0, alpha=0.6, solid_capstyle="butt"
+            )
         low = max(result.ci_low, lam[0])
         high = min(result.ci_high, lam[-1])
         ax.axvspan(
@@ -1906,7 +1937,8 @@ def plot_box_cox(
             )
         ax.set_xlim(lam[0], lam[-1])
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, loc="best")
+        # below the axes: inside, it had covered the λ = 0 label (a report review)
+        ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.24), frameon=False)
     return save_figure(root, path)
 
 

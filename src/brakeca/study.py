@@ -1375,9 +1375,10 @@ def _response_figures(
         "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
         "of λ shaded; λ = 0 is the log (section 'Scale of the responses')"
         + (
-            "; dashed, the profile without the unusual runs, shifted to the same maximum: "
-            "where its λ̂ lies far from the solid one's, the reading rests on those runs"
-            if any(getattr(b, "without", None) is not None for b in scales.values())
+            "; dashed, the profile without the unusual runs, shifted to the same maximum, "
+            "its 95 % interval the red bar on the dotted line: where its λ̂ lies far from the "
+            "solid one's, the reading rests on those runs"
+            if any(getattr(getattr(b, "without", None), "defined", False) for b in scales.values())
             else ""
         ),
         "box_cox.png",

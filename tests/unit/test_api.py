@@ -191,3 +191,30 @@ def test_a_campaign_result_stands_for_its_summary_and_design_in_every_table() ->
         analysis.anova(rows, None, "MU")
     with pytest.raises(TypeError, match=r"^path: a file to write \(str or Path\), not Design"):
         plotting.plot_v_per_run(rows, design)  # type: ignore[arg-type]
+
+
+def test_the_effects_table_takes_the_designs_analysis_as_analyze_does() -> None:
+    """Given a design or a campaign, two_level_effects fits the model the design's analysis
+    fits, as analyze's effects table (a diff review: it fitted every estimable effect beside
+    the report's reduced model); main_effects_only or model_terms given still win."""
+    import numpy as np
+    import pandas as pd
+
+    from brakeca import analysis
+    from brakeca.design import load_design
+
+    design = load_design("screen").model_copy(update={"alpha_to_remove": 0.1})
+    rng = np.random.default_rng(3)
+    rows = pd.DataFrame(design.combinations())
+    rows["MU"] = (
+        0.3 + 0.02 * (rows["S"] == rows["S"].max()) + 0.004 * rng.standard_normal(len(rows))
+    )
+    rows["status"] = "ok"
+    campaign = type("Campaign", (), {"summary": rows, "design": design})()
+    report = brakeca.analyze(campaign, responses=["MU"])["MU"].effects
+    for given in (design, campaign):
+        pd.testing.assert_frame_equal(analysis.two_level_effects(rows, given, "MU"), report)
+    every = analysis.two_level_effects(rows, design.factors, "MU")
+    assert len(report) < len(every)  # the reduced model's terms, not every effect
+    alone = analysis.two_level_effects(rows, design, "MU", main_effects_only=True)
+    assert set(alone["term"]) == set(design.factor_names)

@@ -339,7 +339,7 @@ def test_the_profile_without_the_unusual_runs_says_whether_the_reading_holds() -
     # rests on a run)
     assert result.without is not None
     pd.testing.assert_frame_equal(result.without.profile, alone.profile)
-    assert result.without_runs == ", ".join(
+    assert result.without_runs == "; ".join(
         f"test {t}, replicate {r}" for t, r in zip(tests, reps, strict=True)
     )
     from brakeca.plotting import plot_box_cox

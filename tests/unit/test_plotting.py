@@ -1021,6 +1021,11 @@ def test_level_comparisons_draw_each_pairs_interval(summary) -> None:
     assert ax.get_xlabel() == "Difference of means (Emitted wear volume per stop V [mm³])"
     with pytest.raises(ValueError, match="no pair of levels"):
         plot_level_comparisons(table.iloc[0:0], "V")
+    # a factor without level labels: its values, named (a diff review: "mu00.6 − mu00.5")
+    plain = [Factor(f.name, f.levels) for f in FACTORS]
+    table = level_comparisons(summary, plain, "V")
+    ax = plot_level_comparisons(table, "V").axes[0]
+    assert ax.get_yticklabels()[0].get_text() == "WP = 1e-14 − WP = 1e-15"
 
 
 def test_v_per_run_writes_each_tests_levels_under_it(summary) -> None:
@@ -1036,6 +1041,7 @@ def test_v_per_run_writes_each_tests_levels_under_it(summary) -> None:
         expected = [str(test)] + [f.level_label(first.loc[test, f.name]) for f in FACTORS]
         assert tick.split("\n") == expected
     assert ax.get_xlabel() == "Test number [-], its levels below it: S, WP, WR, A from the top"
+    assert [t.get_text() for t in ax.texts] == ["failed", "test\nS\nWP\nWR\nA"]  # rows named
     design = type("Design", (), {"factor_names": [f.name for f in FACTORS], "factors": FACTORS})
     campaign = type("Campaign", (), {"summary": summary, "design": design()})()
     assert [t.get_text() for t in plot_v_per_run(campaign).axes[0].get_xticklabels()] == ticks
