@@ -491,9 +491,10 @@ def _design_of(factors: Any) -> Any | None:
 
 
 def _model_settings(
-    factors: Any, interactions: Model | None, typ: int | None, alpha_to_remove: float | None
-) -> tuple[Model, int, float | None]:
-    """The model, the ANOVA's type and the level of backward elimination a table fits: each
+    factors: Any, interactions: Model | None, typ: int | str | None, alpha_to_remove: float | None
+) -> tuple[Model, Any, float | None]:
+    """The model, the ANOVA's type (as given where it is not 'II' or 'III', for the caller's
+    check: :func:`_check_anova_type`) and the level of backward elimination a table fits: each
     left unset (None) is the design's where ``factors`` is a design or a campaign result, as
     :func:`analyze` and the report take them (an API review found ``anova(summary, design,
     "MU")`` a Type II, unreduced fit beside the report's Type III, reduced one); otherwise
@@ -986,7 +987,7 @@ def anova(
     response: str,
     *,
     interactions: Model | None = None,
-    typ: int | None = None,
+    typ: int | str | None = None,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """Analysis of variance of a response over categorical factors.
@@ -1132,7 +1133,7 @@ def anova(
     interactions, typ, alpha_to_remove = _model_settings(
         factors, interactions, typ, alpha_to_remove
     )
-    _check_anova_type(typ)
+    typ = _check_anova_type(typ)
     _check_alpha_to_remove(alpha_to_remove)
     _model_order(interactions)
     factors = _factors(factors)
@@ -1363,12 +1364,14 @@ def _check_alpha_to_remove(alpha: Any) -> None:
         raise ValueError(f"alpha_to_remove: {problem}")
 
 
-def _check_anova_type(typ: Any) -> None:
+def _check_anova_type(typ: Any) -> int:
+    """``typ`` where it is 2 or 3 (a whole number); a ValueError naming it otherwise."""
     if type(typ) is not int or typ not in ANOVA_TYPES:
         raise ValueError(
             f"typ: the ANOVA's sums of squares are of Type 2 or 3 (Type III, adjusted; 'II' "
             f"and 'III' as statsmodels spells them), got {typ!r}"
         )
+    return typ
 
 
 def _lack_of_fit(frame: pd.DataFrame, df_resid: float, ssr: float) -> dict[str, float]:
@@ -2114,7 +2117,8 @@ def residuals(
         :func:`anova`, with the same pooling when they would saturate the model), or the
         terms listed.
     alpha_to_remove
-        The model reduced by backward elimination, as :func:`anova` reduces it.
+        The model reduced by backward elimination, as :func:`anova` reduces it. Both unset,
+        given a design (or a campaign result), the design's, as in :func:`anova`.
 
     Returns
     -------
@@ -2231,7 +2235,7 @@ def unusual_runs(
     response: str,
     *,
     interactions: Model | None = None,
-    typ: int | None = None,
+    typ: int | str | None = None,
     alpha_to_remove: float | None = None,
     alpha: float = 0.05,
 ) -> pd.DataFrame:
@@ -2262,7 +2266,8 @@ def unusual_runs(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions, typ, alpha_to_remove
-        The ANOVA's model, as :func:`anova` takes them; the refit keeps its terms (a reduced
+        The ANOVA's model, as :func:`anova` takes them (unset, given a design, the
+        design's); the refit keeps its terms (a reduced
         model is not reduced again, so that only the runs change).
     alpha
         Significance level of the refit's comparison [-].
@@ -2532,7 +2537,9 @@ def ranked_effects(
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions
         Include two-factor interactions, the terms up through an order, or the terms
-        listed (as in :func:`anova`).
+        listed (as in :func:`anova`). Unset, given a design (or a campaign result), the
+        design's model, its ANOVA type and backward elimination as :func:`anova` takes
+        them; pass ``design.factors`` for the whole model of two-factor interactions.
 
     Returns
     -------
@@ -3288,7 +3295,7 @@ def factor_trends(
     response: str,
     *,
     interactions: Model | None = None,
-    typ: int | None = None,
+    typ: int | str | None = None,
     alpha_to_remove: float | None = None,
 ) -> pd.DataFrame:
     """The trend of each factor of three or more levels: its main effect split into a
@@ -3325,8 +3332,8 @@ def factor_trends(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions, typ, alpha_to_remove
-        The ANOVA's model, as :func:`anova` takes them (the parts are taken in its model and
-        against its residual).
+        The ANOVA's model, as :func:`anova` takes them (unset, given a design, the
+        design's; the parts are taken in its model and against its residual).
 
     Returns
     -------
@@ -3480,7 +3487,7 @@ def level_coefficients(
     response: str,
     *,
     interactions: Model | None = None,
-    typ: int | None = None,
+    typ: int | str | None = None,
     alpha_to_remove: float | None = None,
     alpha: float = 0.05,
 ) -> pd.DataFrame:
@@ -3522,7 +3529,8 @@ def level_coefficients(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions, typ, alpha_to_remove
-        The ANOVA's model, as :func:`anova` takes them.
+        The ANOVA's model, as :func:`anova` takes them (unset, given a design or a campaign
+        result, the design's).
     alpha
         Significance level of ``significant`` [-].
 
@@ -3969,7 +3977,7 @@ def level_comparisons(
     response: str,
     *,
     interactions: Model | None = None,
-    typ: int | None = None,
+    typ: int | str | None = None,
     alpha_to_remove: float | None = None,
     confidence: float = 0.95,
 ) -> pd.DataFrame:
@@ -4002,7 +4010,8 @@ def level_comparisons(
     response
         Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
     interactions, typ, alpha_to_remove
-        The ANOVA's model, as :func:`anova` takes them.
+        The ANOVA's model, as :func:`anova` takes them (unset, given a design or a campaign
+        result, the design's).
     confidence
         Simultaneous confidence of the intervals; ``significant`` is ``p_adjusted < 1 -
         confidence`` [-].

@@ -1263,6 +1263,8 @@ def format_validation_error(
             # the field's unit after its range (an API review: "(0, 0.3] (got 57)" did not
             # say the piston's diameter is in metres, not millimetres)
             unit = _field_unit(model, err["loc"]) if model is not None else ""
+            if unit[:1].isdigit():  # "at least 0 [1/Pa]", not "at least 0 1/Pa"
+                unit = f"[{unit}]"
             if interval is not None and unit:
                 interval += f" {unit}"
             if not_finite:
@@ -1288,7 +1290,10 @@ def format_validation_error(
                 if unit:
                     msg += f" {unit}"
             if path == "pad.fibre_area_fraction" and isinstance(got, int | float) and got >= 1:
-                msg += " (a fraction; A is the same in per cent)"
+                msg += (
+                    f" (got {got!r}): a fraction, {min(got, 99) / 100:g} for {min(got, 99):g} %;"
+                    " or set A, in per cent"
+                )
         elif err["type"] in ("float_type", "float_parsing", "int_type", "int_parsing"):
             msg = "must be a " + ("whole number" if err["type"].startswith("int") else "number")
         elif err["type"] == "int_from_float":

@@ -172,6 +172,8 @@ def simulate(
     if isinstance(rng, int | np.integer) and not isinstance(rng, bool):
         if seed is not None:  # SPEC 7: rng=<int> seeds a new generator, as seed= does
             raise ValueError("give seed or rng, not both (a run records the seed it ran with)")
+        if not 0 <= rng <= MAX_SEED:
+            raise ValueError(f"rng: a seed is a whole number from 0 to 2**64 - 1, got {rng!r}")
         seed, rng = int(rng), None
     if rng is not None and not isinstance(rng, np.random.Generator):
         raise TypeError(

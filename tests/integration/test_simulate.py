@@ -152,6 +152,8 @@ def test_seeds_are_checked_before_any_work_and_the_largest_round_trips(small, tm
         simulate(small, seed=1, rng=np.random.default_rng(1))
     with pytest.raises(ValueError, match="give seed or rng, not both"):
         simulate(small, seed=1, rng=3)
+    with pytest.raises(ValueError, match=r"^rng: a seed is a whole number from 0 to 2\*\*64"):
+        simulate(small, rng=-1)
     # a generator passed as the seed, or another kind of generator, is named (an API review:
     # a ValueError about whole numbers, and an AttributeError 'bit_generator')
     with pytest.raises(TypeError, match="seed: got a numpy Generator; pass it as rng="):

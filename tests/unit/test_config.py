@@ -75,7 +75,8 @@ def test_factor_aliases():
         ({"brake.piston_diameter": 57}, r"piston_diameter: must lie in \(0, 0.3\] m \(got 57\)"),
         (
             {"pad.fibre_area_fraction": 20},
-            r"fibre_area_fraction: must lie in \[0, 1\) \(a fraction; A is the same in per cent\)",
+            r"fibre_area_fraction: must lie in \[0, 1\) \(got 20\): a fraction, 0.2 for 20 %; or "
+            r"set A, in per cent$",
         ),
         # with the values, the one not given too (a black-box review)
         (
@@ -658,7 +659,7 @@ def test_one_sided_bounds_and_wrong_types_read_as_brakecas_messages(tmp_path) ->
     paper = load_preset("paper")
     for updates, message in (
         ({"cycle.max_stops": 0}, "override: cycle.max_stops: must be at least 1 (got 0)"),
-        ({"friction.slope": -1}, "override: friction.slope: must be at least 0 1/Pa (got -1)"),
+        ({"friction.slope": -1}, "override: friction.slope: must be at least 0 [1/Pa] (got -1)"),
         ({"friction.mu_0": None}, "override: friction.mu_0: must be a number (got None)"),
         ({"mesh.n_radial": 1.5}, "override: mesh.n_radial: must be a whole number (got 1.5)"),
         # a fuzz review: "Input should be a valid dictionary or instance of NumericsConfig"
