@@ -53,6 +53,7 @@ __all__ = [
     "DPI",
     "STATUS_COLOURS",
     "STATUS_NAMES",
+    "fits_to_scale",
     "plot_box_cox",
     "plot_cof_series",
     "plot_effects",
@@ -753,6 +754,7 @@ def plot_mu_per_stop_by_level(
     *,
     variable: str = "mean_cof",
     fig: Figure | SubFigure | None = None,
+    runs: bool = False,
 ) -> Figure:
     """The main effects over the cycle: the mean COF per stop of the runs at each level of
     each factor, one panel per factor.
@@ -781,6 +783,10 @@ def plot_mu_per_stop_by_level(
         A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
         to set this figure beside another); a new figure by default. The figure returned, and
         written to ``path``, is the one that holds it all.
+    runs
+        Also draw each run's own line, thin and faint in its level's colour, under the
+        means: where the runs of a level are in different states (a plateau area near 0 in
+        some, 60 % in others), the mean alone is an area no run has.
 
     Returns
     -------
@@ -837,6 +843,9 @@ def plot_mu_per_stop_by_level(
             mine = mine[np.isfinite(mine).all(axis=1)]  # the finished runs
             if not len(mine):
                 continue
+            if runs:
+                for line in mine:
+                    ax.plot(stops, line, lw=0.5, color=colour, alpha=0.25)
             ax.plot(
                 stops,
                 mine.mean(axis=0),
@@ -1954,6 +1963,34 @@ def _edges(centres: np.ndarray) -> np.ndarray:
     return np.concatenate([[c[0] - (mid[0] - c[0])], mid, [c[-1] + (c[-1] - mid[-1])]])
 
 
+def _band_ratio(radius: Any, angle: Any) -> float:
+    """The band's radial span over its arc at the mean radius [-] (cell edge to cell edge):
+    about 0.23 for the paper's band, 0.024 for the quick band."""
+    r = np.asarray(radius, dtype=float)
+    a = np.asarray(angle, dtype=float)
+    span_r = float(np.ptp(r)) * (r.size / (r.size - 1)) if r.size > 1 else 0.0
+    arc = float(np.ptp(a)) * (a.size / (a.size - 1)) * float(np.mean(r)) if a.size > 1 else 0.0
+    return span_r / arc if arc > 0 else 0.0
+
+
+def fits_to_scale(radius: Any, angle: Any) -> bool:
+    """Whether a band drawn to scale (``true_scale``) across a page stands about 1 inch tall
+    or more: the paper's band does (20 by 87 mm); the quick band (2 by 87 mm) would be a
+    strip a quarter of an inch high, so its maps fill their axes instead.
+
+    Parameters
+    ----------
+    radius, angle
+        The cells' centres [m] and [rad].
+
+    Returns
+    -------
+    bool
+        Whether ``true_scale`` maps of the band are readable.
+    """
+    return _band_ratio(radius, angle) * 11.2 >= 1.0
+
+
 def _check_map(status: Any, radius: Any, angle: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     s = np.asarray(status)
     r = np.asarray(radius, dtype=float)
@@ -2020,6 +2057,7 @@ def plot_surface_map(
     path: str | Path | None = None,
     *,
     ax: Axes | None = None,
+    true_scale: bool = False,
 ) -> Figure:
     """Map of the pad surface status on the polar band (angle on x, radius on y).
 
@@ -2041,6 +2079,12 @@ def plot_surface_map(
     ax
         An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
         new figure. ``path`` then writes that whole figure.
+    true_scale
+        Draw the map to scale: a millimetre of radius as long as a millimetre of arc at the
+        band's mean radius (filling the axes, the paper's band's radius is stretched about
+        2.2 times); the new figure's height follows (:func:`fits_to_scale` says whether a
+        band is tall enough to read so).
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -2061,8 +2105,11 @@ def plot_surface_map(
             "(plot_surface_map(status, radius, angle, title, path))"
         )
     given = ax is not None
-    fig, ax = _axes(ax, (10.0, 3.6))
-    handles, fractions = _draw_map(ax, status, radius, angle, "")
+    height = 3.6
+    if true_scale:
+        height = min(6.0, max(1.5, 9.0 * _band_ratio(radius, angle) + 1.35))
+    fig, ax = _axes(ax, (10.0, height))
+    handles, fractions = _draw_map(ax, status, radius, angle, "", true_scale=true_scale)
     for h, f in zip(handles, fractions, strict=True):
         h.set_label(f"{h.get_label()}: {100 * f:.1f} %")
     if given:  # within a figure of one's own: the legend and title on these axes
@@ -2127,9 +2174,7 @@ def plot_fibre_maps(
     height = 3.0
     if true_scale:  # the panels' height as the first map's shape gives it, within 1.5-6 in
         _, r0, a0 = _check_map(*next(iter(maps.values())))
-        span_r = float(np.ptp(r0)) + (float(r0[1] - r0[0]) if r0.size > 1 else 0.0)
-        arc = float(np.ptp(a0)) * float(np.mean(r0))
-        height = min(6.0, max(1.5, 0.75 * (11.2 / ncols) * span_r / max(arc, 1e-12) + 0.9))
+        height = min(6.0, max(1.5, 0.75 * (11.2 / ncols) * _band_ratio(r0, a0) + 0.9))
     root, fig = _panels(fig, (5.6 * ncols if not true_scale else 12.0, height * nrows + 0.8))
     grid = fig.subplots(nrows, ncols, squeeze=False)
     handles: list[Any] = []

@@ -506,6 +506,19 @@ def _floor_note(result: CampaignResult, base: Any) -> str:
     )
 
 
+def _band_share(base: Any) -> str:
+    """The simulated band's area against the pad's, for the note on V (a report review: "not
+    scaled to the pad" gave no factor): ``": the band is 1,744 mm², 34 % of the pad's
+    5,080 mm²"``; empty where the base configuration is unknown."""
+    if base is None:
+        return ""
+    from brakeca.geometry import make_grid
+
+    band = make_grid(base).area * 1e6
+    pad = float(base.brake.pad_area) * 1e6
+    return f": the band is {band:,.0f} mm², {100 * band / pad:.0f} % of the pad's {pad:,.0f} mm²"
+
+
 def _floor_line(result: CampaignResult, base: Any) -> str:
     """The "In short" line on the runs held at the COF floor for most of their stops (half
     or more), where MU cannot fall further (a report review: the note alone, at the end,
@@ -1333,33 +1346,27 @@ def _response_figures(
             residuals,
             resp,
         )
-        comparisons = tables[resp]["comparisons"]
-        if (
-            resp not in surfaces
-            and len(comparisons)
-            and comparisons[["ci_low", "ci_high"]].notna().all(axis=None)
-        ):
-            figures.add(
-                "Ranked effects",
-                f"Tukey's simultaneous {100 * float(comparisons.attrs.get('confidence', 0.95)):g} "
-                f"% intervals of the differences of {label}'s level means, for each factor of "
-                "three levels or more (the table 'Pairwise comparisons'); red, an interval "
-                "that does not hold zero: those levels differ",
-                f"comparisons_{resp}.png",
-                plotting.plot_level_comparisons,
-                comparisons,
-                resp,
-            )
-        else:
-            figures.drop(f"comparisons_{resp}.png")
+        # (Tukey's intervals are a table under each ANOVA: drawn, plotting.
+        # plot_level_comparisons, they repeated it, averaged over the interactions; an
+        # engineer's read of the report)
+        figures.drop(f"comparisons_{resp}.png")
         if len(residuals) and "test" in residuals.columns:
             # one variance at every level, as the F tests assume (Minitab's residuals
             # versus the variables; the four-in-one plot mixes the levels)
+            names = [f.name for f in factors if f.name in data.columns]
+            repeated = bool(names) and bool(data.duplicated(names).any())
             figures.add(
                 "Residuals",
                 f"Residuals of the {model} of {label} against each factor's levels (the runs "
                 "of a level side by side in test order): a level whose runs scatter more "
-                "than the others' breaks the one variance the F tests assume",
+                "than the others' breaks the one variance the F tests assume"
+                + (
+                    ""
+                    if repeated
+                    else "; with no setting run twice, the residuals are the interactions "
+                    "the model leaves out, not the run-to-run scatter, so this shows how those "
+                    "fall across the levels and cannot test the variance itself"
+                ),
                 f"residuals_by_level_{resp}.png",
                 plotting.plot_residuals_by_level,
                 residuals,
@@ -1442,7 +1449,15 @@ def _cycle_figures(
                 "Runs",
                 f"{what} per stop over {stops_run} at each level of each factor, in per cent "
                 "of the band and time-weighted over each stop: the mean of the finished runs "
-                "at that level, stop by stop"
+                "at that level, stop by stop (thick), and each run (thin); where a level's "
+                "runs are in different states, some near none and some near all of it, the "
+                "mean is an area no run has"
+                + (
+                    "; the secondary plateaus in contact or not (the deposits the disc does "
+                    "not touch count too)"
+                    if variable == "secondary_area_fraction"
+                    else ""
+                )
                 + ("; centre points left out" if result.design.center_points else "")
                 + (" (the cycle's blocks shaded as above)" if n_blocks > 1 else ""),
                 name,
@@ -1450,6 +1465,7 @@ def _cycle_figures(
                 result.dataset,
                 factors,
                 variable=variable,
+                runs=True,
             )
     if "emitted_volume" in getattr(result.dataset, "data_vars", {}):
         # where in the cycle each run's V comes from (a figures review: V is the mean of
@@ -1587,17 +1603,19 @@ def _run_file_figures(
                 "map, where the disc enters the pad) holds no secondary plateau: no particle "
                 "stream reaches it (docs/model.md §7)"
             )
+        to_scale = plotting.fits_to_scale(ds["radius"].to_numpy(), ds["angle"].to_numpy())
         figures.add(
             "Final plateau maps",
             f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}. The "
             "legend's shares are the map's own; the per-run table's are the last stop's "
-            "time averages",
+            "time averages" + ("; drawn to scale, as the fibre maps" if to_scale else ""),
             f"final_map_{tag}.png",
             plotting.plot_surface_map,
             *(ds[name].to_numpy() for name in (status, "radius", "angle")),
             # what the map is after, in the figure too (a review compared its secondary
             # share of 0 with the summary's last-stop share, which is before rule S)
             title=f"Test {int(row['test'])}: {levels}; {title}",
+            true_scale=to_scale,
         )
         if "map_status" not in ds:
             figures.drop(f"maps_by_stop_{tag}.png")
@@ -1616,19 +1634,27 @@ def _run_file_figures(
     filed = ok[[str(rid) in pm10_of for rid in ok["run_id"]]] if len(pm10_of) else ok.iloc[:0]
     if first_pad:
         shown_tests = [str(first_pad[level][0]) for level in sorted(first_pad)]
+        _, radius, angle = next(iter(first_pad.values()))[1]
+        to_scale = plotting.fits_to_scale(radius, angle)  # (a quick band: a thin strip)
         figures.add(
             "Pad surfaces",
             "Initial fibre maps of the A levels (as the paper's Figure 5): the pads of tests "
             f"{', '.join(shown_tests[:-1])}{' and ' if len(shown_tests) > 1 else ''}"
             f"{shown_tests[-1]}, the first run at each level (every run draws a pad of its "
-            "own from its seed), drawn to scale: a millimetre of radius as long as one of arc "
-            "at the band's mean radius",
+            "own from its seed)"
+            + (
+                ", drawn to scale: a millimetre of radius as long as one of arc at the band's "
+                "mean radius"
+                if to_scale
+                else ", the radius stretched to fill the panels (to scale, the band would be "
+                "a thin strip)"
+            ),
             "fibre_maps.png",
             plotting.plot_fibre_maps,
             {f"A = {level:g} %": first_pad[level][1] for level in sorted(first_pad)},
             title="Initial pad surfaces: tests "
             + " and ".join(str(first_pad[level][0]) for level in sorted(first_pad)),
-            true_scale=True,
+            true_scale=to_scale,
         )
         figures.listed.insert(pads_at, figures.listed.pop())
     return _RunFiles(unreadable, pm10_of, filed)
@@ -1655,7 +1681,9 @@ def _study_notes(
         f"{len(ok)} of {len(summary)} runs finished"
         + (f"; {n_failed} failed (see the per-run table)" if n_failed else "")
         + ". MU is the mean over the stops of the time-weighted mean COF of each stop; V is the "
-        "mean wear volume per stop that leaves the simulated band (not scaled to the pad); "
+        "mean wear volume per stop that leaves the simulated band (not scaled to the pad"
+        + _band_share(base)
+        + "); "
         "log10_V_mm3 is V on a log scale (log10 of V in mm³), where the factors' "
         "multiplicative effects on V add, so that the interactions carry less of its variation "
         + (

@@ -330,6 +330,16 @@ def test_surface_maps(tmp_path) -> None:
         span_arc = (angle[-1] - angle[0]) * len(angle) / (len(angle) - 1) * radius.mean()
         assert box.height / box.width == pytest.approx(span_r / span_arc, rel=0.02)
     assert len({round(ax.get_position().x0, 3) for ax in fig.axes}) == 1  # one per row
+    # a single map too (the study's final maps), where the band stands tall enough to read
+    from brakeca.plotting import fits_to_scale
+
+    fig = plot_surface_map(status, radius, angle, "map", true_scale=True)
+    fig.canvas.draw()
+    box = fig.axes[0].get_window_extent()
+    assert box.height / box.width == pytest.approx(span_r / span_arc, rel=0.02)
+    assert fits_to_scale(radius, angle)  # 20 by 87 mm, as the paper's band
+    quick = np.linspace(0.112, 0.114, 21)  # the quick band's 2 mm: a strip, not to scale
+    assert not fits_to_scale(quick, angle)
 
 
 def test_cof_series(tmp_path) -> None:
@@ -835,6 +845,10 @@ def test_area_fractions_per_stop_are_drawn_in_per_cent_of_the_band(campaign) -> 
     np.testing.assert_allclose(
         fig.axes[0].lines[0].get_ydata(), 100 * (0.5 + 0.25 * (n_low - 1)) / n_low
     )
+    # each run too, thin, under the means (runs=True)
+    both = plot_mu_per_stop_by_level(data, FACTORS, variable="contact_area_fraction", runs=True)
+    thin = [line for line in both.axes[0].lines if line.get_linewidth() == 0.5]
+    assert len(thin) == len(data["run"]) and len(both.axes[0].lines) == len(thin) + 2
     ax = plot_mu_per_stop(data, variable="contact_area_fraction").axes[0]
     assert ax.get_ylabel() == "Area in contact per stop [% of band]"
     np.testing.assert_allclose(ax.lines[-1].get_ydata(), 25.0)
