@@ -425,6 +425,8 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "total_generated_mm3": ("Worn off [mm³]", "volume", 1.0),
     "final_primary_area_fraction": ("Primary, last stop [%]", ".1f", 100.0),
     "final_secondary_area_fraction": ("Secondary, last stop [%]", ".1f", 100.0),
+    "cycle_secondary_area_fraction": ("Secondary, whole cycle [%]", ".1f", 100.0),
+    "cycle_contact_area_fraction": ("In contact, whole cycle [%]", ".1f", 100.0),
     "max_ledger_residual": ("Ledger residual [-]", ".1e", 1.0),
     "max_friction_residual": ("Friction residual [-]", ".1e", 1.0),
     "n_steps": ("Steps", ",d", 1.0),

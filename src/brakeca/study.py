@@ -506,6 +506,46 @@ def _floor_note(result: CampaignResult, base: Any) -> str:
     )
 
 
+#: The per-run table's cycle means of the per-stop area fractions [-]: column -> variable.
+CYCLE_AREAS = {
+    "cycle_secondary_area_fraction": "secondary_area_fraction",
+    "cycle_contact_area_fraction": "contact_area_fraction",
+}
+
+
+def _with_cycle_areas(shown: pd.DataFrame, result: CampaignResult) -> pd.DataFrame:
+    """``shown`` (the per-run table) with each run's secondary plateau area and area in
+    contact over the whole cycle, time-weighted by the stops' durations [-], beside the
+    last stop's (a report review: the last stop's share does not represent a run, e.g. 67 %
+    at stop 170 after 0 % in stops 166-169); unchanged where the campaign's dataset lacks
+    them."""
+    data = getattr(result, "dataset", None)
+    needed = ["duration", "run_id", *CYCLE_AREAS.values()]
+    if data is None or "run_id" not in shown.columns:
+        return shown
+    if any(v not in data.variables for v in needed):
+        return shown
+    ids = [str(v) for v in data["run_id"].to_numpy()]
+    duration = data["duration"].transpose("run", "stop").to_numpy().astype(float)
+    weight = np.where(np.isfinite(duration), duration, 0.0)
+    total = weight.sum(axis=1)
+    out = shown.copy()
+    for column, variable in CYCLE_AREAS.items():
+        values = data[variable].transpose("run", "stop").to_numpy().astype(float)
+        mean = np.where(
+            total > 0,
+            (np.nan_to_num(values) * weight).sum(axis=1) / np.maximum(total, 1e-300),
+            np.nan,
+        )
+        by_id = dict(zip(ids, mean, strict=True))
+        out[column] = [by_id.get(str(r), np.nan) for r in out["run_id"]]
+    if "final_secondary_area_fraction" in out.columns:  # beside the last stop's share
+        rest = [c for c in out.columns if c not in CYCLE_AREAS]
+        at = rest.index("final_secondary_area_fraction") + 1
+        out = out[[*rest[:at], *CYCLE_AREAS, *rest[at:]]]
+    return out
+
+
 def _band_share(base: Any) -> str:
     """The simulated band's area against the pad's, for the note on V (a report review: "not
     scaled to the pad" gave no factor): ``": the band is 1,744 mm², 34 % of the pad's
@@ -957,6 +997,7 @@ def write_study(
                 "run is on one: there is no PM10 in mg/km to give"
             )
     shown = summary.drop(columns=list(PM10_POSITION_COLUMNS), errors="ignore")  # in its section
+    shown = _with_cycle_areas(shown, result)
     for f in result.design.factors:
         if f.choices is not None and f.name in shown.columns:  # 'paper', not its level 1
             shown[f.name] = [f.label_of(v) if pd.notna(v) else v for v in shown[f.name]]

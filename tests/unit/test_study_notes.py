@@ -108,3 +108,39 @@ def test_v_captions_of_the_quick_band_say_its_volumes_are_a_fraction_of_the_full
         "; V here leaves the simulated band of 21 rows (2 mm), about 0.1 times the full "
         "band's, so compare its shape with the paper's, not its values"
     )
+
+
+def test_the_per_run_table_gives_each_runs_areas_over_the_whole_cycle() -> None:
+    """The last stop's secondary share does not represent a run (a report review: 67 % at
+    stop 170 after 0 % in stops 166-169): the per-run table gains the secondary plateau
+    area and the area in contact over the cycle, weighted by the stops' durations, beside
+    the last stop's share."""
+    import pandas as pd
+
+    from brakeca.study import _with_cycle_areas
+
+    secondary = np.array([[0.0, 0.6], [0.2, 0.2]])
+    contact = np.array([[0.3, 0.9], [0.5, 0.5]])
+    duration = np.array([[1.0, 3.0], [2.0, np.nan]])  # run b ran one stop
+    data = xr.Dataset(
+        {
+            "secondary_area_fraction": (("run", "stop"), secondary),
+            "contact_area_fraction": (("run", "stop"), contact),
+            "duration": (("run", "stop"), duration),
+        },
+        coords={"run": [1, 2], "stop": [1, 2], "run_id": ("run", ["a", "b"])},
+    )
+    shown = pd.DataFrame(
+        {"run_id": ["b", "a"], "final_secondary_area_fraction": [0.2, 0.6], "n_steps": [1, 2]}
+    )
+    out = _with_cycle_areas(shown, SimpleNamespace(dataset=data))
+    assert list(out.columns) == [
+        "run_id",
+        "final_secondary_area_fraction",
+        "cycle_secondary_area_fraction",
+        "cycle_contact_area_fraction",
+        "n_steps",
+    ]
+    assert list(out["cycle_secondary_area_fraction"]) == [0.2, (0.0 * 1 + 0.6 * 3) / 4]
+    assert list(out["cycle_contact_area_fraction"]) == [0.5, (0.3 * 1 + 0.9 * 3) / 4]
+    assert _with_cycle_areas(shown, SimpleNamespace(dataset=None)) is shown
