@@ -63,6 +63,7 @@ __all__ = [
     "plot_main_effects",
     "plot_mu_per_stop",
     "plot_mu_per_stop_by_level",
+    "plot_mu_vs_v",
     "plot_overlaid_contours",
     "plot_pareto",
     "plot_profiler",
@@ -1003,6 +1004,109 @@ def plot_v_per_run(
         title += " (mean ± 1 standard deviation of its replicates)"
     ax.set_title(title)
     ax.grid(True, axis="both" if log else "y", alpha=0.3, zorder=0)
+    return save_figure(fig, path)
+
+
+def plot_mu_vs_v(
+    summary: pd.DataFrame,
+    path: str | Path | None = None,
+    *,
+    factors: Iterable[Any] | None = None,
+    by: str | None = None,
+    log: bool | None = None,
+    ax: Axes | None = None,
+) -> Figure:
+    """The trade-off between friction and emissions: each test's MU against its V, one
+    labelled point a test, coloured by the levels of one factor.
+
+    The paper's conclusion is such a trade-off (what raises the friction level raises the
+    emissions too); the main effects give it factor by factor, this figure run by run: a
+    pad material wants the upper left (high MU, low V).
+
+    Parameters
+    ----------
+    summary
+        Campaign summary with ``test``, ``MU`` [-] and ``V`` [m^3] (or ``V_mm3``
+        [mm^3]); replicates are averaged. Or a campaign result: its summary and, where
+        ``factors`` is None, its design.
+    path
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    factors
+        The design's factors (or the design), for ``by``'s levels and their labels.
+    by
+        The factor whose levels colour the points; by default none (one colour).
+    log
+        V on a log axis; by default where the tests' V span more than two decades.
+    ax
+        An axes to draw on; by default a new figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes.
+
+    Raises
+    ------
+    KeyError
+        The summary lacks ``test``, ``MU`` or V, or ``by`` names no factor of it.
+    """
+    if _is_campaign(summary):  # a campaign result: its summary, and its design's factors
+        summary, factors = summary.summary, (summary if factors is None else factors)
+    if "V" in summary.columns:
+        column, scale = "V", 1e9
+    elif "V_mm3" in summary.columns:
+        column, scale = "V_mm3", 1.0
+    else:
+        raise KeyError("summary has neither 'V' [m^3] nor 'V_mm3' [mm^3]")
+    for needed in ("test", "MU"):
+        if needed not in summary.columns:
+            raise KeyError(f"summary has no {needed!r} column")
+    known = {f.name: f for f in _factors(factors)} if factors else {}
+    if by is not None and (by not in summary.columns or (known and by not in known)):
+        raise KeyError(f"by: {by!r} is not a factor of the summary")
+    data = ok_runs(summary)
+    data = data.assign(_v=pd.to_numeric(data[column], errors="coerce") * scale)
+    keep = ["test", *([by] if by else [])]
+    means = data.groupby(keep, sort=True)[["MU", "_v"]].mean().reset_index()
+    means = means[np.isfinite(means["MU"]) & np.isfinite(means["_v"])]
+    fig, ax = _axes(ax, (7.5, 5.0))
+    v = means["_v"].to_numpy(dtype=float)
+    if log is None:
+        log = bool(v.size and np.all(v > 0) and v.max() > 100.0 * v.min())
+    if by:
+        import matplotlib as mpl
+
+        levels = sorted(pd.unique(means[by]))
+        colours = (
+            ["#2166ac", "#b2182b"]
+            if len(levels) == 2
+            else ["#2166ac", "#4d9221", "#b2182b"]
+            if len(levels) == 3
+            else list(mpl.colormaps["viridis"](np.linspace(0.0, 0.9, len(levels))))
+        )
+        factor = known.get(by)
+        for level, colour in zip(levels, colours, strict=True):
+            at = means[means[by] == level]
+            name = _legend_label(factor, float(level)) if factor else f"{by} = {level:g}"
+            ax.plot(at["MU"], at["_v"], "o", color=colour, ms=7, label=name)
+        ax.legend(fontsize=8, loc="best")
+    else:
+        ax.plot(means["MU"], means["_v"], "o", color="#27496d", ms=7)
+    for _, row in means.iterrows():
+        ax.annotate(
+            str(int(row["test"])),
+            (row["MU"], row["_v"]),
+            xytext=(4, 3),
+            textcoords="offset points",
+            fontsize=7,
+            color="0.25",
+        )
+    if log:
+        ax.set_yscale("log")
+    ax.set_xlabel("MU, mean coefficient of friction [-]")
+    ax.set_ylabel("V, emitted wear volume per stop [mm³]" + (", log scale" if log else ""))
+    ax.set_title("Friction against emissions, test by test")
+    ax.grid(True, which="major", alpha=0.3)
     return save_figure(fig, path)
 
 

@@ -515,7 +515,7 @@ CYCLE_AREAS = {
 
 def _with_cycle_areas(shown: pd.DataFrame, result: CampaignResult) -> pd.DataFrame:
     """``shown`` (the per-run table) with each run's secondary plateau area and area in
-    contact over the whole cycle, time-weighted by the stops' durations [-], beside the
+    contact over all the stops it ran, time-weighted by the stops' durations [-], beside the
     last stop's (a report review: the last stop's share does not represent a run, e.g. 67 %
     at stop 170 after 0 % in stops 166-169); unchanged where the campaign's dataset lacks
     them."""
@@ -544,6 +544,24 @@ def _with_cycle_areas(shown: pd.DataFrame, result: CampaignResult) -> pd.DataFra
         at = rest.index("final_secondary_area_fraction") + 1
         out = out[[*rest[:at], *CYCLE_AREAS, *rest[at:]]]
     return out
+
+
+def _strongest_on_v(result: CampaignResult) -> str | None:
+    """The factor whose level means of V span the widest ratio (the largest over the
+    smallest), to colour the trade-off figure by; None where V has no positive means."""
+    summary = result.summary
+    if "V" not in summary.columns:
+        return None
+    ok = summary[summary.get("status", "ok") == "ok"] if "status" in summary else summary
+    best, spread = None, 1.0
+    for f in result.design.factors:
+        if f.name not in ok.columns:
+            continue
+        means = ok.groupby(f.name)["V"].mean()
+        means = means[means > 0]
+        if len(means) > 1 and float(means.max() / means.min()) > spread:
+            best, spread = f.name, float(means.max() / means.min())
+    return best
 
 
 def _band_share(base: Any) -> str:
@@ -1532,6 +1550,22 @@ def _cycle_figures(
         summary,
         factors=factors,
     )
+    if {"MU", "V"} <= set(summary.columns):
+        # the paper's trade-off run by run (an engineer's read: no figure set MU against V)
+        by = _strongest_on_v(result)
+        figures.add(
+            "Runs",
+            "The trade-off between friction and emissions: each test's MU against its V, "
+            "labelled with its test number"
+            + (f", coloured by the levels of {by}, the factor that moves V most" if by else "")
+            + "; a pad material wants the upper left (high MU, low V)"
+            + band,
+            "mu_vs_v.png",
+            plotting.plot_mu_vs_v,
+            summary,
+            factors=factors,
+            by=by,
+        )
 
 
 @dataclass(frozen=True)

@@ -70,6 +70,7 @@ def test_outputs_present_and_consistent(campaign):
         "secondary_area_by_level",
         "contact_area_by_level",
         "v_per_run",
+        "mu_vs_v",
         "fibre_maps",
         "pareto_MU",
         "pareto_V",
@@ -110,8 +111,8 @@ def test_outputs_present_and_consistent(campaign):
     # per response (MU, V, log10 V: main effects, interactions, Pareto, residuals and, both
     # factors having two levels, the effects, the residuals by level), per campaign (MU per
     # stop, by run and by level, the secondary plateau and contact areas by level, V per
-    # stop, V per run, fibre maps, Box-Cox plots), maps
-    assert n_img == 6 * 3 + 8 + 4
+    # stop, V per run, MU against V, fibre maps, Box-Cox plots), maps
+    assert n_img == 6 * 3 + 9 + 4
     # the Box-Cox check of MU's and V's scale, under the ANOVA model (main effects: the
     # model with the interaction would leave 4 runs no residual degree of freedom)
     scales = pd.read_csv(out / "tables" / "box_cox.csv")

@@ -1062,3 +1062,26 @@ def test_v_per_run_writes_each_tests_levels_under_it(summary) -> None:
     plain = plot_v_per_run(summary).axes[0]  # the test numbers alone
     numbers = [str(t) for t in sorted(summary["test"])]
     assert [t.get_text() for t in plain.get_xticklabels()] == numbers
+
+
+def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
+    """The trade-off figure (an engineer's read: no figure set MU against V): a point per
+    finished test at its MU and V [mm³], labelled with its test number, coloured by a
+    factor's levels."""
+    from brakeca.plotting import plot_mu_vs_v
+
+    ax = plot_mu_vs_v(summary, factors=FACTORS, by="WP").axes[0]
+    ok = summary[summary["status"] == "ok"]
+    points = [line for line in ax.lines if line.get_marker() == "o"]
+    assert len(points) == 3  # one series per level of WP
+    xs = np.concatenate([p.get_xdata() for p in points])
+    ys = np.concatenate([p.get_ydata() for p in points])
+    assert sorted(xs) == sorted(ok["MU"]) and np.allclose(sorted(ys), sorted(ok["V"] * 1e9))
+    assert sorted(int(t.get_text()) for t in ax.texts) == sorted(ok["test"])
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+        "WP- (1e-15)",
+        "WP0 (1e-14)",
+        "WP+ (1e-13)",
+    ]
+    with pytest.raises(KeyError, match="by: 'X' is not a factor"):
+        plot_mu_vs_v(summary, factors=FACTORS, by="X")
