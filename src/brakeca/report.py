@@ -842,6 +842,13 @@ def _unusual_text(
                     f"sets {them} apart is {'its' if len(names) == 1 else 'their'} distance "
                     "from the other runs at the same setting, not a misfit of the model"
                 )
+            elif not replicated:
+                reading = (
+                    f", so the model does not describe {them}; with no setting run twice, "
+                    "a seed's unusual pad cannot be told from a behaviour the model misses: "
+                    f"{'its setting' if len(names) == 1 else 'their settings'} run again with "
+                    "other seeds (the design's replicates) would tell"
+                )
             else:
                 reading = f", so the model does not describe {them}"
             text += (

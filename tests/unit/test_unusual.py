@@ -158,6 +158,23 @@ def test_the_report_names_the_outlier_and_the_verdicts_that_change() -> None:
     assert "test 5, replicate 0 (MU " in text  # (the summary's replicate number)
     assert "is an outlier of this model" in text
     assert "cannot exceed" not in text  # +4.06 does not look mild (the paper's 2.91 of √9 does)
+    assert "with no setting run twice" not in text  # (replicated: its setting ran twice)
+    # each setting run once: say how to tell a seed's pad from what the model misses (an
+    # engineer's read: test 23 was flagged and never explained)
+    once = _runs(replicates=1, bump=0.03)
+    once_table = unusual_runs(once, FACTORS, "MU", interactions=False)
+    assert list(once_table.loc[once_table["outlier_p"] < 0.05, "test"]) == [5]
+    once_text = _unusual_text(
+        "MU",
+        residuals(once, FACTORS, "MU", interactions=False),
+        once_table,
+        anova(once, FACTORS, "MU", interactions=False),
+    )
+    assert (
+        "so the model does not describe it; with no setting run twice, a seed's unusual pad "
+        "cannot be told from a behaviour the model misses: its setting run again with other "
+        "seeds (the design's replicates) would tell"
+    ) in once_text
     assert "The largest Cook's distance of the other runs: " in text
     # removing one run lowers the residual sum of squares by e^2 / (1 - h)
     e, h = frame["residual"].to_numpy(), frame["leverage"].to_numpy()
