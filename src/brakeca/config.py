@@ -1290,10 +1290,8 @@ def format_validation_error(
                 if unit:
                     msg += f" {unit}"
             if path == "pad.fibre_area_fraction" and isinstance(got, int | float) and got >= 1:
-                msg += (
-                    f" (got {got!r}): a fraction, {min(got, 99) / 100:g} for {min(got, 99):g} %;"
-                    " or set A, in per cent"
-                )
+                example = f", {got / 100:g} for {got:g} %" if got < 100 else " below 1"
+                msg += f" (got {got!r}): a fraction{example}; or set A, in per cent"
         elif err["type"] in ("float_type", "float_parsing", "int_type", "int_parsing"):
             msg = "must be a " + ("whole number" if err["type"].startswith("int") else "number")
         elif err["type"] == "int_from_float":

@@ -1021,7 +1021,7 @@ def plot_mu_vs_v(
 
     The paper's conclusion is such a trade-off (what raises the friction level raises the
     emissions too); the main effects give it factor by factor, this figure run by run: a
-    pad material wants the upper left (high MU, low V).
+    pad material wants the lower right (high MU, low V).
 
     Parameters
     ----------
@@ -1092,10 +1092,26 @@ def plot_mu_vs_v(
         ax.legend(fontsize=8, loc="best")
     else:
         ax.plot(means["MU"], means["_v"], "o", color="#27496d", ms=7)
-    for _, row in means.iterrows():
+    # tests at nearly one point share a label ("4, 10"), which had been drawn over each other
+    # into "410" (a diff review)
+    mu = means["MU"].to_numpy(dtype=float)
+    y = np.log10(np.maximum(v, 1e-300)) if log else v
+
+    def unit(a: np.ndarray) -> np.ndarray:
+        span = float(np.ptp(a)) if a.size else 0.0
+        return (a - a.min()) / span if span > 0 else np.zeros_like(a)
+
+    near = np.c_[unit(mu), unit(y)]
+    tests = [int(t) for t in means["test"]]
+    labelled: list[int] = []
+    for k in np.lexsort((near[:, 1], near[:, 0])):
+        if any(np.hypot(*(near[k] - near[j])) < 0.03 for j in labelled):
+            continue
+        labelled.append(int(k))
+        close = [i for i in range(len(tests)) if np.hypot(*(near[i] - near[k])) < 0.03]
         ax.annotate(
-            str(int(row["test"])),
-            (row["MU"], row["_v"]),
+            ", ".join(str(tests[i]) for i in sorted(close, key=lambda i: tests[i])),
+            (mu[k], v[k]),
             xytext=(4, 3),
             textcoords="offset points",
             fontsize=7,
@@ -2185,9 +2201,9 @@ def plot_surface_map(
         new figure. ``path`` then writes that whole figure.
     true_scale
         Draw the map to scale: a millimetre of radius as long as a millimetre of arc at the
-        band's mean radius (filling the axes, the paper's band's radius is stretched about
-        2.2 times); the new figure's height follows (:func:`fits_to_scale` says whether a
-        band is tall enough to read so).
+        band's mean radius (filling a figure of its own, 10 by 3.6 in, the paper's band's
+        radius is stretched about 1.2 times); the new figure's height follows
+        (:func:`fits_to_scale` says whether a band is tall enough to read so).
 
     Returns
     -------
@@ -2253,8 +2269,8 @@ def plot_fibre_maps(
     true_scale
         Draw each map to scale: a millimetre of radius as long as a millimetre of arc at the
         band's mean radius, so that a fibre lies at its angle (the paper's band, 20 mm by
-        87 mm of arc, fills the axes only with the radius stretched about 2.2 times, which
-        makes fibres look more radial than they lie).
+        87 mm of arc, fills two panels side by side only with the radius stretched about 2.2
+        times, which makes fibres look more radial than they lie).
     fig
         A Figure or SubFigure to draw the panels into (e.g. one of ``fig.subfigures(1, 2)``,
         to set this figure beside another); a new figure by default. The figure returned, and

@@ -494,7 +494,8 @@ def _floor_note(result: CampaignResult, base: Any) -> str:
         f"{found.names[int(k)]} ({100 * share[k]:.0f} %" + (" of its stops)" if i == 0 else ")")
         for i, k in enumerate(most)
     ]
-    named = parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+    sep = "; " if any("," in n for n in found.names) else ", "  # "test 3, replicate 1"
+    named = parts[0] if len(parts) == 1 else sep.join(parts[:-1]) + " and " + parts[-1]
     return (
         f"The COF floor: {int((share > 0).sum())} of the {share.size} finished runs have "
         f"stops whose mean COF lies within {100 * FLOOR_TOLERANCE:g} % of the floor "
@@ -588,7 +589,8 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
     if not held:
         return ""
     named = [f"{found.names[int(k)]} ({100 * found.share[k]:.0f} %)" for k in held]
-    runs = named[0] if len(named) == 1 else ", ".join(named[:-1]) + " and " + named[-1]
+    sep = "; " if any("," in n for n in found.names) else ", "  # "test 3, replicate 1"
+    runs = named[0] if len(named) == 1 else sep.join(named[:-1]) + " and " + named[-1]
     return (
         f"MU at the COF floor: {runs} spend{'s' if len(named) == 1 else ''} half their stops "
         f"or more within {100 * FLOOR_TOLERANCE:g} % of friction.mu_min = {found.floor:g}, "
@@ -1412,8 +1414,8 @@ def _response_figures(
         if len(residuals) and "test" in residuals.columns:
             # one variance at every level, as the F tests assume (Minitab's residuals
             # versus the variables; the four-in-one plot mixes the levels)
-            names = [f.name for f in factors if f.name in data.columns]
-            repeated = bool(names) and bool(data.duplicated(names).any())
+            names = [f.name for f in factors if f.name in found.ok.columns]
+            repeated = bool(names) and bool(found.ok.duplicated(names).any())
             figures.add(
                 "Residuals",
                 f"Residuals of the {model} of {label} against each factor's levels (the runs "
@@ -1422,9 +1424,10 @@ def _response_figures(
                 + (
                     ""
                     if repeated
-                    else "; with no setting run twice, the residuals are the interactions "
-                    "the model leaves out, not the run-to-run scatter, so this shows how those "
-                    "fall across the levels and cannot test the variance itself"
+                    else "; with no setting run twice, the residuals mix the interactions the "
+                    "model leaves out with the run-to-run scatter, which cannot be told apart, "
+                    "so this shows how they fall across the levels and cannot test the "
+                    "variance itself"
                 ),
                 f"residuals_by_level_{resp}.png",
                 plotting.plot_residuals_by_level,
@@ -1558,7 +1561,7 @@ def _cycle_figures(
             "The trade-off between friction and emissions: each test's MU against its V, "
             "labelled with its test number"
             + (f", coloured by the levels of {by}, the factor that moves V most" if by else "")
-            + "; a pad material wants the upper left (high MU, low V)"
+            + "; a pad material wants the lower right (high MU, low V)"
             + band,
             "mu_vs_v.png",
             plotting.plot_mu_vs_v,
@@ -1682,8 +1685,8 @@ def _run_file_figures(
         figures.add(
             "Final plateau maps",
             f"Test {int(row['test'])} ({levels}){which}: plateaus after {after}. The "
-            "legend's shares are the map's own; the per-run table's are the last stop's "
-            "time averages" + ("; drawn to scale, as the fibre maps" if to_scale else ""),
+            "legend's shares are the map's own; the per-run table's 'last stop' ones are "
+            "that stop's time averages" + ("; drawn to scale" if to_scale else ""),
             f"final_map_{tag}.png",
             plotting.plot_surface_map,
             *(ds[name].to_numpy() for name in (status, "radius", "angle")),

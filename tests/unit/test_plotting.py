@@ -742,6 +742,7 @@ def test_figures_of_several_panels_draw_into_a_figure_or_subfigure(
     }
     one_panel = {
         "plot_mu_per_stop",
+        "plot_mu_vs_v",
         "plot_v_per_run",
         "plot_pareto",
         "plot_surface_map",
@@ -1010,6 +1011,10 @@ def test_residuals_by_level_draw_each_runs_residual_at_its_level(summary) -> Non
     assert all("test 1" in [t.get_text() for t in ax.texts] for ax in fig.axes)
     with pytest.raises(ValueError, match="summary: no column WP"):
         plot_residuals_by_level(table, summary.drop(columns="WP"), FACTORS, "MU")
+    # without standardized residuals (leverage 1), raw ones, and the figure says so
+    raw = plot_residuals_by_level(table.assign(std_residual=np.nan), far, FACTORS, "MU")
+    assert raw.axes[0].get_ylabel().startswith("Residual (")
+    assert "raw residuals" in raw.axes[0].texts[-1].get_text()
 
 
 def test_level_comparisons_draw_each_pairs_interval(summary) -> None:
@@ -1077,7 +1082,8 @@ def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
     xs = np.concatenate([p.get_xdata() for p in points])
     ys = np.concatenate([p.get_ydata() for p in points])
     assert sorted(xs) == sorted(ok["MU"]) and np.allclose(sorted(ys), sorted(ok["V"] * 1e9))
-    assert sorted(int(t.get_text()) for t in ax.texts) == sorted(ok["test"])
+    labelled = [int(t) for text in ax.texts for t in text.get_text().split(", ")]
+    assert sorted(labelled) == sorted(ok["test"])  # tests at one point share a label
     assert [t.get_text() for t in ax.get_legend().get_texts()] == [
         "WP- (1e-15)",
         "WP0 (1e-14)",
@@ -1085,3 +1091,6 @@ def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
     ]
     with pytest.raises(KeyError, match="by: 'X' is not a factor"):
         plot_mu_vs_v(summary, factors=FACTORS, by="X")
+    # MU across, V up: a pad material wants the lower right, as the caption says (a diff
+    # review caught "upper left")
+    assert ax.get_xlabel().startswith("MU") and ax.get_ylabel().startswith("V")

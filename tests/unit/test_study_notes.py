@@ -144,3 +144,36 @@ def test_the_per_run_table_gives_each_runs_areas_over_the_whole_cycle() -> None:
     assert list(out["cycle_secondary_area_fraction"]) == [0.2, (0.0 * 1 + 0.6 * 3) / 4]
     assert list(out["cycle_contact_area_fraction"]) == [0.5, (0.3 * 1 + 0.9 * 3) / 4]
     assert _with_cycle_areas(shown, SimpleNamespace(dataset=None)) is shown
+
+
+def test_the_note_on_v_gives_the_bands_share_of_the_pad() -> None:
+    """The words "not scaled to the pad" gave no factor (a report review): the paper's band is 1,744
+    mm² of the pad's 5,080 mm², 34 %; the quick band's 2.1 mm, 182 mm², 4 %."""
+    from brakeca.design import quick_config
+    from brakeca.study import _band_share
+
+    paper = load_preset("paper")
+    assert _band_share(paper) == ": the band is 1,744 mm², 34 % of the pad's 5,080 mm²"
+    assert _band_share(quick_config(paper)) == ": the band is 182 mm², 4 % of the pad's 5,080 mm²"
+    assert _band_share(None) == ""
+
+
+def test_the_trade_off_figure_is_coloured_by_the_factor_that_moves_v_most() -> None:
+    import pandas as pd
+
+    from brakeca.study import _strongest_on_v
+
+    factors = [SimpleNamespace(name=n) for n in ("S", "WP", "A")]
+    summary = pd.DataFrame(
+        {
+            "S": [0, 1, 0, 1],
+            "WP": [1, 1, 2, 2],
+            "A": [10, 20, 20, 10],
+            "V": [1.0, 1.5, 10.0, 12.0],  # WP: x9 between its levels, S x1.23, A x1.18
+            "status": ["ok"] * 4,
+        }
+    )
+    result = SimpleNamespace(summary=summary, design=SimpleNamespace(factors=factors))
+    assert _strongest_on_v(result) == "WP"
+    result.summary = summary.assign(V=0.0)  # no positive means: no colouring
+    assert _strongest_on_v(result) is None

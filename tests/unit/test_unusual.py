@@ -164,17 +164,21 @@ def test_the_report_names_the_outlier_and_the_verdicts_that_change() -> None:
     once = _runs(replicates=1, bump=0.03)
     once_table = unusual_runs(once, FACTORS, "MU", interactions=False)
     assert list(once_table.loc[once_table["outlier_p"] < 0.05, "test"]) == [5]
-    once_text = _unusual_text(
-        "MU",
-        residuals(once, FACTORS, "MU", interactions=False),
-        once_table,
-        anova(once, FACTORS, "MU", interactions=False),
+    once_frame = residuals(once, FACTORS, "MU", interactions=False)
+    once_anova = anova(once, FACTORS, "MU", interactions=False)
+    once_text = _unusual_text("MU", once_frame, once_table, once_anova)
+    advice = (
+        "%. With no setting run twice, a seed's unusual pad cannot be told from a behaviour "
+        "the model misses: its setting run again with other seeds (the design's replicates) "
+        "would tell. "
     )
-    assert (
-        "so the model does not describe it; with no setting run twice, a seed's unusual pad "
-        "cannot be told from a behaviour the model misses: its setting run again with other "
-        "seeds (the design's replicates) would tell"
-    ) in once_text
+    assert "so the model does not describe it: without it the residual sum" in once_text
+    assert advice in once_text  # a sentence of its own, after the error's fall
+    # a setting run twice elsewhere (centre points: pure error) knows the seeds' scatter (a
+    # diff review: the sentence was said of a design with centre points run four times)
+    centre = once_anova.copy()
+    centre.attrs = {**once_anova.attrs, "pure_error_df": 3.0}
+    assert "With no setting run twice" not in _unusual_text("MU", once_frame, once_table, centre)
     assert "The largest Cook's distance of the other runs: " in text
     # removing one run lowers the residual sum of squares by e^2 / (1 - h)
     e, h = frame["residual"].to_numpy(), frame["leverage"].to_numpy()
