@@ -1718,15 +1718,20 @@ def plot_residuals(
                     color="#c0392b",
                 )
     if not standardized:
-        ax_norm.text(
-            0.02,
-            0.98,
-            "standardized residuals undefined\n(no residual df or leverage 1):\nraw residuals",
-            transform=ax_norm.transAxes,
-            va="top",
-            fontsize=8,
-        )
+        _say_raw(ax_norm)
     return save_figure(root, path)
+
+
+def _say_raw(ax: Any) -> None:
+    """Say in ``ax`` that it draws raw residuals, standardized ones being undefined."""
+    ax.text(
+        0.02,
+        0.98,
+        "standardized residuals undefined\n(no residual df or leverage 1):\nraw residuals",
+        transform=ax.transAxes,
+        va="top",
+        fontsize=8,
+    )
 
 
 def plot_residuals_by_level(
@@ -1846,14 +1851,7 @@ def plot_residuals_by_level(
     for ax in axes[::cols]:
         ax.set_ylabel(r_label)
     if not standardized and len(factors):  # as plot_residuals says it (a diff review)
-        axes[0].text(
-            0.02,
-            0.98,
-            "standardized residuals undefined\n(no residual df or leverage 1):\nraw residuals",
-            transform=axes[0].transAxes,
-            va="top",
-            fontsize=8,
-        )
+        _say_raw(axes[0])
     return save_figure(root, path)
 
 
