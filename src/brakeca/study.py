@@ -1529,6 +1529,8 @@ def _cycle_figures(
                 variable=variable,
                 runs=True,
             )
+        else:  # an earlier analysis's would outlive it
+            figures.drop(name)
     if "emitted_volume" in getattr(result.dataset, "data_vars", {}):
         # where in the cycle each run's V comes from (a figures review: V is the mean of
         # 170 stops whose volumes span decades, most of it from a few blocks)
@@ -1569,6 +1571,8 @@ def _cycle_figures(
             factors=factors,
             by=by,
         )
+    else:
+        figures.drop("mu_vs_v.png")
 
 
 @dataclass(frozen=True)
