@@ -589,6 +589,8 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
     if not held:
         return ""
     named = [f"{found.names[int(k)]} ({100 * found.share[k]:.0f} %)" for k in held]
+    if len(named) > 6:  # the first five, the most held first, and a count
+        named = [*named[:5], f"{len(named) - 5} more runs"]
     sep = "; " if any("," in n for n in found.names) else ", "  # "test 3, replicate 1"
     runs = named[0] if len(named) == 1 else sep.join(named[:-1]) + " and " + named[-1]
     return (

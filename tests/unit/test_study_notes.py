@@ -65,6 +65,11 @@ def test_the_runs_held_at_the_floor_are_an_in_short_line() -> None:
     )
     cof[:2, :] = 0.3
     assert _floor_line(_result(cof), base) == ""  # test 3 alone, under half
+    many = np.full((8, 4), floor)  # eight runs held: five named, the rest counted
+    assert _floor_line(_result(many), base).startswith(
+        "MU at the COF floor: test 1 (100 %), test 2 (100 %), test 3 (100 %), test 4 (100 %), "
+        "test 5 (100 %) and 3 more runs spend half their stops or more"
+    )
 
 
 def test_a_run_of_a_shorter_cycle_counts_over_its_own_stops() -> None:
