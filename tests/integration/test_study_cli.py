@@ -106,6 +106,12 @@ def test_outputs_present_and_consistent(campaign):
     third = per_stop[per_stop["test"] == 3]
     np.testing.assert_allclose(third["line_pressure_MPa"], run["line_pressure"] * 1e-6)
     assert list(third["block"]) == list(run["block"].values)
+    # block by block: each run's emitted volume shared out over its blocks
+    by_block = pd.read_csv(out / "tables" / "by_block.csv")
+    np.testing.assert_allclose(
+        by_block.groupby("test")["emitted_total_mm3"].sum(), by_test["emitted_mm3"].sum()
+    )
+    np.testing.assert_allclose(by_block.groupby("test")["share_of_emitted_percent"].sum(), 100.0)
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
     # per response (MU, V, log10 V: main effects, interactions, Pareto, residuals and, both

@@ -182,3 +182,38 @@ def test_the_trade_off_figure_is_coloured_by_the_factor_that_moves_v_most() -> N
     assert _strongest_on_v(result) == "WP"
     result.summary = summary.assign(V=0.0)  # no positive means: no colouring
     assert _strongest_on_v(result) is None
+
+
+def test_the_block_table_says_where_in_the_cycle_v_comes_from() -> None:
+    """MU and V block by block for each run (an engineer's read: the 15 Highway stops gave
+    35-70 % of the paper study's V): a row per run and block in cycle order, the block's
+    stops, mean COF, mean and total emitted volume and its share of the run's."""
+    import pandas as pd
+
+    from brakeca.study import block_table
+
+    per_stop = pd.DataFrame(
+        {
+            "test": [1] * 5 + [2] * 5,
+            "replicate": [0] * 10,
+            "A": [10.0] * 5 + [20.0] * 5,
+            "seed": [7] * 5 + [8] * 5,
+            "stop": [1, 2, 3, 4, 5] * 2,
+            "block": ["Town", "Town", "Highway", "Highway", "Hill"] * 2,
+            "mean_cof": [0.2, 0.4, 0.3, 0.3, 0.5] * 2,
+            "emitted_mm3": [1.0, 3.0, 10.0, 14.0, 0.0, 0, 0, 0, 0, 0],
+        }
+    )
+    table = block_table(per_stop)
+    assert list(table.columns) == [
+        "test", "replicate", "A", "seed", "block", "stops", "mean_cof", "emitted_mm3",
+        "emitted_total_mm3", "share_of_emitted_percent",
+    ]  # fmt: skip
+    one = table[table["test"] == 1]
+    assert list(one["block"]) == ["Town", "Highway", "Hill"]  # the cycle's order
+    assert list(one["stops"]) == [2, 2, 1]
+    np.testing.assert_allclose(one["mean_cof"], [0.3, 0.3, 0.5])
+    np.testing.assert_allclose(one["emitted_mm3"], [2.0, 12.0, 0.0])
+    np.testing.assert_allclose(one["share_of_emitted_percent"], [100 * 4 / 28, 100 * 24 / 28, 0])
+    assert table.loc[table["test"] == 2, "share_of_emitted_percent"].isna().all()  # nothing
+    assert block_table(per_stop.drop(columns="block")).empty  # a trace's cycle
