@@ -2561,17 +2561,10 @@ def ranked_effects(
     Wahlström (2016), Section 4, doi:10.1155/2016/8181260.
     """
     summary, factors = _campaign_parts(summary, factors)  # a campaign result
-    interactions, typ, alpha_to_remove = _model_settings(factors, interactions, None, None)
-    factors = _factors(factors)
-    table = anova(
-        summary,
-        factors,
-        response,
-        interactions=interactions,
-        typ=typ,
-        alpha_to_remove=alpha_to_remove,
-    )
-    return _rank_terms(table, summary, factors, response)
+    if _design_of(factors) is None:  # (a design stays one: anova takes its settings)
+        factors = _factors(factors)  # (an iterator of factors is read once)
+    table = anova(summary, factors, response, interactions=interactions)
+    return _rank_terms(table, summary, _factors(factors), response)
 
 
 def _rank_terms(
@@ -2999,21 +2992,14 @@ def two_level_effects(
         # the design's analysis, as analyze() takes it (a diff review: given a design or a
         # campaign this table fitted every effect beside the report's reduced one)
         main_effects_only = design.plackett_burman is not None
-        interactions, typ, alpha_to_remove = _model_settings(factors, None, None, None)
+        _, _, alpha_to_remove = _model_settings(factors, None, None, None)
         chosen = design.anova_model
         if (
             alpha_to_remove is not None
             or not isinstance(chosen, int)
             or chosen != (1 if main_effects_only else 2)
         ):
-            table = anova(
-                summary,
-                factors,
-                response,
-                interactions=interactions,
-                typ=typ,
-                alpha_to_remove=alpha_to_remove,
-            )
+            table = anova(summary, factors, response)  # the design's model, as anova takes it
             model_terms = [t for t in table["term"] if t not in ("Residual", CURVATURE)]
     main_effects_only = bool(main_effects_only)
 
@@ -4342,10 +4328,7 @@ def analyze(
         design = getattr(summary, "design", None)
         factors = summary if factors is None else factors  # a CampaignResult: its design
         summary = summary.summary
-    if hasattr(factors, "anova_model"):  # the design itself
-        design = factors
-    elif hasattr(getattr(factors, "design", None), "anova_model"):  # a campaign result
-        design = getattr(factors, "design", None)
+    design = _design_of(factors) or design  # the design itself, or a campaign result's
     if design is not None and hasattr(design, "anova_model"):
         # what the report takes from the design (study.write_study; an API review found
         # analyze(load_campaign(...)) a Type II, unreduced fit beside a report's Type III,
