@@ -465,15 +465,18 @@ def _is_campaign(obj: Any) -> bool:
     )
 
 
-def _campaign_parts(summary: Any, factors: Any = ()) -> tuple[pd.DataFrame, Any]:
+def _campaign_parts(
+    summary: Any, factors: Any = (), *, optional: bool = False
+) -> tuple[pd.DataFrame, Any]:
     """(summary table, factors) of a table function's first two arguments: a campaign result
     given as the summary stands for its summary and, where ``factors`` is None, for its
     design's factors (an API review: only :func:`analyze` took a campaign, the others
     failed with "'NoneType' object is not iterable"). ``factors`` None beside a table is
-    refused, naming what to give."""
+    refused, naming what to give, unless they are ``optional`` (a figure that can do
+    without them)."""
     if _is_campaign(summary):
         return summary.summary, (summary if factors is None else factors)
-    if factors is None:
+    if factors is None and not optional:
         raise TypeError(
             "factors: give the design's factors (or the design), or a campaign result as "
             "the first argument (brakeca.load_campaign(folder) reads one)"

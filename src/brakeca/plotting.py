@@ -36,7 +36,6 @@ from brakeca.analysis import (
     ResponseAnalysis,
     _campaign_parts,
     _factors,
-    _is_campaign,
     interaction_table,
     main_effects,
     ok_runs,
@@ -923,8 +922,7 @@ def plot_v_per_run(
     ----------
     Wahlström (2016), Figure 11, doi:10.1155/2016/8181260.
     """
-    if _is_campaign(summary):  # a campaign result: its summary, and its design's factors
-        summary, factors = summary.summary, (summary if factors is None else factors)
+    summary, factors = _campaign_parts(summary, factors, optional=True)  # a campaign result
     shown_factors = [f for f in _factors(factors) if f.name in summary.columns] if factors else []
     if "V" in summary.columns:
         column, scale = "V", 1e9
@@ -1050,8 +1048,7 @@ def plot_mu_vs_v(
     KeyError
         The summary lacks ``test``, ``MU`` or V, or ``by`` names no factor of it.
     """
-    if _is_campaign(summary):  # a campaign result: its summary, and its design's factors
-        summary, factors = summary.summary, (summary if factors is None else factors)
+    summary, factors = _campaign_parts(summary, factors, optional=True)  # a campaign result
     if "V" in summary.columns:
         column, scale = "V", 1e9
     elif "V_mm3" in summary.columns:
