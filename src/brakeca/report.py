@@ -634,9 +634,10 @@ def _residual_ss(table: pd.DataFrame) -> float:
     return float(rows.iloc[0]) if len(rows) else math.nan
 
 
-def _listed(items: Sequence[str]) -> str:
-    """``"a"``, ``"a and b"``, ``"a, b and c"``."""
-    return items[0] if len(items) == 1 else ", ".join(items[:-1]) + " and " + items[-1]
+def _listed(items: Sequence[str], sep: str = ", ") -> str:
+    """``"a"``, ``"a and b"``, ``"a, b and c"`` (``sep`` between all but the last two: ``"; "``
+    where the items hold commas)."""
+    return items[0] if len(items) == 1 else sep.join(items[:-1]) + " and " + items[-1]
 
 
 def _outlier_clause(
@@ -2275,7 +2276,7 @@ def _averaged_over(hits: pd.DataFrame, means: pd.DataFrame | None) -> str:
     if not caught:
         return ""
     within = [t for t in pairs if set(t.split(":")) & set(caught)]
-    names = caught[0] if len(caught) == 1 else ", ".join(caught[:-1]) + " and " + caught[-1]
+    names = _listed(caught)
     each = "is" if len(caught) == 1 else "are each"
     return (
         f"; {names} {each} in a significant interaction ({', '.join(within)}): "

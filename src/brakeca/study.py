@@ -540,7 +540,9 @@ def _floor_note(result: CampaignResult, base: Any) -> str:
         for i, k in enumerate(most)
     ]
     sep = "; " if any("," in n for n in found.names) else ", "  # "test 3, replicate 1"
-    named = parts[0] if len(parts) == 1 else sep.join(parts[:-1]) + " and " + parts[-1]
+    from brakeca.report import _listed
+
+    named = _listed(parts, sep)
     return (
         f"The COF floor: {int((share > 0).sum())} of the {share.size} finished runs have "
         f"stops whose mean COF lies within {100 * FLOOR_TOLERANCE:g} % of the floor "
@@ -637,7 +639,9 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
     if len(named) > 6:  # the first five, the most held first, and a count
         named = [*named[:5], f"{len(named) - 5} more runs"]
     sep = "; " if any("," in n for n in found.names) else ", "  # "test 3, replicate 1"
-    runs = named[0] if len(named) == 1 else sep.join(named[:-1]) + " and " + named[-1]
+    from brakeca.report import _listed
+
+    runs = _listed(named, sep)
     return (
         f"MU at the COF floor: {runs} spend{'s' if len(named) == 1 else ''} half their stops "
         f"or more within {100 * FLOOR_TOLERANCE:g} % of friction.mu_min = {found.floor:g}, "
