@@ -259,6 +259,18 @@ def _tick_label(factor: Factor, level: float) -> str:
     return f"{level:g}"
 
 
+def _level_colours(n: int) -> list[Any]:
+    """Colours of a factor's ``n`` levels, low blue and high red (green between for three),
+    viridis for more."""
+    import matplotlib as mpl
+
+    if n == 2:
+        return ["#2166ac", "#b2182b"]
+    if n == 3:
+        return ["#2166ac", "#4d9221", "#b2182b"]
+    return list(mpl.colormaps["viridis"](np.linspace(0.0, 0.9, n)))
+
+
 def _legend_label(factor: Factor, level: float) -> str:
     if factor.labels is not None:
         return f"{factor.name}{factor.level_label(level)} ({level:g})"
@@ -800,7 +812,6 @@ def plot_mu_per_stop_by_level(
     KeyError
         The campaign has no ``variable``.
     """
-    import matplotlib as mpl
 
     if isinstance(factors, str | Path):  # plot_mu_per_stop_by_level(campaign, "x.png")
         raise TypeError(
@@ -830,14 +841,7 @@ def plot_mu_per_stop_by_level(
     for ax, factor in zip(axes, factors, strict=False):
         _shade_blocks(ax, _block_spans(blocks, stops) if blocks else [])
         at = np.array([factor.level_index(v) for v in data[factor.name].to_numpy()])
-        n_levels = len(factor.levels)
-        colours = (
-            ["#2166ac", "#b2182b"]
-            if n_levels == 2
-            else ["#2166ac", "#4d9221", "#b2182b"]
-            if n_levels == 3
-            else list(mpl.colormaps["viridis"](np.linspace(0.0, 0.9, n_levels)))
-        )  # low blue, high red
+        colours = _level_colours(len(factor.levels))
         for index, (level, colour) in enumerate(zip(factor.levels, colours, strict=True)):
             mine = values[at == index]  # the runs at this level (Factor.level_index)
             mine = mine[np.isfinite(mine).all(axis=1)]  # the finished runs
@@ -1071,16 +1075,8 @@ def plot_mu_vs_v(
     if log is None:
         log = bool(v.size and np.all(v > 0) and v.max() > 100.0 * v.min())
     if by:
-        import matplotlib as mpl
-
         levels = sorted(pd.unique(means[by]))
-        colours = (
-            ["#2166ac", "#b2182b"]
-            if len(levels) == 2
-            else ["#2166ac", "#4d9221", "#b2182b"]
-            if len(levels) == 3
-            else list(mpl.colormaps["viridis"](np.linspace(0.0, 0.9, len(levels))))
-        )
+        colours = _level_colours(len(levels))
         factor = known.get(by)
         for level, colour in zip(levels, colours, strict=True):
             at = means[means[by] == level]
