@@ -600,7 +600,9 @@ def _strongest_on_v(result: CampaignResult) -> str | None:
     summary = result.summary
     if "V" not in summary.columns:
         return None
-    ok = summary[summary.get("status", "ok") == "ok"] if "status" in summary else summary
+    from brakeca.analysis import ok_runs
+
+    ok = ok_runs(summary)
     best, spread = None, 1.0
     for f in result.design.factors:
         if f.name not in ok.columns:
