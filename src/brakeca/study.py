@@ -31,7 +31,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca import __version__
-from brakeca._console import is_replicated, tests_named
+from brakeca._console import is_replicated, run_named, tests_named
 from brakeca._io import write_table, write_text
 from brakeca.analysis import display_unit
 from brakeca.campaign import CampaignResult
@@ -519,8 +519,9 @@ def _floor_shares(result: CampaignResult, base: Any) -> _Floor | None:
     replicates = data["replicate"].to_numpy()[done] if "replicate" in data.coords else None
     replicated = replicates is not None and len(set(replicates.tolist())) > 1
     names = [
-        f"test {int(t)}"
-        + (f", replicate {int(replicates[k])}" if replicated and replicates is not None else "")
+        run_named(
+            {"test": t, "replicate": None if replicates is None else replicates[k]}, replicated
+        )
         for k, t in enumerate(tests)
     ]
     return _Floor(floor, share, names)
