@@ -122,7 +122,7 @@ class CampaignResult:
 
 # --- consolidation -------------------------------------------------------------------------
 
-_FIRST_SCALARS = ("MU", "V", "V_mm3")
+_FIRST_SCALARS = ("MU", "MU_SD", "V", "V_mm3")
 
 
 def _scalar_names(records: Iterable[_Record]) -> list[str]:
@@ -397,8 +397,31 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
     # failed runs as none (an API review)
     failed = tuple(str(r) for r in summary.loc[summary["status"] != "ok", "run_id"])
     return CampaignResult(
-        out_dir=out, design=design, summary=summary, dataset=dataset, failed=failed
+        out_dir=out,
+        design=design,
+        summary=_with_mu_sd(summary, dataset),
+        dataset=dataset,
+        failed=failed,
     )
+
+
+def _with_mu_sd(summary: pd.DataFrame, dataset: xr.Dataset) -> pd.DataFrame:
+    """``summary`` with the friction stability ``MU_SD`` [-] after ``MU``, from campaign.nc's
+    per-stop mean COF, where a campaign written before that scalar has no such column (as
+    :attr:`brakeca.results.RunResult.MU_SD` computes it: the standard deviation over the
+    stops run, ``ddof=0``); NaN for a failed run. A summary that has it is returned as is."""
+    if "MU_SD" in summary.columns or "mean_cof" not in dataset or "MU" not in summary:
+        return summary
+    by_id = {str(r): i for i, r in enumerate(dataset["run_id"].values)}
+    cof = np.asarray(dataset["mean_cof"].transpose("run", "stop"), dtype=float)
+    values = []
+    for run_id, status in zip(summary["run_id"], summary["status"], strict=True):
+        row = cof[by_id[str(run_id)]] if str(run_id) in by_id else np.array([])
+        row = row[np.isfinite(row)]
+        values.append(float(np.std(row)) if status == "ok" and row.size else math.nan)
+    out = summary.copy()
+    out.insert(list(out.columns).index("MU") + 1, "MU_SD", values)
+    return out
 
 
 def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design) -> str:

@@ -1508,8 +1508,8 @@ def _note(text: str) -> None:
 _GOAL_FORM = (
     "RESPONSE:min:TARGET:UPPER, RESPONSE:max:LOWER:TARGET or "
     "RESPONSE:target:LOWER:TARGET:UPPER (desirability 1 at TARGET, 0 at LOWER and UPPER, as "
-    "Minitab names them), with RESPONSE one of MU, V (in mm³), log10_V_mm3; e.g. V:min:0.1:5 "
-    "or MU:target:0.35:0.4:0.45"
+    "Minitab names them), with RESPONSE one of MU, V (in mm³), log10_V_mm3, MU_SD; e.g. "
+    "V:min:0.1:5 or MU:target:0.35:0.4:0.45"
 )
 
 
@@ -1796,8 +1796,8 @@ def power(
         typer.Option(
             metavar="E",
             help="the difference between two of a factor's level means to find, in the "
-            "response's unit (V in mm³ per stop, MU and log10_V_mm3 without unit); without "
-            "it, --target gives the smallest difference found with that power",
+            "response's unit (V in mm³ per stop, MU, log10_V_mm3 and MU_SD without unit); "
+            "without it, --target gives the smallest difference found with that power",
         ),
     ] = None,
     sigma: Annotated[
@@ -1819,7 +1819,7 @@ def power(
         str,
         typer.Option(
             metavar="R",
-            help="the response: MU, V (in mm³) or log10_V_mm3, whose unit E and S are in, "
+            help="the response: MU, V (in mm³), log10_V_mm3 or MU_SD, whose unit E and S are in, "
             "and whose pure error --sigma-from takes",
         ),
     ] = "MU",

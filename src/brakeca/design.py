@@ -1639,11 +1639,13 @@ def _signs_of(runs: Sequence[Mapping[str, Any]], factors: Sequence[Factor]) -> l
 
 #: The responses a goal may name (a design's or ``brakeca optimize --goal``'s), with the
 #: unit its limits are given in and the factor from the campaign's column to that unit: MU
-#: [-], V in mm^3 per stop (the campaign's V is in m^3), log10 of V in mm^3 [-].
+#: [-], V in mm^3 per stop (the campaign's V is in m^3), log10 of V in mm^3 [-], MU_SD (the
+#: friction stability, the standard deviation of the stops' mean COF) [-].
 GOAL_RESPONSES: dict[str, tuple[str, float]] = {
     "MU": ("-", 1.0),
     "V": ("mm³", 1e9),
     "log10_V_mm3": ("-", 1.0),
+    "MU_SD": ("-", 1.0),
 }
 
 
@@ -1655,7 +1657,7 @@ class GoalSpec(_Frozen):
     Parameters
     ----------
     response
-        ``"MU"``, ``"V"`` or ``"log10_V_mm3"``.
+        ``"MU"``, ``"V"``, ``"log10_V_mm3"`` or ``"MU_SD"``.
     goal
         ``"minimize"``, ``"maximize"`` or ``"target"``.
     lower, upper
@@ -1668,7 +1670,7 @@ class GoalSpec(_Frozen):
         The desirability's shape and the response's weight in the composite [-], 0.1 to 10.
     """
 
-    response: Literal["MU", "V", "log10_V_mm3"]
+    response: Literal["MU", "V", "log10_V_mm3", "MU_SD"]
     goal: Literal["minimize", "maximize", "target"]
     lower: float = Field(allow_inf_nan=False)
     upper: float = Field(allow_inf_nan=False)

@@ -94,6 +94,7 @@ _RESPONSES: dict[str, tuple[str, float]] = {
     "V": ("Emitted wear volume per stop V [mm³]", 1e9),
     "V_mm3": ("Emitted wear volume per stop V [mm³]", 1.0),
     "log10_V_mm3": ("log10 of V in mm³ per stop [-]", 1.0),
+    "MU_SD": ("SD of the per-stop mean COF [-]", 1.0),
 }
 
 

@@ -166,7 +166,9 @@ too.{% endif %}
 <section id="runs">
 <h2>Per-run results</h2>
 <p class="note">MU: mean coefficient of friction over the stops run [-], 3 decimals;
-V: mean emitted wear volume per stop [mm&sup3;]. Emitted and worn off: the volumes that left
+V: mean emitted wear volume per stop [mm&sup3;]; MU_SD: friction stability, the standard
+deviation of the per-stop mean COF over the stops run [-] (not one of the paper's
+responses; 0 where every stop had the same mean COF). Emitted and worn off: the volumes that left
 the band and that wear removed from it over the whole run; the difference is what the
 secondary plateaus still hold (the particles in the contact leave it at the end of every
 stop). Primary and secondary, last stop: the plateaus' shares of the band in the last stop,
@@ -423,6 +425,7 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "seed": ("Seed", "", 1.0),
     "status": ("Status", "", 1.0),
     "error": ("Error", "", 1.0),
+    "MU_SD": ("MU_SD [-]", ".4f", 1.0),
     "total_emitted_mm3": ("Emitted [mm³]", "volume", 1.0),
     "total_generated_mm3": ("Worn off [mm³]", "volume", 1.0),
     "final_primary_area_fraction": ("Primary, last stop [%]", ".1f", 100.0),

@@ -135,6 +135,7 @@ FIBRE_VARIABLES: dict[str, tuple[str, str]] = {
 #: The per-run scalars of :meth:`RunResult.scalars`: columns of a campaign's summary.
 RUN_SCALARS: tuple[str, ...] = (
     "MU",
+    "MU_SD",
     "V",
     "V_mm3",
     "total_emitted_mm3",
@@ -151,6 +152,7 @@ RUN_SCALARS: tuple[str, ...] = (
 #: campaign's dataset carry them as ``units`` and ``long_name``.
 RUN_SCALAR_UNITS: dict[str, tuple[str, str]] = {
     "MU": ("1", "mean over the stops of the per-stop mean COF"),
+    "MU_SD": ("1", "standard deviation over the stops of the per-stop mean COF"),
     "V": ("m3", "mean emitted wear volume per stop"),
     "V_mm3": ("mm3", "mean emitted wear volume per stop"),
     "total_emitted_mm3": ("mm3", "wear volume emitted over the run"),
@@ -296,6 +298,13 @@ class RunResult:
         return float(self.dataset["MU"])
 
     @property
+    def MU_SD(self) -> float:
+        """Friction stability: the standard deviation over the stops of the per-stop mean
+        COF [-] (over the stops as a whole population, ``ddof=0``; 0 for a single stop). It
+        is not the paper's: the paper reports MU and V only."""
+        return float(np.std(np.asarray(self.dataset["mean_cof"], dtype=float)))
+
+    @property
     def V(self) -> float:
         """Mean wear volume leaving the contact of the band, per stop [m^3]."""
         return float(self.dataset["V"])
@@ -306,14 +315,15 @@ class RunResult:
         Returns
         -------
         dict
-            :data:`RUN_SCALARS` by name, in the units of :data:`RUN_SCALAR_UNITS`: ``MU`` [-],
-            ``V`` [m^3 per stop], ``V_mm3`` [mm^3 per stop], ``total_emitted_mm3`` and
-            ``total_generated_mm3`` [mm^3], the final area fractions [-], the residuals
-            [-], ``n_steps`` [-] and ``wall_time`` [s].
+            :data:`RUN_SCALARS` by name, in the units of :data:`RUN_SCALAR_UNITS`: ``MU`` and
+            ``MU_SD`` [-], ``V`` [m^3 per stop], ``V_mm3`` [mm^3 per stop],
+            ``total_emitted_mm3`` and ``total_generated_mm3`` [mm^3], the final area
+            fractions [-], the residuals [-], ``n_steps`` [-] and ``wall_time`` [s].
         """
         ds = self.dataset
         return {
             "MU": self.MU,
+            "MU_SD": self.MU_SD,
             "V": self.V,
             "V_mm3": self.V * M3_TO_MM3,
             "total_emitted_mm3": float(ds["emitted_volume"].sum()) * M3_TO_MM3,

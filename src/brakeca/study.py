@@ -7,7 +7,7 @@ Wiring only: the numbers come from :mod:`brakeca.analysis`, the figures from
                  adjusted and predicted R-squared), ranked effects and residuals, per response;
                  for a central composite design the response surface's coefficients, ANOVA
                  and summary with the stationary point (surface_*_<R>.csv, brakeca.rsm);
-                 the Box-Cox check of MU's and V's scale (box_cox.csv, brakeca.boxcox)
+                 the Box-Cox check of MU's, V's and MU_SD's scale (box_cox.csv, brakeca.boxcox)
     figures/     PNG figures (paper Figures 5-11, Pareto charts, residual and Box-Cox plots,
                  final plateau map of each run; contour plots of a response surface)
     report.html  everything above in one self-contained page
@@ -55,24 +55,29 @@ __all__ = [
     "write_study",
 ]
 
-#: The responses a study analyses: ``MU`` [-], ``V`` [m^3 per stop] (shown in mm^3) and
-#: ``log10_V_mm3`` [-] (log10 of V in mm^3 per stop).
-RESPONSES = ("MU", "V", "log10_V_mm3")
+#: The responses a study analyses: ``MU`` [-], ``V`` [m^3 per stop] (shown in mm^3),
+#: ``log10_V_mm3`` [-] (log10 of V in mm^3 per stop) and ``MU_SD`` [-] (friction
+#: stability: the standard deviation of the per-stop mean COF over the stops; not the
+#: paper's).
+RESPONSES = ("MU", "V", "log10_V_mm3", "MU_SD")
 _LABELS = {
     "MU": "mean COF MU",
     "V": "mean emitted wear volume per stop V",
     "log10_V_mm3": "log10 of V (V in mm³ per stop)",
+    "MU_SD": "friction stability MU_SD (standard deviation of the per-stop mean COF)",
 }
 #: the paper's figure of each response's main effects and interactions (analysis.py)
 _PAPER_MAIN = {
     "MU": " (as the paper's Figure 6)",
     "V": " (as the paper's Figure 8)",
     "log10_V_mm3": "",
+    "MU_SD": "",
 }
 _PAPER_INTERACTIONS = {
     "MU": " (as the paper's Figure 7)",
     "V": " (as the paper's Figure 9)",
     "log10_V_mm3": "",
+    "MU_SD": "",
 }
 
 
@@ -326,12 +331,14 @@ mm³ the report, the terminal and the figures show), so V's sums of squares and 
 are in m⁶ and its effects, coefficients, residuals and standard deviation S in m³. A column
 whose name ends in `_mm3` is in mm³, `_MPa` in MPa, `_N` in N, `_s` in s, `_mg_km` in mg/km;
 `wall_time` (a run's computing time) is in s.
-MU and `log10_V_mm3` (log10 of V in mm³) are dimensionless. Factor columns hold the levels in
+MU, `MU_SD` (friction stability: the standard deviation of the stops' mean COF over the
+stops) and `log10_V_mm3` (log10 of V in mm³) are dimensionless. Factor columns hold the levels in
 the design's units (WP in m³/(N·m), WR in m, A in %, S in -).
 
-Files (R is the response: MU, V or log10_V_mm3):
+Files (R is the response: MU, V, log10_V_mm3 or MU_SD):
 
-- `{summary}`: one row per run: levels, seed, MU, V (m³) and V_mm3, the run's scalars.
+- `{summary}`: one row per run: levels, seed, MU, MU_SD, V (m³) and V_mm3, the run's
+  scalars.
 - `per_stop.csv`: one row per run and stop: mean COF, emitted and generated volume (mm³),
   plateau and contact area fractions, normal force (N), line pressure (MPa), duration (s).
 - `by_block.csv` (a cycle of named blocks): one row per run and block of the cycle: its
@@ -384,10 +391,10 @@ Files (R is the response: MU, V or log10_V_mm3):
   Information Using the Tukey Method", each level of the factor with its `n`, least-squares
   `mean` and `grouping` letters, the largest mean first; levels that share no letter differ
   significantly (`brakeca.analysis.tukey_grouping`). The report's caption lists the letters.
-- `box_cox.csv`: the Box–Cox check of MU's and V's scale; `without_unusual` (under the ANOVA
-  model, not a response surface's quadratic): λ̂, its interval and the reading without the
-  runs whose standardized residual is beyond ±2 (the report's unusual runs), under the same
-  terms, and whether the reading holds without them.
+- `box_cox.csv`: the Box–Cox check of MU's, V's and MU_SD's scale; `without_unusual` (under
+  the ANOVA model, not a response surface's quadratic): λ̂, its interval and the reading
+  without the runs whose standardized residual is beyond ±2 (the report's unusual runs),
+  under the same terms, and whether the reading holds without them.
 - `surface_*_R.csv` (response-surface designs): coded coefficients, ANOVA by source, summary
   (its equation in the response's SI unit), residuals of the quadratic.
 - `optimum.csv`: the optimum of the design's goals (V and its limits in m³); each goal's
@@ -680,7 +687,7 @@ _SURFACE_ANOVA_NOTE = (
 )
 
 #: The responses whose scale the report checks (Box-Cox); log10_V_mm3 is one of V's scales.
-_BOX_COX_RESPONSES = ("MU", "V")
+_BOX_COX_RESPONSES = ("MU", "V", "MU_SD")
 
 
 #: how the effects chart judges the effects (two_level_effects' attrs "method"), in captions
@@ -699,7 +706,7 @@ def _box_cox(
     interactions: Model,
     alpha_to_remove: float | None,
 ) -> dict[str, Any]:
-    """The Box-Cox profile of MU and V: under the fitted quadratic for a response-surface
+    """The Box-Cox profile of MU, V and MU_SD: under the fitted quadratic for a response-surface
     design, under the ANOVA model otherwise (its order, ``interactions``, and reduced as the
     ANOVA is)."""
     from brakeca import boxcox
@@ -1500,7 +1507,7 @@ def _response_figures(
             figures.drop(f"residuals_by_level_{resp}.png")
     figures.add(
         "Residuals",
-        "Box-Cox plots of MU and V: the likelihood of each power λ of the response under "
+        "Box-Cox plots of MU, V and MU_SD: the likelihood of each power λ of the response under "
         "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
         "of λ shaded; λ = 0 is the log (section 'Scale of the responses')"
         + (
@@ -1834,7 +1841,14 @@ def _study_notes(
             else "(compare the interactions' shares in the two ANOVA tables, the residual "
             "plots and R²(pred) of V and log10_V_mm3). "
         )
-        + "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
+        + "MU_SD, the friction stability, is the standard deviation of the stops' mean COF "
+        "about MU (over the stops as a whole, not a sample of them): the lower, the steadier "
+        "the friction over the cycle. It is not one of the paper's responses; it spreads "
+        "over the cycle's conditions as well as over time, so a run whose COF climbs "
+        "through the burnish and then holds has a large MU_SD too (figures mu_per_stop), "
+        "and a run held at the COF floor (friction.mu_min) is steady because the floor "
+        "holds it, not its pad. "
+        "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
         "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
     )

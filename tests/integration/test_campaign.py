@@ -170,6 +170,28 @@ def test_summary_and_campaign_nc_match_the_run_files(serial):
     assert loaded.design.factor_names == ("S", "A")
 
 
+def test_friction_stability_is_the_spread_of_the_stops_mean_cof(serial, tmp_path):
+    """MU_SD, the friction stability a study analyses beside MU and V, is the standard
+    deviation of the run's per-stop mean COF about MU over its stops; a campaign folder
+    written before the scalar existed (no MU_SD column) gets the same values when loaded."""
+    summary = serial.summary
+    assert list(summary.columns).index("MU_SD") == list(summary.columns).index("MU") + 1
+    for _, row in summary.iterrows():
+        run = RunResult.from_netcdf(serial.out_dir / "runs" / f"{row['run_id']}.nc")
+        cof = run.dataset["mean_cof"].to_numpy()
+        assert cof.size == 3 and np.ptp(cof) > 0  # the spread is not trivially 0 here
+        by_hand = math.sqrt(sum((c - cof.mean()) ** 2 for c in cof) / cof.size)
+        assert row["MU_SD"] == run.MU_SD == pytest.approx(by_hand, rel=1e-12, abs=0)
+        assert row["MU"] == pytest.approx(cof.mean(), rel=1e-12, abs=0)
+    old = tmp_path / "old"
+    shutil.copytree(serial.out_dir, old)
+    summary.drop(columns="MU_SD").to_csv(old / "summary.csv", index=False)
+    serial.dataset.drop_vars("MU_SD").to_netcdf(old / "campaign.nc", engine="h5netcdf")
+    loaded = load_campaign(old).summary
+    np.testing.assert_array_equal(loaded["MU_SD"], summary["MU_SD"])
+    assert list(loaded.columns) == list(summary.columns)
+
+
 def test_local_executor_gives_identical_values(serial, design_file, tmp_path):
     local = run_campaign(
         design_file,

@@ -80,11 +80,13 @@ def test_outputs_present_and_consistent(campaign):
         "residuals_log10_V_mm3",
         "residuals_by_level_MU",
         "residuals_by_level_log10_V_mm3",
+        "main_effects_MU_SD",
+        "residuals_MU_SD",
         "box_cox",
     ):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
     assert len(list((out / "figures").glob("final_map_test*.png"))) == 4
-    for resp in ("MU", "V", "log10_V_mm3"):
+    for resp in ("MU", "V", "log10_V_mm3", "MU_SD"):
         for table in (
             "main_effects",
             "anova",
@@ -114,16 +116,16 @@ def test_outputs_present_and_consistent(campaign):
     np.testing.assert_allclose(by_block.groupby("test")["share_of_emitted_percent"].sum(), 100.0)
     html = (out / "report.html").read_text()
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
-    # per response (MU, V, log10 V: main effects, interactions, Pareto, residuals and, both
+    # per response (MU, V, log10 V, MU_SD: main effects, interactions, Pareto, residuals and, both
     # factors having two levels, the effects, the residuals by level), per campaign (MU per
     # stop, by run and by level, the secondary plateau and contact areas by level, V per
     # stop, V per run, MU against V, fibre maps, Box-Cox plots), maps
-    assert n_img == 6 * 3 + 9 + 4
-    # the Box-Cox check of MU's and V's scale, under the ANOVA model (main effects: the
-    # model with the interaction would leave 4 runs no residual degree of freedom)
+    assert n_img == 6 * 4 + 9 + 4
+    # the Box-Cox check of MU's, V's and MU_SD's scale, under the ANOVA model (main effects:
+    # the model with the interaction would leave 4 runs no residual degree of freedom)
     scales = pd.read_csv(out / "tables" / "box_cox.csv")
-    assert list(scales["response"]) == ["MU", "V"]
-    assert list(scales["model"]) == [f"ANOVA model: {r} ~ S + A" for r in ("MU", "V")]
+    assert list(scales["response"]) == ["MU", "V", "MU_SD"]
+    assert list(scales["model"]) == [f"ANOVA model: {r} ~ S + A" for r in ("MU", "V", "MU_SD")]
     assert (scales["df_resid"] == 1).all()
     assert '<h3 id="anova-box-cox">Scale of the responses (Box–Cox)</h3>' in html
     assert (out / "tables" / "effects_MU.csv").exists()
@@ -163,7 +165,7 @@ def test_the_report_s_in_short_is_printed_too(campaign, tmp_path):
         assert "in short (the ANOVA's terms with p < 0.05, largest share first):" in output
         after = output[output.index("largest share first):") :].splitlines()[1:]
         lines = [line.strip() for line in itertools.takewhile(lambda x: x.startswith("  "), after)]
-        assert [line.split(":")[0] for line in lines] == ["MU", "V", "log10_V_mm3"]
+        assert [line.split(":")[0] for line in lines] == ["MU", "V", "log10_V_mm3", "MU_SD"]
         for line in lines:
             assert escape(line, quote=False) in html.replace("&#39;", "'")
         assert output.index("in short") < output.index("report: ")

@@ -346,6 +346,11 @@ def test_messages_name_what_the_user_gave() -> None:
         cli._parse_goal("mu:max:0.3:0.4")
     with pytest.raises(ValueError, match="unknown goal 'maximum'; the goals are min, max and"):
         cli._parse_goal("MU:maximum:0.3:0.4")
+    # the friction stability is a response a goal may name too
+    steady = cli._parse_goal("MU_SD:min:0.01:0.05")
+    assert (steady.response, steady.kind, steady.upper) == ("MU_SD", "minimize", 0.05)
+    with pytest.raises(ValueError, match=r"\(did you mean MU_SD\?\)"):
+        cli._parse_goal("mu_sd:min:0.01:0.05")
 
 
 def test_a_replicated_campaigns_table_has_a_row_per_test() -> None:

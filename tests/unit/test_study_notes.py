@@ -217,3 +217,33 @@ def test_the_block_table_says_where_in_the_cycle_v_comes_from() -> None:
     np.testing.assert_allclose(one["share_of_emitted_percent"], [100 * 4 / 28, 100 * 24 / 28, 0])
     assert table.loc[table["test"] == 2, "share_of_emitted_percent"].isna().all()  # nothing
     assert block_table(per_stop.drop(columns="block")).empty  # a trace's cycle
+
+
+def test_an_older_summary_gets_the_friction_stability_from_the_stops() -> None:
+    """A campaign written before MU_SD existed gets it from campaign.nc's per-stop mean COF
+    (the run's order in the summary need not be the dataset's); a failed run gets NaN, and
+    a summary that has the column keeps it."""
+    import pandas as pd
+
+    from brakeca._consolidate import _with_mu_sd
+
+    cof = np.array([[0.2, 0.4, 0.3], [0.25, 0.25, 0.25], [np.nan] * 3])
+    data = xr.Dataset(
+        {"mean_cof": (("run", "stop"), cof)},
+        coords={"run": [1, 2, 3], "stop": [1, 2, 3], "run_id": ("run", ["a", "b", "c"])},
+    )
+    summary = pd.DataFrame(
+        {
+            "run_id": ["b", "a", "c"],
+            "status": ["ok", "ok", "failed"],
+            "MU": [0.25, 0.3, np.nan],
+            "V": [1.0, 2.0, np.nan],
+        }
+    )
+    out = _with_mu_sd(summary, data)
+    assert list(out.columns) == ["run_id", "status", "MU", "MU_SD", "V"]
+    assert out["MU_SD"].iloc[0] == 0.0
+    assert out["MU_SD"].iloc[1] == np.sqrt((0.1**2 + 0.1**2 + 0.0) / 3)
+    assert np.isnan(out["MU_SD"].iloc[2])
+    assert "MU_SD" not in summary.columns  # the caller's frame is left as it was
+    assert _with_mu_sd(out.assign(MU_SD=7.0), data)["MU_SD"].tolist() == [7.0] * 3
