@@ -68,6 +68,7 @@ __all__ = [
     "anova",
     "as_factor",
     "canonical_terms",
+    "cube_means",
     "display_unit",
     "factor_trends",
     "interaction_aliases",
@@ -765,6 +766,106 @@ def interaction_table(
         index=pd.Index(a.levels, name=a.name),
         columns=pd.Index(b.levels, name=b.name),
     )
+
+
+def cube_means(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    names: Sequence[str] | None = None,
+) -> pd.DataFrame:
+    """The mean response at each corner of two or three two-level factors, over the other
+    factors' levels (Minitab's cube plot of data means; :func:`brakeca.plotting.plot_cube`
+    draws it).
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows with a finite
+        response are used). Or a campaign result: its summary, and its design where
+        ``factors`` is None.
+    factors
+        The design's factors (or the design, or a campaign result); centre points (every
+        factor at its centre) are in no corner.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3].
+    names
+        The two or three factors of the cube, each of two levels, in the order of its axes
+        (horizontal, vertical, depth). By default the (up to) three two-level factors with
+        the largest main effects on ``response`` (the difference of their level means), in
+        the design's order.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per corner, the first factor's level changing fastest: a column per factor of
+        the cube (its level, in the design's unit), ``mean`` [response unit] (NaN at a corner
+        no run reaches, as in a fraction) and ``n``, the runs averaged there. ``attrs``
+        ``factors``: the cube's factor names.
+
+    Raises
+    ------
+    ValueError
+        Fewer than two two-level factors, or ``names`` that are not two or three of them.
+
+    Examples
+    --------
+    >>> import pandas as pd
+    >>> from brakeca.analysis import Factor, cube_means
+    >>> runs = pd.DataFrame({
+    ...     "S": [0, 1, 0, 1, 0, 1, 0, 1], "A": [10, 10, 20, 20, 10, 10, 20, 20],
+    ...     "WR": [1, 1, 1, 1, 2, 2, 2, 2],
+    ...     "MU": [0.30, 0.34, 0.40, 0.46, 0.32, 0.34, 0.40, 0.48],
+    ... })
+    >>> factors = [Factor("S", [0, 1]), Factor("A", [10, 20]), Factor("WR", [1, 2])]
+    >>> cube_means(runs, factors, "MU", names=["S", "A"])
+         S     A  mean  n
+    0  0.0  10.0  0.31  2
+    1  1.0  10.0  0.34  2
+    2  0.0  20.0  0.40  2
+    3  1.0  20.0  0.47  2
+    """
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
+    factors = _factors(factors)
+    by_name = {f.name: f for f in factors}
+    two_level = [f.name for f in factors if len(f.levels) == 2]
+    data = _clean(summary, factors, response)
+    data = data.loc[~_center_mask(data, factors)]
+    if names is None:
+        if len(two_level) < 2:
+            raise ValueError(
+                f"a cube needs two or three factors of two levels; this design has "
+                f"{len(two_level)} ({', '.join(two_level) or 'none'})"
+            )
+        table = main_effects(data, factors, response)
+        spread = {
+            name: abs(float(np.ptp(table.loc[table["factor"] == name, "mean"])))
+            for name in two_level
+        }
+        chosen = sorted(two_level, key=lambda n: -np.nan_to_num(spread[n], nan=-1.0))[:3]
+        names = [n for n in two_level if n in chosen]  # the design's order
+    names = list(names)
+    unknown = [n for n in names if n not in by_name]
+    if unknown:
+        raise ValueError(f"names: {unknown} not factors of the design ({', '.join(by_name)})")
+    if not 2 <= len(names) <= 3 or len(set(names)) != len(names):
+        raise ValueError(f"names: two or three different factors, got {names}")
+    wide = [n for n in names if len(by_name[n].levels) != 2]
+    if wide:
+        raise ValueError(f"names: {wide} not of two levels; a cube's factors have two each")
+    cube = [by_name[n] for n in names]
+    codes = np.column_stack([_codes(data, f) for f in cube]) if len(data) else np.zeros((0, 3))
+    y = data[response].to_numpy(dtype=float)
+    rows = []
+    for corner in itertools.product((0, 1), repeat=len(cube)):
+        at = np.all(codes == np.array(corner[::-1]), axis=1) if len(y) else np.zeros(0, bool)
+        row: dict[str, Any] = {f.name: f.levels[c] for f, c in zip(cube, corner[::-1], strict=True)}
+        row.update(mean=float(y[at].mean()) if at.any() else math.nan, n=int(at.sum()))
+        rows.append(row)
+    out = pd.DataFrame(rows, columns=[*names, "mean", "n"]).astype({"mean": float, "n": int})
+    out = out.astype({n: float for n in names})
+    out.attrs["factors"] = tuple(names)
+    return out
 
 
 def interaction_tables(

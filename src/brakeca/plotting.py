@@ -55,6 +55,7 @@ __all__ = [
     "fits_to_scale",
     "plot_box_cox",
     "plot_cof_series",
+    "plot_cube",
     "plot_effects",
     "plot_fibre_maps",
     "plot_interactions",
@@ -473,6 +474,188 @@ def plot_interactions(
             )
     _suptitle(fig, f"Interaction plot for {_shown(response)}: {ylabel}")
     return save_figure(root, path)
+
+
+def plot_cube(
+    summary: pd.DataFrame,
+    factors: Iterable[Any],
+    response: str,
+    path: str | Path | None = None,
+    *,
+    names: Sequence[str] | None = None,
+    fig: Figure | SubFigure | None = None,
+) -> Figure:
+    """Cube plot of data means, as Minitab draws it for a two-level design: the mean
+    response at each corner of two factors (a square) or three (a cube), over the other
+    factors' levels (:func:`brakeca.analysis.cube_means`).
+
+    Parameters
+    ----------
+    summary
+        Campaign summary, one row per run (only ``status == "ok"`` rows are used). Or a
+        campaign result: its summary, and its design where ``factors`` is None.
+    factors
+        The design's factors, or the design (or a campaign result) for its factors.
+    response
+        Response column, e.g. ``"MU"`` [-] or ``"V"`` [m^3] (written in mm^3).
+    path
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    names
+        The cube's two or three two-level factors, along its horizontal, vertical and depth
+        edges; by default the three with the largest main effects on ``response``.
+    fig
+        A Figure or SubFigure to draw into; a new figure by default.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes: each corner labelled with its mean (and its number of runs where the
+        corners hold different numbers; "no run" where none, as at half the corners of a
+        fraction's cube of three factors that its generator ties together).
+    """
+    from brakeca.analysis import cube_means
+
+    summary, factors = _campaign_parts(summary, factors)  # a campaign result
+    factors = _factors(factors)
+    table = cube_means(summary, factors, response, names)
+    chosen = list(table.attrs["factors"])
+    by_name = {f.name: f for f in factors}
+    cube = [by_name[n] for n in chosen]
+    _, scale = _response_axis(response)
+    depth = np.array([0.55, 0.4])  # the depth edge's offset on the page
+    root, fig = _panels(fig, (6.4, 5.2) if len(cube) == 3 else (5.2, 4.4))
+    ax = fig.subplots()
+    corners = []
+    for _, row in table.iterrows():
+        index = tuple(f.levels.index(row[f.name]) for f in cube)
+        xy = np.array([float(index[0]), float(index[1])])
+        if len(cube) == 3:
+            xy = xy + index[2] * depth
+        corners.append((index, xy, float(row["mean"]), int(row["n"])))
+    at = {code: xy for code, xy, _, _ in corners}
+    for code, xy, _, _ in corners:  # each edge once, from the corner with the lower code
+        for k in range(len(cube)):
+            if code[k] == 0:
+                other = list(code)
+                other[k] = 1
+                end = at[tuple(other)]
+                # the back corner low and left, which the front faces hide, and its
+                # three edges drawn dashed
+                hidden = len(cube) == 3 and (0, 0, 1) in (code, tuple(other))
+                ax.plot(
+                    [xy[0], end[0]],
+                    [xy[1], end[1]],
+                    color="0.55" if hidden else "0.2",
+                    lw=1.0 if hidden else 1.4,
+                    ls="--" if hidden else "-",
+                    zorder=1,
+                )
+    uneven = len({n for *_, n in corners if n}) > 1
+    finite = [m for _, _, m, _ in corners if math.isfinite(m)]
+    for _code, xy, mean, n in corners:
+        text = "no run" if not n else _fmt_corner(mean * scale)
+        if n and uneven:
+            text += f"\n(n = {n})"
+        ax.plot(*xy, "o", color="#27496d" if n else "0.7", ms=7, zorder=2)
+        extreme = n and len(finite) > 1 and mean in (max(finite), min(finite))
+        ax.annotate(
+            text,
+            (float(xy[0]), float(xy[1])),
+            xytext=(0, 9),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=10,
+            fontweight="bold" if extreme else "normal",
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
+            zorder=3,
+        )
+    # the factors along their edges, each level at its end
+    first, second = cube[0], cube[1]
+    ax.annotate(
+        first.axis_label,
+        (0.5, 0.0),
+        xytext=(0, -30),
+        textcoords="offset points",
+        ha="center",
+        va="top",
+        fontsize=9,
+    )
+    for k, level in enumerate(first.levels):
+        ax.annotate(
+            _cube_level(first, level),
+            (float(k), 0.0),
+            xytext=(0, -8),
+            textcoords="offset points",
+            ha="center",
+            va="top",
+            fontsize=8,
+        )
+    ax.annotate(
+        second.axis_label,
+        (0.0, 0.5),
+        xytext=(-36, 0),
+        textcoords="offset points",
+        ha="right",
+        va="center",
+        fontsize=9,
+        rotation=90,
+    )
+    for k, level in enumerate(second.levels):
+        ax.annotate(
+            _cube_level(second, level),
+            (0.0, float(k)),
+            xytext=(-8, 0),
+            textcoords="offset points",
+            ha="right",
+            va="center",
+            fontsize=8,
+        )
+    if len(cube) == 3:
+        third = cube[2]
+        right = np.array([1.0, 0.0])
+        mid = right + 0.5 * depth
+        ax.annotate(
+            third.axis_label,
+            tuple(mid),
+            xytext=(14, -6),
+            textcoords="offset points",
+            ha="left",
+            va="top",
+            fontsize=9,
+        )
+        for k, level in enumerate(third.levels):
+            ax.annotate(
+                _cube_level(third, level),
+                tuple(right + k * depth),
+                xytext=(10, 0),
+                textcoords="offset points",
+                ha="left",
+                va="center",
+                fontsize=8,
+            )
+    ax.set_xlim(-0.45, 1.45 + (depth[0] if len(cube) == 3 else 0.0))
+    ax.set_ylim(-0.3, 1.3 + (depth[1] if len(cube) == 3 else 0.0))
+    ax.set_aspect("equal")
+    ax.axis("off")
+    label, _ = _response_axis(response)
+    unit = label[label.rfind("[") :] if label.endswith("]") else ""
+    _suptitle(fig, f"Cube plot (data means) for {_shown(response)} {unit}".rstrip())
+    return save_figure(root, path)
+
+
+def _fmt_corner(value: float) -> str:
+    """A corner's mean to four significant digits (a fixed point where it reads)."""
+    if not math.isfinite(value):
+        return "-"
+    return f"{value:.4g}"
+
+
+def _cube_level(factor: Factor, level: float) -> str:
+    """A level at its edge's end: ``"- (10)"``, or the value alone."""
+    if factor.labels is not None:
+        return f"{factor.level_label(level)} ({level:g})"
+    return f"{level:g}"
 
 
 # --- per-stop and per-run responses (Figures 10 and 11) --------------------------------------

@@ -9,7 +9,8 @@ Wiring only: the numbers come from :mod:`brakeca.analysis`, the figures from
                  and summary with the stationary point (surface_*_<R>.csv, brakeca.rsm);
                  the Box-Cox check of MU's, V's and MU_SD's scale (box_cox.csv, brakeca.boxcox)
     figures/     PNG figures (paper Figures 5-11, Pareto charts, residual and Box-Cox plots,
-                 final plateau map of each run; contour plots of a response surface)
+                 final plateau map of each run; cube plots of a two-level design; contour
+                 plots of a response surface)
     report.html  everything above in one self-contained page
 
 References
@@ -698,6 +699,40 @@ _EFFECTS_METHOD = {
 }
 
 
+#: The responses a two-level design's report draws a cube plot of (log10 V's corners would be
+#: V's geometric means in log units: V's own cube says it plainer).
+_CUBE_RESPONSES = ("MU", "V", "MU_SD")
+
+
+def _cube_factors(factors: Sequence[Any], data: pd.DataFrame, response: str) -> list[str]:
+    """The factors of ``response``'s cube plot (:func:`brakeca.analysis.cube_means`' choice:
+    the three two-level factors with the largest main effects) where every factor has two
+    levels, as Minitab offers the plot; none for another design or response, or where it
+    cannot be drawn."""
+    from brakeca.analysis import cube_means
+
+    if (
+        response not in _CUBE_RESPONSES
+        or len(factors) < 2
+        or any(len(f.levels) != 2 for f in factors)
+    ):
+        return []
+    try:
+        return list(cube_means(data, factors, response).attrs["factors"])
+    except (KeyError, ValueError):  # no such column, or no usable run
+        return []
+
+
+def _has_centre(data: pd.DataFrame, factors: Sequence[Any]) -> bool:
+    """Whether ``data`` holds centre points of ``factors`` (every factor at its centre)."""
+    from brakeca.analysis import _center_mask, _factors
+
+    try:
+        return bool(_center_mask(data, _factors(factors)).any())
+    except (KeyError, ValueError, TypeError):
+        return False
+
+
 def _box_cox(
     data: pd.DataFrame,
     factors: list[Any],
@@ -1356,6 +1391,7 @@ def _response_figures(
     overlaid contours; ``band`` (:func:`_band_caption`) ends the captions of V's main
     effects and interactions."""
     from brakeca import analysis, plotting
+    from brakeca.report import _listed
 
     factors = list(result.design.factors)
     data, tables, surfaces = found.data, found.tables, found.surfaces
@@ -1397,6 +1433,30 @@ def _response_figures(
                 factors,
                 resp,
             )
+        cube = _cube_factors(factors, data, resp) if resp not in surfaces else []
+        if cube:
+            others = len(factors) - len(cube)
+            figures.add(
+                "Main effects",
+                f"Cube plot of {label} (Minitab's cube plot of data means): the mean of the "
+                f"runs at each corner of {_listed(cube)}"
+                + (
+                    f", the {len(cube)} factors with the largest main effects on it, over "
+                    f"the other {others} factor{'s' if others > 1 else ''}' levels"
+                    if others
+                    else ""
+                )
+                + "; the largest and smallest in bold"
+                + ("; centre points in no corner" if _has_centre(data, factors) else ""),
+                f"cube_{resp}.png",
+                plotting.plot_cube,
+                data,
+                factors,
+                resp,
+                names=cube,
+            )
+        else:
+            figures.drop(f"cube_{resp}.png")
         if len(factors) >= 2 and resp not in surfaces:  # interactions need two factors
             figures.add(
                 "Interactions",

@@ -82,6 +82,9 @@ def test_outputs_present_and_consistent(campaign):
         "residuals_by_level_log10_V_mm3",
         "main_effects_MU_SD",
         "residuals_MU_SD",
+        "cube_MU",
+        "cube_V",
+        "cube_MU_SD",
         "box_cox",
     ):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
@@ -120,7 +123,8 @@ def test_outputs_present_and_consistent(campaign):
     # factors having two levels, the effects, the residuals by level), per campaign (MU per
     # stop, by run and by level, the secondary plateau and contact areas by level, V per
     # stop, V per run, MU against V, fibre maps, Box-Cox plots), maps
-    assert n_img == 6 * 4 + 9 + 4
+    # and, both factors of two levels, the cube plots (a square here) of MU, V and MU_SD
+    assert n_img == 6 * 4 + 3 + 9 + 4
     # the Box-Cox check of MU's, V's and MU_SD's scale, under the ANOVA model (main effects:
     # the model with the interaction would leave 4 runs no residual degree of freedom)
     scales = pd.read_csv(out / "tables" / "box_cox.csv")

@@ -1094,3 +1094,62 @@ def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
     # MU across, V up: a pad material wants the lower right, as the caption says (a diff
     # review caught "upper left")
     assert ax.get_xlabel().startswith("MU") and ax.get_ylabel().startswith("V")
+
+
+def test_cube_means_are_the_corners_runs_means_and_pick_the_largest_effects(summary) -> None:
+    """cube_means (Minitab's cube plot of data means): each corner's mean is the mean of the
+    finished runs there, over the other factors; by default the three two-level factors
+    whose level means differ most; a corner no run reaches is NaN with n = 0."""
+    from brakeca.analysis import cube_means, main_effects
+
+    table = cube_means(summary, FACTORS, "MU", names=["A", "S", "WR"])
+    ok = ok_runs(summary)
+    by_hand = ok.groupby(["A", "S", "WR"])["MU"].agg(["mean", "size"])
+    assert list(table.columns) == ["A", "S", "WR", "mean", "n"] and len(table) == 8
+    assert list(table["A"][:2]) == [10.0, 20.0]  # the first factor changes fastest
+    for _, row in table.iterrows():
+        mean, size = by_hand.loc[(row["A"], row["S"], row["WR"])]
+        assert row["mean"] == pytest.approx(mean, rel=1e-14, abs=0) and row["n"] == size
+    assert table["n"].sum() == len(ok)  # the failed run is in no corner
+    # the default: the three two-level factors, ordered as in the design, largest first
+    effects = main_effects(summary, FACTORS, "V")
+    spread = {f: np.ptp(effects.loc[effects["factor"] == f, "mean"]) for f in ("S", "WR", "A")}
+    assert spread["WR"] < max(spread["S"], spread["A"])  # so the pick is not trivial
+    assert cube_means(summary, FACTORS, "V").attrs["factors"] == ("S", "WR", "A")
+    two = [f for f in FACTORS if f.name != "WP"]
+    with_b = summary.assign(B=np.arange(len(summary)) % 2 * 1.0)  # no effect to speak of
+    picked = cube_means(with_b, [*two, Factor("B", (0.0, 1.0))], "V").attrs["factors"]
+    assert picked == ("S", "WR", "A")
+    # a half fraction: half the corners of a cube of three have no run
+    half = summary[summary["S"] == (summary["A"] == 20.0).astype(float)]
+    corners = cube_means(half, FACTORS, "MU", names=["S", "WR", "A"])
+    assert (corners["n"] == 0).sum() == 4 and corners.loc[corners["n"] == 0, "mean"].isna().all()
+    with pytest.raises(ValueError, match=r"names: \['WP'\] not of two levels"):
+        cube_means(summary, FACTORS, "MU", names=["S", "WP"])
+    with pytest.raises(ValueError, match="two or three different factors"):
+        cube_means(summary, FACTORS, "MU", names=["S"])
+    with pytest.raises(ValueError, match=r"names: \['X'\] not factors of the design"):
+        cube_means(summary, FACTORS, "MU", names=["S", "X"])
+    with pytest.raises(ValueError, match="needs two or three factors of two levels; this"):
+        cube_means(summary, [FACTORS[1]], "MU")
+
+
+def test_cube_plot_writes_each_corners_mean(tmp_path, summary) -> None:
+    from brakeca.analysis import cube_means
+    from brakeca.plotting import plot_cube
+
+    path = tmp_path / "cube.png"
+    fig = plot_cube(summary, FACTORS, "V", path, names=["S", "A", "WR"])
+    assert path.read_bytes().startswith(PNG)
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    corners = cube_means(summary, FACTORS, "V", names=["S", "A", "WR"])
+    assert {f"{m * 1e9:.4g}" for m in corners["mean"]} <= {t.split("\n")[0] for t in texts}
+    # the failed run leaves one corner two runs where the others have three: each says so
+    assert sum(t.endswith("\n(n = 2)") for t in texts) == 1
+    assert sum(t.endswith("\n(n = 3)") for t in texts) == 7
+    assert "Cube plot (data means) for V [mm³]" in fig.texts[0].get_text()
+    square = plot_cube(summary, FACTORS, "MU", names=["S", "A"])
+    assert len([t for t in square.axes[0].texts if t.get_text()[:1].isdigit()]) == 4
+    half = summary[summary["S"] == (summary["A"] == 20.0).astype(float)]
+    sparse = plot_cube(half, FACTORS, "MU", names=["S", "WR", "A"])
+    assert [t.get_text() for t in sparse.axes[0].texts].count("no run") == 4
