@@ -537,14 +537,19 @@ def box_cox(
                 f"({formula.split('~', 1)[1].strip()}): no second profile"
             ),
         )
-    from brakeca._console import run_named
+    from brakeca._console import run_named, tests_named
 
     return replace(
         result,
         without_unusual=_without_text(result, other, who, len(rows)),
         without=other,
-        # "; " between runs: a replicated campaign's names hold commas (a diff review)
-        without_runs="; ".join(run_named(rec, replicated) for _, rec in rows.iterrows()),
+        # "; " between runs: a replicated campaign's names hold commas (a diff review);
+        # "tests 17, 23" otherwise, not "test 17; test 23" (a review)
+        without_runs=(
+            "; ".join(run_named(rec, replicated) for _, rec in rows.iterrows())
+            if replicated
+            else tests_named(int(t) for t in rows["test"])
+        ),
     )
 
 

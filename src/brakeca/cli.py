@@ -1627,7 +1627,7 @@ def _interval_text(low: float, high: float) -> str:
     return f"{low:.4g} to {high:.4g}"
 
 
-@app.command(short_help="the factor setting that best meets goals for MU and V")
+@app.command(short_help="the factor setting that best meets goals for MU, V and MU_SD")
 def optimize(
     folder: Annotated[
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")

@@ -165,19 +165,18 @@ too.{% endif %}
 
 <section id="runs">
 <h2>Per-run results</h2>
-<p class="note">MU: mean coefficient of friction over the stops run [-], 3 decimals;
-V: mean emitted wear volume per stop [mm&sup3;]; MU_SD: friction stability, the standard
-deviation of the per-stop mean COF over the stops run [-] (not one of the paper's
-responses; 0 where every stop had the same mean COF). Emitted and worn off: the volumes that left
-the band and that wear removed from it over the whole run; the difference is what the
-secondary plateaus still hold (the particles in the contact leave it at the end of every
-stop). Primary and secondary, last stop: the plateaus' shares of the band in the last stop,
-time-weighted over it (before the S rule acts at its end). Secondary and in contact, all
-stops: the secondary plateaus' share of the band (in contact or not) and the share in
-contact, time-weighted over every stop the run made. Ledger residual: the largest relative
-misclosure of the volume ledger in any step; friction residual: the largest relative miss of
-the demanded friction force.
-Wall time: the run's own computing time.</p>
+<p class="note">MU: mean coefficient of friction over the stops run [-], 3 decimals; V: mean
+emitted wear volume per stop [mm&sup3;]; MU_SD: friction stability, the standard deviation
+of the per-stop mean COF over the stops run [-], divided by their number, not one less (not
+one of the paper's responses; 0 where every stop had the same mean COF). Emitted and worn
+off: the volumes that left the band and that wear removed from it over the whole run; the
+difference is what the secondary plateaus still hold (the particles in the contact leave it
+at the end of every stop). Primary and secondary, last stop: the plateaus' shares of the
+band in the last stop, time-weighted over it (before the S rule acts at its end). Secondary
+and in contact, all stops: the secondary plateaus' share of the band (in contact or not) and
+the share in contact, time-weighted over every stop the run made. Ledger residual: the
+largest relative misclosure of the volume ledger in any step; friction residual: the largest
+relative miss of the demanded friction force. Wall time: the run's own computing time.</p>
 {{ render_table(runs) }}
 </section>
 
@@ -425,7 +424,7 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "seed": ("Seed", "", 1.0),
     "status": ("Status", "", 1.0),
     "error": ("Error", "", 1.0),
-    "MU_SD": ("MU_SD [-]", ".4f", 1.0),
+    "MU_SD": ("MU_SD [-]", ".3g", 1.0),  # 5e-06, not 0.0000 (a review)
     "total_emitted_mm3": ("Emitted [mm³]", "volume", 1.0),
     "total_generated_mm3": ("Worn off [mm³]", "volume", 1.0),
     "final_primary_area_fraction": ("Primary, last stop [%]", ".1f", 100.0),
@@ -793,7 +792,7 @@ def _unusual_text(
         + f". By chance about 1 run in 20 lies beyond ±{UNUSUAL_RESIDUAL:g} ({n} runs "
         "here); such a run matters where it fails the outlier test or has a large Cook's "
         "distance (about 1 or more)"
-        # (the Box-Cox check is of MU and V, not of a response already on a log scale)
+        # (the Box-Cox check is of MU, V and MU_SD, not of a response already on a log scale)
         + (
             "."
             if response == "log10_V_mm3"
@@ -1820,8 +1819,8 @@ def in_short(
     return [
         line
         + (
-            _v_scale(box_cox, residual_tables, "log10_V_mm3" in anova_tables)
-            if str(r) == "V" and line
+            _scale_clause(str(r), box_cox, residual_tables, "log10_V_mm3" in anova_tables)
+            if line
             else ""
         )
         + _outlier_clause(frame, (unusual_tables or {}).get(r), residual_tables, r)
@@ -2103,25 +2102,42 @@ def _finding(
     )
 
 
-def _v_scale(
+#: The responses whose "In short" line says what their scale check finds, with the word for
+#: a negative fitted value: V and MU_SD, which cannot be negative (MU's reading rests on its
+#: outlier in the paper's study, which its line names).
+_SCALE_CLAUSES = {"V": "volume", "MU_SD": "spread"}
+
+
+def _scale_clause(
+    response: str,
     box_cox: Mapping[str, Any] | None,
     residual_tables: Mapping[str, pd.DataFrame] | None,
     log_line: bool,
 ) -> str:
-    """The clause of V's "In short" line that says which of its two analyses to read: where
-    the Box-Cox interval of V leaves out λ = 1 and holds λ = 0, that the log10_V_mm3 line is
-    the scale to read (unless Montgomery's interval, which counts the residual degrees of
-    freedom, holds λ = 1: then that the data do not settle the scale), and the runs whose
-    fitted V the linear model makes negative (a figures-and-report review: the two lines
-    disagreed on WR, and nothing said which held); empty where neither applies."""
+    """The clause of V's or MU_SD's "In short" line on its scale: where the Box-Cox interval
+    leaves out λ = 1 and holds λ = 0, that the log fits better (for V, that the
+    log10_V_mm3 line is the scale to read); for MU_SD, which has no log line, also where the
+    interval holds neither; unless Montgomery's interval, which counts the residual degrees
+    of freedom, holds λ = 1: then that the data do not settle the scale. And the runs whose
+    fitted value the linear model makes negative (a figures-and-report review: V's two lines
+    disagreed on WR, and nothing said which held; a review of MU_SD). Empty where neither
+    applies, and for another response."""
+    what = _SCALE_CLAUSES.get(response)
+    if what is None:
+        return ""
     clauses = []
-    bc = (box_cox or {}).get("V")
+    bc = (box_cox or {}).get(response)
     if bc is not None and getattr(bc, "defined", False) and not bc.contains(1.0):
-        if bc.contains(0.0):
+        holds_log = bc.contains(0.0)
+        if holds_log or response != "V":
             text = (
-                f"Box-Cox puts V's λ at {bc.lambda_hat:.2f} ({100 * bc.confidence:g} % "
-                f"interval {bc.ci_low:.2f} to {bc.ci_high:.2f}), which holds the log and not "
-                "V as it is"
+                f"Box-Cox puts {response}'s λ at {bc.lambda_hat:.2f} ({100 * bc.confidence:g} "
+                f"% interval {bc.ci_low:.2f} to {bc.ci_high:.2f}), which holds "
+                + (
+                    f"the log and not {response} as it is"
+                    if holds_log
+                    else f"neither {response} as it is nor its log"
+                )
             )
             low, high = getattr(bc, "ci_low_df", math.nan), getattr(bc, "ci_high_df", math.nan)
             if low <= 1.0 <= high:  # as the Box-Cox section's reading says (a user's review)
@@ -2129,18 +2145,20 @@ def _v_scale(
                     f", but with {bc.df_resid:g} residual degree"
                     f"{'' if bc.df_resid == 1 else 's'} of freedom Montgomery's "
                     f"wider interval ({low:.2f} to {high:.2f}) holds λ = 1 too: the data do "
-                    "not settle V's scale"
+                    f"not settle {response}'s scale"
                 )
-            elif log_line:
+            elif response == "V" and log_line:
                 text += ": read the log10_V_mm3 line"
+            elif response != "V":
+                text += f" (the report analyses {response} as it is)"
             clauses.append(text)
-    residuals = (residual_tables or {}).get("V")
+    residuals = (residual_tables or {}).get(response)
     if residuals is not None and {"fitted", "test"} <= set(residuals.columns):
         negative = residuals.loc[residuals["fitted"] < 0, "test"]
         if len(negative):
             tests = ", ".join(str(int(t)) for t in sorted(set(negative)))
             clauses.append(
-                f"the linear model of V fits a negative volume for test"
+                f"the linear model of {response} fits a negative {what} for test"
                 f"{'s' if negative.nunique() > 1 else ''} {tests}"
             )
     return "".join(f"; {c}" for c in clauses)

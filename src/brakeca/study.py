@@ -333,13 +333,15 @@ are in m⁶ and its effects, coefficients, residuals and standard deviation S in
 whose name ends in `_mm3` is in mm³, `_MPa` in MPa, `_N` in N, `_s` in s, `_mg_km` in mg/km;
 `wall_time` (a run's computing time) is in s.
 MU, `MU_SD` (friction stability: the standard deviation of the stops' mean COF over the
-stops) and `log10_V_mm3` (log10 of V in mm³) are dimensionless. Factor columns hold the levels in
+stops, divided by their number, not one less) and `log10_V_mm3` (log10 of V in mm³) are
+dimensionless. Factor columns hold the levels in
 the design's units (WP in m³/(N·m), WR in m, A in %, S in -).
 
 Files (R is the response: MU, V, log10_V_mm3 or MU_SD):
 
 - `{summary}`: one row per run: levels, seed, MU, MU_SD, V (m³) and V_mm3, the run's
-  scalars.
+  scalars (a campaign written before MU_SD has no such column: the analysis computes it
+  from campaign.nc's per-stop mean COF).
 - `per_stop.csv`: one row per run and stop: mean COF, emitted and generated volume (mm³),
   plateau and contact area fractions, normal force (N), line pressure (MPa), duration (s).
 - `by_block.csv` (a cycle of named blocks): one row per run and block of the cycle: its
@@ -464,7 +466,8 @@ def _scope(base: Any) -> str:
     cut = _cut_short(base)
     if cut is not None:
         parts.append(
-            f"over {cut} only (--stops), so MU and V are means over those stops, not over the cycle"
+            f"over {cut} only (--stops), so MU and V are means over those stops, and MU_SD "
+            "their spread, not over the cycle"
         )
     if not parts:
         return ""
@@ -636,6 +639,46 @@ def _band_share(base: Any) -> str:
     return f": the band is {band:,.0f} mm², {100 * band / pad:.0f} % of the pad's {pad:,.0f} mm²"
 
 
+def _block_share(result: CampaignResult) -> str:
+    """What share of MU_SD's square lies between the means of the cycle's blocks, over the
+    finished runs (a review of MU_SD: 95 % in the paper's study, so it reads mostly as the
+    friction's sensitivity to the blocks' conditions), as a clause of the notes: ``": in
+    these runs 95 % of MU_SD² (median; 23 to 100 %) lies between the blocks' mean COF
+    (tables/by_block.csv), ..."``; empty for a cycle without named blocks, or one block."""
+    data = result.dataset
+    if "mean_cof" not in data or "block" not in data.coords:
+        return ""
+    blocks = np.asarray(data["block"].values).astype(str)
+    names = list(dict.fromkeys(blocks))
+    if len(names) < 2:
+        return ""
+    cof = np.asarray(data["mean_cof"].transpose("run", "stop"), dtype=float)
+    shares = []
+    for row in cof:
+        if not np.isfinite(row).all():  # a failed run (or one cut short)
+            continue
+        total = float(np.sum((row - row.mean()) ** 2))
+        if total <= 0.0:
+            continue
+        within = sum(
+            float(np.sum((row[blocks == b] - row[blocks == b].mean()) ** 2)) for b in names
+        )
+        shares.append(100.0 * (1.0 - within / total))
+    if not shares:
+        return ""
+    median = float(np.median(shares))
+    spread = f" (median; {min(shares):.0f} to {max(shares):.0f} %)" if len(shares) > 1 else ""
+    reading = (
+        "the friction's sensitivity to the blocks' conditions"
+        if median >= 50.0
+        else "the friction's drift at each block's conditions"
+    )
+    return (
+        f": in these runs {median:.0f} % of MU_SD²{spread} lies between the blocks' mean "
+        f"COF (tables/by_block.csv), so MU_SD reads mostly as {reading}"
+    )
+
+
 def _floor_line(result: CampaignResult, base: Any) -> str:
     """The "In short" line on the runs held at the COF floor for most of their stops (half
     or more), where MU cannot fall further (a report review: the note alone, at the end,
@@ -657,7 +700,7 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
         f"MU at the COF floor: {runs} spend{'s' if len(named) == 1 else ''} half their stops "
         f"or more within {100 * FLOOR_TOLERANCE:g} % of friction.mu_min = {found.floor:g}, "
         "where MU cannot fall further: the effects on MU of what lowers it are compressed "
-        "there (Notes)"
+        "there, and those runs' MU_SD is small because the floor holds them (Notes)"
     )
 
 
@@ -1902,11 +1945,12 @@ def _study_notes(
             "plots and R²(pred) of V and log10_V_mm3). "
         )
         + "MU_SD, the friction stability, is the standard deviation of the stops' mean COF "
-        "about MU (over the stops as a whole, not a sample of them): the lower, the steadier "
-        "the friction over the cycle. It is not one of the paper's responses; it spreads "
-        "over the cycle's conditions as well as over time, so a run whose COF climbs "
-        "through the burnish and then holds has a large MU_SD too (figures mu_per_stop), "
-        "and a run held at the COF floor (friction.mu_min) is steady because the floor "
+        "about MU, a population one (divided by the number of stops, not one less): the "
+        "lower, the steadier the friction over the cycle. It is not one of the paper's "
+        "responses. It takes in the changes from one block of the cycle to the next (their "
+        "speeds and pressures) as well as the drift within a block"
+        + _block_share(result)
+        + ", and a run held at the COF floor (friction.mu_min) is steady because the floor "
         "holds it, not its pad. "
         "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
         "(tables/README.md lists them). "

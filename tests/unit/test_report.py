@@ -861,7 +861,10 @@ def test_in_short_says_which_scale_of_v_to_read() -> None:
     linear model fitted negative volumes. V's line now says both."""
     import types
 
-    from brakeca.report import _v_scale
+    from brakeca.report import _scale_clause
+
+    def _v_scale(*args):
+        return _scale_clause("V", *args)
 
     def profile(lam, low, high):
         return types.SimpleNamespace(
@@ -892,6 +895,16 @@ def test_in_short_says_which_scale_of_v_to_read() -> None:
         "not V as it is, but with 1 residual degree of freedom Montgomery's wider interval "
         "(-1.13 to 1.08) holds λ = 1 too: the data do not settle V's scale"
     )
+    # MU_SD (a review of the new response): no log line to send the reader to, so an
+    # interval that holds neither 1 nor 0 is said too, and its negative fits are spreads
+    assert _scale_clause(
+        "MU_SD", {"MU_SD": profile(0.39, 0.24, 0.55)}, {"MU_SD": residuals}, True
+    ) == (
+        "; Box-Cox puts MU_SD's λ at 0.39 (95 % interval 0.24 to 0.55), which holds neither "
+        "MU_SD as it is nor its log (the report analyses MU_SD as it is); the linear model "
+        "of MU_SD fits a negative spread for tests 7, 14, 19"
+    )
+    assert _scale_clause("MU", {"MU": profile(0.06, -0.02, 0.14)}, {"MU": residuals}, True) == ""
 
 
 def test_a_general_factorial_s_coefficients_are_folded_under_its_anova(tmp_path) -> None:

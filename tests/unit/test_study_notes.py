@@ -247,3 +247,38 @@ def test_an_older_summary_gets_the_friction_stability_from_the_stops() -> None:
     assert np.isnan(out["MU_SD"].iloc[2])
     assert "MU_SD" not in summary.columns  # the caller's frame is left as it was
     assert _with_mu_sd(out.assign(MU_SD=7.0), data)["MU_SD"].tolist() == [7.0] * 3
+
+
+def test_the_notes_say_how_much_of_mu_sd_lies_between_the_blocks() -> None:
+    """A review of MU_SD: in the paper's study 95 % of it lay between the blocks' means (the
+    cycle's conditions), which the notes' burnish example had undersold; the share is now
+    computed for the study's own runs (a failed run and a constant one left out)."""
+    from brakeca.study import _block_share
+
+    cof = np.array(
+        [
+            [0.2, 0.2, 0.4, 0.4],  # all between the two blocks: 100 %
+            [0.2, 0.3, 0.3, 0.4],  # means 0.25, 0.35: between 0.02 of 0.04 in all, 50 %
+            [0.3, 0.3, 0.3, 0.3],  # constant: no share
+            [0.3, np.nan, np.nan, np.nan],  # failed: left out
+        ]
+    )
+    data = xr.Dataset(
+        {"mean_cof": (("run", "stop"), cof)},
+        coords={"run": [1, 2, 3, 4], "stop": [1, 2, 3, 4], "block": ("stop", list("aabb"))},
+    )
+    text = _block_share(SimpleNamespace(dataset=data))
+    assert text == (
+        ": in these runs 75 % of MU_SD² (median; 50 to 100 %) lies between the blocks' mean "
+        "COF (tables/by_block.csv), so MU_SD reads mostly as the friction's sensitivity to "
+        "the blocks' conditions"
+    )
+    # each block the same two values: all of it within the blocks
+    within = data.assign(mean_cof=(("run", "stop"), np.tile([0.2, 0.4, 0.2, 0.4], (4, 1))))
+    assert _block_share(SimpleNamespace(dataset=within)).startswith(": in these runs 0 % of")
+    assert _block_share(SimpleNamespace(dataset=within)).endswith(
+        "drift at each block's conditions"
+    )
+    one = data.assign_coords(block=("stop", list("aaaa")))
+    assert _block_share(SimpleNamespace(dataset=one)) == ""
+    assert _block_share(SimpleNamespace(dataset=data.drop_vars("block"))) == ""
