@@ -54,6 +54,7 @@ __all__ = [
     "STATUS_NAMES",
     "fits_to_scale",
     "plot_box_cox",
+    "plot_by_block",
     "plot_cof_series",
     "plot_cube",
     "plot_effects",
@@ -694,6 +695,113 @@ def _run_label(run: Any, levels: Mapping[str, Any], factors: Mapping[str, Factor
                 parts.append(f"{name}={value}")
     head = f"T{int(run)}" if isinstance(run, int | np.integer) else f"{run}"
     return f"{head}: {', '.join(parts)}" if parts else head
+
+
+def plot_by_block(
+    table: pd.DataFrame,
+    factors: Iterable[Any] | None = None,
+    path: str | Path | None = None,
+    *,
+    fig: Figure | SubFigure | None = None,
+) -> Figure:
+    """Block by block, for every run: the mean COF of each block of the cycle and the
+    block's share of the run's emitted volume, as two tables of coloured cells (a row per
+    run, a column per block in the cycle's order), each cell written.
+
+    Parameters
+    ----------
+    table
+        :func:`brakeca.study.block_table`'s table (``tables/by_block.csv``): ``test`` (and
+        ``replicate``), the factors' columns, ``block``, ``mean_cof`` [-] and
+        ``share_of_emitted_percent`` [%].
+    factors
+        The design's factors (or the design, or a campaign result), for each row's levels
+        (``T5: S-, WP+, WR-, A-``); without them, the rows are named by test alone.
+    path
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    fig
+        A Figure or SubFigure to draw into; a new figure by default.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes: the blocks' mean COF, and their shares of the emitted volume (each row sums
+        to 100 %; empty for a run that emitted nothing); each block named with its number of
+        stops (the first run's), as a block's share grows with it.
+    """
+    needed = {"test", "block", "mean_cof", "share_of_emitted_percent"}
+    if table is None or table.empty or not needed <= set(table.columns):
+        raise ValueError(
+            "table: brakeca.study.block_table's table (test, block, mean_cof, "
+            "share_of_emitted_percent), of a cycle of named blocks"
+        )
+    by_name = {f.name: f for f in _factors(factors)} if factors is not None else {}
+    keys = ["test", "replicate"] if "replicate" in table.columns else ["test"]
+    replicated = "replicate" in table.columns and table["replicate"].nunique() > 1
+    blocks = list(dict.fromkeys(table["block"].astype(str)))
+    runs = list(dict.fromkeys(map(tuple, table[keys].to_numpy().tolist())))
+    labels = []
+    for run in runs:
+        first = table.loc[(table[keys] == pd.Series(run, index=keys)).all(axis=1)].iloc[0]
+        levels = {name: first[name] for name in by_name if name in table.columns}
+        label = _run_label(int(run[0]), levels, by_name)
+        if replicated:
+            head, _, rest = label.partition(":")
+            label = f"{head} r{int(run[1])}" + (f":{rest}" if rest else "")
+        labels.append(label)
+    index = pd.MultiIndex.from_tuples(runs, names=keys)
+    wide = {
+        column: table.assign(block=table["block"].astype(str))
+        .pivot_table(index=keys, columns="block", values=column, aggfunc="first", dropna=False)
+        .reindex(index=index, columns=blocks)
+        .to_numpy(dtype=float)
+        for column in ("mean_cof", "share_of_emitted_percent")
+    }
+    n_runs, n_blocks = len(runs), len(blocks)
+    names = blocks
+    if "stops" in table.columns:  # a block's share of V grows with its number of stops
+        first = table.drop_duplicates("block")
+        stops = dict(zip(first["block"].astype(str), first["stops"], strict=True))
+        names = [f"{b} ({int(stops[b])})" for b in blocks]
+    root, fig = _panels(fig, (2.6 + 1.35 * n_blocks + 2.2, 1.2 + 0.3 * n_runs))
+    axes = fig.subplots(1, 2, sharey=True)
+    panels = (
+        ("mean_cof", "Mean COF of the block's stops [-]", "viridis", "{:.2f}"),
+        ("share_of_emitted_percent", "Share of the run's emitted volume [%]", "magma_r", "{:.0f}"),
+    )
+    for ax, (column, title, cmap, form) in zip(axes, panels, strict=True):
+        values = wide[column]
+        finite = values[np.isfinite(values)]
+        low, high = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+        if high <= low:
+            high = low + 1e-12
+        image = ax.imshow(
+            np.ma.masked_invalid(values), aspect="auto", cmap=cmap, vmin=low, vmax=high
+        )
+        import matplotlib as mpl
+
+        colours = mpl.colormaps[cmap]
+        for i, j in itertools.product(range(n_runs), range(n_blocks)):
+            value = values[i, j]
+            if not math.isfinite(value):
+                continue
+            shade = colours((value - low) / (high - low))
+            light = 0.299 * shade[0] + 0.587 * shade[1] + 0.114 * shade[2] > 0.55
+            ax.text(
+                j,
+                i,
+                form.format(value),
+                ha="center",
+                va="center",
+                fontsize=7,
+                color="black" if light else "white",
+            )
+        ax.set_xticks(range(n_blocks), names, rotation=35, ha="right", fontsize=8)
+        ax.set_title(title, fontsize=9)
+        fig.colorbar(image, ax=ax, fraction=0.04, pad=0.02)
+    axes[0].set_yticks(range(n_runs), labels, fontsize=7)
+    _suptitle(fig, "Block by block: each run's mean COF, and where its emissions come from")
+    return save_figure(root, path)
 
 
 def _runs_side_by_side(runs: Any, variable: str) -> Any:

@@ -1716,6 +1716,23 @@ def _cycle_figures(
             variable="emitted_volume",
             log=None,
         )
+    by_block = block_table(per_stop_table(result)) if n_blocks > 1 else pd.DataFrame()
+    if not by_block.empty:
+        # the block-by-block table as a figure (an engineer's read: a CSV alone; a review
+        # of MU_SD: its spread lies mostly between the blocks' mean COF)
+        figures.add(
+            "Runs",
+            "Block by block, for every run: the mean COF of each block's stops (left; "
+            "MU_SD is mostly the differences along a row) and the block's share of the "
+            "run's emitted volume (right; each block named with its number of stops, as its "
+            "share grows with them); the numbers are tables/by_block.csv's",
+            "by_block.png",
+            plotting.plot_by_block,
+            by_block,
+            factors,
+        )
+    else:  # a trace's cycle, or one block: an earlier analysis's would outlive it
+        figures.drop("by_block.png")
     figures.add(
         "Runs",
         "V for every run (as the paper's Figure 11; on a log axis, a point per test, where the "

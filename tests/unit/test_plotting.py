@@ -1153,3 +1153,41 @@ def test_cube_plot_writes_each_corners_mean(tmp_path, summary) -> None:
     half = summary[summary["S"] == (summary["A"] == 20.0).astype(float)]
     sparse = plot_cube(half, FACTORS, "MU", names=["S", "WR", "A"])
     assert [t.get_text() for t in sparse.axes[0].texts].count("no run") == 4
+
+
+def test_by_block_writes_each_runs_block_means_and_shares() -> None:
+    """The block-by-block table as a figure (tables/by_block.csv was a CSV alone): a row per
+    run in test order, a column per block in the cycle's order, each cell its value."""
+    from brakeca.plotting import plot_by_block
+
+    rows = []
+    for test, s in ((1, 0.0), (2, 1.0)):
+        for block, stops, cof, share in (
+            ("Burnish", 3, 0.2 + 0.1 * s, 60.0),
+            ("Town", 2, 0.3, 40.0),
+        ):
+            rows.append(
+                {
+                    "test": test,
+                    "replicate": 0,
+                    "S": s,
+                    "block": block,
+                    "stops": stops,
+                    "mean_cof": cof,
+                    "share_of_emitted_percent": share - 10 * s,
+                }
+            )
+    table = pd.DataFrame(rows)
+    factors = [Factor("S", (0.0, 1.0), "-", "S", ("-", "+"))]
+    fig = plot_by_block(table, factors)
+    left, right = fig.axes[:2]  # then their colour bars
+    assert [t.get_text() for t in left.get_yticklabels()] == ["T1: S-", "T2: S+"]
+    assert [t.get_text() for t in left.get_xticklabels()] == ["Burnish (3)", "Town (2)"]
+    cells = {
+        (round(t.get_position()[1]), round(t.get_position()[0])): t.get_text() for t in left.texts
+    }
+    assert cells == {(0, 0): "0.20", (0, 1): "0.30", (1, 0): "0.30", (1, 1): "0.30"}
+    assert sorted(t.get_text() for t in right.texts) == ["30", "40", "50", "60"]
+    assert [t.get_text() for t in plot_by_block(table).axes[0].get_yticklabels()] == ["T1", "T2"]
+    with pytest.raises(ValueError, match="block_table's table"):
+        plot_by_block(table.drop(columns="block"))
