@@ -2291,18 +2291,25 @@ def _averaged_over(hits: pd.DataFrame, means: pd.DataFrame | None) -> str:
     if means is None:
         return ""
     terms = [str(t) for t in hits["term"]]
-    pairs = [t for t in terms if t.count(":") == 1]
+    # interactions of two factors and more (a model of order 3 can find S:WP:A significant
+    # where no pair is: the main effects in it average over it all the same)
+    joint = [t for t in terms if ":" in t]
     shown = [t for t in terms[:_MOST_FINDINGS] if ":" not in t]
-    caught = [f for f in shown if any(f in t.split(":") for t in pairs)]
+    caught = [f for f in shown if any(f in t.split(":") for t in joint)]
     if not caught:
         return ""
-    within = [t for t in pairs if set(t.split(":")) & set(caught)]
+    within = [t for t in joint if set(t.split(":")) & set(caught)]
     names = _listed(caught)
     each = "is" if len(caught) == 1 else "are each"
+    others = (
+        "the other factor's levels"
+        if all(t.count(":") == 1 for t in within)
+        else "the other factors' levels"
+    )
     return (
         f"; {names} {each} in a significant interaction ({', '.join(within)}): "
-        f"{'its' if len(caught) == 1 else 'their'} level means average over the other "
-        "factor's levels, between which the effect differs (the interaction plots)"
+        f"{'its' if len(caught) == 1 else 'their'} level means average over {others}, "
+        "between which the effect differs (the interaction plots)"
     )
 
 

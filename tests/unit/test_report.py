@@ -710,6 +710,13 @@ def test_in_short_cautions_a_main_effect_in_an_interaction_and_gives_log_v_in_mm
     )
     alone = frame.assign(p_value=[1e-6, 1e-4, 0.2, 0.3, math.nan])  # WP:A not significant
     assert "interaction" not in _finding("log10_V_mm3", alone, means)
+    # an interaction of three factors, significant where no pair is, cautions as well
+    three = frame.assign(term=["WP", "A", "S:WP:A", "S", "Residual"])
+    assert _finding("MU", three, means).endswith(
+        "; WP and A are each in a significant interaction (S:WP:A): their level means "
+        "average over the other factors' levels, between which the effect differs (the "
+        "interaction plots)"
+    )
     assert "geometric" not in _finding("MU", frame, means)
 
 
