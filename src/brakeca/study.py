@@ -48,6 +48,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "RESPONSES",
+    "analysed_responses",
     "block_table",
     "destination_problem",
     "per_stop_table",
@@ -80,6 +81,19 @@ _PAPER_INTERACTIONS = {
     "log10_V_mm3": "",
     "MU_SD": "",
 }
+
+
+def analysed_responses(summary: pd.DataFrame) -> tuple[str, ...]:
+    """The responses of :data:`RESPONSES` a study analyses for ``summary`` (with
+    log10_V_mm3): all of them but MU_SD where no finished run has a spread to show (every
+    run made one stop, or the summary has no such column): its ANOVA would be one of zeros
+    (a review of MU_SD)."""
+    ok = summary.loc[summary["status"] == "ok"] if "status" in summary else summary
+    if "MU_SD" in ok:
+        spread = pd.to_numeric(ok["MU_SD"], errors="coerce").to_numpy(dtype=float)
+        if np.any(np.isfinite(spread) & (spread > 0.0)):
+            return RESPONSES
+    return tuple(r for r in RESPONSES if r != "MU_SD")
 
 
 def with_log_v(summary: pd.DataFrame) -> pd.DataFrame:
@@ -780,13 +794,14 @@ def _box_cox(
     data: pd.DataFrame,
     factors: list[Any],
     surfaces: dict[str, Any],
+    responses: Sequence[str],
     *,
     interactions: Model,
     alpha_to_remove: float | None,
 ) -> dict[str, Any]:
-    """The Box-Cox profile of MU, V and MU_SD: under the fitted quadratic for a response-surface
-    design, under the ANOVA model otherwise (its order, ``interactions``, and reduced as the
-    ANOVA is)."""
+    """The Box-Cox profile of each of ``responses`` (of MU, V and MU_SD): under the fitted
+    quadratic for a response-surface design, under the ANOVA model otherwise (its order,
+    ``interactions``, and reduced as the ANOVA is)."""
     from brakeca import boxcox
 
     return {
@@ -799,7 +814,7 @@ def _box_cox(
             interactions=interactions,
             alpha_to_remove=alpha_to_remove,
         )
-        for resp in _BOX_COX_RESPONSES
+        for resp in responses
     }
 
 
@@ -1170,19 +1185,17 @@ def write_study(
         if (source / "design.toml").exists()
         else ""
     )
-    tables = found.tables
-    anova_tables = {resp: tables[resp]["anova"] for resp in RESPONSES if resp not in surfaces}
-    effects_tables = {resp: tables[resp]["effects"] for resp in RESPONSES}
-    level_means = {resp: tables[resp]["main_effects"] for resp in RESPONSES}
+    tables = found.tables  # the responses analysed (analysed_responses), in their order
+    anova_tables = {resp: tables[resp]["anova"] for resp in tables if resp not in surfaces}
+    effects_tables = {resp: tables[resp]["effects"] for resp in tables}
+    level_means = {resp: tables[resp]["main_effects"] for resp in tables}
     residual_tables = {
         resp: tables[resp]["residuals"]
-        for resp in RESPONSES
+        for resp in tables
         if tables[resp].get("residuals") is not None
     }
     unusual_tables = {
-        resp: tables[resp]["unusual"]
-        for resp in RESPONSES
-        if tables[resp].get("unusual") is not None
+        resp: tables[resp]["unusual"] for resp in tables if tables[resp].get("unusual") is not None
     }
     path = report.write_report(
         out / "report.html",
@@ -1202,9 +1215,9 @@ def write_study(
         box_cox=found.scales,
         anova_info=_SURFACE_ANOVA_NOTE if surfaces else "",
         level_means=level_means,
-        trend_tables={resp: tables[resp]["trends"] for resp in RESPONSES},
-        coefficient_tables={resp: tables[resp]["coefficients"] for resp in RESPONSES},
-        comparison_tables={resp: tables[resp]["comparisons"] for resp in RESPONSES},
+        trend_tables={resp: tables[resp]["trends"] for resp in tables},
+        coefficient_tables={resp: tables[resp]["coefficients"] for resp in tables},
+        comparison_tables={resp: tables[resp]["comparisons"] for resp in tables},
         residual_tables=residual_tables,
         unusual_tables=unusual_tables,
         pm10=None if pm10 is None else (pm10.table, pm10.info, pm10.line),
@@ -1332,6 +1345,7 @@ def _analyse(
     summary = result.summary
     factors = list(result.design.factors)
     data = with_log_v(summary)
+    responses = analysed_responses(data)
     typ = result.design.anova_type if anova_type is None else anova_type
     alpha = result.design.alpha_to_remove if alpha_to_remove is None else alpha_to_remove
     surface_design = result.design.is_response_surface
@@ -1346,7 +1360,7 @@ def _analyse(
     tables = analysis.analyze(
         data,
         factors,
-        RESPONSES,
+        responses,
         main_effects_only=result.design.plackett_burman is not None,
         anova_type=typ,
         alpha_to_remove=None if surface_design else alpha,
@@ -1359,7 +1373,7 @@ def _analyse(
     if surface_design:
         from brakeca import rsm
 
-        surfaces = rsm.response_surfaces(data, factors, RESPONSES, alpha_to_remove=alpha)
+        surfaces = rsm.response_surfaces(data, factors, responses, alpha_to_remove=alpha)
         rsm.save_surface_tables(surfaces, tables_dir)
         for resp, fit in surfaces.items():
             surface_residuals[resp] = rsm.surface_residuals(fit, data)
@@ -1379,6 +1393,7 @@ def _analyse(
         data,
         factors,
         surfaces,
+        [r for r in _BOX_COX_RESPONSES if r in responses],
         interactions=model,
         alpha_to_remove=None if surface_design else alpha,
     )
@@ -1441,7 +1456,7 @@ def _response_figures(
     optimum, goals, scales = found.optimum, found.goals, found.scales
     surface_residuals = found.surface_residuals
     aliases = analysis.interaction_aliases(pd.DataFrame(result.design.combinations()), factors)
-    for resp in RESPONSES:
+    for resp in tables:  # the responses analysed
         label = _LABELS[resp]
         if resp in surfaces:
             # a composite design's level means are not balanced against the other
@@ -1968,8 +1983,14 @@ def _study_notes(
         "speeds and pressures) as well as the drift within a block"
         + _block_share(result)
         + ", and a run held at the COF floor (friction.mu_min) is steady because the floor "
-        "holds it, not its pad. "
-        "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
+        "holds it, not its pad"
+        + (
+            ". "
+            if "MU_SD" in found.tables
+            else "; no finished run has a spread over its stops (one stop each), so MU_SD is "
+            "not analysed. "
+        )
+        + "The CSV tables in tables/ keep SI units: V in m³ there, not mm³ "
         "(tables/README.md lists them). "
         "Modelling decisions: docs/model.md."
     )

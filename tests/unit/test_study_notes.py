@@ -282,3 +282,19 @@ def test_the_notes_say_how_much_of_mu_sd_lies_between_the_blocks() -> None:
     one = data.assign_coords(block=("stop", list("aaaa")))
     assert _block_share(SimpleNamespace(dataset=one)) == ""
     assert _block_share(SimpleNamespace(dataset=data.drop_vars("block"))) == ""
+
+
+def test_mu_sd_is_analysed_only_where_a_run_has_a_spread() -> None:
+    """A review of MU_SD: a study of one stop a run made an ANOVA of zeros, a regression
+    equation of '+ 0' terms and four empty figures; MU_SD is left out there (and where the
+    summary lacks it), and kept as soon as one finished run has a spread."""
+    import pandas as pd
+
+    from brakeca.study import RESPONSES, analysed_responses
+
+    flat = pd.DataFrame({"status": ["ok", "ok", "failed"], "MU_SD": [0.0, 0.0, np.nan]})
+    assert analysed_responses(flat) == ("MU", "V", "log10_V_mm3")
+    assert analysed_responses(flat.drop(columns="MU_SD")) == ("MU", "V", "log10_V_mm3")
+    assert analysed_responses(flat.assign(MU_SD=[0.0, 1e-6, np.nan])) == RESPONSES
+    # a failed run's value does not count
+    assert "MU_SD" not in analysed_responses(flat.assign(MU_SD=[0.0, 0.0, 0.5]))
