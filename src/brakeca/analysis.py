@@ -806,7 +806,8 @@ def cube_means(
     Raises
     ------
     ValueError
-        Fewer than two two-level factors, or ``names`` that are not two or three of them.
+        Fewer than two two-level factors, ``names`` that are not two or three of them, or no
+        finished run to choose the factors by.
 
     Examples
     --------
@@ -832,6 +833,10 @@ def cube_means(
     data = _clean(summary, factors, response)
     data = data.loc[~_center_mask(data, factors)]
     if names is None:
+        if not len(data):  # the default pick would read NaN spreads as a choice
+            raise ValueError(
+                f"no finished run with a finite {response} to take the cube's means of"
+            )
         if len(two_level) < 2:
             raise ValueError(
                 f"a cube needs two or three factors of two levels; this design has "

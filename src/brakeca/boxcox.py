@@ -547,7 +547,7 @@ def box_cox(
         # "tests 17, 23" otherwise, not "test 17; test 23" (a review)
         without_runs=(
             "; ".join(run_named(rec, replicated) for _, rec in rows.iterrows())
-            if replicated
+            if replicated or "test" not in rows
             else tests_named(int(t) for t in rows["test"])
         ),
     )

@@ -528,7 +528,7 @@ def plot_cube(
     ax = fig.subplots()
     corners = []
     for _, row in table.iterrows():
-        index = tuple(f.levels.index(row[f.name]) for f in cube)
+        index = tuple(int(f.level_index(row[f.name]) or 0) for f in cube)  # each a level
         xy = np.array([float(index[0]), float(index[1])])
         if len(cube) == 3:
             xy = xy + index[2] * depth
@@ -737,7 +737,9 @@ def plot_by_block(
         )
     by_name = {f.name: f for f in _factors(factors)} if factors is not None else {}
     keys = ["test", "replicate"] if "replicate" in table.columns else ["test"]
-    replicated = "replicate" in table.columns and table["replicate"].nunique() > 1
+    from brakeca._console import is_replicated
+
+    replicated = is_replicated(table)
     blocks = list(dict.fromkeys(table["block"].astype(str)))
     runs = list(dict.fromkeys(map(tuple, table[keys].to_numpy().tolist())))
     labels = []

@@ -68,6 +68,8 @@ _LABELS = {
     "log10_V_mm3": "log10 of V (V in mm³ per stop)",
     "MU_SD": "friction stability MU_SD (standard deviation of the per-stop mean COF)",
 }
+#: a response's name in a caption that says more of it in parentheses
+_SHORT = {"MU_SD": "friction stability MU_SD"}
 #: the paper's figure of each response's main effects and interactions (analysis.py)
 _PAPER_MAIN = {
     "MU": " (as the paper's Figure 6)",
@@ -408,10 +410,10 @@ Files (R is the response: MU, V, log10_V_mm3 or MU_SD):
   Information Using the Tukey Method", each level of the factor with its `n`, least-squares
   `mean` and `grouping` letters, the largest mean first; levels that share no letter differ
   significantly (`brakeca.analysis.tukey_grouping`). The report's caption lists the letters.
-- `box_cox.csv`: the Box–Cox check of MU's, V's and MU_SD's scale; `without_unusual` (under
-  the ANOVA model, not a response surface's quadratic): λ̂, its interval and the reading
-  without the runs whose standardized residual is beyond ±2 (the report's unusual runs),
-  under the same terms, and whether the reading holds without them.
+- `box_cox.csv`: the Box–Cox check of the scale of MU, V and MU_SD (where analysed);
+  `without_unusual` (under the ANOVA model, not a response surface's quadratic): λ̂, its
+  interval and the reading without the runs whose standardized residual is beyond ±2 (the
+  report's unusual runs), under the same terms, and whether the reading holds without them.
 - `surface_*_R.csv` (response-surface designs): coded coefficients, ANOVA by source, summary
   (its equation in the response's SI unit), residuals of the quadratic.
 - `optimum.csv`: the optimum of the design's goals (V and its limits in m³); each goal's
@@ -657,10 +659,13 @@ def _block_share(result: CampaignResult) -> str:
     """What share of MU_SD's square lies between the means of the cycle's blocks, over the
     finished runs (a review of MU_SD: 95 % in the paper's study, so it reads mostly as the
     friction's sensitivity to the blocks' conditions), as a clause of the notes: ``": in
-    these runs 95 % of MU_SD² (median; 23 to 100 %) lies between the blocks' mean COF
-    (tables/by_block.csv), ..."``; empty for a cycle without named blocks, or one block."""
+    the finished runs 95 % of MU_SD² (median; 23 to 100 %) lies between the blocks' mean COF
+    (tables/by_block.csv), ..."``; empty for a cycle without named blocks, or one block, and
+    for a design with a factor on the cycle (its runs have blocks of their own)."""
     data = result.dataset
     if "mean_cof" not in data or "block" not in data.coords:
+        return ""
+    if _cycle_factors(getattr(result, "design", None)):  # the runs' blocks differ
         return ""
     blocks = np.asarray(data["block"].values).astype(str)
     names = list(dict.fromkeys(blocks))
@@ -688,9 +693,16 @@ def _block_share(result: CampaignResult) -> str:
         else "the friction's drift at each block's conditions"
     )
     return (
-        f": in these runs {median:.0f} % of MU_SD²{spread} lies between the blocks' mean "
+        f": in the finished runs {median:.0f} % of MU_SD²{spread} lies between the blocks' mean "
         f"COF (tables/by_block.csv), so MU_SD reads mostly as {reading}"
     )
+
+
+def _cycle_factors(design: Any) -> list[str]:
+    """The design's factors that set the cycle (``cycle``, ``cycle.max_stops``...): its runs
+    then have blocks of their own, which campaign.nc's one block axis does not give."""
+    factors = getattr(design, "factors", ())
+    return [f.name for f in factors if _target(f.field).split(".")[0] == "cycle"]
 
 
 def _floor_line(result: CampaignResult, base: Any) -> str:
@@ -714,7 +726,13 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
         f"MU at the COF floor: {runs} spend{'s' if len(named) == 1 else ''} half their stops "
         f"or more within {100 * FLOOR_TOLERANCE:g} % of friction.mu_min = {found.floor:g}, "
         "where MU cannot fall further: the effects on MU of what lowers it are compressed "
-        "there, and those runs' MU_SD is small because the floor holds them (Notes)"
+        "there"
+        + (
+            ", and those runs' MU_SD is small because the floor holds them"
+            if "MU_SD" in analysed_responses(getattr(result, "summary", pd.DataFrame()))
+            else ""
+        )
+        + " (Notes)"
     )
 
 
@@ -1496,8 +1514,8 @@ def _response_figures(
             others = len(factors) - len(cube)
             figures.add(
                 "Main effects",
-                f"Cube plot of {label} (Minitab's cube plot of data means): the mean of the "
-                f"runs at each corner of {_listed(cube)}"
+                f"Cube plot of {_SHORT.get(resp, resp)}, as Minitab's cube plot of data means: "
+                f"the mean of the runs at each corner of {_listed(cube)}"
                 + (
                     f", the {len(cube)} factors with the largest main effects on it, over "
                     f"the other {others} factor{'s' if others > 1 else ''}' levels"
@@ -1625,7 +1643,8 @@ def _response_figures(
             figures.drop(f"residuals_by_level_{resp}.png")
     figures.add(
         "Residuals",
-        "Box-Cox plots of MU, V and MU_SD: the likelihood of each power λ of the response under "
+        f"Box-Cox plots of {_listed(list(scales))}: the likelihood of each power λ of the "
+        "response under "
         "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
         "of λ shaded; λ = 0 is the log (section 'Scale of the responses')"
         + (
@@ -1731,13 +1750,17 @@ def _cycle_figures(
             variable="emitted_volume",
             log=None,
         )
-    by_block = block_table(per_stop_table(result)) if n_blocks > 1 else pd.DataFrame()
+    by_block = (
+        block_table(per_stop_table(result))
+        if n_blocks > 1 and not _cycle_factors(result.design)
+        else pd.DataFrame()
+    )
     if not by_block.empty:
         # the block-by-block table as a figure (an engineer's read: a CSV alone; a review
         # of MU_SD: its spread lies mostly between the blocks' mean COF)
         figures.add(
             "Runs",
-            "Block by block, for every run: the mean COF of each block's stops (left; "
+            "Block by block, for every finished run: the mean COF of each block's stops (left; "
             "MU_SD is mostly the differences along a row) and the block's share of the "
             "run's emitted volume (right; each block named with its number of stops, as its "
             "share grows with them); the numbers are tables/by_block.csv's",
@@ -1979,8 +2002,8 @@ def _study_notes(
         + "MU_SD, the friction stability, is the standard deviation of the stops' mean COF "
         "about MU, a population one (divided by the number of stops, not one less): the "
         "lower, the steadier the friction over the cycle. It is not one of the paper's "
-        "responses. It takes in the changes from one block of the cycle to the next (their "
-        "speeds and pressures) as well as the drift within a block"
+        "responses. It takes in the changes of the cycle's conditions from stop to stop (their "
+        "speeds and pressures) as well as the friction's drift over time"
         + _block_share(result)
         + ", and a run held at the COF floor (friction.mu_min) is steady because the floor "
         "holds it, not its pad"

@@ -342,6 +342,14 @@ def test_the_profile_without_the_unusual_runs_says_whether_the_reading_holds() -
     assert result.without_runs == "; ".join(
         f"test {t}, replicate {r}" for t, r in zip(tests, reps, strict=True)
     )
+    # one replicate a test: "tests 5, 9" (not "test 5; test 9"); a summary without test
+    # numbers: "a run" (a diff review found a KeyError there)
+    from brakeca._console import tests_named
+
+    single = planted.assign(replicate=0)  # every run its own test
+    assert box_cox(single, factors, "V").without_runs == tests_named(tests)
+    bare = single.drop(columns="test")
+    assert box_cox(bare, factors, "V").without_runs == "; ".join(["a run"] * len(tests))
     from brakeca.plotting import plot_box_cox
 
     ax = plot_box_cox({"V": result}).axes[0]

@@ -1111,15 +1111,21 @@ def test_cube_means_are_the_corners_runs_means_and_pick_the_largest_effects(summ
         mean, size = by_hand.loc[(row["A"], row["S"], row["WR"])]
         assert row["mean"] == pytest.approx(mean, rel=1e-14, abs=0) and row["n"] == size
     assert table["n"].sum() == len(ok)  # the failed run is in no corner
-    # the default: the three two-level factors, ordered as in the design, largest first
-    effects = main_effects(summary, FACTORS, "V")
-    spread = {f: np.ptp(effects.loc[effects["factor"] == f, "mean"]) for f in ("S", "WR", "A")}
-    assert spread["WR"] < max(spread["S"], spread["A"])  # so the pick is not trivial
-    assert cube_means(summary, FACTORS, "V").attrs["factors"] == ("S", "WR", "A")
+    # the default: of the two-level factors, the three whose level means differ most, in
+    # the design's order; B, a fourth with a real effect on V, displaces the weakest
     two = [f for f in FACTORS if f.name != "WP"]
-    with_b = summary.assign(B=np.arange(len(summary)) % 2 * 1.0)  # no effect to speak of
-    picked = cube_means(with_b, [*two, Factor("B", (0.0, 1.0))], "V").attrs["factors"]
-    assert picked == ("S", "WR", "A")
+    with_b = summary.assign(B=(np.arange(len(summary)) // 3 % 2).astype(float))
+    with_b["V"] = with_b["V"] + 5e-11 * with_b["B"]
+    four = [*two, Factor("B", (0.0, 1.0))]
+    effects = main_effects(with_b, four, "V")
+    spread = {f.name: np.ptp(effects.loc[effects["factor"] == f.name, "mean"]) for f in four}
+    strongest = sorted(spread, key=lambda n: -spread[n])[:3]
+    expected = tuple(f.name for f in four if f.name in strongest)
+    assert "B" in expected and len(expected) == 3
+    assert cube_means(with_b, four, "V").attrs["factors"] == expected
+    assert cube_means(summary, FACTORS, "V").attrs["factors"] == ("S", "WR", "A")  # WP: 3
+    with pytest.raises(ValueError, match="no finished run with a finite MU"):
+        cube_means(summary.assign(status="failed"), FACTORS, "MU")
     # a half fraction: half the corners of a cube of three have no run
     half = summary[summary["S"] == (summary["A"] == 20.0).astype(float)]
     corners = cube_means(half, FACTORS, "MU", names=["S", "WR", "A"])
@@ -1148,6 +1154,16 @@ def test_cube_plot_writes_each_corners_mean(tmp_path, summary) -> None:
     assert sum(t.endswith("\n(n = 2)") for t in texts) == 1
     assert sum(t.endswith("\n(n = 3)") for t in texts) == 7
     assert "Cube plot (data means) for V [mm³]" in fig.texts[0].get_text()
+    # each mean at its corner: S along, A up, WR into the page (drawn up and to the right)
+    at = {
+        t.get_text().split("\n")[0]: t.xy for t in fig.axes[0].texts if t.get_text()[:1].isdigit()
+    }
+    for _, row in corners.iterrows():
+        i, j, k = (
+            float(row[n] == f.levels[1])
+            for n, f in (("S", FACTORS[0]), ("A", FACTORS[3]), ("WR", FACTORS[2]))
+        )
+        assert at[f"{row['mean'] * 1e9:.4g}"] == pytest.approx((i + 0.55 * k, j + 0.4 * k))
     square = plot_cube(summary, FACTORS, "MU", names=["S", "A"])
     assert len([t for t in square.axes[0].texts if t.get_text()[:1].isdigit()]) == 4
     half = summary[summary["S"] == (summary["A"] == 20.0).astype(float)]
@@ -1191,3 +1207,7 @@ def test_by_block_writes_each_runs_block_means_and_shares() -> None:
     assert [t.get_text() for t in plot_by_block(table).axes[0].get_yticklabels()] == ["T1", "T2"]
     with pytest.raises(ValueError, match="block_table's table"):
         plot_by_block(table.drop(columns="block"))
+    # two replicates of a test: a row each, named by replicate
+    twice = table.assign(test=1, replicate=[0, 0, 1, 1])
+    rows = plot_by_block(twice, factors).axes[0].get_yticklabels()
+    assert [t.get_text() for t in rows] == ["T1 r0: S-", "T1 r1: S+"]

@@ -269,13 +269,13 @@ def test_the_notes_say_how_much_of_mu_sd_lies_between_the_blocks() -> None:
     )
     text = _block_share(SimpleNamespace(dataset=data))
     assert text == (
-        ": in these runs 75 % of MU_SD² (median; 50 to 100 %) lies between the blocks' mean "
+        ": in the finished runs 75 % of MU_SD² (median; 50 to 100 %) lies between the blocks' mean "
         "COF (tables/by_block.csv), so MU_SD reads mostly as the friction's sensitivity to "
         "the blocks' conditions"
     )
     # each block the same two values: all of it within the blocks
     within = data.assign(mean_cof=(("run", "stop"), np.tile([0.2, 0.4, 0.2, 0.4], (4, 1))))
-    assert _block_share(SimpleNamespace(dataset=within)).startswith(": in these runs 0 % of")
+    assert _block_share(SimpleNamespace(dataset=within)).startswith(": in the finished runs 0 % of")
     assert _block_share(SimpleNamespace(dataset=within)).endswith(
         "drift at each block's conditions"
     )
@@ -298,3 +298,28 @@ def test_mu_sd_is_analysed_only_where_a_run_has_a_spread() -> None:
     assert analysed_responses(flat.assign(MU_SD=[0.0, 1e-6, np.nan])) == RESPONSES
     # a failed run's value does not count
     assert "MU_SD" not in analysed_responses(flat.assign(MU_SD=[0.0, 0.0, 0.5]))
+
+
+def test_no_cube_plot_without_a_finished_run_or_for_a_factor_of_three_levels() -> None:
+    """A diff review: with no factorial run finished, the cube's factors were the first
+    three in the design's order, captioned as those of the largest effects."""
+    import pandas as pd
+
+    from brakeca.analysis import Factor
+    from brakeca.study import _cube_factors
+
+    factors = [Factor("S", (0.0, 1.0)), Factor("A", (10.0, 20.0)), Factor("WR", (1.0, 2.0))]
+    runs = pd.DataFrame(
+        {
+            "S": [0.0, 1.0] * 4,
+            "A": [10.0, 10.0, 20.0, 20.0] * 2,
+            "WR": [1.0] * 4 + [2.0] * 4,
+            "MU": [0.2, 0.2, 0.4, 0.4, 0.2, 0.21, 0.4, 0.41],
+            "status": "ok",
+        }
+    )
+    assert _cube_factors(factors, runs, "MU") == ["S", "A", "WR"]
+    assert _cube_factors(factors, runs.assign(status="failed"), "MU") == []
+    assert _cube_factors(factors, runs, "log10_V_mm3") == []  # V's own cube says it
+    three = [*factors[:2], Factor("WR", (1.0, 1.5, 2.0))]
+    assert _cube_factors(three, runs, "MU") == []  # Minitab's: every factor of two levels
