@@ -529,6 +529,11 @@ def _clean(summary: pd.DataFrame, factors: Sequence[Any], response: str) -> pd.D
         hint = ""
         if response == "log10_V_mm3" and "V_mm3" in summary.columns:
             hint = "; brakeca.study.with_log_v(summary) adds it"
+        elif response == "MU_SD":  # a summary.csv written before the friction stability
+            hint = (
+                "; a campaign written before MU_SD has none in its summary.csv: "
+                "brakeca.load_campaign(folder) computes it from campaign.nc"
+            )
         else:
             near = [c for c in summary.columns if str(c).lower() == response.lower()]
             hint = f"; did you mean {near[0]!r}?" if near else ""

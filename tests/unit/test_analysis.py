@@ -1193,6 +1193,9 @@ def test_a_design_stands_for_its_factors_and_names_alone_are_refused() -> None:
         anova(rows.assign(V_mm3=1.0), design, "log10_V_mm3")
     with pytest.raises(KeyError, match=r"'mu' is not a column of the summary; did you mean 'MU'"):
         anova(rows, design, "mu")
+    with pytest.raises(KeyError, match=r"'MU_SD' is not a column of the summary; a campaign "
+                       r"written before MU_SD .*load_campaign\(folder\) computes it"):  # fmt: skip
+        anova(rows, design, "MU_SD")
 
 
 def test_an_exact_fit_has_its_type_ii_sums_of_squares():
