@@ -571,70 +571,27 @@ def plot_cube(
             bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "none", "alpha": 0.85},
             zorder=3,
         )
-    # the factors along their edges, each level at its end
-    first, second = cube[0], cube[1]
-    ax.annotate(
-        first.axis_label,
-        (0.5, 0.0),
-        xytext=(0, -30),
-        textcoords="offset points",
-        ha="center",
-        va="top",
-        fontsize=9,
-    )
-    for k, level in enumerate(first.levels):
-        ax.annotate(
-            _cube_level(first, level),
-            (float(k), 0.0),
-            xytext=(0, -8),
-            textcoords="offset points",
-            ha="center",
-            va="top",
-            fontsize=8,
-        )
-    ax.annotate(
-        second.axis_label,
-        (0.0, 0.5),
-        xytext=(-36, 0),
-        textcoords="offset points",
-        ha="right",
-        va="center",
-        fontsize=9,
-        rotation=90,
-    )
-    for k, level in enumerate(second.levels):
-        ax.annotate(
-            _cube_level(second, level),
-            (0.0, float(k)),
-            xytext=(-8, 0),
-            textcoords="offset points",
-            ha="right",
-            va="center",
-            fontsize=8,
-        )
-    if len(cube) == 3:
-        third = cube[2]
-        right = np.array([1.0, 0.0])
-        mid = right + 0.5 * depth
-        ax.annotate(
-            third.axis_label,
-            tuple(mid),
-            xytext=(14, -6),
-            textcoords="offset points",
-            ha="left",
-            va="top",
-            fontsize=9,
-        )
-        for k, level in enumerate(third.levels):
-            ax.annotate(
-                _cube_level(third, level),
-                tuple(right + k * depth),
-                xytext=(10, 0),
-                textcoords="offset points",
-                ha="left",
-                va="center",
-                fontsize=8,
-            )
+    # the factors along their edges, each level at its end: (factor, where its name goes,
+    # the name's offset [points], alignment and rotation, where level k's end is, the level
+    # labels' offset and alignment)
+    right = np.array([1.0, 0.0])
+    edges: list[tuple[Any, ...]] = [
+        (cube[0], (0.5, 0.0), (0, -30), "center", "top", 0,
+         lambda k: (float(k), 0.0), (0, -8), "center", "top"),
+        (cube[1], (0.0, 0.5), (-36, 0), "right", "center", 90,
+         lambda k: (0.0, float(k)), (-8, 0), "right", "center"),
+    ]  # fmt: skip
+    if len(cube) == 3:  # the depth edge, low right
+        edges.append(
+            (cube[2], tuple(right + 0.5 * depth), (14, -6), "left", "top", 0,
+             lambda k: tuple(right + k * depth), (10, 0), "left", "center")
+        )  # fmt: skip
+    for factor, at, offset, ha, va, rotation, end, end_offset, end_ha, end_va in edges:
+        ax.annotate(factor.axis_label, at, xytext=offset, textcoords="offset points", ha=ha,
+                    va=va, fontsize=9, rotation=rotation)  # fmt: skip
+        for k, level in enumerate(factor.levels):
+            ax.annotate(_cube_level(factor, level), end(k), xytext=end_offset,
+                        textcoords="offset points", ha=end_ha, va=end_va, fontsize=8)  # fmt: skip
     ax.set_xlim(-0.45, 1.45 + (depth[0] if len(cube) == 3 else 0.0))
     ax.set_ylim(-0.3, 1.3 + (depth[1] if len(cube) == 3 else 0.0))
     ax.set_aspect("equal")
