@@ -1518,7 +1518,11 @@ def _response_figures(
                 f"the mean of the runs at each corner of {_listed(cube)}"
                 + (
                     f", the {len(cube)} factors with the largest main effects on it, over "
-                    f"the other {others} factor{'s' if others > 1 else ''}' levels"
+                    + (
+                        f"the other {others} factors' levels"
+                        if others > 1
+                        else "the other factor's levels"
+                    )
                     if others
                     else ""
                 )
