@@ -1484,6 +1484,13 @@ def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
         return key, value
     field, scale, unit = FACTOR_ALIASES[key]
     number = plain_number(value)
+    if number is None and isinstance(value, str):  # "1e-13", as the fields take it (their
+        try:  # pydantic reads a number's text; the aliases had refused it: a review)
+            number = csv_float(value.strip())
+        except ValueError:
+            number = None
+        if number is not None and not math.isfinite(number):
+            number = None
     if number is None:
         what = "a number" + ("" if unit == "-" else f" in {unit}")
         raise ConfigError(f"{key} (= {field}): expected {what}, got {value!r}")

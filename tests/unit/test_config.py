@@ -556,6 +556,15 @@ def test_numpy_numbers_are_numbers_to_the_aliases_and_the_levels() -> None:
             paper.with_updates({"S": bad})
     with pytest.raises(ConfigError, match=r"expected a number in %, got 'x'"):
         paper.with_updates({"A": "x"})
+    # a number's text, which the dotted fields take (pydantic reads it), the aliases take too
+    # (they had refused {"WP": "1e-13"} beside {"wear.specific_wear_rate": "1e-13"}: a review)
+    assert paper.with_updates({"WP": "1e-13"}) == paper.with_updates(
+        {"wear.specific_wear_rate": "1e-13"}
+    )
+    assert paper.with_updates({"A": " 20 "}).pad.fibre_area_fraction == 0.2
+    for bad in ("nan", "inf", "1_0", ""):  # what no spreadsheet writes, or no number
+        with pytest.raises(ConfigError, match=r"^WP \(= wear.specific_wear_rate\): expected a"):
+            paper.with_updates({"WP": bad})
     table = {"name": "d", "base": "paper", "root_seed": 1}
     factors = [
         {"name": "WP", "levels": np.logspace(-15, -13, 3)},
