@@ -1824,6 +1824,7 @@ def in_short(
             else ""
         )
         + _outlier_clause(frame, (unusual_tables or {}).get(r), residual_tables, r)
+        + (_log_left_out(level_means) if str(r) == "log10_V_mm3" and line else "")
         for r, frame in anova_tables.items()
         if (
             line := _finding(
@@ -1831,6 +1832,26 @@ def in_short(
             )
         )
     ]
+
+
+def _log_left_out(level_means: Mapping[str, pd.DataFrame] | None) -> str:
+    """The clause of log10 V's "In short" line on the runs its level means (and so the
+    geometric means of V it gives) leave out: those that emitted nothing, which have no log
+    (the Notes said so, the line did not); empty where V's and the log's means count the same
+    runs."""
+    v, log = (level_means or {}).get("V"), (level_means or {}).get("log10_V_mm3")
+    if v is None or log is None or v.empty or log.empty or "n" not in v or "n" not in log:
+        return ""
+    first = str(v["factor"].iloc[0])  # every run is at one level of each factor
+    n_v = int(v.loc[v["factor"] == first, "n"].sum())
+    n_log = int(log.loc[log["factor"] == first, "n"].sum())
+    if n_v <= n_log:
+        return ""
+    k = n_v - n_log
+    return (
+        f"; these means leave out the {k} run{'s' if k > 1 else ''} that emitted nothing "
+        "(V = 0 has no log; Notes)"
+    )
 
 
 def render_report(

@@ -720,6 +720,37 @@ def test_in_short_cautions_a_main_effect_in_an_interaction_and_gives_log_v_in_mm
     assert "geometric" not in _finding("MU", frame, means)
 
 
+def test_in_short_says_the_log_of_v_leaves_out_the_runs_that_emitted_nothing() -> None:
+    """log10 V's level means, and V's geometric means from them, leave out the runs with
+    V = 0 (no log); the Notes said so, the line giving those means did not."""
+    from brakeca.report import in_short
+
+    frame = pd.DataFrame(
+        {
+            "term": ["A", "Residual"],
+            "p_value": [1e-4, math.nan],
+            "percent_contribution": [90.0, 10.0],
+        }
+    )
+
+    def means(n):
+        return pd.DataFrame(
+            {"factor": ["A", "A"], "level": [10.0, 20.0], "label": ["-", "+"],
+             "mean": [1.0, 0.5], "n": n}
+        )  # fmt: skip
+
+    tables = {"V": frame, "log10_V_mm3": frame}
+    lines = in_short(tables, level_means={"V": means([4, 4]), "log10_V_mm3": means([4, 2])})
+    assert lines[1].endswith(
+        "; these means leave out the 2 runs that emitted nothing (V = 0 has no log; Notes)"
+    )
+    assert "emitted nothing" not in lines[0]  # V's own line counts every run
+    one = in_short(tables, level_means={"V": means([4, 4]), "log10_V_mm3": means([3, 4])})
+    assert one[1].endswith("the 1 run that emitted nothing (V = 0 has no log; Notes)")
+    alike = in_short(tables, level_means={"V": means([4, 4]), "log10_V_mm3": means([4, 4])})
+    assert "emitted nothing" not in alike[1]
+
+
 def test_in_short_names_an_aliased_term_with_its_short_aliases() -> None:
     """A review of a screening report: "In short" named S:mu0 (19.7 % of V) alone, where the
     fold-over showed the share was its aliases' (WP:slope = A:modulus). A term is now named
