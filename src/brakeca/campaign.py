@@ -508,6 +508,30 @@ def _without_wall_time(summary_text: str) -> str:
     return "\n".join(",".join(row[:drop] + row[drop + 1 :]) for row in rows)
 
 
+def _columns_added(before: str, after: str) -> list[str]:
+    """The columns ``after`` (a summary.csv's text) adds to ``before`` where it is otherwise
+    the same, its runs' values equal but their wall time: the same study written by a version
+    of brakeca with more run scalars (MU_SD); empty otherwise."""
+    import io
+
+    old = list(csv.reader(io.StringIO(before)))
+    new = list(csv.reader(io.StringIO(after)))
+    if not old or not new or len(old) != len(new):
+        return []
+    added = [c for c in new[0] if c not in old[0]]
+    if not added or any(c not in new[0] for c in old[0]):
+        return []
+    if any(len(r) != len(old[0]) for r in old) or any(len(r) != len(new[0]) for r in new):
+        return []
+    mine = [k for k, c in enumerate(old[0]) if c != "wall_time"]
+    theirs = [new[0].index(old[0][k]) for k in mine]
+    same = all(
+        [row[k] for k in mine] == [other[k] for k in theirs]
+        for row, other in zip(old[1:], new[1:], strict=True)
+    )
+    return added if same else []
+
+
 def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
     """Remove the analysis (report.html, tables/, figures/) of the study in ``out`` when the
     summary about to be written (``summary_text``, summary.csv's text) differs from the one
@@ -530,6 +554,12 @@ def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
             if _without_wall_time(before) == _without_wall_time(summary_text)
             else "it was of other runs"
         )
+        added = _columns_added(before, summary_text)
+        if added:  # a folder of an earlier version (a session's own rerun said "other runs")
+            why = (
+                f"this version of brakeca adds {', '.join(added)} to summary.csv, the runs' "
+                f"results the same; 'brakeca analyze {out}' writes it anew"
+            )
     except (OSError, UnicodeDecodeError, csv.Error):
         before, why = "", "it was of other runs"
     if before == summary_text:

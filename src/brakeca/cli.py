@@ -1141,9 +1141,10 @@ def _run_and_report(
 
 def _print_summary(summary, design=None) -> None:
     """The runs as a table: test, factor levels (a categorical factor's by its choice's
-    label), status, MU and V. When the levels' values make the table wider than the
-    terminal (seven factors in 80 columns), every factor with labels shows its labels (-, +)
-    instead, and the caption says so; the test number and the responses are never cut."""
+    label), status, MU, V and MU_SD (where the summary has it). When the levels' values make
+    the table wider than the terminal (seven factors in 80 columns), every factor with labels
+    shows its labels (-, +) instead, and the caption says so; where it is still too wide,
+    MU_SD is left out (summary.csv has it); the test number, MU and V are never cut."""
     import pandas as pd
     from rich.table import Table
 
@@ -1177,9 +1178,14 @@ def _print_summary(summary, design=None) -> None:
                 *([str(row.get("status", "ok"))] if with_status else []),
                 f"{row['MU']:.4f}" if shown(row) else "-",
                 f"{row['V_mm3']:.5g}" if shown(row) else "-",
+                *([spread(row)] if with_spread else []),
             ]
             for _, row in summary.iterrows()
         ]
+
+    def spread(row: Any) -> str:  # MU_SD, NaN for a run without one
+        value = row.get("MU_SD")
+        return f"{value:.3g}" if shown(row) and value is not None and pd.notna(value) else "-"
 
     averaged = ""
     if (
@@ -1199,13 +1205,19 @@ def _print_summary(summary, design=None) -> None:
         "MU",
         "V [mm³/stop]",
     ]
+    with_spread = "MU_SD" in summary.columns  # friction stability (a campaign since 2026-11)
+    if with_spread:
+        headers.append("MU_SD")
 
     def widths(cells: list[list[str]]) -> list[int]:
         return [max([len(h), *(len(r[k]) for r in cells)]) for k, h in enumerate(headers)]
 
+    def too_wide(cells: list[list[str]]) -> bool:
+        return sum(widths(cells)) + 3 * len(headers) + 1 > out.width
+
     cells = rows(labelled=False)
     caption = averaged or None
-    if sum(widths(cells)) + 3 * len(headers) + 1 > out.width:
+    if too_wide(cells):
         cells = rows(labelled=True)
         caption = (
             "levels by their labels"
@@ -1213,10 +1225,15 @@ def _print_summary(summary, design=None) -> None:
             + "; summary.csv has the values"
             + (f"; {averaged}" if averaged else "")
         )
+    if with_spread and too_wide(cells):  # the responses stay whole: MU_SD gives way
+        with_spread = False
+        headers.pop()
+        cells = [row[:-1] for row in cells]
+        caption = (caption + "; " if caption else "") + "MU_SD in summary.csv"
     table = Table(title="runs", caption=caption, show_lines=False)
     for k, (col, width) in enumerate(zip(headers, widths(cells), strict=True)):
         # the test number (and replicate) and the responses
-        whole = k <= int(with_replicate) or k >= len(headers) - 2
+        whole = k <= int(with_replicate) or k >= len(headers) - 2 - int(with_spread)
         table.add_column(
             escape(col), justify="right", no_wrap=whole, min_width=width if whole else None
         )
@@ -1231,8 +1248,9 @@ _MOST_RUN_ROWS = 48
 
 
 def _per_test(summary: Any, factor_cols: Sequence[str]) -> tuple[Any, str]:
-    """``summary`` with a row per test: its levels, MU and V_mm3 averaged over the finished
-    replicates, status ``ok`` when all finished, else ``k/n ok``; and the table's caption."""
+    """``summary`` with a row per test: its levels, MU, V_mm3 (and MU_SD) averaged over the
+    finished replicates, status ``ok`` when all finished, else ``k/n ok``; and the table's
+    caption."""
     import pandas as pd
 
     rows = []
@@ -1246,6 +1264,8 @@ def _per_test(summary: Any, factor_cols: Sequence[str]) -> tuple[Any, str]:
         )
         row["MU"] = float(ok["MU"].mean())  # NaN without a finished replicate
         row["V_mm3"] = float(ok["V_mm3"].mean())
+        if "MU_SD" in group:  # the mean of the replicates' spreads
+            row["MU_SD"] = float(ok["MU_SD"].mean())
         rows.append(row)
     per_test = pd.DataFrame(rows)
     n = summary["replicate"].nunique()

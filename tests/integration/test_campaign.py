@@ -877,6 +877,20 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     changed = "".join([header, ",".join(cells) + "\n", *rest])
     assert _stale_analysis(out, changed) == (["report.html"], "it was of other runs")
     assert _stale_analysis(out, text) == ([], "")  # the same text: nothing to remove
+    # a folder of an earlier version, without a scalar this one adds (MU_SD): said so, not
+    # "of other runs"
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
+    frame = pd.read_csv(io.StringIO(text), dtype=str, keep_default_na=False)
+    (out / "summary.csv").write_text(
+        frame.drop(columns="MU_SD").to_csv(index=False), encoding="utf-8"
+    )
+    removed, why = _stale_analysis(out, frame.to_csv(index=False))
+    assert removed == ["report.html"]
+    assert why.startswith("this version of brakeca adds MU_SD to summary.csv, the runs' results")
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
+    other = frame.assign(MU=frame["MU"].where(frame.index > 0, "0.5"))
+    assert _stale_analysis(out, other.to_csv(index=False))[1] == "it was of other runs"
+    (out / "summary.csv").write_text(text, encoding="utf-8")
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     # analyze while a campaign holds the folder says so
     monkeypatch.setattr(_runstore, "lock_holder", lambda folder: "pid 1 on host, since then")

@@ -383,6 +383,36 @@ def test_a_replicated_campaigns_table_has_a_row_per_test() -> None:
     assert "the mean of its 5 replicates" in " ".join(text.split())
 
 
+def test_the_runs_table_shows_mu_sd_where_it_fits() -> None:
+    """The terminal's table of runs gives each run's friction stability beside MU and V
+    (summary.csv has it since the forty-sixth session); where the table would not fit the
+    terminal even with the levels' labels, MU_SD gives way and the caption says where it is;
+    a summary without it (an earlier campaign) has no such column."""
+    import io
+
+    from rich.console import Console
+
+    rows = [
+        {"test": t, "order": t, "A": 10.0 * t, "seed": t, "run_id": "x", "MU": 0.2,
+         "MU_SD": 0.0123 * t, "V_mm3": 1.5, "status": "ok"}
+        for t in (1, 2)
+    ]  # fmt: skip
+    saved = cli.out
+    try:
+        for width, shown in ((100, True), (40, False)):
+            cli.out = Console(file=io.StringIO(), width=width, record=True)
+            cli._print_summary(pd.DataFrame(rows))
+            text = cli.out.export_text()
+            assert ("MU_SD" in text.splitlines()[2]) is shown, text
+            assert ("0.0246" in text) is shown
+            assert ("MU_SD in summary.csv" in " ".join(text.split())) is not shown
+        cli.out = Console(file=io.StringIO(), width=100, record=True)
+        cli._print_summary(pd.DataFrame(rows).drop(columns="MU_SD"))
+        assert "MU_SD" not in cli.out.export_text()
+    finally:
+        cli.out = saved
+
+
 def test_a_replicated_campaigns_runs_name_their_replicate() -> None:
     """Up to 48 runs a replicated design's table has a row per run: each names its replicate
     beside its test (a docs walkthrough: two rows 'test 1' with different MU and nothing to
