@@ -864,11 +864,11 @@ def cube_means(
     if wide:
         raise ValueError(f"names: {wide} not of two levels; a cube's factors have two each")
     cube = [by_name[n] for n in names]
-    codes = np.column_stack([_codes(data, f) for f in cube]) if len(data) else np.zeros((0, 3))
+    codes = np.column_stack([_codes(data, f) for f in cube])  # (0, k) without a run
     y = data[response].to_numpy(dtype=float)
     rows = []
     for corner in itertools.product((0, 1), repeat=len(cube)):
-        at = np.all(codes == np.array(corner[::-1]), axis=1) if len(y) else np.zeros(0, bool)
+        at = np.all(codes == np.array(corner[::-1]), axis=1)
         row: dict[str, Any] = {f.name: f.levels[c] for f, c in zip(cube, corner[::-1], strict=True)}
         row.update(mean=float(y[at].mean()) if at.any() else math.nan, n=int(at.sum()))
         rows.append(row)

@@ -554,7 +554,7 @@ def plot_cube(
     uneven = len({n for *_, n in corners if n}) > 1
     finite = [m for _, _, m, _ in corners if math.isfinite(m)]
     for _code, xy, mean, n in corners:
-        text = "no run" if not n else _fmt_corner(mean * scale)
+        text = f"{mean * scale:.4g}" if n else "no run"  # a mean of finite values
         if n and uneven:
             text += f"\n(n = {n})"
         ax.plot(*xy, "o", color="#27496d" if n else "0.7", ms=7, zorder=2)
@@ -600,13 +600,6 @@ def plot_cube(
     unit = label[label.rfind("[") :] if label.endswith("]") else ""
     _suptitle(fig, f"Cube plot (data means) for {_shown(response)} {unit}".rstrip())
     return save_figure(root, path)
-
-
-def _fmt_corner(value: float) -> str:
-    """A corner's mean to four significant digits (a fixed point where it reads)."""
-    if not math.isfinite(value):
-        return "-"
-    return f"{value:.4g}"
 
 
 def _cube_level(factor: Factor, level: float) -> str:
@@ -693,21 +686,23 @@ def plot_by_block(
             "share_of_emitted_percent), of a cycle of named blocks"
         )
     by_name = {f.name: f for f in _factors(factors)} if factors is not None else {}
-    keys = ["test", "replicate"] if "replicate" in table.columns else ["test"]
+    import matplotlib as mpl
+
     from brakeca._console import is_replicated
 
+    keys = ["test", "replicate"] if "replicate" in table.columns else ["test"]
     replicated = is_replicated(table)
     blocks = list(dict.fromkeys(table["block"].astype(str)))
-    runs = list(dict.fromkeys(map(tuple, table[keys].to_numpy().tolist())))
-    labels = []
-    for run in runs:
-        first = table.loc[(table[keys] == pd.Series(run, index=keys)).all(axis=1)].iloc[0]
-        levels = {name: first[name] for name in by_name if name in table.columns}
-        label = _run_label(int(run[0]), levels, by_name)
-        if replicated:
-            head, _, rest = label.partition(":")
-            label = f"{head} r{int(run[1])}" + (f":{rest}" if rest else "")
-        labels.append(label)
+    heads = table.drop_duplicates(keys)  # each run's first row, in the table's order
+    runs = list(map(tuple, heads[keys].to_numpy().tolist()))
+    labels = [
+        _run_label(
+            f"T{int(row['test'])} r{int(row['replicate'])}" if replicated else int(row["test"]),
+            {name: row[name] for name in by_name if name in table.columns},
+            by_name,
+        )
+        for _, row in heads.iterrows()
+    ]
     index = pd.MultiIndex.from_tuples(runs, names=keys)
     wide = {
         column: table.assign(block=table["block"].astype(str))
@@ -719,8 +714,8 @@ def plot_by_block(
     n_runs, n_blocks = len(runs), len(blocks)
     names = blocks
     if "stops" in table.columns:  # a block's share of V grows with its number of stops
-        first = table.drop_duplicates("block")
-        stops = dict(zip(first["block"].astype(str), first["stops"], strict=True))
+        once = table.drop_duplicates("block")
+        stops = dict(zip(once["block"].astype(str), once["stops"], strict=True))
         names = [f"{b} ({int(stops[b])})" for b in blocks]
     root, fig = _panels(fig, (2.6 + 1.35 * n_blocks + 2.2, 1.2 + 0.3 * n_runs))
     axes = fig.subplots(1, 2, sharey=True)
@@ -737,8 +732,6 @@ def plot_by_block(
         image = ax.imshow(
             np.ma.masked_invalid(values), aspect="auto", cmap=cmap, vmin=low, vmax=high
         )
-        import matplotlib as mpl
-
         colours = mpl.colormaps[cmap]
         for i, j in itertools.product(range(n_runs), range(n_blocks)):
             value = values[i, j]

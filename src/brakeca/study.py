@@ -90,7 +90,9 @@ def analysed_responses(summary: pd.DataFrame) -> tuple[str, ...]:
     log10_V_mm3): all of them but MU_SD where no finished run has a spread to show (every
     run made one stop, or the summary has no such column): its ANOVA would be one of zeros
     (a review of MU_SD)."""
-    ok = summary.loc[summary["status"] == "ok"] if "status" in summary else summary
+    from brakeca.analysis import ok_runs
+
+    ok = ok_runs(summary)
     if "MU_SD" in ok:
         spread = pd.to_numeric(ok["MU_SD"], errors="coerce").to_numpy(dtype=float)
         if np.any(np.isfinite(spread) & (spread > 0.0)):
@@ -1171,7 +1173,7 @@ def write_study(
     if len(found.ok):  # with no finished run there is nothing to plot; the report says why
         band = _band_caption(base)
         _response_figures(figures, result, found, band)
-        _cycle_figures(figures, result, _stops_run(result, base), band)
+        _cycle_figures(figures, result, found.by_block, _stops_run(result, base), band)
     files = _run_file_figures(
         figures, found.ok, result.design, source / "runs", run_maps=run_maps, emissions=emissions
     )
@@ -1331,10 +1333,12 @@ class _Found:
     """What :func:`_analyse` computed: the finished runs (``ok``), the analysed summary
     (``data``, with log10_V_mm3), each response's tables, a
     response-surface design's surfaces and their residuals, the optimum of its goals (with
-    the goals and a note) and the Box-Cox profiles."""
+    the goals and a note), the Box-Cox profiles and the block-by-block table (empty for a
+    cycle without named blocks)."""
 
     ok: pd.DataFrame
     data: pd.DataFrame
+    by_block: pd.DataFrame
     tables: dict[str, Any]
     surfaces: dict[str, Any]
     surface_residuals: dict[str, pd.DataFrame]
@@ -1427,6 +1431,7 @@ def _analyse(
     return _Found(
         ok=analysis.ok_runs(summary),
         data=data,
+        by_block=by_block,
         tables=tables,
         surfaces=surfaces,
         surface_residuals=surface_residuals,
@@ -1442,7 +1447,7 @@ def _stops_run(result: CampaignResult, base: Any) -> str:
     first stops (--stops), or each run's own cycle where a factor sets it."""
     factors = result.design.factors
     # a factor on the cycle (its file, its stops) gives each run its own
-    on_cycle = [f.name for f in factors if _target(f.field).split(".")[0] == "cycle"]
+    on_cycle = _cycle_factors(result.design)
     cut = (  # --stops, unless a factor sets the stops (each run's own then)
         base.cycle.max_stops
         if base is not None
@@ -1677,11 +1682,16 @@ def _response_figures(
 
 
 def _cycle_figures(
-    figures: _Figures, result: CampaignResult, stops_run: str, band: str = ""
+    figures: _Figures,
+    result: CampaignResult,
+    by_block: pd.DataFrame,
+    stops_run: str,
+    band: str = "",
 ) -> None:
     """The figures over the cycle and over the runs: MU per stop (every run's, and by
-    level), and V per run; ``stops_run`` says in the captions what stops the runs ran, and
-    ``band`` (:func:`_band_caption`) ends V's."""
+    level), block by block (``by_block``, :func:`block_table`'s, as tables/by_block.csv),
+    and V per run; ``stops_run`` says in the captions what stops the runs ran, and ``band``
+    (:func:`_band_caption`) ends V's."""
     from brakeca import plotting
 
     factors = list(result.design.factors)
@@ -1754,12 +1764,7 @@ def _cycle_figures(
             variable="emitted_volume",
             log=None,
         )
-    by_block = (
-        block_table(per_stop_table(result))
-        if n_blocks > 1 and not _cycle_factors(result.design)
-        else pd.DataFrame()
-    )
-    if not by_block.empty:
+    if n_blocks > 1 and not _cycle_factors(result.design) and not by_block.empty:
         # the block-by-block table as a figure (an engineer's read: a CSV alone; a review
         # of MU_SD: its spread lies mostly between the blocks' mean COF)
         figures.add(
