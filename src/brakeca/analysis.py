@@ -803,8 +803,9 @@ def cube_means(
     Returns
     -------
     pandas.DataFrame
-        One row per corner, the first factor's level changing fastest: a column per factor of
-        the cube (its level, in the design's unit), ``mean`` [response unit] (NaN at a corner
+        One row per corner, the first factor's level changing fastest and each factor's
+        low level first (the design may list it second): a column per factor of the cube
+        (its level, in the design's unit), ``mean`` [response unit] (NaN at a corner
         no run reaches, as in a fraction) and ``n``, the runs averaged there. ``attrs``
         ``factors``: the cube's factor names.
 
@@ -867,9 +868,12 @@ def cube_means(
     codes = np.column_stack([_codes(data, f) for f in cube])  # (0, k) without a run
     y = data[response].to_numpy(dtype=float)
     rows = []
+    # each axis low level first, as Minitab draws it, whichever order the design lists
+    low_first = [(0, 1) if float(f.levels[0]) <= float(f.levels[1]) else (1, 0) for f in cube]
     for corner in itertools.product((0, 1), repeat=len(cube)):
-        at = np.all(codes == np.array(corner[::-1]), axis=1)
-        row: dict[str, Any] = {f.name: f.levels[c] for f, c in zip(cube, corner[::-1], strict=True)}
+        code = [order[c] for order, c in zip(low_first, corner[::-1], strict=True)]
+        at = np.all(codes == np.array(code), axis=1)
+        row: dict[str, Any] = {f.name: f.levels[c] for f, c in zip(cube, code, strict=True)}
         row.update(mean=float(y[at].mean()) if at.any() else math.nan, n=int(at.sum()))
         rows.append(row)
     out = pd.DataFrame(rows, columns=[*names, "mean", "n"]).astype({"mean": float, "n": int})

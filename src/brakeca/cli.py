@@ -639,7 +639,15 @@ def simulate(
 
     band = make_grid(config).area  # [m^2]
     share = band / config.brake.pad_area
-    out.print(f"MU = {result.MU:.4f}")
+    n_run = result.dataset.sizes.get("stop", 0)
+    out.print(
+        f"MU = {result.MU:.4f}"
+        + (
+            f", MU_SD = {result.MU_SD:.3g} (the spread of the {n_run} stops' mean COF)"
+            if n_run > 1
+            else ""
+        )
+    )
     out.print(
         f"V  = {result.V * 1e9:.6g} mm³ per stop, from the band of {config.mesh.n_radial} rows "
         f"({band * 1e6:.4g} mm², {100 * share:.3g} % of the pad; a whole pad: V / {share:.4g})",

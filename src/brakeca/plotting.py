@@ -477,6 +477,13 @@ def plot_interactions(
     return save_figure(root, path)
 
 
+def _cube_rank(factor: Any, k: int) -> int:
+    """Where a two-level factor's level ``k`` goes along its cube edge: 0 (the near end) for
+    the lower value, as Minitab draws it, whichever order the design lists the levels in."""
+    ascending = float(factor.levels[0]) <= float(factor.levels[1])
+    return k if ascending else 1 - k
+
+
 def plot_cube(
     summary: pd.DataFrame,
     factors: Iterable[Any],
@@ -527,8 +534,8 @@ def plot_cube(
     root, fig = _panels(fig, (6.4, 5.2) if len(cube) == 3 else (5.2, 4.4))
     ax = fig.subplots()
     corners = []
-    for _, row in table.iterrows():
-        index = tuple(int(f.level_index(row[f.name]) or 0) for f in cube)  # each a level
+    for _, row in table.iterrows():  # each corner where its levels' ranks put it
+        index = tuple(_cube_rank(f, int(f.level_index(row[f.name]) or 0)) for f in cube)
         xy = np.array([float(index[0]), float(index[1])])
         if len(cube) == 3:
             xy = xy + index[2] * depth
@@ -590,7 +597,7 @@ def plot_cube(
         ax.annotate(factor.axis_label, at, xytext=offset, textcoords="offset points", ha=ha,
                     va=va, fontsize=9, rotation=rotation)  # fmt: skip
         for k, level in enumerate(factor.levels):
-            ax.annotate(_cube_level(factor, level), end(k), xytext=end_offset,
+            ax.annotate(_cube_level(factor, level), end(_cube_rank(factor, k)), xytext=end_offset,
                         textcoords="offset points", ha=end_ha, va=end_va, fontsize=8)  # fmt: skip
     ax.set_xlim(-0.45, 1.45 + (depth[0] if len(cube) == 3 else 0.0))
     ax.set_ylim(-0.3, 1.3 + (depth[1] if len(cube) == 3 else 0.0))

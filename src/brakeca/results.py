@@ -250,14 +250,17 @@ class RunResult:
     dataset: xr.Dataset
 
     def __repr__(self) -> str:
-        """One line: seed, stops, grid, MU and V (``config`` and ``dataset`` hold the rest)."""
+        """One line: seed, stops, grid, MU, MU_SD (over two stops or more) and V (``config``
+        and ``dataset`` hold the rest)."""
         ds = self.dataset
         grid = f"{ds.sizes.get('radius', 0)} x {ds.sizes.get('angle', 0)} cells"
         quick = " (quick)" if self.config.quick else ""
         stops = ds.sizes.get("stop", 0)
         return (
             f"RunResult(seed={self.seed}, {stops} stop{'' if stops == 1 else 's'}, {grid}{quick}, "
-            f"MU={self.MU:.4f}, V={self.V * M3_TO_MM3:.4g} mm³ per stop)"
+            f"MU={self.MU:.4f}, "
+            + (f"MU_SD={self.MU_SD:.3g}, " if stops > 1 else "")
+            + f"V={self.V * M3_TO_MM3:.4g} mm³ per stop)"
         )
 
     def generator(self) -> np.random.Generator:

@@ -121,7 +121,8 @@ def test_serial_campaign_runs_end_to_end(serial):
     run = RunResult.from_netcdf(out / "runs" / f"{summary['run_id'][0]}.nc")
     assert repr(run) == (
         f"RunResult(seed={summary['seed'][0]}, 3 stops, 5 x 100 cells, "
-        f"MU={summary['MU'][0]:.4f}, V={summary['V_mm3'][0]:.4g} mm³ per stop)"
+        f"MU={summary['MU'][0]:.4f}, MU_SD={summary['MU_SD'][0]:.3g}, "
+        f"V={summary['V_mm3'][0]:.4g} mm³ per stop)"
     )
 
 

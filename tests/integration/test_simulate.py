@@ -464,6 +464,10 @@ def test_cli_simulate_says_how_much_pad_wore(tmp_path):
         f"V = {run.V * 1e9:.6g} mm³ per stop, from the band of 5 rows ({band * 1e6:.4g} mm², "
         f"{100 * share:.3g} % of the pad; a whole pad: V / {share:.4g})"
     ) in text
+    # MU and the spread of the stops' mean COF (the run's MU_SD) on one line
+    assert (
+        f"MU = {run.MU:.4f}, MU_SD = {run.MU_SD:.3g} (the spread of the 2 stops' mean COF)"
+    ) in text
     worn = float(run.dataset["generated_volume"].sum())
     assert float(match[1]) == pytest.approx(worn * 1e9, rel=1e-5)
     depth = worn / make_grid(run.config).area

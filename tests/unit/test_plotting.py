@@ -1171,6 +1171,30 @@ def test_cube_plot_writes_each_corners_mean(tmp_path, summary) -> None:
     assert [t.get_text() for t in sparse.axes[0].texts].count("no run") == 4
 
 
+def test_cube_puts_each_factors_low_level_first_whichever_order_the_design_lists(
+    summary,
+) -> None:
+    """Minitab draws a cube's low level at the near end of each edge: a design that lists
+    A's levels high first (20 %, then 10 %) gives the same corners, rows and positions as
+    one that lists them low first."""
+    from brakeca.analysis import cube_means
+    from brakeca.plotting import plot_cube
+
+    a_low, a_high = FACTORS[3], Factor("A", (20.0, 10.0), "%", "Metal fibre area fraction")
+    listed = [FACTORS[0], FACTORS[2], a_high]
+    usual = cube_means(summary, [FACTORS[0], FACTORS[2], a_low], "MU", names=["S", "A"])
+    table = cube_means(summary, listed, "MU", names=["S", "A"])
+    pd.testing.assert_frame_equal(table, usual)
+    assert list(table["A"]) == [10.0, 10.0, 20.0, 20.0]
+    fig = plot_cube(summary, listed, "MU", names=["S", "A"])
+    texts = fig.axes[0].texts
+    at = {t.get_text().split("\n")[0]: t.xy for t in texts if t.get_text()[:2] == "0."}
+    for _, row in table.iterrows():  # A = 10 % along the bottom edge, 20 % along the top
+        assert at[f"{row['mean']:.4g}"] == pytest.approx((row["S"], float(row["A"] == 20.0)))
+    ends = {t.get_text(): t.xy for t in texts if t.get_text() in ("10", "20")}
+    assert ends == {"10": pytest.approx((0.0, 0.0)), "20": pytest.approx((0.0, 1.0))}
+
+
 def test_by_block_writes_each_runs_block_means_and_shares() -> None:
     """The block-by-block table as a figure (tables/by_block.csv was a CSV alone): a row per
     run in test order, a column per block in the cycle's order, each cell its value."""
