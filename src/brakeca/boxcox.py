@@ -320,8 +320,9 @@ def box_cox_profile(
     BoxCox
         λ̂, its likelihood-ratio interval and Montgomery's (``ci_low_df``, ``ci_high_df``),
         the rounded λ and the profile. λ is not defined (NaN, with a note)
-        when a value is not positive, the response is constant, or the model leaves no
-        residual degrees of freedom.
+        when a value is not positive, the response is constant, or the model leaves fewer
+        than two residual degrees of freedom (with one, the profile has a pole wherever the
+        one residual changes sign).
 
     Raises
     ------
@@ -363,6 +364,12 @@ def box_cox_profile(
         return undefined("the response is constant")
     if df_resid < 0.5:
         return undefined("the model leaves no residual degrees of freedom")
+    if df_resid < 1.5:  # the residual space is one line: SSE(λ) is one residual squared
+        return undefined(
+            "the model leaves one residual degree of freedom: the likelihood's SSE is then "
+            "one residual squared, which falls to zero wherever that residual changes sign, "
+            "and λ̂ would sit on that pole"
+        )
     # An orthonormal basis of the model's columns: the residual of w is w - Q (Q' w).
     u_svd, sing, _ = np.linalg.svd(x, full_matrices=False)
     q = u_svd[:, : int(np.sum(sing > sing[0] * max(x.shape) * np.finfo(float).eps))]

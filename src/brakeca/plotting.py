@@ -2251,12 +2251,11 @@ def plot_box_cox(
             ax.text(
                 0.5,
                 0.5,
-                f"λ not defined:\n{result.note}",
+                "λ not defined:\n" + textwrap.fill(result.note, 38),
                 transform=ax.transAxes,
                 ha="center",
                 va="center",
                 fontsize=8,
-                wrap=True,
             )
             continue
         lam = result.profile["lam"].to_numpy(dtype=float)

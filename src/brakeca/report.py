@@ -2026,7 +2026,11 @@ def render_report(
         optimum=None if optimum is None else _optimum_item(*optimum),
         optimum_note=optimum_note,
         box_cox=_box_cox_table(box_cox) if box_cox else None,
-        box_cox_info=_BOX_COX_INFO,
+        box_cox_info=(
+            _BOX_COX_INFO
+            if box_cox and any(b.defined for b in box_cox.values())
+            else _BOX_COX_INFO.removesuffix(" The figure 'Box-Cox plots' shows each profile.")
+        ),
         anova_info=anova_info,
         findings=findings,
         pm10=None if pm10 is None else _generic_table(pm10[0]),

@@ -654,7 +654,10 @@ def _band_share(base: Any) -> str:
 
     band = make_grid(base).area * 1e6
     pad = float(base.brake.pad_area) * 1e6
-    return f": the band is {band:,.0f} mm², {100 * band / pad:.0f} % of the pad's {pad:,.0f} mm²"
+    share = 100 * band / pad  # [%]; two digits at least (a small band had read "0 %")
+    area = f"{band:,.0f}" if band >= 100 else f"{band:.3g}"
+    percent = f"{share:.0f}" if share >= 10 else f"{share:.2g}"
+    return f": the band is {area} mm², {percent} % of the pad's {pad:,.0f} mm²"
 
 
 def _block_share(result: CampaignResult) -> str:
@@ -1650,23 +1653,28 @@ def _response_figures(
             )
         else:
             figures.drop(f"residuals_by_level_{resp}.png")
-    figures.add(
-        "Residuals",
-        f"Box-Cox plots of {_listed(list(scales))}: the likelihood of each power λ of the "
-        "response under "
-        "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
-        "of λ shaded; λ = 0 is the log (section 'Scale of the responses')"
-        + (
-            "; dashed, the profile without the unusual runs, shifted to the same maximum, "
-            "its 95 % interval the red bar on the dotted line: where its λ̂ lies far from the "
-            "solid one's, the reading rests on those runs"
-            if any(getattr(getattr(b, "without", None), "defined", False) for b in scales.values())
-            else ""
-        ),
-        "box_cox.png",
-        plotting.plot_box_cox,
-        scales,
-    )
+    if not any(b.defined for b in scales.values()):  # the table says why: nothing to draw
+        figures.drop("box_cox.png")
+    else:
+        figures.add(
+            "Residuals",
+            f"Box-Cox plots of {_listed(list(scales))}: the likelihood of each power λ of the "
+            "response under "
+            "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
+            "of λ shaded; λ = 0 is the log (section 'Scale of the responses')"
+            + (
+                "; dashed, the profile without the unusual runs, shifted to the same maximum, "
+                "its 95 % interval the red bar on the dotted line: where its λ̂ lies far from the "
+                "solid one's, the reading rests on those runs"
+                if any(
+                    getattr(getattr(b, "without", None), "defined", False) for b in scales.values()
+                )
+                else ""
+            ),
+            "box_cox.png",
+            plotting.plot_box_cox,
+            scales,
+        )
     if optimum is not None:
         figures.add(
             "Contour plots",

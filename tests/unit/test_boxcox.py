@@ -95,6 +95,9 @@ def test_a_multiplicative_response_points_to_the_log_and_an_additive_one_to_no_t
         ([1.0, 2.0, 0.0, 3.0], None, "positive"),
         ([2.0, 2.0, 2.0], None, "constant"),
         ([1.0, 2.0, 3.0], np.eye(3), "no residual degrees of freedom"),
+        # one residual df: 1 - 2 * 2**λ + 5**λ changes sign between λ = -1 and 1, so the
+        # profile has a pole there (a review: λ̂ 0.48, interval 0.48 to 0.48)
+        ([1.0, 2.0, 5.0], np.column_stack([np.ones(3), np.arange(3.0)]), "one residual degree"),
         ([1.0], None, "1 usable run"),
     ],
 )

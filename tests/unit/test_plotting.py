@@ -269,6 +269,12 @@ def test_box_cox_plots(tmp_path) -> None:
     assert any(np.allclose(line.get_xdata(), good.lambda_hat) for line in v_ax.lines[1:])
     assert len(v_ax.patches) == 1  # the interval
     assert any("needs positive values" in t.get_text() for t in mu_ax.texts)
+    # a long reason is wrapped inside its panel (one residual df's ran across all three)
+    one_df = box_cox_profile([1.0, 2.0, 5.0], np.column_stack([np.ones(3), np.arange(3.0)]))
+    fig = plot_box_cox({"V": good, "MU": one_df})
+    (text,) = fig.axes[1].texts
+    assert "one residual degree" in text.get_text()
+    assert max(len(line) for line in text.get_text().split("\n")) <= 38
 
 
 def test_surface_maps(tmp_path) -> None:

@@ -153,13 +153,18 @@ def test_the_per_run_table_gives_each_runs_areas_over_the_whole_cycle() -> None:
 
 def test_the_note_on_v_gives_the_bands_share_of_the_pad() -> None:
     """The words "not scaled to the pad" gave no factor (a report review): the paper's band is 1,744
-    mm² of the pad's 5,080 mm², 34 %; the quick band's 2.1 mm, 182 mm², 4 %."""
+    mm² of the pad's 5,080 mm², 34 %; the quick band's 2.1 mm, 182 mm², 3.6 %; a tiny band
+    of 5 x 100 cells 4.34 mm², 0.085 % (a review: it had read "4 mm², 0 %")."""
     from brakeca.design import quick_config
     from brakeca.study import _band_share
 
     paper = load_preset("paper")
     assert _band_share(paper) == ": the band is 1,744 mm², 34 % of the pad's 5,080 mm²"
-    assert _band_share(quick_config(paper)) == ": the band is 182 mm², 4 % of the pad's 5,080 mm²"
+    assert (
+        _band_share(quick_config(paper)) == ": the band is 182 mm², 3.6 % of the pad's 5,080 mm²"
+    )
+    tiny = paper.with_updates({"mesh.n_radial": 5, "mesh.n_angular": 100})
+    assert _band_share(tiny) == ": the band is 4.34 mm², 0.085 % of the pad's 5,080 mm²"
     assert _band_share(None) == ""
 
 
