@@ -160,9 +160,7 @@ def test_the_note_on_v_gives_the_bands_share_of_the_pad() -> None:
 
     paper = load_preset("paper")
     assert _band_share(paper) == ": the band is 1,744 mm², 34 % of the pad's 5,080 mm²"
-    assert (
-        _band_share(quick_config(paper)) == ": the band is 182 mm², 3.6 % of the pad's 5,080 mm²"
-    )
+    assert _band_share(quick_config(paper)) == ": the band is 182 mm², 3.6 % of the pad's 5,080 mm²"
     tiny = paper.with_updates({"mesh.n_radial": 5, "mesh.n_angular": 100})
     assert _band_share(tiny) == ": the band is 4.34 mm², 0.085 % of the pad's 5,080 mm²"
     assert _band_share(None) == ""
