@@ -2764,11 +2764,14 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         interactions in design order, each alias chain once (named by its first member).
         ``attrs["not_estimable"]`` lists the two-factor interactions that are aliased only
         with a combination of the terms before them (partial confounding of a non-regular
-        design), which no row names; ``attrs["max_correlation"]`` is the largest absolute
-        correlation between the columns of two different estimable terms [-]: 0 where they
-        are orthogonal (a full factorial, a regular fraction's clear terms), between 0 and 1
-        where terms are partly confounded (a Plackett-Burman design's main effects and
-        two-factor interactions).
+        design), which no row names, and ``attrs["with_mean"]`` those constant over the
+        tests (aliased with the mean); ``attrs["aliased_main_effects"]`` the pairs (main
+        effect, main effect) the tests cannot tell apart (a run table of resolution II,
+        which a fraction's generators are refused for); ``attrs["max_correlation"]`` is
+        the largest absolute correlation between the columns of two different estimable
+        terms [-]: 0 where they are orthogonal (a full factorial, a regular fraction's clear
+        terms), between 0 and 1 where terms are partly confounded (a Plackett-Burman
+        design's main effects and two-factor interactions).
     """
     factors = _factors(factors)
     frame, names, _ = _coded_frame(_cube(tests, factors), factors)
@@ -2786,7 +2789,19 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         },
         columns=["term", "aliases"],
     )
-    out.attrs["not_estimable"] = [_display_term(t, names) for t in left_out if t not in shown]
+    hidden = [t for t in left_out if t not in shown]
+    constant = [
+        t for t in hidden if np.allclose(c := _term_columns(frame, t), c[:1], rtol=0.0, atol=1e-12)
+    ]
+    out.attrs["not_estimable"] = [_display_term(t, names) for t in hidden if t not in constant]
+    out.attrs["with_mean"] = [_display_term(t, names) for t in constant]
+    out.attrs["aliased_main_effects"] = [
+        (_display_term(t, names), _display_term(a, names))
+        for t in kept
+        if ":" not in t
+        for a, _ in chains[t]
+        if ":" not in a
+    ]
     out.attrs["max_correlation"] = _largest_correlation(frame, kept)
     return out
 

@@ -1976,10 +1976,24 @@ def power(
     def in_model(factor: str) -> bool:
         return loaded.model_terms is None or factor in loaded.model_terms
 
+    import pandas as pd
+
+    from brakeca.analysis import alias_structure
+
+    # a main effect the ANOVA leaves out for one it cannot be told from (a run table of
+    # resolution II; a review had read "not varied" for it)
+    aliased = {
+        other: term
+        for term, other in alias_structure(
+            pd.DataFrame(loaded.combinations()), loaded.factors
+        ).attrs.get("aliased_main_effects", [])
+    }
     for _, row in table_data.iterrows():
         value = row["effect"] if effect is None else row["power"]
         if math.isnan(row["df"]) and not in_model(str(row["factor"])):
             shown = "not in the model"
+        elif math.isnan(row["df"]) and str(row["factor"]) in aliased:
+            shown = f"aliased with {aliased[str(row['factor'])]}"
         elif math.isnan(row["df"]):
             shown = "not varied"
         elif math.isnan(value):
@@ -1996,6 +2010,13 @@ def power(
         )
     out.print(table)
     out.print(f"the ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False)
+    for other, term in aliased.items():
+        out.print(
+            f"{term}'s figure is that of {term} and {other} together: the tests cannot tell "
+            f"them apart (brakeca design names the aliases)",
+            markup=False,
+            highlight=False,
+        )
     from brakeca.power import pooling_note
 
     for r in sorted({int(r) for r in table_data["replicates"]}):
@@ -2234,8 +2255,17 @@ def _print_aliases(structure: Any) -> None:
         for chain in chains:
             out.print(f"  {chain}", markup=False, highlight=False, emoji=False)  # WR:A:x: no emoji
     hidden = structure.attrs.get("not_estimable", [])
+    constant_terms = structure.attrs.get("with_mean", [])
     partly = structure.attrs.get("max_correlation", 0.0)
-    if not chains and (hidden or partly > 0.0):
+    for term, other in structure.attrs.get("aliased_main_effects", []):
+        out.print(
+            f"[yellow]warning:[/] the tests cannot tell main effect {escape(other)} from "
+            f"{escape(term)} (resolution II): in these tests the level of one fixes the "
+            f"other's, so the analysis estimates them as one effect, under {escape(term)}'s "
+            f"name, and leaves {escape(other)} out",
+            highlight=False,
+        )
+    if not chains and (hidden or constant_terms or partly > 0.0):
         out.print(
             "alias structure: no main effect or two-factor interaction is completely aliased "
             "with another (up to three-factor interactions), but some are partly confounded"
@@ -2252,6 +2282,14 @@ def _print_aliases(structure: Any) -> None:
         out.print(
             "not estimable (each aliased with a combination of the terms before it, though "
             "with no single one): " + ", ".join(hidden),
+            markup=False,
+            highlight=False,
+            emoji=False,
+        )
+    if constant_terms:
+        out.print(
+            "not estimable (the same in every test: aliased with the mean): "
+            + ", ".join(constant_terms),
             markup=False,
             highlight=False,
             emoji=False,

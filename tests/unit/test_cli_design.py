@@ -372,3 +372,38 @@ def test_a_level_refused_on_a_base_changed_by_set_names_the_set(tmp_path) -> Non
     assert "mu_min (0.55) must not exceed mu_0 (0.5)" in text
     assert "(the runs' base configuration has --set friction.mu_min=0.55)" in text
     assert not out.exists()
+
+
+def test_a_run_table_of_aliased_main_effects_is_warned_of_and_power_says_so(tmp_path) -> None:
+    """A new user's review: a run table in which mu0 follows A (resolution II) was listed as
+    'A + mu0' without a word, its constant A:mu0 column called 'aliased with a combination
+    of the terms before it', and `brakeca power` called mu0 'not varied'."""
+    design = tmp_path / "alias.toml"
+    design.write_text(
+        'name = "alias"\nbase = "paper"\nroot_seed = 1\n'
+        "runs = [{A = 10, mu0 = 0.5}, {A = 20, mu0 = 0.7}, {A = 10, mu0 = 0.5}, "
+        "{A = 20, mu0 = 0.7}]\n"
+        '[[factors]]\nname = "A"\nlevels = [10, 20]\n'
+        '[[factors]]\nname = "mu0"\nfield = "friction.mu_0"\nlevels = [0.5, 0.7]\n'
+    )
+    text = " ".join(_design(str(design)).split())
+    assert "warning: the tests cannot tell main effect mu0 from A (resolution II)" in text
+    assert "not estimable (the same in every test: aliased with the mean): A:mu0" in text
+    assert "combination of the terms before it" not in text
+    res = CliRunner().invoke(
+        app,
+        ["power", str(design), "--effect", "0.1", "--sigma", "0.05", "--replicates", "1"],
+        env={"COLUMNS": "120"},
+    )
+    assert res.exit_code == 0, res.output
+    power = " ".join(res.output.split())
+    assert "aliased with A" in power and "not varied" not in power
+    assert "A's figure is that of A and mu0 together" in power
+    # a full factorial of the same factors: no warning, no aliased row
+    design.write_text(
+        design.read_text().replace(
+            "{A = 10, mu0 = 0.5}, {A = 20, mu0 = 0.7}]", "{A = 10, mu0 = 0.7}, {A = 20, mu0 = 0.5}]"
+        )
+    )
+    text = " ".join(_design(str(design)).split())
+    assert "warning" not in text and "aliased with the mean" not in text
