@@ -655,18 +655,22 @@ def _runs_left_out(
         name, seed_there = str(there["name"]), there.get("root_seed")
     except Exception:
         pass
-    renumbered = 0  # left out, with levels this design runs under other test numbers
-    names = sorted({key for p in points for key in p.levels})
-    if names and set(names) <= set(old.columns) and "test" in old.columns:
-        tests_of: dict[tuple[float, ...], set[int]] = {}
-        for p in points:
-            tests_of.setdefault(tuple(float(p.levels[k]) for k in names), set()).add(p.test)
-        for _, row in old[old["run_id"].astype(str).isin(missing)].iterrows():
-            try:
-                ours = tests_of.get(tuple(float(row[k]) for k in names), set())
-                renumbered += bool(ours) and int(row["test"]) not in ours
-            except (TypeError, ValueError):
-                pass
+    # left out, of a configuration this design runs under another test number (so another
+    # seed): compared whole, since the study there may set fields this design leaves at the
+    # base (a review: runs of another elastic modulus had been counted by the shared
+    # factors' levels alone)
+    renumbered = 0
+    try:
+        earlier = load_design(out / "design.toml").points()
+    except Exception:  # a design.toml this version cannot read: nothing to compare
+        earlier = []
+    tests_of: dict[str, set[int]] = {}
+    for p in points:
+        tests_of.setdefault(p.config.model_dump_json(), set()).add(p.test)
+    for p in earlier:
+        if run_id(p) in missing:
+            ours = tests_of.get(p.config.model_dump_json(), set())
+            renumbered += bool(ours) and p.test not in ours
     seeds = (
         f"; its root_seed is {seed_there}, this design's {root_seed}: every run's seed differs"
         if root_seed is not None and isinstance(seed_there, int) and seed_there != root_seed

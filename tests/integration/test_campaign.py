@@ -410,6 +410,24 @@ def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, t
         str(info.value)
     )  # a new user's review: the count alone did not say why
     assert "under other test numbers" not in str(info.value)
+    # a design of A alone (S at the base's 0): the runs there ran S at 0.5 and 1, so none
+    # of them is a configuration it runs, whatever their levels of A (a new user's review:
+    # the count had compared A alone, and said 3 were 'under other test numbers')
+    (tmp_path / "a_only").mkdir()
+    a_only = (
+        DESIGN[: DESIGN.index("[[factors]]")] + DESIGN[DESIGN.index('[[factors]]\nname = "A"') :]
+    )
+    with pytest.raises(ConfigError) as info:
+        run_campaign(
+            write_design(tmp_path / "a_only", TINY, a_only),
+            out,
+            executor="serial",
+            progress=False,
+            console=quiet(),
+        )
+    text = " ".join(str(info.value).split())
+    assert "(design 'tiny', 4 runs, 4 of them not in this one)" in text
+    assert "under other test numbers" not in text
     after = write_design(tmp_path / "after", TINY, _levels_of_a("[10.0, 20.0, 30.0]"))
     bigger = run_campaign(after, out, executor="serial", progress=False, console=quiet())
     assert bigger.ok and len(bigger.reused) == 4 and len(bigger.computed) == 2
