@@ -2121,7 +2121,7 @@ def _finding(
         return text
     return (
         text
-        + _curvature_finding(frame)
+        + _curvature_finding(frame, effects)
         + _pure_error_finding(frame, effects)
         + _pooled_finding(frame, effects)
     )
@@ -2189,8 +2189,11 @@ def _scale_clause(
     return "".join(f"; {c}" for c in clauses)
 
 
-def _curvature_finding(frame: pd.DataFrame) -> str:
-    """``"; curvature: p = 0.035 (significant)"`` where the ANOVA has centre points' row."""
+def _curvature_finding(frame: pd.DataFrame, effects: pd.DataFrame | None = None) -> str:
+    """``"; curvature: p = 0.035 (significant)"`` where the ANOVA has centre points' row;
+    where its residual lacks fit and the effects table (against the pure error) judges
+    curvature otherwise, both (a new user's review: "none found" beside a Ct Pt of
+    p < 0.001 hidden in "and 2 more")."""
     rows = _curvature_rows(frame)
     if rows.empty:
         return ""
@@ -2201,7 +2204,30 @@ def _curvature_finding(frame: pd.DataFrame) -> str:
     if _is_missing(p):
         return "; curvature not tested"
     verdict = "significant" if float(p) < 0.05 else "none found at 0.05"
+    pure_p = _pure_error_curvature_p(frame, effects)
+    if pure_p is not None and (float(pure_p) < 0.05) != (float(p) < 0.05):
+        other = "significant" if float(pure_p) < 0.05 else "none found at 0.05"
+        return (
+            f"; curvature between the levels: p {_p_relation(p)} against the ANOVA's "
+            f"residual, which lacks fit ({verdict}), p {_p_relation(pure_p)} against the "
+            f"pure error of the repeated runs alone ({other})"
+        )
     return f"; curvature between the levels: p {_p_relation(p)} ({verdict})"
+
+
+def _pure_error_curvature_p(frame: pd.DataFrame, effects: pd.DataFrame | None) -> float | None:
+    """The centre points' p in the effects table where it is tested against the pure error
+    and the ANOVA's residual lacks fit (the two tests can then disagree); None otherwise."""
+    if effects is None or effects.empty or effects.attrs.get("method") != "pure error":
+        return None
+    if _lack_of_fit_p(frame) is None or "p_value" not in effects.columns:
+        return None
+    from brakeca.analysis import CENTER_TERM
+
+    row = effects.loc[effects["term"].astype(str) == CENTER_TERM, "p_value"]
+    if row.empty or _is_missing(row.iloc[0]):
+        return None
+    return float(row.iloc[0])
 
 
 def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
@@ -2243,9 +2269,11 @@ def _pooled_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
 
 
 def _effects_beyond(frame: pd.DataFrame, effects: pd.DataFrame) -> str:
-    """The terms significant in the effects table (``"WP:WR = A:mu0"`` for an alias chain,
-    ``"curvature (Ct Pt)"``) that the ANOVA ``frame`` does not find with p < 0.05, at most
-    :data:`_MOST_FINDINGS` named; empty for none."""
+    """The terms significant in the effects table (``"WP:WR = A:mu0"`` for an alias chain)
+    that the ANOVA ``frame`` does not find with p < 0.05, at most :data:`_MOST_FINDINGS`
+    named; empty for none. The centre points' term (``"curvature (Ct Pt)"``) first, and
+    not where it is tested against the pure error: the curvature clause says what each
+    table finds of it there (:func:`_curvature_finding`)."""
     if "significant" not in effects.columns:
         return ""
     from brakeca.analysis import CENTER_TERM
@@ -2258,7 +2286,10 @@ def _effects_beyond(frame: pd.DataFrame, effects: pd.DataFrame) -> str:
         if str(term) in named or (str(term) == CENTER_TERM and "Curvature" in named):
             continue
         if str(term) == CENTER_TERM:
-            extra.append("curvature (Ct Pt)")
+            # against the pure error the curvature clause gives it (_curvature_finding);
+            # Lenth's, first, never among those cut short
+            if effects.attrs.get("method") != "pure error":
+                extra.insert(0, "curvature (Ct Pt)")
             continue
         short = _short_aliases(chain)
         extra.append(f"{term} = {short}" if short else str(term))

@@ -785,7 +785,11 @@ def test_in_short_says_the_curvature_and_what_the_pure_error_finds_besides() -> 
     )
     frame.attrs.update(r_squared=0.9, lack_of_fit_p=1e-4)
     effects = pd.DataFrame(
-        {"term": ["A", "c", "A:c", "Ct Pt"], "significant": [True, True, False, True]}
+        {
+            "term": ["A", "c", "A:c", "Ct Pt"],
+            "p_value": [0.001, 0.002, 0.3, 1e-5],
+            "significant": [True, True, False, True],
+        }
     )
     effects.attrs["method"] = "pure error"
     assert _finding("MU", frame, effects=effects) == (
@@ -794,9 +798,23 @@ def test_in_short_says_the_curvature_and_what_the_pure_error_finds_besides() -> 
         "against the pure error of the repeated runs alone (the effects table) A, c also "
         "have p < 0.05"
     )
-    flat = frame.assign(p_value=[0.2, 0.3, 0.4, 0.07, math.nan])  # curvature only there
-    assert _finding("MU", flat, effects=effects).endswith(
-        "(the effects table) A, c, curvature (Ct Pt) also have p < 0.05"
+    # curvature significant against the pure error alone: the curvature clause says both
+    # tests (a new user's review: "none found at 0.05", its Ct Pt hidden in "and 2 more")
+    flat = frame.assign(p_value=[0.2, 0.3, 0.4, 0.07, math.nan])
+    assert _finding("MU", flat, effects=effects) == (
+        "MU: no factor or interaction has p < 0.05; R² = 90.0 %; curvature between the "
+        "levels: p = 0.070 against the ANOVA's residual, which lacks fit (none found at "
+        "0.05), p < 0.001 against the pure error of the repeated runs alone (significant); "
+        "the ANOVA's residual lacks fit (p < 0.001), and against the pure error of the "
+        "repeated runs alone (the effects table) A, c also have p < 0.05"
+    )
+    # by Lenth's method (no pure error) the centre points' term is named first
+    lenth = effects.copy()
+    lenth.attrs["method"] = "Lenth"
+    pooled = flat.copy()
+    pooled.attrs.update(flat.attrs, pooled=True)
+    assert _finding("MU", pooled, effects=lenth).endswith(
+        "by Lenth's method (the effects table) curvature (Ct Pt), A, c also have p < 0.05"
     )
     fits = frame.copy()
     fits.attrs.update(frame.attrs, lack_of_fit_p=0.5)
