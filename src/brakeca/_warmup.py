@@ -44,7 +44,7 @@ _ENTRIES = {"lazy": ("brakeca._lazy", "run_stop_lazy"), "exact": ("brakeca._kern
 
 
 #: What :func:`warm_up` says before it compiles (see :func:`cold_kernels`).
-COMPILING = "compiling the kernels (under a minute, once per version of brakeca) ..."
+COMPILING = "compiling the kernels (about a minute, once per version of brakeca) ..."
 
 _ANNOUNCE: ContextVar[Callable[[str], None] | None] = ContextVar("_ANNOUNCE", default=None)
 
