@@ -532,6 +532,31 @@ def _columns_added(before: str, after: str) -> list[str]:
     return added if same else []
 
 
+def _runs_kept(before: str, after: str) -> tuple[int, int] | None:
+    """``(n_before, n_after)`` where every run of ``before`` (a summary.csv's text) is a run
+    of ``after`` with the same results, and ``after`` has more (replicates or tests added);
+    None otherwise."""
+    import io
+
+    import pandas as pd
+
+    try:
+        old = pd.read_csv(io.StringIO(before), dtype=str, keep_default_na=False)
+        new = pd.read_csv(io.StringIO(after), dtype=str, keep_default_na=False)
+    except (ValueError, pd.errors.ParserError):
+        return None
+    if "run_id" not in old.columns or "run_id" not in new.columns or len(new) <= len(old):
+        return None
+    shared = [c for c in old.columns if c in new.columns and c not in ("wall_time", "order")]
+    mine = old[shared].set_index("run_id")
+    theirs = new[shared].drop_duplicates("run_id").set_index("run_id")
+    if not mine.index.isin(theirs.index).all():
+        return None
+    if not mine.equals(theirs.loc[mine.index]):
+        return None
+    return len(old), len(new)
+
+
 def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
     """Remove the analysis (report.html, tables/, figures/) of the study in ``out`` when the
     summary about to be written (``summary_text``, summary.csv's text) differs from the one
@@ -554,6 +579,9 @@ def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
             if _without_wall_time(before) == _without_wall_time(summary_text)
             else "it was of other runs"
         )
+        kept = _runs_kept(before, summary_text)
+        if kept is not None:  # replicates or tests added (a new user's review: "other runs")
+            why = f"it was of {kept[0]} of these {kept[1]} runs (this design adds the others)"
         added = _columns_added(before, summary_text)
         if added:  # a folder of an earlier version (a session's own rerun said "other runs")
             why = (

@@ -909,6 +909,18 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     other = frame.assign(MU=frame["MU"].where(frame.index > 0, "0.5"))
     assert _stale_analysis(out, other.to_csv(index=False))[1] == "it was of other runs"
+    # replicates added: the runs there are some of these, their results the same (a new
+    # user's review: "it was of other runs")
+    (out / "summary.csv").write_text(text, encoding="utf-8")
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
+    more = pd.concat([frame, frame.iloc[:1].assign(run_id="0123456789abcdef", replicate="1")])
+    removed, why = _stale_analysis(out, more.to_csv(index=False))
+    assert removed == ["report.html"] and why == (
+        f"it was of {len(frame)} of these {len(frame) + 1} runs (this design adds the others)"
+    )
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
+    changed_too = more.assign(MU=more["MU"].where(more.index > 0, "0.5"))
+    assert _stale_analysis(out, changed_too.to_csv(index=False))[1] == "it was of other runs"
     (out / "summary.csv").write_text(text, encoding="utf-8")
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     # analyze while a campaign holds the folder says so
