@@ -1572,10 +1572,18 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     if not _is_missing(pred) and float(pred) < 0.0:
         text += (
             " R²(pred) below 0: the model predicts a run left out worse than the mean of the "
-            "others does. In a design with few runs per term (an unreplicated factorial) each "
-            "run carries much of its own fit (high leverage), so the model may describe these "
-            "runs well and still predict new ones poorly."
+            "others does."
         )
+        n_runs, df_left = attrs.get("n", math.nan), attrs.get("df_resid", math.nan)
+        if not _is_missing(n_runs) and not _is_missing(df_left) and float(n_runs) > 0:
+            n_coef = float(n_runs) - float(df_left)  # the fit's coefficients, intercept too
+            # (a new user's review: the text named an unreplicated factorial in every design)
+            text += (
+                f" The model has {n_coef:.0f} coefficients for {float(n_runs):.0f} runs, so "
+                f"a run's fit is on average {100 * n_coef / float(n_runs):.0f} % its own "
+                "value (its leverage): the more it is, the better the model describes these "
+                "runs and the worse it may predict new ones."
+            )
     p_lof = attrs.get("lack_of_fit_p", math.nan)
     pure_df = attrs.get("pure_error_df", math.nan)
     resid_df = attrs.get("df_resid", math.nan)

@@ -401,6 +401,14 @@ def test_model_summary_text_reads_a_negative_predicted_r_squared() -> None:
     attrs = {"s": 0.04, "r_squared": 0.98, "r_squared_adj": 0.92}
     text = _model_summary_text({**attrs, "r_squared_pred": -2.9788}, None)
     assert "R²(pred) = -297.88 %" in text and "R²(pred) below 0: the model predicts" in text
+    assert "coefficients for" not in text  # without n and the residual df
+    # the leverage of this model, whatever the design (a new user's review: the text named
+    # an unreplicated factorial for a replicated and a composite design alike)
+    sized = _model_summary_text({**attrs, "r_squared_pred": -0.5, "n": 11, "df_resid": 3}, None)
+    assert (
+        "The model has 8 coefficients for 11 runs, so a run's fit is on average 73 % its own "
+        "value (its leverage)"
+    ) in sized and "unreplicated" not in sized
     assert "below 0" not in _model_summary_text({**attrs, "r_squared_pred": 0.5}, None)
     assert "below 0" not in _model_summary_text({**attrs, "r_squared_pred": math.nan}, None)
 
