@@ -1496,6 +1496,12 @@ def analyze(
             _fail(f"{where}: cannot write it ({exc.strerror or exc}); the report is not complete")
     if chosen is not None or order is not None:
         model = f"the terms {', '.join(chosen)}" if chosen else f"terms up through order {order}"
+        k = len(result.design.factors)
+        if not chosen and order is not None and order > k:  # (a new user's review)
+            model += (
+                f", which with {k} factor{'s' if k != 1 else ''} is every interaction, as "
+                f"--order {k} gives"
+            )
         out.print(
             f"the report's ANOVA model: {model} (the design's own model: brakeca analyze "
             f"{folder} without {'--terms' if chosen else '--order'}"
