@@ -1440,7 +1440,10 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     tied_share = float(np.mean(tied))
     if score is not _nearest_limits and tied.sum() > 1:
         nearer = _nearest_limits(goals, on_grid)
-        order = np.lexsort((-nearer, -scores))  # by score, then nearest the missed limits
+        # by score, then nearest the missed limits, then nearest the design's centre (a
+        # region tied throughout had given a corner beyond the runs: a new user's review)
+        centre = np.sqrt(sum(np.square(grid[n]) for n in factors))
+        order = np.lexsort((np.round(centre, 12), -nearer, -scores))
     else:
         order = np.argsort(-scores, kind="stable")
     starts = order[:10]
@@ -1489,7 +1492,7 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
             + (
                 ", the nearest to the limits of the goals missed"
                 if score is _mean_desirability
-                else ""
+                else ", the nearest to the design's centre"
             )
         )
     if idle:

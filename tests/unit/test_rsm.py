@@ -355,6 +355,10 @@ def test_a_plateau_of_equal_scores_is_said_and_its_setting_nearest_the_missed_li
     met = optimize({"v": fits["v"]}, [Goal("v", "minimize", 2.0, 3.0)])
     assert met.composite == 1.0 and "100 % of the region searched reaches" in met.note
     assert "goals missed" not in met.note and not met.edge_matters
+    # ... and is the tied setting nearest the design's centre (a new user's review: a
+    # corner, beyond a rotatable design's runs, came back with a note of extrapolation)
+    assert met.coded == {"p": 0.0, "q": 0.0}
+    assert "one of them, the nearest to the design's centre" in met.note
 
 
 def test_an_interval_below_zero_of_a_positive_response_is_noted() -> None:
