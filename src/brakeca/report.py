@@ -2289,7 +2289,7 @@ def _effects_beyond(frame: pd.DataFrame, effects: pd.DataFrame) -> str:
     named = set(frame.loc[frame["p_value"].astype(float) < 0.05, "term"].astype(str))
     found = effects.loc[effects["significant"].astype(bool)]
     chains = found["aliases"] if "aliases" in found.columns else pd.Series("", index=found.index)
-    extra = []
+    extra: list[str] = []
     for term, chain in zip(found["term"], chains, strict=True):
         if str(term) in named or (str(term) == CENTER_TERM and "Curvature" in named):
             continue
