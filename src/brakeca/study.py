@@ -495,11 +495,16 @@ def _scope(base: Any) -> str:
 def _cut_short(base: Any) -> str | None:
     """The stops of a campaign run with --stops, in words: "the first N of the cycle's M
     stops"; None for the whole cycle or an unknown base configuration (``base``: None)."""
+    from brakeca.config import ConfigError
     from brakeca.traces import configured_cycle
 
     if base is not None:
-        n_total = configured_cycle(base).n_total
         asked = base.cycle.max_stops
+        try:
+            n_total = configured_cycle(base).n_total
+        except (ConfigError, OSError):  # a trace moved, edited or deleted since the runs:
+            # the runs hold what the analysis needs (a review: analyze had failed on it)
+            return None if asked is None else f"the first {asked} stops of the cycle"
         if asked is not None and asked < n_total:
             return f"the first {asked} of the cycle's {n_total} stops"
     return None

@@ -326,3 +326,23 @@ def test_no_cube_plot_without_a_finished_run_or_for_a_factor_of_three_levels() -
     assert _cube_factors(factors, runs, "log10_V_mm3") == []  # V's own cube says it
     three = [*factors[:2], Factor("WR", (1.0, 1.5, 2.0))]
     assert _cube_factors(three, runs, "MU") == []  # Minitab's: every factor of two levels
+
+
+def test_the_stops_note_does_not_need_the_trace_the_runs_were_made_of(monkeypatch) -> None:
+    """A review: brakeca analyze failed with a traceback on a trace campaign whose trace had
+    been moved or edited since (the runs hold all the analysis needs; only the --stops note
+    had read the trace again, for the cycle's number of stops)."""
+    from brakeca import traces
+    from brakeca.study import _cut_short
+
+    paper = load_preset("paper")
+    short = paper.with_updates({"cycle.max_stops": 2})
+    assert _cut_short(short) == "the first 2 of the cycle's 170 stops"
+    assert _cut_short(paper) is None
+
+    def moved(config):
+        raise traces.TraceError("/somewhere/tr.csv", None, "no such file, nor a shipped cycle")
+
+    monkeypatch.setattr(traces, "configured_cycle", moved)
+    assert _cut_short(short) == "the first 2 stops of the cycle"
+    assert _cut_short(paper) is None
