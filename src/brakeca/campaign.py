@@ -605,6 +605,22 @@ def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
     return removed, why
 
 
+def _edited_trace(old: SimulationConfig | None, base: SimulationConfig) -> str | None:
+    """The trace path where a campaign's base ``old`` and ``base`` name the same trace file
+    whose content (``cycle.trace_sha256``) has changed since, else None."""
+    if old is None:
+        return None
+    was, new = old.cycle, base.cycle
+    if (
+        was.trace_file
+        and was.trace_file == new.trace_file
+        and was.trace_sha256 is not None
+        and was.trace_sha256 != new.trace_sha256
+    ):
+        return str(was.trace_file)
+    return None
+
+
 def _refuse_to_replace(
     out: Path, base: SimulationConfig, points: Sequence[RunPoint], root_seed: int | None = None
 ) -> None:
@@ -624,6 +640,13 @@ def _refuse_to_replace(
                 ". Its trace has the same content (SHA-256) at another path, but a run "
                 "records its trace by its path, so these would be other runs: give the trace "
                 f"at its first path ({moved}) to resume them"
+            )
+        elif (edited := _edited_trace(old, base)) is not None:
+            # the first campaign's command is this one: a review found that advice circular
+            first = "campaign's command, with its trace as it was"
+            after = (
+                f". Its trace {edited} has other content (SHA-256) than when the campaign "
+                "ran, so these would be other runs"
             )
     else:
         shown, renumbered = _runs_left_out(out, points, root_seed)

@@ -1002,3 +1002,17 @@ def test_a_trace_at_another_path_is_named_as_the_same_content(tmp_path):
     text = " ".join(moved.output.split())
     assert "Its trace has the same content (SHA-256) at another path" in text
     assert f"give the trace at its first path ({first}) to resume them" in text
+    # the trace edited in place: said so, not "the first campaign's command, run again,
+    # brings its study back", which is the command refused (a review)
+    lines = first.read_text(encoding="utf-8").splitlines(keepends=True)
+    row = lines[-1].split(",")
+    row[1] = str(float(row[1]) + 0.5)
+    first.write_text("".join(lines[:-1]) + ",".join(row) + ("" if row[-1].endswith("\n") else "\n"))
+    edited = CliRunner().invoke(app, [*args, "--cycle", str(first)])
+    assert edited.exit_code == 2
+    text = " ".join(edited.output.split())
+    assert (
+        f"Its trace {first} has other content (SHA-256) than when the campaign ran, so these "
+        "would be other runs"
+    ) in text
+    assert "the first campaign's command, with its trace as it was, run again, brings" in text
