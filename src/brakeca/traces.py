@@ -430,6 +430,7 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
     t_factor = v_factor = 1.0
     unit_label = ""
     confirmed = speed_unit is not None
+    labelled: str | None = None  # the speed column's title where it states the unit
     times: list[float] = []
     speeds: list[float] = []
     trips: list[str] = []
@@ -447,6 +448,8 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
             header = [c.strip() for c in s.split(delim)]
             header_line = lineno
             cols, t_factor, v_factor, unit_label = _read_header(header, source, lineno, speed_unit)
+            if _split_header(header[cols["speed"]])[1] is not None:  # the header says it
+                labelled = header[cols["speed"]]
             continue
         fields = [f.strip().strip("\"'") for f in s.split(delim)]
         need = max(cols.values()) + 1
@@ -495,7 +498,7 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
         trip=tuple(trips) if trips else None,
         line=np.asarray(lines),
     )
-    _check_plausible(trace, v_factor, unit_label, confirmed)
+    _check_plausible(trace, v_factor, unit_label, confirmed, labelled)
     return trace
 
 
@@ -565,8 +568,14 @@ def _read_header(
     return cols, t_factor, factor, _UNIT_LABEL[factor]
 
 
-def _check_plausible(trace: SpeedTrace, v_factor: float, unit: str, confirmed: bool) -> None:
-    """Refuse traces whose numbers look like the wrong unit (see the module constants)."""
+def _check_plausible(
+    trace: SpeedTrace, v_factor: float, unit: str, confirmed: bool, labelled: str | None = None
+) -> None:
+    """Refuse traces whose numbers look like the wrong unit (see the module constants).
+    ``labelled``: the speed column's title where it states the unit. Without the unit
+    option (``confirmed`` false) the unit is the header's, which the option may not
+    contradict, so a message asks to rename that column (a review: it had advised the
+    option, which was then refused)."""
     v = trace.speed
     acc = np.abs(trace.acceleration())
     top = int(np.argmax(v))
@@ -584,8 +593,8 @@ def _check_plausible(trace: SpeedTrace, v_factor: float, unit: str, confirmed: b
                 (
                     ": is the file in km/h? Give its unit as km/h, or check the data"
                     if confirmed
-                    else ": is the file in km/h but labelled m/s? State the unit in the "
-                    "header or give it explicitly"
+                    else f": is the file in km/h but labelled {unit}? If so, rename the "
+                    f"column {labelled or 'of speed'!r} to speed_kmh or 'speed [km/h]'"
                 )
                 if unit != "km/h"
                 else ": a glitch in the data, or a unit mix-up (give --speed-unit to confirm "
@@ -612,9 +621,9 @@ def _check_plausible(trace: SpeedTrace, v_factor: float, unit: str, confirmed: b
             trace._line(top),
             f"the speeds look like m/s given as km/h: the top speed is {v[top] / KMH:.3g} km/h "
             f"and no acceleration exceeds {acc[k]:.2g} m/s^2, a car trace read in km/h would "
-            f"show more. If the file is in m/s, say so (a header speed_ms or 'speed [m/s]', "
-            f"or the unit option: --speed-unit m/s, speed_unit='m/s' from Python); if km/h is "
-            f"right, confirm it (--speed-unit km/h, speed_unit='km/h')",
+            f"show more. If the file is in m/s, rename the column {labelled or 'of speed'!r} "
+            "to speed_ms or 'speed [m/s]'; if km/h is right, confirm it (--speed-unit km/h, "
+            "speed_unit='km/h')",
         )
 
 

@@ -231,6 +231,12 @@ def test_ms_given_as_kmh_is_refused(tmp_path):
         load_trace(p)
     top_line = 2 + int(np.argmax([float(r.split(",")[1]) for r in body.split()]))
     assert info.value.line == top_line
+    # the header states km/h, which the unit option may not contradict: the message asks
+    # to rename the column, not for --speed-unit m/s (a review: that advice was refused)
+    assert "rename the column 'speed_kmh' to speed_ms or 'speed [m/s]'" in str(info.value)
+    assert "--speed-unit m/s" not in str(info.value)
+    with pytest.raises(TraceError, match="header gives the speed in km/h"):
+        load_trace(p, speed_unit="m/s")
     # the same numbers, correctly labelled, load; an explicit km/h confirms a gentle trace
     assert load_trace(_write(tmp_path, "time_s,speed_ms\n" + body, "ok.csv")).speed.max() > 33
     assert load_trace(p, speed_unit="km/h").speed.max() == pytest.approx(33.3 * KMH)
@@ -241,6 +247,7 @@ def test_kmh_given_as_ms_is_refused(tmp_path):
     with pytest.raises(TraceError, match="beyond any drive cycle") as info:
         load_trace(_write(tmp_path, text))
     assert info.value.line == 3
+    assert "rename the column 'speed_ms' to speed_kmh or 'speed [km/h]'" in str(info.value)
 
 
 def test_a_unit_given_explicitly_lifts_the_top_speed_check_in_km_h_only(tmp_path):
