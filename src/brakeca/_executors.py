@@ -57,7 +57,8 @@ WORKER_ENV: Mapping[str, str] = {
 
 
 class ExecutorError(RuntimeError):
-    """An executor cannot be started: dask is missing, or its scheduler cannot be reached."""
+    """An executor cannot be started: dask is missing, or its scheduler cannot be reached;
+    or a campaign's dask client lost its scheduler while the runs went on."""
 
 
 class SerialExecutor(cf.Executor):
@@ -770,6 +771,16 @@ class _Backend:
         deaths :meth:`release` reports run by run [-]."""
         return 0
 
+    def lost(self) -> str | None:
+        """Why no run can finish any more (a dask client that lost its scheduler and
+        closed), or None while runs can."""
+        return None
+
+    def waiting(self) -> str | None:
+        """A note, once, where the runs wait for workers that are not there yet (an existing
+        dask cluster without workers), else None."""
+        return None
+
     def close(self, *, cancel: bool) -> None:
         """Shut the executor down when this campaign made it."""
         if self.own:
@@ -792,6 +803,9 @@ class _DaskBackend(_Backend):
         self.client = executor.client
         self.deaths = executor.deaths
         self.told = 0
+        self.threads = 1  # the workers' threads at the last look [-]
+        self.since_workers: float | None = None  # since when none (monotonic) [s]
+        self.said_waiting = False
 
     def news(self) -> int:
         if self.deaths is None:
@@ -800,12 +814,55 @@ class _DaskBackend(_Backend):
         new, self.told = count - self.told, count
         return new
 
+    #: Seconds without a worker before :meth:`waiting` says so [s].
+    WAIT_NOTE_AFTER = 10.0
+
     def free(self) -> int:
         try:
             threads = sum(self.client.nthreads().values())
         except Exception:  # the scheduler is busy or gone: the runs in flight will tell
             threads = 0
+        self.threads = threads
         return max(threads, 1) - self.in_flight
+
+    def lost(self) -> str | None:
+        # a client that cannot reach its scheduler again closes itself (after dask's
+        # connect timeout): its futures never finish (a review found the campaign waiting
+        # on them for good)
+        if getattr(self.client, "status", "running") in ("closing", "closed"):
+            return (
+                f"the Dask client lost the scheduler at {self._address()} and closed: no run "
+                "can finish"
+            )
+        return None
+
+    def waiting(self) -> str | None:
+        if self.threads > 0 or self.said_waiting:
+            self.since_workers = None
+            return None
+        now = time.monotonic()
+        if self.since_workers is None:
+            self.since_workers = now
+        if now - self.since_workers < self.WAIT_NOTE_AFTER:
+            return None
+        self.said_waiting = True
+        return (
+            f"the Dask scheduler at {self._address()} has no worker yet: the runs wait for "
+            "workers to join (Ctrl-C stops; the same command resumes)"
+        )
+
+    def _address(self) -> str:
+        try:
+            return str(self.client.scheduler.address)
+        except Exception:
+            return "its address"
+
+    def close(self, *, cancel: bool) -> None:
+        try:
+            super().close(cancel=cancel)
+        except Exception:  # a client already closed (its scheduler lost): nothing to stop
+            if self.lost() is None:
+                raise
 
 
 class _LocalSlots(_Backend):

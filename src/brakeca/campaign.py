@@ -875,6 +875,13 @@ def _execute_points(
                 done, _ = cf.wait(
                     list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
                 )
+                if (why := backend.lost()) is not None:  # before its cancelled runs count
+                    raise ExecutorError(
+                        f"{why}; the finished runs (and checkpoints) in {runs.parent} are "
+                        "kept, and the same command resumes once a scheduler is there"
+                    )
+                if (note := backend.waiting()) is not None:
+                    say(console, f"[yellow]note:[/] {note}", highlight=False)
                 _say_deaths(console, backend.news(), max_retries)
                 for future in sorted(done, key=lambda f: pending[f].order):
                     point = pending.pop(future)
@@ -935,7 +942,11 @@ def _execute_points(
     finally:
         if not finished:
             for future in pending:
-                future.cancel()
+                try:
+                    future.cancel()
+                except Exception:  # a closed dask client cannot cancel: nothing runs on
+                    if backend.lost() is None:
+                        raise
         backend.close(cancel=not finished)
 
 

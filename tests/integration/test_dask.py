@@ -120,6 +120,12 @@ def chaos(config, *, seed, marker_dir, progress=None):
     return simulate(config, seed=seed, progress=progress)
 
 
+def slow(config, *, seed, progress=None):
+    """The real simulate, two seconds late (the runs are still out when the test acts)."""
+    time.sleep(2.0)
+    return simulate(config, seed=seed, progress=progress)
+
+
 def raises_on_test_3(config, *, seed, progress=None):
     """The real simulate, except that test 3 raises a model error."""
     if _is_test(config, 3):
@@ -301,6 +307,73 @@ def test_unreachable_scheduler_is_reported(design_file, tmp_path):
             progress=False,
             console=quiet(),
         )
+
+
+def test_a_scheduler_lost_mid_campaign_stops_it_with_a_clear_error(design_file, tmp_path):
+    """A review: a campaign on an existing cluster whose scheduler died waited for good on
+    runs that could not finish (dask's client had closed after 30 s of failed reconnects),
+    and Ctrl-C then gave two tracebacks. It stops with an ExecutorError once the client
+    closes (here after dask's connect timeout, set to 2 s), keeping what was done."""
+    import threading
+
+    before = _children()
+    with (
+        dask.config.set({"distributed.comm.timeouts.connect": "2s"}),
+        distributed.LocalCluster(
+            n_workers=1,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=None,
+            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+        ) as cluster,
+    ):
+        address = cluster.scheduler_address
+        threading.Timer(1.0, cluster.close).start()  # while the first run sleeps
+        t0 = time.monotonic()
+        with pytest.raises(ExecutorError) as info:
+            run_campaign(
+                design_file,
+                tmp_path / "campaign",
+                executor="dask",
+                scheduler=address,
+                simulate_fn=slow,
+                progress=False,
+                console=quiet(),
+            )
+    text = " ".join(str(info.value).split())
+    assert f"the Dask client lost the scheduler at {address} and closed" in text
+    assert "the same command resumes once a scheduler is there" in text
+    assert time.monotonic() - t0 < 60
+    assert not (tmp_path / "campaign" / "summary.csv").exists()  # no run counted as failed
+    _assert_no_new_children(before)
+
+
+def test_the_wait_for_workers_that_are_not_there_is_said_once() -> None:
+    """A review: a campaign on a scheduler without workers printed nothing and looked hung;
+    after a while without a worker it says once that the runs wait for them."""
+    from types import SimpleNamespace
+
+    from brakeca._executors import _DaskBackend
+
+    client = SimpleNamespace(
+        nthreads=dict, status="running", scheduler=SimpleNamespace(address="tcp://h:1")
+    )
+    backend = _DaskBackend(SimpleNamespace(client=client, deaths=None))
+    backend.WAIT_NOTE_AFTER = 0.05
+    assert backend.free() == 1 and backend.waiting() is None  # the clock starts
+    time.sleep(0.1)
+    assert backend.waiting() == (
+        "the Dask scheduler at tcp://h:1 has no worker yet: the runs wait for workers to join "
+        "(Ctrl-C stops; the same command resumes)"
+    )
+    assert backend.waiting() is None and backend.lost() is None  # said once
+    client.nthreads = lambda: {"w": 2}
+    assert backend.free() == 2 and backend.waiting() is None
+    client.status = "closed"
+    assert backend.lost() == (
+        "the Dask client lost the scheduler at tcp://h:1 and closed: no run can finish"
+    )
 
 
 def test_a_listener_that_is_no_scheduler_is_refused(cluster):
