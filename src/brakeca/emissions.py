@@ -256,7 +256,11 @@ class EmissionParameters(_Frozen):
             f"({getattr(self, name + '_range')[0]:.4g} to {getattr(self, name + '_range')[1]:.4g})"
             for label, name, unit in ranged
         ]
-        parts.append(f"{self.pads_per_brake} pads a brake, {self.brakes_per_axle} front brakes")
+        pads, brakes = self.pads_per_brake, self.brakes_per_axle
+        parts.append(
+            f"{pads} pad{'s' if pads != 1 else ''} a brake, {brakes} front "
+            f"brake{'s' if brakes != 1 else ''}"
+        )
         return ", ".join(parts)
 
     @property

@@ -733,8 +733,9 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
 
     runs = _listed(named, sep)
     return (
-        f"MU at the COF floor: {runs} spend{'s' if len(named) == 1 else ''} half their stops "
-        f"or more within {100 * FLOOR_TOLERANCE:g} % of friction.mu_min = {found.floor:g}, "
+        f"MU at the COF floor: {runs} spend"
+        + ("s half its stops " if len(named) == 1 else " half their stops ")
+        + f"or more within {100 * FLOOR_TOLERANCE:g} % of friction.mu_min = {found.floor:g}, "
         "where MU cannot fall further: the effects on MU of what lowers it are compressed "
         "there"
         + (

@@ -245,6 +245,9 @@ def test_describe_says_it_is_the_vehicles_figure_and_names_the_factors():
     assert "--emissions FILE" in factors
     given = estimate.describe("my.toml")[1]
     assert given.endswith("(from my.toml)") and "--emissions FILE" not in given
+    assert "2 pads a brake, 2 front brakes" in factors
+    one = EmissionParameters(pads_per_brake=1, brakes_per_axle=1)
+    assert "1 pad a brake, 1 front brake" in one.factors_text()  # (a review: "1 pads")
 
 
 @pytest.mark.parametrize(

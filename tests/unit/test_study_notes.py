@@ -63,6 +63,10 @@ def test_the_runs_held_at_the_floor_are_an_in_short_line() -> None:
         "MU at the COF floor: test 1 (100 %) and test 2 (50 %) spend half their stops or more "
         "within 1 % of friction.mu_min = 0.15"
     )
+    cof[0, :] = 0.3
+    assert _floor_line(_result(cof), base).startswith(  # one run: its stops (a review)
+        "MU at the COF floor: test 2 (50 %) spends half its stops or more within 1 %"
+    )
     cof[:2, :] = 0.3
     assert _floor_line(_result(cof), base) == ""  # test 3 alone, under half
     many = np.full((8, 4), floor)  # eight runs held: five named, the rest counted
