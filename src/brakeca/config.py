@@ -1078,6 +1078,17 @@ def _field_unit(model: Any, loc: Sequence[Any]) -> str:
     return "" if found is None or found.group(1) == "-" else found.group(1)
 
 
+def _as_number(value: Any) -> float | None:
+    """``value`` as a finite float where it is a number or a number's text, else None."""
+    if isinstance(value, bool):
+        return None
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return None
+    return number if math.isfinite(number) else None
+
+
 def _allowed_range(model: Any, loc: Sequence[Any]) -> str | None:
     """The interval a numeric field of ``model`` at ``loc`` allows, e.g. ``"[0, 2]"`` or
     ``"(0, 1)"``, when it has a bound on both sides; None otherwise (one bound, or ``loc``
@@ -1289,9 +1300,15 @@ def format_validation_error(
                 )
                 if unit:
                     msg += f" {unit}"
-            if path == "pad.fibre_area_fraction" and isinstance(got, int | float) and got >= 1:
-                example = f", {got / 100:g} for {got:g} %" if got < 100 else " below 1"
+            value = _as_number(got)  # a CSV's text too
+            upper = (err.get("ctx") or {}).get("le", (err.get("ctx") or {}).get("lt"))
+            if path == "pad.fibre_area_fraction" and value is not None and value >= 1:
+                example = f", {value / 100:g} for {value:g} %" if value < 100 else " below 1"
                 msg += f" (got {got!r}): a fraction{example}; or set A, in per cent"
+            elif value is not None and upper == 1 and 1 < value <= 100:  # a share in per cent
+                msg += f" (got {got!r}): a fraction, {value / 100:g} for {value:g} %"
+            elif value is not None and unit == "g" and 2 < value <= 25:  # m/s² given as g
+                msg += f" (got {got!r}): in g, not m/s² ({value:g} m/s² is {value / 9.81:.3g} g)"
         elif err["type"] in ("float_type", "float_parsing", "int_type", "int_parsing"):
             msg = "must be a " + ("whole number" if err["type"].startswith("int") else "number")
         elif err["type"] == "int_from_float":

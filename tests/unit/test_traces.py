@@ -684,6 +684,9 @@ def test_a_block_deceleration_too_small_to_simulate_is_refused(tmp_path):
     with pytest.raises(ConfigError, match=r"line 2: deceleration_g: must lie in \[0.01, 2\]"):
         load_cycle(_write(tmp_path, header + "A,50,4,1e-9,1\n", "d.csv"))
     assert load_cycle(_write(tmp_path, header + "A,50,4,0.01,1\n", "ok.csv")).blocks
+    # a deceleration in m/s² where g is meant: said so (a review)
+    with pytest.raises(ConfigError, match=r"in g, not m/s² \(2.45 m/s² is 0.25 g\)"):
+        load_cycle(_write(tmp_path, header + "A,50,4,2.45,1\n", "ms2.csv"))
 
 
 def test_a_time_in_hours_is_read_as_hours(tmp_path):
