@@ -118,11 +118,18 @@ def flat_keys(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 def config_changes(before: Mapping[str, Any], after: Mapping[str, Any]) -> list[str]:
     """How the configuration ``after`` differs from ``before`` (both as ``to_dict`` gives
     them): one ``"key: old -> new"`` per differing field, in ``before``'s order and then
-    ``after``'s new fields, a field one of them lacks shown as ``unset``."""
+    ``after``'s new fields, a field one of them lacks shown as ``unset``, a long list by its
+    first item and its length."""
     old, new = flat_keys(before), flat_keys(after)
 
     def shown(table: dict[str, Any], key: str) -> str:
-        return repr(table[key]) if key in table else "unset"
+        if key not in table:
+            return "unset"
+        value = table[key]
+        if isinstance(value, list | tuple) and len(value) > 2 and len(repr(value)) > 80:
+            # a block cycle's nine blocks on one line (a review): their number and the first
+            return f"[{value[0]!r}, ... ({len(value)} items)]"
+        return repr(value)
 
     keys = list(old) + [k for k in new if k not in old]
     return [f"{k}: {shown(old, k)} -> {shown(new, k)}" for k in keys if old.get(k) != new.get(k)]

@@ -92,3 +92,22 @@ def test_a_compressed_table_is_compressed_by_its_suffix(tmp_path):
 
     path = write_table(pd.DataFrame({"a": [1]}), tmp_path / "t.csv.gz")
     assert gzip.decompress(path.read_bytes()) == b"a\n1\n"
+
+
+def test_a_long_list_of_a_configuration_change_is_shown_by_its_first_item() -> None:
+    """A review: the refusal of a trace campaign's folder for the block cycle printed all
+    nine block tables on one line; a long list is its first item and its length."""
+    import copy
+
+    from brakeca._io import config_changes
+    from brakeca.presets import load_preset
+
+    paper = load_preset("paper").to_dict()
+    trace = copy.deepcopy(paper)
+    trace["cycle"]["blocks"] = []
+    (change,) = config_changes(trace, paper)
+    assert change.startswith("cycle.blocks: [] -> [{'name': 'Burnish', ")
+    assert change.endswith(", ... (9 items)]") and change.count("'name'") == 1
+    short = copy.deepcopy(paper)
+    short["mesh"]["n_radial"] = 21
+    assert config_changes(paper, short) == ["mesh.n_radial: 201 -> 21"]
