@@ -118,8 +118,9 @@ def flat_keys(data: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 def config_changes(before: Mapping[str, Any], after: Mapping[str, Any]) -> list[str]:
     """How the configuration ``after`` differs from ``before`` (both as ``to_dict`` gives
     them): one ``"key: old -> new"`` per differing field, in ``before``'s order and then
-    ``after``'s new fields, a field one of them lacks shown as ``unset``, a long list by its
-    first item and its length."""
+    ``after``'s new fields, a field one of them lacks shown as ``unset``; of two lists of
+    one length the first item that differs (``cycle.blocks[4]: {...} -> {...}``), else a long
+    list by its first item and its length."""
     old, new = flat_keys(before), flat_keys(after)
 
     def shown(table: dict[str, Any], key: str) -> str:
@@ -131,8 +132,18 @@ def config_changes(before: Mapping[str, Any], after: Mapping[str, Any]) -> list[
             return f"[{value[0]!r}, ... ({len(value)} items)]"
         return repr(value)
 
+    def change(key: str) -> str:
+        a, b = old.get(key), new.get(key)
+        if isinstance(a, list | tuple) and isinstance(b, list | tuple) and len(a) == len(b):
+            # the same length: the items that differ, not two shortened lists that may read
+            # alike (a diff review)
+            at = [i for i, (x, y) in enumerate(zip(a, b, strict=True)) if x != y]
+            more = f" (and {len(at) - 1} more item(s))" if len(at) > 1 else ""
+            return f"{key}[{at[0]}]: {a[at[0]]!r} -> {b[at[0]]!r}{more}"
+        return f"{key}: {shown(old, key)} -> {shown(new, key)}"
+
     keys = list(old) + [k for k in new if k not in old]
-    return [f"{k}: {shown(old, k)} -> {shown(new, k)}" for k in keys if old.get(k) != new.get(k)]
+    return [change(k) for k in keys if old.get(k) != new.get(k)]
 
 
 def checkpoint_difference(meta: dict[str, Any], config: Any, seed: int) -> str:

@@ -1305,7 +1305,8 @@ def format_validation_error(
             if path == "pad.fibre_area_fraction" and value is not None and value >= 1:
                 example = f", {value / 100:g} for {value:g} %" if value < 100 else " below 1"
                 msg += f" (got {got!r}): a fraction{example}; or set A, in per cent"
-            elif value is not None and upper == 1 and 1 < value <= 100:  # a share in per cent
+            elif value is not None and not unit and upper == 1 and 1 < value <= 100:
+                # a share [-] given in per cent (not a field of a unit capped at 1: a radius)
                 msg += f" (got {got!r}): a fraction, {value / 100:g} for {value:g} %"
             elif value is not None and unit == "g" and 2 < value <= 25:  # m/s² given as g
                 msg += f" (got {got!r}): in g, not m/s² ({value:g} m/s² is {value / 9.81:.3g} g)"

@@ -1438,14 +1438,14 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
     top = float(np.max(scores))
     tied = scores >= top - 1e-9 * max(abs(top), 1.0)
     tied_share = float(np.mean(tied))
+    # by score, then (where the score is not itself that) nearest the missed goals' limits,
+    # then nearest the design's centre (a region tied throughout had given a corner beyond
+    # the runs: a new user's review)
+    centre = np.round(np.sqrt(sum(np.square(grid[n]) for n in factors)), 12)
     if score is not _nearest_limits and tied.sum() > 1:
-        nearer = _nearest_limits(goals, on_grid)
-        # by score, then nearest the missed limits, then nearest the design's centre (a
-        # region tied throughout had given a corner beyond the runs: a new user's review)
-        centre = np.sqrt(sum(np.square(grid[n]) for n in factors))
-        order = np.lexsort((np.round(centre, 12), -nearer, -scores))
+        order = np.lexsort((centre, -_nearest_limits(goals, on_grid), -scores))
     else:
-        order = np.argsort(-scores, kind="stable")
+        order = np.lexsort((centre, -scores))
     starts = order[:10]
     best_x = np.array([grid[n][starts[0]] for n in factors])
     best_score = float(scores[starts[0]])

@@ -579,6 +579,7 @@ def _check_plausible(
     v = trace.speed
     acc = np.abs(trace.acceleration())
     top = int(np.argmax(v))
+    column = repr(labelled) if labelled is not None else "of speed"
     # the unit given explicitly confirms a fast trace only in km/h: a trace in km/h given
     # as m/s (or mph) by the option is the very slip this check is for (a review's 120 km/h
     # samples ran at 432 km/h with --speed-unit m/s)
@@ -592,9 +593,10 @@ def _check_plausible(
             + (
                 (
                     ": is the file in km/h? Give its unit as km/h, or check the data"
-                    if confirmed
+                    if confirmed and labelled is None
                     else f": is the file in km/h but labelled {unit}? If so, rename the "
-                    f"column {labelled or 'of speed'!r} to speed_kmh or 'speed [km/h]'"
+                    f"column {column} to speed_kmh or 'speed [km/h]'"
+                    + (" (and give km/h as the unit option, or none)" if confirmed else "")
                 )
                 if unit != "km/h"
                 else ": a glitch in the data, or a unit mix-up (give --speed-unit to confirm "
@@ -621,7 +623,7 @@ def _check_plausible(
             trace._line(top),
             f"the speeds look like m/s given as km/h: the top speed is {v[top] / KMH:.3g} km/h "
             f"and no acceleration exceeds {acc[k]:.2g} m/s^2, a car trace read in km/h would "
-            f"show more. If the file is in m/s, rename the column {labelled or 'of speed'!r} "
+            f"show more. If the file is in m/s, rename the column {column} "
             "to speed_ms or 'speed [m/s]'; if km/h is right, confirm it (--speed-unit km/h, "
             "speed_unit='km/h')",
         )

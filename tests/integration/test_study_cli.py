@@ -85,9 +85,10 @@ def test_outputs_present_and_consistent(campaign):
         "cube_MU",
         "cube_V",
         "cube_MU_SD",
-        "box_cox",
     ):
         assert (out / "figures" / f"{name}.png").stat().st_size > 1000
+    # one residual degree of freedom: no λ, so no Box-Cox plot (the table says why)
+    assert not (out / "figures" / "box_cox.png").exists()
     assert len(list((out / "figures").glob("final_map_test*.png"))) == 4
     for resp in ("MU", "V", "log10_V_mm3", "MU_SD"):
         for table in (
@@ -122,15 +123,17 @@ def test_outputs_present_and_consistent(campaign):
     # per response (MU, V, log10 V, MU_SD: main effects, interactions, Pareto, residuals and, both
     # factors having two levels, the effects, the residuals by level), per campaign (MU per
     # stop, by run and by level, the secondary plateau and contact areas by level, V per
-    # stop, V per run, MU against V, fibre maps, Box-Cox plots), maps
+    # stop, V per run, MU against V, fibre maps; no Box-Cox plots at one residual df), maps
     # and, both factors of two levels, the cube plots (a square here) of MU, V and MU_SD
-    assert n_img == 6 * 4 + 3 + 9 + 4
+    assert n_img == 6 * 4 + 3 + 8 + 4
     # the Box-Cox check of MU's, V's and MU_SD's scale, under the ANOVA model (main effects:
     # the model with the interaction would leave 4 runs no residual degree of freedom)
     scales = pd.read_csv(out / "tables" / "box_cox.csv")
     assert list(scales["response"]) == ["MU", "V", "MU_SD"]
     assert list(scales["model"]) == [f"ANOVA model: {r} ~ S + A" for r in ("MU", "V", "MU_SD")]
     assert (scales["df_resid"] == 1).all()
+    assert scales["lambda_hat"].isna().all()
+    assert scales["note"].str.startswith("the model leaves one residual degree of freedom").all()
     assert '<h3 id="anova-box-cox">Scale of the responses (Box–Cox)</h3>' in html
     assert (out / "tables" / "effects_MU.csv").exists()
     # the maps' captions give each level with its unit (S has none)

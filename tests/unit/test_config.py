@@ -70,6 +70,8 @@ def test_factor_aliases():
             r"vehicle.wheel_radius: must lie in \(0, 2\] m \(got 300",
         ),
         ({"brake.disc_outer_radius": 139.0}, r"brake.disc_outer_radius: must lie in \(0, 1\]"),
+        # a field of a unit capped at 1 is no share given in per cent (a diff review)
+        ({"brake.disc_outer_radius": 13.9}, r"must lie in \(0, 1\] m \(got 13.9\)$"),
         # the range's unit, and A beside the fraction (an API review: 57 for a diameter in
         # mm, 20 for a fraction in per cent)
         ({"brake.piston_diameter": 57}, r"piston_diameter: must lie in \(0, 0.3\] m \(got 57\)"),

@@ -108,6 +108,12 @@ def test_a_long_list_of_a_configuration_change_is_shown_by_its_first_item() -> N
     (change,) = config_changes(trace, paper)
     assert change.startswith("cycle.blocks: [] -> [{'name': 'Burnish', ")
     assert change.endswith(", ... (9 items)]") and change.count("'name'") == 1
+    # two lists of one length: the item that differs, not two lists shortened alike
+    more = copy.deepcopy(paper)
+    more["cycle"]["blocks"][4]["stops"] += 1
+    (change,) = config_changes(paper, more)
+    assert change.startswith("cycle.blocks[4]: {'name': ") and "'stops': " in change
+    assert "items" not in change
     short = copy.deepcopy(paper)
     short["mesh"]["n_radial"] = 21
     assert config_changes(paper, short) == ["mesh.n_radial: 201 -> 21"]

@@ -359,6 +359,14 @@ def test_a_plateau_of_equal_scores_is_said_and_its_setting_nearest_the_missed_li
     # corner, beyond a rotatable design's runs, came back with a note of extrapolation)
     assert met.coded == {"p": 0.0, "q": 0.0}
     assert "one of them, the nearest to the design's centre" in met.note
+    # a goal missed by as much everywhere (a constant response): the centre too, as the
+    # note says (a diff review found a corner there)
+    flat = data.assign(w=1.0)
+    missed = optimize(
+        {"w": fit_response_surface(flat, _PQ, "w")}, [Goal("w", "minimize", 0.2, 0.5)]
+    )
+    assert missed.coded == pytest.approx({"p": 0.0, "q": 0.0}, abs=1e-12)
+    assert "the nearest to the design's centre" in missed.note
 
 
 def test_an_interval_below_zero_of_a_positive_response_is_noted() -> None:

@@ -248,6 +248,13 @@ def test_kmh_given_as_ms_is_refused(tmp_path):
         load_trace(_write(tmp_path, text))
     assert info.value.line == 3
     assert "rename the column 'speed_ms' to speed_kmh or 'speed [km/h]'" in str(info.value)
+    # the unit option given as well (m/s, as the header): the same advice, not "give its
+    # unit as km/h", which the header would then contradict (a diff review)
+    with pytest.raises(TraceError, match="beyond any drive cycle") as info:
+        load_trace(_write(tmp_path, text, "both.csv"), speed_unit="m/s")
+    assert "rename the column 'speed_ms' to speed_kmh or 'speed [km/h]' (and give km/h" in (
+        str(info.value)
+    )
 
 
 def test_a_unit_given_explicitly_lifts_the_top_speed_check_in_km_h_only(tmp_path):
