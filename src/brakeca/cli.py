@@ -1988,12 +1988,10 @@ def power(
 
     # a main effect the ANOVA leaves out for one it cannot be told from (a run table of
     # resolution II; a review had read "not varied" for it)
-    aliased = {
-        other: term
-        for term, other in alias_structure(
-            pd.DataFrame(loaded.combinations()), loaded.factors
-        ).attrs.get("aliased_main_effects", [])
-    }
+    pairs = alias_structure(pd.DataFrame(loaded.combinations()), loaded.factors).attrs.get(
+        "aliased_main_effects", []
+    )
+    aliased = {a: b for pair in pairs for a, b in (pair, pair[::-1])}  # both ways
     for _, row in table_data.iterrows():
         value = row["effect"] if effect is None else row["power"]
         if math.isnan(row["df"]) and not in_model(str(row["factor"])):
@@ -2016,13 +2014,15 @@ def power(
         )
     out.print(table)
     out.print(f"the ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False)
-    for other, term in aliased.items():
-        out.print(
-            f"{term}'s figure is that of {term} and {other} together: the tests cannot tell "
-            f"them apart (brakeca design names the aliases)",
-            markup=False,
-            highlight=False,
-        )
+    for _, row in table_data.iterrows():  # a factor with a figure, and an alias
+        name = str(row["factor"])
+        if name in aliased and not math.isnan(row["df"]):
+            out.print(
+                f"{name}'s figure is that of {name} and {aliased[name]} together: the tests "
+                "cannot tell them apart (brakeca design names the aliases)",
+                markup=False,
+                highlight=False,
+            )
     from brakeca.power import pooling_note
 
     for r in sorted({int(r) for r in table_data["replicates"]}):
@@ -2267,8 +2267,7 @@ def _print_aliases(structure: Any) -> None:
         out.print(
             f"[yellow]warning:[/] the tests cannot tell main effect {escape(other)} from "
             f"{escape(term)} (resolution II): in these tests the level of one fixes the "
-            f"other's, so the analysis estimates them as one effect, under {escape(term)}'s "
-            f"name, and leaves {escape(other)} out",
+            "other's, so an effect estimated for either is that of both together",
             highlight=False,
         )
     if not chains and (hidden or constant_terms or partly > 0.0):
