@@ -776,6 +776,11 @@ class _Backend:
         closed), or None while runs can."""
         return None
 
+    def interrupted(self, future: cf.Future) -> bool:
+        """Whether ``future`` ended without its run's outcome, to be run again (a dask
+        client cancels its futures when it loses the scheduler)."""
+        return False
+
     def waiting(self) -> str | None:
         """A note, once, where the runs wait for workers that are not there yet (an existing
         dask cluster without workers), else None."""
@@ -803,6 +808,7 @@ class _DaskBackend(_Backend):
         self.client = executor.client
         self.deaths = executor.deaths
         self.told = 0
+        self.address = self._address()  # while connected (a closed client's is gone)
         self.threads = 1  # the workers' threads at the last look [-]
         self.since_workers: float | None = None  # since when none (monotonic) [s]
         self.said_waiting = False
@@ -817,13 +823,27 @@ class _DaskBackend(_Backend):
     #: Seconds without a worker before :meth:`waiting` says so [s].
     WAIT_NOTE_AFTER = 10.0
 
-    def free(self) -> int:
+    def _threads(self) -> int:
+        """The workers' threads now (0 where the scheduler does not answer) [-]."""
         try:
-            threads = sum(self.client.nthreads().values())
+            return int(sum(self.client.nthreads().values()))
         except Exception:  # the scheduler is busy or gone: the runs in flight will tell
-            threads = 0
-        self.threads = threads
-        return max(threads, 1) - self.in_flight
+            return 0
+
+    def _connected(self) -> bool:
+        return getattr(self.client, "status", "running") == "running"
+
+    def free(self) -> int:
+        if not self._connected():  # reconnecting, or closed: nothing to submit to
+            return 0
+        self.threads = self._threads()
+        return max(self.threads, 1) - self.in_flight
+
+    def interrupted(self, future: cf.Future) -> bool:
+        # the moment the link to the scheduler drops, dask cancels every future of the
+        # client, while it tries to reconnect (a diff review: those runs were recorded as
+        # failed, and a campaign at its end finished with them)
+        return future.cancelled() and not self._connected()
 
     def lost(self) -> str | None:
         # a client that cannot reach its scheduler again closes itself (after dask's
@@ -831,13 +851,16 @@ class _DaskBackend(_Backend):
         # on them for good)
         if getattr(self.client, "status", "running") in ("closing", "closed"):
             return (
-                f"the Dask client lost the scheduler at {self._address()} and closed: no run "
+                f"the Dask client lost the scheduler at {self.address} and closed: no run "
                 "can finish"
             )
         return None
 
     def waiting(self) -> str | None:
-        if self.threads > 0 or self.said_waiting:
+        if self.said_waiting or not self._connected():
+            return None
+        self.threads = self._threads()  # asked here too: free() only while runs wait
+        if self.threads > 0:
             self.since_workers = None
             return None
         now = time.monotonic()
@@ -847,7 +870,7 @@ class _DaskBackend(_Backend):
             return None
         self.said_waiting = True
         return (
-            f"the Dask scheduler at {self._address()} has no worker yet: the runs wait for "
+            f"the Dask scheduler at {self.address} has no worker yet: the runs wait for "
             "workers to join (Ctrl-C stops; the same command resumes)"
         )
 

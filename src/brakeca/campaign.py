@@ -39,6 +39,7 @@ import collections
 import concurrent.futures as cf
 import csv
 import sys
+import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -872,9 +873,13 @@ def _execute_points(
                         options["maps_at"] = how.maps_at
                     pending[backend.submit(how.simulate_fn, point, options)] = point
                 bar.update(task, description=f"runs ({len(pending)} running)")
-                done, _ = cf.wait(
-                    list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
-                )
+                if pending:
+                    done, _ = cf.wait(
+                        list(pending), timeout=backend.poll, return_when=cf.FIRST_COMPLETED
+                    )
+                else:  # none could be submitted (a dask client reconnecting): wait a while
+                    done = set()
+                    time.sleep(backend.poll or 0.1)
                 if (why := backend.lost()) is not None:  # before its cancelled runs count
                     raise ExecutorError(
                         f"{why}; the finished runs (and checkpoints) in {runs.parent} are "
@@ -886,6 +891,10 @@ def _execute_points(
                 for future in sorted(done, key=lambda f: pending[f].order):
                     point = pending.pop(future)
                     rid = run_id(point)
+                    if backend.interrupted(future):  # run again once the link is back
+                        backend.release(future)
+                        queue.appendleft(point)
+                        continue
                     death = backend.release(future)
                     if death is not None:
                         deaths[rid] = deaths.get(rid, 0) + 1

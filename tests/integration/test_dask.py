@@ -349,6 +349,61 @@ def test_a_scheduler_lost_mid_campaign_stops_it_with_a_clear_error(design_file, 
     _assert_no_new_children(before)
 
 
+def test_a_scheduler_that_crashes_mid_campaign_fails_no_run(design_file, tmp_path):
+    """A diff review: when the scheduler dies outright, dask cancels the client's futures at
+    once, while it tries to reconnect; those runs had been recorded as failed (and a
+    campaign at its end finished with them). They go back to the queue; once the client
+    gives up (dask's connect timeout, 2 s here) the campaign stops with an ExecutorError,
+    no run counted as failed."""
+    import threading
+
+    info_file = tmp_path / "scheduler.json"
+    # the processes unpickle slow() from this test module: they see this process's path
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    quietly = {"stdout": subprocess.DEVNULL, "stderr": subprocess.DEVNULL, "env": env}
+    scheduler = subprocess.Popen(
+        [sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1",
+         "--port", "0", "--dashboard-address", "127.0.0.1:0", "--scheduler-file",
+         str(info_file)],
+        **quietly,
+    )  # fmt: skip
+    worker = None
+    try:
+        deadline = time.monotonic() + 60
+        while not info_file.exists():
+            assert time.monotonic() < deadline and scheduler.poll() is None
+            time.sleep(0.1)
+        worker = subprocess.Popen(
+            [sys.executable, "-m", "distributed.cli.dask_worker", "--scheduler-file",
+             str(info_file), "--nthreads", "1", "--nworkers", "1", "--no-dashboard"],
+            **quietly,
+        )  # fmt: skip
+        console = quiet()
+        # SIGKILL the scheduler while the first run sleeps in slow()
+        threading.Timer(6.0, scheduler.kill).start()
+        with (
+            dask.config.set({"distributed.comm.timeouts.connect": "2s"}),
+            pytest.raises(ExecutorError, match="the Dask client lost the scheduler at"),
+        ):
+            run_campaign(
+                design_file,
+                tmp_path / "campaign",
+                executor="dask",
+                scheduler_file=info_file,
+                simulate_fn=slow,
+                progress=False,
+                console=console,
+            )
+        assert "run failed" not in console.file.getvalue()
+        assert not (tmp_path / "campaign" / "summary.csv").exists()
+    finally:
+        for proc in (scheduler, worker):
+            if proc is not None and proc.poll() is None:
+                proc.kill()
+            if proc is not None:
+                proc.wait(timeout=30)
+
+
 def test_the_wait_for_workers_that_are_not_there_is_said_once() -> None:
     """A review: a campaign on a scheduler without workers printed nothing and looked hung;
     after a while without a worker it says once that the runs wait for them."""
@@ -363,6 +418,9 @@ def test_the_wait_for_workers_that_are_not_there_is_said_once() -> None:
     backend.WAIT_NOTE_AFTER = 0.05
     assert backend.free() == 1 and backend.waiting() is None  # the clock starts
     time.sleep(0.1)
+    client.status = "connecting"  # (the link lost for a while: not said, nothing submitted)
+    assert backend.waiting() is None and backend.free() == 0 and backend.lost() is None
+    client.status = "running"
     assert backend.waiting() == (
         "the Dask scheduler at tcp://h:1 has no worker yet: the runs wait for workers to join "
         "(Ctrl-C stops; the same command resumes)"
@@ -370,6 +428,14 @@ def test_the_wait_for_workers_that_are_not_there_is_said_once() -> None:
     assert backend.waiting() is None and backend.lost() is None  # said once
     client.nthreads = lambda: {"w": 2}
     assert backend.free() == 2 and backend.waiting() is None
+    # a future dask cancelled while the link was down is run again, not failed
+    import concurrent.futures as cf
+
+    cancelled: cf.Future = cf.Future()
+    cancelled.cancel()
+    assert not backend.interrupted(cancelled)  # connected: a cancellation of its own
+    client.status = "connecting"
+    assert backend.interrupted(cancelled)
     client.status = "closed"
     assert backend.lost() == (
         "the Dask client lost the scheduler at tcp://h:1 and closed: no run can finish"
