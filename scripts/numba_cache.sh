@@ -4,9 +4,15 @@
 # inside. The folder is therefore keyed by the package's sources that compiled code comes from
 # (brakeca._cachedir.source_key, which needs only the standard library), and the folders of
 # other versions are removed. A NUMBA_CACHE_DIR already set is kept. The folder is the
-# repository's .numba_cache/<key>, from wherever this file is sourced (bash).
+# repository's .numba_cache/<key>, from wherever bash sources this file (another sh: from the
+# repository's root).
 if [ -z "${NUMBA_CACHE_DIR:-}" ]; then
-  _brakeca_root=$(cd "$(dirname "${BASH_SOURCE[0]:-$0}")/.." && pwd)
+  # bash knows the file sourced (BASH_SOURCE); another sh, from the repository root
+  if [ -n "${BASH_SOURCE:-}" ]; then
+    _brakeca_root=$(cd "$(dirname "$BASH_SOURCE")/.." && pwd)
+  else
+    _brakeca_root=$PWD
+  fi
   _brakeca_key=$("$_brakeca_root/.venv/bin/python" -c "import sys; sys.path.insert(0, sys.argv[1]); from brakeca._cachedir import source_key; print(source_key())" "$_brakeca_root/src")
   if [ -z "$_brakeca_key" ]; then
     # without a key the folder would be shared across versions (and every other removed)

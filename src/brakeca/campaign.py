@@ -548,6 +548,8 @@ def _runs_kept(before: str, after: str) -> tuple[int, int] | None:
         return None
     if "run_id" not in old.columns or "run_id" not in new.columns or len(new) <= len(old):
         return None
+    if old.empty:  # a summary of no run: nothing kept to speak of
+        return None
     shared = [c for c in old.columns if c in new.columns and c not in ("wall_time", "order")]
     mine = old[shared].set_index("run_id")
     theirs = new[shared].drop_duplicates("run_id").set_index("run_id")
@@ -663,8 +665,8 @@ def _refuse_to_replace(
         )
         if renumbered:
             after += (
-                f". {renumbered} of the runs left out have levels this design also runs, "
-                "under other test numbers: a run's seed follows its test number (and "
+                f". {renumbered} of the runs left out are configurations this design also "
+                "runs, under other test numbers: a run's seed follows its test number (and "
                 "replicate), so those are other runs. A level added anywhere but after the "
                 "last level of the last factor, or a factor added, numbers the tests anew"
             )

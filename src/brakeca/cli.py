@@ -1499,8 +1499,9 @@ def analyze(
         k = len(result.design.factors)
         if not chosen and order is not None and order > k:  # (a new user's review)
             model += (
-                f", which with {k} factor{'s' if k != 1 else ''} is every interaction, as "
-                f"--order {k} gives"
+                f", which with {k} factors is every interaction, as --order {k} gives"
+                if k > 1
+                else ", which with 1 factor is its main effect alone"
             )
         out.print(
             f"the report's ANOVA model: {model} (the design's own model: brakeca analyze "

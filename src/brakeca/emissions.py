@@ -211,6 +211,8 @@ class EmissionParameters(_Frozen):
                     + (  # g/cm³ (mg/mm³) for kg/m³ (a review: 2.6 for 2600)
                         f" (debris_density is in kg/m³: {value:g} g/cm³ is {value * 1e3:g} kg/m³)"
                         if name == "debris_density" and 0.5 <= value <= 20.0
+                        else " (debris_density_range is in kg/m³, like debris_density)"
+                        if name == "debris_density" and 0.5 <= lo <= hi <= 20.0
                         else ""
                     )
                 )

@@ -739,7 +739,8 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
         "where MU cannot fall further: the effects on MU of what lowers it are compressed "
         "there"
         + (
-            ", and those runs' MU_SD is small because the floor holds them"
+            (", and that run's" if len(named) == 1 else ", and those runs'")
+            + " MU_SD is small because the floor holds them"
             if "MU_SD" in analysed_responses(getattr(result, "summary", pd.DataFrame()))
             else ""
         )

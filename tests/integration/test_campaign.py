@@ -393,7 +393,7 @@ def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, t
         run_campaign(middle, out, executor="serial", progress=False, console=quiet())
     text = str(info.value)
     assert "(design 'tiny', 4 runs, 2 of them not in this one)" in text
-    assert "2 of the runs left out have levels this design also runs, under other test" in text
+    assert "2 of the runs left out are configurations this design also runs, under other" in text
     assert "a level after the last level of the last factor) needs neither" in text
     # another root seed keeps the test numbers: its runs are not 'under other test numbers'
     (tmp_path / "seed").mkdir()

@@ -251,6 +251,8 @@ def test_describe_says_it_is_the_vehicles_figure_and_names_the_factors():
         EmissionParameters.from_dict({"airborne_fraction": 40})
     with pytest.raises(ValueError, match=r"debris_density is in kg/m³: 2.6 g/cm³ is 2600 kg/m³"):
         EmissionParameters.from_dict({"debris_density": 2.6})
+    with pytest.raises(ValueError, match=r"debris_density_range is in kg/m³, like debris_dens"):
+        EmissionParameters.from_dict({"debris_density_range": [2.0, 4.0]})
     one = EmissionParameters(pads_per_brake=1, brakes_per_axle=1)
     assert "1 pad a brake, 1 front brake" in one.factors_text()  # (a review: "1 pads")
 

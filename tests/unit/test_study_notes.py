@@ -64,9 +64,15 @@ def test_the_runs_held_at_the_floor_are_an_in_short_line() -> None:
         "within 1 % of friction.mu_min = 0.15"
     )
     cof[0, :] = 0.3
-    assert _floor_line(_result(cof), base).startswith(  # one run: its stops (a review)
+    import pandas as pd
+
+    held = _result(cof)
+    held.summary = pd.DataFrame({"status": ["ok"] * 3, "MU_SD": [0.01, 0.02, 0.03]})
+    one = _floor_line(held, base)
+    assert one.startswith(  # one run: its stops (a review)
         "MU at the COF floor: test 2 (50 %) spends half its stops or more within 1 %"
     )
+    assert ", and that run's MU_SD is small because the floor holds them" in one
     cof[:2, :] = 0.3
     assert _floor_line(_result(cof), base) == ""  # test 3 alone, under half
     many = np.full((8, 4), floor)  # eight runs held: five named, the rest counted
