@@ -168,7 +168,7 @@ def test_cycle_final_speed_above_initial(tmp_path):
     p = tmp_path / "c.csv"
     p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,50,60,0.3,2\n")
     with pytest.raises(
-        ConfigError, match=r"c.csv line 2: .*final_speed_kmh \(60.0\) must be lower"
+        ConfigError, match=r"c.csv, line 2: .*final_speed_kmh \(60.0\) must be lower"
     ):
         load_cycle(p)
 
@@ -815,7 +815,7 @@ def test_a_block_cycle_row_with_an_empty_value_says_it_is_missing(tmp_path) -> N
     """A single-run review: an empty stops read "must be a whole number (got '')"."""
     p = tmp_path / "c.csv"
     p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,50,4,0.25,\n")
-    with pytest.raises(ConfigError, match=r"c\.csv line 2: stops: missing \(the row leaves it"):
+    with pytest.raises(ConfigError, match=r"c\.csv, line 2: stops: missing \(the row leaves it"):
         load_cycle(p)
     p.write_text("name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\nx,,4,,3\n")
     with pytest.raises(ConfigError, match=r"line 2: initial_speed_kmh, deceleration_g: missing"):

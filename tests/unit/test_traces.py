@@ -611,17 +611,17 @@ def test_values_past_the_header_are_refused_not_dropped(tmp_path):
     assert trailing.speed.tolist() == pytest.approx([50 / 3.6, 0.0])
     header = "name,initial_speed_kmh,final_speed_kmh,deceleration_g,stops\n"
     blocks = _write(tmp_path, header + "Town,50,4,1,5,20\n", "b.csv")
-    with pytest.raises(ConfigError, match=r"b.csv line 2: expected 5 values, found more \('20'"):
+    with pytest.raises(ConfigError, match=r"b.csv, line 2: expected 5 values, found more \('20'"):
         load_cycle(blocks)
     with pytest.raises(ConfigError, match=r"e.csv: no block after the header"):
         load_cycle(_write(tmp_path, header, "e.csv"))
     late = _write(tmp_path, "# a comment\n\n" + header + "A,50,4,0.3,2\n\nB,50,60,0.3,1\n", "l.csv")
-    with pytest.raises(ConfigError, match=r"l.csv line 6: .*final_speed_kmh \(60.0\) must be"):
+    with pytest.raises(ConfigError, match=r"l.csv, line 6: .*final_speed_kmh \(60.0\) must be"):
         load_cycle(late)
     txt = _write(tmp_path, header + "A,50,4,0.3,2\n", "blocks.txt")
     assert [b.stops for b in load_cycle(txt).blocks] == [2]
     grouped = _write(tmp_path, header + "A,50,4,0.3,2\nB,5_0,4,0.3,2\n", "g.csv")
-    with pytest.raises(ConfigError, match=r"g.csv line 3: initial_speed_kmh: '5_0' is not a n"):
+    with pytest.raises(ConfigError, match=r"g.csv, line 3: initial_speed_kmh: '5_0' is not a n"):
         load_cycle(grouped)  # pydantic had read it as 50
 
 

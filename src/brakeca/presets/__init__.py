@@ -91,7 +91,7 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
         extra = [v for v in row.get(None) or () if v.strip()]
         if extra:
             raise ConfigError(
-                f"{source} line {lineno}: expected {len(reader.fieldnames)} values, found "
+                f"{source}, line {lineno}: expected {len(reader.fieldnames)} values, found "
                 f"more ({', '.join(map(repr, extra))} past the header's): a decimal comma in "
                 "a file separated by commas? write decimal points there, or separate the "
                 "values with ';'"
@@ -102,13 +102,13 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
         empty = [k for k in reader.fieldnames if k in expected and not values[k]]
         if empty:  # a review: a missing stops read "must be a whole number (got '')"
             raise ConfigError(
-                f"{source} line {lineno}: {', '.join(empty)}: missing (the row leaves "
+                f"{source}, line {lineno}: {', '.join(empty)}: missing (the row leaves "
                 f"{'it' if len(empty) == 1 else 'them'} empty)"
             )
         grouped = [k for k in sorted(expected - {"name"}) if "_" in values[k]]
         if grouped:  # float() and pydantic read "5_0" as 50; no spreadsheet writes it
             k = grouped[0]
-            raise ConfigError(f"{source} line {lineno}: {k}: {values[k]!r} is not a number")
+            raise ConfigError(f"{source}, line {lineno}: {k}: {values[k]!r} is not a number")
         try:
             blocks.append(BrakeBlock.model_validate(values))
         except Exception as exc:  # pydantic ValidationError
@@ -118,7 +118,7 @@ def _read_cycle_csv(text: str, source: str) -> tuple[BrakeBlock, ...]:
 
             if isinstance(exc, ValidationError):
                 raise ConfigError(
-                    format_validation_error(exc, f"{source} line {lineno}", BrakeBlock)
+                    format_validation_error(exc, f"{source}, line {lineno}", BrakeBlock)
                 ) from None
             raise
     if not blocks:
