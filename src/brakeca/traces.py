@@ -452,6 +452,8 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
                 labelled = header[cols["speed"]]
             continue
         fields = [f.strip().strip("\"'") for f in s.split(delim)]
+        if not any(fields):  # a spreadsheet's row of separators alone: a blank line
+            continue
         need = max(cols.values()) + 1
         if len(fields) < need:
             raise TraceError(

@@ -950,3 +950,13 @@ def test_cycle_inspect_passes_its_detection_options_on():
             "smoothing": "smoothing 10 s,",
         }[field]
         assert said in res.output
+
+
+def test_a_row_of_separators_alone_is_a_blank_line(tmp_path):
+    """A review: a spreadsheet's row of separators alone (',' or ';;') was refused with 'time
+    is missing', where a blank line is skipped."""
+    text = "time_s,speed_kmh\n0,0\n10,50\n,\n20,50\n30,0\n,\n"
+    trace = load_trace(_write(tmp_path, text, "sep.csv"))
+    assert list(trace.time) == [0.0, 10.0, 20.0, 30.0]
+    semi = "time_s;speed_kmh\n0;0\n10;50,5\n;\n20;50\n30;0\n"
+    assert load_trace(_write(tmp_path, semi, "semi.csv")).speed.size == 4
