@@ -395,37 +395,32 @@ def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, t
     assert "(design 'tiny', 4 runs, 2 of them not in this one)" in text
     assert "2 of the runs left out are configurations this design also runs, under other" in text
     assert "a level after the last level of the last factor) needs neither" in text
+
+    def refusal(name: str, design_text: str) -> str:
+        """The refusal of a campaign of ``design_text`` into ``out``, whitespace folded."""
+        (tmp_path / name).mkdir()
+        with pytest.raises(ConfigError) as info:
+            run_campaign(
+                write_design(tmp_path / name, TINY, design_text),
+                out,
+                executor="serial",
+                progress=False,
+                console=quiet(),
+            )
+        return " ".join(str(info.value).split())
+
     # another root seed keeps the test numbers: its runs are not 'under other test numbers'
-    (tmp_path / "seed").mkdir()
-    reseeded = DESIGN.replace("root_seed = 11", "root_seed = 12")
-    with pytest.raises(ConfigError) as info:
-        run_campaign(
-            write_design(tmp_path / "seed", TINY, reseeded),
-            out,
-            executor="serial",
-            progress=False,
-            console=quiet(),
-        )
-    assert "4 of them not in this one; its root_seed is 11, this design's 12: every run's" in (
-        str(info.value)
-    )  # a new user's review: the count alone did not say why
-    assert "under other test numbers" not in str(info.value)
+    text = refusal("seed", DESIGN.replace("root_seed = 11", "root_seed = 12"))
+    # (a new user's review: the count alone did not say why)
+    assert "4 of them not in this one; its root_seed is 11, this design's 12: every run's" in text
+    assert "under other test numbers" not in text
     # a design of A alone (S at the base's 0): the runs there ran S at 0.5 and 1, so none
     # of them is a configuration it runs, whatever their levels of A (a new user's review:
     # the count had compared A alone, and said 3 were 'under other test numbers')
-    (tmp_path / "a_only").mkdir()
     a_only = (
         DESIGN[: DESIGN.index("[[factors]]")] + DESIGN[DESIGN.index('[[factors]]\nname = "A"') :]
     )
-    with pytest.raises(ConfigError) as info:
-        run_campaign(
-            write_design(tmp_path / "a_only", TINY, a_only),
-            out,
-            executor="serial",
-            progress=False,
-            console=quiet(),
-        )
-    text = " ".join(str(info.value).split())
+    text = refusal("a_only", a_only)
     assert "(design 'tiny', 4 runs, 4 of them not in this one)" in text
     assert "under other test numbers" not in text
     after = write_design(tmp_path / "after", TINY, _levels_of_a("[10.0, 20.0, 30.0]"))

@@ -19,6 +19,7 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -160,18 +161,21 @@ def cluster():
         "distributed.scheduler.allowed-failures": 1,
         "distributed.scheduler.worker-saturation": 1.0,
     }
-    with (
-        dask.config.set(settings),
-        distributed.LocalCluster(
-            n_workers=2,
-            threads_per_worker=1,
-            processes=True,
-            host="127.0.0.1",
-            dashboard_address=None,
-            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-        ) as cluster,
-    ):
+    with dask.config.set(settings), _loopback_cluster(2) as cluster:
         yield cluster
+
+
+def _loopback_cluster(n_workers: int) -> Any:
+    """A LocalCluster of ``n_workers`` one-thread worker processes on 127.0.0.1, its
+    scheduler's HTTP server on a free loopback port (no dashboard)."""
+    return distributed.LocalCluster(
+        n_workers=n_workers,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address=None,
+        scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
+    )
 
 
 # dask --------------------------------------------------------------------------------------
@@ -319,14 +323,7 @@ def test_a_scheduler_lost_mid_campaign_stops_it_with_a_clear_error(design_file, 
     before = _children()
     with (
         dask.config.set({"distributed.comm.timeouts.connect": "2s"}),
-        distributed.LocalCluster(
-            n_workers=1,
-            threads_per_worker=1,
-            processes=True,
-            host="127.0.0.1",
-            dashboard_address=None,
-            scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-        ) as cluster,
+        _loopback_cluster(1) as cluster,
     ):
         address = cluster.scheduler_address
         threading.Timer(1.0, cluster.close).start()  # while the first run sleeps

@@ -394,25 +394,23 @@ def test_a_run_table_of_aliased_main_effects_is_warned_of_and_power_says_so(tmp_
     ) in text
     assert "not estimable (the same in every test: aliased with the mean): A:mu0" in text
     assert "combination of the terms before it" not in text
-    res = CliRunner().invoke(
-        app,
-        ["power", str(design), "--effect", "0.1", "--sigma", "0.05", "--replicates", "1"],
-        env={"COLUMNS": "120"},
-    )
-    assert res.exit_code == 0, res.output
-    power = " ".join(res.output.split())
+
+    def power_text() -> str:
+        res = CliRunner().invoke(
+            app,
+            ["power", str(design), "--effect", "0.1", "--sigma", "0.05", "--replicates", "1"],
+            env={"COLUMNS": "120"},
+        )
+        assert res.exit_code == 0, res.output
+        return " ".join(res.output.split())
+
+    power = power_text()
     assert "aliased with A" in power and "not varied" not in power
     assert "A's figure is that of A and mu0 together" in power
     # with mu0 alone in the model, its figure is the pair's (a diff review: A, not in the
     # model, was said to carry it)
     design.write_text(design.read_text().replace("runs = ", 'model_terms = ["mu0"]\nruns = '))
-    res = CliRunner().invoke(
-        app,
-        ["power", str(design), "--effect", "0.1", "--sigma", "0.05", "--replicates", "1"],
-        env={"COLUMNS": "120"},
-    )
-    assert res.exit_code == 0, res.output
-    power = " ".join(res.output.split())
+    power = power_text()
     assert "not in the model" in power and "aliased with" not in power
     assert "mu0's figure is that of mu0 and A together" in power
     assert "A's figure" not in power
