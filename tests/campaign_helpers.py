@@ -171,6 +171,11 @@ def rerun_reusing(out, **kwargs):
     return result, console_text(console)
 
 
+def _default_hangup() -> None:
+    """In a child before it runs: SIGHUP's default handler."""
+    signal.signal(signal.SIGHUP, signal.SIG_DFL)
+
+
 @contextlib.contextmanager
 def started_as_a_job(
     args: Sequence[str], first_line: str, env: dict[str, str] | None = None
@@ -186,6 +191,9 @@ def started_as_a_job(
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        # SIGHUP as a terminal's job has it, also where the tests run under nohup (which
+        # ignores it, and a program leaves an ignored SIGHUP alone)
+        preexec_fn=_default_hangup,
     )
     try:
         assert proc.stdout is not None

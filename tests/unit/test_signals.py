@@ -18,11 +18,28 @@ from brakeca._executors import terminate_as_interrupt
 @pytest.mark.parametrize("name", ["SIGTERM", "SIGHUP"])
 def test_terminate_and_hangup_raise_keyboard_interrupt_inside_the_block(name) -> None:
     number = getattr(signal, name)
-    before = signal.getsignal(number)
-    with pytest.raises(KeyboardInterrupt, match=name), terminate_as_interrupt():
-        os.kill(os.getpid(), number)
-        time.sleep(1.0)  # the handler runs at the next bytecode
-    assert signal.getsignal(number) == before  # restored
+    # the default handler, as a terminal gives it (under nohup SIGHUP is ignored, which
+    # terminate_as_interrupt leaves alone on purpose: test_an_ignored_hangup_stays_ignored)
+    inherited = signal.signal(number, signal.SIG_DFL)
+    try:
+        with pytest.raises(KeyboardInterrupt, match=name), terminate_as_interrupt():
+            os.kill(os.getpid(), number)
+            time.sleep(1.0)  # the handler runs at the next bytecode
+        assert signal.getsignal(number) == signal.SIG_DFL  # restored
+    finally:
+        signal.signal(number, inherited)
+
+
+def test_an_ignored_hangup_stays_ignored() -> None:
+    """A campaign started under nohup (SIGHUP ignored) goes on when the terminal closes."""
+    inherited = signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    try:
+        with terminate_as_interrupt():
+            assert signal.getsignal(signal.SIGHUP) == signal.SIG_IGN
+            os.kill(os.getpid(), signal.SIGHUP)
+            time.sleep(0.2)  # nothing raised
+    finally:
+        signal.signal(signal.SIGHUP, inherited)
 
 
 def test_a_handler_of_the_program_is_left_alone() -> None:
