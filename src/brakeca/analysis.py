@@ -773,6 +773,12 @@ def interaction_table(
     )
 
 
+def _cube_level_order(factor: Any) -> tuple[int, int]:
+    """A two-level factor's level indices along its cube edge, the lower value first (as
+    Minitab draws a cube), whichever order the design lists them in [-]."""
+    return (0, 1) if float(factor.levels[0]) <= float(factor.levels[1]) else (1, 0)
+
+
 def cube_means(
     summary: pd.DataFrame,
     factors: Iterable[Any],
@@ -868,8 +874,7 @@ def cube_means(
     codes = np.column_stack([_codes(data, f) for f in cube])  # (0, k) without a run
     y = data[response].to_numpy(dtype=float)
     rows = []
-    # each axis low level first, as Minitab draws it, whichever order the design lists
-    low_first = [(0, 1) if float(f.levels[0]) <= float(f.levels[1]) else (1, 0) for f in cube]
+    low_first = [_cube_level_order(f) for f in cube]
     for corner in itertools.product((0, 1), repeat=len(cube)):
         code = [order[c] for order, c in zip(low_first, corner[::-1], strict=True)]
         at = np.all(codes == np.array(code), axis=1)
@@ -1882,10 +1887,9 @@ def _estimable(
         for term, aliases in left_out.items():
             with_what = " and ".join(term_names[t] for t in aliases)
             if not with_what:
-                columns = _term_columns(frame, term)
                 with_what = (
                     "the mean: a word of the design's defining relation"
-                    if np.allclose(columns, columns[:1], rtol=0.0, atol=1e-12)
+                    if _constant_term(frame, term)
                     else "a combination of the terms before it"
                 )
             described.append(f"{term_names[term]} (aliased with {with_what})")
@@ -2012,6 +2016,12 @@ def _term_columns(frame: pd.DataFrame, term: str) -> np.ndarray:
         contrasts = _contrast_columns(frame[part[2:-1]])
         out = _row_kron(out, contrasts)
     return out
+
+
+def _constant_term(frame: pd.DataFrame, term: str) -> bool:
+    """Whether a term's contrast columns are the same in every row: aliased with the mean."""
+    columns = _term_columns(frame, term)
+    return bool(np.allclose(columns, columns[:1], rtol=0.0, atol=1e-12))
 
 
 def _rank(*blocks: np.ndarray) -> int:
@@ -2790,9 +2800,7 @@ def alias_structure(tests: pd.DataFrame, factors: Iterable[Any]) -> pd.DataFrame
         columns=["term", "aliases"],
     )
     hidden = [t for t in left_out if t not in shown]
-    constant = [
-        t for t in hidden if np.allclose(c := _term_columns(frame, t), c[:1], rtol=0.0, atol=1e-12)
-    ]
+    constant = [t for t in hidden if _constant_term(frame, t)]
     out.attrs["not_estimable"] = [_display_term(t, names) for t in hidden if t not in constant]
     out.attrs["with_mean"] = [_display_term(t, names) for t in constant]
     out.attrs["aliased_main_effects"] = [

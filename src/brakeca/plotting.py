@@ -35,6 +35,7 @@ from brakeca.analysis import (
     Factor,
     ResponseAnalysis,
     _campaign_parts,
+    _cube_level_order,
     _factors,
     interaction_table,
     main_effects,
@@ -479,9 +480,8 @@ def plot_interactions(
 
 def _cube_rank(factor: Any, k: int) -> int:
     """Where a two-level factor's level ``k`` goes along its cube edge: 0 (the near end) for
-    the lower value, as Minitab draws it, whichever order the design lists the levels in."""
-    ascending = float(factor.levels[0]) <= float(factor.levels[1])
-    return k if ascending else 1 - k
+    the lower value (:func:`brakeca.analysis._cube_level_order`)."""
+    return _cube_level_order(factor).index(k)
 
 
 def plot_cube(
