@@ -1697,27 +1697,38 @@ def _lack_of_fit_p(frame: pd.DataFrame) -> float | None:
     return None if _is_missing(p) or float(p) >= 0.05 else float(p)
 
 
+def _curvature_against_pure_error(
+    frame: pd.DataFrame, rows: pd.DataFrame
+) -> tuple[float, float, float] | None:
+    """Where the ANOVA's residual holds a significant lack of fit, the curvature test
+    against the pure error alone: F, p and the pure error's df; None otherwise."""
+    from scipy import stats
+
+    pe_df = frame.attrs.get("pure_error_df", math.nan)
+    pe_ss = frame.attrs.get("pure_error_ss", math.nan)
+    if _lack_of_fit_p(frame) is None or _is_missing(pe_df) or _is_missing(pe_ss):
+        return None
+    if float(pe_df) < 0.5 or float(pe_ss) <= 0.0:
+        return None
+    ss = float(rows["sum_sq"].iloc[0])
+    f_value = ss / (float(pe_ss) / float(pe_df))
+    return f_value, float(stats.f.sf(f_value, 1.0, float(pe_df))), float(pe_df)
+
+
 def _pure_error_curvature(frame: pd.DataFrame, rows: pd.DataFrame) -> str:
     """Where the ANOVA's residual holds a significant lack of fit, the curvature test
     against the pure error alone (a review found the ANOVA's verdict and the effects
     table's contradicting each other without a word); empty otherwise."""
-    from scipy import stats
-
+    test = _curvature_against_pure_error(frame, rows)
+    if test is None:
+        return ""
+    f_value, p_pe, pe_df = test
     lof_p = _lack_of_fit_p(frame)
-    pe_df = frame.attrs.get("pure_error_df", math.nan)
-    pe_ss = frame.attrs.get("pure_error_ss", math.nan)
-    if lof_p is None or _is_missing(pe_df) or _is_missing(pe_ss):
-        return ""
-    if float(pe_df) < 0.5 or float(pe_ss) <= 0.0:
-        return ""
-    ss = float(rows["sum_sq"].iloc[0])
-    f_value = ss / (float(pe_ss) / float(pe_df))
-    p_pe = float(stats.f.sf(f_value, 1.0, float(pe_df)))
     verdict = "significant" if p_pe < 0.05 else "not significant"
     return (
         f" The residual this F is taken against holds a significant lack of fit (p "
         f"{_p_relation(lof_p)}: terms the model leaves out), which weakens its tests; against "
-        f"the pure error alone ({float(pe_df):.0f} df, the scatter of the repeated runs) "
+        f"the pure error alone ({pe_df:.0f} df, the scatter of the repeated runs) "
         f"curvature has F = {f_value:.3g}, p "
         f"{_p_relation(p_pe)}: {verdict}. The pure error of centre points is the seeds' "
         "scatter at the centre, which may be smaller than at the corners."
@@ -2129,7 +2140,7 @@ def _finding(
         return text
     return (
         text
-        + _curvature_finding(frame, effects)
+        + _curvature_finding(frame)
         + _pure_error_finding(frame, effects)
         + _pooled_finding(frame, effects)
     )
@@ -2197,11 +2208,11 @@ def _scale_clause(
     return "".join(f"; {c}" for c in clauses)
 
 
-def _curvature_finding(frame: pd.DataFrame, effects: pd.DataFrame | None = None) -> str:
+def _curvature_finding(frame: pd.DataFrame) -> str:
     """``"; curvature: p = 0.035 (significant)"`` where the ANOVA has centre points' row;
-    where its residual lacks fit and the effects table (against the pure error) judges
-    curvature otherwise, both (a new user's review: "none found" beside a Ct Pt of
-    p < 0.001 hidden in "and 2 more")."""
+    where its residual lacks fit and the test against the pure error alone (the ANOVA's
+    note's, :func:`_curvature_against_pure_error`) judges curvature otherwise, both (a new
+    user's review: "none found" beside a Ct Pt of p < 0.001 hidden in "and 2 more")."""
     rows = _curvature_rows(frame)
     if rows.empty:
         return ""
@@ -2212,8 +2223,9 @@ def _curvature_finding(frame: pd.DataFrame, effects: pd.DataFrame | None = None)
     if _is_missing(p):
         return "; curvature not tested"
     verdict = "significant" if float(p) < 0.05 else "none found at 0.05"
-    pure_p = _pure_error_curvature_p(frame, effects)
-    if pure_p is not None and (float(pure_p) < 0.05) != (float(p) < 0.05):
+    test = _curvature_against_pure_error(frame, rows)
+    pure_p = None if test is None else test[1]
+    if pure_p is not None and (pure_p < 0.05) != (float(p) < 0.05):
         other = "significant" if float(pure_p) < 0.05 else "none found at 0.05"
         return (
             f"; curvature between the levels: p {_p_relation(p)} against the ANOVA's "
@@ -2221,21 +2233,6 @@ def _curvature_finding(frame: pd.DataFrame, effects: pd.DataFrame | None = None)
             f"pure error of the repeated runs alone ({other})"
         )
     return f"; curvature between the levels: p {_p_relation(p)} ({verdict})"
-
-
-def _pure_error_curvature_p(frame: pd.DataFrame, effects: pd.DataFrame | None) -> float | None:
-    """The centre points' p in the effects table where it is tested against the pure error
-    and the ANOVA's residual lacks fit (the two tests can then disagree); None otherwise."""
-    if effects is None or effects.empty or effects.attrs.get("method") != "pure error":
-        return None
-    if _lack_of_fit_p(frame) is None or "p_value" not in effects.columns:
-        return None
-    from brakeca.analysis import CENTER_TERM
-
-    row = effects.loc[effects["term"].astype(str) == CENTER_TERM, "p_value"]
-    if row.empty or _is_missing(row.iloc[0]):
-        return None
-    return float(row.iloc[0])
 
 
 def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:

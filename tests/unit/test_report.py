@@ -789,9 +789,11 @@ def test_in_short_says_the_curvature_and_what_the_pure_error_finds_besides() -> 
             "term": ["A", "c", "A:c", "Curvature", "Residual"],
             "p_value": [0.2, 0.3, 0.4, 1e-11, math.nan],
             "percent_contribution": [30.0, 20.0, 5.0, 40.0, 5.0],
+            "sum_sq": [7.5, 5.0, 1.25, 10.0, 1.25],
         }
     )
-    frame.attrs.update(r_squared=0.9, lack_of_fit_p=1e-4)
+    # the pure error of the centre points: curvature's F = 10 / (0.01 / 2), p 0.0005
+    frame.attrs.update(r_squared=0.9, lack_of_fit_p=1e-4, pure_error_df=2, pure_error_ss=0.01)
     effects = pd.DataFrame(
         {
             "term": ["A", "c", "A:c", "Ct Pt"],
