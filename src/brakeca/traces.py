@@ -447,9 +447,9 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
             comma = delim != ","  # a semicolon or tab separated file may use decimal commas
             header = [c.strip() for c in s.split(delim)]
             header_line = lineno
-            cols, t_factor, v_factor, unit_label = _read_header(header, source, lineno, speed_unit)
-            if _split_header(header[cols["speed"]])[1] is not None:  # the header says it
-                labelled = header[cols["speed"]]
+            cols, t_factor, v_factor, unit_label, labelled = _read_header(
+                header, source, lineno, speed_unit
+            )
             continue
         fields = [f.strip().strip("\"'") for f in s.split(delim)]
         if not any(fields):  # a spreadsheet's row of separators alone: a blank line
@@ -506,7 +506,9 @@ def load_trace(path: str | Path, *, speed_unit: str | None = None) -> SpeedTrace
 
 def _read_header(
     header: list[str], source: str, line: int, speed_unit: str | None
-) -> tuple[dict[str, int], float, float, str]:
+) -> tuple[dict[str, int], float, float, str, str | None]:
+    """The columns by role, the time and speed factors to SI, the speed unit's label, and
+    the speed column's title where it states the unit (None where the option gives it)."""
     cols: dict[str, int] = {}
     units: dict[str, str | None] = {}
     found: dict[str, list[tuple[int, str, str | None]]] = {}
@@ -564,10 +566,10 @@ def _read_header(
                     f"the header gives the speed in {_UNIT_LABEL[factor]} "
                     f"({header[cols['speed']]!r}) but the speed unit option says {speed_unit}",
                 )
-        return cols, t_factor, factor, _UNIT_LABEL[factor]
+        return cols, t_factor, factor, _UNIT_LABEL[factor], header[cols["speed"]]
     assert speed_unit is not None
     factor = _speed_factor(speed_unit, source, None, "speed_unit / --speed-unit")
-    return cols, t_factor, factor, _UNIT_LABEL[factor]
+    return cols, t_factor, factor, _UNIT_LABEL[factor], None
 
 
 def _check_plausible(
