@@ -1267,8 +1267,10 @@ _BOX_COX_INFO = (
     "interval and the nearest multiple of 0.5. λ = 1 is the response as it is, λ = 0 its log "
     "(the report's log10_V_mm3 for V). Only a reading of the data: it transforms nothing, "
     "and each response is analysed on the scale it has in this report (V both as it is and "
-    "as log10_V_mm3, the λ = 0 reading). The figure 'Box-Cox plots' shows each profile."
+    "as log10_V_mm3, the λ = 0 reading)."
 )
+#: said where the figure is drawn (a λ is defined for some response)
+_BOX_COX_FIGURE = " The figure 'Box-Cox plots' shows each profile."
 
 
 def _level_means_info(means: Mapping[str, pd.DataFrame], surface: bool) -> str:
@@ -2045,11 +2047,8 @@ def render_report(
         optimum=None if optimum is None else _optimum_item(*optimum),
         optimum_note=optimum_note,
         box_cox=_box_cox_table(box_cox) if box_cox else None,
-        box_cox_info=(
-            _BOX_COX_INFO
-            if box_cox and any(b.defined for b in box_cox.values())
-            else _BOX_COX_INFO.removesuffix(" The figure 'Box-Cox plots' shows each profile.")
-        ),
+        box_cox_info=_BOX_COX_INFO
+        + (_BOX_COX_FIGURE if box_cox and any(b.defined for b in box_cox.values()) else ""),
         anova_info=anova_info,
         findings=findings,
         pm10=None if pm10 is None else _generic_table(pm10[0]),
