@@ -299,6 +299,22 @@ def moved_trace(old: SimulationConfig | None, base: SimulationConfig) -> str | N
     return None
 
 
+def edited_trace(old: SimulationConfig | None, base: SimulationConfig) -> str | None:
+    """The trace path where a campaign's base ``old`` and ``base`` name the same trace file
+    whose content (``cycle.trace_sha256``) has changed since, else None."""
+    if old is None:
+        return None
+    was, new = old.cycle, base.cycle
+    if (
+        was.trace_file
+        and was.trace_file == new.trace_file
+        and was.trace_sha256 is not None
+        and was.trace_sha256 != new.trace_sha256
+    ):
+        return str(was.trace_file)
+    return None
+
+
 #: How a campaign's own design.toml and base_config.toml begin (:func:`_write_design`), by
 #: which a campaign tells them from a user's files (``campaign._foreign_design``).
 DESIGN_HEADER = "# Design of campaign"

@@ -83,6 +83,7 @@ from brakeca._runstore import (
     base_differences,
     campaign_lock,
     design_changes,
+    edited_trace,
     existing_base,
     moved_trace,
 )
@@ -608,22 +609,6 @@ def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
     return removed, why
 
 
-def _edited_trace(old: SimulationConfig | None, base: SimulationConfig) -> str | None:
-    """The trace path where a campaign's base ``old`` and ``base`` name the same trace file
-    whose content (``cycle.trace_sha256``) has changed since, else None."""
-    if old is None:
-        return None
-    was, new = old.cycle, base.cycle
-    if (
-        was.trace_file
-        and was.trace_file == new.trace_file
-        and was.trace_sha256 is not None
-        and was.trace_sha256 != new.trace_sha256
-    ):
-        return str(was.trace_file)
-    return None
-
-
 def _refuse_to_replace(
     out: Path, base: SimulationConfig, points: Sequence[RunPoint], root_seed: int | None = None
 ) -> None:
@@ -644,7 +629,7 @@ def _refuse_to_replace(
                 "records its trace by its path, so these would be other runs: give the trace "
                 f"at its first path ({moved}) to resume them"
             )
-        elif (edited := _edited_trace(old, base)) is not None:
+        elif (edited := edited_trace(old, base)) is not None:
             # the first campaign's command is this one: a review found that advice circular
             first = "campaign's command, with its trace as it was"
             after = (
