@@ -1993,8 +1993,11 @@ def power(
         "aliased_main_effects", []
     )
     aliased = {a: b for pair in pairs for a, b in (pair, pair[::-1])}  # both ways
+    together: dict[str, str] = {}  # a factor whose figure is its pair's, once each
     for _, row in table_data.iterrows():
         value = row["effect"] if effect is None else row["power"]
+        if str(row["factor"]) in aliased and not math.isnan(row["df"]):
+            together[str(row["factor"])] = aliased[str(row["factor"])]
         if math.isnan(row["df"]) and not in_model(str(row["factor"])):
             shown = "not in the model"
         elif math.isnan(row["df"]) and str(row["factor"]) in aliased:
@@ -2015,15 +2018,13 @@ def power(
         )
     out.print(table)
     out.print(f"the ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False)
-    for _, row in table_data.iterrows():  # a factor with a figure, and an alias
-        name = str(row["factor"])
-        if name in aliased and not math.isnan(row["df"]):
-            out.print(
-                f"{name}'s figure is that of {name} and {aliased[name]} together: the tests "
-                "cannot tell them apart (brakeca design names the aliases)",
-                markup=False,
-                highlight=False,
-            )
+    for name, other in together.items():
+        out.print(
+            f"{name}'s figure is that of {name} and {other} together: the tests cannot tell "
+            "them apart (brakeca design names the aliases)",
+            markup=False,
+            highlight=False,
+        )
     from brakeca.power import pooling_note
 
     for r in sorted({int(r) for r in table_data["replicates"]}):

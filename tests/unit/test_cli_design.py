@@ -395,18 +395,21 @@ def test_a_run_table_of_aliased_main_effects_is_warned_of_and_power_says_so(tmp_
     assert "not estimable (the same in every test: aliased with the mean): A:mu0" in text
     assert "combination of the terms before it" not in text
 
-    def power_text() -> str:
+    def power_text(replicates: str = "1") -> str:
         res = CliRunner().invoke(
             app,
-            ["power", str(design), "--effect", "0.1", "--sigma", "0.05", "--replicates", "1"],
+            ["power", str(design), "--effect", "0.1", "--sigma", "0.05", "--replicates",
+             replicates],
             env={"COLUMNS": "120"},
-        )
+        )  # fmt: skip
         assert res.exit_code == 0, res.output
         return " ".join(res.output.split())
 
     power = power_text()
     assert "aliased with A" in power and "not varied" not in power
     assert "A's figure is that of A and mu0 together" in power
+    # said once, whatever the replicate counts asked (a reread: once per row before)
+    assert power_text("1,2").count("A's figure is that of A and mu0 together") == 1
     # with mu0 alone in the model, its figure is the pair's (a diff review: A, not in the
     # model, was said to carry it)
     design.write_text(design.read_text().replace("runs = ", 'model_terms = ["mu0"]\nruns = '))
