@@ -217,11 +217,20 @@ def _load_existing(path: Path, point: RunPoint) -> tuple[RunResult | None, str]:
 # --- finished runs -------------------------------------------------------------------------
 
 
+#: The error of a run cancelled outside the campaign (the campaign cancels only runs it stops
+#: waiting for, and a run dask cancels when its link to the scheduler drops goes back to the
+#: queue): on a shared cluster, another client, the dashboard or the scheduler's own restart.
+CANCELLED = (
+    "the run was cancelled on the executor, not by this campaign (on a dask cluster: another "
+    "client, the dashboard or a restart of the scheduler); running the campaign again runs it"
+)
+
+
 def _finish(future: cf.Future, point: RunPoint, runs: Path) -> _Record:
     """Turn a finished future into a record, writing the run file when it succeeded."""
     rid = run_id(point)
     if future.cancelled():
-        return _Record(point, rid, "failed", "the run was cancelled")
+        return _Record(point, rid, "failed", CANCELLED)
     try:
         result = future.result()
     except Exception as exc:

@@ -6,6 +6,7 @@ second once numba's cache is warm.
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import io
 import math
 import os
@@ -36,6 +37,7 @@ from campaign_helpers import (
 from rich.console import Console
 from typer.testing import CliRunner
 
+from brakeca._runstore import CANCELLED
 from brakeca.campaign import (
     CampaignResult,
     SerialExecutor,
@@ -496,6 +498,42 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
     # a second pass computes only the failed run
     healed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
     assert healed.ok and healed.computed == (summary.loc[2, "run_id"],) and len(healed.reused) == 3
+    pd.testing.assert_frame_equal(
+        deterministic(healed.summary), deterministic(serial.summary), check_exact=True
+    )
+
+
+class _CancelsTheThirdRun(SerialExecutor):
+    """The caller's executor, on which someone else cancels the third run submitted (as
+    another client or the dashboard can on a shared dask cluster)."""
+
+    submitted = 0
+
+    def submit(self, fn, /, *args, **kwargs):
+        self.submitted += 1
+        if self.submitted == 3:
+            future: cf.Future = cf.Future()
+            future.cancel()
+            future.set_running_or_notify_cancel()  # as an executor does: wait() sees it then
+            return future
+        return super().submit(fn, *args, **kwargs)
+
+
+def test_a_run_cancelled_outside_the_campaign_says_so_and_is_run_again(
+    serial, design_file, tmp_path
+):
+    out = tmp_path / "campaign"
+    console = quiet()
+    result = run_campaign(design_file, out, executor=_CancelsTheThirdRun(), console=console)
+    summary = result.summary
+    assert sorted(summary["status"]) == ["failed", "ok", "ok", "ok"]
+    failed = summary[summary["status"] == "failed"].iloc[0]
+    # it had read "the run was cancelled", which did not say by whom nor what to do
+    assert failed["error"] == CANCELLED
+    assert "not by this campaign" in CANCELLED and "running the campaign again runs it" in CANCELLED
+    assert "not by this campaign" in console_text(console)
+    healed = run_campaign(design_file, out, executor="serial", progress=False, console=quiet())
+    assert healed.ok and healed.computed == (failed["run_id"],)
     pd.testing.assert_frame_equal(
         deterministic(healed.summary), deterministic(serial.summary), check_exact=True
     )
