@@ -1518,14 +1518,22 @@ def analyze(
 
 
 def _print_in_short(lines: Sequence[str]) -> None:
-    """Print the report's "In short" (:func:`brakeca.report.in_short`): each response's
-    terms with p < 0.05 and R², under a heading; nothing without lines."""
+    """Print the report's "In short" (:func:`brakeca.report.in_short`, for a response
+    surface :func:`brakeca.report.surface_in_short`): each response's terms with p < 0.05
+    and R², under a heading; nothing without lines."""
     if lines:
+        from brakeca.report import SURFACE_LINE
         from brakeca.study import PM10_LINE_START
 
         pm10 = lines[-1].startswith(PM10_LINE_START)
+        surface = any(SURFACE_LINE in line for line in lines)
         out.print(
-            "in short (the ANOVA's terms with p < 0.05, largest share first"
+            (
+                "in short (the terms with p < 0.05 of each response's quadratic surface, "
+                "smallest p first"
+                if surface
+                else "in short (the ANOVA's terms with p < 0.05, largest share first"
+            )
             + ("; last, PM10 against the Euro 7 limits" if pm10 else "")
             + "):",
             markup=False,

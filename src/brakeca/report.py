@@ -36,7 +36,14 @@ from brakeca._io import write_text
 from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
 from brakeca.analysis import display_unit
 
-__all__ = ["REPORT_TEMPLATE", "format_p_value", "in_short", "render_report", "write_report"]
+__all__ = [
+    "REPORT_TEMPLATE",
+    "format_p_value",
+    "in_short",
+    "render_report",
+    "surface_in_short",
+    "write_report",
+]
 
 PAPER_REFERENCE = (
     'J. Wahlström, "A Factorial Design to Numerically Study the Effects of Brake Pad '
@@ -135,6 +142,13 @@ input.zoom:checked + label.zoom img { max-width: none; }
 {%- if findings %}
 <section id="findings">
 <h2>In short</h2>
+{%- if findings_surface %}
+<p class="note">The terms of each response's quadratic model (section "Response surface")
+with p &lt; 0.05, smallest p first, and its R²; the lack of fit where the runs repeat a point
+and it is significant; and where the fitted surface's stationary point lies (a maximum, a
+minimum or a saddle point, inside or outside the region the runs span).
+{%- if optimum %} Then the setting that best meets the design's goals.{% endif %}
+{%- else %}
 <p class="note">The terms of each response's ANOVA (below) with p &lt; 0.05, largest share of
 the variation first (contribution: the term's sum of squares over the total). A main effect
 among the first six comes with the mean response at each of its levels (plain means of the
@@ -147,6 +161,7 @@ them.{% endif %}
 {%- if findings_pure_error %} Where the ANOVA's residual lacks fit, the terms that the effects
 table, tested against the pure error of the repeated runs alone, finds besides are named
 too.{% endif %}
+{%- endif %}
 {%- if pm10 %} The last line gives the runs' brake PM10 against the Euro 7 limits (section
 "Brake PM10").{% endif %}</p>
 <ul>
@@ -1552,6 +1567,107 @@ def _stationary_text(fit: Any, factor: float, unit: str | None) -> str:
     )
 
 
+#: The rows of a surface fit's ANOVA that are groups or the error, not terms.
+_SURFACE_GROUPS = frozenset(
+    {
+        "Model",
+        "Linear",
+        "Square",
+        "2-Way Interaction",
+        "Error",
+        "Lack-of-Fit",
+        "Pure Error",
+        "Total",
+    }
+)
+
+
+#: What follows the response's name in a line of :func:`surface_in_short` (a command's
+#: heading of "In short" tells the two kinds of line by it).
+SURFACE_LINE = " (quadratic surface): "
+
+
+def surface_in_short(surface_fits: Mapping[str, Any] | None, optimum: Any = None) -> list[str]:
+    """The lines of a response-surface report's "In short", before :func:`in_short`'s: for
+    each response, its quadratic's terms with p < 0.05, the smallest p first, R², a
+    significant lack of fit and the stationary point's kind and place; then, with an
+    optimum, the setting that best meets the design's goals.
+
+    Parameters
+    ----------
+    surface_fits
+        Response to :class:`brakeca.rsm.SurfaceFit`, as :func:`write_report` takes them.
+    optimum
+        The response optimizer's :class:`brakeca.rsm.Optimum`, or None.
+
+    Returns
+    -------
+    list of str
+        One line per response, then the optimum's; empty without fits.
+    """
+    lines = [line for r, fit in (surface_fits or {}).items() if (line := _surface_finding(r, fit))]
+    if optimum is not None:
+        lines.append(_optimum_finding(optimum))
+    return lines
+
+
+def _surface_finding(response: str, fit: Any) -> str:
+    """One line of a response-surface report's "In short": the terms of ``fit``'s quadratic
+    (a :class:`brakeca.rsm.SurfaceFit`) with p < 0.05, smallest p first, R², a significant
+    lack of fit, and the stationary point's kind and place (a review: such a report's "In
+    short" had held the COF-floor line alone, under the factorial's heading)."""
+    terms = fit.anova[~fit.anova["source"].isin(_SURFACE_GROUPS)]
+    stats = fit.statistics
+    r2 = stats.get("r_squared", math.nan)
+    r2_text = "" if _is_missing(r2) else f"; R² = {100.0 * float(r2):.1f} %"
+    p = terms["p_value"].astype(float)
+    if terms.empty:
+        return f"{response}{SURFACE_LINE}no term in the model"
+    if p.isna().all():
+        return (
+            f"{response}{SURFACE_LINE}no term can be tested (no residual degrees of "
+            "freedom, or a constant response; the section 'Response surface' says which)"
+        )
+    hits = terms[p < 0.05].assign(p=p).sort_values("p", kind="stable")
+    text = (
+        f"{response}{SURFACE_LINE}"
+        + ", ".join(
+            f"{t} (p {_p_text(float(q))})" for t, q in zip(hits["source"], hits["p"], strict=True)
+        )
+        if len(hits)
+        else f"{response}{SURFACE_LINE}no term has p < 0.05"
+    ) + r2_text
+    lof = stats.get("lack_of_fit_p", math.nan)
+    if not _is_missing(lof) and float(lof) < 0.05:
+        text += (
+            f"; the quadratic lacks fit (p {_p_text(float(lof))}): it departs from the runs "
+            "by more than their scatter at repeated levels"
+        )
+    st = fit.stationary
+    if st is not None:
+        where = "inside" if st["inside"] else "outside"
+        text += f"; its stationary point is a {st['kind']} {where} the runs' region"
+    return text
+
+
+def _optimum_finding(optimum: Any) -> str:
+    """The line of "In short" on the response optimizer's setting (:func:`_optimum_item`)."""
+    setting = ", ".join(
+        f"{name} = {_fmt(level, '.4g')}"
+        + (
+            ""
+            if optimum.units.get(name, "") in ("", "-")
+            else f" {display_unit(optimum.units[name])}"
+        )
+        for name, level in optimum.levels.items()
+    )
+    return (
+        f"The design's goals are best met at {setting}: composite desirability "
+        f"{optimum.composite:.3f} (0 misses a goal's limit, 1 meets every goal; section "
+        "'Response surface')"
+    )
+
+
 def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     """ " Model summary: residual standard deviation s = ..., R² = ... %, ..." from
     :func:`brakeca.analysis.anova`'s attrs, or "" when the table carries none."""
@@ -2008,8 +2124,10 @@ def render_report(
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
-    findings = in_short(
-        anova_tables,
+    findings = surface_in_short(surface_fits, None if optimum is None else optimum[1])
+    findings += in_short(
+        # a response with a surface is said by it (a study passes no other ANOVA for it)
+        {r: t for r, t in anova_tables.items() if r not in (surface_fits or {})},
         level_means=level_means,
         effects_tables=effects_tables,
         box_cox=box_cox,
@@ -2051,6 +2169,7 @@ def render_report(
         + (_BOX_COX_FIGURE if box_cox and any(b.defined for b in box_cox.values()) else ""),
         anova_info=anova_info,
         findings=findings,
+        findings_surface=bool(surface_fits),
         pm10=None if pm10 is None else _generic_table(pm10[0]),
         pm10_info="" if pm10 is None else pm10[1],
         # what the findings' note explains only where the design has it (a review read

@@ -1125,8 +1125,9 @@ def write_study(
     in_short
         Called, once the report is written, with each line of its "In short" (each
         response's significant terms with their shares and R²;
-        :func:`brakeca.report.in_short`), for a command to print them as well; on a speed
-        trace, last, a line on the runs' PM10 against the Euro 7 limits.
+        :func:`brakeca.report.surface_in_short` and :func:`brakeca.report.in_short`), for
+        a command to print them as well; on a speed trace, last, a line on the runs' PM10
+        against the Euro 7 limits.
     emissions
         The factors from a run's emitted volume to the vehicle's PM10 [mg/km] of the runs
         on a speed trace (:func:`brakeca.emissions.load_emissions`); the fields it does not
@@ -1254,6 +1255,8 @@ def write_study(
         more_findings=[floor_line],
     )
     if in_short is not None:
+        for line in report.surface_in_short(surfaces, found.optimum):
+            in_short(line)
         for line in report.in_short(
             anova_tables,
             level_means=level_means,

@@ -46,9 +46,14 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     design = tmp_path / "ccd.toml"
     design.write_text(CCD)
     out = tmp_path / "c"
-    cli_ok("run", str(design), "-o", str(out), *TINY_CLI)
+    first = cli_ok("run", str(design), "-o", str(out), *TINY_CLI)
     summary = pd.read_csv(out / "summary.csv")
     assert list(summary["test"]) == list(range(1, 11))
+    # "In short" on the terminal is the quadratic's (a review: a composite's report had
+    # given the COF-floor line alone, under the factorial ANOVA's heading)
+    assert "in short (the terms with p < 0.05 of each response's quadratic surface" in first
+    assert "\n  MU (quadratic surface): " in first and "the ANOVA's terms" not in first
+    assert "\n  The design's goals are best met at A = " in first
     assert (summary["status"] == "ok").all()
     # cube (A fastest), axial (A -, A +, WR -, WR +), then the centre twice
     wr0 = 10**-6.5

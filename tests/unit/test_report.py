@@ -12,6 +12,7 @@ import re
 import struct
 import zlib
 from datetime import UTC, datetime
+from html import unescape
 from pathlib import Path
 
 import numpy as np
@@ -307,6 +308,21 @@ def test_a_response_surface_section_in_the_report_units(tmp_path) -> None:
     assert f"Stationary point (gradient zero): a {st['kind']} at A = " in section
     assert ("inside the region" if st["inside"] else "outside the region") in section
     assert '<section id="surface">' not in render_report(**make_inputs(tmp_path))
+    # "In short" gives the quadratic's significant terms, smallest p first (a review: such
+    # a report's "In short" had held other lines alone, under the factorial's heading)
+    findings = unescape(
+        html[html.index('<section id="findings">') : html.index('<section id="design">')]
+    )
+    assert "The terms of each response's quadratic model" in findings
+    assert "The terms of each response's ANOVA" not in findings
+    terms = fit.anova[~fit.anova["source"].isin(["Model", "Linear", "Square", "2-Way Interaction"])]
+    terms = terms.iloc[: list(terms["source"]).index("Error")]
+    hits = terms[terms["p_value"] < 0.05].sort_values("p_value")
+    assert list(hits["source"]) == ["A*A", "A", "A*WR"]  # the sizes the data were made with
+    line = re.search(r"<li>(V \(.*?)</li>", findings).group(1)
+    assert line.startswith("V (quadratic surface): A*A (p < 0.0001), A (p < 0.0001), A*WR (p ")
+    assert f"R² = {100 * fit.statistics['r_squared']:.1f} %" in line
+    assert f"; its stationary point is a {st['kind']} " in line
 
 
 def test_the_response_optimization_in_the_report(tmp_path) -> None:
@@ -325,6 +341,14 @@ def test_the_response_optimization_in_the_report(tmp_path) -> None:
     html = render_report(**make_inputs(tmp_path), surface_fits={"V": fit}, optimum=(goals, best))
     section = html[html.index('<h3 id="surface-optimum">') :]
     assert f"composite desirability, here {best.composite:.3f}" in section
+    findings = unescape(
+        html[html.index('<section id="findings">') : html.index('<section id="design">')]
+    )
+    assert "Then the setting that best meets the design's goals." in findings
+    assert (
+        f"The design's goals are best met at A = {best.levels['A']:.4g} %, WR = "
+        f"{best.levels['WR']:.4g} m: composite desirability {best.composite:.3f}" in findings
+    )
     assert "<td>minimize: target 0.5, upper 3</td>" in section  # V's limits in mm³
     assert f'<td class="num">{best.predicted["V"] * 1e9:#.4g}</td>' in section
     assert "At the edge of that region: A" in section  # V falls with A: A at its low end
