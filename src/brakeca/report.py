@@ -2470,14 +2470,22 @@ def _averaged_over(hits: pd.DataFrame, means: pd.DataFrame | None) -> str:
     if means is None:
         return ""
     terms = [str(t) for t in hits["term"]]
+    chains = hits["aliases"] if "aliases" in hits.columns else [""] * len(terms)
     # interactions of two factors and more (a model of order 3 can find S:WP:A significant
-    # where no pair is: the main effects in it average over it all the same)
-    joint = [t for t in terms if ":" in t]
+    # where no pair is: the main effects in it average over it all the same), each with its
+    # aliases of two factors: in a fraction, S:WR = WP:A holds WP as much as S (a review:
+    # WP was said to be in S:WR)
+    joint = {
+        t: (short, _chain_factors(t, short))
+        for t, chain in zip(terms, chains, strict=True)
+        if ":" in t
+        for short in [_short_aliases(chain)]
+    }
     shown = [t for t in terms[:_MOST_FINDINGS] if ":" not in t]
-    caught = [f for f in shown if any(f in t.split(":") for t in joint)]
+    caught = [f for f in shown if any(f in factors for _, factors in joint.values())]
     if not caught:
         return ""
-    within = [t for t in joint if set(t.split(":")) & set(caught)]
+    within = [t for t, (_, factors) in joint.items() if factors & set(caught)]
     names = _listed(caught)
     each = "is" if len(caught) == 1 else "are each"
     others = (
@@ -2485,11 +2493,26 @@ def _averaged_over(hits: pd.DataFrame, means: pd.DataFrame | None) -> str:
         if all(t.count(":") == 1 for t in within)
         else "the other factors' levels"
     )
+    aliased = any(joint[t][0] for t in within)
+    named = ", ".join(f"{t} = {joint[t][0]}" if joint[t][0] else t for t in within)
     return (
-        f"; {names} {each} in a significant interaction ({', '.join(within)}): "
+        f"; {names} {each} in a significant interaction"
+        + (" or one of its aliases" if aliased else "")
+        + f" ({named}): "
         f"{'its' if len(caught) == 1 else 'their'} level means average over {others}, "
         "between which the effect differs (the interaction plots)"
+        + ("; which term of an alias chain acts, the design cannot tell" if aliased else "")
     )
+
+
+def _chain_factors(term: str, short: str) -> set[str]:
+    """The factors of an interaction ``term`` and of its aliases ``short``
+    (:func:`_short_aliases`: ``"WP:A"``, ``"-WP:A + B:C"``)."""
+    factors = set(term.split(":"))
+    for alias in re.split(r"\s[+-]\s", short.lstrip("-")):
+        if alias.strip():
+            factors.update(alias.strip().split(":"))
+    return factors
 
 
 def write_report(

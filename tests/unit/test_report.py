@@ -750,6 +750,22 @@ def test_in_short_cautions_a_main_effect_in_an_interaction_and_gives_log_v_in_mm
         "interaction plots)"
     )
     assert "geometric" not in _finding("MU", frame, means)
+    # in a fraction, a factor in an alias of a significant interaction is cautioned too (a
+    # statistics review: WP and WR were said to be "in" S:A while S:A = WP:WR)
+    fraction = frame.assign(
+        term=["WP", "A", "S:A", "S", "Residual"], aliases=["", "", "WP:WR", "", ""]
+    )
+    assert _finding("MU", fraction, means).endswith(
+        "; WP and A are each in a significant interaction or one of its aliases (S:A = WP:WR): "
+        "their level means average over the other factor's levels, between which the effect "
+        "differs (the interaction plots); which term of an alias chain acts, the design cannot "
+        "tell"
+    )
+    # an alias of neither WP nor A (nor one of three factors, left out): A alone, in S:A
+    neither = fraction.assign(aliases=["", "", "-S:WR:C + B:C", "", ""])
+    assert "; A is in a significant interaction or one of its aliases (S:A = B:C): its " in (
+        _finding("MU", neither, means)
+    )
 
 
 def test_in_short_says_the_log_of_v_leaves_out_the_runs_that_emitted_nothing() -> None:
