@@ -169,6 +169,20 @@ def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
     return _root_figure(ax.figure), ax
 
 
+def _panel_inches(ax: Axes) -> tuple[float, float]:
+    """The width and height [in] of a panel ``ax`` as its figure places it (before a layout
+    engine's adjustments)."""
+    box = ax.get_position()
+    fig = _root_figure(ax.figure)
+    return box.width * fig.get_figwidth(), box.height * fig.get_figheight()
+
+
+def _panel_chars(ax: Axes, fontsize: float, most: int) -> int:
+    """How many characters of ``fontsize`` [pt] a line across the panel ``ax`` holds, at
+    most ``most`` (about half an em a character; at least 20)."""
+    return max(20, min(most, int(_panel_inches(ax)[0] * 72.0 / (0.55 * fontsize))))
+
+
 def _root_figure(fig: Any) -> Figure:
     """The figure that holds ``fig`` (itself, or a SubFigure's parents up to the Figure):
     the one a figure function returns and saves."""
@@ -979,14 +993,14 @@ def plot_mu_per_stop(
     ax.set_ylabel(ylabel)
     if title is None:
         title = (
-            "Mean coefficient of friction per stop over the cycle, all runs"
+            "Mean coefficient of friction per stop over the cycle"
             if variable == "mean_cof"
-            else f"{what[:1].upper()}{what[1:]}: each stop over the cycle, all runs"
-        )
+            else f"{what[:1].upper()}{what[1:]}: each stop over the cycle"
+        ) + (", all runs" if n > 1 else "")  # (one run's had said "all runs": an API review)
         if n_tests < n:
             title += " (the replicates of a test share its colour)"
         if given:  # a panel of a grid: the title and the axis label wrapped to its width
-            title = textwrap.fill(title, 55)
+            title = textwrap.fill(title, _panel_chars(ax, 12.0, 55))
             ax.set_ylabel(textwrap.fill(ylabel, 40))
     # above the block names, which stand above the axes: pad by the tallest name [points]
     pad = 6.0
@@ -2439,7 +2453,10 @@ def plot_surface_map(
 
     ax
         An axes to draw on, in a figure of one's own (a subplot of a grid); by default a
-        new figure. ``path`` then writes that whole figure.
+        new figure. ``path`` then writes that whole figure. In a panel the title is wrapped
+        to its width and the legend stands below it in a figure with a layout engine
+        (``layout="constrained"`` or ``"tight"``, which make room for it); without one it
+        stays inside, over the map, as a figure without a layout cannot make room.
     true_scale
         Draw the map to scale: a millimetre of radius as long as a millimetre of arc at the
         band's mean radius (filling a figure of its own, 10 by 3.6 in, the paper's band's
@@ -2474,9 +2491,25 @@ def plot_surface_map(
     for h, f in zip(handles, fractions, strict=True):
         h.set_label(f"{h.get_label()}: {100 * f:.1f} %")
     if given:  # within a figure of one's own: the legend and title on these axes
-        ax.legend(handles=handles, loc="upper right", ncols=3, fontsize=7)
+        # in as many columns as the panel's width holds (three in a row had run into the
+        # next panel: an API review); below it, clear of the map, where the figure's layout
+        # engine makes room for it, and inside it otherwise, as a figure without a layout
+        # cannot make room
+        width, height = _panel_inches(ax)
+        ncols = 3 if width >= 7.0 else 1
+        if fig.get_layout_engine() is None:
+            ax.legend(handles=handles, loc="upper right", ncols=ncols, fontsize=7)
+        else:
+            ax.legend(
+                handles=handles,
+                loc="upper center",
+                bbox_to_anchor=(0.5, -0.5 / max(height, 0.5)),
+                ncols=ncols,
+                fontsize=7,
+                frameon=False,
+            )
         if title:
-            ax.set_title(title)
+            ax.set_title(textwrap.fill(title, _panel_chars(ax, 12.0, 80)))
     else:
         fig.legend(handles=handles, loc="outside lower center", ncols=3, fontsize=8)
         if title:

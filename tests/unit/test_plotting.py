@@ -904,6 +904,47 @@ def test_a_panel_of_a_grid_keeps_its_legend_and_title_to_itself(campaign) -> Non
     plt.close(fig)
 
 
+def test_a_grid_of_surface_maps_and_one_run_keeps_each_panel_to_itself(campaign) -> None:
+    """An API review: in a row of three panels (two maps and one run's MU per stop), each
+    map's legend of three columns ran into the next panel and off the figure, and the one
+    run's title said "all runs" and ran off the figure. A map's legend stands below its
+    panel in the columns its width holds, and titles are wrapped to the panel's width."""
+    import matplotlib.pyplot as plt
+
+    status, radius, angle = _status_map()
+    one = campaign.isel(run=[0])
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4), layout="constrained")
+    plot_surface_map(status, radius, angle, "Pad before the first stop", ax=axes[0])
+    plot_surface_map(status, radius, angle, "Pad after the last stop", ax=axes[1])
+    plot_mu_per_stop(one, factors=FACTORS, ax=axes[2])
+    assert "all runs" not in axes[2].get_title()
+    assert "all runs" in plot_mu_per_stop(campaign, factors=FACTORS).axes[0].get_title()
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    page = fig.bbox
+    for ax in axes.flat:
+        boxes = [ax.title.get_window_extent(renderer)]
+        if ax.get_legend() is not None:
+            legend = ax.get_legend().get_window_extent(renderer)
+            assert legend.y1 <= ax.bbox.y0  # below the map, not over it
+            boxes.append(legend)
+        for box in boxes:
+            assert page.x0 <= box.x0 <= box.x1 <= page.x1
+            assert page.y0 <= box.y0 <= box.y1 <= page.y1
+            for other in axes.flat:
+                if other is not ax:
+                    assert not box.overlaps(other.bbox), (box, other.bbox)
+    assert axes[0].get_legend() is not None and axes[2].get_legend() is None
+    plt.close(fig)
+    # without a layout engine nothing makes room below: the legend stays inside the map
+    fig, ax = plt.subplots()
+    plot_surface_map(status, radius, angle, "Pad", ax=ax)
+    fig.canvas.draw()
+    legend = ax.get_legend().get_window_extent(fig.canvas.get_renderer())
+    assert ax.bbox.y0 - 1 <= legend.y0 and legend.y1 <= ax.bbox.y1 + 1
+    plt.close(fig)
+
+
 def test_a_panel_without_a_layout_keeps_its_legend_inside(campaign, tmp_path) -> None:
     """Without a layout engine nothing makes room beside a panel: a legend put there had
     lain over the next panel or off the figure (a review: 22 % of it on the canvas of
