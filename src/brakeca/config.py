@@ -229,9 +229,9 @@ class PadConfig(_Frozen):
 
     fibre_area_fraction: float = Field(
         0.20,
-        ge=0.0,
+        gt=0.0,  # no fibre, no plateau to carry the load: every step would fail (a review)
         lt=1.0,
-        description="[-] area fraction covered by metal fibres (factor A), below 1",
+        description="[-] area fraction covered by metal fibres (factor A), above 0, below 1",
     )
     fibre_length_min: float = Field(
         1e-3, gt=0, le=0.1, description="[m] shortest fibre (at most 0.1 m)"
@@ -985,7 +985,7 @@ class SimulationConfig(_Frozen):
         ...     paper.with_updates({"A": 150})
         ... except ConfigError as exc:
         ...     print(exc)
-        A (= pad.fibre_area_fraction): must be at least 0 and below 100 %, got 150
+        A (= pad.fibre_area_fraction): must be above 0 and below 100 %, got 150
         """
         return apply_overrides(self, updates)
 
@@ -1514,10 +1514,11 @@ def _resolve_alias(key: str, value: Any) -> tuple[str, Any]:
         raise ConfigError(f"{key} (= {field}): expected {what}, got {value!r}")
     value = number
     lo_hi = _ALIAS_RANGES.get(key)
-    if lo_hi is not None and not lo_hi[0] <= value < lo_hi[1]:
+    if lo_hi is not None and not lo_hi[0] < value < lo_hi[1]:
         raise ConfigError(
-            f"{key} (= {field}): must be at least {lo_hi[0]:g} and below {lo_hi[1]:g} {unit}, "
+            f"{key} (= {field}): must be above {lo_hi[0]:g} and below {lo_hi[1]:g} {unit}, "
             f"got {value}"
+            + (" (a pad without fibres has no plateau to carry the load)" if value == 0 else "")
         )
     if key == "A" and 0.0 < value < 1.0:
         warn_unit(
@@ -1596,9 +1597,11 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
             last = depth == len(parts) - 1
             if known is not None and part not in known:
                 allowed = ", ".join(sorted(known)) if known else "(none)"
+                close = _close_field(key)
                 raise ConfigError(
                     f"override {key}: unknown field {'.'.join(parts[: depth + 1])!r}; "
-                    f"allowed here: {allowed} (or a factor name: {', '.join(FACTOR_ALIASES)})"
+                    + (f"did you mean {close!r}? " if close else "")
+                    + f"allowed here: {allowed} (or a factor name: {', '.join(FACTOR_ALIASES)})"
                 )
             if last:
                 node[part] = value
@@ -1620,6 +1623,36 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
         if field in given:  # a value this update set that reads like a slip of unit
             warn_unit(note)
     return updated
+
+
+def _field_paths(model: Any = None, prefix: str = "") -> list[str]:
+    """The dotted names of every field of :class:`SimulationConfig` that holds a value
+    (``"friction.mu_0"``), not a section."""
+    paths = []
+    for name, info in (model or SimulationConfig).model_fields.items():
+        inner = getattr(info.annotation, "model_fields", None)
+        if inner is not None:
+            paths += _field_paths(info.annotation, f"{prefix}{name}.")
+        else:
+            paths.append(f"{prefix}{name}")
+    return paths
+
+
+def _close_field(key: str) -> str | None:
+    """The field or factor name a misspelt ``key`` of :meth:`SimulationConfig.with_updates`
+    most likely means: one that differs only in case (``"wp"``), the field of that name
+    in its section (``"mu_0"``: ``"friction.mu_0"``), or a close spelling
+    (``"friction.mu0"``); None where none is close (an API review: the loaders said "did
+    you mean", with_updates did not)."""
+    names = [*FACTOR_ALIASES, *_field_paths()]
+    alike = [n for n in names if n.lower() == key.lower()]
+    if alike:
+        return alike[0]
+    leaf = [n for n in names if n.rsplit(".", 1)[-1].lower() == key.rsplit(".", 1)[-1].lower()]
+    if len(leaf) == 1:
+        return leaf[0]
+    close = difflib.get_close_matches(key, names, n=1, cutoff=0.75)
+    return close[0] if close else None
 
 
 def load_config(path: str | Path) -> SimulationConfig:

@@ -104,9 +104,19 @@ def test_thinned_series_are_every_nth_step_across_stops(small):
 
 
 def test_unreachable_torque_is_a_clear_error(small):
+    from brakeca.config import ConfigError, UnitWarning
+
+    # a pad without fibres, which no step could run, is refused before any work (an API
+    # review: it had passed the check and failed at stop 1, step 1)
+    with pytest.raises(ConfigError, match=r"must be above 0 .* \(a pad without fibres has no"):
+        small.with_updates({"A": 0})
+    with pytest.raises(ConfigError, match=r"pad.fibre_area_fraction: must lie in \(0, 1\)"):
+        small.with_updates({"pad.fibre_area_fraction": 0.0})
+    # the kernels' own check, for a surface without plateaus all the same (a copy of the
+    # configuration that skips validation)
+    bare = small.model_copy(update={"pad": small.pad.model_copy(update={"fibre_area_fraction": 0})})
     with pytest.raises(ContactError, match="no plateau cell can reach"):
-        simulate(small.with_updates({"A": 0}), seed=1)
-    from brakeca.config import UnitWarning
+        simulate(bare, seed=1)
 
     with pytest.warns(UnitWarning, match="contact.elastic_modulus = 10000 Pa, a foundation"):
         soft = small.with_updates({"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4})
@@ -237,7 +247,7 @@ def test_cli_simulate(tmp_path):
     assert res.exit_code == 0, res.output
     assert "note: --stops 5: the cycle has 1 stop; all of them run, once" in res.output
     res = runner.invoke(app, ["simulate", "--set", "A=150", "-o", str(tmp_path / "bad.nc")])
-    assert res.exit_code == 2 and "at least 0 and below 100 %" in res.output
+    assert res.exit_code == 2 and "above 0 and below 100 %" in res.output
     assert not (tmp_path / "bad.nc").exists()
     # an output that cannot be written (its folder is a file) is refused before the run
     blocker = tmp_path / "blocker"
@@ -274,9 +284,11 @@ def test_cli_simulate(tmp_path):
     assert res.exit_code == 2 and "--seed" in res.output
     # a model error (no fibre to carry the torque): exit 1, the error the last line, no file
     small = ["--set", "mesh.n_radial=3", "--set", "mesh.n_angular=100", "--stops", "1"]
-    res = runner.invoke(app, ["simulate", *small, "--set", "A=0", "-o", str(tmp_path / "b.nc")])
+    soft = ["--set", "contact.bar_length=1e-3", "--set", "contact.elastic_modulus=1e4"]
+    res = runner.invoke(app, ["simulate", *small, *soft, "-o", str(tmp_path / "b.nc")])
     assert res.exit_code == 1, res.output
-    assert res.output.strip().splitlines()[-1].startswith("error: stop 1 (Burnish), step 1: no")
+    last = res.output.strip().splitlines()[-1]
+    assert last.startswith("error: stop 1 (Burnish), step 1: reaching the demanded friction")
     assert not (tmp_path / "b.nc").exists()
 
 
@@ -345,7 +357,7 @@ def test_cli_surface_draws_the_levels_and_names_bad_ones(tmp_path):
         ("", "--levels '': no level"),
         ("10,10", "--levels '10,10': 10 % is given twice"),
         ("inf", "'inf' is not a finite number"),
-        ("150", "--levels 150: must be at least 0 and below 100 %"),
+        ("150", "--levels 150: must be above 0 and below 100 %"),
         ("10,,20", "--levels '10,,20': an empty level between commas"),  # (a fuzz review)
     ]:
         bad = tmp_path / "bad.png"

@@ -13,6 +13,7 @@ import pytest
 from campaign_helpers import ignores_sigint, started_as_a_job
 
 from brakeca._warmup import _child, tiny_config, warm_up
+from brakeca.config import UnitWarning
 from brakeca.contact import ContactError
 from brakeca.presets import load_preset
 from brakeca.simulation import kernel_for, simulate
@@ -35,18 +36,22 @@ def test_warm_up_is_skipped_for_kernels_this_process_holds():
 
 
 def test_a_config_that_cannot_run_is_skipped_without_a_traceback():
-    """A pad without fibres raises ContactError at its first step: the warm-up child skips it
-    silently (the run reports the error itself) and still warms the configurations after it."""
+    """A foundation too soft for the braking torque raises ContactError at the first step:
+    the warm-up child skips it silently (the run reports the error itself) and still warms
+    the configurations after it."""
     good = load_preset().with_updates({"mesh.n_radial": 3, "cycle.max_stops": 1})
-    bad = good.with_updates({"A": 0})
+    soft = {"contact.bar_length": 1e-3, "contact.elastic_modulus": 1e4}
+    with pytest.warns(UnitWarning):
+        bad = good.with_updates(soft)
     assert _child([bad, good]) == 1
     assert _child([good]) == 0
-    with pytest.raises(ContactError, match="no plateau cell can reach the disc"):
+    with pytest.raises(ContactError, match="would compress the"):
         simulate(bad, seed=0)
     # the child process: no traceback on the terminal, and the warm-up reports a failure
     probe = (
+        "import warnings; warnings.simplefilter('ignore'); "
         "from brakeca._warmup import warm_up; from brakeca.presets import load_preset; "
-        "print(warm_up([load_preset().with_updates({'A': 0, 'cycle.max_stops': 1})]))"
+        f"print(warm_up([load_preset().with_updates({{**{soft!r}, 'cycle.max_stops': 1}})]))"
     )
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "None"
