@@ -387,6 +387,11 @@ class AutomatonConfig(_Frozen):
     )
 
 
+#: Above this deceleration [g] a block of a drive cycle brakes harder than a car's tyres
+#: grip (about 1 g on a dry road): the value reads like one in m/s² (:meth:`BrakeBlock.unit_note`).
+GRIP_DECELERATION_G = 1.2
+
+
 class BrakeBlock(_Frozen):
     """One block of stops of a block drive cycle (one row of Table 3)."""
 
@@ -400,6 +405,19 @@ class BrakeBlock(_Frozen):
         "under 10 minutes; 1e-9 g had asked for terabytes of time steps)",
     )
     stops: int = Field(ge=1, le=100_000, description="[-] number of stops in the block")
+
+    def unit_note(self) -> str | None:
+        """A note where the deceleration is beyond a car's grip (above
+        :data:`GRIP_DECELERATION_G`), as a deceleration in m/s² given as g reads (1.96 for
+        0.2 g: an API review found it run as given); None otherwise."""
+        a = self.deceleration_g
+        if a <= GRIP_DECELERATION_G:
+            return None
+        return (
+            f"cycle.blocks: block {self.name!r} decelerates at deceleration_g = {a:g} g, "
+            f"beyond a car's grip (about 1 g on a dry road): it is in g, not m/s² ({a:g} m/s² "
+            f"is {a / 9.81:.3g} g)"
+        )
 
     @model_validator(mode="after")
     def _speeds(self) -> BrakeBlock:
@@ -1017,6 +1035,8 @@ def unit_notes_by_field(config: SimulationConfig) -> dict[tuple[str, Any], str]:
         ("contact.elastic_modulus", config.contact.elastic_modulus): config.contact.unit_note(),
         ("friction.slope", config.friction.slope): config.friction.unit_note(),
     }
+    for block in config.cycle.blocks:
+        notes[("cycle.blocks", block.deceleration_g)] = block.unit_note()
     return {key: text for key, text in notes.items() if text is not None}
 
 
@@ -1056,13 +1076,21 @@ _BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_e
 def _field_info(model: Any, loc: Sequence[Any]) -> Any | None:
     """The pydantic FieldInfo of the field of ``model`` at ``loc``; None where ``loc`` is not
     a field of nested models."""
+    import typing
+
     from pydantic import BaseModel
 
     info = None
     cls = model
     for part in loc:
+        if isinstance(part, int) and info is not None:  # an item of a list field: its model
+            continue
         if not (isinstance(cls, type) and issubclass(cls, BaseModel)):
-            return None
+            # a list of models (tuple[BrakeBlock, ...]) or an optional one: the model
+            args = [a for a in typing.get_args(cls) if isinstance(a, type)]
+            cls = args[0] if args else None
+            if not (isinstance(cls, type) and issubclass(cls, BaseModel)):
+                return None
         if not isinstance(part, str) or part not in cls.model_fields:
             return None
         info = cls.model_fields[part]

@@ -54,6 +54,22 @@ def test_factor_aliases():
         ({"wp": 1e-13}, "did you mean 'WP'?"),
         ({"mu_0": 0.5}, "did you mean 'friction.mu_0'?"),
         ({"frction.mu_0": 0.5}, "unknown field 'frction'; did you mean 'friction.mu_0'?"),
+        # a block's deceleration in m/s² (an API review: no hint from Python, the CSV's had)
+        (
+            {
+                "cycle.blocks": [
+                    {
+                        "name": "x",
+                        "initial_speed_kmh": 50,
+                        "final_speed_kmh": 4,
+                        "deceleration_g": 2.45,
+                        "stops": 2,
+                    }
+                ]
+            },
+            r"blocks #1.deceleration_g: must lie in \[0.01, 2\] g \(got 2.45\): in g, not m/s² "
+            r"\(2.45 m/s² is 0.25 g\)$",
+        ),
         ({"pad.fibre_area_fraction": 1.5}, "pad.fibre_area_fraction"),
         ({"pad.fibre_area_fraction": 1.0}, r"pad.fibre_area_fraction: must lie in \(0, 1\)"),
         # both ends of the allowed range, also where pydantic names only the one crossed
@@ -612,6 +628,25 @@ def test_a_below_one_percent_warns_from_python_and_is_a_note_on_the_command_line
         warnings.simplefilter("error")
         paper.with_updates({"A": 10})  # no warning at 1 % and above
         paper.with_updates({"A": 1})
+
+
+def test_a_block_braking_beyond_a_cars_grip_is_noted() -> None:
+    """0.2 g typed as 1.96 (m/s²) ran as 1.96 g without a word (an API review), while a
+    trace that brakes beyond 1.5 g is refused: a block above 1.2 g is noted."""
+    import warnings
+
+    from brakeca.config import UnitWarning, unit_notes
+
+    paper = load_preset()
+    block = {"name": "x", "initial_speed_kmh": 50, "final_speed_kmh": 4, "stops": 2}
+    with pytest.warns(UnitWarning, match=r"block 'x' decelerates at deceleration_g = 1.96 g, "
+                      r"beyond a car's grip .* \(1.96 m/s² is 0.2 g\)"):  # fmt: skip
+        odd = paper.with_updates({"cycle.blocks": [{**block, "deceleration_g": 1.96}]})
+    assert len(unit_notes(odd)) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        paper.with_updates({"cycle.blocks": [{**block, "deceleration_g": 1.2}]})
+        assert unit_notes(paper) == []  # the paper's cycle brakes at 0.4 g at most
 
 
 def test_values_that_read_like_slips_of_unit_are_noted() -> None:
