@@ -1575,6 +1575,22 @@ def _check_cycle_name(config: SimulationConfig, given: Mapping[str, str], data: 
         )
 
 
+def _rename_cycle(config: SimulationConfig, given: Mapping[str, str], data: Any) -> None:
+    """A cycle given anew without a name of its own does not keep the old cycle's: other
+    blocks are the cycle ``"custom"``, a trace in place of blocks is named by its file's
+    stem (an API review: one block of one's own ran, and was recorded, as cycle 'paper').
+    A trace file set over a trace keeps the name: it may be the same file, read elsewhere."""
+    cycle = data.get("cycle")
+    if "cycle.name" in given or not isinstance(cycle, dict):
+        return
+    old = config.cycle
+    trace = cycle.get("trace_file")
+    if "cycle.trace_file" in given and not old.trace_file and isinstance(trace, str) and trace:
+        cycle["name"] = Path(trace).stem
+    elif "cycle.blocks" in given and cycle.get("blocks") != [b.model_dump() for b in old.blocks]:
+        cycle["name"] = "custom"
+
+
 def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> SimulationConfig:
     """Return a validated copy of ``config`` with dotted-key (or factor-name) updates applied.
 
@@ -1640,6 +1656,7 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
                 ann = known[part].annotation if known is not None else None
                 known = getattr(ann, "model_fields", None)
     _check_cycle_name(config, given, data)
+    _rename_cycle(config, given, data)
     if "cycle.trace_file" in given and "cycle.trace_sha256" not in given:
         # the digest was the old file's: a new trace would be refused as 'changed' (a
         # review: --set cycle.trace_file on a configuration file that records its trace)

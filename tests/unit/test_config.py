@@ -925,3 +925,21 @@ def test_a_shipped_cycles_name_alone_does_not_load_it() -> None:
     assert trace.with_updates({"cycle.name": "example_trace"}).cycle == trace.cycle
     with pytest.raises(ConfigError, match=r"'paper' is a shipped cycle"):
         trace.with_updates({"cycle.name": "paper"})
+
+
+def test_a_cycle_given_anew_does_not_keep_the_old_ones_name() -> None:
+    """An API review: one block of one's own, given as cycle.blocks, ran and was recorded as
+    cycle 'paper'. Other blocks without a name are the cycle 'custom'; the same blocks, or
+    a name given with them, keep what they say."""
+    paper = load_preset("paper")
+    mine = [{"name": "mine", "initial_speed_kmh": 50, "final_speed_kmh": 4,
+             "deceleration_g": 0.2, "stops": 2}]  # fmt: skip
+    custom = paper.with_updates({"cycle.blocks": mine})
+    assert custom.cycle.name == "custom" and "cycle 'custom' (blocks)" in repr(custom)
+    same = [b.model_dump() for b in paper.cycle.blocks]
+    assert paper.with_updates({"cycle.blocks": same}).cycle.name == "paper"
+    assert paper.with_updates({"cycle.blocks": mine, "cycle.name": "town"}).cycle.name == "town"
+    assert paper.with_updates({"cycle.max_stops": 3}).cycle.name == "paper"
+    # a trace in place of the blocks is named by its file, as --cycle names it
+    trace = paper.with_updates({"cycle.blocks": [], "cycle.trace_file": "traces/k2.csv"})
+    assert trace.cycle.name == "k2"
