@@ -1073,6 +1073,38 @@ def _drop_none(value: Any) -> Any:
 _BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
 
 
+#: Units a value above a field's range may have been given in, by the field's unit: the
+#: friendly unit's name and its size in the field's unit (a specific wear rate quoted in
+#: mm³/(N·m), a resin depth in µm: an API review).
+_SMALLER_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
+    "m": (("µm", 1e-6), ("mm", 1e-3)),
+    "m^3/(N m)": (("mm³/(N·m)", 1e-9),),
+    "Pa": (("MPa", 1e6),),
+}
+
+
+def _smaller_unit(
+    unit: str, value: float, ctx: Mapping[str, Any], upper: float, default: Any
+) -> str:
+    """Where ``value``, above its field's range, reads as given in a smaller unit
+    (:data:`_SMALLER_UNITS`) that puts it within the range and within a factor of 100 of the
+    field's ``default`` (where it has a number for one), the sentence that says so:
+    ``"in m, not µm (0.1 µm is 1e-07 m)"``; empty otherwise."""
+    lower = ctx.get("ge", ctx.get("gt", -math.inf))
+    shown = unit.replace("^3", "³").replace("(N m)", "(N·m)")
+    near = default if isinstance(default, float) and default > 0 else None
+    fits = [
+        (abs(math.log(value * size / near)) if near else 0.0, name, value * size)
+        for name, size in _SMALLER_UNITS.get(unit, ())
+        if lower <= value * size <= upper
+        and (near is None or abs(math.log(value * size / near)) <= math.log(100.0))
+    ]
+    if not fits:
+        return ""
+    _, name, converted = min(fits)
+    return f"in {shown}, not {name} ({value:g} {name} is {converted:.3g} {shown})"
+
+
 def _field_info(model: Any, loc: Sequence[Any]) -> Any | None:
     """The pydantic FieldInfo of the field of ``model`` at ``loc``; None where ``loc`` is not
     a field of nested models."""
@@ -1338,6 +1370,12 @@ def format_validation_error(
                 msg += f" (got {got!r}): a fraction, {value / 100:g} for {value:g} %"
             elif value is not None and unit == "g" and 2 < value <= 25:  # m/s² given as g
                 msg += f" (got {got!r}): in g, not m/s² ({value:g} m/s² is {value / 9.81:.3g} g)"
+            elif value is not None and upper is not None and value > upper and model is not None:
+                info = _field_info(model, err["loc"])
+                default = getattr(info, "default", None)
+                slip = _smaller_unit(unit, value, err.get("ctx") or {}, upper, default)
+                if slip:
+                    msg += f" (got {got!r}): {slip}"
         elif err["type"] in ("float_type", "float_parsing", "int_type", "int_parsing"):
             msg = "must be a " + ("whole number" if err["type"].startswith("int") else "number")
         elif err["type"] == "int_from_float":

@@ -94,7 +94,16 @@ def test_factor_aliases():
         ),
         ({"brake.disc_outer_radius": 139.0}, r"brake.disc_outer_radius: must lie in \(0, 1\]"),
         # a field of a unit capped at 1 is no share given in per cent (a diff review)
-        ({"brake.disc_outer_radius": 13.9}, r"must lie in \(0, 1\] m \(got 13.9\)$"),
+        ({"brake.disc_outer_radius": 13.9}, r"must lie in \(0, 1\] m \(got 13.9\): in m, not mm"),
+        # a wear rate in mm³/(N·m), a resin depth in µm (an API review: no hint given)
+        (
+            {"WP": 1e-4},
+            r"must lie in \(0, 1e-09\] m\^3/\(N m\) \(got 0.0001\): in m³/\(N·m\), not "
+            r"mm³/\(N·m\) \(0.0001 mm³/\(N·m\) is 1e-13 m³/\(N·m\)\)$",
+        ),
+        ({"WR": 0.1}, r"\(got 0.1\): in m, not µm \(0.1 µm is 1e-07 m\)$"),
+        ({"vehicle.wheel_radius": 300.0}, r"\(got 300.0\): in m, not mm \(300 mm is 0.3 m\)$"),
+        ({"WR": 0.5}, r"\(got 0.5\): in m, not µm \(0.5 µm is 5e-07 m\)$"),
         # the range's unit, and A beside the fraction (an API review: 57 for a diameter in
         # mm, 20 for a fraction in per cent)
         ({"brake.piston_diameter": 57}, r"piston_diameter: must lie in \(0, 0.3\] m \(got 57\)"),

@@ -58,13 +58,13 @@ def test_design_table_lists_levels_with_their_labels_or_alone() -> None:
             "base": "paper",
             "root_seed": 1,
             "factors": [
-                {"name": "A", "field": "A", "levels": [0.0, 10.0]},
+                {"name": "A", "field": "A", "levels": [5.0, 10.0]},
                 {"name": "WP", "field": "WP", "levels": [1e-14, 1e-13], "labels": ["-", "+"]},
             ],
         }
     )
     table = _design_table(SimpleNamespace(design=design))  # type: ignore[arg-type]
-    assert list(table["levels"]) == ["0, 10", "- = 1e-14, + = 1e-13"]
+    assert list(table["levels"]) == ["5, 10", "- = 1e-14, + = 1e-13"]
     assert list(table["unit"]) == ["%", "m³/(N·m)"]
 
 
