@@ -75,6 +75,8 @@ class CampaignResult:
 
         Raises
         ------
+        TypeError
+            ``test`` or ``replicate`` is not a whole number.
         KeyError
             The campaign has no such test and replicate.
         ValueError
@@ -82,6 +84,12 @@ class CampaignResult:
         FileNotFoundError
             Its run file is not in the folder (a folder sent without ``runs/``).
         """
+        for name, value in (("test", test), ("replicate", replicate)):
+            # run("2") had said test 2 was not a run of the campaign (an API review)
+            if isinstance(value, bool) or not isinstance(value, int | np.integer):
+                raise TypeError(
+                    f"{name}: expected a whole number (the summary's {name} column), got {value!r}"
+                )
         rows = self.summary
         chosen = rows[(rows["test"] == test) & (rows.get("replicate", 0) == replicate)]
         if chosen.empty:

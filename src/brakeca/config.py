@@ -141,6 +141,18 @@ class VehicleConfig(_Frozen):
     )
     gravity: float = Field(9.81, gt=0, description="[m/s^2] standard gravity, converts g to m/s^2")
 
+    def unit_note(self) -> str | None:
+        """A note for a wheel load that reads like a slip of unit (under 20 kg: ``0.69``
+        meant as 0.69 t; an API review ran it without a word), else None."""
+        m = self.wheel_load_mass
+        if m < 20.0:
+            return (
+                f"vehicle.wheel_load_mass = {m:g} kg, under 20 kg: a car's wheel carries a "
+                f"few hundred kg (the paper's 690 kg); the load is in kg, not tonnes ({m:g} t "
+                f"is {1000 * m:g} kg)"
+            )
+        return None
+
 
 class BrakeConfig(_Frozen):
     """Disc, pad and calliper geometry (Table 4 of the paper)."""
@@ -997,7 +1009,7 @@ class SimulationConfig(_Frozen):
         >>> from brakeca.presets import load_preset
         >>> paper = load_preset()
         >>> wears_faster = paper.with_updates({"WP": 1e-13, "mesh.n_radial": 21})
-        >>> wears_faster.wear.specific_wear_rate, paper.wear.specific_wear_rate  # [m²/N]
+        >>> wears_faster.wear.specific_wear_rate, paper.wear.specific_wear_rate  # [m³/(N·m)]
         (1e-13, 1e-14)
         >>> try:  # a bad value is refused, with the field and its range
         ...     paper.with_updates({"A": 150})
@@ -1022,7 +1034,8 @@ ID_NEUTRAL: dict[str, Any] = {
 
 def unit_notes(config: SimulationConfig) -> list[str]:
     """The notes on values of ``config`` that read like slips of unit (the foundation's
-    modulus, the COF's slope); the command line prints them, Python warns
+    modulus, the COF's slope, the wheel load, a block's deceleration); the command line
+    prints them, Python warns
     (:class:`UnitWarning`) as the configuration is made."""
     return list(unit_notes_by_field(config).values())
 
@@ -1034,6 +1047,7 @@ def unit_notes_by_field(config: SimulationConfig) -> dict[tuple[str, Any], str]:
     notes = {
         ("contact.elastic_modulus", config.contact.elastic_modulus): config.contact.unit_note(),
         ("friction.slope", config.friction.slope): config.friction.unit_note(),
+        ("vehicle.wheel_load_mass", config.vehicle.wheel_load_mass): config.vehicle.unit_note(),
     }
     for block in config.cycle.blocks:
         notes[("cycle.blocks", block.deceleration_g)] = block.unit_note()

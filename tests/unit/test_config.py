@@ -639,6 +639,23 @@ def test_a_below_one_percent_warns_from_python_and_is_a_note_on_the_command_line
         paper.with_updates({"A": 1})
 
 
+def test_a_wheel_load_in_tonnes_is_noted() -> None:
+    """0.69 for the paper's 690 kg ran (V 4.7e-7 mm³ a stop) without a word (an API
+    review): a wheel load under 20 kg is noted."""
+    import warnings
+
+    from brakeca.config import UnitWarning, unit_notes
+
+    paper = load_preset()
+    with pytest.warns(UnitWarning, match=r"wheel_load_mass = 0.69 kg, under 20 kg: .* not "
+                      r"tonnes \(0.69 t is 690 kg\)$"):  # fmt: skip
+        light = paper.with_updates({"vehicle.wheel_load_mass": 0.69})
+    assert len(unit_notes(light)) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        paper.with_updates({"vehicle.wheel_load_mass": 20.0})  # a small vehicle's wheel
+
+
 def test_a_block_braking_beyond_a_cars_grip_is_noted() -> None:
     """0.2 g typed as 1.96 (m/s²) ran as 1.96 g without a word (an API review), while a
     trace that brakes beyond 1.5 g is refused: a block above 1.2 g is noted."""
