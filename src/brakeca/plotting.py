@@ -796,6 +796,11 @@ def _runs_side_by_side(runs: Any, variable: str) -> Any:
             )
         labels.append(str(label) if label is not None else f"seed {run.seed}")
         frames.append(dataset[[variable]])
+    if not isinstance(runs, Mapping) and len(set(labels)) < len(labels):
+        # runs of one seed and other pads (the comparison examples/single_run.py makes): each
+        # named by the factors that differ (an API review: two materials of seed 3 were
+        # refused as sharing a label)
+        labels = _differing_factors([r for _, r in items], labels)
     if len(set(labels)) < len(labels):
         raise ValueError(f"campaign: two runs share a label ({labels}); give them as a mapping")
     return xr.concat(
@@ -805,6 +810,42 @@ def _runs_side_by_side(runs: Any, variable: str) -> Any:
         coords="minimal",
         compat="override",
     )
+
+
+def _differing_factors(runs: Sequence[Any], labels: Sequence[str]) -> list[str]:
+    """Labels for runs that share a seed: the paper's factors (S, WP, WR, A, in their units)
+    in which their configurations differ, after the seed where the seeds differ too;
+    ``labels`` where no factor differs or a run has no configuration."""
+    import operator
+
+    from brakeca.analysis import display_unit
+    from brakeca.config import FACTOR_ALIASES
+
+    try:
+        levels = [
+            {
+                name: float(operator.attrgetter(field)(run.config)) / scale
+                for name, (field, scale, _) in FACTOR_ALIASES.items()
+            }
+            for run in runs
+        ]
+    except AttributeError:
+        return list(labels)
+    differ = [name for name in FACTOR_ALIASES if len({lv[name] for lv in levels}) > 1]
+    if not differ:
+        return list(labels)
+    seeds = len({str(run.seed) for run in runs}) > 1
+    return [
+        ", ".join(
+            ([label] if seeds else [])
+            + [
+                f"{n} = {lv[n]:g}"
+                + ("" if FACTOR_ALIASES[n][2] == "-" else f" {display_unit(FACTOR_ALIASES[n][2])}")
+                for n in differ
+            ]
+        )
+        for label, lv in zip(labels, levels, strict=True)
+    ]
 
 
 def _campaign_factors(campaign: Any) -> list[Factor] | None:
@@ -858,7 +899,8 @@ def plot_mu_per_stop(
         A :class:`~brakeca.campaign.CampaignResult` (its dataset, and its design's factors
         unless ``factors`` is given), a :class:`~brakeca.results.RunResult`, several runs
         to compare (a mapping ``{label: RunResult}``, or a list of them, named by their
-        seeds; runs of different lengths end where they end), or an xarray
+        seeds, or runs of one seed by the paper's factors in which they differ; runs of
+        different lengths end where they end), or an xarray
         Dataset with dims ``run`` and ``stop`` (or ``stop`` alone, one run), the variable
         ``variable`` [-], the factor coordinates along ``run``, optionally ``test(run)`` (a
         campaign's test numbers: the replicates of a test share its colour and legend entry;

@@ -558,6 +558,21 @@ def test_mu_per_stop_compares_runs_given_as_a_mapping_or_a_list(campaign) -> Non
     assert [t.get_text() for t in fig.legends[0].get_texts()] == ["seed 10", "seed 11"]
     with pytest.raises(ValueError, match="two runs share a label"):
         plot_mu_per_stop([a, a])
+    # one seed, two pads (an API review: refused as sharing a label): named by what differs
+    from brakeca.presets import load_preset
+
+    paper = load_preset()
+    one = types.SimpleNamespace(dataset=a.dataset, seed=3, config=paper)
+    other = types.SimpleNamespace(
+        dataset=b.dataset, seed=3, config=paper.with_updates({"WP": 1e-13, "A": 10})
+    )
+    fig = plot_mu_per_stop([one, other])
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == [
+        "WP = 1e-14 m³/(N·m), A = 20 %",
+        "WP = 1e-13 m³/(N·m), A = 10 %",
+    ]
+    with pytest.raises(ValueError, match="two runs share a label"):  # nothing differs
+        plot_mu_per_stop([one, types.SimpleNamespace(dataset=b.dataset, seed=3, config=paper)])
     with pytest.raises(ValueError, match="no runs to plot"):
         plot_mu_per_stop({})
 
