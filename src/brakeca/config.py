@@ -126,6 +126,40 @@ class _Frozen(_Checked):
         protected_namespaces=(),
     )
 
+    def __setattr__(self, name: str, value: Any) -> None:
+        # pydantic's ValidationError "Instance is frozen" did not say what to do instead (an
+        # API review)
+        where, listed = _section_path(type(self))
+        key = f"{where}.{name}" if where and not listed else (where or name)
+        shown = "[...]" if listed else repr(value)
+        raise AttributeError(
+            f"a configuration cannot be changed in place ({type(self).__name__} is frozen): "
+            f"config.with_updates({{{key!r}: {shown}}}) gives a validated copy with the "
+            "change (--set on the command line)"
+        )
+
+
+def _section_path(cls: type, model: Any = None, prefix: str = "") -> tuple[str, bool]:
+    """Where :class:`SimulationConfig` holds a section of type ``cls``: its dotted path
+    (``"wear"``, ``"cycle.trace"``; empty for SimulationConfig itself) and whether it is an
+    item of a list there (``"cycle.blocks"``)."""
+    import typing
+
+    model = model or SimulationConfig
+    if cls is model:
+        return prefix.rstrip("."), False
+    for name, info in model.model_fields.items():
+        ann = info.annotation
+        if ann is cls:
+            return f"{prefix}{name}", False
+        if cls in typing.get_args(ann):
+            return f"{prefix}{name}", typing.get_origin(ann) in (tuple, list)
+        if isinstance(ann, type) and issubclass(ann, BaseModel):
+            found = _section_path(cls, ann, f"{prefix}{name}.")
+            if found[0]:
+                return found
+    return "", False
+
 
 class VehicleConfig(_Frozen):
     """The vehicle as seen by one front brake (Table 4 of the paper)."""

@@ -969,3 +969,22 @@ def test_a_cycle_given_anew_does_not_keep_the_old_ones_name() -> None:
     # a trace in place of the blocks is named by its file, as --cycle names it
     trace = paper.with_updates({"cycle.blocks": [], "cycle.trace_file": "traces/k2.csv"})
     assert trace.cycle.name == "k2"
+
+
+def test_a_configuration_changed_in_place_says_how_to_change_it() -> None:
+    """An API review: ``cfg.wear.specific_wear_rate = 1e-13`` gave pydantic's "Instance is
+    frozen" with a link, not what to do: the error now gives the with_updates call."""
+    paper = load_preset()
+    frozen = (
+        r"\(WearConfig is frozen\): config.with_updates\(\{'wear.specific_wear_rate': 1e-13\}\)"
+    )
+    with pytest.raises(AttributeError, match=frozen + " gives a validated copy"):
+        paper.wear.specific_wear_rate = 1e-13
+    with pytest.raises(AttributeError, match=r"with_updates\(\{'quick': True\}\)"):
+        paper.quick = True
+    with pytest.raises(AttributeError, match=r"with_updates\(\{'cycle.trace.threshold': 1.0\}"):
+        paper.cycle.trace.threshold = 1.0
+    with pytest.raises(AttributeError, match=r"with_updates\(\{'cycle.blocks': \[\.\.\.\]\}\)"):
+        paper.cycle.blocks[0].stops = 3
+    assert paper.wear.specific_wear_rate == 1e-14  # unchanged
+    assert paper.with_updates({"WP": 1e-13}).wear.specific_wear_rate == 1e-13

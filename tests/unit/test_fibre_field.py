@@ -145,7 +145,7 @@ def test_deepening_drops_worn_intervals_and_extends_floors():
 
 
 def test_field_needs_some_resin():
-    with pytest.raises(ConfigError, match=r"fibre_area_fraction: must lie in \[0, 1\)"):
+    with pytest.raises(ConfigError, match=r"fibre_area_fraction: must lie in \(0, 1\)"):
         _pad("field").with_updates({"pad.fibre_area_fraction": 1.0})
 
 
