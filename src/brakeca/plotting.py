@@ -2418,6 +2418,17 @@ def _check_map(status: Any, radius: Any, angle: Any) -> tuple[np.ndarray, np.nda
         )
     if s.size and (s.min() < 0 or s.max() > 2):
         raise ValueError("status codes must be 0 (resin), 1 (primary) or 2 (secondary)")
+    if r.size and float(np.nanmax(np.abs(r))) > 1.0:
+        # radii in mm had drawn an axis of 113200 mm (an API review); a disc is under 1 m
+        raise ValueError(
+            f"radius: the cells' radii in m (a disc's are under 1 m), got up to "
+            f"{float(np.nanmax(np.abs(r))):g}: in mm, give radius / 1000"
+        )
+    if a.size and float(np.nanmax(np.abs(a))) > 2.0 * np.pi:
+        raise ValueError(
+            f"angle: the cells' angles in rad, got up to {float(np.nanmax(np.abs(a))):g}: in "
+            "degrees, give numpy.radians(angle)"
+        )
     if r.size > 1 and r[0] > r[-1]:
         r, s = r[::-1], s[::-1, :]
     if a.size > 1 and a[0] > a[-1]:

@@ -298,6 +298,11 @@ def test_surface_maps(tmp_path) -> None:
         plot_surface_map(status, radius[:-1], angle)
     with pytest.raises(ValueError, match="status codes"):
         plot_surface_map(np.full((2, 3), 3), radius[:2], angle[:3])
+    # radii in mm drew an axis of 113200 mm (an API review); degrees likewise
+    with pytest.raises(ValueError, match=r"^radius: the cells' radii in m .* in mm, give radius"):
+        plot_surface_map(status, radius * 1000, angle)
+    with pytest.raises(ValueError, match=r"^angle: .* give numpy.radians\(angle\)"):
+        plot_surface_map(status, radius, np.degrees(angle))
 
     path = tmp_path / "fibre_maps.png"
     maps = {
