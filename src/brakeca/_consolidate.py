@@ -8,6 +8,7 @@ and :func:`load_campaign`. Its public names are re-exported by :mod:`brakeca.cam
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -85,8 +86,12 @@ class CampaignResult:
             Its run file is not in the folder (a folder sent without ``runs/``).
         """
         for name, value in (("test", test), ("replicate", replicate)):
-            # run("2") had said test 2 was not a run of the campaign (an API review)
-            if isinstance(value, bool) or not isinstance(value, int | np.integer):
+            # run("2") had said test 2 was not a run of the campaign (an API review); a
+            # whole number as a float (a row of a numeric frame) is taken (a diff review)
+            whole = isinstance(value, numbers.Integral) or (
+                isinstance(value, numbers.Real) and float(value).is_integer()
+            )
+            if isinstance(value, bool) or not whole:
                 raise TypeError(
                     f"{name}: expected a whole number (the summary's {name} column), got {value!r}"
                 )

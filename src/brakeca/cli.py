@@ -1523,17 +1523,21 @@ def _print_in_short(lines: Sequence[str]) -> None:
     and R², under a heading; nothing without lines."""
     if lines:
         from brakeca.report import SURFACE_LINE
-        from brakeca.study import PM10_LINE_START
+        from brakeca.study import PM10_LINE_START, RESPONSES
 
         pm10 = lines[-1].startswith(PM10_LINE_START)
         surface = any(SURFACE_LINE in line for line in lines)
+        # a response's ANOVA line (in a surface design, one too few runs fit a quadratic for)
+        anova = any(line.startswith(tuple(f"{r}: " for r in RESPONSES)) for line in lines)
+        kinds = [
+            "the terms with p < 0.05 of each response's quadratic surface, smallest p first"
+            if surface
+            else "",
+            "the ANOVA's terms with p < 0.05, largest share first" if anova or not surface else "",
+        ]
         out.print(
-            (
-                "in short (the terms with p < 0.05 of each response's quadratic surface, "
-                "smallest p first"
-                if surface
-                else "in short (the ANOVA's terms with p < 0.05, largest share first"
-            )
+            "in short ("
+            + "; otherwise ".join(k for k in kinds if k)
             + ("; last, PM10 against the Euro 7 limits" if pm10 else "")
             + "):",
             markup=False,

@@ -129,20 +129,29 @@ class _Frozen(_Checked):
     def __setattr__(self, name: str, value: Any) -> None:
         # pydantic's ValidationError "Instance is frozen" did not say what to do instead (an
         # API review)
-        where, listed = _section_path(type(self))
+        cls = type(self).__name__
+        if name not in type(self).model_fields:
+            raise AttributeError(f"{cls} has no field {name!r} (and is frozen)")
+        found = _section_path(type(self))
+        if found is None:  # a frozen model of its own (EmissionParameters: a diff review)
+            raise AttributeError(
+                f"{cls} is frozen: make a changed one, {cls}(**{{**old.model_dump(), "
+                f"{name!r}: {value!r}}})"
+            )
+        where, listed = found
         key = f"{where}.{name}" if where and not listed else (where or name)
         shown = "[...]" if listed else repr(value)
         raise AttributeError(
-            f"a configuration cannot be changed in place ({type(self).__name__} is frozen): "
+            f"a configuration cannot be changed in place ({cls} is frozen): "
             f"config.with_updates({{{key!r}: {shown}}}) gives a validated copy with the "
             "change (--set on the command line)"
         )
 
 
-def _section_path(cls: type, model: Any = None, prefix: str = "") -> tuple[str, bool]:
+def _section_path(cls: type, model: Any = None, prefix: str = "") -> tuple[str, bool] | None:
     """Where :class:`SimulationConfig` holds a section of type ``cls``: its dotted path
     (``"wear"``, ``"cycle.trace"``; empty for SimulationConfig itself) and whether it is an
-    item of a list there (``"cycle.blocks"``)."""
+    item of a list there (``"cycle.blocks"``); None where it holds none."""
     import typing
 
     model = model or SimulationConfig
@@ -156,9 +165,9 @@ def _section_path(cls: type, model: Any = None, prefix: str = "") -> tuple[str, 
             return f"{prefix}{name}", typing.get_origin(ann) in (tuple, list)
         if isinstance(ann, type) and issubclass(ann, BaseModel):
             found = _section_path(cls, ann, f"{prefix}{name}.")
-            if found[0]:
+            if found is not None:
                 return found
-    return "", False
+    return None
 
 
 class VehicleConfig(_Frozen):
@@ -434,7 +443,7 @@ class AutomatonConfig(_Frozen):
 
 
 #: Above this deceleration [g] a block of a drive cycle brakes harder than a car's tyres
-#: grip (about 1 g on a dry road): the value reads like one in m/s² (:meth:`BrakeBlock.unit_note`).
+#: grip (about 1 g on a dry road): the value reads like one in m/s² (:meth:`CycleConfig.unit_note`).
 GRIP_DECELERATION_G = 1.2
 
 
@@ -451,19 +460,6 @@ class BrakeBlock(_Frozen):
         "under 10 minutes; 1e-9 g had asked for terabytes of time steps)",
     )
     stops: int = Field(ge=1, le=100_000, description="[-] number of stops in the block")
-
-    def unit_note(self) -> str | None:
-        """A note where the deceleration is beyond a car's grip (above
-        :data:`GRIP_DECELERATION_G`), as a deceleration in m/s² given as g reads (1.96 for
-        0.2 g: an API review found it run as given); None otherwise."""
-        a = self.deceleration_g
-        if a <= GRIP_DECELERATION_G:
-            return None
-        return (
-            f"cycle.blocks: block {self.name!r} decelerates at deceleration_g = {a:g} g, "
-            f"beyond a car's grip (about 1 g on a dry road): it is in g, not m/s² ({a:g} m/s² "
-            f"is {a / 9.81:.3g} g)"
-        )
 
     @model_validator(mode="after")
     def _speeds(self) -> BrakeBlock:
@@ -672,6 +668,25 @@ class CycleConfig(_Frozen):
                 "and not neither"
             )
         return self
+
+    def unit_note(self) -> str | None:
+        """A note where blocks decelerate beyond a car's grip (above
+        :data:`GRIP_DECELERATION_G`), as decelerations in m/s² given as g read (1.96 for
+        0.2 g: an API review found it run as given), every such block named; None
+        otherwise."""
+        fast = [b for b in self.blocks if b.deceleration_g > GRIP_DECELERATION_G]
+        if not fast:
+            return None
+        a = fast[0].deceleration_g
+        if len(fast) == 1:
+            head = f"block {fast[0].name!r} decelerates at deceleration_g = {a:g} g"
+        else:
+            named = [f"{b.name!r} ({b.deceleration_g:g} g)" for b in fast]
+            head = f"blocks {', '.join(named[:-1])} and {named[-1]} decelerate"
+        return (
+            f"cycle.blocks: {head}, beyond a car's grip (about 1 g on a dry road): "
+            f"deceleration_g is in g, not m/s² ({a:g} m/s² is {a / 9.81:.3g} g)"
+        )
 
     @property
     def n_stops(self) -> int | None:
@@ -1078,13 +1093,15 @@ def unit_notes_by_field(config: SimulationConfig) -> dict[tuple[str, Any], str]:
     """:func:`unit_notes` keyed by the field each is about and its value (the slope's note
     also gives where the COF meets its floor, which ``mu_0`` and ``mu_min`` move; one slip
     is one key however the note is worded)."""
+    hardest = max((b.deceleration_g for b in config.cycle.blocks), default=0.0)
     notes = {
         ("contact.elastic_modulus", config.contact.elastic_modulus): config.contact.unit_note(),
         ("friction.slope", config.friction.slope): config.friction.unit_note(),
         ("vehicle.wheel_load_mass", config.vehicle.wheel_load_mass): config.vehicle.unit_note(),
+        # the blocks' note names every block beyond grip; its value, a number for the
+        # command line's "(and so at ...)", the hardest braking
+        ("cycle.blocks", hardest): config.cycle.unit_note(),
     }
-    for block in config.cycle.blocks:
-        notes[("cycle.blocks", block.deceleration_g)] = block.unit_note()
     return {key: text for key, text in notes.items() if text is not None}
 
 
@@ -1122,12 +1139,13 @@ _BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_e
 
 
 #: Units a value above a field's range may have been given in, by the field's unit: the
-#: friendly unit's name and its size in the field's unit (a specific wear rate quoted in
-#: mm³/(N·m), a resin depth in µm: an API review).
-_SMALLER_UNITS: dict[str, tuple[tuple[str, float], ...]] = {
-    "m": (("µm", 1e-6), ("mm", 1e-3)),
-    "m^3/(N m)": (("mm³/(N·m)", 1e-9),),
-    "Pa": (("MPa", 1e6),),
+#: friendly unit's name, its size in the field's unit, and how far from the field's default
+#: the value so read may lie (a specific wear rate quoted in mm³/(N·m) within the paper's
+#: hundredfold span, a resin depth in µm; a length in mm only near the default, so that a
+#: radius in cm is not called one in mm: an API review and a diff review).
+_SMALLER_UNITS: dict[str, tuple[tuple[str, float, float], ...]] = {
+    "m": (("µm", 1e-6, 100.0), ("mm", 1e-3, 3.0)),
+    "m^3/(N m)": (("mm³/(N·m)", 1e-9, 100.0),),
 }
 
 
@@ -1135,17 +1153,17 @@ def _smaller_unit(
     unit: str, value: float, ctx: Mapping[str, Any], upper: float, default: Any
 ) -> str:
     """Where ``value``, above its field's range, reads as given in a smaller unit
-    (:data:`_SMALLER_UNITS`) that puts it within the range and within a factor of 100 of the
-    field's ``default`` (where it has a number for one), the sentence that says so:
-    ``"in m, not µm (0.1 µm is 1e-07 m)"``; empty otherwise."""
+    (:data:`_SMALLER_UNITS`) that puts it within the range and near the field's ``default``
+    (where it has a number for one), the sentence that says so: ``"in m, not µm (0.1 µm is
+    1e-07 m)"``; empty otherwise."""
     lower = ctx.get("ge", ctx.get("gt", -math.inf))
     shown = unit.replace("^3", "³").replace("(N m)", "(N·m)")
     near = default if isinstance(default, float) and default > 0 else None
     fits = [
         (abs(math.log(value * size / near)) if near else 0.0, name, value * size)
-        for name, size in _SMALLER_UNITS.get(unit, ())
+        for name, size, span in _SMALLER_UNITS.get(unit, ())
         if lower <= value * size <= upper
-        and (near is None or abs(math.log(value * size / near)) <= math.log(100.0))
+        and (near is None or abs(math.log(value * size / near)) <= math.log(span))
     ]
     if not fits:
         return ""
@@ -1410,7 +1428,9 @@ def format_validation_error(
                     msg += f" {unit}"
             value = _as_number(got)  # a CSV's text too
             upper = (err.get("ctx") or {}).get("le", (err.get("ctx") or {}).get("lt"))
-            if path == "pad.fibre_area_fraction" and value is not None and value >= 1:
+            if path == "pad.fibre_area_fraction" and value == 0:
+                msg += f" (got {got!r}): a pad without fibres has no plateau to carry the load"
+            elif path == "pad.fibre_area_fraction" and value is not None and value >= 1:
                 example = f", {value / 100:g} for {value:g} %" if value < 100 else " below 1"
                 msg += f" (got {got!r}): a fraction{example}; or set A, in per cent"
             elif value is not None and not unit and upper == 1 and 1 < value <= 100:
@@ -1673,8 +1693,19 @@ def _rename_cycle(config: SimulationConfig, given: Mapping[str, str], data: Any)
     trace = cycle.get("trace_file")
     if "cycle.trace_file" in given and not old.trace_file and isinstance(trace, str) and trace:
         cycle["name"] = Path(trace).stem
-    elif "cycle.blocks" in given and cycle.get("blocks") != [b.model_dump() for b in old.blocks]:
+    elif "cycle.blocks" in given and _as_blocks(cycle.get("blocks")) != old.blocks:
         cycle["name"] = "custom"
+
+
+def _as_blocks(blocks: Any) -> tuple[BrakeBlock, ...] | None:
+    """``blocks`` as validated :class:`BrakeBlock` s (the blocks themselves, a tuple of them,
+    their dicts), or None where they are not valid (the configuration's check says why)."""
+    try:
+        return tuple(
+            b if isinstance(b, BrakeBlock) else BrakeBlock.model_validate(b) for b in blocks
+        )
+    except (TypeError, ValueError):  # (pydantic's ValidationError is a ValueError)
+        return None
 
 
 def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> SimulationConfig:
@@ -1751,7 +1782,9 @@ def apply_overrides(config: SimulationConfig, updates: Mapping[str, Any]) -> Sim
     heads = {path: f"override {key} (= {path})" for path, key in given.items() if key != path}
     updated = SimulationConfig.from_dict(data, source="override", heads=heads)
     for (field, _), note in unit_notes_by_field(updated).items():
-        if field in given:  # a value this update set that reads like a slip of unit
+        # a value this update set that reads like a slip of unit, also by its section
+        # (with_cycle sets the whole cycle: a diff review)
+        if any(field == g or field.startswith(f"{g}.") for g in given):
             warn_unit(note)
     return updated
 

@@ -172,9 +172,9 @@ def _axes(ax: Axes | None, figsize: tuple[float, float]) -> tuple[Figure, Axes]:
 def _panel_inches(ax: Axes) -> tuple[float, float]:
     """The width and height [in] of a panel ``ax`` as its figure places it (before a layout
     engine's adjustments)."""
-    box = ax.get_position()
-    fig = _root_figure(ax.figure)
-    return box.width * fig.get_figwidth(), box.height * fig.get_figheight()
+    box = ax.get_window_extent()  # (a SubFigure's axes are placed within it: a diff review)
+    dpi = _root_figure(ax.figure).dpi
+    return box.width / dpi, box.height / dpi
 
 
 def _panel_chars(ax: Axes, fontsize: float, most: int) -> int:
@@ -778,7 +778,8 @@ def plot_by_block(
 
 
 def _runs_side_by_side(runs: Any, variable: str) -> Any:
-    """Runs given as ``{label: RunResult}`` or a list of RunResults (labelled by seed) as one
+    """Runs given as ``{label: RunResult}`` or a list of RunResults (labelled by seed, or
+    where they share one by the factors that differ, :func:`_differing_factors`) as one
     Dataset of ``variable`` along a ``run`` dimension of their labels, for
     :func:`plot_mu_per_stop`."""
     import xarray as xr
@@ -2422,7 +2423,7 @@ def _check_map(status: Any, radius: Any, angle: Any) -> tuple[np.ndarray, np.nda
         # radii in mm had drawn an axis of 113200 mm (an API review); a disc is under 1 m
         raise ValueError(
             f"radius: the cells' radii in m (a disc's are under 1 m), got up to "
-            f"{float(np.nanmax(np.abs(r))):g}: in mm, give radius / 1000"
+            f"{float(np.nanmax(np.abs(r))):g}: in mm, give radius / 1000 (in cm, radius / 100)"
         )
     if a.size and float(np.nanmax(np.abs(a))) > 2.0 * np.pi:
         raise ValueError(

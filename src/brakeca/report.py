@@ -1628,7 +1628,8 @@ def _surface_finding(response: str, fit: Any) -> str:
             f"{response}{SURFACE_LINE}no term can be tested (no residual degrees of "
             "freedom, or a constant response; the section 'Response surface' says which)"
         )
-    hits = terms[p < 0.05].assign(p=p).sort_values("p", kind="stable")
+    tested = terms.assign(p=p)  # (assigned before the filter: an empty frame took p's rows)
+    hits = tested[tested["p"] < 0.05].sort_values("p", kind="stable")
     text = (
         f"{response}{SURFACE_LINE}"
         + ", ".join(

@@ -495,7 +495,9 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
         loaded.run(9)
     with pytest.raises(TypeError, match=r"^test: expected a whole number .* got '2'$"):
         loaded.run("2")  # it had said test 2 was not a run of the campaign (an API review)
-    assert loaded.run(np.int64(2)).MU == loaded.run(2).MU
+    assert loaded.run(np.int64(2)).MU == loaded.run(2).MU == loaded.run(np.float64(2.0)).MU
+    with pytest.raises(TypeError, match=r"^test: expected a whole number .* got 2.5$"):
+        loaded.run(2.5)
     with pytest.raises(KeyError, match=r"test 2, replicate 5: .* \(test 2's replicates: 0\)"):
         loaded.run(2, replicate=5)
     # a second pass computes only the failed run

@@ -53,6 +53,7 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     # given the COF-floor line alone, under the factorial ANOVA's heading)
     assert "in short (the terms with p < 0.05 of each response's quadratic surface" in first
     assert "\n  MU (quadratic surface): " in first and "the ANOVA's terms" not in first
+    assert "nan (p" not in first  # (every term named "nan" where none had p < 0.05)
     assert "\n  The design's goals are best met at A = " in first
     assert (summary["status"] == "ok").all()
     # cube (A fastest), axial (A -, A +, WR -, WR +), then the centre twice

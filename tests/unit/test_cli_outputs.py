@@ -431,3 +431,33 @@ def test_a_replicated_campaigns_runs_name_their_replicate() -> None:
     with cli.out.capture() as captured:
         cli._print_summary(pd.DataFrame([r for r in rows if r["replicate"] == 0]))
     assert "rep" not in captured.get()
+
+
+@pytest.mark.parametrize(
+    ("lines", "heading"),
+    [
+        (["MU: A (50.0 %)"], "in short (the ANOVA's terms with p < 0.05, largest share first):"),
+        (
+            ["MU (quadratic surface): A (p 0.01)", "MU at the COF floor: test 7 (50 %) ..."],
+            "in short (the terms with p < 0.05 of each response's quadratic surface, smallest "
+            "p first):",
+        ),
+        (  # a response too few runs fit a quadratic for keeps its ANOVA's line (a diff review)
+            ["MU (quadratic surface): A (p 0.01)", "V: WP (90.0 %)"],
+            "in short (the terms with p < 0.05 of each response's quadratic surface, smallest "
+            "p first; otherwise the ANOVA's terms with p < 0.05, largest share first):",
+        ),
+    ],
+)
+def test_the_in_short_heading_says_which_model_its_lines_are_of(lines, heading) -> None:
+    import io
+
+    from rich.console import Console
+
+    buffer = io.StringIO()
+    saved, cli.out = cli.out, Console(file=buffer, width=300)
+    try:
+        cli._print_in_short(lines)
+    finally:
+        cli.out = saved
+    assert buffer.getvalue().splitlines()[0] == heading

@@ -48,7 +48,10 @@ def test_factor_aliases():
         ({"A": -5}, "above 0 and below 100 %"),
         ({"A": 100}, "above 0 and below 100 %"),
         ({"A": 0}, r"above 0 and below 100 %, got 0 \(a pad without fibres has no plateau"),
-        ({"pad.fibre_area_fraction": 0}, r"pad.fibre_area_fraction: must lie in \(0, 1\)"),
+        (
+            {"pad.fibre_area_fraction": 0},
+            r"pad.fibre_area_fraction: must lie in \(0, 1\) \(got 0\): a pad without fibres",
+        ),
         # misspelt fields get the likeliest (an API review: only the loaders said so)
         ({"friction.mu0": 0.5}, "unknown field 'friction.mu0'; did you mean 'friction.mu_0'?"),
         ({"wp": 1e-13}, "did you mean 'WP'?"),
@@ -94,7 +97,9 @@ def test_factor_aliases():
         ),
         ({"brake.disc_outer_radius": 139.0}, r"brake.disc_outer_radius: must lie in \(0, 1\]"),
         # a field of a unit capped at 1 is no share given in per cent (a diff review)
-        ({"brake.disc_outer_radius": 13.9}, r"must lie in \(0, 1\] m \(got 13.9\): in m, not mm"),
+        # not "in mm" for a radius in cm (a diff review)
+        ({"brake.disc_outer_radius": 13.9}, r"must lie in \(0, 1\] m \(got 13.9\)$"),
+        ({"vehicle.wheel_radius": 31.4}, r"must lie in \(0, 2\] m \(got 31.4\)$"),
         # a wear rate in mm³/(N·m), a resin depth in µm (an API review: no hint given)
         (
             {"WP": 1e-4},
@@ -666,9 +671,25 @@ def test_a_block_braking_beyond_a_cars_grip_is_noted() -> None:
     paper = load_preset()
     block = {"name": "x", "initial_speed_kmh": 50, "final_speed_kmh": 4, "stops": 2}
     with pytest.warns(UnitWarning, match=r"block 'x' decelerates at deceleration_g = 1.96 g, "
-                      r"beyond a car's grip .* \(1.96 m/s² is 0.2 g\)"):  # fmt: skip
+                      r"beyond a car's grip .*: deceleration_g is in g, not m/s² "
+                      r"\(1.96 m/s² is 0.2 g\)"):  # fmt: skip
         odd = paper.with_updates({"cycle.blocks": [{**block, "deceleration_g": 1.96}]})
     assert len(unit_notes(odd)) == 1
+    # every block beyond grip in one note (a diff review: two at 1.96 g had made one note
+    # naming one of them)
+    blocks = [{**block, "name": n, "deceleration_g": a} for n, a in
+              (("Town", 1.96), ("Road", 0.4), ("City", 1.96), ("Hill", 1.5))]  # fmt: skip
+    with pytest.warns(UnitWarning) as seen:
+        three = paper.with_updates({"cycle.blocks": blocks})
+    assert [str(w.message) for w in seen] == unit_notes(three)
+    assert unit_notes(three) == [
+        "cycle.blocks: blocks 'Town' (1.96 g), 'City' (1.96 g) and 'Hill' (1.5 g) decelerate, "
+        "beyond a car's grip (about 1 g on a dry road): deceleration_g is in g, not m/s² "
+        "(1.96 m/s² is 0.2 g)"
+    ]
+    # a whole cycle given (as with_cycle gives one) warns too (it had not, from Python)
+    with pytest.warns(UnitWarning, match="blocks 'Town'"):
+        paper.with_updates({"cycle": three.cycle.model_dump()})
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         paper.with_updates({"cycle.blocks": [{**block, "deceleration_g": 1.2}]})
@@ -964,6 +985,9 @@ def test_a_cycle_given_anew_does_not_keep_the_old_ones_name() -> None:
     assert custom.cycle.name == "custom" and "cycle 'custom' (blocks)" in repr(custom)
     same = [b.model_dump() for b in paper.cycle.blocks]
     assert paper.with_updates({"cycle.blocks": same}).cycle.name == "paper"
+    # the same blocks in any form (a diff review: the blocks themselves had renamed it)
+    for form in (paper.cycle.blocks, list(paper.cycle.blocks), tuple(same)):
+        assert paper.with_updates({"cycle.blocks": form}).cycle.name == "paper"
     assert paper.with_updates({"cycle.blocks": mine, "cycle.name": "town"}).cycle.name == "town"
     assert paper.with_updates({"cycle.max_stops": 3}).cycle.name == "paper"
     # a trace in place of the blocks is named by its file, as --cycle names it
@@ -987,4 +1011,14 @@ def test_a_configuration_changed_in_place_says_how_to_change_it() -> None:
     with pytest.raises(AttributeError, match=r"with_updates\(\{'cycle.blocks': \[\.\.\.\]\}\)"):
         paper.cycle.blocks[0].stops = 3
     assert paper.wear.specific_wear_rate == 1e-14  # unchanged
+    # not a field, or a frozen model the configuration does not hold (a diff review: both
+    # were told to use with_updates, which refuses them)
+    with pytest.raises(AttributeError, match=r"^SimulationConfig has no field 'bogus'"):
+        paper.bogus = 1
+    from brakeca.emissions import EmissionParameters
+
+    with pytest.raises(AttributeError, match=r"^EmissionParameters is frozen: make a changed "
+                       r"one, EmissionParameters\(\*\*\{\*\*old.model_dump\(\), "
+                       r"'airborne_fraction': 0.4\}\)$"):  # fmt: skip
+        EmissionParameters().airborne_fraction = 0.4
     assert paper.with_updates({"WP": 1e-13}).wear.specific_wear_rate == 1e-13

@@ -956,6 +956,20 @@ def test_a_grid_of_surface_maps_and_one_run_keeps_each_panel_to_itself(campaign)
                     assert not box.overlaps(other.bbox), (box, other.bbox)
     assert axes[0].get_legend() is not None and axes[2].get_legend() is None
     plt.close(fig)
+    # panels in SubFigures are measured as they are placed (a diff review: measured against
+    # the whole figure, their legends took three columns and ran together off the figure)
+    fig = plt.figure(figsize=(15, 4), layout="constrained")
+    panels = [sub.subplots() for sub in fig.subfigures(1, 3)]
+    for ax in panels[:2]:
+        plot_surface_map(status, radius, angle, "Pad after the last stop of the cycle", ax=ax)
+    plot_mu_per_stop(one, factors=FACTORS, ax=panels[2])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    legends = [ax.get_legend().get_window_extent(renderer) for ax in panels[:2]]
+    for box in legends + [ax.title.get_window_extent(renderer) for ax in panels]:
+        assert fig.bbox.x0 <= box.x0 <= box.x1 <= fig.bbox.x1
+    assert not legends[0].overlaps(legends[1])
+    plt.close(fig)
     # without a layout engine nothing makes room below: the legend stays inside the map
     fig, ax = plt.subplots()
     plot_surface_map(status, radius, angle, "Pad", ax=ax)

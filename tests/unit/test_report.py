@@ -323,6 +323,15 @@ def test_a_response_surface_section_in_the_report_units(tmp_path) -> None:
     assert line.startswith("V (quadratic surface): A*A (p < 0.0001), A (p < 0.0001), A*WR (p ")
     assert f"R² = {100 * fit.statistics['r_squared']:.1f} %" in line
     assert f"; its stationary point is a {st['kind']} " in line
+    # no term with p < 0.05: said so (a diff review: every term was listed, named "nan")
+    from brakeca.report import surface_in_short
+
+    noise = summary.assign(V=1e-9 * (2.0 + np.random.default_rng(5).standard_normal(len(summary))))
+    flat = fit_response_surface(noise, [a, b], "V")
+    assert (flat.anova.iloc[:-4]["p_value"].dropna() > 0.05).all()
+    (said,) = surface_in_short({"V": flat})
+    assert said.startswith("V (quadratic surface): no term has p < 0.05; R² = ")
+    assert "nan" not in said
 
 
 def test_the_response_optimization_in_the_report(tmp_path) -> None:
