@@ -662,8 +662,8 @@ def _refuse_to_replace(
     raise ConfigError(
         f"{out} holds {what} ({shown}): this one would replace its {replaced}. Give another "
         "folder, or replace it on purpose (--replace; replace=True "
-        f"from Python): the run files of both are kept, and the first {first}, run again, "
-        f"{back}{after}"
+        f"from Python): the run files of both are kept, and the first {first}, run again "
+        f"with --replace, {back}{after}"
     )
 
 

@@ -1080,7 +1080,7 @@ def test_an_unfinished_first_campaign_is_not_taken_over_by_another_design(tmp_pa
     )  # fmt: skip
     assert again.ok and len(again.reused) == 4
     text = " ".join(str(refused.value).split())
-    assert "run again, resumes its campaign" in text
+    assert "run again with --replace, resumes its campaign" in text
 
 
 def test_campaign_nc_names_every_coordinate(serial) -> None:

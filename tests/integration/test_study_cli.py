@@ -1018,4 +1018,7 @@ def test_a_trace_at_another_path_is_named_as_the_same_content(tmp_path):
         f"Its trace {first} has other content (SHA-256) than when the campaign ran, so these "
         "would be other runs"
     ) in text
-    assert "the first campaign's command, with its trace as it was, run again, brings" in text
+    assert (
+        "the first campaign's command, with its trace as it was, run again with --replace, "
+        "brings" in text
+    )
