@@ -54,7 +54,7 @@ TINY_CLI = [
 ]
 
 #: Summary columns that depend on the machine's speed, not on the run.
-TIMING = ["wall_time"]
+TIMING = ["wall_time", "date_created"]
 
 
 def tiny(max_stops: int) -> dict:

@@ -44,6 +44,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from brakeca._cachedir import source_key
 from brakeca._consolidate import (
     CAMPAIGN_FORMAT,
     CampaignResult,
@@ -399,6 +400,8 @@ def _run_locked(
     recomputed: list[str] = []
     reused: list[str] = []
     without_maps: list[RunPoint] = []  # reused runs that lack a map maps_at asks for
+    other_kernels: list[RunPoint] = []  # reused runs made by other kernel sources
+    here = source_key()
     wanted: set[str] = set()
     for point in execution_order(points):
         rid = run_id(point)
@@ -411,6 +414,8 @@ def _run_locked(
                 reused.append(rid)
                 if not set(how.maps_at) <= _kept_maps(result):
                     without_maps.append(point)
+                if result.dataset.attrs.get("source_key", here) != here:
+                    other_kernels.append(point)
                 # a campaign killed between writing the run file and removing the checkpoint
                 _checkpoint_path(runs, point).unlink(missing_ok=True)
                 continue
@@ -430,6 +435,19 @@ def _run_locked(
             f"ran without keeping maps after stops {', '.join(map(str, how.maps_at))}; they "
             "are reused as they are, without those maps. Delete their run files in "
             f"{escape(str(runs))} to run them again with the maps",
+            highlight=False,
+        )
+
+    if other_kernels:
+        # a provenance review: the version alone did not tell another code's runs apart
+        say(
+            console,
+            f"[yellow]note:[/] {len(other_kernels)} finished run(s) (of "
+            f"{tests_named(p.test for p in other_kernels)}) were made by other kernel "
+            f"sources than this install's (source_key {here}; the run files record theirs); "
+            "they are reused as they are, and a run made now may differ from them (in the "
+            "last bits where the change kept the model). Delete their run files in "
+            f"{escape(str(runs))} to run them again",
             highlight=False,
         )
 

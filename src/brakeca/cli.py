@@ -309,6 +309,30 @@ def _design_notes(design: Any) -> None:
             )
 
 
+def _run_file_defaults(config_file: Path | None) -> tuple[int, list[int]] | None:
+    """The seed and the stops it kept maps after of a run file given as ``-c`` (to run it
+    again as it ran: a provenance review found no way documented), None for a TOML file;
+    an unreadable run file fails the command."""
+    from brakeca.config import is_run_file
+
+    if config_file is None or not is_run_file(config_file):
+        return None
+    import xarray as xr
+
+    try:
+        with xr.open_dataset(config_file, engine="h5netcdf") as ds:
+            seed = int(ds.attrs["seed"])
+            maps = [int(s) for s in ds["map_stop"].values] if "map_stop" in ds.coords else []
+    except Exception as exc:
+        _fail(f"-c {config_file}: cannot read the run file's seed: {exc}")
+    if seed < 0:  # a run made from a generator's state, not a seed
+        _fail(
+            f"-c {config_file}: the run was made from a random generator's state, not a seed; "
+            "RunResult.from_netcdf(...).generator() repeats it from Python"
+        )
+    return seed, maps
+
+
 def resolve_config(
     preset: str | None,
     config_file: Path | None,
@@ -350,7 +374,12 @@ PresetOpt = Annotated[
 ]
 ConfigOpt = Annotated[
     Path | None,
-    typer.Option("--config", "-c", metavar="PATH", help="a config TOML file instead of a preset"),
+    typer.Option(
+        "--config",
+        "-c",
+        metavar="PATH",
+        help="a config TOML file instead of a preset, or a run file (.nc): its run's config",
+    ),
 ]
 SetOpt = Annotated[
     list[str] | None,
@@ -432,7 +461,16 @@ def simulate(
     preset: PresetOpt = None,
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
-    seed: SeedOpt = 0,
+    seed: Annotated[
+        int | None,
+        typer.Option(
+            "--seed",
+            min=0,
+            max=MAX_SEED,
+            metavar="N",
+            help="seed of the run's random generator  [default: 0; with -c RUN.nc, its run's]",
+        ),
+    ] = None,
     stops: StopsOpt = None,
     quick: QuickOpt = False,
     checkpoint: Annotated[
@@ -474,7 +512,8 @@ def simulate(
     ] = None,
     emissions: EmissionsOpt = None,
 ) -> None:
-    """Simulate one pad over the drive cycle and write a netCDF run file."""
+    """Simulate one pad over the drive cycle and write a netCDF run file (-c RUN.nc runs a run
+    file's configuration again, with its seed and maps unless given)."""
     from rich.progress import (
         BarColumn,
         Progress,
@@ -493,6 +532,11 @@ def simulate(
     if speed_unit is not None and cycle is None:
         _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
     factors = _emissions(emissions)
+    again = _run_file_defaults(config_file)
+    if seed is None:
+        seed = 0 if again is None else again[0]
+    if maps_at is None and again is not None and again[1]:
+        maps_at = ",".join(map(str, again[1]))
     try:
         config = resolve_config(preset, config_file, overrides, stops, quick)
         if cycle is not None:

@@ -1819,13 +1819,36 @@ def _close_field(key: str) -> str | None:
     return close[0] if close else None
 
 
+def is_run_file(path: Path) -> bool:
+    """Whether ``path`` is a netCDF (HDF5) file, as a run file is, by its first bytes."""
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(8)
+    except OSError:
+        return False
+    return head.startswith((b"\x89HDF\r\n\x1a\n", b"CDF"))
+
+
+def run_file_attrs(path: Path) -> dict[str, Any]:
+    """The global attributes of the netCDF file ``path`` (a run file's: its ``config``,
+    ``seed``, ...), without reading its variables."""
+    import xarray as xr
+
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            return dict(ds.attrs)
+    except Exception as exc:  # (h5py's and xarray's errors alike)
+        raise ConfigError(f"{path}: cannot read the run file: {exc}") from None
+
+
 def load_config(path: str | Path) -> SimulationConfig:
-    """Load and validate a configuration TOML file.
+    """Load and validate a configuration TOML file, or a run file's configuration.
 
     Parameters
     ----------
     path
-        A whole configuration in TOML (``brakeca config > FILE`` writes the paper's), UTF-8.
+        A whole configuration in TOML (``brakeca config > FILE`` writes the paper's), UTF-8,
+        or a run file (``.nc``), whose run's configuration is read (to run it again).
 
     Returns
     -------
@@ -1839,6 +1862,11 @@ def load_config(path: str | Path) -> SimulationConfig:
         range; the message names the file and the field.
     """
     path = Path(path)
+    if is_run_file(path):  # a run file's own configuration (a provenance review)
+        text = run_file_attrs(path).get("config")
+        if not isinstance(text, str):
+            raise ConfigError(f"{path}: a netCDF file without a run's configuration (config)")
+        return SimulationConfig.from_toml(text, source=f"{path} (its config attribute)")
     try:
         text = path.read_text(encoding="utf-8-sig")  # a BOM (Windows editors) is not TOML
     except OSError as exc:

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from brakeca._cachedir import source_key
 from brakeca._console import is_replicated, run_named
 from brakeca._io import write_text
 from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
@@ -316,8 +317,12 @@ of X and 0 elsewhere (X:Y[l, m]: at level l of X and m of Y):</p>
 <h2>Provenance</h2>
 <div class="table-wrap"><table class="kv">
 <tr><th>brakeca version</th><td>{{ version }}</td></tr>
-<tr><th>Generated</th><td>{{ generated }}</td></tr>
+<tr><th>Report generated</th><td>{{ generated }} (each run file records when it was made,
+<code>date_created</code>)</td></tr>
+<tr><th>Kernel sources</th><td><code>{{ source_key }}</code> (the runs' own: each run file's
+<code>source_key</code>; a campaign names the runs it reuses that other sources made)</td></tr>
 <tr><th>Python</th><td>{{ python }}</td></tr>
+<tr><th>Libraries</th><td>{{ libraries }}</td></tr>
 <tr><th>Model reference</th><td>{{ reference }}</td></tr>
 </table></div>
 <details>
@@ -389,6 +394,20 @@ def _fmt(value: Any, spec: str = ".6g") -> str:
             return format(v, ".1f") if abs(v) < 10.0 else format(v, ",.0f")
         return format(v, spec)
     return str(value)
+
+
+def _libraries() -> str:
+    """The versions of the libraries a study's results and report come from (numpy and numba
+    make the runs; the others the analysis and report)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    parts = []
+    for dist in ("numpy", "numba", "scipy", "pandas", "statsmodels", "xarray", "matplotlib"):
+        try:
+            parts.append(f"{dist} {version(dist)}")
+        except PackageNotFoundError:  # (a build without its metadata)
+            parts.append(f"{dist} unknown")
+    return ", ".join(parts)
 
 
 def format_p_value(p: Any) -> str:
@@ -2143,6 +2162,8 @@ def render_report(
         version=version,
         generated=when.isoformat(timespec="seconds"),
         python=f"{platform.python_implementation()} {platform.python_version()}",
+        source_key=source_key(),
+        libraries=_libraries(),
         reference=PAPER_REFERENCE,
         config_text=config_text,
         design=_generic_table(design_table),

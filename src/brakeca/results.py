@@ -25,16 +25,19 @@ plateau), ``final_height`` [m], and where rule S removed secondary plateaus afte
 stop ``final_status_before_s`` (the statuses at the end of the last stop, before it);
 where the run was asked to keep them (``simulate(maps_at=)``,
 ``brakeca simulate --maps-at``), ``map_status`` [-] and ``map_height`` [m] after those stops,
-along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package version, wall
-time [s], the simulated band's area ``band_area`` [m^2], the step kernel setting (``exact``,
-``lazy``, or ``auto``: lazy where it applies, docs/model.md section 13), how many stops each
-kernel ran (``stops_lazy``, ``stops_exact``) and how many of the lazy kernel's contact solves
-fell back to the exact scan, ``paper_factors`` (the paper's S, WP, WR and A as the run has
-them, in their units) and a ``comment`` that explains ``quick``, ``max_stops`` and
-``n_steps_total``; a run on a speed trace also ``distance`` [m] (the trace's distance its
-events belong to) and ``pm10_mg_km``, ``pm10_mg_km_low``, ``pm10_mg_km_high`` [mg/km]
-(:func:`brakeca.emissions.pm10_from_run`, the default factors; ``brakeca simulate
---emissions FILE`` records its own, named in ``pm10_factors``); the ``rule`` coordinate's
+along ``map_stop`` [-]. Attributes: the resolved config (TOML), seed, package version, the
+kernels' sources (``source_key``, :func:`brakeca._cachedir.source_key`: the version alone does
+not change with every commit), the Python, numpy and numba versions and platform
+(``software``), when the run was made (``date_created``, UTC), wall time [s], the simulated
+band's area ``band_area`` [m^2], the step kernel setting (``exact``, ``lazy``, or ``auto``:
+lazy where it applies, docs/model.md section 13), how many stops each kernel ran
+(``stops_lazy``, ``stops_exact``) and how many of the lazy kernel's contact solves fell back to
+the exact scan, ``paper_factors`` (the paper's S, WP, WR and A as the run has them, in their
+units) and a ``comment`` that explains ``quick``, ``max_stops`` and ``n_steps_total``; a run on
+a speed trace also ``distance`` [m] (the trace's distance its events belong to) and
+``pm10_mg_km``, ``pm10_mg_km_low``, ``pm10_mg_km_high`` [mg/km]
+(:func:`brakeca.emissions.pm10_from_run`, the default factors; ``brakeca simulate --emissions
+FILE`` records its own, named in ``pm10_factors``); the ``rule`` coordinate's
 ``rule_meanings`` names the seven plateau rules (:data:`RULE_ATTRS`).
 
 References
@@ -49,6 +52,7 @@ import sys
 import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
@@ -58,6 +62,7 @@ import xarray as xr
 
 from brakeca import __version__
 from brakeca import _records as R  # the record columns (without numba)
+from brakeca._cachedir import source_key
 from brakeca._io import atomic_write, rng_state_from_json
 from brakeca.config import SimulationConfig
 
@@ -164,6 +169,23 @@ RUN_SCALAR_UNITS: dict[str, tuple[str, str]] = {
     "n_steps": ("1", "time steps of the run"),
     "wall_time": ("s", "wall time of the run"),
 }
+
+
+def software_versions() -> str:
+    """The Python, numpy and numba versions and the platform a run is made with, as a run
+    file records them (``software``): ``"Python 3.11.7, numpy 2.4.6, numba 0.68.1, Linux
+    x86_64"``."""
+    import platform
+    from importlib.metadata import PackageNotFoundError, version
+
+    parts = [f"Python {platform.python_version()}"]
+    for dist in ("numpy", "numba"):
+        try:
+            parts.append(f"{dist} {version(dist)}")
+        except PackageNotFoundError:  # (a build without its metadata)
+            parts.append(f"{dist} unknown")
+    parts.append(f"{platform.system()} {platform.machine()}")
+    return ", ".join(parts)
 
 
 def scalar_attrs(name: str) -> dict[str, str]:
@@ -781,6 +803,11 @@ def build_dataset(
         "title": "brakeca run",
         "references": "J. Wahlström, Advances in Tribology 2016, 8181260, doi:10.1155/2016/8181260",
         "brakeca_version": __version__,
+        # what made the run beyond the version, which does not change with every commit (a
+        # provenance review): the kernels' sources, the libraries, the date
+        "source_key": source_key(),
+        "software": software_versions(),
+        "date_created": datetime.now(UTC).isoformat(timespec="seconds"),
         "seed": int(seed),
         "config": config.to_toml(),
         "quick": int(config.quick),

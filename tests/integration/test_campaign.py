@@ -508,6 +508,35 @@ def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_pat
     )
 
 
+def test_runs_made_by_other_kernel_sources_are_reused_with_a_note(serial, tmp_path):
+    """A provenance review: the version (0.1.0) never changed, so a folder of runs made by
+    code that computed other last bits was reused without a word. A run file records its
+    kernels' sources, libraries and date; a run made by other sources is named on reuse."""
+    import platform
+
+    from brakeca._cachedir import source_key
+    from brakeca.results import write_atomic
+
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    rid = serial.summary["run_id"][1]
+    run = RunResult.from_netcdf(out / "runs" / f"{rid}.nc").dataset
+    assert run.attrs["source_key"] == source_key()
+    assert run.attrs["software"].startswith(f"Python {platform.python_version()}, numpy ")
+    assert run.attrs["date_created"].endswith("+00:00")
+    write_atomic(run.load().assign_attrs(source_key="0123456789abcdef"), out / "runs" / f"{rid}.nc")
+    console = quiet()
+    again = run_campaign(
+        out / "design.toml", out, executor="serial", simulate_fn=must_not_run, console=console
+    )
+    assert again.ok and len(again.reused) == 4
+    text = " ".join(console_text(console).split())
+    assert f"note: 1 finished run(s) (of test {serial.summary['test'][1]}) were made by other " in (
+        text
+    )
+    assert f"(source_key {source_key()}; the run files record theirs)" in text
+
+
 class _CancelsTheThirdRun(SerialExecutor):
     """The caller's executor, on which someone else cancels the third run submitted (as
     another client or the dashboard can on a shared dask cluster)."""

@@ -17,6 +17,7 @@ class Killed(Exception):
 def _no_wall(ds):
     ds = ds.copy()
     ds.attrs.pop("wall_time")
+    ds.attrs.pop("date_created")
     return ds
 
 

@@ -11,6 +11,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 from brakeca.cli import app
+from brakeca.config import SimulationConfig
 from brakeca.contact import ContactError
 from brakeca.presets import load_preset
 from brakeca.results import RunResult
@@ -40,6 +41,7 @@ def run(small):
 def _without_wall_time(ds):
     ds = ds.copy()
     ds.attrs.pop("wall_time")
+    ds.attrs.pop("date_created")  # (when the run was made)
     return ds
 
 
@@ -195,8 +197,10 @@ def test_a_run_given_a_generator_records_its_state_and_rebuilds_it(small, tmp_pa
     again = simulate(config, rng=back.generator())
     timing = ["wall_time"]
     xr.testing.assert_identical(
-        again.dataset.drop_vars(timing, errors="ignore").assign_attrs(wall_time=0.0),
-        run.dataset.drop_vars(timing, errors="ignore").assign_attrs(wall_time=0.0),
+        again.dataset.drop_vars(timing, errors="ignore").assign_attrs(
+            wall_time=0.0, date_created=""
+        ),
+        run.dataset.drop_vars(timing, errors="ignore").assign_attrs(wall_time=0.0, date_created=""),
     )
     seeded = simulate(config.with_updates({"cycle.max_stops": 1}), seed=5)
     assert seeded.generator().random() == np.random.default_rng(5).random()
@@ -449,6 +453,39 @@ def test_cli_simulate_keeps_maps_after_the_stops_asked_and_plot_draws_them(tmp_p
         res = runner.invoke(app, ["simulate", "-o", str(other), *tiny, "--maps-at", maps])
         assert res.exit_code == 2 and message in " ".join(res.output.split()), (maps, res.output)
         assert not other.exists()
+
+
+def test_a_run_file_given_as_config_runs_again_as_it_ran(tmp_path):
+    """A provenance review: -c RUN.nc failed ("a TOML file is UTF-8 text") and no way to
+    run a run file again was documented. Its configuration, seed and maps are taken (a
+    --seed given wins), and the run is the same, bit for bit, but for when it was made."""
+    from campaign_helpers import TINY_CLI
+
+    tiny = TINY_CLI[: TINY_CLI.index("--executor")]
+    runner = CliRunner()
+    first = tmp_path / "first.nc"
+    res = runner.invoke(
+        app, ["simulate", "-o", str(first), *tiny, "--set", "A=10", "--seed", "7", "--maps-at", "1"]
+    )
+    assert res.exit_code == 0, res.output
+    again = tmp_path / "again.nc"
+    res = runner.invoke(app, ["simulate", "-c", str(first), "-o", str(again)])
+    assert res.exit_code == 0, res.output
+    assert "seed 7" in res.output
+    a, b = RunResult.from_netcdf(first), RunResult.from_netcdf(again)
+    xr.testing.assert_identical(_without_wall_time(a.dataset), _without_wall_time(b.dataset))
+    other = tmp_path / "other.nc"
+    res = runner.invoke(app, ["simulate", "-c", str(first), "-o", str(other), "--seed", "8"])
+    assert res.exit_code == 0, res.output
+    assert RunResult.from_netcdf(other).seed == 8
+    # the configuration alone, as a TOML file
+    res = runner.invoke(app, ["config", "-c", str(first)])
+    assert res.exit_code == 0, res.output
+    assert SimulationConfig.from_toml(res.output) == a.config
+    not_a_run = tmp_path / "bad.nc"
+    not_a_run.write_bytes(b"\x89HDF\r\n\x1a\n" + b"\0" * 64)
+    res = runner.invoke(app, ["simulate", "-c", str(not_a_run), "-o", str(tmp_path / "x.nc")])
+    assert res.exit_code == 2 and "cannot read the run file" in " ".join(res.output.split())
 
 
 def test_cli_simulate_says_how_much_pad_wore(tmp_path):

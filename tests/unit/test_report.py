@@ -108,6 +108,13 @@ def test_report_is_complete_and_self_contained(tmp_path) -> None:
     # Provenance, design and per-run tables.
     assert "Campaign &lt;paper&gt; &amp; co" in html
     assert "0.1.0" in html and "doi:10.1155/2016/8181260" in html
+    # what else made the results (a provenance review: the version alone does not change)
+    from importlib.metadata import version
+
+    from brakeca._cachedir import source_key
+
+    assert f"<tr><th>Kernel sources</th><td><code>{source_key()}</code>" in html
+    assert f"numpy {version('numpy')}, numba {version('numba')}, scipy " in html
     assert "&lt;script&gt;alert(1)&lt;/script&gt;" in html
     assert "<script>alert(1)" not in html
     assert "MU [-]" in html and "V [mm³]" in html
