@@ -401,7 +401,20 @@ def _write_design(
         f"{__version__}.\n# From {origin}; overrides {dict(overrides or {})!r}, "
         f"max_stops {max_stops!r}, quick {quick!r}.\n"
     )
-    write_text(out / "base_config.toml", header + base.to_toml())
+    path = out / "base_config.toml"
+    same = design.base_config is not None and Path(design.base_config).resolve() == path.resolve()
+    if same and not overrides and max_stops is None and not quick and path.is_file():
+        # the folder's own base configuration, taken as it is: its header, which says where
+        # it came from (a provenance review: it had become "From '<this file>'; overrides
+        # {}", the first campaign's --set and --stops lost)
+        kept = []
+        for line in path.read_text(encoding="utf-8").splitlines(keepends=True):
+            if not line.startswith("#"):
+                break
+            kept.append(line)
+        if kept and kept[0].startswith(BASE_HEADER):
+            header = "".join(kept)
+    write_text(path, header + base.to_toml())
     write_text(out / "design.toml", design_text(design))
     return design.model_copy(
         update={"base": None, "base_config": (out / "base_config.toml").resolve()}

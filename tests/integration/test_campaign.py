@@ -525,11 +525,16 @@ def test_runs_made_by_other_kernel_sources_are_reused_with_a_note(serial, tmp_pa
     assert run.attrs["software"].startswith(f"Python {platform.python_version()}, numpy ")
     assert run.attrs["date_created"].endswith("+00:00")
     write_atomic(run.load().assign_attrs(source_key="0123456789abcdef"), out / "runs" / f"{rid}.nc")
+    header = (out / "base_config.toml").read_text(encoding="utf-8").split("\nquick")[0]
+    assert "tiny_base.toml'" in header  # the base configuration the design named
     console = quiet()
     again = run_campaign(
         out / "design.toml", out, executor="serial", simulate_fn=must_not_run, console=console
     )
     assert again.ok and len(again.reused) == 4
+    # the folder's own base configuration keeps its header, which says where it came from
+    # (it had become "From '<this file>'; overrides {}": the same review)
+    assert (out / "base_config.toml").read_text(encoding="utf-8").startswith(header + "\nquick")
     text = " ".join(console_text(console).split())
     assert f"note: 1 finished run(s) (of test {serial.summary['test'][1]}) were made by other " in (
         text
