@@ -36,6 +36,7 @@ from brakeca._console import is_replicated, run_named
 from brakeca._io import write_text
 from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
 from brakeca.analysis import display_unit
+from brakeca.results import library_versions
 
 __all__ = [
     "REPORT_TEMPLATE",
@@ -394,20 +395,6 @@ def _fmt(value: Any, spec: str = ".6g") -> str:
             return format(v, ".1f") if abs(v) < 10.0 else format(v, ",.0f")
         return format(v, spec)
     return str(value)
-
-
-def _libraries() -> str:
-    """The versions of the libraries a study's results and report come from (numpy and numba
-    make the runs; the others the analysis and report)."""
-    from importlib.metadata import PackageNotFoundError, version
-
-    parts = []
-    for dist in ("numpy", "numba", "scipy", "pandas", "statsmodels", "xarray", "matplotlib"):
-        try:
-            parts.append(f"{dist} {version(dist)}")
-        except PackageNotFoundError:  # (a build without its metadata)
-            parts.append(f"{dist} unknown")
-    return ", ".join(parts)
 
 
 def format_p_value(p: Any) -> str:
@@ -2163,7 +2150,9 @@ def render_report(
         generated=when.isoformat(timespec="seconds"),
         python=f"{platform.python_implementation()} {platform.python_version()}",
         source_key=source_key(),
-        libraries=_libraries(),
+        libraries=library_versions(
+            "numpy", "numba", "scipy", "pandas", "statsmodels", "xarray", "matplotlib"
+        ),
         reference=PAPER_REFERENCE,
         config_text=config_text,
         design=_generic_table(design_table),

@@ -176,15 +176,24 @@ def software_versions() -> str:
     file records them (``software``): ``"Python 3.11.7, numpy 2.4.6, numba 0.68.1, Linux
     x86_64"``."""
     import platform
+
+    return (
+        f"Python {platform.python_version()}, {library_versions('numpy', 'numba')}, "
+        f"{platform.system()} {platform.machine()}"
+    )
+
+
+def library_versions(*dists: str) -> str:
+    """The installed versions of the distributions ``dists``: ``"numpy 2.4.6, numba
+    0.68.1"`` (``unknown`` for one without its metadata)."""
     from importlib.metadata import PackageNotFoundError, version
 
-    parts = [f"Python {platform.python_version()}"]
-    for dist in ("numpy", "numba"):
+    parts = []
+    for dist in dists:
         try:
             parts.append(f"{dist} {version(dist)}")
         except PackageNotFoundError:  # (a build without its metadata)
             parts.append(f"{dist} unknown")
-    parts.append(f"{platform.system()} {platform.machine()}")
     return ", ".join(parts)
 
 
