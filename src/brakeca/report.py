@@ -320,8 +320,9 @@ of X and 0 elsewhere (X:Y[l, m]: at level l of X and m of Y):</p>
 <tr><th>brakeca version</th><td>{{ version }}</td></tr>
 <tr><th>Report generated</th><td>{{ generated }} (each run file records when it was made,
 <code>date_created</code>)</td></tr>
-<tr><th>Kernel sources</th><td><code>{{ source_key }}</code> (the runs' own: each run file's
-<code>source_key</code>; a campaign names the runs it reuses that other sources made)</td></tr>
+<tr><th>Kernel sources</th><td><code>{{ source_key }}</code> (this install's; each run file
+records its own, <code>source_key</code>, and a campaign names the runs it reuses that other
+sources made)</td></tr>
 <tr><th>Python</th><td>{{ python }}</td></tr>
 <tr><th>Libraries</th><td>{{ libraries }}</td></tr>
 <tr><th>Model reference</th><td>{{ reference }}</td></tr>
