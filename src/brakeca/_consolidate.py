@@ -95,6 +95,7 @@ class CampaignResult:
                 raise TypeError(
                     f"{name}: expected a whole number (the summary's {name} column), got {value!r}"
                 )
+        test, replicate = int(test), int(replicate)  # ("test 9.0" in a message otherwise)
         rows = self.summary
         chosen = rows[(rows["test"] == test) & (rows.get("replicate", 0) == replicate)]
         if chosen.empty:

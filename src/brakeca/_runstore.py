@@ -382,6 +382,23 @@ def _table_changes(old: dict[str, Any], new: dict[str, Any]) -> str:
     return "; ".join(said)
 
 
+def _kept_base_header(path: Path, base: SimulationConfig) -> str | None:
+    """The header of the folder's ``base_config.toml`` where the file holds ``base`` already
+    (a campaign run again from the folder, with or without the first one's options): it says
+    where the base came from (a provenance review: it had become "From '<this file>';
+    overrides {}", the first campaign's --set and --stops lost); None otherwise."""
+    if existing_base(path.parent) != base:
+        return None
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return None
+    if not text.startswith(BASE_HEADER):
+        return None
+    lines = text.splitlines(keepends=True)
+    return "".join(lines[: next(i for i, line in enumerate(lines) if not line.startswith("#"))])
+
+
 def _write_design(
     out: Path,
     design: Design,
@@ -402,19 +419,8 @@ def _write_design(
         f"max_stops {max_stops!r}, quick {quick!r}.\n"
     )
     path = out / "base_config.toml"
-    same = design.base_config is not None and Path(design.base_config).resolve() == path.resolve()
-    if same and not overrides and max_stops is None and not quick and path.is_file():
-        # the folder's own base configuration, taken as it is: its header, which says where
-        # it came from (a provenance review: it had become "From '<this file>'; overrides
-        # {}", the first campaign's --set and --stops lost)
-        kept = []
-        for line in path.read_text(encoding="utf-8").splitlines(keepends=True):
-            if not line.startswith("#"):
-                break
-            kept.append(line)
-        if kept and kept[0].startswith(BASE_HEADER):
-            header = "".join(kept)
-    write_text(path, header + base.to_toml())
+    kept = _kept_base_header(path, base)
+    write_text(path, (kept or header) + base.to_toml())
     write_text(out / "design.toml", design_text(design))
     return design.model_copy(
         update={"base": None, "base_config": (out / "base_config.toml").resolve()}

@@ -414,8 +414,8 @@ def _run_locked(
                 reused.append(rid)
                 if not set(how.maps_at) <= _kept_maps(result):
                     without_maps.append(point)
-                if result.dataset.attrs.get("source_key", here) != here:
-                    other_kernels.append(point)
+                if result.dataset.attrs.get("source_key") != here:  # (None: made before
+                    other_kernels.append(point)  # run files recorded it: a diff review)
                 # a campaign killed between writing the run file and removing the checkpoint
                 _checkpoint_path(runs, point).unlink(missing_ok=True)
                 continue
@@ -444,7 +444,8 @@ def _run_locked(
             console,
             f"[yellow]note:[/] {len(other_kernels)} finished run(s) (of "
             f"{tests_named(p.test for p in other_kernels)}) were made by other kernel "
-            f"sources than this install's (source_key {here}; the run files record theirs); "
+            f"sources than this install's (source_key {here}; the run files record theirs, "
+            "or, made before run files recorded it, none); "
             "they are reused as they are, and a run made now may differ from them (in the "
             "last bits where the change kept the model). Delete their run files in "
             f"{escape(str(runs))} to run them again",

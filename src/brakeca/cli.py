@@ -309,28 +309,39 @@ def _design_notes(design: Any) -> None:
             )
 
 
-def _run_file_defaults(config_file: Path | None) -> tuple[int, list[int]] | None:
-    """The seed and the stops it kept maps after of a run file given as ``-c`` (to run it
-    again as it ran: a provenance review found no way documented), None for a TOML file;
-    an unreadable run file fails the command."""
-    from brakeca.config import is_run_file
+def _run_file_defaults(
+    config_file: Path | None, seed_given: bool
+) -> tuple[int | None, list[int], str | None] | None:
+    """What a run file given as ``-c`` adds to its configuration, to run it again as it ran
+    (a provenance review found no way documented): its seed (None where ``--seed`` is given),
+    the stops it kept maps after, and the ``--emissions`` it was made with (its
+    ``pm10_factors``, None for the defaults); None for a TOML file. A netCDF file that is no
+    run file, or a run made from a generator's state without ``--seed``, fails the command."""
+    from brakeca.config import is_run_file, run_file_attrs
 
     if config_file is None or not is_run_file(config_file):
         return None
+    try:
+        attrs = run_file_attrs(config_file)
+    except ConfigError as exc:
+        _fail(str(exc))
+    if not isinstance(attrs.get("config"), str):  # (a campaign.nc, say: a diff review)
+        _fail(f"{config_file}: a netCDF file without a run's configuration (config)")
+    seed: int | None = None
+    if not seed_given:
+        seed = int(attrs.get("seed", 0))
+        if seed < 0:  # a run made from a generator's state, not a seed
+            _fail(
+                f"-c {config_file}: the run was made from a random generator's state, not a "
+                "seed; give --seed, or repeat it from Python: "
+                "RunResult.from_netcdf(...).generator()"
+            )
     import xarray as xr
 
-    try:
-        with xr.open_dataset(config_file, engine="h5netcdf") as ds:
-            seed = int(ds.attrs["seed"])
-            maps = [int(s) for s in ds["map_stop"].values] if "map_stop" in ds.coords else []
-    except Exception as exc:
-        _fail(f"-c {config_file}: cannot read the run file's seed: {exc}")
-    if seed < 0:  # a run made from a generator's state, not a seed
-        _fail(
-            f"-c {config_file}: the run was made from a random generator's state, not a seed; "
-            "RunResult.from_netcdf(...).generator() repeats it from Python"
-        )
-    return seed, maps
+    with xr.open_dataset(config_file, engine="h5netcdf") as ds:
+        maps = [int(s) for s in ds["map_stop"].values] if "map_stop" in ds.coords else []
+    factors = attrs.get("pm10_factors")
+    return seed, maps, factors if isinstance(factors, str) and factors else None
 
 
 def resolve_config(
@@ -393,6 +404,17 @@ SeedOpt = Annotated[
     int,
     typer.Option(
         "--seed", min=0, max=MAX_SEED, metavar="N", help="seed of the run's random generator"
+    ),
+]
+#: --seed of a command that takes a run file as -c: by default the run's, else 0
+SeedFromRunOpt = Annotated[
+    int | None,
+    typer.Option(
+        "--seed",
+        min=0,
+        max=MAX_SEED,
+        metavar="N",
+        help="seed of the run's random generator  [default: 0; with -c RUN.nc, its run's]",
     ),
 ]
 StopsOpt = Annotated[
@@ -461,16 +483,7 @@ def simulate(
     preset: PresetOpt = None,
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
-    seed: Annotated[
-        int | None,
-        typer.Option(
-            "--seed",
-            min=0,
-            max=MAX_SEED,
-            metavar="N",
-            help="seed of the run's random generator  [default: 0; with -c RUN.nc, its run's]",
-        ),
-    ] = None,
+    seed: SeedFromRunOpt = None,
     stops: StopsOpt = None,
     quick: QuickOpt = False,
     checkpoint: Annotated[
@@ -507,7 +520,7 @@ def simulate(
             "--maps-at",
             metavar="STOPS",
             help="keep the pad's status and height maps after these stops, e.g. 1,50,170 "
-            "('brakeca plot' draws them)",
+            "('brakeca plot' draws them); with -c RUN.nc, by default the run file's",
         ),
     ] = None,
     emissions: EmissionsOpt = None,
@@ -532,11 +545,23 @@ def simulate(
     if speed_unit is not None and cycle is None:
         _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
     factors = _emissions(emissions)
-    again = _run_file_defaults(config_file)
+    again = _run_file_defaults(config_file, seed is not None)
+    inherited: list[int] = []  # the run file's maps, where --maps-at is not given
+    if again is not None:
+        if seed is None:
+            seed = again[0]
+            console.print(f"seed {seed}: the run file's (--seed gives another)", highlight=False)
+        if maps_at is None:
+            inherited = again[1]
+        if again[2] is not None and emissions is None:
+            console.print(
+                f"[yellow]note:[/] the run file's PM10 came from other emission factors "
+                f"({escape(again[2])}); give --emissions again for the same, the defaults "
+                "are used",
+                highlight=False,
+            )
     if seed is None:
-        seed = 0 if again is None else again[0]
-    if maps_at is None and again is not None and again[1]:
-        maps_at = ",".join(map(str, again[1]))
+        seed = 0
     try:
         config = resolve_config(preset, config_file, overrides, stops, quick)
         if cycle is not None:
@@ -546,7 +571,15 @@ def simulate(
         steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper's
     except ConfigError as exc:
         _fail(str(exc))
-    kept_maps: list[int] = []
+    kept_maps = [k for k in inherited if k <= len(source.events)]
+    if len(kept_maps) < len(inherited):  # (--stops or --cycle runs fewer: a diff review)
+        console.print(
+            f"[yellow]note:[/] the run file kept maps after stops "
+            f"{', '.join(map(str, inherited))}; this run has {len(source.events)}, so it keeps "
+            + (f"those after {', '.join(map(str, kept_maps))}" if kept_maps else "none")
+            + " (--maps-at chooses)",
+            highlight=False,
+        )
     if maps_at is not None:
         try:
             kept_maps = map_stops(_maps_at_stops(maps_at), len(source.events), name="--maps-at")
@@ -877,7 +910,7 @@ def surface(
     preset: PresetOpt = None,
     config_file: ConfigOpt = None,
     overrides: SetOpt = None,
-    seed: SeedOpt = 0,
+    seed: SeedFromRunOpt = None,
     levels: Annotated[
         str,
         typer.Option(
@@ -893,6 +926,9 @@ def surface(
     from brakeca.plotting import plot_fibre_maps, save_figure
     from brakeca.surface import generate_surface
 
+    if seed is None:  # a run file's own surface (a diff review: it drew seed 0's)
+        again = _run_file_defaults(config_file, False)
+        seed = 0 if again is None or again[0] is None else again[0]
     try:
         given = parse_overrides(overrides)
         fixed = [k for k in given if k in ("A", "pad.fibre_area_fraction")]

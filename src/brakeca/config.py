@@ -1866,7 +1866,10 @@ def load_config(path: str | Path) -> SimulationConfig:
         text = run_file_attrs(path).get("config")
         if not isinstance(text, str):
             raise ConfigError(f"{path}: a netCDF file without a run's configuration (config)")
-        return SimulationConfig.from_toml(text, source=f"{path} (its config attribute)")
+        config = SimulationConfig.from_toml(text, source=f"{path} (its config attribute)")
+        for note in unit_notes(config):
+            warn_unit(f"{path}: {note}")
+        return config
     try:
         text = path.read_text(encoding="utf-8-sig")  # a BOM (Windows editors) is not TOML
     except OSError as exc:

@@ -535,11 +535,16 @@ def test_runs_made_by_other_kernel_sources_are_reused_with_a_note(serial, tmp_pa
     # the folder's own base configuration keeps its header, which says where it came from
     # (it had become "From '<this file>'; overrides {}": the same review)
     assert (out / "base_config.toml").read_text(encoding="utf-8").startswith(header + "\nquick")
+    run_campaign(  # and with the first campaign's options again (a diff review)
+        out / "design.toml", out, executor="serial", max_stops=3, simulate_fn=must_not_run,
+        console=quiet(),
+    )  # fmt: skip
+    assert (out / "base_config.toml").read_text(encoding="utf-8").startswith(header + "\nquick")
     text = " ".join(console_text(console).split())
     assert f"note: 1 finished run(s) (of test {serial.summary['test'][1]}) were made by other " in (
         text
     )
-    assert f"(source_key {source_key()}; the run files record theirs)" in text
+    assert f"(source_key {source_key()}; the run files record theirs, or, made before" in text
 
 
 class _CancelsTheThirdRun(SerialExecutor):

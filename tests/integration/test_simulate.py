@@ -482,6 +482,41 @@ def test_a_run_file_given_as_config_runs_again_as_it_ran(tmp_path):
     res = runner.invoke(app, ["config", "-c", str(first)])
     assert res.exit_code == 0, res.output
     assert SimulationConfig.from_toml(res.output) == a.config
+    # --stops shorter than the maps it kept: they are dropped with a note (a diff review: it
+    # failed on a --maps-at the user never gave)
+    short = tmp_path / "short.nc"
+    two = tmp_path / "two.nc"
+    res = runner.invoke(app, ["simulate", "-c", str(first), "-o", str(two), "--maps-at", "1,2"])
+    assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["simulate", "-c", str(two), "-o", str(short), "--stops", "1"])
+    assert res.exit_code == 0, res.output
+    assert "kept maps after stops 1, 2; this run has 1, so it keeps those after 1" in " ".join(
+        res.output.split()
+    )
+    assert list(RunResult.from_netcdf(short).dataset["map_stop"].values) == [1]
+    # a run file of other emission factors: said, the defaults used
+    from brakeca.results import write_atomic
+
+    marked = tmp_path / "marked.nc"
+    write_atomic(a.dataset.assign_attrs(pm10_factors="--emissions my.toml: ..."), marked)
+    res = runner.invoke(app, ["simulate", "-c", str(marked), "-o", str(tmp_path / "m2.nc")])
+    assert res.exit_code == 0 and "give --emissions again" in " ".join(res.output.split())
+    # a campaign.nc is not a run file; a run made from a generator's state needs --seed
+    from brakeca.results import write_atomic as write
+
+    campaign_nc = tmp_path / "campaign.nc"
+    write(xr.Dataset(attrs={"design": "x"}), campaign_nc)
+    res = runner.invoke(app, ["simulate", "-c", str(campaign_nc), "-o", str(tmp_path / "c.nc")])
+    assert res.exit_code == 2
+    assert "a netCDF file without a run's configuration (config)" in " ".join(res.output.split())
+    state = tmp_path / "state.nc"
+    write(a.dataset.assign_attrs(seed=-1), state)
+    res = runner.invoke(app, ["simulate", "-c", str(state), "-o", str(tmp_path / "s.nc")])
+    assert res.exit_code == 2 and "give --seed" in res.output
+    res = runner.invoke(
+        app, ["simulate", "-c", str(state), "-o", str(tmp_path / "s.nc"), "--seed", "7"]
+    )
+    assert res.exit_code == 0, res.output
     not_a_run = tmp_path / "bad.nc"
     not_a_run.write_bytes(b"\x89HDF\r\n\x1a\n" + b"\0" * 64)
     res = runner.invoke(app, ["simulate", "-c", str(not_a_run), "-o", str(tmp_path / "x.nc")])
