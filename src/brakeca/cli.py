@@ -562,15 +562,26 @@ def simulate(
             )
     if seed is None:
         seed = 0
+    recorded: str | None = None  # a run file's trace, where it recorded one
     try:
         config = resolve_config(preset, config_file, overrides, stops, quick)
+        if again is not None and cycle is None:
+            recorded = config.cycle.trace_file
         if cycle is not None:
             config = with_cycle(config, cycle, speed_unit=speed_unit)
         source = configured_cycle(config)
         distance = step_distance(config)
         steps = sum(e.profile(distance).dt.size for e in source.events)  # ms for the paper's
     except ConfigError as exc:
-        _fail(str(exc))
+        _fail(
+            str(exc)
+            + (
+                f" (the run file's trace, recorded at {recorded}: --cycle PATH reads it from "
+                "where it is now, and checks nothing of it against the run file)"
+                if recorded and not Path(recorded).is_file()
+                else ""
+            )
+        )
     kept_maps = [k for k in inherited if k <= len(source.events)]
     if len(kept_maps) < len(inherited):  # (--stops or --cycle runs fewer: a diff review)
         console.print(

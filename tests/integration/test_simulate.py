@@ -517,6 +517,23 @@ def test_a_run_file_given_as_config_runs_again_as_it_ran(tmp_path):
         app, ["simulate", "-c", str(state), "-o", str(tmp_path / "s.nc"), "--seed", "7"]
     )
     assert res.exit_code == 0, res.output
+    # a trace run whose trace moved: the error says what the run file recorded and how to go
+    # on (it had said only "no such file")
+    import shutil
+
+    from brakeca.presets import __file__ as presets_init
+
+    trace = tmp_path / "mine.csv"
+    shutil.copy(Path(presets_init).parent / "cycles" / "example_trace.csv", trace)
+    traced = tmp_path / "traced.nc"
+    res = runner.invoke(app, ["simulate", "-o", str(traced), *tiny, "--cycle", str(trace)])
+    assert res.exit_code == 0, res.output
+    trace.rename(tmp_path / "moved.csv")
+    res = runner.invoke(app, ["simulate", "-c", str(traced), "-o", str(tmp_path / "t2.nc")])
+    assert res.exit_code == 2
+    assert f"(the run file's trace, recorded at {trace}: --cycle PATH reads it" in " ".join(
+        res.output.split()
+    )
     not_a_run = tmp_path / "bad.nc"
     not_a_run.write_bytes(b"\x89HDF\r\n\x1a\n" + b"\0" * 64)
     res = runner.invoke(app, ["simulate", "-c", str(not_a_run), "-o", str(tmp_path / "x.nc")])
