@@ -2554,6 +2554,23 @@ def show_config(
     except ConfigError as exc:
         _fail(str(exc))
     _config_notes([config])  # on standard error, as the A note
+    again = _run_file_defaults(config_file, True)
+    if again is not None and config_file is not None:  # what the TOML cannot hold
+        from brakeca.config import run_file_attrs
+
+        seed = int(run_file_attrs(config_file).get("seed", -1))
+        maps = f" --maps-at {','.join(map(str, again[1]))}" if again[1] else ""
+        console.print(
+            "[yellow]note:[/] the run's seed and maps are not part of its configuration: "
+            + (
+                f"'brakeca simulate -c {escape(str(config_file))}' runs it as it ran, as does "
+                f"this configuration with --seed {seed}{maps}"
+                if seed >= 0
+                else "it was made from a random generator's state, not a seed, which "
+                "RunResult.from_netcdf(...).generator() repeats from Python"
+            ),
+            highlight=False,
+        )
     out.print(config.to_commented_toml(), highlight=False, markup=False, end="")
 
 

@@ -478,10 +478,11 @@ def test_a_run_file_given_as_config_runs_again_as_it_ran(tmp_path):
     res = runner.invoke(app, ["simulate", "-c", str(first), "-o", str(other), "--seed", "8"])
     assert res.exit_code == 0, res.output
     assert RunResult.from_netcdf(other).seed == 8
-    # the configuration alone, as a TOML file
+    # the configuration alone, as a TOML file, with a note of what it cannot hold
     res = runner.invoke(app, ["config", "-c", str(first)])
     assert res.exit_code == 0, res.output
-    assert SimulationConfig.from_toml(res.output) == a.config
+    assert SimulationConfig.from_toml(res.stdout) == a.config
+    assert "as does this configuration with --seed 7 --maps-at 1" in " ".join(res.stderr.split())
     # --stops shorter than the maps it kept: they are dropped with a note (a diff review: it
     # failed on a --maps-at the user never gave)
     short = tmp_path / "short.nc"
@@ -517,6 +518,8 @@ def test_a_run_file_given_as_config_runs_again_as_it_ran(tmp_path):
         app, ["simulate", "-c", str(state), "-o", str(tmp_path / "s.nc"), "--seed", "7"]
     )
     assert res.exit_code == 0, res.output
+    res = runner.invoke(app, ["config", "-c", str(state)])
+    assert res.exit_code == 0 and "random generator's state" in " ".join(res.stderr.split())
     # a trace run whose trace moved: the error says what the run file recorded and how to go
     # on (it had said only "no such file")
     import shutil
