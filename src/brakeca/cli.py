@@ -22,7 +22,14 @@ from rich.markup import escape
 
 from brakeca import __version__
 from brakeca._console import LogConsole, is_replicated
-from brakeca.config import MAX_SEED, ConfigError, SimulationConfig, load_config, parse_overrides
+from brakeca.config import (
+    MAX_SEED,
+    ConfigError,
+    RunFileSettings,
+    SimulationConfig,
+    load_config,
+    parse_overrides,
+)
 from brakeca.presets import available_designs
 
 app = typer.Typer(
@@ -309,39 +316,29 @@ def _design_notes(design: Any) -> None:
             )
 
 
-def _run_file_defaults(
-    config_file: Path | None, seed_given: bool
-) -> tuple[int | None, list[int], str | None] | None:
-    """What a run file given as ``-c`` adds to its configuration, to run it again as it ran
-    (a provenance review found no way documented): its seed (None where ``--seed`` is given),
-    the stops it kept maps after, and the ``--emissions`` it was made with (its
-    ``pm10_factors``, None for the defaults); None for a TOML file. A netCDF file that is no
-    run file, or a run made from a generator's state without ``--seed``, fails the command."""
-    from brakeca.config import is_run_file, run_file_attrs
+def _run_file(config_file: Path | None) -> RunFileSettings | None:
+    """The settings of a run file given as ``-c``, to run it again as it ran (a provenance
+    review found no way documented); None for a TOML file. A run file that cannot be read,
+    or a netCDF file that is no run's, fails the command."""
+    from brakeca.config import is_run_file, run_file_settings
 
     if config_file is None or not is_run_file(config_file):
         return None
     try:
-        attrs = run_file_attrs(config_file)
+        return run_file_settings(config_file)
     except ConfigError as exc:
         _fail(str(exc))
-    if not isinstance(attrs.get("config"), str):  # (a campaign.nc, say: a diff review)
-        _fail(f"{config_file}: a netCDF file without a run's configuration (config)")
-    seed: int | None = None
-    if not seed_given:
-        seed = int(attrs.get("seed", 0))
-        if seed < 0:  # a run made from a generator's state, not a seed
-            _fail(
-                f"-c {config_file}: the run was made from a random generator's state, not a "
-                "seed; give --seed, or repeat it from Python: "
-                "RunResult.from_netcdf(...).generator()"
-            )
-    import xarray as xr
 
-    with xr.open_dataset(config_file, engine="h5netcdf") as ds:
-        maps = [int(s) for s in ds["map_stop"].values] if "map_stop" in ds.coords else []
-    factors = attrs.get("pm10_factors")
-    return seed, maps, factors if isinstance(factors, str) and factors else None
+
+def _run_seed(run: RunFileSettings, config_file: Path) -> int:
+    """The seed of the run file ``config_file`` to run it again; a run made from a
+    generator's state fails the command (``--seed`` gives one)."""
+    if run.seed < 0:
+        _fail(
+            f"-c {config_file}: the run was made from a random generator's state, not a seed; "
+            "give --seed, or repeat it from Python: RunResult.from_netcdf(...).generator()"
+        )
+    return run.seed
 
 
 def resolve_config(
@@ -545,19 +542,19 @@ def simulate(
     if speed_unit is not None and cycle is None:
         _fail("--speed-unit gives the speed unit of a --cycle trace; give --cycle too")
     factors = _emissions(emissions)
-    again = _run_file_defaults(config_file, seed is not None)
+    again = _run_file(config_file)
     inherited: list[int] = []  # the run file's maps, where --maps-at is not given
-    if again is not None:
+    if again is not None and config_file is not None:
         if seed is None:
-            seed = again[0]
+            seed = _run_seed(again, config_file)
             console.print(f"seed {seed}: the run file's (--seed gives another)", highlight=False)
         if maps_at is None:
-            inherited = again[1]
-        if again[2] is not None and emissions is None:
+            inherited = again.maps
+        if again.emissions is not None and emissions is None:
             console.print(
                 f"[yellow]note:[/] the run file's PM10 came from other emission factors "
-                f"({escape(again[2])}); give --emissions again for the same, the defaults "
-                "are used",
+                f"({escape(again.emissions)}); give --emissions again for the same, the "
+                "defaults are used",
                 highlight=False,
             )
     if seed is None:
@@ -938,8 +935,8 @@ def surface(
     from brakeca.surface import generate_surface
 
     if seed is None:  # a run file's own surface (a diff review: it drew seed 0's)
-        again = _run_file_defaults(config_file, False)
-        seed = 0 if again is None or again[0] is None else again[0]
+        again = _run_file(config_file)
+        seed = 0 if again is None or config_file is None else _run_seed(again, config_file)
     try:
         given = parse_overrides(overrides)
         fixed = [k for k in given if k in ("A", "pad.fibre_area_fraction")]
@@ -2554,18 +2551,15 @@ def show_config(
     except ConfigError as exc:
         _fail(str(exc))
     _config_notes([config])  # on standard error, as the A note
-    again = _run_file_defaults(config_file, True)
+    again = _run_file(config_file)
     if again is not None and config_file is not None:  # what the TOML cannot hold
-        from brakeca.config import run_file_attrs
-
-        seed = int(run_file_attrs(config_file).get("seed", -1))
-        maps = f" --maps-at {','.join(map(str, again[1]))}" if again[1] else ""
+        maps = f" --maps-at {','.join(map(str, again.maps))}" if again.maps else ""
         console.print(
             "[yellow]note:[/] the run's seed and maps are not part of its configuration: "
             + (
                 f"'brakeca simulate -c {escape(str(config_file))}' runs it as it ran, as does "
-                f"this configuration with --seed {seed}{maps}"
-                if seed >= 0
+                f"this configuration with --seed {again.seed}{maps}"
+                if again.seed >= 0
                 else "it was made from a random generator's state, not a seed, which "
                 "RunResult.from_netcdf(...).generator() repeats from Python"
             ),

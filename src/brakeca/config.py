@@ -18,7 +18,7 @@ import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 import tomli_w
@@ -1829,16 +1829,37 @@ def is_run_file(path: Path) -> bool:
     return head.startswith((b"\x89HDF\r\n\x1a\n", b"CDF"))
 
 
-def run_file_attrs(path: Path) -> dict[str, Any]:
-    """The global attributes of the netCDF file ``path`` (a run file's: its ``config``,
-    ``seed``, ...), without reading its variables."""
+class RunFileSettings(NamedTuple):
+    """What a run file holds besides its results that running it again takes
+    (:func:`run_file_settings`)."""
+
+    config: str  # its configuration, TOML
+    seed: int  # its seed; -1 for a run made from a random generator's state
+    maps: list[int]  # the stops it kept maps after
+    emissions: str | None  # the --emissions it was made with (pm10_factors), None: defaults
+
+
+def run_file_settings(path: Path) -> RunFileSettings:
+    """The configuration, seed, kept maps and emission factors of the run file ``path``, read
+    at once without its results; ConfigError where it cannot be read or is a netCDF file
+    that is no run's (a campaign.nc, say)."""
     import xarray as xr
 
     try:
         with xr.open_dataset(path, engine="h5netcdf") as ds:
-            return dict(ds.attrs)
+            attrs = dict(ds.attrs)
+            maps = [int(s) for s in ds["map_stop"].values] if "map_stop" in ds.coords else []
     except Exception as exc:  # (h5py's and xarray's errors alike)
         raise ConfigError(f"{path}: cannot read the run file: {exc}") from None
+    config, factors = attrs.get("config"), attrs.get("pm10_factors")
+    if not isinstance(config, str):
+        raise ConfigError(f"{path}: a netCDF file without a run's configuration (config)")
+    return RunFileSettings(
+        config,
+        int(attrs.get("seed", -1)),
+        maps,
+        factors if isinstance(factors, str) and factors else None,
+    )
 
 
 def load_config(path: str | Path) -> SimulationConfig:
@@ -1863,9 +1884,7 @@ def load_config(path: str | Path) -> SimulationConfig:
     """
     path = Path(path)
     if is_run_file(path):  # a run file's own configuration (a provenance review)
-        text = run_file_attrs(path).get("config")
-        if not isinstance(text, str):
-            raise ConfigError(f"{path}: a netCDF file without a run's configuration (config)")
+        text = run_file_settings(path).config
         config = SimulationConfig.from_toml(text, source=f"{path} (its config attribute)")
         for note in unit_notes(config):
             warn_unit(f"{path}: {note}")
