@@ -817,19 +817,12 @@ def _differing_factors(runs: Sequence[Any], labels: Sequence[str]) -> list[str]:
     """Labels for runs that share a seed: the paper's factors (S, WP, WR, A, in their units)
     in which their configurations differ, after the seed where the seeds differ too;
     ``labels`` where no factor differs or a run has no configuration."""
-    import operator
-
     from brakeca.analysis import display_unit
     from brakeca.config import FACTOR_ALIASES
+    from brakeca.results import paper_factor_levels
 
     try:
-        levels = [
-            {
-                name: float(operator.attrgetter(field)(run.config)) / scale
-                for name, (field, scale, _) in FACTOR_ALIASES.items()
-            }
-            for run in runs
-        ]
+        levels = [paper_factor_levels(run.config) for run in runs]
     except AttributeError:
         return list(labels)
     differ = [name for name in FACTOR_ALIASES if len({lv[name] for lv in levels}) > 1]

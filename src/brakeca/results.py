@@ -206,18 +206,29 @@ def scalar_attrs(name: str) -> dict[str, str]:
     return {"units": unit, "long_name": description}
 
 
-def _paper_factors(config: SimulationConfig) -> str:
-    """The paper's factors S, WP, WR and A as ``config`` sets them, in their units (A in %):
-    ``"S = 0, WP = 1e-13 m^3/(N m), WR = 1e-06 m, A = 20 %"``, a run file's attribute."""
+def paper_factor_levels(config: SimulationConfig) -> dict[str, float]:
+    """The paper's factors S, WP, WR and A as ``config`` sets them, by name, in their units
+    (:data:`brakeca.config.FACTOR_ALIASES`: A in %)."""
     import operator
 
     from brakeca.config import FACTOR_ALIASES
 
-    parts = []
-    for name, (field, scale, unit) in FACTOR_ALIASES.items():
-        shown = f"{float(operator.attrgetter(field)(config)) / scale:g}"
-        parts.append(f"{name} = {shown}" + ("" if unit == "-" else f" {unit}"))
-    return ", ".join(parts)
+    return {
+        name: float(operator.attrgetter(field)(config)) / scale
+        for name, (field, scale, _) in FACTOR_ALIASES.items()
+    }
+
+
+def _paper_factors(config: SimulationConfig) -> str:
+    """The paper's factors S, WP, WR and A as ``config`` sets them, in their units (A in %):
+    ``"S = 0, WP = 1e-13 m^3/(N m), WR = 1e-06 m, A = 20 %"``, a run file's attribute."""
+    from brakeca.config import FACTOR_ALIASES
+
+    return ", ".join(
+        f"{name} = {level:g}"
+        + ("" if FACTOR_ALIASES[name][2] == "-" else f" {FACTOR_ALIASES[name][2]}")
+        for name, level in paper_factor_levels(config).items()
+    )
 
 
 #: The status maps' ``flag_values`` (CF: of the variable's type, int8).
