@@ -2229,12 +2229,12 @@ def _level_run(response: str, factor: str, means: pd.DataFrame | None) -> str:
     return text
 
 
-def _short_aliases(chain: Any) -> str:
+def _short_alias_terms(chain: Any) -> list[tuple[str, str]]:
     """The terms of an alias chain (the ANOVA's ``aliases``, ``"WP:slope + A:modulus"``) of
-    one or two factors, with their signs: the aliases a screening design's reader weighs
-    (those of three factors and more are taken as negligible); empty where there are none."""
+    one or two factors, each with its sign (``("+", "WP:slope")``): the aliases a screening
+    design's reader weighs (those of three factors and more are taken as negligible)."""
     if _is_missing(chain) or not str(chain).strip():
-        return ""
+        return []
     kept: list[tuple[str, str]] = []
     sign = "+"
     for token in str(chain).split():
@@ -2246,6 +2246,13 @@ def _short_aliases(chain: Any) -> str:
         if token.count(":") <= 1:
             kept.append((sign, token))
         sign = "+"
+    return kept
+
+
+def _short_aliases(chain: Any) -> str:
+    """:func:`_short_alias_terms` as text, ``"WP:slope + A:modulus"``; empty where there are
+    none."""
+    kept = _short_alias_terms(chain)
     if not kept:
         return ""
     text = ("-" if kept[0][0] == "-" else "") + kept[0][1]
@@ -2488,10 +2495,16 @@ def _averaged_over(hits: pd.DataFrame, means: pd.DataFrame | None) -> str:
     # aliases of two factors: in a fraction, S:WR = WP:A holds WP as much as S (a review:
     # WP was said to be in S:WR)
     joint = {
-        t: (short, _chain_factors(t, short))
+        t: (
+            _short_aliases(chain),
+            {
+                f
+                for term in [t, *(a for _, a in _short_alias_terms(chain))]
+                for f in term.split(":")
+            },
+        )
         for t, chain in zip(terms, chains, strict=True)
         if ":" in t
-        for short in [_short_aliases(chain)]
     }
     shown = [t for t in terms[:_MOST_FINDINGS] if ":" not in t]
     caught = [f for f in shown if any(f in factors for _, factors in joint.values())]
@@ -2515,16 +2528,6 @@ def _averaged_over(hits: pd.DataFrame, means: pd.DataFrame | None) -> str:
         "between which the effect differs (the interaction plots)"
         + ("; which term of an alias chain acts, the design cannot tell" if aliased else "")
     )
-
-
-def _chain_factors(term: str, short: str) -> set[str]:
-    """The factors of an interaction ``term`` and of its aliases ``short``
-    (:func:`_short_aliases`: ``"WP:A"``, ``"-WP:A + B:C"``)."""
-    factors = set(term.split(":"))
-    for alias in re.split(r"\s[+-]\s", short.lstrip("-")):
-        if alias.strip():
-            factors.update(alias.strip().split(":"))
-    return factors
 
 
 def write_report(
