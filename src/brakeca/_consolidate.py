@@ -30,9 +30,18 @@ CAMPAIGN_FORMAT = "brakeca-campaign/1"  #: format marker of campaign.nc
 # --- results -------------------------------------------------------------------------------
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class CampaignResult:
     """A finished (or loaded) campaign.
+
+    Two results are equal only where they are the same object (``==`` is ``is``), as
+    :class:`~brakeca.results.RunResult`'s: a dataclass's ``==`` compared the summaries'
+    truth values and raised (an API review).
+
+    A run is found three ways, each with its own key: :meth:`run` takes the **test number**
+    (and replicate), the ``summary``'s rows are numbered from 0 in test order (its ``test``
+    and ``replicate`` columns name them), and the ``dataset``'s ``run`` coordinate counts
+    from 1 in the same order (with one replicate, the test number).
 
     Attributes
     ----------
@@ -378,7 +387,8 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
     ConfigError
         ``design.toml`` is invalid.
     ValueError
-        ``campaign.nc`` is not a brakeca campaign file.
+        ``campaign.nc`` is not a readable brakeca campaign file, or ``summary.csv`` does not
+        match it (edited or damaged; ``brakeca run`` writes it again).
     """
     out = campaign_folder(out_dir)
     for name in ("summary.csv", "campaign.nc"):

@@ -1202,28 +1202,26 @@ def anova(
     Returns
     -------
     pandas.DataFrame
-        Columns ``term`` (``"S"``, ``"WP"``, ``"S:WP"``, ..., with centre points
-        ``"Curvature"``, then ``"Residual"``), ``df``,
-        ``sum_sq`` [response unit^2], ``mean_sq`` [response unit^2], ``F``, ``p_value``,
-        ``percent_contribution`` (``sum_sq`` / total sum of squares about the mean * 100 [%])
-        and ``note`` (empty unless a fallback applied). ``attrs`` carries ``typ``,
-        ``formula``, ``note``, ``n``, ``total_sum_sq``, ``center_points`` (their number),
-        ``order`` (the most factors in a term asked for), ``fitted_order`` (the most in a
-        term of the model before backward elimination: fewer where interactions were pooled
-        or aliased, 0 with no term), ``pooled`` (whether interactions were pooled into the
-        residual because the model with them was saturated),
-        ``model_terms`` (the terms given,
-        as the table names them, or None) and ``alpha_to_remove``, and the
-        model summary that Minitab
-        and JMP print beside the table: ``s`` (residual standard deviation, sqrt of the
-        residual mean square) [response unit], ``r_squared``, ``r_squared_adj``,
-        ``r_squared_pred`` (predicted R-squared, 1 - PRESS / total sum of squares) [-] and
-        ``df_resid`` [-]; a statistic that is not defined (no residual degrees of freedom, a
-        constant response, a run of leverage 1 for ``r_squared_pred``) is NaN. With
-        replicates, also the residual's split into pure error and lack of fit, with the F
-        test of the one against the other: ``pure_error_df``, ``pure_error_ss``,
-        ``lack_of_fit_df``, ``lack_of_fit_ss`` [response unit^2], ``lack_of_fit_F`` and
-        ``lack_of_fit_p`` [-] (NaN where not defined).
+        Columns ``term`` (``"S"``, ``"WP"``, ``"S:WP"``, ..., with centre points ``"Curvature"``,
+        then ``"Residual"``), ``df``, ``sum_sq`` [response unit^2], ``mean_sq`` [response unit^2],
+        ``F``, ``p_value``, ``percent_contribution`` (``sum_sq`` / total sum of squares about the
+        mean * 100 [%]), ``aliases`` (the terms of up to three factors the design cannot tell apart
+        from the row's, in a fraction; for ``Curvature``, the factors the centre points also differ
+        in; empty otherwise) and ``note`` (empty unless a fallback applied). ``attrs`` carries
+        ``typ``, ``formula``, ``note``, ``n``, ``total_sum_sq``, ``center_points`` (their number),
+        ``order`` (the most factors in a term asked for), ``fitted_order`` (the most in a term of
+        the model before backward elimination: fewer where interactions were pooled or aliased, 0
+        with no term), ``pooled`` (whether interactions were pooled into the residual because the
+        model with them was saturated), ``model_terms`` (the terms given, as the table names them,
+        or None) and ``alpha_to_remove``, and the model summary that Minitab and JMP print beside
+        the table: ``s`` (residual standard deviation, sqrt of the residual mean square) [response
+        unit], ``r_squared``, ``r_squared_adj``, ``r_squared_pred`` (predicted R-squared, 1 - PRESS
+        / total sum of squares) [-] and ``df_resid`` [-]; a statistic that is not defined (no
+        residual degrees of freedom, a constant response, a run of leverage 1 for
+        ``r_squared_pred``) is NaN. With replicates, also the residual's split into pure error and
+        lack of fit, with the F test of the one against the other: ``pure_error_df``,
+        ``pure_error_ss``, ``lack_of_fit_df``, ``lack_of_fit_ss`` [response unit^2],
+        ``lack_of_fit_F`` and ``lack_of_fit_p`` [-] (NaN where not defined).
 
     References
     ----------
@@ -2453,7 +2451,9 @@ def unusual_runs(
         summary, factors, response, interactions, alpha_to_remove=alpha_to_remove
     )
     frame = _residuals_of(data, y, exog, formula, response)
-    out = frame.iloc[0:0].copy()
+    # the columns of a table with rows also where none is unusual (the residuals' columns,
+    # without outlier_p, had broken code written against a study with an outlier)
+    out = frame.iloc[0:0].reindex(columns=[*_run_columns(data).columns, *UNUSUAL_COLUMNS])
     out.attrs.update(
         response=response,
         formula=formula,

@@ -18,7 +18,7 @@ import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal, NamedTuple
+from typing import Any, Literal, NamedTuple, Self
 
 import numpy as np
 import tomli_w
@@ -113,6 +113,21 @@ class _Checked(BaseModel):
             if field is not None and _numeric(field.annotation):
                 raise ValueError(f"must be a number, not {str(value).lower()}")
         return value
+
+    def model_copy(self, *, update: Mapping[str, Any] | None = None, deep: bool = False) -> Self:
+        """A copy, with the fields of ``update`` changed and **validated** (pydantic's own
+        ``model_copy`` checks nothing, so ``mesh.model_copy(update={"n_radial": -5})`` had
+        failed deep in a run with numpy's words: an API review); a bad value raises
+        :class:`ConfigError` naming the field and its allowed range.
+        :meth:`SimulationConfig.with_updates` takes dotted keys and friendly aliases."""
+        if not update:
+            return super().model_copy(deep=deep)
+        try:
+            return type(self).model_validate({**self.model_dump(), **dict(update)})
+        except ValidationError as exc:
+            raise ConfigError(
+                format_validation_error(exc, f"{type(self).__name__}.model_copy", type(self))
+            ) from None
 
 
 class _Frozen(_Checked):
@@ -1464,7 +1479,9 @@ def format_validation_error(
 
 # --- overrides and the paper's factor names ------------------------------------------------
 
-#: The paper's factor names, mapped to (config field, multiplier from the user's unit to SI).
+#: The paper's factor names, mapped to (config field, multiplier from the factor's unit to
+#: the field's, the factor's unit): A is given in % and set as a fraction [-]; S, WP and WR
+#: in their field's own unit.
 FACTOR_ALIASES: dict[str, tuple[str, float, str]] = {
     "S": ("automaton.secondary_removal_fraction", 1.0, "-"),
     "WP": ("wear.specific_wear_rate", 1.0, "m^3/(N m)"),

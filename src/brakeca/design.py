@@ -373,8 +373,9 @@ class Factor(_Frozen):
         :data:`brakeca.config.FACTOR_ALIASES` (``S``, ``WP``, ``WR``, ``A``; an alias takes the
         alias's unit, e.g. A in percent). By default the factor's name, when that is an alias.
     levels
-        Level values in the design's unit [unit], at least two, all different; their order
-        is the design order (low first).
+        Level values in the design's unit [unit], at least two, all different, in the
+        design order; give them low first (the analysis takes them in the order given, and
+        :meth:`order_note` says so where they are not).
     scale
         Multiplier from the design's unit to the field's unit [field unit / unit], e.g. 0.01
         for A given in percent and set on ``pad.fibre_area_fraction``.

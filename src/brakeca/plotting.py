@@ -2506,9 +2506,10 @@ def plot_surface_map(
         stays inside, over the map, as a figure without a layout cannot make room.
     true_scale
         Draw the map to scale: a millimetre of radius as long as a millimetre of arc at the
-        band's mean radius (filling a figure of its own, 10 by 3.6 in, the paper's band's
-        radius is stretched about 1.2 times); the new figure's height follows
-        (:func:`fits_to_scale` says whether a band is tall enough to read so).
+        band's mean radius; a new figure's height then follows the band (1.5 to 6 in;
+        :func:`fits_to_scale` says whether a band is tall enough to read so). Without it
+        the map fills a figure of its own of 10 by 3.6 in, which stretches the paper's
+        band's radius about 1.2 times.
 
     Returns
     -------

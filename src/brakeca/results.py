@@ -9,6 +9,8 @@ Per stop (dim ``stop``): ``mean_cof`` (time-weighted mean global COF) [-], ``emi
 ``stream_volume`` [m^3] (in the secondary plateaus and in the streams at the stop's last step:
 the sum of ``generated_volume`` up to a stop is its ``held_volume`` + ``stream_volume`` + the
 sum of ``emitted_volume`` less its own ``end_of_stop_emitted_volume``, the volume ledger),
+``stop_max_ledger_residual`` and ``stop_max_friction_residual`` [-] (the stop's largest, over
+its steps),
 ``rule_firings(stop, rule)`` [-]; with the fibre field (``pad.fibre_model = "field"``) also
 ``fibre_cells_exposed`` [-], of those ``fibre_cells_exposed_late`` [-] (only after the stop),
 ``fibre_exposure_lag`` [m] and ``fibre_volume_cut_as_resin`` [m^3], ``fibre_intervals_skipped``
@@ -92,8 +94,14 @@ STOP_VARIABLES: dict[str, tuple[str, str]] = {
     "line_pressure": ("Pa", "hydraulic pressure, pad normal force / piston area"),
     "duration": ("s", "duration of the stop"),
     "n_steps": ("1", "time steps in the stop"),
-    "max_friction_residual": ("1", "max |F_friction / F_demanded - 1| over the steps"),
-    "max_ledger_residual": ("1", "max relative volume-ledger residual over the steps"),
+    # the stop's own maxima; the run's (max_*_residual) are scalars of the same names
+    # without stop_ (these had been written under those names and then overwritten by the
+    # scalars, so no file held them: an API review)
+    "stop_max_friction_residual": (
+        "1",
+        "max |F_friction / F_demanded - 1| over the stop's steps",
+    ),
+    "stop_max_ledger_residual": ("1", "max relative volume-ledger residual over the stop's steps"),
     "secondary_removed_between_stops": (
         "1",
         "secondary plateau cells removed by rule S after the stop",
@@ -444,8 +452,15 @@ def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:
     with a segmentation fault inside h5py, a robustness review found). A run file is a few MB
     at full resolution.
     """
+    # a coordinate variable holds no missing values (CF 2.5.1), so it gets no _FillValue,
+    # which xarray gives every float variable (NaN) and CF checkers flag: an API review
+    encoding = {
+        name: {"_FillValue": None}
+        for name in dataset.dims
+        if name in dataset.coords and dataset[name].dtype.kind == "f"
+    }
     with _without_a_dask_client():
-        data = dataset.to_netcdf(engine="h5netcdf")
+        data = dataset.to_netcdf(engine="h5netcdf", encoding=encoding)
     return atomic_write(path, lambda tmp: tmp.write_bytes(data))
 
 
@@ -626,7 +641,7 @@ def build_dataset(
         "band_normal_force": col(SUM_NORMAL),
         "duration": [float(d.sum()) for d in dts],
         "n_steps": [d.size for d in dts],
-        "max_ledger_residual": col(SUM_LEDGER),
+        "stop_max_ledger_residual": col(SUM_LEDGER),
         "secondary_removed_between_stops": s_removed,
         "end_of_stop_emitted_volume": flush,
         "min_disc_position": col(SUM_DISC),
@@ -638,7 +653,7 @@ def build_dataset(
     stop_idx = np.arange(1, n + 1)
     # friction residual against the demanded force of each step
     fr_res = col(SUM_FRICTION_RESIDUAL)
-    per_stop["max_friction_residual"] = fr_res
+    per_stop["stop_max_friction_residual"] = fr_res
 
     data_vars: dict[str, Any] = {}
     for name, values in per_stop.items():
@@ -766,7 +781,7 @@ def build_dataset(
     data_vars["V"] = ((), v, scalar_attrs("V"))
     data_vars["max_ledger_residual"] = (
         (),
-        max(float(np.max(per_stop["max_ledger_residual"])), final_ledger),
+        max(float(np.max(per_stop["stop_max_ledger_residual"])), final_ledger),
         scalar_attrs("max_ledger_residual"),
     )
     data_vars["max_friction_residual"] = (

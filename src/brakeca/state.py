@@ -60,6 +60,10 @@ class SimulationState:
         Each cell's sliding distance in a full step, its row's ``r_j N_m dtheta`` [m].
     cell_bin : int64 array
         Each cell's stream bin ``j * n_sub + k`` [-].
+    n_radial, n_angular : int
+        Rows and columns of the grid [-].
+    n_subdomains : int
+        Subdomains N along the sliding direction [-].
     fibres : FibreField or None
         The fibre field (``pad.fibre_model = "field"`` only); its ``next`` changes in place,
         and it is replaced when it is laid deeper.

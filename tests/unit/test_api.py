@@ -218,3 +218,22 @@ def test_the_effects_table_takes_the_designs_analysis_as_analyze_does() -> None:
     assert len(report) < len(every)  # the reduced model's terms, not every effect
     alone = analysis.two_level_effects(rows, design, "MU", main_effects_only=True)
     assert set(alone["term"]) == set(design.factor_names)
+
+
+def test_the_package_ships_its_type_hints_and_a_campaign_compares_by_identity(tmp_path) -> None:
+    """An API review: no py.typed marker, so a user's mypy saw every brakeca name as Any (PEP
+    561); a campaign result's == (a dataclass's) compared its summary's truth value and
+    raised, so ``campaign in [other]`` failed."""
+    from importlib.resources import files
+
+    import pandas as pd
+    import xarray as xr
+
+    from brakeca.campaign import CampaignResult
+    from brakeca.design import load_design
+
+    assert files("brakeca").joinpath("py.typed").is_file()
+    parts = (tmp_path, load_design("paper"), pd.DataFrame({"MU": [0.3]}), xr.Dataset())
+    one, other = CampaignResult(*parts), CampaignResult(*parts)
+    assert one == one and one != other and one in [one] and other not in [one]
+    assert len({id(one): one}) == 1

@@ -1022,3 +1022,20 @@ def test_a_configuration_changed_in_place_says_how_to_change_it() -> None:
                        r"'airborne_fraction': 0.4\}\)$"):  # fmt: skip
         EmissionParameters().airborne_fraction = 0.4
     assert paper.with_updates({"WP": 1e-13}).wear.specific_wear_rate == 1e-13
+
+
+def test_model_copy_validates_what_it_changes() -> None:
+    """An API review: pydantic's model_copy checks nothing, so a mesh of -5 rows failed deep
+    in a run with numpy's words; brakeca's models validate the fields a copy changes."""
+    paper = load_preset()
+    with pytest.raises(ConfigError, match=r"^MeshConfig.model_copy: n_radial: must lie in \[1, "):
+        paper.mesh.model_copy(update={"n_radial": -5})
+    with pytest.raises(ConfigError, match=r"^SimulationConfig.model_copy: bogus: unknown key"):
+        paper.model_copy(update={"bogus": 1})
+    narrow = paper.model_copy(update={"mesh": paper.mesh.model_copy(update={"n_radial": 21})})
+    assert narrow == paper.with_updates({"mesh.n_radial": 21})
+    assert paper.model_copy() == paper and paper.model_copy(deep=True) == paper
+    design = load_design("paper")
+    with pytest.raises(ConfigError, match=r"^Design.model_copy: replicates: must lie in \[1, "):
+        design.model_copy(update={"replicates": 0})
+    assert design.model_copy(update={"replicates": 2}).replicates == 2
