@@ -41,12 +41,15 @@ import warnings
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
-from typing import Any, NamedTuple, TypeGuard
+from typing import TYPE_CHECKING, Any, NamedTuple, TypeGuard
 
 import numpy as np
 import pandas as pd
 
 from brakeca._io import write_table
+
+if TYPE_CHECKING:  # pragma: no cover
+    from brakeca._consolidate import CampaignResult
 
 __all__ = [
     "ANOVA_COLUMNS",
@@ -474,9 +477,16 @@ def _campaign_parts(
     design's factors (an API review: only :func:`analyze` took a campaign, the others
     failed with "'NoneType' object is not iterable"). ``factors`` None beside a table is
     refused, naming what to give, unless they are ``optional`` (a figure that can do
-    without them)."""
+    without them). A campaign's summary gets ``log10_V_mm3`` where it has none."""
     if _is_campaign(summary):
-        return summary.summary, (summary if factors is None else factors)
+        rows = summary.summary
+        if "log10_V_mm3" not in rows.columns and "V" in rows.columns:
+            # the log scale of V, as analyze gives it (a table or figure of a campaign had
+            # said it was no column: an API review)
+            from brakeca.study import with_log_v
+
+            rows = with_log_v(rows)
+        return rows, (summary if factors is None else factors)
     if factors is None and not optional:
         raise TypeError(
             "factors: give the design's factors (or the design), or a campaign result as "
@@ -638,7 +648,9 @@ def _resolve(summary: pd.DataFrame, factor: Factor | str | Any) -> Factor:
 # --- level means -----------------------------------------------------------------------------
 
 
-def main_effects(summary: pd.DataFrame, factors: Iterable[Any], response: str) -> pd.DataFrame:
+def main_effects(
+    summary: pd.DataFrame | CampaignResult, factors: Iterable[Any] | None, response: str
+) -> pd.DataFrame:
     """Level means of a response for every factor (main-effects table).
 
     Parameters
@@ -733,7 +745,10 @@ def _cell_stats(
 
 
 def interaction_table(
-    summary: pd.DataFrame, factor_a: Factor | str, factor_b: Factor | str, response: str
+    summary: pd.DataFrame | CampaignResult,
+    factor_a: Factor | str,
+    factor_b: Factor | str,
+    response: str,
 ) -> pd.DataFrame:
     """Cell means of a response for a pair of factors (two-way interaction table).
 
@@ -780,8 +795,8 @@ def _cube_level_order(factor: Any) -> tuple[int, int]:
 
 
 def cube_means(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     names: Sequence[str] | None = None,
 ) -> pd.DataFrame:
@@ -888,7 +903,7 @@ def cube_means(
 
 
 def interaction_tables(
-    summary: pd.DataFrame, factors: Iterable[Any], response: str
+    summary: pd.DataFrame | CampaignResult, factors: Iterable[Any] | None, response: str
 ) -> dict[tuple[str, str], pd.DataFrame]:
     """Interaction tables (see :func:`interaction_table`) for every pair of factors.
 
@@ -916,7 +931,9 @@ def interaction_tables(
     }
 
 
-def interactions_long(summary: pd.DataFrame, factors: Iterable[Any], response: str) -> pd.DataFrame:
+def interactions_long(
+    summary: pd.DataFrame | CampaignResult, factors: Iterable[Any] | None, response: str
+) -> pd.DataFrame:
     """All two-way cell means in long form (one row per cell of every factor pair).
 
     Parameters
@@ -1105,8 +1122,8 @@ def _fit_anova(
 
 
 def anova(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     interactions: Model | None = None,
@@ -2215,8 +2232,8 @@ RESIDUAL_COLUMNS: tuple[str, ...] = (
 
 
 def residuals(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     interactions: Model | None = None,
@@ -2356,8 +2373,8 @@ UNUSUAL_RESIDUAL = 2.0
 
 
 def unusual_runs(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     interactions: Model | None = None,
@@ -2645,8 +2662,8 @@ def model_matrix(
 
 
 def ranked_effects(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     interactions: Model | None = None,
@@ -2993,8 +3010,8 @@ def _lenth_pse(contrasts: np.ndarray) -> float:
 
 
 def two_level_effects(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     alpha: float = 0.05,
@@ -3417,8 +3434,8 @@ def _polynomials(scores: np.ndarray) -> np.ndarray:
 
 
 def factor_trends(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     interactions: Model | None = None,
@@ -3609,8 +3626,8 @@ CONSTANT_TERM = "Constant"
 
 
 def level_coefficients(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     interactions: Model | None = None,
@@ -4099,8 +4116,8 @@ COMPARISON_COLUMNS: tuple[str, ...] = (
 
 
 def level_comparisons(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     *,
     interactions: Model | None = None,

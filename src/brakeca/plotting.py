@@ -47,6 +47,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure, SubFigure
 
+    from brakeca._consolidate import CampaignResult
     from brakeca.traces import BrakingEvent, SpeedTrace
 
 __all__ = [
@@ -312,8 +313,8 @@ def _mark_centre(ax: Any, value: float) -> None:
 
 
 def plot_main_effects(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     path: str | Path | None = None,
     *,
@@ -383,8 +384,8 @@ def plot_main_effects(
 
 
 def plot_interactions(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     path: str | Path | None = None,
     *,
@@ -499,8 +500,8 @@ def _cube_rank(factor: Any, k: int) -> int:
 
 
 def plot_cube(
-    summary: pd.DataFrame,
-    factors: Iterable[Any],
+    summary: pd.DataFrame | CampaignResult,
+    factors: Iterable[Any] | None,
     response: str,
     path: str | Path | None = None,
     *,
@@ -1185,7 +1186,7 @@ def plot_mu_per_stop_by_level(
 
 
 def plot_v_per_run(
-    summary: pd.DataFrame,
+    summary: pd.DataFrame | CampaignResult,
     path: str | Path | None = None,
     *,
     log: bool | None = None,
@@ -1311,7 +1312,7 @@ def plot_v_per_run(
 
 
 def plot_mu_vs_v(
-    summary: pd.DataFrame,
+    summary: pd.DataFrame | CampaignResult,
     path: str | Path | None = None,
     *,
     factors: Iterable[Any] | None = None,
@@ -2473,8 +2474,8 @@ def _draw_map(
 
 def plot_surface_map(
     status: Any,
-    radius: Any,
-    angle: Any,
+    radius: Any = None,
+    angle: Any = None,
     title: str = "",
     path: str | Path | None = None,
     *,
@@ -2487,7 +2488,9 @@ def plot_surface_map(
     ----------
     status
         Integer array of shape (n_radial, n_angular): 0 = resin (no plateau), 1 = primary
-        plateau (metal fibre), 2 = secondary plateau.
+        plateau (metal fibre), 2 = secondary plateau; or a run's map as an xarray DataArray
+        on ``radius`` and ``angle`` (``result.dataset["final_status"]``), whose coordinates
+        give ``radius`` and ``angle`` where they are not given.
     radius
         Cell-centre radii [m], length n_radial.
     angle
@@ -2530,6 +2533,7 @@ def plot_surface_map(
             f"title: {str(title)!r} reads like a file name; the file to write is path= "
             "(plot_surface_map(status, radius, angle, title, path))"
         )
+    status, radius, angle = _map_parts(status, radius, angle)
     given = ax is not None
     height = 3.6
     if true_scale:
@@ -2563,6 +2567,29 @@ def plot_surface_map(
         if title:
             _suptitle(fig, title)
     return save_figure(fig, path)
+
+
+def _map_parts(status: Any, radius: Any, angle: Any) -> tuple[Any, Any, Any]:
+    """A map's (status, radius [m], angle [rad]): a DataArray on ``radius`` and ``angle`` (a
+    run file's ``final_status``) gives the coordinates not given (an xarray user had to pass
+    them again: an API review)."""
+    for name, value in (("radius", radius), ("angle", angle)):
+        if isinstance(value, str):
+            unit = "radii [m]" if name == "radius" else "angles [rad]"
+            raise TypeError(
+                f"{name}: an array of the cells' {unit}, got {value!r} (a title is title=)"
+            )
+    coords = getattr(status, "coords", None)
+    if coords is not None and {"radius", "angle"} <= set(getattr(status, "dims", ())):
+        status = status.transpose("radius", "angle")
+        radius = coords["radius"].values if radius is None else radius
+        angle = coords["angle"].values if angle is None else angle
+    if radius is None or angle is None:
+        raise TypeError(
+            "radius and angle: give the cells' radii [m] and angles [rad], or the status as "
+            "a DataArray on radius and angle (a run's dataset['final_status'])"
+        )
+    return np.asarray(status), radius, angle
 
 
 def plot_fibre_maps(

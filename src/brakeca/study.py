@@ -187,7 +187,7 @@ def per_stop_table(result: CampaignResult | RunResult) -> pd.DataFrame:
     return table.sort_values(["test", "replicate", "stop"], kind="stable").reset_index(drop=True)
 
 
-def block_table(per_stop: pd.DataFrame) -> pd.DataFrame:
+def block_table(per_stop: pd.DataFrame | CampaignResult | RunResult) -> pd.DataFrame:
     """MU and V block by block for each run, from :func:`per_stop_table`: where in the cycle
     a run's emissions come from (an engineer's read of the study: the 15 Highway stops gave
     35-70 % of V, so a ranking of pads depends on the cycle).
@@ -195,7 +195,8 @@ def block_table(per_stop: pd.DataFrame) -> pd.DataFrame:
     Parameters
     ----------
     per_stop
-        :func:`per_stop_table`'s table, with its ``block`` column.
+        :func:`per_stop_table`'s table, with its ``block`` column, or the campaign or run
+        to make it of.
 
     Returns
     -------
@@ -206,6 +207,14 @@ def block_table(per_stop: pd.DataFrame) -> pd.DataFrame:
         [mm³], and ``share_of_emitted_percent`` (of the run's total) [%]. Empty where the
         table has no ``block`` column (a trace's cycle).
     """
+    if isinstance(per_stop, CampaignResult | RunResult):  # as its siblings take them (it
+        # had failed with "no attribute 'columns'": an API review)
+        per_stop = per_stop_table(per_stop)
+    if not isinstance(per_stop, pd.DataFrame):
+        raise TypeError(
+            f"block_table takes per_stop_table's table, a CampaignResult or a RunResult, got "
+            f"{type(per_stop).__name__}"
+        )
     if "block" not in per_stop.columns or per_stop.empty:
         return pd.DataFrame()
     ids = list(per_stop.columns[: list(per_stop.columns).index("stop")])

@@ -775,3 +775,25 @@ def test_a_runs_per_stop_table_and_its_equality(small) -> None:
     assert table["emitted_mm3"].mean() == pytest.approx(run.V * 1e9, rel=1e-15)
     mixed = RunResult(config=run.config, seed=run.seed, dataset=other.dataset)
     assert mixed != run and run == run and len({run, mixed}) == 2
+    # the block table takes the run as its siblings do (it had failed on "no attribute
+    # 'columns'": an API review), and the run's map draws from its DataArray alone
+    from brakeca.plotting import plot_surface_map
+    from brakeca.study import block_table
+
+    pd.testing.assert_frame_equal(block_table(run), block_table(per_stop_table(run)))
+    assert not block_table(run).empty
+    with pytest.raises(TypeError, match=r"^block_table takes per_stop_table's table, a "):
+        block_table(run.dataset)
+    final = run.dataset["final_status"]
+    drawn = plot_surface_map(final, title="final")
+    given = plot_surface_map(final.values, final["radius"].values, final["angle"].values)
+    assert (drawn.axes[0].images[0].get_array() == given.axes[0].images[0].get_array()).all()
+    drawn = plot_surface_map(final.transpose("angle", "radius"))  # by its dims' names
+    assert (drawn.axes[0].images[0].get_array() == given.axes[0].images[0].get_array()).all()
+    with pytest.raises(TypeError, match=r"^radius and angle: give the cells' radii \[m\]"):
+        plot_surface_map(final.values)
+    with pytest.raises(
+        TypeError,
+        match=r"^radius: an array of the cells' radii \[m\], got 'final' \(a title is title=\)$",
+    ):
+        plot_surface_map(final, "final")

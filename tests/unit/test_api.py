@@ -163,6 +163,16 @@ def test_a_campaign_result_stands_for_its_summary_and_design_in_every_table() ->
     rows["status"] = "ok"
     rows["test"] = range(1, 25)
     campaign = type("Campaign", (), {"summary": rows, "design": design})()
+    # the log scale of V, as analyze gives it (a table of a campaign had said it was no
+    # column: an API review)
+    logged = analysis.main_effects(campaign, None, "log10_V_mm3")
+    from brakeca.study import with_log_v
+
+    pd.testing.assert_frame_equal(
+        logged, analysis.main_effects(with_log_v(rows), design, "log10_V_mm3")
+    )
+    with pytest.raises(KeyError, match=r"with_log_v\(summary\) adds it"):
+        analysis.main_effects(rows.assign(V_mm3=1.0), design, "log10_V_mm3")
     for table in (
         analysis.main_effects,
         analysis.interactions_long,
