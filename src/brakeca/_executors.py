@@ -394,6 +394,27 @@ def _local_pool(workers: int) -> cf.ProcessPoolExecutor:
     )
 
 
+def check_dask_installed() -> None:
+    """Refuse the dask executor where dask.distributed is not installed, from the package
+    index alone (importing it takes seconds): a campaign checks it before it writes
+    anything or compiles (it had written its folder and warmed up first: a packaging
+    review).
+
+    Raises
+    ------
+    ExecutorError
+        dask or dask.distributed is not installed.
+    """
+    import importlib.util
+
+    missing = [name for name in ("dask", "distributed") if importlib.util.find_spec(name) is None]
+    if missing:
+        raise ExecutorError(
+            "the dask executor needs dask.distributed: pip install 'brakeca[cluster]' "
+            f"(not installed: {', '.join(missing)})"
+        )
+
+
 def _dask_executor(
     workers: int | None,
     scheduler: str | None,
@@ -401,6 +422,7 @@ def _dask_executor(
     max_retries: int | None,
 ) -> DaskExecutor:
     """Connect to a Dask scheduler, or start a LocalCluster on loopback (see make_executor)."""
+    check_dask_installed()
     try:
         import dask
         import distributed

@@ -44,9 +44,31 @@ _ENTRIES = {"lazy": ("brakeca._lazy", "run_stop_lazy"), "exact": ("brakeca._kern
 
 
 #: What :func:`warm_up` says before it compiles (see :func:`cold_kernels`).
-COMPILING = "compiling the kernels (about a minute, once per version of brakeca) ..."
+COMPILING = (
+    "compiling the kernels (about a minute, once for each version of brakeca in each "
+    "environment) ..."
+)
 
 _ANNOUNCE: ContextVar[Callable[[str], None] | None] = ContextVar("_ANNOUNCE", default=None)
+
+
+def to_stderr(text: str) -> None:
+    """Where no caller tells the user (the Python API: ``simulate``, ``run_campaign`` in a
+    notebook or a script), the notice goes to stderr: a first run that compiled for a minute
+    in silence looked hung (a packaging review)."""
+    print(f"brakeca: {text}", file=sys.stderr, flush=True)
+
+
+def announce_if_cold(config: SimulationConfig) -> None:
+    """Say :data:`COMPILING` (by the caller's callback of :func:`announcing`, else to stderr)
+    where running ``config`` in this process compiles its kernel: not compiled here yet and
+    not in the cache (:func:`cold_kernels`). For :func:`brakeca.simulation.simulate`, which
+    compiles in its own process where nothing warmed it up."""
+    kernel = config.resolved_kernel()
+    if _compiled_here(kernel) or not cold_kernels([config]):
+        return
+    say = _ANNOUNCE.get() or to_stderr
+    say(COMPILING)
 
 
 @contextmanager
@@ -189,7 +211,7 @@ def warm_up(
     announce
         Called with :data:`COMPILING` before the child starts when a kernel it needs is not
         in the cache (:func:`cold_kernels`); by default the callback of :func:`announcing`,
-        if any.
+        and without one :func:`to_stderr`.
 
     Returns
     -------
@@ -206,8 +228,8 @@ def warm_up(
     # modules into a process that may only coordinate workers and write the report (65 MB)
     if not todo:
         return None
-    say = announce if announce is not None else _ANNOUNCE.get()
-    if say is not None and cold_kernels(todo):
+    say = announce if announce is not None else (_ANNOUNCE.get() or to_stderr)
+    if cold_kernels(todo):
         say(COMPILING)
     t0 = time.perf_counter()
     # a plain interpreter running this module, not a multiprocessing child: "spawn" would

@@ -67,6 +67,7 @@ from brakeca._executors import (
     _check_count,
     _check_scheduler,
     _Execution,
+    check_dask_installed,
     make_executor,
     terminate_as_interrupt,
 )
@@ -275,6 +276,8 @@ def run_campaign(
     if isinstance(executor, str) and executor not in EXECUTOR_KINDS:
         raise ValueError(f"unknown executor {executor!r}; choose 'serial', 'local' or 'dask'")
     _check_scheduler(executor, scheduler, scheduler_file)
+    if executor == "dask":
+        check_dask_installed()  # before the folder is written or the kernels compiled
     _check_count("workers", workers, 1)
     _check_count("max_retries", max_retries, 0)
     if checkpoint_every is not None and (

@@ -18,6 +18,7 @@ import numpy as np
 
 from brakeca import _records as R
 from brakeca._io import rng_state_json
+from brakeca._warmup import announce_if_cold
 from brakeca.automaton import Exposure  # noqa: F401 (importable from here, as before)
 from brakeca.checkpoint import (
     Checkpoint,
@@ -208,6 +209,7 @@ def simulate(
         raise ValueError(f"checkpoint_every must be >= 1, got {checkpoint_every}")
     grid = make_grid(config)
     kernel = kernel_for(config)  # an unsupported numerics.kernel is refused before any work
+    announce_if_cold(config)  # a minute's compiling in silence looked hung
     stops = list(cycle_events(config))
     # a trace's distance, for the run file's PM10: taken now, from the events run (the
     # trace file is not read again at the end, where a change to it would lose the run)

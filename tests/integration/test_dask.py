@@ -814,3 +814,21 @@ def test_ctrl_c_stops_a_local_cluster_at_once_and_quietly(design_file, tmp_path)
         assert "distributed." not in err, err
         _, alive = psutil.wait_procs(workers, timeout=10)
         assert not alive
+
+
+def test_a_missing_dask_is_refused_before_the_folder_is_written(tmp_path, monkeypatch) -> None:
+    """A packaging review: without the cluster extra, --executor dask said so only after the
+    campaign had written its folder and warmed up the kernels."""
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(
+        importlib.util,
+        "find_spec",
+        lambda name, *args: None if name == "distributed" else real(name, *args),
+    )
+    with pytest.raises(
+        ExecutorError, match=r"pip install 'brakeca\[cluster\]' \(not installed: distributed\)$"
+    ):
+        run_campaign("paper", tmp_path / "out", executor="dask", quick=True, max_stops=1)
+    assert not (tmp_path / "out").exists()

@@ -91,8 +91,9 @@ def test_warm_up_announces_before_the_child_only_when_cold(tmp_path, monkeypatch
         warmup.warm_up([config])
     assert calls == [warmup.COMPILING, "child"]
     calls.clear()
-    warmup.warm_up([config])  # no one to tell
-    assert calls == ["child"]
+    monkeypatch.setattr(warmup, "to_stderr", lambda text: calls.append(f"stderr: {text}"))
+    warmup.warm_up([config])  # no one to tell: stderr (the Python API had compiled in silence)
+    assert calls == [f"stderr: {warmup.COMPILING}", "child"]
     calls.clear()
     _index(cache, "_lazy", "run_stop_lazy")
     with warmup.announcing(calls.append):
@@ -151,3 +152,27 @@ def test_the_warm_up_configuration_of_a_quick_run_is_valid() -> None:
 
     tiny = tiny_config(quick_config(load_preset("paper")))
     assert tiny.mesh.n_radial == 2 and not tiny.quick and tiny.cycle.max_stops == 1
+
+
+def test_simulate_from_python_says_it_compiles_when_cold(monkeypatch) -> None:
+    """A packaging review: simulate() in a notebook compiled for a minute in silence; where
+    its kernel is neither compiled in the process nor cached it says so (to stderr, or to a
+    campaign's callback), and not where it is."""
+    from conftest import short_cycle
+
+    from brakeca.simulation import simulate
+
+    config = load_preset().with_updates(
+        {"mesh.n_radial": 3, "mesh.n_angular": 60, "mesh.n_subdomains": 2, "cycle": short_cycle(1)}
+    )
+    said: list[str] = []
+    monkeypatch.setattr(warmup, "to_stderr", said.append)
+    simulate(config, seed=1)  # compiled in this process (or loaded): nothing to say
+    assert said == []
+    monkeypatch.setattr(warmup, "_compiled_here", lambda kernel: False)
+    monkeypatch.setattr(warmup, "cold_kernels", lambda configs: ["lazy"])
+    simulate(config, seed=1)
+    assert said == [warmup.COMPILING]
+    with warmup.announcing(lambda text: said.append(f"callback: {text}")):
+        simulate(config, seed=1)
+    assert said[-1] == f"callback: {warmup.COMPILING}"
