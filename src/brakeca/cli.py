@@ -2568,6 +2568,55 @@ def show_config(
     out.print(config.to_commented_toml(), highlight=False, markup=False, end="")
 
 
+#: The documents ``brakeca docs`` names, with what each holds.
+DOCS: dict[str, str] = {
+    "model": "the model and every decision the code takes, with reasons",
+    "designs": "writing a design, running a campaign, reading its analysis",
+    "study": "what the paper's study shows with this implementation",
+    "cycles": "block cycles, speed traces, PM10 in mg/km next to the Euro 7 limits",
+    "cluster": "a study on a Dask cluster or SLURM, retries, resume",
+    "nomenclature": "one name per quantity",
+    "performance": "measured speed and how to reproduce it",
+}
+
+
+def docs_folder() -> Path | None:
+    """Where the documents are: ``brakeca/docs`` in an installed wheel, the repository's
+    ``docs/`` in a checkout (an editable install); None where neither is."""
+    import brakeca
+
+    package = Path(brakeca.__file__).resolve().parent
+    for folder in (package / "docs", package.parent.parent / "docs"):
+        if (folder / "model.md").is_file():
+            return folder
+    return None
+
+
+@app.command("docs", short_help="the documentation: where it is, or one document's text")
+def show_docs(
+    name: Annotated[
+        str | None,
+        typer.Argument(help=f"a document to print: {', '.join(DOCS)}", show_default=False),
+    ] = None,
+) -> None:
+    """Where the documents the help texts and reports cite (docs/model.md, ...) are, in a
+    checkout or an installed package, or one document's text (Markdown), e.g.
+    'brakeca docs model | less'."""
+    folder = docs_folder()
+    if folder is None:
+        _fail("the documents are not installed here (they are the repository's docs/ folder)")
+    if name is None:
+        typer.echo(f"documents in {folder}:")
+        for key, what in DOCS.items():
+            typer.echo(f"  {key:<13} {what}")
+        typer.echo("'brakeca docs NAME' prints one (Markdown)")
+        return
+    key = name.removesuffix(".md").removeprefix("docs/")
+    if key not in DOCS:
+        _fail(f"docs: no document {name!r}; choose one of {', '.join(DOCS)}")
+    typer.echo((folder / f"{key}.md").read_text(encoding="utf-8"), nl=False)
+
+
 @app.callback(invoke_without_command=True)
 def _root(
     ctx: typer.Context,

@@ -22,6 +22,7 @@ COMMANDS = [
     ["paper"],
     ["config"],
     ["design"],
+    ["docs"],
     ["cycle", "inspect"],
 ]
 
@@ -72,6 +73,27 @@ def test_every_command_is_registered():
     top = typer.main.get_command(app).commands
     assert sorted(top) == sorted(
         ["simulate", "plot", "surface", "run", "analyze", "optimize", "power", "paper",
-         "design", "config", "cycle"]
+         "design", "config", "docs", "cycle"]
     )  # fmt: skip
     assert top["optimize"].callback.__name__ == "optimize"
+
+
+def test_docs_says_where_the_documents_are_and_prints_one() -> None:
+    """A packaging review: the help texts and reports cite docs/model.md and the others,
+    which an installed package had no way to reach; the wheel carries them and 'brakeca
+    docs' finds them (here, the checkout's)."""
+    from pathlib import Path
+
+    from brakeca.cli import DOCS
+
+    res = CliRunner().invoke(app, ["docs"])
+    assert res.exit_code == 0, res.output
+    folder = Path(res.output.splitlines()[0].removeprefix("documents in ").rstrip(":"))
+    assert set(DOCS) <= {p.stem for p in folder.glob("*.md")}
+    for key in DOCS:
+        assert f"  {key} " in res.output
+    res = CliRunner().invoke(app, ["docs", "docs/model.md"])
+    assert res.exit_code == 0 and res.output == (folder / "model.md").read_text(encoding="utf-8")
+    res = CliRunner().invoke(app, ["docs", "modle"])
+    assert res.exit_code == 2
+    assert "no document 'modle'; choose one of model, designs," in res.output
