@@ -252,7 +252,12 @@ def _exit_with_parent(
     campaign resumes it from there. The thread runs only between the run's compiled calls
     (a compiled stop holds the interpreter's lock), so an orphan ends when its stop does.
     ``cleanup``, if given, is called first (the warm-up child removes its parent's temporary
-    folder)."""
+    folder).
+
+    ``parent`` is the pid the parent gave (not this process's ``os.getppid()`` at start):
+    a worker that finished starting after its campaign was killed had taken init's pid for
+    its parent's and watched it for ever, blocked writing its result into a pipe no one
+    read (a robustness review); it now sees a parent other than the one given and ends."""
 
     def watch() -> None:
         while os.getppid() == parent:
@@ -266,9 +271,10 @@ def _exit_with_parent(
     threading.Thread(target=watch, name="brakeca-parent-watch", daemon=True).start()
 
 
-def _init_worker() -> None:
+def _init_worker(parent: int) -> None:
     """Process-pool initializer: one numba / OpenMP / BLAS thread per worker, Ctrl-C left to
-    the campaign's process, and an end with it (:func:`_exit_with_parent`).
+    the campaign's process, and an end with it (``parent``, its pid:
+    :func:`_exit_with_parent`).
 
     Ctrl-C in a terminal reaches every process of its group: a worker waiting for its next
     run printed a KeyboardInterrupt traceback, though the campaign's process stops its
@@ -283,7 +289,7 @@ def _init_worker() -> None:
             numba.set_num_threads(1)
         except Exception:  # a numba without a threading layer: nothing to limit
             pass
-    _exit_with_parent(os.getppid())
+    _exit_with_parent(parent)
 
 
 @contextmanager
@@ -391,6 +397,7 @@ def _local_pool(workers: int) -> cf.ProcessPoolExecutor:
         max_workers=workers,
         mp_context=multiprocessing.get_context("spawn"),
         initializer=_init_worker,
+        initargs=(os.getpid(),),
     )
 
 

@@ -238,7 +238,9 @@ def warm_up(
     with tempfile.TemporaryDirectory(prefix="brakeca-warm-up-") as tmp:
         path = Path(tmp) / "configs.pickle"
         path.write_bytes(pickle.dumps(todo))
-        done = subprocess.run([sys.executable, "-m", "brakeca._warmup", str(path)], check=False)
+        done = subprocess.run(
+            [sys.executable, "-m", "brakeca._warmup", str(path), str(os.getpid())], check=False
+        )
     if done.returncode != 0:
         return None
     return time.perf_counter() - t0
@@ -260,7 +262,9 @@ def _main(argv: list[str]) -> int:
         if folder.name.startswith("brakeca-warm-up-"):  # warm_up's TemporaryDirectory
             shutil.rmtree(folder, ignore_errors=True)
 
-    _exit_with_parent(os.getppid(), cleanup=remove_folder)
+    # the parent's pid as it gave it: one killed before this child started is not init
+    parent = int(argv[2]) if len(argv) > 2 else os.getppid()
+    _exit_with_parent(parent, cleanup=remove_folder)
     return 1 if _child(pickle.loads(Path(argv[1]).read_bytes())) else 0
 
 

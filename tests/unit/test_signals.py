@@ -137,6 +137,23 @@ def test_a_child_watching_its_parent_cleans_up_and_ends(tmp_path) -> None:
     _kill_parent_then_wait([sys.executable, "-c", parent_code], pid_file, marker.exists)
 
 
+def test_a_worker_whose_campaign_died_before_it_started_ends() -> None:
+    """A robustness review: a worker that finished starting after its campaign was killed
+    (kill -9) took init's pid for its parent's and ran on for ever; the pool gives it the
+    campaign's pid, and a worker that finds another parent ends at once."""
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()
+    code = (
+        "import time\n"
+        "from brakeca._executors import _init_worker\n"
+        f"_init_worker({gone.pid})\n"
+        "time.sleep(60)\n"
+    )
+    started = time.monotonic()
+    done = subprocess.run([sys.executable, "-c", code], timeout=50, check=False)
+    assert done.returncode == 1 and time.monotonic() - started < 30
+
+
 def test_the_interrupt_message_is_worked_out_when_the_interrupt_comes(tmp_path) -> None:
     """brakeca simulate's message names its checkpoint as resuming only once one was saved
     (it had named one that did not exist yet; a helper's review of the command line)."""
