@@ -411,6 +411,13 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
         raise ValueError(f"{out / 'campaign.nc'}: not a readable netCDF file ({exc})") from None
     if dataset.attrs.get("format") != CAMPAIGN_FORMAT:
         raise ValueError(f"{out / 'campaign.nc'}: not a brakeca campaign file")
+    problem = _design_problem(summary, dataset, design)
+    if problem:  # before the summary's check, which would blame summary.csv
+        raise ValueError(
+            f"{out / 'design.toml'}: {problem}: it was edited after the runs; put it back as "
+            f"the runs have it, or run the edited design into a folder of its own "
+            f"('brakeca run FILE -o NEW')"
+        )
     problem = _summary_problem(summary, dataset, design)
     if problem:
         raise ValueError(
@@ -446,6 +453,42 @@ def _with_mu_sd(summary: pd.DataFrame, dataset: xr.Dataset) -> pd.DataFrame:
     out = summary.copy()
     out.insert(list(out.columns).index("MU") + 1, "MU_SD", values)
     return out
+
+
+def _design_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design) -> str:
+    """Why the folder's ``design.toml`` is not the design its runs were made of (a factor
+    that neither summary.csv nor campaign.nc has, a level of the runs that is none of a
+    factor's levels nor its centre); empty when it is. An edited level had reached the
+    analysis as a traceback, an added factor been blamed on summary.csv (a robustness
+    review)."""
+    from brakeca.design import _match_level
+
+    centre = design.center_levels() if design.center_points else {}
+    for factor in design.factors:
+        name = factor.name
+        if name in dataset.coords:  # the runs' levels as campaign.nc has them (a summary
+            # edited alone is the summary's own problem)
+            values = pd.Series(np.asarray(dataset.coords[name].values))
+        elif name in summary.columns:
+            values = summary[name]
+        else:
+            return f"it has factor {name}, which the runs (summary.csv, campaign.nc) have not"
+        for value in pd.unique(values.dropna()):
+            value = value.item() if isinstance(value, np.generic) else value
+            if isinstance(value, str) and factor.choices is None:
+                try:
+                    value = float(value)
+                except ValueError:
+                    continue  # not a number: the summary's own problem
+            if _match_level(factor, value) is not None:
+                continue
+            middle = centre.get(name)
+            if middle is not None and not isinstance(value, str):
+                if math.isclose(float(value), float(middle), rel_tol=1e-9, abs_tol=0.0):
+                    continue
+            levels = ", ".join(f"{v!r}" for v in factor.levels)
+            return f"factor {name}'s levels are {levels}, and none is the runs' {value!r}"
+    return ""
 
 
 def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design) -> str:

@@ -38,6 +38,7 @@ from __future__ import annotations
 import collections
 import concurrent.futures as cf
 import csv
+import math
 import sys
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
@@ -738,7 +739,62 @@ def _runs_left_out(
         else ""
     )
     shown = f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one{seeds}"
+    if not renumbered:  # (runs renumbered are said so by the caller)
+        shown += _remade_note(out, old, points, missing)
     return shown, renumbered
+
+
+def _same_level(a: Any, b: Any) -> bool:
+    """Whether two levels are the same: as text, or as numbers to a relative 1e-9 (a CSV's
+    round trip)."""
+    if str(a) == str(b):
+        return True
+    try:
+        return math.isclose(float(a), float(b), rel_tol=1e-9, abs_tol=0.0)
+    except (TypeError, ValueError):
+        return False
+
+
+def _remade_note(out: Path, old: Any, points: Sequence[RunPoint], missing: set[str]) -> str:
+    """Where a test and replicate of the study in ``out`` (its summary ``old``) left out by
+    ``points`` is one of them, of the same factors, levels and seed, with another
+    configuration (an edited base_config.toml, another --set): the fields that differ, from
+    the run file's own configuration, e.g. ``"; this design's test 1 is not the run there
+    (vehicle.wheel_load_mass: 690.0 -> 700.0)"``; empty otherwise (a robustness review: an
+    edited base_config.toml had been called another design, naming no field)."""
+    from brakeca._io import config_changes
+    from brakeca.config import run_file_settings
+
+    ours = {(p.test, p.replicate): p for p in points}
+    try:  # the factors of the study there: another design's test is not "the run there"
+        names = set(load_design(out / "design.toml").factor_names)
+    except Exception:
+        return ""
+    for row in old.to_dict("records"):
+        run, status = str(row.get("run_id", "")), row.get("status", "")
+        key = (int(row.get("test", 0)), int(row.get("replicate", 0)))
+        if run not in missing or status != "ok" or key not in ours:
+            continue
+        point = ours[key]
+        same = (
+            set(point.levels) == names
+            and int(row.get("seed", -1)) == point.seed
+            and all(_same_level(row.get(n), v) for n, v in point.levels.items())
+        )
+        if not same:
+            continue
+        try:
+            made = SimulationConfig.from_toml(run_file_settings(out / "runs" / f"{run}.nc").config)
+        except Exception:  # no run file, or one this version cannot read: nothing to name
+            continue
+        changed = config_changes(made.to_dict(), point.config.to_dict())
+        if not changed:
+            continue
+        shown = "; ".join(changed[:3]) + (
+            f"; and {len(changed) - 3} more" if len(changed) > 3 else ""
+        )
+        return f"; this design's test {key[0]} is not the run there ({shown})"
+    return ""
 
 
 def _unfinished_left_out(out: Path, points: Sequence[RunPoint]) -> str:

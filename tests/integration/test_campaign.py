@@ -1205,3 +1205,31 @@ def test_a_closed_terminal_stops_a_local_campaign_without_tracebacks(design_file
         out, err = proc.communicate(timeout=60)
         assert out.strip() == "interrupted SIGHUP", (out, err)
         assert "Traceback" not in err and "resource_tracker" not in err, err
+
+
+def test_a_folders_edited_design_or_base_is_named_as_such(serial, tmp_path):
+    """A robustness review: a level edited in a folder's design.toml reached the analysis as
+    a traceback, a factor added to it was blamed on summary.csv, and an edited
+    base_config.toml was refused as "another design", naming no field."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    design_text = (out / "design.toml").read_text(encoding="utf-8")
+    assert "    20.0,\n" in design_text
+    (out / "design.toml").write_text(design_text.replace("    20.0,\n", "    25.0,\n"))
+    edited = r"design.toml: factor A's levels are 10.0, 25.0, and none is the runs' 20.0: it "
+    with pytest.raises(ValueError, match=edited + "was edited after the runs; put it back"):
+        load_campaign(out)
+    added = '\n[[factors]]\nname = "WR"\nlevels = [1e-7, 2e-7]\n'
+    (out / "design.toml").write_text(design_text + added)
+    with pytest.raises(ValueError, match=r"design.toml: it has factor WR, which the runs "):
+        load_campaign(out)
+    (out / "design.toml").write_text(design_text)
+    assert load_campaign(out).ok  # as it was
+    base = (out / "base_config.toml").read_text(encoding="utf-8")
+    assert "wheel_load_mass = 690.0\n" in base
+    (out / "base_config.toml").write_text(
+        base.replace("wheel_load_mass = 690.0", "wheel_load_mass = 700.0")
+    )
+    with pytest.raises(ConfigError, match=r"this design's test 1 is not the run there "
+                       r"\(vehicle.wheel_load_mass: 690.0 -> 700.0\)\)"):  # fmt: skip
+        run_campaign(load_design(out / "design.toml"), out, executor="serial", console=quiet())
