@@ -407,8 +407,11 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
     summary = read_summary(out / "summary.csv")
     try:
         dataset = xr.load_dataset(out / "campaign.nc", engine="h5netcdf")
-    except Exception as exc:
-        raise ValueError(f"{out / 'campaign.nc'}: not a readable netCDF file ({exc})") from None
+    except Exception as exc:  # with the fix, as a missing one gets (a robustness review)
+        raise ValueError(
+            f"{out / 'campaign.nc'}: not a readable netCDF file ({exc}); 'brakeca run "
+            f"{out / 'design.toml'} -o {out}' writes it again from the run files"
+        ) from None
     if dataset.attrs.get("format") != CAMPAIGN_FORMAT:
         raise ValueError(f"{out / 'campaign.nc'}: not a brakeca campaign file")
     problem = _design_problem(summary, dataset, design)

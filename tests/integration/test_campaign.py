@@ -1233,3 +1233,10 @@ def test_a_folders_edited_design_or_base_is_named_as_such(serial, tmp_path):
     with pytest.raises(ConfigError, match=r"this design's test 1 is not the run there "
                        r"\(vehicle.wheel_load_mass: 690.0 -> 700.0\)\)"):  # fmt: skip
         run_campaign(load_design(out / "design.toml"), out, executor="serial", console=quiet())
+    # a damaged campaign.nc gets the fix a missing one gets
+    (out / "base_config.toml").write_text(base)
+    data = (out / "campaign.nc").read_bytes()
+    (out / "campaign.nc").write_bytes(data[:2000])
+    with pytest.raises(ValueError, match=r"not a readable netCDF file .*; 'brakeca run .*design"
+                       r".toml -o .*' writes it again from the run files$"):  # fmt: skip
+        load_campaign(out)
