@@ -85,6 +85,10 @@ def test_rule6_primary_out_of_reach():
     assert not rule6_primary_out_of_reach(1, 30e-6, 40e-6, 20e-6)
     assert not rule6_primary_out_of_reach(1, 10e-6, 40e-6, np.inf)  # off by default
     assert not rule6_primary_out_of_reach(2, 10e-6, 40e-6, 20e-6)
+    # at the bound: a gap of exactly max_gap survives ("exceeds"; binary fractions, so that
+    # the gap is exact; a tests review found the bound unpinned)
+    assert not rule6_primary_out_of_reach(1, 0.25, 0.75, 0.5)
+    assert rule6_primary_out_of_reach(1, 0.25, 0.75, np.nextafter(0.5, 0.0))
 
 
 def test_rule7_fibre_worn():
@@ -92,3 +96,7 @@ def test_rule7_fibre_worn():
     assert not rule7_fibre_worn(1, 101e-6, 100e-6)
     assert not rule7_fibre_worn(1, -1.0, -np.inf)  # columns never wear through
     assert not rule7_fibre_worn(2, 99e-6, 100e-6)
+    # at the bound: worn down to the fibre's underside exactly is worn through ("at or
+    # below")
+    assert rule7_fibre_worn(1, 100e-6, 100e-6)
+    assert not rule7_fibre_worn(1, np.nextafter(100e-6, 1.0), 100e-6)

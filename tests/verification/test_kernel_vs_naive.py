@@ -98,6 +98,11 @@ CASES = {
         "automaton.rule6_max_gap": 20e-6,
         "wear.specific_wear_rate": 1e-13,
     },
+    # Archard's clip: a step's wear WP p s above the interference h - z (WP K s > 1, here
+    # about 1.7) wears a cell down to the disc, no further; no other case reaches it (a
+    # tests review: dropping the clip passed every kernel test). The exact kernel's alone:
+    # the lazy kernel needs WP K s < 1/2
+    "clip": {"wear.specific_wear_rate": 1e-9, "contact.elastic_modulus": 2e10},
 }
 
 
@@ -186,7 +191,13 @@ def test_kernel_matches_naive(tiny_config, case, kernel):
                 (K.R_PRIMARY_AREA, "primary_area"),
                 (K.R_SECONDARY_AREA, "secondary_area"),
             ):
-                np.testing.assert_allclose(rec[n, col], out[key], rtol=1e-10, atol=1e-22)
+                # the kernel keeps these sums of cell areas by adding and taking away the
+                # cells that change, so an area that is 0 (in the clip case, every cell worn
+                # down to the disc) is left as round-off of the band's area: 3.7e-19 m^2 of
+                # its 4.2e-6 m^2 there
+                np.testing.assert_allclose(
+                    rec[n, col], out[key], rtol=1e-10, atol=1e-12 * grid.area
+                )
             np.testing.assert_allclose(
                 rec[n, K.R_GENERATED], out["generated"], rtol=1e-8, atol=1e-30
             )

@@ -3,8 +3,8 @@
 The kernel keeps the plateau cells as packed records sorted by height, removes and inserts
 them while it wears and sorts, and keeps an upper bound of the creation candidates' heights
 per stream bin to skip bins that cannot fill a gap. These invariants are checked after every
-stop of runs in which every rule fires (high wear, random removal between stops, the layer
-fibre model with rule 6).
+stop of runs in which, among them, every rule fires (high wear, random removal between stops,
+the layer fibre model with rule 6, the fibre field).
 """
 
 from __future__ import annotations
@@ -85,4 +85,10 @@ def test_records_stay_consistent(updates):
     # the run exercised creation and destruction (and, with the field, exposure in the steps)
     assert fired[1:4].sum() > 0 and fired[4] > 0 and fired[5] > 0
     if config.pad.fibre_model == "field":
-        assert fired[0] > 0 and fired[7] > 0
+        assert fired[0] > 0
+    # rules 6 and 7 where they can fire (the module's "every rule": a tests review found them
+    # unchecked): rule 6 where it is on, rule 7 where fibres have an underside
+    if config.automaton.rule6_max_gap is not None:
+        assert fired[6] > 0
+    if config.pad.fibre_model != "columns":
+        assert fired[7] > 0
