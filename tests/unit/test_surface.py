@@ -76,3 +76,50 @@ def test_centres_beyond_the_edges_keep_the_fibre_share_at_the_edges() -> None:
         if s.field is not None:
             h.update(s.field.top.tobytes() + s.field.bottom.tobytes())
         assert (h.hexdigest()[:16], s.n_fibres) == (digest, 177)
+
+
+@pytest.mark.parametrize("seed", [3, 4, 5])
+def test_one_fibre_lies_where_its_draws_put_it(seed) -> None:
+    """One fibre rasterised by brute force over the whole band, from its own draws (the
+    order generate_surface's Notes give), against the surface: the cells whose centres lie
+    in the fibre's footprint (within half its length along its axis, within half its
+    diameter across it) are primary, each as high as the axis plus the half-chord there
+    (spec section 9), and its floor the axis less it; every other cell keeps its resin
+    height. A tests review found the geometry checked only against a digest of an earlier
+    surface: a fibre standing 0.8 chord high, or turned half as far, had passed every check
+    but the digest."""
+    config = load_preset("paper").with_updates(
+        {"mesh.n_radial": 21, "mesh.n_angular": 200, "pad.fibre_model": "layer"}
+    )
+    pad = config.pad.model_copy(update={"fibre_area_fraction": 1e-6})  # one fibre covers it
+    grid = make_grid(config)
+    surface = generate_surface(pad, grid, np.random.default_rng(seed))
+    assert surface.n_fibres == 1
+
+    rng = np.random.default_rng(seed)
+    resin = rng.uniform(0.0, pad.resin_roughness, size=grid.shape)
+    length = rng.uniform(pad.fibre_length_min, pad.fibre_length_max)
+    diameter = rng.uniform(pad.fibre_diameter_min, pad.fibre_diameter_max)
+    phi = rng.uniform(0.0, np.pi)
+    dr = grid.radius[1] - grid.radius[0]
+    dth = grid.angle[1] - grid.angle[0]
+    r_lo, r_hi = grid.radius[0] - dr / 2, grid.radius[-1] + dr / 2
+    rc = np.sqrt(rng.uniform(r_lo**2, r_hi**2))  # uniform in area over the band
+    tc = rng.uniform(grid.angle[0] - dth / 2, grid.angle[-1] + dth / 2)
+    expected_top = np.full(grid.shape, np.nan)
+    for j, r in enumerate(grid.radius):
+        for i, t in enumerate(grid.angle):
+            x, y = r * np.cos(t) - rc * np.cos(tc), r * np.sin(t) - rc * np.sin(tc)
+            along = x * np.cos(phi) + y * np.sin(phi)
+            across = abs(y * np.cos(phi) - x * np.sin(phi))
+            if abs(along) <= length / 2 and across < diameter / 2:
+                expected_top[j, i] = np.sqrt((diameter / 2) ** 2 - across**2)
+    fibre = ~np.isnan(expected_top)
+    assert fibre.sum() >= 2  # (a fibre of several cells, so that the test says something)
+    np.testing.assert_array_equal(surface.status == PRIMARY, fibre)
+    axis = pad.resin_roughness  # the fibres' axes lie at the top of the resin's roughness
+    np.testing.assert_allclose(surface.height[fibre], axis + expected_top[fibre], rtol=1e-12)
+    np.testing.assert_allclose(
+        surface.fibre_floor[fibre], axis - expected_top[fibre], rtol=1e-12, atol=1e-18
+    )
+    np.testing.assert_array_equal(surface.height[~fibre], resin[~fibre])
