@@ -2081,11 +2081,15 @@ def _study_notes(
             f"{'has' if len(lost) == 1 else 'have'} no run file (of "
             f"{tests_named(int(t) for t in lost)})"
         )
-        notes += (
-            f"\n\nIn {runs_dir}, {which}: the tables and the per-stop figures come from "
+        text = (
+            f"In {runs_dir}, {which}: the tables and the per-stop figures come from "
             "summary.csv and campaign.nc, but those runs' plateau maps (and PM10 on a speed "
             "trace) are not shown."
         )
+        notes += "\n\n" + text
+        if note is not None:  # on the terminal too, as an unreadable one (a robustness
+            # review: only the report had said so)
+            note(text)
     silent = ok.loc[pd.to_numeric(ok["V"], errors="coerce") <= 0, "test"] if "V" in ok else []
     if len(silent):  # (left out of the log scale's analysis without a word: an API review)
         notes += (

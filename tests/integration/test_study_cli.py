@@ -797,6 +797,10 @@ def test_a_folder_sent_without_its_run_files_is_analysed(campaign, tmp_path):
     assert res.exit_code == 0, res.output
     html = " ".join((sent / "report.html").read_text(encoding="utf-8").split())
     assert "3 of the 4 finished runs have no run file (of tests 1, 2, 4)" in html
+    # and on the terminal (a robustness review: the report alone had said so)
+    assert "3 of the 4 finished runs have no run file (of tests 1, 2, 4)" in " ".join(
+        res.output.split()
+    )
     assert [p.name for p in (sent / "figures").glob("final_map_*.png")] == [
         "final_map_test03_r0.png"
     ]
