@@ -464,6 +464,21 @@ def _run_locked(
             "design (an earlier design or configuration in the same folder); they are left "
             "as they are and not analysed[/]",
         )
+    begun = sorted(
+        f.name
+        for f in runs.glob(".*.checkpoint.npz")
+        if f.name.removeprefix(".").removesuffix(".checkpoint.npz") not in wanted
+    )
+    if begun:  # (a robustness review: a design.toml edited in a stopped campaign's folder
+        # left the run it had begun behind without a word)
+        say(
+            console,
+            f"[yellow]note:[/] {len(begun)} checkpoint(s) in {escape(str(runs))} are of runs "
+            "begun by an earlier design or configuration in this folder, none of this one; "
+            "they are left as they are (that design, run again here, resumes them; delete "
+            "them to free the space)",
+            highlight=False,
+        )
 
     computed: list[str] = []
     failed: list[str] = []

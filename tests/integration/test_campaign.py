@@ -1240,3 +1240,17 @@ def test_a_folders_edited_design_or_base_is_named_as_such(serial, tmp_path):
     with pytest.raises(ValueError, match=r"not a readable netCDF file .*; 'brakeca run .*design"
                        r".toml -o .*' writes it again from the run files$"):  # fmt: skip
         load_campaign(out)
+
+
+def test_checkpoints_of_no_run_of_the_design_are_named(serial, tmp_path):
+    """A robustness review: a design.toml edited in a stopped campaign's folder left the run
+    the first design had begun behind, its checkpoint kept for good without a word."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    (out / "runs" / ".0123456789abcdef.checkpoint.npz").write_bytes(b"not read")
+    result, text = rerun_reusing(out, progress=False)
+    assert result.ok and len(result.reused) == 4
+    said = " ".join(text.split())
+    assert "note: 1 checkpoint(s) in " in said
+    assert "are of runs begun by an earlier design or configuration in this folder" in said
+    assert (out / "runs" / ".0123456789abcdef.checkpoint.npz").read_bytes() == b"not read"
