@@ -725,10 +725,8 @@ def _execute(
     without one. ``maps_at``: the stops after which the run keeps its maps
     (:func:`brakeca.simulation.simulate`); passed to a ``simulate_fn`` only when not empty."""
     if simulate_fn is None:
+        from brakeca._warmup import announcing
         from brakeca.simulation import CheckpointError, simulate
-
-        if checkpoint is None or not Path(checkpoint).parent.is_dir():
-            return simulate(config, seed=seed, maps_at=maps_at)
 
         def run() -> RunResult:
             return simulate(
@@ -740,11 +738,16 @@ def _execute(
                 maps_at=maps_at,
             )
 
-        try:
-            return run()
-        except CheckpointError:
-            Path(checkpoint).unlink(missing_ok=True)
-            return run()
+        # a worker says nothing of compiling: the campaign's process has (its own line had
+        # broken into the campaign's progress display: a diff review)
+        with announcing(lambda text: None):
+            if checkpoint is None or not Path(checkpoint).parent.is_dir():
+                return simulate(config, seed=seed, maps_at=maps_at)
+            try:
+                return run()
+            except CheckpointError:
+                Path(checkpoint).unlink(missing_ok=True)
+                return run()
     if maps_at:
         return simulate_fn(config, seed=seed, maps_at=maps_at)
     return simulate_fn(config, seed=seed)

@@ -678,6 +678,16 @@ def _refuse_to_replace(
         shown, renumbered = _runs_left_out(out, points, root_seed)
         if not shown:
             return
+        remade = "" if renumbered else _remade_note(out, points)
+        if remade:  # the design's own runs, of other values: not "another design" (a diff
+            # review: --replace, the advice for one, would have set the study aside)
+            raise ConfigError(
+                f"{out} holds this design's study with other values than those given now "
+                f"({remade}): its base_config.toml was edited, or the options differ (--set, "
+                "--stops, --quick). Put them back as the runs have them to resume or extend "
+                "that study, or run these values into a folder of their own (--replace here "
+                "would replace its summary.csv and report.html; its run files are kept)"
+            )
         what, first = "the study of another design", "design"
         if not (out / "summary.csv").is_file():
             what = "another design's runs"
@@ -754,8 +764,6 @@ def _runs_left_out(
         else ""
     )
     shown = f"design {name!r}, {len(ids)} runs, {len(missing)} of them not in this one{seeds}"
-    if not renumbered:  # (runs renumbered are said so by the caller)
-        shown += _remade_note(out, old, points, missing)
     return shown, renumbered
 
 
@@ -770,16 +778,21 @@ def _same_level(a: Any, b: Any) -> bool:
         return False
 
 
-def _remade_note(out: Path, old: Any, points: Sequence[RunPoint], missing: set[str]) -> str:
-    """Where a test and replicate of the study in ``out`` (its summary ``old``) left out by
-    ``points`` is one of them, of the same factors, levels and seed, with another
-    configuration (an edited base_config.toml, another --set): the fields that differ, from
-    the run file's own configuration, e.g. ``"; this design's test 1 is not the run there
-    (vehicle.wheel_load_mass: 690.0 -> 700.0)"``; empty otherwise (a robustness review: an
-    edited base_config.toml had been called another design, naming no field)."""
+def _remade_note(out: Path, points: Sequence[RunPoint]) -> str:
+    """Where a test and replicate of the study in ``out`` left out by ``points`` is one of
+    them, of the same factors, levels and seed, with another configuration (an edited
+    base_config.toml, another --set): the fields that differ, from the run file's own
+    configuration, e.g. ``"test 1: vehicle.wheel_load_mass: 690.0 -> 700.0"``; empty
+    otherwise (a robustness review: an edited base_config.toml had been called another
+    design, naming no field)."""
     from brakeca._io import config_changes
     from brakeca.config import run_file_settings
 
+    try:
+        old = read_summary(out / "summary.csv")
+    except Exception:  # no summary (or a damaged one): nothing to compare
+        return ""
+    missing = set(old["run_id"].astype(str)) - {run_id(p) for p in points}
     ours = {(p.test, p.replicate): p for p in points}
     try:  # the factors of the study there: another design's test is not "the run there"
         names = set(load_design(out / "design.toml").factor_names)
@@ -808,7 +821,7 @@ def _remade_note(out: Path, old: Any, points: Sequence[RunPoint], missing: set[s
         shown = "; ".join(changed[:3]) + (
             f"; and {len(changed) - 3} more" if len(changed) > 3 else ""
         )
-        return f"; this design's test {key[0]} is not the run there ({shown})"
+        return f"test {key[0]}: {shown}"
     return ""
 
 

@@ -667,8 +667,14 @@ def simulate(
                 highlight=False,
             )
     failure: tuple[str, int] | None = None
+    from brakeca._warmup import announcing
+
+    # a run that compiles in this process after all (the warm-up failed) says so as the
+    # warm-up does, and once (it had said it again, unstyled: a diff review)
+    say = _announce_compiling if warmed is None else (lambda text: None)
     with (
         _on_interrupt(lambda: f"nothing written; {resume()}"),
+        announcing(say),
         Progress(*columns, console=console, transient=False) as bar,
     ):
         task = bar.add_task("simulate", total=n_stops)
@@ -2577,6 +2583,7 @@ DOCS: dict[str, str] = {
     "cluster": "a study on a Dask cluster or SLURM, retries, resume",
     "nomenclature": "one name per quantity",
     "performance": "measured speed and how to reproduce it",
+    "performance-history": "every session's measurements, with the ideas that did not pay",
 }
 
 

@@ -119,15 +119,23 @@ class _Checked(BaseModel):
         ``model_copy`` checks nothing, so ``mesh.model_copy(update={"n_radial": -5})`` had
         failed deep in a run with numpy's words: an API review); a bad value raises
         :class:`ConfigError` naming the field and its allowed range.
-        :meth:`SimulationConfig.with_updates` takes dotted keys and friendly aliases."""
+        :meth:`SimulationConfig.with_updates` takes dotted keys and friendly aliases.
+
+        As pydantic's, the copy counts as given (``model_fields_set``) the fields this model
+        had given and those of ``update``, and keeps the sections it does not change as they
+        are (:func:`brakeca.emissions.pm10_from_run` takes what was not given from the run:
+        a copy that counted every field as given had changed its PM10, a diff review)."""
         if not update:
             return super().model_copy(deep=deep)
+        fields = {name: getattr(self, name) for name in type(self).model_fields}
         try:
-            return type(self).model_validate({**self.model_dump(), **dict(update)})
+            copy = type(self).model_validate({**fields, **dict(update)})
         except ValidationError as exc:
             raise ConfigError(
                 format_validation_error(exc, f"{type(self).__name__}.model_copy", type(self))
             ) from None
+        object.__setattr__(copy, "__pydantic_fields_set__", self.model_fields_set | set(update))
+        return copy
 
 
 class _Frozen(_Checked):

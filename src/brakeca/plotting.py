@@ -2580,7 +2580,14 @@ def _map_parts(status: Any, radius: Any, angle: Any) -> tuple[Any, Any, Any]:
                 f"{name}: an array of the cells' {unit}, got {value!r} (a title is title=)"
             )
     coords = getattr(status, "coords", None)
-    if coords is not None and {"radius", "angle"} <= set(getattr(status, "dims", ())):
+    dims = set(getattr(status, "dims", ()))
+    if coords is not None and {"radius", "angle"} <= dims:
+        if dims != {"radius", "angle"}:
+            others = ", ".join(sorted(str(d) for d in dims - {"radius", "angle"}))
+            raise TypeError(
+                f"status: one map on radius and angle, got one over {others} too; pick one "
+                f"(e.g. .sel({others.split(', ')[0]}=...) or .isel(...))"
+            )
         status = status.transpose("radius", "angle")
         radius = coords["radius"].values if radius is None else radius
         angle = coords["angle"].values if angle is None else angle

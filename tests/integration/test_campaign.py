@@ -1230,8 +1230,9 @@ def test_a_folders_edited_design_or_base_is_named_as_such(serial, tmp_path):
     (out / "base_config.toml").write_text(
         base.replace("wheel_load_mass = 690.0", "wheel_load_mass = 700.0")
     )
-    with pytest.raises(ConfigError, match=r"this design's test 1 is not the run there "
-                       r"\(vehicle.wheel_load_mass: 690.0 -> 700.0\)\)"):  # fmt: skip
+    with pytest.raises(ConfigError, match=r"holds this design's study with other values than "
+                       r"those given now \(test 1: vehicle.wheel_load_mass: 690.0 -> 700.0\): "
+                       r"its base_config.toml was edited"):  # fmt: skip
         run_campaign(load_design(out / "design.toml"), out, executor="serial", console=quiet())
     # a damaged campaign.nc gets the fix a missing one gets
     (out / "base_config.toml").write_text(base)

@@ -792,6 +792,9 @@ def test_a_runs_per_stop_table_and_its_equality(small) -> None:
     assert (drawn.axes[0].images[0].get_array() == given.axes[0].images[0].get_array()).all()
     with pytest.raises(TypeError, match=r"^radius and angle: give the cells' radii \[m\]"):
         plot_surface_map(final.values)
+    with pytest.raises(TypeError, match=r"^status: one map on radius and angle, got one over "
+                       r"map_stop too; pick one \(e.g. .sel\(map_stop=...\)"):  # fmt: skip
+        plot_surface_map(final.expand_dims(map_stop=[1, 2]))
     with pytest.raises(
         TypeError,
         match=r"^radius: an array of the cells' radii \[m\], got 'final' \(a title is title=\)$",

@@ -167,7 +167,11 @@ def test_simulate_from_python_says_it_compiles_when_cold(monkeypatch) -> None:
     )
     said: list[str] = []
     monkeypatch.setattr(warmup, "to_stderr", said.append)
-    simulate(config, seed=1)  # compiled in this process (or loaded): nothing to say
+    with monkeypatch.context() as m:  # a warm cache (this test alone may meet a cold one)
+        m.setattr(warmup, "cold_kernels", lambda configs: [])
+        simulate(config, seed=1)  # compiled in this process or loaded: nothing to say
+    assert said == []
+    simulate(config, seed=1)  # compiled in this process now, whatever the cache held
     assert said == []
     monkeypatch.setattr(warmup, "_compiled_here", lambda kernel: False)
     monkeypatch.setattr(warmup, "cold_kernels", lambda configs: ["lazy"])

@@ -1035,6 +1035,15 @@ def test_model_copy_validates_what_it_changes() -> None:
     narrow = paper.model_copy(update={"mesh": paper.mesh.model_copy(update={"n_radial": 21})})
     assert narrow == paper.with_updates({"mesh.n_radial": 21})
     assert paper.model_copy() == paper and paper.model_copy(deep=True) == paper
+    # the fields counted as given are pydantic's (those given before, and the update's):
+    # pm10_from_run takes from the run what was not given (a diff review: a copy that counted
+    # every field as given had halved a PM10 figure)
+    from brakeca.emissions import EmissionParameters
+
+    assert EmissionParameters().model_copy(update={"debris_density": 2600.0}).model_fields_set == {
+        "debris_density"
+    }
+    assert narrow.wear is paper.wear  # the sections not changed are kept as they are
     design = load_design("paper")
     with pytest.raises(ConfigError, match=r"^Design.model_copy: replicates: must lie in \[1, "):
         design.model_copy(update={"replicates": 0})

@@ -150,8 +150,13 @@ def test_a_worker_whose_campaign_died_before_it_started_ends() -> None:
         "time.sleep(60)\n"
     )
     started = time.monotonic()
-    done = subprocess.run([sys.executable, "-c", code], timeout=50, check=False)
-    assert done.returncode == 1 and time.monotonic() - started < 30
+    done = subprocess.run(
+        [sys.executable, "-c", code], timeout=50, check=False, capture_output=True, text=True
+    )
+    # ended by its watcher (exit 1, nothing said), not by an error (a diff review: the old
+    # _init_worker, which takes no pid, had exited 1 too, with a TypeError)
+    assert done.returncode == 1 and done.stderr == "", done.stderr
+    assert time.monotonic() - started < 30
 
 
 def test_the_interrupt_message_is_worked_out_when_the_interrupt_comes(tmp_path) -> None:
