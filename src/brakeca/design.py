@@ -2336,8 +2336,9 @@ class Design(_Frozen):
             folded = ", ".join(self.foldover)
             raise ValueError(
                 f"foldover: folding on {folded} gives the fraction's own tests back: every word "
-                "of its defining relation holds an even number of these factors (a fraction of "
-                "resolution IV folded on all its factors is itself); fold on fewer factors"
+                "of its defining relation holds an even number of these factors (a fraction "
+                "whose words all have an even length, folded on all its factors, is itself); "
+                "fold on fewer factors"
             )
 
     def _folded_words(self) -> list[_Word]:

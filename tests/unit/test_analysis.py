@@ -890,6 +890,9 @@ def test_alias_structure_of_a_regular_fraction_and_of_a_plackett_burman_design()
     structure = alias_structure(pb, _levels01(names))
     assert list(structure["term"]) == list(names) and (structure["aliases"] == "").all()
     assert len(structure.attrs["not_estimable"]) == 55
+    # each main effect is 1/3 correlated with the interactions of the others, which it
+    # cannot estimate (the saturated design had read 0: a design review)
+    assert structure.attrs["max_correlation"] == pytest.approx(1.0 / 3.0)
     # four of its columns: the main effects and their interactions are estimable together
     # but not orthogonal (a user review found 'clear of the others' printed for PB20)
     four = alias_structure(pb[list("ABCD")], _levels01("ABCD"))
