@@ -16,6 +16,14 @@ envelope of what the parameter ranges allow, not a statistical interval. These f
 approximate and material dependent; the band is the honest way to show a result against the
 limits, never as a bare pass or fail.
 
+The figure is a **model estimate of the order of magnitude**, not a measurement: the band
+spans these factors only, not the wear model's own parameters (the specific wear rate WP
+moves the emitted volume a hundredfold across the paper's levels, and no pad's WP is
+calibrated here), nor disc wear (counted only through ``r_disc``, 0 by default: pad material
+alone), temperature, or the bedding UN GTR No. 24 prescribes before its measurement. It is
+no evidence of meeting or missing a Euro 7 limit, which applies to the GTR 24 WLTP-Brake
+result of a type-approval test (:data:`CAVEAT`).
+
 References
 ----------
 Regulation (EU) 2024/1257 (Euro 7), Annex I: brake PM10 limits. UN GTR No. 24: the
@@ -42,6 +50,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from brakeca.results import RunResult
 
 __all__ = [
+    "CAVEAT",
     "EURO7_LIMITS",
     "EURO7_PM10_LIMIT",
     "EURO7_PM10_LIMIT_PEV",
@@ -59,7 +68,19 @@ __all__ = [
 EURO7_REFERENCE = (
     "Regulation (EU) 2024/1257 (Euro 7), Annex I; measured on the WLTP-Brake cycle of UN GTR No. 24"
 )
-#: Euro 7 brake PM10 limit for M1 cars in general [mg/km per vehicle].
+#: What every PM10 figure brakeca prints comes with (the report, ``brakeca simulate``, the
+#: run file's comment, ``tables/pm10.csv``'s README): an emissions review found nothing that
+#: said it was not compliance evidence.
+CAVEAT = (
+    "a model estimate of the order of magnitude, not a UN GTR No. 24 measurement nor evidence "
+    "of meeting a Euro 7 limit: its band spans the emission factors only, not the wear "
+    "model's parameters (WP moves the emitted volume a hundredfold across the paper's "
+    "levels), disc wear (pad material alone unless disc_to_pad_mass_ratio is set), "
+    "temperature or bedding"
+)
+#: Euro 7 brake PM10 limit for M1 cars other than pure battery-electric ones [mg/km per
+#: vehicle] (the regulation lowers it later, and gives vans, N1, values of their own: its
+#: Annex I).
 EURO7_PM10_LIMIT = 7.0
 #: Euro 7 brake PM10 limit for pure battery-electric M1 cars [mg/km per vehicle].
 EURO7_PM10_LIMIT_PEV = 3.0
@@ -68,7 +89,7 @@ EURO7_PM10_LIMIT_PEV = 3.0
 PM10_COLUMNS: tuple[str, str, str] = ("PM10_low_mg_km", "PM10_mg_km", "PM10_high_mg_km")
 #: The limits by vehicle, [mg/km].
 EURO7_LIMITS: dict[str, float] = {
-    "M1 car": EURO7_PM10_LIMIT,
+    "M1 car other than pure battery-electric": EURO7_PM10_LIMIT,
     "M1 car, pure battery-electric": EURO7_PM10_LIMIT_PEV,
 }
 
@@ -123,9 +144,10 @@ class EmissionParameters(_Frozen):
         2600.0,
         gt=0,
         description=(
-            "[kg/m^3] density of the worn pad material rho (bulk density of the friction "
-            "material: roughly 2000 kg/m^3 for organic to 4000 kg/m^3 for semi-metallic pads; "
-            "approximate, from data-sheet values)"
+            "[kg/m^3] density of the worn pad material rho: the friction material's bulk "
+            "density, not the particles' (iron oxides, 5000-7000 kg/m^3, would overstate "
+            "it): roughly 2000 kg/m^3 for organic to 4000 kg/m^3 for semi-metallic pads; "
+            "approximate, from data-sheet values"
         ),
     )
     debris_density_range: tuple[float, float] = Field(
@@ -138,7 +160,8 @@ class EmissionParameters(_Frozen):
         description=(
             "[-] share f_air of the wear mass that becomes airborne (the rest stays on the "
             "brake, wheel or road); reported ~0.3-0.6 (Garg et al. 2000; Sanders et al. 2003; "
-            "Grigoratos & Martini 2015)"
+            "Grigoratos & Martini 2015), far less for some organic (NAO) pads (2-21 % in "
+            "Hagino et al. 2016), whose airborne_fraction_range an --emissions file sets"
         ),
     )
     airborne_fraction_range: tuple[float, float] = Field(
@@ -433,13 +456,14 @@ class PM10Estimate:
             ),
         ]
         words = {
-            "below": "the whole band lies below",
-            "straddles": "the band straddles",
-            "above": "the whole band lies above",
+            "below": "the model's whole band lies below",
+            "straddles": "the model's band straddles",
+            "above": "the model's whole band lies above",
         }
         for who, limit in EURO7_LIMITS.items():
             lines.append(f"Euro 7 limit {limit:g} mg/km ({who}): {words[self.position(limit)]} it")
         lines.append(f"limits: {EURO7_REFERENCE}")
+        lines.append(f"note: {CAVEAT}")
         if self.distance < SHORT_DISTANCE:
             lines.append(
                 f"note: over {self.distance / 1000.0:.3g} km only; the limits hold for the "

@@ -348,7 +348,7 @@ def _record_pm10(result: RunResult, distance: float) -> None:
     """Record a trace run's ``distance`` [m] and PM10 in its dataset's attributes, so that
     the run file gives them without its trace (a black-box review: only the console had
     them)."""
-    from brakeca.emissions import pm10_from_run
+    from brakeca.emissions import CAVEAT, pm10_from_run
 
     estimate = pm10_from_run(result, distance)
     result.dataset.attrs.update(
@@ -361,5 +361,6 @@ def _record_pm10(result: RunResult, distance: float) -> None:
     )
     result.dataset.attrs["comment"] += (
         "; pm10_mg_km (_low, _high): the vehicle's brake PM10 over that distance [mg/km] "
-        "with brakeca.emissions' default factors and their ranges (docs/cycles.md section 5)"
+        "with brakeca.emissions' default factors and their ranges (docs/cycles.md section 5): "
+        f"{CAVEAT}"
     )

@@ -37,7 +37,7 @@ from brakeca._io import write_table, write_text
 from brakeca.analysis import display_unit
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
-from brakeca.emissions import EURO7_LIMITS
+from brakeca.emissions import CAVEAT, EURO7_LIMITS
 from brakeca.results import RunResult
 
 if TYPE_CHECKING:
@@ -348,7 +348,8 @@ def _design_info(design: Design) -> str:
     return text
 
 
-_TABLES_README = """\
+_TABLES_README = (
+    """\
 # The campaign's tables
 
 Written by brakeca {version} ({again}). Comma-separated, one header row,
@@ -431,8 +432,12 @@ Files (R is the response: MU, V, log10_V_mm3 or MU_SD):
   `lower`, `target` and `upper` as Minitab gives them: a minimize goal's target (where it
   is fully met) and upper limit, a maximize goal's lower limit and target.
 - `pm10.csv` (runs on a speed trace): the summary with PM10 in mg/km (low, central, high)
-  and where each band lies against the Euro 7 limits (`vs_7_mg_km`, `vs_3_mg_km`).
+  and where each band lies against the Euro 7 limits (`vs_7_mg_km`, `vs_3_mg_km`): each
+  figure """
+    + CAVEAT
+    + """.
 """
+)
 
 
 def _base_config(out: Path) -> Any:
@@ -1015,7 +1020,8 @@ def _pm10_report(
         f"envelope, not a statistical interval. {factor_text} 'brakeca analyze FOLDER "
         "--emissions FILE' takes others. Where each run's band lies against the Euro 7 "
         f"limits ({EURO7_REFERENCE}): below, straddles or above it; a band across a limit is "
-        f"not a pass or a fail.{short}{regen} tables/pm10.csv has every run's figures."
+        f"not a pass or a fail.{short}{regen} tables/pm10.csv has every run's figures. Each "
+        f"is {CAVEAT}."
     )
     centrals = [est.central for est in runs]
     counts = "; ".join(
@@ -1032,8 +1038,8 @@ def _pm10_report(
     )
     line = (
         f"{PM10_LINE_START}{km}: central figures {_sig3(min(centrals))} to "
-        f"{_sig3(max(centrals))} mg/km over the {len(runs)} runs on a speed trace; bands "
-        f"{counts}"
+        f"{_sig3(max(centrals))} mg/km over the {len(runs)} runs on a speed trace; the "
+        f"model's bands (estimates, not compliance evidence) {counts}"
         + (" (a short trace: the limits hold for WLTP-Brake's 192 km)" if short else "")
         + (
             f"; {friction_only} run(s) brake by friction alone, while the "

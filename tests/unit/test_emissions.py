@@ -8,6 +8,7 @@ import pytest
 
 from brakeca.config import ConfigError
 from brakeca.emissions import (
+    CAVEAT,
     EURO7_LIMITS,
     EURO7_PM10_LIMIT,
     EURO7_PM10_LIMIT_PEV,
@@ -81,11 +82,17 @@ def test_describe_shows_band_and_limits_not_pass_fail():
     assert "4.8 mg/km" in text and "0.9 to 25.9 mg/km" in text
     assert "7 mg/km" in text and "3 mg/km" in text and "2024/1257" in text
     assert "pass" not in text.lower() and "fail" not in text.lower()
-    # 10 km (HAND): no note; a short trace's figure is said to be one (a black-box review
-    # saw a Euro 7 comparison for a 4 m trace)
-    assert "note:" not in text
+    # always: what the figure is not (an emissions review: nothing had said it was no
+    # compliance evidence), and the limit's vehicles named
+    assert text.splitlines()[-1] == f"note: {CAVEAT}"
+    assert "not a UN GTR No. 24 measurement nor evidence of meeting a Euro 7 limit" in text
+    assert "(M1 car other than pure battery-electric): the model's band straddles it" in text
+    # 10 km (HAND): no note of its distance; a short trace's figure is said to be one (a
+    # black-box review saw a Euro 7 comparison for a 4 m trace)
+    assert "only; the limits hold for the WLTP-Brake" not in text
     short = PM10Estimate(1.0, 2.0, 3.0, 4.0, EmissionParameters()).describe()
     assert short[-1].startswith("note: over 0.004 km only; the limits hold for the WLTP-Brake")
+    assert short[-2] == f"note: {CAVEAT}"
 
 
 @pytest.mark.parametrize(
