@@ -1210,9 +1210,16 @@ def _run_and_report(
             text += " (the runs' base configuration has --set " + ", --set ".join(overrides) + ")"
         _fail(text)
     except OSError as exc:  # the folder passed the check: a full disk, say
+        # a folder where brakeca writes a file (its lock, say): which one, to move (a
+        # robustness review got only "cannot write in it")
+        blocked = (
+            f"{exc.filename} is a folder where brakeca writes a file: move it away; "
+            if isinstance(exc, IsADirectoryError) and exc.filename
+            else ""
+        )
         _fail(
-            f"-o {output}: cannot write in it ({exc}); {kept} are kept there, and the same "
-            "command resumes once it can be written",
+            f"-o {output}: cannot write in it ({exc}); {blocked}{kept} are kept there, and the "
+            "same command resumes once it can be written",
             code=1,
         )
     elapsed = time.perf_counter() - t0

@@ -132,6 +132,15 @@ def test_a_write_that_fails_during_a_campaign_is_one_line_and_keeps_the_runs(
     line = _one_error_line(_invoke("run", str(design), "-o", str(out)), code=1)
     assert f"-o {out}: cannot write in it ([Errno 28] No space left on device)" in line
     assert "the finished runs and the checkpoints are kept there" in line
+    # a folder in the way of a file (the lock, say) is named, to move (a robustness review)
+    lock = str(out / ".brakeca.lock")
+
+    def in_the_way(*_args, **_kwargs):
+        raise IsADirectoryError(21, "Is a directory", lock)
+
+    monkeypatch.setattr(brakeca.campaign, "run_campaign", in_the_way)
+    line = _one_error_line(_invoke("run", str(design), "-o", str(out)), code=1)
+    assert f"{lock} is a folder where brakeca writes a file: move it away; the finished" in line
 
 
 def test_figure_outputs_are_checked_before_any_work(afile, monkeypatch) -> None:
