@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import base64
 import math
+import numbers
 import platform
 import re
 import struct
@@ -2453,9 +2454,13 @@ def _finding_terms(response: str, frame: pd.DataFrame, means: pd.DataFrame | Non
     r2_text = "" if _is_missing(r2) else f"; R² = {100.0 * float(r2):.1f} %"
     p = terms["p_value"].astype(float)
     if p.isna().all():
+        # with how many runs (a robustness review: a campaign whose failed runs left too
+        # few for the model did not say so here)
+        n = frame.attrs.get("n")
+        fitted = f" with the {int(n)} run(s) fitted" if isinstance(n, numbers.Integral) else ""
         return (
-            f"{response}: no term can be tested (no residual degrees of freedom, or a "
-            "constant response; the ANOVA's note says which)"
+            f"{response}: no term can be tested{fitted} (no residual degrees of freedom, or "
+            "a constant response; the ANOVA's note says which)"
         )
     hits = terms[p < 0.05].sort_values("percent_contribution", ascending=False, kind="stable")
     if hits.empty:

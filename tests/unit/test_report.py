@@ -690,7 +690,9 @@ def test_in_short_names_the_significant_terms_by_contribution() -> None:
     none = frame.assign(p_value=[0.3, 0.2, 0.5, 0.9, math.nan])
     assert _finding("V", none) == "V: no term has p < 0.05; R² = 89.0 %"
     saturated = frame.assign(p_value=math.nan)
-    assert _finding("V", saturated).startswith("V: no term can be tested")
+    assert _finding("V", saturated).startswith("V: no term can be tested (no residual")
+    saturated.attrs["n"] = 4  # with the number of runs fitted (a robustness review)
+    assert _finding("V", saturated).startswith("V: no term can be tested with the 4 run(s) fitted")
     assert _finding("V", pd.DataFrame()) == ""
     many = pd.DataFrame(
         {
