@@ -1212,9 +1212,11 @@ def _run_and_report(
     except OSError as exc:  # the folder passed the check: a full disk, say
         # a folder where brakeca writes a file (its lock, say): which one, to move (a
         # robustness review got only "cannot write in it")
+        # (a file written by renaming a temporary one onto it names the target second)
+        target = getattr(exc, "filename2", None) or exc.filename
         blocked = (
-            f"{exc.filename} is a folder where brakeca writes a file: move it away; "
-            if isinstance(exc, IsADirectoryError) and exc.filename
+            f"{target} is a folder where brakeca writes a file: move it away; "
+            if isinstance(exc, IsADirectoryError) and target
             else ""
         )
         _fail(

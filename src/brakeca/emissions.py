@@ -73,10 +73,10 @@ EURO7_REFERENCE = (
 #: said it was not compliance evidence.
 CAVEAT = (
     "a model estimate of the order of magnitude, not a UN GTR No. 24 measurement nor evidence "
-    "of meeting a Euro 7 limit: its band spans the emission factors only, not the wear "
-    "model's parameters (WP moves the emitted volume a hundredfold across the paper's "
-    "levels), disc wear (pad material alone unless disc_to_pad_mass_ratio is set), "
-    "temperature or bedding"
+    "of meeting or missing a Euro 7 limit: its band spans the emission factors only (the "
+    "central figure pad material alone, the high end up to twice its mass from the disc), "
+    "not the wear model's parameters (WP moves the emitted volume a hundredfold across the "
+    "paper's levels), temperature or bedding"
 )
 #: Euro 7 brake PM10 limit for M1 cars other than pure battery-electric ones [mg/km per
 #: vehicle] (the regulation lowers it later, and gives vans, N1, values of their own: its

@@ -2456,8 +2456,9 @@ def _finding_terms(response: str, frame: pd.DataFrame, means: pd.DataFrame | Non
     if p.isna().all():
         # with how many runs (a robustness review: a campaign whose failed runs left too
         # few for the model did not say so here)
-        n = frame.attrs.get("n")
-        fitted = f" with the {int(n)} run(s) fitted" if isinstance(n, numbers.Integral) else ""
+        n, df = frame.attrs.get("n"), frame.attrs.get("df_resid")
+        too_few = isinstance(n, numbers.Integral) and df is not None and float(df) == 0.0
+        fitted = f" with the {int(n)} run(s) fitted" if too_few else ""
         return (
             f"{response}: no term can be tested{fitted} (no residual degrees of freedom, or "
             "a constant response; the ANOVA's note says which)"

@@ -23,6 +23,7 @@ doi:10.1155/2016/8181260
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -431,12 +432,16 @@ Files (R is the response: MU, V, log10_V_mm3 or MU_SD):
 - `optimum.csv`: the optimum of the design's goals (V and its limits in m³); each goal's
   `lower`, `target` and `upper` as Minitab gives them: a minimize goal's target (where it
   is fully met) and upper limit, a maximize goal's lower limit and target.
-- `pm10.csv` (runs on a speed trace): the summary with PM10 in mg/km (low, central, high)
-  and where each band lies against the Euro 7 limits (`vs_7_mg_km`, `vs_3_mg_km`): each
-  figure """
-    + CAVEAT
-    + """.
 """
+    + textwrap.fill(
+        "- `pm10.csv` (runs on a speed trace): the summary with PM10 in mg/km (low, central, "
+        "high) and where each band lies against the Euro 7 limits (`vs_7_mg_km`, "
+        f"`vs_3_mg_km`): each figure is {CAVEAT}.",
+        width=92,
+        subsequent_indent="  ",
+        break_on_hyphens=False,
+    )
+    + "\n"
 )
 
 
@@ -890,6 +895,12 @@ def _pm10_of(run: RunResult, emissions: EmissionParameters | None = None) -> _Ru
     )
 
 
+def _short_vehicle(who: str) -> str:
+    """A vehicle of :data:`brakeca.emissions.EURO7_LIMITS` in a few words, for a table's
+    header: ``"M1"``, ``"M1, battery-electric"`` (the prose names it whole)."""
+    return "M1, battery-electric" if "pure battery-electric" in who and "other" not in who else "M1"
+
+
 def _sig3(x: float) -> str:
     """``x`` to three significant digits, without an exponent from 1e-4 to below a million:
     1270, 0.0524."""
@@ -965,8 +976,8 @@ def _pm10_report(
                 **levels,
                 "PM10 [mg/km]": _sig3(est.central),
                 "Band [mg/km]": f"{_sig3(est.low)} to {_sig3(est.high)}",
-                **{
-                    f"{limit:g} mg/km ({who})": est.position(limit)
+                **{  # short headers: the table's do not wrap (a diff review)
+                    f"{limit:g} mg/km ({_short_vehicle(who)})": est.position(limit)
                     for who, limit in EURO7_LIMITS.items()
                 },
             }

@@ -342,6 +342,21 @@ def test_one_factor_trace_campaign_reports_pm10(tmp_path):
     section = section[: section.index("</section>")]
     assert "airborne share 0.5 (0.3 to 0.6)" in section
     assert "the limits hold for the WLTP-Brake cycle" in section
+    # what the figures are not, in the report, tables/README.md and each run file (an
+    # emissions review), and short headers in the table (a diff review)
+    import html as html_text
+
+    from brakeca.emissions import CAVEAT
+    from brakeca.results import RunResult
+
+    assert f"Each is {CAVEAT}." in html_text.unescape(section)
+    assert (
+        "<th>7 mg/km (M1)</th>" in section and "<th>3 mg/km (M1, battery-electric)</th>" in section
+    )
+    readme = " ".join((out / "tables" / "README.md").read_text(encoding="utf-8").split())
+    assert f"each figure is {CAVEAT}." in readme
+    run = RunResult.from_netcdf(out / "runs" / f"{pm10['run_id'][0]}.nc")
+    assert run.dataset.attrs["comment"].endswith(CAVEAT)
     assert "The factors (brakeca&#39;s defaults, with each run&#39;s pads" in section
     # friction alone against the battery-electric limit is said (a review: simulate said it)
     assert "2 of the 2 runs brake by friction alone (cycle.trace.friction_share = 1)" in section

@@ -691,7 +691,8 @@ def test_in_short_names_the_significant_terms_by_contribution() -> None:
     assert _finding("V", none) == "V: no term has p < 0.05; R² = 89.0 %"
     saturated = frame.assign(p_value=math.nan)
     assert _finding("V", saturated).startswith("V: no term can be tested (no residual")
-    saturated.attrs["n"] = 4  # with the number of runs fitted (a robustness review)
+    saturated.attrs.update(n=4, df_resid=0.0)  # how many runs, where too few (a robustness
+    # review); not for a constant response, which runs enough to test
     assert _finding("V", saturated).startswith("V: no term can be tested with the 4 run(s) fitted")
     assert _finding("V", pd.DataFrame()) == ""
     many = pd.DataFrame(
