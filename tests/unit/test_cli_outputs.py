@@ -141,6 +141,13 @@ def test_a_write_that_fails_during_a_campaign_is_one_line_and_keeps_the_runs(
     monkeypatch.setattr(brakeca.campaign, "run_campaign", in_the_way)
     line = _one_error_line(_invoke("run", str(design), "-o", str(out)), code=1)
     assert f"{lock} is a folder where brakeca writes a file: move it away; the finished" in line
+    # for real: a file written through a temporary one renamed onto it names the file (a
+    # diff review: it had named the temporary one)
+    monkeypatch.undo()
+    real = tmp_path / "real"
+    (real / "design.toml").mkdir(parents=True)
+    line = _one_error_line(_invoke("run", str(design), "-o", str(real)), code=1)
+    assert f"{real / 'design.toml'} is a folder where brakeca writes a file: move it away" in line
 
 
 def test_figure_outputs_are_checked_before_any_work(afile, monkeypatch) -> None:
