@@ -148,6 +148,7 @@ class _Record:
     error: str = ""
     scalars: dict[str, float] = field(default_factory=dict)
     per_stop: xr.Dataset | None = None
+    source_key: str | None = None  # the kernels' sources that made it (its run file's)
 
 
 # --- file helpers --------------------------------------------------------------------------
@@ -176,7 +177,16 @@ def _per_stop(dataset: xr.Dataset) -> xr.Dataset:
 
 def _record_from_result(point: RunPoint, rid: str, result: RunResult) -> _Record:
     scalars = {k: _number(v) for k, v in result.scalars().items()}
-    return _Record(point, rid, "ok", "", scalars, _per_stop(result.dataset).load())
+    key = result.dataset.attrs.get("source_key")
+    return _Record(
+        point,
+        rid,
+        "ok",
+        "",
+        scalars,
+        _per_stop(result.dataset).load(),
+        str(key) if key is not None else None,
+    )
 
 
 def _number(value: Any) -> float | int:

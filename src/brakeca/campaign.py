@@ -882,7 +882,7 @@ def _execute_points(
         TimeRemainingColumn,
     )
 
-    from brakeca._console import say
+    from brakeca._console import say, tests_named
 
     max_retries = how.max_retries
     on_this_machine = how.executor in ("local", "serial") or (
@@ -945,6 +945,7 @@ def _execute_points(
     queue = collections.deque(todo)
     pending: dict[cf.Future, RunPoint] = {}
     deaths: dict[str, int] = {}
+    elsewhere: list[tuple[RunPoint, str | None]] = []  # runs made by other kernel sources
     finished = False
     try:
         with bar:
@@ -954,13 +955,16 @@ def _execute_points(
                     point = queue.popleft()
                     options: dict[str, Any] = {}
                     checkpoint = _checkpoint_path(runs, point)
+                    # absolute: a worker started in another folder (a cluster's) read a
+                    # relative -o from its own and ran without checkpoints (a cluster
+                    # review)
                     if how.checkpoint_every is not None:
-                        options["checkpoint"] = checkpoint
+                        options["checkpoint"] = checkpoint.absolute()
                         options["checkpoint_every"] = int(how.checkpoint_every)
                     elif checkpoint.is_file():
                         # checkpoints off: a run resumes from one written before, and
                         # writes no more (no stop index reaches this)
-                        options["checkpoint"] = checkpoint
+                        options["checkpoint"] = checkpoint.absolute()
                         options["checkpoint_every"] = 2**62
                     if how.maps_at:
                         options["maps_at"] = how.maps_at
@@ -1012,6 +1016,8 @@ def _execute_points(
                             # the run file is written: its checkpoint can go (the worker
                             # leaves it, so that a campaign killed before this resumes it)
                             _checkpoint_path(runs, point).unlink(missing_ok=True)
+                            if how.simulate_fn is None and record.source_key != source_key():
+                                elsewhere.append((point, record.source_key))
                     records[rid] = record
                     (computed if record.status == "ok" else failed).append(rid)
                     if record.status != "ok":
@@ -1040,6 +1046,19 @@ def _execute_points(
                         how.on_run(n_total - len(todo) + len(computed) + len(failed), n_total)
             _say_deaths(console, backend.news(), max_retries)  # (a death logged last)
             bar.update(task, description="runs")
+        if elsewhere:  # a cluster's workers of another version (a cluster review: the
+            # runs had been mixed in without a word, and only the next campaign said so)
+            theirs = sorted({str(k) for _, k in elsewhere})
+            say(
+                console,
+                f"[yellow]note:[/] {len(elsewhere)} run(s) computed now (of "
+                f"{tests_named(p.test for p, _ in elsewhere)}) were made by workers with other "
+                f"kernel sources (source_key {', '.join(theirs)}) than this install's "
+                f"({source_key()}): the cluster runs another version of brakeca, whose results "
+                "may differ from this one's; install the same version on the workers "
+                "(docs/cluster.md) and delete those run files to run them again",
+                highlight=False,
+            )
         finished = True
     finally:
         if not finished:

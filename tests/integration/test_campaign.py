@@ -1255,3 +1255,50 @@ def test_checkpoints_of_no_run_of_the_design_are_named(serial, tmp_path):
     assert "note: 1 checkpoint(s) in " in said
     assert "are of runs begun by an earlier design or configuration in this folder" in said
     assert (out / "runs" / ".0123456789abcdef.checkpoint.npz").read_bytes() == b"not read"
+
+
+def test_the_checkpoints_workers_get_are_absolute(design_file, tmp_path, monkeypatch):
+    """A cluster review: a dask worker started in another folder read a relative -o from its
+    own and ran without checkpoints, without a word; the paths the runs are given are
+    absolute."""
+    import brakeca._executors as executors
+
+    given = []
+    real = executors._execute
+
+    def recording(simulate_fn, config, seed, **options):
+        given.append(options.get("checkpoint"))
+        return real(simulate_fn, config, seed, **options)
+
+    monkeypatch.setattr(executors, "_execute", recording)
+    monkeypatch.chdir(tmp_path)
+    result = run_campaign(
+        design_file, "relative", executor="serial", progress=False, console=quiet()
+    )
+    assert result.ok and len(given) == 4
+    assert all(p is not None and p.is_absolute() for p in given)
+    assert all(p.parent == (tmp_path / "relative" / "runs") for p in given)
+
+
+def test_runs_made_by_workers_of_other_kernel_sources_are_named(design_file, tmp_path, monkeypatch):
+    """A cluster review: runs computed by a cluster's workers of another brakeca were mixed
+    in without a word (only the next campaign said so); the campaign that computes them
+    names them."""
+    import brakeca.simulation
+
+    real = brakeca.simulation.simulate
+
+    def elsewhere(config, **kwargs):
+        result = real(config, **kwargs)
+        result.dataset.attrs["source_key"] = "0123456789abcdef"  # as another version's
+        return result
+
+    monkeypatch.setattr(brakeca.simulation, "simulate", elsewhere)
+    console = quiet()
+    result = run_campaign(design_file, tmp_path / "c", executor="serial", console=console)
+    assert result.ok
+    said = " ".join(console_text(console).split())
+    assert (
+        "note: 4 run(s) computed now (of tests 1, 2, 3, 4) were made by workers with other" in said
+    )
+    assert "(source_key 0123456789abcdef) than this install's" in said
