@@ -1180,10 +1180,18 @@ def _run_and_report(
     from brakeca._warmup import announcing
 
     kept = "the finished runs" + (" and the checkpoints" if checkpoint_every else "")
+    # an existing cluster's workers go on with the runs they began (a cluster review: the
+    # message had not said so, and they ran for minutes)
+    held = (
+        "; the cluster's workers finish the runs they had begun (writing their checkpoints), "
+        "with no one to take the results: stop them if you will not resume soon"
+        if scheduler is not None or scheduler_file is not None
+        else ""
+    )
     try:
         t0 = time.perf_counter()
         with (
-            _on_interrupt(f"{kept} in {output} are kept; the same command resumes"),
+            _on_interrupt(f"{kept} in {output} are kept; the same command resumes{held}"),
             announcing(_announce_compiling),
         ):
             result = run_campaign(

@@ -477,3 +477,24 @@ def test_the_in_short_heading_says_which_model_its_lines_are_of(lines, heading) 
     finally:
         cli.out = saved
     assert buffer.getvalue().splitlines()[0] == heading
+
+
+def test_an_interrupted_campaign_on_an_existing_cluster_says_its_workers_go_on(
+    tmp_path, monkeypatch
+) -> None:
+    """A cluster review: stopped, a campaign on an existing cluster said only that the same
+    command resumes, while the cluster's workers went on with their runs for minutes."""
+
+    def interrupted(*_args, **_kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(brakeca.campaign, "run_campaign", interrupted)
+    design = tmp_path / "d.toml"
+    design.write_text(TINY_DESIGN)
+    args = ["run", str(design), "-o", str(tmp_path / "c"), "--executor", "dask"]
+    res = _invoke(*args, "--scheduler", "tcp://127.0.0.1:1")
+    said = " ".join(res.output.split())
+    assert res.exit_code == 130, res.output
+    assert "the same command resumes; the cluster's workers finish the runs they had begun" in said
+    res = _invoke(*args[:-2])  # the local executor stops its own workers: nothing to add
+    assert res.exit_code == 130 and "cluster's workers" not in res.output
