@@ -946,6 +946,7 @@ def _execute_points(
     pending: dict[cf.Future, RunPoint] = {}
     deaths: dict[str, int] = {}
     elsewhere: list[tuple[RunPoint, str | None]] = []  # runs made by other kernel sources
+    here = source_key()  # (it reads the kernels' sources: once, not at every run)
     finished = False
     try:
         with bar:
@@ -1016,7 +1017,7 @@ def _execute_points(
                             # the run file is written: its checkpoint can go (the worker
                             # leaves it, so that a campaign killed before this resumes it)
                             _checkpoint_path(runs, point).unlink(missing_ok=True)
-                            if how.simulate_fn is None and record.source_key != source_key():
+                            if how.simulate_fn is None and record.source_key != here:
                                 elsewhere.append((point, record.source_key))
                     records[rid] = record
                     (computed if record.status == "ok" else failed).append(rid)
@@ -1054,7 +1055,7 @@ def _execute_points(
                 f"[yellow]note:[/] {len(elsewhere)} run(s) computed now (of "
                 f"{tests_named(p.test for p, _ in elsewhere)}) were made by workers with other "
                 f"kernel sources (source_key {', '.join(theirs)}) than this install's "
-                f"({source_key()}): the cluster runs another version of brakeca, whose results "
+                f"({here}): the cluster runs another version of brakeca, whose results "
                 "may differ from this one's; install the same version on the workers "
                 "(docs/cluster.md) and delete those run files to run them again",
                 highlight=False,

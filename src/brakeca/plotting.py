@@ -2582,11 +2582,11 @@ def _map_parts(status: Any, radius: Any, angle: Any) -> tuple[Any, Any, Any]:
     coords = getattr(status, "coords", None)
     dims = set(getattr(status, "dims", ()))
     if coords is not None and {"radius", "angle"} <= dims:
-        if dims != {"radius", "angle"}:
-            others = ", ".join(sorted(str(d) for d in dims - {"radius", "angle"}))
+        others = sorted(str(d) for d in dims - {"radius", "angle"})
+        if others:
             raise TypeError(
-                f"status: one map on radius and angle, got one over {others} too; pick one "
-                f"(e.g. .sel({others.split(', ')[0]}=...) or .isel(...))"
+                f"status: one map on radius and angle, got one over {', '.join(others)} too; "
+                f"pick one (e.g. .sel({others[0]}=...) or .isel(...))"
             )
         status = status.transpose("radius", "angle")
         radius = coords["radius"].values if radius is None else radius

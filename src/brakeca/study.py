@@ -895,10 +895,12 @@ def _pm10_of(run: RunResult, emissions: EmissionParameters | None = None) -> _Ru
     )
 
 
-def _short_vehicle(who: str) -> str:
-    """A vehicle of :data:`brakeca.emissions.EURO7_LIMITS` in a few words, for a table's
-    header: ``"M1"``, ``"M1, battery-electric"`` (the prose names it whole)."""
-    return "M1, battery-electric" if "pure battery-electric" in who and "other" not in who else "M1"
+#: The vehicles of :data:`brakeca.emissions.EURO7_LIMITS` in a few words, for a table's
+#: header (the prose names them whole).
+_SHORT_VEHICLES: dict[str, str] = {
+    "M1 car other than pure battery-electric": "M1",
+    "M1 car, pure battery-electric": "M1, battery-electric",
+}
 
 
 def _sig3(x: float) -> str:
@@ -977,7 +979,7 @@ def _pm10_report(
                 "PM10 [mg/km]": _sig3(est.central),
                 "Band [mg/km]": f"{_sig3(est.low)} to {_sig3(est.high)}",
                 **{  # short headers: the table's do not wrap (a diff review)
-                    f"{limit:g} mg/km ({_short_vehicle(who)})": est.position(limit)
+                    f"{limit:g} mg/km ({_SHORT_VEHICLES.get(who, who)})": est.position(limit)
                     for who, limit in EURO7_LIMITS.items()
                 },
             }
