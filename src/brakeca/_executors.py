@@ -19,7 +19,7 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from contextlib import AbstractContextManager, ExitStack, contextmanager, nullcontext
 from dataclasses import dataclass
 from pathlib import Path
@@ -824,6 +824,21 @@ class _Backend:
             self.executor.shutdown(wait=not cancel, cancel_futures=cancel)
 
 
+def _brakeca_imports() -> Callable[[], str]:
+    """A function for :meth:`distributed.Client.run` that imports on a worker what a run
+    needs and returns brakeca's version there. Made here, not defined at module level: a
+    module-level function travels by reference and would itself need brakeca to unpickle,
+    a nested one travels by value (cloudpickle)."""
+
+    def imports() -> str:
+        import brakeca
+        import brakeca.simulation  # the kernels' modules, numba
+
+        return str(brakeca.__version__)
+
+    return imports
+
+
 class _DaskBackend(_Backend):
     """A :class:`DaskExecutor` with as many runs in flight as its workers have threads.
 
@@ -844,6 +859,7 @@ class _DaskBackend(_Backend):
         self.threads = 1  # the workers' threads at the last look [-]
         self.since_workers: float | None = None  # since when none (monotonic) [s]
         self.said_waiting = False
+        self.checked: set[str] = set()  # the workers on which brakeca imports (addresses)
 
     def news(self) -> int:
         if self.deaths is None:
@@ -856,11 +872,47 @@ class _DaskBackend(_Backend):
     WAIT_NOTE_AFTER = 10.0
 
     def _threads(self) -> int:
-        """The workers' threads now (0 where the scheduler does not answer) [-]."""
+        """The workers' threads now (0 where the scheduler does not answer) [-]; a worker
+        seen for the first time is asked whether brakeca imports there
+        (:meth:`_check_workers`)."""
         try:
-            return int(sum(self.client.nthreads().values()))
+            threads = dict(self.client.nthreads())
         except Exception:  # the scheduler is busy or gone: the runs in flight will tell
             return 0
+        self._check_workers(threads)
+        return int(sum(threads.values()))
+
+    def _check_workers(self, addresses: Iterable[str]) -> None:
+        """Refuse workers on which brakeca does not import (:class:`ExecutorError`).
+
+        A run sent to such a worker kills it (dask cannot unpickle the run's configuration
+        there, and the worker closes), and the campaign then waited for workers that were
+        gone ("no worker yet"; a cluster review). Each worker is asked once, when it is first
+        seen, before any run is submitted to it; a worker that does not answer (gone since)
+        is asked again if it is seen again.
+        """
+        new = [address for address in addresses if address not in self.checked]
+        if not new:
+            return
+        try:
+            answers = self.client.run(_brakeca_imports(), workers=new, on_error="return")
+        except Exception:  # the scheduler is busy or gone, or a worker went: ask again later
+            return
+        broken: dict[str, BaseException] = {}
+        for address, answer in answers.items():
+            if isinstance(answer, ImportError):
+                broken[address] = answer
+            elif not isinstance(answer, BaseException):
+                self.checked.add(address)
+        if broken:
+            first = next(iter(broken.values()))
+            raise ExecutorError(
+                f"brakeca does not import on the Dask worker(s) at {', '.join(sorted(broken))} "
+                f"({type(first).__name__}: {first}): a run sent there would kill the worker. "
+                'Install this brakeca on every worker (docs/cluster.md, "On a Dask '
+                'cluster"), or stop those workers; the finished runs are kept, and the same '
+                "command resumes"
+            )
 
     def _connected(self) -> bool:
         return getattr(self.client, "status", "running") == "running"

@@ -32,6 +32,7 @@ from campaign_helpers import (
     deterministic,
     drawing,
     ignores_sigint,
+    must_not_run,
     quiet,
     run_dataset,
     started_as_a_job,
@@ -709,6 +710,46 @@ def test_cli_runs_on_an_existing_cluster(cluster, local, design_file, tmp_path):
     # the campaign did not close a cluster it did not start
     with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
         assert client.submit(pow, 2, 5).result() == 32
+
+
+def test_a_worker_where_brakeca_does_not_import_is_refused_before_any_run(
+    cluster, design_file, tmp_path
+):
+    """A cluster review: a run sent to a worker without brakeca killed the worker (dask could
+    not unpickle the run there), and the campaign then waited for workers ("no worker yet")
+    that were gone. Each worker is asked first; here one (brakeca hidden by a preload script)
+    joins the module's cluster of two, and the campaign stops, naming it, before any run."""
+    hide = tmp_path / "hide_brakeca.py"
+    hide.write_text('import sys\nsys.modules["brakeca"] = None\n', encoding="utf-8")
+    out = tmp_path / "campaign"
+    with distributed.Client(cluster.scheduler_address, set_as_default=False) as client:
+        own = set(client.nthreads())
+        worker = subprocess.Popen(
+            [sys.executable, "-m", "distributed.cli.dask_worker", cluster.scheduler_address,
+             "--nthreads", "1", "--nworkers", "1", "--no-dashboard", "--host", "127.0.0.1",
+             "--preload", str(hide)],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+        )  # fmt: skip
+        try:
+            client.wait_for_workers(len(own) + 1, timeout=60)
+            (joined,) = set(client.nthreads()) - own
+            with pytest.raises(ExecutorError) as err:
+                run_campaign(
+                    design_file,
+                    out,
+                    executor="dask",
+                    scheduler=cluster.scheduler_address,
+                    simulate_fn=must_not_run,
+                    progress=False,
+                    console=quiet(),
+                )
+        finally:
+            worker.terminate()
+            worker.wait(timeout=30)
+    text = " ".join(str(err.value).split())
+    assert f"brakeca does not import on the Dask worker(s) at {joined} (" in text
+    assert "ModuleNotFoundError" in text and "docs/cluster.md" in text
+    assert not list((out / "runs").glob("*.nc"))
 
 
 def test_a_default_client_in_the_process_loses_no_run(cluster, local, design_file, tmp_path):
