@@ -670,7 +670,7 @@ def _run_label(run: Any, levels: Mapping[str, Any], factors: Mapping[str, Factor
 
 
 def plot_by_block(
-    table: pd.DataFrame,
+    table: Any,
     factors: Iterable[Any] | None = None,
     path: str | Path | None = None,
     *,
@@ -685,10 +685,11 @@ def plot_by_block(
     table
         :func:`brakeca.study.block_table`'s table (``tables/by_block.csv``): ``test`` (and
         ``replicate``), the factors' columns, ``block``, ``mean_cof`` [-] and
-        ``share_of_emitted_percent`` [%].
+        ``share_of_emitted_percent`` [%]; or a campaign to make it of.
     factors
         The design's factors (or the design, or a campaign result), for each row's levels
-        (``T5: S-, WP+, WR-, A-``); without them, the rows are named by test alone.
+        (``T5: S-, WP+, WR-, A-``); by default a campaign's own, given as ``table``;
+        without them, the rows are named by test alone.
     path
         Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
     fig
@@ -701,8 +702,16 @@ def plot_by_block(
         to 100 %; empty for a run that emitted nothing); each block named with its number of
         stops (the first run's), as a block's share grows with it.
     """
+    if not isinstance(table, pd.DataFrame) and hasattr(table, "design"):
+        # a campaign, as block_table takes it (plot_by_block(campaign) had failed with "no
+        # attribute 'empty'")
+        from brakeca.study import block_table
+
+        if factors is None:
+            factors = _campaign_factors(table)
+        table = block_table(table)
     needed = {"test", "block", "mean_cof", "share_of_emitted_percent"}
-    if table is None or table.empty or not needed <= set(table.columns):
+    if not isinstance(table, pd.DataFrame) or table.empty or not needed <= set(table.columns):
         raise ValueError(
             "table: brakeca.study.block_table's table (test, block, mean_cof, "
             "share_of_emitted_percent), of a cycle of named blocks"
@@ -741,11 +750,19 @@ def plot_by_block(
         names = [f"{b} ({int(stops[b])})" for b in blocks]
     root, fig = _panels(fig, (2.6 + 1.35 * n_blocks + 2.2, 1.2 + 0.3 * n_runs))
     axes = fig.subplots(1, 2, sharey=True)
+    # 3 decimals: at 2, runs at the COF floor (0.15) and runs 0.004 above it read alike (a
+    # report review); both maps light where the value is high (magma_r had been the reverse)
     panels = (
-        ("mean_cof", "Mean COF of the block's stops [-]", "viridis", "{:.2f}"),
-        ("share_of_emitted_percent", "Share of the run's emitted volume [%]", "magma_r", "{:.0f}"),
+        ("mean_cof", "Mean COF of the block's stops [-]", "viridis", "{:.3f}", "[-]"),
+        (
+            "share_of_emitted_percent",
+            "Share of the run's emitted volume [%]",
+            "magma",
+            "{:.0f}",
+            "[%]",
+        ),
     )
-    for ax, (column, title, cmap, form) in zip(axes, panels, strict=True):
+    for ax, (column, title, cmap, form, unit) in zip(axes, panels, strict=True):
         values = wide[column]
         finite = values[np.isfinite(values)]
         low, high = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
@@ -772,7 +789,7 @@ def plot_by_block(
             )
         ax.set_xticks(range(n_blocks), names, rotation=35, ha="right", fontsize=8)
         ax.set_title(title, fontsize=9)
-        fig.colorbar(image, ax=ax, fraction=0.04, pad=0.02)
+        fig.colorbar(image, ax=ax, fraction=0.04, pad=0.02).set_label(unit, fontsize=8)
     axes[0].set_yticks(range(n_runs), labels, fontsize=7)
     _suptitle(fig, "Block by block: each run's mean COF, and where its emissions come from")
     return save_figure(root, path)
@@ -1120,6 +1137,8 @@ def plot_mu_per_stop_by_level(
             f"factors: got {str(factors)!r}, not factors; the file to write is path= "
             "(plot_mu_per_stop_by_level(campaign, factors=None, path=...))"
         )
+    from matplotlib.collections import LineCollection
+
     if factors is None:
         factors = _campaign_factors(campaign)
     data = getattr(campaign, "dataset", campaign)
@@ -1149,9 +1168,16 @@ def plot_mu_per_stop_by_level(
             mine = mine[np.isfinite(mine).all(axis=1)]  # the finished runs
             if not len(mine):
                 continue
-            if runs:
-                for line in mine:
-                    ax.plot(stops, line, lw=0.5, color=colour, alpha=0.25)
+            if runs:  # one collection, not a line each: the legend's "best" place then
+                # avoids the means, not every run (it covered a mean line; a report review)
+                ax.add_collection(
+                    LineCollection(
+                        [np.column_stack([stops, line]) for line in mine],
+                        linewidths=0.5,
+                        colors=[colour],
+                        alpha=0.25,
+                    )
+                )
             ax.plot(
                 stops,
                 mine.mean(axis=0),
@@ -2139,7 +2165,9 @@ def plot_residuals_by_level(
             ],
         )
         ax.set_xlim(-0.5, shown.size - 0.5)
-        ax.set_xlabel(factor.label or factor.name)
+        # with its unit and the long name above, as the main-effects plots (a report review)
+        ax.set_xlabel(factor.axis_label)
+        ax.set_title(factor.label or factor.name, fontsize=9)
         ax.grid(True, axis="y", alpha=0.3)
     for ax in axes[len(factors) :]:
         ax.set_visible(False)
@@ -2347,14 +2375,16 @@ def plot_box_cox(
         ax.axvline(result.lambda_hat, color="#f28e2b", lw=1.2, label=f"λ̂ = {result.lambda_hat:.2f}")
         for ref, name in ((1.0, "λ = 1"), (0.0, "λ = 0 (log)")):
             ax.axvline(ref, color="0.2", lw=0.8, ls="--")
-            ax.text(
+            ax.text(  # beside its line, on white (the line struck it through; a review)
                 ref,
                 0.02,
-                f" {name}",
+                f"{name} ",
                 transform=ax.get_xaxis_transform(),
                 fontsize=7,
                 rotation=90,
+                ha="right",
                 va="bottom",
+                bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5},
             )
         ax.set_xlim(lam[0], lam[-1])
         ax.grid(True, alpha=0.3)

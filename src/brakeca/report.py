@@ -115,7 +115,13 @@ input.zoom:checked + label.zoom img { max-width: none; }
 {%- if level_means %}
 <li><a href="#level-means">Level means</a></li>
 {%- endif %}
-<li><a href="#anova">ANOVA</a></li>
+<li><a href="#anova">ANOVA</a>
+{%- if anova | length > 1 or box_cox %}:
+{%- for item in anova %} <a href="#anova-{{ item.anchor }}">{{ item.heading }}</a>
+{%- if not loop.last or box_cox %},{% endif %}
+{%- endfor %}
+{%- if box_cox %} <a href="#anova-box-cox">Box–Cox</a>{% endif %}
+{%- endif %}</li>
 {%- if surfaces or optimum_note %}
 <li><a href="#surface">Response surface</a></li>
 {%- endif %}
@@ -187,9 +193,9 @@ too.{% endif %}
 emitted wear volume per stop [mm&sup3;]; MU_SD: friction stability, the standard deviation
 of the per-stop mean COF over the stops run [-], divided by their number, not one less (not
 one of the paper's responses; 0 where every stop had the same mean COF). Emitted and worn
-off: the volumes that left the band and that wear removed from it over the whole run; the
-difference is what the secondary plateaus still hold (the particles in the contact leave it
-at the end of every stop). Primary and secondary, last stop: the plateaus' shares of the
+off: the volumes that left the band and that wear removed from it over the whole run; held:
+their difference, what the secondary plateaus still hold (the particles in the contact leave
+it at the end of every stop). Primary and secondary, last stop: the plateaus' shares of the
 band in the last stop, time-weighted over it (before the S rule acts at its end). Secondary
 and in contact, all stops: the secondary plateaus' share of the band (in contact or not) and
 the share in contact, time-weighted over every stop the run made. Ledger residual: the
@@ -447,9 +453,11 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "seed": ("Seed", "", 1.0),
     "status": ("Status", "", 1.0),
     "error": ("Error", "", 1.0),
-    "MU_SD": ("MU_SD [-]", ".3g", 1.0),  # 5e-06, not 0.0000 (a review)
+    # 5e-06, not 0.0000 (a review); 0.0110, not 0.011, beside 0.0232 (a report review)
+    "MU_SD": ("MU_SD [-]", "#.3g", 1.0),
     "total_emitted_mm3": ("Emitted [mm³]", "volume", 1.0),
     "total_generated_mm3": ("Worn off [mm³]", "volume", 1.0),
+    "held_mm3": ("Held [mm³]", ".3g", 1.0),
     "final_primary_area_fraction": ("Primary, last stop [%]", ".1f", 100.0),
     "final_secondary_area_fraction": ("Secondary, last stop [%]", ".1f", 100.0),
     "cycle_secondary_area_fraction": ("Secondary, all stops [%]", ".1f", 100.0),
@@ -466,8 +474,34 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
 
 def _runs_table(summary: pd.DataFrame) -> _Table:
     """Per-run table: MU to 3 decimals, V in mm^3 (V_mm3 dropped when V is present), the
-    other run scalars with readable headers and units (:data:`_RUN_COLUMNS`)."""
+    other run scalars with readable headers and units (:data:`_RUN_COLUMNS`).
+
+    What the secondary plateaus still hold at the end, worn off less emitted, is a column
+    of its own after those two (at 4 significant figures they printed the same in 20 of the
+    paper study's 24 rows, though the caption sends the reader to their difference; a report
+    review); a difference within the sums' round-off (1e-9 of the volume worn off) is 0.
+    Columns that say nothing are left out: the replicate of an unreplicated
+    campaign, the run order where it is the test number, the status where every run is ok
+    and the error where none has one (the CSV keeps them all).
+    """
     frame = summary.copy()
+    if {"total_emitted_mm3", "total_generated_mm3"} <= set(frame.columns):
+        worn = pd.to_numeric(frame["total_generated_mm3"], errors="coerce")
+        held = worn - pd.to_numeric(frame["total_emitted_mm3"], errors="coerce")
+        # 0 within the sums' round-off (a run whose S removed every deposit read -1.67e-10)
+        held = held.mask(held.abs() <= 1e-9 * worn.abs(), 0.0)
+        at = list(frame.columns).index("total_generated_mm3") + 1
+        frame.insert(at, "held_mm3", held)
+    quiet = []
+    if "replicate" in frame.columns and not is_replicated(frame):
+        quiet.append("replicate")
+    if {"order", "test"} <= set(frame.columns) and frame["order"].equals(frame["test"]):
+        quiet.append("order")
+    if "status" in frame.columns and frame["status"].astype(str).str.strip().eq("ok").all():
+        quiet.append("status")
+    if "error" in frame.columns and frame["error"].fillna("").astype(str).str.strip().eq("").all():
+        quiet.append("error")
+    frame = frame.drop(columns=quiet)
     headers: dict[str, str] = {}
     formats: dict[str, str] = {}
     for name, (header, spec, factor) in _RUN_COLUMNS.items():
@@ -574,8 +608,9 @@ def _anova_table(frame: pd.DataFrame) -> tuple[_Table, str]:
                 cells.append(format_p_value(v))
             elif c == "df":
                 cells.append(_fmt(v, ".0f"))
-            elif c == "percent_contribution":
-                cells.append(_fmt(v, ".2f"))
+            elif c == "percent_contribution":  # 0.0031, not 0.00 beside the Pareto's bar
+                small = not _is_missing(v) and 0.0 < abs(float(v)) < 0.005  # (a report review)
+                cells.append(_fmt(v, ".2g" if small else ".2f"))
             elif c in ("term", "aliases"):
                 cells.append(_fmt(v))
             else:
@@ -995,6 +1030,14 @@ def _t_text(t: float) -> str:
     return f"{t:.2f}" if abs(t) < 1e4 else f"{t:.3g}"
 
 
+def _level_named(factor: str, label: Any) -> str:
+    """A factor's level in a sentence: ``WP+``, ``WP0``, ``WP-`` for coded labels, as the
+    figures' legends write them (the grouping had read "WP + ..., WP (-)"; a report review),
+    ``A = 10`` for another."""
+    text = str(label)
+    return f"{factor}{text}" if text in ("-", "0", "+") else f"{factor} = {text}"
+
+
 def _comparisons_table(
     response: str, frame: pd.DataFrame, explained_under: str | None = None
 ) -> tuple[_Table, str]:
@@ -1062,7 +1105,7 @@ def _comparisons_table(
             + "; ".join(
                 f"{name}: "
                 + ", ".join(
-                    f"{name} {level(r.level)} in group{'s' if len(r.grouping) > 1 else ''} "
+                    f"{_level_named(name, r.level)} in group{'s' if len(r.grouping) > 1 else ''} "
                     + " and ".join(r.grouping)
                     for r in rows_.itertuples()
                 )
@@ -1367,12 +1410,13 @@ def _box_cox_table(results: Mapping[str, Any]) -> _Table:
         else:
             cells = ["–", "–", "–", "–", f"not defined: {r.note}"]
         rows.append({"cells": [str(response), r.model, *cells], "cls": ""})
+    pct = next((f"{100 * r.confidence:g} %" for r in results.values()), "95 %")
     columns = [
         "Response",
         "Model",
         "λ̂",
-        "95 % interval",
-        "by residual df (Montgomery)",
+        f"{pct} interval",
+        f"{pct} interval by the residual df (Montgomery)",
         "Rounded λ",
         "Reading",
     ]
@@ -2285,9 +2329,8 @@ def _finding(
 
 
 #: The responses whose "In short" line says what their scale check finds, with the word for
-#: a negative fitted value: V and MU_SD, which cannot be negative (MU's reading rests on its
-#: outlier in the paper's study, which its line names).
-_SCALE_CLAUSES = {"V": "volume", "MU_SD": "spread"}
+#: a negative fitted value: the positive responses MU, V and MU_SD.
+_SCALE_CLAUSES = {"MU": "coefficient of friction", "V": "volume", "MU_SD": "spread"}
 
 
 def _scale_clause(
@@ -2300,10 +2343,15 @@ def _scale_clause(
     leaves out λ = 1 and holds λ = 0, that the log fits better (for V, that the
     log10_V_mm3 line is the scale to read); for MU_SD, which has no log line, also where the
     interval holds neither; unless Montgomery's interval, which counts the residual degrees
-    of freedom, holds λ = 1: then that the data do not settle the scale. And the runs whose
-    fitted value the linear model makes negative (a figures-and-report review: V's two lines
-    disagreed on WR, and nothing said which held; a review of MU_SD). Empty where neither
-    applies, and for another response."""
+    of freedom, holds λ = 1: then that the data do not settle the scale; and where the
+    profile without the unusual runs holds λ = 1, that the reading rests on them (a report
+    review: MU_SD's line said neither scale held while the Box-Cox section said that without
+    tests 17 and 23 no transformation was called for; MU's had been left out for its
+    outlier). And the runs whose fitted value the linear model makes negative (a
+    figures-and-report review: V's two lines disagreed on WR, and nothing said which held; a
+    review of MU_SD). Empty where neither applies, and for another response."""
+    from brakeca.boxcox import interval_text
+
     what = _SCALE_CLAUSES.get(response)
     if what is None:
         return ""
@@ -2314,7 +2362,7 @@ def _scale_clause(
         if holds_log or response != "V":
             text = (
                 f"Box-Cox puts {response}'s λ at {bc.lambda_hat:.2f} ({100 * bc.confidence:g} "
-                f"% interval {bc.ci_low:.2f} to {bc.ci_high:.2f}), which holds "
+                f"% interval {interval_text(bc.ci_low, bc.ci_high)}), which holds "
                 + (
                     f"the log and not {response} as it is"
                     if holds_log
@@ -2333,6 +2381,16 @@ def _scale_clause(
                 text += ": read the log10_V_mm3 line"
             elif response != "V":
                 text += f" (the report analyses {response} as it is)"
+            other = getattr(bc, "without", None)
+            if other is not None and other.defined and other.contains(1.0):
+                runs = getattr(bc, "without_runs", "") or "the unusual runs"
+                them = "it" if runs.startswith("test ") and ";" not in runs else "them"
+                text += (
+                    f"; but that rests on {runs}: without {them}, λ̂ = "
+                    f"{other.lambda_hat:.2f} ({100 * other.confidence:g} % interval "
+                    f"{interval_text(other.ci_low, other.ci_high)}), which holds λ = 1 (Box-Cox, "
+                    "in the ANOVA section)"
+                )
             clauses.append(text)
     residuals = (residual_tables or {}).get(response)
     if residuals is not None and {"fitted", "test"} <= set(residuals.columns):

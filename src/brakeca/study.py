@@ -1694,11 +1694,17 @@ def _response_figures(
     if not any(b.defined for b in scales.values()):  # the table says why: nothing to draw
         figures.drop("box_cox.png")
     else:
+        # the model the profiles were taken under, as it was (the caption had named both
+        # kinds for a factorial study; a report review)
+        kinds = {str(b.model).split(":", 1)[0].strip() for b in scales.values() if b.defined}
+        under = {
+            frozenset({"ANOVA model"}): "its ANOVA model",
+            frozenset({"quadratic model"}): "its response surface's quadratic model",
+        }.get(frozenset(kinds), "its model (the ANOVA model, or a response surface's quadratic)")
         figures.add(
             "Residuals",
             f"Box-Cox plots of {_listed(list(scales))}: the likelihood of each power λ of the "
-            "response under "
-            "the model (the ANOVA model, or a response surface's quadratic), the 95 % interval "
+            f"response under {under}, the 95 % interval "
             "of λ shaded; λ = 0 is the log (section 'Scale of the responses')"
             + (
                 "; dashed, the profile without the unusual runs, shifted to the same maximum, "
@@ -1758,7 +1764,11 @@ def _cycle_figures(
         "finished runs at that level, stop by stop (the main effects over the cycle"
         + ("; centre points left out" if result.design.center_points else "")
         + ")"
-        + (", the cycle's blocks shaded as above" if n_blocks > 1 else ""),
+        + (
+            ", the cycle's blocks shaded (named in the figure of MU per stop above)"
+            if n_blocks > 1
+            else ""
+        ),
         "mu_per_stop_by_level.png",
         plotting.plot_mu_per_stop_by_level,
         result.dataset,
@@ -1785,7 +1795,11 @@ def _cycle_figures(
                     else ""
                 )
                 + ("; centre points left out" if result.design.center_points else "")
-                + (" (the cycle's blocks shaded as above)" if n_blocks > 1 else ""),
+                + (
+                    " (the cycle's blocks shaded, named in the figure of MU per stop above)"
+                    if n_blocks > 1
+                    else ""
+                ),
                 name,
                 plotting.plot_mu_per_stop_by_level,
                 result.dataset,
@@ -2123,6 +2137,17 @@ def _study_notes(
     floor_note = _floor_note(result, base)
     if floor_note:
         notes += "\n\n" + floor_note
+    cycle = getattr(base, "cycle", None)
+    if len(files.filed) and cycle is not None and not getattr(cycle, "trace_file", None):
+        if not any(v is not None for v in files.pm10_of.values()):
+            # said, not only left out (a report review: PM10 appeared nowhere, and nothing
+            # said why)
+            notes += (
+                "\n\nNo brake PM10 in mg/km: the runs' drive cycle is a block cycle (as the "
+                "paper's), which gives the stops but not the distance driven between them, so "
+                "there is no emission per kilometre to give; a run on a speed trace gives one "
+                "(docs/cycles.md)."
+            )
     return notes
 
 

@@ -60,6 +60,20 @@ def test_outputs_present_and_consistent(campaign):
             ds["mean_cof"].sel(run=int(row["test"])).values, run.dataset["mean_cof"].values
         )
     ds.close()
+    # the block-by-block figure takes the campaign as block_table does (it had failed with
+    # "no attribute 'empty'"), its rows named by the design's levels
+    from brakeca.campaign import load_campaign
+    from brakeca.plotting import plot_by_block
+    from brakeca.study import block_table
+
+    result = load_campaign(out)
+    drawn = [
+        plot_by_block(result).axes[0],
+        plot_by_block(block_table(result), result).axes[0],
+    ]
+    names = [[t.get_text() for t in ax.get_yticklabels()] for ax in drawn]
+    assert names[0] == names[1] and names[0][0].startswith("T1: S-")
+    assert [t.get_text() for t in drawn[0].texts] == [t.get_text() for t in drawn[1].texts]
     for name in (
         "main_effects_MU",
         "main_effects_V",

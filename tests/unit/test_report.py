@@ -417,6 +417,40 @@ def test_short_wall_times_and_pm10_columns_in_the_runs_table(tmp_path) -> None:
     assert "<th>PM10 [mg/km]</th>" in html and '<td class="num">13,950</td>' in html
 
 
+def test_the_runs_table_shows_what_is_held_and_leaves_out_columns_that_say_nothing() -> None:
+    """A report review: "Emitted" and "Worn off" printed the same in 20 of the paper study's
+    24 rows though the caption sends the reader to their difference (test 1: 0.054 of 582
+    mm³); the table had five columns that said nothing (replicate all 0, order = test,
+    status all ok, error empty). MU_SD keeps its trailing zeros beside its neighbours."""
+    from brakeca.report import _runs_table
+
+    summary = pd.DataFrame(
+        {
+            "test": [1, 2],
+            "replicate": [0, 0],
+            "order": [1, 2],
+            "status": ["ok", "ok"],
+            "error": ["", ""],
+            "MU_SD": [0.011, 0.0232],
+            "total_emitted_mm3": [582.0, 3452.0],
+            "total_generated_mm3": [582.054, 3452.0 - 5e-12],  # round-off: 0
+        }
+    )
+    table = _runs_table(summary)
+    assert table.columns == [
+        "Test", "MU_SD [-]", "Emitted [mm³]", "Worn off [mm³]", "Held [mm³]"
+    ]  # fmt: skip
+    cells = [row["cells"] for row in table.rows]
+    assert cells[0][1:] == ["0.0110", "582.0", "582.1", "0.054"]
+    assert cells[1][4] == "0"
+    # where they say something, they stay: replicates, another order, a failed run
+    told = summary.assign(replicate=[0, 1], order=[2, 1], status=["ok", "failed"])
+    told["error"] = ["", "ContactError: x"]
+    columns = _runs_table(told).columns
+    assert {"Replicate", "Order", "Status", "Error"} <= set(columns)
+    assert _runs_table(told).rows[1]["cls"] == "failed"
+
+
 def test_a_stationary_value_of_the_wrong_sign_is_called_out(tmp_path) -> None:
     """A positive response (V) whose fitted bowl bottoms out below zero: the report says so
     beside the stationary point's value (a second review saw '-0.776 mm³' unremarked)."""
@@ -1029,7 +1063,31 @@ def test_in_short_says_which_scale_of_v_to_read() -> None:
         "MU_SD as it is nor its log (the report analyses MU_SD as it is); the linear model "
         "of MU_SD fits a negative spread for tests 7, 14, 19"
     )
-    assert _scale_clause("MU", {"MU": profile(0.06, -0.02, 0.14)}, {"MU": residuals}, True) == ""
+    # a reading that rests on the unusual runs says so (a report review: MU_SD's line said
+    # neither scale held, while without tests 17 and 23 λ = 1 did); MU, once left out for
+    # the paper study's outlier, is read as the others are
+    spread = profile(0.39, 0.24, 0.55)
+    spread.without, spread.without_runs = profile(0.64, 0.37, 1.03), "tests 17, 23"
+    assert _scale_clause("MU_SD", {"MU_SD": spread}, None, True) == (
+        "; Box-Cox puts MU_SD's λ at 0.39 (95 % interval 0.24 to 0.55), which holds neither "
+        "MU_SD as it is nor its log (the report analyses MU_SD as it is); but that rests on "
+        "tests 17, 23: without them, λ̂ = 0.64 (95 % interval 0.37 to 1.03), which holds "
+        "λ = 1 (Box-Cox, in the ANOVA section)"
+    )
+    spread.without = profile(0.5, 0.3, 0.7)  # without them, still not λ = 1: nothing added
+    assert _scale_clause("MU_SD", {"MU_SD": spread}, None, True).endswith("as it is)")
+    friction = profile(-1.43, -math.inf, -0.87)
+    friction.without, friction.without_runs = profile(0.57, -1.34, math.inf), "test 23"
+    assert _scale_clause("MU", {"MU": friction}, {"MU": residuals.iloc[3:]}, True) == (
+        "; Box-Cox puts MU's λ at -1.43 (95 % interval below -2 to -0.87), which holds "
+        "neither MU as it is nor its log (the report analyses MU as it is); but that rests "
+        "on test 23: without it, λ̂ = 0.57 (95 % interval -1.34 to above 2), which holds "
+        "λ = 1 (Box-Cox, in the ANOVA section)"
+    )
+    assert _scale_clause("MU", {"MU": profile(0.9, 0.6, 1.2)}, {"MU": residuals}, True) == (
+        "; the linear model of MU fits a negative coefficient of friction for tests 7, 14, 19"
+    )
+    assert _scale_clause("log10_V_mm3", {}, {"log10_V_mm3": residuals}, True) == ""
 
 
 def test_a_general_factorial_s_coefficients_are_folded_under_its_anova(tmp_path) -> None:
@@ -1080,7 +1138,7 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
     letters = tukey_grouping(tables["V"])
     assert len(letters) == 3
     shown = ", ".join(
-        f"WP {'(' + r.level + ')' if r.level.startswith('-') else r.level} in group"
+        f"WP{r.level} in group"  # as the legends write a level (a report review)
         + ("s " if len(r.grouping) > 1 else " ")
         + " and ".join(r.grouping)
         for r in letters.itertuples()
