@@ -179,6 +179,12 @@ def _write_or_keep(path: Path, write: Callable[[Path], Any], what: str) -> None:
         kept = Path(tempfile.mkdtemp(prefix=f"brakeca-{what}-")) / path.name
         write(kept)
         _fail(f"-o {path}: cannot write it ({exc}); the {what} was saved to {kept}", code=1)
+    except Exception as exc:  # not the place but the content: a traceback had said it
+        _fail(
+            f"-o {path}: the {what} cannot be written ({type(exc).__name__}: {exc}); please "
+            "report this, with the command",
+            code=1,
+        )
 
 
 def _announce_compiling(message: str) -> None:
@@ -416,7 +422,13 @@ SeedFromRunOpt = Annotated[
 ]
 StopsOpt = Annotated[
     int | None,
-    typer.Option("--stops", min=1, metavar="N", help="run only the first N stops of the cycle"),
+    typer.Option(
+        "--stops",
+        min=1,
+        max=1_000_000,  # cycle.max_stops's bound (a fuzz review: 10^20 ran, then lost the run)
+        metavar="N",
+        help="run only the first N stops of the cycle",
+    ),
 ]
 QuickOpt = Annotated[
     bool,

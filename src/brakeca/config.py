@@ -18,7 +18,7 @@ import re
 import tomllib
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal, NamedTuple, Self
+from typing import Any, ClassVar, Literal, NamedTuple, Self
 
 import numpy as np
 import tomli_w
@@ -205,7 +205,12 @@ class VehicleConfig(_Frozen):
         le=2.0,
         description="[m] rolling radius of the wheel (at most 2 m: a mining truck's is about 1.8)",
     )
-    gravity: float = Field(9.81, gt=0, description="[m/s^2] standard gravity, converts g to m/s^2")
+    gravity: float = Field(
+        9.81,
+        ge=9.7,
+        le=9.9,
+        description="[m/s^2] standard gravity, converts g to m/s^2 (Earth's: 9.78 to 9.83)",
+    )
 
     def unit_note(self) -> str | None:
         """A note for a wheel load that reads like a slip of unit (under 20 kg: ``0.69``
@@ -259,7 +264,9 @@ class MeshConfig(_Frozen):
     """Polar pad mesh and subdomains (Table 5 of the paper)."""
 
     angular_step_deg: float = Field(0.044, gt=0, le=1.0, description="[deg] angular step")
-    radial_step: float = Field(100e-6, gt=0, le=1e-2, description="[m] radial step")
+    # at least 0.1 µm (a fuzz review: 1e-30 m overflowed in the surface, 1e-15 m ran a
+    # band 4e-15 m wide)
+    radial_step: float = Field(100e-6, ge=1e-7, le=1e-2, description="[m] radial step")
     n_angular: int = Field(1000, ge=2, le=100_000, description="[-] angular points")
     n_radial: int = Field(201, ge=1, le=100_000, description="[-] radial points")
     n_subdomains: int = Field(10, ge=1, description="[-] subdomains along the sliding direction")
@@ -269,8 +276,18 @@ class MeshConfig(_Frozen):
         description="[m] radius of row 0; None centres the band on the effective radius (decision)",
     )
 
+    #: The most cells a band may have [-]: 250 times the paper's 201 x 1000 (a fuzz review:
+    #: 10^10 cells passed every check, then failed allocating 75 GiB in a run).
+    MAX_CELLS: ClassVar[int] = 50_000_000
+
     @model_validator(mode="after")
     def _divisible(self) -> MeshConfig:
+        if self.n_radial * self.n_angular > self.MAX_CELLS:
+            raise ValueError(
+                f"n_radial x n_angular = {self.n_radial} x {self.n_angular} = "
+                f"{self.n_radial * self.n_angular:.3g} cells: at most {self.MAX_CELLS:.0e} "
+                "(the paper's band is 201 x 1000 = 201,000 cells, about 0.3 GB a run)"
+            )
         if self.n_subdomains > self.n_angular or self.n_angular % self.n_subdomains:
             raise ValueError(
                 f"n_angular ({self.n_angular}) must be a multiple of n_subdomains "
@@ -324,7 +341,10 @@ class PadConfig(_Frozen):
         700e-6, gt=0, le=0.01, description="[m] thickest fibre (at most 0.01 m)"
     )
     resin_roughness: float = Field(
-        100e-6, ge=0, description="[m] resin heights are uniform in [0, resin_roughness]"
+        100e-6,
+        ge=0,
+        le=1e-2,
+        description="[m] resin heights are uniform in [0, resin_roughness] (at most 0.01 m)",
     )
     fibre_model: Literal["columns", "layer", "field"] = Field(
         "columns",
@@ -544,7 +564,8 @@ class TraceCycleConfig(_Frozen):
     # road load
     vehicle_mass: float = Field(
         2300.0,
-        gt=0,
+        ge=100.0,
+        le=60_000.0,
         description=(
             "[kg] vehicle test mass m: aerodynamic term and vehicle-level energies; default "
             "2 x 690 kg / 0.6, the paper's wheel load at psi_f = 0.6"
@@ -565,7 +586,12 @@ class TraceCycleConfig(_Frozen):
     air_density: float = Field(
         1.2, gt=0, le=2.0, description="[kg/m^3] air density rho, 1.225 at 15 C sea level (ISA)"
     )
-    gravity: float = Field(9.81, gt=0, description="[m/s^2] gravity in the rolling resistance")
+    gravity: float = Field(
+        9.81,
+        ge=9.7,
+        le=9.9,
+        description="[m/s^2] gravity in the rolling resistance (Earth's: 9.78 to 9.83)",
+    )
     # brake share
     friction_share: float = Field(
         1.0,
@@ -591,9 +617,11 @@ class TraceCycleConfig(_Frozen):
     min_brake_deceleration: float = Field(
         0.01,
         gt=0,
+        le=1.0,
         description=(
             "[m/s^2] floor of a_brake: the simulation solves a torque balance and needs a "
-            "positive demand (a step where road load alone decelerates the car drags the pads)"
+            "positive demand (a step where road load alone decelerates the car drags the "
+            "pads); at most 1 m/s^2"
         ),
     )
 
@@ -680,8 +708,23 @@ class CycleConfig(_Frozen):
         TraceCycleConfig(), description="event detection, road load and brake share of a trace"
     )
     max_stops: int | None = Field(
-        None, ge=1, description="[-] run only the first N stops (None: the whole cycle)"
+        None,
+        ge=1,
+        le=1_000_000,
+        description="[-] run only the first N stops (None: the whole cycle), at most 10^6",
     )
+
+    @field_validator("trace_speed_unit")
+    @classmethod
+    def _known_speed_unit(cls, value: str | None) -> str | None:
+        """A speed unit a trace's header may give (a fuzz review: any text was taken)."""
+        if value is None:
+            return value
+        from brakeca.traces import SPEED_UNITS, _norm_unit  # (traces imports this module)
+
+        if _norm_unit(value) not in SPEED_UNITS:
+            raise ValueError(f"unknown speed unit {value!r}; use one of km/h, m/s, mph")
+        return value
 
     @model_validator(mode="after")
     def _one_source(self) -> CycleConfig:
@@ -724,14 +767,23 @@ class OutputConfig(_Frozen):
     """What a run keeps besides the per-stop responses."""
 
     series_every: int = Field(
-        50, ge=1, description="[-] keep every Nth step in the thinned per-step series"
+        50,
+        ge=1,
+        le=1_000_000_000,
+        description="[-] keep every Nth step in the thinned per-step series",
     )
+    # at least 1e-12: the ledger's round-off reaches 2e-13 in the paper's runs, so a smaller
+    # tolerance stops every run (a fuzz review)
     ledger_tolerance: float = Field(
-        1e-9, gt=0, le=1e-2, description="[-] relative volume-ledger residual that stops a run"
+        1e-9,
+        ge=1e-12,
+        le=1e-2,
+        description="[-] relative volume-ledger residual that stops a run",
     )
     ledger_every: int = Field(
         1,
         ge=1,
+        le=1_000_000_000,
         description=(
             "[-] sum the held volume from the state every N steps for the ledger (1: every step; "
             "in between the incrementally tracked value is used); exact kernel only: the lazy "

@@ -2901,7 +2901,14 @@ class Design(_Frozen):
             values = [*factor.levels, *([centre[factor.name]] if centre else [])]
             for value in values:
                 try:
-                    factor.apply(base, value)
+                    applied = factor.apply(base, value)
+                    if factor.field == "cycle" and applied.cycle.trace_file:
+                        # a trace with no braking event to simulate, refused before any run
+                        # (a fuzz review: the campaign computed the other choices' runs
+                        # first); its events are detected once and kept (traces' cache)
+                        from brakeca.traces import configured_cycle
+
+                        configured_cycle(applied)
                 except ConfigError as exc:
                     problems.append(str(self._level_error(factor, value, exc, source)))
         if problems:

@@ -269,7 +269,9 @@ class EmissionParameters(_Frozen):
         try:
             return cls.model_validate(dict(data))
         except ValidationError as exc:
-            raise ConfigError(format_validation_error(exc, source)) from None
+            # the class: a bound's error gives the whole range, an unknown key the near
+            # names (a fuzz review)
+            raise ConfigError(format_validation_error(exc, source, cls)) from None
 
     def factors_text(self) -> str:
         """The chain's factors as a sentence for a report, each with its range, e.g.

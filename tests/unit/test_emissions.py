@@ -256,7 +256,9 @@ def test_describe_says_it_is_the_vehicles_figure_and_names_the_factors():
     assert given.endswith("(from my.toml)") and "--emissions FILE" not in given
     assert "2 pads a brake, 2 front brakes" in factors
     # shares in per cent and a density in g/cm³ are named as such (a review)
-    with pytest.raises(ValueError, match=r"must be at most 1 \(got 40\): a fraction, 0.4 for 40 %"):
+    with pytest.raises(
+        ValueError, match=r"must lie in \(0, 1\] \(got 40\): a fraction, 0.4 for 40 %"
+    ):
         EmissionParameters.from_dict({"airborne_fraction": 40})
     with pytest.raises(ValueError, match=r"debris_density is in kg/m³: 2.6 g/cm³ is 2600 kg/m³"):
         EmissionParameters.from_dict({"debris_density": 2.6})

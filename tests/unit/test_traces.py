@@ -346,6 +346,18 @@ def test_a_trace_without_events_is_refused_for_a_simulation(tmp_path):
         res = CliRunner().invoke(app, [*command, "--quick", "--cycle", str(path)])
         assert res.exit_code == 2 and "no braking event to simulate" in res.output, res.output
     assert not (tmp_path / "r.nc").exists() and not (tmp_path / "c").exists()
+    # a design's choice of cycle too, before any run (a fuzz review: the campaign computed
+    # the other choice's runs first, then failed on it)
+    (tmp_path / "d.toml").write_text(
+        'name = "cycles"\nbase = "paper"\nroot_seed = 3\n[[factors]]\nname = "C"\n'
+        'field = "cycle"\nlevels = [1, 2]\nchoices = ["paper", "cruise.csv"]\n',
+        encoding="utf-8",
+    )
+    res = CliRunner().invoke(app, ["run", str(tmp_path / "d.toml"), "-o", str(tmp_path / "c")])
+    assert res.exit_code == 2, res.output
+    text = " ".join(res.output.split())
+    assert "factor 'C'" in text and "no braking event to simulate" in text, text
+    assert not (tmp_path / "c").exists()
 
 
 def test_threshold_min_duration_and_merge_gap():
