@@ -11,6 +11,7 @@ library caller may give).
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Iterable
 from typing import Any
 
@@ -49,6 +50,19 @@ class LogConsole(Console):
         if soft_wrap is None and _unwrapped(self, objects):
             soft_wrap = True
         super().print(*objects, soft_wrap=soft_wrap, **kwargs)
+
+    def on_broken_pipe(self) -> None:
+        """Where the reader of its output has gone (``brakeca run ... | head``), write no
+        more and go on: rich's own ended the command there with exit status 1 and no word
+        (a campaign's report lines lost, a finished study read as a failure under
+        ``pipefail``; a command-line review); the work goes on to its end and its status."""
+        self.quiet = True
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, self.file.fileno())
+            os.close(devnull)
+        except (OSError, ValueError, AttributeError):  # no file descriptor: just quiet
+            pass
 
 
 def brief_warnings() -> Callable[[], None]:

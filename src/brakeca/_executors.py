@@ -297,12 +297,22 @@ def terminate_as_interrupt() -> Iterator[None]:
     """While in this block, SIGTERM and SIGHUP raise KeyboardInterrupt in the main thread, as
     Ctrl-C does: a campaign or a run then stops its workers and keeps what it has (its run
     files and checkpoints) instead of ending at once with its workers left running. A
-    handler the program set itself is left alone; outside the main thread this does nothing."""
+    handler the program set itself is left alone; outside the main thread this does nothing.
+
+    Each of those signals, Ctrl-C's too, is also remembered until the block ends: Python
+    drops a KeyboardInterrupt raised while it runs a finalizer or a weak reference's callback
+    ("Exception ignored in ..."), and a campaign then ran every run to the end and an
+    analysis finished, exit status 0, as if no Ctrl-C had come (a command-line review).
+    :func:`raise_if_interrupted`, called between runs and between figures, raises it again.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
     def interrupt(signum: int, frame: Any) -> None:
+        _INTERRUPTS.append(signum)
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
         raise KeyboardInterrupt(signal.Signals(signum).name)
 
     saved = {}
@@ -310,11 +320,33 @@ def terminate_as_interrupt() -> Iterator[None]:
         number = getattr(signal, name, None)
         if number is not None and signal.getsignal(number) == signal.SIG_DFL:
             saved[number] = signal.signal(number, interrupt)
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        saved[signal.SIGINT] = signal.signal(signal.SIGINT, interrupt)
+    if saved:  # the outermost block: no interrupt of an earlier one is carried into it
+        _INTERRUPTS.clear()
     try:
         yield
     finally:
         for number, handler in saved.items():
             signal.signal(number, handler)
+        if saved:
+            _INTERRUPTS.clear()
+
+
+#: The signals :func:`terminate_as_interrupt`'s handler took, in its block [-].
+_INTERRUPTS: list[int] = []
+
+
+def raise_if_interrupted() -> None:
+    """Raise KeyboardInterrupt where a signal came in a :func:`terminate_as_interrupt` block
+    and its KeyboardInterrupt was lost (raised in a finalizer or a weak reference's callback,
+    which Python only prints); nothing otherwise, and outside such a block."""
+    if _INTERRUPTS:
+        signum = _INTERRUPTS[-1]
+        _INTERRUPTS.clear()
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        raise KeyboardInterrupt(signal.Signals(signum).name)
 
 
 def _tracker_outlives_a_hangup() -> None:

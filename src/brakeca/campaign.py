@@ -70,6 +70,7 @@ from brakeca._executors import (
     _Execution,
     check_dask_installed,
     make_executor,
+    raise_if_interrupted,
     terminate_as_interrupt,
 )
 from brakeca._io import checkpoint_resumes, write_text
@@ -952,6 +953,7 @@ def _execute_points(
         with bar:
             task = bar.add_task("runs", total=n_total, completed=n_total - len(todo))
             while queue or pending:
+                raise_if_interrupted()  # a Ctrl-C Python dropped in a callback (a review)
                 while queue and backend.free() > 0:
                     point = queue.popleft()
                     options: dict[str, Any] = {}

@@ -887,6 +887,14 @@ def plot(
     try:
         rows = campaign_runs_to_plot(path, tests or ())
     except (OSError, ValueError) as exc:
+        from brakeca._runstore import lock_holder
+
+        holder = lock_holder(path) if isinstance(exc, FileNotFoundError) else None
+        if holder is not None:  # 'brakeca run' would be refused by its lock (a review)
+            _fail(
+                f"a campaign is writing {path} ({holder}) and has not written its summary.csv "
+                f"yet: plot a run file of {path / 'runs'} instead, or the campaign when it ends"
+            )
         _fail(str(exc))
     base = output if output is not None else path / "run_figures"
     _check_output(base, "-o" if output is not None else None, folder=True)
@@ -1090,6 +1098,7 @@ def _run_and_report(
     speed_unit: str | None = None,
     replace: bool = False,
     maps_at: str | None = None,
+    output_option: str | None = "-o",
     emissions: Path | None = None,
 ) -> None:
     import time
@@ -1159,7 +1168,7 @@ def _run_and_report(
     except ConfigError as exc:
         _fail(str(exc))
     asked_maps = _maps_at_stops(maps_at) if maps_at is not None else []
-    _check_output(output, folder=True)
+    _check_output(output, output_option, folder=True)  # None: the default folder
     from brakeca.design import load_design
 
     try:
@@ -1252,6 +1261,7 @@ def _run_and_report(
     _print_summary(result.summary, result.design)
     if report:
         later = f"every run is in {output}; 'brakeca analyze {output}' writes the report"
+        _say_analysing(True)
         lines: list[str] = []
         with _on_interrupt(later):
             try:
@@ -1268,6 +1278,18 @@ def _run_and_report(
     out.print(f"summary: {Path(output) / 'summary.csv'}", markup=False)
     if result.failed:
         raise typer.Exit(1)
+
+
+def _say_analysing(run_maps: bool) -> None:
+    """Say what the silence before the report is (a command-line review: 20 to 45 s without
+    a word after the runs' table)."""
+    console.print(
+        "analysing: tables, figures"
+        + (", each run's plateau maps" if run_maps else "")
+        + " and the report (half a minute or so)",
+        style="dim",
+        highlight=False,
+    )
 
 
 def _print_summary(summary, design=None) -> None:
@@ -1599,6 +1621,7 @@ def analyze(
         if (problem := destination_problem(folder, dest)) is not None:
             _fail(f"-o {dest}: {problem}")
     _print_summary(result.summary, result.design)
+    _say_analysing(run_maps)
     lines: list[str] = []
     with _on_interrupt("the report is not complete; run the same command again"):
         try:
@@ -2225,6 +2248,7 @@ def paper(
     """The paper's whole study: the 24-run factorial design, then the analysis and report.
     With --stops N and no -o, a folder of its own (results/paper_stopsN), so that a
     truncated study never replaces the whole cycle's."""
+    given = output is not None
     if output is None:  # the quick band's runs are not the full band's: a folder each
         output = default_paper_folder(quick=quick, stops=stops)
         console.print(f"campaign folder: {output}", markup=False, highlight=False)
@@ -2243,6 +2267,9 @@ def paper(
         report=report,
         replace=replace,
         maps_at=maps_at,
+        # a default folder that cannot be written is named as the default, not as a -o the
+        # user did not give (a command-line review)
+        output_option="-o" if given else None,
     )
 
 

@@ -19,9 +19,11 @@ from brakeca.cycle import KMH, Stop
 from brakeca.traces import (
     BrakingEvent,
     TraceCycleConfig,
+    _read_text,
     block_trace,
     brake_work,
     braking_energy,
+    cycle_file_kind,
     detect_events,
     event_distance,
     load_cycle_events,
@@ -285,6 +287,15 @@ def inspect(
 
         _check_figure_output(output)
     try:
+        given = [f"--{k.replace('_', '-')}" for k in updates]
+        if given and cycle_file_kind(_read_text(file)[0]) == "blocks":
+            # refused, as --speed-unit is (a command-line review: ignored without a word);
+            # --no-corrections is what a block cycle is anyway
+            raise ConfigError(
+                f"{file} is a block cycle, whose stops are given: {', '.join(given)} "
+                f"{'applies' if len(given) == 1 else 'apply'} to a speed trace's event "
+                "detection; remove " + ("it" if len(given) == 1 else "them")
+            )
         if no_corrections:
             tc = TraceCycleConfig.no_corrections(**updates)
         else:

@@ -273,7 +273,7 @@ class MeshConfig(_Frozen):
     inner_radius: float | None = Field(
         None,
         gt=0,
-        description="[m] radius of row 0; None centres the band on the effective radius (decision)",
+        description="[m] radius of row 0; unset, centred on the effective radius (decision)",
     )
 
     #: The most cells a band may have [-]: 250 times the paper's 201 x 1000 (a fuzz review:
@@ -460,7 +460,7 @@ class AutomatonConfig(_Frozen):
         gt=0,
         description=(
             "[m] rule 6: a primary plateau whose gap to the disc exceeds this is destroyed; "
-            "None switches rule 6 off (decision)"
+            "unset, rule 6 is off (decision)"
         ),
     )
     creation_order: Literal["west_to_east", "east_to_west"] = Field(
@@ -711,7 +711,7 @@ class CycleConfig(_Frozen):
         None,
         ge=1,
         le=1_000_000,
-        description="[-] run only the first N stops (None: the whole cycle), at most 10^6",
+        description="[-] run only the first N stops (unset: the whole cycle), at most 10^6",
     )
 
     @field_validator("trace_speed_unit")
@@ -829,7 +829,7 @@ class SimulationConfig(_Frozen):
     cycle: CycleConfig
     output: OutputConfig = OutputConfig()
     numerics: NumericsConfig = NumericsConfig()
-    quick: bool = Field(False, description="the band was narrowed by --quick")
+    quick: bool = Field(False, description="true where --quick narrowed the band (2 mm, 21 rows)")
 
     @model_validator(mode="after")
     def _quick_is_the_quick_band(self) -> SimulationConfig:
@@ -1975,6 +1975,12 @@ def load_config(path: str | Path) -> SimulationConfig:
     try:
         config = SimulationConfig.from_toml(text, source=str(path))
     except ConfigError as exc:
+        if _is_design(text):  # in one line (a command-line review: nine lines of errors)
+            raise ConfigError(
+                f"{path}: a design (it has [[factors]]), not a simulation configuration: run "
+                f"it with 'brakeca run {path} -o FOLDER' ('brakeca design {path}' shows its "
+                "tests)"
+            ) from None
         if f"{path}: cycle: required field is missing" not in str(exc).splitlines():
             raise
         # most likely a file of changes only: every section but the cycle has defaults
@@ -1986,6 +1992,16 @@ def load_config(path: str | Path) -> SimulationConfig:
     for note in unit_notes(config):
         warn_unit(f"{path}: {note}")
     return _anchored_trace(config, path)
+
+
+def _is_design(text: str) -> bool:
+    """Whether TOML ``text`` reads as a design file: ``factors`` (or a run table) at its top
+    level."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError:
+        return False
+    return "factors" in data or "runs" in data
 
 
 def _anchored_trace(config: SimulationConfig, path: Path) -> SimulationConfig:

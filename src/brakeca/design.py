@@ -3172,6 +3172,15 @@ def load_design(path_or_name: str | Path | Mapping[str, Any]) -> Design:
             f"({', '.join(available_designs())})"
         )
     source = str(path)
+    from brakeca.config import SimulationConfig, is_run_file
+
+    # a file of another kind, named as such in one line (a command-line review: a run file
+    # read "'utf-8' codec can't decode byte 0x89", a configuration fifteen "unknown key"s)
+    if is_run_file(path):
+        raise ConfigError(
+            f"{source}: a netCDF file (a run file or a campaign.nc), not a design: give a "
+            "design TOML file or a shipped design's name (brakeca design --help)"
+        )
     try:
         text = path.read_text(encoding="utf-8-sig")  # a BOM (Windows editors) is not TOML
     except (OSError, UnicodeDecodeError) as exc:
@@ -3180,4 +3189,10 @@ def load_design(path_or_name: str | Path | Mapping[str, Any]) -> Design:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{source}: not valid TOML: {exc}") from None
+    if "factors" not in data and set(data) & (set(SimulationConfig.model_fields) - {"name"}):
+        raise ConfigError(
+            f"{source}: a simulation configuration, not a design (it has no [[factors]]): "
+            f"run it with 'brakeca simulate -c {source}', or name it as a design's "
+            "base_config (docs/designs.md)"
+        )
     return design_from_dict(data, source=source, root=path.parent)

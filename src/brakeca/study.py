@@ -1358,6 +1358,9 @@ class _Figures:
 
     def add(self, section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> None:
         """Draw ``fig_fn(*args, path=..., **kwargs)`` into ``name`` and list it."""
+        from brakeca._executors import raise_if_interrupted
+
+        raise_if_interrupted()  # a Ctrl-C Python dropped in a callback (a review)
         path = self.folder / name
         fig_fn(*args, path=path, **kwargs)
         self.listed.append((section, caption, path))

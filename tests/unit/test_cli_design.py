@@ -426,3 +426,51 @@ def test_a_run_table_of_aliased_main_effects_is_warned_of_and_power_says_so(tmp_
     )
     text = " ".join(_design(str(design)).split())
     assert "warning" not in text and "aliased with the mean" not in text
+
+
+def test_a_file_of_another_kind_is_named_as_such_in_one_line(tmp_path) -> None:
+    """A command-line review: a configuration given as a design read fifteen "unknown key"
+    lines, a design given as a configuration nine, and a netCDF file "'utf-8' codec can't
+    decode byte 0x89"; each is now one line that says what the file is and where it goes."""
+    config = tmp_path / "my.toml"
+    config.write_text(CliRunner().invoke(app, ["config"]).output, encoding="utf-8")
+    design = tmp_path / "d.toml"
+    design.write_text(
+        'name = "d"\nbase = "paper"\nroot_seed = 1\n[[factors]]\nname = "S"\n'
+        'field = "automaton.secondary_removal_fraction"\nlevels = [0.0, 1.0]\n',
+        encoding="utf-8",
+    )
+    netcdf = tmp_path / "run.nc"
+    netcdf.write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(64))
+    for args, says in (
+        (["run", str(config), "-o", str(tmp_path / "c")], "a simulation configuration, not a"),
+        (["design", str(config)], f"run it with 'brakeca simulate -c {config}'"),
+        (["simulate", "-c", str(design), "-o", str(tmp_path / "r.nc")], "a design (it has"),
+        (["config", "-c", str(design)], f"'brakeca run {design} -o FOLDER'"),
+        (["design", str(netcdf)], "a netCDF file (a run file or a campaign.nc), not a design"),
+    ):
+        res = CliRunner().invoke(app, args)
+        text = " ".join(res.output.split())
+        assert res.exit_code == 2 and says in text, text
+        assert text.count("error:") == 1 and "unknown key" not in text, text
+    assert not (tmp_path / "c").exists() and not (tmp_path / "r.nc").exists()
+
+
+def test_output_read_by_a_reader_that_goes_is_not_a_failure() -> None:
+    """A command-line review: 'brakeca design paper | head -1' exited 1 (rich's broken pipe),
+    which a shell with pipefail reads as the command failing; it ends as it would have."""
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "brakeca.cli", "design", "paper"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    assert proc.stdout is not None and proc.stderr is not None
+    proc.stdout.close()  # gone before the first line is written (the table fits a pipe's
+    # buffer, so a reader that took one line first might not be gone yet)
+    status = proc.wait(timeout=120)
+    with proc.stderr:
+        said = proc.stderr.read()
+    assert status == 0 and said == b"", said

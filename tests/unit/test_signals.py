@@ -42,6 +42,38 @@ def test_an_ignored_hangup_stays_ignored() -> None:
         signal.signal(signal.SIGHUP, inherited)
 
 
+def test_a_ctrl_c_python_drops_in_a_finalizer_is_raised_again(monkeypatch) -> None:
+    """A command-line review: a Ctrl-C that came while Python ran a finalizer or a weak
+    reference's callback was printed ("Exception ignored in ...") and dropped, and the
+    campaign ran every run to the end, exit status 0. The block remembers it, and
+    raise_if_interrupted (between runs, between figures) raises it again; once."""
+    from brakeca._executors import raise_if_interrupted
+
+    dropped = []
+    monkeypatch.setattr(sys, "unraisablehook", lambda u: dropped.append(u.exc_type))
+
+    class Interrupted:
+        def __del__(self) -> None:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(1.0)  # the handler runs here, inside the finalizer
+
+    inherited = signal.signal(signal.SIGINT, signal.default_int_handler)  # as a terminal's
+    try:
+        with terminate_as_interrupt():
+            Interrupted()  # made and finalized at once
+            assert dropped == [KeyboardInterrupt]  # Python dropped it...
+            with pytest.raises(KeyboardInterrupt) as info:
+                raise_if_interrupted()  # ...and here it is again, as Ctrl-C's (status 130)
+            assert info.value.args == ()
+            raise_if_interrupted()  # once
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+        with terminate_as_interrupt():  # a later block starts without it
+            raise_if_interrupted()
+    finally:
+        signal.signal(signal.SIGINT, inherited)
+    raise_if_interrupted()  # outside a block: nothing
+
+
 def test_a_handler_of_the_program_is_left_alone() -> None:
     seen = []
     saved = signal.signal(signal.SIGTERM, lambda *_: seen.append(1))

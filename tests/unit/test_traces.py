@@ -972,3 +972,21 @@ def test_a_row_of_separators_alone_is_a_blank_line(tmp_path):
     assert list(trace.time) == [0.0, 10.0, 20.0, 30.0]
     semi = "time_s;speed_kmh\n0;0\n10;50,5\n;\n20;50\n30;0\n"
     assert load_trace(_write(tmp_path, semi, "semi.csv")).speed.size == 4
+
+
+def test_cycle_inspect_refuses_a_traces_options_for_a_block_cycle() -> None:
+    """A command-line review: --threshold, --smoothing... were ignored without a word on a
+    block cycle (whose stops are given), while --speed-unit was refused (--no-corrections,
+    what a block cycle is anyway, is taken: test_cycle_inspect_cli)."""
+    from brakeca.cli import app
+
+    res = CliRunner().invoke(app, ["cycle", "inspect", "paper", "--threshold", "5"])
+    assert res.exit_code == 2, res.output
+    assert "paper is a block cycle, whose stops are given: --threshold applies to" in " ".join(
+        res.output.split()
+    )
+    both = CliRunner().invoke(
+        app, ["cycle", "inspect", "paper", "--smoothing", "3", "--merge-gap", "2"]
+    )
+    assert both.exit_code == 2 and "--smoothing, --merge-gap apply to" in both.output
+    assert CliRunner().invoke(app, ["cycle", "inspect", "paper"]).exit_code == 0
