@@ -91,6 +91,26 @@ def rule1_east_support(status, idx: int, n_radial: int, n_angular: int) -> bool:
     bool
         Whether rule 1 makes the cell a creation candidate (off-grid neighbours count as
         none).
+
+    Notes
+    -----
+    ``rule1 = (status[j, i] = none) and E and not NE and not SE`` for the cell ``(j, i)``,
+    with ``E = status[j, i+1] != none``, ``NE = status[j+1, i+1] != none`` and
+    ``SE = status[j-1, i+1] != none``; a neighbour off the grid (past the trailing edge or the
+    radial edges) is not a plateau. The paper's rule 1 asks for one plateau neighbour to the
+    east; rules 2 and 3 take the cells that also have diagonal support, so the three rules
+    are disjoint. Primary and secondary plateaus both count as neighbours (a decision,
+    docs/model.md section 7, rules 1-3, and the table of decisions fixed in code).
+
+    A candidate becomes a secondary plateau, rising to ``z``, if the inflow still available to
+    its row and subdomain covers its gap ``(z - h) A_j`` (:func:`gap_fill_cost`); that test is
+    the creation step's, not this function's. The kernels flag candidates (a plateau directly
+    east) in ``_kernels.refresh_candidate`` without calling this function; it states the rule
+    and is tested cell by cell (docs/model.md, introduction).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     if status[idx] != _NONE:
         return False
@@ -117,6 +137,25 @@ def rule2_east_and_one_diagonal(status, idx: int, n_radial: int, n_angular: int)
     bool
         Whether rule 2 makes the cell a creation candidate (off-grid neighbours count as
         none).
+
+    Notes
+    -----
+    ``rule2 = (status[j, i] = none) and E and (NE xor SE)`` for the cell ``(j, i)``, with
+    ``E``, ``NE`` and ``SE`` as in :func:`rule1_east_support` (``status != none`` of the cell
+    east, north-east and south-east; off the grid, not a plateau). The paper's rule 2: a
+    plateau to the east and one to the north-east or south-east. Primary and secondary
+    plateaus both count as neighbours, and more support does not make filling cheaper
+    (decisions, docs/model.md section 7, rules 1-3).
+
+    A candidate becomes a secondary plateau, rising to ``z``, if the inflow still available to
+    its row and subdomain covers its gap ``(z - h) A_j`` (:func:`gap_fill_cost`); that test is
+    the creation step's, not this function's. The kernels flag candidates (a plateau directly
+    east) in ``_kernels.refresh_candidate`` without calling this function; it states the rule
+    and is tested cell by cell (docs/model.md, introduction).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     if status[idx] != _NONE:
         return False
@@ -142,6 +181,25 @@ def rule3_east_and_both_diagonals(status, idx: int, n_radial: int, n_angular: in
     -------
     bool
         Whether rule 3 makes the cell a creation candidate.
+
+    Notes
+    -----
+    ``rule3 = (status[j, i] = none) and E and NE and SE`` for the cell ``(j, i)``, with ``E``,
+    ``NE`` and ``SE`` as in :func:`rule1_east_support` (``status != none`` of the cell east,
+    north-east and south-east; off the grid, not a plateau). The paper's rule 3: plateaus to
+    the east, the north-east and the south-east. Primary and secondary plateaus both count as
+    neighbours, and more support does not make filling cheaper (decisions, docs/model.md
+    section 7, rules 1-3).
+
+    A candidate becomes a secondary plateau, rising to ``z``, if the inflow still available to
+    its row and subdomain covers its gap ``(z - h) A_j`` (:func:`gap_fill_cost`); that test is
+    the creation step's, not this function's. The kernels flag candidates (a plateau directly
+    east) in ``_kernels.refresh_candidate`` without calling this function; it states the rule
+    and is tested cell by cell (docs/model.md, introduction).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     if status[idx] != _NONE:
         return False
@@ -168,6 +226,21 @@ def creation_rule(status, idx: int, n_radial: int, n_angular: int) -> int:
     int
         1, 2 or 3: the rule (1 + the number of diagonal plateau neighbours, given a plateau
         east); 0 when the cell is not a none cell or has no plateau east [-].
+
+    Notes
+    -----
+    ``rule = 1 + NE + SE`` if ``status[j, i] = none`` and ``E``, else 0, for the cell
+    ``(j, i)``, with ``E``, ``NE`` and ``SE`` (1 or 0) as in :func:`rule1_east_support`
+    (``status != none`` of the cell east, north-east and south-east; off the grid, not a
+    plateau). It returns ``k`` exactly when rule ``k`` holds (:func:`rule1_east_support`,
+    :func:`rule2_east_and_one_diagonal`, :func:`rule3_east_and_both_diagonals`). The exact
+    kernel calls it only to count which rule created each secondary plateau
+    (``rule_firings``); candidacy itself is the flag of ``_kernels.refresh_candidate``
+    (docs/model.md, introduction and section 7, rules 1-3).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     if status[idx] != _NONE:
         return 0
@@ -220,6 +293,20 @@ def rule4_lost_support(status, idx: int, n_angular: int) -> bool:
     bool
         Whether the cell is a secondary plateau whose east neighbour is none or off the grid
         (a cell in the last column).
+
+    Notes
+    -----
+    ``rule4 = (status[j, i] = secondary) and (i = n_angular - 1 or status[j, i+1] = none)``.
+    The paper destroys a secondary plateau with "fewer than one eastern plateau neighbour";
+    reading that neighbour as the cell directly east (the sliding direction), not the three
+    eastern cells, is a decision (docs/model.md section 7, rule 4, and the table of
+    decisions fixed in code). It reads the statuses at the start of the step (synchronous
+    update); the destroyed plateau's remaining deposit returns to the stream of its row and
+    subdomain. Both kernels call this function.
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     if status[idx] != 2:
         return False
@@ -245,6 +332,19 @@ def rule5_deposit_worn(status, height: float, deposit_base: float) -> bool:
     -------
     bool
         Whether the cell is a secondary plateau with ``height <= deposit_base``.
+
+    Notes
+    -----
+    ``rule5 = (status = secondary) and h <= b``, with ``h`` the height after this step's
+    wear and ``b`` the height under the deposit. The paper's "wears down" is read as: the
+    deposit is used up, the Archard wear of a secondary plateau being clipped at its deposit
+    (a decision, docs/model.md section 7, rule 5). The lazy kernel takes rule 5 without this
+    function, by a certificate ``a r + c <= b`` in its trees (docs/model.md, introduction and
+    section 13).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     return status == 2 and height <= deposit_base
 
@@ -271,6 +371,18 @@ def rule6_primary_out_of_reach(status, height: float, disc_position: float, max_
     -------
     bool
         Whether the cell is a primary plateau with ``disc_position - height > max_gap``.
+
+    Notes
+    -----
+    ``rule6 = (status = primary) and z - h > max_gap``. The paper destroys a primary plateau
+    whose "height is less than the minimum gap between pad and disc"; reading that as a
+    primary standing more than ``max_gap`` below the disc, and switching it off by default
+    (``max_gap = inf``, since with fibres as columns it would delete fibres that are merely
+    recessed), are decisions (docs/model.md section 7, rule 6; ``automaton.rule6_max_gap``).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     return status == 1 and disc_position - height > max_gap
 
@@ -294,6 +406,20 @@ def rule7_fibre_worn(status, height: float, fibre_floor: float) -> bool:
     -------
     bool
         Whether the cell is a primary plateau with ``height <= fibre_floor``.
+
+    Notes
+    -----
+    ``rule7 = (status = primary) and h <= floor``, with ``h`` the height after this step's
+    wear and ``floor`` the underside of the cell's fibre. The paper's "wears down" for a
+    fibre is the spec's open point, settled by ``pad.fibre_model``: with fibres as columns
+    (the default) the floor is ``-inf`` and the rule never fires; with ``layer`` the floor is
+    the lying cylinder's underside, with ``field`` the bottom of the merged fibre interval it
+    lies in (docs/model.md section 7, "The fibre 'wears down' question", and the table of the
+    3-D fibre field).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
     """
     return status == 1 and height <= fibre_floor
 

@@ -83,6 +83,33 @@ def first_root(height, area, n_plateau, stiffness, mu_0, slope, mu_min, target):
     code : int
         0 ok, 1 no plateau cell, 2 no root: with ``mu_min = 0`` the friction force has a
         maximum (``mu(p) p`` peaks at ``mu_0^2 / 4c``), which ``target`` may exceed.
+
+    Notes
+    -----
+    The friction force of the disc at ``z`` is
+    ``F(z) = sum_{k: h_k > z} A_k mu(p_k) p_k``, with ``p_k = K (h_k - z)`` and
+    ``mu(p) = max(mu_min, mu_0 - c p)``. ``F`` is 0 at ``z = h_0`` and continuous; the result
+    is its first root, ``F(z) = target`` with ``z`` largest: the first met as the approach
+    ``h_0 - z`` grows from zero. That ``mu(p) p`` is not monotone lets ``F`` have several
+    roots; taking the first is a decision (docs/model.md section 4, "Torque control, first
+    root", and the table of decisions fixed in code), so the root depends on the surface
+    alone, not on the last step's.
+
+    The breakpoints of ``F`` are ``z = h_k`` (cell ``k`` enters contact) and
+    ``z = h_k - u_f``, ``u_f = (mu_0 - mu_min) / (c K)`` (it reaches the COF floor). Between
+    two of them, with ``w = z_hi - z``, ``F = F_0 + D w - Q w^2``: a cell entering adds
+    ``A K mu_0`` to ``D`` and ``A c K^2`` to ``Q``; one reaching the floor adds
+    ``A K (mu_0 - mu_min)`` to ``D`` and takes ``A c K^2`` from ``Q``; moving down an interval
+    of length ``w`` takes ``2 Q w`` from ``D``. In the interval that reaches the target,
+    ``w = 2 R / (D + sqrt(D^2 - 4 Q R))`` with ``R = target - F_0`` (the smaller root, free of
+    cancellation). Exact to round-off, with no iteration (docs/model.md section 4, "Solver").
+    This is :func:`first_root_binned` with ``A_k = area[k]``. The bar-length check (no bar
+    compressed beyond ``L``) is the kernels' (``_kernels.phase_contact``, ``_lazy``).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260; E. Winkler, Die Lehre von der
+    Elasticität und Festigkeit, Prag, 1867 (the elastic foundation).
     """
     return first_root_binned(
         height,
@@ -131,6 +158,19 @@ def first_root_binned(
         Number of leading cells with ``h > z`` (the cells in contact).
     code : int
         0 ok, 1 no plateau cell, 2 no root (as :func:`first_root`).
+
+    Notes
+    -----
+    The first root (largest ``z``) of ``F(z) = target``, with
+    ``F(z) = sum_{k: h_k > z} A_k mu(K (h_k - z)) K (h_k - z)``,
+    ``A_k = bin_area[cell_bin[k]]`` and ``mu(p) = max(mu_min, mu_0 - c p)``: the equation and
+    the walk over its breakpoints of :func:`first_root`, which calls this function. The first
+    root is a decision (docs/model.md section 4, "Torque control, first root").
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260; E. Winkler, Die Lehre von der
+    Elasticität und Festigkeit, Prag, 1867 (the elastic foundation).
     """
     if n_plateau == 0:
         return 0.0, 0, SOLVE_NO_PLATEAU
@@ -224,6 +264,20 @@ def contact_pressure(height: ArrayLike, disc_position: float, stiffness: float) 
     float64 array
         Contact pressure of each cell [Pa], of the shape of ``height``; 0 where ``h <= z``.
 
+    Notes
+    -----
+    ``p = K max(h - z, 0)``, ``K = E / L``: each cell is an independent elastic bar of a
+    Winkler foundation (the paper's elastic bars), compressed by its interference ``h - z``.
+    ``E`` and ``L`` are ours, not the paper's (``contact.elastic_modulus`` 1 GPa,
+    ``contact.bar_length`` 10 mm, so ``K`` = 1e11 Pa/m; docs/model.md section 4). This
+    function takes any heights; in the model only plateau cells carry load, resin above the
+    disc being cut instead (docs/model.md section 4 and section 6).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260; E. Winkler, Die Lehre von der
+    Elasticität und Festigkeit, Prag, 1867 (the elastic foundation).
+
     Examples
     --------
     >>> from brakeca.contact import contact_pressure
@@ -263,6 +317,19 @@ def friction_force(
     -------
     float
         Friction force [N].
+
+    Notes
+    -----
+    ``F(z) = sum_i mu(p_i) p_i A_i``, with ``p_i = K max(h_i - z, 0)``
+    (:func:`contact_pressure`) and ``mu(p) = max(mu_min, mu_0 - c p)``
+    (:func:`brakeca.friction.coefficient_of_friction`), evaluated directly on every cell. Under
+    torque control ``z`` is set so that ``F(z)`` equals the band's demanded friction force
+    (:func:`solve_disc_position`; docs/model.md section 4); :func:`first_root` reaches the
+    same ``F`` by its walk over the breakpoints.
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2 and Figure 4, doi:10.1155/2016/8181260.
 
     Examples
     --------
@@ -313,6 +380,20 @@ def solve_disc_position(
     ContactError
         If there is no plateau cell, the target is not positive, or no position reaches it
         (with ``mu_min = 0`` the friction force has a maximum).
+
+    Notes
+    -----
+    Solves ``F(z) = target`` for the first root, the largest ``z``, with
+    ``F(z) = sum_{k: h_k > z} A_k mu(K (h_k - z)) K (h_k - z)`` and
+    ``mu(p) = max(mu_min, mu_0 - c p)`` (:func:`friction_force`): the heights are sorted
+    highest first (a stable sort) and handed to :func:`first_root`. The first root, the
+    smallest normal load, is a decision (docs/model.md section 4, "Torque control, first
+    root"). No bar-length check is made here (the kernels make it).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260; E. Winkler, Die Lehre von der
+    Elasticität und Festigkeit, Prag, 1867 (the elastic foundation).
 
     Examples
     --------

@@ -198,6 +198,18 @@ def step_distance(config: SimulationConfig) -> float:
     float
         s [m].
 
+    Notes
+    -----
+    ``s = R_wheel N_m dtheta``: the time step is the time a point of the disc takes to pass
+    one subdomain (the paper's definition), in which the disc and the wheel turn by
+    ``N_m dtheta``; row ``j`` of the pad slides ``r_j N_m dtheta`` in that step
+    (:func:`brakeca.geometry.make_grid`). Speeds then follow ``v_{n+1}^2 = v_n^2 - 2 a s``
+    (:func:`stop_steps`; docs/model.md section 2).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.4 (the time step) and Table 4, doi:10.1155/2016/8181260.
+
     Examples
     --------
     >>> from brakeca.cycle import step_distance
@@ -318,6 +330,23 @@ def brake_demand(config: SimulationConfig, deceleration: float, band_area: float
     BrakeDemand
         The brake torque [N m], each pad's friction force [N] and the band's share of it
         [N] (uniform nominal pressure: the pad's times A_sim / A_pad).
+
+    Notes
+    -----
+    ``T = m_w a R_wheel``, ``F_f,pad = T / (n_pads r_eff)`` and
+    ``F_f,sim = F_f,pad A_sim / A_pad``. The paper gives the car's and brake's data (Table 4)
+    and a constant deceleration per stop (Table 3), nothing else; reading the front wheel load
+    ``m_w`` (``vehicle.wheel_load_mass``, 690 kg) as the mass this brake decelerates, sharing
+    the torque between ``n_pads`` = 2 pads (``brake.pads_per_brake``), each pad's friction
+    acting at the effective radius ``r_eff``, and a uniform nominal pressure over the pad are
+    decisions (docs/model.md section 1). Under torque control ``F_f,sim`` is the target of the
+    contact solve, and the normal load is whatever it takes at the current COF. A speed-trace
+    cycle passes, step by step, the deceleration left to this brake after the road load and
+    the split between the axles (docs/model.md section 1, "Speed traces").
+
+    References
+    ----------
+    Wahlström (2016), Section 2.4 and Tables 3 and 4, doi:10.1155/2016/8181260.
 
     Examples
     --------

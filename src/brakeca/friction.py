@@ -40,7 +40,24 @@ def local_cof(pressure: float, mu_0: float, slope: float, mu_min: float) -> floa
     Returns
     -------
     float
-        mu(p) = max(mu_min, mu_0 - c p) [-].
+        The local COF mu(p) [-].
+
+    Notes
+    -----
+    ``mu(p) = max(mu_min, mu_0 - c p)``, the paper's law on primary and secondary plateaus
+    alike (a tribofilm covers both): linear in the local pressure down to the floor, reached
+    at ``p = (mu_0 - mu_min) / c`` (15 MPa with the defaults ``mu_0`` = 0.6, ``c`` = 3e-8 /Pa,
+    ``mu_min`` = 0.15). Resin carries no load and so no friction. The paper gives the floor;
+    ``mu_0`` and ``c`` are ours (docs/model.md section 5, ``friction.*``).
+
+    This is the scalar, compiled form of :func:`coefficient_of_friction`, the same law: the
+    exact kernel calls it for each plateau cell in contact. Computed as
+    ``mu_0 - c p if that > mu_min else mu_min``, so a NaN pressure gives ``mu_min`` here and
+    NaN from :func:`coefficient_of_friction`.
+
+    References
+    ----------
+    Wahlström (2016), Figure 4, doi:10.1155/2016/8181260.
 
     Examples
     --------
@@ -71,6 +88,17 @@ def coefficient_of_friction(
     -------
     numpy.ndarray
         The local COF mu(p) [-], shaped as ``pressure``.
+
+    Notes
+    -----
+    ``mu(p) = max(mu_min, mu_0 - c p)`` elementwise (``numpy.maximum``): the same law as
+    :func:`local_cof`, vectorised over an array of pressures for use outside the compiled
+    kernels (a NaN pressure gives NaN here, ``mu_min`` there). Primary and secondary plateaus
+    share it; resin carries no friction (docs/model.md section 5).
+
+    References
+    ----------
+    Wahlström (2016), Figure 4, doi:10.1155/2016/8181260.
 
     Examples
     --------

@@ -81,6 +81,19 @@ def make_grid(config: SimulationConfig) -> Grid:
         Radii [m], angles [rad], cell areas [m^2] and sliding distances [m] per row, all
         read-only.
 
+    Notes
+    -----
+    ``r_j = r_i + j dr`` (``j = 0 ... N_r - 1``), ``theta_i = i dtheta``
+    (``i = 0 ... N_theta - 1``, column 0 at the leading edge), the cell area
+    ``A_j = r_j dtheta dr`` and a full step's sliding distance ``s_j = r_j N_m dtheta``, with
+    ``N_m = N_theta / N`` columns per subdomain and ``dtheta`` in radians. Unless
+    ``mesh.inner_radius`` is set, ``r_i = r_eff - (N_r - 1) dr / 2``, which centres the band
+    on the effective radius (103 mm at Table 5's mesh; a decision, docs/model.md section 2).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2 and Table 5, doi:10.1155/2016/8181260.
+
     Examples
     --------
     The paper's mesh (Table 5): 201 rows of 0.1 mm, 1000 columns of 0.044°, the band from

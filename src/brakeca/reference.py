@@ -31,19 +31,31 @@ def flat_punch_pressure(
     float
         The smallest pressure p [Pa] with ``mu(p) p A = F`` (first root as the load grows).
 
-    Notes
-    -----
-    On the linear branch ``mu_0 p - c p^2 = F/A`` gives ``p = (mu_0 - sqrt(mu_0^2 - 4 c F/A))/(2c)``
-    when the discriminant is non-negative and the root lies above the floor (its COF at least
-    ``mu_min``, ``p <= (mu_0 - mu_min) / c``); otherwise the root is on the floor branch,
-    ``p = F / (mu_min A)``. With ``slope = 0``, ``p = F / (mu_0 A)``.
-
     Raises
     ------
     ValueError
         ``area`` not above 0, or no pressure gives ``F``: with ``mu_min = 0`` the friction
         force has the maximum ``mu_0^2 A / (4 c)`` (the simulation's ContactError, model.md
         §5).
+
+    Notes
+    -----
+    On the linear branch ``mu_0 p - c p^2 = F/A`` gives
+    ``p = (mu_0 - sqrt(mu_0^2 - 4 c F/A))/(2c)`` when the discriminant is non-negative and the
+    root lies above the floor (its COF at least ``mu_min``, ``p <= (mu_0 - mu_min) / c``);
+    otherwise the root is on the floor branch, ``p = F / (mu_min A)``. With ``slope = 0``,
+    ``p = F / (mu_0 A)``.
+
+    On a Winkler (elastic foundation) model every bar under a flat punch is compressed alike,
+    so the pressure is uniform, ``p = K (h - z)``, and the friction force is ``mu(p) p A``;
+    this is the case :func:`brakeca.contact.solve_disc_position` is checked against. The
+    smaller root, ``2 (F/A) / (mu_0 + sqrt(mu_0^2 - 4 c F/A))`` as computed, is the first met
+    as the load grows (docs/model.md section 4, "Torque control, first root").
+
+    References
+    ----------
+    K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985 (the simple elastic
+    foundation model); Wahlström (2016), Figure 4 (the friction law), doi:10.1155/2016/8181260.
 
     Examples
     --------
@@ -95,6 +107,18 @@ def archard_wear_depth_constant_pressure(
     -------
     float
         Wear depth h [m] (not clipped at any gap, unlike the simulation's Archard step).
+
+    Notes
+    -----
+    ``h = k p s``: Archard's law, wear volume ``V = k W s`` for a normal load ``W`` slid over
+    ``s``, divided by the contact area (``p = W / A``, ``h = V / A``). At constant pressure it
+    is exact over any distance; :func:`brakeca.wear.archard_wear_depth` applies the same law
+    step by step and clips it at the cell's interference.
+
+    References
+    ----------
+    J. F. Archard, "Contact and rubbing of flat surfaces", J. Appl. Phys. 24, 981-988, 1953
+    (doi:10.1063/1.1721448).
 
     Examples
     --------

@@ -259,6 +259,10 @@ def generate_surface(pad: PadConfig, grid: Grid, rng: np.random.Generator) -> Su
     16.7 %). A run's ``primary_area_fraction`` is the share drawn; a study of A needs a band
     of many rows (docs/model.md §3).
 
+    References
+    ----------
+    Wahlström (2016), Section 2.3 and Figure 5, doi:10.1155/2016/8181260.
+
     Examples
     --------
     A pad of the paper's material (A = 20 %) on a band of 21 rows and 200 columns; the same

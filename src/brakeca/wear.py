@@ -36,8 +36,23 @@ def archard_wear_depth(
     Returns
     -------
     float
-        ``min(WP p s, h - z)`` [m]: a cell cannot wear below the disc surface in one step (a
-        bound that is never active at the paper's parameters, where WP K s ~ 1e-4).
+        Wear depth of the step [m], at most ``interference``.
+
+    Notes
+    -----
+    ``dh = min(WP p s_j f, h - z)``: Archard's law, as the paper applies it to every plateau
+    cell in contact, clipped. ``s_j f`` is the step's sliding distance: row ``j``'s full-step
+    distance ``r_j N_m dtheta`` times the fraction ``f`` of a full step (the caller passes the
+    product). The clip, a decision (docs/model.md section 6, "Clip"), keeps a cell from
+    wearing below the disc surface in one step; with ``p = K (h - z)`` it acts only when
+    ``WP K s_j f >= 1``, never at the paper's parameters (``WP K s`` ~ 1e-4). A secondary
+    plateau's wear is also clipped at its deposit, by the kernel, not here (docs/model.md
+    section 6).
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260; J. F. Archard, "Contact and
+    rubbing of flat surfaces", J. Appl. Phys. 24, 981-988, 1953 (doi:10.1063/1.1721448).
 
     Examples
     --------
@@ -67,7 +82,22 @@ def resin_cut_depth(height: float, disc_position: float, resin_wear_depth: float
     Returns
     -------
     float
-        ``h - (z - WR)`` if ``h > z`` else 0 [m].
+        Depth removed from the cell [m]; 0 when it does not stand above the disc.
+
+    Notes
+    -----
+    ``dh = h - (z - WR)`` if ``h > z``, else 0: a cut cell ends at ``z - WR``, and the
+    removed volume ``(h - z + WR) A`` joins the particle stream of its row and subdomain. The
+    paper says only that resin in contact wears down a fixed depth WR at once, leaving a gap;
+    cutting to ``z - WR`` (WR below the disc, not WR below the cell's own height) is the
+    decision that makes WR what the factor means (docs/model.md section 6, "Resin cut", and
+    the table of decisions fixed in code). With the fibre field the exact kernel stops the
+    cut at the top of a buried fibre above ``z - WR`` (docs/model.md section 7); this
+    function does not.
+
+    References
+    ----------
+    Wahlström (2016), Section 2.2, doi:10.1155/2016/8181260.
 
     Examples
     --------
