@@ -2050,8 +2050,8 @@ def _study_notes(
 ) -> str:
     """The report's notes: the runs finished, what MU and V are, the factors whose levels are
     not given low first, the run files that cannot be read or are missing, the runs that
-    emitted nothing and the stops at the COF's floor (:func:`_floor_note`); the note on
-    unreadable files also goes to ``note``."""
+    emitted nothing, the stops at the COF's floor (:func:`_floor_note`) and why a block
+    cycle's runs have no PM10; the note on unreadable files also goes to ``note``."""
     summary, ok, surfaces = result.summary, found.ok, found.surfaces
     unreadable, filed = files.unreadable, files.filed
     runs_dir = source / "runs"

@@ -154,8 +154,11 @@ def test_a_torque_the_solve_cannot_resolve_fails_the_run(small):
     # a stop shorter than one step's travel had crashed on an empty array, naming no field
     from brakeca.config import ConfigError
 
+    # (a gravity of 1e300 m/s², which had reached it, is refused by its range now)
+    blink = {"name": "test", "initial_speed_kmh": 50.0, "final_speed_kmh": 50.0 - 1e-12}
+    blink |= {"deceleration_g": 0.25, "stops": 1}  # a stop of 1.6e-12 m
     with pytest.raises(ConfigError, match=r"under 1e-9 of one time step's travel .* no time"):
-        simulate(small.with_updates({"vehicle.gravity": 1e300}), seed=1)
+        simulate(small.with_updates({"cycle.blocks": [blink]}), seed=1)
     # (a wheel radius of 1e300 m is refused by its range now, at most 2 m)
     with pytest.raises(ConfigError, match=r"vehicle.wheel_radius: must lie in \(0, 2\]"):
         small.with_updates({"vehicle.wheel_radius": 1e300})
