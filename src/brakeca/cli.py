@@ -1715,7 +1715,14 @@ def _parse_goal(text: str) -> Any:
     from brakeca.design import GOAL_RESPONSES, GoalSpec
 
     parts = [p.strip() for p in text.split(":")]
-    kinds = {"min": "minimize", "max": "maximize", "target": "target"}
+    # the words a design file's goal takes too (a DoE review: -g MU:maximize:... was refused)
+    kinds = {
+        "min": "minimize",
+        "max": "maximize",
+        "minimize": "minimize",
+        "maximize": "maximize",
+        "target": "target",
+    }
     if len(parts) >= 2 and parts[0] not in GOAL_RESPONSES:
         same = [r for r in GOAL_RESPONSES if r.lower() == parts[0].lower()]
         hint = f" (did you mean {same[0]}?)" if same else ""
@@ -1725,7 +1732,8 @@ def _parse_goal(text: str) -> Any:
         )
     if len(parts) >= 2 and parts[1] not in kinds:
         raise ValueError(
-            f"--goal {text!r}: unknown goal {parts[1]!r}; the goals are min, max and target; "
+            f"--goal {text!r}: unknown goal {parts[1]!r}; the goals are min (minimize), max "
+            "(maximize) and target; "
             f"expected {_GOAL_FORM}"
         )
     if len(parts) < 2:
@@ -1933,6 +1941,18 @@ def optimize(
         )
     for note in said:
         out.print(f"note: {note}", markup=False, highlight=False, emoji=False)
+    for goal in parsed:  # a surface that predicts no better than the runs' mean (a DoE
+        # review: a composite desirability of 1.000 on R²(pred) -85 %, said by the report only)
+        pred = fits[goal.response].statistics.get("r_squared_pred", math.nan)
+        if pred < 0.0:
+            out.print(
+                f"note: {goal.response}'s surface predicts a run it left out worse than the "
+                f"mean of the runs does (R²(pred) = {100 * pred:.1f} %): its fitted value, "
+                "and a desirability resting on it, say little; try fewer terms (--reduce) "
+                "or more runs",
+                markup=False,
+                highlight=False,
+            )
     two_level = [f.name for f in result.design.factors if len(f.levels) < 3]
     if not result.design.is_response_surface and two_level:  # (each factor else has a square)
         several = [f.name for f in result.design.factors if len(f.levels) >= 3]
@@ -2150,12 +2170,23 @@ def power(
     pairs = alias_structure(pd.DataFrame(loaded.combinations()), loaded.factors).attrs.get(
         "aliased_main_effects", []
     )
-    aliased = {a: b for pair in pairs for a, b in (pair, pair[::-1])}  # both ways
-    together: dict[str, str] = {}  # a factor whose figure is its pair's, once each
+    # both ways, every partner (a DoE review: a dict of pairs kept only the last partner of
+    # a factor aliased with two)
+    partners: dict[str, list[str]] = {}
+    for pair in pairs:
+        for a, b in (pair, pair[::-1]):
+            partners.setdefault(a, []).append(b)
+
+    def _and(names: list[str]) -> str:
+        return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+    partners = {a: list(dict.fromkeys(bs)) for a, bs in partners.items()}
+    aliased = {a: _and(bs) for a, bs in partners.items()}
+    together: dict[str, list[str]] = {}  # a factor whose figure is its partners', once each
     for _, row in table_data.iterrows():
         value = row["effect"] if effect is None else row["power"]
         if str(row["factor"]) in aliased and not math.isnan(row["df"]):
-            together[str(row["factor"])] = aliased[str(row["factor"])]
+            together[str(row["factor"])] = partners[str(row["factor"])]
         if math.isnan(row["df"]) and not in_model(str(row["factor"])):
             shown = "not in the model"
         elif math.isnan(row["df"]) and str(row["factor"]) in aliased:
@@ -2178,8 +2209,8 @@ def power(
     out.print(f"the ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False)
     for name, other in together.items():
         out.print(
-            f"{name}'s figure is that of {name} and {other} together: the tests cannot tell "
-            "them apart (brakeca design names the aliases)",
+            f"{name}'s figure is that of {_and([name, *other])} together: the tests cannot "
+            "tell them apart (brakeca design names the aliases)",
             markup=False,
             highlight=False,
         )

@@ -1666,7 +1666,9 @@ class GoalSpec(_Frozen):
         ``lower`` and 0 at or above ``upper``; for ``maximize`` the reverse; for ``target``
         0 at and beyond both.
     target
-        The target [response unit], strictly between the limits (``target`` only).
+        The target [response unit], strictly between the limits (``target`` only). A
+        ``minimize`` goal may give its ``lower`` as ``target``, and a ``maximize`` goal its
+        ``upper``, as Minitab names them.
     weight, importance
         The desirability's shape and the response's weight in the composite [-], 0.1 to 10.
     """
@@ -1678,6 +1680,23 @@ class GoalSpec(_Frozen):
     target: float | None = Field(None, allow_inf_nan=False)
     weight: float = 1.0
     importance: float = 1.0
+
+    @model_validator(mode="before")
+    @classmethod
+    def _minitab_target(cls, data: Any) -> Any:
+        """A minimize goal given as Minitab writes it, ``target`` and ``upper``, and a
+        maximize goal as ``lower`` and ``target``: the target is the limit where the goal is
+        fully met, ``lower`` of a minimum and ``upper`` of a maximum, as the report and
+        ``optimum.csv`` name it (a DoE review: ``target = -4`` with ``minimize`` read
+        "goals #2.lower: required field is missing")."""
+        if not isinstance(data, dict) or "target" not in data:
+            return data
+        kind = {"min": "minimize", "max": "maximize"}.get(data.get("goal"), data.get("goal"))
+        met = {"minimize": "lower", "maximize": "upper"}.get(str(kind))
+        if met is not None and met not in data:
+            data = dict(data)
+            data[met] = data.pop("target")
+        return data
 
     @field_validator("goal", mode="before")
     @classmethod

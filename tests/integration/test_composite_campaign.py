@@ -135,6 +135,11 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert "composite desirability: 1.000" in met and "at the edge of the region" not in met
     reduced = cli_ok("optimize", str(out), "--reduce", "0.5")
     assert "composite desirability: " in reduced
+    # a surface that predicts left-out runs worse than their mean is said to (a DoE review:
+    # a desirability of 1.000 on R²(pred) -85 %, said by the report only)
+    mu_text = " ".join(cli_ok("optimize", str(out), "-g", "MU:max:0.1:0.5").split())
+    worse = fit.statistics["r_squared_pred"] < 0
+    assert ("MU's surface predicts a run it left out worse than the mean" in mu_text) is worse
     bad = CliRunner().invoke(app, ["optimize", str(out), "-g", "MU:target:0.3:0.2"])
     assert bad.exit_code == 2 and "target takes 3 numbers" in bad.output
     # a response surface's report fits a quadratic: no factorial model order for it

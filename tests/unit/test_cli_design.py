@@ -115,6 +115,11 @@ def test_a_bad_optimize_goal_is_named_in_its_own_units(tmp_path) -> None:
     assert (
         "goal of V: minimize: the target 5 (lower) must be below the upper limit 0.1" in res.output
     )
+    # the words a design file takes, as --goal's (a DoE review: 'maximize' was refused)
+    from brakeca.cli import _parse_goal
+
+    assert _parse_goal("MU:maximize:0.2:0.3") == _parse_goal("MU:max:0.2:0.3")
+    assert _parse_goal("V:minimize:0:5") == _parse_goal("V:min:0:5")
 
 
 def _table_lines(text: str, title: str) -> list[str]:
@@ -418,6 +423,23 @@ def test_a_run_table_of_aliased_main_effects_is_warned_of_and_power_says_so(tmp_
     assert "mu0's figure is that of mu0 and A together" in power
     assert "A's figure" not in power
     design.write_text(design.read_text().replace('model_terms = ["mu0"]\n', ""))
+    # a factor aliased with two: both named (a DoE review: the last pair alone was)
+    three = tmp_path / "three.toml"
+    three.write_text(
+        'name = "three"\nbase = "paper"\nroot_seed = 1\n'
+        "runs = [{A = 10, mu0 = 0.5, S = 0}, {A = 20, mu0 = 0.7, S = 1}, "
+        "{A = 10, mu0 = 0.5, S = 0}, {A = 20, mu0 = 0.7, S = 1}]\n"
+        '[[factors]]\nname = "A"\nlevels = [10, 20]\n'
+        '[[factors]]\nname = "mu0"\nfield = "friction.mu_0"\nlevels = [0.5, 0.7]\n'
+        '[[factors]]\nname = "S"\nlevels = [0, 1]\n'
+    )
+    res = CliRunner().invoke(
+        app,
+        ["power", str(three), "--effect", "0.1", "--sigma", "0.05"],
+        env={"COLUMNS": "120"},
+    )
+    assert res.exit_code == 0, res.output
+    assert "A's figure is that of A, mu0 and S together" in " ".join(res.output.split())
     # a full factorial of the same factors: no warning, no aliased row
     design.write_text(
         design.read_text().replace(

@@ -271,6 +271,14 @@ def test_a_goal_names_its_weight_and_importance_and_a_design_takes_min_and_max()
         short.goal == "minimize"
         and GoalSpec(response="MU", goal="max", lower=0.2, upper=0.3).goal == "maximize"
     )
+    # Minitab's names: a minimum's target and upper limit, a maximum's lower limit and
+    # target (a DoE review: "goals #2.lower: required field is missing")
+    assert GoalSpec(response="MU", goal="minimize", target=0.2, upper=0.3) == short
+    assert GoalSpec(response="MU", goal="max", lower=0.2, target=0.3).to_goal() == Goal(
+        "MU", "maximize", 0.2, 0.3
+    )
+    with pytest.raises(ValueError, match="only a 'target' goal takes a target"):
+        GoalSpec(response="MU", goal="min", lower=0.1, target=0.2, upper=0.3)  # both: which?
 
 
 def test_desirability_functions() -> None:
