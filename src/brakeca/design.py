@@ -1691,7 +1691,8 @@ class GoalSpec(_Frozen):
         "goals #2.lower: required field is missing")."""
         if not isinstance(data, dict) or "target" not in data:
             return data
-        kind = {"min": "minimize", "max": "maximize"}.get(data.get("goal"), data.get("goal"))
+        goal = str(data.get("goal"))
+        kind = {"min": "minimize", "max": "maximize"}.get(goal, goal)
         met = {"minimize": "lower", "maximize": "upper"}.get(str(kind))
         if met is not None and met not in data:
             data = dict(data)
