@@ -430,6 +430,15 @@ StopsOpt = Annotated[
         help="run only the first N stops of the cycle",
     ),
 ]
+#: ``--run-maps/--no-run-maps`` of ``run``, ``paper`` and ``analyze``
+RunMapsOpt = Annotated[
+    bool,
+    typer.Option(
+        help="draw the plateau maps of every run (final; over the cycle where it kept maps) "
+        "into the report; without, a report of many runs is far smaller and quicker"
+    ),
+]
+
 QuickOpt = Annotated[
     bool,
     typer.Option("--quick", help="narrow the band to 2 mm (21 rows); same cells and cycle"),
@@ -1100,6 +1109,7 @@ def _run_and_report(
     maps_at: str | None = None,
     output_option: str | None = "-o",
     emissions: Path | None = None,
+    run_maps: bool = True,
 ) -> None:
     import time
 
@@ -1261,12 +1271,13 @@ def _run_and_report(
     _print_summary(result.summary, result.design)
     if report:
         later = f"every run is in {output}; 'brakeca analyze {output}' writes the report"
-        _say_analysing(True)
+        _say_analysing(run_maps, len(result.summary))
         lines: list[str] = []
         with _on_interrupt(later):
             try:
                 path = write_study(
                     finish_campaign(output),
+                    run_maps=run_maps,
                     note=_note,
                     in_short=lines.append,
                     emissions=factors,
@@ -1280,13 +1291,17 @@ def _run_and_report(
         raise typer.Exit(1)
 
 
-def _say_analysing(run_maps: bool) -> None:
+def _say_analysing(run_maps: bool, runs: int) -> None:
     """Say what the silence before the report is (a command-line review: 20 to 45 s without
-    a word after the runs' table)."""
+    a word after the runs' table), and how long it may last: on the development machine
+    about 20 s and 0.15 s a run, and 0.4 s more a run for its maps (a review of large
+    designs: 256 runs took 2 min 20 s, 55 s without the maps)."""
+    seconds = 20.0 + runs * (0.55 if run_maps else 0.15)
+    took = "half a minute or so" if seconds < 45 else f"about {seconds / 60.0:.0f} min"
     console.print(
-        "analysing: tables, figures"
-        + (", each run's plateau maps" if run_maps else "")
-        + " and the report (half a minute or so)",
+        f"analysing {runs} run{'s' if runs != 1 else ''}: tables, figures"
+        + (", each run's plateau maps (--no-run-maps leaves them out)" if run_maps else "")
+        + f" and the report ({took})",
         style="dim",
         highlight=False,
     )
@@ -1390,14 +1405,28 @@ def _print_summary(summary, design=None) -> None:
         table.add_column(
             escape(col), justify="right", no_wrap=whole, min_width=width if whole else None
         )
+    if len(cells) > _MOST_RUN_ROWS:  # the first and last rows (a review of large designs:
+        # a 256-test design's 262 lines pushed what followed off the screen)
+        left_out = len(cells) - _HEAD_ROWS - _TAIL_ROWS
+        cells = [
+            *cells[:_HEAD_ROWS],
+            ["⋮"] * len(headers),
+            *cells[-_TAIL_ROWS:],
+        ]
+        table.caption = (table.caption + "; " if table.caption else "") + (
+            f"{left_out} rows not shown: summary.csv has every run"
+        )
     for row in cells:
         table.add_row(*row)
     out.print(table)
 
 
 #: The most runs :func:`_print_summary` shows a row each; a replicated design beyond it gets a
-#: row per test, its replicates averaged.
+#: row per test, its replicates averaged, and a table still longer its first
+#: :data:`_HEAD_ROWS` and last :data:`_TAIL_ROWS` rows.
 _MOST_RUN_ROWS = 48
+_HEAD_ROWS = 24
+_TAIL_ROWS = 12
 
 
 def _per_test(summary: Any, factor_cols: Sequence[str]) -> tuple[Any, str]:
@@ -1465,6 +1494,7 @@ def run(
     replace: ReplaceOpt = False,
     maps_at: MapsAtOpt = None,
     emissions: EmissionsOpt = None,
+    run_maps: RunMapsOpt = True,
 ) -> None:
     """Run every point of a design into a campaign folder (resumes finished runs)."""
     _run_and_report(
@@ -1485,6 +1515,7 @@ def run(
         replace=replace,
         maps_at=maps_at,
         emissions=emissions,
+        run_maps=run_maps,
     )
 
 
@@ -1499,12 +1530,7 @@ def analyze(
     folder: Annotated[
         Path, typer.Argument(metavar="FOLDER", help="campaign folder written by brakeca run")
     ],
-    run_maps: Annotated[
-        bool,
-        typer.Option(
-            help="draw the plateau maps of every run (final; over the cycle where it kept maps)"
-        ),
-    ] = True,
+    run_maps: RunMapsOpt = True,
     anova_type: Annotated[
         int | None,
         typer.Option(
@@ -1621,7 +1647,7 @@ def analyze(
         if (problem := destination_problem(folder, dest)) is not None:
             _fail(f"-o {dest}: {problem}")
     _print_summary(result.summary, result.design)
-    _say_analysing(run_maps)
+    _say_analysing(run_maps, len(result.summary))
     lines: list[str] = []
     with _on_interrupt("the report is not complete; run the same command again"):
         try:
@@ -2275,6 +2301,7 @@ def paper(
     replace: ReplaceOpt = False,
     maps_at: MapsAtOpt = None,
     report: Annotated[bool, typer.Option(help="analyse and write the report at the end")] = True,
+    run_maps: RunMapsOpt = True,
 ) -> None:
     """The paper's whole study: the 24-run factorial design, then the analysis and report.
     With --stops N and no -o, a folder of its own (results/paper_stopsN), so that a
@@ -2301,6 +2328,7 @@ def paper(
         # a default folder that cannot be written is named as the default, not as a -o the
         # user did not give (a command-line review)
         output_option="-o" if given else None,
+        run_maps=run_maps,
     )
 
 

@@ -21,6 +21,7 @@ import itertools
 import math
 import os
 import textwrap
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -361,9 +362,16 @@ def plot_main_effects(
     centre = table.attrs.get("center_mean", math.nan)
     centre = float(centre) if table.attrs.get("center_n") else None
 
-    root, fig = _panels(fig, (2.6 * len(factors) + 1.0, 3.6))
-    axes = fig.subplots(1, len(factors), sharey=True, squeeze=False)[0]
-    for ax, factor in zip(axes, factors, strict=True):
+    # at most MAIN_EFFECTS_PER_ROW panels a row, as Minitab wraps them (a review of large
+    # designs: eleven factors in one row, 4440 px wide, read at 3 px a letter)
+    cols = min(len(factors), MAIN_EFFECTS_PER_ROW)
+    n_rows = math.ceil(len(factors) / cols)
+    root, fig = _panels(fig, (2.6 * cols + 1.0, 3.6 * n_rows))
+    grid = fig.subplots(n_rows, cols, sharey=True, squeeze=False)
+    axes = grid.ravel()
+    for ax in axes[len(factors) :]:
+        ax.set_visible(False)
+    for ax, factor in zip(axes, factors, strict=False):
         rows = table.loc[table["factor"] == factor.name]
         x = np.arange(len(rows))
         ax.plot(x, rows["mean"].to_numpy() * scale, "o-", color="#27496d", lw=1.8, ms=6)
@@ -377,10 +385,15 @@ def plot_main_effects(
         ax.set_xlabel(factor.axis_label)
         ax.set_title(factor.label or factor.name, fontsize=9)
         ax.grid(True, axis="y", alpha=0.3)
-    axes[0].set_ylabel(ylabel)
+    for ax in grid[:, 0]:
+        ax.set_ylabel(ylabel)
     axes[0].legend(loc="best", fontsize=8)
     _suptitle(fig, f"Main effects plot for {_shown(response)}")
     return save_figure(root, path)
+
+
+#: The most panels of :func:`plot_main_effects` side by side; more factors wrap [-].
+MAIN_EFFECTS_PER_ROW = 6
 
 
 def plot_interactions(
@@ -1018,11 +1031,15 @@ def plot_mu_per_stop(
     position = {key: i for i, key in enumerate(dict.fromkeys(keys))}
     n_tests = len(position)
     labelled: set[Any] = set()
+    many = n_tests > MOST_TESTS_NAMED
     for k, key in enumerate(keys):
         i = position[key]
         levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
         first = key not in labelled
         labelled.add(key)
+        if many:  # each run grey, unnamed: no legend holds them (see below)
+            ax.plot(stops, values[k], lw=0.6, color="0.6", alpha=0.6, label="_run")
+            continue
         ax.plot(
             stops,
             values[k],
@@ -1033,6 +1050,29 @@ def plot_mu_per_stop(
             color=palette(i % 10),
             label=_run_label(key, levels, by_name) if first else "_replicate",
         )
+    if many:
+        # beyond MOST_TESTS_NAMED tests a legend left most of them out, and colours and
+        # styles repeated (a review of large designs): the runs grey, their mean over the
+        # runs and the runs highest and lowest over the cycle named
+        finite = np.where(np.isfinite(values), values, np.nan)
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a stop no run reached
+            mean = np.nanmean(finite, axis=0)
+            overall = np.nanmean(finite, axis=1)
+        ax.plot(stops, mean, lw=1.8, color="black", label=f"mean of the {n} runs")
+        if np.isfinite(overall).any():
+            for k, colour, word in (
+                (int(np.nanargmax(overall)), "#b2182b", "highest"),
+                (int(np.nanargmin(overall)), "#2166ac", "lowest"),
+            ):
+                levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
+                ax.plot(
+                    stops,
+                    values[k],
+                    lw=1.2,
+                    color=colour,
+                    label=f"{word} over the cycle: {_run_label(keys[k], levels, by_name)}",
+                )
     ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
     ax.set_xlabel("Stop number [-]")
     from matplotlib.ticker import MaxNLocator
@@ -1051,7 +1091,9 @@ def plot_mu_per_stop(
             if variable == "mean_cof"
             else f"{what[:1].upper()}{what[1:]}: each stop over the cycle"
         ) + (", all runs" if n > 1 else "")  # (one run's had said "all runs": an API review)
-        if n_tests < n:
+        if many:
+            title += f" ({n_tests} tests: each run grey)"
+        elif n_tests < n:
             title += " (the replicates of a test share its colour)"
         if given:  # a panel of a grid: the title and the axis label wrapped to its width
             title = textwrap.fill(title, _panel_chars(ax, 12.0, 55))
@@ -1063,7 +1105,9 @@ def plot_mu_per_stop(
         pad += tallest * 72.0 / fig.dpi + 0.01 * ax.bbox.height * 72.0 / fig.dpi
     ax.set_title(title, pad=pad)
     ax.grid(True, alpha=0.3)
-    if n > 1 and given and (n_tests <= 6 or fig.get_layout_engine() is None):
+    if many:
+        ax.legend(fontsize=7, loc="best")
+    elif n > 1 and given and (n_tests <= 6 or fig.get_layout_engine() is None):
         ax.legend(fontsize=7, ncols=1 if n_tests <= 30 else 2)  # (no room made beside it)
     elif n > 1 and given:  # beside the panel, where the figure's layout makes room for it
         ax.legend(
@@ -1076,6 +1120,11 @@ def plot_mu_per_stop(
     elif n > 1:
         fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
     return save_figure(fig, path)
+
+
+#: The most tests a figure of every run's line names one by one; beyond, the runs are grey,
+#: their mean and the highest and lowest named [-].
+MOST_TESTS_NAMED = 40
 
 
 def plot_mu_per_stop_by_level(
@@ -1425,11 +1474,16 @@ def plot_mu_vs_v(
     near = np.c_[unit(mu), unit(y)]
     tests = [int(t) for t in means["test"]]
     labelled: list[int] = []
+    named: set[int] = set()  # each test in one label only (a review of large designs: a test
+    # near two labelled points had been named in both)
     for k in np.lexsort((near[:, 1], near[:, 0])):
-        if any(np.hypot(*(near[k] - near[j])) < 0.03 for j in labelled):
+        if k in named or any(np.hypot(*(near[k] - near[j])) < 0.03 for j in labelled):
             continue
         labelled.append(int(k))
-        close = [i for i in range(len(tests)) if np.hypot(*(near[i] - near[k])) < 0.03]
+        close = [
+            i for i in range(len(tests)) if i not in named and np.hypot(*(near[i] - near[k])) < 0.03
+        ]
+        named.update(close)
         ax.annotate(
             ", ".join(str(tests[i]) for i in sorted(close, key=lambda i: tests[i])),
             (mu[k], v[k]),
@@ -1734,10 +1788,14 @@ def plot_response_surface(
         ax.set_xlabel(a.axis_label)
         ax.set_ylabel(b.axis_label)
         held = [c for c in codings if c.name not in (a.name, b.name)]
-        if held:
+        if held:  # wrapped to the panel (a review of large designs: four held factors ran
+            # past the panel into its neighbour's)
             ax.set_title(
-                "others at their centre: "
-                + ", ".join(f"{c.name} = {float(c.decode(0.0)):.3g}" for c in held),
+                textwrap.fill(
+                    "others at their centre: "
+                    + ", ".join(f"{c.name} = {float(c.decode(0.0)):.3g}" for c in held),
+                    _panel_chars(ax, 8.0, 70),
+                ),
                 fontsize=8,
             )
     axes[0].legend(fontsize=7, loc="best")

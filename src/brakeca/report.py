@@ -715,7 +715,7 @@ def _outlier_clause(
     alpha = float(unusual.attrs.get("alpha", 0.05))
     residuals = (residual_tables or {}).get(response)
     replicated = residuals is not None and is_replicated(residuals)
-    named = " and ".join(run_named(rec, replicated) for _, rec in outliers.iterrows())
+    named = _runs_listed([run_named(rec, replicated) for _, rec in outliers.iterrows()], replicated)
     verb = "is an outlier" if len(outliers) == 1 else "are outliers"
     setting = _within_settings(outliers, residuals, anova)
     if setting:
@@ -735,7 +735,9 @@ def _outlier_clause(
     )
     who = None  # the refit leaves out every unusual run: named where they are more
     if len(unusual) > len(outliers):
-        every = " and ".join(run_named(rec, replicated) for _, rec in unusual.iterrows())
+        every = _runs_listed(
+            [run_named(rec, replicated) for _, rec in unusual.iterrows()], replicated
+        )
         who = f"the unusual runs ({every})"
     verdicts = _verdicts_without(anova, unusual, alpha, who)
     return clause + (f", and {verdicts}" if verdicts else "")
@@ -776,6 +778,24 @@ def _outliers(unusual: pd.DataFrame | None) -> pd.DataFrame:
     return unusual.loc[pd.to_numeric(unusual["outlier_p"], errors="coerce") < alpha]
 
 
+#: The most runs a sentence of the report names one by one; the rest are counted [-].
+_MOST_RUNS_LISTED = 8
+
+
+def _runs_listed(names: list[str], replicated: bool) -> str:
+    """Runs' names in a sentence, ``"test 14, test 75 and test 29"``, the first
+    :data:`_MOST_RUNS_LISTED` and a count of the rest (a review of large designs: "test 14
+    and test 75 and test 29 and ..." seventeen times); "; " between a replicated campaign's
+    names, which hold commas."""
+    shown, rest = names[:_MOST_RUNS_LISTED], len(names) - _MOST_RUNS_LISTED
+    sep = "; " if replicated else ", "
+    if rest > 0:
+        return sep.join(shown) + f" and {rest} more"
+    if len(shown) <= 2:
+        return " and ".join(shown)
+    return sep.join(shown[:-1]) + " and " + shown[-1]
+
+
 def _negative_fits(response: str, frame: pd.DataFrame | None, log_section: bool = True) -> str:
     """For V, the runs its ANOVA model fits a negative volume, with the fitted and observed
     values in mm³ (a review: "In short" had named them, V's section not), and, with
@@ -787,10 +807,15 @@ def _negative_fits(response: str, frame: pd.DataFrame | None, log_section: bool 
         return ""
     factor, unit = _REPORT_UNITS.get(response, (1.0, None))
     replicated = is_replicated(frame)
+    shown = negative.head(_MOST_RUNS_LISTED)
     runs = "; ".join(
         f"{run_named(rec, replicated)}: fitted {_fmt(float(rec['fitted']) * factor, '.3g')}, "
         f"observed {_fmt(float(rec['observed']) * factor, '.3g')}"
-        for _, rec in negative.iterrows()
+        for _, rec in shown.iterrows()
+    ) + (  # the first ones; the table has them all (a review of large designs)
+        f"; and {len(negative) - len(shown)} more, in tables/residuals_{response}.csv"
+        if len(negative) > len(shown)
+        else ""
     )
     return (
         f" The ANOVA model fits a negative volume to {len(negative)} "
@@ -1030,12 +1055,21 @@ def _t_text(t: float) -> str:
     return f"{t:.2f}" if abs(t) < 1e4 else f"{t:.3g}"
 
 
-def _level_named(factor: str, label: Any) -> str:
-    """A factor's level in a sentence: ``WP+``, ``WP0``, ``WP-`` for coded labels, as the
-    figures' legends write them (the grouping had read "WP + ..., WP (-)"; a report review),
-    ``A = 10`` for another."""
+def _coded(rows: pd.DataFrame) -> bool:
+    """Whether a factor's levels in a grouping table (its ``level`` column) are coded
+    labels, each ``-``, ``0`` or ``+``, with a ``-`` or ``+`` among them."""
+    levels = {str(v) for v in rows["level"]}
+    return levels <= {"-", "0", "+"} and bool(levels & {"-", "+"})
+
+
+def _level_named(factor: str, label: Any, coded: bool = True) -> str:
+    """A factor's level in a sentence: ``WP+``, ``WP0``, ``WP-`` for the coded labels of a
+    factor whose levels are all ``-``, ``0`` or ``+`` (``coded``), as the figures' legends
+    write them (the grouping had read "WP + ..., WP (-)"; a report review), ``A = 10`` for
+    another (a level 0 of a factor of values is not a coded label: "S0 in group A, S = 0.5";
+    a review of large designs)."""
     text = str(label)
-    return f"{factor}{text}" if text in ("-", "0", "+") else f"{factor} = {text}"
+    return f"{factor}{text}" if coded and text in ("-", "0", "+") else f"{factor} = {text}"
 
 
 def _comparisons_table(
@@ -1105,8 +1139,8 @@ def _comparisons_table(
             + "; ".join(
                 f"{name}: "
                 + ", ".join(
-                    f"{_level_named(name, r.level)} in group{'s' if len(r.grouping) > 1 else ''} "
-                    + " and ".join(r.grouping)
+                    f"{_level_named(name, r.level, _coded(rows_))} in group"
+                    f"{'s' if len(r.grouping) > 1 else ''} " + " and ".join(r.grouping)
                     for r in rows_.itertuples()
                 )
                 for name, rows_ in grouping.groupby("factor", sort=False)
@@ -2396,7 +2430,12 @@ def _scale_clause(
     if residuals is not None and {"fitted", "test"} <= set(residuals.columns):
         negative = residuals.loc[residuals["fitted"] < 0, "test"]
         if len(negative):
-            tests = ", ".join(str(int(t)) for t in sorted(set(negative)))
+            named = sorted({int(t) for t in negative})
+            tests = ", ".join(str(t) for t in named[:_MOST_RUNS_LISTED]) + (
+                f" and {len(named) - _MOST_RUNS_LISTED} more (tables/residuals_{response}.csv)"
+                if len(named) > _MOST_RUNS_LISTED
+                else ""
+            )  # (a 256-run design's line had named 76: a review of large designs)
             clauses.append(
                 f"the linear model of {response} fits a negative {what} for test"
                 f"{'s' if negative.nunique() > 1 else ''} {tests}"

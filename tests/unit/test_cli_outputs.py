@@ -360,7 +360,10 @@ def test_messages_name_what_the_user_gave() -> None:
         cli._parse_goal("mu:max:0.3:0.4")
     with pytest.raises(ValueError, match=r"\(did you mean MU\?\); the responses are MU, V, "):
         cli._parse_goal("mu:max:0.3:0.4")
-    with pytest.raises(ValueError, match="unknown goal 'maximum'; the goals are min, max and"):
+    with pytest.raises(
+        ValueError,
+        match=r"unknown goal .maximum.; the goals are min \(minimize\), max \(maximize\) and",
+    ):
         cli._parse_goal("MU:maximum:0.3:0.4")
     # the friction stability is a response a goal may name too
     steady = cli._parse_goal("MU_SD:min:0.01:0.05")

@@ -173,6 +173,24 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     # Without factors the runs are named by value, and no block coordinate is fine.
     fig = plot_mu_per_stop(campaign.drop_vars("block"))
     assert fig.axes[0].lines[0].get_label().startswith("T1: S=0, WP=1e-15")
+    # More tests than a legend holds (a review of large designs: 150 tests, 82 named, every
+    # 40th alike): each run grey, their mean, the highest and lowest named
+    from brakeca.plotting import MOST_TESTS_NAMED
+
+    many = xr.concat([campaign] * 2, dim="run")
+    many = many.assign_coords(run=np.arange(1, 49), test=("run", np.arange(1, 49)))
+    assert 48 > MOST_TESTS_NAMED
+    ax = plot_mu_per_stop(many, factors=FACTORS).axes[0]
+    named = [line.get_label() for line in ax.get_legend().get_lines()]
+    values = many["mean_cof"].transpose("run", "stop").to_numpy()
+    top = int(np.argmax(values.mean(axis=1))) + 1  # the test (run numbers from 1)
+    assert named[0] == "mean of the 48 runs" and len(named) == 3
+    assert named[1].startswith(f"highest over the cycle: T{top}: ")
+    assert named[2].startswith("lowest over the cycle: T")
+    grey = [line for line in ax.lines if line.get_label() == "_run"]
+    assert len(grey) == 48 and "(48 tests: each run grey)" in ax.get_title()
+    (mean,) = [line for line in ax.lines if line.get_label() == "mean of the 48 runs"]
+    np.testing.assert_allclose(mean.get_ydata(), values.mean(axis=0), rtol=1e-12)
 
     path = tmp_path / "v_per_run.png"
     fig = plot_v_per_run(summary, path=path)
@@ -1182,6 +1200,14 @@ def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
     ]
     with pytest.raises(KeyError, match="by: 'X' is not a factor"):
         plot_mu_vs_v(summary, factors=FACTORS, by="X")
+    # a test near two labelled points is named once (a review of large designs: tests named
+    # in two labels): three tests in a row, 0.025 apart on the scaled axes, and a far one
+    chain = pd.DataFrame(
+        {"test": [1, 2, 3, 4], "MU": [0.200, 0.2025, 0.205, 0.3], "V": [1e-9] * 3 + [2e-9]}
+    ).assign(status="ok")
+    texts = [t.get_text() for t in plot_mu_vs_v(chain).axes[0].texts]
+    named = [int(t) for text in texts for t in text.split(", ")]
+    assert sorted(named) == [1, 2, 3, 4], texts
     # MU across, V up: a pad material wants the lower right, as the caption says (a diff
     # review caught "upper left")
     assert ax.get_xlabel().startswith("MU") and ax.get_ylabel().startswith("V")
@@ -1329,3 +1355,30 @@ def test_by_block_writes_each_runs_block_means_and_shares() -> None:
     twice = table.assign(test=1, replicate=[0, 0, 1, 1])
     rows = plot_by_block(twice, factors).axes[0].get_yticklabels()
     assert [t.get_text() for t in rows] == ["T1 r0: S-", "T1 r1: S+"]
+
+
+def test_main_effects_wrap_beyond_six_factors() -> None:
+    """Eleven factors had made one row 4440 px wide, read at 3 px a letter in the report (a
+    review of large designs): the panels wrap at six a row, as Minitab's, each row's first
+    panel with the response's label, the cells left over hidden."""
+    import itertools
+
+    from brakeca.analysis import Factor
+    from brakeca.plotting import MAIN_EFFECTS_PER_ROW, plot_main_effects
+
+    names = [f"F{k}" for k in range(8)]
+    factors = [Factor(n, (0.0, 1.0), "-", n) for n in names]
+    rng = np.random.default_rng(3)
+    rows = [
+        dict(zip(names, levels, strict=True)) for levels in itertools.product((0.0, 1.0), repeat=8)
+    ]
+    summary = pd.DataFrame(rows).assign(MU=rng.uniform(0.2, 0.4, 256), status="ok")
+    fig = plot_main_effects(summary, factors, "MU")
+    shown = [ax for ax in fig.axes if ax.get_visible()]
+    assert MAIN_EFFECTS_PER_ROW == 6 and len(shown) == 8 and len(fig.axes) == 12
+    assert [ax.get_title() for ax in shown] == names
+    labelled = [ax for ax in shown if ax.get_ylabel()]
+    assert labelled == [shown[0], shown[6]]  # each row's first
+    for ax, name in zip(shown, names, strict=True):
+        means = summary.groupby(name)["MU"].mean().to_numpy()
+        np.testing.assert_allclose(ax.lines[0].get_ydata(), means, rtol=1e-12)

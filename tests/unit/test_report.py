@@ -1254,3 +1254,20 @@ def test_in_short_names_what_lenth_finds_in_the_interactions_a_saturated_anova_p
     twice = pd.concat([frame, frame.assign(y=frame["y"] + 0.01)], ignore_index=True)
     plain = _finding("y", anova(twice, factors, "y"), None, two_level_effects(twice, factors, "y"))
     assert "pooled" not in plain
+
+
+def test_a_level_is_named_as_a_coded_label_only_where_the_factor_has_them() -> None:
+    """The Tukey grouping names WP's levels as the legends do (WP+, WP0, WP-), but a factor
+    of values whose level is 0 is "S = 0", not "S0" beside "S = 0.5" (a review of large
+    designs)."""
+    from brakeca.report import _coded, _level_named
+
+    coded = pd.DataFrame({"level": ["+", "0", "-"]})
+    values = pd.DataFrame({"level": ["0.5", "0", "1"]})
+    assert [_level_named("WP", v, _coded(coded)) for v in coded["level"]] == ["WP+", "WP0", "WP-"]
+    assert [_level_named("S", v, _coded(values)) for v in values["level"]] == [
+        "S = 0.5",
+        "S = 0",
+        "S = 1",
+    ]
+    assert not _coded(pd.DataFrame({"level": ["0"]}))  # a lone 0 is a value
