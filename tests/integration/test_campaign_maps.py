@@ -100,6 +100,20 @@ def test_a_campaign_without_maps_draws_no_maps_over_the_cycle(plain, tmp_path):
     assert not stale.exists()
 
 
+def test_run_without_run_maps_reports_without_them(plain, design_file, tmp_path):
+    """`brakeca run --no-run-maps`, as `analyze` has it (a review of large designs: a
+    256-run report embedded 256 maps, 10-15 MB and most of the analysis's time, and only
+    `analyze` could leave them out)."""
+    out = tmp_path / "campaign"
+    shutil.copytree(plain.out_dir, out)  # every run reused: the report alone is made
+    args = ["run", str(design_file), "-o", str(out), "--executor", "serial", "--no-run-maps"]
+    res = CliRunner().invoke(app, args)
+    assert res.exit_code == 0, res.output
+    assert "analysing 4 runs: tables, figures and the report" in " ".join(res.output.split())
+    assert (out / "report.html").is_file()
+    assert not list((out / "figures").glob("final_map_test*.png"))
+
+
 def test_finished_runs_without_the_maps_are_reused_with_a_warning(plain, tmp_path):
     out = tmp_path / "campaign"
     shutil.copytree(plain.out_dir, out)

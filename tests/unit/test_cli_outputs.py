@@ -501,3 +501,28 @@ def test_an_interrupted_campaign_on_an_existing_cluster_says_its_workers_go_on(
     assert "the same command resumes; the cluster's workers finish the runs they had begun" in said
     res = _invoke(*args[:-2])  # the local executor stops its own workers: nothing to add
     assert res.exit_code == 130 and "cluster's workers" not in res.output
+
+
+def test_a_long_runs_table_shows_its_first_and_last_rows() -> None:
+    """A review of large designs: a 256-test design printed 262 lines, the report's "in
+    short" pushed off the screen; beyond 48 rows the first 24 and the last 12 are shown."""
+    import io
+
+    from rich.console import Console
+
+    rows = [
+        {"test": t, "order": t, "A": 10.0, "seed": t, "run_id": "x", "MU": 0.2, "V_mm3": 1.5,
+         "status": "ok"}
+        for t in range(1, 61)
+    ]  # fmt: skip
+    saved = cli.out
+    try:
+        cli.out = Console(file=io.StringIO(), width=100, record=True)
+        cli._print_summary(pd.DataFrame(rows))
+        text = cli.out.export_text()
+    finally:
+        cli.out = saved
+    shown = [int(line.split("│")[1]) for line in text.splitlines() if line.startswith("│ ")
+             and line.split("│")[1].strip().isdigit()]  # fmt: skip
+    assert shown == [*range(1, 25), *range(49, 61)]
+    assert "⋮" in text and "24 rows not shown: summary.csv has every run" in " ".join(text.split())
