@@ -326,6 +326,8 @@ def terminate_as_interrupt() -> Iterator[None]:
         _INTERRUPTS.clear()
     try:
         yield
+        if saved:  # one lost after the last check (a diff review: the last run's
+            raise_if_interrupted()  # finalizers; the command had ended with status 0)
     finally:
         for number, handler in saved.items():
             signal.signal(number, handler)
@@ -863,12 +865,18 @@ def _brakeca_imports() -> Callable[[], str]:
     a nested one travels by value (cloudpickle)."""
 
     def imports() -> str:
-        import brakeca
-        import brakeca.simulation  # the kernels' modules, numba
-
+        try:
+            import brakeca
+            import brakeca.simulation  # the kernels' modules, numba
+        except Exception as exc:  # as text: told apart from the link's own errors
+            return f"{_IMPORT_FAILED}{type(exc).__name__}: {exc}"
         return str(brakeca.__version__)
 
     return imports
+
+
+#: How :func:`_brakeca_imports`' answer begins where the import failed on the worker.
+_IMPORT_FAILED = "import failed: "
 
 
 class _DaskBackend(_Backend):
@@ -877,7 +885,8 @@ class _DaskBackend(_Backend):
     Dask charges a worker's death to every task the worker holds, executing or waiting. With
     no more runs submitted than there are worker threads, a worker normally holds only the run
     it executes. The thread count is asked again every :attr:`poll` seconds, so workers that
-    join late (a batch queue) get runs; with no worker yet, one run waits in the scheduler.
+    join late (a batch queue) get runs, once each is known to import brakeca
+    (:meth:`_check_workers`); with no such worker yet, no run is submitted.
     """
 
     poll = 1.0
@@ -904,15 +913,17 @@ class _DaskBackend(_Backend):
     WAIT_NOTE_AFTER = 10.0
 
     def _threads(self) -> int:
-        """The workers' threads now (0 where the scheduler does not answer) [-]; a worker
-        seen for the first time is asked whether brakeca imports there
-        (:meth:`_check_workers`)."""
+        """The threads of the workers known to import brakeca, now (0 where the scheduler
+        does not answer) [-]; a worker seen for the first time is asked first
+        (:meth:`_check_workers`), and one not asked yet, or that did not answer, counts
+        for nothing: no run is submitted for it (a diff review: a run queued for a worker
+        that had not joined yet went to a broken one the moment it registered)."""
         try:
             threads = dict(self.client.nthreads())
         except Exception:  # the scheduler is busy or gone: the runs in flight will tell
             return 0
         self._check_workers(threads)
-        return int(sum(threads.values()))
+        return int(sum(n for address, n in threads.items() if address in self.checked))
 
     def _check_workers(self, addresses: Iterable[str]) -> None:
         """Refuse workers on which brakeca does not import (:class:`ExecutorError`).
@@ -920,8 +931,12 @@ class _DaskBackend(_Backend):
         A run sent to such a worker kills it (dask cannot unpickle the run's configuration
         there, and the worker closes), and the campaign then waited for workers that were
         gone ("no worker yet"; a cluster review). Each worker is asked once, when it is first
-        seen, before any run is submitted to it; a worker that does not answer (gone since)
-        is asked again if it is seen again.
+        seen, before its threads count among those runs are submitted for; one whose import
+        fails in any way (an ImportError, or an error of brakeca's own import, such as no
+        folder for the kernels' cache) is refused; one that does not answer (gone since, or
+        the scheduler busy) is asked again when it is seen again. A worker that joins while
+        runs are being handed out may still take one before it is asked (the scheduler
+        chooses): dask then gives that run to another worker, as after any worker's death.
         """
         new = [address for address in addresses if address not in self.checked]
         if not new:
@@ -930,17 +945,17 @@ class _DaskBackend(_Backend):
             answers = self.client.run(_brakeca_imports(), workers=new, on_error="return")
         except Exception:  # the scheduler is busy or gone, or a worker went: ask again later
             return
-        broken: dict[str, BaseException] = {}
+        broken: dict[str, str] = {}
         for address, answer in answers.items():
-            if isinstance(answer, ImportError):
-                broken[address] = answer
-            elif not isinstance(answer, BaseException):
+            if isinstance(answer, str) and answer.startswith(_IMPORT_FAILED):
+                broken[address] = answer.removeprefix(_IMPORT_FAILED)  # (any error of it)
+            elif not isinstance(answer, BaseException):  # (the link's errors: ask again)
                 self.checked.add(address)
         if broken:
             first = next(iter(broken.values()))
             raise ExecutorError(
                 f"brakeca does not import on the Dask worker(s) at {', '.join(sorted(broken))} "
-                f"({type(first).__name__}: {first}): a run sent there would kill the worker. "
+                f"({first}): a run sent there would kill the worker or fail. "
                 'Install this brakeca on every worker (docs/cluster.md, "On a Dask '
                 'cluster"), or stop those workers; the finished runs are kept, and the same '
                 "command resumes"
@@ -953,7 +968,7 @@ class _DaskBackend(_Backend):
         if not self._connected():  # reconnecting, or closed: nothing to submit to
             return 0
         self.threads = self._threads()
-        return max(self.threads, 1) - self.in_flight
+        return self.threads - self.in_flight
 
     def interrupted(self, future: cf.Future) -> bool:
         # the moment the link to the scheduler drops, dask cancels every future of the

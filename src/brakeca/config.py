@@ -207,9 +207,10 @@ class VehicleConfig(_Frozen):
     )
     gravity: float = Field(
         9.81,
-        ge=9.7,
-        le=9.9,
-        description="[m/s^2] standard gravity, converts g to m/s^2 (Earth's: 9.78 to 9.83)",
+        ge=9.0,
+        le=10.5,
+        description="[m/s^2] standard gravity, converts g to m/s^2 (Earth's: 9.78 to 9.83; 9 "
+        "to 10.5, 10 rounded)",
     )
 
     def unit_note(self) -> str | None:
@@ -565,7 +566,7 @@ class TraceCycleConfig(_Frozen):
     vehicle_mass: float = Field(
         2300.0,
         ge=100.0,
-        le=60_000.0,
+        le=1_000_000.0,
         description=(
             "[kg] vehicle test mass m: aerodynamic term and vehicle-level energies; default "
             "2 x 690 kg / 0.6, the paper's wheel load at psi_f = 0.6"
@@ -588,9 +589,10 @@ class TraceCycleConfig(_Frozen):
     )
     gravity: float = Field(
         9.81,
-        ge=9.7,
-        le=9.9,
-        description="[m/s^2] gravity in the rolling resistance (Earth's: 9.78 to 9.83)",
+        ge=9.0,
+        le=10.5,
+        description="[m/s^2] gravity in the rolling resistance (Earth's: 9.78 to 9.83; 9 to "
+        "10.5, 10 rounded)",
     )
     # brake share
     friction_share: float = Field(

@@ -3212,7 +3212,7 @@ def load_design(path_or_name: str | Path | Mapping[str, Any]) -> Design:
     if "factors" not in data and set(data) & (set(SimulationConfig.model_fields) - {"name"}):
         raise ConfigError(
             f"{source}: a simulation configuration, not a design (it has no [[factors]]): "
-            f"run it with 'brakeca simulate -c {source}', or name it as a design's "
+            f"run it with 'brakeca simulate -c {source} -o RUN.nc', or name it as a design's "
             "base_config (docs/designs.md)"
         )
     return design_from_dict(data, source=source, root=path.parent)

@@ -414,7 +414,9 @@ def test_the_wait_for_workers_that_are_not_there_is_said_once() -> None:
     )
     backend = _DaskBackend(SimpleNamespace(client=client, deaths=None))
     backend.WAIT_NOTE_AFTER = 0.05
-    assert backend.free() == 1 and backend.waiting() is None  # the clock starts
+    # no worker known to import brakeca: no run is submitted (a diff review: one queued in
+    # the scheduler went to a worker without brakeca the moment it registered)
+    assert backend.free() == 0 and backend.waiting() is None  # the clock starts
     time.sleep(0.1)
     client.status = "connecting"  # (the link lost for a while: not said, nothing submitted)
     assert backend.waiting() is None and backend.free() == 0 and backend.lost() is None
@@ -424,8 +426,20 @@ def test_the_wait_for_workers_that_are_not_there_is_said_once() -> None:
         "(Ctrl-C stops; the same command resumes)"
     )
     assert backend.waiting() is None and backend.lost() is None  # said once
-    client.nthreads = lambda: {"w": 2}
+    # workers count once asked: one answers, one's link fails (asked again later, counted
+    # for nothing meanwhile), one cannot import brakeca (refused, naming it)
+    answers: dict = {"w": "0.1.0", "x": OSError("link")}
+    client.run = lambda fn, workers, on_error: {a: answers[a] for a in workers}
+    client.nthreads = lambda: {"w": 2, "x": 3}
     assert backend.free() == 2 and backend.waiting() is None
+    answers["x"] = "0.1.0"
+    assert backend.free() == 5 and backend.checked == {"w", "x"}
+    answers["y"] = "import failed: RuntimeError: no folder for the kernels' cache"
+    client.nthreads = lambda: {"w": 2, "x": 3, "y": 1}
+    with pytest.raises(ExecutorError, match=r"^brakeca does not import on the Dask worker\(s\) "
+                       r"at y \(RuntimeError: no folder for the kernels' cache\)"):  # fmt: skip
+        backend.free()
+    client.nthreads = lambda: {"w": 2, "x": 3}
     # a future dask cancelled while the link was down is run again, not failed
     import concurrent.futures as cf
 

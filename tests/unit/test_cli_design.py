@@ -466,7 +466,7 @@ def test_a_file_of_another_kind_is_named_as_such_in_one_line(tmp_path) -> None:
     netcdf.write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(64))
     for args, says in (
         (["run", str(config), "-o", str(tmp_path / "c")], "a simulation configuration, not a"),
-        (["design", str(config)], f"run it with 'brakeca simulate -c {config}'"),
+        (["design", str(config)], f"run it with 'brakeca simulate -c {config} -o RUN.nc'"),
         (["simulate", "-c", str(design), "-o", str(tmp_path / "r.nc")], "a design (it has"),
         (["config", "-c", str(design)], f"'brakeca run {design} -o FOLDER'"),
         (["design", str(netcdf)], "a netCDF file (a run file or a campaign.nc), not a design"),

@@ -69,6 +69,12 @@ def test_a_ctrl_c_python_drops_in_a_finalizer_is_raised_again(monkeypatch) -> No
         assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
         with terminate_as_interrupt():  # a later block starts without it
             raise_if_interrupted()
+        # lost after the last check, it is raised as the block ends (a diff review: the
+        # last run's finalizers, and the command ended with status 0)
+        with pytest.raises(KeyboardInterrupt), terminate_as_interrupt():
+            Interrupted()
+            assert dropped == [KeyboardInterrupt] * 2
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
     finally:
         signal.signal(signal.SIGINT, inherited)
     raise_if_interrupted()  # outside a block: nothing
