@@ -21,7 +21,6 @@ import itertools
 import math
 import os
 import textwrap
-import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -1037,8 +1036,7 @@ def plot_mu_per_stop(
         levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
         first = key not in labelled
         labelled.add(key)
-        if many:  # each run grey, unnamed: no legend holds them (see below)
-            ax.plot(stops, values[k], lw=0.6, color="0.6", alpha=0.6, label="_run")
+        if many:  # each run grey, unnamed (below): no legend holds them
             continue
         ax.plot(
             stops,
@@ -1054,16 +1052,40 @@ def plot_mu_per_stop(
         # beyond MOST_TESTS_NAMED tests a legend left most of them out, and colours and
         # styles repeated (a review of large designs): the runs grey, their mean over the
         # runs and the runs highest and lowest over the cycle named
-        finite = np.where(np.isfinite(values), values, np.nan)
-        with np.errstate(all="ignore"), warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)  # a stop no run reached
-            mean = np.nanmean(finite, axis=0)
-            overall = np.nanmean(finite, axis=1)
-        ax.plot(stops, mean, lw=1.8, color="black", label=f"mean of the {n} runs")
-        if np.isfinite(overall).any():
+        from matplotlib.collections import LineCollection
+
+        # one collection: the legend's "best" place then avoids the named lines, not every
+        # run's (a diff review saw it cover the mean)
+        ax.add_collection(
+            LineCollection(
+                [np.column_stack([stops, row]) for row in values],
+                linewidths=0.6,
+                colors="0.6",
+                alpha=0.6,
+                label="_runs",
+            )
+        )
+        # the finished runs' mean, and the highest and lowest among them (a run that stopped
+        # early had been the highest on its first stops; one that emitted nothing the lowest
+        # on a log axis, where it has no line)
+        finished = np.flatnonzero(np.isfinite(values).all(axis=1))
+        if finished.size:
+            rows = values[finished]
+            overall = rows.mean(axis=1)
+            ax.plot(
+                stops,
+                rows.mean(axis=0),
+                lw=1.8,
+                color="black",
+                label=f"mean of the {finished.size} "
+                + ("runs" if finished.size == n else "finished runs"),
+            )
+            emitting = overall > 0
+            among = finished[emitting] if emitting.any() else finished
+            scores = overall[emitting] if emitting.any() else overall
             for k, colour, word in (
-                (int(np.nanargmax(overall)), "#b2182b", "highest"),
-                (int(np.nanargmin(overall)), "#2166ac", "lowest"),
+                (int(among[np.argmax(scores)]), "#b2182b", "highest"),
+                (int(among[np.argmin(scores)]), "#2166ac", "lowest"),
             ):
                 levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
                 ax.plot(
@@ -1791,9 +1813,9 @@ def plot_response_surface(
         if held:  # wrapped to the panel (a review of large designs: four held factors ran
             # past the panel into its neighbour's)
             ax.set_title(
-                textwrap.fill(
+                textwrap.fill(  # (a pair is not broken: non-breaking spaces in it)
                     "others at their centre: "
-                    + ", ".join(f"{c.name} = {float(c.decode(0.0)):.3g}" for c in held),
+                    + ", ".join(f"{c.name}\u00a0=\u00a0{float(c.decode(0.0)):.3g}" for c in held),
                     _panel_chars(ax, 8.0, 70),
                 ),
                 fontsize=8,
@@ -2442,7 +2464,9 @@ def plot_box_cox(
                 rotation=90,
                 ha="right",
                 va="bottom",
-                bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 0.5},
+                # translucent, under the profiles: the curve stays seen (a diff review)
+                bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.6, "pad": 0.5},
+                zorder=1.5,
             )
         ax.set_xlim(lam[0], lam[-1])
         ax.grid(True, alpha=0.3)

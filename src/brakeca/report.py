@@ -190,17 +190,18 @@ too.{% endif %}
 <section id="runs">
 <h2>Per-run results</h2>
 <p class="note">MU: mean coefficient of friction over the stops run [-], 3 decimals; V: mean
-emitted wear volume per stop [mm&sup3;]; MU_SD: friction stability, the standard deviation
-of the per-stop mean COF over the stops run [-], divided by their number, not one less (not
-one of the paper's responses; 0 where every stop had the same mean COF). Emitted and worn
-off: the volumes that left the band and that wear removed from it over the whole run; held:
-their difference, what the secondary plateaus still hold (the particles in the contact leave
-it at the end of every stop). Primary and secondary, last stop: the plateaus' shares of the
-band in the last stop, time-weighted over it (before the S rule acts at its end). Secondary
-and in contact, all stops: the secondary plateaus' share of the band (in contact or not) and
-the share in contact, time-weighted over every stop the run made. Ledger residual: the
-largest relative misclosure of the volume ledger in any step; friction residual: the largest
-relative miss of the demanded friction force. Wall time: the run's own computing time.</p>
+emitted wear volume per stop [mm&sup3;]; MU_SD: friction stability, the standard deviation of
+the per-stop mean COF over the stops run [-], divided by their number, not one less (not one of
+the paper's responses; 0 where every stop had the same mean COF). Emitted and worn off: the
+volumes that left the band and that wear removed from it over the whole run; held: their
+difference, what the secondary plateaus still hold (the particles in the contact leave it at
+the end of every stop; where they are carried over the stops, automaton.end_of_stop_streams =
+"carry", held counts them too). Primary and secondary, last stop: the plateaus' shares of the
+band in the last stop, time-weighted over it (before the S rule acts at its end). Secondary and
+in contact, all stops: the secondary plateaus' share of the band (in contact or not) and the
+share in contact, time-weighted over every stop the run made. Ledger residual: the largest
+relative misclosure of the volume ledger in any step; friction residual: the largest relative
+miss of the demanded friction force. Wall time: the run's own computing time.</p>
 {{ render_table(runs) }}
 </section>
 
@@ -457,7 +458,7 @@ _RUN_COLUMNS: dict[str, tuple[str, str, float]] = {
     "MU_SD": ("MU_SD [-]", "#.3g", 1.0),
     "total_emitted_mm3": ("Emitted [mm³]", "volume", 1.0),
     "total_generated_mm3": ("Worn off [mm³]", "volume", 1.0),
-    "held_mm3": ("Held [mm³]", ".3g", 1.0),
+    "held_mm3": ("Held [mm³]", "volume", 1.0),  # as its neighbours (a diff review)
     "final_primary_area_fraction": ("Primary, last stop [%]", ".1f", 100.0),
     "final_secondary_area_fraction": ("Secondary, last stop [%]", ".1f", 100.0),
     "cycle_secondary_area_fraction": ("Secondary, all stops [%]", ".1f", 100.0),
@@ -2416,7 +2417,8 @@ def _scale_clause(
             elif response != "V":
                 text += f" (the report analyses {response} as it is)"
             other = getattr(bc, "without", None)
-            if other is not None and other.defined and other.contains(1.0):
+            unsettled = low <= 1.0 <= high  # said already: no second "but" (a diff review)
+            if other is not None and other.defined and other.contains(1.0) and not unsettled:
                 runs = getattr(bc, "without_runs", "") or "the unusual runs"
                 them = "it" if runs.startswith("test ") and ";" not in runs else "them"
                 text += (

@@ -441,7 +441,7 @@ def test_the_runs_table_shows_what_is_held_and_leaves_out_columns_that_say_nothi
         "Test", "MU_SD [-]", "Emitted [mm³]", "Worn off [mm³]", "Held [mm³]"
     ]  # fmt: skip
     cells = [row["cells"] for row in table.rows]
-    assert cells[0][1:] == ["0.0110", "582.0", "582.1", "0.054"]
+    assert cells[0][1:] == ["0.0110", "582.0", "582.1", "0.05400"]  # as its neighbours
     assert cells[1][4] == "0"
     # where they say something, they stay: replicates, another order, a failed run
     told = summary.assign(replicate=[0, 1], order=[2, 1], status=["ok", "failed"])
@@ -1076,6 +1076,13 @@ def test_in_short_says_which_scale_of_v_to_read() -> None:
     )
     spread.without = profile(0.5, 0.3, 0.7)  # without them, still not λ = 1: nothing added
     assert _scale_clause("MU_SD", {"MU_SD": spread}, None, True).endswith("as it is)")
+    # where Montgomery's interval holds λ = 1, the scale is unsettled already: no second
+    # "but" (a diff review)
+    spread.without = profile(0.64, 0.37, 1.03)
+    spread.ci_low_df, spread.ci_high_df, spread.df_resid = 0.1, 1.2, 9.0
+    unsettled = _scale_clause("MU_SD", {"MU_SD": spread}, None, True)
+    assert unsettled.endswith("the data do not settle MU_SD's scale")
+    assert "rests on" not in unsettled
     friction = profile(-1.43, -math.inf, -0.87)
     friction.without, friction.without_runs = profile(0.57, -1.34, math.inf), "test 23"
     assert _scale_clause("MU", {"MU": friction}, {"MU": residuals.iloc[3:]}, True) == (
@@ -1271,3 +1278,43 @@ def test_a_level_is_named_as_a_coded_label_only_where_the_factor_has_them() -> N
         "S = 1",
     ]
     assert not _coded(pd.DataFrame({"level": ["0"]}))  # a lone 0 is a value
+
+
+def test_the_nav_lists_each_anova_and_small_contributions_keep_their_digits(tmp_path) -> None:
+    """A report review: the nav had no entry for the longest section's responses, and a
+    contribution of 0.0031 % read "0.00" beside the Pareto bar's 0.0031."""
+    from brakeca.report import _anova_table
+
+    html = render_report(**make_inputs(tmp_path))
+    nav = html[html.index('<nav aria-label="Contents">') : html.index("</nav>")]
+    assert '<a href="#anova">ANOVA</a>:' in nav
+    assert '<a href="#anova-mu">MU</a>' in nav and '<a href="#anova-v">V</a>' in nav
+    for anchor in ("anova-mu", "anova-v"):
+        assert f'id="{anchor}"' in html  # each points at its section
+    frame = pd.DataFrame(
+        {"term": ["S", "WP"], "df": [1.0, 1.0], "sum_sq": [1.0, 2.0], "mean_sq": [1.0, 2.0],
+         "F": [3.0, 4.0], "p_value": [0.5, 0.01], "percent_contribution": [0.0031, 12.345]}
+    )  # fmt: skip
+    cells = [row["cells"] for row in _anova_table(frame)[0].rows]
+    shares = [c for row in cells for c in row if c in ("0.0031", "12.35", "0.00")]
+    assert shares == ["0.0031", "12.35"]
+
+
+def test_long_lists_of_runs_name_the_first_and_count_the_rest() -> None:
+    """A review of large designs: a 256-run design's line named 76 runs with negative fits
+    and joined outliers with "and" seventeen times."""
+    from brakeca.report import _MOST_RUNS_LISTED, _negative_fits, _runs_listed
+
+    assert _runs_listed(["test 1"], False) == "test 1"
+    assert _runs_listed(["test 1", "test 2"], False) == "test 1 and test 2"
+    assert _runs_listed(["a", "b", "c"], False) == "a, b and c"
+    assert _runs_listed(["a", "b", "c"], True) == "a; b and c"  # replicated names hold commas
+    names = [f"test {k}" for k in range(1, 21)]
+    assert _runs_listed(names, False) == ", ".join(names[:_MOST_RUNS_LISTED]) + " and 12 more"
+    frame = pd.DataFrame(
+        {"test": range(1, 21), "replicate": 0, "fitted": [-1e-9] * 20, "observed": 1e-9}
+    )
+    text = _negative_fits("V", frame)
+    assert "fits a negative volume to 20 runs" in text
+    assert text.count("fitted -1") == _MOST_RUNS_LISTED
+    assert "and 12 more, in tables/residuals_V.csv" in text
