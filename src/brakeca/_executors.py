@@ -299,18 +299,18 @@ def terminate_as_interrupt() -> Iterator[None]:
     files and checkpoints) instead of ending at once with its workers left running. A
     handler the program set itself is left alone; outside the main thread this does nothing.
 
-    Each of those signals, Ctrl-C's too, is also remembered until the block ends: Python
-    drops a KeyboardInterrupt raised while it runs a finalizer or a weak reference's callback
-    ("Exception ignored in ..."), and a campaign then ran every run to the end and an
-    analysis finished, exit status 0, as if no Ctrl-C had come (a command-line review).
-    :func:`raise_if_interrupted`, called between runs and between figures, raises it again.
+    A KeyboardInterrupt Python drops, raised by one of those signals or Ctrl-C while it
+    runs a finalizer or a weak reference's callback ("Exception ignored in ..."), is
+    remembered until the block ends (a campaign had run every run to the end and an
+    analysis finished, exit status 0, as if no Ctrl-C had come; a command-line review):
+    :func:`raise_if_interrupted`, called between runs, between figures and as the block
+    ends, raises it again.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
     def interrupt(signum: int, frame: Any) -> None:
-        _INTERRUPTS.append(signum)
         if signum == signal.SIGINT:
             raise KeyboardInterrupt
         raise KeyboardInterrupt(signal.Signals(signum).name)
@@ -322,8 +322,23 @@ def terminate_as_interrupt() -> Iterator[None]:
             saved[number] = signal.signal(number, interrupt)
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         saved[signal.SIGINT] = signal.signal(signal.SIGINT, interrupt)
+    hook = None
     if saved:  # the outermost block: no interrupt of an earlier one is carried into it
         _INTERRUPTS.clear()
+        hook = sys.unraisablehook
+
+        def remember(unraisable: Any) -> None:
+            """Python drops a KeyboardInterrupt raised where it cannot propagate (a
+            finalizer, a weak reference's callback) and hands it here: remember it (only
+            the lost ones: one that propagated, even if code in the block caught it, is not
+            raised again; a diff review)."""
+            exc = unraisable.exc_value
+            if isinstance(exc, KeyboardInterrupt):
+                name = exc.args[0] if len(exc.args) == 1 else "SIGINT"
+                _INTERRUPTS.append(getattr(signal, str(name), signal.SIGINT))
+            hook(unraisable)
+
+        sys.unraisablehook = remember
     try:
         yield
         if saved:  # one lost after the last check (a diff review: the last run's
@@ -331,7 +346,8 @@ def terminate_as_interrupt() -> Iterator[None]:
     finally:
         for number, handler in saved.items():
             signal.signal(number, handler)
-        if saved:
+        if hook is not None:
+            sys.unraisablehook = hook
             _INTERRUPTS.clear()
 
 
@@ -922,6 +938,8 @@ class _DaskBackend(_Backend):
             threads = dict(self.client.nthreads())
         except Exception:  # the scheduler is busy or gone: the runs in flight will tell
             return 0
+        # a worker gone is forgotten: another at its address is asked again (a diff review)
+        self.checked &= set(threads)
         self._check_workers(threads)
         return int(sum(n for address, n in threads.items() if address in self.checked))
 
@@ -949,7 +967,12 @@ class _DaskBackend(_Backend):
         for address, answer in answers.items():
             if isinstance(answer, str) and answer.startswith(_IMPORT_FAILED):
                 broken[address] = answer.removeprefix(_IMPORT_FAILED)  # (any error of it)
-            elif not isinstance(answer, BaseException):  # (the link's errors: ask again)
+            elif isinstance(answer, OSError):  # the link's (closed, timed out): ask again
+                continue
+            elif isinstance(answer, BaseException):  # the probe itself could not run there
+                # (another Python, say; a diff review: asked for ever, "no worker yet")
+                broken[address] = f"{type(answer).__name__}: {answer}"
+            else:
                 self.checked.add(address)
         if broken:
             first = next(iter(broken.values()))

@@ -21,6 +21,7 @@ import itertools
 import math
 import os
 import textwrap
+import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -1065,16 +1066,25 @@ def plot_mu_per_stop(
                 label="_runs",
             )
         )
-        # the finished runs' mean, and the highest and lowest among them (a run that stopped
-        # early had been the highest on its first stops; one that emitted nothing the lowest
-        # on a log axis, where it has no line)
-        finished = np.flatnonzero(np.isfinite(values).all(axis=1))
+        # the finished runs' mean over those reaching each stop, and the highest and lowest
+        # of them by their own stops' mean (a run that failed early had been the highest on
+        # its first stops; one that emitted nothing the lowest on a log axis, where it has
+        # no line; runs of a shorter cycle are finished, not failed: a diff review)
+        if "status" in campaign.coords:
+            done = np.asarray(campaign["status"].to_numpy()).astype(str) == "ok"
+        else:
+            done = np.ones(len(values), dtype=bool)
+        done &= np.isfinite(values).any(axis=1)
+        finished = np.flatnonzero(done)
         if finished.size:
             rows = values[finished]
-            overall = rows.mean(axis=1)
+            with np.errstate(all="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)  # a stop no run reached
+                overall = np.nanmean(rows, axis=1)
+                mean = np.nanmean(rows, axis=0)
             ax.plot(
                 stops,
-                rows.mean(axis=0),
+                mean,
                 lw=1.8,
                 color="black",
                 label=f"mean of the {finished.size} "
@@ -1128,7 +1138,8 @@ def plot_mu_per_stop(
     ax.set_title(title, pad=pad)
     ax.grid(True, alpha=0.3)
     if many:
-        ax.legend(fontsize=7, loc="best")
+        if ax.get_legend_handles_labels()[0]:  # (no finished run: nothing to name)
+            ax.legend(fontsize=7, loc="best")
     elif n > 1 and given and (n_tests <= 6 or fig.get_layout_engine() is None):
         ax.legend(fontsize=7, ncols=1 if n_tests <= 30 else 2)  # (no room made beside it)
     elif n > 1 and given:  # beside the panel, where the figure's layout makes room for it

@@ -439,6 +439,20 @@ def test_the_wait_for_workers_that_are_not_there_is_said_once() -> None:
     with pytest.raises(ExecutorError, match=r"^brakeca does not import on the Dask worker\(s\) "
                        r"at y \(RuntimeError: no folder for the kernels' cache\)"):  # fmt: skip
         backend.free()
+    # a probe that cannot run there (another Python, say) refuses the worker too, where it
+    # had been asked for ever (a diff review)
+    answers["z"] = TypeError("code() argument 13 must be str")
+    client.nthreads = lambda: {"w": 2, "x": 3, "z": 1}
+    with pytest.raises(ExecutorError, match=r"at z \(TypeError: code\(\) argument 13"):
+        backend.free()
+    # a worker gone is forgotten: another at its address is asked again
+    client.nthreads = lambda: {"w": 2}
+    assert backend.free() == 2 and backend.checked == {"w"}
+    answers["x"] = "import failed: ModuleNotFoundError: No module named 'brakeca'"
+    client.nthreads = lambda: {"w": 2, "x": 3}
+    with pytest.raises(ExecutorError, match=r"at x \(ModuleNotFoundError"):
+        backend.free()
+    answers["x"] = "0.1.0"
     client.nthreads = lambda: {"w": 2, "x": 3}
     # a future dask cancelled while the link was down is run again, not failed
     import concurrent.futures as cf

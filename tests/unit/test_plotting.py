@@ -195,15 +195,23 @@ def test_mu_per_stop_v_per_run_and_pareto(tmp_path, summary, campaign) -> None:
     (mean,) = [line for line in ax.lines if line.get_label() == "mean of the 48 runs"]
     np.testing.assert_allclose(mean.get_ydata(), values.mean(axis=0), rtol=1e-12)
     # the finished runs alone make the mean and the extremes (a diff review: a run that
-    # stopped early was "highest" on its first stops, and was counted in the mean)
+    # failed early was "highest" on its first stops, and was counted in the mean); a run
+    # of a shorter cycle is finished, and counts over the stops it made
     stopped = many.copy(deep=True)
-    stopped["mean_cof"][dict(run=top - 1)] = np.r_[
-        [1.0] * 3, [np.nan] * (stopped.sizes["stop"] - 3)
-    ]
+    early = np.r_[[1.0] * 3, [np.nan] * (stopped.sizes["stop"] - 3)]
+    stopped["mean_cof"][dict(run=top - 1)] = early
+    status = np.array(["ok"] * 48, dtype=object)
+    status[top - 1] = "failed"
+    stopped = stopped.assign_coords(status=("run", status))
     ax = plot_mu_per_stop(stopped, factors=FACTORS).axes[0]
     named = [line.get_label() for line in ax.get_legend().get_lines()]
     assert named[0] == "mean of the 47 finished runs"
     assert not named[1].startswith(f"highest over the cycle: T{top}: ")
+    shorter = stopped.assign_coords(status=("run", np.array(["ok"] * 48, dtype=object)))
+    ax = plot_mu_per_stop(shorter, factors=FACTORS).axes[0]
+    named = [line.get_label() for line in ax.get_legend().get_lines()]
+    assert named[0] == "mean of the 48 runs"
+    assert named[1].startswith(f"highest over the cycle: T{top}: ")  # its mean COF of 1
 
     path = tmp_path / "v_per_run.png"
     fig = plot_v_per_run(summary, path=path)

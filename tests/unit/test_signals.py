@@ -75,6 +75,13 @@ def test_a_ctrl_c_python_drops_in_a_finalizer_is_raised_again(monkeypatch) -> No
             Interrupted()
             assert dropped == [KeyboardInterrupt] * 2
         assert signal.getsignal(signal.SIGINT) is signal.default_int_handler  # restored
+        # one that propagated, and that code in the block caught, is not raised again (a
+        # diff review: the block had raised it a second time at its end)
+        with terminate_as_interrupt():
+            with contextlib.suppress(KeyboardInterrupt):
+                os.kill(os.getpid(), signal.SIGINT)
+                time.sleep(1.0)
+            raise_if_interrupted()  # nothing
     finally:
         signal.signal(signal.SIGINT, inherited)
     raise_if_interrupted()  # outside a block: nothing
