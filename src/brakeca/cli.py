@@ -36,6 +36,8 @@ app = typer.Typer(
     add_completion=False,
     rich_markup_mode=None,
     no_args_is_help=True,
+    # -h as well as --help (a command-line review: "No such option: -h")
+    context_settings={"help_option_names": ["-h", "--help"]},
     help=(
         "Cellular-automaton simulation of brake pad friction, wear and wear emissions "
         "(Wahlström 2016, doi:10.1155/2016/8181260) and factorial studies over pad properties."
@@ -839,6 +841,10 @@ def _percent_levels(text: str) -> list[float]:
     return values
 
 
+#: Suffixes of figure files: an -o folder named so gets a note.
+_FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg", ".eps")
+
+
 @app.command("plot", short_help="figures of a run file, or of a campaign's runs")
 def plot(
     path: Annotated[
@@ -877,6 +883,13 @@ def plot(
     from brakeca.results import RunResult
     from brakeca.study import campaign_runs_to_plot, plot_run
 
+    if output is not None and output.suffix.lower() in _FIGURE_SUFFIXES and not output.is_dir():
+        # a folder named like a figure (a command-line review: 'figs.png/' made silently)
+        console.print(
+            f"[yellow]note:[/] -o {escape(str(output))} is the folder the figures go into "
+            "(several PNG files), not one figure's file",
+            highlight=False,
+        )
     if not path.is_dir():
         if tests:
             _fail("--test selects runs of a campaign folder; RUN is a single run file")

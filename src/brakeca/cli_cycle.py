@@ -41,6 +41,8 @@ cycle_app = typer.Typer(
     add_completion=False,
     rich_markup_mode=None,
     no_args_is_help=True,
+    # -h as well as --help (a command-line review: "No such option: -h")
+    context_settings={"help_option_names": ["-h", "--help"]},
     help="Drive cycles: block cycles (Table 3 form) and speed traces (time, speed).",
 )
 console = LogConsole(stderr=True)

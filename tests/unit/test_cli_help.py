@@ -97,3 +97,14 @@ def test_docs_says_where_the_documents_are_and_prints_one() -> None:
     res = CliRunner().invoke(app, ["docs", "modle"])
     assert res.exit_code == 2
     assert "no document 'modle'; choose one of model, designs," in res.output
+
+
+def test_h_is_help_too() -> None:
+    """A command-line review: 'brakeca simulate -h' read "No such option: -h"."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    for args in (["-h"], ["simulate", "-h"], ["cycle", "inspect", "-h"]):
+        res = CliRunner().invoke(app, args)
+        assert res.exit_code == 0 and "Usage: " in res.output, (args, res.output)
