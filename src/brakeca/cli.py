@@ -22,6 +22,7 @@ from rich.markup import escape
 
 from brakeca import __version__
 from brakeca._console import LogConsole, is_replicated
+from brakeca.cli_cycle import _file_path
 from brakeca.config import (
     MAX_SEED,
     ConfigError,
@@ -497,7 +498,7 @@ def simulate(
     output: Annotated[
         Path,
         typer.Option(
-            "-o", "--output", metavar="PATH", dir_okay=False, help="run file to write (.nc)"
+            "-o", "--output", metavar="PATH", parser=_file_path, help="run file to write (.nc)"
         ),
     ],
     preset: PresetOpt = None,
@@ -959,7 +960,7 @@ def surface(
             "-o",
             "--output",
             metavar="PATH",
-            dir_okay=False,
+            parser=_file_path,
             help="figure to write (.png; .pdf, .svg and others by the suffix)",
         ),
     ],

@@ -37,6 +37,19 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["cycle_app", "inspect_cycle", "load_cycle_events"]
 
 
+def _file_path(text: str) -> Path:
+    """``-o``'s file (of ``cycle inspect``, and of :mod:`brakeca.cli`'s ``simulate`` and
+    ``surface``, which import it from here: this module does not import that one at its
+    top): an empty text and a folder are refused, each with what to give (a command-line
+    review: "-o ''" had read "File '' is a directory")."""
+    if not text.strip():
+        raise typer.BadParameter("an empty path; give the file to write")
+    path = Path(text)
+    if path.is_dir():
+        raise typer.BadParameter(f"{text} is a folder; give the file to write in it")
+    return path
+
+
 cycle_app = typer.Typer(
     add_completion=False,
     rich_markup_mode=None,
@@ -268,7 +281,7 @@ def inspect(
             "-o",
             "--output",
             metavar="PATH",
-            dir_okay=False,
+            parser=_file_path,
             help="figure of the trace, events shaded (.png; .pdf, .svg... by the suffix)",
         ),
     ] = None,

@@ -293,9 +293,7 @@ def test_cli_simulate(tmp_path):
     kept.parent.rmdir()
     # an output that is a folder is refused before the run, not when its file is written
     res = runner.invoke(app, ["simulate", "--stops", "1", "-o", str(tmp_path)])
-    assert (
-        res.exit_code == 2 and "is a directory" in res.output and "cells, cycle" not in res.output
-    )
+    assert res.exit_code == 2 and "is a folder" in res.output and "cells, cycle" not in res.output
     res = runner.invoke(app, ["simulate", "-o", str(out), "--seed", "-1"])
     assert res.exit_code == 2 and "--seed" in res.output
     # a model error (no fibre to carry the torque): exit 1, the error the last line, no file

@@ -108,3 +108,18 @@ def test_h_is_help_too() -> None:
     for args in (["-h"], ["simulate", "-h"], ["cycle", "inspect", "-h"]):
         res = CliRunner().invoke(app, args)
         assert res.exit_code == 0 and "Usage: " in res.output, (args, res.output)
+
+
+def test_a_files_output_that_is_empty_or_a_folder_says_so(tmp_path) -> None:
+    """A command-line review: "-o ''" of simulate, surface and cycle inspect read "File ''
+    is a directory"; a folder given is named as one."""
+    from typer.testing import CliRunner
+
+    from brakeca.cli import app
+
+    for command in (["simulate"], ["surface"], ["cycle", "inspect", "paper"]):
+        empty = CliRunner().invoke(app, [*command, "-o", ""])
+        assert empty.exit_code == 2 and "an empty path; give the file to write" in empty.output
+        folder = CliRunner().invoke(app, [*command, "-o", str(tmp_path)])
+        text = " ".join(folder.output.split())
+        assert folder.exit_code == 2 and "is a folder; give the file to write in it" in text
