@@ -1741,7 +1741,8 @@ def _note(text: str) -> None:
 _GOAL_FORM = (
     "RESPONSE:min:TARGET:UPPER, RESPONSE:max:LOWER:TARGET or "
     "RESPONSE:target:LOWER:TARGET:UPPER (desirability 1 at TARGET, 0 at LOWER and UPPER, as "
-    "Minitab names them), with RESPONSE one of MU, V (in mm³), log10_V_mm3, MU_SD; e.g. "
+    "Minitab names them; min or minimize, max or maximize), with RESPONSE one of MU, V (in "
+    "mm³), log10_V_mm3, MU_SD; e.g. "
     "V:min:0.1:5 or MU:target:0.35:0.4:0.45"
 )
 

@@ -244,31 +244,39 @@ def inspect(
         typer.Option(
             "--threshold",
             metavar="X",
-            help="[m/s²] braking: decelerating faster than this (default 0.3)",
+            help="[m/s²] a trace's braking: decelerating faster than this  [default: 0.3]",
         ),
     ] = None,
     min_duration: Annotated[
         float | None,
         typer.Option(
-            "--min-duration", metavar="X", help="[s] shortest braking event kept (default 2)"
+            "--min-duration",
+            metavar="X",
+            help="[s] a trace's shortest braking event kept  [default: 2]",
         ),
     ] = None,
     smoothing: Annotated[
         float | None,
         typer.Option(
-            "--smoothing", metavar="X", help="[s] moving-average window on the speed (default 0)"
+            "--smoothing",
+            metavar="X",
+            help="[s] a trace's moving-average window on the speed  [default: 0]",
         ),
     ] = None,
     merge_gap: Annotated[
         float | None,
         typer.Option(
-            "--merge-gap", metavar="X", help="[s] join braking stretches this close (default 1)"
+            "--merge-gap",
+            metavar="X",
+            help="[s] a trace's braking stretches this close are joined  [default: 1]",
         ),
     ] = None,
     speed_unit: Annotated[
         str | None,
         typer.Option(
-            "--speed-unit", metavar="UNIT", help="km/h, m/s or mph, if the header states no unit"
+            "--speed-unit",
+            metavar="UNIT",
+            help="a trace's speed unit, km/h, m/s or mph, if its header states none",
         ),
     ] = None,
     no_corrections: Annotated[

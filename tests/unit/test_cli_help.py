@@ -54,8 +54,8 @@ def test_help_fits_80_columns_with_whole_option_names(args):
 
 def test_units_in_brackets_are_shown():
     text = _help(["cycle", "inspect"])
-    assert "[s] shortest braking event kept" in text
-    assert "[m/s²] braking" in text
+    assert "[s] a trace's shortest braking event kept" in text
+    assert "[m/s²] a trace's braking" in text
 
 
 @pytest.mark.parametrize("args", [[], ["cycle"]], ids=["brakeca", "brakeca cycle"])
