@@ -351,7 +351,8 @@ def terminate_as_interrupt() -> Iterator[None]:
             _INTERRUPTS.clear()
 
 
-#: The signals :func:`terminate_as_interrupt`'s handler took, in its block [-].
+#: The signals whose KeyboardInterrupt Python dropped in a :func:`terminate_as_interrupt`
+#: block (its ``sys.unraisablehook``), by number [-].
 _INTERRUPTS: list[int] = []
 
 

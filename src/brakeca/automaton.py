@@ -147,11 +147,8 @@ def rule2_east_and_one_diagonal(status, idx: int, n_radial: int, n_angular: int)
     plateaus both count as neighbours, and more support does not make filling cheaper
     (decisions, docs/model.md section 7, rules 1-3).
 
-    A candidate becomes a secondary plateau, rising to ``z``, if the inflow still available to
-    its row and subdomain covers its gap ``(z - h) A_j`` (:func:`gap_fill_cost`); that test is
-    the creation step's, not this function's. The kernels flag candidates (a plateau directly
-    east) in ``_kernels.refresh_candidate`` without calling this function; it states the rule
-    and is tested cell by cell (docs/model.md, introduction).
+    Whether a candidate becomes a secondary plateau, and where the kernels flag it, is as
+    :func:`rule1_east_support` says.
 
     References
     ----------
@@ -191,11 +188,8 @@ def rule3_east_and_both_diagonals(status, idx: int, n_radial: int, n_angular: in
     neighbours, and more support does not make filling cheaper (decisions, docs/model.md
     section 7, rules 1-3).
 
-    A candidate becomes a secondary plateau, rising to ``z``, if the inflow still available to
-    its row and subdomain covers its gap ``(z - h) A_j`` (:func:`gap_fill_cost`); that test is
-    the creation step's, not this function's. The kernels flag candidates (a plateau directly
-    east) in ``_kernels.refresh_candidate`` without calling this function; it states the rule
-    and is tested cell by cell (docs/model.md, introduction).
+    Whether a candidate becomes a secondary plateau, and where the kernels flag it, is as
+    :func:`rule1_east_support` says.
 
     References
     ----------
