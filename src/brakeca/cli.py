@@ -2078,13 +2078,13 @@ def power(
         ),
     ] = "MU",
     replicates: Annotated[
-        str,
+        str | None,
         typer.Option(
             metavar="N,N,...",
             help="the replicates (runs per test) to evaluate; by default 1 to 5, and up to "
             "the design's own replicates when it has more",
         ),
-    ] = "",
+    ] = None,
     target: Annotated[
         float | None,
         typer.Option(
@@ -2154,7 +2154,11 @@ def power(
                 "--effect (the smallest difference found with that power)"
             )
         try:
-            counts = [int(part) for part in replicates.split(",")] if replicates else None
+            # an empty --replicates is refused as --maps-at's and --levels' are (it had
+            # meant the default without a word; a fuzz review)
+            counts = (
+                [int(part) for part in replicates.split(",")] if replicates is not None else None
+            )
         except ValueError:
             raise ValueError(
                 f"--replicates: expected whole numbers separated by commas, got {replicates!r}"

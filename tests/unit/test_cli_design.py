@@ -496,3 +496,12 @@ def test_output_read_by_a_reader_that_goes_is_not_a_failure() -> None:
     with proc.stderr:
         said = proc.stderr.read()
     assert status == 0 and said == b"", said
+
+
+def test_an_empty_replicates_list_is_refused() -> None:
+    """A fuzz review: 'power --replicates ""' meant the default without a word, while an
+    empty --maps-at or --levels is refused."""
+    res = CliRunner().invoke(
+        app, ["power", "paper", "--effect", "0.01", "--sigma", "0.005", "--replicates", ""]
+    )
+    assert res.exit_code == 2 and "--replicates: expected whole numbers" in res.output

@@ -425,6 +425,10 @@ BAD_CASES = {
         ["root_seed: expected a whole number", "got 7.0"],
     ),
     "zero replicates": (lambda d: _set(d, ("replicates",), 0), ["replicates"]),
+    "text replicates": (  # taken as 3, where a text root_seed was refused (a fuzz review)
+        lambda d: _set(d, ("replicates",), "3"),
+        ["replicates: expected a whole number of replicates, 1 to 10000, got '3'"],
+    ),
     "true replicates": (  # pydantic takes True for 1
         lambda d: _set(d, ("replicates",), True),
         ["replicates: must be a number, not true"],
