@@ -842,10 +842,6 @@ def _percent_levels(text: str) -> list[float]:
     return values
 
 
-#: Suffixes of figure files: an -o folder named so gets a note.
-_FIGURE_SUFFIXES = (".png", ".pdf", ".svg", ".jpg", ".jpeg", ".eps")
-
-
 @app.command("plot", short_help="figures of a run file, or of a campaign's runs")
 def plot(
     path: Annotated[
@@ -881,10 +877,12 @@ def plot(
     """Figures of one run: MU per stop over the cycle, the per-step COF and normal force
     against the braking time, and the initial and final plateau maps. Given a campaign
     folder, the same figures for each of its runs (or the tests named by --test)."""
+    from brakeca.plotting import FIGURE_FORMATS
     from brakeca.results import RunResult
     from brakeca.study import campaign_runs_to_plot, plot_run
 
-    if output is not None and output.suffix.lower() in _FIGURE_SUFFIXES and not output.is_dir():
+    suffix = output.suffix.lower().lstrip(".") if output is not None else ""
+    if output is not None and suffix in FIGURE_FORMATS and not output.is_dir():
         # a folder named like a figure (a command-line review: 'figs.png/' made silently)
         console.print(
             f"[yellow]note:[/] -o {escape(str(output))} is the folder the figures go into "
@@ -2215,18 +2213,16 @@ def power(
     pairs = alias_structure(pd.DataFrame(loaded.combinations()), loaded.factors).attrs.get(
         "aliased_main_effects", []
     )
+    from brakeca.report import _listed
+
     # both ways, every partner (a DoE review: a dict of pairs kept only the last partner of
     # a factor aliased with two)
     partners: dict[str, list[str]] = {}
     for pair in pairs:
         for a, b in (pair, pair[::-1]):
             partners.setdefault(a, []).append(b)
-
-    def _and(names: list[str]) -> str:
-        return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
-
     partners = {a: list(dict.fromkeys(bs)) for a, bs in partners.items()}
-    aliased = {a: _and(bs) for a, bs in partners.items()}
+    aliased = {a: _listed(bs) for a, bs in partners.items()}
     together: dict[str, list[str]] = {}  # a factor whose figure is its partners', once each
     for _, row in table_data.iterrows():
         value = row["effect"] if effect is None else row["power"]
@@ -2254,7 +2250,7 @@ def power(
     out.print(f"the ANOVA model: {_anova_model_text(loaded)}", markup=False, highlight=False)
     for name, other in together.items():
         out.print(
-            f"{name}'s figure is that of {_and([name, *other])} together: the tests cannot "
+            f"{name}'s figure is that of {_listed([name, *other])} together: the tests cannot "
             "tell them apart (brakeca design names the aliases)",
             markup=False,
             highlight=False,

@@ -1691,9 +1691,9 @@ class GoalSpec(_Frozen):
         "goals #2.lower: required field is missing")."""
         if not isinstance(data, dict) or "target" not in data:
             return data
-        goal = str(data.get("goal"))
-        kind = {"min": "minimize", "max": "maximize"}.get(goal, goal)
-        met = {"minimize": "lower", "maximize": "upper"}.get(str(kind))
+        met = {"min": "lower", "minimize": "lower", "max": "upper", "maximize": "upper"}.get(
+            str(data.get("goal"))
+        )
         if met is not None and met not in data:
             data = dict(data)
             data[met] = data.pop("target")

@@ -1053,19 +1053,7 @@ def plot_mu_per_stop(
         # beyond MOST_TESTS_NAMED tests a legend left most of them out, and colours and
         # styles repeated (a review of large designs): the runs grey, their mean over the
         # runs and the runs highest and lowest over the cycle named
-        from matplotlib.collections import LineCollection
-
-        # one collection: the legend's "best" place then avoids the named lines, not every
-        # run's (a diff review saw it cover the mean)
-        ax.add_collection(
-            LineCollection(
-                [np.column_stack([stops, row]) for row in values],
-                linewidths=0.6,
-                colors="0.6",
-                alpha=0.6,
-                label="_runs",
-            )
-        )
+        _run_lines(ax, stops, values, lw=0.6, colour="0.6", alpha=0.6)
         # the finished runs' mean over those reaching each stop, and the highest and lowest
         # of them by their own stops' mean (a run that failed early had been the highest on
         # its first stops; one that emitted nothing the lowest on a log axis, where it has
@@ -1155,6 +1143,18 @@ def plot_mu_per_stop(
     return save_figure(fig, path)
 
 
+def _run_lines(
+    ax: Axes, stops: np.ndarray, rows: np.ndarray, *, lw: float, colour: Any, alpha: float
+) -> None:
+    """Each row of ``rows`` against ``stops`` as one collection of thin lines, unnamed: the
+    legend's "best" place then avoids the named lines only, not every run's (a line each
+    had put the legend over a mean line; a report review and a diff review)."""
+    from matplotlib.collections import LineCollection
+
+    segments = [np.column_stack([stops, row]) for row in rows]
+    ax.add_collection(LineCollection(segments, linewidths=lw, colors=[colour], alpha=alpha))
+
+
 #: The most tests a figure of every run's line names one by one; beyond, the runs are grey,
 #: their mean and the highest and lowest named [-].
 MOST_TESTS_NAMED = 40
@@ -1219,8 +1219,6 @@ def plot_mu_per_stop_by_level(
             f"factors: got {str(factors)!r}, not factors; the file to write is path= "
             "(plot_mu_per_stop_by_level(campaign, factors=None, path=...))"
         )
-    from matplotlib.collections import LineCollection
-
     if factors is None:
         factors = _campaign_factors(campaign)
     data = getattr(campaign, "dataset", campaign)
@@ -1250,16 +1248,8 @@ def plot_mu_per_stop_by_level(
             mine = mine[np.isfinite(mine).all(axis=1)]  # the finished runs
             if not len(mine):
                 continue
-            if runs:  # one collection, not a line each: the legend's "best" place then
-                # avoids the means, not every run (it covered a mean line; a report review)
-                ax.add_collection(
-                    LineCollection(
-                        [np.column_stack([stops, line]) for line in mine],
-                        linewidths=0.5,
-                        colors=[colour],
-                        alpha=0.25,
-                    )
-                )
+            if runs:
+                _run_lines(ax, stops, mine, lw=0.5, colour=colour, alpha=0.25)
             ax.plot(
                 stops,
                 mine.mean(axis=0),

@@ -790,11 +790,7 @@ def _runs_listed(names: list[str], replicated: bool) -> str:
     names, which hold commas."""
     shown, rest = names[:_MOST_RUNS_LISTED], len(names) - _MOST_RUNS_LISTED
     sep = "; " if replicated else ", "
-    if rest > 0:
-        return sep.join(shown) + f" and {rest} more"
-    if len(shown) <= 2:
-        return " and ".join(shown)
-    return sep.join(shown[:-1]) + " and " + shown[-1]
+    return sep.join(shown) + f" and {rest} more" if rest > 0 else _listed(shown, sep)
 
 
 def _negative_fits(response: str, frame: pd.DataFrame | None, log_section: bool = True) -> str:
