@@ -102,6 +102,26 @@ def is_replicated(frame: Any) -> bool:
     return "replicate" in frame.columns and frame["replicate"].nunique() > 1
 
 
+def run_tags(frame: Any) -> Callable[[Any], str]:
+    """The names of a summary's runs in file names: ``tag(row)`` gives ``"test06_r0"``, the
+    test number zero-padded to the width of the largest in ``frame`` (at least two digits)
+    and the replicate to that of the largest replicate, so that a listing sorted by name
+    lists the runs in test order (``test100`` had sorted before ``test11``: a review)."""
+
+    def width(column: str, least: int) -> int:
+        if column not in frame.columns or len(frame) == 0:
+            return least
+        return max(least, len(str(int(frame[column].max()))))
+
+    tests, replicates = width("test", 2), width("replicate", 1)
+
+    def tag(row: Any) -> str:
+        replicate = int(row["replicate"]) if "replicate" in row.keys() else 0
+        return f"test{int(row['test']):0{tests}d}_r{replicate:0{replicates}d}"
+
+    return tag
+
+
 def run_named(row: Any, replicated: bool) -> str:
     """A run in a message: ``"test 3"``, with ``", replicate 1"`` in a ``replicated``
     campaign (and a replicate given), ``"a run"`` without a test number; ``row`` is a

@@ -21,7 +21,7 @@ import typer
 from rich.markup import escape
 
 from brakeca import __version__
-from brakeca._console import LogConsole, is_replicated
+from brakeca._console import LogConsole, is_replicated, run_tags
 from brakeca.cli_cycle import _file_path
 from brakeca.config import (
     MAX_SEED,
@@ -920,10 +920,14 @@ def plot(
     base = output if output is not None else path / "run_figures"
     _check_output(base, "-o" if output is not None else None, folder=True)
     replicated = is_replicated(rows)
+    from brakeca._consolidate import campaign_folder, read_summary
+
+    # named as the whole campaign's runs are (the width of its largest test number)
+    tag = run_tags(read_summary(campaign_folder(path) / "summary.csv"))
     drawn = 0
     with _on_interrupt(f"the figures written so far are in {base}"):
         for k, row in enumerate(rows.itertuples(index=False), start=1):
-            name = f"test{int(row.test):02d}_r{int(getattr(row, 'replicate', 0))}"
+            name = tag(row._asdict())
             head = f"[{k}/{len(rows)}] test {int(row.test)}"
             run_file = path / "runs" / f"{row.run_id}.nc"
             if row.status != "ok" or not run_file.is_file():

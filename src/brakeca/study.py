@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca import __version__
-from brakeca._console import is_replicated, run_named, tests_named
+from brakeca._console import is_replicated, run_named, run_tags, tests_named
 from brakeca._io import write_table, write_text
 from brakeca.analysis import display_unit
 from brakeca.campaign import CampaignResult
@@ -1214,7 +1214,13 @@ def write_study(
         _response_figures(figures, result, found, band)
         _cycle_figures(figures, result, found.by_block, _stops_run(result, base), band)
     files = _run_file_figures(
-        figures, found.ok, result.design, source / "runs", run_maps=run_maps, emissions=emissions
+        figures,
+        found.ok,
+        result.design,
+        source / "runs",
+        run_maps=run_maps,
+        emissions=emissions,
+        run_tag=run_tags(result.summary),
     )
     notes = _study_notes(result, found, files, base, source, note=note)
     floor_line = _floor_line(result, base)
@@ -1891,10 +1897,12 @@ def _run_file_figures(
     *,
     run_maps: bool,
     emissions: EmissionParameters | None = None,
+    run_tag: Callable[[Any], str] | None = None,
 ) -> _RunFiles:
     """The figures drawn from the runs' own files in ``runs_dir``: the initial fibre map of
     each A level and, with ``run_maps``, every run's final plateau map and its maps over the
-    cycle."""
+    cycle, named by ``run_tag(row)`` (:func:`brakeca._console.run_tags` of the whole
+    summary; of ``ok`` by default)."""
     from brakeca import plotting
 
     factors = list(design.factors)
@@ -1911,11 +1919,14 @@ def _run_file_figures(
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
     names = {f.name for f in factors}
     replicated = is_replicated(ok)
+    run_tag = run_tag or run_tags(ok)
     pads_at = len(figures.listed)  # where the fibre maps go, before the runs' maps
 
-    if not run_maps:  # the maps an earlier analysis drew would outlive the report's list
-        for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
-            stale.unlink()
+    # The maps an earlier analysis drew would outlive the report's list: without run_maps,
+    # or of runs that have left the summary, or named at another width (a design grown past
+    # 99 tests); those of this analysis are drawn again.
+    for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
+        stale.unlink()
     for _, row in ok.iterrows() if "run_id" in ok.columns else ():  # (none: no run finished)
         rid = str(row["run_id"])
         path = runs_dir / f"{rid}.nc"
@@ -1945,7 +1956,7 @@ def _run_file_figures(
         which = (
             f", replicate {int(row['replicate'])} (seed {int(row['seed'])})" if replicated else ""
         )
-        tag = f"test{int(row['test']):02d}_r{int(row.get('replicate', 0))}"
+        tag = run_tag(row)
         span = _cut_short(run.config) or "the whole cycle"
         removal = run.config.automaton.secondary_removal_fraction
         status, after, title = "final_status", span, f"after {span}"
@@ -1997,7 +2008,6 @@ def _run_file_figures(
             true_scale=to_scale,
         )
         if "map_status" not in ds:
-            figures.drop(f"maps_by_stop_{tag}.png")
             continue
         kept = ", ".join(str(int(k)) for k in ds["map_stop"].to_numpy())
         figures.add(

@@ -51,3 +51,22 @@ def test_the_width_follows_columns_set_after_the_console_is_made(monkeypatch) ->
     assert console.width == 132
     assert LogConsole(file=io.StringIO(), width=100).width == 100  # a width given is kept
     assert LogConsole(file=io.StringIO(), width=100, height=10).size == (100, 10)
+
+
+def test_run_tags_sort_in_test_order_at_any_size() -> None:
+    import pandas as pd
+
+    from brakeca._console import run_tags
+
+    small = pd.DataFrame({"test": [1, 2, 24], "replicate": [0, 0, 0]})
+    assert [run_tags(small)(row) for _, row in small.iterrows()] == [
+        "test01_r0",
+        "test02_r0",
+        "test24_r0",
+    ]
+    big = pd.DataFrame({"test": [5, 11, 100, 100], "replicate": [0, 0, 9, 10]})
+    tags = [run_tags(big)(row) for _, row in big.iterrows()]
+    assert tags == ["test005_r00", "test011_r00", "test100_r09", "test100_r10"]
+    assert sorted(tags) == tags
+    no_replicate = pd.DataFrame({"test": [3]})
+    assert run_tags(no_replicate)({"test": 3}) == "test03_r0"
