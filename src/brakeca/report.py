@@ -1511,7 +1511,13 @@ def _surface_item(response: str, fit: Any) -> dict[str, Any]:
     info = (
         f"Model: {fit.equation(scale=factor).replace(fit.response, response, 1)} (coded units"
         + (f"; {response} in {unit}" if unit else "")
-        + f"). Coded -1 to +1: {codings}."
+        + f"). Coded -1 to +1: {codings}. In uncoded units (the factors' levels"
+        + (
+            ", " + ", ".join(f"log10 of {c.name}" for c in fit.codings if c.log)
+            if any(c.log for c in fit.codings)
+            else ""
+        )
+        + f"): {fit.equation(6, scale=factor, uncoded=True).replace(fit.response, response, 1)}."
         + _model_summary_text(stats, unit)
     )
     if fit.notes:

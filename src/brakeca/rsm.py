@@ -433,8 +433,62 @@ class SurfaceFit:
             for c in self.codings
         }
 
-    def equation(self, digits: int = 4, *, scale: float = 1.0) -> str:
-        """The fitted model in coded units, e.g. ``"MU = 0.41 - 0.012 WP + ..."``.
+    def uncoded_coefficients(self) -> pd.Series:
+        """The fitted model in uncoded units, as Minitab's "regression equation in uncoded
+        units": the coded model expanded in the factors' levels [design unit] (in log10 of
+        the level for a log-coded factor).
+
+        Returns
+        -------
+        pandas.Series
+            Coefficients [response unit per unit of the term] indexed by ``"Constant"``,
+            then linear terms (``"A"``, ``"log10(WP)"``), squares (``"A*A"``) and two-way
+            interactions (``"log10(WP)*A"``) in the coded model's order. A coded square or
+            interaction gives linear terms in uncoded units too, so a linear term the coded
+            model left out (backward elimination) can appear here.
+
+        Notes
+        -----
+        With a factor's coded value :math:`x = (u - m)/h`, where :math:`u` is the level (or
+        its log10), :math:`m` the centre and :math:`h` the half-range of the levels coded
+        -1 and +1, each coded term is expanded: :math:`b x = b(u - m)/h`,
+        :math:`b x^2 = b(u^2 - 2mu + m^2)/h^2`, :math:`b x_i x_j = b(u_i - m_i)(u_j -
+        m_j)/(h_i h_j)`. The uncoded model predicts what the coded one does, to round-off
+        (the cancellation grows with :math:`m/h`: use :meth:`predict` for predictions).
+        """
+        coding = {c.name: c for c in self.codings}
+
+        def centre_half(name: str) -> tuple[float, float]:
+            lo, hi = coding[name]._ends()
+            return 0.5 * (lo + hi), 0.5 * (hi - lo)
+
+        def named(name: str) -> str:
+            return f"log10({name})" if coding[name].log else name
+
+        linear: dict[str, float] = {}
+        higher: dict[str, float] = {}
+        constant = float(self.coef[0])
+        for b, term in zip(self.coef[1:], self.terms, strict=True):
+            b = float(b)
+            first, _, second = term.partition("*")
+            m1, h1 = centre_half(first)
+            if not second:
+                linear[named(first)] = linear.get(named(first), 0.0) + b / h1
+                constant -= b * m1 / h1
+                continue
+            m2, h2 = centre_half(second)
+            c = b / (h1 * h2)
+            key = f"{named(first)}*{named(second)}"
+            higher[key] = higher.get(key, 0.0) + c
+            linear[named(first)] = linear.get(named(first), 0.0) - c * m2
+            linear[named(second)] = linear.get(named(second), 0.0) - c * m1
+            constant += c * m1 * m2
+        order = [named(c.name) for c in self.codings if named(c.name) in linear]
+        values = [constant] + [linear[k] for k in order] + list(higher.values())
+        return pd.Series(values, index=["Constant", *order, *higher], name=self.response)
+
+    def equation(self, digits: int = 4, *, scale: float = 1.0, uncoded: bool = False) -> str:
+        """The fitted model, e.g. ``"MU = 0.41 - 0.012 WP + ..."``.
 
         Parameters
         ----------
@@ -443,6 +497,9 @@ class SurfaceFit:
         scale
             Multiplier of the coefficients, from the response's unit to the one wanted
             (1e9 for V in m^3 written in mm^3) [-].
+        uncoded
+            In coded units (the default), or in the factors' levels [design unit]
+            (:meth:`uncoded_coefficients`; a log-coded factor as ``log10(WP)``).
 
         Returns
         -------
@@ -450,9 +507,13 @@ class SurfaceFit:
             ``"<response> = b0 +/- b WP ..."``, interactions and squares written with ``·``
             (``WP·A``, ``WP·WP``).
         """
-        coef = self.coef * scale
+        if uncoded:
+            series = self.uncoded_coefficients()
+            coef, terms = series.to_numpy() * scale, [str(t) for t in series.index[1:]]
+        else:
+            coef, terms = self.coef * scale, list(self.terms)
         parts = [f"{self.response} = {coef[0]:.{digits}g}"]
-        for b, term in zip(coef[1:], self.terms, strict=True):
+        for b, term in zip(coef[1:], terms, strict=True):
             sign = "-" if b < 0 else "+"
             parts.append(f"{sign} {abs(b):.{digits}g} {term.replace('*', '·')}")
         return " ".join(parts)
@@ -1002,7 +1063,8 @@ def save_surface_tables(fits: Mapping[str, SurfaceFit], directory: str | Path) -
     -------
     list of pathlib.Path
         ``surface_coefficients_<R>.csv``, ``surface_anova_<R>.csv`` and
-        ``surface_summary_<R>.csv`` (one row: the model summary, the stationary point's kind,
+        ``surface_summary_<R>.csv`` (one row: the model summary, the model's equation in
+        coded units and, to 17 digits, in uncoded units, the stationary point's kind,
         predicted response and whether it lies inside the runs' box, and each factor's coded
         value and level there) for every response ``R``.
     """
@@ -1012,6 +1074,7 @@ def save_surface_tables(fits: Mapping[str, SurfaceFit], directory: str | Path) -
     for response, fit in fits.items():
         row: dict[str, Any] = dict(fit.statistics)
         row["equation"] = fit.equation()
+        row["equation_uncoded"] = fit.equation(17, uncoded=True)
         st = fit.stationary
         row["stationary_kind"] = "" if st is None else st["kind"]
         row["stationary_predicted"] = math.nan if st is None else st["predicted"]

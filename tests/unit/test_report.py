@@ -310,6 +310,8 @@ def test_a_response_surface_section_in_the_report_units(tmp_path) -> None:
     assert "Coded -1 to +1: A 10 to 20 %, WR log10 1e-07 to 1e-06 m." in section
     assert f"Model: V = {fit.coef[0] * 1e9:.4g} + " in section
     assert "(coded units; V in mm³)" in section
+    uncoded = fit.equation(6, scale=1e9, uncoded=True)
+    assert f"In uncoded units (the factors&#39; levels, log10 of WR): {uncoded}." in section
     st = fit.stationary
     assert st is not None
     assert f"Stationary point (gradient zero): a {st['kind']} at A = " in section

@@ -9,6 +9,7 @@ D. C. Montgomery, Design and Analysis of Experiments, 8th ed., Wiley, 2013, Exam
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import warnings
@@ -149,6 +150,44 @@ def test_exact_quadratic_is_recovered_in_natural_units_with_log_coding() -> None
     assert list(table["factor"]) == ["WP", "A"] and table.attrs["kind"] == "minimum"
 
 
+def test_uncoded_equation_is_statsmodels_in_the_factors_levels() -> None:
+    """The coded model expanded in the levels (log10 of a log-coded one) equals least squares
+    fitted on the levels themselves, a model with a square but not its linear term included
+    (the linear term comes back in uncoded units), and predicts what the fit predicts."""
+    rng = np.random.default_rng(5)
+    wp = Coding("WP", 1e-14, 1e-12, log=True)
+    a = Coding("A", 5.0, 15.0, unit="%")
+    x = rng.uniform(-1.4, 1.4, size=(16, 2))
+    y = 0.4 - 0.02 * x[:, 0] + 0.03 * x[:, 1] ** 2 + 0.01 * x[:, 0] * x[:, 1]
+    y = y + 0.002 * rng.standard_normal(16)
+    frame = pd.DataFrame({"WP": wp.decode(x[:, 0]), "A": a.decode(x[:, 1]), "y": y})
+    fit = fit_response_surface(frame, [wp, a], "y")
+    series = fit.uncoded_coefficients()
+    assert list(series.index) == ["Constant", "log10(WP)", "A", "log10(WP)*log10(WP)",
+                                  "A*A", "log10(WP)*A"]  # fmt: skip
+    natural = frame.assign(u=np.log10(frame["WP"]))
+    model = smf.ols("y ~ u + A + I(u**2) + I(A**2) + u:A", natural).fit()
+    np.testing.assert_allclose(series.to_numpy(), model.params.to_numpy(), rtol=1e-7)
+    levels = {"WP": np.array([2e-14, 3e-13]), "A": np.array([7.0, 12.0])}
+    u = np.log10(levels["WP"])
+    by_hand = (
+        series["Constant"] + series["log10(WP)"] * u + series["A"] * levels["A"]
+        + series["log10(WP)*log10(WP)"] * u**2 + series["A*A"] * levels["A"] ** 2
+        + series["log10(WP)*A"] * u * levels["A"]
+    )  # fmt: skip
+    np.testing.assert_allclose(by_hand, fit.predict(levels), rtol=1e-10)
+    text = fit.equation(uncoded=True)
+    assert text.startswith("y = ") and "log10(WP)·A" in text and "A·A" in text
+
+    # A square without its linear term (as backward elimination may leave it, were it not
+    # for the hierarchy): the uncoded model has the linear term anyway.
+    only_square = dataclasses.replace(fit, terms=("A*A",), coef=np.array([0.4, 0.03]))
+    square = only_square.uncoded_coefficients()
+    assert list(square.index) == ["Constant", "A", "A*A"]
+    # 0.03 ((A - 10) / 5)^2 = 0.0012 A^2 - 0.024 A + 0.12
+    np.testing.assert_allclose(square.to_numpy(), [0.52, -0.024, 0.0012], rtol=1e-12)
+
+
 def test_saddle_point_and_outside() -> None:
     x = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=2)))
     y = (x[:, 0] - 2.0) ** 2 - x[:, 1] ** 2
@@ -245,6 +284,7 @@ def test_save_surface_tables(tmp_path) -> None:
     assert summary.loc[0, "stationary_kind"] == "maximum"
     assert summary.loc[0, "stationary_x1"] == pytest.approx(0.389, abs=5e-4)
     assert fit.equation().startswith("yield = 79.94 + 0.995 x1")
+    assert summary.loc[0, "equation_uncoded"] == fit.equation(17, uncoded=True)
 
 
 def _bowl(centre: tuple[float, float], noise: float = 0.0) -> pd.DataFrame:
