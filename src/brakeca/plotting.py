@@ -210,6 +210,53 @@ def _panels(
     return _root_figure(fig), fig
 
 
+def _name_points(
+    ax: Axes, xs: Sequence[float], ys: Sequence[float], names: Sequence[str], **text: Any
+) -> None:
+    """Name points beside them, as :meth:`~matplotlib.axes.Axes.annotate` would, without two
+    names printed on one another ("test 105" over "test 75": a figures review): each to the
+    right of its point (to its left in the axes' right fifth, where it had crossed the axes'
+    edge), moved a line up or down where it would overlap a name placed before. ``text``:
+    the names' :class:`~matplotlib.text.Text` properties (``fontsize`` [pt], ``color``)."""
+    import matplotlib as mpl
+
+    size = float(text.get("fontsize", mpl.rcParams["font.size"]))
+    tall = 1.25 * size  # a line [pt]
+    ax.get_xlim(), ax.get_ylim()  # the view's limits as they will be drawn
+    points = ax.transData.transform(np.column_stack([xs, ys]))
+    per_point = 72.0 / ax.figure.dpi
+    fraction = ax.transAxes.inverted().transform(points)[:, 0]
+    placed: list[tuple[float, float, float, float]] = []  # boxes [pt]: left, bottom, right, top
+    for k in np.argsort(-np.asarray(ys, dtype=float), kind="stable"):
+        x, y = points[k] * per_point
+        wide = 0.6 * size * len(names[k])
+        left_side = fraction[k] > 0.8
+        dx = -4.0 if left_side else 4.0
+        x0 = x + dx - wide if left_side else x + dx
+        for dy in (0.0, tall, -tall, 2 * tall, -2 * tall, 3 * tall, -3 * tall):
+            box = (x0, y + dy - tall / 2, x0 + wide, y + dy + tall / 2)
+            if not any(
+                box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3] for b in placed
+            ):
+                break
+        placed.append(box)
+        ax.annotate(
+            names[k],
+            (xs[k], ys[k]),
+            xytext=(dx, dy),
+            textcoords="offset points",
+            ha="right" if left_side else "left",
+            va="center",
+            # a name moved off its point's line keeps a thin line to it
+            arrowprops=(
+                None
+                if dy == 0.0
+                else {"arrowstyle": "-", "lw": 0.5, "color": text.get("color", "0.3")}
+            ),
+            **text,
+        )
+
+
 def _suptitle(fig: Figure | SubFigure, text: str) -> None:
     """``fig.suptitle(text)``, broken after its first ": " when one line is wider than the
     figure (a one-panel interaction plot), and smaller if it is still too wide."""
@@ -280,21 +327,36 @@ def _tick_label(factor: Factor, level: float) -> str:
 
 
 def _level_colours(n: int) -> list[Any]:
-    """Colours of a factor's ``n`` levels, low blue and high red (green between for three),
-    viridis for more."""
+    """Colours of a factor's ``n`` levels, the same in every figure: low blue and high red
+    (grey between for three; a green middle level had been told from the red one by its hue
+    alone, which a red-green colour-blind reader cannot: a figures review), viridis for
+    more. The figures give the levels their own line style or marker too
+    (:data:`LEVEL_STYLES`, :data:`LEVEL_MARKERS`)."""
     import matplotlib as mpl
 
     if n == 2:
         return ["#2166ac", "#b2182b"]
     if n == 3:
-        return ["#2166ac", "#4d9221", "#b2182b"]
+        return ["#2166ac", "#7f7f7f", "#b2182b"]
     return list(mpl.colormaps["viridis"](np.linspace(0.0, 0.9, n)))
 
 
+#: Line styles of a factor's levels, in level order (repeating beyond four) [-].
+LEVEL_STYLES = ("-", "--", "-.", ":")
+#: Markers of a factor's levels, in level order (repeating beyond six) [-].
+LEVEL_MARKERS = ("o", "s", "^", "D", "v", "P")
+
+
 def _legend_label(factor: Factor, level: float) -> str:
+    """``"WP+ (1e-13 m³/(N·m))"``, ``"A = 20 %"``: a level in a legend, with its unit (a
+    figures review: "A = 20" left the reader to guess it)."""
+    from brakeca.analysis import display_unit
+
+    unit = getattr(factor, "unit", "") or ""
+    shown = f"{level:g}" + (f" {display_unit(unit)}" if unit not in ("", "-") else "")
     if factor.labels is not None:
-        return f"{factor.name}{factor.level_label(level)} ({level:g})"
-    return f"{factor.name} = {level:g}"
+        return f"{factor.name}{factor.level_label(level)} ({shown})"
+    return f"{factor.name} = {shown}"
 
 
 def _finite_response(summary: pd.DataFrame, response: str) -> np.ndarray:
@@ -456,8 +518,7 @@ def plot_interactions(
     size = nf - 1
     root, fig = _panels(fig, (3.0 * size + 1.2, 2.6 * size + 0.6))
     grid = fig.subplots(size, size, sharey=True, squeeze=False)
-    markers = ("o", "s", "^", "D", "v", "P")
-    colours = ("#27496d", "#f28e2b", "#59a14f", "#e15759", "#76b7b2", "#b07aa1")
+    markers = LEVEL_MARKERS
     for i, j in itertools.product(range(size), range(1, nf)):
         ax = grid[i, j - 1]
         if j < i:
@@ -469,6 +530,7 @@ def plot_interactions(
         a, b = factors[i], factors[j]
         table = interaction_table(summary, a, b, response)
         x = np.arange(len(b.levels))
+        colours = _level_colours(len(a.levels))  # as in the by-level figures (a review)
         for k, level in enumerate(a.levels):
             ax.plot(
                 x,
@@ -1254,6 +1316,7 @@ def plot_mu_per_stop_by_level(
                 stops,
                 mine.mean(axis=0),
                 lw=1.3,
+                ls=LEVEL_STYLES[index % len(LEVEL_STYLES)],
                 color=colour,
                 label=f"{_legend_label(factor, level)}, {len(mine)} run"
                 + ("s" if len(mine) != 1 else ""),
@@ -1419,7 +1482,9 @@ def plot_mu_vs_v(
     ax: Axes | None = None,
 ) -> Figure:
     """The trade-off between friction and emissions: each test's MU against its V, one
-    labelled point a test, coloured by the levels of one factor.
+    labelled point a test, coloured by the levels of one factor (beyond
+    :data:`MOST_TESTS_NAMED` tests, only the tests of the trade-off front are labelled: those
+    no other test has both a higher MU and a lower V).
 
     The paper's conclusion is such a trade-off (what raises the friction level raises the
     emissions too); the main effects give it factor by factor, this figure run by run: a
@@ -1478,10 +1543,11 @@ def plot_mu_vs_v(
         levels = sorted(pd.unique(means[by]))
         colours = _level_colours(len(levels))
         factor = known.get(by)
-        for level, colour in zip(levels, colours, strict=True):
+        for k, (level, colour) in enumerate(zip(levels, colours, strict=True)):
             at = means[means[by] == level]
             name = _legend_label(factor, float(level)) if factor else f"{by} = {level:g}"
-            ax.plot(at["MU"], at["_v"], "o", color=colour, ms=7, label=name)
+            marker = LEVEL_MARKERS[k % len(LEVEL_MARKERS)]
+            ax.plot(at["MU"], at["_v"], marker, color=colour, ms=7, label=name)
         ax.legend(fontsize=8, loc="best")
     else:
         ax.plot(means["MU"], means["_v"], "o", color="#27496d", ms=7)
@@ -1499,12 +1565,22 @@ def plot_mu_vs_v(
     labelled: list[int] = []
     named: set[int] = set()  # each test in one label only (a review of large designs: a test
     # near two labelled points had been named in both)
+    # Beyond MOST_TESTS_NAMED tests the labels of 125 had run into one another (a figures
+    # review): only the trade-off front is labelled then, the tests no other test beats in
+    # both (a higher MU and a lower V).
+    front = _trade_off_front(mu, v) if len(tests) > MOST_TESTS_NAMED else None
     for k in np.lexsort((near[:, 1], near[:, 0])):
+        if front is not None and not front[k]:
+            continue
         if k in named or any(np.hypot(*(near[k] - near[j])) < 0.03 for j in labelled):
             continue
         labelled.append(int(k))
         close = [
-            i for i in range(len(tests)) if i not in named and np.hypot(*(near[i] - near[k])) < 0.03
+            i
+            for i in range(len(tests))
+            if i not in named
+            and (front is None or front[i])  # (the title says which tests are named)
+            and np.hypot(*(near[i] - near[k])) < 0.03
         ]
         named.update(close)
         ax.annotate(
@@ -1519,9 +1595,27 @@ def plot_mu_vs_v(
         ax.set_yscale("log")
     ax.set_xlabel("MU, mean coefficient of friction [-]")
     ax.set_ylabel("V, emitted wear volume per stop [mm³]" + (", log scale" if log else ""))
-    ax.set_title("Friction against emissions, test by test")
+    ax.set_title(
+        "Friction against emissions, test by test"
+        + (
+            ""
+            if front is None
+            else f"\n(labelled: the {int(front.sum())} tests no other has both a higher MU "
+            "and a lower V)"
+        )
+    )
     ax.grid(True, which="major", alpha=0.3)
     return save_figure(fig, path)
+
+
+def _trade_off_front(mu: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Whether each point lies on the trade-off front of high ``mu`` [-] and low ``v``
+    [any unit]: no other point has a higher or equal MU and a lower or equal V, one of them
+    strictly."""
+    mu, v = np.asarray(mu, dtype=float), np.asarray(v, dtype=float)
+    better_or_equal = (mu[None, :] >= mu[:, None]) & (v[None, :] <= v[:, None])
+    strictly = (mu[None, :] > mu[:, None]) | (v[None, :] < v[:, None])
+    return np.asarray(~(better_or_equal & strictly).any(axis=1), dtype=bool)
 
 
 def _table_of(given: Any, table: str, response: str) -> Any:
@@ -2108,17 +2202,9 @@ def plot_residuals(
     if standardized:  # the unusual runs named, as Minitab marks them (a figures review:
         # an outlier of the paper study's MU model was an unnamed point among the others)
         names = _run_labels(residuals)
-        for k in np.flatnonzero(np.abs(r) > UNUSUAL_RESIDUAL):
-            for ax, x in ((ax_fit, fitted[k]), (ax_order, order[k])):
-                ax.annotate(
-                    names[k],
-                    (x, r[k]),
-                    xytext=(4, 0),
-                    textcoords="offset points",
-                    va="center",
-                    fontsize=8,
-                    color="#c0392b",
-                )
+        far = np.flatnonzero(np.abs(r) > UNUSUAL_RESIDUAL)
+        for ax, x in ((ax_fit, fitted), (ax_order, order)):
+            _name_points(ax, x[far], r[far], [names[k] for k in far], fontsize=8, color="#c0392b")
     if not standardized:
         _say_raw(ax_norm)
     return save_figure(root, path)
@@ -2228,16 +2314,15 @@ def plot_residuals_by_level(
         if standardized:
             for bound in (-UNUSUAL_RESIDUAL, UNUSUAL_RESIDUAL):
                 ax.axhline(bound, color="0.5", lw=0.8, ls=":")
-            for far in np.flatnonzero(np.abs(r) > UNUSUAL_RESIDUAL):
-                ax.annotate(
-                    names[far],
-                    (x[far] + offset[far], r[far]),
-                    xytext=(4, 0),
-                    textcoords="offset points",
-                    va="center",
-                    fontsize=8,
-                    color="#c0392b",
-                )
+            far = np.flatnonzero(np.abs(r) > UNUSUAL_RESIDUAL)
+            _name_points(
+                ax,
+                (x + offset)[far],
+                r[far],
+                [names[k] for k in far],
+                fontsize=8,
+                color="#c0392b",
+            )
         ax.set_xticks(
             range(shown.size),
             [
@@ -2453,7 +2538,15 @@ def plot_box_cox(
             label=f"{100 * result.confidence:g} % interval",
         )
         ax.axhline(cut, color="0.4", lw=0.8, ls=":")
-        ax.axvline(result.lambda_hat, color="#f28e2b", lw=1.2, label=f"λ̂ = {result.lambda_hat:.2f}")
+        # on the search range's edge, λ̂ is a bound, not an estimate (a figures review read
+        # "λ̂ = -2.00" beside an interval open to -inf)
+        if result.lambda_hat <= lam[0] + 1e-3:
+            hat = f"λ̂ ≤ {lam[0]:g} (the search range's edge)"
+        elif result.lambda_hat >= lam[-1] - 1e-3:
+            hat = f"λ̂ ≥ {lam[-1]:g} (the search range's edge)"
+        else:
+            hat = f"λ̂ = {result.lambda_hat:.2f}"
+        ax.axvline(result.lambda_hat, color="#f28e2b", lw=1.2, label=hat)
         for ref, name in ((1.0, "λ = 1"), (0.0, "λ = 0 (log)")):
             ax.axvline(ref, color="0.2", lw=0.8, ls="--")
             ax.text(  # beside its line, on white (the line struck it through; a review)
@@ -2469,7 +2562,14 @@ def plot_box_cox(
                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.6, "pad": 0.5},
                 zorder=1.5,
             )
-        ax.set_xlim(lam[0], lam[-1])
+        margin = 0.02 * (lam[-1] - lam[0])  # a λ̂ on the range's edge stays seen
+        ax.set_xlim(lam[0] - margin, lam[-1] + margin)
+        # the top of the profile, where the interval is read: a profile falling 200 units
+        # had squeezed it into the top 5 % of the panel (a figures review)
+        top = float(np.max(ll))
+        floor = top - 12.0 * (top - cut)
+        if float(ll.min()) < floor:
+            ax.set_ylim(floor, top + 0.08 * (top - floor))
         ax.grid(True, alpha=0.3)
         # below the axes: inside, it had covered the λ = 0 label (a report review)
         ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.24), frameon=False)

@@ -1864,7 +1864,11 @@ def _cycle_figures(
         figures.add(
             "Runs",
             "The trade-off between friction and emissions: each test's MU against its V, "
-            "labelled with its test number"
+            + (
+                "labelled with its test number"
+                if summary["test"].nunique() <= plotting.MOST_TESTS_NAMED
+                else "the tests no other beats in both labelled with their numbers"
+            )
             + (f", coloured by the levels of {by}, the factor that moves V most" if by else "")
             + "; a pad material wants the lower right (high MU, low V)"
             + band,
@@ -2022,14 +2026,15 @@ def _run_file_figures(
         )
     filed = ok[[str(rid) in pm10_of for rid in ok["run_id"]]] if len(pm10_of) else ok.iloc[:0]
     if first_pad:
+        from brakeca.report import _listed
+
         shown_tests = [str(first_pad[level][0]) for level in sorted(first_pad)]
         _, radius, angle = next(iter(first_pad.values()))[1]
         to_scale = plotting.fits_to_scale(radius, angle)  # (a quick band: a thin strip)
         figures.add(
             "Pad surfaces",
             "Initial fibre maps of the A levels (as the paper's Figure 5): the pads of tests "
-            f"{', '.join(shown_tests[:-1])}{' and ' if len(shown_tests) > 1 else ''}"
-            f"{shown_tests[-1]}, the first run at each level (every run draws a pad of its "
+            f"{_listed(shown_tests)}, the first run at each level (every run draws a pad of its "
             "own from its seed)"
             + (
                 ", drawn to scale: a millimetre of radius as long as one of arc at the band's "
@@ -2041,8 +2046,8 @@ def _run_file_figures(
             "fibre_maps.png",
             plotting.plot_fibre_maps,
             {f"A = {level:g} %": first_pad[level][1] for level in sorted(first_pad)},
-            title="Initial pad surfaces: tests "
-            + " and ".join(str(first_pad[level][0]) for level in sorted(first_pad)),
+            title=f"Initial pad surfaces: test{'s' if len(shown_tests) > 1 else ''} "
+            + _listed(shown_tests),  # (not "1 and 6 and 11 and 16": a figures review)
             true_scale=to_scale,
         )
         figures.listed.insert(pads_at, figures.listed.pop())

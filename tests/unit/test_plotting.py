@@ -314,6 +314,46 @@ def test_box_cox_plots(tmp_path) -> None:
     (text,) = fig.axes[1].texts
     assert "one residual degree" in text.get_text()
     assert max(len(line) for line in text.get_text().split("\n")) <= 38
+    # λ̂ on the search range's edge is said to be a bound (a figures review read "λ̂ =
+    # -2.00" beside an interval open to -inf), its line inside the panel; the panel zooms
+    # to the top of a profile falling far below it
+    y = np.exp(np.exp(np.log(np.random.default_rng(5).lognormal(3.0, 0.02, 30)) / 4.0))
+    edge = box_cox_profile(y, response="V")
+    assert edge.lambda_hat in (-2.0, 2.0)
+    ax = plot_box_cox({"V": edge}).axes[0]
+    labels = ax.get_legend_handles_labels()[1]
+    sign = "≤" if edge.lambda_hat < 0 else "≥"
+    assert f"λ̂ {sign} {edge.lambda_hat:g} (the search range's edge)" in labels
+    low, high = ax.get_xlim()
+    assert low < edge.lambda_hat < high
+    steep = box_cox_profile(np.random.default_rng(2).lognormal(0.0, 2.0, 30), response="V")
+    ll = steep.profile["log_likelihood"].to_numpy()
+    bottom, top = plot_box_cox({"V": steep}).axes[0].get_ylim()
+    assert ll.max() - ll.min() > 100.0  # the profile falls far
+    assert ll.min() < bottom < ll.max() < top and ll.max() - bottom < 30.0
+
+
+def test_names_of_points_do_not_overprint() -> None:
+    """Two unusual runs at one place are named a line apart, with a leader to the moved one;
+    a point near the axes' right edge is named on its left (its name had crossed the edge)."""
+    import matplotlib.pyplot as plt
+
+    from brakeca.plotting import _name_points
+
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.plot([0.0, 0.5, 1.0, 1.0], [0.0, 1.0, 2.0, 2.02], "o")
+    _name_points(ax, [0.5, 1.0, 1.0], [1.0, 2.0, 2.02], ["test 1", "test 7", "test 8"])
+    offsets = {t.get_text(): t for t in ax.texts}
+    assert offsets["test 1"].get_horizontalalignment() == "left"
+    assert offsets["test 8"].get_horizontalalignment() == "right"  # in the right fifth
+    assert offsets["test 8"].xyann[1] == 0.0 and offsets["test 7"].xyann[1] != 0.0
+    assert offsets["test 7"].arrow_patch is not None and offsets["test 8"].arrow_patch is None
+    fig.canvas.draw()
+    from matplotlib.text import Text
+
+    boxes = [Text.get_window_extent(t) for t in ax.texts]  # the names, not their leaders
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
+    plt.close(fig)
 
 
 def test_surface_maps(tmp_path) -> None:
@@ -715,7 +755,9 @@ def test_mu_per_stop_by_level_draws_each_levels_mean_of_the_finished_runs() -> N
     labels = [t.get_text() for t in s_ax.get_legend().get_texts()]
     assert labels == ["S- (0), 2 runs", "S+ (1), 2 runs"]
     np.testing.assert_allclose(a_ax.lines[0].get_ydata(), cof[[0, 2]].mean(axis=0))
-    assert [t.get_text() for t in a_ax.get_legend().get_texts()][1] == "A = 20, 2 runs"
+    assert [t.get_text() for t in a_ax.get_legend().get_texts()][1] == "A = 20 %, 2 runs"
+    # the levels told apart by line style as well as by colour (a figures review)
+    assert [line.get_linestyle() for line in a_ax.lines] == ["-", "--"]
     with pytest.raises(ValueError, match="no factor of the campaign"):
         plot_mu_per_stop_by_level(ds, [Factor("X", (0.0, 1.0))])
 
@@ -1207,17 +1249,19 @@ def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
 
     ax = plot_mu_vs_v(summary, factors=FACTORS, by="WP").axes[0]
     ok = summary[summary["status"] == "ok"]
-    points = [line for line in ax.lines if line.get_marker() == "o"]
+    points = [line for line in ax.lines if line.get_linestyle() == "None"]
     assert len(points) == 3  # one series per level of WP
+    # told apart by marker as well as by colour (a figures review: red and green alone)
+    assert [p.get_marker() for p in points] == ["o", "s", "^"]
     xs = np.concatenate([p.get_xdata() for p in points])
     ys = np.concatenate([p.get_ydata() for p in points])
     assert sorted(xs) == sorted(ok["MU"]) and np.allclose(sorted(ys), sorted(ok["V"] * 1e9))
     labelled = [int(t) for text in ax.texts for t in text.get_text().split(", ")]
     assert sorted(labelled) == sorted(ok["test"])  # tests at one point share a label
     assert [t.get_text() for t in ax.get_legend().get_texts()] == [
-        "WP- (1e-15)",
-        "WP0 (1e-14)",
-        "WP+ (1e-13)",
+        "WP- (1e-15 m³/(N·m))",
+        "WP0 (1e-14 m³/(N·m))",
+        "WP+ (1e-13 m³/(N·m))",
     ]
     with pytest.raises(KeyError, match="by: 'X' is not a factor"):
         plot_mu_vs_v(summary, factors=FACTORS, by="X")
@@ -1232,6 +1276,25 @@ def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
     # MU across, V up: a pad material wants the lower right, as the caption says (a diff
     # review caught "upper left")
     assert ax.get_xlabel().startswith("MU") and ax.get_ylabel().startswith("V")
+    # beyond MOST_TESTS_NAMED tests only the trade-off front is named (a figures review: the
+    # labels of 125 tests ran into one another): high MU and low V, no test beating it in both
+    from brakeca.plotting import MOST_TESTS_NAMED
+
+    n = MOST_TESTS_NAMED + 10
+    rng = np.random.default_rng(2)
+    many = pd.DataFrame(
+        {"test": np.arange(1, n + 1), "MU": rng.uniform(0.15, 0.4, n), "V": rng.uniform(1, 9, n)}
+    ).assign(status="ok", V=lambda f: f["V"] * 1e-9)
+    axes = plot_mu_vs_v(many).axes[0]
+    named = sorted(int(t) for text in axes.texts for t in text.get_text().split(", "))
+    mu, v = many["MU"].to_numpy(), many["V"].to_numpy()
+    front = [
+        int(t)
+        for t, m, w in zip(many["test"], mu, v, strict=True)
+        if not ((mu >= m) & (v <= w) & ((mu > m) | (v < w))).any()
+    ]
+    assert named == sorted(front) and 0 < len(front) < n
+    assert f"the {len(front)} tests no other has both" in axes.get_title()
 
 
 def test_cube_means_are_the_corners_runs_means_and_pick_the_largest_effects(summary) -> None:
