@@ -115,6 +115,33 @@ def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config, kernel, g):
     assert counts.sum() == 0  # no resin, no secondary: no rule fires
 
 
+@pytest.mark.parametrize("kernel", ["exact", "lazy"])
+def test_the_disc_sits_p_over_e_over_l_below_a_flat_punch(tiny_config, kernel):
+    """The one place the foundation's stiffness K = E / L shows under torque control (the
+    pressure does not depend on it): the disc sits p / K below the plateaus' top every step,
+    the top lowered by the wear of the steps before. E and L typed here, not taken from the
+    code's K (a physics audit: K = 2 E / L had passed every check but a count)."""
+    config = _one_row_one_stop(tiny_config, kernel).with_updates(
+        {"contact.elastic_modulus": 3e9, "contact.bar_length": 2e-2}
+    )
+    from brakeca.presets import load_preset
+
+    assert load_preset("paper").contact.stiffness == 1e11  # the paper's: 1 GPa over 10 mm
+    stiffness = 3e9 / 2e-2  # [Pa/m]
+    grid = make_grid(config)
+    state = flat_plateau_state(grid)
+    stop = expand_stops(config)[0]
+    _, rec, _ = advance_stop(state, grid, config, stop)
+    target = brake_demand(config, stop.deceleration, grid.area).band_friction_force
+    p = flat_punch_pressure(target, grid.area, **LAW)
+    _, fraction = stop_steps(stop, step_distance(config))
+    slid = float(np.asarray(grid.step_sliding_distance)[0]) * fraction  # per step [m]
+    worn_before = 1e-13 * p * np.concatenate([[0.0], np.cumsum(slid)[:-1]])
+    np.testing.assert_allclose(
+        rec[:, K.R_DISC], 50e-6 - worn_before - p / stiffness, rtol=1e-10, atol=0.0
+    )
+
+
 def test_the_brake_demand_by_hand_from_the_spec_tables():
     """Spec section 2 with Table 4's numbers, by hand: T = m_w a R_wheel, each of two pads
     takes T / (2 r_eff), the band its area's share A_sim / A_pad; the band's area is

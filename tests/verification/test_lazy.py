@@ -168,6 +168,9 @@ def test_structures_and_ledger_after_every_stop(case):
         # the held volume kept step by step equals the state's at the end of the stop
         assert state.acc[K.ACC_HELD] == pytest.approx(state.held_volume(), rel=1e-9, abs=1e-24)
         end_of_stop(state, config.automaton.secondary_removal_fraction, rng)
+    # every root found by the lazy search itself: a search that always fell back on the
+    # exact scan would pass every other check (a physics audit)
+    assert state.lazy_walk[6] == 0
     assert fired[1:4].sum() > 0 and fired[4] > 0 and fired[5] > 0  # creation, rules 4 and 5
 
 
