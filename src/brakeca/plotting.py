@@ -1405,13 +1405,55 @@ def plot_v_per_run(
     grouped = values.groupby(data["test"]).agg(["mean", "std", "count"]).reindex(tests)
 
     height = 4.0 + 0.16 * len(shown_factors)  # the levels' lines under the axis
-    fig, ax = _axes(ax, (max(6.0, 0.38 * len(tests) + 2.0), height))
+    # beyond MOST_TESTS_NAMED tests, rows of at most that many (a figures review: 125 tests
+    # in one row made a figure 7,400 pixels wide, its levels unreadable in the report)
+    rows = 1 if ax is not None else max(1, math.ceil(len(tests) / MOST_TESTS_NAMED))
+    per_row = max(1, math.ceil(len(tests) / rows))  # rows as even as they can be
+    chunks = [tests[k : k + per_row] for k in range(0, len(tests), per_row)] or [[]]
+    if ax is None:
+        fig = _figure((max(6.0, 0.38 * len(chunks[0]) + 2.0), height * len(chunks)))
+        axes = list(np.atleast_1d(fig.subplots(len(chunks), 1, sharey=True, squeeze=False)[:, 0]))
+    else:
+        fig, ax = _axes(ax, (6.0, height))
+        axes = [ax]
+    heights_all = grouped["mean"].to_numpy(dtype=float)
+    err_all = grouped["std"].where(grouped["count"] > 1).to_numpy(dtype=float)
+    shown = heights_all[np.isfinite(heights_all)]
+    if log is None:
+        log = bool(shown.size and np.all(shown > 0) and shown.max() > 100.0 * shown.min())
+    first = summary.drop_duplicates("test").set_index("test") if shown_factors else None
+    for ax, chunk in zip(axes, chunks, strict=True):
+        _v_bars(ax, chunk, grouped, first, shown_factors, bool(log), span=per_row)
+    for ax in axes[:-1]:  # the axis named once, under the last row
+        ax.set_xlabel("")
+    axes[len(axes) // 2].set_ylabel(
+        "Emitted wear volume per stop V [mm³]" + (", log scale" if log else "")
+    )
+    title = "Mean emitted wear volume per stop, per test"
+    if np.isfinite(err_all).any():
+        title += " (mean ± 1 standard deviation of its replicates)"
+    axes[0].set_title(title)
+    return save_figure(fig, path)
+
+
+def _v_bars(
+    ax: Axes,
+    tests: Sequence[Any],
+    grouped: pd.DataFrame,
+    first: pd.DataFrame | None,
+    shown_factors: Sequence[Factor],
+    log: bool,
+    *,
+    span: int,
+) -> None:
+    """:func:`plot_v_per_run`'s one row: ``tests``' mean V [mm³] (``grouped``'s ``mean``,
+    ``std`` and ``count`` by test) as bars, or points on a ``log`` axis, each test's levels
+    (``first``: a row of each test's levels) under its number; the axis ``span`` tests
+    wide, so that a shorter last row has the others' bars."""
+    grouped = grouped.reindex(tests)
     x = np.asarray(tests, dtype=float)
     heights = grouped["mean"].to_numpy(dtype=float)
     err = grouped["std"].where(grouped["count"] > 1).to_numpy(dtype=float)
-    shown = heights[np.isfinite(heights)]
-    if log is None:
-        log = bool(shown.size and np.all(shown > 0) and shown.max() > 100.0 * shown.min())
     if log:  # points: a bar's length on a log axis would depend on where the axis starts
         ax.set_yscale("log")
         ax.plot(x, heights, "o", color="#27496d", ms=6, zorder=2)
@@ -1433,14 +1475,16 @@ def plot_v_per_run(
                 transform=ax.get_xaxis_transform(),  # at the axes' bottom, on either scale
             )
     labels = [str(t) for t in tests]
-    if shown_factors:  # each test's levels under its number (a figures review: the axis
-        # named the tests alone, so reading the figure took the design's table beside it)
-        first = summary.drop_duplicates("test").set_index("test")
+    if shown_factors and first is not None:  # each test's levels under its number (a
+        # figures review: the axis named the tests alone, so reading the figure took the
+        # design's table beside it)
         for k, t in enumerate(tests):
             for f in shown_factors:  # "+", "-", "0" (a centre point) or the value
                 labels[k] += "\n" + f.level_label(float(first.loc[t, f.name]))
     ax.set_xticks(x, labels, fontsize=8)
-    if shown_factors:  # the rows named at their left, aligned as the tick labels are
+    if x.size:  # no empty margins
+        ax.set_xlim(float(x.min()) - 0.6, max(float(x.max()), float(x.min()) + span - 1) + 0.6)
+    if shown_factors and x.size:  # the rows named at their left, aligned as the tick labels
         import matplotlib as mpl
 
         pad = float(mpl.rcParams["xtick.major.size"]) + float(mpl.rcParams["xtick.major.pad"])
@@ -1463,13 +1507,7 @@ def plot_v_per_run(
             else ""
         )
     )
-    ax.set_ylabel("Emitted wear volume per stop V [mm³]" + (", log scale" if log else ""))
-    title = "Mean emitted wear volume per stop, per test"
-    if np.isfinite(err).any():
-        title += " (mean ± 1 standard deviation of its replicates)"
-    ax.set_title(title)
     ax.grid(True, axis="both" if log else "y", alpha=0.3, zorder=0)
-    return save_figure(fig, path)
 
 
 def plot_mu_vs_v(

@@ -1239,6 +1239,19 @@ def test_v_per_run_writes_each_tests_levels_under_it(summary) -> None:
     plain = plot_v_per_run(summary).axes[0]  # the test numbers alone
     numbers = [str(t) for t in sorted(summary["test"])]
     assert [t.get_text() for t in plain.get_xticklabels()] == numbers
+    # beyond MOST_TESTS_NAMED tests, rows as even as they can be, every test once, the axes
+    # as wide as the longest row (a figures review: 125 tests in a row 7,400 pixels wide)
+    from brakeca.plotting import MOST_TESTS_NAMED
+
+    n = 3 * MOST_TESTS_NAMED + 5
+    many = pd.DataFrame({"test": np.arange(1, n + 1), "V": np.linspace(1e-9, 2e-9, n)})
+    axes = plot_v_per_run(many.assign(status="ok")).axes
+    per_row = -(-n // len(axes))
+    assert len(axes) == 4 and per_row <= MOST_TESTS_NAMED
+    shown = [int(t.get_text()) for ax in axes for t in ax.get_xticklabels()]
+    assert shown == list(range(1, n + 1))
+    widths = {round(ax.get_xlim()[1] - ax.get_xlim()[0], 9) for ax in axes}
+    assert widths == {per_row + 0.2}
 
 
 def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
