@@ -147,7 +147,13 @@ def _variable_axis(data: Any, variable: str) -> tuple[str, str, float]:
     scale = 1.0
     if units in ("m3", "m^3", "m³"):
         units, scale = "mm³", 1e9
-    return f"{name[:1].upper()}{name[1:]} [{units}]", name, scale
+    label = _SHORT_AXES.get(variable, f"{name[:1].upper()}{name[1:]}")
+    return f"{label} [{units}]", name, scale
+
+
+#: Axis labels of per-stop variables whose long name (the title's) is longer than an axis
+#: (a figures review: the emitted volume's ran the whole height of the figure).
+_SHORT_AXES = {"emitted_volume": "Emitted volume per stop"}
 
 
 def _figure(figsize: tuple[float, float]) -> Figure:

@@ -908,7 +908,8 @@ def test_per_stop_plots_label_the_variable_they_draw(campaign, summary) -> None:
     data["emitted_volume"].attrs.update(long_name="wear volume emitted", units="m3")
     fig = plot_mu_per_stop(data, variable="emitted_volume")
     ax = fig.axes[0]
-    assert ax.get_ylabel() == "Wear volume emitted [mm³]"
+    # the axis short (a figures review: the long name ran the figure's height), the title long
+    assert ax.get_ylabel() == "Emitted volume per stop [mm³]"
     assert ax.get_title().startswith("Wear volume emitted: each stop over the cycle")
     assert np.allclose(ax.lines[-1].get_ydata(), 0.1)  # 1e-10 m^3 = 0.1 mm^3 (a run's line)
     fig = plot_mu_per_stop(data)
@@ -924,7 +925,7 @@ def test_per_stop_plots_label_the_variable_they_draw(campaign, summary) -> None:
     ax = plot_mu_per_stop(spread, variable="emitted_volume", log=None).axes[0]
     assert ax.get_yscale() == "log" and ax.get_ylabel().endswith("(log scale)")
     fig = plot_mu_per_stop_by_level(data, FACTORS, variable="emitted_volume")
-    assert fig.axes[0].get_ylabel() == "Wear volume emitted [mm³]"
+    assert fig.axes[0].get_ylabel() == "Emitted volume per stop [mm³]"
     labels = {a.get_ylabel() for a in plot_interactions(summary, FACTORS, "V").axes}
     assert "V (mean) [mm³]" in labels
 
