@@ -983,6 +983,7 @@ def plot_mu_per_stop(
     title: str | None = None,
     ax: Axes | None = None,
     log: bool | None = False,
+    floor: float | None = None,
 ) -> Figure:
     """Mean coefficient of friction per stop over the whole cycle, one line per run.
 
@@ -1020,6 +1021,9 @@ def plot_mu_per_stop(
         Draw the values on a log axis; None: where their positive values span more than two
         decades (a stop whose value is 0 then has no point), e.g. the emitted volume per
         stop, ``variable="emitted_volume"`` [mm³].
+    floor
+        The COF law's floor ``friction.mu_min`` [-], drawn as a dotted line and named, where
+        runs hold at it (the study's figure); none by default, and for another variable.
 
     Returns
     -------
@@ -1161,6 +1165,20 @@ def plot_mu_per_stop(
                     color=colour,
                     label=f"{word} over the cycle: {_run_label(keys[k], levels, by_name)}",
                 )
+    if floor is not None and variable == "mean_cof":  # (a figures review: the runs held at
+        # the floor, which the report names, were a bundle of lines at 0.15 unexplained)
+        ax.axhline(floor, color="0.3", lw=0.9, ls=(0, (1, 2)), zorder=1.5)
+        ax.text(
+            0.005,
+            floor,
+            f"COF floor μ_min = {floor:g}",
+            transform=blended_transform_factory(ax.transAxes, ax.transData),
+            va="top",  # under the line: the runs held at it run along its top
+            fontsize=7,
+            color="0.25",
+            bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.7, "pad": 0.5},
+            zorder=4,
+        )
     ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
     ax.set_xlabel("Stop number [-]")
     from matplotlib.ticker import MaxNLocator

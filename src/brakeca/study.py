@@ -1212,7 +1212,15 @@ def write_study(
     if len(found.ok):  # with no finished run there is nothing to plot; the report says why
         band = _band_caption(base)
         _response_figures(figures, result, found, band)
-        _cycle_figures(figures, result, found.by_block, _stops_run(result, base), band)
+        held = _floor_shares(result, base)  # runs held at the COF floor: the floor drawn
+        _cycle_figures(
+            figures,
+            result,
+            found.by_block,
+            _stops_run(result, base),
+            band,
+            floor=None if held is None else held.floor,
+        )
     files = _run_file_figures(
         figures,
         found.ok,
@@ -1748,11 +1756,12 @@ def _cycle_figures(
     by_block: pd.DataFrame,
     stops_run: str,
     band: str = "",
+    floor: float | None = None,
 ) -> None:
-    """The figures over the cycle and over the runs: MU per stop (every run's, and by
-    level), block by block (``by_block``, :func:`block_table`'s, as tables/by_block.csv),
-    and V per run; ``stops_run`` says in the captions what stops the runs ran, and ``band``
-    (:func:`_band_caption`) ends V's."""
+    """The figures over the cycle and over the runs: MU per stop (every run's, with the COF
+    ``floor`` [-] where runs hold at it, and by level), block by block (``by_block``,
+    :func:`block_table`'s, as tables/by_block.csv), and V per run; ``stops_run`` says in the
+    captions what stops the runs ran, and ``band`` (:func:`_band_caption`) ends V's."""
     from brakeca import plotting
 
     factors = list(result.design.factors)
@@ -1761,11 +1770,17 @@ def _cycle_figures(
     n_blocks = len({str(b) for b in coords["block"].to_numpy()}) if "block" in coords else 0
     figures.add(
         "Runs",
-        f"MU per stop over {stops_run} for every run (as the paper's Figure 10)",
+        f"MU per stop over {stops_run} for every run (as the paper's Figure 10)"
+        + (
+            f"; dotted, the COF law's floor friction.mu_min = {floor:g}, where runs hold"
+            if floor is not None
+            else ""
+        ),
         "mu_per_stop.png",
         plotting.plot_mu_per_stop,
         result.dataset,
         factors=factors,
+        floor=floor,
     )
     figures.add(
         "Runs",

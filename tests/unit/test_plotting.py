@@ -914,6 +914,12 @@ def test_per_stop_plots_label_the_variable_they_draw(campaign, summary) -> None:
     assert np.allclose(ax.lines[-1].get_ydata(), 0.1)  # 1e-10 m^3 = 0.1 mm^3 (a run's line)
     fig = plot_mu_per_stop(data)
     assert fig.axes[0].get_ylabel() == "Mean coefficient of friction μ per stop [-]"
+    # the COF floor drawn and named where given (a figures review), for the COF alone
+    floored = plot_mu_per_stop(data, floor=0.15).axes[0]
+    assert any(np.allclose(line.get_ydata(), 0.15) for line in floored.lines)
+    assert "COF floor μ_min = 0.15" in [t.get_text() for t in floored.texts]
+    volume = plot_mu_per_stop(data, variable="emitted_volume", floor=0.15).axes[0]
+    assert "COF floor μ_min = 0.15" not in [t.get_text() for t in volume.texts]
     # a log axis where asked, or (log=None) where the values span more than two decades,
     # as the study's figure of the emitted volume per stop draws them
     assert plot_mu_per_stop(data, variable="emitted_volume", log=None).axes[0].get_yscale() == (
