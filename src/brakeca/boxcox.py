@@ -69,6 +69,9 @@ __all__ = [
 
 #: The search range of λ [-], Minitab's.
 LAMBDA_RANGE: tuple[float, float] = (-2.0, 2.0)
+#: How near an end of the search range λ̂ is on its edge [-]: the bounded search stops about
+#: 1e-3 short of an edge where the likelihood still rises there.
+EDGE_TOLERANCE = 1e-3
 
 #: Points of the profile on :data:`LAMBDA_RANGE` (a step of 0.025) [-].
 _GRID_POINTS = 161
@@ -174,6 +177,27 @@ class BoxCox:
     def defined(self) -> bool:
         """Whether λ could be estimated."""
         return math.isfinite(self.lambda_hat)
+
+    @property
+    def edge(self) -> int:
+        """-1 or +1 where λ̂ lies on the low or high edge of the search range (within
+        :data:`EDGE_TOLERANCE`; the best λ may lie beyond it, so λ̂ is a bound, not an
+        estimate), 0 inside it or where λ is not defined [-]."""
+        if not self.defined or self.profile.empty:
+            return 0
+        lam = self.profile["lam"].to_numpy(dtype=float)
+        if self.lambda_hat <= lam[0] + EDGE_TOLERANCE:
+            return -1
+        return 1 if self.lambda_hat >= lam[-1] - EDGE_TOLERANCE else 0
+
+    def hat_text(self) -> str:
+        """λ̂ as a report writes it: ``"-1.43"``, or on the search range's edge the bound it
+        is, ``"≤ -2"`` or ``"≥ 2"`` (a figures review read "λ̂ = -2.00" beside an interval
+        open to -inf)."""
+        if self.edge:
+            lam = self.profile["lam"].to_numpy(dtype=float)
+            return f"≤ {lam[0]:g}" if self.edge < 0 else f"≥ {lam[-1]:g}"
+        return f"{self.lambda_hat:.2f}"
 
     def contains(self, lam: float) -> bool:
         """Whether ``lam`` [-] lies within the confidence interval.
@@ -428,7 +452,7 @@ def box_cox_profile(
     note = ""
     # the bounded search stops within about 1e-3 of an edge where the likelihood still
     # rises there (-1.9997 was seen for a rising profile; a helper's review)
-    if lam_hat <= lo + 1e-3 or lam_hat >= hi - 1e-3:
+    if lam_hat <= lo + EDGE_TOLERANCE or lam_hat >= hi - EDGE_TOLERANCE:
         note = (
             f"λ̂ lies on the edge of the search range [{lo:g}, {hi:g}]: the best λ may lie beyond it"
         )

@@ -216,14 +216,14 @@ def _panels(
     return _root_figure(fig), fig
 
 
-def _name_points(
-    ax: Axes, xs: Sequence[float], ys: Sequence[float], names: Sequence[str], **text: Any
-) -> None:
+def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) -> None:
     """Name points beside them, as :meth:`~matplotlib.axes.Axes.annotate` would, without two
     names printed on one another ("test 105" over "test 75": a figures review): each to the
     right of its point (to its left in the axes' right fifth, where it had crossed the axes'
-    edge), moved a line up or down where it would overlap a name placed before. ``text``:
-    the names' :class:`~matplotlib.text.Text` properties (``fontsize`` [pt], ``color``)."""
+    edge), moved up to three lines up or down, inside the axes, where it would overlap a name
+    placed before, and joined to the name it overlaps (``"test 1, test 8"``) where no such
+    place is free. ``text``: the names' :class:`~matplotlib.text.Text` properties
+    (``fontsize`` [pt], ``color``). Call it once the axes' limits are set."""
     import matplotlib as mpl
 
     size = float(text.get("fontsize", mpl.rcParams["font.size"]))
@@ -232,21 +232,45 @@ def _name_points(
     points = ax.transData.transform(np.column_stack([xs, ys]))
     per_point = 72.0 / ax.figure.dpi
     fraction = ax.transAxes.inverted().transform(points)[:, 0]
-    placed: list[tuple[float, float, float, float]] = []  # boxes [pt]: left, bottom, right, top
+    frame = ax.get_window_extent()
+    bottom, top = frame.y0 * per_point, frame.y1 * per_point
+    # boxes [pt] (left, bottom, right, top) of the names placed, with their annotations
+    placed: list[tuple[tuple[float, float, float, float], Any]] = []
+
+    def overlapping(box: tuple[float, float, float, float]) -> int | None:
+        for i, (b, _) in enumerate(placed):
+            if box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]:
+                return i
+        return None
+
     for k in np.argsort(-np.asarray(ys, dtype=float), kind="stable"):
         x, y = points[k] * per_point
         wide = 0.6 * size * len(names[k])
         left_side = fraction[k] > 0.8
         dx = -4.0 if left_side else 4.0
         x0 = x + dx - wide if left_side else x + dx
+        free = None
         for dy in (0.0, tall, -tall, 2 * tall, -2 * tall, 3 * tall, -3 * tall):
             box = (x0, y + dy - tall / 2, x0 + wide, y + dy + tall / 2)
-            if not any(
-                box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3] for b in placed
-            ):
+            if bottom <= box[1] and box[3] <= top and overlapping(box) is None:
+                free = dy, box
                 break
-        placed.append(box)
-        ax.annotate(
+        if free is None:  # no room: joined to the name it would print over
+            i = overlapping((x0, y - tall / 2, x0 + wide, y + tall / 2))
+            if i is not None:
+                (left, low, right, high), other = placed[i]
+                other.set_text(f"{other.get_text()}, {names[k]}")
+                more = 0.6 * size * (len(names[k]) + 2)  # its box grows by the name
+                grown = (
+                    (left - more, low, right, high)
+                    if other.get_ha() == "right"
+                    else (left, low, right + more, high)
+                )
+                placed[i] = grown, other
+                continue
+            free = 0.0, (x0, y - tall / 2, x0 + wide, y + tall / 2)
+        dy, box = free
+        annotation = ax.annotate(
             names[k],
             (xs[k], ys[k]),
             xytext=(dx, dy),
@@ -261,6 +285,7 @@ def _name_points(
             ),
             **text,
         )
+        placed.append((box, annotation))
 
 
 def _suptitle(fig: Figure | SubFigure, text: str) -> None:
@@ -1022,8 +1047,9 @@ def plot_mu_per_stop(
         decades (a stop whose value is 0 then has no point), e.g. the emitted volume per
         stop, ``variable="emitted_volume"`` [mm³].
     floor
-        The COF law's floor ``friction.mu_min`` [-], drawn as a dotted line and named, where
-        runs hold at it (the study's figure); none by default, and for another variable.
+        The COF law's floor ``friction.mu_min`` [-], drawn as a broad pale line under the
+        runs and named, where runs hold at it (the study's figure); none by default, and for
+        another variable.
 
     Returns
     -------
@@ -1167,7 +1193,9 @@ def plot_mu_per_stop(
                 )
     if floor is not None and variable == "mean_cof":  # (a figures review: the runs held at
         # the floor, which the report names, were a bundle of lines at 0.15 unexplained)
-        ax.axhline(floor, color="0.3", lw=0.9, ls=(0, (1, 2)), zorder=1.5)
+        # broad and pale, under the runs: a style no run's line has (a diff review: a dotted
+        # floor among the dotted runs of tests 21 to 24)
+        ax.axhline(floor, color="0.5", lw=4.0, alpha=0.3, zorder=0.5)
         ax.text(
             0.005,
             floor,
@@ -1668,6 +1696,23 @@ def plot_mu_vs_v(
     )
     ax.grid(True, which="major", alpha=0.3)
     return save_figure(fig, path)
+
+
+def mu_v_names_front_only(summary: pd.DataFrame) -> bool:
+    """Whether :func:`plot_mu_vs_v` names only the trade-off front for ``summary``: more than
+    :data:`MOST_TESTS_NAMED` tests with a finished run of finite MU and V (the points it
+    draws; a caption that counted failed tests too had disagreed with it: a diff review)."""
+    column = "V" if "V" in summary.columns else "V_mm3"
+    data = ok_runs(summary)
+    if not {"test", "MU", column} <= set(data.columns):
+        return False
+    means = (
+        data.assign(_v=pd.to_numeric(data[column], errors="coerce"))
+        .groupby("test")[["MU", "_v"]]
+        .mean()
+    )
+    drawn = np.isfinite(means["MU"].to_numpy(dtype=float)) & np.isfinite(means["_v"].to_numpy())
+    return int(drawn.sum()) > MOST_TESTS_NAMED
 
 
 def _trade_off_front(mu: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -2361,6 +2406,7 @@ def plot_residuals_by_level(
     root, fig = _panels(fig, (3.0 * cols + 1.0, 2.8 * rows + 0.8))
     axes = fig.subplots(rows, cols, sharey=True, squeeze=False).ravel()
     _suptitle(fig, f"Residuals of {_shown(response)} against the factors' levels")
+    named: list[tuple[Axes, np.ndarray, np.ndarray, list[str]]] = []  # the unusual runs
     for ax, factor in zip(axes, factors, strict=False):
         values = runs[factor.name].to_numpy(dtype=float)
         shown = np.unique(values[np.isfinite(values)])  # the levels the runs have (centre too)
@@ -2377,14 +2423,7 @@ def plot_residuals_by_level(
             for bound in (-UNUSUAL_RESIDUAL, UNUSUAL_RESIDUAL):
                 ax.axhline(bound, color="0.5", lw=0.8, ls=":")
             far = np.flatnonzero(np.abs(r) > UNUSUAL_RESIDUAL)
-            _name_points(
-                ax,
-                (x + offset)[far],
-                r[far],
-                [names[k] for k in far],
-                fontsize=8,
-                color="#c0392b",
-            )
+            named.append((ax, (x + offset)[far], r[far], [names[k] for k in far]))
         ax.set_xticks(
             range(shown.size),
             [
@@ -2397,6 +2436,8 @@ def plot_residuals_by_level(
         ax.set_xlabel(factor.axis_label)
         ax.set_title(factor.label or factor.name, fontsize=9)
         ax.grid(True, axis="y", alpha=0.3)
+    for ax, xs, ys, labels in named:  # once every panel's limits are set (shared y)
+        _name_points(ax, xs, ys, labels, fontsize=8, color="#c0392b")
     for ax in axes[len(factors) :]:
         ax.set_visible(False)
     for ax in axes[::cols]:
@@ -2582,7 +2623,9 @@ def plot_box_cox(
                 "--",
                 color="#b2182b",
                 lw=1.2,
-                label=f"without {result.without_runs} (shifted; λ̂ = {other.lambda_hat:.2f})",
+                label=f"without {result.without_runs} (shifted; λ̂ "
+                + ("" if other.edge else "= ")
+                + f"{other.hat_text()})",
             )
             # its interval, on the dotted line its shifted profile crosses there
             ends = (max(other.ci_low, lam[0]), min(other.ci_high, lam[-1]))
@@ -2600,14 +2643,12 @@ def plot_box_cox(
             label=f"{100 * result.confidence:g} % interval",
         )
         ax.axhline(cut, color="0.4", lw=0.8, ls=":")
-        # on the search range's edge, λ̂ is a bound, not an estimate (a figures review read
-        # "λ̂ = -2.00" beside an interval open to -inf)
-        if result.lambda_hat <= lam[0] + 1e-3:
-            hat = f"λ̂ ≤ {lam[0]:g} (the search range's edge)"
-        elif result.lambda_hat >= lam[-1] - 1e-3:
-            hat = f"λ̂ ≥ {lam[-1]:g} (the search range's edge)"
-        else:
-            hat = f"λ̂ = {result.lambda_hat:.2f}"
+        # on the search range's edge, λ̂ is a bound, not an estimate (BoxCox.hat_text)
+        hat = (
+            f"λ̂ {result.hat_text()} (the search range's edge)"
+            if result.edge
+            else (f"λ̂ = {result.hat_text()}")
+        )
         ax.axvline(result.lambda_hat, color="#f28e2b", lw=1.2, label=hat)
         for ref, name in ((1.0, "λ = 1"), (0.0, "λ = 0 (log)")):
             ax.axvline(ref, color="0.2", lw=0.8, ls="--")

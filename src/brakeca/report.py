@@ -1421,6 +1421,16 @@ def _level_means_table(means: Mapping[str, pd.DataFrame]) -> _Table:
     return _Table(columns, [False, False] + [True] * (len(responses) + 1), rows)
 
 
+def _edge(bc: Any) -> int:
+    """:attr:`brakeca.boxcox.BoxCox.edge` of ``bc`` (0 for an object without it)."""
+    return int(getattr(bc, "edge", 0))
+
+
+def _hat(bc: Any) -> str:
+    """:meth:`brakeca.boxcox.BoxCox.hat_text` of ``bc`` (λ̂ to 2 decimals without it)."""
+    return bc.hat_text() if hasattr(bc, "hat_text") else f"{bc.lambda_hat:.2f}"
+
+
 def _box_cox_table(results: Mapping[str, Any]) -> _Table:
     """The Box-Cox results (:class:`brakeca.boxcox.BoxCox`), one row per response."""
     from brakeca.boxcox import interval_text
@@ -1432,7 +1442,7 @@ def _box_cox_table(results: Mapping[str, Any]) -> _Table:
             if r.without_unusual:
                 reading += ". " + r.without_unusual[0].upper() + r.without_unusual[1:]
             cells = [
-                _fmt(r.lambda_hat, ".2f"),
+                _hat(r),  # on the search range's edge, the bound it is
                 interval_text(r.ci_low, r.ci_high),
                 interval_text(r.ci_low_df, r.ci_high_df),
                 _fmt(r.rounded, "g"),
@@ -1508,15 +1518,15 @@ def _surface_item(response: str, fit: Any) -> dict[str, Any]:
         + (f" {display_unit(c.unit)}" if c.unit and c.unit != "-" else "")
         for c in fit.codings
     )
+    uncoded = fit.uncoded_coefficients().index  # the log-coded factors it has terms of
+    logged = [
+        c.name for c in fit.codings if c.log and any(f"log10({c.name})" in t for t in uncoded)
+    ]
     info = (
         f"Model: {fit.equation(scale=factor).replace(fit.response, response, 1)} (coded units"
         + (f"; {response} in {unit}" if unit else "")
         + f"). Coded -1 to +1: {codings}. In uncoded units (the factors' levels"
-        + (
-            ", " + ", ".join(f"log10 of {c.name}" for c in fit.codings if c.log)
-            if any(c.log for c in fit.codings)
-            else ""
-        )
+        + "".join(f", log10 of {name}" for name in logged)
         + f"): {fit.equation(6, scale=factor, uncoded=True).replace(fit.response, response, 1)}."
         + _model_summary_text(stats, unit)
     )
@@ -2398,7 +2408,14 @@ def _scale_clause(
         holds_log = bc.contains(0.0)
         if holds_log or response != "V":
             text = (
-                f"Box-Cox puts {response}'s λ at {bc.lambda_hat:.2f} ({100 * bc.confidence:g} "
+                f"Box-Cox puts {response}'s λ "
+                + (  # "≤ -2": a bound at the search range's edge
+                    f"at or {'below' if _edge(bc) < 0 else 'above'} {_hat(bc)[2:]}, the "
+                    "search range's edge"
+                    if _edge(bc)
+                    else f"at {_hat(bc)}"
+                )
+                + f" ({100 * bc.confidence:g} "
                 f"% interval {interval_text(bc.ci_low, bc.ci_high)}), which holds "
                 + (
                     f"the log and not {response} as it is"
@@ -2424,8 +2441,9 @@ def _scale_clause(
                 runs = getattr(bc, "without_runs", "") or "the unusual runs"
                 them = "it" if runs.startswith("test ") and ";" not in runs else "them"
                 text += (
-                    f"; but that rests on {runs}: without {them}, λ̂ = "
-                    f"{other.lambda_hat:.2f} ({100 * other.confidence:g} % interval "
+                    f"; but that rests on {runs}: without {them}, λ̂ "
+                    f"{'' if _edge(other) else '= '}{_hat(other)} "
+                    f"({100 * other.confidence:g} % interval "
                     f"{interval_text(other.ci_low, other.ci_high)}), which holds λ = 1 (Box-Cox, "
                     "in the ANOVA section)"
                 )

@@ -483,7 +483,15 @@ class SurfaceFit:
             linear[named(first)] = linear.get(named(first), 0.0) - c * m2
             linear[named(second)] = linear.get(named(second), 0.0) - c * m1
             constant += c * m1 * m2
-        order = [named(c.name) for c in self.codings if named(c.name) in linear]
+        # a linear term the expansion gave exactly 0 (a factor centred at 0) is left out
+        # unless the coded model has it (a diff review: "+ 0 C")
+        coded_linear = {named(t) for t in self.terms if "*" not in t}
+        order = [
+            named(c.name)
+            for c in self.codings
+            if named(c.name) in linear
+            and (linear[named(c.name)] != 0.0 or named(c.name) in coded_linear)
+        ]
         values = [constant] + [linear[k] for k in order] + list(higher.values())
         return pd.Series(values, index=["Constant", *order, *higher], name=self.response)
 

@@ -1772,7 +1772,8 @@ def _cycle_figures(
         "Runs",
         f"MU per stop over {stops_run} for every run (as the paper's Figure 10)"
         + (
-            f"; dotted, the COF law's floor friction.mu_min = {floor:g}, where runs hold"
+            f"; the broad pale line, named 'COF floor', is the COF law's floor "
+            f"friction.mu_min = {floor:g}, where runs hold"
             if floor is not None
             else ""
         ),
@@ -1881,8 +1882,9 @@ def _cycle_figures(
             "The trade-off between friction and emissions: each test's MU against its V, "
             + (
                 "labelled with its test number"
-                if summary["test"].nunique() <= plotting.MOST_TESTS_NAMED
-                else "the tests no other beats in both labelled with their numbers"
+                if not plotting.mu_v_names_front_only(summary)
+                else f"labelled with its test number only where no other test has both a "
+                f"higher MU and a lower V (beyond {plotting.MOST_TESTS_NAMED} tests)"
             )
             + (f", coloured by the levels of {by}, the factor that moves V most" if by else "")
             + "; a pad material wants the lower right (high MU, low V)"
@@ -1908,6 +1910,10 @@ class _RunFiles:
     filed: pd.DataFrame
 
 
+#: The kinds of a run's own maps, the start of their figures' names.
+_RUN_MAPS = ("final_map", "maps_by_stop")
+
+
 def _run_file_figures(
     figures: _Figures,
     ok: pd.DataFrame,
@@ -1916,12 +1922,12 @@ def _run_file_figures(
     *,
     run_maps: bool,
     emissions: EmissionParameters | None = None,
-    run_tag: Callable[[Any], str] | None = None,
+    run_tag: Callable[[Any], str],
 ) -> _RunFiles:
     """The figures drawn from the runs' own files in ``runs_dir``: the initial fibre map of
     each A level and, with ``run_maps``, every run's final plateau map and its maps over the
     cycle, named by ``run_tag(row)`` (:func:`brakeca._console.run_tags` of the whole
-    summary; of ``ok`` by default)."""
+    summary)."""
     from brakeca import plotting
 
     factors = list(design.factors)
@@ -1938,23 +1944,26 @@ def _run_file_figures(
     first_pad: dict[float, tuple[int, tuple[np.ndarray, np.ndarray, np.ndarray]]] = {}
     names = {f.name for f in factors}
     replicated = is_replicated(ok)
-    run_tag = run_tag or run_tags(ok)
     pads_at = len(figures.listed)  # where the fibre maps go, before the runs' maps
 
     # The maps an earlier analysis drew would outlive the report's list: without run_maps,
     # or of runs that have left the summary, or named at another width (a design grown past
-    # 99 tests); those of this analysis are drawn again.
-    for stale in [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]:
-        stale.unlink()
+    # 99 tests); they are removed once this analysis has drawn its own, but for the maps of
+    # runs still in the summary whose file cannot be read now (a folder sent without runs/:
+    # they could not be drawn again; a diff review).
+    earlier = [*fig_dir.glob("final_map_test*.png"), *fig_dir.glob("maps_by_stop_*.png")]
+    undrawable: set[str] = set()  # the names of the maps of such runs
     for _, row in ok.iterrows() if "run_id" in ok.columns else ():  # (none: no run finished)
         rid = str(row["run_id"])
         path = runs_dir / f"{rid}.nc"
         if not path.is_file():
+            undrawable.update(f"{kind}_{run_tag(row)}.png" for kind in _RUN_MAPS)
             continue
         try:
             run = RunResult.from_netcdf(path)
         except (OSError, ValueError) as exc:
             unreadable[rid] = str(exc)
+            undrawable.update(f"{kind}_{run_tag(row)}.png" for kind in _RUN_MAPS)
             continue
         ds = run.dataset
         pm10_of[rid] = _pm10_of(run, emissions)
@@ -2039,6 +2048,10 @@ def _run_file_figures(
             _maps_over_cycle(ds),
             title=f"Test {int(row['test'])}: {levels}{which}",
         )
+    drawn = {path.name for _, _, path in figures.listed}
+    for stale in earlier:
+        if stale.name not in drawn and not (run_maps and stale.name in undrawable):
+            stale.unlink(missing_ok=True)
     filed = ok[[str(rid) in pm10_of for rid in ok["run_id"]]] if len(pm10_of) else ok.iloc[:0]
     if first_pad:
         from brakeca.report import _listed

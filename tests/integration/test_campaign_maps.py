@@ -100,6 +100,29 @@ def test_a_campaign_without_maps_draws_no_maps_over_the_cycle(plain, tmp_path):
     assert not stale.exists()
 
 
+def test_maps_of_gone_runs_go_and_those_that_cannot_be_drawn_again_stay(plain, tmp_path):
+    """An analysis removes the run maps an earlier one drew for runs no longer in the summary
+    (or named at another width), but keeps those of runs still in it whose file has gone (a
+    folder sent without runs/): they could not be drawn again (a diff review)."""
+    out = tmp_path / "campaign"
+    shutil.copytree(plain.out_dir, out)
+    figures = out / "figures"
+    figures.mkdir(exist_ok=True)
+    gone = figures / "final_map_test099_r0.png"  # of a run no longer in the summary
+    wide = figures / "final_map_test001_r0.png"  # the same run at another width
+    for path in (gone, wide):
+        path.write_bytes(b"x")
+    write_study(finish_campaign(out))
+    assert not gone.exists() and not wide.exists()
+    drawn = sorted(p.name for p in figures.glob("final_map_test*.png"))
+    assert drawn == [f"final_map_test{t:02d}_r0.png" for t in (1, 2, 3, 4)]
+    # without the run files: every map stays, and none is listed in the report
+    shutil.rmtree(out / "runs")
+    html = write_study(finish_campaign(out)).read_text(encoding="utf-8")
+    assert sorted(p.name for p in figures.glob("final_map_test*.png")) == drawn
+    assert "final_map_test01_r0.png" not in html
+
+
 def test_run_without_run_maps_reports_without_them(plain, design_file, tmp_path):
     """`brakeca run --no-run-maps`, as `analyze` has it (a review of large designs: a
     256-run report embedded 256 maps, 10-15 MB and most of the analysis's time, and only

@@ -116,6 +116,11 @@ def test_an_optimum_beyond_the_range_is_flagged() -> None:
     assert result.lambda_hat in (-2.0, 2.0)
     assert "edge of the search range" in result.note
     assert math.isinf(result.ci_low if result.lambda_hat < 0 else result.ci_high)
+    # written as the bound it is, in the report's table, sentence and figure
+    assert result.edge == (-1 if result.lambda_hat < 0 else 1)
+    assert result.hat_text() == ("≤ -2" if result.edge < 0 else "≥ 2")
+    inside = box_cox_profile(np.random.default_rng(2).lognormal(0.0, 0.5, 30))
+    assert inside.edge == 0 and inside.hat_text() == f"{inside.lambda_hat:.2f}"
 
 
 def test_bad_input_is_refused() -> None:

@@ -319,11 +319,11 @@ def test_box_cox_plots(tmp_path) -> None:
     # to the top of a profile falling far below it
     y = np.exp(np.exp(np.log(np.random.default_rng(5).lognormal(3.0, 0.02, 30)) / 4.0))
     edge = box_cox_profile(y, response="V")
-    assert edge.lambda_hat in (-2.0, 2.0)
+    assert edge.edge != 0
     ax = plot_box_cox({"V": edge}).axes[0]
     labels = ax.get_legend_handles_labels()[1]
-    sign = "≤" if edge.lambda_hat < 0 else "≥"
-    assert f"λ̂ {sign} {edge.lambda_hat:g} (the search range's edge)" in labels
+    bound = "≤ -2" if edge.edge < 0 else "≥ 2"
+    assert f"λ̂ {bound} (the search range's edge)" in labels
     low, high = ax.get_xlim()
     assert low < edge.lambda_hat < high
     steep = box_cox_profile(np.random.default_rng(2).lognormal(0.0, 2.0, 30), response="V")
@@ -353,6 +353,21 @@ def test_names_of_points_do_not_overprint() -> None:
 
     boxes = [Text.get_window_extent(t) for t in ax.texts]  # the names, not their leaders
     assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
+    plt.close(fig)
+    # more names at one place than lines above and below it: joined, none printed over
+    # another, none beyond the axes (a diff review: eight unusual runs had overprinted)
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.plot([0.0, 1.0], [0.0, 1.0], "o")
+    names = [f"test {k}" for k in range(1, 13)]
+    _name_points(ax, [0.5] * 12, [0.98] * 12, names)
+    fig.canvas.draw()
+    shown = ", ".join(t.get_text() for t in ax.texts)
+    assert sorted(shown.split(", ")) == sorted(names)  # every name once
+    assert any(", " in t.get_text() for t in ax.texts)  # some joined
+    boxes = [Text.get_window_extent(t) for t in ax.texts]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
+    frame = ax.get_window_extent()
+    assert all(frame.y0 <= b.y0 and b.y1 <= frame.y1 + 1 for b in boxes)
     plt.close(fig)
 
 
@@ -1315,6 +1330,17 @@ def test_mu_vs_v_puts_each_test_at_its_mu_and_v(summary) -> None:
     ]
     assert named == sorted(front) and 0 < len(front) < n
     assert f"the {len(front)} tests no other has both" in axes.get_title()
+    from brakeca.plotting import mu_v_names_front_only
+
+    assert mu_v_names_front_only(many)
+    # the tests drawn are counted, as the caption counts them: failed ones are not drawn (a
+    # diff review: a caption had counted them)
+    failed = many.copy()
+    failed.loc[failed["test"] > MOST_TESTS_NAMED - 2, "status"] = "failed"
+    assert not mu_v_names_front_only(failed)
+    assert not any(
+        "no other has both" in line for line in [plot_mu_vs_v(failed).axes[0].get_title()]
+    )
 
 
 def test_cube_means_are_the_corners_runs_means_and_pick_the_largest_effects(summary) -> None:

@@ -1046,6 +1046,15 @@ def test_in_short_says_which_scale_of_v_to_read() -> None:
     assert _v_scale({"V": profile(0.06, -0.02, 0.14)}, None, False).endswith("not V as it is")
     assert _v_scale({"V": profile(0.9, 0.6, 1.2)}, {"V": residuals.iloc[3:]}, True) == ""
     assert _v_scale({"V": profile(0.5, 0.3, 0.7)}, None, True) == ""  # neither 1 nor 0
+    # λ̂ on the search range's edge is said to be a bound (a figures review)
+    from brakeca.boxcox import box_cox_profile
+
+    z = np.random.default_rng(1).normal(10.0, 3.0, 40)
+    edge = box_cox_profile(z[z > 0.5] ** (-1 / 3), response="MU")  # z normal: λ = -3
+    assert edge.edge == -1 and not edge.contains(1.0)
+    assert "Box-Cox puts MU's λ at or below -2, the search range's edge (95 % interval " in (
+        _scale_clause("MU", {"MU": edge}, None, True)
+    )
     # few residual degrees of freedom: Montgomery's wider interval holds 1 as well, and the
     # line says the scale is not settled instead of sending the reader to the log's (a
     # user's review of a screening design with 1 residual df)

@@ -186,6 +186,13 @@ def test_uncoded_equation_is_statsmodels_in_the_factors_levels() -> None:
     assert list(square.index) == ["Constant", "A", "A*A"]
     # 0.03 ((A - 10) / 5)^2 = 0.0012 A^2 - 0.024 A + 0.12
     np.testing.assert_allclose(square.to_numpy(), [0.52, -0.024, 0.0012], rtol=1e-12)
+    # a factor centred at 0: its square gives no linear term, and none is written (a diff
+    # review: "+ 0 C")
+    centred = dataclasses.replace(
+        fit, codings=(Coding("A", -1.0, 1.0), wp), terms=("A*A",), coef=np.array([0.4, 0.03])
+    )
+    assert list(centred.uncoded_coefficients().index) == ["Constant", "A*A"]
+    assert centred.equation(uncoded=True) == "y = 0.4 + 0.03 A·A"
 
 
 def test_saddle_point_and_outside() -> None:

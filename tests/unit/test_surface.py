@@ -81,7 +81,8 @@ def test_centres_beyond_the_edges_keep_the_fibre_share_at_the_edges() -> None:
 def test_crossing_fibres_keep_the_higher_top_and_the_lower_floor(monkeypatch) -> None:
     """Two fibres laid across each other (their draws set by hand), rasterised by brute
     force: where both cover a cell its height is the higher of their tops and its fibre floor
-    the lower of their floors (spec section 9); laying stops once they cover A. A physics
+    the lower of their floors (spec section 9; the fibres' axes lie at one level, so that is
+    the axis less the larger half-chord); laying stops once they cover A. A physics
     audit found the rule held only by a digest: "the last fibre wins" failed no test that
     says why."""
     config = load_preset("paper").with_updates(
