@@ -1333,13 +1333,23 @@ def anova(
         table, exog, y_fit, lof_frame = _with_curvature(table, frame, terms, exog, y_center)
     df_resid = float(table.loc["Residual", "df"])
     saturated = df_resid < 0.5
+    resid_ss = float(table.loc["Residual", "sum_sq"])
+    exact = not saturated and not constant and resid_ss <= ROUND_OFF_SS * total_ss
     if saturated:
         notes.append("saturated model (0 residual df): F and p cannot be computed")
-    elif float(table.loc["Residual", "sum_sq"]) == 0.0 and not constant:
+    elif exact:
         notes.append(
-            "exact fit: the model leaves no residual scatter (residual sum of squares 0), so "
-            "F is infinite and p 0 for every term with a sum of squares above 0"
+            "exact fit: the model leaves no residual scatter (residual sum of squares 0"
+            + (f", to round-off: {resid_ss:.2g}" if resid_ss > 0 else "")
+            + "), so F is infinite and p 0 for every term with a sum of squares above 0"
         )
+        if resid_ss > 0:  # as the exact 0 it is: the F and p of round-off said nothing
+            table = table.copy()
+            table.loc["Residual", "sum_sq"] = 0.0
+            terms_ss = table["sum_sq"].drop(index="Residual")
+            nil = terms_ss <= ROUND_OFF_SS * total_ss
+            table.loc[terms_ss.index, "F"] = np.where(nil, np.nan, np.inf)
+            table.loc[terms_ss.index, "PR(>F)"] = np.where(nil, np.nan, 0.0)
 
     out = pd.DataFrame(
         {
@@ -1410,6 +1420,8 @@ def anova(
     )
     out.attrs.update(_fit_statistics(y_fit, *_least_squares(exog, y_fit), total_ss))
     out.attrs.update(_lack_of_fit(lof_frame, df_resid, float(table.loc["Residual", "sum_sq"])))
+    if exact and resid_ss > 0:
+        out.attrs["s"] = 0.0  # (the round-off's 1e-15)
     return out
 
 
@@ -1544,7 +1556,8 @@ def _lack_of_fit(frame: pd.DataFrame, df_resid: float, ssr: float) -> dict[str, 
     df_lof = df_resid - df_pe
     ss_lof = max(ssr - ss_pe, 0.0)
     out.update(pure_error_ss=ss_pe, lack_of_fit_df=df_lof, lack_of_fit_ss=ss_lof)
-    if df_lof > 0.5 and ss_pe > 0:
+    total = float(np.sum((y - y.mean()) ** 2))
+    if df_lof > 0.5 and ss_pe > ROUND_OFF_SS * total:  # (identical replicates: no test)
         from scipy import stats
 
         f_value = (ss_lof / df_lof) / (ss_pe / df_pe)
@@ -2147,6 +2160,14 @@ def _chain_text(aliases: Sequence[tuple[str, int]], names: Mapping[str, str]) ->
 def _display_term(term: str, names: Mapping[str, str]) -> str:
     """``"C(f0):C(f1)"`` as ``"S:WP"``, from the safe column names' factor names."""
     return ":".join(names[part[2:-1]] for part in term.split(":"))
+
+
+#: A residual sum of squares at or below this fraction of the total [-] is round-off: the
+#: model fits every run exactly (its residuals 1e-9 of the response's spread and below), as
+#: where replicates are identical or the response is additive to the last digit. F and p of
+#: such a residual had measured the floating-point error (F of 1e30, p of 1e-46: an
+#: analysis review), so it is taken as the exact fit it is.
+ROUND_OFF_SS = 1e-18
 
 
 def _is_constant(y: np.ndarray) -> bool:
@@ -3602,8 +3623,10 @@ def _trends(
             ss = float(coef[j] ** 2 / inverse[j, j])
             if resid_ms > 0:
                 f_value = ss / resid_ms
-            elif resid_ms == 0.0 and resid_df > 0.5:  # an exact fit, as the ANOVA has it
-                f_value = math.inf if ss > 0 else math.nan
+            elif resid_ms == 0.0 and resid_df > 0.5 and total_ss > 0:  # an exact fit, as
+                # the ANOVA has it; a part at round-off has none, nor has a constant
+                # response (its parts of 1e-34 had F infinite: an analysis review)
+                f_value = math.inf if ss > ROUND_OFF_SS * total_ss else math.nan
             else:
                 f_value = math.nan
             rows_out.append(

@@ -53,6 +53,7 @@ import numpy as np
 import pandas as pd
 
 from brakeca._io import write_table
+from brakeca.analysis import ROUND_OFF_SS
 from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
 
 if TYPE_CHECKING:
@@ -403,7 +404,9 @@ def box_cox_profile(
         w = log_u if lam == 0.0 else np.expm1(lam * log_u) / lam
         r = w - q @ (q.T @ w)
         sse = g * g * float(r @ r)
-        if sse <= 0.0:  # an exact fit: the likelihood is unbounded there
+        spread = g * g * float(np.sum((w - w.mean()) ** 2))
+        if sse <= ROUND_OFF_SS * spread:  # an exact fit, to round-off: the likelihood is
+            # unbounded there (a λ̂ fitted to round-off had been given: an analysis review)
             return math.inf
         return -0.5 * n * math.log(sse / n)
 

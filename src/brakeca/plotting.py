@@ -480,7 +480,8 @@ def plot_main_effects(
         ax.grid(True, axis="y", alpha=0.3)
     for ax in grid[:, 0]:
         ax.set_ylabel(ylabel)
-    axes[0].legend(loc="best", fontsize=8)
+    if axes[0].get_legend_handles_labels()[0]:  # (no usable run: nothing to name)
+        axes[0].legend(loc="best", fontsize=8)
     _suptitle(fig, f"Main effects plot for {_shown(response)}")
     return save_figure(root, path)
 

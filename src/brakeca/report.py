@@ -1528,7 +1528,7 @@ def _surface_item(response: str, fit: Any) -> dict[str, Any]:
         + f"). Coded -1 to +1: {codings}. In uncoded units (the factors' levels"
         + "".join(f", log10 of {name}" for name in logged)
         + f"): {fit.equation(6, scale=factor, uncoded=True).replace(fit.response, response, 1)}."
-        + _model_summary_text(stats, unit)
+        + _model_summary_text({**stats, "surface": True}, unit)
     )
     if fit.notes:
         info += " Note: " + "; ".join(fit.notes) + "."
@@ -1770,7 +1770,8 @@ def _optimum_finding(optimum: Any) -> str:
 
 def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
     """ " Model summary: residual standard deviation s = ..., R² = ... %, ..." from
-    :func:`brakeca.analysis.anova`'s attrs, or "" when the table carries none."""
+    :func:`brakeca.analysis.anova`'s attrs (or a response surface's statistics, with
+    ``surface`` True), or "" when the table carries none."""
     if "r_squared" not in attrs:
         return ""
 
@@ -1813,6 +1814,9 @@ def _model_summary_text(attrs: Mapping[str, Any], unit: str | None) -> str:
             order = int(fitted if fitted else attrs.get("order") or 2)
             if attrs.get("model_terms"):
                 left = "every term not among those chosen"
+            elif attrs.get("surface"):  # a response surface: no order of interactions (an
+                # analysis review read "more than 2 factors" of a two-factor design)
+                left = "the terms beyond the quadratic: cubic and higher"
             elif order == 1:
                 left = "the interactions"
             else:

@@ -2125,6 +2125,8 @@ def _study_notes(
         + (
             ". "
             if "MU_SD" in found.tables
+            else "; no run finished, so MU_SD is not analysed. "
+            if found.ok.empty  # (not "one stop each": an analysis review)
             else "; no finished run has a spread over its stops (one stop each), so MU_SD is "
             "not analysed. "
         )

@@ -1267,6 +1267,48 @@ def test_an_exact_fit_has_its_type_ii_sums_of_squares():
         assert "statsmodels" not in out.attrs["note"] and "unbalanced" not in out.attrs["note"]
 
 
+def test_a_residual_at_round_off_is_the_exact_fit_it_is():
+    """Identical replicates, or a response additive to the last digit, leave a residual of
+    1e-31: its F of 1e30 and p of 1e-46 (and Tukey's T, a trend's F, lack of fit's F, a
+    Box-Cox λ̂ fitted to it) had measured the floating-point error (an analysis review). It
+    is taken as the exact fit it is, as a residual of exactly 0; a constant response's
+    trend parts have no F at all."""
+    from brakeca.analysis import factor_trends, level_comparisons
+    from brakeca.boxcox import box_cox_profile
+
+    wp = Factor("WP", (1e-15, 1e-14, 1e-13), "m^3/(N m)", "", ("-", "0", "+"))
+    rows = pd.DataFrame(
+        [
+            {"test": i + 1, "WP": w, "MU": v, "status": "ok"}
+            for i, (w, v) in enumerate(zip(wp.levels, [0.25, 0.5, 0.75], strict=True))
+            for _ in range(2)
+        ]
+    )
+    out = anova(rows, [wp], "MU")
+    table = out.set_index("term")
+    assert table.loc["Residual", "sum_sq"] == 0.0 and out.attrs["s"] == 0.0
+    assert table.loc["WP", "F"] == math.inf and table.loc["WP", "p_value"] == 0.0
+    assert "exact fit" in out.attrs["note"] and "to round-off" in out.attrs["note"]
+    assert math.isnan(out.attrs["lack_of_fit_F"])
+    tukey = level_comparisons(rows, [wp], "MU")
+    assert np.isinf(tukey["q"]).all() and (tukey["p_adjusted"] == 0.0).all()
+    trends = factor_trends(rows, [wp], "MU").set_index("part")
+    assert trends.loc["linear", "F"] == math.inf  # 0.5 of the spread: a real part
+    assert math.isnan(trends.loc["quadratic", "F"])  # 1e-33: round-off, no part
+    exog = np.column_stack([np.ones(6), np.repeat([0.0, 1.0, 2.0], 2)])
+    assert not box_cox_profile(rows["MU"].to_numpy(), exog).defined
+    # a constant response: no trend part is tested (its 1e-34 had F infinite)
+    s = Factor("S", (0.0, 1.0), "-", "", ("-", "+"))
+    flat = pd.DataFrame(
+        [
+            {"test": i, "S": a, "WP": w, "MU": 0.15, "status": "ok"}
+            for i, (a, w, _) in enumerate(itertools.product(s.levels, wp.levels, range(2)))
+        ]
+    )
+    parts = factor_trends(flat, [s, wp], "MU")
+    assert len(parts) and parts["F"].isna().all() and parts["p_value"].isna().all()
+
+
 def test_the_anova_csv_gives_the_table_s_note_once(tmp_path) -> None:
     """A user's review: a screening design's 538-character note was on each of its 15 rows;
     the CSV has it on the first row, and the table in memory keeps it on every row."""

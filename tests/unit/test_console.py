@@ -70,3 +70,11 @@ def test_run_tags_sort_in_test_order_at_any_size() -> None:
     assert sorted(tags) == tags
     no_replicate = pd.DataFrame({"test": [3]})
     assert run_tags(no_replicate)({"test": 3}) == "test03_r0"
+
+
+def test_tests_named_counts_those_it_leaves_out() -> None:
+    from brakeca._console import tests_named
+
+    assert tests_named([3]) == "test 3"
+    assert tests_named([4, 1, 2, 2]) == "tests 1, 2, 4"
+    assert tests_named(range(1, 126)) == "tests 1, 2, 3, 4, 5, 6, 7, 8 and 117 more"

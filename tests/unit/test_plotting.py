@@ -1487,6 +1487,14 @@ def test_by_block_writes_each_runs_block_means_and_shares() -> None:
     assert [t.get_text() for t in rows] == ["T1 r0: S-", "T1 r1: S+"]
 
 
+def test_main_effects_of_a_response_no_run_has(summary) -> None:
+    """Every run's response missing (V = 0 everywhere, so no log10 V): the panels are drawn
+    empty without matplotlib's warning of a legend with nothing to name (warnings are
+    errors here; an analysis review saw it in a report's log)."""
+    fig = plot_main_effects(summary.assign(MU=np.nan), FACTORS, "MU")
+    assert fig.axes[0].get_legend() is None
+
+
 def test_main_effects_wrap_beyond_six_factors() -> None:
     """Eleven factors had made one row 4440 px wide, read at 3 px a letter in the report (a
     review of large designs): the panels wrap at six a row, as Minitab's, each row's first

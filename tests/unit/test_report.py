@@ -1132,6 +1132,18 @@ def test_a_general_factorial_s_coefficients_are_folded_under_its_anova(tmp_path)
     assert html.count("at every level, and the regression equation</summary>") == 1
 
 
+def test_a_surface_s_residual_without_pure_error_is_its_higher_terms() -> None:
+    """A response surface's residual without repeated runs is the terms beyond the quadratic,
+    not "interactions of more than 2 factors" (an analysis review: a two-factor design's)."""
+    from brakeca.report import _model_summary_text
+
+    attrs = {"r_squared": 0.9, "df_resid": 2.0, "pure_error_df": 0.0, "s": 0.1}
+    surface = _model_summary_text({**attrs, "surface": True}, None)
+    assert "(the terms beyond the quadratic: cubic and higher)" in surface
+    assert "interactions of more than" not in surface
+    assert "interactions of more than 2 factors" in _model_summary_text(attrs, None)
+
+
 def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(tmp_path) -> None:
     """Which of WP's levels differ: the comparisons' table under each ANOVA, V's in mm³,
     each row the second level less the first, with its simultaneous interval."""
@@ -1167,8 +1179,14 @@ def test_tukey_s_comparisons_of_a_three_level_factor_are_shown_under_its_anova(t
     # Minitab's columns: SE of difference, T = q / sqrt(2) with the difference's sign
     assert "SE of difference [mm³]" in html and "T (q / √2)" in html
     t = float(first["q"]) / np.sqrt(2.0) * np.sign(float(first["difference"]))
-    shown_t = f"{t:.2f}" if abs(t) < 1e4 else f"{t:.3g}"
-    assert f'<td class="num">{shown_t}</td>' in html
+    # V is the same in both seeds of a test here: an exact fit (its residual at round-off is
+    # taken as the 0 it is: an analysis review), so T is infinite, as the ANOVA's F
+    assert np.isinf(t) and "exact fit" in tables["V"].attrs.get("note", "") + str(
+        inputs["anova_tables"]["V"].attrs["note"]
+    )
+    assert f'<td class="num">{"∞" if t > 0 else "−∞"}</td>' in html
+    t = float(tables["MU"].iloc[0]["q"]) / np.sqrt(2.0)  # MU has a scatter: a finite T
+    assert np.isfinite(t) and f'<td class="num">{abs(t):.2f}</td>' in html.replace("−", "")
 
 
 def test_the_log_response_s_heading_says_what_it_is(tmp_path) -> None:
