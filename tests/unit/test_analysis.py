@@ -1309,6 +1309,33 @@ def test_a_residual_at_round_off_is_the_exact_fit_it_is():
     assert len(parts) and parts["F"].isna().all() and parts["p_value"].isna().all()
 
 
+def test_repeats_without_scatter_are_named_in_the_note():
+    """Replicates identical in a response (runs held at the COF floor do not depend on their
+    seed) add residual degrees of freedom with no error in them: the note counts them (an
+    analysis review); none where every repeat scatters, or none does (an exact fit)."""
+    s = Factor("S", (0.0, 1.0), "-", "", ("-", "+"))
+    a = Factor("A", (10.0, 20.0), "%", "", ("-", "+"))
+    cell = {(0.0, 10.0): 0.30, (1.0, 10.0): 0.34, (0.0, 20.0): 0.37, (1.0, 20.0): 0.35}
+
+    def rows(scatter):
+        return pd.DataFrame(
+            [
+                {"test": t + 1, "replicate": r, "S": x, "A": y, "status": "ok",
+                 "MU": cell[(x, y)] + (0.001 * r if (x, y) in scatter else 0.0)}
+                for t, (y, x) in enumerate(itertools.product(a.levels, s.levels))
+                for r in range(3)
+            ]
+        )  # fmt: skip
+
+    note = anova(rows({(0.0, 10.0)}), [s, a], "MU", interactions=1).attrs["note"]
+    assert note.startswith("3 of the 4 repeated level combinations have identical runs")
+    assert "their 6 degrees of freedom count in the residual" in note
+    every = anova(rows(set(cell)), [s, a], "MU", interactions=1).attrs["note"]
+    assert "identical runs" not in every
+    none = anova(rows(set()), [s, a], "MU", interactions=2).attrs["note"]
+    assert "identical runs" not in none and none.startswith("exact fit")
+
+
 def test_the_anova_csv_gives_the_table_s_note_once(tmp_path) -> None:
     """A user's review: a screening design's 538-character note was on each of its 15 rows;
     the CSV has it on the first row, and the table in memory keeps it on every row."""
