@@ -1883,7 +1883,16 @@ def _model(
                 if removed
                 else "no term removed"
             )
-            + ("; no term is left" if removed and not terms else "")
+            + (
+                "; no term is left"
+                + (
+                    " but the curvature of the centre points"
+                    if y_center is not None and len(y_center)
+                    else ""
+                )
+                if removed and not terms
+                else ""
+            )
         )
     return frame, term_names, terms, notes
 
@@ -2554,7 +2563,12 @@ def unusual_runs(
     try:
         refit = _refit_without(summary, factors, response, formula, exog, data.index[large])
         if refit is None:
-            out.attrs["without_note"] = "the model has no terms"
+            out.attrs["without_note"] = (
+                "its only term is the curvature of the centre points, which the refit does "
+                "not take"  # (not "no terms" beside a Curvature row: an analysis review)
+                if "Ct Pt" in formula
+                else "the model has no terms"
+            )
             return out
         table = anova(refit.kept, factors, response, interactions=refit.terms, typ=typ)
     except ValueError as exc:  # too few runs left for the model

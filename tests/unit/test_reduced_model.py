@@ -195,6 +195,17 @@ def test_centre_points_curvature_is_never_removed() -> None:
     table = analysis.anova(runs, FACTORS, "y", alpha_to_remove=0.1)
     assert list(table["term"])[-2:] == ["Curvature", "Residual"]
     assert table.set_index("term").loc["Curvature", "p_value"] > 0.1
+    # every factorial term removed: the curvature is left, and the note says so (it had
+    # said "no term is left" above the Curvature row: an analysis review)
+    flat = runs.assign(y=10.0 + np.random.default_rng(4).normal(0.0, 0.02, len(runs)))
+    table = analysis.anova(flat, FACTORS, "y", alpha_to_remove=0.001)
+    assert list(table["term"]) == ["Curvature", "Residual"]
+    assert table.attrs["note"].endswith("no term is left but the curvature of the centre points")
+    flat.loc[0, "y"] += 1.0  # an outlier: the model without it cannot be refitted, and why
+    unusual = analysis.unusual_runs(flat, FACTORS, "y", alpha_to_remove=0.001)
+    assert len(unusual) and unusual.attrs["without_note"].startswith(
+        "its only term is the curvature of the centre points"
+    )
 
 
 @pytest.mark.parametrize("typ", [2, 3])
