@@ -1531,7 +1531,8 @@ def _check_anova_type(typ: Any) -> int:
 def _silent_repeats(frame: pd.DataFrame) -> str | None:
     """A note on the repeated level combinations of ``frame`` (``y`` and the factors'
     columns) whose runs are identical in ``y`` (within 1e-13 of its size: no scatter
-    between their seeds, as runs held at the COF floor give), where others do scatter; None
+    between their seeds: a response that does not depend on the seed, as MU_SD of runs of
+    one stop), where others do scatter; None
     where none is, or every one is (an exact fit, said as such). Their degrees of freedom
     count in the residual with no error in them (an analysis review: 8 of 9 residual df
     were copies, and A's p of 0.003 would have been 0.41 against the rest)."""
@@ -1549,10 +1550,10 @@ def _silent_repeats(frame: pd.DataFrame) -> str | None:
     df = int((size[silent] - 1).sum())
     return (
         f"{int(silent.sum())} of the {int(repeated.sum())} repeated level combinations have "
-        "identical runs (no scatter between their seeds, as runs held at the COF floor "
-        f"give): their {df} degree{'s' if df != 1 else ''} of freedom count in the residual "
-        "with no error in them, so the F tests are stronger than the other runs' scatter "
-        "warrants"
+        "identical runs (no scatter between their seeds: a response that does not depend on "
+        f"the seed there): their {df} degree{'s' if df != 1 else ''} of freedom count in the "
+        "residual with no error in them, so the F tests are stronger than the other runs' "
+        "scatter warrants"
     )
 
 

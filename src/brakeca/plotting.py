@@ -221,9 +221,11 @@ def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) 
     names printed on one another ("test 105" over "test 75": a figures review): each to the
     right of its point (to its left in the axes' right fifth, where it had crossed the axes'
     edge), moved up to three lines up or down, inside the axes, where it would overlap a name
-    placed before, and joined to the name it overlaps (``"test 1, test 8"``) where no such
-    place is free. ``text``: the names' :class:`~matplotlib.text.Text` properties
-    (``fontsize`` [pt], ``color``). Call it once the axes' limits are set."""
+    placed before; where no such place is free, joined to the name it overlaps if that one
+    names a point at nearly the same place (``"test 1, test 8"``; a name joined to another
+    point's had put a test at the wrong level: a review), else printed at its point.
+    ``text``: the names' :class:`~matplotlib.text.Text` properties (``fontsize`` [pt],
+    ``color``). Call it once the axes' limits are set."""
     import matplotlib as mpl
 
     size = float(text.get("fontsize", mpl.rcParams["font.size"]))
@@ -234,11 +236,12 @@ def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) 
     fraction = ax.transAxes.inverted().transform(points)[:, 0]
     frame = ax.get_window_extent()
     bottom, top = frame.y0 * per_point, frame.y1 * per_point
-    # boxes [pt] (left, bottom, right, top) of the names placed, with their annotations
-    placed: list[tuple[tuple[float, float, float, float], Any]] = []
+    # boxes [pt] (left, bottom, right, top) of the names placed, with their annotations and
+    # the points [pt] they name
+    placed: list[tuple[tuple[float, float, float, float], Any, tuple[float, float]]] = []
 
     def overlapping(box: tuple[float, float, float, float]) -> int | None:
-        for i, (b, _) in enumerate(placed):
+        for i, (b, _, _) in enumerate(placed):
             if box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]:
                 return i
         return None
@@ -255,10 +258,12 @@ def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) 
             if bottom <= box[1] and box[3] <= top and overlapping(box) is None:
                 free = dy, box
                 break
-        if free is None:  # no room: joined to the name it would print over
+        if free is None:  # no room: joined to the name it would print over, of a point
+            # at nearly the same place
             i = overlapping((x0, y - tall / 2, x0 + wide, y + tall / 2))
-            if i is not None:
-                (left, low, right, high), other = placed[i]
+            near = i is not None and max(abs(placed[i][2][0] - x), abs(placed[i][2][1] - y)) < tall
+            if i is not None and near:
+                (left, low, right, high), other, anchor = placed[i]
                 other.set_text(f"{other.get_text()}, {names[k]}")
                 more = 0.6 * size * (len(names[k]) + 2)  # its box grows by the name
                 grown = (
@@ -266,7 +271,7 @@ def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) 
                     if other.get_ha() == "right"
                     else (left, low, right + more, high)
                 )
-                placed[i] = grown, other
+                placed[i] = grown, other, anchor
                 continue
             free = 0.0, (x0, y - tall / 2, x0 + wide, y + tall / 2)
         dy, box = free
@@ -285,7 +290,7 @@ def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) 
             ),
             **text,
         )
-        placed.append((box, annotation))
+        placed.append((box, annotation, (x, y)))
 
 
 def _suptitle(fig: Figure | SubFigure, text: str) -> None:
@@ -1485,7 +1490,8 @@ def plot_v_per_run(
     title = "Mean emitted wear volume per stop, per test"
     if np.isfinite(err_all).any():
         title += " (mean ± 1 standard deviation of its replicates)"
-    axes[0].set_title(title)
+    # wrapped to the figure's width (an 11-test figure had cut it at both ends: a review)
+    axes[0].set_title(textwrap.fill(title, _panel_chars(axes[0], 12.0, 200)))
     return save_figure(fig, path)
 
 

@@ -2497,20 +2497,32 @@ def _curvature_finding(frame: pd.DataFrame) -> str:
 
 
 def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
-    """The terms the effects table finds with p < 0.05 against the pure error that the
-    ANOVA, whose residual holds a significant lack of fit, does not (a new user's review:
-    "no term has p < 0.05" above an effects table with seven); empty otherwise."""
-    if effects is None or effects.empty or effects.attrs.get("method") != "pure error":
-        return ""
+    """Where the ANOVA's residual holds a significant lack of fit, that, with the terms the
+    effects table finds with p < 0.05 against the pure error that the ANOVA does not (a new
+    user's review: "no term has p < 0.05" above an effects table with seven), or, where
+    there is no such table (a factor of three levels) or it finds none besides, what the
+    lack of fit means for the F tests (a review of a replicated study: a general factorial's
+    lack of fit, p 0.003, had gone unsaid); empty otherwise."""
     lof_p = _lack_of_fit_p(frame)
-    if lof_p is None or "significant" not in effects.columns:
+    if lof_p is None:
         return ""
-    shown = _effects_beyond(frame, effects)
-    if not shown:
-        return ""
+    lacks = f"; the ANOVA's residual lacks fit (p {_p_relation(lof_p)})"
+    by_pure_error = (
+        effects is not None
+        and not effects.empty
+        and effects.attrs.get("method") == "pure error"
+        and "significant" in effects.columns
+    )
+    shown = _effects_beyond(frame, effects) if by_pure_error and effects is not None else ""
+    if shown:
+        verb = "have" if ("," in shown or " and " in shown) else "has"
+        return (
+            f"{lacks}, and against the pure error of the repeated runs alone (the effects "
+            f"table) {shown} also {verb} p < 0.05"
+        )
     return (
-        f"; the ANOVA's residual lacks fit (p {_p_relation(lof_p)}), and against the pure "
-        f"error of the repeated runs alone (the effects table) {shown} also have p < 0.05"
+        f"{lacks}: terms the model leaves out move it by more than the seed-to-seed "
+        "scatter, and the F tests, made against that residual, are conservative"
     )
 
 

@@ -549,11 +549,13 @@ def _floor_shares(result: CampaignResult, base: Any) -> _Floor | None:
     :data:`FLOOR_TOLERANCE` of the floor ``friction.mu_min`` (every contact at or above the
     pressure where the law reaches it), with the runs' names; None where no stop is, the
     campaign's dataset has no ``mean_cof``, the base configuration is unknown or a factor
-    sets the friction law."""
+    sets the floor itself (``friction.mu_min``; one of the law's other parameters moves
+    where the floor is reached, not the floor: a review of a replicated study found every
+    floor statement left out where ``friction.slope`` was a factor)."""
     data = getattr(result, "dataset", None)
     if base is None or data is None or "mean_cof" not in getattr(data, "data_vars", {}):
         return None
-    if any(str(f.field).startswith("friction.") for f in result.design.factors):
+    if any(str(f.field) == "friction.mu_min" for f in result.design.factors):
         return None
     floor = float(base.friction.mu_min)
     cof = data["mean_cof"].transpose("run", "stop").to_numpy().astype(float)
@@ -759,7 +761,9 @@ def _floor_line(result: CampaignResult, base: Any) -> str:
         "there"
         + (
             (", and that run's" if len(named) == 1 else ", and those runs'")
-            + " MU_SD is small because the floor holds them"
+            # "may be": the floor steadies the stops it holds, not the run's other stops (a
+            # review of a replicated study: runs held at it had a spread like the others')
+            + " MU_SD may be small because the floor holds them, not their pads"
             if "MU_SD" in analysed_responses(getattr(result, "summary", pd.DataFrame()))
             else ""
         )
@@ -1867,7 +1871,12 @@ def _cycle_figures(
         figures.drop("by_block.png")
     figures.add(
         "Runs",
-        "V for every run (as the paper's Figure 11; on a log axis, a point per test, where the "
+        (
+            "V of every test, the mean of its replicates with ± 1 standard deviation"
+            if is_replicated(summary)
+            else "V for every run"
+        )
+        + " (as the paper's Figure 11; on a log axis, a point per test, where the "
         "tests' V span more than two decades)" + band,
         "v_per_run.png",
         plotting.plot_v_per_run,
@@ -1879,7 +1888,8 @@ def _cycle_figures(
         by = _strongest_on_v(result)
         figures.add(
             "Runs",
-            "The trade-off between friction and emissions: each test's MU against its V, "
+            "The trade-off between friction and emissions: each test's MU against its V"
+            + (" (the means of its replicates), " if is_replicated(summary) else ", ")
             + (
                 "labelled with its test number"
                 if not plotting.mu_v_names_front_only(summary)

@@ -407,3 +407,11 @@ def test_the_second_profile_keeps_the_model_and_the_rows_by_position() -> None:
     assert _without_text(minus_one, made(1.6, 1.3, 1.9), "t", 1).endswith(
         "so the reading of all the runs rests on that run"
     )
+    # a power no multiple of 0.5 stands for, pointed to by both: the reading holds where the
+    # second λ̂ lies within the first interval (-0.21 against -0.22 had been "rests on":
+    # a review of a replicated study), and not where it lies outside it
+    near = made(-0.21, -0.32, -0.08)
+    assert _without_text(near, made(-0.22, -0.35, -0.08), "t", 1).endswith("the reading holds")
+    assert _without_text(near, made(-0.4, -0.45, -0.35), "t", 1).endswith(
+        "so the reading of all the runs rests on that run"
+    )

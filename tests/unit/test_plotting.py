@@ -369,6 +369,13 @@ def test_names_of_points_do_not_overprint() -> None:
     frame = ax.get_window_extent()
     assert all(frame.y0 <= b.y0 and b.y1 <= frame.y1 + 1 for b in boxes)
     plt.close(fig)
+    # a point elsewhere whose name finds no room is not joined to another point's name
+    # (a review: "test 10/1, test 11/0" stood at WP0, test 11 being at WP+)
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.plot([0.0, 1.0], [0.0, 1.0], "o")
+    _name_points(ax, [0.5] * 12 + [0.42], [0.98] * 13, [*names, "test 99 elsewhere"])
+    assert "test 99 elsewhere" in [t.get_text() for t in ax.texts]
+    plt.close(fig)
 
 
 def test_surface_maps(tmp_path) -> None:

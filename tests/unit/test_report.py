@@ -928,6 +928,22 @@ def test_in_short_says_the_curvature_and_what_the_pure_error_finds_besides() -> 
         "MU: A (30.0 %); together 30.0 % of the variation; R² = 90.0 %; curvature between "
         "the levels: p = 0.200 (none found at 0.05)"
     )
+    # one term found besides: "has" (a review: "S:WP:A also have")
+    one = effects.assign(significant=[True, False, False, False])
+    assert _finding("MU", frame, effects=one).endswith("(the effects table) A also has p < 0.05")
+    # no effects table (a factor of three levels), or none found besides: the lack of fit is
+    # said all the same (a review of a replicated study: a general factorial's p of 0.003
+    # had gone unsaid)
+    general = frame[frame["term"] != "Curvature"].copy()
+    general.attrs.update(frame.attrs)
+    lacks = (
+        "; the ANOVA's residual lacks fit (p < 0.001): terms the model leaves out move it by "
+        "more than the seed-to-seed scatter, and the F tests, made against that residual, "
+        "are conservative"
+    )
+    assert _finding("MU", general).endswith(lacks)
+    none = effects.assign(significant=False)
+    assert _finding("MU", general, effects=none).endswith(lacks)
 
 
 def test_the_trend_of_a_three_level_factor_is_shown_under_its_anova(tmp_path) -> None:

@@ -72,7 +72,7 @@ def test_the_runs_held_at_the_floor_are_an_in_short_line() -> None:
     assert one.startswith(  # one run: its stops (a review)
         "MU at the COF floor: test 2 (50 %) spends half its stops or more within 1 %"
     )
-    assert ", and that run's MU_SD is small because the floor holds them" in one
+    assert ", and that run's MU_SD may be small because the floor holds them, not their pads" in one
     cof[:2, :] = 0.3
     assert _floor_line(_result(cof), base) == ""  # test 3 alone, under half
     many = np.full((8, 4), floor)  # eight runs held: five named, the rest counted
@@ -106,6 +106,9 @@ def test_no_note_without_stops_at_the_floor_or_with_a_factor_on_the_friction_law
     assert _floor_note(_result(at_floor, ("friction.mu_min",)), base) == ""
     assert _floor_note(_result(at_floor), None) == ""
     assert "3 of the 3" in _floor_note(_result(at_floor), base)
+    # the law's slope moves where the floor is reached, not the floor: the note stays (a
+    # review of a replicated study: every floor statement had gone with a slope factor)
+    assert "3 of the 3" in _floor_note(_result(at_floor, ("friction.slope",)), base)
 
 
 def test_v_captions_of_the_quick_band_say_its_volumes_are_a_fraction_of_the_full_band_s():
