@@ -316,10 +316,25 @@ def test_outliers_of_a_model_that_fits_every_setting_are_said_to_scatter_at_it()
     assert list(table.loc[table["outlier_p"] < 0.05, "test"]) == [5]
     text = _unusual_text("MU", frame, table, full)
     assert "distance from the other runs at the same setting, not a misfit" in text
-    # a model that leaves a lack of fit: the outlier departs from the model
+    # a model that leaves a lack of fit, test 5's two runs on either side of its value
+    # there: they depart from each other, not from the model (a review of a replicated
+    # study: such a pair had been outliers the model "does not describe")
     main = anova(runs, FACTORS, "MU", interactions=False)
     assert main.attrs["lack_of_fit_df"] > 0
     frame = residuals(runs, FACTORS, "MU", interactions=False)
     table = unusual_runs(runs, FACTORS, "MU", interactions=False)
-    assert (table["outlier_p"] < 0.05).all()
-    assert "so the model does not describe them" in _unusual_text("MU", frame, table, main)
+    assert (table["outlier_p"] < 0.05).all() and sorted(table["test"]) == [5, 5]
+    text = _unusual_text("MU", frame, table, main)
+    assert "they are every run of test 5, on either side of the model's value there" in text
+    assert "does not describe" not in text
+    (line,) = in_short({"MU": main}, residual_tables={"MU": frame}, unusual_tables={"MU": table})
+    assert ": the runs of test 5, on either side of the model's value there" in line
+    # both on one side of it: the model misses them
+    apart = _runs(replicates=2)
+    apart.loc[apart["test"] == 5, "MU"] += np.array([0.04, 0.03])
+    frame = residuals(apart, FACTORS, "MU", interactions=False)
+    table = unusual_runs(apart, FACTORS, "MU", interactions=False)
+    flagged = table.loc[table["outlier_p"] < 0.05]
+    assert len(flagged) and (flagged["residual"] > 0).all()
+    text = _unusual_text("MU", frame, table, anova(apart, FACTORS, "MU", interactions=False))
+    assert "so the model does not describe" in text and "either side" not in text
