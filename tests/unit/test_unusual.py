@@ -289,6 +289,25 @@ def test_the_verdicts_without_name_terms_that_gain_and_lose_significance() -> No
     )
 
 
+def _reads_as_scatter(diagnosed, detail: str, short: str) -> None:
+    """The unusual runs' text holds ``detail`` and not "does not describe", and the "In
+    short" line ``short``, for ``diagnosed`` (:func:`_diagnosed`'s)."""
+    model, frame, table = diagnosed
+    text = _unusual_text("MU", frame, table, model)
+    assert detail in text and "does not describe" not in text
+    (line,) = in_short({"MU": model}, residual_tables={"MU": frame}, unusual_tables={"MU": table})
+    assert short in line
+
+
+def _diagnosed(runs: pd.DataFrame, interactions):
+    """MU's ANOVA, residuals and unusual runs under one model of ``runs``."""
+    return (
+        anova(runs, FACTORS, "MU", interactions=interactions),
+        residuals(runs, FACTORS, "MU", interactions=interactions),
+        unusual_runs(runs, FACTORS, "MU", interactions=interactions),
+    )
+
+
 def test_outliers_of_a_model_that_fits_every_setting_are_said_to_scatter_at_it() -> None:
     """A DoE review: both replicates of one test were called outliers the model "does not
     describe", where the model fits every setting's mean (no lack of fit is left) and the two
@@ -296,45 +315,38 @@ def test_outliers_of_a_model_that_fits_every_setting_are_said_to_scatter_at_it()
     reading."""
     runs = _runs(replicates=2)
     runs.loc[runs["test"] == 5, "MU"] += np.array([0.02, -0.02])
-    full = anova(runs, FACTORS, "MU", interactions=3)  # every setting's mean: no lack of fit
+    full, frame, table = _diagnosed(runs, 3)  # every setting's mean: no lack of fit
     assert full.attrs["pure_error_df"] == full.attrs["df_resid"] == 12
-    frame = residuals(runs, FACTORS, "MU", interactions=3)
-    table = unusual_runs(runs, FACTORS, "MU", interactions=3)
     outliers = table.loc[table["outlier_p"] < 0.05]
     assert sorted(outliers["test"]) == [5, 5]
-    text = _unusual_text("MU", frame, table, full)
-    assert "they are every run of test 5, and the model fits each setting's mean" in text
-    assert "does not describe" not in text
-    (line,) = in_short({"MU": full}, residual_tables={"MU": frame}, unusual_tables={"MU": table})
-    assert ": the runs of test 5, which scatter more than the other settings' runs" in line
+    _reads_as_scatter(
+        (full, frame, table),
+        "they are every run of test 5, and the model fits each setting's mean",
+        ": the runs of test 5, which scatter more than the other settings' runs",
+    )
     # one run of three far from the others at its setting: not "every run", still no misfit
     three = _runs(replicates=3)
     three.loc[(three["test"] == 5) & (three["replicate"] == 0), "MU"] += 0.03
-    full = anova(three, FACTORS, "MU", interactions=3)
-    frame = residuals(three, FACTORS, "MU", interactions=3)
-    table = unusual_runs(three, FACTORS, "MU", interactions=3)
+    full, frame, table = _diagnosed(three, 3)
     assert list(table.loc[table["outlier_p"] < 0.05, "test"]) == [5]
     text = _unusual_text("MU", frame, table, full)
     assert "distance from the other runs at the same setting, not a misfit" in text
     # a model that leaves a lack of fit, test 5's two runs on either side of its value
     # there: they depart from each other, not from the model (a review of a replicated
     # study: such a pair had been outliers the model "does not describe")
-    main = anova(runs, FACTORS, "MU", interactions=False)
+    main, frame, table = _diagnosed(runs, False)
     assert main.attrs["lack_of_fit_df"] > 0
-    frame = residuals(runs, FACTORS, "MU", interactions=False)
-    table = unusual_runs(runs, FACTORS, "MU", interactions=False)
     assert (table["outlier_p"] < 0.05).all() and sorted(table["test"]) == [5, 5]
-    text = _unusual_text("MU", frame, table, main)
-    assert "they are every run of test 5, on either side of the model's value there" in text
-    assert "does not describe" not in text
-    (line,) = in_short({"MU": main}, residual_tables={"MU": frame}, unusual_tables={"MU": table})
-    assert ": the runs of test 5, on either side of the model's value there" in line
+    _reads_as_scatter(
+        (main, frame, table),
+        "they are every run of test 5, on either side of the model's value there",
+        ": the runs of test 5, on either side of the model's value there",
+    )
     # both on one side of it: the model misses them
     apart = _runs(replicates=2)
     apart.loc[apart["test"] == 5, "MU"] += np.array([0.04, 0.03])
-    frame = residuals(apart, FACTORS, "MU", interactions=False)
-    table = unusual_runs(apart, FACTORS, "MU", interactions=False)
+    main, frame, table = _diagnosed(apart, False)
     flagged = table.loc[table["outlier_p"] < 0.05]
     assert len(flagged) and (flagged["residual"] > 0).all()
-    text = _unusual_text("MU", frame, table, anova(apart, FACTORS, "MU", interactions=False))
+    text = _unusual_text("MU", frame, table, main)
     assert "so the model does not describe" in text and "either side" not in text

@@ -89,6 +89,20 @@ def _one_row_one_stop(tiny_config, kernel: str, g: float = 0.3):
         )
 
 
+def _flat_punch_stop(config):
+    """Flat plateaus over ``config``'s band run through its first stop: the grid, the state
+    after it, the step records, the rule counts, the demanded friction force [N], the flat
+    punch's pressure for it [Pa] and the steps' fractions of the stop's sliding [-]."""
+    grid = make_grid(config)
+    state = flat_plateau_state(grid)
+    stop = expand_stops(config)[0]
+    _, rec, counts = advance_stop(state, grid, config, stop)
+    target = brake_demand(config, stop.deceleration, grid.area).band_friction_force
+    p = flat_punch_pressure(target, grid.area, **LAW)
+    _, fraction = stop_steps(stop, step_distance(config))
+    return grid, state, rec, counts, target, p, fraction
+
+
 @pytest.mark.parametrize("kernel", ["exact", "lazy"])
 @pytest.mark.parametrize("g", [0.3, 2.0])  # friction stress 0.56 MPa (rising), 3.7 MPa (floor)
 def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config, kernel, g):
@@ -97,14 +111,9 @@ def test_archard_wear_of_a_flat_punch_over_a_stop(tiny_config, kernel, g):
     cell slides the same distance and the punch stays flat (with several rows the outer rows
     wear more and the pressure redistributes, by ~1e-6 relative here). Both kernels, on the
     rising branch of mu(p) p and on the floor (2 g: above the 3 MPa peak friction stress)."""
-    config = _one_row_one_stop(tiny_config, kernel, g=g)
-    grid = make_grid(config)
-    state = flat_plateau_state(grid)
-    stop = expand_stops(config)[0]
-    _, rec, counts = advance_stop(state, grid, config, stop)
-    target = brake_demand(config, stop.deceleration, grid.area).band_friction_force
-    p = flat_punch_pressure(target, grid.area, **LAW)
-    _, fraction = stop_steps(stop, step_distance(config))
+    grid, state, rec, counts, target, p, fraction = _flat_punch_stop(
+        _one_row_one_stop(tiny_config, kernel, g=g)
+    )
     slid = np.asarray(grid.step_sliding_distance) * fraction.sum()
     expected = archard_wear_depth_constant_pressure(1e-13, p, slid)  # per row
     worn = 50e-6 - state.height.reshape(grid.shape)
@@ -128,13 +137,7 @@ def test_the_disc_sits_p_over_e_over_l_below_a_flat_punch(tiny_config, kernel):
 
     assert load_preset("paper").contact.stiffness == 1e11  # the paper's: 1 GPa over 10 mm
     stiffness = 3e9 / 2e-2  # [Pa/m]
-    grid = make_grid(config)
-    state = flat_plateau_state(grid)
-    stop = expand_stops(config)[0]
-    _, rec, _ = advance_stop(state, grid, config, stop)
-    target = brake_demand(config, stop.deceleration, grid.area).band_friction_force
-    p = flat_punch_pressure(target, grid.area, **LAW)
-    _, fraction = stop_steps(stop, step_distance(config))
+    grid, _, rec, _, _, p, fraction = _flat_punch_stop(config)
     slid = float(np.asarray(grid.step_sliding_distance)[0]) * fraction  # per step [m]
     worn_before = 1e-13 * p * np.concatenate([[0.0], np.cumsum(slid)[:-1]])
     np.testing.assert_allclose(
