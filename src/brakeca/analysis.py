@@ -1334,22 +1334,24 @@ def anova(
     df_resid = float(table.loc["Residual", "df"])
     saturated = df_resid < 0.5
     resid_ss = float(table.loc["Residual", "sum_sq"])
-    exact = not saturated and not constant and resid_ss <= ROUND_OFF_SS * total_ss
+    exact = not saturated and not constant and exact_fit(resid_ss, y_fit)
     if saturated:
         notes.append("saturated model (0 residual df): F and p cannot be computed")
     elif exact:
         notes.append(
             "exact fit: the model leaves no residual scatter (residual sum of squares 0"
             + (f", to round-off: {resid_ss:.2g}" if resid_ss > 0 else "")
-            + "), so F is infinite and p 0 for every term with a sum of squares above 0"
+            + "), so F is infinite and p 0 for every term with a sum of squares above "
+            "round-off"
         )
-        if resid_ss > 0:  # as the exact 0 it is: the F and p of round-off said nothing
-            table = table.copy()
-            table.loc["Residual", "sum_sq"] = 0.0
-            terms_ss = table["sum_sq"].drop(index="Residual")
-            nil = terms_ss <= ROUND_OFF_SS * total_ss
-            table.loc[terms_ss.index, "F"] = np.where(nil, np.nan, np.inf)
-            table.loc[terms_ss.index, "PR(>F)"] = np.where(nil, np.nan, 0.0)
+        # as the exact 0 it is: the F and p of round-off said nothing (an exact 0 too: a
+        # term of 1e-33 then has no F, as at round-off)
+        table = table.copy()
+        table.loc["Residual", "sum_sq"] = 0.0
+        terms_ss = table["sum_sq"].drop(index="Residual")
+        nil = terms_ss <= ROUND_OFF_SS * total_ss
+        table.loc[terms_ss.index, "F"] = np.where(nil, np.nan, np.inf)
+        table.loc[terms_ss.index, "PR(>F)"] = np.where(nil, np.nan, 0.0)
 
     out = pd.DataFrame(
         {
@@ -1399,10 +1401,9 @@ def anova(
                     "unbalanced design: the adjusted (Type III) sums of squares do not add up "
                     "to the total (each term is adjusted for every other term)"
                 )
-    if not (constant or saturated or exact):
-        silent = _silent_repeats(lof_frame)
-        if silent is not None:
-            notes.append(silent)
+    silent = None if constant or saturated or exact else _silent_repeats(lof_frame)
+    if silent is not None:
+        notes.append(silent[0])
     note = "; ".join(notes)
     out["note"] = note
     out = out[list(ANOVA_COLUMNS)].reset_index(drop=True)
@@ -1424,8 +1425,10 @@ def anova(
     )
     out.attrs.update(_fit_statistics(y_fit, *_least_squares(exog, y_fit), total_ss))
     out.attrs.update(_lack_of_fit(lof_frame, df_resid, float(table.loc["Residual", "sum_sq"])))
-    if exact and resid_ss > 0:
+    if exact:
         out.attrs["s"] = 0.0  # (the round-off's 1e-15)
+    # the residual's degrees of freedom of identical repeats (the note's; report's In short)
+    out.attrs["silent_repeat_df"] = 0 if silent is None else silent[1]
     return out
 
 
@@ -1528,14 +1531,14 @@ def _check_anova_type(typ: Any) -> int:
     return typ
 
 
-def _silent_repeats(frame: pd.DataFrame) -> str | None:
+def _silent_repeats(frame: pd.DataFrame) -> tuple[str, int] | None:
     """A note on the repeated level combinations of ``frame`` (``y`` and the factors'
     columns) whose runs are identical in ``y`` (within 1e-13 of its size: no scatter
     between their seeds: a response that does not depend on the seed, as MU_SD of runs of
-    one stop), where others do scatter; None
-    where none is, or every one is (an exact fit, said as such). Their degrees of freedom
+    one stop), with their degrees of freedom; None where none is. Their degrees of freedom
     count in the residual with no error in them (an analysis review: 8 of 9 residual df
-    were copies, and A's p of 0.003 would have been 0.41 against the rest)."""
+    were copies, and A's p of 0.003 would have been 0.41 against the rest; every repeat
+    identical, with a lack of fit left, is said too: a diff review)."""
     cells = [c for c in frame.columns if c != "y"]
     if not cells:
         return None
@@ -1545,15 +1548,22 @@ def _silent_repeats(frame: pd.DataFrame) -> str | None:
     scale = float(np.max(np.abs(frame["y"].to_numpy(dtype=float)), initial=0.0))
     repeated = size > 1
     silent = repeated & (spread <= 1e-13 * scale)
-    if not silent.any() or silent.sum() == repeated.sum():
+    if not silent.any():
         return None
     df = int((size[silent] - 1).sum())
+    every = silent.sum() == repeated.sum()
+    count = (
+        f"all {int(repeated.sum())}"
+        if every
+        else f"{int(silent.sum())} of the {int(repeated.sum())}"
+    )
     return (
-        f"{int(silent.sum())} of the {int(repeated.sum())} repeated level combinations have "
+        f"{count} repeated level combinations have "
         "identical runs (no scatter between their seeds: a response that does not depend on "
         f"the seed there): their {df} degree{'s' if df != 1 else ''} of freedom count in the "
         "residual with no error in them, so the F tests are stronger than the other runs' "
-        "scatter warrants"
+        "scatter warrants",
+        df,
     )
 
 
@@ -1589,8 +1599,7 @@ def _lack_of_fit(frame: pd.DataFrame, df_resid: float, ssr: float) -> dict[str, 
     df_lof = df_resid - df_pe
     ss_lof = max(ssr - ss_pe, 0.0)
     out.update(pure_error_ss=ss_pe, lack_of_fit_df=df_lof, lack_of_fit_ss=ss_lof)
-    total = float(np.sum((y - y.mean()) ** 2))
-    if df_lof > 0.5 and ss_pe > ROUND_OFF_SS * total:  # (identical replicates: no test)
+    if df_lof > 0.5 and not exact_fit(ss_pe, y):  # (identical replicates: no test)
         from scipy import stats
 
         f_value = (ss_lof / df_lof) / (ss_pe / df_pe)
@@ -2030,7 +2039,7 @@ def _eliminate(
     while kept:
         sse, rank = fit(kept)
         df_resid = y.size - rank
-        if df_resid < 1 or not sse > 0.0:
+        if df_resid < 1 or exact_fit(sse, y):  # nothing to test against (round-off too)
             break
         parts = {t: set(t.split(":")) for t in kept}
         p: dict[str, float] = {}
@@ -2212,6 +2221,21 @@ def _display_term(term: str, names: Mapping[str, str]) -> str:
 ROUND_OFF_SS = 1e-18
 
 
+def exact_fit(resid_ss: float, y: Any) -> bool:
+    """Whether a residual sum of squares ``resid_ss`` [response unit^2] of a fit of ``y`` is
+    round-off: at or below :data:`ROUND_OFF_SS` of ``y``'s total sum of squares, or of the
+    round-off of its values (their residuals within 1e-13 of the largest value in size, as
+    a constant response is judged). The ANOVA, lack of fit, effects table, backward
+    elimination, unusual runs and response surfaces all take such a fit as exact (a diff
+    review found the rule in some of them only: one fit, two verdicts)."""
+    values = np.asarray(y, dtype=float)
+    if values.size == 0:
+        return False
+    total = float(np.sum((values - values.mean()) ** 2))
+    floor = values.size * (1e-13 * float(np.max(np.abs(values)))) ** 2
+    return float(resid_ss) <= max(ROUND_OFF_SS * total, floor)
+
+
 def _is_constant(y: np.ndarray) -> bool:
     """Whether a response does not vary beyond round-off (its spread within 1e-13 of its size)."""
     return float(np.ptp(y)) <= 1e-13 * float(np.max(np.abs(y)))
@@ -2390,8 +2414,9 @@ def _residual_frame(
     leverage)`` with ``s`` the fit's residual standard deviation [response unit] and
     ``df_resid`` its degrees of freedom, and from it ``deleted_residual`` (Minitab's TRES),
     ``cooks_distance`` and ``dfits`` [-]; NaN where they are not finite (no residual degrees
-    of freedom, or one for the deleted residual), at leverage 1 and for a constant
-    response."""
+    of freedom, or one for the deleted residual), at leverage 1, for a constant response
+    and for an exact fit (:func:`exact_fit`: residuals of round-off, in a standard deviation
+    of round-off, had flagged runs as unusual: a diff review)."""
     out = _run_columns(data)
     out["observed"] = y
     out["fitted"] = fitted
@@ -2399,7 +2424,8 @@ def _residual_frame(
     out["leverage"] = leverage
     with np.errstate(divide="ignore", invalid="ignore"):
         std = (y - fitted) / (s * np.sqrt(1.0 - leverage))
-    usable = (leverage < 1.0 - 1e-9) & np.isfinite(std) & (not _is_constant(y))
+    exact = exact_fit(float(np.sum((y - fitted) ** 2)), y)
+    usable = (leverage < 1.0 - 1e-9) & np.isfinite(std) & (not _is_constant(y)) & (not exact)
     r = np.where(usable, std, np.nan)
     out["std_residual"] = r
     # the deleted residual: the run's residual against the fit without it, in that fit's
@@ -3335,8 +3361,11 @@ def two_level_effects(
     relative = y.size * inverse[1 : 1 + k]
     vifs = _vif(exog)  # the terms', then the indicator's with centre points
     vif = vifs[1 : 1 + k]
+    exact = False
     if method != "Lenth":  # the fitted effects' residual mean square, as Minitab's
-        mse = float(np.sum((y_all - exog @ coef) ** 2)) / df_resid
+        sse = float(np.sum((y_all - exog @ coef) ** 2))
+        exact = exact_fit(sse, y_all)  # the ANOVA's exact fit: no scatter, t infinite
+        mse = 0.0 if exact else sse / df_resid
         se = 2.0 * np.sqrt(mse * relative / y.size)
         df, pse = df_resid, math.nan
         margin = float(stats.t.ppf(1 - alpha / 2, df)) * 2.0 * math.sqrt(mse / y.size)
@@ -3359,6 +3388,11 @@ def two_level_effects(
         simultaneous = float(stats.t.ppf(gamma, df)) * pse
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(np.isfinite(se) & (se > 0), effect / se, np.nan)
+    if exact:  # as the ANOVA's F: infinite for an effect above round-off, none for the rest
+        real = np.abs(effect) > _ROUND_OFF_PSE * float(np.max(np.abs(effect), initial=0.0))
+        t = np.where(real, np.copysign(np.inf, effect), np.nan)
+        if n_c:
+            curvature.update(t=math.nan, p_value=math.nan)
     p = 2.0 * stats.t.sf(np.abs(t), df)
     # the design's alias chains, as planned (runs lost may part a chain in the data)
     chains = _alias_chains(frame if planned is None else planned, terms)
@@ -3399,6 +3433,11 @@ def two_level_effects(
             f"Lenth's PSE ({pse:.3g}) is at the round-off of the largest effect: the small "
             "effects are nil, the response holds no scatter, so t and p measure round-off, not "
             "evidence"
+        )
+    elif exact:
+        notes.append(
+            "exact fit: the model leaves no residual scatter beyond round-off, so t is "
+            "infinite and p 0 for every effect above round-off, as the ANOVA's F"
         )
     if not np.allclose(relative, 1.0, rtol=1e-9, atol=1e-9):
         notes.append(

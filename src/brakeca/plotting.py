@@ -240,10 +240,15 @@ def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) 
     # the points [pt] they name
     placed: list[tuple[tuple[float, float, float, float], Any, tuple[float, float]]] = []
 
-    def overlapping(box: tuple[float, float, float, float]) -> int | None:
-        for i, (b, _, _) in enumerate(placed):
+    def overlapping(
+        box: tuple[float, float, float, float], near: tuple[float, float] | None = None
+    ) -> int | None:
+        """The first placed name ``box`` overlaps (of a point within a line of ``near``
+        [pt], where given)."""
+        for i, (b, _, (ax_, ay_)) in enumerate(placed):
             if box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]:
-                return i
+                if near is None or max(abs(ax_ - near[0]), abs(ay_ - near[1])) < tall:
+                    return i
         return None
 
     for k in np.argsort(-np.asarray(ys, dtype=float), kind="stable"):
@@ -260,9 +265,8 @@ def _name_points(ax: Axes, xs: Any, ys: Any, names: Sequence[str], **text: Any) 
                 break
         if free is None:  # no room: joined to the name it would print over, of a point
             # at nearly the same place
-            i = overlapping((x0, y - tall / 2, x0 + wide, y + tall / 2))
-            near = i is not None and max(abs(placed[i][2][0] - x), abs(placed[i][2][1] - y)) < tall
-            if i is not None and near:
+            i = overlapping((x0, y - tall / 2, x0 + wide, y + tall / 2), near=(x, y))
+            if i is not None:
                 (left, low, right, high), other, anchor = placed[i]
                 other.set_text(f"{other.get_text()}, {names[k]}")
                 more = 0.6 * size * (len(names[k]) + 2)  # its box grows by the name

@@ -2409,12 +2409,11 @@ def _finding(
     text = _finding_terms(response, frame, means)
     if not text:
         return text
-    return (
-        text
-        + _curvature_finding(frame)
-        + _pure_error_finding(frame, effects)
-        + _pooled_finding(frame, effects)
-    )
+    curvature = _curvature_finding(frame)
+    pure_error = _pure_error_finding(frame, effects)
+    if "which lacks fit" in curvature and pure_error.endswith(_CONSERVATIVE):
+        pure_error = ""  # said by the curvature clause (a diff review: said twice)
+    return text + curvature + pure_error + _pooled_finding(frame, effects)
 
 
 #: The responses whose "In short" line says what their scale check finds, with the word for
@@ -2545,6 +2544,12 @@ def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> st
     if lof_p is None:
         return ""
     lacks = f"; the ANOVA's residual lacks fit (p {_p_relation(lof_p)})"
+    if frame.attrs.get("silent_repeat_df"):  # against a pure error identical runs shrink
+        # (a diff review: "conservative" beside the note that says the F tests are not)
+        return (
+            f"{lacks}, against a pure error that identical runs make small (the ANOVA's "
+            "note): not a sure sign of terms the model leaves out"
+        )
     by_pure_error = (
         effects is not None
         and not effects.empty
@@ -2553,15 +2558,17 @@ def _pure_error_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> st
     )
     shown = _effects_beyond(frame, effects) if by_pure_error and effects is not None else ""
     if shown:
-        verb = "have" if ("," in shown or " and " in shown) else "has"
         return (
             f"{lacks}, and against the pure error of the repeated runs alone (the effects "
-            f"table) {shown} also {verb} p < 0.05"
+            f"table) {shown} also {_have(shown)} p < 0.05"
         )
-    return (
-        f"{lacks}: terms the model leaves out move it by more than the seed-to-seed "
-        "scatter, and the F tests, made against that residual, are conservative"
+    return f"{lacks}: terms the model leaves out move it by more than the seed-to-seed" + (
+        _CONSERVATIVE
     )
+
+
+#: The end of In short's plain lack-of-fit clause (:func:`_pure_error_finding`).
+_CONSERVATIVE = " scatter, and the F tests, made against that residual, are conservative"
 
 
 def _pooled_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
@@ -2579,9 +2586,14 @@ def _pooled_finding(frame: pd.DataFrame, effects: pd.DataFrame | None) -> str:
         return ""
     return (
         "; the ANOVA's error is the interactions it pooled (its model with them left no "
-        f"degrees of freedom), and by Lenth's method (the effects table) {shown} also have "
-        "p < 0.05"
+        f"degrees of freedom), and by Lenth's method (the effects table) {shown} also "
+        f"{_have(shown)} p < 0.05"
     )
+
+
+def _have(shown: str) -> str:
+    """``"has"`` after one term of :func:`_effects_beyond`, ``"have"`` after several."""
+    return "have" if ("," in shown or " and " in shown) else "has"
 
 
 def _effects_beyond(frame: pd.DataFrame, effects: pd.DataFrame) -> str:

@@ -61,6 +61,7 @@ from brakeca.analysis import (
     _vif,
     alpha_problem,
     display_unit,
+    exact_fit,
 )
 
 __all__ = [
@@ -737,11 +738,18 @@ def fit_response_surface(
     resid = y - fitted
     sse = float(resid @ resid)
     df_resid = float(n - p)
-    mse = sse / df_resid if df_resid > 0.5 else math.nan
     sst = float(np.sum((y - y.mean()) ** 2))
     constant = _is_constant(y)
     if constant:
         notes.append(f"{response} is constant over the runs: no test is possible")
+    exact = not constant and df_resid > 0.5 and exact_fit(sse, y)
+    if exact:  # (F of 4e28 and t of 2e15: a diff review)
+        sse = 0.0
+        notes.append(
+            f"the quadratic fits {response} exactly, to round-off: no scatter is left to "
+            "test the terms against (no F, t or p)"
+        )
+    mse = sse / df_resid if df_resid > 0.5 else math.nan
 
     from scipy import stats
 
@@ -749,7 +757,9 @@ def fit_response_surface(
     with np.errstate(divide="ignore", invalid="ignore"):
         t = coef / se
     p_values = (
-        2.0 * stats.t.sf(np.abs(t), df_resid) if df_resid > 0.5 and not constant else t * math.nan
+        2.0 * stats.t.sf(np.abs(t), df_resid)
+        if df_resid > 0.5 and not constant and not exact
+        else t * math.nan
     )
     vif = _vif(exog)
     coefficients = pd.DataFrame(
@@ -757,7 +767,7 @@ def fit_response_surface(
             "term": ["Constant"] + [term for term, _ in kept],
             "coef": coef,
             "se": se,
-            "t": t if not constant else np.full(p, math.nan),
+            "t": t if not (constant or exact) else np.full(p, math.nan),
             "p_value": p_values,
             "vif": vif,
         },
@@ -796,7 +806,8 @@ def fit_response_surface(
     if df_pe > 0.5 and df_lof > 0.5:
         ss_lof = max(sse - ss_pe, 0.0)
         ms_lof, ms_pe = ss_lof / df_lof, ss_pe / df_pe
-        f_lof = ms_lof / ms_pe if ms_pe > 0 and not constant else math.nan
+        # (a pure error of round-off, identical repeats, tests nothing)
+        f_lof = ms_lof / ms_pe if not (constant or exact_fit(ss_pe, y)) else math.nan
         p_lof = float(stats.f.sf(f_lof, df_lof, df_pe)) if math.isfinite(f_lof) else math.nan
         lack.update(lack_of_fit_F=f_lof, lack_of_fit_p=p_lof)
         rows.append(dict(source="Lack-of-Fit", depth=1, df=df_lof, adj_ss=ss_lof, adj_ms=ms_lof,
@@ -810,6 +821,8 @@ def fit_response_surface(
     leverage = np.einsum("ij,jk,ik->i", exog, xtx_inv, exog)
     statistics: dict[str, float] = {"n": float(n)}
     statistics.update(_fit_statistics(y, fitted, leverage, df_resid, sst))
+    if exact:
+        statistics["s"] = 0.0  # (the round-off's)
     if constant:  # R² of round-off means nothing
         statistics.update(r_squared=math.nan, r_squared_adj=math.nan, r_squared_pred=math.nan)
     statistics.update(lack)

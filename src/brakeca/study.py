@@ -1872,7 +1872,8 @@ def _cycle_figures(
     figures.add(
         "Runs",
         (
-            "V of every test, the mean of its replicates with ± 1 standard deviation"
+            "V of every test, the mean of its finished replicates, with ± 1 standard "
+            "deviation where two or more finished"
             if is_replicated(summary)
             else "V for every run"
         )

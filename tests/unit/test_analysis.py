@@ -1309,6 +1309,37 @@ def test_a_residual_at_round_off_is_the_exact_fit_it_is():
     assert len(parts) and parts["F"].isna().all() and parts["p_value"].isna().all()
 
 
+def test_an_exact_fit_is_one_in_every_table():
+    """An additive response with identical replicates: the effects table, the residuals and
+    a response surface take the fit as exact, as the ANOVA does (a diff review: t of 9.5e14,
+    runs flagged unusual on round-off, a surface's F of 4e28)."""
+    from brakeca.analysis import residuals, two_level_effects
+    from brakeca.rsm import Coding, fit_response_surface
+
+    s = Factor("S", (0.0, 1.0), "-", "", ("-", "+"))
+    a = Factor("A", (10.0, 20.0), "%", "", ("-", "+"))
+    rows = pd.DataFrame(
+        [
+            {"test": t + 1, "replicate": r, "S": x, "A": y, "status": "ok",
+             "MU": 0.3 + 0.02 * x + 0.001 * y}
+            for t, (y, x) in enumerate(itertools.product(a.levels, s.levels))
+            for r in range(2)
+        ]
+    )  # fmt: skip
+    assert "exact fit" in anova(rows, [s, a], "MU").attrs["note"]
+    effects = two_level_effects(rows, [s, a], "MU").set_index("term")
+    assert effects.loc["S", "t"] == math.inf and effects.loc["A", "t"] == math.inf
+    assert effects.loc["S", "p_value"] == 0.0 and math.isnan(effects.loc["S:A", "t"])
+    assert "exact fit" in effects.attrs["note"]
+    assert residuals(rows, [s, a], "MU")["std_residual"].isna().all()
+    x = np.repeat([-1.0, 0.0, 1.0], 3)
+    z = np.tile([-1.0, 0.0, 1.0], 3)
+    square = pd.DataFrame({"x": x, "z": z, "y": 2.0 + 0.3 * x - 0.2 * z**2 + 0.1 * x * z})
+    fit = fit_response_surface(square, [Coding("x", -1.0, 1.0), Coding("z", -1.0, 1.0)], "y")
+    assert fit.coefficients["t"].isna().all() and fit.anova["F"].isna().all()
+    assert fit.statistics["s"] == 0.0 and any("exactly, to round-off" in n for n in fit.notes)
+
+
 def test_repeats_without_scatter_are_named_in_the_note():
     """Replicates identical in a response (runs held at the COF floor do not depend on their
     seed) add residual degrees of freedom with no error in them: the note counts them (an
@@ -1327,11 +1358,18 @@ def test_repeats_without_scatter_are_named_in_the_note():
             ]
         )  # fmt: skip
 
-    note = anova(rows({(0.0, 10.0)}), [s, a], "MU", interactions=1).attrs["note"]
+    some = anova(rows({(0.0, 10.0)}), [s, a], "MU", interactions=1)
+    note = some.attrs["note"]
     assert note.startswith("3 of the 4 repeated level combinations have identical runs")
     assert "their 6 degrees of freedom count in the residual" in note
-    every = anova(rows(set(cell)), [s, a], "MU", interactions=1).attrs["note"]
-    assert "identical runs" not in every
+    assert some.attrs["silent_repeat_df"] == 6
+    every = anova(rows(set(cell)), [s, a], "MU", interactions=1)
+    assert "identical runs" not in every.attrs["note"] and every.attrs["silent_repeat_df"] == 0
+    # every repeat identical, with a lack of fit left (no interaction in the model): said,
+    # and no lack-of-fit test against a pure error of round-off (a diff review)
+    all_silent = anova(rows(set()), [s, a], "MU", interactions=1)
+    assert all_silent.attrs["note"].startswith("all 4 repeated level combinations have")
+    assert all_silent.attrs["lack_of_fit_df"] == 1 and math.isnan(all_silent.attrs["lack_of_fit_F"])
     none = anova(rows(set()), [s, a], "MU", interactions=2).attrs["note"]
     assert "identical runs" not in none and none.startswith("exact fit")
 

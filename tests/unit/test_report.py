@@ -944,6 +944,17 @@ def test_in_short_says_the_curvature_and_what_the_pure_error_finds_besides() -> 
     assert _finding("MU", general).endswith(lacks)
     none = effects.assign(significant=False)
     assert _finding("MU", general, effects=none).endswith(lacks)
+    # a pure error that identical runs shrink: the lack of fit is no sure sign, and the F
+    # tests are not called conservative (a diff review: beside the note that says otherwise)
+    silent = general.copy()
+    silent.attrs.update(general.attrs, silent_repeat_df=6)
+    assert _finding("MU", silent).endswith(
+        "; the ANOVA's residual lacks fit (p < 0.001), against a pure error that identical "
+        "runs make small (the ANOVA's note): not a sure sign of terms the model leaves out"
+    )
+    # the curvature clause has said the residual lacks fit: not said again (a diff review)
+    flat_none = _finding("MU", flat, effects=none)
+    assert "which lacks fit" in flat_none and flat_none.count("lacks fit") == 1
 
 
 def test_the_trend_of_a_three_level_factor_is_shown_under_its_anova(tmp_path) -> None:
