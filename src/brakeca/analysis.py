@@ -1599,7 +1599,7 @@ def _lack_of_fit(frame: pd.DataFrame, df_resid: float, ssr: float) -> dict[str, 
     df_lof = df_resid - df_pe
     ss_lof = max(ssr - ss_pe, 0.0)
     out.update(pure_error_ss=ss_pe, lack_of_fit_df=df_lof, lack_of_fit_ss=ss_lof)
-    if df_lof > 0.5 and not exact_fit(ss_pe, y):  # (identical replicates: no test)
+    if df_lof > 0.5 and not _pure_error_at_round_off(ss_pe, y):  # (identical repeats)
         from scipy import stats
 
         f_value = (ss_lof / df_lof) / (ss_pe / df_pe)
@@ -2223,17 +2223,30 @@ ROUND_OFF_SS = 1e-18
 
 def exact_fit(resid_ss: float, y: Any) -> bool:
     """Whether a residual sum of squares ``resid_ss`` [response unit^2] of a fit of ``y`` is
-    round-off: at or below :data:`ROUND_OFF_SS` of ``y``'s total sum of squares, or of the
-    round-off of its values (their residuals within 1e-13 of the largest value in size, as
-    a constant response is judged). The ANOVA, lack of fit, effects table, backward
+    round-off: at or below :data:`ROUND_OFF_SS` of ``y``'s total sum of squares, the rule by
+    which a term's sum of squares is nil too. The ANOVA, effects table, backward
     elimination, unusual runs and response surfaces all take such a fit as exact (a diff
-    review found the rule in some of them only: one fit, two verdicts)."""
+    review found the rule in some of them only: one fit, two verdicts; a floor of the
+    values' own round-off, 1e-13 of the largest, had then made real scatter tiny beside an
+    offset exact, and noise terms infinitely significant: a third review)."""
     values = np.asarray(y, dtype=float)
     if values.size == 0:
         return False
     total = float(np.sum((values - values.mean()) ** 2))
-    floor = values.size * (1e-13 * float(np.max(np.abs(values)))) ** 2
-    return float(resid_ss) <= max(ROUND_OFF_SS * total, floor)
+    return float(resid_ss) <= ROUND_OFF_SS * total
+
+
+def _pure_error_at_round_off(ss_pe: float, y: Any) -> bool:
+    """Whether a pure error sum of squares ``ss_pe`` [response unit^2] of runs ``y`` is the
+    round-off of the values themselves (within 1e-13 of the largest in size a run, as
+    :func:`_silent_repeats` judges identical runs): identical repeats, no test of lack of
+    fit. A pure error is differences within cells, which no model's cancellation enters:
+    judged by the total instead, real scatter 1e-10 of the effects had lost its test (a
+    third review)."""
+    values = np.asarray(y, dtype=float)
+    if values.size == 0:
+        return True
+    return float(ss_pe) <= values.size * (1e-13 * float(np.max(np.abs(values)))) ** 2
 
 
 def _is_constant(y: np.ndarray) -> bool:
@@ -3391,8 +3404,14 @@ def two_level_effects(
     if exact:  # as the ANOVA's F: infinite for an effect above round-off, none for the rest
         real = np.abs(effect) > _ROUND_OFF_PSE * float(np.max(np.abs(effect), initial=0.0))
         t = np.where(real, np.copysign(np.inf, effect), np.nan)
-        if n_c:
-            curvature.update(t=math.nan, p_value=math.nan)
+        if n_c:  # as the ANOVA's Curvature: infinite where it is above round-off
+            real_c = abs(float(coef[-1])) > _ROUND_OFF_PSE * float(
+                np.max(np.abs(effect), initial=abs(float(coef[-1])))
+            )
+            curvature.update(
+                t=math.copysign(math.inf, float(coef[-1])) if real_c else math.nan,
+                p_value=0.0 if real_c else math.nan,
+            )
     p = 2.0 * stats.t.sf(np.abs(t), df)
     # the design's alias chains, as planned (runs lost may part a chain in the data)
     chains = _alias_chains(frame if planned is None else planned, terms)

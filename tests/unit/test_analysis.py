@@ -1340,6 +1340,56 @@ def test_an_exact_fit_is_one_in_every_table():
     assert fit.statistics["s"] == 0.0 and any("exactly, to round-off" in n for n in fit.notes)
 
 
+def test_real_scatter_tiny_beside_an_offset_is_not_an_exact_fit():
+    """A third diff review: a floor of the values' own round-off had made scatter of 1e-14
+    about 0.15 an exact fit, and its noise terms infinitely significant; and a pure error of
+    1e-11 beside effects of 0.1 had lost its lack-of-fit test."""
+    from brakeca.analysis import exact_fit
+
+    s = Factor("S", (0.0, 1.0), "-", "", ("-", "+"))
+    a = Factor("A", (10.0, 20.0), "%", "", ("-", "+"))
+    b = Factor("B", (0.0, 1.0), "-", "", ("-", "+"))
+    rng = np.random.default_rng(3)
+    rows = pd.DataFrame(
+        [
+            {"test": t, "S": x, "A": y, "B": z, "status": "ok"}
+            for t, (x, y, z) in enumerate(itertools.product(s.levels, a.levels, b.levels))
+            for _ in range(2)
+        ]
+    )
+    rows["MU"] = 0.15 + 1e-9 * rows["S"] + rng.normal(0.0, 1e-14, len(rows))
+    table = anova(rows, [s, a, b], "MU", interactions=1).set_index("term")
+    assert "exact fit" not in table.attrs["note"]
+    assert np.isfinite(table["F"].drop("Residual")).all() and table.loc["A", "p_value"] > 1e-3
+    # pure error of 1e-11 beside effects of 0.1: tested, not round-off
+    rows["MU"] = (
+        0.2 + 0.1 * rows["S"] + 3e-12 * rows["S"] * rows["B"] + rng.normal(0.0, 1e-11, len(rows))
+    )
+    lof = anova(rows, [s, a, b], "MU", interactions=1)
+    assert lof.attrs["lack_of_fit_df"] > 0 and np.isfinite(lof.attrs["lack_of_fit_F"])
+    assert exact_fit(1e-20, [0.0, 1.0]) and not exact_fit(1e-17, [0.0, 1.0])  # of 0.5
+
+
+def test_an_exact_fit_s_curvature_is_infinite_in_the_effects_table_too():
+    """With an exact fit and centre points off the plane, the ANOVA's Curvature has F
+    infinite; the effects table's Ct Pt row had been left out (t NaN): a third review."""
+    from brakeca.analysis import two_level_effects
+
+    s = Factor("S", (0.0, 1.0), "-", "", ("-", "+"))
+    a = Factor("A", (10.0, 20.0), "%", "", ("-", "+"))
+    rows = [
+        {"test": t + 1, "S": x, "A": y, "MU": 0.2 + 0.02 * x + 0.001 * y, "status": "ok"}
+        for t, (y, x) in enumerate(itertools.product(a.levels, s.levels))
+        for _ in range(2)
+    ]
+    rows += [{"test": 5, "S": 0.5, "A": 15.0, "MU": 0.3, "status": "ok"}] * 3
+    frame = pd.DataFrame(rows)
+    table = anova(frame, [s, a], "MU").set_index("term")
+    assert table.loc["Curvature", "F"] == math.inf
+    effects = two_level_effects(frame, [s, a], "MU").set_index("term")
+    assert effects.loc["Ct Pt", "t"] == math.inf and effects.loc["Ct Pt", "p_value"] == 0.0
+
+
 def test_repeats_without_scatter_are_named_in_the_note():
     """Replicates identical in a response (runs held at the COF floor do not depend on their
     seed) add residual degrees of freedom with no error in them: the note counts them (an
