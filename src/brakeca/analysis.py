@@ -3935,9 +3935,15 @@ class _EffectsFit:
 
     @property
     def round_off(self) -> float:
-        """A value within this of zero is zero to round-off [response unit]: 1e-12 of the
-        largest coefficient in size (a constant response's other coefficients: 4.6e-18)."""
-        return 1e-12 * float(np.max(np.abs(self.coef)))
+        """A value within this of zero is zero to round-off [response unit]: 1e-9 of the
+        largest coefficient in size after the intercept, as a nil effect in the effects
+        table and (squared) a nil sum of squares in the ANOVA (a review: 1e-12 of the
+        intercept as well had called an effect of 1e-11 about 0.3 significant where the
+        ANOVA found it nil); 1e-12 of the intercept where there is no other coefficient."""
+        others = np.abs(self.coef[1:]) if self.coef.size > 1 else np.zeros(0)
+        if others.size and float(np.max(others)) > 0:
+            return _ROUND_OFF_PSE * float(np.max(others))
+        return 1e-12 * float(np.max(np.abs(self.coef), initial=0.0))
 
     def standardized(self, value: float, se: float) -> float:
         """``value / se`` [-]; where the residual is 0 (an exact fit, as the ANOVA has it)

@@ -1390,6 +1390,28 @@ def test_an_exact_fit_s_curvature_is_infinite_in_the_effects_table_too():
     assert effects.loc["Ct Pt", "t"] == math.inf and effects.loc["Ct Pt", "p_value"] == 0.0
 
 
+def test_an_exact_fit_s_nil_term_is_nil_in_the_coefficients_too():
+    """An effect of 1e-11 about 0.3, in an exact fit: nil in the ANOVA (its sum of squares
+    at round-off), and nil in the coefficients and Tukey's comparisons too (they had judged
+    round-off by 1e-12 of the intercept and called it significant: a review)."""
+    from brakeca.analysis import level_coefficients
+
+    s = Factor("S", (0.0, 1.0), "-", "", ("-", "+"))
+    a = Factor("A", (10.0, 20.0), "%", "", ("-", "+"))
+    rows = pd.DataFrame(
+        [
+            {"test": t, "S": x, "A": y, "MU": 0.3 + 0.5 * x + 1e-11 * y, "status": "ok"}
+            for t, (x, y) in enumerate(itertools.product(s.levels, a.levels))
+            for _ in range(2)
+        ]
+    )
+    table = anova(rows, [s, a], "MU", interactions=1).set_index("term")
+    assert table.loc["S", "F"] == math.inf and math.isnan(table.loc["A", "F"])
+    coefficients = level_coefficients(rows, [s, a], "MU", interactions=1)
+    by_term = coefficients.groupby("term")["t"]
+    assert np.isinf(by_term.get_group("S")).all() and by_term.get_group("A").isna().all()
+
+
 def test_repeats_without_scatter_are_named_in_the_note():
     """Replicates identical in a response (runs held at the COF floor do not depend on their
     seed) add residual degrees of freedom with no error in them: the note counts them (an
