@@ -1596,6 +1596,12 @@ def optimize(fits: Mapping[str, SurfaceFit], goals: Sequence[Goal]) -> Optimum:
                 f"the surface of {r} leaves no residual degrees of freedom (as many terms as "
                 "distinct runs): no confidence or prediction interval"
             )
+        elif float(fit.statistics.get("s", math.nan)) == 0.0:  # an exact fit (a review:
+            # intervals of zero width went without a word)
+            notes.append(
+                f"the surface of {r} fits its runs exactly (s = 0): its intervals have no "
+                "width, and say nothing of how far a new run may fall"
+            )
         p_lof = float(fit.statistics.get("lack_of_fit_p", math.nan))
         if p_lof < 0.05:  # NaN (no repeated points) compares False
             notes.append(

@@ -359,7 +359,13 @@ def test_optimize_finds_the_minimum_of_a_bowl_inside_the_region() -> None:
     assert best.coded["q"] == pytest.approx(-0.2, abs=1e-4)
     assert best.predicted["y"] == pytest.approx(1.0, abs=1e-8)
     assert best.composite == pytest.approx(0.8, abs=1e-6)  # (3 - 1) / (3 - 0.5)
-    assert best.on_boundary == () and best.note == ""
+    # the bowl has no noise: an exact fit, whose intervals of no width are said (a review)
+    assert best.on_boundary == () and best.note == (
+        "the surface of y fits its runs exactly (s = 0): its intervals have no width, and say "
+        "nothing of how far a new run may fall"
+    )
+    noisy = fit_response_surface(_bowl((0.3, -0.2), noise=0.01), _PQ, "y")
+    assert "exactly" not in optimize({"y": noisy}, [Goal("y", "minimize", 0.5, 3.0)]).note
     # a target above the minimum: a point of the contour y = 1.5, every one as good
     best = optimize({"y": fit}, [Goal("y", "target", 1.0, 3.0, target=1.5)])
     assert best.predicted["y"] == pytest.approx(1.5, abs=1e-5) and best.composite > 0.9999
