@@ -1349,7 +1349,7 @@ def anova(
         table = table.copy()
         table.loc["Residual", "sum_sq"] = 0.0
         terms_ss = table["sum_sq"].drop(index="Residual")
-        nil = terms_ss <= ROUND_OFF_SS * total_ss
+        nil = np.array([_negligible(ss, total_ss) for ss in terms_ss])
         table.loc[terms_ss.index, "F"] = np.where(nil, np.nan, np.inf)
         table.loc[terms_ss.index, "PR(>F)"] = np.where(nil, np.nan, 0.0)
 
@@ -2232,8 +2232,14 @@ def exact_fit(resid_ss: float, y: Any) -> bool:
     values = np.asarray(y, dtype=float)
     if values.size == 0:
         return False
-    total = float(np.sum((values - values.mean()) ** 2))
-    return float(resid_ss) <= ROUND_OFF_SS * total
+    return _negligible(resid_ss, float(np.sum((values - values.mean()) ** 2)))
+
+
+def _negligible(ss: float, total_ss: float) -> bool:
+    """Whether a sum of squares ``ss`` is round-off beside the total ``total_ss`` [response
+    unit^2]: at or below :data:`ROUND_OFF_SS` of it (a residual: an exact fit; a term's:
+    nil)."""
+    return float(ss) <= ROUND_OFF_SS * float(total_ss)
 
 
 def _pure_error_at_round_off(ss_pe: float, y: Any) -> bool:
@@ -3731,7 +3737,7 @@ def _trends(
             elif resid_ms == 0.0 and resid_df > 0.5 and total_ss > 0:  # an exact fit, as
                 # the ANOVA has it; a part at round-off has none, nor has a constant
                 # response (its parts of 1e-34 had F infinite: an analysis review)
-                f_value = math.inf if ss > ROUND_OFF_SS * total_ss else math.nan
+                f_value = math.nan if _negligible(ss, total_ss) else math.inf
             else:
                 f_value = math.nan
             rows_out.append(

@@ -53,8 +53,8 @@ import numpy as np
 import pandas as pd
 
 from brakeca._io import write_table
-from brakeca.analysis import ROUND_OFF_SS
 from brakeca.analysis import UNUSUAL_RESIDUAL as _UNUSUAL_RESIDUAL
+from brakeca.analysis import exact_fit
 
 if TYPE_CHECKING:
     from brakeca.analysis import Model
@@ -403,11 +403,10 @@ def box_cox_profile(
     def log_likelihood(lam: float) -> float:
         w = log_u if lam == 0.0 else np.expm1(lam * log_u) / lam
         r = w - q @ (q.T @ w)
-        sse = g * g * float(r @ r)
-        spread = g * g * float(np.sum((w - w.mean()) ** 2))
-        if sse <= ROUND_OFF_SS * spread:  # an exact fit, to round-off: the likelihood is
+        if exact_fit(float(r @ r), w):  # an exact fit, to round-off: the likelihood is
             # unbounded there (a λ̂ fitted to round-off had been given: an analysis review)
             return math.inf
+        sse = g * g * float(r @ r)
         return -0.5 * n * math.log(sse / n)
 
     lo, hi = LAMBDA_RANGE
@@ -607,8 +606,9 @@ def _without_text(result: BoxCox, other: BoxCox, who: str, n: int) -> str:
     if not other.defined:
         return f"without {who}, λ is not defined ({other.note})"
     them = "that run" if n == 1 else "those runs"
-    holds = other._points_to() == result._points_to()
-    if not holds and not (result._points_to()[0] or result._points_to()[1]):
+    first = result._points_to()
+    holds = other._points_to() == first
+    if not holds and not (first[0] or first[1]):
         # both point to a power no simple one stands for: the same reading where the second
         # λ̂ lies within the first interval (-0.21 against -0.22, to two figures, had been
         # "rests on those runs": a review of a replicated study)

@@ -808,9 +808,8 @@ def fit_response_surface(
         ss_lof = max(sse - ss_pe, 0.0)
         ms_lof, ms_pe = ss_lof / df_lof, ss_pe / df_pe
         # (a pure error of round-off, identical repeats, tests nothing)
-        f_lof = (
-            ms_lof / ms_pe if not (constant or _pure_error_at_round_off(ss_pe, y)) else (math.nan)
-        )
+        tested = not (constant or _pure_error_at_round_off(ss_pe, y))
+        f_lof = ms_lof / ms_pe if tested else math.nan
         p_lof = float(stats.f.sf(f_lof, df_lof, df_pe)) if math.isfinite(f_lof) else math.nan
         lack.update(lack_of_fit_F=f_lof, lack_of_fit_p=p_lof)
         rows.append(dict(source="Lack-of-Fit", depth=1, df=df_lof, adj_ss=ss_lof, adj_ms=ms_lof,

@@ -1967,13 +1967,12 @@ def _run_file_figures(
     for _, row in ok.iterrows() if "run_id" in ok.columns else ():  # (none: no run finished)
         rid = str(row["run_id"])
         path = runs_dir / f"{rid}.nc"
-        if not path.is_file():
-            undrawable.update(f"{kind}_{run_tag(row)}.png" for kind in _RUN_MAPS)
-            continue
+        run = None
         try:
-            run = RunResult.from_netcdf(path)
+            run = RunResult.from_netcdf(path) if path.is_file() else None
         except (OSError, ValueError) as exc:
             unreadable[rid] = str(exc)
+        if run is None:  # missing or unreadable: its earlier maps cannot be drawn again
             undrawable.update(f"{kind}_{run_tag(row)}.png" for kind in _RUN_MAPS)
             continue
         ds = run.dataset
