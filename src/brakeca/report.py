@@ -766,14 +766,21 @@ def _within_settings(
         return None
     if abs(float(pure) - float(df)) > 0.5:
         return None
+    test = _every_run_of_one_test(outliers, residuals)
+    return "" if test is None else f"test {test}"
+
+
+def _every_run_of_one_test(outliers: pd.DataFrame, residuals: pd.DataFrame | None) -> int | None:
+    """The test whose every run (two or more) the ``outliers`` are, of the runs in
+    ``residuals``; None where they are not that."""
     if residuals is None or "test" not in outliers.columns or "test" not in residuals.columns:
-        return ""
+        return None
     tests = set(pd.to_numeric(outliers["test"], errors="coerce"))
     if len(tests) != 1 or len(outliers) < 2:
-        return ""
+        return None
     (test,) = tests
     runs = int((pd.to_numeric(residuals["test"], errors="coerce") == test).sum())
-    return f"test {int(test)}" if runs == len(outliers) else ""
+    return int(test) if runs == len(outliers) else None
 
 
 def _straddling(outliers: pd.DataFrame, residuals: pd.DataFrame | None) -> str:
@@ -783,21 +790,13 @@ def _straddling(outliers: pd.DataFrame, residuals: pd.DataFrame | None) -> str:
     study: both replicates of a test, 8.3 and 6.2 mm³ about a fit of 7.1, had been called
     outliers the model "does not describe"), whatever lack of fit the model leaves; ``""``
     otherwise."""
-    needed = {"test", "residual"}
-    if residuals is None or outliers.empty or not needed <= set(outliers.columns):
-        return ""
-    if "test" not in residuals.columns or len(outliers) < 2:
-        return ""
-    tests = set(pd.to_numeric(outliers["test"], errors="coerce"))
-    if len(tests) != 1:
-        return ""
-    (test,) = tests
-    if int((pd.to_numeric(residuals["test"], errors="coerce") == test).sum()) != len(outliers):
+    test = _every_run_of_one_test(outliers, residuals)
+    if test is None or "residual" not in outliers.columns:
         return ""
     r = pd.to_numeric(outliers["residual"], errors="coerce").to_numpy(dtype=float)
     if not (np.isfinite(r).all() and (r > 0).any() and (r < 0).any()):
         return ""
-    return f"test {int(test)}" if abs(float(r.mean())) <= 0.5 * float(np.abs(r).max()) else ""
+    return f"test {test}" if abs(float(r.mean())) <= 0.5 * float(np.abs(r).max()) else ""
 
 
 def _outliers(unusual: pd.DataFrame | None) -> pd.DataFrame:
