@@ -23,6 +23,7 @@ import os
 import textwrap
 import warnings
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -67,6 +68,7 @@ __all__ = [
     "plot_main_effects",
     "plot_mu_per_stop",
     "plot_mu_per_stop_by_level",
+    "plot_mu_per_stop_by_test",
     "plot_mu_vs_v",
     "plot_overlaid_contours",
     "plot_pareto",
@@ -1009,6 +1011,100 @@ def _labels_attr(labels: Any) -> tuple[str, ...] | None:
     return (str(labels),) if isinstance(labels, str) else tuple(str(x) for x in labels)
 
 
+@dataclass(frozen=True)
+class _PerStopRuns:
+    """The runs of a per-stop figure: ``data`` the dataset (a ``run`` dimension, one run's
+    added), ``values`` the variable [plotted unit] as (run, stop), ``keys`` each run's test
+    (its replicates share it), ``ok`` whether each run finished, and how the runs are
+    named (:meth:`label`)."""
+
+    data: Any
+    values: np.ndarray
+    stops: np.ndarray
+    keys: list[Any]
+    ok: np.ndarray
+    by_name: dict[str, Factor]
+    factor_coords: list[str]
+    ylabel: str
+    what: str
+
+    def label(self, k: int) -> str:
+        """``"T5: S-, WP+, WR-, A-"``: run ``k``'s test and levels (:func:`_run_label`)."""
+        levels = {c: self.data[c].to_numpy()[k] for c in self.factor_coords}
+        return _run_label(self.keys[k], levels, self.by_name)
+
+
+#: A campaign dataset's coordinates along ``run`` that are not levels (a run named by them
+#: had read "T40: S=1, ..., test=40").
+_RUN_BOOKKEEPING = frozenset(
+    {"run", "test", "replicate", "order", "seed", "run_id", "status", "error"}
+)
+
+
+def _per_stop_runs(campaign: Any, factors: Iterable[Any] | None, variable: str) -> _PerStopRuns:
+    """The runs of ``campaign`` (a campaign, a run, runs side by side or a dataset, as
+    :func:`plot_mu_per_stop` takes them) and their ``variable`` per stop."""
+    if not hasattr(campaign, "data_vars") and (  # a Dataset is a Mapping too
+        isinstance(campaign, Mapping)
+        or (isinstance(campaign, Sequence) and not isinstance(campaign, str))
+    ):
+        campaign = _runs_side_by_side(campaign, variable)
+    if factors is None:
+        factors = _campaign_factors(campaign)
+    campaign = getattr(campaign, "dataset", campaign)  # a CampaignResult or a RunResult
+    if not hasattr(campaign, "data_vars"):
+        raise TypeError(
+            "campaign: expected a CampaignResult, a RunResult or an xarray Dataset, got "
+            f"{type(campaign).__name__}"
+        )
+    if variable not in campaign.data_vars:
+        raise KeyError(f"campaign has no variable {variable!r}")
+    if "run" not in campaign[variable].dims:  # one run
+        campaign = campaign[[variable]].expand_dims(run=[0])
+    by_name = {f.name: f for f in _factors(factors if factors is not None else ())}
+    ylabel, what, scale = _variable_axis(campaign, variable)
+    runs = campaign["run"].to_numpy()
+    if by_name:  # the factors name the runs; the other run coordinates are bookkeeping
+        factor_coords = [name for name in by_name if name in campaign.coords]
+    else:
+        factor_coords = [
+            name
+            for name, coord in campaign.coords.items()
+            if name not in _RUN_BOOKKEEPING and tuple(coord.dims) == ("run",)
+        ]
+    tests = campaign["test"].to_numpy() if "test" in campaign.coords else runs
+    if "status" in campaign.coords:
+        ok = np.asarray(campaign["status"].to_numpy()).astype(str) == "ok"
+    else:
+        ok = np.ones(len(runs), dtype=bool)
+    return _PerStopRuns(
+        data=campaign,
+        values=campaign[variable].transpose("run", "stop").to_numpy() * scale,
+        stops=campaign["stop"].to_numpy(),
+        keys=[t.item() if hasattr(t, "item") else t for t in tests],
+        ok=ok,
+        by_name=by_name,
+        factor_coords=factor_coords,
+        ylabel=ylabel,
+        what=what,
+    )
+
+
+def _log_axis(values: np.ndarray, log: bool | None) -> bool:
+    """Whether a per-stop figure draws ``values`` on a log axis: as ``log`` says, or (None)
+    where their positive values span more than two decades; never without a positive one."""
+    positive = values[np.isfinite(values) & (values > 0)]
+    if log is None:
+        log = positive.size > 0 and float(positive.max()) > 100.0 * float(positive.min())
+    return bool(log) and positive.size > 0
+
+
+def _floor_line(ax: Axes, floor: float) -> Any:
+    """The COF law's floor [-] as a broad pale line under the runs: a style no run's line
+    has (a diff review: a dotted floor among the dotted runs of tests 21 to 24)."""
+    return ax.axhline(floor, color="0.5", lw=4.0, alpha=0.3, zorder=0.5)
+
+
 def plot_mu_per_stop(
     campaign: Any,
     path: str | Path | None = None,
@@ -1073,37 +1169,10 @@ def plot_mu_per_stop(
     import matplotlib as mpl
     from matplotlib.transforms import blended_transform_factory
 
-    if not hasattr(campaign, "data_vars") and (  # a Dataset is a Mapping too
-        isinstance(campaign, Mapping)
-        or (isinstance(campaign, Sequence) and not isinstance(campaign, str))
-    ):
-        campaign = _runs_side_by_side(campaign, variable)
-    if factors is None:
-        factors = _campaign_factors(campaign)
-    campaign = getattr(campaign, "dataset", campaign)  # a CampaignResult or a RunResult
-    if not hasattr(campaign, "data_vars"):
-        raise TypeError(
-            "campaign: expected a CampaignResult, a RunResult or an xarray Dataset, got "
-            f"{type(campaign).__name__}"
-        )
-    if variable not in campaign.data_vars:
-        raise KeyError(f"campaign has no variable {variable!r}")
-    if "run" not in campaign[variable].dims:  # one run
-        campaign = campaign[[variable]].expand_dims(run=[0])
-    by_name = {f.name: f for f in _factors(factors if factors is not None else ())}
-    data = campaign[variable].transpose("run", "stop")
-    ylabel, what, scale = _variable_axis(campaign, variable)
-    runs = campaign["run"].to_numpy()
-    stops = campaign["stop"].to_numpy()
-    if by_name:  # the factors name the runs; the other run coordinates are bookkeeping
-        factor_coords = [name for name in by_name if name in campaign.coords]
-    else:
-        factor_coords = [
-            name
-            for name, coord in campaign.coords.items()
-            if name != "run" and tuple(coord.dims) == ("run",)
-        ]
-    n = len(runs)
+    runs_ = _per_stop_runs(campaign, factors, variable)
+    campaign, stops, keys = runs_.data, runs_.stops, runs_.keys
+    ylabel, what = runs_.ylabel, runs_.what
+    n = len(keys)
     given = ax is not None
     fig, ax = _axes(ax, (13.0, 6.0))
 
@@ -1131,18 +1200,15 @@ def plot_mu_per_stop(
     # every ten: up to 40 tests told apart (a rainbow had made neighbours alike)
     palette = mpl.colormaps["tab10"]
     styles = ("-", "--", ":", "-.")
-    values = data.to_numpy() * scale
+    values = runs_.values
     # A run is named by its test; the replicates of a test (several seeds) share its colour,
     # line style and legend entry.
-    tests = campaign["test"].to_numpy() if "test" in campaign.coords else runs
-    keys = [t.item() if hasattr(t, "item") else t for t in tests]
     position = {key: i for i, key in enumerate(dict.fromkeys(keys))}
     n_tests = len(position)
     labelled: set[Any] = set()
     many = n_tests > MOST_TESTS_NAMED
     for k, key in enumerate(keys):
         i = position[key]
-        levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
         first = key not in labelled
         labelled.add(key)
         if many:  # each run grey, unnamed (below): no legend holds them
@@ -1155,7 +1221,7 @@ def plot_mu_per_stop(
             marker="o" if stops.size <= 20 else None,  # a few stops: a point each
             ms=3,
             color=palette(i % 10),
-            label=_run_label(key, levels, by_name) if first else "_replicate",
+            label=runs_.label(k) if first else "_replicate",
         )
     if many:
         # beyond MOST_TESTS_NAMED tests a legend left most of them out, and colours and
@@ -1166,11 +1232,7 @@ def plot_mu_per_stop(
         # of them by their own stops' mean (a run that failed early had been the highest on
         # its first stops; one that emitted nothing the lowest on a log axis, where it has
         # no line; runs of a shorter cycle are finished, not failed: a diff review)
-        if "status" in campaign.coords:
-            done = np.asarray(campaign["status"].to_numpy()).astype(str) == "ok"
-        else:
-            done = np.ones(len(values), dtype=bool)
-        done &= np.isfinite(values).any(axis=1)
+        done = runs_.ok & np.isfinite(values).any(axis=1)
         finished = np.flatnonzero(done)
         if finished.size:
             rows = values[finished]
@@ -1193,19 +1255,16 @@ def plot_mu_per_stop(
                 (int(among[np.argmax(scores)]), "#b2182b", "highest"),
                 (int(among[np.argmin(scores)]), "#2166ac", "lowest"),
             ):
-                levels = {c: campaign[c].to_numpy()[k] for c in factor_coords}
                 ax.plot(
                     stops,
                     values[k],
                     lw=1.2,
                     color=colour,
-                    label=f"{word} over the cycle: {_run_label(keys[k], levels, by_name)}",
+                    label=f"{word} over the cycle: {runs_.label(k)}",
                 )
     if floor is not None and variable == "mean_cof":  # (a figures review: the runs held at
         # the floor, which the report names, were a bundle of lines at 0.15 unexplained)
-        # broad and pale, under the runs: a style no run's line has (a diff review: a dotted
-        # floor among the dotted runs of tests 21 to 24)
-        ax.axhline(floor, color="0.5", lw=4.0, alpha=0.3, zorder=0.5)
+        _floor_line(ax, floor)
         ax.text(
             0.005,
             floor,
@@ -1222,10 +1281,7 @@ def plot_mu_per_stop(
     from matplotlib.ticker import MaxNLocator
 
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # no stop 0.75 with a few stops
-    positive = values[np.isfinite(values) & (values > 0)]
-    if log is None:
-        log = positive.size > 0 and float(positive.max()) > 100.0 * float(positive.min())
-    if log and positive.size:
+    if _log_axis(values, log):
         ax.set_yscale("log")
         ylabel += " (log scale)"
     ax.set_ylabel(ylabel)
@@ -1265,6 +1321,170 @@ def plot_mu_per_stop(
     elif n > 1:
         fig.legend(loc="outside right upper", fontsize=7, ncols=1 if n_tests <= 30 else 2)
     return save_figure(fig, path)
+
+
+def plot_mu_per_stop_by_test(
+    campaign: Any,
+    path: str | Path | None = None,
+    *,
+    factors: Iterable[Any] | None = None,
+    variable: str = "mean_cof",
+    tests: Iterable[Any] | None = None,
+    log: bool | None = False,
+    floor: float | None = None,
+    columns: int = 4,
+    fig: Figure | SubFigure | None = None,
+) -> Figure:
+    """:func:`plot_mu_per_stop` as small multiples: one panel per test, its runs drawn
+    black over every other run's line in pale grey, all panels on the same axes.
+
+    Where 24 runs' lines cross in one figure, ten colours and three line styles cannot
+    tell them apart; here each test is read on its own, against the others.
+
+    Parameters
+    ----------
+    campaign
+        What :func:`plot_mu_per_stop` takes: a campaign, a run, runs side by side or an
+        xarray Dataset with dims ``run`` and ``stop``, the variable ``variable``, the
+        factors' levels along ``run``, optionally ``test(run)`` (the replicates of a test
+        share its panel), ``status(run)`` (a run not ``"ok"`` is said so in its panel's
+        title) and ``block(stop)`` (every second block shaded).
+    path
+        Optional file to write: PNG at 150 dpi, or the format of its suffix (:func:`save_figure`).
+    factors
+        Optional factors; their level labels (``"-"``, ``"0"``, ``"+"``) name the tests.
+    variable
+        Data variable to plot, ``"mean_cof"`` [-] by default; a volume [m^3] is drawn in
+        mm^3, an area fraction in per cent of the band.
+    tests
+        The tests to draw, a panel each, in the order given (the other runs stay grey
+        behind them); every test by default, at most :data:`MOST_TESTS_NAMED` of them.
+    log
+        Draw the values on a log axis; None: where their positive values span more than two
+        decades, as :func:`plot_mu_per_stop`.
+    floor
+        The COF law's floor ``friction.mu_min`` [-], drawn in every panel as a broad pale
+        line under the runs (the mean COF only).
+    columns
+        Panels a row, at least 1 [-].
+    fig
+        A Figure or SubFigure to draw the panels into; a new figure by default. The figure
+        returned, and written to ``path``, is the one that holds it all.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes per test, sharing both axes.
+
+    Raises
+    ------
+    ValueError
+        ``tests`` names a test the campaign does not have, or none; more than
+        :data:`MOST_TESTS_NAMED` tests without ``tests``; ``columns`` below 1.
+    KeyError
+        The campaign has no ``variable``.
+
+    References
+    ----------
+    Wahlström (2016), Figure 10, doi:10.1155/2016/8181260 (all runs in one panel).
+    """
+    from matplotlib.lines import Line2D
+
+    if isinstance(columns, bool) or not isinstance(columns, int | np.integer) or columns < 1:
+        raise ValueError(f"columns: expected a whole number of panels a row >= 1, got {columns!r}")
+    runs = _per_stop_runs(campaign, factors, variable)
+    values, stops, keys = runs.values, runs.stops, runs.keys
+    order = list(dict.fromkeys(keys))
+    if tests is None:
+        if len(order) > MOST_TESTS_NAMED:
+            raise ValueError(
+                f"tests: the campaign has {len(order)} tests, more panels than one figure "
+                f"reads well (at most {MOST_TESTS_NAMED}); name the tests to draw, e.g. "
+                f"tests={order[:4]!r}, or draw every run in one panel (plot_mu_per_stop)"
+            )
+    else:
+        chosen = [t.item() if hasattr(t, "item") else t for t in tests]
+        unknown = [t for t in chosen if t not in order]
+        if unknown or not chosen:
+            raise ValueError(
+                f"tests: {unknown or 'none given'} not among the campaign's tests "
+                f"({_test_range(order)})"
+            )
+        order = list(dict.fromkeys(chosen))
+    cols = min(int(columns), len(order))
+    rows = math.ceil(len(order) / cols)
+    root, fig = _panels(fig, (3.0 * cols + 0.6, 1.9 * rows + 1.3))
+    axes = fig.subplots(rows, cols, sharex=True, sharey=True, squeeze=False).ravel()
+    blocks = [str(b) for b in runs.data["block"].to_numpy()] if "block" in runs.data.coords else []
+    spans = _block_spans(blocks, stops) if blocks else []
+    at_floor = floor is not None and variable == "mean_cof"
+    width = _panel_chars(axes[0], 8.0, 60)
+    for ax, key in zip(axes, order, strict=False):
+        mine = np.array([k == key for k in keys])
+        _shade_blocks(ax, spans)
+        if at_floor:
+            _floor_line(ax, float(floor))  # type: ignore[arg-type]
+        _run_lines(ax, stops, values[~mine], lw=0.5, colour="0.72", alpha=0.7)
+        for row in values[mine]:
+            ax.plot(stops, row, lw=1.1, color="black", zorder=3)
+        title = runs.label(int(np.flatnonzero(mine)[0]))
+        unfinished, own = int(np.count_nonzero(~runs.ok[mine])), int(mine.sum())
+        if unfinished:
+            title += (
+                " (not finished)"
+                if unfinished == own
+                else f" ({unfinished} of {own} runs not finished)"
+            )
+        ax.set_title(textwrap.fill(title, width), fontsize=8)
+        ax.grid(True, alpha=0.3)
+    for ax in axes[len(order) :]:
+        ax.remove()
+    axes = axes[: len(order)]
+    for k in range(len(order)):  # the lowest panel of each column shows the stops
+        if k + cols >= len(order):
+            axes[k].xaxis.set_tick_params(labelbottom=True)
+            axes[k].set_xlabel("Stop number [-]", fontsize=8)
+    log = _log_axis(values, log)
+    if log:
+        axes[0].set_yscale("log")  # (shared)
+    ylabel = "Mean μ per stop [-]" if variable == "mean_cof" else runs.ylabel
+    for ax in axes[::cols]:
+        ax.set_ylabel(textwrap.fill(ylabel + (" (log)" if log else ""), 26), fontsize=8)
+    from matplotlib.ticker import MaxNLocator
+
+    axes[0].xaxis.set_major_locator(MaxNLocator(integer=True))  # shared: no stop 1.2
+    axes[0].set_xlim(stops.min() - 0.5, stops.max() + 0.5)
+    handles: list[Any] = [
+        Line2D([], [], color="black", lw=1.1, label="the panel's test"),
+        Line2D([], [], color="0.72", lw=0.8, label="every other run"),
+    ]
+    if at_floor:
+        handles.append(
+            Line2D([], [], color="0.5", lw=4.0, alpha=0.3, label=f"COF floor μ_min = {floor:g}")
+        )
+    if spans and len(spans) > 1:
+        from matplotlib.patches import Patch
+
+        handles.append(Patch(color="0.93", label="every second block of the cycle"))
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), fontsize=8)
+    _suptitle(
+        fig,
+        (
+            "Mean coefficient of friction per stop over the cycle"
+            if variable == "mean_cof"
+            else f"{runs.what[:1].upper()}{runs.what[1:]}: each stop over the cycle"
+        )
+        + ", test by test",
+    )
+    return save_figure(root, path)
+
+
+def _test_range(tests: Sequence[Any]) -> str:
+    """The tests a campaign has, for a message: ``"1 to 24"`` where they are whole numbers,
+    else the first few."""
+    if tests and all(isinstance(t, int | np.integer) for t in tests):
+        return f"{min(tests)} to {max(tests)}"
+    return ", ".join(map(repr, tests[:6])) + (", ..." if len(tests) > 6 else "")
 
 
 def _run_lines(

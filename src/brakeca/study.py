@@ -1754,6 +1754,44 @@ def _response_figures(
         )
 
 
+def _by_test(
+    figures: _Figures,
+    result: CampaignResult,
+    variable: str,
+    name: str,
+    what: str,
+    **options: Any,
+) -> None:
+    """The figure of every run per stop above it, test by test (small multiples, a panel
+    per test: a figures review could not tell 24 lines apart in one panel), where the
+    campaign has ``variable`` and two to :data:`brakeca.plotting.MOST_TESTS_NAMED` tests;
+    else an earlier analysis's is dropped."""
+    from brakeca import plotting
+
+    dataset = result.dataset
+    if variable not in getattr(dataset, "data_vars", {}) or "run" not in dataset.dims:
+        figures.drop(name)
+        return
+    runs = dataset.sizes["run"]
+    tests = len(np.unique(dataset["test"].to_numpy())) if "test" in dataset.coords else runs
+    if not 2 <= tests <= plotting.MOST_TESTS_NAMED:
+        figures.drop(name)
+        return
+    figures.add(
+        "Runs",
+        f"{what} per stop, test by test: each panel's test in black over every other run in "
+        "grey, on the same axes (the figure above, one test at a time"
+        + ("; a test's replicates each a black line" if tests < runs else "")
+        + ")",
+        name,
+        plotting.plot_mu_per_stop_by_test,
+        dataset,
+        factors=list(result.design.factors),
+        variable=variable,
+        **options,
+    )
+
+
 def _cycle_figures(
     figures: _Figures,
     result: CampaignResult,
@@ -1787,6 +1825,7 @@ def _cycle_figures(
         factors=factors,
         floor=floor,
     )
+    _by_test(figures, result, "mean_cof", "mu_per_stop_by_test.png", "MU", floor=floor)
     figures.add(
         "Runs",
         f"MU per stop over {stops_run} at each level of each factor: the mean of the "
@@ -1853,6 +1892,14 @@ def _cycle_figures(
             variable="emitted_volume",
             log=None,
         )
+    _by_test(
+        figures,
+        result,
+        "emitted_volume",
+        "v_per_stop_by_test.png",
+        "The emitted wear volume",
+        log=None,
+    )
     if n_blocks > 1 and not _cycle_factors(result.design) and not by_block.empty:
         # the block-by-block table as a figure (an engineer's read: a CSV alone; a review
         # of MU_SD: its spread lies mostly between the blocks' mean COF)

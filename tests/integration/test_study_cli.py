@@ -81,6 +81,8 @@ def test_outputs_present_and_consistent(campaign):
         "interactions_V",
         "mu_per_stop",
         "v_per_stop",
+        "mu_per_stop_by_test",
+        "v_per_stop_by_test",
         "secondary_area_by_level",
         "contact_area_by_level",
         "v_per_run",

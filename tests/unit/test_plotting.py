@@ -1527,3 +1527,76 @@ def test_main_effects_wrap_beyond_six_factors() -> None:
     for ax, name in zip(shown, names, strict=True):
         means = summary.groupby(name)["MU"].mean().to_numpy()
         np.testing.assert_allclose(ax.lines[0].get_ydata(), means, rtol=1e-12)
+
+
+def test_per_stop_by_test_draws_each_test_over_the_others(tmp_path, campaign, summary) -> None:
+    """A figures review could not tell 24 runs' lines apart in one panel (ten colours, three
+    line styles): the same runs as small multiples, a panel per test, its runs black over
+    every other run in grey."""
+    from matplotlib.collections import LineCollection
+
+    from brakeca.plotting import MOST_TESTS_NAMED, plot_mu_per_stop_by_test
+
+    path = tmp_path / "by_test.png"
+    fig = plot_mu_per_stop_by_test(campaign, path, factors=FACTORS, floor=0.15)
+    assert path.read_bytes().startswith(PNG)
+    axes = fig.axes
+    assert len(axes) == len(summary)  # 24 panels, 4 a row
+    values = campaign["mean_cof"].transpose("run", "stop").to_numpy()
+    for k, ax in enumerate(axes):
+        (own,) = [line for line in ax.lines if line.get_color() == "black"]
+        np.testing.assert_array_equal(own.get_ydata(), values[k])  # its own run, unscaled
+        (grey,) = [c for c in ax.collections if isinstance(c, LineCollection)]
+        others = np.array([segment[:, 1] for segment in grey.get_segments()])
+        np.testing.assert_array_equal(others, np.delete(values, k, axis=0))  # every other
+        assert any(np.allclose(line.get_ydata(), 0.15) for line in ax.lines)  # the floor
+    assert axes[0].get_title() == "T1: S-, WP-, WR-, A-"
+    assert axes[4].get_title() == "T5: S-, WP+, WR-, A-"
+    assert axes[0].get_shared_y_axes().joined(axes[0], axes[-1])  # one scale to compare
+    legend = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert legend[:2] == ["the panel's test", "every other run"]
+    assert "COF floor μ_min = 0.15" in legend
+    # chosen tests, in the order given; a test the campaign lacks is named with the range
+    fig = plot_mu_per_stop_by_test(campaign, factors=FACTORS, tests=[5, 2], columns=3)
+    titles = [ax.get_title() for ax in fig.axes]  # (no empty third panel)
+    assert titles == ["T5: S-, WP+, WR-, A-", "T2: S+, WP-, WR-, A-"]
+    with pytest.raises(
+        ValueError, match=r"^tests: \[25\] not among the campaign's tests \(1 to 24\)"
+    ):
+        plot_mu_per_stop_by_test(campaign, tests=[25])
+    with pytest.raises(ValueError, match=r"^columns: expected a whole number"):
+        plot_mu_per_stop_by_test(campaign, columns=0)
+    with pytest.raises(KeyError, match="no variable 'wear'"):
+        plot_mu_per_stop_by_test(campaign, variable="wear")
+    # beyond MOST_TESTS_NAMED tests the caller names the panels
+    many = xr.concat([campaign] * 2, dim="run")
+    many = many.assign_coords(run=np.arange(1, 49), test=("run", np.arange(1, 49)))
+    assert 48 > MOST_TESTS_NAMED
+    with pytest.raises(ValueError, match=r"^tests: the campaign has 48 tests, more panels"):
+        plot_mu_per_stop_by_test(many)
+    axes = plot_mu_per_stop_by_test(many, tests=range(40, 49)).axes
+    assert len(axes) == 9 and axes[0].get_title() == "T40: S=1, WP=1e-14, WR=1e-07, A=20"
+    # replicates share their test's panel, both black; a run not finished is said so
+    twice = xr.concat([campaign, campaign], dim="run")
+    status = np.array(["ok"] * (2 * len(summary)), dtype=object)
+    status[len(summary)] = "failed"  # test 1's second replicate
+    twice = twice.assign_coords(
+        run=np.arange(1, 2 * len(summary) + 1),
+        test=("run", np.tile(summary["test"], 2)),
+        status=("run", status),
+    )
+    fig = plot_mu_per_stop_by_test(twice, factors=FACTORS)
+    axes = fig.axes
+    assert len(axes) == len(summary)
+    assert len([line for line in axes[0].lines if line.get_color() == "black"]) == 2
+    title = axes[0].get_title().replace("\n", " ")  # (wrapped to the panel)
+    assert title == "T1: S-, WP-, WR-, A- (1 of 2 runs not finished)"
+    assert axes[1].get_title() == "T2: S+, WP-, WR-, A-"
+    # a volume in mm³, on a log axis where it spans more than two decades
+    spread = campaign.copy(deep=True)
+    spread["emitted_volume"][0, 0] = 1e-6
+    spread["emitted_volume"].attrs["units"] = "m3"
+    fig = plot_mu_per_stop_by_test(spread, variable="emitted_volume", log=None)
+    assert fig.axes[0].get_yscale() == "log"
+    assert fig.axes[0].get_ylabel().replace("\n", " ") == "Emitted volume per stop [mm³] (log)"
+    assert np.allclose(fig.axes[1].lines[-1].get_ydata(), 0.1)  # 1e-10 m³
