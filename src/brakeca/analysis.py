@@ -238,6 +238,33 @@ def display_unit(unit: str) -> str:
     return text
 
 
+#: Units the figures show a factor's levels in, by the design's unit: each prefixed unit
+#: with its size in the design's unit (:func:`shown_unit`).
+_SHOWN_PREFIXES: dict[str, tuple[tuple[str, float], ...]] = {
+    "m": (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)),
+    "Pa": (("Pa", 1.0), ("kPa", 1e3), ("MPa", 1e6), ("GPa", 1e9)),
+}
+
+
+def shown_unit(unit: str, levels: Iterable[float]) -> tuple[str, float]:
+    """The unit to show ``levels`` [``unit``] in, and its size [``unit``]: for a length in
+    m or a pressure in Pa, the SI prefix that puts the largest level's magnitude in
+    [0.1, 1000) (none where no prefix does, or every level is 0); any other unit as it is.
+
+    Examples
+    --------
+    >>> shown_unit("m", (1e-7, 1e-6))
+    ('µm', 1e-06)
+    >>> shown_unit("Pa", (2e6, 1e7)), shown_unit("m", (0.5, 2.0)), shown_unit("%", (10, 20))
+    (('MPa', 1000000.0), ('m', 1.0), ('%', 1.0))
+    """
+    largest = max((abs(float(v)) for v in levels), default=0.0)
+    for name, size in _SHOWN_PREFIXES.get(unit.strip(), ()):
+        if largest > 0 and 0.1 <= largest / size < 1000.0:
+            return name, size
+    return unit, 1.0
+
+
 @dataclass(frozen=True)
 class Factor:
     """One factor of a factorial design, with its levels in the design's user unit.
@@ -361,9 +388,24 @@ class Factor:
         return (low + high) / 2.0
 
     @property
+    def shown_unit(self) -> tuple[str, float]:
+        """The unit the figures show the levels in, and its size [design unit]: a length in
+        m or a pressure in Pa with the SI prefix that puts the largest level between 0.1
+        and 1000 (WR's levels of 1e-07 and 1e-06 m as 0.1 and 1 µm: friendly units at the
+        edges), any other unit as it is, with size 1 (:func:`shown_unit`)."""
+        return shown_unit(self.unit, self.levels)
+
+    def shown(self, value: Any) -> str:
+        """A level [design unit] as the figures write it, in :attr:`shown_unit`:
+        ``"0.1"`` for WR = 1e-07 m (µm), ``"20"`` for A = 20 %."""
+        return f"{float(value) / self.shown_unit[1]:g}"
+
+    @property
     def axis_label(self) -> str:
-        """Name with unit for plot axes, e.g. ``"WP [m³/(N·m)]"`` (:func:`display_unit`)."""
-        return f"{self.name} [{display_unit(self.unit)}]" if self.unit else self.name
+        """Name with unit for plot axes, e.g. ``"WP [m³/(N·m)]"``, ``"WR [µm]"``
+        (:attr:`shown_unit`, :func:`display_unit`): the unit of :meth:`shown`'s levels."""
+        unit = self.shown_unit[0]
+        return f"{self.name} [{display_unit(unit)}]" if unit else self.name
 
 
 def as_factor(obj: Any) -> Factor:

@@ -363,9 +363,10 @@ def save_figure(fig: Figure, path: str | Path | None) -> Figure:
 
 
 def _tick_label(factor: Factor, level: float) -> str:
+    """``"-\n0.1"``: a level's label over its value in the axis's unit (:meth:`Factor.shown`)."""
     if factor.labels is not None:
-        return f"{factor.level_label(level)}\n{level:g}"
-    return f"{level:g}"
+        return f"{factor.level_label(level)}\n{factor.shown(level)}"
+    return factor.shown(level)
 
 
 def _level_colours(n: int) -> list[Any]:
@@ -390,12 +391,13 @@ LEVEL_MARKERS = ("o", "s", "^", "D", "v", "P")
 
 
 def _legend_label(factor: Factor, level: float) -> str:
-    """``"WP+ (1e-13 m³/(N·m))"``, ``"A = 20 %"``: a level in a legend, with its unit (a
-    figures review: "A = 20" left the reader to guess it)."""
+    """``"WP+ (1e-13 m³/(N·m))"``, ``"A = 20 %"``, ``"WR- (0.1 µm)"``: a level in a legend,
+    with its unit (a figures review: "A = 20" left the reader to guess it), in the unit the
+    figures show it in (:meth:`Factor.shown`)."""
     from brakeca.analysis import display_unit
 
-    unit = getattr(factor, "unit", "") or ""
-    shown = f"{level:g}" + (f" {display_unit(unit)}" if unit not in ("", "-") else "")
+    unit = factor.shown_unit[0]
+    shown = factor.shown(level) + (f" {display_unit(unit)}" if unit not in ("", "-") else "")
     if factor.labels is not None:
         return f"{factor.name}{factor.level_label(level)} ({shown})"
     return f"{factor.name} = {shown}"
@@ -743,10 +745,11 @@ def plot_cube(
 
 
 def _cube_level(factor: Factor, level: float) -> str:
-    """A level at its edge's end: ``"- (10)"``, or the value alone."""
+    """A level at its edge's end: ``"- (10)"``, or the value alone, in the unit of the
+    edge's name (:meth:`Factor.shown`)."""
     if factor.labels is not None:
-        return f"{factor.level_label(level)} ({level:g})"
-    return f"{level:g}"
+        return f"{factor.level_label(level)} ({factor.shown(level)})"
+    return factor.shown(level)
 
 
 # --- per-stop and per-run responses (Figures 10 and 11) --------------------------------------
@@ -953,7 +956,7 @@ def _differing_factors(runs: Sequence[Any], labels: Sequence[str]) -> list[str]:
     """Labels for runs that share a seed: the paper's factors (S, WP, WR, A, in their units)
     in which their configurations differ, after the seed where the seeds differ too;
     ``labels`` where no factor differs or a run has no configuration."""
-    from brakeca.analysis import display_unit
+    from brakeca.analysis import display_unit, shown_unit
     from brakeca.config import FACTOR_ALIASES
     from brakeca.results import paper_factor_levels
 
@@ -965,12 +968,14 @@ def _differing_factors(runs: Sequence[Any], labels: Sequence[str]) -> list[str]:
     if not differ:
         return list(labels)
     seeds = len({str(run.seed) for run in runs}) > 1
+    # each factor in the unit the figures show its levels in ("WR = 0.1 µm")
+    units = {n: shown_unit(FACTOR_ALIASES[n][2], [lv[n] for lv in levels]) for n in differ}
     return [
         ", ".join(
             ([label] if seeds else [])
             + [
-                f"{n} = {lv[n]:g}"
-                + ("" if FACTOR_ALIASES[n][2] == "-" else f" {display_unit(FACTOR_ALIASES[n][2])}")
+                f"{n} = {lv[n] / units[n][1]:g}"
+                + ("" if units[n][0] == "-" else f" {display_unit(units[n][0])}")
                 for n in differ
             ]
         )
@@ -2658,7 +2663,7 @@ def plot_residuals_by_level(
         ax.set_xticks(
             range(shown.size),
             [
-                _tick_label(factor, float(v)) if float(v) in factor.levels else f"{v:g}"
+                _tick_label(factor, float(v)) if float(v) in factor.levels else factor.shown(v)
                 for v in shown
             ],
         )

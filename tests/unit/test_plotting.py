@@ -1190,6 +1190,9 @@ def test_residuals_by_level_draw_each_runs_residual_at_its_level(summary) -> Non
     fig = plot_residuals_by_level(table, summary, FACTORS, "MU")
     assert len(fig.axes) == len(FACTORS)
     ok = summary[summary["status"] == "ok"].set_index("test")
+    # a length in µm, friendly at the edges (the design's 1e-07 m)
+    assert [t.get_text() for t in fig.axes[2].get_xticklabels()] == ["-\n0.1", "+\n1"]
+    assert fig.axes[2].get_xlabel() == "WR [µm]"
     for ax, factor in zip(fig.axes, FACTORS, strict=True):
         points = ax.lines[0]
         x, y = points.get_xdata(), points.get_ydata()
@@ -1198,7 +1201,7 @@ def test_residuals_by_level_draw_each_runs_residual_at_its_level(summary) -> Non
         np.testing.assert_array_equal(np.round(x), at)  # at its level, within ±0.18
         assert np.abs(x - at).max() <= 0.18 + 1e-12
         assert [t.get_text() for t in ax.get_xticklabels()] == [
-            f"{factor.level_label(v)}\n{v:g}" for v in factor.levels
+            f"{factor.level_label(v)}\n{factor.shown(v)}" for v in factor.levels
         ]
         # the unit on the axis, the long name above, as the main-effects plots (a report
         # review: the axes had no unit)
