@@ -406,12 +406,6 @@ SetOpt = Annotated[
         help="KEY=VALUE override of any config field (dotted), or a factor: S, WP, WR, A (in %)",
     ),
 ]
-SeedOpt = Annotated[
-    int,
-    typer.Option(
-        "--seed", min=0, max=MAX_SEED, metavar="N", help="seed of the run's random generator"
-    ),
-]
 #: --seed of a command that takes a run file as -c: by default the run's, else 0
 SeedFromRunOpt = Annotated[
     int | None,

@@ -26,7 +26,6 @@ from brakeca.traces import (
     cycle_file_kind,
     detect_events,
     event_distance,
-    load_cycle_events,
     load_cycle_source,
     slow_events_warning,
 )
@@ -34,7 +33,7 @@ from brakeca.traces import (
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.figure import Figure
 
-__all__ = ["cycle_app", "inspect_cycle", "load_cycle_events"]
+__all__ = ["cycle_app", "inspect_cycle"]
 
 
 def _file_path(text: str) -> Path:

@@ -61,10 +61,6 @@ class Grid:
         """Cell areas broadcast to the grid shape [m^2]."""
         return np.broadcast_to(self.cell_area[:, None], self.shape)
 
-    def subdomain_of_column(self) -> np.ndarray:
-        """Subdomain index k (0-based) of every column [-]."""
-        return np.arange(self.angle.size) // self.columns_per_subdomain
-
 
 def make_grid(config: SimulationConfig) -> Grid:
     """Build the grid of ``config``: radii ``r_i + j dr``, angles ``i dtheta`` (Table 5).
