@@ -41,6 +41,7 @@ from brakeca.results import library_versions
 
 __all__ = [
     "REPORT_TEMPLATE",
+    "all_findings",
     "format_p_value",
     "in_short",
     "render_report",
@@ -2132,6 +2133,57 @@ def _log_left_out(level_means: Mapping[str, pd.DataFrame] | None) -> str:
     )
 
 
+def all_findings(
+    anova_tables: Mapping[str, pd.DataFrame],
+    *,
+    surface_fits: Mapping[str, Any] | None = None,
+    optimum: Any = None,
+    level_means: Mapping[str, pd.DataFrame] | None = None,
+    effects_tables: Mapping[str, pd.DataFrame] | None = None,
+    box_cox: Mapping[str, Any] | None = None,
+    residual_tables: Mapping[str, pd.DataFrame] | None = None,
+    unusual_tables: Mapping[str, pd.DataFrame] | None = None,
+    more: Sequence[str] = (),
+    pm10_line: str | None = None,
+) -> list[str]:
+    """Every line of the report's "In short", in its order: the response surfaces' and the
+    optimum's (:func:`surface_in_short`), each other response's (:func:`in_short`; a
+    response with a surface is said by it), the non-empty lines of ``more`` (e.g. the runs
+    held at the COF floor) and ``pm10_line``. The report and a study's terminal print these
+    same lines (a review: each had assembled them on its own).
+
+    Parameters
+    ----------
+    anova_tables, surface_fits, level_means, effects_tables, box_cox
+        As :func:`write_report` takes them.
+    residual_tables, unusual_tables
+        As :func:`write_report` takes them.
+    optimum
+        The optimizer's result (:func:`brakeca.rsm.optimize`), or None.
+    more
+        Further lines, after the responses'.
+    pm10_line
+        The line of the runs' brake PM10, last; None without one.
+
+    Returns
+    -------
+    list of str
+    """
+    lines = surface_in_short(surface_fits, optimum)
+    lines += in_short(
+        {r: t for r, t in anova_tables.items() if r not in (surface_fits or {})},
+        level_means=level_means,
+        effects_tables=effects_tables,
+        box_cox=box_cox,
+        residual_tables=residual_tables,
+        unusual_tables=unusual_tables,
+    )
+    lines.extend(line for line in more if line)
+    if pm10_line is not None:
+        lines.append(pm10_line)
+    return lines
+
+
 def render_report(
     *,
     title: str,
@@ -2265,19 +2317,18 @@ def render_report(
             }
         )
     paragraphs = [p.strip() for p in re.split(r"\n\s*\n", notes or "") if p.strip()]
-    findings = surface_in_short(surface_fits, None if optimum is None else optimum[1])
-    findings += in_short(
-        # a response with a surface is said by it (a study passes no other ANOVA for it)
-        {r: t for r, t in anova_tables.items() if r not in (surface_fits or {})},
+    findings = all_findings(
+        anova_tables,
+        surface_fits=surface_fits,
+        optimum=None if optimum is None else optimum[1],
         level_means=level_means,
         effects_tables=effects_tables,
         box_cox=box_cox,
         residual_tables=residual_tables,
         unusual_tables=unusual_tables,
+        more=more_findings,
+        pm10_line=None if pm10 is None else pm10[2],
     )
-    findings.extend(line for line in more_findings if line)
-    if pm10 is not None:
-        findings.append(pm10[2])
     return template.render(
         title=title,
         version=version,

@@ -1300,22 +1300,20 @@ def write_study(
         pm10=None if pm10 is None else (pm10.table, pm10.info, pm10.line),
         more_findings=[floor_line],
     )
-    if in_short is not None:
-        for line in report.surface_in_short(surfaces, found.optimum):
-            in_short(line)
-        for line in report.in_short(
+    if in_short is not None:  # the report's lines (report.all_findings), one by one
+        for line in report.all_findings(
             anova_tables,
+            surface_fits=surfaces,
+            optimum=found.optimum,
             level_means=level_means,
             effects_tables=effects_tables,
             box_cox=found.scales,
             residual_tables=residual_tables,
             unusual_tables=unusual_tables,
+            more=[floor_line],
+            pm10_line=None if pm10 is None else pm10.line,
         ):
             in_short(line)
-        if floor_line:
-            in_short(floor_line)
-        if pm10 is not None:
-            in_short(pm10.line)
     return path
 
 

@@ -1374,3 +1374,48 @@ def test_long_lists_of_runs_name_the_first_and_count_the_rest() -> None:
     assert "fits a negative volume to 20 runs" in text
     assert text.count("fitted -1") == _MOST_RUNS_LISTED
     assert "and 12 more, in tables/residuals_V.csv" in text
+
+
+def test_all_findings_are_the_reports_in_short_in_its_order(tmp_path) -> None:
+    """A study's terminal and its report had each put "In short" together on their own (a
+    maintainability review): both now take report.all_findings, the surfaces' lines first,
+    a response with a surface said by it alone, then the other responses', the further
+    lines given (empty ones dropped) and PM10's last."""
+    import itertools
+
+    from brakeca.report import all_findings, in_short, surface_in_short
+    from brakeca.rsm import Coding, fit_response_surface
+
+    a, b = Coding("A", 10.0, 20.0, unit="%"), Coding("WR", 1e-7, 1e-6, log=True, unit="m")
+    rng = np.random.default_rng(4)
+    rows = [
+        {"A": a.decode(x1), "WR": b.decode(x2), "status": "ok"}
+        | {"V": (2.0 + 0.5 * x1 - 0.8 * x1**2 + 0.01 * rng.standard_normal()) * 1e-9}
+        for x1, x2 in [*itertools.product((-1.0, 0.0, 1.0), repeat=2), (0.0, 0.0), (0.0, 0.0)]
+    ]
+    fit = fit_response_surface(pd.DataFrame(rows), [a, b], "V")
+    frame = pd.DataFrame(
+        {
+            "term": ["A", "Residual"],
+            "p_value": [1e-4, math.nan],
+            "percent_contribution": [90.0, 10.0],
+        }
+    )
+    tables = {"V": frame, "MU": frame}
+    lines = all_findings(
+        tables, surface_fits={"V": fit}, more=["", "held at the floor"], pm10_line="PM10 line"
+    )
+    (surface,) = surface_in_short({"V": fit})
+    (mu,) = in_short({"MU": frame})
+    assert lines == [surface, mu, "held at the floor", "PM10 line"]
+    assert lines[:2] != in_short(tables)  # V's own ANOVA line is left to its surface
+    html = render_report(
+        **(make_inputs(tmp_path) | {"anova_tables": tables}),
+        surface_fits={"V": fit},
+        more_findings=["", "held at the floor"],
+    )
+    findings = html[html.index('<section id="findings">') : html.index('<section id="design">')]
+    said = [
+        unescape(re.sub(r"<[^>]+>", "", li)) for li in re.findall(r"<li>(.*?)</li>", findings, re.S)
+    ]
+    assert said == [unescape(x) for x in lines[:3]]
