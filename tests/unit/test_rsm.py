@@ -108,6 +108,31 @@ def test_matches_statsmodels() -> None:
     assert list(fit.coefficients.columns) == list(COEFFICIENT_COLUMNS)
 
 
+def test_first_order_and_no_interaction_models_are_statsmodels() -> None:
+    """``quadratic=False`` fits the linear terms and two-way interactions, ``interactions=False``
+    the linear and square terms, both false the linear terms alone: each statsmodels' OLS on
+    the same coded columns (a review found the two options passed by no call or test)."""
+    rng = np.random.default_rng(7)
+    x = rng.uniform(-1.5, 1.5, size=(18, 3))
+    y = 2 + x[:, 0] - 0.5 * x[:, 1] + 0.3 * x[:, 2] ** 2 - 0.7 * x[:, 0] * x[:, 2]
+    frame = pd.DataFrame({"a": x[:, 0], "b": x[:, 1], "c": x[:, 2]})
+    frame["y"] = y + 0.1 * rng.standard_normal(18)
+    codings = [Coding(n, -1.0, 1.0) for n in "abc"]
+    squares = " + I(a**2) + I(b**2) + I(c**2)"
+    pairs = " + a:b + a:c + b:c"
+    for options, formula, terms in (
+        ({"quadratic": False}, "y ~ a + b + c" + pairs, ["a*b", "a*c", "b*c"]),
+        ({"interactions": False}, "y ~ a + b + c" + squares, ["a*a", "b*b", "c*c"]),
+        ({"quadratic": False, "interactions": False}, "y ~ a + b + c", []),
+    ):
+        fit = fit_response_surface(frame, codings, "y", **options)
+        model = smf.ols(formula, frame).fit()
+        assert list(fit.coefficients["term"]) == ["Constant", "a", "b", "c", *terms], options
+        np.testing.assert_allclose(fit.coefficients["coef"], model.params.to_numpy(), rtol=1e-9)
+        np.testing.assert_allclose(fit.coefficients["se"], model.bse.to_numpy(), rtol=1e-9)
+        assert fit.statistics["r_squared"] == pytest.approx(model.rsquared, rel=1e-12)
+
+
 def test_group_sums_of_squares_drop_the_whole_group() -> None:
     """A group's adjusted SS is the rise of the error SS when all its terms are dropped; with
     orthogonal linear columns it is the sum of its terms' SS."""
