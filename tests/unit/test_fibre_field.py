@@ -124,6 +124,28 @@ def _check_layout(f):
     assert np.all((f.offsets[:-1] <= f.next) & (f.next <= f.offsets[1:]))
 
 
+def test_a_field_without_surface_fibres_is_its_slab_alone():
+    """``start_fibre_field`` with no surface fibres (a review: its defaults were passed by no
+    call or test): the first slab's intervals alone, each cell's next its first; the same,
+    to the bit, as with a surface that has no fibres, for the same draw."""
+    from brakeca.surface import start_fibre_field
+
+    config = load_preset().with_updates({"pad.fibre_model": "field", "A": 20, "mesh.n_radial": 21})
+    grid = make_grid(config)
+    alone = start_fibre_field(config.pad, grid, np.random.default_rng(3))
+    none = np.zeros(grid.shape, dtype=bool)
+    zeros = np.zeros(grid.shape)
+    with_none = start_fibre_field(
+        config.pad, grid, np.random.default_rng(3), None, none, zeros, zeros
+    )
+    for name in ("offsets", "top", "bottom", "next"):
+        np.testing.assert_array_equal(getattr(alone, name), getattr(with_none, name))
+    assert alone.slabs == 1 and alone.top.size > 0
+    np.testing.assert_array_equal(alone.next, alone.offsets[:-1])
+    assert np.all(alone.top <= 0.0)  # buried: the slab lies under the resin band's datum
+    _check_layout(alone)
+
+
 def test_deepening_drops_worn_intervals_and_extends_floors():
     """Deepening keeps only the intervals ahead of each cell's surface, lowers a primary's
     floor where a new fibre touches its fibre, and refuses a surface that came down past the
