@@ -143,10 +143,11 @@ def test_outputs_present_and_consistent(campaign):
     n_img = len(re.findall(r'<img[^>]+src="data:image/png;base64,', html))
     # per response (MU, V, log10 V, MU_SD: main effects, interactions, Pareto, residuals and, both
     # factors having two levels, the effects, the residuals by level), per campaign (MU per
-    # stop, by run and by level, the secondary plateau and contact areas by level, V per
-    # stop, V per run, MU against V, fibre maps; no Box-Cox plots at one residual df), maps
-    # and, both factors of two levels, the cube plots (a square here) of MU, V and MU_SD
-    assert n_img == 6 * 4 + 3 + 8 + 4
+    # stop, by run, by test and by level, the secondary plateau and contact areas by level,
+    # V per stop, by run and by test, V per run, MU against V, fibre maps; no Box-Cox plots at
+    # one residual df), maps and, both factors of two levels, the cube plots (a square here)
+    # of MU, V and MU_SD
+    assert n_img == 6 * 4 + 3 + 10 + 4
     # the Box-Cox check of MU's, V's and MU_SD's scale, under the ANOVA model (main effects:
     # the model with the interaction would leave 4 runs no residual degree of freedom)
     scales = pd.read_csv(out / "tables" / "box_cox.csv")
