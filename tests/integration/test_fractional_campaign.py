@@ -33,7 +33,7 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     design = tmp_path / "half.toml"
     design.write_text(FRACTION)
     out = tmp_path / "c"
-    cli_ok("run", str(design), "-o", str(out), *TINY)
+    cli_ok("run", str(design), "-o", str(out), *TINY, "--no-report")
     summary = pd.read_csv(out / "summary.csv")
     # the 2^(3-1) with WR = -S*A: coded WR is minus the product of S's and A's
     assert list(summary["test"]) == [1, 2, 3, 4]
@@ -107,7 +107,7 @@ def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:
         'name = "table"\nbase = "paper"\nroot_seed = 5\nruns_file = "runs.csv"\n' + FACTORS
     )
     out = tmp_path / "c"
-    cli_ok("run", str(design), "-o", str(out), *TINY)
+    cli_ok("run", str(design), "-o", str(out), *TINY, "--no-report")
     summary = pd.read_csv(out / "summary.csv")
     assert list(summary["S"]) == [1.0, 0.0, 1.0] and list(summary["A"]) == [20.0, 10.0, 20.0]
     assert summary["seed"].nunique() == 3  # a repeated point is a test of its own
