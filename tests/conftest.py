@@ -75,3 +75,41 @@ def tiny_config():
     return load_preset("paper").with_updates(
         {"mesh.n_radial": 8, "mesh.n_angular": 60, "mesh.n_subdomains": 6, "cycle": short_cycle()}
     )
+
+
+#: The test files that take longest on two cores, longest first (a review of the suite's
+#: time). The whole suite (scripts/test) hands whole files to its processes in collection
+#: order (--dist loadfile --no-loadscope-reorder), so these go first and the processes end
+#: together; by default pytest-xdist would hand out the files with the most tests first,
+#: leaving a long file of three tests to run alone at the end. A file not listed keeps its
+#: place after them.
+LONGEST_FIRST = (
+    "integration/test_study_cli.py",
+    "integration/test_campaign.py",
+    "integration/test_fractional_campaign.py",
+    "integration/test_dask.py",
+    "verification/test_kernel_vs_naive.py",
+    "integration/test_campaign_maps.py",
+    "integration/test_composite_campaign.py",
+    "unit/test_power.py",
+    "integration/test_warmup.py",
+    "verification/test_lazy.py",
+    "integration/test_examples.py",
+    "unit/test_plotting.py",
+)
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """The files of :data:`LONGEST_FIRST` first, in its order; the rest, and the tests within
+    each file, in their order (a stable sort)."""
+    here = Path(__file__).parent
+    rank = {name: k for k, name in enumerate(LONGEST_FIRST)}
+
+    def place(item: pytest.Item) -> int:
+        try:
+            name = item.path.relative_to(here).as_posix()
+        except ValueError:  # (a test outside tests/)
+            return len(rank)
+        return rank.get(name, len(rank))
+
+    items.sort(key=place)
