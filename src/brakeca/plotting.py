@@ -2210,12 +2210,12 @@ def plot_response_surface(
         lo, hi = extent[c.name]
         x = np.linspace(lo, hi, resolution)
         ax = axes[0]
-        ax.plot(c.decode(x), fit.predict_coded({c.name: x}) * scale, color="#27496d")
-        ax.plot(c.decode(fit.points[c.name]), fit.points["y"] * scale, "o", color="#f28e2b")
+        ax.plot(c.shown(x), fit.predict_coded({c.name: x}) * scale, color="#27496d")
+        ax.plot(c.shown(fit.points[c.name]), fit.points["y"] * scale, "o", color="#f28e2b")
         ax.set_xlabel(c.axis_label)
         ax.set_ylabel(label)
         if c.log:
-            ax.set_xscale("log")
+            _log_scale(ax.xaxis)
         ax.grid(True, alpha=0.3)
         return save_figure(root, path)
     for ax, (i, j) in zip(axes, pairs, strict=False):
@@ -2226,25 +2226,25 @@ def plot_response_surface(
         coded = {c.name: np.zeros_like(grid_a) for c in codings}
         coded[a.name], coded[b.name] = grid_a, grid_b
         z = fit.predict_coded(coded) * scale
-        filled = ax.contourf(a.decode(grid_a), b.decode(grid_b), z, levels=12, cmap="viridis")
+        filled = ax.contourf(a.shown(grid_a), b.shown(grid_b), z, levels=12, cmap="viridis")
         lines = ax.contour(
-            a.decode(grid_a), b.decode(grid_b), z, levels=filled.levels, colors="white",
+            a.shown(grid_a), b.shown(grid_b), z, levels=filled.levels, colors="white",
             linewidths=0.5,
         )  # fmt: skip
         ax.clabel(lines, lines.levels[::2], fontsize=7, fmt="%.3g")
         fig.colorbar(filled, ax=ax, label=label)  # each panel has its own colour scale
         ax.plot(
-            a.decode(fit.points[a.name]), b.decode(fit.points[b.name]), "o", ms=4,
+            a.shown(fit.points[a.name]), b.shown(fit.points[b.name]), "o", ms=4,
             mfc="white", mec="black", label="runs (projected)", clip_on=False, zorder=4,
         )  # fmt: skip
         if st is not None and st["inside"]:  # outside, it is on no panel's slice
             sa, sb = st["coded"][a.name], st["coded"][b.name]
-            ax.plot(a.decode(sa), b.decode(sb), "*", ms=12, color="#e15759", zorder=5,
+            ax.plot(a.shown(sa), b.shown(sb), "*", ms=12, color="#e15759", zorder=5,
                     label=f"stationary point ({st['kind']}, projected)")  # fmt: skip
         if a.log:
-            ax.set_xscale("log")
+            _log_scale(ax.xaxis)
         if b.log:
-            ax.set_yscale("log")
+            _log_scale(ax.yaxis)
         ax.set_xlabel(a.axis_label)
         ax.set_ylabel(b.axis_label)
         held = [c for c in codings if c.name not in (a.name, b.name)]
@@ -2253,13 +2253,39 @@ def plot_response_surface(
             ax.set_title(
                 textwrap.fill(  # (a pair is not broken: non-breaking spaces in it)
                     "others at their centre: "
-                    + ", ".join(f"{c.name}\u00a0=\u00a0{float(c.decode(0.0)):.3g}" for c in held),
+                    + ", ".join(f"{c.name}\u00a0=\u00a0{_centre_text(c)}" for c in held),
                     _panel_chars(ax, 8.0, 70),
                 ),
                 fontsize=8,
             )
     axes[0].legend(fontsize=7, loc="best")
     return save_figure(root, path)
+
+
+def _log_scale(axis: Any) -> None:
+    """A log scale on ``axis`` whose labels read as plain numbers between 0.001 and 10⁴
+    (``0.2``, ``0.4``, ``1`` where a factor in µm spans a decade; matplotlib writes
+    ``2×10⁻¹``), as powers of ten beyond; the ticks labelled are matplotlib's choice."""
+    from matplotlib.ticker import LogFormatterSciNotation
+
+    class Plain(LogFormatterSciNotation):
+        def __call__(self, x: float, pos: int | None = None) -> str:
+            shown = super().__call__(x, pos)
+            return f"{x:g}" if shown and 1e-3 <= abs(x) < 1e4 else shown
+
+    ax = axis.axes
+    (ax.set_xscale if axis is ax.xaxis else ax.set_yscale)("log")
+    axis.set_major_formatter(Plain())
+    axis.set_minor_formatter(Plain(labelOnlyBase=False))  # (as matplotlib's log scale)
+
+
+def _centre_text(coding: Any) -> str:
+    """``"0.316\u00a0µm"``: a factor's centre (coded 0) in the unit its axis shows."""
+    from brakeca.analysis import display_unit
+
+    unit = coding.shown_unit[0]
+    shown = f"{float(coding.shown(0.0)):.3g}"
+    return shown + (f"\u00a0{display_unit(unit)}" if unit and unit != "-" else "")
 
 
 def plot_profiler(
@@ -2316,11 +2342,11 @@ def plot_profiler(
         coded[c.name] = x
         fitted = fit.predict_coded(coded) * scale
         low, high = fit.confidence_interval(coded, level)
-        levels = c.decode(x)
+        levels = c.shown(x)
         if np.all(np.isfinite(low)):
             ax.fill_between(levels, low * scale, high * scale, color="#27496d", alpha=0.18)
         ax.plot(levels, fitted, color="#27496d")
-        ax.axvline(float(c.decode(0.0)), color="0.5", lw=0.8, ls=":")
+        ax.axvline(float(c.shown(0.0)), color="0.5", lw=0.8, ls=":")
         if fit.loses_sign(float(np.min(fitted)) / scale):  # a positive response below 0
             ax.axhline(0.0, color="#a61b1b", lw=0.8)
             ax.text(
@@ -2333,7 +2359,7 @@ def plot_profiler(
                 va="bottom",
             )
         if c.log:
-            ax.set_xscale("log")
+            _log_scale(ax.xaxis)
         ax.set_xlabel(c.axis_label)
         ax.grid(True, alpha=0.3)
     axes[0].set_ylabel(label)
@@ -2397,20 +2423,20 @@ def plot_overlaid_contours(
             for colour, goal in zip(itertools.cycle(colours), goals):
                 _, scale = _response_axis(goal.response)
                 y = fits[goal.response].predict_coded(coded) * scale
-                ax.plot(a.decode(xa), y, color=colour, label=goal.response)
+                ax.plot(a.shown(xa), y, color=colour, label=goal.response)
                 for limit in goal.acceptance_limits:
                     ax.axhline(limit * scale, color=colour, ls="--", lw=0.8)
-            ax.axvline(optimum.levels[a.name], color="black", lw=0.8)
+            ax.axvline(optimum.levels[a.name] / a.shown_unit[1], color="black", lw=0.8)
             ax.set_xlabel(a.axis_label)
             if a.log:
-                ax.set_xscale("log")
+                _log_scale(ax.xaxis)
             ax.legend(fontsize=7)
             continue
         xb = np.linspace(extent[b.name][0], extent[b.name][1], resolution)
         grid_a, grid_b = np.meshgrid(xa, xb)
         coded = {c.name: np.full_like(grid_a, optimum.coded[c.name]) for c in codings}
         coded[a.name], coded[b.name] = grid_a, grid_b
-        va, vb = a.decode(grid_a), b.decode(grid_b)
+        va, vb = a.shown(grid_a), b.shown(grid_b)
         values = {g.response: fits[g.response].predict_coded(coded) for g in goals}
         feasible = np.logical_and.reduce([g.acceptable(values[g.response]) for g in goals])
         ax.contourf(va, vb, (~feasible).astype(float), levels=[0.5, 1.5], colors=["#bdbdbd"])
@@ -2421,12 +2447,12 @@ def plot_overlaid_contours(
             if np.nanmin(y) < levels[-1] and np.nanmax(y) > levels[0]:
                 lines = ax.contour(va, vb, y, levels=levels, colors=colour, linewidths=1.2)
                 ax.clabel(lines, fontsize=7, fmt=f"{goal.response} %.3g")
-        ax.plot(optimum.levels[a.name], optimum.levels[b.name], "*", ms=13, color="black",
-                label="optimum", zorder=5, clip_on=False)  # fmt: skip
+        ax.plot(optimum.levels[a.name] / a.shown_unit[1], optimum.levels[b.name] / b.shown_unit[1],
+                "*", ms=13, color="black", label="optimum", zorder=5, clip_on=False)  # fmt: skip
         if a.log:
-            ax.set_xscale("log")
+            _log_scale(ax.xaxis)
         if b.log:
-            ax.set_yscale("log")
+            _log_scale(ax.yaxis)
         ax.set_xlabel(a.axis_label)
         ax.set_ylabel(b.axis_label)
     axes[0].legend(fontsize=7, loc="lower left")

@@ -63,6 +63,7 @@ from brakeca.analysis import (
     alpha_problem,
     display_unit,
     exact_fit,
+    shown_unit,
 )
 
 __all__ = [
@@ -186,13 +187,23 @@ class Coding:
             return np.power(10.0, v)
 
     @property
+    def shown_unit(self) -> tuple[str, float]:
+        """The unit the figures show the levels in, and its size [design unit]: a length in
+        m or a pressure in Pa with the SI prefix that suits the levels coded -1 and +1, as
+        the figures of levels show them (:func:`brakeca.analysis.shown_unit`)."""
+        return shown_unit(self.unit, (self.low, self.high))
+
+    def shown(self, coded: Any) -> np.ndarray:
+        """The levels at the coded values ``coded`` [-] in :attr:`shown_unit`: :meth:`decode`
+        over the unit's size (WR's 1e-07 m as 0.1 µm)."""
+        return self.decode(coded) / self.shown_unit[1]
+
+    @property
     def axis_label(self) -> str:
-        """Name with unit, e.g. ``"WP [m³/(N·m)]"`` (:func:`brakeca.analysis.display_unit`)."""
-        return (
-            f"{self.name} [{display_unit(self.unit)}]"
-            if self.unit and self.unit != "-"
-            else self.name
-        )
+        """Name with unit, e.g. ``"WP [m³/(N·m)]"``, ``"WR [µm]"``: the unit of
+        :meth:`shown`'s levels (:func:`brakeca.analysis.display_unit`)."""
+        unit = self.shown_unit[0]
+        return f"{self.name} [{display_unit(unit)}]" if unit and unit != "-" else self.name
 
 
 def coding_of(factor: Any) -> Coding:

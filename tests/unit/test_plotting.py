@@ -538,9 +538,22 @@ def test_response_surface_contours(tmp_path) -> None:
     panels = [ax for ax in fig.axes if ax.get_xlabel() and ax.get_visible()]
     assert [(ax.get_xlabel(), ax.get_ylabel()) for ax in panels] == [
         ("WP [m³/(N·m)]", "A [%]"),
-        ("WP [m³/(N·m)]", "WR [m]"),
-        ("A [%]", "WR [m]"),
+        ("WP [m³/(N·m)]", "WR [µm]"),
+        ("A [%]", "WR [µm]"),
     ]
+    # the runs drawn in the axis's unit: WR's 1e-07 to 1e-06 m as 0.1 to 1 µm
+    runs = [line for line in panels[2].lines if line.get_label() == "runs (projected)"]
+    assert sorted(set(np.round(runs[0].get_ydata(), 12))) == [0.1, 0.316227766017, 1.0]
+    fig.canvas.draw()  # its log axis labelled in plain numbers ("2×10⁻¹" had read oddly)
+    low, high = panels[2].get_ylim()
+    labels = {
+        t.get_text()
+        for minor in (False, True)
+        for t in panels[2].get_yticklabels(minor=minor)
+        if low * (1 - 1e-9) <= t.get_position()[1] <= high * (1 + 1e-9) and t.get_text()
+    }
+    assert {"0.1", "0.2", "1"} <= labels and not any("10" in x for x in labels), labels
+    assert panels[0].get_xticklabels()[1].get_text().startswith("$\\mathdefault{10^{")  # WP
     assert panels[0].get_xscale() == "log" and panels[2].get_yscale() == "log"
     assert panels[2].get_xscale() == "linear"
     labels = panels[0].get_legend_handles_labels()[1]
