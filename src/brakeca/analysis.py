@@ -248,8 +248,10 @@ _SHOWN_PREFIXES: dict[str, tuple[tuple[str, float], ...]] = {
 
 def shown_unit(unit: str, levels: Iterable[float]) -> tuple[str, float]:
     """The unit to show ``levels`` [``unit``] in, and its size [``unit``]: for a length in
-    m or a pressure in Pa, the SI prefix that puts the largest level's magnitude in
-    [0.1, 1000) (none where no prefix does, or every level is 0); any other unit as it is.
+    m or a pressure in Pa, the largest of the unit and its prefixed units (mm, µm, nm; kPa,
+    MPa, GPa) that puts the largest level's magnitude in [0.1, 1000), to round-off (1e-04 m
+    as 0.1 mm, 1e-10 m as 0.1 nm); the unit itself where none does or every level is 0; any
+    other unit as it is.
 
     Examples
     --------
@@ -260,7 +262,7 @@ def shown_unit(unit: str, levels: Iterable[float]) -> tuple[str, float]:
     """
     largest = max((abs(float(v)) for v in levels), default=0.0)
     for name, size in _SHOWN_PREFIXES.get(unit.strip(), ()):
-        if largest > 0 and 0.1 <= largest / size < 1000.0:
+        if largest > 0 and 0.1 * (1.0 - 1e-9) <= largest / size < 1000.0:
             return name, size
     return unit, 1.0
 

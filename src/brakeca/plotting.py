@@ -1064,7 +1064,8 @@ def _per_stop_runs(campaign: Any, factors: Iterable[Any] | None, variable: str) 
         )
     if variable not in campaign.data_vars:
         raise KeyError(f"campaign has no variable {variable!r}")
-    if "run" not in campaign[variable].dims:  # one run
+    one = "run" not in campaign[variable].dims
+    if one:  # one run
         campaign = campaign[[variable]].expand_dims(run=[0])
     by_name = {f.name: f for f in _factors(factors if factors is not None else ())}
     ylabel, what, scale = _variable_axis(campaign, variable)
@@ -1078,6 +1079,8 @@ def _per_stop_runs(campaign: Any, factors: Iterable[Any] | None, variable: str) 
             if name not in _RUN_BOOKKEEPING and tuple(coord.dims) == ("run",)
         ]
     tests = campaign["test"].to_numpy() if "test" in campaign.coords else runs
+    if one:  # (not "T0", a number it does not have: a diff review)
+        tests = np.array(["the run"], dtype=object)
     if "status" in campaign.coords:
         ok = np.asarray(campaign["status"].to_numpy()).astype(str) == "ok"
     else:
@@ -1408,12 +1411,15 @@ def plot_mu_per_stop_by_test(
                 f"tests={order[:4]!r}, or draw every run in one panel (plot_mu_per_stop)"
             )
     else:
+        if isinstance(tests, str | bytes):  # ("12" would be the tests "1" and "2")
+            raise TypeError(f"tests: expected the tests as a list, e.g. [5, 17], got {tests!r}")
         chosen = [t.item() if hasattr(t, "item") else t for t in tests]
+        if not chosen:
+            raise ValueError(f"tests: none given; the campaign's are {_test_range(order)}")
         unknown = [t for t in chosen if t not in order]
-        if unknown or not chosen:
+        if unknown:
             raise ValueError(
-                f"tests: {unknown or 'none given'} not among the campaign's tests "
-                f"({_test_range(order)})"
+                f"tests: {unknown} not among the campaign's tests ({_test_range(order)})"
             )
         order = list(dict.fromkeys(chosen))
     cols = min(int(columns), len(order))
@@ -1424,14 +1430,19 @@ def plot_mu_per_stop_by_test(
     spans = _block_spans(blocks, stops) if blocks else []
     at_floor = floor is not None and variable == "mean_cof"
     width = _panel_chars(axes[0], 8.0, 60)
+    few = stops.size <= 20  # a point at each stop too: a run of one stop has no line (a
+    # diff review: a one-stop campaign's panels were empty)
     for ax, key in zip(axes, order, strict=False):
         mine = np.array([k == key for k in keys])
         _shade_blocks(ax, spans)
         if at_floor:
             _floor_line(ax, float(floor))  # type: ignore[arg-type]
         _run_lines(ax, stops, values[~mine], lw=0.5, colour="0.72", alpha=0.7)
+        if few and (~mine).any():
+            ax.plot(np.tile(stops, int((~mine).sum())), values[~mine].ravel(), "o", ms=2,
+                    color="0.72", alpha=0.7)  # fmt: skip
         for row in values[mine]:
-            ax.plot(stops, row, lw=1.1, color="black", zorder=3)
+            ax.plot(stops, row, lw=1.1, color="black", marker="o" if few else None, ms=3, zorder=3)
         title = runs.label(int(np.flatnonzero(mine)[0]))
         unfinished, own = int(np.count_nonzero(~runs.ok[mine])), int(mine.sum())
         if unfinished:
@@ -1485,10 +1496,15 @@ def plot_mu_per_stop_by_test(
 
 
 def _test_range(tests: Sequence[Any]) -> str:
-    """The tests a campaign has, for a message: ``"1 to 24"`` where they are whole numbers,
-    else the first few."""
-    if tests and all(isinstance(t, int | np.integer) for t in tests):
-        return f"{min(tests)} to {max(tests)}"
+    """The tests a campaign has, for a message: ``"1 to 24"`` where they are every whole
+    number between, else the first few."""
+    whole = [int(t) for t in tests if isinstance(t, int | np.integer)]
+    if (
+        whole
+        and len(whole) == len(tests)
+        and sorted(whole) == list(range(min(whole), max(whole) + 1))
+    ):
+        return f"{min(whole)} to {max(whole)}"
     return ", ".join(map(repr, tests[:6])) + (", ..." if len(tests) > 6 else "")
 
 

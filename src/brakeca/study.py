@@ -1758,12 +1758,14 @@ def _by_test(
     variable: str,
     name: str,
     what: str,
+    more: str,
     **options: Any,
 ) -> None:
     """The figure of every run per stop above it, test by test (small multiples, a panel
     per test: a figures review could not tell 24 lines apart in one panel), where the
     campaign has ``variable`` and two to :data:`brakeca.plotting.MOST_TESTS_NAMED` tests;
-    else an earlier analysis's is dropped."""
+    else an earlier analysis's is dropped. ``what`` names the variable in the caption, and
+    ``more`` ends it."""
     from brakeca import plotting
 
     dataset = result.dataset
@@ -1780,7 +1782,8 @@ def _by_test(
         f"{what} per stop, test by test: each panel's test in black over every other run in "
         "grey, on the same axes (the figure above, one test at a time"
         + ("; a test's replicates each a black line" if tests < runs else "")
-        + ")",
+        + ")"
+        + more,
         name,
         plotting.plot_mu_per_stop_by_test,
         dataset,
@@ -1823,7 +1826,7 @@ def _cycle_figures(
         factors=factors,
         floor=floor,
     )
-    _by_test(figures, result, "mean_cof", "mu_per_stop_by_test.png", "MU", floor=floor)
+    _by_test(figures, result, "mean_cof", "mu_per_stop_by_test.png", "MU", "", floor=floor)
     figures.add(
         "Runs",
         f"MU per stop over {stops_run} at each level of each factor: the mean of the "
@@ -1896,6 +1899,7 @@ def _cycle_figures(
         "emitted_volume",
         "v_per_stop_by_test.png",
         "The emitted wear volume",
+        "; on a log axis as above, a stop that emitted nothing without a point",
         log=None,
     )
     if n_blocks > 1 and not _cycle_factors(result.design) and not by_block.empty:

@@ -66,9 +66,7 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
     assert saved["composite"] == {"alpha": "face", "center": 2}
     assert load_design(out / "design.toml").n_tests == 10
-    output = cli_ok(
-        "run", str(out / "design.toml"), "-o", str(out), "--executor", "serial", "--no-report"
-    )
+    output = cli_ok("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
     assert "0 run(s) computed, 10 reused" in output
     # the response surface: tables, figure and report section, from the summary's runs
     coefficients = pd.read_csv(out / "tables" / "surface_coefficients_MU.csv")

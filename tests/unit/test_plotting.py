@@ -1580,8 +1580,24 @@ def test_per_stop_by_test_draws_each_test_over_the_others(tmp_path, campaign, su
         ValueError, match=r"^tests: \[25\] not among the campaign's tests \(1 to 24\)"
     ):
         plot_mu_per_stop_by_test(campaign, tests=[25])
+    with pytest.raises(ValueError, match=r"^tests: none given; the campaign's are 1 to 24$"):
+        plot_mu_per_stop_by_test(campaign, tests=[])
+    with pytest.raises(TypeError, match=r"^tests: expected the tests as a list"):
+        plot_mu_per_stop_by_test(campaign, tests="12")
+    gaps = campaign.isel(run=[0, 4, 8]).assign_coords(test=("run", [1, 5, 9]))
+    with pytest.raises(ValueError, match=r"\(1, 5, 9\)$"):  # not "1 to 9"
+        plot_mu_per_stop_by_test(gaps, tests=[2])
     with pytest.raises(ValueError, match=r"^columns: expected a whole number"):
         plot_mu_per_stop_by_test(campaign, columns=0)
+    # one stop: a point each, which a line alone does not draw (a diff review: empty panels)
+    fig = plot_mu_per_stop_by_test(campaign.isel(stop=[0]), factors=FACTORS)
+    (own,) = [line for line in fig.axes[0].lines if line.get_color() == "black"]
+    assert own.get_marker() == "o" and list(own.get_xdata()) == [1]
+    grey = [line for line in fig.axes[0].lines if line.get_color() == "0.72"]
+    assert len(grey) == 1 and grey[0].get_ydata().size == len(summary) - 1
+    # a run alone: one panel, named as the run, not as a test 0 it does not have
+    one = campaign.isel(run=0).drop_vars("run")
+    assert [ax.get_title() for ax in plot_mu_per_stop_by_test(one).axes] == ["the run"]
     with pytest.raises(KeyError, match="no variable 'wear'"):
         plot_mu_per_stop_by_test(campaign, variable="wear")
     # beyond MOST_TESTS_NAMED tests the caller names the panels
