@@ -72,6 +72,7 @@ __all__ = [
     "as_factor",
     "canonical_terms",
     "cube_means",
+    "default_label",
     "display_unit",
     "factor_trends",
     "interaction_aliases",
@@ -410,6 +411,27 @@ class Factor:
         return f"{self.name} [{display_unit(unit)}]" if unit else self.name
 
 
+def default_label(field: Any) -> str:
+    """The label of a design's factor that gives none, from the configuration ``field`` it
+    sets (a dotted field or a factor alias, ``"WR"``): the paper's description of one of its
+    factors' fields (:data:`brakeca.config.PAPER_FACTOR_LABELS`), else ``""`` (a design's
+    own factors had gone by their bare names in the figures' titles: a review).
+
+    Examples
+    --------
+    >>> default_label("WR"), default_label("wear.specific_wear_rate")
+    ('Resin wear depth', 'Specific wear rate of plateaus')
+    >>> default_label("contact.elastic_modulus"), default_label(None)
+    ('', '')
+    """
+    from brakeca.config import FACTOR_ALIASES, PAPER_FACTOR_LABELS
+
+    if not isinstance(field, str):
+        return ""
+    target = FACTOR_ALIASES[field][0] if field in FACTOR_ALIASES else field
+    return PAPER_FACTOR_LABELS.get(target, "")
+
+
 def as_factor(obj: Any) -> Factor:
     """Convert a factor-like object or mapping to a :class:`Factor`.
 
@@ -417,7 +439,9 @@ def as_factor(obj: Any) -> Factor:
     ----------
     obj
         A :class:`Factor`, a mapping or any object with ``name`` and ``levels`` (and optionally
-        ``unit``, ``label``, ``labels``), e.g. a design entry loaded from TOML.
+        ``unit``, ``label``, ``labels``, ``field``), e.g. a design entry loaded from TOML;
+        without a label, one of a field of the paper's factors gets the paper's
+        (:func:`default_label`).
 
     Returns
     -------
@@ -441,7 +465,7 @@ def as_factor(obj: Any) -> Factor:
         name=str(name),
         levels=tuple(levels),
         unit=str(get("unit", "") or ""),
-        label=str(get("label", "") or ""),
+        label=str(get("label", "") or "") or default_label(get("field")),
         labels=None if labels is None else tuple(labels),
         coding=str(get("coding", "linear") or "linear"),
     )

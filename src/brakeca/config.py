@@ -34,6 +34,7 @@ from pydantic import (
 
 __all__ = [
     "FACTOR_ALIASES",
+    "PAPER_FACTOR_LABELS",
     "AutomatonConfig",
     "BrakeBlock",
     "BrakeConfig",
@@ -1545,6 +1546,16 @@ FACTOR_ALIASES: dict[str, tuple[str, float, str]] = {
     "WR": ("wear.resin_wear_depth", 1.0, "m"),
     "A": ("pad.fibre_area_fraction", 0.01, "%"),
 }
+#: The paper's descriptions of the fields its factors set (Table 1), by configuration field:
+#: the label of a design's factor on such a field where the design gives none (figures'
+#: titles and the report's design table).
+PAPER_FACTOR_LABELS: dict[str, str] = {
+    "automaton.secondary_removal_fraction": "Secondary plateaus removed between stops",
+    "wear.specific_wear_rate": "Specific wear rate of plateaus",
+    "wear.resin_wear_depth": "Resin wear depth",
+    "pad.fibre_area_fraction": "Metal fibre area fraction",
+}
+
 #: Allowed values of a factor name in its unit: [low, high) (A = 100 %: no resin, and the
 #: fibres laid at random would never cover the whole band).
 _ALIAS_RANGES = {"A": (0.0, 100.0)}

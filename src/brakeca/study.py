@@ -35,7 +35,7 @@ import pandas as pd
 from brakeca import __version__
 from brakeca._console import is_replicated, run_named, run_tags, tests_named
 from brakeca._io import write_table, write_text
-from brakeca.analysis import display_unit
+from brakeca.analysis import default_label, display_unit
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
 from brakeca.emissions import CAVEAT, EURO7_LIMITS
@@ -268,7 +268,7 @@ def _design_table(result: CampaignResult) -> pd.DataFrame:
     for f in design.factors:
         row = {
             "factor": f.name,
-            "meaning": f.label,
+            "meaning": f.label or default_label(f.field),
             "field": _target(f.field),  # a factor alias ("WP") as the field it sets
             "unit": display_unit(f.unit),
             "levels": ", ".join(

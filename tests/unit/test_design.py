@@ -6,10 +6,12 @@ import copy
 import itertools
 import math
 import tomllib
+import types
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 import pytest
 import tomli_w
 from hypothesis import HealthCheck, given, settings
@@ -217,6 +219,43 @@ def test_an_alias_factor_takes_the_alias_unit_unless_given():
     assert factor(field="friction.slope").unit == "1/Pa"
     # a scaled factor's levels are in the user's unit, which the design does not know
     assert factor(field="friction.slope", scale=1e-6).unit == "-"
+
+
+def test_a_factor_on_a_paper_field_without_a_label_gets_the_papers_in_figures_and_tables():
+    """A design's own factors on the paper's fields went by their bare names ("S") in the
+    figures' titles and the report's design table: they take the paper's description, while
+    a label given, and a factor on another field, keep theirs; the design keeps none."""
+    from brakeca.plotting import plot_main_effects
+    from brakeca.study import _design_table
+
+    design = design_from_dict(
+        {
+            "name": "own",
+            "base": "paper",
+            "root_seed": 1,
+            "factors": [
+                {"name": "removal", "field": "S", "levels": [0.0, 1.0]},
+                {"name": "WR", "levels": [1e-7, 1e-6], "label": "Resin cut"},
+                {"name": "mu0", "field": "friction.mu_0", "levels": [0.4, 0.5]},
+            ],
+        }
+    )
+    assert design.factors[0].label == ""  # (what the design file says)
+    labels = [as_factor(f).label for f in design.factors]
+    assert labels == ["Secondary plateaus removed between stops", "Resin cut", ""]
+    summary = pd.DataFrame(
+        [
+            {"removal": s, "WR": wr, "mu0": m, "MU": 0.3 + 0.01 * s + m / 10, "status": "ok"}
+            for s in (0.0, 1.0)
+            for wr in (1e-7, 1e-6)
+            for m in (0.4, 0.5)
+        ]
+    )
+    titles = [ax.get_title() for ax in plot_main_effects(summary, design, "MU").axes]
+    assert titles == ["Secondary plateaus removed between stops", "Resin cut", "mu0"]
+    result = types.SimpleNamespace(design=design)
+    meaning = list(_design_table(result)["meaning"])
+    assert meaning == ["Secondary plateaus removed between stops", "Resin cut", ""]
 
 
 def test_a_factor_named_after_an_alias_needs_no_field():
