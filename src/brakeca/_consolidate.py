@@ -20,6 +20,7 @@ import xarray as xr
 
 from brakeca import __version__
 from brakeca._runstore import _Record
+from brakeca.analysis import default_label
 from brakeca.config import SimulationConfig
 from brakeca.design import Design, load_design
 from brakeca.results import RunResult, scalar_attrs
@@ -241,7 +242,9 @@ def _campaign_dataset(
         values = np.asarray([r.point.levels[factor.name] for r in records])
         attrs = {
             "units": "1" if factor.unit == "-" else factor.unit,  # UDUNITS' 1 (none: none)
-            "long_name": factor.label or factor.name,
+            # (a factor on a paper's field without a label: the paper's, as the figures
+            # of the campaign show it; analysis.default_label)
+            "long_name": factor.label or default_label(factor.field) or factor.name,
             "field": factor.field,
             "scale": factor.scale,
             "levels": np.asarray(factor.levels, dtype=float),
