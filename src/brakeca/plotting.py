@@ -1016,6 +1016,17 @@ def _labels_attr(labels: Any) -> tuple[str, ...] | None:
     return (str(labels),) if isinstance(labels, str) else tuple(str(x) for x in labels)
 
 
+def _stop_ticks(ax: Axes, stops: np.ndarray) -> None:
+    """Ticks at whole stop numbers only: matplotlib's integer locator, or the stop itself
+    where there is one (the locator then fell back to 0.5, 0.6, ...: a diff review)."""
+    from matplotlib.ticker import FixedLocator, MaxNLocator
+
+    if np.unique(stops).size == 1:
+        ax.xaxis.set_major_locator(FixedLocator([float(stops[0])]))
+    else:
+        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+
+
 @dataclass(frozen=True)
 class _PerStopRuns:
     """The runs of a per-stop figure: ``data`` the dataset (a ``run`` dimension, one run's
@@ -1286,9 +1297,8 @@ def plot_mu_per_stop(
         )
     ax.set_xlim(stops.min() - 0.5, stops.max() + 0.5)
     ax.set_xlabel("Stop number [-]")
-    from matplotlib.ticker import MaxNLocator
 
-    ax.xaxis.set_major_locator(MaxNLocator(integer=True))  # no stop 0.75 with a few stops
+    _stop_ticks(ax, stops)  # no stop 0.75 with a few stops
     if _log_axis(values, log):
         ax.set_yscale("log")
         ylabel += " (log scale)"
@@ -1466,9 +1476,8 @@ def plot_mu_per_stop_by_test(
     ylabel = "Mean μ per stop [-]" if variable == "mean_cof" else runs.ylabel
     for ax in axes[::cols]:
         ax.set_ylabel(textwrap.fill(ylabel + (" (log)" if log else ""), 26), fontsize=8)
-    from matplotlib.ticker import MaxNLocator
 
-    axes[0].xaxis.set_major_locator(MaxNLocator(integer=True))  # shared: no stop 1.2
+    _stop_ticks(axes[0], stops)  # shared: no stop 1.2
     axes[0].set_xlim(stops.min() - 0.5, stops.max() + 0.5)
     handles: list[Any] = [
         Line2D([], [], color="black", lw=1.1, label="the panel's test"),
@@ -1637,9 +1646,8 @@ def plot_mu_per_stop_by_level(
         ax.set_ylabel(
             "Mean μ per stop [-]" if variable == "mean_cof" else textwrap.fill(ylabel, 30)
         )
-    from matplotlib.ticker import MaxNLocator
 
-    axes[0].xaxis.set_major_locator(MaxNLocator(integer=True))  # shared: no stop 1.2
+    _stop_ticks(axes[0], stops)  # shared: no stop 1.2
     _suptitle(
         fig,
         "Mean coefficient of friction per stop at each factor level (main effects)"

@@ -1589,7 +1589,17 @@ def test_per_stop_by_test_draws_each_test_over_the_others(tmp_path, campaign, su
         plot_mu_per_stop_by_test(gaps, tests=[2])
     with pytest.raises(ValueError, match=r"^columns: expected a whole number"):
         plot_mu_per_stop_by_test(campaign, columns=0)
-    # one stop: a point each, which a line alone does not draw (a diff review: empty panels)
+    # one stop: a point each, which a line alone does not draw (a diff review: empty panels),
+    # and one tick, at the stop (the integer locator had fallen back to 0.5, 0.6, ...)
+    from brakeca.plotting import plot_mu_per_stop_by_level
+
+    first = campaign.isel(stop=[0])
+    for drawn in (
+        plot_mu_per_stop(first, factors=FACTORS),
+        plot_mu_per_stop_by_level(first, FACTORS),
+        plot_mu_per_stop_by_test(first, factors=FACTORS),
+    ):
+        assert list(drawn.axes[0].get_xticks()) == [1.0]
     fig = plot_mu_per_stop_by_test(campaign.isel(stop=[0]), factors=FACTORS)
     (own,) = [line for line in fig.axes[0].lines if line.get_color() == "black"]
     assert own.get_marker() == "o" and list(own.get_xdata()) == [1]
