@@ -390,14 +390,19 @@ LEVEL_STYLES = ("-", "--", "-.", ":")
 LEVEL_MARKERS = ("o", "s", "^", "D", "v", "P")
 
 
+def _with_unit(value: str, unit: str, space: str = " ") -> str:
+    """``"0.1 µm"``: a value's text with its unit for people (:func:`display_unit`), none
+    for a dimensionless one (``""`` or ``"-"``); ``space`` between them."""
+    from brakeca.analysis import display_unit
+
+    return value + (f"{space}{display_unit(unit)}" if unit and unit != "-" else "")
+
+
 def _legend_label(factor: Factor, level: float) -> str:
     """``"WP+ (1e-13 m³/(N·m))"``, ``"A = 20 %"``, ``"WR- (0.1 µm)"``: a level in a legend,
     with its unit (a figures review: "A = 20" left the reader to guess it), in the unit the
     figures show it in (:meth:`Factor.shown`)."""
-    from brakeca.analysis import display_unit
-
-    unit = factor.shown_unit[0]
-    shown = factor.shown(level) + (f" {display_unit(unit)}" if unit not in ("", "-") else "")
+    shown = _with_unit(factor.shown(level), factor.shown_unit[0])
     if factor.labels is not None:
         return f"{factor.name}{factor.level_label(level)} ({shown})"
     return f"{factor.name} = {shown}"
@@ -956,7 +961,7 @@ def _differing_factors(runs: Sequence[Any], labels: Sequence[str]) -> list[str]:
     """Labels for runs that share a seed: the paper's factors (S, WP, WR, A, in their units)
     in which their configurations differ, after the seed where the seeds differ too;
     ``labels`` where no factor differs or a run has no configuration."""
-    from brakeca.analysis import display_unit, shown_unit
+    from brakeca.analysis import shown_unit
     from brakeca.config import FACTOR_ALIASES
     from brakeca.results import paper_factor_levels
 
@@ -973,11 +978,7 @@ def _differing_factors(runs: Sequence[Any], labels: Sequence[str]) -> list[str]:
     return [
         ", ".join(
             ([label] if seeds else [])
-            + [
-                f"{n} = {lv[n] / units[n][1]:g}"
-                + ("" if units[n][0] == "-" else f" {display_unit(units[n][0])}")
-                for n in differ
-            ]
+            + [f"{n} = {_with_unit(f'{lv[n] / units[n][1]:g}', units[n][0])}" for n in differ]
         )
         for label, lv in zip(labels, levels, strict=True)
     ]
@@ -2305,11 +2306,7 @@ def _log_scale(axis: Any) -> None:
 
 def _centre_text(coding: Any) -> str:
     """``"0.316\u00a0µm"``: a factor's centre (coded 0) in the unit its axis shows."""
-    from brakeca.analysis import display_unit
-
-    unit = coding.shown_unit[0]
-    shown = f"{float(coding.shown(0.0)):.3g}"
-    return shown + (f"\u00a0{display_unit(unit)}" if unit and unit != "-" else "")
+    return _with_unit(f"{float(coding.shown(0.0)):.3g}", coding.shown_unit[0], "\u00a0")
 
 
 def plot_profiler(
@@ -2450,7 +2447,7 @@ def plot_overlaid_contours(
                 ax.plot(a.shown(xa), y, color=colour, label=goal.response)
                 for limit in goal.acceptance_limits:
                     ax.axhline(limit * scale, color=colour, ls="--", lw=0.8)
-            ax.axvline(optimum.levels[a.name] / a.shown_unit[1], color="black", lw=0.8)
+            ax.axvline(float(a.shown(optimum.coded[a.name])), color="black", lw=0.8)
             ax.set_xlabel(a.axis_label)
             if a.log:
                 _log_scale(ax.xaxis)
@@ -2471,8 +2468,8 @@ def plot_overlaid_contours(
             if np.nanmin(y) < levels[-1] and np.nanmax(y) > levels[0]:
                 lines = ax.contour(va, vb, y, levels=levels, colors=colour, linewidths=1.2)
                 ax.clabel(lines, fontsize=7, fmt=f"{goal.response} %.3g")
-        ax.plot(optimum.levels[a.name] / a.shown_unit[1], optimum.levels[b.name] / b.shown_unit[1],
-                "*", ms=13, color="black", label="optimum", zorder=5, clip_on=False)  # fmt: skip
+        ax.plot(a.shown(optimum.coded[a.name]), b.shown(optimum.coded[b.name]), "*", ms=13,
+                color="black", label="optimum", zorder=5, clip_on=False)  # fmt: skip
         if a.log:
             _log_scale(ax.xaxis)
         if b.log:
