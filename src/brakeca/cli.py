@@ -436,6 +436,15 @@ RunMapsOpt = Annotated[
     ),
 ]
 
+FiguresOpt = Annotated[
+    bool,
+    typer.Option(
+        help="draw the report's figures; without, the tables and a report without figures "
+        "in a fraction of the time (for trying one model after another), and the figures "
+        "of an earlier analysis removed"
+    ),
+]
+
 QuickOpt = Annotated[
     bool,
     typer.Option("--quick", help="narrow the band to 2 mm (21 rows); same cells and cycle"),
@@ -1120,6 +1129,7 @@ def _run_and_report(
     output_option: str | None = "-o",
     emissions: Path | None = None,
     run_maps: bool = True,
+    figures: bool = True,
 ) -> None:
     import time
 
@@ -1281,7 +1291,7 @@ def _run_and_report(
     _print_summary(result.summary, result.design)
     if report:
         later = f"every run is in {output}; 'brakeca analyze {output}' writes the report"
-        _say_analysing(run_maps, len(result.summary))
+        _say_analysing(run_maps, len(result.summary), figures=figures)
         lines: list[str] = []
         with _on_interrupt(later):
             try:
@@ -1291,6 +1301,7 @@ def _run_and_report(
                     note=_note,
                     in_short=lines.append,
                     emissions=factors,
+                    figures=figures,
                 )
             except OSError as exc:  # a full disk, say: the runs are done
                 _fail(f"-o {output}: cannot write the report ({exc}); {later}", code=1)
@@ -1301,17 +1312,29 @@ def _run_and_report(
         raise typer.Exit(1)
 
 
-def _say_analysing(run_maps: bool, runs: int) -> None:
+def _say_analysing(run_maps: bool, runs: int, *, figures: bool = True) -> None:
     """Say what the silence before the report is (a command-line review: 20 to 45 s without
     a word after the runs' table), and how long it may last: on the development machine
     about 20 s and 0.15 s a run, and 0.4 s more a run for its maps (a review of large
-    designs: 256 runs took 2 min 20 s, 55 s without the maps)."""
-    seconds = 20.0 + runs * (0.55 if run_maps else 0.15)
-    took = "half a minute or so" if seconds < 45 else f"about {seconds / 60.0:.0f} min"
+    designs: 256 runs took 2 min 20 s, 55 s without the maps); without figures, about 5 s
+    and 0.1 s a run (4 runs 4.8 s, the paper's 24 runs 7.7 s)."""
+    if not figures:
+        seconds = 5.0 + runs * 0.1
+        what = "tables"
+    else:
+        seconds = 20.0 + runs * (0.55 if run_maps else 0.15)
+        what = "tables, figures" + (
+            ", each run's plateau maps (--no-run-maps leaves them out)" if run_maps else ""
+        )
+    took = (
+        "a few seconds"
+        if seconds < 10
+        else "half a minute or so"
+        if seconds < 45
+        else f"about {seconds / 60.0:.0f} min"
+    )
     console.print(
-        f"analysing {runs} run{'s' if runs != 1 else ''}: tables, figures"
-        + (", each run's plateau maps (--no-run-maps leaves them out)" if run_maps else "")
-        + f" and the report ({took})",
+        f"analysing {runs} run{'s' if runs != 1 else ''}: {what} and the report ({took})",
         style="dim",
         highlight=False,
     )
@@ -1505,6 +1528,7 @@ def run(
     maps_at: MapsAtOpt = None,
     emissions: EmissionsOpt = None,
     run_maps: RunMapsOpt = True,
+    figures: FiguresOpt = True,
 ) -> None:
     """Run every point of a design into a campaign folder (resumes finished runs)."""
     _run_and_report(
@@ -1526,6 +1550,7 @@ def run(
         maps_at=maps_at,
         emissions=emissions,
         run_maps=run_maps,
+        figures=figures,
     )
 
 
@@ -1596,6 +1621,7 @@ def analyze(
         ),
     ] = None,
     emissions: EmissionsOpt = None,
+    figures: FiguresOpt = True,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
     from brakeca.analysis import alpha_problem
@@ -1657,7 +1683,7 @@ def analyze(
         if (problem := destination_problem(folder, dest)) is not None:
             _fail(f"-o {dest}: {problem}")
     _print_summary(result.summary, result.design)
-    _say_analysing(run_maps, len(result.summary))
+    _say_analysing(run_maps, len(result.summary), figures=figures)
     lines: list[str] = []
     with _on_interrupt("the report is not complete; run the same command again"):
         try:
@@ -1672,6 +1698,7 @@ def analyze(
                 output=output,
                 in_short=lines.append,
                 emissions=factors,
+                figures=figures,
             )
         except OSError as exc:  # a full disk, a file the folder's owner made read-only
             where = exc.filename or dest
@@ -1695,7 +1722,10 @@ def analyze(
         )
     _print_in_short(lines)
     out.print(
-        f"tables: {dest / 'tables'}\nfigures: {dest / 'figures'}\nreport: {path}", markup=False
+        f"tables: {dest / 'tables'}\n"
+        + (f"figures: {dest / 'figures'}\n" if figures else "")
+        + f"report: {path}",
+        markup=False,
     )
 
 
@@ -2315,6 +2345,7 @@ def paper(
     maps_at: MapsAtOpt = None,
     report: Annotated[bool, typer.Option(help="analyse and write the report at the end")] = True,
     run_maps: RunMapsOpt = True,
+    figures: FiguresOpt = True,
 ) -> None:
     """The paper's whole study: the 24-run factorial design, then the analysis and report.
     With --stops N and no -o, a folder of its own (results/paper_stopsN), so that a
@@ -2342,6 +2373,7 @@ def paper(
         # user did not give (a command-line review)
         output_option="-o" if given else None,
         run_maps=run_maps,
+        figures=figures,
     )
 
 

@@ -1118,6 +1118,7 @@ def write_study(
     output: str | Path | None = None,
     in_short: Callable[[str], object] | None = None,
     emissions: EmissionParameters | None = None,
+    figures: bool = True,
 ) -> Path:
     """Write tables, figures and ``report.html`` for a loaded campaign.
 
@@ -1166,6 +1167,12 @@ def write_study(
         set keep their defaults and the run's pads per brake and front brake share
         (:func:`brakeca.emissions.pm10_from_run`). By default the defaults, with each
         run's own pads per brake and front brake share: the figures its run file records.
+    figures
+        Draw the figures (the default). Without, the tables and a report without figures,
+        which says so, in a fraction of the time: for trying one model after another
+        (``model_terms``, ``alpha_to_remove``...). The figures an earlier analysis drew
+        into the folder are removed, since they may show another model; ``run_maps`` is
+        then ignored.
 
     Returns
     -------
@@ -1192,7 +1199,7 @@ def write_study(
         raise ValueError(f"output {out}: {problem}")
     in_place = out.resolve() == source.resolve()  # (-o given as the campaign's folder too)
     tables_dir = out / "tables"
-    figures = _Figures(out / "figures")
+    drawn = _Figures(out / "figures", draw=figures)
     base = _base_config(source)
     scope = _scope(base)
     found = _analyse(
@@ -1215,10 +1222,10 @@ def write_study(
     surfaces = found.surfaces
     if len(found.ok):  # with no finished run there is nothing to plot; the report says why
         band = _band_caption(base)
-        _response_figures(figures, result, found, band)
+        _response_figures(drawn, result, found, band)
         held = _floor_shares(result, base)  # runs held at the COF floor: the floor drawn
         _cycle_figures(
-            figures,
+            drawn,
             result,
             found.by_block,
             _stops_run(result, base),
@@ -1226,15 +1233,22 @@ def write_study(
             floor=None if held is None else held.floor,
         )
     files = _run_file_figures(
-        figures,
+        drawn,
         found.ok,
         result.design,
         source / "runs",
-        run_maps=run_maps,
+        run_maps=run_maps and figures,
         emissions=emissions,
         run_tag=run_tags(result.summary),
     )
     notes = _study_notes(result, found, files, base, source, note=note)
+    if not figures:
+        drawn.remove_empty()
+        notes += (
+            "\n\nNo figures were drawn: this analysis was asked for its tables and report "
+            "alone (--no-figures, or write_study(..., figures=False)); brakeca analyze "
+            "without --no-figures draws them."
+        )
     floor_line = _floor_line(result, base)
     pm10 = _pm10_report(result.summary, files.pm10_of, result.design, given=emissions is not None)
     summary = result.summary if pm10 is None else pm10.summary
@@ -1280,7 +1294,7 @@ def write_study(
         design_table=_design_table(result),
         summary=shown,
         anova_tables=anova_tables,
-        figures=figures.listed,
+        figures=drawn.listed,
         config_text=design_text + "\n# --- base configuration ---\n" + config_text,
         version=__version__,
         notes=notes,
@@ -1364,22 +1378,35 @@ def destination_problem(campaign_dir: str | Path, output: str | Path) -> str | N
 @dataclass
 class _Figures:
     """The report's figures as they are drawn: each PNG in ``folder``, listed as (section,
-    caption, path)."""
+    caption, path). With ``draw`` False none is drawn or listed, and each one an earlier
+    analysis drew under the name of one that would be is removed."""
 
     folder: Path
     listed: list[tuple[str, str, Path]] = field(default_factory=list)
+    draw: bool = True
 
     def __post_init__(self) -> None:
-        self.folder.mkdir(parents=True, exist_ok=True)
+        if self.draw:
+            self.folder.mkdir(parents=True, exist_ok=True)
 
-    def add(self, section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> None:
-        """Draw ``fig_fn(*args, path=..., **kwargs)`` into ``name`` and list it."""
+    def add(self, section: str, caption: str, name: str, fig_fn, *args, **kwargs) -> bool:
+        """Draw ``fig_fn(*args, path=..., **kwargs)`` into ``name`` and list it; True if it
+        was drawn."""
         from brakeca._executors import raise_if_interrupted
 
         raise_if_interrupted()  # a Ctrl-C Python dropped in a callback (a review)
         path = self.folder / name
+        if not self.draw:
+            path.unlink(missing_ok=True)  # an earlier analysis's, perhaps of another model
+            return False
         fig_fn(*args, path=path, **kwargs)
         self.listed.append((section, caption, path))
+        return True
+
+    def remove_empty(self) -> None:
+        """Remove the folder if nothing is left in it."""
+        if self.folder.is_dir() and not any(self.folder.iterdir()):
+            self.folder.rmdir()
 
     def drop(self, *names: str) -> None:
         """Remove figures an earlier analysis drew that this one does not (they would
@@ -2118,7 +2145,7 @@ def _run_file_figures(
         shown_tests = [str(first_pad[level][0]) for level in sorted(first_pad)]
         _, radius, angle = next(iter(first_pad.values()))[1]
         to_scale = plotting.fits_to_scale(radius, angle)  # (a quick band: a thin strip)
-        figures.add(
+        if figures.add(
             "Pad surfaces",
             "Initial fibre maps of the A levels (as the paper's Figure 5): the pads of tests "
             f"{_listed(shown_tests)}, the first run at each level (every run draws a pad of its "
@@ -2136,8 +2163,8 @@ def _run_file_figures(
             title=f"Initial pad surfaces: test{'s' if len(shown_tests) > 1 else ''} "
             + _listed(shown_tests),  # (not "1 and 6 and 11 and 16": a figures review)
             true_scale=to_scale,
-        )
-        figures.listed.insert(pads_at, figures.listed.pop())
+        ):
+            figures.listed.insert(pads_at, figures.listed.pop())
     return _RunFiles(unreadable, pm10_of, filed)
 
 

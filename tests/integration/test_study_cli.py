@@ -188,7 +188,7 @@ def test_the_report_s_in_short_is_printed_too(campaign, tmp_path):
     for output in (
         res.output,
         CliRunner()
-        .invoke(app, ["analyze", str(out), "--no-run-maps", "-o", str(tmp_path / "a")])
+        .invoke(app, ["analyze", str(out), "--no-figures", "-o", str(tmp_path / "a")])
         .output,
     ):
         assert "in short (the ANOVA's terms with p < 0.05, largest share first):" in output
@@ -232,7 +232,7 @@ def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
     assert not list((out / "figures").glob("final_map_test*.png"))
     assert "Type II ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
     # Type III sums of squares on request (the design's anova_type is 2)
-    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--anova-type", "3"])
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures", "--anova-type", "3"])
     assert res.exit_code == 0, res.output
     assert "Type III (adjusted) ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
     res = CliRunner().invoke(app, ["analyze", str(out), "--anova-type", "1"])
@@ -252,13 +252,14 @@ def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
     assert res.exit_code != 0 and "--order: expected the most factors in a model term, 1 to 10" in (
         res.output
     )
-    # the model's order on request: main effects only
-    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--order", "1"])
+    # the model's order on request: main effects only (the tables alone: --no-figures)
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures", "--order", "1"])
     assert res.exit_code == 0, res.output
     table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
     assert [t for t in table["term"] if t != "Residual"] == ["S", "A"]
     assert "with 2 factors" not in res.output
-    # an order beyond the factors: said to be every interaction (a new user's review)
+    # an order beyond the factors: said to be every interaction (a new user's review); its
+    # figures drawn, for the check below
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps", "--order", "4"])
     assert res.exit_code == 0, res.output
     assert (
@@ -273,6 +274,40 @@ def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
     assert list(table["term"]) == ["Residual"]
     assert not (out / "tables" / "effects_MU.csv").exists()
     assert not (out / "figures" / "effects_MU.png").exists()
+
+
+def test_without_figures_the_same_tables_and_a_report_that_says_so(campaign, tmp_path):
+    """--no-figures: the tables and a report without figures, quickly (for trying one model
+    after another); the figures of an earlier analysis go, as they may show another model,
+    and a file of the user's in figures/ stays. `brakeca run` and `paper` take it too."""
+    import shutil
+
+    out = tmp_path / "c"
+    shutil.copytree(campaign[0], out)
+    drawn = {p.name for p in (out / "figures").iterdir()}
+    assert "effects_MU.png" in drawn and any(n.startswith("final_map_") for n in drawn)
+    (out / "figures" / "mine.txt").write_text("notes", encoding="utf-8")
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures"])
+    assert res.exit_code == 0, res.output
+    said = " ".join(res.output.split())
+    assert "analysing 4 runs: tables and the report (a few seconds)" in said
+    assert "figures:" not in said and f"report: {out / 'report.html'}" in said
+    assert [p.name for p in (out / "figures").iterdir()] == ["mine.txt"]
+    for table in (campaign[0] / "tables").iterdir():  # as the analysis with figures wrote them
+        assert (out / "tables" / table.name).read_bytes() == table.read_bytes(), table.name
+    html = " ".join((out / "report.html").read_text(encoding="utf-8").split())
+    assert "<img" not in html and "<figure" not in html
+    assert "No figures were drawn: this analysis was asked for its tables and report alone" in html
+    assert "Type II ANOVA of MU" in html
+    # with no file of the user's there, the empty folder goes too; by `brakeca run` on the
+    # finished campaign (nothing computed)
+    (out / "figures" / "mine.txt").unlink()
+    design = campaign[0].parent / "design_in.toml"
+    res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *TINY, "--no-figures"])
+    assert res.exit_code == 0, res.output
+    assert "0 run(s) computed, 4 reused" in res.output
+    assert not (out / "figures").exists()
+    assert "No figures were drawn" in (out / "report.html").read_text(encoding="utf-8")
 
 
 def test_plot_draws_a_campaigns_runs(campaign, tmp_path):
@@ -385,7 +420,16 @@ def test_one_factor_trace_campaign_reports_pm10(tmp_path):
     factors = tmp_path / "emissions.toml"
     factors.write_text("[emissions]\nairborne_fraction = 0.4\n")
     again = CliRunner().invoke(
-        app, ["analyze", str(out), "-o", str(tmp_path / "a"), "--emissions", str(factors)]
+        app,
+        [
+            "analyze",
+            str(out),
+            "-o",
+            str(tmp_path / "a"),
+            "--emissions",
+            str(factors),
+            "--no-figures",
+        ],
     )
     assert again.exit_code == 0, again.output
     mine = pd.read_csv(tmp_path / "a" / "tables" / "pm10.csv")
@@ -501,6 +545,7 @@ def test_bad_cycle_factor_names_the_problem(tmp_path, edit, needle):
         (["--quick"], "results/paper_quick"),
         (["--quick", "-o", "elsewhere"], "elsewhere"),
         (["--quick", "--no-report"], "results/paper_quick"),
+        (["--no-figures"], "results/paper"),
     ],
 )
 def test_paper_default_folder_keeps_quick_and_full_apart(monkeypatch, args, folder) -> None:
@@ -510,6 +555,7 @@ def test_paper_default_folder_keeps_quick_and_full_apart(monkeypatch, args, fold
 
     def record(design, output, **kwargs):
         seen.update(design=design, output=output, quick=kwargs["quick"], report=kwargs["report"])
+        seen.update(figures=kwargs["figures"])
 
     monkeypatch.setattr(cli, "_run_and_report", record)
     res = CliRunner().invoke(app, ["paper", *args])
@@ -517,6 +563,7 @@ def test_paper_default_folder_keeps_quick_and_full_apart(monkeypatch, args, fold
     assert seen["design"] == "paper" and str(seen["output"]) == folder
     assert seen["quick"] == ("--quick" in args)
     assert seen["report"] == ("--no-report" not in args)
+    assert seen["figures"] == ("--no-figures" not in args)
 
 
 def test_a_campaign_whose_runs_all_fail_still_gets_its_report(tmp_path):
@@ -565,7 +612,7 @@ def test_ctrl_c_says_what_is_kept_and_how_to_go_on(tmp_path, monkeypatch):
         assert f"'brakeca analyze {out}' writes the report" in res.output
         res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
         assert res.exit_code == 130 and "the report is not complete" in res.output
-    res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures"])
     assert res.exit_code == 0 and (out / "report.html").is_file()
 
     # simulate, in the warm-up or in the run: nothing written, and how a rerun could resume
@@ -774,13 +821,13 @@ def test_analyze_writes_into_another_folder_and_leaves_the_campaign_as_it_was(ca
     assert "`../summary.csv`" in (src / "tables" / "README.md").read_text(encoding="utf-8")
     # -o naming the campaign's own folder (spelled otherwise) is the analysis in place
     relative = os.path.relpath(src)  # (the same folder, a path that is not equal as text)
-    res = CliRunner().invoke(app, ["analyze", str(src), "--no-run-maps", "-o", relative])
+    res = CliRunner().invoke(app, ["analyze", str(src), "--no-figures", "-o", relative])
     assert res.exit_code == 0, res.output
     assert "`../summary.csv`" in (src / "tables" / "README.md").read_text(encoding="utf-8")
     before = files(src)
     reduced = tmp_path / "reduced"
     res = CliRunner().invoke(
-        app, ["analyze", str(src), "--no-run-maps", "--terms", "A S", "-o", str(reduced)]
+        app, ["analyze", str(src), "--no-figures", "--terms", "A S", "-o", str(reduced)]
     )
     assert res.exit_code == 0, res.output
     assert "without --terms, into a folder of its own)" in " ".join(res.output.split())
@@ -963,7 +1010,7 @@ def test_a_run_without_emission_is_named_where_the_log_scale_leaves_it_out(campa
     (copy / ".brakeca.lock").unlink(missing_ok=True)
     result = load_campaign(copy)
     result.summary.loc[result.summary["test"] == 2, "V"] = 0.0
-    write_study(result, run_maps=False)
+    write_study(result, figures=False)
     html = " ".join((copy / "report.html").read_text(encoding="utf-8").split())
     assert "Test 2 emitted nothing (V = 0): log10_V_mm3 has no value there, so its" in html
     assert "leaves that run out (the analysis of V keeps it)" in html
