@@ -1326,13 +1326,11 @@ def _say_analysing(run_maps: bool, runs: int, *, figures: bool = True) -> None:
         what = "tables, figures" + (
             ", each run's plateau maps (--no-run-maps leaves them out)" if run_maps else ""
         )
-    took = (
-        "a few seconds"
-        if seconds < 10
-        else "half a minute or so"
-        if seconds < 45
-        else f"about {seconds / 60.0:.0f} min"
-    )
+    if seconds < 45:
+        took = f"about {seconds:.0f} s" if not figures else "half a minute or so"
+    else:
+        took = f"about {seconds / 60.0:.0f} min"
+
     console.print(
         f"analysing {runs} run{'s' if runs != 1 else ''}: {what} and the report ({took})",
         style="dim",

@@ -103,6 +103,9 @@ input.zoom:checked + label.zoom img { max-width: none; }
 <header>
 <h1>{{ title }}</h1>
 <p class="meta">brakeca {{ version }} &middot; generated {{ generated }}</p>
+{%- if notice %}
+<p class="note">{{ notice }}</p>
+{%- endif %}
 </header>
 <nav aria-label="Contents"><ul>
 {%- if findings %}
@@ -2210,6 +2213,7 @@ def render_report(
     unusual_tables: Mapping[str, pd.DataFrame] | None = None,
     pm10: tuple[pd.DataFrame, str, str] | None = None,
     more_findings: Sequence[str] = (),
+    notice: str = "",
 ) -> str:
     """Render the report to an HTML string (see :func:`write_report` for the parameters).
 
@@ -2353,6 +2357,7 @@ def render_report(
             if isinstance(table, _Table)
         ),
         figure_sections=_figure_sections(figures),
+        notice=notice,
         notes=paragraphs,
         surfaces=[_surface_item(str(r), fit) for r, fit in (surface_fits or {}).items()],
         surface_intro=_SURFACE_INTRO,
@@ -2798,6 +2803,7 @@ def write_report(
     unusual_tables: Mapping[str, pd.DataFrame] | None = None,
     pm10: tuple[pd.DataFrame, str, str] | None = None,
     more_findings: Sequence[str] = (),
+    notice: str = "",
 ) -> Path:
     """Write the campaign report as one self-contained HTML file.
 
@@ -2880,6 +2886,9 @@ def write_report(
     more_findings
         Further lines of "In short", after the responses' (and before PM10's): e.g. the
         runs held at the COF floor (:func:`brakeca.study.write_study`).
+    notice
+        A paragraph under the title, before everything: e.g. that the report was written
+        without its figures (:func:`brakeca.study.write_study`).
 
     Returns
     -------
@@ -2922,5 +2931,6 @@ def write_report(
         unusual_tables=unusual_tables,
         pm10=pm10,
         more_findings=more_findings,
+        notice=notice,
     )
     return write_text(path, html)

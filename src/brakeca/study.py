@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import textwrap
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -1169,10 +1169,11 @@ def write_study(
         run's own pads per brake and front brake share: the figures its run file records.
     figures
         Draw the figures (the default). Without, the tables and a report without figures,
-        which says so, in a fraction of the time: for trying one model after another
-        (``model_terms``, ``alpha_to_remove``...). The figures an earlier analysis drew
-        into the folder are removed, since they may show another model; ``run_maps`` is
-        then ignored.
+        which says so under its title, in a fraction of the time: for trying one model
+        after another (``model_terms``, ``alpha_to_remove``...). The figures an earlier
+        analysis drew into the folder are removed, since they may show another model, but
+        for those that could not be drawn again (the maps of runs whose files are gone, as
+        with figures) and files of other names.
 
     Returns
     -------
@@ -1237,18 +1238,15 @@ def write_study(
         found.ok,
         result.design,
         source / "runs",
-        run_maps=run_maps and figures,
+        run_maps=run_maps,
         emissions=emissions,
         run_tag=run_tags(result.summary),
     )
+    # the figures an earlier analysis drew that this one did not (a model or a design
+    # changed since; all of them without figures) would outlive the report's list; but the
+    # fibre maps, where no run file could be read to draw them again
+    drawn.sweep(keep=() if files.pm10_of else ("fibre_maps.png",))
     notes = _study_notes(result, found, files, base, source, note=note)
-    if not figures:
-        drawn.remove_empty()
-        notes += (
-            "\n\nNo figures were drawn: this analysis was asked for its tables and report "
-            "alone (--no-figures, or write_study(..., figures=False)); brakeca analyze "
-            "without --no-figures draws them."
-        )
     floor_line = _floor_line(result, base)
     pm10 = _pm10_report(result.summary, files.pm10_of, result.design, given=emissions is not None)
     summary = result.summary if pm10 is None else pm10.summary
@@ -1313,6 +1311,11 @@ def write_study(
         unusual_tables=unusual_tables,
         pm10=None if pm10 is None else (pm10.table, pm10.info, pm10.line),
         more_findings=[floor_line],
+        notice=""
+        if figures
+        else "Written without its figures (brakeca analyze --no-figures, or write_study(..., "
+        "figures=False)): where the text speaks of a plot, brakeca analyze without "
+        "--no-figures draws it.",
     )
     if in_short is not None:  # the report's lines (report.all_findings), one by one
         for line in report.all_findings(
@@ -1403,9 +1406,19 @@ class _Figures:
         self.listed.append((section, caption, path))
         return True
 
-    def remove_empty(self) -> None:
-        """Remove the folder if nothing is left in it."""
-        if self.folder.is_dir() and not any(self.folder.iterdir()):
+    def sweep(self, keep: Iterable[str] = ()) -> None:
+        """Remove the report's figures an earlier analysis drew that this one did not list
+        (:data:`_REPORT_FIGURES`), but those named in ``keep``; then, where none is drawn,
+        the folder if nothing is left in it. The runs' own maps are
+        :func:`_run_file_figures`' to remove."""
+        if not self.folder.is_dir():
+            return
+        kept = {path.name for _, _, path in self.listed} | set(keep)
+        for pattern in _REPORT_FIGURES:
+            for path in self.folder.glob(pattern):
+                if path.name not in kept:
+                    path.unlink(missing_ok=True)
+        if not self.draw and not any(self.folder.iterdir()):
             self.folder.rmdir()
 
     def drop(self, *names: str) -> None:
@@ -1413,6 +1426,39 @@ class _Figures:
         outlive the report's list)."""
         for name in names:
             (self.folder / name).unlink(missing_ok=True)
+
+
+#: The names of the report's figures but the runs' maps (``final_map_*``, ``maps_by_stop_*``):
+#: each response's (``*`` its name) and the campaign's
+_REPORT_FIGURES = (
+    *(
+        f"{kind}_*.png"
+        for kind in (
+            "main_effects",
+            "interactions",
+            "pareto",
+            "profile",
+            "cube",
+            "effects",
+            "surface",
+            "residuals",  # (residuals_by_level_* too)
+            "comparisons",
+        )
+    ),
+    "box_cox.png",
+    "overlaid_contours.png",
+    "mu_per_stop.png",
+    "mu_per_stop_by_test.png",
+    "mu_per_stop_by_level.png",
+    "secondary_area_by_level.png",
+    "contact_area_by_level.png",
+    "v_per_stop.png",
+    "v_per_stop_by_test.png",
+    "by_block.png",
+    "v_per_run.png",
+    "mu_vs_v.png",
+    "fibre_maps.png",
+)
 
 
 @dataclass(frozen=True)

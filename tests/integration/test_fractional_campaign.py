@@ -76,7 +76,7 @@ def test_a_half_fraction_runs_resumes_and_reports_its_aliases(tmp_path) -> None:
     centred.write_text(
         folded.read_text().replace("root_seed = 5\n", "root_seed = 5\ncenter_points = 3\n")
     )
-    output = cli_ok("run", str(centred), "-o", str(out), *TINY, "--no-figures")
+    output = cli_ok("run", str(centred), "-o", str(out), *TINY)
     assert "3 run(s) computed, 8 reused" in output
     summary = pd.read_csv(out / "summary.csv")
     assert list(summary["test"]) == list(range(1, 12))
@@ -114,9 +114,7 @@ def test_a_run_table_from_csv_runs_in_its_order(tmp_path) -> None:
     saved = tomllib.loads((out / "design.toml").read_text(encoding="utf-8"))
     assert "runs_file" not in saved and len(saved["runs"]) == 3  # inlined: no CSV needed
     (tmp_path / "runs.csv").unlink()
-    output = cli_ok(
-        "run", str(out / "design.toml"), "-o", str(out), "--executor", "serial", "--no-figures"
-    )
+    output = cli_ok("run", str(out / "design.toml"), "-o", str(out), "--executor", "serial")
     assert "0 run(s) computed, 3 reused" in output
     assert "Run table: 3 tests." in (out / "report.html").read_text(encoding="utf-8")
 

@@ -225,11 +225,19 @@ def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
     assert mtimes == {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.nc")}
     (out / "report.html").unlink()
     assert list((out / "figures").glob("final_map_test*.png"))
+    # a figure of an earlier analysis of other responses or another kind of design, and a
+    # file of the user's
+    for name in ("surface_MU.png", "profile_MU.png", "main_effects_X.png", "mine.png"):
+        (out / "figures" / name).write_bytes(b"x")
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
     assert res.exit_code == 0, res.output
     assert (out / "report.html").exists()
-    # the maps of the earlier analysis, which the report no longer lists, are gone
+    # the maps of the earlier analysis, which the report no longer lists, are gone, and so
+    # are its other figures this one did not draw; the user's file stays
     assert not list((out / "figures").glob("final_map_test*.png"))
+    for name in ("surface_MU.png", "profile_MU.png", "main_effects_X.png"):
+        assert not (out / "figures" / name).exists(), name
+    assert (out / "figures" / "mine.png").read_bytes() == b"x"
     assert "Type II ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
     # Type III sums of squares on request (the design's anova_type is 2)
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures", "--anova-type", "3"])
@@ -290,14 +298,15 @@ def test_without_figures_the_same_tables_and_a_report_that_says_so(campaign, tmp
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures"])
     assert res.exit_code == 0, res.output
     said = " ".join(res.output.split())
-    assert "analysing 4 runs: tables and the report (a few seconds)" in said
+    assert "analysing 4 runs: tables and the report (about 5 s)" in said
     assert "figures:" not in said and f"report: {out / 'report.html'}" in said
     assert [p.name for p in (out / "figures").iterdir()] == ["mine.txt"]
     for table in (campaign[0] / "tables").iterdir():  # as the analysis with figures wrote them
         assert (out / "tables" / table.name).read_bytes() == table.read_bytes(), table.name
     html = " ".join((out / "report.html").read_text(encoding="utf-8").split())
     assert "<img" not in html and "<figure" not in html
-    assert "No figures were drawn: this analysis was asked for its tables and report alone" in html
+    header = html[: html.index("</header>")]  # under the title
+    assert "Written without its figures (brakeca analyze --no-figures, or write_study(" in header
     assert "Type II ANOVA of MU" in html
     # with no file of the user's there, the empty folder goes too; by `brakeca run` on the
     # finished campaign (nothing computed)
@@ -307,7 +316,7 @@ def test_without_figures_the_same_tables_and_a_report_that_says_so(campaign, tmp
     assert res.exit_code == 0, res.output
     assert "0 run(s) computed, 4 reused" in res.output
     assert not (out / "figures").exists()
-    assert "No figures were drawn" in (out / "report.html").read_text(encoding="utf-8")
+    assert "Written without its figures" in (out / "report.html").read_text(encoding="utf-8")
 
 
 def test_plot_draws_a_campaigns_runs(campaign, tmp_path):
@@ -1010,7 +1019,7 @@ def test_a_run_without_emission_is_named_where_the_log_scale_leaves_it_out(campa
     (copy / ".brakeca.lock").unlink(missing_ok=True)
     result = load_campaign(copy)
     result.summary.loc[result.summary["test"] == 2, "V"] = 0.0
-    write_study(result, figures=False)
+    write_study(result, run_maps=False)  # (the only figures drawn with a V of 0)
     html = " ".join((copy / "report.html").read_text(encoding="utf-8").split())
     assert "Test 2 emitted nothing (V = 0): log10_V_mm3 has no value there, so its" in html
     assert "leaves that run out (the analysis of V keeps it)" in html
