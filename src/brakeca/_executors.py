@@ -178,8 +178,8 @@ class DaskExecutor(cf.Executor):
             try:
                 nanny.close_gracefully(reason="brakeca: the campaign was interrupted")
                 pid = nanny.pid
-                if pid:
-                    os.kill(pid, signal.SIGKILL)
+                if pid:  # (Windows has no SIGKILL: any other signal there terminates)
+                    os.kill(pid, getattr(signal, "SIGKILL", signal.SIGTERM))
             except Exception:  # a nanny without a process, or one that is gone: closed below
                 pass
 
@@ -260,8 +260,11 @@ def _exit_with_parent(
     read (a robustness review); it now sees a parent other than the one given and ends."""
 
     def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(every)
+        if sys.platform == "win32":  # getppid() there gives a parent's pid after it ended
+            _wait_for_process_windows(parent)
+        else:
+            while os.getppid() == parent:
+                time.sleep(every)
         try:
             if cleanup is not None:
                 cleanup()
@@ -269,6 +272,25 @@ def _exit_with_parent(
             os._exit(1)
 
     threading.Thread(target=watch, name="brakeca-parent-watch", daemon=True).start()
+
+
+def _wait_for_process_windows(pid: int, winapi: Any = None) -> None:
+    """Return when the process ``pid`` has ended, at once if it has already (or cannot be
+    opened). On Windows ``os.getppid()`` still gives a parent's pid after the parent ended
+    (Python's docs), so :func:`_exit_with_parent`'s loop never ended there and a killed
+    campaign's workers computed on (a portability review); this waits on the process's
+    handle instead, as multiprocessing's own children do. ``winapi``: the ``_winapi``
+    module (a stand-in in the tests)."""
+    if winapi is None:
+        import _winapi as winapi  # (Windows only)
+    try:
+        handle = winapi.OpenProcess(winapi.SYNCHRONIZE, False, pid)
+    except OSError:  # gone already (or not this user's): nothing to wait for
+        return
+    try:
+        winapi.WaitForSingleObject(handle, winapi.INFINITE)
+    finally:
+        winapi.CloseHandle(handle)
 
 
 def _init_worker(parent: int) -> None:
@@ -376,7 +398,11 @@ def _tracker_outlives_a_hangup() -> None:
     Ctrl-C, printed "resource_tracker: process died unexpectedly" and a KeyError traceback
     for every semaphore of its pools (a cluster review). It ends as usual when this process
     does. Outside the main thread, where signals cannot be set, it starts as it would
-    anyway, taking SIGHUP as usual."""
+    anyway, taking SIGHUP as usual. Only on POSIX systems, where the tracker runs (on Windows,
+    where it does not, starting it failed: ``No module named '_posixsubprocess'``, every
+    campaign of the default executor with it: a portability review)."""
+    if os.name != "posix":
+        return
     from multiprocessing import resource_tracker
 
     with _ignoring("SIGHUP"):

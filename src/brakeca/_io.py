@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import os
 import secrets
+import sys
+import time
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -24,11 +26,41 @@ def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
     tmp = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
         write(tmp)
-        os.replace(tmp, path)
+        _replace(tmp, path)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
     return path
+
+
+#: How often, and how long apart [s], a replacement refused on Windows is tried again
+_WINDOWS_RETRIES = (0.05, 0.1, 0.2, 0.4, 0.8)
+
+
+def _replace(tmp: Path, path: Path, *, windows: bool | None = None) -> None:
+    """``os.replace(tmp, path)``; on Windows (``windows``: by default where it runs), which
+    refuses to replace a file another program holds open (Excel holding ``summary.csv``, a
+    notebook's ``campaign.nc``; briefly an antivirus or the search indexer), tried again over
+    about 1.5 s, then refused with the likely cause named (a portability review)."""
+    if windows is None:
+        windows = sys.platform == "win32"
+    for pause in _WINDOWS_RETRIES if windows else ():
+        try:
+            os.replace(tmp, path)
+            return
+        except PermissionError:
+            time.sleep(pause)
+    try:
+        os.replace(tmp, path)
+    except PermissionError as exc:
+        if not windows:
+            raise
+        raise PermissionError(
+            exc.errno,
+            f"{exc.strerror}: is {path.name} open in another program (a spreadsheet, a "
+            "notebook)? Close it and run the command again",
+            str(path),
+        ) from exc
 
 
 def write_text(path: str | Path, text: str) -> Path:

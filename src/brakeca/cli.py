@@ -2814,10 +2814,28 @@ def _register_subcommands() -> None:
 _register_subcommands()
 
 
+def _lenient(stream: Any) -> None:
+    """Have ``stream`` write ``?`` for a character its encoding lacks instead of stopping
+    the command: on Windows, output sent to a file or a pipe is written in the ANSI code
+    page (cp1252), which has no λ, α, − or ⋮, and the commands that print them ended with a
+    UnicodeEncodeError, the lines after it (the report's path) unprinted (a portability
+    review). Nothing changes for a stream that writes UTF-8."""
+    import codecs
+
+    try:
+        if codecs.lookup(stream.encoding).name == "utf-8":
+            return
+        stream.reconfigure(errors="replace")
+    except (AttributeError, LookupError, TypeError, ValueError):  # not a text file's stream
+        pass
+
+
 def main() -> None:
     """Entry point of the ``brakeca`` command."""
     from brakeca._cachedir import KernelCacheError
 
+    for stream in (sys.stdout, sys.stderr):
+        _lenient(stream)
     try:
         app()
     except KernelCacheError as exc:  # the environment, not a bug: no traceback

@@ -505,3 +505,24 @@ def test_an_empty_replicates_list_is_refused() -> None:
         app, ["power", "paper", "--effect", "0.01", "--sigma", "0.005", "--replicates", ""]
     )
     assert res.exit_code == 2 and "--replicates: expected whole numbers" in res.output
+
+
+def test_output_to_a_file_in_a_legacy_encoding_replaces_what_it_cannot_write() -> None:
+    """On Windows, output sent to a file or a pipe is written in the ANSI code page (cp1252),
+    which has no α: the command ended with a UnicodeEncodeError (a portability review); it
+    now writes ``?`` for it and goes on."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "PYTHONIOENCODING": "cp1252"}
+    done = subprocess.run(
+        [sys.executable, "-m", "brakeca", "design", "response_surface", "--no-tests"],
+        capture_output=True,
+        env=env,
+        timeout=120,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr.decode("cp1252", "replace")
+    text = done.stdout.decode("cp1252")
+    assert "central composite design (face-centred, ? = 1), 3 factors" in text

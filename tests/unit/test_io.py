@@ -117,3 +117,41 @@ def test_a_long_list_of_a_configuration_change_is_shown_by_its_first_item() -> N
     short = copy.deepcopy(paper)
     short["mesh"]["n_radial"] = 21
     assert config_changes(paper, short) == ["mesh.n_radial: 201 -> 21"]
+
+
+def test_a_replacement_windows_refuses_is_tried_again_then_named(tmp_path, monkeypatch) -> None:
+    """Windows refuses to replace a file another program holds open (Excel holding
+    summary.csv): tried again for a while, then refused with the likely cause; elsewhere
+    the first refusal stands (a portability review)."""
+    import os
+
+    import brakeca._io as io_module
+
+    monkeypatch.setattr(io_module, "_WINDOWS_RETRIES", (0.0, 0.0, 0.0))
+    real = os.replace
+    calls = []
+
+    def held(times: int):
+        def replace(src, dst):
+            calls.append(dst)
+            if len(calls) <= times:
+                raise PermissionError(13, "Access is denied")
+            real(src, dst)
+
+        return replace
+
+    target, tmp = tmp_path / "summary.csv", tmp_path / ".summary.csv.tmp"
+    monkeypatch.setattr(io_module.os, "replace", held(2))  # released after two refusals
+    tmp.write_text("a\n")
+    io_module._replace(tmp, target, windows=True)
+    assert target.read_text() == "a\n" and len(calls) == 3
+    calls.clear()
+    monkeypatch.setattr(io_module.os, "replace", held(10))  # held throughout
+    tmp.write_text("b\n")
+    with pytest.raises(PermissionError, match=r"is summary\.csv open in another program"):
+        io_module._replace(tmp, target, windows=True)
+    assert len(calls) == 4 and target.read_text() == "a\n"
+    calls.clear()
+    with pytest.raises(PermissionError, match="Access is denied") as raised:
+        io_module._replace(tmp, target, windows=False)
+    assert len(calls) == 1 and "another program" not in str(raised.value)

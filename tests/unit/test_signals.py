@@ -378,3 +378,91 @@ def test_brakecas_warnings_are_one_line_in_a_worker_and_on_the_command_line(tmp_
     finally:
         brakeca.cli.resolve_config = real
     assert seen == ["warning: x\n"] and warnings.formatwarning is before
+
+
+class _FakeWinapi:
+    """The calls of ``_winapi`` that :func:`_wait_for_process_windows` makes, recorded."""
+
+    SYNCHRONIZE = 0x00100000
+    INFINITE = 0xFFFFFFFF
+
+    def __init__(self, gone: bool = False) -> None:
+        self.gone, self.calls = gone, []
+
+    def OpenProcess(self, access, inherit, pid):  # (_winapi's names)
+        self.calls.append(("open", access, inherit, pid))
+        if self.gone:
+            raise OSError(87, "The parameter is incorrect")
+        return 42
+
+    def WaitForSingleObject(self, handle, ms):
+        self.calls.append(("wait", handle, ms))
+
+    def CloseHandle(self, handle):
+        self.calls.append(("close", handle))
+
+
+def test_on_windows_a_worker_waits_on_its_parents_handle() -> None:
+    """A portability review: on Windows ``os.getppid()`` still gives a parent's pid after the
+    parent ended, so a killed campaign's workers ran on; they wait on its process handle
+    there (a stand-in for ``_winapi`` here), and one that cannot be opened is gone."""
+    from brakeca._executors import _wait_for_process_windows
+
+    api = _FakeWinapi()
+    _wait_for_process_windows(1234, winapi=api)
+    assert api.calls == [
+        ("open", api.SYNCHRONIZE, False, 1234),
+        ("wait", 42, api.INFINITE),
+        ("close", 42),
+    ]
+    gone = _FakeWinapi(gone=True)
+    _wait_for_process_windows(1234, winapi=gone)  # returns at once
+    assert gone.calls == [("open", gone.SYNCHRONIZE, False, 1234)]
+
+
+def test_on_windows_the_watch_ends_the_worker_when_the_wait_returns(tmp_path) -> None:
+    """The watching thread takes the Windows way there (sys.platform set to win32 in a
+    child, the wait a stand-in that returns once a file appears): cleanup, then exit 1."""
+    parent_gone, marker = tmp_path / "parent_gone", tmp_path / "cleaned"
+    code = textwrap.dedent(
+        f"""
+        import sys, time
+        from pathlib import Path
+        import brakeca._executors as ex
+        def wait(pid):
+            assert pid == 12345, pid
+            while not Path({str(parent_gone)!r}).exists():
+                time.sleep(0.05)
+        ex._wait_for_process_windows = wait
+        sys.platform = "win32"
+        ex._exit_with_parent(12345, cleanup=lambda: Path({str(marker)!r}).touch())
+        time.sleep(60)
+        """
+    )
+    child = subprocess.Popen([sys.executable, "-c", code])
+    try:
+        time.sleep(0.5)
+        assert child.poll() is None  # waiting
+        parent_gone.touch()
+        assert child.wait(timeout=30) == 1
+    finally:
+        child.kill()
+    assert marker.exists()
+
+
+def test_on_windows_no_resource_tracker_is_started(monkeypatch) -> None:
+    """Windows has no resource tracker (starting it failed: No module named
+    '_posixsubprocess', every local campaign with it: a portability review)."""
+    from multiprocessing import resource_tracker
+
+    import brakeca._executors as ex
+
+    def refuse() -> None:
+        raise AssertionError("the tracker was started")
+
+    monkeypatch.setattr(resource_tracker, "ensure_running", refuse)
+    monkeypatch.setattr(ex.os, "name", "nt")
+    ex._tracker_outlives_a_hangup()  # nothing started
+    monkeypatch.setattr(ex.os, "name", "posix")
+    with pytest.raises(AssertionError, match="the tracker was started"):
+        ex._tracker_outlives_a_hangup()
