@@ -279,8 +279,15 @@ def _wait_for_process_windows(pid: int, winapi: Any = None) -> None:
     opened). On Windows ``os.getppid()`` still gives a parent's pid after the parent ended
     (Python's docs), so :func:`_exit_with_parent`'s loop never ended there and a killed
     campaign's workers computed on (a portability review); this waits on the process's
-    handle instead, as multiprocessing's own children do. ``winapi``: the ``_winapi``
-    module (a stand-in in the tests)."""
+    handle instead: multiprocessing's own, opened as the child started, for a pool's
+    worker (a pid opened later may be another process's by then), else one opened by pid
+    (the warm-up's child). ``winapi``: the ``_winapi`` module (a stand-in in the tests)."""
+    parent = multiprocessing.parent_process()
+    if winapi is None and parent is not None and parent.pid == pid:
+        from multiprocessing.connection import wait
+
+        wait([parent.sentinel])
+        return
     if winapi is None:
         import _winapi as winapi  # (Windows only)
     try:
@@ -390,7 +397,7 @@ def raise_if_interrupted() -> None:
         raise KeyboardInterrupt(signal.Signals(signum).name)
 
 
-def _tracker_outlives_a_hangup() -> None:
+def _tracker_outlives_a_hangup(posix: bool | None = None) -> None:
     """Start multiprocessing's resource tracker, if it does not run yet, with SIGHUP ignored.
 
     A closed terminal sends SIGHUP to the whole process group: the tracker (which ignores
@@ -400,8 +407,9 @@ def _tracker_outlives_a_hangup() -> None:
     does. Outside the main thread, where signals cannot be set, it starts as it would
     anyway, taking SIGHUP as usual. Only on POSIX systems, where the tracker runs (on Windows,
     where it does not, starting it failed: ``No module named '_posixsubprocess'``, every
-    campaign of the default executor with it: a portability review)."""
-    if os.name != "posix":
+    campaign of the default executor with it: a portability review); ``posix``: by default
+    whether it runs on one."""
+    if not (os.name == "posix" if posix is None else posix):
         return
     from multiprocessing import resource_tracker
 

@@ -11,7 +11,14 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["atomic_write", "rng_state_from_json", "rng_state_json", "write_table", "write_text"]
+__all__ = [
+    "atomic_write",
+    "linked_output_problem",
+    "rng_state_from_json",
+    "rng_state_json",
+    "write_table",
+    "write_text",
+]
 
 
 def atomic_write(path: str | Path, write: Callable[[Path], Any]) -> Path:
@@ -58,9 +65,24 @@ def _replace(tmp: Path, path: Path, *, windows: bool | None = None) -> None:
         raise PermissionError(
             exc.errno,
             f"{exc.strerror}: is {path.name} open in another program (a spreadsheet, a "
-            "notebook)? Close it and run the command again",
+            "notebook)? If so, close it and run the command again",
             str(path),
         ) from exc
+
+
+def linked_output_problem(folder: str | Path) -> str | None:
+    """Why an analysis must not write into ``folder``: its ``tables`` or ``figures`` is a
+    link (a folder someone sent, with a link to another place, where the analysis would
+    write its tables and figures and remove the earlier ones of the same names: a security
+    review); None where neither is one. Worded to follow ``PATH: ``."""
+    for name in ("tables", "figures"):
+        part = Path(folder) / name
+        if part.is_symlink():
+            return (
+                f"its {name} is a link (to {part.readlink()}), where the analysis would write "
+                f"and remove files; replace the link with a folder of its own"
+            )
+    return None
 
 
 def write_text(path: str | Path, text: str) -> Path:

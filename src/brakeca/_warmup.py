@@ -238,8 +238,12 @@ def warm_up(
     with tempfile.TemporaryDirectory(prefix="brakeca-warm-up-") as tmp:
         path = Path(tmp) / "configs.pickle"
         path.write_bytes(pickle.dumps(todo))
+        # -P: no module of the folder the command was given in is imported ahead of the
+        # installed ones (-m puts the working directory first on sys.path, so a brakeca/ or
+        # numpy/ folder in a campaign folder someone sent ran its code: a security review)
         done = subprocess.run(
-            [sys.executable, "-m", "brakeca._warmup", str(path), str(os.getpid())], check=False
+            [sys.executable, "-P", "-m", "brakeca._warmup", str(path), str(os.getpid())],
+            check=False,
         )
     if done.returncode != 0:
         return None

@@ -83,6 +83,11 @@ def output_problem(path: Path, *, folder: bool = False) -> str | None:
     verb = "create" if folder else "write"
     if folder and os.path.lexists(path) and not path.is_dir():
         return "cannot create it (a file of that name exists; give a folder)"
+    if folder:
+        from brakeca._io import linked_output_problem
+
+        if (problem := linked_output_problem(path)) is not None:
+            return problem
     if not folder and path.is_dir():
         return "cannot write it (it is a folder; give a file name)"
     existing = path if folder else path.parent
@@ -2823,8 +2828,8 @@ def _lenient(stream: Any) -> None:
     import codecs
 
     try:
-        if codecs.lookup(stream.encoding).name == "utf-8":
-            return
+        if codecs.lookup(stream.encoding).name == "utf-8" or stream.errors != "strict":
+            return  # (stderr's backslashreplace, say, which keeps the code point)
         stream.reconfigure(errors="replace")
     except (AttributeError, LookupError, TypeError, ValueError):  # not a text file's stream
         pass

@@ -276,6 +276,10 @@ def result_names() -> frozenset[str]:
     )
 
 
+#: numpy's bit generators, which a run file's ``rng_state`` may name
+_BIT_GENERATORS = ("PCG64", "PCG64DXSM", "MT19937", "Philox", "SFC64")
+
+
 @dataclass(frozen=True, eq=False)
 class RunResult:
     """The result of one simulated run.
@@ -341,7 +345,13 @@ class RunResult:
                 "generator's state (rng_state): it was written by an earlier brakeca"
             )
         state = rng_state_from_json(state)
-        bit_generator = getattr(np.random, state["bit_generator"])()
+        name = state.get("bit_generator")
+        if name not in _BIT_GENERATORS:  # a name from a file: only a bit generator's is called
+            raise ValueError(
+                f"this run's file records a generator state of {name!r}, not one of numpy's "
+                f"bit generators ({', '.join(_BIT_GENERATORS)})"
+            )
+        bit_generator = getattr(np.random, name)()
         bit_generator.state = state
         return np.random.Generator(bit_generator)
 

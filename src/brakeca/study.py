@@ -34,7 +34,7 @@ import pandas as pd
 
 from brakeca import __version__
 from brakeca._console import is_replicated, run_named, run_tags, tests_named
-from brakeca._io import write_table, write_text
+from brakeca._io import linked_output_problem, write_table, write_text
 from brakeca.analysis import default_label, display_unit
 from brakeca.campaign import CampaignResult
 from brakeca.design import Design, _target
@@ -1172,8 +1172,9 @@ def write_study(
         which says so under its title, in a fraction of the time: for trying one model
         after another (``model_terms``, ``alpha_to_remove``...). The figures an earlier
         analysis drew into the folder are removed, since they may show another model, but
-        for those that could not be drawn again (the maps of runs whose files are gone, as
-        with figures) and files of other names.
+        for those that could not be drawn again (with ``run_maps``, as with figures, the
+        maps of runs whose files are gone; the fibre maps where no run file can be read)
+        and files of other names.
 
     Returns
     -------
@@ -1195,7 +1196,7 @@ def write_study(
         )
     source = Path(result.out_dir)
     out = source if output is None else Path(output)
-    problem = destination_problem(source, out)
+    problem = destination_problem(source, out) or linked_output_problem(out)
     if problem is not None:
         raise ValueError(f"output {out}: {problem}")
     in_place = out.resolve() == source.resolve()  # (-o given as the campaign's folder too)
@@ -1313,9 +1314,8 @@ def write_study(
         more_findings=[floor_line],
         notice=""
         if figures
-        else "Written without its figures (brakeca analyze --no-figures, or write_study(..., "
-        "figures=False)): where the text speaks of a plot, brakeca analyze without "
-        "--no-figures draws it.",
+        else "Written without its figures (--no-figures, or write_study(..., figures=False)): "
+        "where the text speaks of a plot, brakeca analyze without --no-figures draws it.",
     )
     if in_short is not None:  # the report's lines (report.all_findings), one by one
         for line in report.all_findings(
@@ -1414,10 +1414,9 @@ class _Figures:
         if not self.folder.is_dir():
             return
         kept = {path.name for _, _, path in self.listed} | set(keep)
-        for pattern in _REPORT_FIGURES:
-            for path in self.folder.glob(pattern):
-                if path.name not in kept:
-                    path.unlink(missing_ok=True)
+        for name in _REPORT_FIGURES:
+            if name not in kept:
+                (self.folder / name).unlink(missing_ok=True)
         if not self.draw and not any(self.folder.iterdir()):
             self.folder.rmdir()
 
@@ -1429,10 +1428,11 @@ class _Figures:
 
 
 #: The names of the report's figures but the runs' maps (``final_map_*``, ``maps_by_stop_*``):
-#: each response's (``*`` its name) and the campaign's
+#: each response's and the campaign's (exact names: a file of the user's named otherwise,
+#: ``surface_notes.png``, stays)
 _REPORT_FIGURES = (
     *(
-        f"{kind}_*.png"
+        f"{kind}_{response}.png"
         for kind in (
             "main_effects",
             "interactions",
@@ -1441,9 +1441,11 @@ _REPORT_FIGURES = (
             "cube",
             "effects",
             "surface",
-            "residuals",  # (residuals_by_level_* too)
+            "residuals",
+            "residuals_by_level",
             "comparisons",
         )
+        for response in _LABELS
     ),
     "box_cox.png",
     "overlaid_contours.png",

@@ -227,7 +227,7 @@ def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
     assert list((out / "figures").glob("final_map_test*.png"))
     # a figure of an earlier analysis of other responses or another kind of design, and a
     # file of the user's
-    for name in ("surface_MU.png", "profile_MU.png", "main_effects_X.png", "mine.png"):
+    for name in ("surface_MU.png", "profile_MU.png", "cube_log10_V_mm3.png", "surface_notes.png"):
         (out / "figures" / name).write_bytes(b"x")
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-run-maps"])
     assert res.exit_code == 0, res.output
@@ -235,9 +235,14 @@ def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
     # the maps of the earlier analysis, which the report no longer lists, are gone, and so
     # are its other figures this one did not draw; the user's file stays
     assert not list((out / "figures").glob("final_map_test*.png"))
-    for name in ("surface_MU.png", "profile_MU.png", "main_effects_X.png"):
+    for name in ("surface_MU.png", "profile_MU.png", "cube_log10_V_mm3.png"):
         assert not (out / "figures" / name).exists(), name
-    assert (out / "figures" / "mine.png").read_bytes() == b"x"
+    assert (out / "figures" / "surface_notes.png").read_bytes() == b"x"
+    # every figure it draws is one a later analysis removes when it does not draw it
+    from brakeca.study import _REPORT_FIGURES
+
+    for path in (out / "figures").iterdir():
+        assert path.name in {*_REPORT_FIGURES, "surface_notes.png"}, path.name
     assert "Type II ANOVA of MU" in (out / "report.html").read_text(encoding="utf-8")
     # Type III sums of squares on request (the design's anova_type is 2)
     res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures", "--anova-type", "3"])
@@ -306,10 +311,19 @@ def test_without_figures_the_same_tables_and_a_report_that_says_so(campaign, tmp
     html = " ".join((out / "report.html").read_text(encoding="utf-8").split())
     assert "<img" not in html and "<figure" not in html
     header = html[: html.index("</header>")]  # under the title
-    assert "Written without its figures (brakeca analyze --no-figures, or write_study(" in header
+    assert (
+        "Written without its figures (--no-figures, or write_study(..., figures=False))" in header
+    )
     assert "Type II ANOVA of MU" in html
     # with no file of the user's there, the empty folder goes too; by `brakeca run` on the
     # finished campaign (nothing computed)
+    # a folder sent without its run files: the figures that could not be drawn again stay
+    sent = tmp_path / "sent"
+    shutil.copytree(campaign[0], sent, ignore=shutil.ignore_patterns("runs"))
+    res = CliRunner().invoke(app, ["analyze", str(sent), "--no-figures"])
+    assert res.exit_code == 0, res.output
+    kept = sorted(p.name for p in (sent / "figures").iterdir())
+    assert kept == ["fibre_maps.png"] + [f"final_map_test0{t}_r0.png" for t in (1, 2, 3, 4)]
     (out / "figures" / "mine.txt").unlink()
     design = campaign[0].parent / "design_in.toml"
     res = CliRunner().invoke(app, ["run", str(design), "-o", str(out), *TINY, "--no-figures"])
@@ -1122,3 +1136,28 @@ def test_a_trace_at_another_path_is_named_as_the_same_content(tmp_path):
         "the first campaign's command, with its trace as it was, run again with --replace, "
         "brings" in text
     )
+
+
+def test_an_analysis_writes_nowhere_a_link_in_the_folder_points(campaign, tmp_path):
+    """A security review: a folder someone sent, whose figures/ is a link to another
+    place, had its analysis write and remove files there; refused, before any work."""
+    import shutil
+
+    from brakeca.campaign import load_campaign
+    from brakeca.study import write_study
+
+    out = tmp_path / "c"
+    shutil.copytree(campaign[0], out)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "pareto_MU.png").write_bytes(b"precious")
+    shutil.rmtree(out / "figures")
+    (out / "figures").symlink_to(elsewhere)
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures"])
+    assert res.exit_code == 2
+    said = " ".join(res.output.split())
+    assert f"its figures is a link (to {elsewhere}), where the analysis would write" in said
+    with pytest.raises(ValueError, match="its figures is a link"):
+        write_study(load_campaign(out), figures=False)
+    assert (elsewhere / "pareto_MU.png").read_bytes() == b"precious"
+    assert [p.name for p in elsewhere.iterdir()] == ["pareto_MU.png"]

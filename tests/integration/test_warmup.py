@@ -253,3 +253,32 @@ def _alive(pid: int) -> bool:
     except OSError:
         return False
     return state != "Z"
+
+
+def test_the_warm_up_imports_nothing_from_the_folder_it_was_started_in(tmp_path):
+    """A security review: the warm-up's child ran ``python -m``, which puts the working
+    directory first on sys.path, so a ``brakeca/`` folder in a campaign folder someone sent
+    ran its code when a run was started there; ``-P`` leaves it out."""
+    marker = tmp_path / "ran"
+    fake = tmp_path / "sent" / "brakeca"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text(
+        f"from pathlib import Path\nPath({str(marker)!r}).touch()\nraise SystemExit(3)\n",
+        encoding="utf-8",
+    )
+    code = (
+        "from brakeca._warmup import warm_up\n"
+        "from brakeca.presets import load_preset\n"
+        "took = warm_up([load_preset().with_updates({'mesh.n_radial': 3})], announce=print)\n"
+        "assert took is not None, 'the warm-up failed'\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-P", "-c", code],  # (this process, as a console script starts)
+        cwd=fake.parent,
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert not marker.exists()

@@ -148,9 +148,13 @@ def test_a_replacement_windows_refuses_is_tried_again_then_named(tmp_path, monke
     calls.clear()
     monkeypatch.setattr(io_module.os, "replace", held(10))  # held throughout
     tmp.write_text("b\n")
-    with pytest.raises(PermissionError, match=r"is summary\.csv open in another program"):
+    with pytest.raises(
+        PermissionError, match=r"is summary\.csv open in another program"
+    ) as held_open:
         io_module._replace(tmp, target, windows=True)
     assert len(calls) == 4 and target.read_text() == "a\n"
+    # the file named (the command names it), not the temporary one Windows refused
+    assert held_open.value.errno == 13 and held_open.value.filename == str(target)
     calls.clear()
     with pytest.raises(PermissionError, match="Access is denied") as raised:
         io_module._replace(tmp, target, windows=False)

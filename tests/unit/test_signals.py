@@ -424,6 +424,7 @@ def test_on_windows_the_watch_ends_the_worker_when_the_wait_returns(tmp_path) ->
     """The watching thread takes the Windows way there (sys.platform set to win32 in a
     child, the wait a stand-in that returns once a file appears): cleanup, then exit 1."""
     parent_gone, marker = tmp_path / "parent_gone", tmp_path / "cleaned"
+    waiting = tmp_path / "waiting"
     code = textwrap.dedent(
         f"""
         import sys, time
@@ -431,6 +432,7 @@ def test_on_windows_the_watch_ends_the_worker_when_the_wait_returns(tmp_path) ->
         import brakeca._executors as ex
         def wait(pid):
             assert pid == 12345, pid
+            Path({str(waiting)!r}).touch()
             while not Path({str(parent_gone)!r}).exists():
                 time.sleep(0.05)
         ex._wait_for_process_windows = wait
@@ -441,8 +443,12 @@ def test_on_windows_the_watch_ends_the_worker_when_the_wait_returns(tmp_path) ->
     )
     child = subprocess.Popen([sys.executable, "-c", code])
     try:
-        time.sleep(0.5)
-        assert child.poll() is None  # waiting
+        deadline = time.monotonic() + 60
+        while not waiting.exists() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert waiting.exists()  # (the POSIX loop would have ended at once: no such parent)
+        time.sleep(0.3)
+        assert child.poll() is None and not marker.exists()  # waiting on the parent
         parent_gone.touch()
         assert child.wait(timeout=30) == 1
     finally:
@@ -461,8 +467,6 @@ def test_on_windows_no_resource_tracker_is_started(monkeypatch) -> None:
         raise AssertionError("the tracker was started")
 
     monkeypatch.setattr(resource_tracker, "ensure_running", refuse)
-    monkeypatch.setattr(ex.os, "name", "nt")
-    ex._tracker_outlives_a_hangup()  # nothing started
-    monkeypatch.setattr(ex.os, "name", "posix")
+    ex._tracker_outlives_a_hangup(posix=False)  # nothing started
     with pytest.raises(AssertionError, match="the tracker was started"):
-        ex._tracker_outlives_a_hangup()
+        ex._tracker_outlives_a_hangup(posix=True)
