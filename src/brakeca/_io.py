@@ -229,7 +229,14 @@ def _checkpoint_meta(path: Path) -> Any:
     import numpy as np
 
     with np.load(path, allow_pickle=False) as data:
+        if data.zip.getinfo("meta.npy").file_size > _MAX_META_BYTES:  # (never decompressed)
+            raise ValueError("a meta entry larger than a checkpoint's")
         return json.loads(str(data["meta"]))
+
+
+#: The most bytes a checkpoint's ``meta`` (its configuration and generator state, a few kB)
+#: may decompress to [B]
+_MAX_META_BYTES = 1 << 24
 
 
 def checkpoint_problem(path: str | Path) -> str | None:

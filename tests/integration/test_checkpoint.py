@@ -262,3 +262,84 @@ def test_a_checkpoint_that_cannot_be_written_does_not_fail_the_run(tmp_path, mon
     monkeypatch.setattr(brakeca.simulation, "save_checkpoint", real)
     resumed = simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1)  # from stop 2
     xr.testing.assert_identical(_no_wall(resumed.dataset), _no_wall(whole.dataset))
+
+
+def _tampered(source, target, **changes):
+    """A copy of the checkpoint ``source`` with ``changes`` (name: function of the array, or
+    an array; None: left out) made, as someone might craft one."""
+    with np.load(source, allow_pickle=False) as data:
+        arrays = {k: data[k].copy() for k in data.files}
+    for name, change in changes.items():
+        if change is None:
+            del arrays[name]
+        else:
+            arrays[name] = change(arrays[name]) if callable(change) else change
+    with open(target, "wb") as fh:
+        np.savez_compressed(fh, **arrays)
+    return target
+
+
+@pytest.mark.parametrize("field", [False, True])
+def test_a_crafted_checkpoint_is_refused_before_the_kernels_read_it(tmp_path, field):
+    """A security review: a checkpoint's counts and cell indices went into the kernels
+    unchecked (a count beyond its array: a segmentation fault), and every entry of the file,
+    however large, was decompressed before any check. Each is refused with a clear error;
+    an entry a checkpoint does not have is not read at all."""
+    from conftest import resumable_config
+
+    from brakeca.checkpoint import CheckpointError, load_checkpoint
+    from brakeca.geometry import make_grid
+
+    config = resumable_config(stops=3)
+    if field:
+        config = config.with_updates({"pad.fibre_model": "field"})
+    ckpt = tmp_path / "run.npz"
+
+    def die_after_two(done, total):
+        if done == 2:
+            raise Killed
+
+    with pytest.raises(Killed):
+        simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, progress=die_after_two)
+    grid = make_grid(config)
+    n = grid.shape[0] * grid.shape[1]
+    assert load_checkpoint(ckpt, config, 3, grid) is not None  # the real one loads
+
+    def cnt(k, value):
+        def change(a):
+            a = a.copy()
+            a[k] = value
+            return a
+
+        return change
+
+    cases = [
+        ({"state_cnt": cnt(0, n + 1)}, "plateaus for room for"),
+        ({"state_cnt": cnt(1, -1)}, "resin heap for room for"),
+        ({"state_pk_idx": lambda a: a + n}, "a cell index, stream bin or status out of range"),
+        ({"state_heap_vals": lambda a: a - n}, "out of range"),
+        ({"state_ncand": lambda a: a + n}, "more candidates than a stream bin has cells"),
+        ({"state_status": lambda a: a + 3}, "a status other than 0, 1 or 2"),
+        ({"state_height": lambda a: a[:-1]}, "values of kind 'f' expected"),
+        ({"state_rule4_list": lambda a: a.astype(np.int32)}, "state_rule4_list: shape"),
+        ({"state_cnt": None}, "state_cnt: shape"),
+        ({"log_dts": None}, "its per-stop log"),
+    ]
+    if field:
+        cases.append(({"field_next": lambda a: a + 10**6}, "the fibre field's intervals"))
+    for changes, message in cases:
+        bad = _tampered(ckpt, tmp_path / "bad.npz", **changes)
+        with pytest.raises(CheckpointError, match=message):
+            load_checkpoint(bad, config, 3, grid)
+    # an entry of its own is never decompressed; a known one beyond a run's size is refused
+    big = np.zeros(5_000_000)  # 40 MB, a few kB compressed
+    extra = _tampered(ckpt, tmp_path / "extra.npz", junk=big)
+    assert load_checkpoint(extra, config, 3, grid) is not None
+    import brakeca.checkpoint as module
+
+    limit = module._MAX_BYTES_FIXED + module._MAX_BYTES_PER_CELL * n
+    huge = np.zeros(limit // 8 + 1)
+    bomb = _tampered(ckpt, tmp_path / "bomb.npz", log_dts=huge)
+    assert bomb.stat().st_size < limit / 100
+    with pytest.raises(CheckpointError, match=r"its log_dts holds \d+ bytes, more than a run"):
+        load_checkpoint(bomb, config, 3, grid)
