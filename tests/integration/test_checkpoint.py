@@ -14,6 +14,19 @@ class Killed(Exception):
     pass
 
 
+def _killed_after(stops, config, ckpt, **options):
+    """Run ``config`` (seed 3, a checkpoint every stop into ``ckpt``) and kill it once
+    ``stops`` stops are done; ``options`` go to simulate."""
+
+    def die(done, total):
+        if done == stops:
+            raise Killed
+
+    with pytest.raises(Killed):
+        simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, progress=die, **options)
+    return ckpt
+
+
 def _no_wall(ds):
     ds = ds.copy()
     ds.attrs.pop("wall_time")
@@ -29,14 +42,7 @@ def test_resume_from_checkpoint_is_identical(tmp_path, removal):
     whole = simulate(config, seed=3)
     if removal:  # rule S draws after the stops resumed: the generator's state must be kept
         assert whole.dataset["secondary_removed_between_stops"][3:].sum() > 0
-    ckpt = tmp_path / "run.ckpt.npz"
-
-    def die_after_three(done, total):
-        if done == 3:
-            raise Killed
-
-    with pytest.raises(Killed):
-        simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, progress=die_after_three)
+    ckpt = _killed_after(3, config, tmp_path / "run.ckpt.npz")
     assert ckpt.exists()
     resumed = simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1)
     xr.testing.assert_identical(_no_wall(resumed.dataset), _no_wall(whole.dataset))
@@ -62,13 +68,7 @@ def test_resume_with_the_fibre_field_is_identical(tmp_path):
     exposed = whole.dataset.fibre_cells_exposed.values
     assert exposed[:2].sum() > 0 and exposed[2:].sum() > 0  # exposures before and after
 
-    def die_after_two(done, total):
-        if done == 2:
-            raise Killed
-
-    ckpt = tmp_path / "run.ckpt.npz"
-    with pytest.raises(Killed):
-        simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, progress=die_after_two)
+    ckpt = _killed_after(2, config, tmp_path / "run.ckpt.npz")
     resumed = simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1)
     xr.testing.assert_identical(_no_wall(resumed.dataset), _no_wall(whole.dataset))
 
@@ -293,14 +293,7 @@ def test_a_crafted_checkpoint_is_refused_before_the_kernels_read_it(tmp_path, fi
     config = resumable_config(stops=3)
     if field:
         config = config.with_updates({"pad.fibre_model": "field"})
-    ckpt = tmp_path / "run.npz"
-
-    def die_after_two(done, total):
-        if done == 2:
-            raise Killed
-
-    with pytest.raises(Killed):
-        simulate(config, seed=3, checkpoint=ckpt, checkpoint_every=1, progress=die_after_two)
+    ckpt = _killed_after(2, config, tmp_path / "run.npz")
     grid = make_grid(config)
     n = grid.shape[0] * grid.shape[1]
     assert load_checkpoint(ckpt, config, 3, grid) is not None  # the real one loads
