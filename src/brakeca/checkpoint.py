@@ -129,10 +129,13 @@ def _surface_problem(arrays: dict[str, np.ndarray], grid: Grid) -> str | None:
     return None
 
 
-def _state_problem(arrays: dict[str, np.ndarray], state: SimulationState) -> str | None:
+def _state_problem(
+    arrays: dict[str, np.ndarray], state: SimulationState, *, field: bool
+) -> str | None:
     """What is wrong with a checkpoint's kernel bookkeeping against the fresh ``state`` of
     its grid: an array's shape or type, a count beyond its array, a cell index, stream bin or
-    status out of range, a fibre field's intervals out of order; or None. The kernels read
+    status out of range, a fibre field's arrays missing (``field``: the run's pad has one) or
+    there without one, or out of order; or None. The kernels read
     and write through these without bounds checks (a security review: a crafted checkpoint
     crashed the run with a segmentation fault)."""
     for name in _STATE_ARRAYS:
@@ -167,7 +170,14 @@ def _state_problem(arrays: dict[str, np.ndarray], state: SimulationState) -> str
     ncand = arrays["state_ncand"]
     if not ((ncand >= 0) & (ncand <= per_bin)).all():
         return "state_ncand: more candidates than a stream bin has cells"
-    if "field_offsets" in arrays:
+    names = ["field_counts", *(f"field_{name}" for name in _FIELD_ARRAYS)]
+    if any(name in arrays for name in names) != field or not (
+        all(name in arrays for name in names) or not field
+    ):
+        return "the fibre field's arrays " + ("missing" if field else "of a run without one")
+    if field:
+        if arrays["field_counts"].shape != (3,) or arrays["field_counts"].dtype.kind != "i":
+            return "field_counts: three whole numbers expected"
         offsets, nxt = arrays["field_offsets"], arrays["field_next"]
         top, bottom = arrays["field_top"], arrays["field_bottom"]
         if (
@@ -362,16 +372,16 @@ def load_checkpoint(
         ),
         grid,
     )
+    problem = _state_problem(arrays, state, field=config.pad.fibre_model == "field")
+    if problem is not None:  # the kernels index with these: never trusted unchecked
+        raise CheckpointError(
+            f"{path}: not a consistent checkpoint ({problem}); delete it to start over"
+        )
     if "field_counts" in arrays:
         seed, slabs, n_fibres = (int(v) for v in arrays["field_counts"])
         parts = {name: arrays[f"field_{name}"] for name in _FIELD_ARRAYS}
         state.fibres = FibreField(**parts, seed=seed, slabs=slabs, n_fibres=n_fibres)
         state.rule7_on = True
-    problem = _state_problem(arrays, state)
-    if problem is not None:  # the kernels index with these: never trusted unchecked
-        raise CheckpointError(
-            f"{path}: not a consistent checkpoint ({problem}); delete it to start over"
-        )
     for name in _STATE_ARRAYS:
         state.array(name)[...] = arrays[f"state_{name}"]
     try:  # (a log of other lengths, or without an array, is not this run's)

@@ -320,6 +320,10 @@ def test_a_crafted_checkpoint_is_refused_before_the_kernels_read_it(tmp_path, fi
     ]
     if field:
         cases.append(({"field_next": lambda a: a + 10**6}, "the fibre field's intervals"))
+        cases.append(({"field_top": None}, "the fibre field's arrays missing"))
+    else:
+        counts = np.array([1, 2, 3], dtype=np.int64)
+        cases.append(({"field_counts": counts}, "the fibre field's arrays of a run without one"))
     for changes, message in cases:
         bad = _tampered(ckpt, tmp_path / "bad.npz", **changes)
         with pytest.raises(CheckpointError, match=message):
