@@ -22,7 +22,7 @@ from brakeca import __version__
 from brakeca._runstore import _Record
 from brakeca.analysis import default_label
 from brakeca.config import SimulationConfig
-from brakeca.design import Design, load_design
+from brakeca.design import Design, is_run_id, load_design
 from brakeca.results import RunResult, scalar_attrs
 
 CAMPAIGN_FORMAT = "brakeca-campaign/1"  #: format marker of campaign.nc
@@ -408,12 +408,14 @@ def load_campaign(out_dir: str | Path) -> CampaignResult:
         warnings.simplefilter("ignore", UnitWarning)
         design = load_design(out / "design.toml")
     summary = read_summary(out / "summary.csv")
+    from brakeca.results import load_netcdf
+
     try:
-        dataset = xr.load_dataset(out / "campaign.nc", engine="h5netcdf")
-    except Exception as exc:  # with the fix, as a missing one gets (a robustness review)
+        dataset = load_netcdf(out / "campaign.nc")
+    except ValueError as exc:  # with the fix, as a missing one gets (a robustness review)
         raise ValueError(
-            f"{out / 'campaign.nc'}: not a readable netCDF file ({exc}); 'brakeca run "
-            f"{out / 'design.toml'} -o {out}' writes it again from the run files"
+            f"{exc}; 'brakeca run {out / 'design.toml'} -o {out}' writes it again from the "
+            "run files"
         ) from None
     if dataset.attrs.get("format") != CAMPAIGN_FORMAT:
         raise ValueError(f"{out / 'campaign.nc'}: not a brakeca campaign file")
@@ -504,6 +506,9 @@ def _summary_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design)
     if "run_id" not in summary.columns or "status" not in summary.columns:
         return "it has no run_id or status column"
     ids = [str(r) for r in summary["run_id"]]
+    odd = next((r for r in ids if not is_run_id(r)), None)
+    if odd is not None:  # (a path: the analysis had read and drawn a file elsewhere)
+        return f"a run_id is {odd[:40]!r}, not a run's id (16 hexadecimal digits)"
     expected = [str(r) for r in dataset["run_id"].values] if "run_id" in dataset else ids
     if ids != expected:
         return (

@@ -492,6 +492,30 @@ class AutomatonConfig(_Frozen):
 GRIP_DECELERATION_G = 1.2
 
 
+def plain_text_problem(value: str, *, formula: bool = True, lines: bool = False) -> str | None:
+    """Why ``value``, a name or label from a file, may not go into the tables and the
+    terminal, or None: a control character (a terminal's escape sequences; a newline or a
+    tab, but with ``lines``), or,
+    with ``formula``, a start a spreadsheet reads as a formula (``=``, ``@``, or ``+`` or
+    ``-`` before anything but a number: the tables' cells are opened in Excel; a security
+    review). ``-`` and ``+`` alone or before ``α`` (a composite design's axial levels), and
+    numbers, are plain."""
+    allowed = "\n\t" if lines else ""
+    if any((ord(c) < 32 or 127 <= ord(c) < 160) and c not in allowed for c in value):
+        return f"{value!r} holds a control character"
+    if formula and (
+        value[:1] in ("=", "@") or (value[:1] in ("+", "-") and value[1:] not in ("", "α"))
+    ):
+        try:
+            float(value)
+        except ValueError:
+            return (
+                f"{value!r} starts with {value[0]!r}, which a spreadsheet opening the tables "
+                "reads as a formula"
+            )
+    return None
+
+
 class BrakeBlock(_Frozen):
     """One block of stops of a block drive cycle (one row of Table 3)."""
 
@@ -505,6 +529,13 @@ class BrakeBlock(_Frozen):
         "under 10 minutes; 1e-9 g had asked for terabytes of time steps)",
     )
     stops: int = Field(ge=1, le=100_000, description="[-] number of stops in the block")
+
+    @field_validator("name")
+    @classmethod
+    def _plain_name(cls, value: str) -> str:
+        if (problem := plain_text_problem(value)) is not None:
+            raise ValueError(f"block name {problem}")
+        return value
 
     @model_validator(mode="after")
     def _speeds(self) -> BrakeBlock:

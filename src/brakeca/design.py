@@ -121,6 +121,7 @@ from brakeca.config import (
     item_path,
     load_config,
     plain_number,
+    plain_text_problem,
     read_csv_text,
     warn_unit,
 )
@@ -485,6 +486,24 @@ class Factor(_Frozen):
             )
         return value
 
+    @field_validator("labels", "choices")
+    @classmethod
+    def _plain_labels(
+        cls, value: tuple[str, ...] | None, info: ValidationInfo
+    ) -> tuple[str, ...] | None:
+        for text in value or ():
+            problem = plain_text_problem(text, formula=info.field_name == "labels")
+            if problem is not None:
+                raise ValueError(problem)
+        return value
+
+    @field_validator("unit", "label")
+    @classmethod
+    def _plain_text(cls, value: str) -> str:
+        if (problem := plain_text_problem(value)) is not None:
+            raise ValueError(problem)
+        return value
+
     @field_validator("field")
     @classmethod
     def _known_field(cls, value: str) -> str:
@@ -773,6 +792,12 @@ def point_seed(root_seed: int, test: int, replicate: int) -> int:
     """
     state = np.random.SeedSequence([root_seed, test, replicate]).generate_state(1, dtype=np.uint32)
     return int(state[0])
+
+
+def is_run_id(text: str) -> bool:
+    """Whether ``text`` is a run's id as :func:`run_id_for` makes it (16 hexadecimal
+    digits): a summary's run_id names a file in ``runs/``, never another path."""
+    return len(text) == 16 and all(c in "0123456789abcdef" for c in text)
 
 
 def run_id_for(config: SimulationConfig, seed: int) -> str:
@@ -1862,6 +1887,16 @@ class Design(_Frozen):
         # (text had been taken, "3" as 3, where root_seed's was refused: a fuzz review)
         "replicates": ("a whole number of replicates, 1 to 10000", 1, 10_000),
     }
+
+    @field_validator("name", "description")
+    @classmethod
+    def _plain_text(cls, value: str, info: ValidationInfo) -> str:
+        """No control character (a terminal's escape sequences printed as they are: a
+        security review), but a description's line breaks and tabs."""
+        problem = plain_text_problem(value, formula=False, lines=info.field_name == "description")
+        if problem is not None:
+            raise ValueError(problem)
+        return value
 
     @field_validator(*_WHOLE_NUMBERS, mode="before")
     @classmethod

@@ -427,11 +427,7 @@ class RunResult:
         path = Path(path)
         if not path.exists():
             raise FileNotFoundError(f"{path}: no such file")
-        try:
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                ds = ds.load()
-        except Exception as exc:
-            raise ValueError(f"{path}: not a readable netCDF file ({exc})") from None
+        ds = load_netcdf(path)
         if ds.attrs.get("format") != FORMAT:
             found = ds.attrs.get("format")
             raise ValueError(
@@ -452,6 +448,29 @@ class RunResult:
             if name not in ds:
                 raise ValueError(f"{path}: run file lacks {name!r}")
         return cls(config=config, seed=seed, dataset=ds)
+
+
+#: The most bytes a run file or ``campaign.nc`` may hold once read [B]: a full-resolution
+#: run with its maps after all 170 stops holds about 0.3 GB
+MAX_NETCDF_BYTES = 4 << 30
+
+
+def load_netcdf(path: str | Path, limit: int = MAX_NETCDF_BYTES) -> xr.Dataset:
+    """Read the netCDF file ``path`` whole, once its variables' sizes are known to hold
+    ``limit`` bytes or fewer [B] (a security review: a file of 100 kB declaring a variable
+    of gigabytes took a process to 6.8 GB before anything was checked); raises ValueError
+    naming the file otherwise, or where it is not a readable netCDF file."""
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            size = sum(int(v.nbytes) for v in ds.variables.values())
+            if size <= limit:
+                return ds.load()
+    except Exception as exc:
+        raise ValueError(f"{path}: not a readable netCDF file ({exc})") from None
+    raise ValueError(
+        f"{path}: its variables hold {size / 2**30:.1f} GiB, more than a brakeca file does "
+        f"({limit / 2**30:.0f} GiB at most)"
+    )
 
 
 def write_atomic(dataset: xr.Dataset, path: str | Path) -> Path:

@@ -1162,3 +1162,31 @@ def test_an_analysis_writes_nowhere_a_link_in_the_folder_points(campaign, tmp_pa
         write_study(load_campaign(out), figures=False)
     assert (elsewhere / "pareto_MU.png").read_bytes() == b"precious"
     assert [p.name for p in elsewhere.iterdir()] == ["pareto_MU.png"]
+
+
+def test_a_run_id_that_is_a_path_is_refused(campaign, tmp_path):
+    """A security review: a summary's and campaign.nc's run_id made into a path had the
+    analysis read a run file elsewhere and draw it as the test's; a run id is 16
+    hexadecimal digits, and a file of more than a brakeca file holds is not read."""
+    import shutil
+
+    import xarray as xr
+
+    from brakeca.results import load_netcdf
+
+    out = tmp_path / "c"
+    shutil.copytree(campaign[0], out)
+    elsewhere = "../../elsewhere/run"
+    summary = pd.read_csv(out / "summary.csv", dtype={"run_id": str})
+    summary.loc[0, "run_id"] = elsewhere
+    summary.to_csv(out / "summary.csv", index=False)
+    ds = load_netcdf(out / "campaign.nc")
+    ids = ds["run_id"].values.astype(object)
+    ids[0] = elsewhere
+    ds.assign_coords(run_id=("run", ids)).to_netcdf(out / "campaign.nc", engine="h5netcdf")
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures"])
+    assert res.exit_code == 2
+    assert "a run_id is '../../elsewhere/run', not a run's id" in " ".join(res.output.split())
+    with pytest.raises(ValueError, match=r"its variables hold 0\.0 GiB, more than"):
+        load_netcdf(campaign[0] / "campaign.nc", limit=1000)
+    assert isinstance(load_netcdf(campaign[0] / "campaign.nc"), xr.Dataset)

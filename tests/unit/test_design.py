@@ -1806,3 +1806,35 @@ def test_the_guide_s_table_of_standard_fractions_is_the_code_s() -> None:
         (int(k), int(n)): tuple(g.replace(" ", "") for g in gens.split(", ")) for k, n, gens in rows
     }
     assert listed == {key: tuple(STANDARD_FRACTIONS[key]) for key in STANDARD_FRACTIONS}
+
+
+def test_text_a_spreadsheet_or_a_terminal_would_run_is_refused() -> None:
+    """A security review: a label starting with = went into the tables' CSV cells, which a
+    spreadsheet runs as a formula, and a design's name printed its escape sequences on the
+    terminal as they were. Both are refused where the design is read, naming the field;
+    the labels brakeca writes itself (-, 0, +, -α, +α) and numbers stay plain."""
+    from brakeca.config import BrakeBlock
+
+    def design(**changes: Any) -> dict:
+        factor = {"name": "A", "field": "A", "levels": [10.0, 20.0], "labels": ["-", "+"]}
+        factor.update(changes.pop("factor", {}))
+        return {"name": "d", "base": "paper", "root_seed": 1, "factors": [factor], **changes}
+
+    for changes, message in (
+        ({"factor": {"labels": ["=cmd|' /C calc'!A0", "+"]}}, 'labels: "=cmd'),
+        ({"factor": {"labels": ["-", "@SUM(1)"]}}, "reads as a formula"),
+        ({"factor": {"labels": ["-", "+HYPERLINK(1)"]}}, r"starts with '\+'"),
+        ({"factor": {"label": "-low"}}, "label: '-low' starts with '-'"),
+        ({"factor": {"unit": "%\x1b[2J"}}, "unit: .* holds a control character"),
+        ({"name": "d\x1b]8;;http://x\x1b\\"}, "name: .* holds a control character"),
+        ({"description": "two\x07"}, "description: .* holds a control character"),
+    ):
+        with pytest.raises(ConfigError, match=message):
+            design_from_dict(design(**changes))
+    plain = design(description="line one\n\tline two", factor={"labels": ["-1", "+2.5"]})
+    assert design_from_dict(plain).factors[0].labels == ("-1", "+2.5")
+    assert load_design("response_surface").n_tests > 0  # its -α and +α
+    with pytest.raises(ValueError, match="block name '=1\\+1' starts with '='"):
+        BrakeBlock(
+            name="=1+1", initial_speed_kmh=50, final_speed_kmh=0, deceleration_g=0.3, stops=1
+        )
