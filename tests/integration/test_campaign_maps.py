@@ -50,6 +50,27 @@ def mapped(design_file, tmp_path_factory):
     )
 
 
+@pytest.fixture(scope="module")
+def plain_analysed(plain, tmp_path_factory):
+    """A copy of ``plain`` analysed (with figures) over the figures an earlier analysis left:
+    a run's maps over the cycle, which these runs did not keep, and the final maps of a run
+    no longer in the summary and of one named at another width; (the folder, its report).
+    Two tests read it: one analysis with figures instead of two (a review of the suite's
+    time)."""
+    out = tmp_path_factory.mktemp("analysed") / "campaign"
+    shutil.copytree(plain.out_dir, out)
+    figures = out / "figures"
+    figures.mkdir(exist_ok=True)
+    for name in (
+        "maps_by_stop_test01_r0.png",  # a map over the cycle
+        "final_map_test099_r0.png",  # of a run no longer in the summary
+        "final_map_test001_r0.png",  # the same run at another width
+    ):
+        (figures / name).write_bytes(b"x")
+    html = write_study(finish_campaign(out)).read_text(encoding="utf-8")
+    return out, html
+
+
 def test_the_runs_keep_their_maps_and_nothing_else_changes(plain, mapped):
     assert mapped.ok
     assert list(mapped.summary["run_id"]) == list(plain.summary["run_id"])
@@ -89,30 +110,21 @@ def test_the_report_shows_each_runs_maps_over_the_cycle(mapped, tmp_path):
     assert not (out / "tables" / "pm10.csv").exists()
 
 
-def test_a_campaign_without_maps_draws_no_maps_over_the_cycle(plain, tmp_path):
-    out = tmp_path / "campaign"
-    shutil.copytree(plain.out_dir, out)
-    stale = out / "figures" / "maps_by_stop_test01_r0.png"  # left by an earlier analysis
-    stale.parent.mkdir(exist_ok=True)
-    stale.write_bytes(b"x")
-    html = write_study(finish_campaign(out)).read_text(encoding="utf-8")
+def test_a_campaign_without_maps_draws_no_maps_over_the_cycle(plain_analysed):
+    out, html = plain_analysed
     assert "Plateau maps over the cycle" not in html
-    assert not stale.exists()
+    assert not (out / "figures" / "maps_by_stop_test01_r0.png").exists()  # an earlier one's
 
 
-def test_maps_of_gone_runs_go_and_those_that_cannot_be_drawn_again_stay(plain, tmp_path):
+def test_maps_of_gone_runs_go_and_those_that_cannot_be_drawn_again_stay(plain_analysed, tmp_path):
     """An analysis removes the run maps an earlier one drew for runs no longer in the summary
     (or named at another width), but keeps those of runs still in it whose file has gone (a
     folder sent without runs/): they could not be drawn again (a diff review)."""
     out = tmp_path / "campaign"
-    shutil.copytree(plain.out_dir, out)
+    shutil.copytree(plain_analysed[0], out)  # (analysed over those maps: the fixture's)
     figures = out / "figures"
-    figures.mkdir(exist_ok=True)
     gone = figures / "final_map_test099_r0.png"  # of a run no longer in the summary
     wide = figures / "final_map_test001_r0.png"  # the same run at another width
-    for path in (gone, wide):
-        path.write_bytes(b"x")
-    write_study(finish_campaign(out))
     assert not gone.exists() and not wide.exists()
     drawn = sorted(p.name for p in figures.glob("final_map_test*.png"))
     assert drawn == [f"final_map_test{t:02d}_r0.png" for t in (1, 2, 3, 4)]

@@ -127,7 +127,7 @@ def test_a_plackett_burman_design_runs_and_fits_its_main_effects_alone(
         'name = "pb"\nbase = "paper"\nroot_seed = 9\nplackett_burman = 12\n' + FACTORS
     )
     out = tmp_path / "c"
-    cli_ok("run", str(design), "-o", str(out), *TINY)
+    cli_ok("run", str(design), "-o", str(out), *TINY)  # (the only figures of main effects alone)
     summary = pd.read_csv(out / "summary.csv")
     assert list(summary["test"]) == list(range(1, 13)) and (summary["status"] == "ok").all()
     # balanced: every factor at each of its levels in 6 tests
