@@ -1970,9 +1970,15 @@ def run_file_settings(path: Path) -> RunFileSettings:
     config, factors = attrs.get("config"), attrs.get("pm10_factors")
     if not isinstance(config, str):
         raise ConfigError(f"{path}: a netCDF file without a run's configuration (config)")
+    try:
+        seed = int(attrs.get("seed", -1))
+    except (TypeError, ValueError):  # (a traceback had followed: a security review)
+        raise ConfigError(
+            f"{path}: the run file's seed {str(attrs.get('seed'))[:40]!r} is not a whole number"
+        ) from None
     return RunFileSettings(
         config,
-        int(attrs.get("seed", -1)),
+        seed,
         maps,
         factors if isinstance(factors, str) and factors else None,
     )

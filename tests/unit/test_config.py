@@ -1066,3 +1066,19 @@ def test_model_copy_validates_what_it_changes() -> None:
     ):
         design.model_copy(update={"replicates": 0})
     assert design.model_copy(update={"replicates": 2}).replicates == 2
+
+
+def test_a_run_file_whose_seed_is_no_number_is_refused_with_its_name(tmp_path) -> None:
+    """A security review: a run file's seed attribute of text ended `brakeca config -c` and
+    `simulate -c` with a traceback; a clear error names the file."""
+    import xarray as xr
+
+    from brakeca.config import run_file_settings
+
+    path = tmp_path / "run.nc"
+    attrs = {"config": load_preset().to_toml(), "seed": "abc"}
+    xr.Dataset(attrs=attrs).to_netcdf(path, engine="h5netcdf")
+    with pytest.raises(ConfigError, match=r"run\.nc: the run file's seed 'abc' is not a whole"):
+        run_file_settings(path)
+    xr.Dataset(attrs={**attrs, "seed": 7}).to_netcdf(path, engine="h5netcdf")
+    assert run_file_settings(path).seed == 7
