@@ -1381,8 +1381,8 @@ def destination_problem(campaign_dir: str | Path, output: str | Path) -> str | N
 @dataclass
 class _Figures:
     """The report's figures as they are drawn: each PNG in ``folder``, listed as (section,
-    caption, path). With ``draw`` False none is drawn or listed, and each one an earlier
-    analysis drew under the name of one that would be is removed."""
+    caption, path). With ``draw`` False none is drawn or listed. :meth:`sweep` removes the
+    report figures an earlier analysis drew that this one did not list."""
 
     folder: Path
     listed: list[tuple[str, str, Path]] = field(default_factory=list)
@@ -1399,8 +1399,7 @@ class _Figures:
 
         raise_if_interrupted()  # a Ctrl-C Python dropped in a callback (a review)
         path = self.folder / name
-        if not self.draw:
-            path.unlink(missing_ok=True)  # an earlier analysis's, perhaps of another model
+        if not self.draw:  # (an earlier analysis's figure of that name: sweep removes it)
             return False
         fig_fn(*args, path=path, **kwargs)
         self.listed.append((section, caption, path))
@@ -1419,12 +1418,6 @@ class _Figures:
                 (self.folder / name).unlink(missing_ok=True)
         if not self.draw and not any(self.folder.iterdir()):
             self.folder.rmdir()
-
-    def drop(self, *names: str) -> None:
-        """Remove figures an earlier analysis drew that this one does not (they would
-        outlive the report's list)."""
-        for name in names:
-            (self.folder / name).unlink(missing_ok=True)
 
 
 #: The names of the report's figures but the runs' maps (``final_map_*``, ``maps_by_stop_*``):
@@ -1620,13 +1613,8 @@ def _response_figures(
             # a composite design's level means are not balanced against the other
             # factors, so its raw main-effects and interaction plots mix in their effects
             # (and can contradict the fit): the fitted surface's profile instead, and the
-            # contour plots for the pairs
-            for name in (
-                f"main_effects_{resp}.png",
-                f"interactions_{resp}.png",
-                f"pareto_{resp}.png",  # the categorical ANOVA's, which is not shown
-            ):
-                figures.drop(name)
+            # contour plots for the pairs (no Pareto chart: the categorical ANOVA's, which
+            # is not shown)
             figures.add(
                 "Main effects",
                 f"Main effects on {label}, from the fitted quadratic surface: the response "
@@ -1675,8 +1663,6 @@ def _response_figures(
                 resp,
                 names=cube,
             )
-        else:
-            figures.drop(f"cube_{resp}.png")
         if len(factors) >= 2 and resp not in surfaces:  # interactions need two factors
             figures.add(
                 "Interactions",
@@ -1720,8 +1706,6 @@ def _response_figures(
                 effects,
                 resp,
             )
-        else:  # an earlier analysis's (e.g. of another reduced model) would outlive it
-            figures.drop(f"effects_{resp}.png")
         if resp in surfaces:
             fit = surfaces[resp]
             figures.add(
@@ -1756,8 +1740,7 @@ def _response_figures(
         )
         # (Tukey's intervals are a table under each ANOVA: drawn, plotting.
         # plot_level_comparisons, they repeated it, averaged over the interactions; an
-        # engineer's read of the report)
-        figures.drop(f"comparisons_{resp}.png")
+        # engineer's read of the report: an earlier analysis's figure goes, _Figures.sweep)
         if len(residuals) and "test" in residuals.columns:
             # one variance at every level, as the F tests assume (Minitab's residuals
             # versus the variables; the four-in-one plot mixes the levels)
@@ -1783,11 +1766,7 @@ def _response_figures(
                 factors,
                 resp,
             )
-        else:
-            figures.drop(f"residuals_by_level_{resp}.png")
-    if not any(b.defined for b in scales.values()):  # the table says why: nothing to draw
-        figures.drop("box_cox.png")
-    else:
+    if any(b.defined for b in scales.values()):  # else the table says why: nothing to draw
         # the model the profiles were taken under, as it was (the caption had named both
         # kinds for a factorial study; a report review)
         kinds = {str(b.model).split(":", 1)[0].strip() for b in scales.values() if b.defined}
@@ -1839,18 +1818,16 @@ def _by_test(
     """The figure of every run per stop above it, test by test (small multiples, a panel
     per test: a figures review could not tell 24 lines apart in one panel), where the
     campaign has ``variable`` and two to :data:`brakeca.plotting.MOST_TESTS_NAMED` tests;
-    else an earlier analysis's is dropped. ``what`` names the variable in the caption, and
-    ``more`` ends it."""
+    else none (an earlier analysis's goes: :meth:`_Figures.sweep`). ``what`` names the
+    variable in the caption, and ``more`` ends it."""
     from brakeca import plotting
 
     dataset = result.dataset
     if variable not in getattr(dataset, "data_vars", {}) or "run" not in dataset.dims:
-        figures.drop(name)
         return
     runs = dataset.sizes["run"]
     tests = len(np.unique(dataset["test"].to_numpy())) if "test" in dataset.coords else runs
     if not 2 <= tests <= plotting.MOST_TESTS_NAMED:
-        figures.drop(name)
         return
     figures.add(
         "Runs",
@@ -1951,8 +1928,6 @@ def _cycle_figures(
                 variable=variable,
                 runs=True,
             )
-        else:  # an earlier analysis's would outlive it
-            figures.drop(name)
     if "emitted_volume" in getattr(result.dataset, "data_vars", {}):
         # where in the cycle each run's V comes from (a figures review: V is the mean of
         # 170 stops whose volumes span decades, most of it from a few blocks)
@@ -1991,8 +1966,6 @@ def _cycle_figures(
             by_block,
             factors,
         )
-    else:  # a trace's cycle, or one block: an earlier analysis's would outlive it
-        figures.drop("by_block.png")
     figures.add(
         "Runs",
         (
@@ -2030,8 +2003,6 @@ def _cycle_figures(
             factors=factors,
             by=by,
         )
-    else:
-        figures.drop("mu_vs_v.png")
 
 
 @dataclass(frozen=True)
