@@ -335,12 +335,13 @@ def load_checkpoint(
         raise CheckpointError(f"{path}: {problem}")
     try:
         with np.load(path, allow_pickle=False) as data:
-            # the meta first, then only the arrays a checkpoint has, each no larger than a
-            # run of this grid writes it (a security review: a small file of a large entry
-            # decompressed to 800 times its size before any check)
-            _check_sizes(data, ["meta"], grid)
+            # the meta first (checkpoint_problem has bounded its size), then only the arrays
+            # a checkpoint has, each no larger than a run of this grid writes it (a security
+            # review: a small file of a large entry decompressed to 800 times its size before
+            # any check)
             meta = json.loads(str(data["meta"]))
-            if checkpoint_is_of(meta, config, seed):
+            ours = checkpoint_is_of(meta, config, seed)
+            if ours:
                 known = [k for k in data.files if k in _KNOWN]
                 _check_sizes(data, known, grid)
                 arrays = {k: data[k].copy() for k in known}
@@ -348,7 +349,7 @@ def load_checkpoint(
         raise CheckpointError(
             f"{path}: unreadable checkpoint ({exc}); delete it to start over"
         ) from None
-    if not checkpoint_is_of(meta, config, seed):
+    if not ours:
         why = checkpoint_difference(meta, config, seed)
         hint = (
             " (a run's number of stops is part of its configuration: a checkpoint of a run "

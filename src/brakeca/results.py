@@ -444,10 +444,68 @@ class RunResult:
             seed = int(ds.attrs["seed"])
         except Exception as exc:
             raise ValueError(f"{path}: run file with a broken config attribute ({exc})") from None
-        for name in ("MU", "V", "mean_cof", "emitted_volume"):
-            if name not in ds:
-                raise ValueError(f"{path}: run file lacks {name!r}")
+        problem = run_problem(ds, config)
+        if problem is not None:
+            raise ValueError(f"{path}: not a run file brakeca wrote ({problem})")
         return cls(config=config, seed=seed, dataset=ds)
+
+
+#: The status maps of a run file, each on (``radius``, ``angle``); ``map_status`` on
+#: (``map_stop``, ``radius``, ``angle``)
+_STATUS_MAPS = ("initial_status", "final_status", "final_status_before_s")
+
+
+def run_problem(ds: xr.Dataset, config: SimulationConfig) -> str | None:
+    """Why ``ds`` is not a run's dataset of ``config`` as brakeca writes one (None when it
+    is): the variables every reader uses present, each on its dimensions and of a number
+    type, the maps of the configuration's grid, statuses 0, 1 or 2, MU, V and the per-stop
+    COF and volumes finite (a security review: a run file of other shapes or statuses had
+    ended ``plot``, ``analyze`` and a resume with a traceback, and one of MU = NaN was reused
+    by a resume into summary.csv)."""
+    for name in ("MU", "V", "mean_cof", "emitted_volume", "final_status"):
+        if name not in ds:
+            return f"it lacks {name!r}"
+    n_stops = ds.sizes.get("stop", 0)
+    if n_stops < 1:
+        return "it has no stop"
+    grid = (config.mesh.n_radial, config.mesh.n_angular)
+    found = (ds.sizes.get("radius", 0), ds.sizes.get("angle", 0))
+    if found != grid:
+        return (
+            f"its maps are {found[0]} x {found[1]} cells, its configuration's grid "
+            f"{grid[0]} x {grid[1]}"
+        )
+    expected: dict[str, tuple[str, ...]] = {"MU": (), "V": ()}
+    expected.update({name: ("stop",) for name in (*STOP_VARIABLES, *FIBRE_VARIABLES)})
+    expected.update({name: ("radius", "angle") for name in (*_STATUS_MAPS, "final_height")})
+    expected.update(
+        {
+            "rule_firings": ("stop", "rule"),
+            "map_status": ("map_stop", "radius", "angle"),
+            "map_height": ("map_stop", "radius", "angle"),
+            "max_ledger_residual": (),
+            "max_friction_residual": (),
+        }
+    )
+    for name, dims in expected.items():
+        if name not in ds:
+            continue
+        var = ds[name]
+        if var.dims != dims:
+            return f"{name!r} is on ({', '.join(map(str, var.dims))}), not ({', '.join(dims)})"
+        if var.dtype.kind not in "iuf" or var.dtype.itemsize > 8:
+            return f"{name!r} is of type {var.dtype}, not a number"
+    for name in (*_STATUS_MAPS, "map_status"):
+        if name in ds:
+            values = np.asarray(ds[name])
+            if values.dtype.kind == "f" or not np.isin(values, (0, 1, 2)).all():
+                return f"{name!r} holds statuses other than 0, 1 and 2"
+    for name in ("MU", "V", "mean_cof", "emitted_volume"):
+        if not np.isfinite(np.asarray(ds[name], dtype=float)).all():
+            return f"{name!r} is not finite"
+    if "rule" in ds.dims and ds.sizes["rule"] != 7:
+        return f"it has {ds.sizes['rule']} plateau rules, not 7"
+    return None
 
 
 #: The most bytes a run file or ``campaign.nc`` may hold once read [B]: a full-resolution

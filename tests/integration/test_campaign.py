@@ -461,6 +461,35 @@ def test_corrupt_and_foreign_run_files_are_recomputed(serial, tmp_path):
         assert RunResult.from_netcdf(runs / f"{rid}.nc").seed in set(serial.summary["seed"])
 
 
+def test_run_files_of_other_shapes_or_non_finite_results_are_recomputed(serial, tmp_path):
+    """A security review: a resume reused a run file on its seed and configuration alone,
+    so one of MU = NaN went into summary.csv, and one of other statuses ended the resume with
+    a traceback; both are now recomputed, with the reason named."""
+    out = tmp_path / "campaign"
+    shutil.copytree(serial.out_dir, out)
+    ids = list(serial.summary["run_id"])
+    runs = out / "runs"
+    nan_mu, bad_status = (runs / f"{i}.nc" for i in ids[:2])
+    for path, damage in ((nan_mu, "MU"), (bad_status, "final_status")):
+        ds = xr.load_dataset(path, engine="h5netcdf")
+        if damage == "MU":
+            ds["MU"] = ds["MU"] * np.nan
+        else:
+            ds["final_status"][:] = 9
+        ds.to_netcdf(path, engine="h5netcdf")
+    console = quiet()
+    result = run_campaign(
+        load_design(out / "design.toml"), out, executor="serial", progress=False, console=console
+    )
+    text = " ".join(console_text(console).split())
+    assert "'MU' is not finite" in text
+    assert "'final_status' holds statuses other than 0, 1 and 2" in text
+    assert sorted(result.recomputed) == sorted(ids[:2]) and len(result.reused) == 2
+    pd.testing.assert_frame_equal(
+        deterministic(result.summary), deterministic(serial.summary), check_exact=True
+    )
+
+
 def test_failed_run_is_recorded_and_others_continue(serial, design_file, tmp_path):
     out = tmp_path / "campaign"
     console = quiet()

@@ -73,6 +73,59 @@ def test_foreign_file_rejected(tmp_path):
         RunResult.from_netcdf(p)
 
 
+def _damaged(ds: xr.Dataset, how: str) -> xr.Dataset:
+    """``ds`` damaged as a file from elsewhere could be."""
+    ds = ds.copy(deep=True)
+    if how == "MU NaN":
+        ds["MU"] = ds["MU"] * np.nan
+    elif how == "V -inf":
+        ds["V"] = ds["V"] * 0 - np.inf
+    elif how == "status 7":
+        ds["final_status"][0, 0] = 7
+    elif how == "status float":
+        ds["final_status"] = ds["final_status"].astype(float)
+    elif how == "per-stop on the grid":
+        ds["mean_cof"] = ds["final_height"].astype(float)
+    elif how == "text COF":
+        ds["mean_cof"] = ds["mean_cof"].astype(str)
+    elif how == "another grid":
+        ds = ds.isel(radius=slice(0, 2))
+    elif how == "no stop":
+        ds = ds.isel(stop=slice(0, 0))
+    elif how == "no final map":
+        ds = ds.drop_vars("final_status")
+    return ds
+
+
+DAMAGES = {
+    "MU NaN": "'MU' is not finite",
+    "V -inf": "'V' is not finite",
+    "status 7": "'final_status' holds statuses other than 0, 1 and 2",
+    "status float": "'final_status' holds statuses other than 0, 1 and 2",
+    "per-stop on the grid": "'mean_cof' is on (radius, angle), not (stop)",
+    "text COF": "'mean_cof' is of type",
+    "another grid": "its maps are 2 x 1000 cells, its configuration's grid 5 x 1000",
+    "no stop": "it has no stop",
+    "no final map": "it lacks 'final_status'",
+}
+
+
+@pytest.mark.parametrize("how", list(DAMAGES))
+def test_a_damaged_run_file_is_refused_with_what_is_wrong(tmp_path, run, how):
+    """A security review: a run file of other shapes, types or statuses had ended ``plot``,
+    ``analyze`` and a resume with a traceback, and one of MU = NaN was reused into a
+    summary; each is refused naming the file and what is wrong, and ``plot`` says so."""
+    path = tmp_path / "r.nc"
+    _damaged(run.dataset, how).to_netcdf(path, engine="h5netcdf")
+    with pytest.raises(ValueError) as info:
+        RunResult.from_netcdf(path)
+    assert str(info.value).startswith(f"{path}: not a run file brakeca wrote (")
+    assert DAMAGES[how] in str(info.value)
+    res = CliRunner().invoke(app, ["plot", str(path)])
+    assert res.exit_code == 2 and DAMAGES[how] in " ".join(res.output.split()), res.output
+    assert not (tmp_path / "r_figures").exists()
+
+
 def test_responses_are_plausible(run):
     ds = run.dataset
     assert set(ds.sizes) >= {"stop", "step", "radius", "angle"}
