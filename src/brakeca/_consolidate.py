@@ -312,8 +312,8 @@ def _parse_column(values: pd.Series) -> pd.Series:
     texts = [v.strip() for v in values]
     try:
         return pd.Series([int(t) for t in texts], index=values.index, dtype=np.int64)
-    except ValueError:
-        pass
+    except (ValueError, OverflowError):  # (an integer past int64: read as a float, as
+        pass  # pandas would; it had ended analyze with a traceback: a security review)
     try:
         floats = [math.nan if t == "" else float(t) for t in texts]
     except ValueError:

@@ -1605,6 +1605,10 @@ def decimal_point(text: str) -> str:
     return text.replace(",", ".") if _DECIMAL_COMMA.fullmatch(text) else text
 
 
+#: The most bytes a speed trace or a design's run table may hold [B]
+MAX_CSV_BYTES = 256 << 20
+
+
 def read_csv_text(path: str | Path) -> str:
     """The text of a CSV file: UTF-16 where it begins with its byte-order mark (Windows
     PowerShell writes it), else UTF-8 (a byte-order mark dropped), else Windows-1252, which
@@ -1624,12 +1628,20 @@ def read_csv_text(path: str | Path) -> str:
     Raises
     ------
     OSError
-        The file cannot be read.
+        The file cannot be read, or holds more than :data:`MAX_CSV_BYTES`.
     UnicodeDecodeError
         Not UTF-16 with its mark, UTF-8 or Windows-1252 (a byte that Windows-1252 leaves
         undefined).
     """
-    data = Path(path).read_bytes()
+    # at most MAX_CSV_BYTES are read (a security review: a configuration a run file carries
+    # may name any file as its trace, which was read whole)
+    with Path(path).open("rb") as f:
+        data = f.read(MAX_CSV_BYTES + 1)
+    if len(data) > MAX_CSV_BYTES:
+        raise OSError(
+            f"more than {MAX_CSV_BYTES / 2**20:g} MiB, larger than a speed trace or run table "
+            "brakeca reads (a day of 10 Hz samples is under 20 MiB)"
+        )
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16, as Windows PowerShell writes
         return data.decode("utf-16")
     try:

@@ -2393,11 +2393,12 @@ def campaign_runs_to_plot(campaign_dir: str | Path, tests: Sequence[int] = ()) -
     Raises
     ------
     FileNotFoundError
-        No such folder, not a campaign, or no ``summary.csv`` yet.
+        No such folder, not a campaign, or no ``summary.csv`` or ``campaign.nc`` yet.
     ValueError
-        A test number the campaign does not have.
+        A test number the campaign does not have, or a folder :func:`load_campaign` refuses
+        (a summary edited or damaged, a design edited after the runs).
     """
-    from brakeca._consolidate import campaign_folder, read_summary
+    from brakeca._consolidate import campaign_folder
 
     out = campaign_folder(campaign_dir)
     if not (out / "summary.csv").is_file():
@@ -2406,7 +2407,12 @@ def campaign_runs_to_plot(campaign_dir: str | Path, tests: Sequence[int] = ()) -
             f"of {out / 'runs'} instead, or finish it with "
             f"'brakeca run {out / 'design.toml'} -o {out}'"
         )
-    summary = read_summary(out / "summary.csv")
+    # the summary as an analysis reads it, checked against campaign.nc and the design (a
+    # security review: a summary without a test or status column had ended plot with a
+    # traceback, and one of a 400-digit test with an OverflowError)
+    from brakeca.campaign import load_campaign
+
+    summary = load_campaign(out).summary
     have = sorted({int(t) for t in summary["test"]})
     unknown = sorted({int(t) for t in tests} - set(have))
     if unknown:

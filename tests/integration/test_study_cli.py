@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import re
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -362,6 +363,22 @@ def test_plot_draws_a_campaigns_runs(campaign, tmp_path):
     assert res.exit_code == 2 and "the campaign has not finished" in res.output
     res = CliRunner().invoke(app, ["plot", str(tmp_path)])
     assert res.exit_code == 2 and "not a campaign folder" in res.output
+    # a summary edited by hand is refused as an analysis refuses it (a security review: one
+    # without a test column, or of a 400-digit test, had ended plot with a traceback)
+    edited = tmp_path / "edited"
+    shutil.copytree(out, edited, ignore=shutil.ignore_patterns("runs", "figures", "run_figures"))
+    summary = pd.read_csv(edited / "summary.csv", dtype=str, keep_default_na=False)
+    for damage in ("a long test", "no test"):
+        if damage == "a long test":
+            summary.loc[0, "test"] = "9" * 400
+            summary.to_csv(edited / "summary.csv", index=False)
+        else:
+            summary.drop(columns="test").to_csv(edited / "summary.csv", index=False)
+        for command in ("plot", "analyze"):
+            res = CliRunner().invoke(app, [command, str(edited)])
+            said = " ".join(res.output.split())
+            assert res.exit_code == 2 and "summary.csv: its" in said, (damage, command, said)
+            assert "it was edited or damaged" in said, said
 
 
 def test_bad_design_is_reported_before_any_run(tmp_path):

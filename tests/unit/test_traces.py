@@ -848,6 +848,22 @@ def test_a_trace_in_a_configuration_file_is_read_next_to_it_and_recorded(tmp_pat
     assert configured_cycle(moved).events
 
 
+def test_a_csv_larger_than_any_trace_is_refused_unread(tmp_path, monkeypatch) -> None:
+    """A security review: a configuration (a run file's) may name any file as its trace,
+    and it was read whole; a trace or run table over ``MAX_CSV_BYTES`` is refused, naming
+    the file, after reading no more than that."""
+    import brakeca.config
+    from brakeca.traces import TraceError
+
+    monkeypatch.setattr(brakeca.config, "MAX_CSV_BYTES", 2048)
+    path = tmp_path / "big.csv"
+    path.write_text("time_s,speed_kmh\n" + "".join(f"{k},{k % 50}\n" for k in range(400)))
+    with pytest.raises(TraceError, match=r"big\.csv.*cannot read: more than 0\.00195312 MiB"):
+        load_trace(path)
+    monkeypatch.setattr(brakeca.config, "MAX_CSV_BYTES", path.stat().st_size)
+    assert load_trace(path).speed.size == 400
+
+
 def test_a_trace_saved_in_windows_1252_is_read(tmp_path) -> None:
     """A black-box review: a trace saved by a German Excel (Windows-1252: 'über', 'Straße')
     was refused with a raw codec error. UTF-8 is read first, then Windows-1252; the numbers
