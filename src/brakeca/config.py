@@ -239,7 +239,7 @@ class BrakeConfig(_Frozen):
         5.080e-3, gt=0, description="[m^2] pad area (less than the disc face it rubs on)"
     )
     piston_diameter: float = Field(
-        0.057, gt=0, le=0.3, description="[m] calliper cylinder diameter (at most 0.3 m)"
+        0.057, ge=1e-3, le=0.3, description="[m] calliper cylinder diameter (1 mm to 0.3 m)"
     )
     pads_per_brake: int = Field(
         2, ge=1, le=8, description="[-] sliding interfaces sharing the torque (decision: 2)"
@@ -383,14 +383,30 @@ class PadConfig(_Frozen):
             low, high = getattr(self, f"{name}_min"), getattr(self, f"{name}_max")
             if low > high:
                 raise ValueError(f"{name}_min ({low:g} m) must not exceed {name}_max ({high:g} m)")
+        radius = self.fibre_diameter_min / 2.0
+        if self.fibre_model == "field" and not 0.0 < self.resin_roughness <= radius:
+            # (a physics review: the field's fibres lie below 0, the surface fibres' axes at
+            # the resin band's top; a deeper band left a layer without fibres between them,
+            # which runs fell through, and at 0 the field's first fibres, cut at 0, met the
+            # resin there and were exposed after the first stop without any wear)
+            raise ValueError(
+                f"resin_roughness = {self.resin_roughness:g} m with fibre_model = 'field': "
+                f"it must lie in (0, {radius:g}] m, above 0 and at most the thinnest fibre's "
+                "radius (fibre_diameter_min / 2), so that the field's fibres, which lie below "
+                "0, meet the surface fibres, whose axes lie at the resin band's top"
+            )
         return self
 
 
 class ContactConfig(_Frozen):
     """Elastic (Winkler) foundation: each cell is a bar of stiffness K = E / L."""
 
-    elastic_modulus: float = Field(1e9, gt=0, description="[Pa] foundation modulus E (decision)")
-    bar_length: float = Field(10e-3, gt=0, description="[m] foundation bar length L (decision)")
+    elastic_modulus: float = Field(
+        1e9, ge=1.0, le=1e13, description="[Pa] foundation modulus E (decision; 1 Pa to 1e13 Pa)"
+    )
+    bar_length: float = Field(
+        10e-3, ge=1e-9, le=1.0, description="[m] foundation bar length L (decision; 1 nm to 1 m)"
+    )
 
     @property
     def stiffness(self) -> float:
@@ -413,7 +429,10 @@ class FrictionConfig(_Frozen):
 
     mu_0: float = Field(0.6, gt=0, le=2.0, description="[-] COF at zero pressure (decision)")
     slope: float = Field(
-        3e-8, ge=0, description="[1/Pa] decrease of COF per pascal, c (0.03 per MPa; decision)"
+        3e-8,
+        ge=0,
+        le=1.0,
+        description="[1/Pa] decrease of COF per pascal, c (0.03 per MPa; decision; at most 1)",
     )
     mu_min: float = Field(0.15, ge=0, description="[-] COF floor (Figure 4 of the paper)")
 

@@ -481,11 +481,21 @@ def _raise_kernel_error(code, done, stop: Stop, targets, rec, config, state) -> 
         if maximum is not None:
             law, bound = maximum
             if target > bound or code == K.ERR_NO_PLATEAU:  # plateaus there: no root
+                # (below the bound, the plateaus' heights differ, so at no disc position are
+                # all of them at the law's peak: the wording had read as a contradiction, a
+                # physics review)
                 raise ContactError(
                     f"{where}: {law}, and the demanded friction force {target:.4g} N is above "
-                    f"it: no disc position carries it (the {area * 1e6:.4g} mm^2 of "
-                    f"plateaus give at most {bound:.4g} N, were they all at that pressure at "
-                    "once). Set friction.mu_min above 0 (the paper's floor is 0.15), or lower "
+                    "it: no disc position carries it (the "
+                    f"{area * 1e6:.4g} mm^2 of plateaus "
+                    + (
+                        f"give at most {bound:.4g} N, were they all at that pressure at once"
+                        if target > bound
+                        else f"would give {bound:.4g} N were they all at that pressure at once, "
+                        "but their heights differ, so at any one disc position they give less "
+                        "than the demand"
+                    )
+                    + "). Set friction.mu_min above 0 (the paper's floor is 0.15), or lower "
                     "the demand"
                 )
             note = f" ({law}, which this demand may exceed)"

@@ -195,17 +195,23 @@ def test_a_torque_the_solve_cannot_resolve_fails_the_run(small):
     """A robustness review: a foundation of 1e30 Pa (or a bar of 1e300 m) ran to the end,
     MU 0 (or NaN) and a friction residual of 1, recorded as ok. Such a run now fails at its
     first stop, naming the contact fields; the paper's stiffness meets the torque to
-    round-off."""
-    for updates, missed in (
-        ({"contact.elastic_modulus": 1e30}, "missed the demanded one by 1 of it"),
-        ({"contact.elastic_modulus": 1e24}, "missed the demanded one by "),
-        ({"contact.bar_length": 1e300}, "is not a number"),
+    round-off. Those two are refused by the fields' ranges now (a physics review: a
+    stiffness that rounded to 0 ended in a ZeroDivisionError); the stiffest foundation they
+    allow still fails the run, naming them."""
+    from brakeca.config import ConfigError
+
+    stiffest = {"contact.elastic_modulus": 1e13, "contact.bar_length": 1e-9}
+    with pytest.raises(
+        ContactError,
+        match=r"stop 1 \(test\): the friction force missed the demanded one by .* "
+        r"\(contact.elastic_modulus = 1e\+13 Pa, contact.bar_length = 1e-09 m",
     ):
-        with pytest.raises(ContactError, match=rf"stop 1 \(test\): the friction force {missed}"):
-            simulate(small.with_updates(updates), seed=1)
+        simulate(small.with_updates(stiffest), seed=1)
+    for updates in ({"contact.elastic_modulus": 1e30}, {"contact.bar_length": 1e300}):
+        with pytest.raises(ConfigError, match=r"must lie in \["):
+            small.with_updates(updates)
     assert simulate(small, seed=1).dataset["max_friction_residual"] < 1e-10
     # a stop shorter than one step's travel had crashed on an empty array, naming no field
-    from brakeca.config import ConfigError
 
     # (a gravity of 1e300 m/s², which had reached it, is refused by its range now)
     blink = {"name": "test", "initial_speed_kmh": 50.0, "final_speed_kmh": 50.0 - 1e-12}
@@ -492,6 +498,14 @@ def test_a_demand_above_a_floorless_laws_maximum_names_the_law(small, kernel):
     message = str(err.value)
     assert "friction.mu_min = 0" in message and "no disc position carries it" in message
     assert "no plateau cell" not in message and "bar_length" not in message
+    # the bound it names is above the demand only with the words that say why that is no
+    # contradiction (a physics review read "2.008 N is above it ... give at most 2.733 N")
+    import re
+
+    demand = float(re.search(r"demanded friction force ([0-9.e+-]+) N", message)[1])
+    bound = float(re.search(r"give (?:at most )?([0-9.e+-]+) N", message)[1])
+    assert (bound < demand) == ("give at most" in message), message
+    assert (bound >= demand) == ("but their heights differ" in message), message
 
 
 def test_cli_simulate_keeps_maps_after_the_stops_asked_and_plot_draws_them(tmp_path):

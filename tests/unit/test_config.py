@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from brakeca.config import ConfigError, SimulationConfig, item_path, parse_override
+from brakeca.config import ConfigError, SimulationConfig, UnitWarning, item_path, parse_override
 from brakeca.design import design_from_dict, load_design
 from brakeca.presets import load_cycle, load_preset
 
@@ -83,7 +83,10 @@ def test_factor_aliases():
         ),
         # inf had passed every field without an upper bound, then crashed the run (a review)
         ({"pad.resin_roughness": float("inf")}, r"resin_roughness: must be a finite number"),
-        ({"contact.bar_length": float("inf")}, r"bar_length: must be a finite number, not inf"),
+        (
+            {"contact.bar_length": float("inf")},
+            r"bar_length: must be a finite number in \[1e-09, 1\] m, not infinite",
+        ),
         ({"vehicle.wheel_radius": float("-inf")}, r"wheel_radius: must be a finite number"),
         ({"mesh.n_radial": 0}, r"mesh.n_radial: must lie in \[1, 100000\] \(got 0\)"),
         ({"mesh.n_angular": 999}, "multiple of n_subdomains"),
@@ -111,7 +114,11 @@ def test_factor_aliases():
         ({"WR": 0.5}, r"\(got 0.5\): in m, not µm \(0.5 µm is 5e-07 m\)$"),
         # the range's unit, and A beside the fraction (an API review: 57 for a diameter in
         # mm, 20 for a fraction in per cent)
-        ({"brake.piston_diameter": 57}, r"piston_diameter: must lie in \(0, 0.3\] m \(got 57\)"),
+        (
+            {"brake.piston_diameter": 57},
+            r"piston_diameter: must lie in \[0.001, 0.3\] m \(got 57\): in m, not mm \(57 mm is "
+            r"0.057 m\)$",
+        ),
         (
             {"pad.fibre_area_fraction": 20},
             r"fibre_area_fraction: must lie in \(0, 1\) \(got 20\): a fraction, 0.2 for 20 %; or "
@@ -140,6 +147,7 @@ def test_factor_aliases():
                 "pad.fibre_model": "field",
                 "pad.fibre_diameter_min": 1e-6,
                 "pad.fibre_diameter_max": 1e-6,
+                "pad.resin_roughness": 5e-7,
             },
             "A = 0.2 of each slab of the fibre field",
         ),
@@ -415,7 +423,9 @@ def test_brakeca_config_prints_each_fields_unit_and_reads_back_the_same(tmp_path
 
     config = load_preset("paper")
     text = config.to_commented_toml()
-    assert "slope = 3e-08  # [1/Pa] decrease of COF per pascal, c (0.03 per MPa; decision)" in text
+    assert (
+        "slope = 3e-08  # [1/Pa] decrease of COF per pascal, c (0.03 per MPa; decision; at" in text
+    )
     assert "initial_speed_kmh = 50.0  # [km/h] speed at brake-on" in text
     assert "elastic_modulus = 1000000000.0  # [Pa] foundation modulus E" in text
     assert max(len(line) for line in text.splitlines()) <= 130
@@ -758,7 +768,7 @@ def test_one_sided_bounds_and_wrong_types_read_as_brakecas_messages(tmp_path) ->
     paper = load_preset("paper")
     for updates, message in (
         ({"cycle.max_stops": 0}, "override: cycle.max_stops: must lie in [1, 1e+06] (got 0)"),
-        ({"friction.slope": -1}, "override: friction.slope: must be at least 0 [1/Pa] (got -1)"),
+        ({"friction.slope": -1}, "override: friction.slope: must lie in [0, 1] [1/Pa] (got -1)"),
         ({"friction.mu_0": None}, "override: friction.mu_0: must be a number (got None)"),
         ({"mesh.n_radial": 1.5}, "override: mesh.n_radial: must be a whole number (got 1.5)"),
         # a fuzz review: "Input should be a valid dictionary or instance of NumericsConfig"
@@ -925,7 +935,7 @@ def test_the_python_api_names_a_wrong_type():
     [
         # a millimetre figure typed as metres ran with a line pressure 1e6 too low, and 1e200
         # overflowed after the whole run (a bad-input review)
-        ("brake.piston_diameter", "57", "brake.piston_diameter: must lie in (0, 0.3]"),
+        ("brake.piston_diameter", "57", "brake.piston_diameter: must lie in [0.001, 0.3]"),
         ("pad.fibre_diameter_max", "0.7", "pad.fibre_diameter_max: must lie in (0, 0.01]"),
         ("pad.fibre_length_max", "10", "pad.fibre_length_max: must lie in (0, 0.1]"),
         # pydantic's "exceeded maximum size", without the range
@@ -1082,3 +1092,41 @@ def test_a_run_file_whose_seed_is_no_number_is_refused_with_its_name(tmp_path) -
         run_file_settings(path)
     xr.Dataset(attrs={**attrs, "seed": 7}).to_netcdf(path, engine="h5netcdf")
     assert run_file_settings(path).seed == 7
+
+
+@pytest.mark.parametrize(
+    ("updates", "message"),
+    [
+        # a physics review: each ran into a ZeroDivisionError (the foundation's stiffness, or
+        # the piston's area, rounding to 0) or a misleading error (a slope of 100 /Pa)
+        ({"contact.elastic_modulus": 1e-300}, r"elastic_modulus: must lie in \[1, 1e\+13\] Pa"),
+        ({"contact.bar_length": 1e300}, r"bar_length: must lie in \[1e-09, 1\] m"),
+        ({"friction.slope": 100.0}, r"friction.slope: must lie in \[0, 1\] \[1/Pa\]"),
+        ({"brake.piston_diameter": 1e-300}, r"piston_diameter: must lie in \[0.001, 0.3\] m"),
+        # the field's fibres lie below 0: a resin band deeper than the thinnest fibre's
+        # radius left a layer without fibres, and one of 0 exposed the field's first fibres
+        # after the first stop without any wear
+        (
+            {"pad.fibre_model": "field", "pad.resin_roughness": 0.003},
+            r"resin_roughness = 0.003 m with fibre_model = 'field': it must lie in \(0, 0.0001\] m",
+        ),
+        (
+            {"pad.fibre_model": "field", "pad.resin_roughness": 0.0},
+            r"resin_roughness = 0 m with fibre_model = 'field': it must lie in \(0, 0.0001\] m",
+        ),
+    ],
+)
+def test_degenerate_physics_is_refused_naming_the_field(updates, message) -> None:
+    with pytest.raises(ConfigError, match=message):
+        load_preset().with_updates(updates)
+
+
+def test_the_fields_bounds_keep_the_defaults_and_the_field_models_edges() -> None:
+    """The bounds leave the defaults and the edges of the field model's resin band valid."""
+    paper = load_preset()
+    assert paper.pad.resin_roughness == paper.pad.fibre_diameter_min / 2
+    paper.with_updates({"pad.fibre_model": "field"})
+    paper.with_updates({"pad.fibre_model": "field", "pad.resin_roughness": 1e-12})
+    paper.with_updates({"pad.fibre_model": "columns", "pad.resin_roughness": 0.0})
+    with pytest.warns(UnitWarning, match="friction.slope = 1 1/Pa"):
+        paper.with_updates({"friction.slope": 1.0, "contact.bar_length": 1.0})
