@@ -506,13 +506,21 @@ def _raise_kernel_error(code, done, stop: Stop, targets, rec, config, state) -> 
             f"{config.pad.fibre_area_fraction})"
         )
     if code == K.ERR_BAR:
+        trace = config.cycle.trace
+        shares = (  # a trace's demand is scaled by its brake shares (a physics review)
+            f", scaled by the trace's shares (cycle.trace.friction_share = "
+            f"{trace.friction_share:g}, front_brake_share = {trace.front_brake_share:g}, "
+            f"front_load_share = {trace.front_load_share:g})"
+            if config.cycle.trace_file
+            else ""
+        )
         raise ContactError(
             f"{where}: reaching the demanded friction force {target:.4g} N would compress the "
             f"foundation beyond its length contact.bar_length = {config.contact.bar_length} m; "
             f"the torque cannot be reached{note}. The demand comes from "
             f"vehicle.wheel_load_mass = {config.vehicle.wheel_load_mass:g} kg braked at the "
-            "cycle's deceleration: a lighter wheel load or a gentler stop lowers it, a longer "
-            "bar or a stiffer contact.elastic_modulus carries more"
+            f"cycle's deceleration{shares}: a lighter wheel load or a gentler stop lowers it, a "
+            "longer bar or a stiffer contact.elastic_modulus carries more"
         )
     if code == K.ERR_LEDGER:
         raise LedgerError(

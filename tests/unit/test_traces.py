@@ -1006,3 +1006,25 @@ def test_cycle_inspect_refuses_a_traces_options_for_a_block_cycle() -> None:
     )
     assert both.exit_code == 2 and "--smoothing, --merge-gap apply to" in both.output
     assert CliRunner().invoke(app, ["cycle", "inspect", "paper"]).exit_code == 0
+
+
+def test_a_trace_demand_beyond_the_foundation_names_the_traces_shares() -> None:
+    """A physics review: a trace's demand is scaled by its brake shares (front_load_share =
+    1e-9 made it 1e9 times larger), but the error named only the wheel load and the
+    deceleration."""
+    from brakeca.contact import ContactError
+    from brakeca.traces import with_cycle
+
+    config = with_cycle(
+        load_preset().with_updates(
+            {"mesh.n_radial": 5, "mesh.n_angular": 100, "cycle.max_stops": 1}
+        ),
+        "example_trace",
+    ).with_updates({"cycle.trace.front_load_share": 1e-9})
+    with pytest.raises(
+        ContactError,
+        match=r"beyond its length .* scaled by the trace's shares "
+        r"\(cycle.trace.friction_share = 1, front_brake_share = 0.7, "
+        r"front_load_share = 1e-09\)",
+    ):
+        simulation.simulate(config, seed=1)
