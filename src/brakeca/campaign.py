@@ -573,10 +573,11 @@ def _columns_added(before: str, after: str) -> list[str]:
     return added if same else []
 
 
-def _runs_kept(before: str, after: str) -> tuple[int, int] | None:
-    """``(n_before, n_after)`` where every run of ``before`` (a summary.csv's text) is a run
-    of ``after`` with the same results, and ``after`` has more (replicates or tests added);
-    None otherwise."""
+def _runs_kept(before: str, after: str) -> tuple[int, int, int] | None:
+    """``(n_before, n_after, n_kept)``: the runs of ``before`` and ``after`` (two
+    summary.csv's texts) and how many of ``before``'s are runs of ``after`` with the same
+    results (numbers compared as numbers: a design grown to a composite one writes a level
+    10 as ``10.0``; a growth review); None where they share none, or cannot be read."""
     import io
 
     import pandas as pd
@@ -586,18 +587,30 @@ def _runs_kept(before: str, after: str) -> tuple[int, int] | None:
         new = pd.read_csv(io.StringIO(after), dtype=str, keep_default_na=False)
     except (ValueError, pd.errors.ParserError):
         return None
-    if "run_id" not in old.columns or "run_id" not in new.columns or len(new) <= len(old):
-        return None
-    if old.empty:  # a summary of no run: nothing kept to speak of
-        return None
+    if "run_id" not in old.columns or "run_id" not in new.columns or old.empty:
+        return None  # (a summary of no run: nothing kept to speak of)
     shared = [c for c in old.columns if c in new.columns and c not in ("wall_time", "order")]
-    mine = old[shared].set_index("run_id")
     theirs = new[shared].drop_duplicates("run_id").set_index("run_id")
-    if not mine.index.isin(theirs.index).all():
-        return None
-    if not mine.equals(theirs.loc[mine.index]):
-        return None
-    return len(old), len(new)
+    kept = 0
+    for _, row in old[shared].iterrows():
+        rid = row["run_id"]
+        if rid in theirs.index and all(
+            _same_cell(row[c], theirs.at[rid, c]) for c in shared if c != "run_id"
+        ):
+            kept += 1
+    return (len(old), len(new), kept) if kept else None
+
+
+def _same_cell(a: str, b: str) -> bool:
+    """Whether two summary.csv cells say the same: equal text, or equal numbers (NaN equal
+    to NaN)."""
+    if a == b:
+        return True
+    try:
+        x, y = float(a), float(b)
+    except ValueError:
+        return False
+    return x == y or (x != x and y != y)
 
 
 def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
@@ -623,8 +636,20 @@ def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
             else "it was of other runs"
         )
         kept = _runs_kept(before, summary_text)
-        if kept is not None:  # replicates or tests added (a new user's review: "other runs")
+        if kept is not None and kept[2] == kept[0] and kept[1] > kept[0]:
+            # replicates or tests added (a new user's review: "other runs")
             why = f"it was of {kept[0]} of these {kept[1]} runs (this design adds the others)"
+        elif kept is not None and kept[0] == kept[1] == kept[2] and why.endswith("other runs"):
+            why = (  # the same runs and results, written otherwise (10 as 10.0)
+                f"it was of these runs, with the same results; 'brakeca analyze {out}' writes "
+                "it anew"
+            )
+        elif kept is not None and kept[2] < kept[0]:  # (--replace by a design of some of
+            # them: "other runs" hid those kept, a growth review)
+            why = (
+                f"it was of {kept[0]} runs, {kept[2]} of them among these {kept[1]} with the "
+                "same results"
+            )
         added = _columns_added(before, summary_text)
         if added:  # a folder of an earlier version (a session's own rerun said "other runs")
             why = (

@@ -1007,7 +1007,11 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     cells[header.split(",").index("MU")] = "0.5"
     changed = "".join([header, ",".join(cells) + "\n", *rest])
-    assert _stale_analysis(out, changed) == (["report.html"], "it was of other runs")
+    n = len(text.splitlines()) - 1
+    assert _stale_analysis(out, changed) == (
+        ["report.html"],
+        f"it was of {n} runs, {n - 1} of them among these {n} with the same results",
+    )
     assert _stale_analysis(out, text) == ([], "")  # the same text: nothing to remove
     # a folder of an earlier version, without a scalar this one adds (MU_SD): said so, not
     # "of other runs"
@@ -1021,7 +1025,18 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     assert why.startswith("this version of brakeca adds MU_SD to summary.csv, the runs' results")
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     other = frame.assign(MU=frame["MU"].where(frame.index > 0, "0.5"))
-    assert _stale_analysis(out, other.to_csv(index=False))[1] == "it was of other runs"
+    assert _stale_analysis(out, other.to_csv(index=False))[1] == (
+        f"it was of {n} runs, {n - 1} of them among these {n} with the same results"
+    )
+    # the same runs and results, written otherwise: a level 10 as 10.0 (a growth review: a
+    # design grown to a composite one said its runs were "other runs")
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
+    floats = frame.assign(test=frame["test"] + ".0")
+    removed, why = _stale_analysis(out, floats.to_csv(index=False))
+    assert removed == ["report.html"] and why.startswith("it was of these runs, with the same")
+    wholly = frame.assign(MU="0.5", run_id="0123456789abcdef")
+    (out / "report.html").write_text("this study's report", encoding="utf-8")
+    assert _stale_analysis(out, wholly.to_csv(index=False))[1] == "it was of other runs"
     # replicates added: the runs there are some of these, their results the same (a new
     # user's review: "it was of other runs")
     (out / "summary.csv").write_text(text, encoding="utf-8")
@@ -1033,7 +1048,9 @@ def test_a_replace_stopped_before_its_summary_leaves_the_folders_study_whole(
     )
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     changed_too = more.assign(MU=more["MU"].where(more.index > 0, "0.5"))
-    assert _stale_analysis(out, changed_too.to_csv(index=False))[1] == "it was of other runs"
+    assert _stale_analysis(out, changed_too.to_csv(index=False))[1] == (
+        f"it was of {n} runs, {n - 1} of them among these {n + 1} with the same results"
+    )
     (out / "summary.csv").write_text(text, encoding="utf-8")
     (out / "report.html").write_text("this study's report", encoding="utf-8")
     # analyze while a campaign holds the folder says so
