@@ -2633,17 +2633,30 @@ class Design(_Frozen):
             return self.surface_design.kind(len(self.factors))
         folded = f" folded over on {', '.join(self.foldover)}" if self.foldover else ""
         if self.plackett_burman is not None:
-            return (
+            # folded on some factors, their main effects are clear of every two-factor
+            # interaction and the others' still partly confounded with those of the
+            # unfolded factors (a growth review: a fold-over on S was said to clear them all)
+            unfolded = [f.name for f in self.factors if f.name not in self.foldover]
+            head = (
                 f"Plackett-Burman design, {self.plackett_burman} tests, {len(self.factors)} "
                 f"factors{folded} (main effects clear of each other"
-                + (
-                    ")"
-                    if self.foldover
-                    else "; a regular fraction, see the alias structure)"
-                    if self.plackett_burman == 32
-                    else ", each partly confounded with the two-factor interactions of the others)"
-                )
             )
+            if self.foldover and not unfolded:
+                return head + " and of the two-factor interactions)"
+            if self.plackett_burman == 32:
+                return head + "; a regular fraction, see the alias structure)"
+            if len(self.foldover) == 1:
+                return (
+                    f"{head}; {self.foldover[0]} clear of the two-factor interactions, each "
+                    "other partly confounded with those of the unfolded factors)"
+                )
+            if self.foldover:  # (a reversed column's products with a reversed one's stay)
+                return (
+                    f"{head}, each partly confounded with some two-factor interactions: a "
+                    "folded factor with those of a folded and an unfolded factor, an unfolded "
+                    "one with those of two folded or two unfolded factors)"
+                )
+            return head + ", each partly confounded with the two-factor interactions of the others)"
         if self.is_run_table:
             return f"run table{folded}"
         if not self.generators:
