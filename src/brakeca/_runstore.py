@@ -389,6 +389,10 @@ def _table_changes(old: dict[str, Any], new: dict[str, Any]) -> str:
             if was.get(key) != factor.get(key):
                 said.append(f"{name}'s {key} {shown(was, key)} -> {shown(factor, key)}")
     said += [f"factor {name} removed" for name in old_factors if name not in new_factors]
+    kept_old = [name for name in old_factors if name in new_factors]
+    kept_new = [name for name in new_factors if name in old_factors]
+    if kept_old != kept_new:  # (a growth review: factors reordered were not said)
+        said.append(f"the factors' order {', '.join(kept_old)} -> {', '.join(kept_new)}")
     return "; ".join(said)
 
 

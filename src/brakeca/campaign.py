@@ -382,8 +382,8 @@ def _run_locked(
     if stale:
         say(console, f"[dim]removed {len(stale)} temporary file(s) left by an interrupted run[/]")
     if not replace:
-        _refuse_to_replace(out, base, points, design.root_seed)
         changes = design_changes(out, design)
+        _refuse_to_replace(out, base, points, design.root_seed, changes)
         if changes:
             say(
                 console,
@@ -674,11 +674,16 @@ def _stale_analysis(out: Path, summary_text: str) -> tuple[list[str], str]:
 
 
 def _refuse_to_replace(
-    out: Path, base: SimulationConfig, points: Sequence[RunPoint], root_seed: int | None = None
+    out: Path,
+    base: SimulationConfig,
+    points: Sequence[RunPoint],
+    root_seed: int | None = None,
+    changes: str = "",
 ) -> None:
     """Raise ConfigError if ``out`` holds a study that a campaign of ``base`` and the runs
     ``points`` would replace: one of another base configuration, or of a design whose runs
-    it leaves out (another ``root_seed``, the new design's, is named)."""
+    it leaves out (another ``root_seed``, the new design's, is named, and ``changes``, how
+    the design differs from the folder's, :func:`design_changes`)."""
     old = existing_base(out)
     changed = base_differences(old, base)
     if changed:
@@ -717,6 +722,9 @@ def _refuse_to_replace(
         what, first = "the study of another design", "design"
         if not (out / "summary.csv").is_file():
             what = "another design's runs"
+        if changes and "root_seed" not in shown:  # what differs (a growth review: only
+            # counts were said, and a hint that named another cause)
+            shown += f"; this design differs from it in {changes}"
         after = (
             ". A design that keeps every run of the study there and adds others (more "
             "replicates, centre points, a fold-over of a design without centre points, a "
@@ -727,7 +735,9 @@ def _refuse_to_replace(
                 f". {renumbered} of the runs left out are configurations this design also "
                 "runs, under other test numbers: a run's seed follows its test number (and "
                 "replicate), so those are other runs. A level added anywhere but after the "
-                "last level of the last factor, or a factor added, numbers the tests anew"
+                "last level of the last factor, the factors put in another order, or a factor "
+                "added (but last, with its first level the base configuration's value) "
+                "numbers the tests anew"
             )
     replaced = "summary.csv and report.html" if (out / "report.html").is_file() else "summary.csv"
     back = "brings its study back"

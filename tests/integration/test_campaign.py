@@ -393,8 +393,13 @@ def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, t
     middle = write_design(tmp_path / "middle", TINY, _levels_of_a("[10.0, 15.0, 20.0]"))
     with pytest.raises(ConfigError) as info:
         run_campaign(middle, out, executor="serial", progress=False, console=quiet())
-    text = str(info.value)
-    assert "(design 'tiny', 4 runs, 2 of them not in this one)" in text
+    text = " ".join(str(info.value).split())
+    # what differs, as a design that extends the study is told (a growth review: counts
+    # alone were said)
+    assert (
+        "(design 'tiny', 4 runs, 2 of them not in this one; this design differs from it in "
+        "A's labels ['-', '+'] -> (unset); A's levels [10.0, 20.0] -> [10.0, 15.0, 20.0])" in text
+    )
     assert "2 of the runs left out are configurations this design also runs, under other" in text
     assert "a level after the last level of the last factor) needs neither" in text
 
@@ -423,8 +428,18 @@ def test_a_level_added_says_why_the_finished_runs_are_not_this_designs(serial, t
         DESIGN[: DESIGN.index("[[factors]]")] + DESIGN[DESIGN.index('[[factors]]\nname = "A"') :]
     )
     text = refusal("a_only", a_only)
-    assert "(design 'tiny', 4 runs, 4 of them not in this one)" in text
-    assert "under other test numbers" not in text
+    assert "(design 'tiny', 4 runs, 4 of them not in this one; this design differs from it " in text
+    assert "in factor S removed)" in text and "under other test numbers" not in text
+    # the factors in another order: said, and why that numbers the tests anew
+    swapped = (
+        DESIGN[: DESIGN.index("[[factors]]")]
+        + DESIGN[DESIGN.index('[[factors]]\nname = "A"') :]
+        + "\n"
+        + DESIGN[DESIGN.index("[[factors]]") : DESIGN.index('[[factors]]\nname = "A"')]
+    )
+    text = refusal("swapped", swapped)
+    assert "this design differs from it in the factors' order S, A -> A, S)" in text
+    assert "the factors put in another order" in text
     after = write_design(tmp_path / "after", TINY, _levels_of_a("[10.0, 20.0, 30.0]"))
     bigger = run_campaign(after, out, executor="serial", progress=False, console=quiet())
     assert bigger.ok and len(bigger.reused) == 4 and len(bigger.computed) == 2
