@@ -21,7 +21,7 @@ import xarray as xr
 from brakeca import __version__
 from brakeca._runstore import _Record
 from brakeca.analysis import default_label
-from brakeca.config import SimulationConfig
+from brakeca.config import ConfigError, SimulationConfig
 from brakeca.design import Design, is_run_id, load_design
 from brakeca.results import RunResult, scalar_attrs
 
@@ -496,6 +496,44 @@ def _design_problem(summary: pd.DataFrame, dataset: xr.Dataset, design: Design) 
                     continue
             levels = ", ".join(f"{v!r}" for v in factor.levels)
             return f"factor {name}'s levels are {levels}, and none is the runs' {value!r}"
+    return _runs_problem(dataset, design)
+
+
+def _runs_problem(dataset: xr.Dataset, design: Design) -> str:
+    """Why the runs of ``dataset`` (campaign.nc's: a summary edited alone is the summary's
+    own problem) are not ``design``'s tests and replicates, or their seeds not its root
+    seed's; empty when they are, or where campaign.nc cannot say (a growth review:
+    replicates or root_seed edited in a campaign's design.toml had given a report of "4
+    tests x 2 replicates = 8 runs" and "4 of 4 runs finished")."""
+    from brakeca.design import point_seed
+
+    if "test" not in dataset.coords or "seed" not in dataset.coords:
+        return ""
+    try:
+        n_tests = design.n_tests
+        tests = [int(t) for t in dataset.coords["test"].values]
+        replicates = (
+            [int(r) for r in dataset.coords["replicate"].values]
+            if "replicate" in dataset.coords
+            else [0] * len(tests)
+        )
+        seeds = [int(s) for s in dataset.coords["seed"].values]
+    except (ConfigError, TypeError, ValueError, OverflowError):
+        return ""
+    expected = n_tests * design.replicates
+    if len(tests) != expected or max(replicates, default=0) >= design.replicates:
+        return (
+            f"it has {n_tests} tests × {design.replicates} replicate"
+            f"{'' if design.replicates == 1 else 's'} = {expected} runs, where the folder has "
+            f"{len(tests)} runs of {len(set(replicates))} replicate"
+            f"{'' if len(set(replicates)) == 1 else 's'}"
+        )
+    for test, replicate, seed in zip(tests, replicates, seeds, strict=True):
+        if point_seed(design.root_seed, test, replicate) != seed:
+            return (
+                f"its root_seed {design.root_seed} does not give the runs' seeds (test "
+                f"{test}, replicate {replicate} ran with seed {seed})"
+            )
     return ""
 
 

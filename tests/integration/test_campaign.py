@@ -1291,6 +1291,18 @@ def test_a_folders_edited_design_or_base_is_named_as_such(serial, tmp_path):
     (out / "design.toml").write_text(design_text + added)
     with pytest.raises(ValueError, match=r"design.toml: it has factor WR, which the runs "):
         load_campaign(out)
+    # replicates or a root seed edited (a growth review: the report then said "4 tests x 2
+    # replicates = 8 runs" and "4 of 4 runs finished")
+    assert "replicates = 1\n" in design_text and "root_seed = 11\n" in design_text
+    for edit, said in (
+        ("replicates = 2\n", "it has 4 tests × 2 replicates = 8 runs, where the folder has 4 "),
+        ("root_seed = 12\n", r"its root_seed 12 does not give the runs' seeds \(test 1, "),
+    ):
+        key = edit.split(" = ")[0]
+        was = next(line for line in design_text.splitlines(keepends=True) if line.startswith(key))
+        (out / "design.toml").write_text(design_text.replace(was, edit))
+        with pytest.raises(ValueError, match="design.toml: " + said):
+            load_campaign(out)
     (out / "design.toml").write_text(design_text)
     assert load_campaign(out).ok  # as it was
     base = (out / "base_config.toml").read_text(encoding="utf-8")
