@@ -198,7 +198,11 @@ class VehicleConfig(_Frozen):
     """The vehicle as seen by one front brake (Table 4 of the paper)."""
 
     wheel_load_mass: float = Field(
-        690.0, gt=0, description="[kg] front wheel load, read as the mass this brake decelerates"
+        690.0,
+        ge=1e-3,
+        le=1e5,
+        description="[kg] front wheel load, read as the mass this brake decelerates (1 g to "
+        "100 t)",
     )
     wheel_radius: float = Field(
         0.314,

@@ -1103,6 +1103,8 @@ def test_a_run_file_whose_seed_is_no_number_is_refused_with_its_name(tmp_path) -
         ({"contact.bar_length": 1e300}, r"bar_length: must lie in \[1e-09, 1\] m"),
         ({"friction.slope": 100.0}, r"friction.slope: must lie in \[0, 1\] \[1/Pa\]"),
         ({"brake.piston_diameter": 1e-300}, r"piston_diameter: must lie in \[0.001, 0.3\] m"),
+        # a demand below what the solve resolves failed as "no plateau can reach the disc"
+        ({"vehicle.wheel_load_mass": 1e-10}, r"wheel_load_mass: must lie in \[0.001, 100000\] kg"),
         # the field's fibres lie below 0: a resin band deeper than the thinnest fibre's
         # radius left a layer without fibres, and one of 0 exposed the field's first fibres
         # after the first stop without any wear
