@@ -722,9 +722,11 @@ def _refuse_to_replace(
         what, first = "the study of another design", "design"
         if not (out / "summary.csv").is_file():
             what = "another design's runs"
-        if changes and "root_seed" not in shown:  # what differs (a growth review: only
-            # counts were said, and a hint that named another cause)
-            shown += f"; this design differs from it in {changes}"
+        said = [c for c in changes.split("; ") if c and not c.startswith("root_seed ")]
+        if said:  # what differs (a growth review: only counts were said, and a hint that
+            # named another cause); the root seed is said above, with what it does
+            more = f"; and {len(said) - 4} more" if len(said) > 4 else ""
+            shown += f"; this design differs from it in {'; '.join(said[:4])}{more}"
         after = (
             ". A design that keeps every run of the study there and adds others (more "
             "replicates, centre points, a fold-over of a design without centre points, a "
@@ -735,9 +737,10 @@ def _refuse_to_replace(
                 f". {renumbered} of the runs left out are configurations this design also "
                 "runs, under other test numbers: a run's seed follows its test number (and "
                 "replicate), so those are other runs. A level added anywhere but after the "
-                "last level of the last factor, the factors put in another order, or a factor "
-                "added (but last, with its first level the base configuration's value) "
-                "numbers the tests anew"
+                "last level of the last factor, the factors put in another order, a factor "
+                "added (but last, with its first level the base configuration's value), or "
+                "tests put before the centre points (a fold-over, a composite design's axial "
+                "points) numbers the tests anew"
             )
     replaced = "summary.csv and report.html" if (out / "report.html").is_file() else "summary.csv"
     back = "brings its study back"

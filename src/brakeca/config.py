@@ -200,9 +200,8 @@ class VehicleConfig(_Frozen):
     wheel_load_mass: float = Field(
         690.0,
         ge=1e-3,
-        le=1e5,
-        description="[kg] front wheel load, read as the mass this brake decelerates (1 g to "
-        "100 t)",
+        le=1e6,
+        description="[kg] front wheel load, the mass this brake decelerates (1 g to 1000 t)",
     )
     wheel_radius: float = Field(
         0.314,
@@ -388,14 +387,16 @@ class PadConfig(_Frozen):
             if low > high:
                 raise ValueError(f"{name}_min ({low:g} m) must not exceed {name}_max ({high:g} m)")
         radius = self.fibre_diameter_min / 2.0
-        if self.fibre_model == "field" and not 0.0 < self.resin_roughness <= radius:
+        # (to round-off: a factor in µm makes the default 200 µm 9.999999999999999e-05 m's
+        # double, a diff review)
+        if self.fibre_model == "field" and not 0.0 < self.resin_roughness <= radius * (1 + 1e-9):
             # (a physics review: the field's fibres lie below 0, the surface fibres' axes at
             # the resin band's top; a deeper band left a layer without fibres between them,
             # which runs fell through, and at 0 the field's first fibres, cut at 0, met the
             # resin there and were exposed after the first stop without any wear)
             raise ValueError(
-                f"resin_roughness = {self.resin_roughness:g} m with fibre_model = 'field': "
-                f"it must lie in (0, {radius:g}] m, above 0 and at most the thinnest fibre's "
+                f"resin_roughness = {self.resin_roughness:.12g} m with fibre_model = 'field': "
+                f"it must lie in (0, {radius:.12g}] m, above 0 and at most the thinnest fibre's "
                 "radius (fibre_diameter_min / 2), so that the field's fibres, which lie below "
                 "0, meet the surface fibres, whose axes lie at the resin band's top"
             )
@@ -406,7 +407,10 @@ class ContactConfig(_Frozen):
     """Elastic (Winkler) foundation: each cell is a bar of stiffness K = E / L."""
 
     elastic_modulus: float = Field(
-        1e9, ge=1.0, le=1e13, description="[Pa] foundation modulus E (decision; 1 Pa to 1e13 Pa)"
+        1e9,
+        ge=1e-3,
+        le=1e13,
+        description="[Pa] foundation modulus E (decision; 1 mPa to 1e13 Pa)",
     )
     bar_length: float = Field(
         10e-3, ge=1e-9, le=1.0, description="[m] foundation bar length L (decision; 1 nm to 1 m)"
@@ -428,6 +432,11 @@ class ContactConfig(_Frozen):
         return None
 
 
+#: The smallest friction.slope above 0 [1/Pa]: times the softest foundation's stiffness
+#: (1 mPa over 1 m) still a normal number
+MIN_SLOPE = 1e-20
+
+
 class FrictionConfig(_Frozen):
     """Pressure-dependent local COF on plateaus, mu(p) = max(mu_min, mu_0 - c p) (Figure 4)."""
 
@@ -444,6 +453,12 @@ class FrictionConfig(_Frozen):
     def _floor(self) -> FrictionConfig:
         if self.mu_min > self.mu_0:
             raise ValueError(f"mu_min ({self.mu_min}) must not exceed mu_0 ({self.mu_0})")
+        if 0.0 < self.slope < MIN_SLOPE:  # (times the softest foundation's stiffness, it
+            # rounded to 0, and the solve divided by it: a physics review)
+            raise ValueError(
+                f"slope = {self.slope:g} 1/Pa: a slope this small is 0 to the contact solve; "
+                f"give 0 (a constant COF) or at least {MIN_SLOPE:g}"
+            )
         return self
 
     def unit_note(self) -> str | None:
@@ -1628,7 +1643,8 @@ def decimal_point(text: str) -> str:
     return text.replace(",", ".") if _DECIMAL_COMMA.fullmatch(text) else text
 
 
-#: The most bytes a speed trace or a design's run table may hold [B]
+#: The most bytes a drive cycle (a speed trace, a block cycle) or a design's run table may
+#: hold [B]
 MAX_CSV_BYTES = 256 << 20
 
 
@@ -1662,8 +1678,8 @@ def read_csv_text(path: str | Path) -> str:
         data = f.read(MAX_CSV_BYTES + 1)
     if len(data) > MAX_CSV_BYTES:
         raise OSError(
-            f"more than {MAX_CSV_BYTES / 2**20:g} MiB, larger than a speed trace or run table "
-            "brakeca reads (a day of 10 Hz samples is under 20 MiB)"
+            f"{path}: more than {MAX_CSV_BYTES / 2**20:g} MiB, larger than a drive cycle or "
+            "run table brakeca reads (a day of 10 Hz samples is under 20 MiB)"
         )
     if data.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16, as Windows PowerShell writes
         return data.decode("utf-16")

@@ -2633,9 +2633,10 @@ class Design(_Frozen):
             return self.surface_design.kind(len(self.factors))
         folded = f" folded over on {', '.join(self.foldover)}" if self.foldover else ""
         if self.plackett_burman is not None:
-            # folded on some factors, their main effects are clear of every two-factor
-            # interaction and the others' still partly confounded with those of the
-            # unfolded factors (a growth review: a fold-over on S was said to clear them all)
+            # folded on one factor, its main effect is clear of every two-factor
+            # interaction and the others' still partly confounded with those of the unfolded
+            # factors; on several, each stays confounded with some (a growth review: a
+            # fold-over on S was said to leave main effects clear of each other only)
             unfolded = [f.name for f in self.factors if f.name not in self.foldover]
             head = (
                 f"Plackett-Burman design, {self.plackett_burman} tests, {len(self.factors)} "

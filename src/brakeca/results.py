@@ -450,6 +450,23 @@ class RunResult:
         return cls(config=config, seed=seed, dataset=ds)
 
 
+#: The variables of a run file that its readers use (:meth:`RunResult.scalars`, a
+#: campaign's summary and its analysis's maps): a file without one is not a run's
+_READ = (
+    "MU",
+    "V",
+    "mean_cof",
+    "emitted_volume",
+    "generated_volume",
+    "primary_area_fraction",
+    "secondary_area_fraction",
+    "n_steps",
+    "max_ledger_residual",
+    "max_friction_residual",
+    "initial_status",
+    "final_status",
+)
+
 #: The status maps of a run file, each on (``radius``, ``angle``); ``map_status`` on
 #: (``map_stop``, ``radius``, ``angle``)
 _STATUS_MAPS = ("initial_status", "final_status", "final_status_before_s")
@@ -462,9 +479,13 @@ def run_problem(ds: xr.Dataset, config: SimulationConfig) -> str | None:
     COF and volumes finite (a security review: a run file of other shapes or statuses had
     ended ``plot``, ``analyze`` and a resume with a traceback, and one of MU = NaN was reused
     by a resume into summary.csv)."""
-    for name in ("MU", "V", "mean_cof", "emitted_volume", "final_status"):
+    for name in _READ:
         if name not in ds:
             return f"it lacks {name!r}"
+    try:
+        float(ds.attrs["wall_time"])
+    except (KeyError, TypeError, ValueError):
+        return "its wall_time attribute is not a number"
     n_stops = ds.sizes.get("stop", 0)
     if n_stops < 1:
         return "it has no stop"
@@ -498,7 +519,9 @@ def run_problem(ds: xr.Dataset, config: SimulationConfig) -> str | None:
     for name in (*_STATUS_MAPS, "map_status"):
         if name in ds:
             values = np.asarray(ds[name])
-            if values.dtype.kind == "f" or not np.isin(values, (0, 1, 2)).all():
+            if values.dtype.kind == "f":
+                return f"{name!r} is of type {values.dtype}, not whole numbers"
+            if not np.isin(values, (0, 1, 2)).all():
                 return f"{name!r} holds statuses other than 0, 1 and 2"
     for name in ("MU", "V", "mean_cof", "emitted_volume"):
         if not np.isfinite(np.asarray(ds[name], dtype=float)).all():

@@ -290,6 +290,15 @@ def test_a_design_that_replaces_the_folders_design_says_how(serial, tmp_path):
         assert design_changes(odd, load_design(other)) == ""
     (odd / "design.toml").write_text("# another comment\n" + other.read_text())
     assert design_changes(odd, load_design(other)) == ""
+    # a run table said by its size, not written out (a diff review: two composite designs'
+    # tables made a refusal of 1,700 characters)
+    from brakeca._runstore import _table_changes
+
+    runs = [{"A": 10.0}, {"A": 20.0}]
+    assert _table_changes({"runs": runs}, {"runs": [*runs, {"A": 15.0}]}) == (
+        "the run table's 2 tests -> 3 tests"
+    )
+    assert _table_changes({}, {"runs": runs[:1]}) == "the run table's (unset) -> 1 test"
 
 
 def test_a_folder_of_other_options_is_not_replaced_unless_asked(serial, tmp_path):

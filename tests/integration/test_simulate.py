@@ -94,6 +94,10 @@ def _damaged(ds: xr.Dataset, how: str) -> xr.Dataset:
         ds = ds.isel(stop=slice(0, 0))
     elif how == "no final map":
         ds = ds.drop_vars("final_status")
+    elif how == "no generated volume":  # (a resume read it, and ended with a KeyError)
+        ds = ds.drop_vars("generated_volume")
+    elif how == "no wall time":
+        del ds.attrs["wall_time"]
     return ds
 
 
@@ -101,7 +105,9 @@ DAMAGES = {
     "MU NaN": "'MU' is not finite",
     "V -inf": "'V' is not finite",
     "status 7": "'final_status' holds statuses other than 0, 1 and 2",
-    "status float": "'final_status' holds statuses other than 0, 1 and 2",
+    "status float": "'final_status' is of type float64, not whole numbers",
+    "no generated volume": "it lacks 'generated_volume'",
+    "no wall time": "its wall_time attribute is not a number",
     "per-stop on the grid": "'mean_cof' is on (radius, angle), not (stop)",
     "text COF": "'mean_cof' is of type",
     "another grid": "its maps are 2 x 1000 cells, its configuration's grid 5 x 1000",
