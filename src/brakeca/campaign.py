@@ -462,8 +462,9 @@ def _run_locked(
         say(
             console,
             f"[dim]{len(foreign)} run file(s) in {escape(str(runs))} belong to no run of this "
-            "design (an earlier design or configuration in the same folder); they are left "
-            "as they are and not analysed[/]",
+            "design (another design or configuration run in the same folder: an earlier "
+            "one, or one stopped before its summary); they are left as they are and not "
+            "analysed[/]",
         )
     begun = sorted(
         f.name
@@ -475,9 +476,9 @@ def _run_locked(
         say(
             console,
             f"[yellow]note:[/] {len(begun)} checkpoint(s) in {escape(str(runs))} are of runs "
-            "begun by an earlier design or configuration in this folder, none of this one; "
-            "they are left as they are (that design, run again here, resumes them; delete "
-            "them to free the space)",
+            "begun by another design or configuration run in this folder (an earlier one, or "
+            "one stopped before its summary), none of this one; they are left as they are "
+            "(that design, run again here, resumes them; delete them to free the space)",
             highlight=False,
         )
 

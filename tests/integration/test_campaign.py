@@ -1342,7 +1342,10 @@ def test_checkpoints_of_no_run_of_the_design_are_named(serial, tmp_path):
     assert result.ok and len(result.reused) == 4
     said = " ".join(text.split())
     assert "note: 1 checkpoint(s) in " in said
-    assert "are of runs begun by an earlier design or configuration in this folder" in said
+    assert (
+        "are of runs begun by another design or configuration run in this folder (an earlier "
+        "one, or one stopped before its summary), none of this one" in said
+    )
     assert (out / "runs" / ".0123456789abcdef.checkpoint.npz").read_bytes() == b"not read"
 
 
