@@ -15,7 +15,7 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Annotated, Any, NoReturn
+from typing import Annotated, Any, Literal, NoReturn
 
 import typer
 from rich.markup import escape
@@ -1571,6 +1571,37 @@ _BACKWARD = (
 )
 
 
+def _reduce_option(text: str | None) -> float | Literal["none"] | None:
+    """``--reduce``'s value: a level, ``"none"`` (the whole model, whatever the design's
+    alpha_to_remove: a growth review found no way to set it aside from the command line), or
+    None when not given; exit status 2 naming the option otherwise."""
+    from brakeca.analysis import alpha_problem
+
+    if text is None:
+        return None
+    if text.strip().lower() == "none":
+        return "none"
+    try:
+        value = float(text)
+    except ValueError:
+        _fail(
+            "--reduce: expected a level above 0 and below 1 (0.1 in Minitab), or none, got "
+            f"{text!r}"
+        )
+    if (problem := alpha_problem(value)) is not None:
+        _fail(f"--reduce: {problem}")
+    return value
+
+
+def _without_reduction(result: Any) -> Any:
+    """The campaign ``result`` with its design's alpha_to_remove set aside (``--reduce
+    none``)."""
+    import dataclasses
+
+    design = result.design.model_copy(update={"alpha_to_remove": None})
+    return dataclasses.replace(result, design=design)
+
+
 @app.command(short_help="main effects, interactions, ANOVA, figures, report")
 def analyze(
     folder: Annotated[
@@ -1609,14 +1640,14 @@ def analyze(
         ),
     ] = None,
     reduce: Annotated[
-        float | None,
+        str | None,
         typer.Option(
             "--reduce",
-            metavar="ALPHA",
+            metavar="ALPHA|none",
             help=f"reduce the models by {_BACKWARD}, keeping them hierarchical: the ANOVA "
             "model (and its residuals, Box-Cox check and effects table), or a "
             "response-surface design's surfaces; by default the design's alpha_to_remove "
-            "(none unless set)",
+            "(none unless set); 'none': the whole model, whatever the design sets",
         ),
     ] = None,
     output: Annotated[
@@ -1635,13 +1666,11 @@ def analyze(
     figures: FiguresOpt = True,
 ) -> None:
     """Analyse a campaign: main effects, interactions, ANOVA, figures and report.html."""
-    from brakeca.analysis import alpha_problem
     from brakeca.campaign import finish_campaign
     from brakeca.study import check_max_order, destination_problem, write_study
 
     factors = _emissions(emissions)
-    if reduce is not None and (problem := alpha_problem(reduce)):
-        _fail(f"--reduce: {problem}")
+    alpha = _reduce_option(reduce)
     if anova_type is not None and anova_type not in (2, 3):
         _fail(f"--anova-type: expected 2 (Type II) or 3 (Type III, adjusted), got {anova_type}")
     if order is not None and not 1 <= order <= 10:
@@ -1660,6 +1689,8 @@ def analyze(
                 "summary.csv and campaign.nc yet; analyse it when the campaign ends"
             )
         _fail(str(exc))
+    if alpha == "none":
+        result, alpha = _without_reduction(result), None
     try:
         chosen = check_max_order(result.design, order, terms)  # before the summary is printed
     except ValueError as exc:
@@ -1702,7 +1733,7 @@ def analyze(
                 result,
                 run_maps=run_maps,
                 anova_type=anova_type,
-                alpha_to_remove=reduce,
+                alpha_to_remove=alpha,
                 max_order=order,
                 model_terms=terms,
                 note=_note,
@@ -1921,12 +1952,13 @@ def optimize(
         ),
     ] = None,
     reduce: Annotated[
-        float | None,
+        str | None,
         typer.Option(
             "--reduce",
-            metavar="ALPHA",
+            metavar="ALPHA|none",
             help=f"reduce each surface first: {_BACKWARD}, keeping the model hierarchical; "
-            "by default the design's alpha_to_remove, else the full quadratic",
+            "by default the design's alpha_to_remove, else the full quadratic; 'none': the "
+            "full quadratic, whatever the design sets",
         ),
     ] = None,
 ) -> None:
@@ -1937,7 +1969,6 @@ def optimize(
     --goal, the goals of the campaign's design ([[goals]] in its file)."""
     from rich.table import Table
 
-    from brakeca.analysis import alpha_problem
     from brakeca.campaign import load_campaign
     from brakeca.design import GOAL_RESPONSES
     from brakeca.rsm import LEFT_OUT_NOTE, response_surfaces
@@ -1953,9 +1984,14 @@ def optimize(
             raise ValueError(
                 f"{folder}: its design has no goals; give one or more: --goal {_GOAL_FORM}"
             )
-        alpha = reduce if reduce is not None else result.design.alpha_to_remove
-        if alpha is not None and (problem := alpha_problem(alpha)):
-            raise ValueError(f"--reduce: {problem}")
+        given = _reduce_option(reduce)
+        alpha = (
+            None
+            if given == "none"
+            else given
+            if given is not None
+            else result.design.alpha_to_remove
+        )
         fits = response_surfaces(
             with_log_v(result.summary),
             result.design.factors,

@@ -137,6 +137,10 @@ def test_a_face_centred_composite_runs_resumes_and_reports_its_surface(tmp_path)
     assert "composite desirability: 1.000" in met and "at the edge of the region" not in met
     reduced = cli_ok("optimize", str(out), "--reduce", "0.5")
     assert "composite desirability: " in reduced
+    # 'none': the full quadratic, as the design (without alpha_to_remove) gives by default
+    assert cli_ok("optimize", str(out), "--reduce", "none") == cli_ok("optimize", str(out))
+    bad = CliRunner().invoke(app, ["optimize", str(out), "--reduce", "1"])
+    assert bad.exit_code == 2 and "--reduce: expected a level above 0 and below 1" in bad.output
     # a surface that predicts left-out runs worse than their mean is said to (a DoE review:
     # a desirability of 1.000 on R²(pred) -85 %, said by the report only)
     mu_text = " ".join(cli_ok("optimize", str(out), "-g", "MU:max:0.1:0.5").split())

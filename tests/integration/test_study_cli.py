@@ -289,6 +289,26 @@ def test_rerun_reuses_and_analyze_rewrites(campaign, tmp_path):
     assert list(table["term"]) == ["Residual"]
     assert not (out / "tables" / "effects_MU.csv").exists()
     assert not (out / "figures" / "effects_MU.png").exists()
+    # a design's own alpha_to_remove set aside on request (a growth review: nothing could)
+    text = (out / "design.toml").read_text(encoding="utf-8")
+    (out / "design.toml").write_text(
+        text.replace("root_seed = ", "alpha_to_remove = 1e-300\nroot_seed = ", 1), encoding="utf-8"
+    )
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures"])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
+    assert "backward elimination (alpha to remove 1e-300" in table["note"].iloc[0]
+    res = CliRunner().invoke(app, ["analyze", str(out), "--no-figures", "--reduce", "none"])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out / "tables" / "anova_MU.csv", keep_default_na=False)
+    assert "backward elimination" not in " ".join(table["note"].astype(str))
+    # the whole model (S:A pooled, as it saturates these four runs), not the reduced one
+    assert [t for t in table["term"] if t != "Residual"] == ["S", "A"]
+    res = CliRunner().invoke(app, ["analyze", str(out), "--reduce", "some"])
+    assert res.exit_code == 2 and "--reduce: expected a level above 0 and below 1 (0.1 in " in (
+        " ".join(res.output.split())
+    )
+    (out / "design.toml").write_text(text, encoding="utf-8")
 
 
 def test_without_figures_the_same_tables_and_a_report_that_says_so(campaign, tmp_path):
