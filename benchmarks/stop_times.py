@@ -9,9 +9,10 @@ Usage:
 ``simulate`` does) from the surface of ``--seed`` and writes, for every stop, its wall time [s],
 its steps, the lazy kernel's solver counters per step (solves that walked, breakpoints walked,
 envelope iterations, jumps), the share of each kernel phase (the kernel's cycle counters), the
-mean contact area fraction and the rule firings per step. The first stop includes compiling
-or loading the kernels (the line says ``compile_s``, timed separately). ``table`` sums the
-stops of each block of the cycle, for one file or several side by side.
+mean contact area fraction and the rule firings per step. Compiling or loading the kernels
+is timed first, on a throwaway state (the header line's ``compile_and_first_stop_s``), so the
+first stop's own time excludes it. ``table`` sums the stops of each block of the cycle, for one
+file or several side by side (each column headed by its kernel and file).
 
 ``--set KEY=VALUE`` sets any other configuration field, as ``brakeca simulate --set`` does
 (the study's most expensive run, test 5, is ``--wp 1e-13 --set A=10``). ``--save-at N``
@@ -29,6 +30,7 @@ import json
 import pickle
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -50,6 +52,8 @@ def run(args: argparse.Namespace) -> None:
     updates.update(parse_override(item) for item in args.set)
     config = load_preset().with_updates(updates)
     save_at = set(args.save_at)
+    if save_at:  # (it had failed writing the first state, after the stops before it)
+        Path(args.save_dir).mkdir(parents=True, exist_ok=True)
     grid = make_grid(config)
     stops = expand_stops(config)
     # compile (or load from the cache) on a throwaway state first
@@ -126,6 +130,7 @@ def run(args: argparse.Namespace) -> None:
 
 
 def table(paths: list[str]) -> None:
+    names = [Path(path).name for path in paths]
     runs = []
     for path in paths:
         with open(path) as fh:
@@ -137,18 +142,20 @@ def table(paths: list[str]) -> None:
             blocks.append((line["block"], line["stop"], line["stop"]))
         else:
             blocks[-1] = (blocks[-1][0], blocks[-1][1], line["stop"])
-    head = " | ".join(f"{h['kernel']} [s]" for h, _ in runs)
+    head = " | ".join(
+        f"{h['kernel']}, {name} [s]" for (h, _), name in zip(runs, names, strict=True)
+    )
     print(f"| block | stops | steps | {head} |")
     print("|---|---|---|" + "---|" * len(runs))
     totals = [0.0] * len(runs)
     for name, first, last in blocks:
         cells = []
-        steps = 0
+        steps = 0  # the most of any file's (a resumed run's file holds fewer stops)
         for k, (_, stops) in enumerate(runs):
             group = [s for s in stops if first <= s["stop"] <= last]
             seconds = sum(s["s"] for s in group)
             totals[k] += seconds
-            steps = sum(s["steps"] for s in group)
+            steps = max(steps, sum(s["steps"] for s in group))
             cells.append(f"{seconds:.1f}")
         print(f"| {name} | {first}–{last} | {steps:,} | " + " | ".join(cells) + " |")
     print("| whole cycle | | | " + " | ".join(f"**{t:.0f}**" for t in totals) + " |")
