@@ -1288,6 +1288,10 @@ _BOUND_ERRORS = ("greater_than", "greater_than_equal", "less_than", "less_than_e
 _SMALLER_UNITS: dict[str, tuple[tuple[str, float, float], ...]] = {
     "m": (("µm", 1e-6, 100.0), ("mm", 1e-3, 3.0)),
     "m^3/(N m)": (("mm³/(N·m)", 1e-9, 100.0),),
+    # a slope per MPa (the paper's 0.03), a wheel load in g (a diff review: neither had a
+    # hint once their ranges were bounded)
+    "1/Pa": (("1/MPa", 1e-6, 1000.0),),
+    "kg": (("g", 1e-3, 100.0),),
 }
 
 
@@ -1299,6 +1303,7 @@ def _smaller_unit(
     (where it has a number for one), the sentence that says so: ``"in m, not µm (0.1 µm is
     1e-07 m)"``; empty otherwise."""
     lower = ctx.get("ge", ctx.get("gt", -math.inf))
+    unit = unit.removeprefix("[").removesuffix("]")  # ("[1/Pa]" after a range)
     shown = unit.replace("^3", "³").replace("(N m)", "(N·m)")
     near = default if isinstance(default, float) and default > 0 else None
     fits = [

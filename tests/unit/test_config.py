@@ -1103,6 +1103,12 @@ def test_a_run_file_whose_seed_is_no_number_is_refused_with_its_name(tmp_path) -
         ({"contact.bar_length": 1e300}, r"bar_length: must lie in \[1e-09, 1\] m"),
         ({"friction.slope": 100.0}, r"friction.slope: must lie in \[0, 1\] \[1/Pa\]"),
         ({"friction.slope": 1e-300}, r"slope = 1e-300 1/Pa: a slope this small is 0 to the"),
+        # with a unit's hint, as a length in mm gets one
+        ({"friction.slope": 3.0}, r"\(got 3.0\): in 1/Pa, not 1/MPa \(3 1/MPa is 3e-06 1/Pa\)$"),
+        (
+            {"vehicle.wheel_load_mass": 690000.0 * 3},
+            r"\(got 2070000.0\): in kg, not g \(2\.07e\+06 g is 2\.07e\+03 kg\)$",
+        ),
         ({"brake.piston_diameter": 1e-300}, r"piston_diameter: must lie in \[0.001, 0.3\] m"),
         # a demand below what the solve resolves failed as "no plateau can reach the disc"
         ({"vehicle.wheel_load_mass": 1e-10}, r"wheel_load_mass: must lie in \[0.001, 1e\+06\] kg"),
