@@ -723,9 +723,13 @@ def _refuse_to_replace(
         what, first = "the study of another design", "design"
         if not (out / "summary.csv").is_file():
             what = "another design's runs"
-        said = [c for c in changes.split("; ") if c and not c.startswith("root_seed ")]
+        said = [
+            c
+            for c in changes.split("; ")
+            if c and not (c.startswith("root_seed ") and "root_seed" in shown)
+        ]
         if said:  # what differs (a growth review: only counts were said, and a hint that
-            # named another cause); the root seed is said above, with what it does
+            # named another cause); a root seed said above, with what it does, not again
             more = f"; and {len(said) - 4} more" if len(said) > 4 else ""
             shown += f"; this design differs from it in {'; '.join(said[:4])}{more}"
         after = (
