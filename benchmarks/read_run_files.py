@@ -1,258 +1,40 @@
-"""Reading run files: xarray (as brakeca reads them) against a reader of h5py alone, a lead.
+"""Reading run files: xarray against brakeca's own reader of h5py alone, checked and timed.
 
     python benchmarks/read_run_files.py FOLDER_OR_FILE [...] [--rounds 5]
 
-An analysis reads every run file of its campaign (``results.load_netcdf``: xarray's
-``open_dataset(engine="h5netcdf")`` and ``.load()``), and that takes most of an analysis without
-figures: 0.15-0.25 s a full-resolution run file, almost all of it h5netcdf's and xarray's
+An analysis reads every run file of its campaign (``results.load_netcdf``), and that took most
+of an analysis without figures: 0.13-0.25 s a full-resolution run file through xarray's
+``open_dataset(engine="h5netcdf")`` and ``.load()``, almost all of it h5netcdf's and xarray's
 handling of the file's metadata (about 1,300 h5py lookups of dimension scales a file), against
-about 0.01 s for the file's arrays through h5py alone. :func:`fast_load` (a helper's prototype,
-fifty-fourth session) reads a netCDF4 file that brakeca wrote with h5py directly into the
-Dataset xarray gives, and raises :class:`Unsupported` for anything it does not mirror (groups,
-named types, unlimited dimensions, compressed variables, CF attributes it does not decode...),
-where a caller would fall back to xarray. It rests on how xarray 2026.9 and h5netcdf 1.8 decode
-a file (the order of data variables and coordinates, string coordinates as fixed-width
-unicode, ``_FillValue`` masking), so brakeca does not use it: taking it would need this
-script's identity check as a test, against every version the package allows.
+about 0.01 s for the file's arrays through h5py alone. ``brakeca._netcdf.fast_load`` (a
+helper's prototype, fifty-fourth session) reads a netCDF4 file that brakeca wrote with h5py
+directly into the Dataset xarray gives, and ``load_netcdf`` takes it where it mirrors the
+installed xarray and h5netcdf (``_netcdf.usable()``).
 
 For each file this prints whether the two readers' datasets are identical
-(``xarray.testing.assert_identical``, and the same variable order and attribute types), and
-then the median time of each reader per file [ms] over ``--rounds`` rounds. On the
-forty-seventh session's full-resolution study folder (24 run files and ``campaign.nc``):
-identical for every file, xarray 145-155 ms a run file, ``fast_load`` 32 ms, h5py's arrays
-alone 6-7 ms (fifty-fourth session, two shared cores).
+(``xarray.testing.assert_identical``, and the same variable order and attribute types), or
+that fast_load refuses it (the package then reads it through xarray), and then the median
+time of each reader per file [ms] over ``--rounds`` rounds. On the forty-seventh session's
+full-resolution study folder (24 run files and ``campaign.nc``): identical for every file,
+xarray 132 ms a file, ``fast_load`` 28 ms (fifty-fourth session, two shared cores).
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import sys
 import time
 from pathlib import Path
 
-import h5py
-import numpy as np
 import xarray as xr
 
-
-class Unsupported(ValueError):
-    """The file has something fast_load does not mirror: read it with xarray instead."""
-
-
-# the attributes h5netcdf hides (h5netcdf.attrs._HIDDEN_ATTRS)
-_HIDDEN = frozenset(
-    (
-        "REFERENCE_LIST",
-        "CLASS",
-        "DIMENSION_LIST",
-        "NAME",
-        "_Netcdf4Dimid",
-        "_Netcdf4Coordinates",
-        "_nc3_strict",
-        "_NCProperties",
-    )
-)
-# attributes that make xarray's CF decoding do more than fast_load mirrors
-_DECODED = frozenset(
-    (
-        "scale_factor",
-        "add_offset",
-        "missing_value",
-        "_Unsigned",
-        "dtype",
-        "calendar",
-        "_Encoding",
-        "bounds",
-    )
-)
-_TIME_UNITS = frozenset(
-    ("days", "hours", "minutes", "seconds", "milliseconds", "microseconds", "nanoseconds")
-)
-_NOT_A_VARIABLE = b"This is a netCDF dimension but not a netCDF variable."
-_NUMERIC = frozenset("iuf")
-_FILTERS = {
-    "zlib": False,
-    "szip": False,
-    "bzip2": False,
-    "blosc": False,
-    "zstd": False,
-    "shuffle": False,
-    "fletcher32": False,
-}  # h5netcdf's filters() without any
-
-
-def _attrs(obj, names) -> dict:
-    """``obj``'s attributes ``names`` as h5netcdf's Attributes and then xarray's
-    _read_attributes give them."""
-    out = {}
-    for key in names:
-        value = obj.attrs[key]
-        if isinstance(value, h5py.Empty):
-            raise Unsupported(f"empty attribute {key!r}")
-        dtype = getattr(value, "dtype", None)
-        if not isinstance(value, str) and (
-            dtype is None or dtype.kind not in "iufSO" or h5py.check_enum_dtype(dtype)
-        ):
-            raise Unsupported(f"attribute {key!r} of type {dtype}")
-        if isinstance(value, str) or (dtype is not None and dtype.kind == "O"):
-            # a variable-length string (h5py decodes those; other objects are refused)
-            if not isinstance(value, str):
-                if not all(isinstance(v, str) for v in value.flat):
-                    raise Unsupported(f"attribute {key!r} of objects")
-                value = value.tolist()
-        elif dtype.kind == "S":  # fixed-length: h5netcdf decodes those longer than 1
-            info = h5py.check_string_dtype(obj.attrs.get_id(key).dtype)
-            if info is None:
-                raise Unsupported(f"attribute {key!r}: bytes, not a string type")
-            if info.length is not None and info.length > 1:
-                if np.isscalar(value):
-                    value = value.decode(info.encoding, "surrogateescape")
-                else:
-                    value = [b.decode(info.encoding, "surrogateescape") for b in value.flat]
-            elif not np.isscalar(value):
-                value = value.tolist()
-        if not np.isscalar(value) and len(value) == 1:
-            value = value[0]
-        if isinstance(value, bytes) and key not in ("_FillValue", "missing_value"):
-            try:
-                value = value.decode("utf-8")
-            except UnicodeDecodeError:
-                raise Unsupported(f"attribute {key!r}: bytes, not UTF-8") from None
-        out[key] = value
-    return out
-
-
-def fast_load(path, limit: int | None = None) -> xr.Dataset:
-    """The dataset ``xr.load_dataset(path, engine="h5netcdf")`` reads from the netCDF4 file
-    ``path``; raises Unsupported (or h5py's error) where the file has what this does not
-    mirror, and where its numbers would hold more than ``limit`` bytes."""
-    source = os.path.abspath(os.fspath(path))
-    with h5py.File(source, "r") as f:
-        if "_nc3_strict" in f.attrs:
-            raise Unsupported("NETCDF4_CLASSIC file")
-        objects, dim_ids, sizes = {}, {}, {}
-        for name, obj in f.items():
-            if not isinstance(obj, h5py.Dataset):
-                raise Unsupported(f"{name!r} is a {type(obj).__name__}, not a variable")
-            if "_nc4_non_coord_" in name or obj.shape is None:
-                raise Unsupported(f"variable {name!r}")
-            names = list(obj.attrs)
-            if "CLASS" in names and obj.attrs["CLASS"] == b"DIMENSION_SCALE":
-                if "_Netcdf4Dimid" not in names or obj.ndim != 1 or obj.maxshape != obj.shape:
-                    raise Unsupported(f"dimension {name!r} (unlimited or without an id)")
-                dim_id = int(obj.attrs["_Netcdf4Dimid"])
-                if dim_id in dim_ids:
-                    raise Unsupported(f"dimension id {dim_id} twice")
-                dim_ids[dim_id], sizes[name] = name, obj.shape[0]
-                if _NOT_A_VARIABLE in bytes(obj.attrs.get("NAME", b"")):
-                    continue
-            objects[name] = (obj, names)
-        raw = {}
-        for name, (obj, names) in objects.items():
-            dtype = obj.dtype
-            if dtype.kind in _NUMERIC and dtype.isnative and not h5py.check_enum_dtype(dtype):
-                is_string = False
-            elif h5py.check_vlen_dtype(dtype) is str:
-                is_string = True
-            else:
-                raise Unsupported(f"variable {name!r} of type {dtype}")
-            # its dimensions as h5netcdf's BaseVariable._lookup_dimensions finds them
-            if (
-                "_Netcdf4Coordinates" in names
-                and "CLASS" in names
-                and obj.attrs["CLASS"] == b"DIMENSION_SCALE"
-            ):
-                try:
-                    dims = tuple(dim_ids[int(i)] for i in obj.attrs["_Netcdf4Coordinates"])
-                except KeyError:
-                    raise Unsupported(f"{name!r}: an unknown dimension id") from None
-            elif "DIMENSION_LIST" in names:
-                refs = obj.attrs["DIMENSION_LIST"]
-                if len(refs) != obj.ndim or obj.ndim == 0 or any(len(r) == 0 for r in refs):
-                    raise Unsupported(f"{name!r}: a dimension without a scale")
-                dims = tuple(f[r[-1]].name for r in refs)
-                if any(d[:1] != "/" or d[1:] not in sizes for d in dims):
-                    raise Unsupported(f"{name!r}: a dimension scale that is not a dimension")
-                dims = tuple(d[1:] for d in dims)
-            elif name in sizes:
-                dims = (name,)
-            elif obj.ndim == 0:
-                dims = ()
-            else:
-                raise Unsupported(f"{name!r}: a dimension without a scale")
-            if obj.shape != tuple(sizes[d] for d in dims):
-                raise Unsupported(f"{name!r}: shape {obj.shape}, dimensions {dims}")
-            attrs = _attrs(obj, [k for k in names if k not in _HIDDEN])
-            raw[name] = (obj, dims, attrs, is_string)
-        if limit is not None:
-            size = sum(o.size * (8 if s else o.dtype.itemsize) for o, _, _, s in raw.values())
-            if size > limit:
-                raise Unsupported(f"its variables hold {size} bytes, more than {limit}")
-        global_attrs = _attrs(f, [k for k in f.attrs if k not in _HIDDEN])
-
-        variables, coord_names = {}, set()
-        for name, (obj, dims, attrs, is_string) in raw.items():
-            if obj.id.get_create_plist().get_nfilters():
-                raise Unsupported(f"{name!r}: compressed or filtered")
-            encoding = {
-                "dtype": obj.dtype,
-                "contiguous": obj.chunks is None,
-                "chunksizes": obj.chunks,
-            }
-            if obj.chunks is not None:
-                encoding["preferred_chunks"] = dict(zip(dims, obj.chunks, strict=True))
-            encoding.update(_FILTERS, source=source, original_shape=obj.shape)
-            if _DECODED & attrs.keys():
-                raise Unsupported(f"{name!r}: attributes {sorted(_DECODED & attrs.keys())}")
-            units = attrs.get("units")
-            if isinstance(units, str) and "since" in units:
-                raise Unsupported(f"{name!r}: a time variable")
-            if is_string:  # xarray's ObjectVLenStringCoder: fixed-width str, dtype too
-                data = np.asarray(obj.asstr()[()], dtype=object).astype(str)
-                encoding = {"dtype": data.dtype}  # (astype dropped the rest)
-            else:
-                data = np.asarray(obj[()])
-            if "_FillValue" in attrs:  # xarray's CFMaskCoder
-                fill = attrs.pop("_FillValue")
-                values = np.ravel(fill)
-                if is_string or values.size != 1 or values.dtype.kind not in _NUMERIC:
-                    raise Unsupported(f"{name!r}: _FillValue {fill!r}")
-                encoding["_FillValue"] = fill
-                if np.isnan(values[0]):
-                    if data.dtype.kind != "f":
-                        raise Unsupported(f"{name!r}: NaN _FillValue of an integer")
-                else:
-                    if units in _TIME_UNITS:
-                        raise Unsupported(f"{name!r}: _FillValue of a time-like variable")
-                    to = (
-                        data.dtype
-                        if data.dtype.kind == "f"
-                        else (np.float32 if data.dtype.itemsize <= 2 else np.float64)
-                    )
-                    data = np.array(data, dtype=to, copy=True)
-                    data[data == values[0]] = np.nan
-            if "coordinates" in attrs:
-                text = attrs.pop("coordinates")
-                if not isinstance(text, str):
-                    raise Unsupported(f"{name!r}: coordinates {text!r}")
-                encoding["coordinates"] = text
-                coord_names.update(c for c in text.split() if c in raw)
-            variables[name] = xr.Variable(dims, data, attrs, encoding)
-    if isinstance(global_attrs.get("coordinates"), str):
-        coord_names.update(global_attrs.pop("coordinates").split())
-    # as xarray's StoreBackendEntrypoint: the data variables, then the coordinates, each in
-    # the file's order (its default indexes made alike)
-    coords = {k: v for k, v in variables.items() if k in coord_names or v.dims == (k,)}
-    data_vars = {k: v for k, v in variables.items() if k not in coords}
-    ds = xr.Dataset(data_vars, coords=coords, attrs=global_attrs)
-    ds.encoding = {"unlimited_dims": set(), "source": source}
-    return ds
+from brakeca._netcdf import Unsupported, fast_load
 
 
 def _xarray_load(path: Path) -> xr.Dataset:
-    """The dataset as brakeca reads it (results.load_netcdf, without its size check)."""
+    """The dataset as xarray reads it (as results.load_netcdf does where fast_load does not
+    apply, without its size check)."""
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         return ds.load()
 

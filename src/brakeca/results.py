@@ -541,6 +541,13 @@ def load_netcdf(path: str | Path, limit: int = MAX_NETCDF_BYTES) -> xr.Dataset:
     ``limit`` bytes or fewer [B] (a security review: a file of 100 kB declaring a variable
     of gigabytes took a process to 6.8 GB before anything was checked); raises ValueError
     naming the file otherwise, or where it is not a readable netCDF file."""
+    from brakeca import _netcdf
+
+    if _netcdf.usable():  # the same Dataset, about five times faster (its module docstring)
+        try:
+            return _netcdf.fast_load(path, limit)
+        except Exception:  # what it does not mirror, a file too large or not HDF5: xarray's
+            pass  # reading, and its error
     try:
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             size = sum(int(v.nbytes) for v in ds.variables.values())

@@ -1394,3 +1394,22 @@ def test_runs_made_by_workers_of_other_kernel_sources_are_named(design_file, tmp
         "note: 4 run(s) computed now (of tests 1, 2, 3, 4) were made by workers with other" in said
     )
     assert "(source_key 0123456789abcdef) than this install's" in said
+
+
+def test_campaign_nc_reads_as_xarray_reads_it(serial):
+    """brakeca's own reader (``_netcdf.fast_load``, test_netcdf_reader.py) gives xarray's
+    Dataset of a campaign's campaign.nc too: string coordinates, list attributes."""
+    from brakeca import _netcdf
+
+    if not _netcdf.usable():
+        pytest.skip("fast_load mirrors xarray 2026.9 and h5netcdf 1.8 only")
+    path = serial.out_dir / "campaign.nc"
+    fast, slow = _netcdf.fast_load(path), xr.load_dataset(path, engine="h5netcdf")
+    xr.testing.assert_identical(fast, slow)
+    assert list(fast.variables) == list(slow.variables)
+    assert list(fast.coords) == list(slow.coords)
+    assert {k: type(v) for k, v in fast.attrs.items()} == {
+        k: type(v) for k, v in slow.attrs.items()
+    }
+    for name in slow.variables:
+        assert fast[name].dtype == slow[name].dtype, name
