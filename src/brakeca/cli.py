@@ -1329,10 +1329,11 @@ def _say_analysing(run_maps: bool, runs: int, *, figures: bool = True) -> None:
     """Say what the silence before the report is (a command-line review: 20 to 45 s without
     a word after the runs' table), and how long it may last: on the development machine
     about 20 s and 0.15 s a run, and 0.4 s more a run for its maps (a review of large
-    designs: 256 runs took 2 min 20 s, 55 s without the maps); without figures, about 5 s
-    and 0.1 s a run (4 runs 4.8 s, the paper's 24 runs 7.7 s)."""
+    designs: 256 runs took 2 min 20 s, 55 s without the maps); without figures, about 2.3 s
+    and 0.08 s a run (4 runs 2.6 s, the paper's 24 runs 4.1 s, its run files read by
+    brakeca._netcdf)."""
     if not figures:
-        seconds = 5.0 + runs * 0.1
+        seconds = 2.3 + runs * 0.08
         what = "tables"
     else:
         seconds = 20.0 + runs * (0.55 if run_maps else 0.15)
