@@ -546,6 +546,8 @@ def load_netcdf(path: str | Path, limit: int = MAX_NETCDF_BYTES) -> xr.Dataset:
     if _netcdf.usable():  # the same Dataset, about five times faster (its module docstring)
         try:
             return _netcdf.fast_load(path, limit)
+        except MemoryError:
+            raise
         except Exception:  # what it does not mirror, a file too large or not HDF5: xarray's
             pass  # reading, and its error
     try:

@@ -15,7 +15,7 @@ from brakeca.presets import load_preset
 from brakeca.results import load_netcdf, write_atomic
 from brakeca.simulation import simulate
 
-pytestmark = pytest.mark.skipif(
+mirrored = pytest.mark.skipif(
     not _netcdf.usable(),
     reason="fast_load mirrors xarray 2026.9 and h5netcdf 1.8 only (others read through them)",
 )
@@ -55,6 +55,7 @@ KINDS = {
 }
 
 
+@mirrored
 @pytest.mark.parametrize("kind", list(KINDS))
 def test_a_run_file_reads_as_xarray_reads_it(small, tmp_path, kind):
     updates, options = KINDS[kind]
@@ -64,6 +65,7 @@ def test_a_run_file_reads_as_xarray_reads_it(small, tmp_path, kind):
     xr.testing.assert_identical(load_netcdf(path), run.dataset)
 
 
+@mirrored
 def test_a_trace_run_file_reads_as_xarray_reads_it(small, tmp_path):
     from brakeca.traces import with_cycle
 
@@ -92,3 +94,39 @@ def test_what_it_does_not_mirror_is_read_by_xarray(small, tmp_path, monkeypatch)
     monkeypatch.undo()
     with pytest.raises(ValueError, match=r"its variables hold .* GiB, more than a brakeca file"):
         load_netcdf(path, limit=1000)
+
+
+@mirrored
+def test_crafted_files_are_refused_not_read_otherwise(tmp_path):
+    """A review of the reader: a dataset h5netcdf skips (marked not a variable) had been
+    returned; an integer variable with a _FillValue, returned as floats, had been counted at
+    its stored size (a 6 kB file declaring 200 MB of int8 came back as 800 MB of float32);
+    text had been counted at 8 bytes a value, though xarray widens it to its longest."""
+    import h5netcdf
+    import h5py
+
+    marked = tmp_path / "marked.nc"
+    ds = xr.Dataset({"v": ("x", np.arange(3.0)), "w": ("x", np.ones(3))}, coords={"x": [1, 2, 3]})
+    ds.to_netcdf(marked, engine="h5netcdf")
+    with h5py.File(marked, "a") as f:
+        f["w"].attrs["NAME"] = b"This is a netCDF dimension but not a netCDF variable."
+    with pytest.raises(_netcdf.Unsupported, match="marked not a variable"):
+        _netcdf.fast_load(marked)
+    xr.testing.assert_identical(load_netcdf(marked), xr.load_dataset(marked, engine="h5netcdf"))
+    declared = tmp_path / "declared.nc"
+    with h5netcdf.File(declared, "w") as f:  # no chunk written: a few kB
+        f.dimensions = {"x": 20_000_000}
+        f.create_variable("v", ("x",), np.int8, chunks=(1_000_000,), fillvalue=np.int8(-1))
+    assert declared.stat().st_size < 100_000
+    with pytest.raises(_netcdf.Unsupported, match="its variables hold over 30000000 bytes"):
+        _netcdf.fast_load(declared, limit=30_000_000)  # 20 MB stored, 80 MB as float32
+    with pytest.raises(ValueError, match=r"declared.nc: its variables hold 0.1 GiB"):
+        load_netcdf(declared, limit=30_000_000)
+    text = np.array(["a"] * 2000, dtype=object)
+    text[0] = "x" * 2000  # 2000 values of 2000 characters once widened: 16 MB
+    wide = tmp_path / "wide.nc"
+    xr.Dataset({"s": ("n", text)}).to_netcdf(wide, engine="h5netcdf")
+    with pytest.raises(_netcdf.Unsupported, match="its variables hold over 1000000 bytes"):
+        _netcdf.fast_load(wide, limit=1_000_000)
+    with pytest.raises(ValueError, match=r"wide.nc: its variables hold"):
+        load_netcdf(wide, limit=1_000_000)
