@@ -929,7 +929,6 @@ def plot(
     _check_output(base, "-o" if output is not None else None, folder=True)
     replicated = is_replicated(rows)
     from brakeca._consolidate import campaign_folder, read_summary
-    from brakeca.design import is_run_id
 
     # named as the whole campaign's runs are (the width of its largest test number)
     tag = run_tags(read_summary(campaign_folder(path) / "summary.csv"))
@@ -938,13 +937,6 @@ def plot(
         for k, row in enumerate(rows.itertuples(index=False), start=1):
             name = tag(row._asdict())
             head = f"[{k}/{len(rows)}] test {int(row.test)}"
-            if not is_run_id(str(row.run_id)):  # a path: never read
-                console.print(
-                    f"{head}: skipped (not a run id: {str(row.run_id)[:40]!r})",
-                    highlight=False,
-                    markup=False,
-                )
-                continue
             run_file = path / "runs" / f"{row.run_id}.nc"
             if row.status != "ok" or not run_file.is_file():
                 why = "failed" if row.status != "ok" else f"{run_file} is missing"
