@@ -160,21 +160,22 @@ def fast_load(path: str | Path, limit: int | None = None) -> xr.Dataset:
             if "_nc4_non_coord_" in name or obj.shape is None:
                 raise Unsupported(f"variable {name!r}")
             names = list(obj.attrs)
-            if "CLASS" in names and obj.attrs["CLASS"] == b"DIMENSION_SCALE":
+            is_scale = "CLASS" in names and obj.attrs["CLASS"] == b"DIMENSION_SCALE"
+            marked = "NAME" in names and _marked(obj.attrs["NAME"])
+            if is_scale:
                 if "_Netcdf4Dimid" not in names or obj.ndim != 1 or obj.maxshape != obj.shape:
                     raise Unsupported(f"dimension {name!r} (unlimited or without an id)")
                 dim_id = int(obj.attrs["_Netcdf4Dimid"])
                 if dim_id in dim_ids:
                     raise Unsupported(f"dimension id {dim_id} twice")
                 dim_ids[dim_id], sizes[name] = name, obj.shape[0]
-                if "NAME" in names and _marked(obj.attrs["NAME"]):
+                if marked:
                     continue
-            elif "NAME" in names and _marked(obj.attrs["NAME"]):
-                # (h5netcdf skips any such dataset: a review found it returned here)
+            elif marked:  # (h5netcdf skips any such dataset: a review found it returned here)
                 raise Unsupported(f"{name!r}: marked not a variable, but no dimension")
-            objects[name] = (obj, names)
+            objects[name] = (obj, names, is_scale)
         raw = {}
-        for name, (obj, names) in objects.items():
+        for name, (obj, names, is_scale) in objects.items():
             dtype = obj.dtype
             if dtype.kind in _NUMERIC and dtype.isnative and not h5py.check_enum_dtype(dtype):
                 is_string = False
@@ -183,11 +184,7 @@ def fast_load(path: str | Path, limit: int | None = None) -> xr.Dataset:
             else:
                 raise Unsupported(f"variable {name!r} of type {dtype}")
             # its dimensions as h5netcdf's BaseVariable._lookup_dimensions finds them
-            if (
-                "_Netcdf4Coordinates" in names
-                and "CLASS" in names
-                and obj.attrs["CLASS"] == b"DIMENSION_SCALE"
-            ):
+            if "_Netcdf4Coordinates" in names and is_scale:
                 try:
                     dims = tuple(dim_ids[int(i)] for i in obj.attrs["_Netcdf4Coordinates"])
                 except KeyError:
@@ -225,15 +222,19 @@ def fast_load(path: str | Path, limit: int | None = None) -> xr.Dataset:
                     raise Unsupported(f"{name!r}: NaN _FillValue of an integer")
                 if not np.isnan(values[0]) and units in _TIME_UNITS:
                     raise Unsupported(f"{name!r}: _FillValue of a time-like variable")
+            if not isinstance(attrs.get("coordinates", ""), str):
+                raise Unsupported(f"{name!r}: coordinates {attrs['coordinates']!r}")
             raw[name] = (obj, dims, attrs, is_string)
+        texts: dict[str, np.ndarray] = {}  # the text variables' values, once read
         if limit is not None:
             # at most 8 bytes a number as returned (an integer with a _FillValue comes back as
             # floats: counted as stored, a review found 4 times the limit let through); text,
             # from its longest value, before it is widened (xarray's fixed-width unicode)
             size = 0
-            for obj, _, _, is_string in raw.values():
-                if is_string:
-                    longest = max((len(t) for t in obj.asstr()[()].flat), default=1)
+            for name, (obj, _, _, is_string) in raw.items():
+                if is_string:  # (read once: kept for the Dataset)
+                    texts[name] = np.asarray(obj.asstr()[()], dtype=object)
+                    longest = max((len(t) for t in texts[name].flat), default=1)
                     size += obj.size * 4 * max(longest, 1)
                 else:
                     size += obj.size * 8
@@ -252,9 +253,10 @@ def fast_load(path: str | Path, limit: int | None = None) -> xr.Dataset:
             if obj.chunks is not None:
                 encoding["preferred_chunks"] = dict(zip(dims, obj.chunks, strict=True))
             encoding.update(_FILTERS, source=source, original_shape=obj.shape)
-            units = attrs.get("units")
             if is_string:  # xarray's ObjectVLenStringCoder: fixed-width str, dtype too
-                data = np.asarray(obj.asstr()[()], dtype=object).astype(str)
+                if name not in texts:
+                    texts[name] = np.asarray(obj.asstr()[()], dtype=object)
+                data = texts[name].astype(str)
                 encoding = {"dtype": data.dtype}  # (astype dropped the rest)
             else:
                 data = np.asarray(obj[()])
@@ -270,10 +272,8 @@ def fast_load(path: str | Path, limit: int | None = None) -> xr.Dataset:
                     )
                     data = np.array(data, dtype=to, copy=True)
                     data[data == values[0]] = np.nan
-            if "coordinates" in attrs:
+            if "coordinates" in attrs:  # (a string: checked above)
                 text = attrs.pop("coordinates")
-                if not isinstance(text, str):
-                    raise Unsupported(f"{name!r}: coordinates {text!r}")
                 encoding["coordinates"] = text
                 coord_names.update(c for c in text.split() if c in raw)
             variables[name] = xr.Variable(dims, data, attrs, encoding)
